@@ -1,0 +1,118 @@
+"""Argument checks shared by the whole package.
+
+Every public function checks its inputs *before* doing any work and raises
+:class:`ParameterError` (a :class:`ValueError`) whose message names the
+parameter, the offending value and the allowed range. The command-line layer
+turns these into a one-line message and exit status 2.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "ParameterError",
+    "check_finite",
+    "check_positive",
+    "check_nonnegative",
+    "check_range",
+    "check_choice",
+    "check_points",
+]
+
+
+class ParameterError(ValueError):
+    """A parameter is outside its allowed range.
+
+    Parameters
+    ----------
+    name : str
+        Name of the parameter (as the caller spells it, e.g. ``"radius"`` or ``"--radius"``).
+    message : str
+        What is wrong and what is allowed.
+    """
+
+    def __init__(self, name: str, message: str):
+        self.name = name
+        super().__init__(f"{name}: {message}")
+
+
+def _as_float(name: str, value) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, f"expected a number, got {value!r}") from None
+    return out
+
+
+def check_finite(name: str, value) -> float:
+    """Return ``value`` as a float, raising if it is not a finite number."""
+    v = _as_float(name, value)
+    if not math.isfinite(v):
+        raise ParameterError(name, f"must be a finite number, got {value!r}")
+    return v
+
+
+def check_positive(name: str, value, unit: str = "") -> float:
+    """Return ``value`` as a float, raising unless it is finite and > 0."""
+    v = check_finite(name, value)
+    if not v > 0:
+        u = f" {unit}" if unit else ""
+        raise ParameterError(name, f"must be > 0{u}, got {v:g}{u}")
+    return v
+
+
+def check_nonnegative(name: str, value, unit: str = "") -> float:
+    """Return ``value`` as a float, raising unless it is finite and >= 0."""
+    v = check_finite(name, value)
+    if not v >= 0:
+        u = f" {unit}" if unit else ""
+        raise ParameterError(name, f"must be >= 0{u}, got {v:g}{u}")
+    return v
+
+
+def check_range(
+    name: str,
+    value,
+    low: float = -math.inf,
+    high: float = math.inf,
+    *,
+    unit: str = "",
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """Return ``value`` as a float, raising unless it lies in the given interval."""
+    v = check_finite(name, value)
+    ok_low = v > low if low_open else v >= low
+    ok_high = v < high if high_open else v <= high
+    if not (ok_low and ok_high):
+        u = f" {unit}" if unit else ""
+        lb = "(" if low_open else "["
+        hb = ")" if high_open else "]"
+        raise ParameterError(name, f"must lie in {lb}{low:g}, {high:g}{hb}{u}, got {v:g}{u}")
+    return v
+
+
+def check_choice(name: str, value, choices) -> str:
+    """Return ``value`` unless it is not one of ``choices``."""
+    if value not in choices:
+        allowed = ", ".join(repr(c) for c in choices)
+        raise ParameterError(name, f"must be one of {allowed}, got {value!r}")
+    return value
+
+
+def check_points(name: str, points) -> np.ndarray:
+    """Return ``points`` as a float ``(n, 3)`` array (a single point becomes ``(1, 3)``)."""
+    try:
+        p = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(name, "expected an (n, 3) array of coordinates in m") from None
+    if p.ndim == 1:
+        p = p[None, :]
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ParameterError(name, f"expected an (n, 3) array of coordinates in m, got shape {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise ParameterError(name, "coordinates must be finite")
+    return p

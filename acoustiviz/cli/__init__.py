@@ -1,0 +1,77 @@
+"""The ``acoustiviz`` command.
+
+Each subcommand lives in its own module of this package and provides two
+functions: ``add_parser(subparsers)`` and ``run(args) -> int``. Modules are light
+at import (heavy imports happen inside ``run``) so that ``acoustiviz --help``
+answers at once. Any :class:`acoustiviz._validate.ParameterError` raised while a
+subcommand runs becomes a one-line message on stderr and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from .._validate import ParameterError
+
+#: subcommand name -> module implementing it (in the order shown by --help)
+SUBCOMMANDS = {
+    "run": "acoustiviz.cli.run",
+    "waveform": "acoustiviz.cli.waveform",
+    "directivity": "acoustiviz.cli.directivity",
+    "damper": "acoustiviz.cli.damper",
+    "sweep": "acoustiviz.cli.sweep",
+    "design": "acoustiviz.cli.design",
+    "render": "acoustiviz.cli.render",
+    "auralize": "acoustiviz.cli.auralize",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line and exit status 2."""
+
+    def error(self, message):  # noqa: D102
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Build the argument parser with every available subcommand."""
+    parser = _Parser(
+        prog="acoustiviz",
+        description="See and hear the noise of impact dampers. SI units unless an option says otherwise.",
+    )
+    from .. import __version__
+
+    parser.add_argument("--version", action="version", version=f"acoustiviz {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name, modname in SUBCOMMANDS.items():
+        try:
+            mod = importlib.import_module(modname)
+        except ModuleNotFoundError as exc:  # a subcommand not shipped in this build
+            if exc.name == modname:
+                continue
+            raise
+        mod.add_parser(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``acoustiviz`` console script; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except ParameterError as exc:
+        print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"acoustiviz {args.command}: interrupted; finished outputs were kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

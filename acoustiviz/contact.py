@@ -1,0 +1,541 @@
+"""Hertz contact of a sphere with a plane or a second body (paper eqs 1-4).
+
+The approach α of the two bodies obeys ``m_eff α'' = -K α^{3/2} - c1 α'``
+(paper eqs 1 and 15), with ``m_eff = m M / (m + M)`` and ``K`` the Hertz
+stiffness (eq 2). Without damping the solution scales onto one universal curve:
+with ``α = α_max s`` and ``t = (α_max / U0) θ`` it reads ``s'' = -(5/4) s^{3/2}``,
+``s(0) = 0``, ``s'(0) = 1``, whose inverse ``θ(s)`` is an incomplete beta
+function. The exact Hertz pulse is therefore evaluated in closed form with
+:func:`scipy.special.betaincinv` rather than integrated per call.
+
+All quantities are SI: m, s, kg, N, m/s, m/s², N/m^1.5, N·s/m.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validate import ParameterError, check_choice, check_nonnegative, check_positive
+from .materials import Material, reduced_modulus
+
+__all__ = [
+    "HERTZ_DURATION_CONSTANT",
+    "PAPER_DURATION_CONSTANT",
+    "PULSE_KINDS",
+    "Impact",
+    "HalfSinePulse",
+    "SampledPulse",
+    "DampedContact",
+    "hertz_stiffness",
+    "effective_mass",
+    "max_approach",
+    "contact_duration",
+    "peak_force",
+    "peak_acceleration",
+    "acceleration_pulse",
+    "hertz_pulse_shape",
+    "damped_contact",
+    "restitution",
+]
+
+#: Contact duration in units of α_max/U0: (4/5)·B(2/5, 1/2) = 2.943275... (the paper rounds to 2.9432).
+HERTZ_DURATION_CONSTANT = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
+#: The paper's rounded constant (Yufang and Zhongfang, 1992), kept for comparison only.
+PAPER_DURATION_CONSTANT = 2.9432
+#: The acceleration pulses on offer (see :func:`acceleration_pulse`).
+PULSE_KINDS = ("half-sine", "impulse-matched", "hertz")
+
+
+def hertz_stiffness(radius: float, sphere: Material, surface: Material) -> float:
+    """Hertz contact stiffness of a sphere on a flat surface (paper eq 2).
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius a in m.
+    sphere, surface : Material
+        Elastic constants of the sphere and of the surface (half-space).
+
+    Returns
+    -------
+    float
+        ``K_HZ = (4/3) sqrt(a) E*`` in N/m^1.5, with E* the reduced modulus.
+
+    Notes
+    -----
+    Paper eq 2 (Akay and Hodgson, 1978); Johnson, *Contact Mechanics* (1985), eq 4.23.
+
+    Examples
+    --------
+    >>> from acoustiviz.materials import material
+    >>> k = hertz_stiffness(0.01, material("steel"), material("steel"))
+    >>> f"{k:.3g}"
+    '1.54e+10'
+    """
+    a = check_positive("radius", radius, "m")
+    return 4.0 / 3.0 * math.sqrt(a) * reduced_modulus(sphere, surface)
+
+
+def effective_mass(mass, partner_mass=math.inf):
+    """Effective mass ``m M / (m + M)`` in kg of two free bodies (``M = inf``: a fixed wall)."""
+    m = np.asarray(mass, dtype=float)
+    mp = np.asarray(partner_mass, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.where(np.isinf(mp), m, m * mp / (m + mp))
+    return out[()] if out.ndim == 0 else out
+
+
+def max_approach(velocity, k_hertz, mass):
+    """Maximum approach ``α_max = (5 m U0² / (4 K))^{2/5}`` in m.
+
+    Parameters
+    ----------
+    velocity : float or array_like
+        Approach speed U0 in m/s.
+    k_hertz : float
+        Hertz stiffness in N/m^1.5.
+    mass : float
+        Effective mass in kg (the sphere mass for a fixed wall).
+    """
+    u = np.asarray(velocity, dtype=float)
+    return (5.0 * mass * u**2 / (4.0 * k_hertz)) ** 0.4
+
+
+def contact_duration(velocity, k_hertz, mass):
+    """Hertz contact duration ``τ = 2.943275 α_max / U0`` in s.
+
+    The constant is (4/5)·B(2/5, 1/2) (:data:`HERTZ_DURATION_CONSTANT`); the paper rounds it to 2.9432.
+    Arguments as in :func:`max_approach`.
+    """
+    u = np.asarray(velocity, dtype=float)
+    return HERTZ_DURATION_CONSTANT * max_approach(u, k_hertz, mass) / u
+
+
+def peak_force(velocity, k_hertz, mass):
+    """Peak Hertz force ``K α_max^{3/2}`` in N. Arguments as in :func:`max_approach`."""
+    return k_hertz * max_approach(velocity, k_hertz, mass) ** 1.5
+
+
+def peak_acceleration(velocity, k_hertz, mass, partner_mass=math.inf):
+    """Peak acceleration of the sphere in m/s² (paper eq 3).
+
+    Parameters
+    ----------
+    velocity : float or array_like
+        Approach speed U0 in m/s.
+    k_hertz : float
+        Hertz stiffness in N/m^1.5.
+    mass : float
+        Sphere mass m in kg.
+    partner_mass : float, optional
+        Mass of the struck body in kg; ``inf`` (default) is a fixed wall, as in the paper.
+
+    Notes
+    -----
+    ``A_max = (K/m) (5 U0² / (4 K* K))^{3/5}`` with ``K* = 1/m_eff`` (paper eq 3, where
+    ``m_eff = m``), i.e. the peak force divided by the sphere's own mass.
+    """
+    meff = effective_mass(mass, partner_mass)
+    return peak_force(velocity, k_hertz, meff) / mass
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One collision of a sphere with a surface or a second body.
+
+    Parameters
+    ----------
+    velocity : float
+        Approach speed U0 in m/s (> 0).
+    k_hertz : float
+        Hertz stiffness K_HZ in N/m^1.5 (> 0).
+    mass : float
+        Sphere mass m in kg (> 0).
+    partner_mass : float, optional
+        Mass of the struck body in kg; ``inf`` (default) is a fixed wall.
+    damping : float, optional
+        Linear contact damping c1 in N·s/m (paper eq 15); 0 is the elastic Hertz impact.
+    clip_tensile : bool, optional
+        If True the contact force is clipped at zero (no pull as the bodies part);
+        the paper's form (False) lets the damping force turn tensile.
+    """
+
+    velocity: float
+    k_hertz: float
+    mass: float
+    partner_mass: float = math.inf
+    damping: float = 0.0
+    clip_tensile: bool = False
+
+    def __post_init__(self):
+        check_positive("velocity", self.velocity, "m/s")
+        check_positive("k_hertz", self.k_hertz, "N/m^1.5")
+        check_positive("mass", self.mass, "kg")
+        if not (self.partner_mass > 0):
+            raise ParameterError("partner_mass", f"must be > 0 kg or inf, got {self.partner_mass}")
+        check_nonnegative("damping", self.damping, "N s/m")
+
+    @property
+    def effective_mass(self) -> float:
+        """Effective mass m M/(m + M) in kg."""
+        return float(effective_mass(self.mass, self.partner_mass))
+
+    @property
+    def max_approach(self) -> float:
+        """Maximum approach α_max in m (undamped Hertz)."""
+        return float(max_approach(self.velocity, self.k_hertz, self.effective_mass))
+
+    @property
+    def duration(self) -> float:
+        """Contact duration τ in s (undamped Hertz)."""
+        return float(contact_duration(self.velocity, self.k_hertz, self.effective_mass))
+
+    @property
+    def peak_force(self) -> float:
+        """Peak contact force in N (undamped Hertz)."""
+        return float(peak_force(self.velocity, self.k_hertz, self.effective_mass))
+
+    @property
+    def peak_acceleration(self) -> float:
+        """Peak acceleration of the sphere in m/s² (paper eq 3)."""
+        return self.peak_force / self.mass
+
+    @property
+    def impulse(self) -> float:
+        """Impulse of the undamped contact force, 2 m_eff U0, in N·s."""
+        return 2.0 * self.effective_mass * self.velocity
+
+    @property
+    def damping_ratio(self) -> float:
+        """Dimensionless contact damping ζ = c1 α_max / (m_eff U0) that alone sets the restitution."""
+        return self.damping * self.max_approach / (self.effective_mass * self.velocity)
+
+
+# --------------------------------------------------------------------------- pulses
+@dataclass(frozen=True)
+class HalfSinePulse:
+    """A half-sine acceleration pulse ``A(t) = amplitude sin(π t / duration)`` for 0 <= t <= duration.
+
+    Parameters
+    ----------
+    amplitude : float
+        Peak acceleration in m/s².
+    duration : float
+        Pulse length in s.
+    kind : str
+        Which pulse this is: ``"half-sine"`` (peak- and duration-matched, paper eq 4) or
+        ``"impulse-matched"``.
+    """
+
+    amplitude: float
+    duration: float
+    kind: str = "half-sine"
+
+    def __post_init__(self):
+        check_positive("duration", self.duration, "s")
+        if not math.isfinite(self.amplitude):
+            raise ParameterError("amplitude", f"must be finite, got {self.amplitude}")
+
+    def acceleration(self, t):
+        """Acceleration in m/s² at times ``t`` in s (zero outside the pulse)."""
+        t = np.asarray(t, dtype=float)
+        inside = (t >= 0) & (t <= self.duration)
+        return np.where(inside, self.amplitude * np.sin(np.pi * np.clip(t, 0, self.duration) / self.duration), 0.0)
+
+    @property
+    def velocity_change(self) -> float:
+        """Velocity change ∫A dt = 2 A τ / π in m/s."""
+        return 2.0 * self.amplitude * self.duration / math.pi
+
+    @property
+    def peak(self) -> float:
+        """Peak acceleration in m/s²."""
+        return abs(self.amplitude)
+
+
+@dataclass(frozen=True)
+class SampledPulse:
+    """An acceleration pulse given by samples, linear between them and zero outside.
+
+    Parameters
+    ----------
+    times : (n,) array_like
+        Strictly increasing sample times in s, starting at 0.
+    acceleration : (n,) array_like
+        Acceleration in m/s² at those times.
+    kind : str
+        A label saying what the pulse is (``"hertz"`` for the exact Hertz pulse).
+    """
+
+    times: np.ndarray
+    acceleration_samples: np.ndarray
+    kind: str = "sampled"
+
+    def __post_init__(self):
+        t = np.array(self.times, dtype=float)
+        a = np.array(self.acceleration_samples, dtype=float)
+        if t.ndim != 1 or t.size < 2:
+            raise ParameterError("times", "need a 1-D array of at least 2 sample times in s")
+        if a.shape != t.shape:
+            raise ParameterError("acceleration", f"shape {a.shape} does not match times {t.shape}")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
+            raise ParameterError("acceleration", "times and samples must be finite")
+        if np.any(np.diff(t) <= 0):
+            raise ParameterError("times", "must be strictly increasing")
+        if t[0] != 0.0:
+            raise ParameterError("times", f"must start at 0 s, got {t[0]:g} s")
+        t.setflags(write=False)
+        a.setflags(write=False)
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "acceleration_samples", a)
+
+    @property
+    def duration(self) -> float:
+        """Length of the pulse in s."""
+        return float(self.times[-1])
+
+    def acceleration(self, t):
+        """Acceleration in m/s² at times ``t`` in s (linear interpolation, zero outside)."""
+        return np.interp(np.asarray(t, dtype=float), self.times, self.acceleration_samples, left=0.0, right=0.0)
+
+    @property
+    def velocity_change(self) -> float:
+        """Velocity change ∫A dt in m/s (exact for the piecewise-linear pulse)."""
+        return float(np.trapezoid(self.acceleration_samples, self.times))
+
+    @property
+    def peak(self) -> float:
+        """Largest |acceleration| in m/s²."""
+        return float(np.max(np.abs(self.acceleration_samples)))
+
+
+def hertz_pulse_shape(theta):
+    """Universal undamped Hertz force shape ``s(θ)^{3/2}`` (peak 1).
+
+    Parameters
+    ----------
+    theta : array_like
+        Dimensionless time θ = t U0 / α_max; the contact lasts 0 <= θ <= 2.943275.
+
+    Returns
+    -------
+    ndarray
+        Force (or sphere acceleration) divided by its peak, zero outside the contact.
+
+    Notes
+    -----
+    ``s'' = -(5/4) s^{3/2}`` with ``s(0)=0, s'(0)=1`` conserves ``s'² + s^{5/2} = 1``, so
+    ``θ(s) = ∫_0^s dx / sqrt(1 - x^{5/2}) = (2/5) B(s^{5/2}; 2/5, 1/2)``. Inverting the
+    regularised incomplete beta function gives ``s^{5/2} = I^{-1}_{2/5,1/2}(2θ/θ_c)`` on the
+    loading half; the unloading half is its mirror image.
+    """
+    from scipy.special import betaincinv
+
+    th = np.asarray(theta, dtype=float)
+    tc = HERTZ_DURATION_CONSTANT
+    inside = (th >= 0) & (th <= tc)
+    half = np.minimum(np.clip(th, 0, tc), tc - np.clip(th, 0, tc))
+    x = betaincinv(0.4, 0.5, np.clip(2.0 * half / tc, 0.0, 1.0))
+    return np.where(inside, x**0.6, 0.0)
+
+
+def acceleration_pulse(impact: Impact, kind: str = "half-sine", *, n_samples: int = 1025):
+    """The acceleration pulse of the sphere during one impact.
+
+    Parameters
+    ----------
+    impact : Impact
+        The collision (its damping is ignored: these are the undamped Hertz pulses).
+    kind : {"half-sine", "impulse-matched", "hertz"}
+        ``"half-sine"``: the paper's eq 4, peak A_max and duration τ of the Hertz impact; it
+        carries about 1.171 times the true impulse. ``"impulse-matched"``: a half-sine of
+        duration τ whose area is the Hertz velocity change 2 m_eff U0 / m. ``"hertz"``: the
+        exact Hertz pulse, sampled at ``n_samples`` points clustered at both ends.
+    n_samples : int, optional
+        Number of samples of the exact pulse (>= 17).
+
+    Returns
+    -------
+    HalfSinePulse or SampledPulse
+        The pulse; its ``kind`` says which one it is.
+    """
+    check_choice("pulse", kind, PULSE_KINDS)
+    tau = impact.duration
+    if kind == "half-sine":
+        return HalfSinePulse(impact.peak_acceleration, tau, kind)
+    if kind == "impulse-matched":
+        dv = impact.impulse / impact.mass
+        return HalfSinePulse(math.pi * dv / (2.0 * tau), tau, kind)
+    n = int(n_samples)
+    if n < 17:
+        raise ParameterError("n_samples", f"must be >= 17, got {n_samples}")
+    u = np.linspace(0.0, 1.0, n)
+    t = tau * 0.5 * (1.0 - np.cos(np.pi * u))  # Chebyshev-like clustering at both ends
+    t[0], t[-1] = 0.0, tau
+    theta = t * impact.velocity / impact.max_approach
+    a = impact.peak_acceleration * hertz_pulse_shape(theta)
+    a[0] = a[-1] = 0.0
+    return SampledPulse(t, a, "hertz")
+
+
+# --------------------------------------------------------------------------- damping
+@dataclass(frozen=True)
+class DampedContact:
+    """Time history of one damped Hertz contact (see :func:`damped_contact`).
+
+    Attributes
+    ----------
+    time : ndarray
+        Times in s from first touch.
+    approach, approach_rate : ndarray
+        α in m and dα/dt in m/s.
+    force : ndarray
+        Contact force in N (positive pushes the bodies apart).
+    restitution : float
+        Separation speed / approach speed.
+    duration : float
+        Contact duration in s.
+    peak_force : float
+        Largest contact force in N.
+    clip_tensile : bool
+        Whether the force was clipped at zero.
+    """
+
+    time: np.ndarray
+    approach: np.ndarray
+    approach_rate: np.ndarray
+    force: np.ndarray
+    restitution: float
+    duration: float
+    peak_force: float
+    clip_tensile: bool
+
+
+def _damped_contact_dimensionless(zeta: float, clip: bool, dense: bool, rtol: float = 1e-11):
+    """Solve s'' + ζ s' + (5/4) s^{3/2} = 0, s(0)=0, s'(0)=1 until the contact ends."""
+    from scipy.integrate import solve_ivp
+
+    k = 0.8 * zeta  # damping force / Hertz peak force, per unit s'
+
+    def rhs(_t, y):
+        s, v = y
+        return (v, -zeta * v - 1.25 * max(s, 0.0) ** 1.5)
+
+    def ended(_t, y):
+        s, v = y
+        if clip:
+            return max(s, 0.0) ** 1.5 + k * v  # force crosses zero
+        return s
+
+    ended.terminal = True
+    ended.direction = -1
+    # the force is positive at t=0+ when clipping (k*1 > 0); start the event check just after 0
+    sol = solve_ivp(
+        rhs,
+        (0.0, 1e4),
+        (0.0, 1.0),
+        method="DOP853",
+        rtol=rtol,
+        atol=1e-14,
+        events=ended,
+        dense_output=dense,
+        first_step=1e-6,
+    )
+    if sol.status != 1:
+        return sol, math.nan, 0.0
+    te = float(sol.t_events[0][0])
+    ve = float(sol.y_events[0][0][1])
+    return sol, te, max(-ve, 0.0)
+
+
+def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
+    """Integrate one contact with Hertz stiffness and linear damping (paper eq 15).
+
+    ``m_eff α'' + c1 α' + K α^{3/2} = 0`` from ``α(0) = 0, α'(0) = U0`` until α returns to zero
+    (or, with ``impact.clip_tensile``, until the force ``K α^{3/2} + c1 α'`` falls to zero).
+
+    Parameters
+    ----------
+    impact : Impact
+        The collision, including its ``damping`` c1 and ``clip_tensile`` choice.
+    n_output : int, optional
+        Number of output samples over the contact.
+
+    Returns
+    -------
+    DampedContact
+    """
+    zeta = impact.damping_ratio
+    sol, te, ve = _damped_contact_dimensionless(zeta, impact.clip_tensile, dense=True)
+    if not math.isfinite(te):
+        raise RuntimeError(f"contact did not end within 1e4 time units (damping ratio {zeta:g})")
+    am, u0 = impact.max_approach, impact.velocity
+    tscale = am / u0
+    th = np.linspace(0.0, te, int(n_output))
+    s, v = sol.sol(th)
+    alpha = am * s
+    rate = u0 * v
+    force = impact.k_hertz * np.maximum(alpha, 0.0) ** 1.5 + impact.damping * rate
+    if impact.clip_tensile:
+        force = np.maximum(force, 0.0)
+    return DampedContact(
+        time=th * tscale,
+        approach=alpha,
+        approach_rate=rate,
+        force=force,
+        restitution=ve,
+        duration=te * tscale,
+        peak_force=float(force.max()),
+        clip_tensile=impact.clip_tensile,
+    )
+
+
+def restitution(velocity, k_hertz, mass, partner_mass=math.inf, damping=0.0, clip_tensile=False):
+    """Coefficient of restitution of a damped Hertz contact (paper eq 15).
+
+    Parameters
+    ----------
+    velocity : float or array_like
+        Approach speed U0 in m/s (> 0).
+    k_hertz : float
+        Hertz stiffness in N/m^1.5.
+    mass : float
+        Sphere (impact) mass m in kg.
+    partner_mass : float, optional
+        Mass of the struck body M in kg (``inf``: a fixed wall).
+    damping : float, optional
+        Linear contact damping c1 in N·s/m.
+    clip_tensile : bool, optional
+        Clip the contact force at zero (contact ends when it vanishes).
+
+    Returns
+    -------
+    float or ndarray
+        Separation speed / approach speed, shaped like ``velocity``.
+
+    Notes
+    -----
+    Scaling α by α_max and t by α_max/U0 leaves one parameter, ζ = c1 α_max / (m_eff U0), so
+    e depends on U0, m, M, K and c1 only through ζ. With the paper's linear damping ζ falls as
+    U0^{-1/5} m_eff^{-3/5}, so the restitution *rises* with impact velocity and with mass.
+    """
+    u = np.atleast_1d(np.asarray(velocity, dtype=float))
+    if np.any(~(u > 0)) or not np.all(np.isfinite(u)):
+        raise ParameterError("velocity", "approach speeds must be finite and > 0 m/s")
+    check_positive("k_hertz", k_hertz, "N/m^1.5")
+    check_positive("mass", mass, "kg")
+    c1 = check_nonnegative("damping", damping, "N s/m")
+    meff = float(effective_mass(mass, partner_mass))
+    am = max_approach(u, k_hertz, meff)
+    zetas = c1 * am / (meff * u)
+    out = np.empty_like(u)
+    for i, z in enumerate(zetas):
+        if z == 0.0:
+            out[i] = 1.0
+            continue
+        _, _, ve = _damped_contact_dimensionless(float(z), bool(clip_tensile), dense=False)
+        out[i] = ve
+    return out[0] if np.ndim(velocity) == 0 else out.reshape(np.shape(velocity))
