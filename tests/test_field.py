@@ -1,0 +1,172 @@
+"""Field evaluator: against direct sums of sphere_pressure, chunking, memory cap, metrics."""
+
+import tracemalloc
+
+import numpy as np
+import pytest
+
+from acoustiviz import field
+from acoustiviz._validate import ParameterError
+from acoustiviz.contact import Impact, acceleration_pulse
+from acoustiviz.images import images_free, images_plane, images_wall_floor
+from acoustiviz.radiation import sphere_pressure
+
+A = 0.01905
+MASS = 7800 * 4 / 3 * np.pi * A**3
+IMPACT = Impact(velocity=1.4, k_hertz=5.6e8, mass=MASS)
+#: the evaluator drops tails below DEFAULT_CUTOFF = 1e-10 of each sphere's scale
+RTOL = 1e-8
+CONFIGS = {
+    "free": images_free(A),
+    "plane": images_plane(A),
+    "corner": images_wall_floor(A, 0.05),
+    "corner-wall": images_wall_floor(A, strike="wall", height=0.03),
+}
+
+
+def _direct(pulse, t, pts, cfg):
+    """Reference: a plain sum of free-field spheres from the radiation core."""
+    return sum(sphere_pressure(pulse, t, pts, radius=A, centre=s.position, axis=s.axis) for s in cfg.sources)
+
+
+def _points(cfg, n=60, seed=1):
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform([-0.05, -0.6, 0.0], [0.8, 0.6, 0.8], (4 * n, 3))
+    return pts[cfg.in_fluid(pts)][:n]
+
+
+@pytest.mark.parametrize("kind", ["half-sine", "hertz"])
+@pytest.mark.parametrize("name", list(CONFIGS))
+def test_time_series_matches_direct_sum(kind, name):
+    cfg = CONFIGS[name]
+    pulse = acceleration_pulse(IMPACT, kind)
+    pts = _points(cfg)
+    t = np.linspace(-1e-4, 5e-3, 1700)
+    ref = _direct(pulse, t, pts, cfg)
+    got = field.time_series(pulse, t, pts, cfg)
+    np.testing.assert_allclose(got, ref, rtol=0, atol=RTOL * np.max(np.abs(ref)))
+    # a non-uniform grid takes the vectorised path
+    tn = np.sort(np.random.default_rng(2).uniform(0, 5e-3, 200))
+    got = field.time_series(pulse, tn, pts, cfg)
+    np.testing.assert_allclose(got, _direct(pulse, tn, pts, cfg), rtol=0, atol=1e-12 * np.max(np.abs(ref)))
+
+
+def test_chunked_equals_unchunked():
+    cfg = CONFIGS["corner"]
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pts = _points(cfg, 300)
+    t = np.linspace(0, 4e-3, 500)
+    big = field.time_series(pulse, t, pts, cfg)
+    small = field.time_series(pulse, t, pts, cfg, memory_limit=8 * t.size * pts.shape[0] + 20_000)
+    np.testing.assert_array_equal(small, big)
+    blocks = list(field.iter_time_series(pulse, t, pts, cfg, memory_limit=200_000))
+    assert len(blocks) > 1
+    np.testing.assert_array_equal(np.vstack([b for _, _, b in blocks]), big)
+    m1 = field.field_metrics(pulse, pts, cfg)
+    m2 = field.field_metrics(pulse, pts, cfg, memory_limit=50_000)
+    np.testing.assert_array_equal(m1.rms, m2.rms)
+    np.testing.assert_array_equal(m1.peak, m2.peak)
+
+
+def test_memory_cap_is_respected():
+    cfg = CONFIGS["plane"]
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    rng = np.random.default_rng(5)
+    pts = rng.uniform([-1, -1, 0.05], [1, 1, 1], (200_000, 3))
+    cap = 16 * 2**20
+    field.field_metrics(pulse, pts[:10], cfg, sample_interval=2e-6)  # compile outside the trace
+    tracemalloc.start()
+    try:
+        tracemalloc.reset_peak()
+        fm = field.field_metrics(pulse, pts, cfg, sample_interval=2e-6, memory_limit=cap)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak <= cap
+    assert np.all(np.isfinite(fm.peak))
+    with pytest.raises(ParameterError) as err:
+        field.time_series(pulse, np.linspace(0, 1e-3, 1000), pts, cfg, memory_limit=cap)
+    assert err.value.name == "memory_limit"
+
+
+def test_metrics_match_a_full_series():
+    cfg = CONFIGS["corner"]
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pts = _points(cfg, 40)
+    dt = 5e-7
+    t = np.arange(0, 6e-3, dt)
+    ref = _direct(pulse, t, pts, cfg)
+    fm = field.field_metrics(pulse, pts, cfg, t=t)
+    scale = np.max(np.abs(ref))
+    np.testing.assert_allclose(fm.peak_positive, ref.max(axis=1), atol=RTOL * scale)
+    np.testing.assert_allclose(fm.peak_negative, ref.min(axis=1), atol=RTOL * scale)
+    np.testing.assert_allclose(fm.rms, np.sqrt(np.mean(ref**2, axis=1)), rtol=1e-7)
+    np.testing.assert_allclose(fm.exposure, np.sum(ref**2, axis=1) * dt, rtol=1e-7)
+    # the per-point windows (default) see the whole response: same exposure to the sampling
+    own = field.field_metrics(pulse, pts, cfg, sample_interval=dt)
+    np.testing.assert_allclose(own.exposure, fm.exposure, rtol=2e-3)
+    np.testing.assert_allclose(own.peak, fm.peak, rtol=2e-3)
+    assert np.all(own.peak_to_peak >= own.peak)
+    np.testing.assert_allclose(own.peak_spl_db, 20 * np.log10(own.peak / 20e-6))
+    np.testing.assert_allclose(own.sel_db, 10 * np.log10(own.exposure / 4e-10))
+
+
+@pytest.mark.parametrize("kind", ["half-sine", "hertz"])
+def test_figure2_m_shape(kind):
+    """Paper Figure 2 (r = 0.7 m, θ = 45°): three lobes, positive, negative, positive."""
+    cfg = images_plane(A)
+    pulse = acceleration_pulse(IMPACT, kind)
+    th = np.pi / 4
+    obs = cfg.centre + 0.7 * np.array([np.sin(th), 0.0, np.cos(th)])
+    t = np.arange(1.5e-3, 3.5e-3, 2e-7)
+    p = field.time_series(pulse, t, obs, cfg)[0]
+    big = np.abs(p) > 0.1 * np.max(np.abs(p))
+    signs = np.sign(p[big])  # signs of the significant lobes, in time order
+    lobes = signs[np.r_[True, signs[1:] != signs[:-1]]]
+    assert lobes.tolist() == [1.0, -1.0, 1.0]
+    assert 0.1 < np.max(np.abs(p)) < 10.0  # Pa
+    if kind == "hertz":  # with the exact Hertz pulse the dip is the largest lobe, as in the paper
+        assert -p.min() > p.max()
+
+
+def test_snapshots_match_direct_sum_and_mask_outside():
+    cfg = CONFIGS["corner"]
+    pulse = acceleration_pulse(IMPACT, "hertz")
+    pts = np.vstack([_points(cfg, 50), [[-0.2, 0, 0.1], [0, 0, -0.1]]])
+    times = np.array([0.5e-3, 1.2e-3, 2.0e-3])
+    snap = field.snapshots(pulse, times, pts, cfg, memory_limit=20_000)
+    ref = _direct(pulse, times, pts[:-2], cfg).T
+    np.testing.assert_allclose(snap[:, :-2], ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
+    assert np.all(np.isnan(snap[:, -2:]))
+    fm = field.field_metrics(pulse, pts, cfg)
+    assert np.all(np.isnan(fm.peak[-2:])) and np.all(np.isfinite(fm.peak[:-2]))
+
+
+def test_windows_and_decay_time():
+    cfg = CONFIGS["plane"]
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    obs = np.array([[0.0, 0.0, 1.0 + A]])
+    start, stop = field.arrival_windows(pulse, obs, cfg)
+    c = field.AIR.c
+    assert start[0] == pytest.approx((1.0 - A) / c)
+    tail = field.decay_time(A)
+    assert tail == pytest.approx(A / c * np.log(1e10))
+    assert stop[0] == pytest.approx((1.0 + 2 * A - A) / c + pulse.duration + tail)
+
+
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0, 1]], c, memory_limit=-1), "memory_limit"),
+        (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0]], c), "points"),
+        (lambda p, c: field.time_series("pulse", [0, 1e-3], [[0, 0, 1]], c), "pulse"),
+        (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0, 1]], "plane"), "config"),
+        (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, cutoff=2.0), "cutoff"),
+        (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, window=0.0), "window"),
+        (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, t=[0, 1e-4, 3e-4]), "t"),
+    ],
+)
+def test_bad_inputs_name_the_parameter(call, name):
+    with pytest.raises(ParameterError) as err:
+        call(acceleration_pulse(IMPACT, "half-sine"), CONFIGS["plane"])
+    assert err.value.name == name
