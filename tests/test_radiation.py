@@ -73,8 +73,8 @@ def _quad_reference(pulse, tp, r, ct, a=A, medium=AIR):
             continue
         edges = np.linspace(lo, hi, 9)
         total = 0.0
-        for e0, e1 in zip(edges[:-1], edges[1:]):
-            v, _ = quad(lambda xi: kernel(x - xi, r, ct, a, medium.rho, medium.c) * float(pulse.acceleration(xi)),
+        for e0, e1 in zip(edges[:-1], edges[1:], strict=False):
+            v, _ = quad(lambda xi, x=x: kernel(x - xi, r, ct, a, medium.rho, medium.c) * float(pulse.acceleration(xi)),
                         e0, e1, limit=200, epsabs=0, epsrel=1e-12)
             total += v
         out[i] = total

@@ -76,7 +76,7 @@ def run(args) -> int:
     if args.csv:
         from .._io import write_csv_atomic
 
-        write_csv_atomic(args.csv, ["time_s", "pressure_pa"], [t, p], fmt=["%.9e", "%.9e"])
+        write_csv_atomic(args.csv, ["time_s", "pressure_pa"], [t, p], fmt=["%.12e", "%.10e"])
         print(f"wrote {args.csv}")
     if args.png:
         from ..plot._style import save_figure, style
