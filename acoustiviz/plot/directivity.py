@@ -1,0 +1,64 @@
+"""Polar plots of directivity: peak SPL and RMS pressure versus polar angle (paper Figure 3)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._style import new_axes, style
+
+__all__ = ["plot_directivity"]
+
+_QUANTITIES = {
+    "spl": ("spl_db", "peak SPL (dB re 20 µPa)"),
+    "rms": ("rms", "RMS pressure (Pa)"),
+    "peak": ("peak", "peak pressure max|p| (Pa)"),
+}
+
+
+def plot_directivity(directivity, quantity: str = "spl", ax=None, *, label=None, mirror: bool = False, **kw):
+    """Draw a directivity on polar axes, 0° along the acceleration axis.
+
+    Parameters
+    ----------
+    directivity : acoustiviz.field.Directivity
+        The result of :func:`acoustiviz.field.directivity`.
+    quantity : {"spl", "rms", "peak"}
+        Peak SPL in dB re 20 µPa, RMS pressure in Pa, or max |p| in Pa.
+    ax : matplotlib.projections.polar.PolarAxes, optional
+        Polar axes to draw on; new ones are made when omitted.
+    label : str, optional
+        Legend label.
+    mirror : bool
+        Also draw the curve mirrored to negative angles (the field is axisymmetric).
+    **kw
+        Passed to :meth:`matplotlib.axes.Axes.plot`.
+
+    Returns
+    -------
+    matplotlib.projections.polar.PolarAxes
+        The axes drawn on; the radial unit is written in the title.
+    """
+    from .._validate import check_choice
+
+    check_choice("quantity", quantity, tuple(_QUANTITIES))
+    attr, unit_label = _QUANTITIES[quantity]
+    th = np.asarray(directivity.angle, dtype=float)
+    val = np.asarray(getattr(directivity, attr), dtype=float)
+    with style():
+        ax = new_axes(ax, polar=True, figsize=(5.0, 4.6))
+        (line,) = ax.plot(th, val, marker="o", ms=3, label=label, **kw)
+        if mirror:
+            ax.plot(-th, val, color=line.get_color(), ls="--", lw=0.8)
+        ax.set_theta_zero_location("N")
+        ax.set_theta_direction(-1)
+        lo = float(np.nanmin(val))
+        hi = float(np.nanmax(val))
+        if quantity == "spl":
+            ax.set_rlim(max(lo - 10.0, 0.0) if np.isfinite(lo) else 0.0, hi + 3.0)
+        else:
+            ax.set_rlim(0.0, hi * 1.08 if hi > 0 else 1.0)
+        ax.set_title(f"{unit_label} vs angle from the acceleration axis (deg)", fontsize=9)
+        ax.set_xlabel(f"radial axis: {unit_label}", fontsize=8)
+        if label:
+            ax.legend(loc="lower left", fontsize=8)
+    return ax
