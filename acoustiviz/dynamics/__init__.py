@@ -1,0 +1,36 @@
+"""Impact-damper dynamics (paper eq 15): model, solvers, impact table, metrics.
+
+Wall convention: ``wall = +1`` is struck when ``z = y - x`` reaches ``+d/2`` (the impact mass
+moving in ``+x`` relative to the main mass), ``wall = -1`` when ``z`` reaches ``-d/2``.
+
+The physics here imports nothing from plotting or the command line.
+"""
+
+from .model import TABLE1, DamperModel, InitialState
+from .result import CSV_COLUMNS, EnergyBalance, ImpactTable, SimulationResult
+from .solve import (
+    SOLVERS,
+    AccuracyWarning,
+    central_difference_excursion,
+    default_step,
+    explicit_step_limit,
+    shortest_contact,
+    simulate,
+)
+
+__all__ = [
+    "TABLE1",
+    "DamperModel",
+    "InitialState",
+    "CSV_COLUMNS",
+    "EnergyBalance",
+    "ImpactTable",
+    "SimulationResult",
+    "SOLVERS",
+    "AccuracyWarning",
+    "central_difference_excursion",
+    "default_step",
+    "explicit_step_limit",
+    "shortest_contact",
+    "simulate",
+]

@@ -1,0 +1,298 @@
+"""One interface to the impact-damper solvers: :func:`simulate`.
+
+Solvers (chosen by name):
+
+``"event"``
+    Event-driven. Between contacts the motion is in closed form (the impact mass flies freely, the
+    main mass is a damped linear oscillator). Contact onset is located by exact bracketing of the
+    gap function (between zeros of the main-mass acceleration the relative velocity is monotone,
+    so no grazing contact can be missed) and Brent's method. Each contact is integrated with an
+    adaptive Dormand-Prince 8(5,3) scheme under relative tolerance ``rtol``; its end (penetration
+    back to zero) and its peak force are located by root finding on full Runge-Kutta steps. Cost
+    grows with the number of impacts, not with simulated time.
+``"newmark"``
+    The paper's average-acceleration Newmark-beta (γ = 1/2, β = 1/4) at a fixed step ``dt`` with
+    Newton iterations on the contact force. Unconditionally stable, second order; its accuracy
+    depends on ``dt`` relative to the contact duration (default: 1/50 of the shortest possible
+    Hertz contact).
+``"impact-map"``
+    Instantaneous impacts with the restitution of the compliant contact at each approach speed
+    (the same damped Hertz contact, integrated alone, without the main spring and dashpot).
+    Fastest and approximate: it neglects the motion of the main spring during the contact, an
+    error of the order of (contact duration × main frequency); see the benchmark.
+
+Requesting a Newmark step longer than the shortest possible contact raises
+:class:`~acoustiviz._validate.ParameterError`; a step coarser than 1/20 of it warns.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from types import MappingProxyType
+
+import numpy as np
+
+from .._validate import ParameterError, check_choice, check_positive, check_range
+from . import _kernels as kern
+from .model import TABLE1, DamperModel, InitialState
+from .result import EnergyBalance, ImpactTable, SimulationResult
+
+__all__ = [
+    "SOLVERS",
+    "AccuracyWarning",
+    "simulate",
+    "default_step",
+    "shortest_contact",
+    "explicit_step_limit",
+    "central_difference_excursion",
+]
+
+#: Names accepted by :func:`simulate`.
+SOLVERS = ("event", "newmark", "impact-map")
+#: Newmark steps coarser than this fraction of the shortest contact trigger an AccuracyWarning.
+NEWMARK_WARN_FRACTION = 1.0 / 20.0
+#: Default Newmark step as a fraction of the shortest contact.
+NEWMARK_DEFAULT_FRACTION = 1.0 / 50.0
+#: The impact map warns when (shortest contact × main angular frequency) exceeds this.
+IMPACT_MAP_WARN_PRODUCT = 0.05
+
+_STATUS_MESSAGES = {
+    kern.STATUS_OK: "completed",
+    kern.STATUS_MAX_IMPACTS: "stopped: max_impacts reached (chattering?); raise max_impacts",
+    kern.STATUS_STEP_UNDERFLOW: "stopped: contact step size underflow",
+    kern.STATUS_DIVERGED: "stopped: the solution diverged",
+}
+
+
+class AccuracyWarning(UserWarning):
+    """A setting will give inaccurate results (e.g. a coarse Newmark step)."""
+
+
+def _params(model: DamperModel) -> np.ndarray:
+    return np.array(
+        [model.M, model.K, model.C, model.m, 0.5 * model.gap, model.k_hertz, model.c1,
+         1.0 if model.clip_tensile else 0.0]
+    )
+
+
+def shortest_contact(model: DamperModel = TABLE1, initial: InitialState | None = None) -> float:
+    """Shortest possible Hertz contact duration in s for this start.
+
+    Evaluated at the largest relative speed the initial energy allows
+    (:meth:`InitialState.max_relative_speed`); the Hertz duration falls as speed^(-1/5).
+    """
+    initial = InitialState() if initial is None else initial
+    return model.contact_duration(initial.max_relative_speed(model))
+
+
+def default_step(model: DamperModel = TABLE1, initial: InitialState | None = None) -> float:
+    """Default Newmark step in s: 1/50 of :func:`shortest_contact`."""
+    return NEWMARK_DEFAULT_FRACTION * shortest_contact(model, initial)
+
+
+def explicit_step_limit(model: DamperModel = TABLE1, initial: InitialState | None = None) -> float:
+    """Stability limit ``2 / ω_contact`` in s of an explicit (central-difference) scheme.
+
+    ``ω_contact`` is the linearised contact frequency at the deepest penetration of the fastest
+    possible impact (:meth:`DamperModel.contact_frequency`).
+    """
+    initial = InitialState() if initial is None else initial
+    return 2.0 / model.contact_frequency(initial.max_relative_speed(model))
+
+
+def central_difference_excursion(model: DamperModel, duration: float, dt: float,
+                                 initial: InitialState | None = None) -> float:
+    """Largest ``|y - x|`` in m reached by explicit central differences (inf if it blew up).
+
+    A demonstration of where explicit schemes fail (not a solver offered by :func:`simulate`):
+    with ``dt`` above :func:`explicit_step_limit` the contact makes the scheme unstable.
+
+    Parameters
+    ----------
+    model : DamperModel
+    duration : float
+        Simulated time in s.
+    dt : float
+        Fixed step in s.
+    initial : InitialState, optional
+    """
+    initial = InitialState() if initial is None else initial
+    check_positive("duration", duration, "s")
+    check_positive("dt", dt, "s")
+    s0 = np.array(initial.as_tuple(model))
+    return float(kern.central_difference(_params(model), s0, float(dt), int(math.ceil(duration / dt))))
+
+
+def _check_t_eval(t_eval, duration):
+    if t_eval is None:
+        return np.empty(0)
+    t = np.atleast_1d(np.asarray(t_eval, dtype=float))
+    if t.ndim != 1 or not np.all(np.isfinite(t)):
+        raise ParameterError("t_eval", "must be a 1-D array of finite times in s")
+    if t.size and (t[0] < 0 or t[-1] > duration):
+        raise ParameterError("t_eval", f"times must lie in [0, {duration:g}] s")
+    if np.any(np.diff(t) < 0):
+        raise ParameterError("t_eval", "times must be non-decreasing")
+    return np.ascontiguousarray(t)
+
+
+def simulate(
+    model: DamperModel = TABLE1,
+    duration: float = 20.0,
+    *,
+    solver: str = "event",
+    initial: InitialState | None = None,
+    rtol: float = 1e-14,
+    dt: float | None = None,
+    t_eval=None,
+    max_impacts: int = 100_000,
+) -> SimulationResult:
+    """Simulate the impact damper (paper eq 15) from ``initial`` for ``duration`` s.
+
+    Parameters
+    ----------
+    model : DamperModel, optional
+        The damper (default: the paper's Table 1 with d = 4 cm).
+    duration : float, optional
+        Simulated time in s (default 20 s: the Table 1 run settles after about 15 s).
+    solver : {"event", "newmark", "impact-map"}
+        See the module docstring.
+    initial : InitialState, optional
+        Start (default: the paper's Figure 5, x = 0, dx/dt = 2 m/s, impact mass centred at rest).
+    rtol : float, optional
+        Relative tolerance of the contact integration (event solver; the impact map's
+        restitution integration), in [1e-15, 1e-3]. The default 1e-14 keeps the
+        first 40 impacts of the chaotic Table 1 run within 1e-6 of the converged reference.
+    dt : float, optional
+        Newmark step in s (default :func:`default_step`). Refused if longer than the shortest
+        possible contact; warns (:class:`AccuracyWarning`) above 1/20 of it.
+    t_eval : array_like, optional
+        Non-decreasing times in s in [0, duration] at which to report x, v, y, w and the
+        dissipated energies.
+    max_impacts : int, optional
+        Stop (``success=False``) after this many contacts.
+
+    Returns
+    -------
+    SimulationResult
+
+    Examples
+    --------
+    >>> r = simulate(duration=1.0)
+    >>> r.success, len(r.impacts) > 0
+    (True, True)
+    """
+    if not isinstance(model, DamperModel):
+        raise ParameterError("model", f"expected a DamperModel, got {type(model).__name__}")
+    initial = InitialState() if initial is None else initial
+    if not isinstance(initial, InitialState):
+        raise ParameterError("initial", f"expected an InitialState, got {type(initial).__name__}")
+    check_choice("solver", solver, SOLVERS)
+    duration = check_positive("duration", duration, "s")
+    rtol = check_range("rtol", rtol, 1e-15, 1e-3)
+    if int(max_impacts) < 1:
+        raise ParameterError("max_impacts", f"must be >= 1, got {max_impacts}")
+    state0 = np.array(initial.as_tuple(model))
+    t_eval = _check_t_eval(t_eval, duration)
+    p = _params(model)
+    settings: dict = {}
+    tau_min = shortest_contact(model, initial)
+    if solver in ("event", "impact-map") and not model.underdamped:
+        raise ParameterError(
+            "C",
+            f"the {solver} solver needs an underdamped main oscillator, C < 2 sqrt(K M) = "
+            f"{2 * math.sqrt(model.K * model.M):g} N s/m, got {model.C:g} N s/m; use solver='newmark'",
+        )
+    if solver == "newmark":
+        if dt is None:
+            dt = default_step(model, initial)
+        dt = check_positive("dt", dt, "s")
+        if dt > tau_min:
+            raise ParameterError(
+                "dt",
+                f"a step of {dt:g} s is longer than the shortest possible contact ({tau_min:.3g} s);"
+                f" use dt <= {NEWMARK_WARN_FRACTION * tau_min:.3g} s",
+            )
+        if dt > NEWMARK_WARN_FRACTION * tau_min:
+            warnings.warn(
+                f"Newmark step {dt:g} s is coarser than 1/20 of the shortest contact "
+                f"({tau_min:.3g} s): restitution and impact times will be inaccurate",
+                AccuracyWarning,
+                stacklevel=2,
+            )
+        nsteps = int(round(duration / dt))
+        settings = {"dt": dt, "steps": nsteps}
+    elif solver == "impact-map":
+        settings = {"rtol": rtol}
+        prod = tau_min * model.main_frequency
+        if prod > IMPACT_MAP_WARN_PRODUCT:
+            warnings.warn(
+                f"contacts last up to {tau_min:.3g} s, {prod:.2g} rad of the main oscillation: "
+                "the instantaneous impact map will be inaccurate; use solver='event'",
+                AccuracyWarning,
+                stacklevel=2,
+            )
+    else:
+        settings = {"rtol": rtol}
+
+    n_max = int(max_impacts)
+    impacts = np.empty((n_max, 8))
+    dense = np.empty((t_eval.size, 6))
+    final = np.zeros(7)
+    if solver == "newmark":
+        # warm-up (compiles or loads the cached kernel) so solver_time is the solver alone
+        kern.newmark(p, state0, dt, 1, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)), np.zeros(7))
+        t0 = time.perf_counter()
+        n, status, t_end = kern.newmark(p, state0, dt, nsteps, t_eval, n_max, impacts, dense, final)
+        elapsed = time.perf_counter() - t0
+    else:
+        imap = solver == "impact-map"
+        kern.event_solver(p, state0, 1e-9, rtol, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)),
+                          np.zeros(7), imap)
+        t0 = time.perf_counter()
+        n, status, t_end = kern.event_solver(p, state0, duration, rtol, t_eval, n_max, impacts, dense,
+                                             final, imap)
+        elapsed = time.perf_counter() - t0
+
+    x0, v0, y0, w0 = state0
+    e0 = float(model.energy(x0, v0, y0, w0))
+    xf, vf, yf, wf, ecf, enf, df = final
+    energy = EnergyBalance(
+        initial=e0,
+        kinetic=0.5 * model.M * vf**2 + 0.5 * model.m * wf**2,
+        spring=0.5 * model.K * xf**2,
+        hertz=0.4 * model.k_hertz * max(df, 0.0) ** 2.5,
+        dissipated_main=float(ecf),
+        dissipated_contact=float(enf),
+    )
+    nd = dense.shape[0]
+    if t_end < duration:  # stopped early: drop dense rows that were never filled
+        nd = int(np.searchsorted(t_eval, t_end, side="right"))
+    cols = [np.array(dense[:nd, i]) for i in range(6)]
+    for c in cols:
+        c.setflags(write=False)
+    tt = np.array(t_eval[:nd])
+    tt.setflags(write=False)
+    return SimulationResult(
+        solver=solver,
+        settings=MappingProxyType(settings),
+        model=model,
+        initial=initial,
+        duration=duration,
+        t_end=float(t_end),
+        impacts=ImpactTable.from_rows(impacts[:n]),
+        t=tt,
+        x=cols[0],
+        v=cols[1],
+        y=cols[2],
+        w=cols[3],
+        dissipated_main=cols[4],
+        dissipated_contact=cols[5],
+        energy=energy,
+        success=status == kern.STATUS_OK,
+        message=_STATUS_MESSAGES.get(status, f"status {status}") + f" at t = {t_end:.6g} s",
+        solver_time=elapsed,
+        final_state=(float(xf), float(vf), float(yf), float(wf)),
+    )
