@@ -1,0 +1,317 @@
+"""Run a scene: produce exactly the outputs it names, computing no more than they need.
+
+Each output kind has a producer that writes its files atomically into the output folder and
+returns :class:`Product` records (path and key figures) for ``summary.md``. Shared work is
+computed lazily and once per run by :class:`RunContext` (for example the damper simulation
+serves the time history, the impact table and the WAV files), so a scene that asks only for a
+waveform never runs the damper, and one that asks only for a WAV never evaluates a grid.
+
+This is the top layer: it imports the core, the field evaluator, plots, renders, audio and
+sweeps; nothing imports it but the command line.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ._io import write_csv_atomic, write_text_atomic
+from ._validate import ParameterError
+from .scene import Scene, parse_range
+
+__all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
+
+
+@dataclass(frozen=True)
+class Product:
+    """One file written by a run, with the figures worth reading in the summary."""
+
+    kind: str
+    path: Path
+    figures: dict = field(default_factory=dict)
+
+
+class RunContext:
+    """The scene, the output folder and the lazily computed shared results of one run."""
+
+    def __init__(self, scene: Scene, out: Path, progress=None):
+        self.scene = scene
+        self.out = Path(out)
+        self.progress = progress or (lambda msg: None)
+
+    def path(self, name: str) -> Path:
+        """Path of an output file inside the run folder."""
+        return self.out / name
+
+    # -- physics objects shared by several outputs
+    @functools.cached_property
+    def medium(self):
+        """The fluid."""
+        return self.scene.medium()
+
+    @functools.cached_property
+    def configuration(self):
+        """Sphere and image sources of the single-impact outputs."""
+        return self.scene.configuration()
+
+    @functools.cached_property
+    def listeners(self):
+        """``[(name, (3,) position in m)]``."""
+        return self.scene.listeners()
+
+    def pulse(self, kind=None):
+        """The single impact's acceleration pulse (scene pulse, or ``kind``)."""
+        return self.scene.pulse(kind=kind)
+
+    @functools.cached_property
+    def damper_model(self):
+        """The scene's :class:`~acoustiviz.dynamics.DamperModel`."""
+        from .dynamics import DamperModel
+
+        d = self.scene.section("damper")
+        return DamperModel(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
+                           gap=d["gap_m"], k_hertz=self.scene.k_hertz(), c1=d["contact_damping_n_s_m"],
+                           clip_tensile=d["clip_tensile"])
+
+    @functools.cached_property
+    def damper_initial(self):
+        """Initial state of the damper run."""
+        from .dynamics import InitialState
+
+        d = self.scene.section("damper")
+        return InitialState(x=d["initial_displacement_m"], v=d["initial_velocity_m_s"])
+
+    @functools.cached_property
+    def damper_run(self):
+        """The damper simulation (once per run), with dense output for plots."""
+        from .dynamics import simulate
+        from .dynamics.metrics import sample_times
+
+        d = self.scene.section("damper")
+        self.progress(f"simulating the damper for {d['duration_s']:g} s ({d['solver']} solver)")
+        kwargs = {"rtol": d["tolerance"]} if d["solver"] != "newmark" else {}
+        start = time.perf_counter()
+        res = simulate(self.damper_model, d["duration_s"], solver=d["solver"], initial=self.damper_initial,
+                       t_eval=sample_times(d["duration_s"], self.damper_model), **kwargs)
+        self.damper_seconds = time.perf_counter() - start
+        return res
+
+
+# --------------------------------------------------------------------------- producers
+def _fig():
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(7.0, 4.2), layout="constrained")
+
+
+def _save(fig, path: Path) -> Path:
+    from .plot._style import save_figure
+
+    return save_figure(fig, path)
+
+
+def produce_waveform(ctx: RunContext):
+    """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
+    from .field import time_series
+    from .plot._style import style
+    from .plot.waveform import plot_waveform
+
+    opts = ctx.scene.output("waveform")
+    kinds = opts["pulses"] or [ctx.scene.section("contact")["pulse"]]
+    conf, medium = ctx.configuration, ctx.medium
+    products = []
+    for name, pos in ctx.listeners:
+        pulses = {k: ctx.pulse(k) for k in kinds}
+        tau = max(p.duration for p in pulses.values())
+        dists = [float(np.linalg.norm(pos - s.position)) for s in conf.sources]
+        a, c = conf.radius, medium.c
+        t0 = max(0.0, (min(dists) - a) / c - 0.2 * tau)
+        t = np.arange(t0, (max(dists) - a) / c + tau + 40 * a / c, tau / 400)
+        series = {k: time_series(p, t, pos[None, :], conf, medium=medium)[0] for k, p in pulses.items()}
+        cols = [t] + list(series.values())
+        header = ["time_s"] + (["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds])
+        csv = write_csv_atomic(ctx.path(f"waveform_{name}.csv"), header, cols, fmt="%.10e")
+        with style():
+            fig = _fig()
+            ax = fig.add_subplot()
+            for k, p in series.items():
+                plot_waveform(t, p, ax=ax, label=f"{k}: max {p.max():.3g} Pa, min {p.min():.3g} Pa")
+            ax.set_title(f"listener {name!r}, {conf.name}, U0 = {ctx.scene.impact().velocity:g} m/s")
+            ax.legend(fontsize=8)
+            png = _save(fig, ctx.path(f"waveform_{name}.png"))
+        first = series[kinds[0]]
+        peak = float(np.abs(first).max())
+        figs = {"pulse": kinds[0], "max_pa": f"{first.max():.4g}", "min_pa": f"{first.min():.4g}",
+                "peak_spl_db": f"{20 * math.log10(peak / 20e-6):.1f}"}
+        products += [Product("waveform", csv, figs), Product("waveform", png, {})]
+    return products
+
+
+def produce_directivity(ctx: RunContext):
+    """Peak, RMS and SPL against angle at the first listener's distance (CSV + polar PNG)."""
+    from .field import directivity
+    from .plot._style import style
+    from .plot.directivity import plot_directivity
+
+    step = ctx.scene.output("directivity")["step_deg"]
+    conf = ctx.configuration
+    name, pos = ctx.listeners[0]
+    dist = float(np.linalg.norm(pos - conf.sources[0].position))
+    top = 180.0 if conf.name == "free" else 90.0
+    angles = np.radians(np.arange(0.0, top + 1e-9, step))
+    d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
+    csv = write_csv_atomic(ctx.path("directivity.csv"), ["angle_deg", "peak_pa", "rms_pa", "spl_db"],
+                           [d.angle_deg, d.peak, d.rms, d.spl_db], fmt="%.8g")
+    with style():
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(9.0, 4.2), layout="constrained")
+        ax1 = fig.add_subplot(1, 2, 1, projection="polar")
+        ax2 = fig.add_subplot(1, 2, 2, projection="polar")
+        plot_directivity(d, "spl", ax=ax1)
+        plot_directivity(d, "rms", ax=ax2)
+        fig.suptitle(f"{conf.name}, r = {dist:g} m (paper Figure 3)")
+        png = _save(fig, ctx.path("directivity.png"))
+    i = int(np.nanargmax(d.spl_db))
+    return [Product("directivity", csv, {"max_spl_db": f"{d.spl_db[i]:.1f}", "at_deg": f"{d.angle_deg[i]:g}",
+                                         "distance_m": f"{dist:g}"}),
+            Product("directivity", png, {})]
+
+
+def _inclinations(res):
+    from .dynamics.metrics import damping_inclination, envelope_inclination, positive_maxima, settling_time
+
+    maxima = positive_maxima(res.t, res.x)
+    return damping_inclination(maxima), envelope_inclination(maxima), settling_time(maxima)
+
+
+def produce_damper_history(ctx: RunContext):
+    """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
+    from .plot._style import style
+    from .plot.dynamics import plot_free_vibration
+
+    res = ctx.damper_run
+    two, fit, ts = _inclinations(res)
+    csv = write_csv_atomic(ctx.path("damper_history.csv"),
+                           ["time_s", "x_m", "v_m_s", "y_m", "w_m_s"], [res.t, res.x, res.v, res.y, res.w])
+    with style():
+        fig = _fig()
+        plot_free_vibration(res, ax=fig.add_subplot())
+        png = _save(fig, ctx.path("damper_history.png"))
+    figs = {"impacts": str(len(res.impacts)),
+            "inclination_two_maxima_cm_s": f"{100 * two.value:.3f}",
+            "inclination_fit_cm_s": f"{100 * fit.value:.3f}",
+            "settling_time_s": "not settled" if not math.isfinite(ts) else f"{ts:.2f}",
+            "solver": res.solver,
+            "solver_ms": f"{1e3 * getattr(ctx, 'damper_seconds', float('nan')):.1f}"}
+    return [Product("damper_history", png, figs), Product("damper_history", csv, {})]
+
+
+def produce_impact_table(ctx: RunContext):
+    """One row per contact of the damper run (CSV with the damper command's columns)."""
+    res = ctx.damper_run
+    path = ctx.path("impacts.csv")
+    res.impacts.to_csv(path)
+    imp = res.impacts
+    figs = {"impacts": str(len(imp))}
+    if len(imp):
+        figs["max_approach_m_s"] = f"{np.max(imp.approach_velocity):.4g}"
+    return [Product("impact_table", path, figs)]
+
+
+def produce_restitution(ctx: RunContext):
+    """Coefficient of restitution against impact mass and speed (paper Figure 7), CSV and PNG."""
+    from .dynamics.metrics import restitution_curve
+    from .plot._style import style
+    from .plot.dynamics import plot_restitution
+
+    opts = ctx.scene.output("restitution")
+    masses, speeds = np.asarray(opts["masses_kg"]), np.asarray(opts["velocities_m_s"])
+    e = restitution_curve(masses, speeds, ctx.damper_model)
+    header = ["mass_kg"] + [f"restitution_at_{u:g}_m_s" for u in speeds]
+    csv = write_csv_atomic(ctx.path("restitution.csv"), header, [masses, *e.T], fmt="%.8g")
+    with style():
+        fig = _fig()
+        plot_restitution(masses, speeds, e, ax=fig.add_subplot(), clip_tensile=ctx.damper_model.clip_tensile)
+        png = _save(fig, ctx.path("restitution.png"))
+    return [Product("restitution", csv, {"min": f"{e.min():.4f}", "max": f"{e.max():.4f}"}),
+            Product("restitution", png, {})]
+
+
+PRODUCERS = {
+    "waveform": produce_waveform,
+    "directivity": produce_directivity,
+    "damper_history": produce_damper_history,
+    "impact_table": produce_impact_table,
+    "restitution": produce_restitution,
+}
+
+
+# --------------------------------------------------------------------------- the run
+def _check_out(out: Path, force: bool) -> None:
+    if out.exists() and not out.is_dir():
+        raise ParameterError("--out", f"{out} exists and is not a folder")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        raise ParameterError("--out", f"{out} exists and is not empty; pass --force to write into it")
+
+
+def _summary(scene: Scene, products, seconds: float, skipped) -> str:
+    lines = [f"# acoustiviz run: {scene.name}", "", scene.section("scene")["description"] or "", "",
+             f"Scene: `{scene.source}`. Outputs asked for: {', '.join(scene.outputs) or 'none'}.",
+             f"Wall time: {seconds:.1f} s.", "", "| output | file | key figures |", "|---|---|---|"]
+    for p in products:
+        figs = ", ".join(f"{k} = {v}" for k, v in p.figures.items())
+        lines.append(f"| {p.kind} | `{p.path.name}` | {figs} |")
+    for kind, why in skipped:
+        lines.append(f"| {kind} | (not produced) | {why} |")
+    return "\n".join(lines) + "\n"
+
+
+def run_scene(scene: Scene, out, *, force: bool = False, progress=None):
+    """Produce every output the scene names into folder ``out``.
+
+    Parameters
+    ----------
+    scene : Scene
+        A validated scene (:func:`acoustiviz.scene.load_scene`).
+    out : path-like
+        Output folder; created if missing. An existing non-empty folder is refused unless
+        ``force``.
+    force : bool
+        Write into an existing folder, replacing files of the same name (each atomically).
+    progress : callable, optional
+        Called with a one-line message at each step.
+
+    Returns
+    -------
+    list of Product
+        Every file written, ``summary.md`` last.
+    """
+    out = Path(out)
+    _check_out(out, force)
+    missing = [k for k in scene.outputs if k not in PRODUCERS]
+    if missing:
+        raise ParameterError("outputs", f"this build cannot produce {', '.join(missing)}")
+    out.mkdir(parents=True, exist_ok=True)
+    say = progress or (lambda msg: None)
+    ctx = RunContext(scene, out, say)
+    start = time.perf_counter()
+    products, skipped = [], []
+    for i, kind in enumerate(scene.outputs, 1):
+        say(f"[{i}/{len(scene.outputs)}] {kind}")
+        t0 = time.perf_counter()
+        products += PRODUCERS[kind](ctx)
+        say(f"[{i}/{len(scene.outputs)}] {kind} done in {time.perf_counter() - t0:.1f} s")
+    summary = write_text_atomic(out / "summary.md", _summary(scene, products, time.perf_counter() - start, skipped))
+    products.append(Product("summary", summary, {}))
+    return products
+
+
+def sweep_values(text: str):
+    """Values of a ``start:stop:count`` range (inclusive)."""
+    return parse_range(text)
