@@ -686,7 +686,8 @@ def field_metrics(
     out_bytes = 8.0 * n * 5 + n  # four float results, the window starts and the model codes
     if out_bytes + 8 * m > limit:
         raise ParameterError("memory_limit", f"the results alone need {out_bytes:.4g} B > {limit:.4g} B")
-    chunk = _chunk_size(_geometry_bytes(nimg) + 8 * 4, out_bytes + 8 * m, limit)
+    fixed = out_bytes + 8 * m + (limit / 2 if tolerance is not None else 0)  # half for cheap models
+    chunk = _chunk_size(_geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit)
     pmax = np.empty(n)
     pmin = np.empty(n)
     ssq = np.empty(n)
@@ -712,8 +713,9 @@ def field_metrics(
                     continue
                 exact &= ~sel
                 res[sel] = _approx.window_metrics(
-                    name, pulse, delay[sel], p0[sel], t0[sel], dt, m, radius=config.radius, medium=medium
-                )
+                    name, pulse, delay[sel], p0[sel], t0[sel], dt, m, radius=config.radius, medium=medium,
+                    max_bytes=limit / 4,
+                )  # fmt: skip
                 models[lo:hi][sel] = code
         if np.all(exact):
             _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, s, tail)
