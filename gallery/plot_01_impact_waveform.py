@@ -20,10 +20,10 @@ import numpy as np
 from acoustiviz import AIR, Impact, acceleration_pulse
 from acoustiviz._gallery import output_dir
 from acoustiviz._io import write_csv_atomic
+from acoustiviz.field import time_series
 from acoustiviz.images import configuration
 from acoustiviz.plot._style import save_figure, style
 from acoustiviz.plot.waveform import plot_waveform
-from acoustiviz.radiation import pressure
 
 RADIUS, U0, K_HZ, DENSITY = 0.01905, 1.4, 5.6e8, 7800.0
 DISTANCE, ANGLE = 0.7, math.radians(45.0)
@@ -31,15 +31,9 @@ impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADI
 
 
 def listener_pressure(pulse, t, conf):
-    """Pressure in Pa at the Figure 2 listener, summed over the configuration's spheres."""
-    real = conf.sources[0]
-    point = real.position + DISTANCE * np.array([math.sin(ANGLE), 0.0, math.cos(ANGLE)])
-    total = np.zeros_like(t)
-    for src in conf.sources:
-        d = point - src.position
-        r = float(np.linalg.norm(d))
-        total += pressure(pulse, t, r, float(d @ src.axis) / r, radius=RADIUS, medium=AIR)
-    return total
+    """Pressure in Pa at the Figure 2 listener: the sphere and its images (paper eq 14)."""
+    point = conf.sources[0].position + DISTANCE * np.array([math.sin(ANGLE), 0.0, math.cos(ANGLE)])
+    return time_series(pulse, t, point[None, :], conf, medium=AIR)[0]
 
 
 t = np.linspace(1.8e-3, 3.2e-3, 2801)  # s from the start of contact

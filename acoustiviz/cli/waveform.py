@@ -36,26 +36,12 @@ def waveform_times(setup, point, samples_per_duration: int):
     return np.arange(0.0, t_end + dt, dt)
 
 
-def configuration_pressure(setup, t, point):
-    """Pressure in Pa at one point: the sum over the configuration's spheres (images)."""
-    import numpy as np
-
-    from ..radiation import pressure
-
-    total = np.zeros_like(t)
-    for src in setup.configuration.sources:
-        d = point - np.asarray(src.position, dtype=float)
-        r = float(np.linalg.norm(d))
-        ct = float(d @ np.asarray(src.axis, dtype=float)) / r
-        total += pressure(setup.pulse, t, r, ct, radius=setup.radius, medium=setup.medium)
-    return total
-
-
 def run(args) -> int:
     """Compute, print a summary, and write the requested files."""
     import math
 
     from .._validate import ParameterError
+    from ..field import time_series
     from ._impact import impact_from_args, observer_point
 
     if args.samples_per_duration < 200:
@@ -63,7 +49,7 @@ def run(args) -> int:
     setup = impact_from_args(args)
     point = observer_point(setup, args.distance, args.angle)
     t = waveform_times(setup, point, args.samples_per_duration)
-    p = configuration_pressure(setup, t, point)
+    p = time_series(setup.pulse, t, point[None, :], setup.configuration, medium=setup.medium)[0]
     imp = setup.impact
     print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
           f"({setup.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, peak acceleration "
