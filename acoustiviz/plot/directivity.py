@@ -60,5 +60,5 @@ def plot_directivity(directivity, quantity: str = "spl", ax=None, *, label=None,
         ax.set_title(f"{unit_label} vs angle from the acceleration axis (deg)", fontsize=9)
         ax.set_xlabel(f"radial axis: {unit_label}", fontsize=8)
         if label:
-            ax.legend(loc="lower left", fontsize=8)
+            ax.legend(loc="upper right", bbox_to_anchor=(1.08, 1.02), fontsize=8)
     return ax
