@@ -1,0 +1,331 @@
+"""``acoustiviz auralize``: calibrated WAV files of a damper's whole impact sequence.
+
+The damper options are those of ``acoustiviz damper`` (paper eq 15, Table 1 defaults); the run's
+impact table (or a CSV of impacts given with ``--impacts``) is rendered at each ``--listener``.
+Positions are in m in the frame where the struck surface is ``z = 0`` and the sphere's centre is
+``(0, 0, a)``; see :mod:`acoustiviz.audio` for how the two walls map to sources.
+"""
+
+from __future__ import annotations
+
+#: The damper defaults (paper Table 1 and Figure 5), as in ``acoustiviz damper``.
+DAMPER_DEFAULTS = {"M": 0.5, "K": 500.0, "C": 0.05, "m": 0.0405, "gap": 0.04, "k_hertz": 5.6e8, "c1": 20.0,
+                   "v0": 2.0, "duration": 20.0, "solver": "event"}
+SOLVER_NAMES = ("event", "newmark", "impact-map")
+DEFAULT_LISTENER = "0.495,0,0.514"
+
+
+def add_damper_options(parser) -> None:
+    """The options of ``acoustiviz damper`` that define the run (same names, units and defaults)."""
+    d = DAMPER_DEFAULTS
+    g = parser.add_argument_group("damper (paper eq 15; defaults: Table 1, Figure 5)")
+    g.add_argument("--M", type=float, default=d["M"], metavar="KG", help="main mass in kg (default %(default)s)")
+    g.add_argument("--K", type=float, default=d["K"], metavar="N/M", help="main spring in N/m (default %(default)s)")
+    g.add_argument("--C", type=float, default=d["C"], metavar="N*S/M",
+                   help="main dashpot in N s/m (default %(default)s)")
+    g.add_argument("--m", type=float, default=d["m"], metavar="KG", help="impact mass in kg (default %(default)s)")
+    g.add_argument("--gap", type=float, default=d["gap"], metavar="M",
+                   help="total free travel d of the impact mass in m (default %(default)s)")
+    g.add_argument("--k-hertz", type=float, default=d["k_hertz"], metavar="N/M^1.5",
+                   help="Hertz contact stiffness in N/m^1.5 (default %(default)s)")
+    g.add_argument("--c1", type=float, default=d["c1"], metavar="N*S/M",
+                   help="contact damping in N s/m (default %(default)s)")
+    g.add_argument("--v0", type=float, default=d["v0"], metavar="M/S",
+                   help="initial velocity of the main mass in m/s (default %(default)s)")
+    g.add_argument("--duration", type=float, default=d["duration"], metavar="S",
+                   help="simulated time in s; the WAV lasts this long, or to the end of the last click "
+                        "(default %(default)s)")
+    g.add_argument("--solver", default=d["solver"], choices=SOLVER_NAMES,
+                   help="damper solver (default %(default)s)")
+    g.add_argument("--clip-tensile", action="store_true",
+                   help="clip the contact force at zero (default: the paper's form)")
+    g.add_argument("--impacts", default=None, metavar="CSV",
+                   help="render the impacts of this CSV (columns time_s,wall,approach_velocity_m_s, as written "
+                        "by 'acoustiviz damper --impacts-csv') instead of simulating; --m, --M, --gap and "
+                        "--k-hertz still describe the damper")
+
+
+def add_parser(subparsers) -> None:
+    """Register the ``auralize`` subcommand."""
+    p = subparsers.add_parser(
+        "auralize",
+        help="calibrated WAV files (and JSON sidecars) of a damper's impact sequence at listeners",
+        description="Render every impact of an impact-damper run into the sound pressure at one or more "
+        "listeners: Hertz pulse per impact from its own approach speed, rigid-sphere radiation with image "
+        "sources, exact sub-sample times, band-limited to the output rate. Default output: float32 WAV in "
+        "pascals (sample 1.0 = 1 Pa) with OUT.json beside OUT.wav. Lengths in m, times in s.",
+    )
+    add_damper_options(p)
+    a = p.add_argument_group("sound model")
+    a.add_argument("--config", default="plane", choices=("free", "plane", "wall-floor"),
+                   help="reflecting surfaces: none, the struck surface z = 0 (default), or a wall-floor corner")
+    a.add_argument("--wall-distance", type=float, default=None, metavar="M",
+                   help="wall-floor only: distance in m from the side wall x = -D to the sphere's centre "
+                        "(default 0.05)")
+    a.add_argument("--radius", type=float, default=None, metavar="M",
+                   help="sphere radius in m (default 0.01905, the paper's sphere, whose levels the paper "
+                        "reports whatever the mass)")
+    a.add_argument("--density", type=float, default=None, metavar="KG/M^3",
+                   help="instead of --radius: a solid sphere of mass --m and this density "
+                        "(steel 7800: 10.7 mm for 40.5 g, about 10 dB quieter)")
+    a.add_argument("--pulse", default="half-sine", choices=("half-sine", "impulse-matched", "hertz"),
+                   help="acceleration pulse per impact: the paper's peak-matched half-sine (default), an "
+                        "impulse-matched half-sine, or the exact Hertz pulse")
+    a.add_argument("--mass-model", default="impact", choices=("impact", "effective"),
+                   help="mass in the Hertz pulse: the impact mass against a fixed wall (paper eq 3, default) "
+                        "or the effective mass m M/(m + M) of the two bodies")
+    a.add_argument("--walls", default="both", choices=("both", "one"),
+                   help="both: impacts on the far wall radiate from it, axis reversed (default); one: every "
+                        "impact is heard as a strike on the struck surface (the paper's view)")
+    a.add_argument("--struck-wall", type=int, default=-1, choices=(-1, 1),
+                   help="the damper wall lying on the struck surface z = 0 (default -1); the other wall is "
+                        "gap + 2a further along +z")
+    a.add_argument("--c", type=float, default=343.2, metavar="M/S",
+                   help="speed of sound in m/s (default %(default)s)")
+    a.add_argument("--rho", type=float, default=1.204, metavar="KG/M^3",
+                   help="density of air in kg/m^3 (default %(default)s)")
+    o = p.add_argument_group("listeners and files")
+    o.add_argument("--listener", action="append", default=None, metavar="X,Y,Z",
+                   help=f"listener position in m (repeatable; default {DEFAULT_LISTENER}: 0.7 m at 45 degrees "
+                        "from the paper's sphere). Several listeners give OUT-1.wav, OUT-2.wav, ...")
+    o.add_argument("--stereo", action="store_true",
+                   help="one stereo file: two --listener positions (left, right), or one head position and "
+                        "two ears --ear-spacing apart facing the damper (no head shadow)")
+    o.add_argument("--ear-spacing", type=float, default=0.18, metavar="M",
+                   help="distance between the ears in m with --stereo and one listener (default %(default)s)")
+    o.add_argument("--rate", type=int, default=48000, choices=(44100, 48000, 96000),
+                   help="output sample rate in Hz (default %(default)s)")
+    o.add_argument("--subtype", default="FLOAT", choices=("FLOAT", "PCM_24"),
+                   help="FLOAT: float32 in pascals (default); PCM_24: normalised 24-bit with one scale shared "
+                        "by all files of the run, recorded in each sidecar")
+    o.add_argument("--scale", type=float, default=None, metavar="PA",
+                   help="Pa per full scale (default: 1 for FLOAT; for PCM_24 the run's peak plus --headroom)")
+    o.add_argument("--headroom", type=float, default=1.0, metavar="DB",
+                   help="PCM_24: the run's peak sits this far below full scale (default %(default)s dB)")
+    o.add_argument("--wav", required=True, metavar="PATH", help="output WAV (sidecar: same name, .json)")
+    o.add_argument("--png", default=None, metavar="PATH", help="also draw the waveform and spectrogram")
+    p.set_defaults(func=run)
+
+
+def parse_point(text: str, option: str = "--listener"):
+    """Parse ``"x,y,z"`` (m) into a float array, naming ``option`` in errors."""
+    import numpy as np
+
+    from .._validate import ParameterError
+
+    parts = [s.strip() for s in str(text).split(",")]
+    try:
+        xyz = np.array([float(s) for s in parts])
+    except ValueError:
+        raise ParameterError(option, f"expected x,y,z in m, got {text!r}") from None
+    if xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
+        raise ParameterError(option, f"expected three finite coordinates x,y,z in m, got {text!r}")
+    return xyz
+
+
+def read_impacts_csv(path):
+    """Impact times (s), walls (-1/+1) and approach speeds (m/s) from a damper impact CSV."""
+    import numpy as np
+
+    from .._validate import ParameterError
+    from ..audio import ImpactSequence
+
+    try:
+        data = np.genfromtxt(path, delimiter=",", names=True, ndmin=1)
+    except OSError as exc:
+        raise ParameterError("--impacts", f"cannot read {path}: {exc}") from None
+    names = data.dtype.names or ()
+    need = ("time_s", "wall", "approach_velocity_m_s")
+    if any(n not in names for n in need):
+        raise ParameterError("--impacts", f"{path} needs the columns {','.join(need)}; it has {','.join(names)}")
+    try:
+        return ImpactSequence(data["time_s"], data["wall"], np.abs(data["approach_velocity_m_s"]))
+    except ParameterError as exc:
+        raise ParameterError("--impacts", f"{path}: {exc}") from None
+
+
+def _simulate(args):
+    """Run the damper as ``acoustiviz damper`` would; return the impact sequence and a description."""
+    import warnings
+
+    from .._validate import ParameterError
+    from ..audio import ImpactSequence
+    from ..dynamics import DamperModel, InitialState, simulate
+
+    names = {"M": "--M", "K": "--K", "C": "--C", "m": "--m", "gap": "--gap", "k_hertz": "--k-hertz",
+             "c1": "--c1", "v0": "--v0", "duration": "--duration", "solver": "--solver",
+             "initial": "--v0", "model": "--m"}
+    try:
+        model = DamperModel(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
+                            c1=args.c1, clip_tensile=bool(args.clip_tensile))
+        initial = InitialState(v=args.v0)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            res = simulate(model, args.duration, solver=args.solver, initial=initial)
+    except ParameterError as exc:
+        raise ParameterError(names.get(exc.name, exc.name), str(exc).split(": ", 1)[-1]) from None
+    for w in caught:
+        print(f"warning: {w.message}")
+    if not res.success:
+        print(f"warning: the damper solver stopped early: {res.message}")
+    seq = ImpactSequence.from_table(res.impacts)
+    desc = {"M_kg": args.M, "K_n_m": args.K, "C_n_s_m": args.C, "m_kg": args.m, "gap_m": args.gap,
+            "k_hertz_n_m1_5": args.k_hertz, "c1_n_s_m": args.c1, "v0_m_s": args.v0, "duration_s": args.duration,
+            "solver": args.solver, "clip_tensile": bool(args.clip_tensile)}
+    return seq, desc
+
+
+def _output_paths(wav, n: int):
+    """``OUT.wav`` for one file, ``OUT-1.wav ... OUT-n.wav`` for several."""
+    from pathlib import Path
+
+    wav = Path(wav)
+    if n == 1:
+        return [wav]
+    return [wav.with_name(f"{wav.stem}-{i + 1}{wav.suffix}") for i in range(n)]
+
+
+def run(args) -> int:
+    """Simulate (or read) the impacts, render them, write the WAVs and sidecars, print a summary."""
+    import math
+    import warnings
+    from pathlib import Path
+
+    import numpy as np
+
+    from .. import __version__
+    from .._validate import ParameterError, check_positive, check_range
+    from ..audio import (
+        CavityScene,
+        ClickModel,
+        ClippingWarning,
+        check_listeners,
+        ear_positions,
+        render,
+        shared_scale,
+        sphere_radius,
+        write_sidecar,
+        write_wav,
+    )
+    from ..medium import Medium
+
+    # ---- validate every option before any work
+    for opt, val, unit in (("--M", args.M, "kg"), ("--K", args.K, "N/m"), ("--m", args.m, "kg"),
+                           ("--gap", args.gap, "m"), ("--k-hertz", args.k_hertz, "N/m^1.5"),
+                           ("--duration", args.duration, "s")):
+        check_positive(opt, val, unit)
+    check_range("--C", args.C, 0.0, unit="N s/m")
+    check_range("--c1", args.c1, 0.0, unit="N s/m")
+    check_range("--v0", args.v0, unit="m/s")
+    if Path(args.wav).suffix.lower() != ".wav":
+        raise ParameterError("--wav", f"must end in .wav, got {args.wav!r}")
+    if args.radius is not None and args.density is not None:
+        raise ParameterError("--radius", "give either --radius or --density, not both")
+    if args.density is not None:
+        radius = sphere_radius(args.m, check_positive("--density", args.density, "kg/m^3"))
+        radius_source = f"solid sphere of {args.m:g} kg at {args.density:g} kg/m^3"
+    else:
+        radius = check_positive("--radius", 0.01905 if args.radius is None else args.radius, "m")
+        radius_source = "given" if args.radius is not None else "default (the paper's 19.05 mm sphere)"
+    medium = Medium(c=check_positive("--c", args.c, "m/s"), rho=check_positive("--rho", args.rho, "kg/m^3"))
+    wall = args.wall_distance
+    if args.config == "wall-floor":
+        wall = 0.05 if wall is None else check_range("--wall-distance", wall, radius, unit="m")
+    elif wall is not None:
+        raise ParameterError("--wall-distance", "only applies with --config wall-floor")
+    scene = CavityScene(args.config, radius, args.gap, struck_wall=args.struck_wall, walls=args.walls,
+                        wall_distance=wall, medium=medium)
+    model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
+                       pulse=args.pulse)
+
+    points = [parse_point(s) for s in (args.listener or [DEFAULT_LISTENER])]
+    if args.stereo:
+        if len(points) == 1:
+            points = list(ear_positions(points[0], scene, spacing=check_positive("--ear-spacing",
+                                                                                  args.ear_spacing, "m")))
+        elif len(points) != 2:
+            raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
+    listeners = check_listeners(np.array(points), scene, name="--listener")
+    if args.scale is not None:
+        check_positive("--scale", args.scale, "Pa")
+    check_range("--headroom", args.headroom, 0.0, 60.0, unit="dB")
+
+    # ---- impacts
+    if args.impacts:
+        seq = read_impacts_csv(args.impacts)
+        run_desc = {"impacts_csv": str(args.impacts), "m_kg": args.m, "M_kg": args.M, "gap_m": args.gap,
+                    "k_hertz_n_m1_5": args.k_hertz}
+    else:
+        seq, run_desc = _simulate(args)
+    out = render(seq, scene, model, listeners, sample_rate=args.rate, duration=args.duration)
+
+    # ---- files
+    channels = [out.pressure] if args.stereo else [out.pressure[i:i + 1] for i in range(out.pressure.shape[0])]
+    chan_listeners = [listeners] if args.stereo else [listeners[i:i + 1] for i in range(listeners.shape[0])]
+    paths = _output_paths(args.wav, len(channels))
+    if args.subtype == "PCM_24":
+        scale = args.scale if args.scale is not None else shared_scale(channels, headroom_db=args.headroom)
+        scale_source = "given (--scale)" if args.scale is not None else (
+            f"shared by the {len(paths)} file(s) of this run: their peak + {args.headroom:g} dB headroom")
+    else:
+        scale = 1.0 if args.scale is None else args.scale
+        scale_source = "pascals (1.0 = 1 Pa)" if args.scale is None else "given (--scale)"
+    base = out.describe()
+    print(f"impacts: {len(seq)} ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
+          f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
+          else "impacts: 0 (silence)")
+    print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
+          f"mass model {model.mass_model}, configuration {scene.config}, walls {scene.walls}; "
+          f"{args.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
+    for path, data, pts in zip(paths, channels, chan_listeners, strict=True):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ClippingWarning)
+            info = write_wav(path, data, args.rate, subtype=args.subtype, scale=scale)
+        for w in caught:
+            print(f"warning: {w.message}")
+        peaks = np.max(np.abs(data), axis=1)
+        spls = [20 * math.log10(pk / 20e-6) if pk > 0 else None for pk in peaks]
+        record = {
+            "file": Path(path).name,
+            "subtype": info["subtype"],
+            "sample_rate_hz": args.rate,
+            "channels": info["channels"],
+            "frames": info["frames"],
+            "scale_pa_per_full_scale": scale,
+            "scale_source": scale_source,
+            "pressure_pa": "sample value x scale_pa_per_full_scale",
+            "listeners_m": pts.tolist(),
+            "channel_names": (["left", "right"] if args.stereo else ["mono"]),
+            "peak_pa": peaks.tolist(),
+            "peak_spl_db_re_20upa": spls,
+            "peak_note": "peaks of the band-limited samples at the output rate",
+            "clipping": {"clipped_samples": info["clipped_samples"],
+                         "peak_over_full_scale_db": info["over_full_scale_db"]},
+            **base,
+            "damper": run_desc,
+            "radius_source": radius_source,
+            "acoustiviz_version": __version__,
+        }
+        side = write_sidecar(path, record)
+        lvl = ", ".join(f"{s:.1f}" if s is not None else "silent" for s in spls)
+        print(f"peak SPL: {lvl} dB re 20 uPa (peak {peaks.max():.4g} Pa)")
+        if args.subtype == "FLOAT" and info["over_full_scale_db"] > 0:
+            print(f"note: the peak is {info['over_full_scale_db']:.1f} dB above 1.0 = {scale:g} Pa; the float file "
+                  "stores it exactly, but players that treat 1.0 as full scale will clip it (use --subtype PCM_24 "
+                  "for listening)")
+        print(f"wrote {path}")
+        print(f"wrote {side}")
+    if args.png:
+        from ..plot._style import save_figure
+        from ..plot.audio import auralisation_figure
+
+        if args.stereo:
+            labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]
+            signals = list(channels[0])
+        else:
+            labels = [Path(p).name for p in paths]
+            signals = [c[0] for c in channels]
+        fig = auralisation_figure(signals, args.rate, labels=labels)
+        save_figure(fig, args.png)
+        print(f"wrote {args.png}")
+    return 0

@@ -1,0 +1,182 @@
+"""Figures of auralised signals: pressure waveforms (Pa against s) and spectrograms (dB re 20 µPa)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._style import new_axes, style
+
+__all__ = ["plot_pressure_signal", "plot_spectrogram", "auralisation_figure"]
+
+P_REF = 20e-6  # Pa
+
+
+def _signal(signal, sample_rate):
+    from .._validate import ParameterError, check_positive
+
+    fs = check_positive("sample_rate", sample_rate, "Hz")
+    x = np.asarray(signal, dtype=float)
+    if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
+        raise ParameterError("signal", "expected a finite 1-D pressure signal in Pa (>= 2 samples)")
+    return x, fs
+
+
+def plot_pressure_signal(signal, sample_rate, ax=None, *, label=None, title=None, **line_kwargs):
+    """Plot a sampled pressure signal against time.
+
+    Parameters
+    ----------
+    signal : (n,) array_like
+        Pressure in Pa, sample ``k`` at ``k / sample_rate`` s.
+    sample_rate : float
+        Sample rate in Hz.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; a new figure is made when omitted.
+    label, title : str, optional
+        Legend label and axes title.
+    **line_kwargs
+        Passed to :meth:`matplotlib.axes.Axes.plot`.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> ax = plot_pressure_signal(np.zeros(480), 48000)
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('time (s)', 'sound pressure (Pa)')
+    """
+    x, fs = _signal(signal, sample_rate)
+    t = np.arange(x.size) / fs
+    with style():
+        ax = new_axes(ax)
+        kw = {"lw": 0.6, **line_kwargs}
+        ax.plot(t, x, label=label, **kw)
+        ax.axhline(0.0, color="0.6", lw=0.5, zorder=0)
+        ax.set_xlim(0.0, t[-1])
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("sound pressure (Pa)")
+        if title:
+            ax.set_title(title)
+        if label:
+            ax.legend(loc="upper right")
+    return ax
+
+
+def _segment_samples(n: int, fs: float, segment) -> int:
+    """Samples per segment: ``segment`` s, or by default 5 ms or 1/400 of the signal, whichever is longer."""
+    seg = max(0.005, n / fs / 400.0) if segment is None else float(segment)
+    return max(16, min(n, int(round(seg * fs))))
+
+
+def plot_spectrogram(signal, sample_rate, ax=None, *, segment=None, dynamic_range: float = 70.0,
+                     vmax=None, title=None, colorbar: bool = True):
+    """Draw a spectrogram: band level in dB re 20 µPa against time (s) and frequency (kHz).
+
+    Parameters
+    ----------
+    signal : (n,) array_like
+        Pressure in Pa.
+    sample_rate : float
+        Sample rate in Hz.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; a new figure is made when omitted.
+    segment : float, optional
+        Length of each Hann-windowed segment in s (half overlapping); the bands are ``1/segment`` Hz wide.
+        Default: 5 ms, or 1/400 of the signal if longer (so that every click shows at any length).
+    dynamic_range : float
+        Colour range in dB below ``vmax``.
+    vmax : float, optional
+        Top of the colour range in dB (default: the largest level), to share a scale between plots.
+    title : str, optional
+        Axes title.
+    colorbar : bool
+        Add a colour bar labelled in dB re 20 µPa.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Notes
+    -----
+    Level of band k: ``10 log10(PSD_k Δf / p_ref²)``, the mean-square pressure of the segment in a band of
+    width ``Δf = sample_rate / n_per_segment`` (scipy's Welch density scaling), so a steady tone reads its
+    SPL. Short clicks read lower than their peak SPL: their energy is spread over the segment.
+    """
+    from scipy.signal import spectrogram
+
+    x, fs = _signal(signal, sample_rate)
+    nper = _segment_samples(x.size, fs, segment)
+    f, t, sxx = spectrogram(x, fs=fs, window="hann", nperseg=nper, noverlap=nper // 2, scaling="density",
+                            mode="psd")
+    df = fs / nper
+    level = 10.0 * np.log10(np.maximum(sxx * df, 1e-30) / P_REF**2)
+    top = float(level.max()) if vmax is None else float(vmax)
+    with style():
+        ax = new_axes(ax)
+        mesh = ax.pcolormesh(t, f / 1e3, level, shading="auto", cmap="magma", vmin=top - dynamic_range, vmax=top,
+                             rasterized=True)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("frequency (kHz)")
+        ax.set_ylim(0.0, fs / 2e3)
+        ax.grid(False)
+        if title:
+            ax.set_title(title)
+        if colorbar:
+            cb = ax.figure.colorbar(mesh, ax=ax, pad=0.01)
+            cb.set_label(f"level in {df:.0f} Hz bands, {nper / fs * 1e3:.0f} ms (dB re 20 µPa)")
+    return ax
+
+
+def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dynamic_range: float = 70.0,
+                        time_range=None):
+    """One row per signal: its waveform (Pa against s) and its spectrogram on a shared dB scale.
+
+    Parameters
+    ----------
+    signals : sequence of (n,) array_like
+        Pressure signals in Pa at ``sample_rate``.
+    sample_rate : float
+        Sample rate in Hz.
+    labels : sequence of str, optional
+        A title per row.
+    segment, dynamic_range : float, optional
+        See :func:`plot_spectrogram`.
+    time_range : (float, float), optional
+        Time limits in s of every panel (default: the whole signals).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    signals = [np.asarray(s, dtype=float) for s in signals]
+    labels = list(labels) if labels is not None else [f"signal {i + 1}" for i in range(len(signals))]
+    n = len(signals)
+    with style():
+        fig = Figure(figsize=(11.0, 3.0 * n + 0.4), layout="constrained")
+        axes = fig.subplots(n, 2, squeeze=False, gridspec_kw={"width_ratios": [1.0, 1.25]})
+        lim = max(float(np.max(np.abs(s), initial=0.0)) for s in signals) * 1.08 or 1.0
+        vmax = None
+        for s in signals:  # a shared top level so the colours compare across rows
+            from scipy.signal import spectrogram
+
+            nper = _segment_samples(s.size, sample_rate, segment)
+            _, _, sxx = spectrogram(s, fs=sample_rate, window="hann", nperseg=nper, noverlap=nper // 2)
+            top = 10.0 * np.log10(max(float(sxx.max()) * sample_rate / nper, 1e-30) / P_REF**2)
+            vmax = top if vmax is None else max(vmax, top)
+        for row, (s, lab) in enumerate(zip(signals, labels, strict=True)):
+            wa, sa = axes[row]
+            plot_pressure_signal(s, sample_rate, ax=wa, color="C0" if row == 0 else "C3")
+            wa.set_ylim(-lim, lim)
+            pk = float(np.max(np.abs(s), initial=0.0))
+            spl = 20 * np.log10(pk / P_REF) if pk > 0 else float("nan")
+            wa.set_title(f"{lab}: peak {pk:.2f} Pa ({spl:.1f} dB re 20 µPa)")
+            plot_spectrogram(s, sample_rate, ax=sa, segment=segment, dynamic_range=dynamic_range, vmax=vmax,
+                             title=f"{lab}: spectrogram")
+            if time_range is not None:
+                wa.set_xlim(*time_range)
+                sa.set_xlim(*time_range)
+    return fig
