@@ -33,7 +33,7 @@ _B = np.ascontiguousarray(_dop.B)
 _E3 = np.ascontiguousarray(_dop.E3)
 _E5 = np.ascontiguousarray(_dop.E5)
 _NY = 7  # contact state: x, v, delta, u, impulse, dissipated in contact, dissipated by C
-_NERR = 4  # components under error control
+_NERR = _NY  # components under error control (all: the energy quadratures too)
 
 STATUS_OK = 0
 STATUS_MAX_IMPACTS = 1
@@ -245,7 +245,7 @@ def _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew):
 
 @njit(cache=True)
 def _dop_error(y, ynew, h, kst, rtol, atol):
-    """Hairer's DOP853 error norm over the first ``_NERR`` components (1 = at tolerance)."""
+    """Hairer's DOP853 error norm (1 = at tolerance)."""
     e5 = 0.0
     e3 = 0.0
     for i in range(_NERR):
@@ -343,6 +343,9 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
     atol[1] = rtol * max(abs(v), uref)
     atol[2] = rtol * amax
     atol[3] = rtol * uref
+    atol[4] = rtol * meff * uref
+    atol[5] = rtol * 0.5 * meff * uref * uref
+    atol[6] = atol[5]
     _rhs(y, p, sw, f0)
     peak, _ = _force(d0, u0, kh, p[6], clip)
     t = 0.0
@@ -658,8 +661,8 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final):
             impacts[n, 7] = lost
             n += 1
         # dense output: cubic Hermite in displacement, linear acceleration in velocity
-        while ie < t_eval.shape[0] and t_eval[ie] <= t1:
-            s = (t_eval[ie] - t) / h
+        while ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
+            s = min((t_eval[ie] - t) / h, 1.0)
             h00 = 2 * s**3 - 3 * s**2 + 1
             h10 = s**3 - 2 * s**2 + s
             h01 = -2 * s**3 + 3 * s**2

@@ -222,7 +222,8 @@ def simulate(
                 AccuracyWarning,
                 stacklevel=2,
             )
-        nsteps = int(round(duration / dt))
+        nsteps = max(int(round(duration / dt)), 1)
+        dt = duration / nsteps  # land exactly on the duration
         settings = {"dt": dt, "steps": nsteps}
     elif solver == "impact-map":
         settings = {"rtol": rtol}
@@ -247,6 +248,8 @@ def simulate(
         t0 = time.perf_counter()
         n, status, t_end = kern.newmark(p, state0, dt, nsteps, t_eval, n_max, impacts, dense, final)
         elapsed = time.perf_counter() - t0
+        if status == kern.STATUS_OK:
+            t_end = duration
     else:
         imap = solver == "impact-map"
         kern.event_solver(p, state0, 1e-9, rtol, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)),
@@ -268,7 +271,7 @@ def simulate(
         dissipated_contact=float(enf),
     )
     nd = dense.shape[0]
-    if t_end < duration:  # stopped early: drop dense rows that were never filled
+    if status != kern.STATUS_OK:  # stopped early: drop dense rows that were never filled
         nd = int(np.searchsorted(t_eval, t_end, side="right"))
     cols = [np.array(dense[:nd, i]) for i in range(6)]
     for c in cols:

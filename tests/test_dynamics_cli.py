@@ -1,0 +1,49 @@
+"""The ``acoustiviz damper`` command: outputs, messages and exit status."""
+
+import re
+
+import numpy as np
+import pytest
+
+from acoustiviz.cli import main
+from acoustiviz.dynamics import CSV_COLUMNS
+
+
+def test_damper_command_writes_table_and_figure(tmp_path, capsys):
+    csv = tmp_path / "impacts.csv"
+    png = tmp_path / "x.png"
+    code = main(["damper", "--M", "0.5", "--K", "500", "--C", "0.05", "--m", "0.0405",
+                 "--gap", "0.04", "--k-hertz", "5.6e8", "--c1", "20", "--v0", "2",
+                 "--duration", "2", "--solver", "event", "--impacts-csv", str(csv),
+                 "--png", str(png)])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert re.search(r"^solver time: \d+ ms$", out, re.M)
+    n = int(re.search(r"^impacts: (\d+)$", out, re.M).group(1))
+    assert out.count("damping inclination") == 2
+    lines = csv.read_text().splitlines()
+    assert lines[0] == ",".join(CSV_COLUMNS)
+    assert len(lines) == n + 1
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert set(np.unique(data[:, 1])) <= {-1.0, 1.0}
+    assert np.all(data[:, 2] > 0) and np.all(data[:, 3] > 0)
+    assert png.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    "argv, option",
+    [
+        (["--m", "-0.01"], "--m"),
+        (["--M", "0"], "--M"),
+        (["--gap", "0"], "--gap"),
+        (["--k-hertz", "-1"], "--k-hertz"),
+        (["--duration", "0"], "--duration"),
+        (["--solver", "newmark", "--dt", "0.001"], "--dt"),
+        (["--C", "100"], "--C"),
+    ],
+)
+def test_bad_values_exit_2_naming_the_option(argv, option, capsys):
+    assert main(["damper", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert f"error: {option}:" in err
