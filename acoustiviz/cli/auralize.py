@@ -39,6 +39,10 @@ def add_damper_options(parser) -> None:
                    help="damper solver (default %(default)s)")
     g.add_argument("--clip-tensile", action="store_true",
                    help="clip the contact force at zero (default: the paper's form)")
+    g.add_argument("--dt", type=float, default=None, metavar="S",
+                   help="Newmark step in s (default: 1/50 of the shortest possible contact)")
+    g.add_argument("--rtol", type=float, default=1e-14,
+                   help="relative tolerance of the event solver's contacts (default %(default)s)")
     g.add_argument("--impacts", default=None, metavar="CSV",
                    help="render the impacts of this CSV (columns time_s,wall,approach_velocity_m_s, as written "
                         "by 'acoustiviz damper --impacts-csv') instead of simulating; --m, --M, --gap and "
@@ -55,6 +59,10 @@ def add_parser(subparsers) -> None:
         "sources, exact sub-sample times, band-limited to the output rate. Default output: float32 WAV in "
         "pascals (sample 1.0 = 1 Pa) with OUT.json beside OUT.wav. Lengths in m, times in s.",
     )
+    # let "--listener -0.2,0,0.3" read as a value (argparse takes only plain negative numbers for values)
+    import re
+
+    p._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     add_damper_options(p)
     a = p.add_argument_group("sound model")
     a.add_argument("--config", default="plane", choices=("free", "plane", "wall-floor"),
@@ -153,15 +161,15 @@ def _simulate(args):
     from ..dynamics import DamperModel, InitialState, simulate
 
     names = {"M": "--M", "K": "--K", "C": "--C", "m": "--m", "gap": "--gap", "k_hertz": "--k-hertz",
-             "c1": "--c1", "v0": "--v0", "duration": "--duration", "solver": "--solver",
-             "initial": "--v0", "model": "--m"}
+             "c1": "--c1", "v": "--v0", "duration": "--duration", "solver": "--solver", "dt": "--dt",
+             "rtol": "--rtol"}
     try:
         model = DamperModel(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                             c1=args.c1, clip_tensile=bool(args.clip_tensile))
         initial = InitialState(v=args.v0)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            res = simulate(model, args.duration, solver=args.solver, initial=initial)
+            res = simulate(model, args.duration, solver=args.solver, initial=initial, rtol=args.rtol, dt=args.dt)
     except ParameterError as exc:
         raise ParameterError(names.get(exc.name, exc.name), str(exc).split(": ", 1)[-1]) from None
     for w in caught:
@@ -171,7 +179,7 @@ def _simulate(args):
     seq = ImpactSequence.from_table(res.impacts)
     desc = {"M_kg": args.M, "K_n_m": args.K, "C_n_s_m": args.C, "m_kg": args.m, "gap_m": args.gap,
             "k_hertz_n_m1_5": args.k_hertz, "c1_n_s_m": args.c1, "v0_m_s": args.v0, "duration_s": args.duration,
-            "solver": args.solver, "clip_tensile": bool(args.clip_tensile)}
+            "solver": args.solver, "solver_settings": dict(res.settings), "clip_tensile": bool(args.clip_tensile)}
     return seq, desc
 
 
