@@ -204,8 +204,8 @@ def convolution_pressure(pulse, t, distance, cos_theta, *, radius: float, medium
     """Pressure in Pa by direct numerical convolution of the sampled pulse and kernel (eq 12).
 
     The acceleration and the impulse response (paper eq 11) are sampled every ``step`` s and
-    convolved with the trapezoidal rule; the result is interpolated linearly to ``t``. This is
-    the straightforward method, O(N²) per observer with N samples.
+    convolved with the trapezoidal rule (by FFT); the result is interpolated linearly to ``t``.
+    This is the straightforward method: all N samples of every observer, O(N log N) each.
 
     Parameters
     ----------
@@ -238,7 +238,9 @@ def convolution_pressure(pulse, t, distance, cos_theta, *, radius: float, medium
     acc = pulse.acceleration(grid)
     h = impulse_response(grid + arrival_time(r, radius=a, medium=medium), r, ct, radius=a, medium=medium)
     h[0] *= 0.5  # trapezoid; the other end term carries A(0) = 0 for continuous pulses
-    conv = np.convolve(acc, h)[:n] * dt
+    from scipy.signal import fftconvolve
+
+    conv = fftconvolve(acc, h)[:n] * dt
     return np.interp(tr, grid, conv, left=0.0)
 
 
