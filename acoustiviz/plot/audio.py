@@ -130,8 +130,10 @@ def plot_spectrogram(signal, sample_rate, ax=None, *, segment=None, dynamic_rang
 
 
 def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dynamic_range: float = 70.0,
-                        time_range=None):
-    """One row per signal: its waveform (Pa against s) and its spectrogram on a shared dB scale.
+                        time_range=None, zoom: float | None = 0.004):
+    """One row per signal: its waveform (Pa against s), its loudest click, and its spectrogram.
+
+    Rows share one pressure scale and one colour scale, so the signals compare at a glance.
 
     Parameters
     ----------
@@ -140,42 +142,59 @@ def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dyna
     sample_rate : float
         Sample rate in Hz.
     labels : sequence of str, optional
-        A title per row.
+        A heading per row.
     segment, dynamic_range : float, optional
         See :func:`plot_spectrogram`.
     time_range : (float, float), optional
-        Time limits in s of every panel (default: the whole signals).
+        Time limits in s of the waveform and spectrogram panels (default: the whole signals).
+    zoom : float or None
+        Width in s of a middle panel centred on each signal's largest sample (time in ms); None omits it.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     from matplotlib.figure import Figure
+    from scipy.signal import spectrogram
 
-    signals = [np.asarray(s, dtype=float) for s in signals]
+    signals = [_signal(s, sample_rate)[0] for s in signals]
     labels = list(labels) if labels is not None else [f"signal {i + 1}" for i in range(len(signals))]
     n = len(signals)
+    ncol = 3 if zoom else 2
+    widths = [1.0, 0.45, 1.25] if zoom else [1.0, 1.25]
+    lim = max(float(np.max(np.abs(s), initial=0.0)) for s in signals) * 1.08 or 1.0
+    vmax = -np.inf
+    for s in signals:  # a shared top level so the colours compare across rows
+        nper = _segment_samples(s.size, sample_rate, segment)
+        _, _, sxx = spectrogram(s, fs=sample_rate, window="hann", nperseg=nper, noverlap=nper // 2)
+        vmax = max(vmax, 10.0 * np.log10(max(float(sxx.max()) * sample_rate / nper, 1e-30) / P_REF**2))
     with style():
-        fig = Figure(figsize=(11.0, 3.0 * n + 0.4), layout="constrained")
-        axes = fig.subplots(n, 2, squeeze=False, gridspec_kw={"width_ratios": [1.0, 1.25]})
-        lim = max(float(np.max(np.abs(s), initial=0.0)) for s in signals) * 1.08 or 1.0
-        vmax = None
-        for s in signals:  # a shared top level so the colours compare across rows
-            from scipy.signal import spectrogram
-
-            nper = _segment_samples(s.size, sample_rate, segment)
-            _, _, sxx = spectrogram(s, fs=sample_rate, window="hann", nperseg=nper, noverlap=nper // 2)
-            top = 10.0 * np.log10(max(float(sxx.max()) * sample_rate / nper, 1e-30) / P_REF**2)
-            vmax = top if vmax is None else max(vmax, top)
-        for row, (s, lab) in enumerate(zip(signals, labels, strict=True)):
-            wa, sa = axes[row]
-            plot_pressure_signal(s, sample_rate, ax=wa, color="C0" if row == 0 else "C3")
-            wa.set_ylim(-lim, lim)
+        fig = Figure(figsize=(12.5 if zoom else 11.0, 3.1 * n + 0.5), layout="constrained")
+        rows = fig.subfigures(n, 1, squeeze=False)[:, 0]
+        for row, s, lab, color in zip(rows, signals, labels, ("C0", "C3", "C2", "C1") * n, strict=False):
+            axes = row.subplots(1, ncol, gridspec_kw={"width_ratios": widths})
             pk = float(np.max(np.abs(s), initial=0.0))
             spl = 20 * np.log10(pk / P_REF) if pk > 0 else float("nan")
-            wa.set_title(f"{lab}: peak {pk:.2f} Pa ({spl:.1f} dB re 20 µPa)")
+            row.suptitle(f"{lab} -- peak {pk:.2f} Pa, {spl:.1f} dB re 20 µPa", fontsize=11)
+            wa, sa = axes[0], axes[-1]
+            plot_pressure_signal(s, sample_rate, ax=wa, color=color)
+            wa.set_ylim(-lim, lim)
+            wa.set_title("whole run")
+            if zoom:
+                za = axes[1]
+                k = int(np.argmax(np.abs(s)))
+                half = int(round(zoom * sample_rate / 2))
+                lo, hi = max(k - half, 0), min(k + half, s.size)
+                t_ms = np.arange(lo, hi) / sample_rate * 1e3
+                za.plot(t_ms, s[lo:hi], color=color, lw=1.0, marker=".", ms=2.5)
+                za.axhline(0.0, color="0.6", lw=0.5, zorder=0)
+                za.set_xlim(t_ms[0], t_ms[-1])
+                za.set_ylim(-lim, lim)
+                za.set_xlabel("time (ms)")
+                za.set_ylabel("sound pressure (Pa)")
+                za.set_title("loudest click")
             plot_spectrogram(s, sample_rate, ax=sa, segment=segment, dynamic_range=dynamic_range, vmax=vmax,
-                             title=f"{lab}: spectrogram")
+                             title="spectrogram")
             if time_range is not None:
                 wa.set_xlim(*time_range)
                 sa.set_xlim(*time_range)
