@@ -330,3 +330,21 @@ def test_sox_reads_the_files(tmp_path):
         low = float(next(ln for ln in stat.splitlines() if ln.startswith("Minimum amplitude")).split()[-1])
         assert top * sc == pytest.approx(out.pressure.max(), rel=tol)
         assert low * sc == pytest.approx(out.pressure.min(), rel=tol)
+
+
+def test_silence_and_its_sidecar(tmp_path):
+    out = render(ImpactSequence([], [], []), CavityScene(), ClickModel(), LISTENER, duration=0.1)
+    assert out.n_samples >= 4800 and not np.any(out.pressure) and out.peak_spl[0] == -np.inf
+    path = audio.write_sidecar(tmp_path / "s.wav", {"peak_spl_db_re_20upa": out.peak_spl, **out.describe()})
+    rec = json.loads(path.read_text())  # strict JSON: -inf dB is written as null
+    assert rec["peak_spl_db_re_20upa"] == [None] and rec["impact_count"] == 0
+
+
+def test_figure_axes_carry_units():
+    from acoustiviz.plot.audio import auralisation_figure
+
+    out = _two_clicks()
+    fig = auralisation_figure(list(out.pressure), out.sample_rate, labels=["a", "b"])
+    labels = {ax.get_xlabel() for ax in fig.axes} | {ax.get_ylabel() for ax in fig.axes}
+    assert {"time (s)", "time (ms)", "sound pressure (Pa)", "frequency (kHz)"} <= labels
+    assert any("dB re 20 µPa" in lab for lab in labels)  # the colour bars
