@@ -1,0 +1,114 @@
+"""The ``acoustiviz render`` command: the interface of the issue, image sizes and error handling."""
+
+import numpy as np
+import pytest
+
+from acoustiviz.cli import main
+
+pytest.importorskip("pyvista")
+Image = pytest.importorskip("PIL.Image")
+
+SMALL = ["--size", "200x150"]
+
+
+def _size(path):
+    with Image.open(path) as im:
+        return im.size
+
+
+def _pixels(path):
+    with Image.open(path) as im:
+        return np.asarray(im.convert("RGB")).astype(int)
+
+
+def test_balloon_wall_floor(tmp_path, capsys):
+    out = tmp_path / "b.png"
+    assert main(["render", "balloon", "--config", "wall-floor", "--wall-distance", "0.05", *SMALL,
+                 "--resolution", "8", "--png", str(out)]) == 0
+    assert _size(out) == (200, 150)
+    assert _pixels(out).std() > 10
+    assert f"wrote {out}" in capsys.readouterr().out
+
+
+def test_snapshot_plane_at_one_ms(tmp_path):
+    out = tmp_path / "s.png"
+    assert main(["render", "snapshot", "--config", "plane", "--time", "0.001", *SMALL, "--resolution", "41",
+                 "--png", str(out)]) == 0
+    assert _size(out) == (200, 150)
+    img = _pixels(out)
+    assert img.std() > 10 and len(np.unique(img.reshape(-1, 3), axis=0)) > 100
+
+
+def test_snapshot_several_times_and_sections(tmp_path):
+    out = tmp_path / "s.png"
+    assert main(["render", "snapshot", "--config", "free", "--time", "0.0003", "0.0006", "--sections", "xz,xy",
+                 "--extent", "0.3", "--size", "300x150", "--resolution", "31", "--png", str(out)]) == 0
+    assert _size(out) == (300, 150)
+
+
+def test_animation_plane_gif(tmp_path):
+    out = tmp_path / "a.gif"
+    assert main(["render", "animation", "--config", "plane", "--frames", "4", "--fps", "8", "--size", "160x120",
+                 "--resolution", "31", "--gif", str(out)]) == 0
+    with Image.open(out) as im:
+        assert im.size == (160, 120) and im.n_frames == 4
+
+
+def test_default_size_is_1200x900(tmp_path):
+    from acoustiviz.cli import build_parser
+
+    args = build_parser().parse_args(["render", "balloon", "--png", str(tmp_path / "x.png")])
+    assert args.size == "1200x900" and args.metric == "peak" and args.distance == 0.7
+    args = build_parser().parse_args(["render", "animation", "--gif", "x.gif"])
+    assert args.frames == 48 and args.fps == 12.0
+
+
+@pytest.mark.parametrize("size", ["1200", "12x9", "axb", "1200x900x3", "9000x900", "0x0"])
+def test_bad_size_exits_2_naming_size(tmp_path, capsys, size):
+    out = tmp_path / "x.png"
+    assert main(["render", "balloon", "--size", size, "--png", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "--size" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "option"),
+    [
+        (["balloon", "--metric", "rms", "--db-range", "-3", "--png", "x.png"], "--db-range"),
+        (["balloon", "--distance", "0.02", "--png", "x.png"], "--distance"),
+        (["balloon", "--opacity", "0", "--png", "x.png"], "--opacity"),
+        (["balloon", "--resolution", "2", "--png", "x.png"], "--resolution"),
+        (["snapshot", "--time", "-0.1", "--png", "x.png"], "--time"),
+        (["snapshot", "--extent", "0.01", "--png", "x.png"], "--extent"),
+        (["snapshot", "--sections", "xz,ab", "--png", "x.png"], "--sections"),
+        (["snapshot", "--config", "plane", "--wall-distance", "0.1", "--png", "x.png"], "--wall-distance"),
+        (["animation", "--frames", "1", "--gif", "x.gif"], "--frames"),
+        (["animation", "--fps", "0", "--gif", "x.gif"], "--fps"),
+        (["animation", "--config", "plane"], "--gif"),
+        (["animation", "--gif", "x.png"], "--gif"),
+    ],
+)
+def test_bad_options_exit_2_naming_the_option(tmp_path, capsys, monkeypatch, argv, option):
+    monkeypatch.chdir(tmp_path)
+    assert main(["render", *argv]) == 2
+    err = capsys.readouterr().err
+    assert option in err and len(err.strip().splitlines()) == 1
+    assert not list(tmp_path.iterdir())
+
+
+def test_mp4_needs_a_writer(tmp_path, capsys):
+    from acoustiviz.render import mp4_available
+
+    out = tmp_path / "a.mp4"
+    code = main(["render", "animation", "--config", "plane", "--frames", "2", "--size", "160x120",
+                 "--resolution", "21", "--mp4", str(out)])
+    if mp4_available():
+        assert code == 0 and out.stat().st_size > 1000
+    else:
+        assert code == 2 and "imageio-ffmpeg" in capsys.readouterr().err
+
+
+def test_render_without_a_view(capsys):
+    assert main(["render"]) == 2
+    assert "balloon, snapshot or animation" in capsys.readouterr().err
