@@ -1,0 +1,180 @@
+"""The ``sweep`` and ``design`` commands: outputs, killing and resuming, the Dask address, errors."""
+
+import csv
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from acoustiviz.cli import main
+from acoustiviz.sweep import CSV_COLUMNS, design, load_sweep
+
+SWEEP = ["sweep", "--gap", "0.02:0.06:3", "--m", "0.02:0.08:2", "--duration", "1", "--workers", "1", "--quiet"]
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.reader(f))
+
+
+@pytest.fixture(scope="module")
+def done(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sweep")
+    assert main([*SWEEP, "--out", str(out)]) == 0
+    return out
+
+
+def test_outputs_and_columns(done, capsys):
+    r = rows(done / "sweep.csv")
+    assert tuple(r[0][: len(CSV_COLUMNS)]) == CSV_COLUMNS
+    assert len(r) == 1 + 6
+    assert sorted((float(x[0]), float(x[1])) for x in r[1:]) == [
+        (g, m) for g in (0.02, 0.04, 0.06) for m in (0.02, 0.08)]
+    for name in ("design_table.csv", "inclination_map.png", "max_spl_map.png", "sweep.json"):
+        assert (done / name).stat().st_size > 0, name
+    assert rows(done / "design_table.csv")[0][:7] == [
+        "inclination_m_s", "band_low_m_s", "band_high_m_s", "n_designs", "min_max_spl_db", "max_max_spl_db",
+        "decrease_db"]
+
+
+def test_rerun_of_a_finished_sweep_computes_nothing(done, capsys):
+    before = (done / "sweep.csv").read_bytes()
+    assert main([*SWEEP[:-1], "--out", str(done)]) == 0  # with the progress output
+    err = capsys.readouterr().err
+    assert "nothing to compute" in err
+    assert (done / "sweep.csv").read_bytes() == before
+
+
+def test_design_command_answers_from_the_sweep(done, capsys):
+    table = load_sweep(done)
+    e = float(table["inclination_two_maxima_m_s"][2])
+    assert main(["design", "--sweep", str(done), "--inclination", repr(e), "--tolerance", "0.002", "--table"]) == 0
+    out = capsys.readouterr().out
+    ref = design(table, e, 0.002)
+    assert f"max SPL {ref.quietest['max_spl_db']:.2f} dB" in out
+    assert f"{ref.saving_db:.2f} dB quieter" in out
+    assert "design table" in out
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["design", "--inclination", "5", "--tolerance", "0.0001"], "--inclination"),
+    (["design", "--inclination", "0.008", "--tolerance", "-1"], "--tolerance"),
+])
+def test_design_command_errors_name_the_option(done, capsys, argv, option):
+    assert main([argv[0], "--sweep", str(done), *argv[1:]]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"acoustiviz design: error: {option}") and "\n" not in err
+
+
+def test_design_command_needs_a_sweep_directory(tmp_path, capsys):
+    assert main(["design", "--sweep", str(tmp_path / "none"), "--inclination", "0.008"]) == 2
+    assert "--sweep" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("extra, option", [
+    (["--gap", "0.02:0.06"], "--gap"),
+    (["--m", "-0.01"], "--m"),
+    (["--angle", "100"], "--angle"),
+    (["--radius", "big"], "--radius"),
+    (["--executor", "threads"], "--executor"),
+    (["--workers", "0"], "--workers"),
+    (["--config", "room"], "--config"),
+    (["--material", "cheese"], "--material"),
+    (["--m", "0.04", "--mass-ratio", "0.1"], "--m"),
+    (["--distance", "0.01"], "--distance"),
+])
+def test_bad_values_exit_2_naming_the_option(tmp_path, capsys, extra, option):
+    assert main(["sweep", "--out", str(tmp_path / "x"), "--duration", "1", *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"acoustiviz sweep: error: {option}"), err
+    assert "\n" not in err
+    assert not (tmp_path / "x" / "sweep.csv").exists()
+
+
+def test_other_settings_refused_then_overwritten(done, tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main([*SWEEP, "--out", str(out)]) == 0
+    assert main([*SWEEP, "--out", str(out), "--c1", "10"]) == 2
+    err = capsys.readouterr().err
+    assert "--out" in err and "different settings" in err and "--overwrite" in err
+    assert main([*SWEEP, "--out", str(out), "--c1", "10", "--overwrite"]) == 0
+    assert {float(r[9]) for r in rows(out / "sweep.csv")[1:]} == {10.0}
+
+
+def _start(out, *extra):
+    env = dict(os.environ, MPLBACKEND="Agg")
+    cmd = [sys.executable, "-m", "acoustiviz", "sweep", "--gap", "0.02:0.06:6", "--m", "0.02:0.08:5",
+           "--duration", "20", "--spl-fastest", "0", "--workers", "1", "--out", str(out), *extra]
+    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+
+
+def _wait_rows(path, n, proc, timeout=60.0):
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        if path.exists() and path.read_bytes().count(b"\n") >= 1 + n:
+            return
+        if proc.poll() is not None:
+            raise AssertionError(f"sweep ended early: {proc.stderr.read()[-2000:]}")
+        time.sleep(0.005)
+    raise AssertionError("no rows appeared")
+
+
+def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
+    out = tmp_path / "k"
+    proc = _start(out)
+    _wait_rows(out / "sweep.csv", 3, proc)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=30)
+    proc.stdout.close()
+    proc.stderr.close()
+    kept = (out / "sweep.csv").read_text()
+    kept_lines = kept.splitlines(keepends=True)
+    complete = [ln for ln in kept_lines if ln.endswith("\n")]
+    n_kept = len(complete) - 1
+    assert 3 <= n_kept < 30, "the sweep must have been killed midway"
+    argv = ["sweep", "--gap", "0.02:0.06:6", "--m", "0.02:0.08:5", "--duration", "20", "--spl-fastest", "0",
+            "--workers", "1", "--out", str(out)]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert f"0/{30 - n_kept} designs (+{n_kept} done before)" in err or f"/{30 - n_kept} designs" in err
+    final = (out / "sweep.csv").read_text().splitlines(keepends=True)
+    assert final[: len(complete)] == complete  # finished rows untouched
+    assert len(final) == 31
+    ids = [int(r[7]) for r in csv.reader(final[1:])]
+    assert sorted(ids) == list(range(30))  # each design exactly once
+
+
+def test_ctrl_c_keeps_finished_rows(tmp_path):
+    out = tmp_path / "c"
+    proc = _start(out)
+    _wait_rows(out / "sweep.csv", 2, proc)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err[-2000:]
+    assert "finished outputs were kept" in err
+    n = len(rows(out / "sweep.csv")) - 1
+    assert 2 <= n < 30
+    assert not (out / "sweep.csv").read_text().endswith(",")
+
+
+def test_dask_scheduler_address(tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://",
+                                  host="127.0.0.1", dashboard_address=None) as cluster:
+        address = cluster.scheduler_address.removeprefix("tcp://")
+        out = tmp_path / "dask"
+        argv = ["sweep", "--gap", "0.03,0.05", "--m", "0.04", "--duration", "1", "--out", str(out), "--quiet"]
+        assert main([*argv, "--executor", f"dask://{address}"]) == 0
+    table = load_sweep(out)
+    assert len(table) == 2
+    local = tmp_path / "local"
+    assert main([*argv[:-3], "--out", str(local), "--workers", "1", "--quiet"]) == 0
+    ref = load_sweep(local)
+    for c in CSV_COLUMNS:
+        np.testing.assert_array_equal(table[c], ref[c])
+
