@@ -8,8 +8,9 @@ the damping ("vibration-based"), then, among the designs that damp alike, the qu
 ("acoustic-based"). This script makes that audible.
 
 * **Vibration-based**: the paper's Table 1 damper (m = 40.5 g, d = 4 cm, dx/dt(0) = 2 m/s).
-* **Acoustic-based**: a small sweep of impact mass and gap around it; among the designs whose
-  fitted damping inclination is within 5 % of Table 1's, the one with the lowest peak SPL.
+* **Acoustic-based**: a small sweep of impact mass and gap around it; among the designs that damp
+  at least as well as Table 1 (fitted damping inclination no more than 5 % below Table 1's), the
+  one with the lowest peak SPL.
 
 Each 20 s run (event solver) is rendered at the listener 0.7 m from the sphere at 45°
 (rigid plane, both cavity walls radiating, the paper's half-sine pulse and its 19.05 mm
@@ -17,6 +18,9 @@ sphere for every mass -- the choice under which the paper's levels hold). The WA
 float32 in pascals; a second pair is normalised 24-bit PCM with **one** scale for both, so
 their loudness difference is kept when you listen. The figure shows both waveforms and
 spectrograms on one pressure scale and one colour scale.
+
+Keeping the radius at 19.05 mm whatever the mass is the paper's choice; a real steel ball grows
+as m^(1/3) (``acoustiviz auralize --density 7800``), which changes the ranking of the designs.
 
 The damping inclination is a linear fit of the decaying positive maxima (down to 30 % of the
 first): the two-maxima value of eq 16 swings too much across a sweep to compare designs. In
@@ -36,7 +40,7 @@ from acoustiviz.plot.audio import auralisation_figure
 RATE, DURATION = 48000, 20.0
 LISTENER = [0.495, 0.0, 0.514]  # m: 0.7 m from the sphere's centre at 45 deg from the plane's normal
 RADIUS = 0.01905  # m, the paper's sphere
-TOLERANCE = 0.05  # designs "damp alike" when their inclinations differ by at most 5 %
+TOLERANCE = 0.05  # a design "damps as well" when its inclination is at most 5 % below Table 1's
 out_dir = output_dir()
 
 
@@ -55,21 +59,23 @@ def design(m, gap):
 # %%
 # Sweep: Table 1 and its neighbours in impact mass and gap.
 if fast_mode():
-    grid = [(TABLE1.m, TABLE1.gap), (0.050, 0.050)]
+    grid = [(TABLE1.m, TABLE1.gap), (0.060, 0.050)]
 else:
     grid = [(m, g) for m in (0.030, 0.0405, 0.050, 0.060, 0.070) for g in (0.03, 0.04, 0.05, 0.06)]
 results = [design(m, g) for m, g in grid]
 table1 = next(r for r in results if r["m"] == TABLE1.m and r["gap"] == TABLE1.gap)
-alike = [r for r in results if r is not table1 and abs(r["e"] - table1["e"]) <= TOLERANCE * abs(table1["e"])]
-quiet = min(alike, key=lambda r: r["spl"]) if alike else min(
-    (r for r in results if r is not table1), key=lambda r: abs(r["e"] - table1["e"]))
+others = [r for r in results if r is not table1]
+eligible = [r for r in others if r["e"] >= (1.0 - TOLERANCE) * table1["e"]]
+if not eligible:
+    print("no design in the sweep damps as well as Table 1: showing the one whose damping is closest")
+quiet = min(eligible, key=lambda r: r["spl"]) if eligible else min(others, key=lambda r: abs(r["e"] - table1["e"]))
 
 print(f"{'m (g)':>6} {'gap (cm)':>8} {'e fit (cm/s)':>12} {'impacts':>7} {'peak SPL (dB re 20 uPa)':>24}")
 for r in results:
     mark = " <- Table 1" if r is table1 else (" <- acoustic-based" if r is quiet else "")
     print(f"{r['m'] * 1e3:6.1f} {r['gap'] * 100:8.1f} {r['e'] * 100:12.3f} {r['n']:7d} {r['spl']:24.1f}{mark}")
-print(f"acoustic-based choice: {quiet['spl'] - table1['spl']:+.1f} dB at a damping inclination "
-      f"{100 * (quiet['e'] / table1['e'] - 1):+.1f} % from Table 1's")
+print(f"acoustic-based choice: {quiet['spl'] - table1['spl']:+.1f} dB peak SPL, damping inclination "
+      f"{100 * (quiet['e'] / table1['e'] - 1):+.1f} % against Table 1's")
 
 # %%
 # WAV files: calibrated float32 in Pa, and a listening pair with one shared 24-bit scale.
