@@ -353,7 +353,8 @@ def _chunk_size(bytes_per_point: float, fixed: float, memory_limit: float, name=
     if room < bytes_per_point:
         raise ParameterError(
             name,
-            f"{memory_limit:.4g} B is too small: one point needs {bytes_per_point + fixed:.4g} B of working memory",
+            f"{memory_limit:.4g} B is too small: the results and fixed buffers need {fixed:.4g} B, plus "
+            f"{bytes_per_point:.4g} B per point of a chunk",
         )
     return int(max(1, min(_MAX_CHUNK, room // bytes_per_point)))
 
