@@ -240,7 +240,7 @@ def images_plane(radius: float) -> Configuration:
     Examples
     --------
     >>> cfg = images_plane(0.01)
-    >>> [s.position[2] for s in cfg.sources], [s.axis[2] for s in cfg.sources]
+    >>> [float(s.position[2]) for s in cfg.sources], [float(s.axis[2]) for s in cfg.sources]
     ([0.01, -0.01], [1.0, -1.0])
     """
     a = check_positive("radius", radius, "m")
