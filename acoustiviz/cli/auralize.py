@@ -234,7 +234,7 @@ def run(args) -> int:
         radius_source = f"solid sphere of {args.m:g} kg at {args.density:g} kg/m^3"
     else:
         radius = check_positive("--radius", 0.01905 if args.radius is None else args.radius, "m")
-        radius_source = "given" if args.radius is not None else "default (the paper's 19.05 mm sphere)"
+        radius_source = "given" if args.radius is not None else "default: the paper's sphere"
     medium = Medium(c=check_positive("--c", args.c, "m/s"), rho=check_positive("--rho", args.rho, "kg/m^3"))
     wall = args.wall_distance
     if args.config == "wall-floor":
