@@ -14,7 +14,7 @@ import soundfile as sf
 from acoustiviz import audio
 from acoustiviz._validate import ParameterError
 from acoustiviz.audio import CavityScene, ClickModel, ImpactSequence, render
-from acoustiviz.images import images_plane, images_wall_floor
+from acoustiviz.images import ImageSource, images_plane, images_wall_floor
 from acoustiviz.radiation import sphere_pressure
 
 try:  # the field evaluator is the reference for levels; a plain radiation sum if it is absent
@@ -149,7 +149,7 @@ def test_far_wall_radiates_reversed_from_the_far_wall():
     scene, model = CavityScene("plane", radius=A, gap=gap), ClickModel(mass=M)
     out = render(ImpactSequence([0.001], [1], [1.0]), scene, model, LISTENER, sample_rate=fs, duration=0.01)
     pulse = model.pulse_for(1.0)
-    src = [audio.ImageSource([0, 0, A + gap], [0, 0, -1]), audio.ImageSource([0, 0, -A - gap], [0, 0, 1])]
+    src = [ImageSource([0, 0, A + gap], [0, 0, -1]), ImageSource([0, 0, -A - gap], [0, 0, 1])]
     t = np.arange(0, 0.01, 1 / (32 * fs))
     ref = _direct(pulse, t - 0.001, LISTENER, src, A)
     assert out.peak[0] == pytest.approx(np.max(np.abs(ref)), rel=5e-3)
