@@ -359,7 +359,7 @@ def test_whole_run_level_and_exposure_match_the_field_evaluator():
     sphere at a + gap accelerating along -z, imaged in z = 0). Tolerances as for one click.
     """
     from acoustiviz.dynamics import TABLE1, simulate
-    from acoustiviz.images import Configuration, ImageSource
+    from acoustiviz.images import Configuration
 
     run = simulate(TABLE1, 3.0)
     seq = ImpactSequence.from_table(run.impacts)
