@@ -1131,6 +1131,18 @@ class SweepTable:
         """True when every design of the spec has a row."""
         return len(self) == len(self.spec.designs())
 
+    def subset(self, mask) -> SweepTable:
+        """The rows where the boolean ``mask`` (one entry per row) is True."""
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != (len(self),):
+            raise ParameterError("mask", f"expected {len(self)} booleans, got shape {mask.shape}")
+        cols = {}
+        for k, v in self.columns.items():
+            a = v[mask]
+            a.setflags(write=False)
+            cols[k] = a
+        return SweepTable(self.spec, cols)
+
     def inclination(self, definition: str = "two-maxima") -> np.ndarray:
         """Damping inclination in m/s by ``definition`` (``"two-maxima"``, paper eq 16, or ``"fit"``)."""
         check_choice("definition", definition, DEFINITIONS)

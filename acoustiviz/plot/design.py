@@ -118,8 +118,10 @@ def plot_inclination_map(table, ax=None, *, definition: str = "two-maxima", **kw
     what = "eq 16, first two maxima" if definition == "two-maxima" else "fit of the maxima envelope"
     kwargs.setdefault("title", f"(A) damping inclination ({what})")
     kwargs.setdefault("fmt", "{:.2f}")
-    return plot_map(table, column, ax, scale=100.0, label="damping inclination e (cm/s)", cmap="RdBu_r",
-                    centred=True, **kwargs)
+    values = np.asarray(table[column], dtype=float)
+    signed = bool(np.any(values[np.isfinite(values)] < 0))  # a diverging scale only when both signs occur
+    return plot_map(table, column, ax, scale=100.0, label="damping inclination e (cm/s)",
+                    cmap="RdBu_r" if signed else "viridis", centred=signed, **kwargs)
 
 
 def plot_spl_map(table, ax=None, **kwargs):
@@ -142,7 +144,7 @@ def plot_spl_map(table, ax=None, **kwargs):
     return plot_map(table, "max_spl_db", ax, label="max SPL (dB re 20 µPa)", cmap="magma", **kwargs)
 
 
-def plot_design_table(bands, ax=None, *, paper=None, title=None):
+def plot_design_table(bands, ax=None, *, paper=None, others=(), label="this sweep", title=None):
     """Paper Table 2 as a chart: per inclination band, the range of the maximum SPL.
 
     Parameters
@@ -153,35 +155,40 @@ def plot_design_table(bands, ax=None, *, paper=None, title=None):
         Axes to draw on.
     paper : sequence of (e in m/s, min dB, max dB, decrease dB), optional
         Reference rows to draw beside (e.g. :data:`acoustiviz.sweep.PAPER_TABLE2`).
+    others : sequence of (str, sequence of Band)
+        Further design tables to draw beside, with their legend labels.
+    label : str
+        Legend label of ``bands``.
     title : str, optional
         Axes title.
 
     Returns
     -------
     matplotlib.axes.Axes
-        Vertical bars from the minimum to the maximum of the maximum SPL, labelled with the
-        decrease in dB; damping inclination in cm/s along x.
+        One vertical bar per band and series, from the minimum to the maximum of the maximum
+        SPL, labelled with the decrease in dB; damping inclination in cm/s along x.
     """
+    series = [(label, [(b.centre, b.min_spl_db, b.max_spl_db, b.decrease_db) for b in bands])]
+    series += [(lab, [(b.centre, b.min_spl_db, b.max_spl_db, b.decrease_db) for b in bs]) for lab, bs in others]
+    if paper:
+        series.append(("paper Table 2", [tuple(r) for r in paper]))
+    colours = ["tab:blue", "tab:green", "tab:purple", "tab:red"]
     with style():
         ax = new_axes(ax, figsize=(7.0, 4.2))
-        off = 0.02 if paper else 0.0
-        for k, b in enumerate(bands):
-            x = 100 * b.centre - off
-            ax.vlines(x, b.min_spl_db, b.max_spl_db, lw=6, color="tab:blue",
-                      label="this sweep (min to max)" if k == 0 else None)
-            ax.plot([x, x], [b.min_spl_db, b.max_spl_db], "_", ms=12, mew=1.5, color="tab:blue")
-            ax.text(x, b.max_spl_db + 0.3, f"{b.decrease_db:.1f}", ha="center", va="bottom", fontsize=7,
-                    color="tab:blue")
-        if paper:
-            for k, (e, lo, hi, dec) in enumerate(paper):
+        k = len(series)
+        step = 0.07 / max(k, 1)
+        for j, (lab, rows) in enumerate(series):
+            colour = "tab:orange" if lab == "paper Table 2" else colours[j % len(colours)]
+            off = (j - (k - 1) / 2) * step
+            for i, (e, lo, hi, dec) in enumerate(rows):
                 x = 100 * e + off
-                ax.vlines(x, lo, hi, lw=6, color="tab:orange", alpha=0.85,
-                          label="paper Table 2" if k == 0 else None)
-                ax.plot([x, x], [lo, hi], "_", ms=12, mew=1.5, color="tab:orange")
-                ax.text(x, hi + 0.3, f"{dec:.0f}", ha="center", va="bottom", fontsize=7, color="tab:orange")
-        ax.set_xlabel("damping inclination e (cm/s)")
+                ax.vlines(x, lo, hi, lw=5, color=colour, label=lab if i == 0 else None)
+                ax.plot([x, x], [lo, hi], "_", ms=9, mew=1.5, color=colour)
+                ax.text(x, hi + 0.3, f"{dec:.1f}" if lab != "paper Table 2" else f"{dec:.0f}", ha="center",
+                        va="bottom", fontsize=6.5, color=colour)
+        ax.set_xlabel("damping inclination e (cm/s), bands 0.1 cm/s wide")
         ax.set_ylabel("maximum SPL at the listener (dB re 20 µPa)")
-        ax.legend(loc="lower right")
+        ax.legend(loc="upper right", fontsize=8)
         if title:
             ax.set_title(title)
     return ax
