@@ -24,6 +24,34 @@ from .radiation import impulse_response, pressure, pulse_response, sphere_pressu
 
 __version__ = "0.1.0"
 
+#: Names importable from ``acoustiviz`` that live in heavier modules, imported on first use.
+_LAZY = {
+    "configuration": "images",
+    "images_free": "images",
+    "images_plane": "images",
+    "images_wall_floor": "images",
+    "time_series": "field",
+    "field_metrics": "field",
+    "snapshots": "field",
+    "directivity": "field",
+    "spherical_grid": "grids",
+    "planar_grid": "grids",
+    "DamperModel": "dynamics",
+    "InitialState": "dynamics",
+    "simulate": "dynamics",
+    "load_scene": "scene",
+    "run_scene": "pipeline",
+}
+
+
+def __getattr__(name):
+    """Import the lazily exported names (:data:`_LAZY`) on first access."""
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module 'acoustiviz' has no attribute {name!r}")
+
 __all__ = [
     "AIR",
     "HERTZ_DURATION_CONSTANT",
@@ -45,4 +73,5 @@ __all__ = [
     "pulse_response",
     "restitution",
     "sphere_pressure",
+    *_LAZY,
 ]

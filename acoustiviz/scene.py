@@ -120,6 +120,10 @@ _CONFIGURATION = {
     "kind": Key("str", "free field, reflecting plane (floor z = 0) or wall-floor corner", "plane", choices=CONFIGS),
     "wall_distance_m": _pos("wall-floor: distance from the wall (x = -wall_distance) to the sphere's centre",
                             "m", 0.05, high=100.0),
+    "strike": Key("str", "wall-floor: struck surface (a wall strike puts the sphere against the wall, "
+                  "accelerating along +x)", "floor", choices=("floor", "wall")),
+    "height_m": _pos("wall strike: height of the sphere's centre above the floor (default: the radius)", "m",
+                     None, high=100.0),
 }
 _DAMPER = {
     "main_mass_kg": _pos("main mass M", "kg", 0.5, high=1e6),
@@ -419,8 +423,12 @@ class Scene:
         from .images import configuration
 
         c = self.data["configuration"]
-        wall = c["wall_distance_m"] if c["kind"] == "wall-floor" else None
-        return configuration(c["kind"], self.data["sphere"]["radius_m"], wall_distance=wall)
+        a = self.data["sphere"]["radius_m"]
+        if c["kind"] != "wall-floor":
+            return configuration(c["kind"], a)
+        if c["strike"] == "wall":
+            return configuration("wall-floor", a, wall_distance=a, strike="wall", height=c["height_m"] or a)
+        return configuration("wall-floor", a, wall_distance=c["wall_distance_m"])
 
     def impact(self, velocity: float | None = None):
         """The single impact (or one at ``velocity`` m/s) as an :class:`~acoustiviz.contact.Impact`."""
@@ -522,7 +530,10 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     if data["contact"]["k_hertz_n_m1_5"] is not None and data["contact"]["surface"] is not None:
         raise SceneError(source, "contact.k_hertz_n_m1_5", "give either k_hertz_n_m1_5 or surface, not both")
     conf = data["configuration"]
-    if conf["kind"] == "wall-floor" and conf["wall_distance_m"] < radius:
+    if conf["height_m"] is not None and conf["height_m"] < radius:
+        raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
+                                                           f"{radius:g} m, got {conf['height_m']:g} m")
+    if conf["kind"] == "wall-floor" and conf["strike"] == "floor" and conf["wall_distance_m"] < radius:
         raise SceneError(source, "configuration.wall_distance_m",
                          f"the sphere would cut the wall: must be >= radius = {radius:g} m, "
                          f"got {conf['wall_distance_m']:g} m")

@@ -96,3 +96,26 @@ def test_console_script_has_no_traceback(tmp_path):
                          capture_output=True, text=True, cwd=tmp_path)
     assert res.returncode == 2
     assert "--radius" in res.stderr and "Traceback" not in res.stderr
+
+
+def test_wall_strike_in_the_corner(tmp_path):
+    # a sphere striking the wall of a corner, high above the floor: until the floor's echo arrives,
+    # the field is that of a sphere on a single plane, seen from the same angle
+    wall, plane = tmp_path / "wall.csv", tmp_path / "plane.csv"
+    assert main(["waveform", "--config", "wall-floor", "--strike", "wall", "--height", "0.5", "--csv", str(wall)]) == 0
+    assert main(["waveform", "--config", "plane", "--csv", str(plane)]) == 0
+    w, p = _read(wall)[1], _read(plane)[1]
+    n = min(len(w), len(p))
+    np.testing.assert_allclose(w[:n, 0], p[:n, 0])
+    t = w[:n, 0]
+    # the floor image is 2 x 0.5 m below the wall pair: its sound arrives later than ~0.7 m / c
+    early = t < 0.9 / 343.2
+    np.testing.assert_allclose(w[:n][early, 1], p[:n][early, 1], atol=1e-9)
+    assert np.any(np.abs(w[:n][~early, 1] - p[:n][~early, 1]) > 1e-3)
+
+
+def test_strike_and_height_need_their_configuration(capsys):
+    assert main(["waveform", "--config", "plane", "--strike", "wall"]) == 2
+    assert "--strike" in capsys.readouterr().err
+    assert main(["waveform", "--config", "wall-floor", "--strike", "wall", "--height", "0.001"]) == 2
+    assert "--height" in capsys.readouterr().err

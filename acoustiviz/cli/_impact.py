@@ -61,6 +61,12 @@ def add_impact_options(parser, *, velocity: bool = True) -> None:
     c.add_argument("--wall-distance", type=float, default=None, metavar="M",
                    help="wall-floor only: distance in m from the wall to the sphere's centre "
                         "(default 0.05)")
+    c.add_argument("--strike", default="floor", choices=("floor", "wall"),
+                   help="wall-floor only: the struck surface; 'wall' puts the sphere against the wall, "
+                        "accelerating along +x (default floor)")
+    c.add_argument("--height", type=float, default=None, metavar="M",
+                   help="wall strike only: height in m of the sphere's centre above the floor "
+                        "(default: the radius, a ball in the corner)")
 
 
 def add_observer_options(parser, *, angle: bool = True) -> None:
@@ -144,12 +150,25 @@ def impact_from_args(args, *, velocity: float | None = None) -> ImpactSetup:
         mass = rho_s * _sphere_volume(radius)
 
     wall = args.wall_distance
-    if args.config == "wall-floor":
+    strike = getattr(args, "strike", "floor")
+    height = getattr(args, "height", None)
+    if args.config != "wall-floor":
+        if wall is not None:
+            raise ParameterError("--wall-distance", "only applies with --config wall-floor")
+        if strike != "floor":
+            raise ParameterError("--strike", "only applies with --config wall-floor")
+    if height is not None and strike != "wall":
+        raise ParameterError("--height", "only applies with --strike wall")
+    if args.config == "wall-floor" and strike == "wall":
+        if wall is not None:
+            raise ParameterError("--wall-distance", "a wall strike puts the sphere against the wall; omit it")
+        wall = radius
+        height = radius if height is None else check_range("--height", height, radius, math.inf, unit="m")
+    elif args.config == "wall-floor":
         wall = 0.05 if wall is None else wall
         check_range("--wall-distance", wall, radius, math.inf, unit="m")
-    elif wall is not None:
-        raise ParameterError("--wall-distance", "only applies with --config wall-floor")
-    conf = configuration(check_choice("--config", args.config, CONFIGS), radius, wall_distance=wall)
+    conf = configuration(check_choice("--config", args.config, CONFIGS), radius, wall_distance=wall,
+                         strike=strike, height=height)
 
     impact = Impact(velocity=u0, k_hertz=k, mass=mass)
     pulse = acceleration_pulse(impact, args.pulse)
