@@ -32,8 +32,7 @@ _A = np.ascontiguousarray(_dop.A[:_NS, :_NS])
 _B = np.ascontiguousarray(_dop.B)
 _E3 = np.ascontiguousarray(_dop.E3)
 _E5 = np.ascontiguousarray(_dop.E5)
-_NY = 7  # contact state: x, v, delta, u, impulse, dissipated in contact, dissipated by C
-_NERR = _NY  # components under error control (all: the energy quadratures too)
+_NY = 8  # contact state: t, x, v, sqrt(delta), u, impulse, dissipated in contact, dissipated by C
 
 STATUS_OK = 0
 STATUS_MAX_IMPACTS = 1
@@ -192,6 +191,12 @@ def _scan(x0, v0, y0, w0, tau_end, a, wd, hg):
 
 
 # ============================================================ contact phase (DOP853)
+# The contact is integrated in a transformed time σ with dt = ξ dσ, where ξ = sqrt(δ) is a state
+# variable (dξ/dσ = u/2). The Hertz force becomes K_HZ ξ³, a polynomial, so the δ^{3/2}
+# singularities at contact onset and end (solution terms in t^{3.5}) disappear: the solution is
+# analytic in σ and the 8th-order steps stay long up to both ends. The contact ends at the simple
+# root ξ = 0 (dξ/dσ = u/2 < 0 there), located by Newton's method on full Runge-Kutta steps.
+# State: t (from onset), x, v, ξ, u = dδ/dt, impulse, dissipated in contact, dissipated by C.
 @njit(cache=True)
 def _force(d, u, kh, c1, clip):
     """Contact force in N and its elastic part in N at penetration d (m), rate u (m/s)."""
@@ -204,51 +209,61 @@ def _force(d, u, kh, c1, clip):
     return f, fe
 
 
-@njit(cache=True)
-def _rhs(y, p, sw, out):
+@njit(cache=True, inline="always")
+def _rhs_into(y, p, sw, out, row):
+    """Derivatives with respect to σ of the contact state into ``out[row]`` (section comment)."""
     M, K, C, m, kh, c1 = p[0], p[1], p[2], p[3], p[5], p[6]
     clip = p[7] > 0.5
-    x, v, d, u = y[0], y[1], y[2], y[3]
-    f, fe = _force(d, u, kh, c1, clip)
+    x, v, xi, u = y[1], y[2], y[3], y[4]
+    fe = kh * xi * xi * xi
+    f = fe + c1 * u
+    if clip and f < 0.0:
+        f = 0.0
     spring = K * x + C * v
-    out[0] = v
-    out[1] = (sw * f - spring) / M
-    out[2] = u
-    out[3] = -f / m - f / M + sw * spring / M
-    out[4] = f
-    out[5] = (f - fe) * u
-    out[6] = C * v * v
+    out[row, 0] = xi
+    out[row, 1] = xi * v
+    out[row, 2] = xi * (sw * f - spring) / M
+    out[row, 3] = 0.5 * u
+    out[row, 4] = xi * (-f / m - f / M + sw * spring / M)
+    out[row, 5] = xi * f
+    out[row, 6] = xi * (f - fe) * u
+    out[row, 7] = xi * C * v * v
+
+
+@njit(cache=True)
+def _rhs(y, p, sw, out):
+    """Derivatives with respect to σ of the contact state into the 1-D array ``out``."""
+    _rhs_into(y, p, sw, out.reshape((1, _NY)), 0)
 
 
 @njit(cache=True)
 def _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew):
-    """One Dormand-Prince 8 step of size ``h`` s; fills ``ynew``, ``fnew`` and the stages."""
-    n = y.shape[0]
-    for i in range(n):
+    """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
+    for i in range(_NY):
         kst[0, i] = f0[i]
     for st in range(1, _NS):
-        for i in range(n):
+        for i in range(_NY):
             acc = 0.0
             for j in range(st):
                 acc += _A[st, j] * kst[j, i]
             ytmp[i] = y[i] + h * acc
-        _rhs(ytmp, p, sw, kst[st])
-    for i in range(n):
+        _rhs_into(ytmp, p, sw, kst, st)
+    for i in range(_NY):
         acc = 0.0
         for j in range(_NS):
             acc += _B[j] * kst[j, i]
         ynew[i] = y[i] + h * acc
-    _rhs(ynew, p, sw, fnew)
-    for i in range(n):
-        kst[_NS, i] = fnew[i]
+    _rhs_into(ynew, p, sw, kst, _NS)
+    for i in range(_NY):
+        fnew[i] = kst[_NS, i]
 
 
 @njit(cache=True)
 def _dop_error(y, ynew, h, kst, rtol, atol):
-    """Hairer's DOP853 error norm (1 = at tolerance)."""
+    """Hairer's DOP853 error norm over all components (1 = at tolerance)."""
     e5 = 0.0
     e3 = 0.0
-    for i in range(_NERR):
+    for i in range(_NY):
         sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
         a5 = 0.0
         a3 = 0.0
@@ -259,39 +274,61 @@ def _dop_error(y, ynew, h, kst, rtol, atol):
         e3 += (a3 / sc) ** 2
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _NERR)
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _NY)
 
 
 @njit(cache=True)
-def _dfdt(y, f, p):
-    """Rate of change of the contact force in N/s."""
-    d, u = y[2], y[3]
-    if d <= 0.0:
-        return 0.0
-    return 1.5 * p[5] * math.sqrt(d) * u + p[6] * f[3]
+def _dfds(y, f, p):
+    """Rate of change of the contact force with σ (same sign as dF/dt while ξ > 0)."""
+    xi = y[3]
+    return 3.0 * p[5] * xi * xi * f[3] + p[6] * f[4]
 
 
 @njit(cache=True)
-def _step_root(kind, y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
-    """Step size in (0, h] s where ``delta`` (kind 0) or ``dF/dt`` (kind 1) vanishes (Illinois).
+def _newton_in_step(kind, target, y, f0, h, glo, p, sw, kst, ytmp, ynew, fnew):
+    """Step length in [0, h] where ξ (kind 0) or t - target (kind 2) vanishes.
 
-    Each trial value comes from a full Dormand-Prince step from the step start, so the root is as
-    accurate as the integration itself. Leaves the state at the root in ``ynew``/``fnew``.
+    Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
+    inside the bracket; every trial is a full Dormand-Prince step from the step start, so the
+    root is as accurate as the integration. ``ynew``/``fnew`` hold the state at the root and
+    ``glo`` is the sign-carrying value at the step start. The first trial reuses ``ynew``.
     """
+    lo, hi = 0.0, h
+    hm = h
+    g = ynew[3] if kind == 0 else ynew[0] - target
+    dg = fnew[3] if kind == 0 else fnew[0]
+    for _ in range(40):
+        hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
+        if not (lo < hn < hi):
+            hn = 0.5 * (lo + hi)
+        _dop_step(y, f0, hn, p, sw, kst, ytmp, ynew, fnew)
+        g = ynew[3] if kind == 0 else ynew[0] - target
+        dg = fnew[3] if kind == 0 else fnew[0]
+        if (g > 0.0) == (glo > 0.0):
+            lo = hn
+        else:
+            hi = hn
+        done = abs(hn - hm) <= 8.0 * 2.220446049250313e-16 * hn or g == 0.0
+        hm = hn
+        if done or hi - lo <= 4.0 * 2.220446049250313e-16 * hi:
+            break
+    return hm
+
+
+@njit(cache=True)
+def _peak_in_step(y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
+    """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
     lo, hi = 0.0, h
     glo, ghi = g0, g1
     side = 0
     hm = hi
-    for _ in range(100):
-        if ghi == glo:
-            hm = 0.5 * (lo + hi)
-        else:
-            hm = (lo * ghi - hi * glo) / (ghi - glo)
+    for _ in range(60):
+        hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
         if not (lo < hm < hi):
             hm = 0.5 * (lo + hi)
         _dop_step(y, f0, hm, p, sw, kst, ytmp, ynew, fnew)
-        gm = ynew[2] if kind == 0 else _dfdt(ynew, fnew, p)
-        if gm == 0.0 or (hi - lo) < 4.0 * 2.220446049250313e-16 * hi:
+        gm = _dfds(ynew, fnew, p)
+        if gm == 0.0:
             break
         if (gm > 0.0) == (glo > 0.0):
             lo, glo = hm, gm
@@ -303,22 +340,26 @@ def _step_root(kind, y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
             if side == 1:
                 glo *= 0.5
             side = 1
-        if hi - lo <= 1e-15 * h:
+        if hi - lo <= 1e-8 * h:  # force error ~ (time error)^2
             break
-    if kind == 0 and ynew[2] > 0.0 and hm != hi:
-        hm = hi
-        _dop_step(y, f0, hm, p, sw, kst, ytmp, ynew, fnew)
     return hm
+
+
+@njit(cache=True)
+def _copy(src, dst):
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
 
 
 @njit(cache=True)
 def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst):
     """Integrate one contact from its onset at ``tc`` s until the bodies part or ``t_end``.
 
-    Returns ``(ended, status, ie, duration, peak_force, yout)`` where ``yout`` is the 7-component
-    state at the end (x, v, delta, u, impulse, dissipated in contact, dissipated by C).
+    Returns ``(ended, status, ie, duration, peak_force, yout)`` where ``yout`` is the 8-component
+    state at the end (t from onset, x, v, ξ = sqrt(δ), u, impulse, dissipated in contact,
+    dissipated by C).
     """
-    M, m, kh, hg = p[0], p[3], p[5], p[4]
+    M, m, kh, hg, c1 = p[0], p[3], p[5], p[4], p[6]
     meff = m * M / (m + M)
     clip = p[7] > 0.5
     y = work[0]
@@ -329,98 +370,104 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
     yd = work[5]
     fd = work[6]
     atol = work[7]
-    y[0] = x
-    y[1] = v
-    y[2] = d0
-    y[3] = u0
-    y[4] = 0.0
+    ys = work[8]
+    fs = work[9]
+    y[0] = 0.0
+    y[1] = x
+    y[2] = v
+    y[3] = math.sqrt(max(d0, 0.0))
+    y[4] = u0
     y[5] = 0.0
     y[6] = 0.0
+    y[7] = 0.0
     uref = max(abs(u0), 1e-9)
     amax = (1.25 * meff * uref * uref / kh) ** 0.4
     tau_h = _HERTZ_T * amax / uref
-    atol[0] = rtol * hg
-    atol[1] = rtol * max(abs(v), uref)
-    atol[2] = rtol * amax
-    atol[3] = rtol * uref
-    atol[4] = rtol * meff * uref
-    atol[5] = rtol * 0.5 * meff * uref * uref
-    atol[6] = atol[5]
+    atol[0] = rtol * tau_h
+    atol[1] = rtol * hg
+    atol[2] = rtol * max(abs(v), uref)
+    atol[3] = rtol * math.sqrt(amax)
+    atol[4] = rtol * uref
+    atol[5] = rtol * meff * uref
+    atol[6] = rtol * 0.5 * meff * uref * uref
+    atol[7] = atol[6]
     _rhs(y, p, sw, f0)
-    peak, _ = _force(d0, u0, kh, p[6], clip)
-    t = 0.0
-    h = 1e-3 * tau_h
+    peak, _ = _force(d0, u0, kh, c1, clip)
+    h = 0.02 * tau_h / math.sqrt(amax)  # σ has units of s / sqrt(m)
     status = 0
     ended = False
     nrej = 0
+    rejected = False
+    t_stop = t_end - tc
     while True:
-        remaining = t_end - (tc + t)
-        if remaining <= 0.0:
-            break
-        hs = min(h, remaining)
-        _dop_step(y, f0, hs, p, sw, kst, ytmp, ynew, fnew)
-        err = _dop_error(y, ynew, hs, kst, rtol, atol)
+        _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew)
+        err = _dop_error(y, ynew, h, kst, rtol, atol)
         if not (err <= 1.0):
             if not math.isfinite(err):
                 err = 1e10
-            h = hs * max(0.2, 0.9 * err ** (-1.0 / 8.0))
+            h = h * max(0.2, 0.9 * err ** (-1.0 / 8.0))
             nrej += 1
-            if h < 1e-15 * tau_h or nrej > 10000:
+            rejected = True
+            if nrej > 100000:
                 status = STATUS_STEP_UNDERFLOW
                 break
             continue
-        exiting = ynew[2] <= 0.0 and ynew[3] < 0.0
-        g0 = _dfdt(y, f0, p)
-        g1 = _dfdt(ynew, fnew, p)
-        hstep = hs
+        hstep = h
+        exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _step_root(0, y, f0, hs, y[2], ynew[2], p, sw, kst, ytmp, ynew, fnew)
-            g1 = _dfdt(ynew, fnew, p)
+            _copy(ynew, ys)
+            _copy(fnew, fs)
+            hstep = _newton_in_step(0, 0.0, y, f0, h, y[3], p, sw, kst, ytmp, ynew, fnew)
+        stopping = ynew[0] >= t_stop
+        if stopping:
+            exiting = False
+            hstep = _newton_in_step(2, t_stop, y, f0, hstep, -1.0, p, sw, kst, ytmp, ynew, fnew)
+        g0 = _dfds(y, f0, p)
+        g1 = _dfds(ynew, fnew, p)
         if g0 > 0.0 and g1 <= 0.0:
-            for i in range(_NY):
-                yd[i] = ynew[i]
-                fd[i] = fnew[i]
-            _step_root(1, y, f0, hstep, g0, g1, p, sw, kst, ytmp, ynew, fnew)
-            fpk, _ = _force(ynew[2], ynew[3], kh, p[6], clip)
+            _copy(ynew, yd)
+            _copy(fnew, fd)
+            _peak_in_step(y, f0, hstep, g0, g1, p, sw, kst, ytmp, ynew, fnew)
+            fpk, _ = _force(ynew[3] * ynew[3], ynew[4], kh, c1, clip)
             peak = max(peak, fpk)
-            for i in range(_NY):
-                ynew[i] = yd[i]
-                fnew[i] = fd[i]
-        fend, _ = _force(ynew[2], ynew[3], kh, p[6], clip)
+            _copy(yd, ynew)
+            _copy(fd, fnew)
+        fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
         peak = max(peak, fend)
-        # dense output inside the step: a Dormand-Prince step of the exact length from its start
-        while ie < t_eval.shape[0] and t_eval[ie] <= tc + t + hstep:
-            for i in range(_NY):
-                yd[i] = ynew[i]
-                fd[i] = fnew[i]
-            hh = t_eval[ie] - (tc + t)
-            if hh > 0.0:
-                _dop_step(y, f0, hh, p, sw, kst, ytmp, ynew, fnew)
+        # dense output inside the step: Newton on t(σ) with full steps from the step start
+        while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+            _copy(ynew, yd)
+            _copy(fnew, fd)
+            target = t_eval[ie] - tc
+            if target > y[0]:
+                _newton_in_step(2, target, y, f0, hstep, -1.0, p, sw, kst, ytmp, ynew, fnew)
             else:
-                for i in range(_NY):
-                    ynew[i] = y[i]
-            dense[ie, 0] = ynew[0]
-            dense[ie, 1] = ynew[1]
-            dense[ie, 2] = ynew[0] + sw * (hg + ynew[2])
-            dense[ie, 3] = ynew[1] + sw * ynew[3]
-            dense[ie, 4] = ec0 + ynew[6]
-            dense[ie, 5] = en0 + ynew[5]
-            for i in range(_NY):
-                ynew[i] = yd[i]
-                fnew[i] = fd[i]
+                _copy(y, ynew)
+            xi = max(ynew[3], 0.0)
+            dense[ie, 0] = ynew[1]
+            dense[ie, 1] = ynew[2]
+            dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
+            dense[ie, 3] = ynew[2] + sw * ynew[4]
+            dense[ie, 4] = ec0 + ynew[7]
+            dense[ie, 5] = en0 + ynew[6]
+            _copy(yd, ynew)
+            _copy(fd, fnew)
             ie += 1
-        t += hstep
-        for i in range(_NY):
-            y[i] = ynew[i]
-            f0[i] = fnew[i]
+        _copy(ynew, y)
+        _copy(fnew, f0)
         if exiting:
             ended = True
             break
+        if stopping:
+            break
+        # no growth right after a rejection (Hairer, Norsett, Wanner, II.4)
+        grow = 1.0 if rejected else 10.0
+        rejected = False
         if err == 0.0:
-            h = hs * 10.0
+            h = h * grow
         else:
-            h = hs * min(10.0, 0.9 * err ** (-1.0 / 8.0))
-    return ended, status, ie, t, peak, y
+            h = h * min(grow, 0.9 * err ** (-1.0 / 8.0))
+    return ended, status, ie, y[0], peak, y
 
 
 # ============================================================ drivers
@@ -436,7 +483,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     meff = m * M / (m + M)
     a = C / (2.0 * M)
     wd = math.sqrt(K / M - a * a)
-    work = np.zeros((8, _NY))
+    work = np.zeros((10, _NY))
     kst = np.zeros((_NS + 1, _NY))
     pfree = p.copy()
     pfree[1] = 0.0
@@ -486,7 +533,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
             ended, st, _, dur, peak, yc = _contact(
                 pfree, sw, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, empty, 0, nodense, 0.0, 0.0, work, kst
             )
-            e = max(-yc[3], 0.0) / u0 if u0 > 0.0 else 0.0
+            e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
             jimp = (1.0 + e) * meff * u0
             x0 = xx
             v0 = vv + sw * jimp / M
@@ -508,24 +555,25 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
         ended, st, ie, dur, peak, yc = _contact(
             p, sw, xx, vv, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst
         )
-        ec += yc[6]
-        en += yc[5]
-        impacts[n, 3] = -yc[3]
+        ec += yc[7]
+        en += yc[6]
+        impacts[n, 3] = -yc[4]
         impacts[n, 4] = dur
         impacts[n, 5] = peak
-        impacts[n, 6] = yc[4]
-        impacts[n, 7] = yc[5]
+        impacts[n, 6] = yc[5]
+        impacts[n, 7] = yc[6]
         n += 1
-        x0, v0 = yc[0], yc[1]
-        y0 = x0 + sw * (hg + yc[2])
-        w0 = v0 + sw * yc[3]
+        x0, v0 = yc[1], yc[2]
+        dlt = yc[3] * abs(yc[3])
+        y0 = x0 + sw * (hg + dlt)
+        w0 = v0 + sw * yc[4]
         t0 = tc + dur
         if st != STATUS_OK:
             status = st
             t_end = t0
             break
         if not ended:
-            dfinal = yc[2]
+            dfinal = dlt
             impacts[n - 1, 3] = math.nan
             break
     final[0] = x0

@@ -1,0 +1,235 @@
+"""Converged reference runs and solver comparisons for the impact damper.
+
+The Table 1 motion is chaotic: a change of one part in 1e14 in the initial velocity grows to
+about 1e-7 by the 35th impact and the impact sequence changes after roughly 50 impacts. Solvers
+are therefore compared impact by impact over the first 40 impacts only.
+
+Reference
+---------
+:func:`reference` is the event-driven solver at ``rtol = REFERENCE_RTOL`` (2e-15). It is checked
+(in ``benchmarks/bench_dynamics.py``) by its energy closure, by its agreement with the same solver
+at 2.5× looser tolerance, and by a second, independent method, :func:`solve_ivp_impacts`
+(scipy's DOP853 with terminal events, stopping and restarting at every contact onset and end).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import TABLE1, DamperModel, InitialState
+from .result import ImpactTable, SimulationResult
+from .solve import AccuracyWarning, simulate
+
+__all__ = [
+    "REFERENCE_RTOL",
+    "N_COMPARE",
+    "ImpactComparison",
+    "BenchmarkRow",
+    "reference",
+    "compare_impacts",
+    "solve_ivp_impacts",
+    "speed_accuracy",
+]
+
+#: Contact tolerance of the reference run.
+REFERENCE_RTOL = 2e-15
+#: Number of leading impacts compared (the motion is chaotic beyond about 50).
+N_COMPARE = 40
+
+
+@dataclass(frozen=True)
+class ImpactComparison:
+    """Agreement of two impact tables over their first ``n`` impacts.
+
+    Attributes
+    ----------
+    n : int
+        Number of impacts compared (fewer than requested if a table is shorter).
+    time_error : float
+        Largest |difference| of contact start times in s.
+    velocity_error : float
+        Largest relative difference of approach speeds (dimensionless).
+    walls_match : bool
+        Whether the walls struck agree impact by impact.
+    """
+
+    n: int
+    time_error: float
+    velocity_error: float
+    walls_match: bool
+
+
+@dataclass(frozen=True)
+class BenchmarkRow:
+    """One solver setting of the speed-versus-accuracy benchmark.
+
+    Attributes
+    ----------
+    solver : str
+    label : str
+        The setting, e.g. ``"dt=1e-07"`` or ``"rtol=1e-14"``.
+    time_s : float
+        Warm solver wall time in s (best of the repeats).
+    n_impacts : int
+        Impacts over the whole run.
+    comparison : ImpactComparison
+        Against the reference over the first :data:`N_COMPARE` impacts.
+    energy_error : float
+        Relative energy closure error of the run (dimensionless).
+    """
+
+    solver: str
+    label: str
+    time_s: float
+    n_impacts: int
+    comparison: ImpactComparison
+    energy_error: float
+
+
+def reference(model: DamperModel = TABLE1, duration: float = 20.0,
+              initial: InitialState | None = None, t_eval=None) -> SimulationResult:
+    """The converged reference run (event solver at :data:`REFERENCE_RTOL`)."""
+    return simulate(model, duration, solver="event", initial=initial, rtol=REFERENCE_RTOL,
+                    t_eval=t_eval)
+
+
+def compare_impacts(table: ImpactTable, ref: ImpactTable, n: int = N_COMPARE) -> ImpactComparison:
+    """Compare the first ``n`` impacts of ``table`` with those of ``ref``.
+
+    If either table is shorter than ``n`` the comparison covers the common part and its errors
+    are infinite when the shorter one is ``table`` (a missed impact is a failure).
+    """
+    k = min(n, len(table), len(ref))
+    if k == 0:
+        return ImpactComparison(0, math.inf, math.inf, False)
+    dt = float(np.max(np.abs(table.time[:k] - ref.time[:k])))
+    du = float(np.max(np.abs(table.approach_velocity[:k] / ref.approach_velocity[:k] - 1.0)))
+    walls = bool(np.array_equal(table.wall[:k], ref.wall[:k]))
+    if len(table) < min(n, len(ref)):
+        dt = du = math.inf
+    return ImpactComparison(k, dt, du, walls)
+
+
+def solve_ivp_impacts(model: DamperModel = TABLE1, initial: InitialState | None = None,
+                      n_impacts: int = 10, rtol: float = 1e-13) -> ImpactTable:
+    """First ``n_impacts`` contacts by an independent method: scipy DOP853 with terminal events.
+
+    The right-hand side of eq 15 is evaluated in Python; each free flight and each contact is a
+    separate ``solve_ivp`` call stopped by an event at the contact onset (``|y - x| = d/2``
+    reached from inside) or end (penetration back to zero). Slow (seconds), for checking only.
+
+    Parameters
+    ----------
+    model : DamperModel
+    initial : InitialState, optional
+    n_impacts : int
+        Number of contacts to compute.
+    rtol : float
+        Relative tolerance of solve_ivp (absolute tolerance 1e-15 in m and m/s).
+
+    Returns
+    -------
+    ImpactTable
+        Peak force, impulse and energy lost are NaN (not computed by this method).
+    """
+    from scipy.integrate import solve_ivp
+
+    initial = InitialState() if initial is None else initial
+    M, K, C, m = model.M, model.K, model.C, model.m
+    hg, kh, c1, clip = 0.5 * model.gap, model.k_hertz, model.c1, model.clip_tensile
+
+    def rhs_for(s):
+        def rhs(_t, q):
+            x, v, y, w = q
+            f = 0.0
+            if s != 0:
+                d = s * (y - x) - hg
+                if d > 0:
+                    f = kh * d**1.5 + c1 * s * (w - v)
+                    if clip and f < 0:
+                        f = 0.0
+            return [v, (s * f - K * x - C * v) / M, w, -s * f / m]
+
+        return rhs
+
+    def crossing(s, direction):
+        def g(_t, q):
+            return s * (q[2] - q[0]) - hg
+
+        g.terminal = True
+        g.direction = direction
+        return g
+
+    q = np.array(initial.as_tuple(model))
+    t0 = 0.0
+    rows = []
+    period = 2 * math.pi / model.main_frequency
+    while len(rows) < n_impacts:
+        sol = solve_ivp(rhs_for(0), (t0, t0 + 50 * period), q, method="DOP853", rtol=rtol,
+                        atol=1e-15, events=[crossing(1, 1), crossing(-1, 1)])
+        if sol.status != 1:
+            break
+        k = 0 if sol.t_events[0].size else 1
+        s = 1 if k == 0 else -1
+        t0 = float(sol.t_events[k][0])
+        q = sol.y_events[k][0]
+        u0 = s * (q[3] - q[1])
+        sol = solve_ivp(rhs_for(s), (t0, t0 + 50 * period), q, method="DOP853", rtol=rtol,
+                        atol=1e-15, events=[crossing(s, -1)], first_step=1e-9)
+        if sol.status != 1:
+            break
+        t1 = float(sol.t_events[0][0])
+        q = sol.y_events[0][0]
+        rows.append((t0, s, u0, -s * (q[3] - q[1]), t1 - t0, math.nan, math.nan, math.nan))
+        t0 = t1
+    return ImpactTable.from_rows(np.array(rows))
+
+
+def speed_accuracy(cases, *, model: DamperModel = TABLE1, duration: float = 20.0,
+                   initial: InitialState | None = None, ref: SimulationResult | None = None,
+                   n_compare: int = N_COMPARE, repeats: int = 3) -> list[BenchmarkRow]:
+    """Run each solver setting, time it warm and compare its first impacts with the reference.
+
+    Parameters
+    ----------
+    cases : sequence of (str, dict)
+        Solver name and keyword settings for :func:`simulate`, e.g. ``("newmark", {"dt": 1e-7})``.
+    model, initial : optional
+        The damper and its start (default Table 1, Figure 5).
+    duration : float
+        Simulated time in s.
+    ref : SimulationResult, optional
+        Reference run (default :func:`reference`).
+    n_compare : int
+        Leading impacts compared.
+    repeats : int
+        Timed repetitions of runs shorter than 1 s (best is kept); longer runs are timed once.
+
+    Returns
+    -------
+    list of BenchmarkRow
+    """
+    ref = reference(model, duration, initial) if ref is None else ref
+    rows = []
+    for solver, kw in cases:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AccuracyWarning)
+            best = math.inf
+            res = None
+            for i in range(max(int(repeats), 1)):
+                t0 = time.perf_counter()
+                res = simulate(model, duration, solver=solver, initial=initial, **kw)
+                _ = time.perf_counter() - t0
+                best = min(best, res.solver_time)
+                if res.solver_time > 1.0 or i + 1 >= repeats:
+                    break
+        label = ", ".join(f"{k}={v:g}" for k, v in kw.items()) or "default"
+        rows.append(BenchmarkRow(solver, label, best, len(res.impacts),
+                                 compare_impacts(res.impacts, ref.impacts, n_compare),
+                                 float(res.energy.relative_closure_error)))
+    return rows
