@@ -1105,6 +1105,14 @@ def _make_executor(executor, workers, settings):
     raise ParameterError("executor", f"expected 'process', 'dask://HOST:PORT' or an Executor, got {executor!r}")
 
 
+def _shutdown_now(ex: Executor) -> None:
+    """Shut ``ex`` down without waiting, cancelling what has not started."""
+    try:
+        ex.shutdown(wait=False, cancel_futures=True)
+    except TypeError:  # executors without cancel_futures (e.g. Dask's ClientExecutor)
+        ex.shutdown(wait=False)
+
+
 @dataclass(frozen=True)
 class SweepTable:
     """The rows of a sweep, ordered by design id.
@@ -1260,7 +1268,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         for fut in futures:
             fut.cancel()
         if owned:
-            ex.shutdown(wait=False, cancel_futures=True)
+            _shutdown_now(ex)
             owned = False
         if progress is not None:
             progress.write(f"\nsweep: stopped; {len(rows)} of {len(designs)} designs kept in {path}\n")

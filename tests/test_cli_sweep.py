@@ -178,3 +178,26 @@ def test_dask_scheduler_address(tmp_path, capsys):
     for c in CSV_COLUMNS:
         np.testing.assert_array_equal(table[c], ref[c])
 
+
+
+def test_sweep_over_listener_configuration_and_velocity(tmp_path, capsys):
+    out = tmp_path / "multi"
+    argv = ["sweep", "--config", "plane,wall-floor", "--v0", "1,2", "--angle", "30:60:2", "--distance", "0.5",
+            "--material", "steel", "--radius", "mass", "--duration", "0.5", "--workers", "1", "--out", str(out),
+            "--quiet"]
+    assert main(argv) == 0
+    assert "maps skipped" in capsys.readouterr().out
+    table = load_sweep(out)
+    assert len(table) == 8
+    assert sorted(set(table["config"])) == ["plane", "wall-floor"]
+    assert sorted(set(table["v0_m_s"])) == [1.0, 2.0]
+    np.testing.assert_allclose(sorted(set(table["angle_deg"])), [30.0, 60.0])
+    # radius from the mass and steel's density; K_HZ from the materials at that radius
+    from acoustiviz.contact import hertz_stiffness
+    from acoustiviz.materials import material
+
+    st = material("steel")
+    a = (3 * 0.0405 / (4 * np.pi * st.density)) ** (1 / 3)
+    np.testing.assert_allclose(table["radius_m"], a, rtol=1e-14)
+    np.testing.assert_allclose(table["k_hertz_n_m1_5"], hertz_stiffness(a, st, st), rtol=1e-14)
+    assert not (out / "inclination_map.png").exists()
