@@ -41,19 +41,11 @@ def new_axes(ax=None, *, polar: bool = False, figsize=(6.4, 4.0)):
 
 def save_figure(fig, path):
     """Save ``fig`` to ``path`` atomically (write a temporary file, then rename); return the path."""
-    import os
-    import tempfile
     from pathlib import Path
 
+    from .._io import atomic_path
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=path.suffix)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         fig.savefig(tmp, format=path.suffix.lstrip(".") or "png")
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
     return path
