@@ -622,22 +622,28 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
     """Draw one snapshot in the active view; return the plane meshes and the time annotation."""
     meshes = [_plane_mesh(g, f) for g, f in zip(planes, fields, strict=True)]
     actor = None
-    for m in meshes:
+    pv = check_backend()
+    for g, m in zip(planes, meshes, strict=True):
         actor = pl.add_mesh(m, scalars="p", cmap=cmap, clim=(-clim, clim), show_scalar_bar=False,
                             nan_color=_SPHERE_COLOUR, lighting=False)
+        corners = g.origin + np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]) @ np.vstack([g.u, g.v])
+        pl.add_mesh(pv.lines_from_points(corners), color="#505050", line_width=max(1.0, 1.5 * size[1] / 900.0))
     _add_geometry(pl, config, _snapshot_bounds(planes, config), opacity=0.25)
     vsize = (size[0] / n_views, size[1])
     clock = pl.add_text(_time_label(t), position="upper_left", font_size=_font(vsize, 18), color="black")
     if label:
-        pl.add_text(label, position="lower_left", font_size=_font(vsize, 10), color="#222222")
+        pl.add_text(label, position="lower_left", font_size=_font(vsize, 12), color="#222222")
     pts = np.vstack([p.points for p in planes])
     focus = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
     normals = np.array([p.normal for p in planes])
-    if len(planes) == 1 and abs(normals[0][2]) > 0.9:
+    vertical = np.abs(normals[:, 2]) < 0.1
+    if np.all(~vertical):  # horizontal planes only: look down
         direction = (0.25, -0.5, 1.0)
+    elif np.sum(vertical) > 1:  # crossing vertical planes: look into the open quadrant
+        direction = (0.5, -1.0, 0.45)
     else:
         direction = (0.35, -1.0, 0.35)
-    _set_camera(pl, focus, direction, zoom=1.3 if len(planes) == 1 else 1.15, shift=0.18 if show_bar else 0.0)
+    _set_camera(pl, focus, direction, zoom=1.3, shift=0.18 if show_bar else 0.0)
     if show_bar:
         _add_bar(pl, "sound pressure (Pa)", size, actor.mapper, n_views=n_views, fmt="%.3g")
     return meshes, clock
@@ -673,8 +679,8 @@ def render_snapshot(
     config : Configuration
         The scene.
     time : float or sequence of float
-        Snapshot time(s) in s from the start of contact; several go side by side (up to three
-        per row) with one colour scale.
+        Snapshot time(s) in s from the start of contact, at most 12; several go side by side
+        (up to three in a row, four and more on a near-square grid) with one colour scale.
     path : path-like
         Output ``.png`` file (written atomically).
     medium : Medium
@@ -714,7 +720,7 @@ def render_snapshot(
     grids = _planes(config, planes, extent, times, medium, n_u, sections)
     fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]  # each (k, n)
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
-    cols = min(times.size, 3)
+    cols = times.size if times.size <= 3 else int(math.ceil(math.sqrt(times.size)))
     rows = int(math.ceil(times.size / cols))
     label = _scene_label(pulse, config) if title is None else title
     with _plotter(size, shape=(rows, cols)) as pl:
