@@ -1076,8 +1076,8 @@ def _write_row(f, result: DesignResult) -> None:
     os.fsync(f.fileno())
 
 
-def _make_executor(executor, workers, settings):
-    """Return ``(executor, owned, cleanup)``."""
+def _make_executor(executor, workers, settings, n_tasks):
+    """Return ``(executor, owned, cleanup)``; a local pool has at most ``n_tasks`` processes."""
     if isinstance(executor, Executor):
         return executor, False, None
     if executor is None or executor == "process":
@@ -1087,6 +1087,7 @@ def _make_executor(executor, workers, settings):
         if n < 1:
             raise ParameterError("workers", f"must be >= 1, got {workers}")
         _warm_up(settings)  # forked workers inherit the loaded kernels
+        n = max(1, min(n, int(n_tasks)))
         return ProcessPoolExecutor(max_workers=n, initializer=_worker_init, initargs=(settings,)), True, None
     if isinstance(executor, str) and executor.startswith("dask://"):
         address = executor[len("dask://"):]
@@ -1252,7 +1253,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
             progress.write(f"sweep: all {len(designs)} designs already in {path}; nothing to compute\n")
             progress.flush()
         return _table_from_rows(spec, rows)
-    ex, owned, cleanup = _make_executor(executor, workers, spec.settings)
+    ex, owned, cleanup = _make_executor(executor, workers, spec.settings, len(pending))
     bar = Progress(len(pending), len(rows), progress)  # timed from here: start-up is not design time
     f = _open_csv(path)
     futures = []

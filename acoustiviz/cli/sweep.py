@@ -97,7 +97,7 @@ def add_parser(subparsers):
     o.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",
                    help="local process pool (default) or a Dask distributed scheduler")
     o.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="processes of the local pool (default: all cores)")
+                   help="processes of the local pool (default: all cores; a Dask cluster has its own)")
     o.add_argument("--overwrite", action="store_true",
                    help="if DIR holds a sweep with other settings, move its sweep.csv aside and start afresh")
     o.add_argument("--definition", default="two-maxima", choices=("two-maxima", "fit"),
