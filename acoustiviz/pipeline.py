@@ -243,12 +243,66 @@ def produce_restitution(ctx: RunContext):
             Product("restitution", png, {})]
 
 
+def produce_wav(ctx: RunContext):
+    """Calibrated WAV (float32 in Pa, or PCM_24 with one shared scale) of the damper run at each listener."""
+    from .audio import CavityScene, ClickModel, ImpactSequence, render, shared_scale, write_sidecar, write_wav
+
+    opts = ctx.scene.output("wav")
+    res = ctx.damper_run
+    conf = ctx.scene.section("configuration")
+    radius = ctx.scene.damper_sphere_radius()
+    wall_floor = conf["kind"] == "wall-floor"
+    strike = conf["strike"] if wall_floor else "floor"
+    cavity = CavityScene(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
+                         walls=opts["walls"],
+                         wall_distance=(radius if strike == "wall" else conf["wall_distance_m"]) if wall_floor
+                         else None,
+                         strike=strike, height=(conf["height_m"] or radius) if strike == "wall" else None,
+                         medium=ctx.medium)
+    pulse_mass = ctx.scene.section("contact")["pulse_mass"]
+    model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
+                       mass_model=pulse_mass, pulse=ctx.scene.section("contact")["pulse"])
+    named = ctx.scene.listeners(radius)
+    points = np.array([pos for _, pos in named])
+    seq = ImpactSequence.from_table(res.impacts)
+    ctx.progress(f"auralising {len(seq)} impacts at {len(named)} listener(s), {opts['rate_hz']} Hz")
+    out = render(seq, cavity, model, points, sample_rate=opts["rate_hz"], duration=res.duration)
+    if opts["stereo"]:
+        files = [("wav_stereo.wav", out.pressure[:2], [named[0][0], named[1][0]], points[:2])]
+    else:
+        files = [(f"wav_{name}.wav", out.pressure[i:i + 1], [name], points[i:i + 1])
+                 for i, (name, _) in enumerate(named)]
+    if opts["subtype"] == "PCM_24":
+        scale = shared_scale([f[1] for f in files])
+        scale_source = f"shared by the {len(files)} file(s) of this run: their peak + 1 dB headroom"
+    else:
+        scale, scale_source = 1.0, "pascals (1.0 = 1 Pa)"
+    products = []
+    for fname, data, names, pts in files:
+        info = write_wav(ctx.path(fname), data, opts["rate_hz"], subtype=opts["subtype"], scale=scale)
+        peaks = np.max(np.abs(data), axis=1)
+        spls = [20 * math.log10(pk / 20e-6) if pk > 0 else None for pk in peaks]
+        record = {"file": fname, "subtype": info["subtype"], "sample_rate_hz": opts["rate_hz"],
+                  "channels": info["channels"], "frames": info["frames"], "scale_pa_per_full_scale": scale,
+                  "scale_source": scale_source, "pressure_pa": "sample value x scale_pa_per_full_scale",
+                  "listeners": names, "listeners_m": pts.tolist(), "peak_pa": peaks.tolist(),
+                  "peak_spl_db_re_20upa": spls, "impacts": len(seq), "configuration": conf["kind"],
+                  "scene_name": ctx.scene.name, **out.describe()}
+        side = write_sidecar(ctx.path(fname), record)
+        lvl = max((v for v in spls if v is not None), default=float("nan"))
+        products += [Product("wav", ctx.path(fname), {"impacts": str(len(seq)), "peak_spl_db": f"{lvl:.1f}",
+                                                      "subtype": info["subtype"], "rate_hz": str(opts["rate_hz"])}),
+                     Product("wav", side, {})]
+    return products
+
+
 PRODUCERS = {
     "waveform": produce_waveform,
     "directivity": produce_directivity,
     "damper_history": produce_damper_history,
     "impact_table": produce_impact_table,
     "restitution": produce_restitution,
+    "wav": produce_wav,
 }
 
 

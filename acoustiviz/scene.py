@@ -186,7 +186,12 @@ _OUT = {
         "tolerance_m_s": _pos("half-width of the inclination band", "m/s", 0.001, high=10.0)},
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
     "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=8000, high=384000),
-                  "stereo": Key("bool", "one stereo file from the first two listeners", False)},
+                  "stereo": Key("bool", "one stereo file from the first two listeners", False),
+                  "subtype": Key("str", "FLOAT: float32 in pascals (1.0 = 1 Pa); PCM_24: normalised, one shared "
+                                 "scale recorded in the sidecar", "FLOAT", choices=("FLOAT", "PCM_24")),
+                  "struck_wall": Key("int", "damper wall lying on the struck surface z = 0", -1, low=-1, high=1),
+                  "walls": Key("str", "'both': impacts on the far wall radiate from it with the reversed axis; "
+                               "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one"))},
                  "calibrated WAV (Pa) of the damper run at each listener"),
 }
 #: The outputs a scene may ask for, in the order they are produced.
@@ -418,12 +423,12 @@ class Scene:
         m = self.data["medium"]
         return Medium(c=m["c_m_s"], rho=m["rho_kg_m3"])
 
-    def configuration(self):
-        """The surfaces and image sources (:func:`acoustiviz.images.configuration`)."""
+    def configuration(self, radius: float | None = None):
+        """The surfaces and image sources (:func:`acoustiviz.images.configuration`) for a sphere of ``radius``."""
         from .images import configuration
 
         c = self.data["configuration"]
-        a = self.data["sphere"]["radius_m"]
+        a = self.data["sphere"]["radius_m"] if radius is None else radius
         if c["kind"] != "wall-floor":
             return configuration(c["kind"], a)
         if c["strike"] == "wall":
@@ -446,11 +451,15 @@ class Scene:
 
         return acceleration_pulse(self.impact(velocity), kind or self.data["contact"]["pulse"])
 
-    def listeners(self):
-        """Listener names and positions: a list of ``(name, (3,) ndarray in m)``."""
+    def listeners(self, radius: float | None = None):
+        """Listener names and positions: a list of ``(name, (3,) ndarray in m)``.
+
+        Listeners given by distance and angle are placed from the centre of a sphere of
+        ``radius`` (default ``sphere.radius_m``) touching the struck surface.
+        """
         import numpy as np
 
-        conf = self.configuration()
+        conf = self.configuration(radius)
         real = conf.sources[0]
         axis = np.asarray(real.axis, dtype=float)
         perp = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
@@ -551,6 +560,12 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
         if value is True:
             value = {}
         outputs[kind] = _validate_table(value, _OUT[kind], source, f"outputs.{kind}")
+    if "wav" in outputs:
+        if outputs["wav"]["struck_wall"] not in (-1, 1):
+            raise SceneError(source, "outputs.wav.struck_wall",
+                             f"must be -1 or +1, got {outputs['wav']['struck_wall']}")
+        if outputs["wav"]["stereo"] and len(data["listeners"]) < 2:
+            raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
     if "design_table" in outputs and outputs["design_table"]["inclination_m_s"] is None:

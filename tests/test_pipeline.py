@@ -97,3 +97,35 @@ def test_context_is_lazy(tmp_path):
     assert "damper_run" not in ctx.__dict__
     _ = ctx.configuration
     assert "damper_run" not in ctx.__dict__
+
+
+def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
+    import json
+
+    import soundfile as sf
+
+    from acoustiviz.field import field_metrics
+
+    # walls = "one": every impact is heard as a strike on the floor z = 0, the field evaluator's frame
+    scene = scene_from_dict({"damper": {"duration_s": 1.0}, "outputs": {"wav": {"rate_hz": 96000, "walls": "one"}}})
+    products = run_scene(scene, tmp_path / "o")
+    data, rate = sf.read(tmp_path / "o" / "wav_paper.wav", dtype="float64")
+    info = sf.info(tmp_path / "o" / "wav_paper.wav")
+    assert rate == 96000 and info.subtype == "FLOAT"
+    side = json.loads((tmp_path / "o" / "wav_paper.json").read_text())
+    assert side["scale_pa_per_full_scale"] == 1.0
+    assert side["impacts"] == int(next(p for p in products if p.path.suffix == ".wav").figures["impacts"])
+    # the loudest click in the file against the field evaluator at the same point, for the fastest impact
+    from acoustiviz.dynamics import simulate
+
+    ctx = RunContext(scene, tmp_path)
+    res = simulate(ctx.damper_model, 1.0, initial=ctx.damper_initial)
+    fastest = float(np.max(res.impacts.approach_velocity))
+    (_, pos), = scene.listeners()
+    from acoustiviz.contact import Impact, acceleration_pulse
+
+    # the damper's sphere is its impact mass m = 40.5 g with the paper's radius 19.05 mm
+    pulse = acceleration_pulse(Impact(fastest, 5.6e8, 0.0405), "half-sine")
+    ref = field_metrics(pulse, pos[None, :], scene.configuration(), medium=scene.medium())
+    # band-limited samples at 96 kHz land within half a sample of the true peak: allow 2 %
+    assert np.abs(data).max() == pytest.approx(float(ref.peak[0]), rel=0.02)
