@@ -340,7 +340,7 @@ def _peak_in_step(y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
             if side == 1:
                 glo *= 0.5
             side = 1
-        if hi - lo <= 1e-8 * h:  # force error ~ (time error)^2
+        if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
             break
     return hm
 
