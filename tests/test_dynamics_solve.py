@@ -313,3 +313,32 @@ def test_closed_form_solvers_need_an_underdamped_main_oscillator():
         simulate(DamperModel(C=100.0), 0.1)
     r = simulate(DamperModel(C=100.0), 0.1, solver="newmark")
     assert r.success
+
+
+# --------------------------------------------------------------------------- end of motion
+def test_run_ending_inside_a_contact_keeps_the_hertz_energy():
+    first = simulate(TABLE1, 0.05).impacts
+    t_mid = first.time[0] + 0.5 * first.duration[0]
+    for solver in ("event", "newmark"):
+        r = simulate(TABLE1, t_mid, solver=solver, t_eval=[t_mid])
+        assert len(r.impacts) == 1 and np.isnan(r.impacts.separation_velocity[0])
+        # half-way through the contact much of the relative kinetic energy is stored elastically
+        assert r.energy.hertz > 0.3 * 0.5 * TABLE1.effective_mass * first.approach_velocity[0] ** 2
+    assert abs(r.energy.relative_closure_error) < 1e-4  # Newmark at its default step (tau/50)
+
+
+def test_sticking_contacts_and_chattering_end_gracefully():
+    heavy = simulate(DamperModel(c1=2000.0), 1.0)  # overdamped contacts: the masses nearly stick
+    assert heavy.success and len(heavy.impacts) > 0
+    assert np.all(heavy.impacts.restitution[:3] < 0.01)
+    assert abs(heavy.energy.relative_closure_error) < RTOL_CLOSURE
+    capped = simulate(TABLE1, 20.0, max_impacts=10)
+    assert not capped.success and "max_impacts" in capped.message
+    assert len(capped.impacts) == 10 and capped.t_end < 20.0
+    assert abs(capped.energy.relative_closure_error) < RTOL_CLOSURE
+
+
+def test_clipped_force_closes_the_energy_balance():
+    r = simulate(DamperModel(clip_tensile=True), 2.0)
+    assert abs(r.energy.relative_closure_error) < RTOL_CLOSURE
+    assert np.all(r.impacts.energy_lost > 0)
