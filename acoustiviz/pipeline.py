@@ -39,10 +39,11 @@ class Product:
 class RunContext:
     """The scene, the output folder and the lazily computed shared results of one run."""
 
-    def __init__(self, scene: Scene, out: Path, progress=None):
+    def __init__(self, scene: Scene, out: Path, progress=None, stream=None):
         self.scene = scene
         self.out = Path(out)
         self.progress = progress or (lambda msg: None)
+        self.stream = stream  # where long steps draw their progress bars (None: silent)
 
     def path(self, name: str) -> Path:
         """Path of an output file inside the run folder."""
@@ -296,12 +297,123 @@ def produce_wav(ctx: RunContext):
     return products
 
 
+INCLINATION_MAP = "inclination_map.png"
+SPL_MAP = "max_spl_map.png"
+
+
+def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_width: float = 0.001):
+    """Write ``design_table.csv`` and, for gap × mass sweeps, the two Figure 6 maps.
+
+    Returns
+    -------
+    bands : tuple of Band
+        The design table (paper Table 2).
+    paths : list of Path
+        Files written.
+    others : list of str
+        Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
+    """
+    from .plot._style import save_figure
+    from .sweep import DESIGN_TABLE_CSV, design_table, write_design_table
+
+    out = Path(out_dir)
+    bands = design_table(table, definition=definition, width=band_width)
+    paths = [write_design_table(bands, out / DESIGN_TABLE_CSV)]
+    others = [a for a in table.spec.swept() if a not in ("gap", "m")]
+    if not others and len(table):
+        from .plot.design import plot_inclination_map, plot_spl_map
+
+        ax = plot_inclination_map(table, definition=definition)
+        paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
+        ax = plot_spl_map(table)
+        paths.append(save_figure(ax.figure, out / SPL_MAP))
+    return bands, paths, others
+
+
+def sweep_spec(scene: Scene):
+    """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (gap × impact mass)."""
+    from .scene import SceneError
+    from .sweep import Settings, SweepSpec
+
+    opts = scene.output("sweep")
+    d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
+    conf = scene.section("configuration")
+    if conf["kind"] == "wall-floor" and conf["strike"] == "wall":
+        raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
+    medium = scene.medium()
+    settings = Settings(
+        M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"],
+        duration=opts["duration_s"], solver=d["solver"], rtol=d["tolerance"],
+        radius_mode="fixed" if s["damper_radius"] == "given" else "from-mass", radius=s["radius_m"],
+        density=scene.sphere_density(), surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"],
+        c=medium.c, rho=medium.rho, wall_distance=conf["wall_distance_m"])
+    (_, pos), *_ = scene.listeners()
+    real = scene.configuration().sources[0]
+    rel = pos - np.asarray(real.position)
+    dist = float(np.linalg.norm(rel))
+    angle = math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / dist)))
+    stiffness = {"material": (s["material"],)} if (s["material"] and c["k_hertz_n_m1_5"] is None) else \
+        {"k_hertz": (scene.k_hertz(),)}
+    return SweepSpec(gap=tuple(parse_range(opts["gap_m"])), m=tuple(parse_range(opts["mass_kg"])),
+                     c1=(d["contact_damping_n_s_m"],), v0=(d["initial_velocity_m_s"],), distance=(dist,),
+                     angle=(angle,), config=(conf["kind"],), settings=settings, **stiffness)
+
+
+def produce_sweep(ctx: RunContext):
+    """Sweep over gap and impact mass (paper Figure 6): ``sweep/sweep.csv``, the maps and the design table."""
+    from .sweep import run_sweep
+
+    opts = ctx.scene.output("sweep")
+    folder = ctx.path("sweep")
+    spec = sweep_spec(ctx.scene)
+    ctx.progress(f"sweeping {len(spec.designs())} designs, {opts['duration_s']:g} s of motion each")
+    table = run_sweep(spec, folder, workers=opts["workers"] or None, progress=ctx.stream)
+    ctx.sweep_table = table
+    bands, paths, _ = write_sweep_outputs(table, folder)
+    spl = np.asarray(table["max_spl_db"])
+    figs = {"designs": str(len(table))}
+    if spl.size:
+        figs["max_spl_db_range"] = f"{np.nanmin(spl):.1f}-{np.nanmax(spl):.1f}"
+    best = max(bands, key=lambda b: b.decrease_db, default=None)
+    if best is not None:
+        figs["largest_saving_db"] = f"{best.decrease_db:.1f} at {100 * best.low:.3g}-{100 * best.high:.3g} cm/s"
+    from .sweep import SWEEP_CSV
+
+    return [Product("sweep", folder / SWEEP_CSV, figs)] + [Product("sweep", p, {}) for p in paths]
+
+
+def produce_design_table(ctx: RunContext):
+    """Paper Table 2 from the sweep as a figure beside the paper's values, and the quietest design for a target."""
+    from .plot._style import save_figure
+    from .plot.design import plot_design_table
+    from .sweep import PAPER_TABLE2, design, design_table
+
+    opts = ctx.scene.output("design_table")
+    table = getattr(ctx, "sweep_table", None)
+    if table is None:  # the sweep output runs first; a scene without it is refused at load time
+        from .sweep import load_sweep
+
+        table = load_sweep(ctx.path("sweep"))
+    bands = design_table(table)
+    ax = plot_design_table(bands, paper=PAPER_TABLE2)
+    png = save_figure(ax.figure, ctx.path("design_table.png"))
+    products = [Product("design_table", png, {"bands": str(len(bands))})]
+    if opts["inclination_m_s"] is not None:
+        choice = design(table, opts["inclination_m_s"], opts["tolerance_m_s"])
+        path = write_text_atomic(ctx.path("design_choice.txt"), choice.summary() + "\n")
+        products.append(Product("design_table", path, {"candidates": str(choice.n_candidates),
+                                                       "saving_db": f"{choice.saving_db:.1f}"}))
+    return products
+
+
 PRODUCERS = {
     "waveform": produce_waveform,
     "directivity": produce_directivity,
     "damper_history": produce_damper_history,
     "impact_table": produce_impact_table,
     "restitution": produce_restitution,
+    "sweep": produce_sweep,
+    "design_table": produce_design_table,
     "wav": produce_wav,
 }
 
@@ -326,7 +438,7 @@ def _summary(scene: Scene, products, seconds: float, skipped) -> str:
     return "\n".join(lines) + "\n"
 
 
-def run_scene(scene: Scene, out, *, force: bool = False, progress=None):
+def run_scene(scene: Scene, out, *, force: bool = False, progress=None, stream=None):
     """Produce every output the scene names into folder ``out``.
 
     Parameters
@@ -340,6 +452,8 @@ def run_scene(scene: Scene, out, *, force: bool = False, progress=None):
         Write into an existing folder, replacing files of the same name (each atomically).
     progress : callable, optional
         Called with a one-line message at each step.
+    stream : file-like, optional
+        Where long steps (sweeps) draw a progress bar with count and ETA.
 
     Returns
     -------
@@ -353,7 +467,7 @@ def run_scene(scene: Scene, out, *, force: bool = False, progress=None):
         raise ParameterError("outputs", f"this build cannot produce {', '.join(missing)}")
     out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
-    ctx = RunContext(scene, out, say)
+    ctx = RunContext(scene, out, say, stream)
     start = time.perf_counter()
     products, skipped = [], []
     for i, kind in enumerate(scene.outputs, 1):

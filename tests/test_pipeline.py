@@ -129,3 +129,35 @@ def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
     ref = field_metrics(pulse, pos[None, :], scene.configuration(), medium=scene.medium())
     # band-limited samples at 96 kHz land within half a sample of the true peak: allow 2 %
     assert np.abs(data).max() == pytest.approx(float(ref.peak[0]), rel=0.02)
+
+
+def test_scene_sweep_maps_onto_the_sweep_spec(tmp_path):
+    from acoustiviz.pipeline import sweep_spec
+
+    scene = scene_from_dict({"damper": {"contact_damping_n_s_m": 15.0, "initial_velocity_m_s": 1.5},
+                             "outputs": {"sweep": {"gap_m": "0.02:0.04:3", "mass_kg": "0.03:0.05:2",
+                                                   "duration_s": 1.5}}})
+    spec = sweep_spec(scene)
+    assert spec.gap == pytest.approx((0.02, 0.03, 0.04)) and spec.m == pytest.approx((0.03, 0.05))
+    assert spec.c1 == (15.0,) and spec.v0 == (1.5,) and spec.config == ("plane",)
+    assert spec.distance[0] == pytest.approx(0.7) and spec.angle[0] == pytest.approx(math.pi / 4)
+    assert spec.settings.duration == 1.5 and spec.settings.radius == pytest.approx(0.01905)
+
+
+def test_sweep_and_design_table_outputs_resume_without_recomputing(tmp_path):
+    scene = scene_from_dict({"outputs": {"sweep": {"gap_m": "0.03:0.04:2", "mass_kg": "0.03:0.05:2",
+                                                   "duration_s": 1.0},
+                                         "design_table": {"inclination_m_s": 0.008, "tolerance_m_s": 0.01}}})
+    out = tmp_path / "o"
+    run_scene(scene, out)
+    csv = out / "sweep" / "sweep.csv"
+    rows = csv.read_text().splitlines()
+    assert rows[0].startswith("gap_m,mass_kg,inclination_two_maxima_m_s,inclination_fit_m_s,settling_time_s,"
+                              "n_impacts,max_spl_db")
+    assert len(rows) == 5
+    for name in ("design_table.csv", "inclination_map.png", "max_spl_map.png"):
+        assert (out / "sweep" / name).stat().st_size > 0
+    assert "quietest" in (out / "design_choice.txt").read_text()
+    before = csv.stat().st_mtime_ns, csv.read_text()
+    run_scene(scene, out, force=True)  # a finished sweep is not recomputed
+    assert (csv.stat().st_mtime_ns, csv.read_text()) == before

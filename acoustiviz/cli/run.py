@@ -39,7 +39,8 @@ def run(args) -> int:
         if not args.quiet:
             print(msg, file=sys.stderr, flush=True)
 
-    products = run_scene(scene, args.out, force=args.force, progress=progress)
+    products = run_scene(scene, args.out, force=args.force, progress=progress,
+                         stream=None if args.quiet else sys.stderr)
     for p in products:
         figs = ", ".join(f"{k}={v}" for k, v in p.figures.items())
         print(f"{p.path}" + (f"  ({figs})" if figs else ""))

@@ -20,8 +20,6 @@ import math
 _OPTION = {"n_fastest": "--spl-fastest", "radius_mode": "--radius", "out": "--out", "angle": "--angle",
            "fit_window_fraction": "--fit-window", "settling_fraction": "--settling-fraction"}
 
-INCLINATION_MAP = "inclination_map.png"
-SPL_MAP = "max_spl_map.png"
 
 
 def _option(name: str) -> str:
@@ -157,33 +155,13 @@ def spec_from_args(args):
         raise ParameterError(_option(exc.name), str(exc).split(": ", 1)[-1]) from None
 
 
-def write_outputs(table, out_dir, *, definition: str = "two-maxima", band_width: float = 0.001):
-    """Write ``design_table.csv`` and, for gap × mass sweeps, the two Figure 6 maps; return the paths."""
-    from pathlib import Path
-
-    from ..sweep import DESIGN_TABLE_CSV, design_table, write_design_table
-
-    out = Path(out_dir)
-    bands = design_table(table, definition=definition, width=band_width)
-    paths = [write_design_table(bands, out / DESIGN_TABLE_CSV)]
-    others = [a for a in table.spec.swept() if a not in ("gap", "m")]
-    if not others and len(table):
-        from ..plot._style import save_figure
-        from ..plot.design import plot_inclination_map, plot_spl_map
-
-        ax = plot_inclination_map(table, definition=definition)
-        paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
-        ax = plot_spl_map(table)
-        paths.append(save_figure(ax.figure, out / SPL_MAP))
-    return bands, paths, others
-
-
 def run(args) -> int:
     """Run the ``sweep`` subcommand; return the exit status."""
     import sys
     import time
 
     from .._validate import ParameterError, check_positive
+    from ..pipeline import write_sweep_outputs
     from ..sweep import run_sweep
 
     spec = spec_from_args(args)
@@ -200,7 +178,7 @@ def run(args) -> int:
     except ParameterError as exc:
         raise ParameterError(_option(exc.name), str(exc).split(": ", 1)[-1]) from None
     elapsed = time.perf_counter() - t0
-    bands, paths, others = write_outputs(table, args.out, definition=args.definition, band_width=args.band_width)
+    bands, paths, others = write_sweep_outputs(table, args.out, definition=args.definition, band_width=args.band_width)
     n = len(table)
     print(f"sweep: {n} designs in {args.out} ({elapsed:.1f} s this run)")
     for pth in paths:
