@@ -394,8 +394,8 @@ class Scene:
             return material(s["material"]).density
         return 7800.0
 
-    def k_hertz(self) -> float:
-        """Hertz stiffness in N/m^1.5: given, else from the materials, else the paper's 5.6e8."""
+    def k_hertz(self, radius: float | None = None) -> float:
+        """Hertz stiffness in N/m^1.5: given, else from the materials (sphere of ``radius``), else 5.6e8."""
         c, s = self.data["contact"], self.data["sphere"]
         if c["k_hertz_n_m1_5"] is not None:
             return c["k_hertz_n_m1_5"]
@@ -405,7 +405,7 @@ class Scene:
 
             sm = material(s["material"] or "steel")
             fm = material(c["surface"]) if c["surface"] else sm
-            return hertz_stiffness(s["radius_m"], sm, fm)
+            return hertz_stiffness(s["radius_m"] if radius is None else radius, sm, fm)
         return 5.6e8
 
     def damper_sphere_radius(self) -> float:
