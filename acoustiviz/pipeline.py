@@ -75,8 +75,9 @@ class RunContext:
         from .dynamics import DamperModel
 
         d = self.scene.section("damper")
+        k_hertz = self.scene.k_hertz(self.scene.damper_sphere_radius())
         return DamperModel(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
-                           gap=d["gap_m"], k_hertz=self.scene.k_hertz(self.scene.damper_sphere_radius()), c1=d["contact_damping_n_s_m"],
+                           gap=d["gap_m"], k_hertz=k_hertz, c1=d["contact_damping_n_s_m"],
                            clip_tensile=d["clip_tensile"])
 
     @functools.cached_property
