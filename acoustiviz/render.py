@@ -334,7 +334,7 @@ def balloon_data(
     medium: Medium = AIR,
     distance: float = 0.7,
     metric: str = "peak",
-    n_theta: int = 24,
+    n_theta: int = 32,
 ) -> BalloonData:
     """Level over a sphere of directions at ``distance`` around the contact point.
 
@@ -388,9 +388,17 @@ def _balloon_mesh(data: BalloonData, size: float, top: float, db_range: float):
     pv = check_backend()
     frac = np.clip((np.nan_to_num(data.level, nan=-np.inf) - (top - db_range)) / db_range, 0.0, 1.0)
     pts = data.anchor + (size * frac)[..., None] * data.directions
+    lev = data.level
+    if data.grid.region != "sphere":  # close the surface along the floor: a row collapsed onto the anchor
+        pts = np.concatenate([np.broadcast_to(data.anchor, pts[:1].shape), pts], axis=0)
+        lev = np.concatenate([lev[:1], lev], axis=0)
+    if data.grid.region == "quarter":  # and along the plane facing the wall
+        cap = np.broadcast_to(data.anchor, pts[:, :1].shape)
+        pts = np.concatenate([cap, pts, cap], axis=1)
+        lev = np.concatenate([lev[:, :1], lev, lev[:, -1:]], axis=1)
     x, y, z = (pts[..., k].T[..., None] for k in range(3))
     mesh = pv.StructuredGrid(x, y, z)
-    mesh.point_data["level"] = data.level.reshape(-1)
+    mesh.point_data["level"] = np.ascontiguousarray(lev).reshape(-1)
     surf = mesh.extract_surface(pass_pointid=False, pass_cellid=False, algorithm="dataset_surface")
     return surf.clean(tolerance=1e-9 * size)
 
@@ -404,7 +412,7 @@ def render_balloon(
     distance: float = 0.7,
     metric: str = "peak",
     db_range: float = 30.0,
-    n_theta: int = 24,
+    n_theta: int = 32,
     size=DEFAULT_SIZE,
     balloon_size=None,
     title=None,
@@ -492,7 +500,8 @@ def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, s
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     mesh = _balloon_mesh(data, bsize, top, rng)
-    actor = pl.add_mesh(mesh, scalars="level", clim=clim, cmap=cmap, smooth_shading=True, show_scalar_bar=False,
+    actor = pl.add_mesh(mesh, scalars="level", clim=clim, cmap=cmap, smooth_shading=True, split_sharp_edges=True,
+                        show_scalar_bar=False,
                         specular=0.25, nan_color="#dddddd", opacity=opacity)
     section = mesh.slice(normal="y", origin=data.anchor)  # the polar pattern in the plane y = 0
     if section.n_points:
@@ -504,7 +513,7 @@ def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, s
     x0, x1, y0, y1, z0, z1 = bounds
     focus = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
     direction = (0.9, -1.7, 0.8) if config.name != "free" else (0.9, -1.7, 0.4)
-    _set_camera(pl, focus, direction, zoom=1.35)
+    _set_camera(pl, focus, direction, zoom=1.35 if config.name != "free" else 1.05)
     return actor
 
 

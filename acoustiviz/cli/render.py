@@ -70,7 +70,7 @@ def add_parser(subparsers) -> None:
                    help="peak SPL, RMS level or sound exposure level, all dB re 20 uPa (default %(default)s)")
     g.add_argument("--db-range", type=float, default=30.0, metavar="DB",
                    help="level range in dB from the balloon's centre to its largest radius (default %(default)s)")
-    g.add_argument("--resolution", type=int, default=24, metavar="N",
+    g.add_argument("--resolution", type=int, default=32, metavar="N",
                    help="polar nodes of the measuring grid, 4..512 (default %(default)s)")
     g.add_argument("--opacity", type=float, default=0.7, metavar="X",
                    help="balloon opacity in (0, 1]; below 1 the sphere shows through (default %(default)s)")
