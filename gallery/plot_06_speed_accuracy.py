@@ -15,8 +15,8 @@ over 20 s with the timings of Newmark at 1e-7 s; in fast mode this script runs 2
 from acoustiviz._gallery import fast_mode, output_dir
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.reference import speed_accuracy
-from acoustiviz.plot._style import save_figure
-from acoustiviz.plot.dynamics import plot_speed_accuracy
+from acoustiviz.plot._style import save_figure, style
+from acoustiviz.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
 
 if fast_mode():
     DURATION = 2.5
@@ -36,11 +36,16 @@ for r in rows:
           f"error {r.comparison.velocity_error:.1e}  walls {'ok' if r.comparison.walls_match else 'differ'}")
 
 # %%
-ax = plot_speed_accuracy(
-    [{"solver": r.solver, "label": r.label, "time_s": r.time_s, "error": r.comparison.velocity_error}
-     for r in rows],
-    goal=(0.05, 1e-6) if not fast_mode() else None,
-)
-ax.set_title(f"Impact damper, Table 1, {DURATION:g} s of motion: error against run time")
-path = save_figure(ax.figure, output_dir() / "plot_06_speed_accuracy.png")
+data = [{"solver": r.solver, "label": r.label, "time_s": r.time_s,
+         "error": r.comparison.velocity_error, "n_agree": r.comparison.n_agree} for r in rows]
+with style():
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.5, 8.0), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, height_ratios=(3, 2), sharex=True)
+    plot_speed_accuracy(data, ax=ax1, goal=None if fast_mode() else (0.05, 1e-6))
+    ax1.set_title(f"Impact damper, Table 1, {DURATION:g} s of motion: error against run time")
+    ax1.set_xlabel("")
+    plot_impacts_followed(data, ax=ax2)
+    path = save_figure(fig, output_dir() / "plot_06_speed_accuracy.png")
 print(f"wrote {path}")
