@@ -466,6 +466,15 @@ def render_balloon(
     -------
     pathlib.Path
         ``path``.
+
+    Examples
+    --------
+    >>> from acoustiviz import Impact, acceleration_pulse
+    >>> from acoustiviz.images import configuration
+    >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.226), "half-sine")
+    >>> corner = configuration("wall-floor", 0.01905, wall_distance=0.05)
+    >>> render_balloon(pulse, corner, "balloon.png", size=(800, 600))  # doctest: +SKIP
+    PosixPath('balloon.png')
     """
     path = _check_path(path, (".png",))
     size = _check_size(size)
@@ -719,6 +728,11 @@ def render_snapshot(
     -------
     pathlib.Path
         ``path``.
+
+    Examples
+    --------
+    >>> render_snapshot(pulse, configuration("plane", 0.01905), [0.5e-3, 1e-3], "p.png")  # doctest: +SKIP
+    PosixPath('p.png')
     """
     path = _check_path(path, (".png",))
     size = _check_size(size)
@@ -864,6 +878,11 @@ def render_animation(
     -------
     pathlib.Path
         ``path``.
+
+    Examples
+    --------
+    >>> render_animation(pulse, corner, "wavefront.gif", frames=60, fps=15)  # doctest: +SKIP
+    PosixPath('wavefront.gif')
     """
     path = _check_path(path, (".gif", ".mp4"))
     size = _check_size(size)
