@@ -661,7 +661,12 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
         direction = (0.5, -1.0, 0.45)
     else:
         direction = (0.35, -1.0, 0.35)
-    _set_camera(pl, focus, direction, zoom=1.3, shift=0.18 if show_bar else 0.0)
+    # every view of a series gets the same camera, leaving room for the colour bar of the last one
+    if n_views == 1:
+        _set_camera(pl, focus, direction, zoom=1.3, shift=0.18 if show_bar else 0.0)
+    else:
+        wide = size[0] / n_views >= 1.3 * size[1]
+        _set_camera(pl, focus, direction, zoom=1.2 if wide else 1.1, shift=0.2 if wide else 0.3)
     if show_bar:
         _add_bar(pl, "sound pressure (Pa)", size, actor.mapper, n_views=n_views, fmt="%.3g")
     return meshes, clock
