@@ -57,8 +57,8 @@ def add_parser(subparsers):
                         "paper's fixed-step scheme) or impact-map (instantaneous impacts)")
     s.add_argument("--dt", type=float, default=None,
                    help="Newmark step in s (default: 1/50 of the shortest possible contact)")
-    s.add_argument("--rtol", type=float, default=1e-13,
-                   help="relative tolerance of the event solver's contacts (default 1e-13)")
+    s.add_argument("--rtol", type=float, default=1e-12,
+                   help="relative tolerance of the event solver's contacts (default 1e-12)")
     o = p.add_argument_group("outputs")
     o.add_argument("--impacts-csv", metavar="PATH", default=None,
                    help="write the impact table (one row per contact) as CSV")
