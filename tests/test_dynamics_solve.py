@@ -259,7 +259,11 @@ def test_impact_map_uses_compliant_restitution():
     r = simulate(TABLE1, 1.0, solver="impact-map")
     imp = r.impacts.head(5)
     e_ref = contact.restitution(imp.approach_velocity, TABLE1.k_hertz, TABLE1.m, TABLE1.M, TABLE1.c1)
-    np.testing.assert_allclose(imp.restitution, e_ref, rtol=1e-8)
+    # the map interpolates a 40-node table in ln(speed): ~2e-7, far below its model error (~1e-3)
+    np.testing.assert_allclose(imp.restitution, e_ref, rtol=1e-6)
+    meff = TABLE1.effective_mass
+    np.testing.assert_allclose(imp.impulse, (1 + imp.restitution) * meff * imp.approach_velocity,
+                               rtol=1e-14)
     assert abs(r.energy.relative_closure_error) < 1e-13
 
 

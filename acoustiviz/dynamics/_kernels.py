@@ -473,8 +473,61 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
 
 # ============================================================ drivers
 @njit(cache=True)
-def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, final, impact_map):
+def _free_contact(pfree, u0, rtol, work, kst):
+    """Compliant contact of the two masses alone at approach speed ``u0`` m/s.
+
+    Returns ``(status, restitution, duration in s, peak force in N)``.
+    """
+    ended, st, _, dur, peak, yc = _contact(
+        pfree, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), 0, np.empty((0, 6)),
+        0.0, 0.0, work, kst
+    )
+    e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
+    return st, e, dur, peak
+
+
+@njit(cache=True)
+def restitution_table(p, lnu, rtol, table):
+    """Fill ``table`` (n, 3) with restitution, ln(duration/s), ln(peak force/N) at speeds exp(lnu).
+
+    The compliant contact of the two masses alone (no main spring or dashpot), as used by the
+    impact map; ``lnu`` must be uniformly spaced. Returns the worst status.
+    """
+    pfree = p.copy()
+    pfree[1] = 0.0
+    pfree[2] = 0.0
+    work = np.zeros((10, _NY))
+    kst = np.zeros((_NS + 1, _NY))
+    status = STATUS_OK
+    for i in range(lnu.shape[0]):
+        st, e, dur, peak = _free_contact(pfree, math.exp(lnu[i]), rtol, work, kst)
+        table[i, 0] = e
+        table[i, 1] = math.log(dur)
+        table[i, 2] = math.log(peak)
+        status = max(status, st)
+    return status
+
+
+@njit(cache=True)
+def _table_lookup(lnu, table, x, col):
+    """Cubic (Catmull-Rom) interpolation of ``table[:, col]`` on the uniform grid ``lnu``."""
+    n = lnu.shape[0]
+    d = lnu[1] - lnu[0]
+    s = (x - lnu[0]) / d
+    i = min(max(int(math.floor(s)), 1), n - 3)
+    t = s - i
+    p0, p1, p2, p3 = table[i - 1, col], table[i, col], table[i + 1, col], table[i + 2, col]
+    return p1 + 0.5 * t * (p2 - p0 + t * (2 * p0 - 5 * p1 + 4 * p2 - p3 + t * (3 * (p1 - p2) + p3 - p0)))
+
+
+@njit(cache=True)
+def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, final, impact_map,
+                 lnu, table):
     """Event-driven (``impact_map=False``) or impact-map (``True``) integration from t = 0.
+
+    The impact map takes the restitution, duration and peak force at each approach speed from
+    ``table`` (see :func:`restitution_table`) by cubic interpolation in ln(speed) inside the
+    table's inner range, and integrates the compliant contact directly outside it.
 
     Fills ``impacts`` (rows as ``IMPACT_COLUMNS``), ``dense`` (rows as ``DENSE_COLUMNS`` at
     ``t_eval``) and ``final`` (x, v, y, w, dissipated by C, dissipated in contacts, delta at the
@@ -497,8 +550,6 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     n = 0
     status = STATUS_OK
     dfinal = 0.0
-    empty = np.empty(0)
-    nodense = np.empty((0, 6))
     while True:
         found, tau, sw = _scan(x0, v0, y0, w0, t_end - t0, a, wd, hg)
         tstop = t0 + tau if found else t_end
@@ -531,10 +582,14 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
         impacts[n, 1] = sw
         impacts[n, 2] = u0
         if impact_map:
-            ended, st, _, dur, peak, yc = _contact(
-                pfree, sw, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, empty, 0, nodense, 0.0, 0.0, work, kst
-            )
-            e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
+            lu = math.log(u0) if u0 > 0.0 else -math.inf
+            if lnu.shape[0] >= 4 and lnu[1] <= lu <= lnu[lnu.shape[0] - 2]:
+                st = STATUS_OK
+                e = _table_lookup(lnu, table, lu, 0)
+                dur = math.exp(_table_lookup(lnu, table, lu, 1))
+                peak = math.exp(_table_lookup(lnu, table, lu, 2))
+            else:
+                st, e, dur, peak = _free_contact(pfree, u0, rtol, work, kst)
             jimp = (1.0 + e) * meff * u0
             x0 = xx
             v0 = vv + sw * jimp / M
