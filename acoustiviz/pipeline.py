@@ -298,6 +298,50 @@ def produce_wav(ctx: RunContext):
     return products
 
 
+def _plane_options(ctx: RunContext) -> dict:
+    g = ctx.scene.section("grids")["plane"]
+    return {"extent": g["extent_m"], "sections": tuple(g["sections"]), "n_u": g["resolution"],
+            "medium": ctx.medium}
+
+
+def produce_snapshot(ctx: RunContext):
+    """Pressure p(x, t) on the planar sections at the requested times (one PNG, side by side)."""
+    from .render import render_snapshot
+
+    opts = ctx.scene.output("snapshot")
+    times = opts["times_s"]
+    ctx.progress(f"rendering {len(times)} snapshot(s)")
+    path = render_snapshot(ctx.pulse(), ctx.configuration, times if len(times) > 1 else times[0],
+                           ctx.path("snapshot.png"), size=tuple(opts["size_px"]), **_plane_options(ctx))
+    return [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
+
+
+def produce_balloon(ctx: RunContext):
+    """3-D directivity balloon on the spherical grid around the contact point (PNG)."""
+    from .render import balloon_data, render_balloon
+
+    opts = ctx.scene.output("balloon")
+    g = ctx.scene.section("grids")["sphere"]
+    pulse, conf = ctx.pulse(), ctx.configuration
+    data = balloon_data(pulse, conf, medium=ctx.medium, distance=g["distance_m"], metric=opts["metric"],
+                        n_theta=g["n_theta"])
+    path = render_balloon(pulse, conf, ctx.path("balloon.png"), medium=ctx.medium, db_range=opts["db_range"],
+                          size=tuple(opts["size_px"]), data=data)
+    return [Product("balloon", path, {"metric": opts["metric"], "max_db": f"{data.max_level:.1f}",
+                                      "mean_db": f"{data.mean_level:.1f}", "distance_m": f"{g['distance_m']:g}"})]
+
+
+def produce_animation(ctx: RunContext):
+    """GIF of the wavefront leaving the impact and reflecting, on the planar sections."""
+    from .render import render_animation
+
+    opts = ctx.scene.output("animation")
+    ctx.progress(f"rendering {opts['frames']} animation frames")
+    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), frames=opts["frames"],
+                            fps=opts["fps"], size=tuple(opts["size_px"]), **_plane_options(ctx))
+    return [Product("animation", path, {"frames": str(opts["frames"]), "fps": str(opts["fps"])})]
+
+
 INCLINATION_MAP = "inclination_map.png"
 SPL_MAP = "max_spl_map.png"
 
@@ -412,6 +456,9 @@ PRODUCERS = {
     "directivity": produce_directivity,
     "damper_history": produce_damper_history,
     "impact_table": produce_impact_table,
+    "snapshot": produce_snapshot,
+    "balloon": produce_balloon,
+    "animation": produce_animation,
     "restitution": produce_restitution,
     "sweep": produce_sweep,
     "design_table": produce_design_table,

@@ -419,6 +419,7 @@ def render_balloon(
     show_scalar_bar: bool = True,
     cmap: str = "viridis",
     opacity: float = 0.7,
+    data=None,
 ) -> Path:
     """Render a directivity balloon (or several side by side) into a PNG file.
 
@@ -461,6 +462,9 @@ def render_balloon(
         Opacity of the balloon in (0, 1]; below 1 the sphere shows through. The balloon's
         outline in the plane ``y = 0`` (the polar pattern of ``acoustiviz directivity``) is
         drawn as a dark line.
+    data : BalloonData or sequence of BalloonData, optional
+        Levels already computed by :func:`balloon_data` for these configurations (one each);
+        by default they are computed here.
 
     Returns
     -------
@@ -483,8 +487,13 @@ def render_balloon(
         _check_inputs(pulse, c, medium)
     rng = check_range("db_range", db_range, 0.0, 200.0, unit="dB", low_open=True)
     opacity = check_range("opacity", opacity, 0.0, 1.0, low_open=True)
-    datas = [balloon_data(pulse, c, medium=medium, distance=distance, metric=metric, n_theta=n_theta)
-             for c in configs]
+    if data is None:
+        datas = [balloon_data(pulse, c, medium=medium, distance=distance, metric=metric, n_theta=n_theta)
+                 for c in configs]
+    else:
+        datas = [data] if isinstance(data, BalloonData) else list(data)
+        if len(datas) != len(configs) or not all(isinstance(d, BalloonData) for d in datas):
+            raise ParameterError("data", f"expected {len(configs)} BalloonData, one per configuration")
     top = max(d.max_level for d in datas)
     clim = (top - rng, top)
     if title is None:
@@ -665,8 +674,13 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
     if n_views == 1:
         _set_camera(pl, focus, direction, zoom=1.3, shift=0.18 if show_bar else 0.0)
     else:
-        wide = size[0] / n_views >= 1.3 * size[1]
-        _set_camera(pl, focus, direction, zoom=1.2 if wide else 1.1, shift=0.2 if wide else 0.3)
+        aspect = size[0] / n_views / size[1]  # width / height of one view
+        if aspect >= 1.3:
+            _set_camera(pl, focus, direction, zoom=1.2, shift=0.2)
+        elif aspect >= 1.0:
+            _set_camera(pl, focus, direction, zoom=1.1, shift=0.3)
+        else:  # tall, narrow views: the wide sections must shrink to fit their width
+            _set_camera(pl, focus, direction, zoom=1.1 * aspect, shift=0.1)
     if show_bar:
         _add_bar(pl, "sound pressure (Pa)", size, actor.mapper, n_views=n_views, fmt="%.3g")
     return meshes, clock

@@ -70,7 +70,7 @@ class Key:
     low_open: bool = False
     choices: tuple = ()
     required: bool = False
-    length: int | None = None  # for "floats"
+    length: int | None = None  # most values of "floats", exact count of "ints"
 
 
 @dataclass(frozen=True)
@@ -146,28 +146,38 @@ _LISTENER = {
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
 _SPHERE_GRID = {
-    "distance_m": _pos("radius of the spherical grid around the sphere's centre", "m", 0.7, high=1e4),
-    "n_theta": Key("int", "polar samples", 37, low=3, high=4000),
-    "n_phi": Key("int", "azimuthal samples", 72, low=4, high=8000),
+    "distance_m": _pos("radius of the spherical grid (balloon) around the sphere's centre", "m", 0.7, high=1e4),
+    "n_theta": Key("int", "polar samples (the azimuth gets twice as many)", 32, low=3, high=2000),
 }
 _PLANE_GRID = {
-    "extent_m": _pos("side of the square grid", "m", 0.6, high=1e3),
-    "resolution": Key("int", "points per side", 200, low=8, high=20000),
-    "normal": Key("str", "grid plane: 'y' is the vertical plane through the sphere (x-z), 'z' a horizontal one",
-                  "y", choices=("x", "y", "z")),
-    "offset_m": Key("float", "position of the grid plane along its normal", 0.0, "m", low=-1e3, high=1e3),
+    "extent_m": _pos("distance from the sphere's centre to the far edges of each section (default: the distance "
+                     "sound travels by the last time, x 1.25)", "m", None, high=1e3),
+    "resolution": Key("int", "points along the longer side of each section", 200, low=8, high=20000),
+    "sections": Key("strs", "sections through the sphere's centre: 'xz' the vertical plane normal to the wall "
+                    "(holding the acceleration axis), 'yz' the vertical plane parallel to it, 'xy' the horizontal",
+                    ["xz"], choices=("xz", "yz", "xy")),
 }
 _OUT = {
-    "waveform": Table({"pulses": Key("strs", "pulses to compare", None)}, "pressure waveform at each listener"),
+    "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
+                      "pressure waveform at each listener"),
     "directivity": Table({"step_deg": Key("float", "angle step", 5.0, "deg", low=0.1, high=45.0, low_open=False)},
                          "peak, RMS and SPL against angle at the first listener's distance"),
-    "snapshot": Table({"times_s": Key("floats", "snapshot times", [0.001], "s", low=0.0, high=10.0)},
-                      "pressure field on the planar grid at given times (pyvista)"),
-    "balloon": Table({"metric": Key("str", "balloon colour/radius", "peak", choices=("peak", "rms", "sel"))},
-                     "3-D directivity balloon (pyvista)"),
+    "snapshot": Table({"times_s": Key("floats", "snapshot times (at most 12, drawn side by side)", [0.001], "s",
+                                      low=0.0, high=10.0, length=12),
+                       "size_px": Key("ints", "image width and height", [1400, 600], "px", low=64, high=8192,
+                                      length=2)},
+                      "pressure field on the planar sections at given times (pyvista)"),
+    "balloon": Table({"metric": Key("str", "balloon colour/radius", "peak", choices=("peak", "rms", "sel")),
+                      "db_range": _pos("level range from the rim to the centre of the balloon", "dB", 30.0,
+                                       high=200.0),
+                      "size_px": Key("ints", "image width and height", [1200, 900], "px", low=64, high=8192,
+                                     length=2)},
+                     "3-D directivity balloon on the spherical grid (pyvista)"),
     "animation": Table({"frames": Key("int", "frames", 40, low=2, high=2000),
-                        "fps": Key("int", "frames per second", 12, low=1, high=120)},
-                       "GIF of the wavefront on the planar grid (pyvista)"),
+                        "fps": Key("int", "frames per second", 12, low=1, high=60),
+                        "size_px": Key("ints", "image width and height", [800, 600], "px", low=64, high=4096,
+                                       length=2)},
+                       "GIF of the wavefront on the planar sections (pyvista)"),
     "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),
     "restitution": Table({
@@ -248,6 +258,7 @@ def _fmt_range(k: Key) -> str:
 def _type_name(kind: str) -> str:
     return {"float": "a number", "int": "an integer", "bool": "true or false", "str": "a string",
             "floats": "a list of numbers", "strs": "a list of strings", "point": "a list of 3 numbers",
+            "ints": "a list of integers",
             "range": "a 'start:stop:count' string"}[kind]
 
 
@@ -282,13 +293,22 @@ def _check_key(value, k: Key, src: str, path: str):
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             raise SceneError(src, path, f"must be one of {', '.join(map(repr, k.choices))}, got {value!r}{hint}")
         return value
+    if kind == "ints":
+        if not isinstance(value, list) or len(value) != k.length:
+            raise SceneError(src, path, f"expected a list of {k.length} integers in {_fmt_range(k)}, got {value!r}")
+        for i, v in enumerate(value):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise SceneError(src, f"{path}[{i}]", f"expected an integer, got {v!r}")
+            _check_number(v, k, src, f"{path}[{i}]")
+        return list(value)
     if kind in ("floats", "point"):
         if not isinstance(value, list) or not value:
             raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
         if kind == "point" and len(value) != 3:
             raise SceneError(src, path, f"expected {_type_name(kind)}, got {len(value)} values")
-        if len(value) > 10000:
-            raise SceneError(src, path, "at most 10000 values")
+        limit = k.length or 10000
+        if kind == "floats" and len(value) > limit:
+            raise SceneError(src, path, f"at most {limit} values, got {len(value)}")
         out = []
         for i, v in enumerate(value):
             if isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -300,9 +320,12 @@ def _check_key(value, k: Key, src: str, path: str):
     if kind == "strs":
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value) or not value:
             raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
+        allowed = k.choices or PULSES
         for i, v in enumerate(value):
-            if v not in PULSES:
-                raise SceneError(src, f"{path}[{i}]", f"must be one of {', '.join(map(repr, PULSES))}, got {v!r}")
+            if v not in allowed:
+                raise SceneError(src, f"{path}[{i}]", f"must be one of {', '.join(map(repr, allowed))}, got {v!r}")
+        if len(set(value)) != len(value):
+            raise SceneError(src, path, f"values must not repeat, got {value!r}")
         return list(value)
     if kind == "range":
         if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -594,7 +617,7 @@ def _check_geometry(scene: Scene) -> None:
     grids = scene.data["grids"]
     cap = grids["memory_limit_mb"] * 2**20
     n_plane = grids["plane"]["resolution"] ** 2
-    n_sphere = grids["sphere"]["n_theta"] * grids["sphere"]["n_phi"]
+    n_sphere = 2 * grids["sphere"]["n_theta"] ** 2
     checks = []
     if scene.wants("snapshot"):
         checks.append(("grids.plane.resolution", n_plane * len(scene.data["outputs"]["snapshot"]["times_s"]) * 8))

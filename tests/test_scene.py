@@ -85,7 +85,7 @@ def test_mass_material_and_stiffness_rules():
         ({"listeners": [{"angle_deg": 30.0}]}, "listeners[0]", "needs distance_m"),
         ({"configuration": {"kind": "wall-floor", "wall_distance_m": 0.001}}, "configuration.wall_distance_m",
          "cut the wall"),
-        ({"outputs": {"snapshot": {"times_s": [0.001] * 40}}, "grids": {"plane": {"resolution": 20000}}},
+        ({"outputs": {"snapshot": {"times_s": [0.001] * 12}}, "grids": {"plane": {"resolution": 20000}}},
          "grids.plane.resolution", "memory_limit_mb"),
         ({"outputs": {"design_table": {}}}, "outputs.design_table", "needs [outputs.sweep]"),
         ({"outputs": {"sweep": {"gap_m": "0.02:0.06"}}}, "outputs.sweep.gap_m", "start:stop:count"),
@@ -93,6 +93,10 @@ def test_mass_material_and_stiffness_rules():
         ({"outputs": {"wavv": True}}, "outputs.wavv", "did you mean 'wav'"),
         ({"outputs": {"wav": {"rate_hz": 44100.5}}}, "outputs.wav.rate_hz", "an integer"),
         ({"damper": {"clip_tensile": "yes"}}, "damper.clip_tensile", "true or false"),
+        ({"outputs": {"snapshot": {"times_s": [0.001] * 13}}}, "outputs.snapshot.times_s", "at most 12"),
+        ({"outputs": {"balloon": {"size_px": [800]}}}, "outputs.balloon.size_px", "list of 2 integers"),
+        ({"grids": {"plane": {"sections": ["xz", "zz"]}}}, "grids.plane.sections[1]", "one of"),
+        ({"outputs": {"wav": {"stereo": True}}}, "outputs.wav.stereo", "two [[listeners]]"),
     ],
 )
 def test_invalid_scenes_name_file_key_and_range(raw, key, words):
