@@ -123,8 +123,9 @@ def plot_speed_accuracy(rows, ax=None, *, goal=None):
             tt = [r["time_s"] for r in sel]
             ee = [max(r["error"], 1e-17) for r in sel]
             ax.plot(tt, ee, marker=_MARKERS.get(s, "D"), ls="-", color=f"C{i}", label=s)
-            dy = -10 if s == "impact-map" else 3
-            for r, t_, e_ in zip(sel, tt, ee, strict=True):
+            below = s == "impact-map"
+            for k, (r, t_, e_) in enumerate(zip(sel, tt, ee, strict=True)):
+                dy = -10 - 9 * k if below else 3
                 ax.annotate(r["label"], (t_, e_), textcoords="offset points", xytext=(4, dy),
                             fontsize=7, color=f"C{i}")
         if goal is not None:
