@@ -44,11 +44,11 @@ with style():
     plot_spl_map(table, ax=ax_b)
     fig.suptitle(f"Paper Figure 6: {n_gap} gaps x {n_mass} impact masses, Table 1 damper, "
                  f"{duration:g} s each; listener 0.7 m, 45 deg, reflecting plane; sphere a = 19.05 mm")
-    path = save_figure(fig, output_dir() / "fig6_design_maps.png")
+    path = save_figure(fig, output_dir() / "plot_07_design_maps.png")
 
     fig2 = Figure(figsize=(6.4, 4.8), layout="constrained")
     ax = fig2.add_subplot()
     plot_inclination_map(table, ax=ax, definition="fit",
                          title="damping inclination, linear fit of the maxima above 30 % of the first")
-    path2 = save_figure(fig2, output_dir() / "fig6_inclination_fit.png")
+    path2 = save_figure(fig2, output_dir() / "plot_07_inclination_fit.png")
 print(f"wrote {path} and {path2}")

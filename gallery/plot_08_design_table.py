@@ -48,7 +48,7 @@ table = run_sweep(spec, output_dir() / "design_sweep", progress=sys.stderr)
 centres = [row[0] for row in PAPER_TABLE2]
 bands = design_table(table, centres=centres)
 heavy = design_table(table.subset(table["mass_kg"] >= 0.0405 - 1e-12), centres=centres)
-write_design_table(bands, output_dir() / "table2_design_table.csv")
+write_design_table(bands, output_dir() / "plot_08_design_table.csv")
 
 # %%
 paper = {round(100 * e, 3): (lo, hi, dec) for e, lo, hi, dec in PAPER_TABLE2}
@@ -88,6 +88,6 @@ with style():
     ax_t.text(0.0, 0.6, note, fontsize=9, va="top", ha="left", transform=ax_t.transAxes)
     ax_t.set_title("paper Table 2 beside this sweep\n(SPL in dB re 20 µPa; (m, d) of the quietest in g, cm)",
                    fontsize=10)
-    path = save_figure(fig, output_dir() / "table2_design_table.png")
+    path = save_figure(fig, output_dir() / "plot_08_design_table.png")
 print(f"wrote {path}")
 assert np.all(np.isfinite([b.min_spl_db for b in bands]))
