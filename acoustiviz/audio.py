@@ -68,7 +68,7 @@ import numpy as np
 from ._io import atomic_path
 from ._validate import ParameterError, check_choice, check_points, check_positive
 from .contact import PULSE_KINDS, Impact, acceleration_pulse
-from .images import CONFIGURATIONS, Configuration, ImageSource, configuration, mirror_point, mirror_vector
+from .images import CONFIGURATIONS, Configuration, ImageSource, configuration, images_of
 from .medium import AIR, Medium
 from .radiation import arrival_time, pulse_response, radiation_coefficients
 
@@ -314,19 +314,6 @@ class CavityScene:
         return out
 
 
-def _mirror_images(real: ImageSource, planes) -> tuple:
-    """The real source and its images (order <= 2) in the configuration's planes."""
-    out = [real]
-    for pl in planes:
-        out.append(ImageSource(mirror_point(real.position, pl), mirror_vector(real.axis, pl), 1, pl.label))
-    if len(planes) == 2:
-        p1, p2 = planes
-        pos = mirror_point(mirror_point(real.position, p1), p2)
-        ax = mirror_vector(mirror_vector(real.axis, p1), p2)
-        out.append(ImageSource(pos, ax, 2, f"{p1.label}+{p2.label}"))
-    return tuple(out)
-
-
 def wall_sources(scene: CavityScene, wall: int) -> tuple:
     """Image sources radiating an impact on damper wall ``wall``.
 
@@ -356,7 +343,7 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
     if wall == scene.struck_wall or scene.walls == "one":
         return tuple(cfg.sources)
     real = ImageSource(scene.far_centre, -scene.axis, 0, "far")
-    imgs = _mirror_images(real, cfg.planes)
+    imgs = images_of(real, cfg.planes)
     return tuple(ImageSource(s.position, s.axis, s.order, "far" if s.order == 0 else f"far {s.label}")
                  for s in imgs)
 

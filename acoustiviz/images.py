@@ -44,6 +44,7 @@ __all__ = [
     "configuration",
     "mirror_point",
     "mirror_vector",
+    "images_of",
 ]
 
 #: Configuration names understood by :func:`configuration`.
@@ -246,11 +247,24 @@ def images_plane(radius: float) -> Configuration:
     a = check_positive("radius", radius, "m")
     floor = Plane(np.zeros(3), np.array([0.0, 0.0, 1.0]), "floor")
     real = ImageSource(np.array([0.0, 0.0, a]), np.array([0.0, 0.0, 1.0]), 0, "real")
-    return Configuration("plane", a, _with_images(real, (floor,)), (floor,))
+    return Configuration("plane", a, images_of(real, (floor,)), (floor,))
 
 
-def _with_images(real: ImageSource, planes) -> tuple:
-    """Return the real source and its images in two perpendicular (or one) planes, order <= 2."""
+def images_of(real: ImageSource, planes) -> tuple:
+    """Return a source and its images in one plane or two perpendicular planes (orders 1 and 2).
+
+    Parameters
+    ----------
+    real : ImageSource
+        The sphere that radiates (order 0).
+    planes : sequence of Plane
+        One plane, or two perpendicular planes (for which four sources are exact).
+
+    Returns
+    -------
+    tuple of ImageSource
+        ``real`` first, then one image per plane, then (two planes) the image in both.
+    """
     out = [real]
     for pl in planes:
         out.append(
@@ -332,7 +346,7 @@ def images_wall_floor(
     floor = Plane(np.zeros(3), np.array([0.0, 0.0, 1.0]), "floor")
     wall = Plane(np.array([-w, 0.0, 0.0]), np.array([1.0, 0.0, 0.0]), "wall")
     real = ImageSource(centre, axis, 0, "real")
-    return Configuration("wall-floor", a, _with_images(real, (floor, wall)), (floor, wall), strike)
+    return Configuration("wall-floor", a, images_of(real, (floor, wall)), (floor, wall), strike)
 
 
 def configuration(

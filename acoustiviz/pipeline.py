@@ -157,8 +157,7 @@ def produce_waveform(ctx: RunContext):
 def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL against angle at the first listener's distance (CSV + polar PNG)."""
     from .field import directivity
-    from .plot._style import style
-    from .plot.directivity import plot_directivity
+    from .plot.directivity import directivity_figure
 
     step = ctx.scene.output("directivity")["step_deg"]
     conf = ctx.configuration
@@ -169,16 +168,8 @@ def produce_directivity(ctx: RunContext):
     d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
     csv = write_csv_atomic(ctx.path("directivity.csv"), ["angle_deg", "peak_pa", "rms_pa", "spl_db"],
                            [d.angle_deg, d.peak, d.rms, d.spl_db], fmt="%.8g")
-    with style():
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(9.0, 4.2), layout="constrained")
-        ax1 = fig.add_subplot(1, 2, 1, projection="polar")
-        ax2 = fig.add_subplot(1, 2, 2, projection="polar")
-        plot_directivity(d, "spl", ax=ax1)
-        plot_directivity(d, "rms", ax=ax2)
-        fig.suptitle(f"{conf.name}, r = {dist:g} m (paper Figure 3)")
-        png = _save(fig, ctx.path("directivity.png"))
+    fig = directivity_figure(d, half_space=top == 90.0, title=f"{conf.name}, r = {dist:g} m (paper Figure 3)")
+    png = _save(fig, ctx.path("directivity.png"))
     i = int(np.nanargmax(d.spl_db))
     return [Product("directivity", csv, {"max_spl_db": f"{d.spl_db[i]:.1f}", "at_deg": f"{d.angle_deg[i]:g}",
                                          "distance_m": f"{dist:g}"}),

@@ -73,26 +73,12 @@ def run(args) -> int:
         )
         print(f"wrote {args.csv}")
     if args.png:
-        from matplotlib.figure import Figure
+        from ..plot._style import save_figure
+        from ..plot.directivity import directivity_figure
 
-        from ..plot._style import save_figure, style
-        from ..plot.directivity import plot_directivity
-
-        with style():
-            fig = Figure(figsize=(9.5, 4.8), layout="constrained")
-            ax1 = fig.add_subplot(1, 2, 1, projection="polar")
-            ax2 = fig.add_subplot(1, 2, 2, projection="polar")
-            plot_directivity(d, "spl", ax=ax1)
-            plot_directivity(d, "rms", ax=ax2)
-            if top == 90.0:
-                for ax in (ax1, ax2):
-                    ax.set_thetamin(0)
-                    ax.set_thetamax(90)
-            fig.suptitle(
-                f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "
-                f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse",
-                fontsize=10,
-            )
-            save_figure(fig, args.png)
+        fig = directivity_figure(d, half_space=top == 90.0, title=(
+            f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "
+            f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse"))
+        save_figure(fig, args.png)
         print(f"wrote {args.png}")
     return 0

@@ -6,7 +6,7 @@ import numpy as np
 
 from ._style import new_axes, style
 
-__all__ = ["plot_directivity"]
+__all__ = ["plot_directivity", "directivity_figure"]
 
 _QUANTITIES = {
     "spl": ("spl_db", "peak SPL (dB re 20 µPa)"),
@@ -62,3 +62,36 @@ def plot_directivity(directivity, quantity: str = "spl", ax=None, *, label=None,
         if label:
             ax.legend(loc="upper right", bbox_to_anchor=(1.08, 1.02), fontsize=8)
     return ax
+
+
+def directivity_figure(directivity, *, title: str = "", half_space: bool = True):
+    """Paper Figure 3 as one figure: peak SPL (A) and RMS pressure (B) against angle, polar.
+
+    Parameters
+    ----------
+    directivity : acoustiviz.field.Directivity
+        Peaks and RMS against polar angle.
+    title : str
+        Figure title.
+    half_space : bool
+        Show only 0-90° (the half space above a plane or the corner's side); False shows 0-180°.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A figure with two polar axes (not attached to pyplot).
+    """
+    from matplotlib.figure import Figure
+
+    with style():
+        fig = Figure(figsize=(9.5, 4.8), layout="constrained")
+        axes = [fig.add_subplot(1, 2, k, projection="polar") for k in (1, 2)]
+        plot_directivity(directivity, "spl", ax=axes[0])
+        plot_directivity(directivity, "rms", ax=axes[1])
+        if half_space:
+            for ax in axes:
+                ax.set_thetamin(0)
+                ax.set_thetamax(90)
+        if title:
+            fig.suptitle(title, fontsize=10)
+    return fig
