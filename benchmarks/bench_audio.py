@@ -15,21 +15,13 @@ import argparse
 import time
 
 import numpy as np
+from _timing import best_of
 
 from acoustiviz import audio
 from acoustiviz.dynamics import TABLE1, simulate
 
 LISTENER = [0.495, 0.0, 0.514]
 GOAL_S = 2.0
-
-
-def _best(f, repeat):
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def main(argv=None) -> int:
@@ -65,7 +57,7 @@ def main(argv=None) -> int:
     worst = 0.0
     for fs, kind, chan, lis in cases:
         model = audio.ClickModel(pulse=kind)
-        secs, out = _best(lambda fs=fs, model=model, lis=lis: audio.render(
+        secs, out = best_of(lambda fs=fs, model=model, lis=lis: audio.render(
             seq, scene, model, lis, sample_rate=fs, duration=20.0), repeat)
         worst = max(worst, secs) if fs == 48000 else worst
         L = round(out.internal_rate / fs)

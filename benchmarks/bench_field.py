@@ -9,10 +9,10 @@ pressure at one point and one time (all images summed). The evaluator runs on on
 from __future__ import annotations
 
 import argparse
-import time
 import tracemalloc
 
 import numpy as np
+from _timing import best_of
 
 from acoustiviz import approximations, field
 from acoustiviz.contact import Impact, acceleration_pulse
@@ -31,16 +31,6 @@ def _grid(n):
     side = int(round(np.sqrt(n)))
     g = planar_grid((0.5, 0.0, 0.55), (0.9, 0.0, 0.0), (0.0, 0.9, 0.9), n_u=side, n_v=side)
     return g.points
-
-
-def _best(f, repeat):
-    best = np.inf
-    out = None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def main(argv=None) -> int:
@@ -66,13 +56,13 @@ def main(argv=None) -> int:
     print("-" * len(hdr))
     for n in sizes:
         pts = _grid(n)
-        el, fm = _best(lambda pts=pts: field.field_metrics(pulse, pts, cfg), 1 if n >= 1e6 else 2)
+        el, fm = best_of(lambda pts=pts: field.field_metrics(pulse, pts, cfg), 1 if n >= 1e6 else 2)
         m = int(round(fm.window / fm.sample_interval))
         rate = pts.shape[0] * m / el
         # time series on a shared grid, for at most 5 000 points (the result must fit in memory)
         ns = min(pts.shape[0], 5_000)
         t = np.arange(0.0, 4e-3, dt)
-        el_s, _ = _best(lambda ns=ns, t=t, pts=pts: field.time_series(pulse, t, pts[:ns], cfg), 2)
+        el_s, _ = best_of(lambda ns=ns, t=t, pts=pts: field.time_series(pulse, t, pts[:ns], cfg), 2)
         rate_s = ns * t.size / el_s
         # the straightforward method: per point and image, convolve the sampled pulse and kernel
         nc = 20
@@ -88,7 +78,7 @@ def main(argv=None) -> int:
                     p += approximations.convolution_pressure(pulse, tt, r, float(d @ s.axis) / r, radius=A, step=dt)
             return p
 
-        el_c, _ = _best(conv, 2)
+        el_c, _ = best_of(conv, 2)
         rate_c = nc * m / el_c
         print(f"{pts.shape[0]:9d} {m:10d} {el:10.3f} {rate:18.3e} {rate_s:17.3e} {rate_c:22.3e} {rate / rate_c:9.0f}")
 
