@@ -34,7 +34,7 @@ import numpy as np
 
 from ._validate import ParameterError, check_points, check_positive, check_range
 from .contact import HalfSinePulse, SampledPulse
-from .images import Configuration
+from .images import Configuration, observer_points
 from .medium import AIR, Medium
 from .radiation import pulse_response, sphere_pole
 
@@ -867,10 +867,7 @@ def circle_points(config: Configuration, distance: float, angles) -> np.ndarray:
     r = check_positive("distance", distance, "m")
     if r <= config.radius:
         raise ParameterError("distance", f"must exceed the sphere radius {config.radius:g} m, got {r:g} m")
-    th = np.atleast_1d(np.asarray(angles, dtype=float))
-    axis = config.axis
-    perp = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
-    return config.centre + r * (np.cos(th)[:, None] * axis + np.sin(th)[:, None] * perp)
+    return observer_points(config, r, angles)
 
 
 def directivity(

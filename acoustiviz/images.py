@@ -45,6 +45,7 @@ __all__ = [
     "mirror_point",
     "mirror_vector",
     "images_of",
+    "observer_points",
 ]
 
 #: Configuration names understood by :func:`configuration`.
@@ -248,6 +249,36 @@ def images_plane(radius: float) -> Configuration:
     floor = Plane(np.zeros(3), np.array([0.0, 0.0, 1.0]), "floor")
     real = ImageSource(np.array([0.0, 0.0, a]), np.array([0.0, 0.0, 1.0]), 0, "real")
     return Configuration("plane", a, images_of(real, (floor,)), (floor,))
+
+
+def observer_points(config: Configuration, distance, angles) -> np.ndarray:
+    """Observers at ``distance`` (m) from the sphere's centre and ``angles`` (rad) from its axis.
+
+    The observers lie in the plane spanned by the acceleration axis and the horizontal
+    direction ``+x`` (for a wall strike, whose axis is ``+x``, the vertical ``+z``): for the
+    wall-floor corner that is the plane through the centre normal to the wall, on the side away
+    from it. This is the one convention of every command, scene and sweep.
+
+    Parameters
+    ----------
+    config : Configuration
+        The sphere and its images.
+    distance : float or (k,) array_like
+        Distance(s) in m from the sphere's centre.
+    angles : float or (k,) array_like
+        Polar angle(s) in rad from the acceleration axis.
+
+    Returns
+    -------
+    (k, 3) ndarray
+        Positions in m (not checked against the fluid: see :meth:`Configuration.in_fluid`).
+    """
+    th = np.atleast_1d(np.asarray(angles, dtype=float))
+    r = np.atleast_1d(np.asarray(distance, dtype=float))
+    axis = np.asarray(config.axis, dtype=float)
+    perp = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
+    return np.asarray(config.centre, dtype=float) + r[:, None] * (
+        np.cos(th)[:, None] * axis + np.sin(th)[:, None] * perp)
 
 
 def images_of(real: ImageSource, planes) -> tuple:

@@ -482,18 +482,16 @@ class Scene:
         """
         import numpy as np
 
+        from .images import observer_points
+
         conf = self.configuration(radius)
-        real = conf.sources[0]
-        axis = np.asarray(real.axis, dtype=float)
-        perp = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
         out = []
         for i, lst in enumerate(self.data["listeners"]):
             name = lst["name"] or f"listener{i + 1}"
             if lst["position_m"] is not None:
                 pos = np.asarray(lst["position_m"], dtype=float)
             else:
-                th = math.radians(lst["angle_deg"])
-                pos = np.asarray(real.position) + lst["distance_m"] * (math.cos(th) * axis + math.sin(th) * perp)
+                pos = observer_points(conf, lst["distance_m"], math.radians(lst["angle_deg"]))[0]
             out.append((name, pos))
         return out
 

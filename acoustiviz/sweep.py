@@ -78,6 +78,7 @@ from pathlib import Path
 import numpy as np
 
 from ._validate import ParameterError, check_choice, check_nonnegative, check_positive, check_range
+from .images import observer_points
 
 __all__ = [
     "CSV_COLUMNS",
@@ -648,10 +649,7 @@ def listener_point(config, distance: float, angle: float) -> np.ndarray:
     -------
     (1, 3) ndarray
     """
-    real = config.sources[0]
-    axis = np.asarray(real.axis, dtype=float)
-    perp = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
-    point = np.asarray(real.position, dtype=float) + distance * (math.cos(angle) * axis + math.sin(angle) * perp)
+    point = observer_points(config, distance, angle)[0]
     if not bool(config.in_fluid(point[None, :])[0]):
         raise ParameterError("angle", "the listener would lie inside a wall or below the floor")
     return point[None, :]

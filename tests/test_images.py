@@ -188,3 +188,21 @@ def test_mirror_symmetry_of_pressure(cfg):
 def test_image_source_validation():
     with pytest.raises(ParameterError):
         ImageSource([0, 0, 0], [0, 0, 0])
+
+
+@pytest.mark.parametrize("conf", [
+    configuration("plane", 0.01905),
+    configuration("wall-floor", 0.01905, wall_distance=0.05),
+    configuration("wall-floor", 0.01905, wall_distance=0.01905, strike="wall", height=0.3),
+])
+def test_observer_points_keep_distance_and_angle(conf):
+    from acoustiviz.images import observer_points
+
+    angles = np.radians([0.0, 30.0, 60.0, 90.0])
+    pts = observer_points(conf, 0.7, angles)
+    rel = pts - conf.centre
+    dist = np.linalg.norm(rel, axis=1)
+    np.testing.assert_allclose(dist, 0.7, rtol=1e-14)
+    np.testing.assert_allclose(np.arccos(np.clip(rel @ conf.axis / dist, -1, 1)), angles, atol=1e-12)
+    assert np.all(pts[:, 1] == 0)  # in the plane y = 0, normal to the wall
+    assert np.all(conf.in_fluid(pts))  # on the side away from the wall and above the floor

@@ -182,17 +182,14 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float):
     any wall (+x), i.e. for the wall-floor corner in the plane through the centre normal to the
     wall, on the side away from it.
     """
-    import numpy as np
+    from ..images import observer_points
 
     a = setup.radius
     check_range("--distance", distance, a, math.inf, unit="m", low_open=True)
     conf = setup.configuration
     limit = 90.0 if conf.name != "free" else 180.0
     theta = math.radians(check_range("--angle", angle_deg, 0.0, limit, unit="deg"))
-    real = conf.sources[0]
-    axis = np.asarray(real.axis, dtype=float)
-    perp = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
-    point = np.asarray(real.position, dtype=float) + distance * (math.cos(theta) * axis + math.sin(theta) * perp)
+    point = observer_points(conf, distance, theta)[0]
     if not bool(conf.in_fluid(point[None, :])[0]):
         raise ParameterError("--angle", "the observer would lie inside a wall or below the floor")
     return point
