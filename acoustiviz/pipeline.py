@@ -36,6 +36,37 @@ class Product:
     figures: dict = field(default_factory=dict)
 
 
+def damper_model(scene: Scene):
+    """The scene's :class:`~acoustiviz.dynamics.DamperModel` (K_HZ for the damper sphere's radius)."""
+    from .dynamics import DamperModel
+
+    d = scene.section("damper")
+    return DamperModel(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
+                       gap=d["gap_m"], k_hertz=scene.k_hertz(scene.damper_sphere_radius()),
+                       c1=d["contact_damping_n_s_m"], clip_tensile=d["clip_tensile"])
+
+
+def damper_initial(scene: Scene):
+    """The scene's initial damper state (main mass displaced and moving, impact mass centred at rest)."""
+    from .dynamics import InitialState
+
+    d = scene.section("damper")
+    return InitialState(x=d["initial_displacement_m"], v=d["initial_velocity_m_s"])
+
+
+def damper_solver(scene: Scene, progress=None) -> str:
+    """The scene's damper solver; ``"auto"`` is the cheapest whose error suits ``damper.tolerance``."""
+    from .dynamics import cheapest_solver
+
+    d = scene.section("damper")
+    if d["solver"] != "auto":
+        return d["solver"]
+    name, reason = cheapest_solver(damper_model(scene), damper_initial(scene), d["tolerance"])
+    if progress is not None:
+        progress(f"solver auto -> {name}: {reason}")
+    return name
+
+
 class RunContext:
     """The scene, the output folder and the lazily computed shared results of one run."""
 
@@ -72,21 +103,17 @@ class RunContext:
     @functools.cached_property
     def damper_model(self):
         """The scene's :class:`~acoustiviz.dynamics.DamperModel`."""
-        from .dynamics import DamperModel
-
-        d = self.scene.section("damper")
-        k_hertz = self.scene.k_hertz(self.scene.damper_sphere_radius())
-        return DamperModel(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
-                           gap=d["gap_m"], k_hertz=k_hertz, c1=d["contact_damping_n_s_m"],
-                           clip_tensile=d["clip_tensile"])
+        return damper_model(self.scene)
 
     @functools.cached_property
     def damper_initial(self):
         """Initial state of the damper run."""
-        from .dynamics import InitialState
+        return damper_initial(self.scene)
 
-        d = self.scene.section("damper")
-        return InitialState(x=d["initial_displacement_m"], v=d["initial_velocity_m_s"])
+    @functools.cached_property
+    def damper_solver(self) -> str:
+        """The scene's solver, or for ``"auto"`` the cheapest that meets its tolerance."""
+        return damper_solver(self.scene, self.progress)
 
     @functools.cached_property
     def damper_run(self):
@@ -95,10 +122,11 @@ class RunContext:
         from .dynamics.metrics import sample_times
 
         d = self.scene.section("damper")
-        self.progress(f"simulating the damper for {d['duration_s']:g} s ({d['solver']} solver)")
-        kwargs = {"rtol": d["tolerance"]} if d["solver"] != "newmark" else {}
+        solver = self.damper_solver
+        self.progress(f"simulating the damper for {d['duration_s']:g} s ({solver} solver)")
+        kwargs = {"rtol": min(d["tolerance"], 1e-3)} if solver != "newmark" else {}
         start = time.perf_counter()
-        res = simulate(self.damper_model, d["duration_s"], solver=d["solver"], initial=self.damper_initial,
+        res = simulate(self.damper_model, d["duration_s"], solver=solver, initial=self.damper_initial,
                        t_eval=sample_times(d["duration_s"], self.damper_model), **kwargs)
         self.damper_seconds = time.perf_counter() - start
         return res
@@ -379,7 +407,7 @@ def sweep_spec(scene: Scene):
     medium = scene.medium()
     settings = Settings(
         M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"],
-        duration=opts["duration_s"], solver=d["solver"], rtol=d["tolerance"],
+        duration=opts["duration_s"], solver=damper_solver(scene), rtol=min(d["tolerance"], 1e-3),
         radius_mode="fixed" if s["damper_radius"] == "given" else "from-mass", radius=s["radius_m"],
         density=scene.sphere_density(), surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"],
         c=medium.c, rho=medium.rho, wall_distance=conf["wall_distance_m"])

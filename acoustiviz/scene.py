@@ -89,7 +89,7 @@ def _pos(doc, unit, default=None, **kw):
 
 PULSES = ("half-sine", "impulse-matched", "hertz")
 CONFIGS = ("free", "plane", "wall-floor")
-SOLVERS = ("event", "newmark", "impact-map")
+SOLVERS = ("auto", "event", "newmark", "impact-map")
 
 _MEDIUM = {
     "c_m_s": Key("float", "speed of sound", 343.2, "m/s", low=1.0, high=1e5),
@@ -136,8 +136,10 @@ _DAMPER = {
     "initial_velocity_m_s": Key("float", "initial velocity of the main mass", 2.0, "m/s", low=-1e3, high=1e3),
     "initial_displacement_m": Key("float", "initial displacement of the main mass", 0.0, "m", low=-10, high=10),
     "duration_s": _pos("simulated time", "s", 20.0, high=1e4),
-    "solver": Key("str", "damper solver", "event", choices=SOLVERS),
-    "tolerance": _pos("relative tolerance of the event solver", "", 1e-10, high=1e-2),
+    "solver": Key("str", "damper solver; 'auto' takes the cheapest whose error suits the tolerance "
+                  "(acoustiviz.dynamics.cheapest_solver)", "auto", choices=SOLVERS),
+    "tolerance": _pos("relative accuracy wanted on impact times and speeds (the event solver's rtol)", "", 1e-10,
+                      high=0.5),
 }
 _LISTENER = {
     "name": Key("str", "label used in file names", None),

@@ -346,3 +346,25 @@ def test_clipped_force_closes_the_energy_balance():
     r = simulate(DamperModel(clip_tensile=True), 2.0)
     assert abs(r.energy.relative_closure_error) < RTOL_CLOSURE
     assert np.all(r.impacts.energy_lost > 0)
+
+
+def test_cheapest_solver_follows_the_tolerance():
+    from acoustiviz.dynamics import TABLE1, DamperModel, InitialState, cheapest_solver, shortest_contact
+
+    assert cheapest_solver(TABLE1, tolerance=1e-10)[0] == "event"
+    assert cheapest_solver(TABLE1, tolerance=5e-2)[0] == "impact-map"
+    # a soft contact lasts a good part of the main period: no tolerance short of 1 admits the map
+    soft = DamperModel(k_hertz=1e4)
+    prod = shortest_contact(soft, InitialState()) * soft.main_frequency
+    assert prod > 0.3
+    assert cheapest_solver(soft, tolerance=0.2)[0] == "event"
+    # and the map's measured error on Table 1 is indeed within the tolerance it is chosen for
+    import numpy as np
+
+    from acoustiviz.dynamics import simulate
+
+    ref = simulate(TABLE1, 0.5, solver="event")
+    fast = simulate(TABLE1, 0.5, solver="impact-map")
+    n = min(len(ref.impacts), len(fast.impacts), 5)
+    err = np.abs(fast.impacts.approach_velocity[:n] / ref.impacts.approach_velocity[:n] - 1)
+    assert err.max() < 5e-2
