@@ -175,7 +175,10 @@ def test_random_text_loads_or_fails_cleanly(text):
 @settings(max_examples=150, deadline=None)
 @given(st.data())
 def test_mutated_shipped_scenes_load_or_fail_cleanly(data):
-    import tomllib
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
 
     texts = shipped_scenes()
     raw = tomllib.loads(texts[data.draw(st.sampled_from(sorted(texts)))])
