@@ -465,8 +465,10 @@ def produce_design_table(ctx: RunContext):
     if opts["inclination_m_s"] is not None:
         choice = design(table, opts["inclination_m_s"], opts["tolerance_m_s"])
         path = write_text_atomic(ctx.path("design_choice.txt"), choice.summary() + "\n")
-        products.append(Product("design_table", path, {"candidates": str(choice.n_candidates),
-                                                       "saving_db": f"{choice.saving_db:.1f}"}))
+        figs = {"candidates": str(choice.n_candidates)}
+        if choice.n_candidates:
+            figs["saving_db"] = f"{choice.saving_db:.1f}"
+        products.append(Product("design_table", path, figs))
     return products
 
 

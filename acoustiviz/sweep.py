@@ -1396,23 +1396,39 @@ class DesignChoice:
         Inclination definition used.
     n_candidates : int
         Designs with ``|e - inclination| <= tolerance``.
-    quietest, loudest : dict
-        Row (column name to value) of the quietest and of the loudest candidate.
+    quietest, loudest : dict or None
+        Row (column name to value) of the quietest and of the loudest candidate; None when no
+        design lies within the tolerance.
     saving_db : float
-        Maximum SPL of the loudest minus that of the quietest candidate, in dB.
+        Maximum SPL of the loudest minus that of the quietest candidate, in dB (NaN without
+        candidates).
+    nearest : tuple of dict
+        The designs whose inclination is closest to the target (up to three), for a target
+        that no design meets.
+    span : tuple of float
+        Smallest and largest inclination of the sweep in m/s.
     """
 
     inclination: float
     tolerance: float
     definition: str
     n_candidates: int
-    quietest: dict
-    loudest: dict
+    quietest: dict | None
+    loudest: dict | None
     saving_db: float
+    nearest: tuple = ()
+    span: tuple = (math.nan, math.nan)
 
     def summary(self) -> str:
         """A few lines of plain text for the command line."""
         q, lo = self.quietest, self.loudest
+        if q is None:
+            lines = [f"no design has a {self.definition} damping inclination within {self.tolerance:g} m/s of "
+                     f"{self.inclination:g} m/s; the sweep spans [{self.span[0]:.4g}, {self.span[1]:.4g}] m/s",
+                     "nearest designs (widen --tolerance or the sweep to include them):"]
+            lines += [f"  m = {r['mass_kg']:.6g} kg, d = {r['gap_m']:.6g} m, inclination {r['inclination']:.6g} m/s, "
+                      f"max SPL {r['max_spl_db']:.2f} dB" for r in self.nearest]
+            return "\n".join(lines)
         return "\n".join([
             f"designs with {self.definition} damping inclination {self.inclination:g} +/- {self.tolerance:g} m/s: "
             f"{self.n_candidates}",
@@ -1443,28 +1459,34 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
     -------
     DesignChoice
 
+    When no design lies within the tolerance the answer says so: no candidates, and the
+    (up to three) designs nearest the target in ``nearest``.
+
     Raises
     ------
     ParameterError
-        If no design lies within the tolerance (the message gives the sweep's range).
+        If the sweep holds no finished design.
     """
     target = check_range("inclination", inclination, -math.inf, math.inf)
     tol = check_nonnegative("tolerance", tolerance, "m/s")
     e = np.asarray(table.inclination(definition), dtype=float)
     spl = np.asarray(table["max_spl_db"], dtype=float)
     ok = np.isfinite(e) & np.isfinite(spl)
-    sel = np.flatnonzero(ok & (np.abs(e - target) <= tol * (1 + 1e-12)))
-    if sel.size == 0:
-        rng = f"[{np.min(e[ok]):.4g}, {np.max(e[ok]):.4g}] m/s" if np.any(ok) else "empty"
-        raise ParameterError(
-            "inclination", f"no design within {tol:g} m/s of {target:g} m/s ({definition}); the sweep spans {rng}")
-    i_min = sel[np.argmin(spl[sel])]
-    i_max = sel[np.argmax(spl[sel])]
+    if not np.any(ok):
+        raise ParameterError("sweep", "the sweep holds no finished design")
+    span = (float(np.min(e[ok])), float(np.max(e[ok])))
 
     def row(i):
         d = {c: table[c][i].item() for c in _ALL_COLUMNS}
         d["inclination"] = float(e[i])
         return d
 
+    sel = np.flatnonzero(ok & (np.abs(e - target) <= tol * (1 + 1e-12)))
+    if sel.size == 0:
+        valid = np.flatnonzero(ok)
+        near = valid[np.argsort(np.abs(e[valid] - target), kind="stable")[:3]]
+        return DesignChoice(target, tol, definition, 0, None, None, math.nan, tuple(row(i) for i in near), span)
+    i_min = sel[np.argmin(spl[sel])]
+    i_max = sel[np.argmax(spl[sel])]
     return DesignChoice(target, tol, definition, int(sel.size), row(i_min), row(i_max),
-                        float(spl[i_max] - spl[i_min]))
+                        float(spl[i_max] - spl[i_min]), (), span)

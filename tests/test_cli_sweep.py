@@ -61,7 +61,7 @@ def test_design_command_answers_from_the_sweep(done, capsys):
 
 
 @pytest.mark.parametrize("argv, option", [
-    (["design", "--inclination", "5", "--tolerance", "0.0001"], "--inclination"),
+    (["design", "--inclination", "nan", "--tolerance", "0.0001"], "--inclination"),
     (["design", "--inclination", "0.008", "--tolerance", "-1"], "--tolerance"),
 ])
 def test_design_command_errors_name_the_option(done, capsys, argv, option):
@@ -201,3 +201,17 @@ def test_sweep_over_listener_configuration_and_velocity(tmp_path, capsys):
     np.testing.assert_allclose(table["radius_m"], a, rtol=1e-14)
     np.testing.assert_allclose(table["k_hertz_n_m1_5"], hertz_stiffness(a, st, st), rtol=1e-14)
     assert not (out / "inclination_map.png").exists()
+
+
+def test_design_without_candidates_names_the_nearest(tmp_path, capsys):
+    # the issue's own pair of commands on a small sweep: a target outside every design's reach
+    # is answered (exit 0), not refused
+    from acoustiviz.cli import main
+
+    out = tmp_path / "S"
+    assert main(["sweep", "--gap", "0.03:0.04:2", "--m", "0.03:0.04:2", "--duration", "1", "--out", str(out),
+                 "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["design", "--sweep", str(out), "--inclination", "5", "--tolerance", "0.001"]) == 0
+    text = capsys.readouterr().out
+    assert "no design" in text and "nearest designs" in text and text.count("m = ") == 3

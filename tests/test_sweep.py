@@ -284,8 +284,12 @@ def test_design_helper_by_hand():
     assert (c.loudest["gap_m"], c.loudest["max_spl_db"]) == (0.04, 107.0)
     assert c.saving_db == 6.5
     assert "6.50 dB quieter" in c.summary()
-    with pytest.raises(ParameterError, match="^inclination.*spans"):
-        design(t, 0.02, 0.001)
+    # a target no design meets: an empty answer naming the nearest designs, not an error
+    none = design(t, 0.02, 0.001)
+    assert none.n_candidates == 0 and none.quietest is None and np.isnan(none.saving_db)
+    assert [r["inclination"] for r in none.nearest] == [0.0096, 0.0084, 0.0081]
+    assert none.span == (0.0071, 0.0096)
+    assert "no design" in none.summary() and "0.0096" in none.summary()
     with pytest.raises(ParameterError, match="^tolerance"):
         design(t, 0.008, -1.0)
 
