@@ -495,15 +495,13 @@ def _check_out(out: Path, force: bool) -> None:
         raise ParameterError("--out", f"{out} exists and is not empty; pass --force to write into it")
 
 
-def _summary(scene: Scene, products, seconds: float, skipped) -> str:
+def _summary(scene: Scene, products, seconds: float) -> str:
     lines = [f"# acoustiviz run: {scene.name}", "", scene.section("scene")["description"] or "", "",
              f"Scene: `{scene.source}`. Outputs asked for: {', '.join(scene.outputs) or 'none'}.",
              f"Wall time: {seconds:.1f} s.", "", "| output | file | key figures |", "|---|---|---|"]
     for p in products:
         figs = ", ".join(f"{k} = {v}" for k, v in p.figures.items())
         lines.append(f"| {p.kind} | `{p.path.name}` | {figs} |")
-    for kind, why in skipped:
-        lines.append(f"| {kind} | (not produced) | {why} |")
     return "\n".join(lines) + "\n"
 
 
@@ -538,17 +536,13 @@ def run_scene(scene: Scene, out, *, force: bool = False, progress=None, stream=N
     say = progress or (lambda msg: None)
     ctx = RunContext(scene, out, say, stream)
     start = time.perf_counter()
-    products, skipped = [], []
+    products = []
     for i, kind in enumerate(scene.outputs, 1):
         say(f"[{i}/{len(scene.outputs)}] {kind}")
         t0 = time.perf_counter()
         products += PRODUCERS[kind](ctx)
         say(f"[{i}/{len(scene.outputs)}] {kind} done in {time.perf_counter() - t0:.1f} s")
-    summary = write_text_atomic(out / "summary.md", _summary(scene, products, time.perf_counter() - start, skipped))
+    summary = write_text_atomic(out / "summary.md", _summary(scene, products, time.perf_counter() - start))
     products.append(Product("summary", summary, {}))
     return products
 
-
-def sweep_values(text: str):
-    """Values of a ``start:stop:count`` range (inclusive)."""
-    return parse_range(text)
