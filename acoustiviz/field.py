@@ -46,6 +46,7 @@ __all__ = [
     "source_geometry",
     "decay_time",
     "arrival_windows",
+    "waveform_span",
     "default_sample_interval",
     "time_series",
     "iter_time_series",
@@ -293,6 +294,35 @@ def source_geometry(points, config: Configuration, *, medium: Medium = AIR):
     with np.errstate(invalid="ignore", divide="ignore"):
         p0 = medium.rho * medium.c * a * a * ct / (r * r)
     return (r - a) / medium.c, p0, ra - 1j * (1.0 - ra), r
+
+
+def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, decay_times: float = 40.0):
+    """First arrival and end in s (from the start of contact) of one impact's sound at ``point``.
+
+    The end is the last image's arrival plus the pulse plus ``decay_times`` decay times a/c of
+    the sphere (the response decays like exp(-c t'/a): 40 leaves exp(-40) of the tail), the
+    window a plotted or tabulated waveform should cover.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    point : (3,) array_like
+        Observer position in m.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    decay_times : float
+        Length of the kept tail in units of a/c.
+
+    Returns
+    -------
+    first, end : float
+        Times in s.
+    """
+    delay = source_geometry(np.asarray(point, dtype=float)[None, :], config, medium=medium)[0][0]
+    return float(delay.min()), float(delay.max()) + pulse.duration + decay_times * config.radius / medium.c
 
 
 def arrival_windows(pulse, points, config: Configuration, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):

@@ -147,21 +147,20 @@ def _save(fig, path: Path) -> Path:
 
 def produce_waveform(ctx: RunContext):
     """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
-    from .field import time_series
+    from .field import time_series, waveform_span
     from .plot._style import style
     from .plot.waveform import plot_waveform
 
     opts = ctx.scene.output("waveform")
     kinds = opts["pulses"] or [ctx.scene.section("contact")["pulse"]]
     conf, medium = ctx.configuration, ctx.medium
+    pulses = {k: ctx.pulse(k) for k in kinds}
+    tau = max(p.duration for p in pulses.values())
     products = []
     for name, pos in ctx.listeners:
-        pulses = {k: ctx.pulse(k) for k in kinds}
-        tau = max(p.duration for p in pulses.values())
-        dists = [float(np.linalg.norm(pos - s.position)) for s in conf.sources]
-        a, c = conf.radius, medium.c
-        t0 = max(0.0, (min(dists) - a) / c - 0.2 * tau)
-        t = np.arange(t0, (max(dists) - a) / c + tau + 40 * a / c, tau / 400)
+        spans = [waveform_span(p, pos, conf, medium=medium) for p in pulses.values()]
+        first, end = min(sp[0] for sp in spans), max(sp[1] for sp in spans)
+        t = np.arange(max(0.0, first - 0.2 * tau), end, tau / 400)
         series = {k: time_series(p, t, pos[None, :], conf, medium=medium)[0] for k, p in pulses.items()}
         cols = [t] + list(series.values())
         header = ["time_s"] + (["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds])

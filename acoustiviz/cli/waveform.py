@@ -26,13 +26,10 @@ def waveform_times(setup, point, samples_per_duration: int):
     """Times in s from the start of contact covering arrival, pulse and decay at ``point``."""
     import numpy as np
 
-    conf = setup.configuration
-    a, c = setup.radius, setup.medium.c
-    dists = [float(np.linalg.norm(point - np.asarray(s.position))) for s in conf.sources]
-    tau = setup.pulse.duration
-    # the response decays like exp(-c t'/a): 40 a/c leaves exp(-40) of the tail
-    t_end = (max(dists) - a) / c + tau + 40.0 * a / c
-    dt = tau / samples_per_duration
+    from ..field import waveform_span
+
+    _, t_end = waveform_span(setup.pulse, point, setup.configuration, medium=setup.medium)
+    dt = setup.pulse.duration / samples_per_duration
     return np.arange(0.0, t_end + dt, dt)
 
 
