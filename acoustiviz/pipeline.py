@@ -203,20 +203,16 @@ def produce_directivity(ctx: RunContext):
             Product("directivity", png, {})]
 
 
-def _inclinations(res):
-    from .dynamics.metrics import damping_inclination, envelope_inclination, positive_maxima, settling_time
-
-    maxima = positive_maxima(res.t, res.x)
-    return damping_inclination(maxima), envelope_inclination(maxima), settling_time(maxima)
-
-
 def produce_damper_history(ctx: RunContext):
     """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
     from .plot._style import style
     from .plot.dynamics import plot_free_vibration
 
     res = ctx.damper_run
-    two, fit, ts = _inclinations(res)
+    from .dynamics.metrics import damping_metrics
+
+    metrics = damping_metrics(res.t, res.x)
+    two, fit, ts = metrics.two_maxima, metrics.fit, metrics.settling_time
     csv = write_csv_atomic(ctx.path("damper_history.csv"),
                            ["time_s", "x_m", "v_m_s", "y_m", "w_m_s"], [res.t, res.x, res.v, res.y, res.w])
     with style():

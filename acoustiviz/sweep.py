@@ -796,10 +796,9 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
                         c1=design.c1, clip_tensile=s.clip_tensile)
     t = dm.sample_times(s.duration, model, s.samples_per_period)
     res = simulate(model, s.duration, solver=s.solver, initial=InitialState(v=design.v0), rtol=s.rtol, t_eval=t)
-    maxima = dm.positive_maxima(res.t, res.x)
-    two = dm.damping_inclination(maxima)
-    fit = dm.envelope_inclination(maxima, s.fit_window_fraction)
-    settle = dm.settling_time(maxima, s.settling_fraction)
+    metrics = dm.damping_metrics(res.t, res.x, window_fraction=s.fit_window_fraction,
+                                 settling_fraction=s.settling_fraction)
+    two, fit, settle = metrics.two_maxima, metrics.fit, metrics.settling_time
     conf = configuration(design.config, design.radius,
                          wall_distance=s.wall_distance if design.config == "wall-floor" else None)
     point = listener_point(conf, design.distance, design.angle)

@@ -102,3 +102,24 @@ def test_restitution_rises_with_impact_mass_and_speed():
     np.testing.assert_allclose(
         e[1, 1], contact.restitution(2.0, TABLE1.k_hertz, 0.04, TABLE1.M, TABLE1.c1), rtol=1e-12
     )
+
+
+def test_damping_metrics_bundles_the_three_definitions():
+    import numpy as np
+
+    from acoustiviz.dynamics.metrics import (
+        damping_inclination,
+        damping_metrics,
+        envelope_inclination,
+        positive_maxima,
+        settling_time,
+    )
+
+    t = np.linspace(0.0, 10.0, 20001)
+    x = np.exp(-0.4 * t) * np.sin(2 * np.pi * t)  # decays below 5 % of the first maximum by t ~ 7.5 s
+    got = damping_metrics(t, x, window_fraction=0.4, settling_fraction=0.05)
+    mx = positive_maxima(t, x)
+    assert got.two_maxima == damping_inclination(mx)
+    assert got.fit == envelope_inclination(mx, 0.4)
+    assert got.settling_time == settling_time(mx, 0.05)
+    assert 7.0 < got.settling_time < 8.5

@@ -82,13 +82,7 @@ def run(args) -> int:
 
     from .._validate import ParameterError, check_positive
     from ..dynamics import DamperModel, InitialState, simulate
-    from ..dynamics.metrics import (
-        damping_inclination,
-        envelope_inclination,
-        positive_maxima,
-        sample_times,
-        settling_time,
-    )
+    from ..dynamics.metrics import damping_metrics, sample_times
 
     try:
         model = DamperModel(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap,
@@ -107,10 +101,8 @@ def run(args) -> int:
     for w in caught:
         print(f"warning: {w.message}")
 
-    maxima = positive_maxima(result.t, result.x)
-    two = damping_inclination(maxima)
-    fit = envelope_inclination(maxima)
-    ts = settling_time(maxima)
+    metrics = damping_metrics(result.t, result.x)
+    two, fit, ts = metrics.two_maxima, metrics.fit, metrics.settling_time
     settings = ", ".join(f"{k} {v:g}" for k, v in result.settings.items())
     print(f"solver: {result.solver} ({settings}); {result.message}")
     print(f"impacts: {len(result.impacts)}")

@@ -36,6 +36,8 @@ __all__ = [
     "damping_inclination",
     "envelope_inclination",
     "settling_time",
+    "DampingMetrics",
+    "damping_metrics",
     "free_response",
     "sample_times",
     "restitution_curve",
@@ -163,6 +165,50 @@ def settling_time(maxima: Maxima, fraction: float = 0.05) -> float:
     if nxt >= maxima.time.size:
         return math.nan
     return float(maxima.time[nxt])
+
+
+@dataclass(frozen=True)
+class DampingMetrics:
+    """How fast a run decays: both damping inclinations and the settling time.
+
+    Attributes
+    ----------
+    two_maxima : Inclination
+        Paper eq 16 from the first two positive maxima.
+    fit : Inclination
+        Linear fit of the decaying maxima envelope (its window in ``t_start``/``t_stop``).
+    settling_time : float
+        Time in s after which every positive maximum stays below the settling fraction of the
+        first (NaN if never within the run).
+    maxima : Maxima
+        The positive maxima they were computed from.
+    """
+
+    two_maxima: Inclination
+    fit: Inclination
+    settling_time: float
+    maxima: Maxima
+
+
+def damping_metrics(t, x, *, window_fraction: float = 0.3, settling_fraction: float = 0.05) -> DampingMetrics:
+    """Damping inclination (eq 16 and envelope fit) and settling time of a displacement history.
+
+    Parameters
+    ----------
+    t, x : (n,) array_like
+        Times in s and main-mass displacement in m (dense enough to resolve the maxima).
+    window_fraction : float
+        Envelope fit over the maxima down to this fraction of the first (:func:`envelope_inclination`).
+    settling_fraction : float
+        Settled once the maxima stay below this fraction of the first (:func:`settling_time`).
+
+    Returns
+    -------
+    DampingMetrics
+    """
+    maxima = positive_maxima(t, x)
+    return DampingMetrics(damping_inclination(maxima), envelope_inclination(maxima, window_fraction),
+                          settling_time(maxima, settling_fraction), maxima)
 
 
 def free_response(t, model: DamperModel = TABLE1, initial: InitialState | None = None):
