@@ -47,3 +47,19 @@ def test_bad_values_exit_2_naming_the_option(argv, option, capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1
     assert f"error: {option}:" in err
+
+
+def test_damper_and_auralize_share_the_run_options_and_the_solver_default():
+    import inspect
+
+    from acoustiviz.cli import build_parser
+    from acoustiviz.dynamics import simulate
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command").choices
+    keys = ("M", "K", "C", "m", "gap", "k_hertz", "c1", "v0", "duration", "solver", "rtol", "dt", "clip_tensile")
+    damper = vars(sub["damper"].parse_args([]))
+    aural = vars(sub["auralize"].parse_args(["--wav", "x.wav"]))
+    assert {k: damper[k] for k in keys} == {k: aural[k] for k in keys}
+    # the same options give the same run in both commands: the solver's own default tolerance
+    assert damper["rtol"] == inspect.signature(simulate).parameters["rtol"].default

@@ -8,41 +8,16 @@ Positions are in m in the frame where the struck surface is ``z = 0`` and the sp
 
 from __future__ import annotations
 
-#: The damper defaults (paper Table 1 and Figure 5), as in ``acoustiviz damper``.
-DAMPER_DEFAULTS = {"M": 0.5, "K": 500.0, "C": 0.05, "m": 0.0405, "gap": 0.04, "k_hertz": 5.6e8, "c1": 20.0,
-                   "v0": 2.0, "duration": 20.0, "solver": "event"}
-SOLVER_NAMES = ("event", "newmark", "impact-map")
+from ._damper import add_damper_options
+
 DEFAULT_LISTENER = "0.495,0,0.514"
 
 
-def add_damper_options(parser) -> None:
-    """The options of ``acoustiviz damper`` that define the run (same names, units and defaults)."""
-    d = DAMPER_DEFAULTS
-    g = parser.add_argument_group("damper (paper eq 15; defaults: Table 1, Figure 5)")
-    g.add_argument("--M", type=float, default=d["M"], metavar="KG", help="main mass in kg (default %(default)s)")
-    g.add_argument("--K", type=float, default=d["K"], metavar="N/M", help="main spring in N/m (default %(default)s)")
-    g.add_argument("--C", type=float, default=d["C"], metavar="N*S/M",
-                   help="main dashpot in N s/m (default %(default)s)")
-    g.add_argument("--m", type=float, default=d["m"], metavar="KG", help="impact mass in kg (default %(default)s)")
-    g.add_argument("--gap", type=float, default=d["gap"], metavar="M",
-                   help="total free travel d of the impact mass in m (default %(default)s)")
-    g.add_argument("--k-hertz", type=float, default=d["k_hertz"], metavar="N/M^1.5",
-                   help="Hertz contact stiffness in N/m^1.5 (default %(default)s)")
-    g.add_argument("--c1", type=float, default=d["c1"], metavar="N*S/M",
-                   help="contact damping in N s/m (default %(default)s)")
-    g.add_argument("--v0", type=float, default=d["v0"], metavar="M/S",
-                   help="initial velocity of the main mass in m/s (default %(default)s)")
-    g.add_argument("--duration", type=float, default=d["duration"], metavar="S",
-                   help="simulated time in s; the WAV lasts this long, or to the end of the last click "
-                        "(default %(default)s)")
-    g.add_argument("--solver", default=d["solver"], choices=SOLVER_NAMES,
-                   help="damper solver (default %(default)s)")
-    g.add_argument("--clip-tensile", action="store_true",
-                   help="clip the contact force at zero (default: the paper's form)")
-    g.add_argument("--dt", type=float, default=None, metavar="S",
-                   help="Newmark step in s (default: 1/50 of the shortest possible contact)")
-    g.add_argument("--rtol", type=float, default=1e-14,
-                   help="relative tolerance of the event solver's contacts (default %(default)s)")
+def _add_run_options(parser) -> None:
+    """The options of ``acoustiviz damper`` that define the run, and ``--impacts`` to render a table instead."""
+    add_damper_options(parser, duration_help="simulated time in s; the WAV lasts this long, or to the end of the "
+                                           "last click (default %(default)s)")
+    g = parser.add_argument_group("impacts from a file")
     g.add_argument("--impacts", default=None, metavar="CSV",
                    help="render the impacts of this CSV (columns time_s,wall,approach_velocity_m_s, as written "
                         "by 'acoustiviz damper --impacts-csv') instead of simulating; --m, --M, --gap and "
@@ -63,7 +38,7 @@ def add_parser(subparsers) -> None:
     import re
 
     p._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
-    add_damper_options(p)
+    _add_run_options(p)
     a = p.add_argument_group("sound model")
     a.add_argument("--config", default="plane", choices=("free", "plane", "wall-floor"),
                    help="reflecting surfaces: none, the struck surface z = 0 (default), or a wall-floor corner")

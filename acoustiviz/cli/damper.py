@@ -8,6 +8,8 @@ Example::
 
 from __future__ import annotations
 
+from ._damper import add_damper_options
+
 #: model/simulate parameter name -> command-line option (for error messages)
 _OPTION = {
     "M": "--M",
@@ -36,29 +38,7 @@ def add_parser(subparsers):
             "the maxima envelope), the settling time, the number of impacts and the solver time."
         ),
     )
-    g = p.add_argument_group("damper (SI units)")
-    g.add_argument("--M", type=float, default=0.5, help="main mass in kg (default 0.5)")
-    g.add_argument("--K", type=float, default=500.0, help="main spring in N/m (default 500)")
-    g.add_argument("--C", type=float, default=0.05, help="main dashpot in N s/m (default 0.05)")
-    g.add_argument("--m", type=float, default=0.0405, help="impact mass in kg (default 0.0405)")
-    g.add_argument("--gap", type=float, default=0.04,
-                   help="total free travel d of the impact mass in m (default 0.04)")
-    g.add_argument("--k-hertz", type=float, default=5.6e8,
-                   help="Hertz contact stiffness in N/m^1.5 (default 5.6e8)")
-    g.add_argument("--c1", type=float, default=20.0, help="contact damping in N s/m (default 20)")
-    g.add_argument("--clip-tensile", action="store_true",
-                   help="clip the contact force at zero (default: the paper's form, which may pull)")
-    g.add_argument("--v0", type=float, default=2.0,
-                   help="initial main-mass velocity in m/s (default 2)")
-    s = p.add_argument_group("solver")
-    s.add_argument("--duration", type=float, default=20.0, help="simulated time in s (default 20)")
-    s.add_argument("--solver", choices=("event", "newmark", "impact-map"), default="event",
-                   help="event (default; exact free flight, adaptive contacts), newmark (the "
-                        "paper's fixed-step scheme) or impact-map (instantaneous impacts)")
-    s.add_argument("--dt", type=float, default=None,
-                   help="Newmark step in s (default: 1/50 of the shortest possible contact)")
-    s.add_argument("--rtol", type=float, default=1e-12,
-                   help="relative tolerance of the event solver's contacts (default 1e-12)")
+    add_damper_options(p)
     o = p.add_argument_group("outputs")
     o.add_argument("--impacts-csv", metavar="PATH", default=None,
                    help="write the impact table (one row per contact) as CSV")
