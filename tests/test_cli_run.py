@@ -52,3 +52,10 @@ def test_invalid_scene_is_one_line_exit_2(tmp_path, capsys):
 def test_help_scene_lists_keys(capsys):
     assert main(["run", "--help-scene"]) == 0
     assert "[outputs]" in capsys.readouterr().out
+
+
+def test_output_piped_into_head_ends_without_a_traceback(tmp_path):
+    # a reader that stops early closes the pipe; the command must not print a traceback
+    cmd = f"{sys.executable} -m acoustiviz run --help-scene | head -n 1"
+    res = subprocess.run(["bash", "-o", "pipefail", "-c", cmd], capture_output=True, text=True, cwd=tmp_path)
+    assert res.stdout.startswith("[scene]") and "Traceback" not in res.stderr

@@ -68,6 +68,11 @@ def main(argv=None) -> int:
     except ParameterError as exc:
         print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into a reader that stopped early (e.g. `| head`)
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
     except KeyboardInterrupt:
         print(f"acoustiviz {args.command}: interrupted; finished outputs were kept", file=sys.stderr)
         return 130
