@@ -55,7 +55,8 @@ def test_help_scene_lists_keys(capsys):
 
 
 def test_output_piped_into_head_ends_without_a_traceback(tmp_path):
-    # a reader that stops early closes the pipe; the command must not print a traceback
-    cmd = f"{sys.executable} -m acoustiviz run --help-scene | head -n 1"
-    res = subprocess.run(["bash", "-o", "pipefail", "-c", cmd], capture_output=True, text=True, cwd=tmp_path)
-    assert res.stdout.startswith("[scene]") and "Traceback" not in res.stderr
+    # a reader that stops early closes the pipe; the command must not print a traceback.
+    # 1801 angles print about 70 kB, more than a pipe holds, so the writer does meet the closed pipe
+    cmd = f"{sys.executable} -m acoustiviz directivity --config free --step 0.1 | head -n 1"
+    res = subprocess.run(["bash", "-c", cmd], capture_output=True, text=True, cwd=tmp_path)
+    assert res.stdout.startswith("impact:") and "Traceback" not in res.stderr, res.stderr[-500:]
