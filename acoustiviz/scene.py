@@ -6,7 +6,7 @@ plane or a wall-floor corner), optionally an impact damper, listeners, grids, an
 done. Every key carries its unit in its name (``radius_m``, ``duration_s``, ``angle_deg``).
 
 Loading validates everything before any work starts: a wrong type, a value out of range, an
-unknown key (with a "did you mean"), a missing required key, a listener inside the sphere or
+unknown key (with a "did you mean"), a listener without a position, a listener inside the sphere or
 behind a surface, or a grid too large for the memory cap raises :class:`SceneError`, whose
 message names the file, the key path and the allowed range.
 
@@ -69,7 +69,6 @@ class Key:
     high: float = math.inf
     low_open: bool = False
     choices: tuple = ()
-    required: bool = False
     length: int | None = None  # most values of "floats", exact count of "ints"
 
 
@@ -80,7 +79,6 @@ class Table:
     keys: dict
     doc: str = ""
     array: bool = False  # [[name]] array of tables
-    keys_free: bool = False
 
 
 def _pos(doc, unit, default=None, **kw):
@@ -368,8 +366,6 @@ def _validate_table(data, table: Table, src: str, path: str, fill_defaults: bool
             if isinstance(spec, Table) and not spec.array and path not in ("outputs",):
                 out[key] = _validate_table({}, spec, src, f"{path}.{key}" if path else key)
             elif isinstance(spec, Key):
-                if spec.required:
-                    raise SceneError(src, f"{path}.{key}" if path else key, "required key is missing")
                 out[key] = copy.deepcopy(spec.default)
     return out
 
@@ -591,8 +587,6 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
-    if "design_table" in outputs and outputs["design_table"]["inclination_m_s"] is None:
-        outputs["design_table"]["inclination_m_s"] = None  # the whole table is produced without a target
     data["outputs"] = outputs
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
