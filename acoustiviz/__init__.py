@@ -1,12 +1,27 @@
 """acoustiviz: see and hear the noise of impact dampers.
 
-The physics core (``medium``, ``materials``, ``contact``, ``radiation``, ``images``,
-``dynamics``) knows nothing of grids, plots or files; ``field`` and ``grids`` evaluate it over
-points; ``plot``, ``render``, ``audio``, ``scene`` and ``cli`` sit on top. Importing the package
-has no side effects and imports only the light core.
+The package is laid out in layers, each importing only from those below it:
+
+``core``
+    medium, materials, Hertz contact, rigid-sphere radiation, image sources (no grids, no files);
+``dynamics``
+    the impact damper (paper eq 15) and its solvers;
+``field``
+    pressure over points and grids; ``levels``: weighted levels, spectra and loudness;
+``sweep``
+    design sweeps and the design table;
+``output``
+    plots, pyvista renders, WAV files and other writers;
+``app``
+    the application layer that both front-ends call: ``scene`` files and the ``cli``.
+
+``constants`` and ``errors`` are the one home of the package's facts and exceptions. Importing
+the package imports only the light core and has no side effect beyond making the old flat module
+paths (``acoustiviz.contact``, ``acoustiviz.render``, ...) aliases of the moved modules.
 """
 
-from .contact import (
+from . import _aliases
+from .core.contact import (
     HERTZ_DURATION_CONSTANT,
     HalfSinePulse,
     Impact,
@@ -18,18 +33,21 @@ from .contact import (
     peak_acceleration,
     restitution,
 )
-from .materials import Material, catalogue, material
-from .medium import AIR, Medium, air_at
-from .radiation import impulse_response, pressure, pulse_response, sphere_pressure
+from .core.materials import Material, catalogue, material
+from .core.medium import AIR, Medium, air_at
+from .core.radiation import impulse_response, pressure, pulse_response, sphere_pressure
+from .errors import AccuracyWarning, ClippingWarning, ParameterError
 
 __version__ = "0.1.0"
 
+_aliases.install()
+
 #: Names importable from ``acoustiviz`` that live in heavier modules, imported on first use.
 _LAZY = {
-    "configuration": "images",
-    "images_free": "images",
-    "images_plane": "images",
-    "images_wall_floor": "images",
+    "configuration": "core.images",
+    "images_free": "core.images",
+    "images_plane": "core.images",
+    "images_wall_floor": "core.images",
     "time_series": "field",
     "field_metrics": "field",
     "snapshots": "field",
@@ -40,20 +58,25 @@ _LAZY = {
     "InitialState": "dynamics",
     "simulate": "dynamics",
     "load_scene": "scene",
-    "run_scene": "pipeline",
+    "run_scene": "app.pipeline",
 }
 
 
 def __getattr__(name):
     """Import the lazily exported names (:data:`_LAZY`) on first access."""
-    if name in _LAZY:
-        import importlib
+    import importlib
 
+    if name in _LAZY:
         return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    if name in _aliases.ALIASES:  # an old module path, e.g. ``acoustiviz.render``
+        return importlib.import_module(f".{_aliases.ALIASES[name]}", __name__)
     raise AttributeError(f"module 'acoustiviz' has no attribute {name!r}")
 
 __all__ = [
     "AIR",
+    "AccuracyWarning",
+    "ClippingWarning",
+    "ParameterError",
     "HERTZ_DURATION_CONSTANT",
     "HalfSinePulse",
     "Impact",

@@ -1,7 +1,7 @@
 """Argument checks shared by the whole package.
 
 Every public function checks its inputs *before* doing any work and raises
-:class:`ParameterError` (a :class:`ValueError`) whose message names the
+:class:`acoustiviz.errors.ParameterError` (a :class:`ValueError`) whose message names the
 parameter, the offending value and the allowed range. The command-line layer
 turns these into a one-line message and exit status 2.
 """
@@ -12,6 +12,8 @@ import math
 
 import numpy as np
 
+from .errors import ParameterError
+
 __all__ = [
     "ParameterError",
     "check_finite",
@@ -21,22 +23,6 @@ __all__ = [
     "check_choice",
     "check_points",
 ]
-
-
-class ParameterError(ValueError):
-    """A parameter is outside its allowed range.
-
-    Parameters
-    ----------
-    name : str
-        Name of the parameter (as the caller spells it, e.g. ``"radius"`` or ``"--radius"``).
-    message : str
-        What is wrong and what is allowed.
-    """
-
-    def __init__(self, name: str, message: str):
-        self.name = name
-        super().__init__(f"{name}: {message}")
 
 
 def _as_float(name: str, value) -> float:

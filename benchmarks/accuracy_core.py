@@ -11,9 +11,15 @@ import math
 import numpy as np
 from scipy.integrate import quad, solve_ivp
 
-from acoustiviz.contact import HERTZ_DURATION_CONSTANT, HalfSinePulse, Impact, acceleration_pulse, hertz_pulse_shape
-from acoustiviz.medium import AIR
-from acoustiviz.radiation import impulse_response, pressure
+from acoustiviz.core.contact import (
+    HERTZ_DURATION_CONSTANT,
+    HalfSinePulse,
+    Impact,
+    acceleration_pulse,
+    hertz_pulse_shape,
+)
+from acoustiviz.core.medium import AIR
+from acoustiviz.core.radiation import impulse_response, pressure
 
 A, R, COS = 0.01905, 0.7, math.cos(math.pi / 4)
 LAM = AIR.c / A

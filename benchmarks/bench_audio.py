@@ -17,8 +17,8 @@ import time
 import numpy as np
 from _timing import best_of
 
-from acoustiviz import audio
 from acoustiviz.dynamics import TABLE1, simulate
+from acoustiviz.output import audio
 
 LISTENER = [0.495, 0.0, 0.514]
 GOAL_S = 2.0

@@ -27,7 +27,6 @@ from pathlib import Path
 
 import numpy as np
 
-from acoustiviz._io import write_csv_atomic
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.reference import (
     N_COMPARE,
@@ -36,6 +35,7 @@ from acoustiviz.dynamics.reference import (
     solve_ivp_impacts,
     speed_accuracy,
 )
+from acoustiviz.output.writers import write_csv_atomic
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -115,8 +115,8 @@ def draw_chart(rows, path, goal=None):
     """Error against run time (top) and impacts followed against run time (bottom), as PNG."""
     from matplotlib.figure import Figure
 
-    from acoustiviz.plot._style import save_figure, style
-    from acoustiviz.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
+    from acoustiviz.output.plot._style import save_figure, style
+    from acoustiviz.output.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
 
     data = [{"solver": r.solver, "label": r.label, "time_s": r.time_s,
              "error": r.comparison.velocity_error, "n_agree": r.comparison.n_agree} for r in rows]

@@ -14,10 +14,10 @@ import tracemalloc
 import numpy as np
 from _timing import best_of
 
-from acoustiviz import approximations, field
-from acoustiviz.contact import Impact, acceleration_pulse
+from acoustiviz.core import approximations, field
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.images import images_plane
 from acoustiviz.grids import planar_grid
-from acoustiviz.images import images_plane
 
 A = 0.01905
 

@@ -16,14 +16,14 @@ kinks at the start and end of contact sharpen the two positive lobes.
 import math
 
 import numpy as np
+from _gallery import output_dir
 
 from acoustiviz import AIR, Impact, acceleration_pulse
-from acoustiviz._gallery import output_dir
-from acoustiviz._io import write_csv_atomic
+from acoustiviz.core.images import configuration
 from acoustiviz.field import time_series
-from acoustiviz.images import configuration
-from acoustiviz.plot._style import save_figure, style
-from acoustiviz.plot.waveform import plot_waveform
+from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.waveform import plot_waveform
+from acoustiviz.output.writers import write_csv_atomic
 
 RADIUS, U0, K_HZ, DENSITY = 0.01905, 1.4, 5.6e8, 7800.0
 DISTANCE, ANGLE = 0.7, math.radians(45.0)

@@ -15,14 +15,14 @@ The half-sine pulse of the paper (eq 4) is compared with the exact Hertz pulse.
 import math
 
 import numpy as np
+from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz._gallery import fast_mode, output_dir
-from acoustiviz._io import write_csv_atomic
+from acoustiviz.core.images import images_plane
 from acoustiviz.field import directivity
-from acoustiviz.images import images_plane
-from acoustiviz.plot._style import save_figure, style
-from acoustiviz.plot.directivity import plot_directivity
+from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.directivity import plot_directivity
+from acoustiviz.output.writers import write_csv_atomic
 
 RADIUS, U0, K_HZ, DENSITY, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.7
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)

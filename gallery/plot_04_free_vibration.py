@@ -13,8 +13,8 @@ first two maxima, and a straight line fitted to the maxima down to 30 % of the f
 
 # %%
 import numpy as np
+from _gallery import fast_mode, output_dir
 
-from acoustiviz._gallery import fast_mode, output_dir
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.metrics import (
     damping_inclination,
@@ -24,8 +24,8 @@ from acoustiviz.dynamics.metrics import (
     sample_times,
     settling_time,
 )
-from acoustiviz.plot._style import save_figure, style
-from acoustiviz.plot.dynamics import plot_free_vibration
+from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.dynamics import plot_free_vibration
 
 DURATION = 4.0 if fast_mode() else 20.0
 t = sample_times(DURATION, TABLE1)

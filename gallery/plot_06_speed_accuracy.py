@@ -12,11 +12,12 @@ over 20 s with the timings of Newmark at 1e-7 s; in fast mode this script runs 2
 """
 
 # %%
-from acoustiviz._gallery import fast_mode, output_dir
+from _gallery import fast_mode, output_dir
+
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.reference import speed_accuracy
-from acoustiviz.plot._style import save_figure, style
-from acoustiviz.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
+from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
 
 if fast_mode():
     DURATION = 2.5

@@ -23,11 +23,11 @@ individual designs into different bands.
 import sys
 
 import numpy as np
+from _gallery import fast_mode, output_dir
 from matplotlib.figure import Figure
 
-from acoustiviz._gallery import fast_mode, output_dir
-from acoustiviz.plot._style import save_figure, style
-from acoustiviz.plot.design import plot_design_table
+from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.design import plot_design_table
 from acoustiviz.sweep import (
     PAPER_TABLE2,
     Settings,

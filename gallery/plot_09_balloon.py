@@ -19,10 +19,11 @@ sphere normal to the wall.
 # %%
 import math
 
+from _gallery import fast_mode, output_dir
+
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz._gallery import fast_mode, output_dir
-from acoustiviz.images import configuration
-from acoustiviz.render import balloon_data, render_balloon
+from acoustiviz.core.images import configuration
+from acoustiviz.output.render import balloon_data, render_balloon
 
 RADIUS, U0, K_HZ, DENSITY, WALL, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.05, 0.7
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)

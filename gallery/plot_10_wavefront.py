@@ -17,10 +17,11 @@ the frame time, and keeps the colour range of the first frame to the last.
 # %%
 import math
 
+from _gallery import fast_mode, output_dir
+
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz._gallery import fast_mode, output_dir
-from acoustiviz.images import configuration
-from acoustiviz.render import mp4_available, render_animation, render_snapshot
+from acoustiviz.core.images import configuration
+from acoustiviz.output.render import mp4_available, render_animation, render_snapshot
 
 RADIUS, U0, K_HZ, DENSITY, WALL = 0.01905, 1.4, 5.6e8, 7800.0, 0.05
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)

@@ -20,15 +20,15 @@ needed and, run by the numba kernel, it is also the fastest.
 import time
 
 import numpy as np
+from _gallery import fast_mode, output_dir
 
-from acoustiviz import approximations as ap
-from acoustiviz._gallery import fast_mode, output_dir
-from acoustiviz.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
+from acoustiviz.core import approximations as ap
+from acoustiviz.core.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
+from acoustiviz.core.images import images_free
+from acoustiviz.core.medium import AIR
+from acoustiviz.core.radiation import pressure, radiation_coefficients
 from acoustiviz.field import time_series
-from acoustiviz.images import images_free
-from acoustiviz.medium import AIR
-from acoustiviz.plot._style import save_figure, style
-from acoustiviz.radiation import pressure, radiation_coefficients
+from acoustiviz.output.plot._style import save_figure, style
 
 A = 0.01905
 C = AIR.c

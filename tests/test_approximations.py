@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
-
-from acoustiviz import approximations as ap
-from acoustiviz import field
 from acoustiviz.contact import HalfSinePulse, Impact, acceleration_pulse
 from acoustiviz.images import images_plane
 from acoustiviz.medium import AIR
 from acoustiviz.radiation import pressure, radiation_coefficients
+
+from acoustiviz import approximations as ap
+from acoustiviz import field
 
 A = 0.01905
 

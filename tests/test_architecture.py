@@ -1,55 +1,160 @@
-"""Imports point down the layers: the physics core knows nothing of grids, plots, files or the CLI."""
+"""The folder tree is the architecture: imports point down the layers, the physics writes no files.
+
+Layers, lowest first (a module may import its own layer and those below it, never above):
+
+    foundation  errors, constants, _validate, _aliases
+    core        medium, materials, contact, radiation, images, approximations
+    dynamics    the impact damper and its solvers
+    field       the field evaluator, its kernels and grids
+    levels      weighted levels, spectra, loudness, radiated energy
+    output      writers, plots, renders, audio
+    sweep       design sweeps and the design table
+    app         the application layer and the scene files it runs
+    cli         the command line
+"""
 
 import ast
+import importlib
 import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import acoustiviz
+from acoustiviz import _aliases
 
 PKG = Path(acoustiviz.__file__).parent
-CORE = ["medium", "materials", "contact", "radiation", "images", "dynamics"]
-UPPER = ["field", "grids", "plot", "render", "audio", "scene", "cli", "sweep", "_gallery"]
-MIDDLE_FORBIDDEN = ["plot", "render", "audio", "scene", "cli", "sweep", "_gallery"]
+LAYERS = [
+    {"errors", "constants", "_validate", "_aliases"},
+    {"core"},
+    {"dynamics"},
+    {"field"},
+    {"levels"},
+    {"output"},
+    {"sweep"},
+    {"app", "scene"},
+    {"cli"},
+]
+RANK = {name: i for i, group in enumerate(LAYERS) for name in group}
+#: Layers that compute physics: they never write files (the output layer does).
+PHYSICS = {"core", "dynamics", "field", "levels"}
+MAX_LINES = 600
+
+
+def _modules():
+    for path in sorted(PKG.rglob("*.py")):
+        rel = path.relative_to(PKG)
+        if rel.parts[0] == "assets":
+            continue
+        yield path, rel
+
+
+def _top(rel: Path) -> str:
+    return rel.parts[0].removesuffix(".py")
 
 
 def _imports(path: Path):
+    """Top-level acoustiviz subpackage names imported by ``path`` (relative and absolute imports)."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
+    base = path.relative_to(PKG).parent.parts
     mods = []
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
-            if node.level:  # relative import inside acoustiviz
-                base = path.relative_to(PKG).parent.parts
-                up = base[: len(base) - (node.level - 1)] if node.level > 1 else base
-                mods.append(".".join((*up, node.module or "")).strip("."))
-            elif node.module and node.module.startswith("acoustiviz"):
-                mods.append(node.module.removeprefix("acoustiviz").lstrip("."))
+            if node.level:
+                up = base[: len(base) - (node.level - 1)]
+                target = (*up, *(node.module.split(".") if node.module else ()))
+                if not target:  # "from . import x" at the package root
+                    target = tuple(a.name for a in node.names)
+                    mods += list(target)
+                    continue
+                mods.append(target[0])
+            elif node.module and node.module.split(".")[0] == "acoustiviz":
+                parts = node.module.split(".")
+                mods += [parts[1]] if len(parts) > 1 else [a.name for a in node.names]
         elif isinstance(node, ast.Import):
-            mods += [a.name.removeprefix("acoustiviz").lstrip(".") for a in node.names
-                     if a.name.startswith("acoustiviz")]
-    return [m.split(".")[0] for m in mods if m]
+            mods += [a.name.split(".")[1] for a in node.names if a.name.startswith("acoustiviz.")]
+    return mods
 
 
-def _files(names):
-    for name in names:
-        p = PKG / f"{name}.py"
-        if p.exists():
-            yield name, p
-        d = PKG / name
-        if d.is_dir():
-            for f in d.rglob("*.py"):
-                yield name, f
+def test_every_module_belongs_to_a_layer():
+    tops = {_top(rel) for _, rel in _modules() if rel.name != "__init__.py" or len(rel.parts) > 1}
+    tops |= {_top(rel) for _, rel in _modules() if len(rel.parts) > 1}
+    tops -= {"__init__", "__main__"}
+    assert tops <= set(RANK), f"modules outside any layer: {sorted(tops - set(RANK))}"
 
 
-def test_core_imports_no_upper_layer():
-    bad = [(str(f.relative_to(PKG)), m) for _, f in _files(CORE) for m in _imports(f) if m in UPPER]
+def test_imports_point_down_the_layers():
+    bad = []
+    for path, rel in _modules():
+        top = _top(rel)
+        if top not in RANK:
+            continue  # reported by test_every_module_belongs_to_a_layer
+        for mod in _imports(path):
+            mod = _aliases.ALIASES.get(mod, mod).split(".")[0]
+            if mod in RANK and RANK[mod] > RANK[top]:
+                bad.append(f"{rel} imports {mod}")
+    assert not bad, "\n".join(bad)
+
+
+def test_package_code_uses_the_new_module_paths():
+    old = [f"{rel} imports acoustiviz.{mod}" for path, rel in _modules() if _top(rel) not in ("__init__", "_aliases")
+           for mod in _imports(path) if mod in _aliases.ALIASES]
+    assert not old, "\n".join(old)
+
+
+def _writes_files(tree) -> list:
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            f = node.func
+            name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+            if name in {"write_text", "write_bytes", "savetxt", "savez", "save", "to_csv", "atomic_path",
+                        "write_csv_atomic", "write_text_atomic", "mkdir"}:
+                found.append((node.lineno, name))
+            if name == "open" and len(node.args) > 1 and isinstance(node.args[1], ast.Constant) \
+                    and any(c in str(node.args[1].value) for c in "wax+"):
+                found.append((node.lineno, "open"))
+    return found
+
+
+def test_physics_layers_write_no_files():
+    bad = []
+    for path, rel in _modules():
+        if _top(rel) in PHYSICS:
+            bad += [f"{rel}:{line} calls {name}" for line, name in _writes_files(ast.parse(path.read_text("utf-8")))]
+    assert not bad, "\n".join(bad)
+
+
+def test_no_module_exceeds_the_size_limit():
+    big = [f"{rel}: {n} lines" for path, rel in _modules()
+           if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_LINES]
+    assert not big, "\n".join(big)
+
+
+def test_no_private_scipy_imports():
+    bad = [str(rel) for path, rel in _modules() if "scipy.integrate._ivp" in path.read_text(encoding="utf-8")]
     assert not bad, bad
 
 
-def test_field_layer_imports_no_output_layer():
-    bad = [(str(f.relative_to(PKG)), m) for _, f in _files(["field", "grids"])
-           for m in _imports(f) if m in MIDDLE_FORBIDDEN]
-    assert not bad, bad
+@pytest.mark.parametrize("old", sorted(_aliases.ALIASES))
+def test_old_module_paths_are_the_moved_modules(old):
+    moved = importlib.import_module(f"acoustiviz.{_aliases.ALIASES[old]}")
+    assert importlib.import_module(f"acoustiviz.{old}") is moved
+    assert moved.__spec__.name == moved.__name__  # the alias left the real module's spec alone
+
+
+def test_public_errors_carry_name_and_detail():
+    from acoustiviz import ParameterError
+    from acoustiviz.errors import ParameterError as Same
+
+    assert ParameterError is Same
+    err = ParameterError("radius", "must be > 0 m, got -1 m")
+    assert (err.name, err.detail, str(err)) == ("radius", "must be > 0 m, got -1 m", "radius: must be > 0 m, got -1 m")
+    import pickle
+
+    back = pickle.loads(pickle.dumps(err))
+    assert (back.name, back.detail) == (err.name, err.detail)
 
 
 def test_import_is_light_and_side_effect_free():

@@ -11,11 +11,12 @@ import numpy as np
 import pytest
 import soundfile as sf
 
-from acoustiviz import audio
-from acoustiviz._validate import ParameterError
-from acoustiviz.audio import CavityScene, ClickModel, ImpactSequence, render
-from acoustiviz.images import ImageSource, images_plane, images_wall_floor
-from acoustiviz.radiation import sphere_pressure
+from acoustiviz.core.images import ImageSource, images_plane, images_wall_floor
+from acoustiviz.core.medium import AIR
+from acoustiviz.core.radiation import sphere_pressure
+from acoustiviz.errors import ParameterError
+from acoustiviz.output import audio
+from acoustiviz.output.audio import CavityScene, ClickModel, ImpactSequence, render
 
 try:  # the field evaluator is the reference for levels; a plain radiation sum if it is absent
     from acoustiviz import field
@@ -27,7 +28,7 @@ M = 0.0405  # Table 1 impact mass, kg
 LISTENER = np.array([0.495, 0.0, 0.514])  # 0.7 m at 45 degrees from the sphere's centre
 
 
-def _direct(pulse, t, point, sources, radius, medium=audio.AIR):
+def _direct(pulse, t, point, sources, radius, medium=AIR):
     """Reference: a plain sum of free-field spheres from the radiation core."""
     return sum(sphere_pressure(pulse, t, point[None, :], radius=radius, centre=s.position, axis=s.axis,
                                medium=medium)[0] for s in sources)
@@ -358,8 +359,8 @@ def test_whole_run_level_and_exposure_match_the_field_evaluator():
     reference is the field evaluator on an independently built configuration for each wall (the far wall's
     sphere at a + gap accelerating along -z, imaged in z = 0). Tolerances as for one click.
     """
+    from acoustiviz.core.images import Configuration
     from acoustiviz.dynamics import TABLE1, simulate
-    from acoustiviz.images import Configuration
 
     run = simulate(TABLE1, 3.0)
     seq = ImpactSequence.from_table(run.impacts)

@@ -10,8 +10,8 @@ import pytest
 import soundfile as sf
 
 from acoustiviz.cli import main
-from acoustiviz.contact import Impact, acceleration_pulse
-from acoustiviz.images import images_plane
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.images import images_plane
 
 try:
     from acoustiviz.field import time_series
@@ -67,7 +67,7 @@ def test_one_click_level_matches_the_field_evaluator(tmp_path):
     if time_series is not None:
         ref = time_series(pulse, t, pt, images_plane(A))[0]
     else:  # pragma: no cover
-        from acoustiviz.radiation import sphere_pressure
+        from acoustiviz.core.radiation import sphere_pressure
 
         ref = sum(sphere_pressure(pulse, t, pt, radius=A, centre=s.position, axis=s.axis)[0]
                   for s in images_plane(A).sources)

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
-from acoustiviz.contact import Impact, acceleration_pulse
-from acoustiviz.images import images_plane
-from acoustiviz.medium import AIR
-from acoustiviz.radiation import sphere_pressure
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.images import images_plane
+from acoustiviz.core.medium import AIR
+from acoustiviz.core.radiation import sphere_pressure
 
 A = 0.01905
 ARGS = [

@@ -98,7 +98,7 @@ def test_bad_options_exit_2_naming_the_option(tmp_path, capsys, monkeypatch, arg
 
 
 def test_mp4_needs_a_writer(tmp_path, capsys):
-    from acoustiviz.render import mp4_available
+    from acoustiviz.output.render import mp4_available
 
     out = tmp_path / "a.mp4"
     code = main(["render", "animation", "--config", "plane", "--frames", "2", "--size", "160x120",

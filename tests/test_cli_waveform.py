@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
-from acoustiviz.contact import Impact, acceleration_pulse
-from acoustiviz.radiation import pressure
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.radiation import pressure
 
 FIG2 = ["--radius", "0.01905", "--velocity", "1.4", "--k-hertz", "5.6e8", "--density", "7800",
         "--distance", "0.7", "--angle", "45"]

@@ -4,9 +4,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import quad, solve_ivp
-
-from acoustiviz._validate import ParameterError
 from acoustiviz.contact import (
     HERTZ_DURATION_CONSTANT,
     PAPER_DURATION_CONSTANT,
@@ -25,6 +22,9 @@ from acoustiviz.contact import (
     restitution,
 )
 from acoustiviz.materials import Material, material
+from scipy.integrate import quad, solve_ivp
+
+from acoustiviz._validate import ParameterError
 
 # the paper's Figure 2 impact: steel sphere of radius 19.05 mm at 1.4 m/s, K = 5.6e8 N/m^1.5
 RADIUS = 0.01905

@@ -4,10 +4,10 @@ import math
 
 import numpy as np
 import pytest
+from acoustiviz.images import images_free, images_plane, images_wall_floor
 
 from acoustiviz._validate import ParameterError
 from acoustiviz.grids import planar_grid, spherical_grid, spherical_grid_for
-from acoustiviz.images import images_free, images_plane, images_wall_floor
 
 A = 0.01905
 

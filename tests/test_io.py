@@ -6,7 +6,7 @@ import pytest
 def test_atomic_writes_leave_no_temporary_and_normal_permissions(tmp_path):
     import os
 
-    from acoustiviz._io import atomic_path, write_text_atomic
+    from acoustiviz.output.writers import atomic_path, write_text_atomic
 
     target = write_text_atomic(tmp_path / "a.txt", "hello")
     assert target.read_text() == "hello"

@@ -3,10 +3,10 @@ import math
 
 import pytest
 
-from acoustiviz._validate import ParameterError
-from acoustiviz.contact import hertz_stiffness
-from acoustiviz.materials import catalogue, material, reduced_modulus
-from acoustiviz.medium import AIR, Medium, air_at
+from acoustiviz.core.contact import hertz_stiffness
+from acoustiviz.core.materials import catalogue, material, reduced_modulus
+from acoustiviz.core.medium import AIR, Medium, air_at
+from acoustiviz.errors import ParameterError
 
 REQUIRED = ["steel", "stainless_steel", "aluminium", "brass", "glass", "pmma", "nylon", "rubber"]
 

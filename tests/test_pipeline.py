@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from acoustiviz._validate import ParameterError
-from acoustiviz.pipeline import PRODUCERS, RunContext, run_scene
+from acoustiviz.app.pipeline import PRODUCERS, RunContext, run_scene
+from acoustiviz.errors import ParameterError
 from acoustiviz.scene import OUTPUT_KINDS, load_scene, scene_from_dict, shipped_scenes
 
 SCENES = {name: name for name in shipped_scenes()}
@@ -32,8 +32,8 @@ def test_waveform_scene_matches_the_radiation_core(tmp_path):
     data = np.loadtxt(tmp_path / "out" / "waveform_fig2.csv", delimiter=",", skiprows=1)
     t = data[:, 0]
     # column 1 is the paper's half-sine: the sphere and its image summed by hand
-    from acoustiviz.contact import Impact, acceleration_pulse
-    from acoustiviz.radiation import pressure
+    from acoustiviz.core.contact import Impact, acceleration_pulse
+    from acoustiviz.core.radiation import pressure
 
     a = 0.01905
     pulse = acceleration_pulse(Impact(1.4, 5.6e8, 7800 * 4 / 3 * math.pi * a**3), "half-sine")
@@ -122,7 +122,7 @@ def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
     res = simulate(ctx.damper_model, 1.0, initial=ctx.damper_initial)
     fastest = float(np.max(res.impacts.approach_velocity))
     (_, pos), = scene.listeners()
-    from acoustiviz.contact import Impact, acceleration_pulse
+    from acoustiviz.core.contact import Impact, acceleration_pulse
 
     # the damper's sphere is its impact mass m = 40.5 g with the paper's radius 19.05 mm
     pulse = acceleration_pulse(Impact(fastest, 5.6e8, 0.0405), "half-sine")
@@ -132,7 +132,7 @@ def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
 
 
 def test_scene_sweep_maps_onto_the_sweep_spec(tmp_path):
-    from acoustiviz.pipeline import sweep_spec
+    from acoustiviz.app.pipeline import sweep_spec
 
     scene = scene_from_dict({"damper": {"contact_damping_n_s_m": 15.0, "initial_velocity_m_s": 1.5},
                              "outputs": {"sweep": {"gap_m": "0.02:0.04:3", "mass_kg": "0.03:0.05:2",

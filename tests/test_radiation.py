@@ -4,9 +4,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import quad
-
-from acoustiviz._validate import ParameterError
 from acoustiviz.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
 from acoustiviz.medium import AIR, Medium
 from acoustiviz.radiation import (
@@ -15,6 +12,9 @@ from acoustiviz.radiation import (
     pulse_response,
     sphere_pressure,
 )
+from scipy.integrate import quad
+
+from acoustiviz._validate import ParameterError
 
 # the adaptive-quadrature references ask for 1e-12 and sometimes report reaching only ~1e-13 absolute
 pytestmark = pytest.mark.filterwarnings("ignore::scipy.integrate.IntegrationWarning")

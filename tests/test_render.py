@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz._validate import ParameterError
+from acoustiviz.core.images import configuration
+from acoustiviz.errors import ParameterError
 from acoustiviz.field import snapshots
-from acoustiviz.images import configuration
 
 pv = pytest.importorskip("pyvista")
-render = pytest.importorskip("acoustiviz.render")
+render = pytest.importorskip("acoustiviz.output.render")
 Image = pytest.importorskip("PIL.Image")
 
 A = 0.01905

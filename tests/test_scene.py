@@ -55,8 +55,8 @@ def test_defaults_fill_an_empty_scene():
 
 def test_mass_material_and_stiffness_rules():
     sc = scene_from_dict({"sphere": {"material": "glass", "radius_m": 0.01}, "contact": {"surface": "steel"}})
-    from acoustiviz.contact import hertz_stiffness
-    from acoustiviz.materials import material
+    from acoustiviz.core.contact import hertz_stiffness
+    from acoustiviz.core.materials import material
 
     assert sc.k_hertz() == pytest.approx(hertz_stiffness(0.01, material("glass"), material("steel")))
     assert sc.sphere_density() == material("glass").density

@@ -8,14 +8,14 @@ from concurrent.futures import Executor, Future
 
 import numpy as np
 import pytest
+from acoustiviz.contact import Impact, acceleration_pulse
+from acoustiviz.images import configuration
+from acoustiviz.medium import Medium
 
 from acoustiviz._validate import ParameterError
-from acoustiviz.contact import Impact, acceleration_pulse
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics import metrics as dm
 from acoustiviz.field import field_metrics
-from acoustiviz.images import configuration
-from acoustiviz.medium import Medium
 from acoustiviz.sweep import (
     CSV_COLUMNS,
     SWEEP_CSV,

@@ -6,33 +6,33 @@ mass centred and at rest). SI units.
 
 from __future__ import annotations
 
-__all__ = ["add_damper_options", "DEFAULT_RTOL", "SOLVER_NAMES"]
+from ..constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, TABLE1
+from ..constants import SOLVERS as SOLVER_NAMES
 
-#: The solvers of :func:`acoustiviz.dynamics.simulate`.
-SOLVER_NAMES = ("event", "newmark", "impact-map")
-#: The event solver's default relative tolerance, as in :func:`acoustiviz.dynamics.simulate`.
-DEFAULT_RTOL = 1e-12
+__all__ = ["add_damper_options", "damper_from_args", "DEFAULT_RTOL", "SOLVER_NAMES"]
 
 
 def add_damper_options(parser, *, duration_help: str = "simulated time in s (default %(default)s)") -> None:
     """Add the damper model, initial velocity and solver options to ``parser``."""
     g = parser.add_argument_group("damper (paper eq 15; defaults: Table 1, Figure 5)")
-    g.add_argument("--M", type=float, default=0.5, metavar="KG", help="main mass in kg (default %(default)s)")
-    g.add_argument("--K", type=float, default=500.0, metavar="N/M", help="main spring in N/m (default %(default)s)")
-    g.add_argument("--C", type=float, default=0.05, metavar="N*S/M", help="main dashpot in N s/m (default %(default)s)")
-    g.add_argument("--m", type=float, default=0.0405, metavar="KG", help="impact mass in kg (default %(default)s)")
-    g.add_argument("--gap", type=float, default=0.04, metavar="M",
+    g.add_argument("--M", type=float, default=TABLE1["M"], metavar="KG", help="main mass in kg (default %(default)s)")
+    g.add_argument("--K", type=float, default=TABLE1["K"], metavar="N/M",
+                   help="main spring in N/m (default %(default)s)")
+    g.add_argument("--C", type=float, default=TABLE1["C"], metavar="N*S/M",
+                   help="main dashpot in N s/m (default %(default)s)")
+    g.add_argument("--m", type=float, default=TABLE1["m"], metavar="KG", help="impact mass in kg (default %(default)s)")
+    g.add_argument("--gap", type=float, default=PAPER_GAP, metavar="M",
                    help="total free travel d of the impact mass in m (default %(default)s)")
-    g.add_argument("--k-hertz", type=float, default=5.6e8, metavar="N/M^1.5",
+    g.add_argument("--k-hertz", type=float, default=TABLE1["k_hertz"], metavar="N/M^1.5",
                    help="Hertz contact stiffness in N/m^1.5 (default %(default)s)")
-    g.add_argument("--c1", type=float, default=20.0, metavar="N*S/M",
+    g.add_argument("--c1", type=float, default=TABLE1["c1"], metavar="N*S/M",
                    help="contact damping in N s/m (default %(default)s)")
     g.add_argument("--clip-tensile", action="store_true",
                    help="clip the contact force at zero (default: the paper's form, which may pull)")
-    g.add_argument("--v0", type=float, default=2.0, metavar="M/S",
+    g.add_argument("--v0", type=float, default=PAPER_V0, metavar="M/S",
                    help="initial main-mass velocity in m/s (default %(default)s)")
     s = parser.add_argument_group("solver")
-    s.add_argument("--duration", type=float, default=20.0, metavar="S", help=duration_help)
+    s.add_argument("--duration", type=float, default=DEFAULT_DURATION, metavar="S", help=duration_help)
     s.add_argument("--solver", choices=SOLVER_NAMES, default="event",
                    help="event (default; exact free flight, adaptive contacts), newmark (the paper's "
                         "fixed-step scheme) or impact-map (instantaneous impacts)")
@@ -40,3 +40,21 @@ def add_damper_options(parser, *, duration_help: str = "simulated time in s (def
                    help="Newmark step in s (default: 1/50 of the shortest possible contact)")
     s.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
                    help="relative tolerance of the event solver's contacts (default %(default)s)")
+
+
+def damper_from_args(args):
+    """Build and run the damper of the shared options (:mod:`acoustiviz.app.damper`), errors naming options.
+
+    Returns
+    -------
+    model : DamperModel
+    run : acoustiviz.app.damper.DamperRun
+    """
+    from ..app.damper import damper_model, run_damper
+    from ..app.names import DAMPER_OPTIONS, user_terms
+
+    with user_terms(DAMPER_OPTIONS):
+        model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
+                             c1=args.c1, clip_tensile=bool(args.clip_tensile))
+        run = run_damper(model, args.duration, solver=args.solver, v0=args.v0, rtol=args.rtol, dt=args.dt)
+    return model, run

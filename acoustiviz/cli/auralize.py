@@ -8,6 +8,7 @@ Positions are in m in the frame where the struck surface is ``z = 0`` and the sp
 
 from __future__ import annotations
 
+from ..constants import STRIKES
 from ._damper import add_damper_options
 
 DEFAULT_LISTENER = "0.495,0,0.514"
@@ -45,6 +46,11 @@ def add_parser(subparsers) -> None:
     a.add_argument("--wall-distance", type=float, default=None, metavar="M",
                    help="wall-floor only: distance in m from the side wall x = -D to the sphere's centre "
                         "(default 0.05)")
+    a.add_argument("--strike", default="floor", choices=STRIKES,
+                   help="wall-floor only: the struck surface; 'wall' puts the damper against the wall, striking "
+                        "along +x (default floor)")
+    a.add_argument("--height", type=float, default=None, metavar="M",
+                   help="wall strike only: height in m of the sphere's centre above the floor (default: the radius)")
     a.add_argument("--radius", type=float, default=None, metavar="M",
                    help="sphere radius in m (default 0.01905, the paper's sphere, whose levels the paper "
                         "reports whatever the mass)")
@@ -111,7 +117,7 @@ def read_impacts_csv(path):
     import numpy as np
 
     from .._validate import ParameterError
-    from ..audio import ImpactSequence
+    from ..output.audio import ImpactSequence
 
     try:
         data = np.genfromtxt(path, delimiter=",", names=True, ndmin=1)
@@ -129,33 +135,16 @@ def read_impacts_csv(path):
 
 def _simulate(args):
     """Run the damper as ``acoustiviz damper`` would; return the impact sequence and a description."""
-    import warnings
+    from ..app.damper import damper_description
+    from ..output.audio import ImpactSequence
+    from ._damper import damper_from_args
 
-    from .._validate import ParameterError
-    from ..audio import ImpactSequence
-    from ..dynamics import DamperModel, InitialState, simulate
-
-    names = {"M": "--M", "K": "--K", "C": "--C", "m": "--m", "gap": "--gap", "k_hertz": "--k-hertz",
-             "c1": "--c1", "v": "--v0", "duration": "--duration", "solver": "--solver", "dt": "--dt",
-             "rtol": "--rtol"}
-    try:
-        model = DamperModel(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
-                            c1=args.c1, clip_tensile=bool(args.clip_tensile))
-        initial = InitialState(v=args.v0)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            res = simulate(model, args.duration, solver=args.solver, initial=initial, rtol=args.rtol, dt=args.dt)
-    except ParameterError as exc:
-        raise ParameterError(names.get(exc.name, exc.name), str(exc).split(": ", 1)[-1]) from None
-    for w in caught:
-        print(f"warning: {w.message}")
-    if not res.success:
-        print(f"warning: the damper solver stopped early: {res.message}")
-    seq = ImpactSequence.from_table(res.impacts)
-    desc = {"M_kg": args.M, "K_n_m": args.K, "C_n_s_m": args.C, "m_kg": args.m, "gap_m": args.gap,
-            "k_hertz_n_m1_5": args.k_hertz, "c1_n_s_m": args.c1, "v0_m_s": args.v0, "duration_s": args.duration,
-            "solver": args.solver, "solver_settings": dict(res.settings), "clip_tensile": bool(args.clip_tensile)}
-    return seq, desc
+    model, run = damper_from_args(args)
+    for msg in run.warnings:
+        print(f"warning: {msg}")
+    if not run.result.success:
+        print(f"warning: the damper solver stopped early: {run.result.message}")
+    return ImpactSequence.from_table(run.result.impacts), damper_description(model, run, args.duration)
 
 
 def _output_paths(wav, n: int):
@@ -170,27 +159,16 @@ def _output_paths(wav, n: int):
 
 def run(args) -> int:
     """Simulate (or read) the impacts, render them, write the WAVs and sidecars, print a summary."""
-    import math
-    import warnings
     from pathlib import Path
 
     import numpy as np
 
-    from .. import __version__
     from .._validate import ParameterError, check_positive, check_range
-    from ..audio import (
-        CavityScene,
-        ClickModel,
-        ClippingWarning,
-        check_listeners,
-        ear_positions,
-        render,
-        shared_scale,
-        sphere_radius,
-        write_sidecar,
-        write_wav,
-    )
-    from ..medium import Medium
+    from ..app.names import user_terms
+    from ..app.wav import WavFile, cavity, write_wav_files
+    from ..constants import PAPER_RADIUS
+    from ..core.medium import Medium
+    from ..output.audio import ClickModel, check_listeners, ear_positions, render, sphere_radius
 
     # ---- validate every option before any work
     for opt, val, unit in (("--M", args.M, "kg"), ("--K", args.K, "N/m"), ("--m", args.m, "kg"),
@@ -208,16 +186,12 @@ def run(args) -> int:
         radius = sphere_radius(args.m, check_positive("--density", args.density, "kg/m^3"))
         radius_source = f"solid sphere of {args.m:g} kg at {args.density:g} kg/m^3"
     else:
-        radius = check_positive("--radius", 0.01905 if args.radius is None else args.radius, "m")
+        radius = check_positive("--radius", PAPER_RADIUS if args.radius is None else args.radius, "m")
         radius_source = "given" if args.radius is not None else "default: the paper's sphere"
     medium = Medium(c=check_positive("--c", args.c, "m/s"), rho=check_positive("--rho", args.rho, "kg/m^3"))
-    wall = args.wall_distance
-    if args.config == "wall-floor":
-        wall = 0.05 if wall is None else check_range("--wall-distance", wall, radius, unit="m")
-    elif wall is not None:
-        raise ParameterError("--wall-distance", "only applies with --config wall-floor")
-    scene = CavityScene(args.config, radius, args.gap, struck_wall=args.struck_wall, walls=args.walls,
-                        wall_distance=wall, medium=medium)
+    with user_terms({"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height"}):
+        scene = cavity(args.config, radius, args.gap, struck_wall=args.struck_wall, walls=args.walls,
+                       wall_distance=args.wall_distance, strike=args.strike, height=args.height, medium=medium)
     model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
                        pulse=args.pulse)
 
@@ -246,61 +220,35 @@ def run(args) -> int:
     channels = [out.pressure] if args.stereo else [out.pressure[i:i + 1] for i in range(out.pressure.shape[0])]
     chan_listeners = [listeners] if args.stereo else [listeners[i:i + 1] for i in range(listeners.shape[0])]
     paths = _output_paths(args.wav, len(channels))
-    if args.subtype == "PCM_24":
-        scale = args.scale if args.scale is not None else shared_scale(channels, headroom_db=args.headroom)
-        scale_source = "given (--scale)" if args.scale is not None else (
-            f"shared by the {len(paths)} file(s) of this run: their peak + {args.headroom:g} dB headroom")
-    else:
-        scale = 1.0 if args.scale is None else args.scale
-        scale_source = "pascals (1.0 = 1 Pa)" if args.scale is None else "given (--scale)"
-    base = out.describe()
+    names = ["left", "right"] if args.stereo else ["mono"]
+    files = [WavFile(path, data, [f"listener{i + 1}" for i in range(len(pts))] if not args.stereo else names, pts,
+                     names) for path, data, pts in zip(paths, channels, chan_listeners, strict=True)]
     print(f"impacts: {len(seq)} ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
           f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
           else "impacts: 0 (silence)")
     print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
           f"mass model {model.mass_model}, configuration {scene.config}, walls {scene.walls}; "
           f"{args.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
-    for path, data, pts in zip(paths, channels, chan_listeners, strict=True):
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", ClippingWarning)
-            info = write_wav(path, data, args.rate, subtype=args.subtype, scale=scale)
-        for w in caught:
-            print(f"warning: {w.message}")
-        peaks = np.max(np.abs(data), axis=1)
-        spls = [20 * math.log10(pk / 20e-6) if pk > 0 else None for pk in peaks]
-        record = {
-            "file": Path(path).name,
-            "subtype": info["subtype"],
-            "sample_rate_hz": args.rate,
-            "channels": info["channels"],
-            "frames": info["frames"],
-            "scale_pa_per_full_scale": scale,
-            "scale_source": scale_source,
-            "pressure_pa": "sample value x scale_pa_per_full_scale",
-            "listeners_m": pts.tolist(),
-            "channel_names": (["left", "right"] if args.stereo else ["mono"]),
-            "peak_pa": peaks.tolist(),
-            "peak_spl_db_re_20upa": spls,
-            "peak_note": "peaks of the band-limited samples at the output rate",
-            "clipping": {"clipped_samples": info["clipped_samples"],
-                         "peak_over_full_scale_db": info["over_full_scale_db"]},
-            **base,
-            "damper": run_desc,
-            "radius_source": radius_source,
-            "acoustiviz_version": __version__,
-        }
-        side = write_sidecar(path, record)
+    written = write_wav_files(files, sample_rate=args.rate, subtype=args.subtype, scale=args.scale,
+                              headroom_db=args.headroom, rendering=out.describe(), damper=run_desc,
+                              radius_source=radius_source)
+    for wav, w in zip(files, written, strict=True):
+        for msg in w["warnings"]:
+            print(f"warning: {msg}")
+        rec = w["record"]
+        spls, peaks = rec["peak_spl_db_re_20upa"], rec["peak_pa"]
         lvl = ", ".join(f"{s:.1f}" if s is not None else "silent" for s in spls)
-        print(f"peak SPL: {lvl} dB re 20 uPa (peak {peaks.max():.4g} Pa)")
-        if args.subtype == "FLOAT" and info["over_full_scale_db"] > 0:
-            print(f"note: the peak is {info['over_full_scale_db']:.1f} dB above 1.0 = {scale:g} Pa; the float file "
-                  "stores it exactly, but players that treat 1.0 as full scale will clip it (use --subtype PCM_24 "
-                  "for listening)")
-        print(f"wrote {path}")
-        print(f"wrote {side}")
+        print(f"peak SPL: {lvl} dB re 20 uPa (peak {max(peaks):.4g} Pa)")
+        over = rec["clipping"]["peak_over_full_scale_db"]
+        if args.subtype == "FLOAT" and over > 0:
+            print(f"note: the peak is {over:.1f} dB above 1.0 = {rec['scale_pa_per_full_scale']:g} Pa; the float "
+                  "file stores it exactly, but players that treat 1.0 as full scale will clip it (use --subtype "
+                  "PCM_24 for listening)")
+        print(f"wrote {wav.path}")
+        print(f"wrote {w['sidecar']}")
     if args.png:
-        from ..plot._style import save_figure
-        from ..plot.audio import auralisation_figure
+        from ..output.plot._style import save_figure
+        from ..output.plot.audio import auralisation_figure
 
         if args.stereo:
             labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]

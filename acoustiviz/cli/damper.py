@@ -8,22 +8,7 @@ Example::
 
 from __future__ import annotations
 
-from ._damper import add_damper_options
-
-#: model/simulate parameter name -> command-line option (for error messages)
-_OPTION = {
-    "M": "--M",
-    "K": "--K",
-    "C": "--C",
-    "m": "--m",
-    "gap": "--gap",
-    "k_hertz": "--k-hertz",
-    "c1": "--c1",
-    "v": "--v0",
-    "duration": "--duration",
-    "dt": "--dt",
-    "rtol": "--rtol",
-}
+from ._damper import add_damper_options, damper_from_args
 
 
 def add_parser(subparsers):
@@ -48,40 +33,13 @@ def add_parser(subparsers):
     return p
 
 
-def _option_error(exc):
-    from .._validate import ParameterError
-
-    name = _OPTION.get(exc.name, exc.name)
-    msg = str(exc).split(": ", 1)[-1]
-    return ParameterError(name, msg)
-
-
 def run(args) -> int:
     """Run the ``damper`` subcommand; return the exit status."""
-    import warnings
-
-    from .._validate import ParameterError, check_positive
-    from ..dynamics import DamperModel, InitialState, simulate
-    from ..dynamics.metrics import damping_metrics, sample_times
-
-    try:
-        model = DamperModel(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap,
-                            k_hertz=args.k_hertz, c1=args.c1, clip_tensile=bool(args.clip_tensile))
-        initial = InitialState(v=args.v0)
-        check_positive("duration", args.duration, "s")
-        if args.dt is not None:
-            check_positive("dt", args.dt, "s")
-        t_eval = sample_times(args.duration, model)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            result = simulate(model, args.duration, solver=args.solver, initial=initial,
-                              rtol=args.rtol, dt=args.dt, t_eval=t_eval)
-    except ParameterError as exc:
-        raise _option_error(exc) from None
-    for w in caught:
-        print(f"warning: {w.message}")
-
-    metrics = damping_metrics(result.t, result.x)
+    _, damper = damper_from_args(args)
+    result = damper.result
+    for msg in damper.warnings:
+        print(f"warning: {msg}")
+    metrics = damper.metrics
     two, fit, ts = metrics.two_maxima, metrics.fit, metrics.settling_time
     settings = ", ".join(f"{k} {v:g}" for k, v in result.settings.items())
     print(f"solver: {result.solver} ({settings}); {result.message}")
@@ -101,8 +59,8 @@ def run(args) -> int:
         path = result.impacts.to_csv(args.impacts_csv)
         print(f"wrote {path}")
     if args.png:
-        from ..plot._style import save_figure
-        from ..plot.dynamics import plot_free_vibration
+        from ..output.plot._style import save_figure
+        from ..output.plot.dynamics import plot_free_vibration
 
         ax = plot_free_vibration(result)
         path = save_figure(ax.figure, args.png)

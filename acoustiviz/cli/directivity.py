@@ -34,7 +34,8 @@ def run(args) -> int:
 
     import numpy as np
 
-    from .._validate import ParameterError, check_range
+    from .._validate import check_range
+    from ..app.names import user_terms
     from ..field import directivity
     from ._impact import impact_from_args
 
@@ -46,10 +47,8 @@ def run(args) -> int:
     deg = np.arange(0.0, top + 1e-9 * top, step)
     if deg[-1] < top - 1e-9:
         deg = np.append(deg, top)
-    try:
+    with user_terms({"distance": "--distance", "angles": "--step"}):
         d = directivity(setup.pulse, setup.configuration, args.distance, np.radians(deg), medium=setup.medium)
-    except ParameterError as exc:
-        raise ParameterError("--distance", str(exc).split(": ", 1)[-1]) from None
     imp = setup.impact
     print(
         f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
@@ -63,7 +62,7 @@ def run(args) -> int:
     for row in zip(deg, d.peak, d.rms, d.spl_db, strict=True):
         print(f"{row[0]:9.2f} {row[1]:10.4g} {row[2]:10.4g} {row[3]:7.2f}")
     if args.csv:
-        from .._io import write_csv_atomic
+        from ..output.writers import write_csv_atomic
 
         write_csv_atomic(
             args.csv,
@@ -73,8 +72,8 @@ def run(args) -> int:
         )
         print(f"wrote {args.csv}")
     if args.png:
-        from ..plot._style import save_figure
-        from ..plot.directivity import directivity_figure
+        from ..output.plot._style import save_figure
+        from ..output.plot.directivity import directivity_figure
 
         fig = directivity_figure(d, half_space=top == 90.0, title=(
             f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "

@@ -172,7 +172,7 @@ def _check_common(args):
         if args.mp4 and not str(args.mp4).lower().endswith(".mp4"):
             raise ParameterError("--mp4", f"expected a file name ending in .mp4, got {args.mp4!r}")
         if args.mp4:
-            from ..render import mp4_available
+            from ..output.render import mp4_available
 
             if not mp4_available():
                 raise ParameterError("--mp4", "writing MP4 needs imageio and imageio-ffmpeg "
@@ -194,7 +194,7 @@ def run(args) -> int:
     """Render the requested view; return the exit status."""
     import sys
 
-    from .._validate import ParameterError
+    from ..app.names import user_terms
 
     if not getattr(args, "view", None):
         print("acoustiviz render: error: choose a view: balloon, snapshot or animation", file=sys.stderr)
@@ -204,10 +204,8 @@ def run(args) -> int:
 
     setup = impact_from_args(args)
     try:
-        outputs = _render(args, setup, size)
-    except ParameterError as exc:  # name the option, not the library parameter
-        option = _OPTION.get(exc.name, f"--{exc.name.replace('_', '-')}")
-        raise ParameterError(option, str(exc).split(": ", 1)[-1]) from None
+        with user_terms(_OPTION):
+            outputs = _render(args, setup, size)
     except RuntimeError as exc:
         print(f"acoustiviz render: error: {exc}", file=sys.stderr)
         return 1
@@ -217,7 +215,7 @@ def run(args) -> int:
 
 
 def _render(args, setup, size) -> list:
-    from .. import render
+    from ..output import render
 
     common = dict(medium=setup.medium, size=size)
     title = args.title

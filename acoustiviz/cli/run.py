@@ -33,7 +33,7 @@ def run(args) -> int:
     if args.out is None:
         raise ParameterError("--out", "give an output folder, e.g. --out acoustiviz-out")
     scene = load_scene(args.scene) if args.scene else default_scene()
-    from ..pipeline import run_scene
+    from ..app.pipeline import run_scene
 
     def progress(msg):
         if not args.quiet:

@@ -57,13 +57,13 @@ def run(args) -> int:
     print(f"pressure: max {p.max():.4g} Pa, min {p.min():.4g} Pa, peak SPL "
           f"{20 * math.log10(peak / 20e-6):.1f} dB re 20 uPa")
     if args.csv:
-        from .._io import write_csv_atomic
+        from ..output.writers import write_csv_atomic
 
         write_csv_atomic(args.csv, ["time_s", "pressure_pa"], [t, p], fmt=["%.12e", "%.10e"])
         print(f"wrote {args.csv}")
     if args.png:
-        from ..plot._style import save_figure, style
-        from ..plot.waveform import plot_waveform
+        from ..output.plot._style import save_figure, style
+        from ..output.plot.waveform import plot_waveform
 
         with style():
             ax = plot_waveform(t, p, label=f"{setup.configuration.name}, {setup.pulse.kind}")

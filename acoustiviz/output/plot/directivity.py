@@ -38,7 +38,7 @@ def plot_directivity(directivity, quantity: str = "spl", ax=None, *, label=None,
     matplotlib.projections.polar.PolarAxes
         The axes drawn on; the radial unit is written in the title.
     """
-    from .._validate import check_choice
+    from ..._validate import check_choice
 
     check_choice("quantity", quantity, tuple(_QUANTITIES))
     attr, unit_label = _QUANTITIES[quantity]

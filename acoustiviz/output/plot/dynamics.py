@@ -41,7 +41,7 @@ def plot_free_vibration(result, ax=None, *, without=True, impacts=True):
     -------
     matplotlib Axes
     """
-    from ..dynamics.metrics import free_response
+    from ...dynamics.metrics import free_response
 
     with style():
         ax = new_axes(ax, figsize=(7.5, 4.0))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ._validate import check_positive, check_range
+from .._validate import check_positive, check_range
 
 __all__ = ["Medium", "AIR", "air_at"]
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import ParameterError, check_choice, check_points, check_positive
+from .._validate import ParameterError, check_choice, check_points, check_positive
 
 __all__ = [
     "CONFIGURATIONS",

@@ -42,7 +42,7 @@ def plot_waveform(t, p, ax=None, *, label=None, title=None, **line_kwargs):
     t = np.asarray(t, dtype=float)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if p.shape[-1] != t.size:
-        from .._validate import ParameterError
+        from ..._validate import ParameterError
 
         raise ParameterError("p", f"last axis has {p.shape[-1]} samples, t has {t.size}")
     labels = [label] if label is None or isinstance(label, str) else list(label)

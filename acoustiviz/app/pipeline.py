@@ -6,8 +6,9 @@ computed lazily and once per run by :class:`RunContext` (for example the damper 
 serves the time history, the impact table and the WAV files), so a scene that asks only for a
 waveform never runs the damper, and one that asks only for a WAV never evaluates a grid.
 
-This is the top layer: it imports the core, the field evaluator, plots, renders, audio and
-sweeps; nothing imports it but the command line.
+It sits in the application layer: it imports the core, the field evaluator, plots, renders,
+audio and sweeps, and shares the rules of :mod:`acoustiviz.app` with the command line; nothing
+imports it but the command line.
 """
 
 from __future__ import annotations
@@ -20,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._io import write_csv_atomic, write_text_atomic
-from ._validate import ParameterError
-from .scene import Scene, parse_range
+from ..errors import ParameterError
+from ..output.writers import write_csv_atomic, write_text_atomic
+from ..scene import Scene, parse_range
+from . import damper as _damper
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
 
@@ -38,17 +40,16 @@ class Product:
 
 def damper_model(scene: Scene):
     """The scene's :class:`~acoustiviz.dynamics.DamperModel` (K_HZ for the damper sphere's radius)."""
-    from .dynamics import DamperModel
-
     d = scene.section("damper")
-    return DamperModel(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
-                       gap=d["gap_m"], k_hertz=scene.k_hertz(scene.damper_sphere_radius()),
-                       c1=d["contact_damping_n_s_m"], clip_tensile=d["clip_tensile"])
+    return _damper.damper_model(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"],
+                                m=d["impact_mass_kg"], gap=d["gap_m"],
+                                k_hertz=scene.k_hertz(scene.damper_sphere_radius()),
+                                c1=d["contact_damping_n_s_m"], clip_tensile=d["clip_tensile"])
 
 
 def damper_initial(scene: Scene):
     """The scene's initial damper state (main mass displaced and moving, impact mass centred at rest)."""
-    from .dynamics import InitialState
+    from ..dynamics import InitialState
 
     d = scene.section("damper")
     return InitialState(x=d["initial_displacement_m"], v=d["initial_velocity_m_s"])
@@ -56,13 +57,9 @@ def damper_initial(scene: Scene):
 
 def damper_solver(scene: Scene, progress=None) -> str:
     """The scene's damper solver; ``"auto"`` is the cheapest whose error suits ``damper.tolerance``."""
-    from .dynamics import cheapest_solver
-
     d = scene.section("damper")
-    if d["solver"] != "auto":
-        return d["solver"]
-    name, reason = cheapest_solver(damper_model(scene), damper_initial(scene), d["tolerance"])
-    if progress is not None:
+    name, reason = _damper.choose_solver(d["solver"], damper_model(scene), damper_initial(scene), d["tolerance"])
+    if reason and progress is not None:
         progress(f"solver auto -> {name}: {reason}")
     return name
 
@@ -116,20 +113,19 @@ class RunContext:
         return damper_solver(self.scene, self.progress)
 
     @functools.cached_property
-    def damper_run(self):
-        """The damper simulation (once per run), with dense output for plots."""
-        from .dynamics import simulate
-        from .dynamics.metrics import sample_times
-
+    def damper(self):
+        """The damper simulation with its damping metrics (once per run; :func:`acoustiviz.app.damper.run_damper`)."""
         d = self.scene.section("damper")
         solver = self.damper_solver
         self.progress(f"simulating the damper for {d['duration_s']:g} s ({solver} solver)")
-        kwargs = {"rtol": min(d["tolerance"], 1e-3)} if solver != "newmark" else {}
-        start = time.perf_counter()
-        res = simulate(self.damper_model, d["duration_s"], solver=solver, initial=self.damper_initial,
-                       t_eval=sample_times(d["duration_s"], self.damper_model), **kwargs)
-        self.damper_seconds = time.perf_counter() - start
-        return res
+        rtol = d["tolerance"] if d["solver"] != "auto" else min(d["tolerance"], 1e-3)
+        return _damper.run_damper(self.damper_model, d["duration_s"], solver=solver, v0=self.damper_initial.v,
+                                  x0=self.damper_initial.x, rtol=rtol)
+
+    @property
+    def damper_run(self):
+        """The damper's :class:`~acoustiviz.dynamics.SimulationResult`."""
+        return self.damper.result
 
 
 # --------------------------------------------------------------------------- producers
@@ -140,16 +136,16 @@ def _fig():
 
 
 def _save(fig, path: Path) -> Path:
-    from .plot._style import save_figure
+    from ..output.plot._style import save_figure
 
     return save_figure(fig, path)
 
 
 def produce_waveform(ctx: RunContext):
     """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
-    from .field import time_series, waveform_span
-    from .plot._style import style
-    from .plot.waveform import plot_waveform
+    from ..field import time_series, waveform_span
+    from ..output.plot._style import style
+    from ..output.plot.waveform import plot_waveform
 
     opts = ctx.scene.output("waveform")
     kinds = opts["pulses"] or [ctx.scene.section("contact")["pulse"]]
@@ -183,8 +179,8 @@ def produce_waveform(ctx: RunContext):
 
 def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL against angle at the first listener's distance (CSV + polar PNG)."""
-    from .field import directivity
-    from .plot.directivity import directivity_figure
+    from ..field import directivity
+    from ..output.plot.directivity import directivity_figure
 
     step = ctx.scene.output("directivity")["step_deg"]
     conf = ctx.configuration
@@ -205,26 +201,17 @@ def produce_directivity(ctx: RunContext):
 
 def produce_damper_history(ctx: RunContext):
     """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
-    from .plot._style import style
-    from .plot.dynamics import plot_free_vibration
+    from ..output.plot._style import style
+    from ..output.plot.dynamics import plot_free_vibration
 
     res = ctx.damper_run
-    from .dynamics.metrics import damping_metrics
-
-    metrics = damping_metrics(res.t, res.x)
-    two, fit, ts = metrics.two_maxima, metrics.fit, metrics.settling_time
     csv = write_csv_atomic(ctx.path("damper_history.csv"),
                            ["time_s", "x_m", "v_m_s", "y_m", "w_m_s"], [res.t, res.x, res.v, res.y, res.w])
     with style():
         fig = _fig()
         plot_free_vibration(res, ax=fig.add_subplot())
         png = _save(fig, ctx.path("damper_history.png"))
-    figs = {"impacts": str(len(res.impacts)),
-            "inclination_two_maxima_cm_s": f"{100 * two.value:.3f}",
-            "inclination_fit_cm_s": f"{100 * fit.value:.3f}",
-            "settling_time_s": "not settled" if not math.isfinite(ts) else f"{ts:.2f}",
-            "solver": res.solver,
-            "solver_ms": f"{1e3 * getattr(ctx, 'damper_seconds', float('nan')):.1f}"}
+    figs = _damper.damping_figures(ctx.damper)
     return [Product("damper_history", png, figs), Product("damper_history", csv, {})]
 
 
@@ -242,9 +229,9 @@ def produce_impact_table(ctx: RunContext):
 
 def produce_restitution(ctx: RunContext):
     """Coefficient of restitution against impact mass and speed (paper Figure 7), CSV and PNG."""
-    from .dynamics.metrics import restitution_curve
-    from .plot._style import style
-    from .plot.dynamics import plot_restitution
+    from ..dynamics.metrics import restitution_curve
+    from ..output.plot._style import style
+    from ..output.plot.dynamics import plot_restitution
 
     opts = ctx.scene.output("restitution")
     masses, speeds = np.asarray(opts["masses_kg"]), np.asarray(opts["velocities_m_s"])
@@ -260,8 +247,9 @@ def produce_restitution(ctx: RunContext):
 
 
 def produce_wav(ctx: RunContext):
-    """Calibrated WAV (float32 in Pa, or PCM_24 with one shared scale) of the damper run at each listener."""
-    from .audio import CavityScene, ClickModel, ImpactSequence, render, shared_scale, write_sidecar, write_wav
+    """Calibrated WAV of the damper run at each listener (:func:`acoustiviz.app.wav.write_wav_files`)."""
+    from ..output.audio import ClickModel, ImpactSequence, render
+    from .wav import WavFile, cavity, write_wav_files
 
     opts = ctx.scene.output("wav")
     res = ctx.damper_run
@@ -269,12 +257,9 @@ def produce_wav(ctx: RunContext):
     radius = ctx.scene.damper_sphere_radius()
     wall_floor = conf["kind"] == "wall-floor"
     strike = conf["strike"] if wall_floor else "floor"
-    cavity = CavityScene(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
-                         walls=opts["walls"],
-                         wall_distance=(radius if strike == "wall" else conf["wall_distance_m"]) if wall_floor
-                         else None,
-                         strike=strike, height=(conf["height_m"] or radius) if strike == "wall" else None,
-                         medium=ctx.medium)
+    room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"], walls=opts["walls"],
+                  wall_distance=conf["wall_distance_m"] if wall_floor and strike == "floor" else None,
+                  strike=strike, height=conf["height_m"] if strike == "wall" else None, medium=ctx.medium)
     pulse_mass = ctx.scene.section("contact")["pulse_mass"]
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=pulse_mass, pulse=ctx.scene.section("contact")["pulse"])
@@ -282,33 +267,27 @@ def produce_wav(ctx: RunContext):
     points = np.array([pos for _, pos in named])
     seq = ImpactSequence.from_table(res.impacts)
     ctx.progress(f"auralising {len(seq)} impacts at {len(named)} listener(s), {opts['rate_hz']} Hz")
-    out = render(seq, cavity, model, points, sample_rate=opts["rate_hz"], duration=res.duration)
+    out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration)
     if opts["stereo"]:
-        files = [("wav_stereo.wav", out.pressure[:2], [named[0][0], named[1][0]], points[:2])]
+        files = [WavFile(ctx.path("wav_stereo.wav"), out.pressure[:2], [named[0][0], named[1][0]], points[:2],
+                         ["left", "right"])]
     else:
-        files = [(f"wav_{name}.wav", out.pressure[i:i + 1], [name], points[i:i + 1])
+        files = [WavFile(ctx.path(f"wav_{name}.wav"), out.pressure[i:i + 1], [name], points[i:i + 1], ["mono"])
                  for i, (name, _) in enumerate(named)]
-    if opts["subtype"] == "PCM_24":
-        scale = shared_scale([f[1] for f in files])
-        scale_source = f"shared by the {len(files)} file(s) of this run: their peak + 1 dB headroom"
-    else:
-        scale, scale_source = 1.0, "pascals (1.0 = 1 Pa)"
+    s = ctx.scene.section("sphere")
+    written = write_wav_files(files, sample_rate=opts["rate_hz"], subtype=opts["subtype"], rendering=out.describe(),
+                              scene_name=ctx.scene.name,
+                              damper=_damper.damper_description(ctx.damper_model, ctx.damper, res.duration),
+                              radius_source=f"scene: sphere.damper_radius = {s['damper_radius']!r}")
     products = []
-    for fname, data, names, pts in files:
-        info = write_wav(ctx.path(fname), data, opts["rate_hz"], subtype=opts["subtype"], scale=scale)
-        peaks = np.max(np.abs(data), axis=1)
-        spls = [20 * math.log10(pk / 20e-6) if pk > 0 else None for pk in peaks]
-        record = {"file": fname, "subtype": info["subtype"], "sample_rate_hz": opts["rate_hz"],
-                  "channels": info["channels"], "frames": info["frames"], "scale_pa_per_full_scale": scale,
-                  "scale_source": scale_source, "pressure_pa": "sample value x scale_pa_per_full_scale",
-                  "listeners": names, "listeners_m": pts.tolist(), "peak_pa": peaks.tolist(),
-                  "peak_spl_db_re_20upa": spls, "impacts": len(seq), "configuration": conf["kind"],
-                  "scene_name": ctx.scene.name, **out.describe()}
-        side = write_sidecar(ctx.path(fname), record)
-        lvl = max((v for v in spls if v is not None), default=float("nan"))
-        products += [Product("wav", ctx.path(fname), {"impacts": str(len(seq)), "peak_spl_db": f"{lvl:.1f}",
-                                                      "subtype": info["subtype"], "rate_hz": str(opts["rate_hz"])}),
-                     Product("wav", side, {})]
+    for wav, w in zip(files, written, strict=True):
+        for msg in w["warnings"]:
+            ctx.progress(f"warning: {msg}")
+        rec = w["record"]
+        lvl = max((v for v in rec["peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
+        products += [Product("wav", wav.path, {"impacts": str(len(seq)), "peak_spl_db": f"{lvl:.1f}",
+                                               "subtype": rec["subtype"], "rate_hz": str(opts["rate_hz"])}),
+                     Product("wav", w["sidecar"], {})]
     return products
 
 
@@ -320,7 +299,7 @@ def _plane_options(ctx: RunContext) -> dict:
 
 def produce_snapshot(ctx: RunContext):
     """Pressure p(x, t) on the planar sections at the requested times (one PNG, side by side)."""
-    from .render import render_snapshot
+    from ..output.render import render_snapshot
 
     opts = ctx.scene.output("snapshot")
     times = opts["times_s"]
@@ -332,7 +311,7 @@ def produce_snapshot(ctx: RunContext):
 
 def produce_balloon(ctx: RunContext):
     """3-D directivity balloon on the spherical grid around the contact point (PNG)."""
-    from .render import balloon_data, render_balloon
+    from ..output.render import balloon_data, render_balloon
 
     opts = ctx.scene.output("balloon")
     g = ctx.scene.section("grids")["sphere"]
@@ -347,7 +326,7 @@ def produce_balloon(ctx: RunContext):
 
 def produce_animation(ctx: RunContext):
     """GIF of the wavefront leaving the impact and reflecting, on the planar sections."""
-    from .render import render_animation
+    from ..output.render import render_animation
 
     opts = ctx.scene.output("animation")
     ctx.progress(f"rendering {opts['frames']} animation frames")
@@ -372,15 +351,15 @@ def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_
     others : list of str
         Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
     """
-    from .plot._style import save_figure
-    from .sweep import DESIGN_TABLE_CSV, design_table, write_design_table
+    from ..output.plot._style import save_figure
+    from ..sweep import DESIGN_TABLE_CSV, design_table, write_design_table
 
     out = Path(out_dir)
     bands = design_table(table, definition=definition, width=band_width)
     paths = [write_design_table(bands, out / DESIGN_TABLE_CSV)]
     others = [a for a in table.spec.swept() if a not in ("gap", "m")]
     if not others and len(table):
-        from .plot.design import plot_inclination_map, plot_spl_map
+        from ..output.plot.design import plot_inclination_map, plot_spl_map
 
         ax = plot_inclination_map(table, definition=definition)
         paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
@@ -391,8 +370,8 @@ def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_
 
 def sweep_spec(scene: Scene):
     """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (gap × impact mass)."""
-    from .scene import SceneError
-    from .sweep import Settings, SweepSpec
+    from ..scene import SceneError
+    from ..sweep import Settings, SweepSpec
 
     opts = scene.output("sweep")
     d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
@@ -420,7 +399,7 @@ def sweep_spec(scene: Scene):
 
 def produce_sweep(ctx: RunContext):
     """Sweep over gap and impact mass (paper Figure 6): ``sweep/sweep.csv``, the maps and the design table."""
-    from .sweep import run_sweep
+    from ..sweep import run_sweep
 
     opts = ctx.scene.output("sweep")
     folder = ctx.path("sweep")
@@ -436,21 +415,21 @@ def produce_sweep(ctx: RunContext):
     best = max(bands, key=lambda b: b.decrease_db, default=None)
     if best is not None:
         figs["largest_saving_db"] = f"{best.decrease_db:.1f} at {100 * best.low:.3g}-{100 * best.high:.3g} cm/s"
-    from .sweep import SWEEP_CSV
+    from ..sweep import SWEEP_CSV
 
     return [Product("sweep", folder / SWEEP_CSV, figs)] + [Product("sweep", p, {}) for p in paths]
 
 
 def produce_design_table(ctx: RunContext):
     """Paper Table 2 from the sweep as a figure beside the paper's values, and the quietest design for a target."""
-    from .plot._style import save_figure
-    from .plot.design import plot_design_table
-    from .sweep import PAPER_TABLE2, design, design_table
+    from ..output.plot._style import save_figure
+    from ..output.plot.design import plot_design_table
+    from ..sweep import PAPER_TABLE2, design, design_table
 
     opts = ctx.scene.output("design_table")
     table = getattr(ctx, "sweep_table", None)
     if table is None:  # the sweep output runs first; a scene without it is refused at load time
-        from .sweep import load_sweep
+        from ..sweep import load_sweep
 
         table = load_sweep(ctx.path("sweep"))
     bands = design_table(table)

@@ -43,7 +43,7 @@ def save_figure(fig, path):
     """Save ``fig`` to ``path`` atomically (write a temporary file, then rename); return the path."""
     from pathlib import Path
 
-    from .._io import atomic_path
+    from ..writers import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:

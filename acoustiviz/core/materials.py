@@ -7,7 +7,7 @@ import functools
 from dataclasses import dataclass
 from importlib import resources
 
-from ._validate import ParameterError, check_positive, check_range
+from .._validate import ParameterError, check_positive, check_range
 
 try:  # Python >= 3.11
     import tomllib

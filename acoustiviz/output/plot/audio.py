@@ -12,7 +12,7 @@ P_REF = 20e-6  # Pa
 
 
 def _signal(signal, sample_rate):
-    from .._validate import ParameterError, check_positive
+    from ..._validate import ParameterError, check_positive
 
     fs = check_positive("sample_rate", sample_rate, "Hz")
     x = np.asarray(signal, dtype=float)

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import ParameterError, check_choice, check_nonnegative, check_positive
+from .._validate import ParameterError, check_choice, check_nonnegative, check_positive
+from ..constants import HERTZ_DURATION_CONSTANT, PAPER_DURATION_CONSTANT, PULSES
 from .materials import Material, reduced_modulus
 
 __all__ = [
@@ -41,12 +42,8 @@ __all__ = [
     "restitution",
 ]
 
-#: Contact duration in units of α_max/U0: (4/5)·B(2/5, 1/2) = 2.943275... (the paper rounds to 2.9432).
-HERTZ_DURATION_CONSTANT = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
-#: The paper's rounded constant (Yufang and Zhongfang, 1992), kept for comparison only.
-PAPER_DURATION_CONSTANT = 2.9432
 #: The acceleration pulses on offer (see :func:`acceleration_pulse`).
-PULSE_KINDS = ("half-sine", "impulse-matched", "hertz")
+PULSE_KINDS = PULSES
 
 
 def hertz_stiffness(radius: float, sphere: Material, surface: Material) -> float:

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from ._validate import ParameterError, check_positive
+from .._validate import ParameterError, check_positive
 from .contact import HalfSinePulse, SampledPulse
 from .medium import AIR, Medium
 from .radiation import arrival_time, impulse_response

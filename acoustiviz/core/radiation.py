@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from ._validate import ParameterError, check_points, check_positive
+from .._validate import ParameterError, check_points, check_positive
 from .contact import HalfSinePulse, SampledPulse
 from .medium import AIR, Medium
 

@@ -1,0 +1,13 @@
+"""The application layer: one place that turns a user's settings into results and files.
+
+The command line (:mod:`acoustiviz.cli`) and scene files (:mod:`acoustiviz.scene`) only parse
+their input; both call these functions, so the two front-ends cannot disagree on a rule, a
+default or a file format.
+
+* :mod:`.names` -- errors in the user's words: API parameter names mapped to options or scene keys;
+* :mod:`.impacts` -- sphere, contact, pulse, medium, configuration and observers of one impact;
+* :mod:`.damper` -- build and run a damper model, and the figures reported about it;
+* :mod:`.wav` -- auralised WAV files and their one sidecar schema;
+* :mod:`.sweep` -- design sweeps from settings, and their output files;
+* :mod:`.pipeline` -- run a scene: exactly the outputs it names.
+"""

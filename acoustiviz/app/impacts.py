@@ -1,0 +1,199 @@
+"""One impact from a user's settings: sphere, contact, pulse, medium, configuration, observers.
+
+:func:`impact_setup` holds every rule that turns the settings a user gives (radius, mass or
+density or material, K_HZ or materials, pulse, fluid, configuration) into the physics objects;
+``acoustiviz waveform``, ``directivity``, ``render`` and scene files all call it, so they resolve
+defaults and conflicts the same way. Errors name the API parameter; front-ends translate the
+names with :func:`acoustiviz.app.names.user_terms`. SI units; angles in degrees only where a name
+says ``_deg``.
+
+Examples
+--------
+>>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
+>>> round(s.impact.mass, 4), s.configuration.name, s.k_hertz_source
+(0.2259, 'plane', 'given')
+>>> observer_point(s, 0.7, 45.0).round(4)
+array([0.495, 0.   , 0.514])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import check_choice, check_positive, check_range
+from ..constants import CONFIGURATIONS, DEFAULT_WALL_DISTANCE, PAPER_DENSITY, PAPER_K_HERTZ, PULSES, STRIKES
+from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
+from ..core.images import Configuration, configuration, observer_points
+from ..core.materials import material
+from ..core.medium import AIR, Medium
+from ..errors import ParameterError
+
+__all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from"]
+
+@dataclass(frozen=True)
+class ImpactSetup:
+    """One impact and everything around it.
+
+    Attributes
+    ----------
+    impact : Impact
+        Speed (m/s), K_HZ (N/m^1.5) and masses (kg).
+    pulse : HalfSinePulse or SampledPulse
+        Its acceleration pulse (m/s² against s).
+    radius : float
+        Sphere radius in m.
+    medium : Medium
+        The fluid.
+    configuration : Configuration
+        The sphere and its image sources.
+    k_hertz_source : str
+        Where K_HZ came from: ``"given"``, ``"Hertz, steel on steel"`` or ``"default (paper)"``.
+    """
+
+    impact: Impact
+    pulse: object
+    radius: float
+    medium: Medium
+    configuration: Configuration
+    k_hertz_source: str
+
+
+def _material(param: str, name: str):
+    """The catalogue material ``name``; an unknown name is an error about ``param``."""
+    try:
+        return material(name)
+    except ParameterError as exc:
+        raise exc.renamed(param) from None
+
+
+def k_hertz_from(radius: float, k_hertz=None, sphere_material=None, surface_material=None) -> tuple:
+    """K_HZ in N/m^1.5 and where it came from: given, from the materials (paper eq 2), or the paper's.
+
+    A given K_HZ excludes a surface material (which serves only to compute K_HZ); a sphere
+    material alone still sets the density. Without K_HZ, a missing sphere material is steel and a
+    missing surface is the sphere's material.
+    """
+    if k_hertz is not None:
+        if surface_material is not None:
+            raise ParameterError("k_hertz", "give either K_HZ or a surface material (from which K_HZ follows), "
+                                            "not both")
+        return check_positive("k_hertz", k_hertz, "N/m^1.5"), "given"
+    if sphere_material is None and surface_material is None:
+        return PAPER_K_HERTZ, "default (paper)"
+    s_mat = _material("sphere_material", sphere_material or "steel")
+    f_mat = _material("surface_material", surface_material) if surface_material else s_mat
+    return hertz_stiffness(radius, s_mat, f_mat), f"Hertz, {s_mat.name} on {f_mat.name}"
+
+
+def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) -> float:
+    """Sphere mass in kg: given, else density (given, the material's, or steel's 7800 kg/m³) × volume."""
+    if mass is not None:
+        if density is not None:
+            raise ParameterError("mass", "give either the mass or the density, not both")
+        return check_positive("mass", mass, "kg")
+    if density is not None:
+        rho = check_positive("density", density, "kg/m^3")
+    elif sphere_material is not None:
+        rho = _material("sphere_material", sphere_material).density
+    else:
+        rho = PAPER_DENSITY
+    return rho * 4.0 / 3.0 * math.pi * radius**3
+
+
+def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_material=None, surface_material=None,
+                 density=None, mass=None, pulse: str = "half-sine", c: float = AIR.c, rho: float = AIR.rho,
+                 config: str = "free", wall_distance=None, strike: str = "floor", height=None,
+                 partner_mass: float = math.inf) -> ImpactSetup:
+    """Validate the settings of one impact and build its physics objects.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius a in m.
+    velocity : float
+        Impact (approach) speed U0 in m/s.
+    k_hertz : float, optional
+        Hertz stiffness in N/m^1.5 (default: from the materials, else the paper's 5.6e8).
+    sphere_material, surface_material : str, optional
+        Names in the materials catalogue.
+    density : float, optional
+        Sphere density in kg/m³ (default: the material's, else 7800).
+    mass : float, optional
+        Sphere mass in kg (replaces the density).
+    pulse : {"half-sine", "impulse-matched", "hertz"}
+        The acceleration pulse.
+    c, rho : float
+        Speed of sound (m/s) and density (kg/m³) of the fluid.
+    config : {"free", "plane", "wall-floor"}
+        Reflecting surfaces.
+    wall_distance : float, optional
+        Wall-floor, floor strike: distance in m from the wall to the sphere's centre (default 0.05).
+    strike : {"floor", "wall"}
+        Wall-floor: the struck surface; a wall strike puts the sphere against the wall.
+    height : float, optional
+        Wall strike: height in m of the sphere's centre above the floor (default: the radius).
+    partner_mass : float
+        Mass in kg of the struck body (default infinite: an immovable wall, paper eq 3).
+
+    Returns
+    -------
+    ImpactSetup
+    """
+    radius = check_positive("radius", radius, "m")
+    velocity = check_positive("velocity", velocity, "m/s")
+    check_choice("pulse", pulse, PULSES)
+    check_choice("config", config, CONFIGURATIONS)
+    check_choice("strike", strike, STRIKES)
+    medium = Medium(c=check_positive("c", c, "m/s"), rho=check_positive("rho", rho, "kg/m^3"))
+    if sphere_material is not None:
+        _material("sphere_material", sphere_material)  # an unknown name fails here, naming the catalogue
+    k, source = k_hertz_from(radius, k_hertz, sphere_material, surface_material)
+    m = sphere_mass(radius, mass, density, sphere_material)
+    conf = _configuration(radius, config, wall_distance, strike, height)
+    impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
+    return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
+
+
+def _configuration(radius, config, wall_distance, strike, height) -> Configuration:
+    if config != "wall-floor":
+        if wall_distance is not None:
+            raise ParameterError("wall_distance", "only applies to the wall-floor configuration")
+        if strike != "floor":
+            raise ParameterError("strike", "only applies to the wall-floor configuration")
+    if height is not None and strike != "wall":
+        raise ParameterError("height", "only applies to a wall strike")
+    if config != "wall-floor":
+        return configuration(config, radius)
+    if strike == "wall":
+        if wall_distance is not None:
+            raise ParameterError("wall_distance", "a wall strike puts the sphere against the wall; omit it")
+        h = radius if height is None else check_range("height", height, radius, math.inf, unit="m")
+        return configuration("wall-floor", radius, wall_distance=radius, strike="wall", height=h)
+    wall = DEFAULT_WALL_DISTANCE if wall_distance is None else wall_distance
+    check_range("wall_distance", wall, radius, math.inf, unit="m")
+    return configuration("wall-floor", radius, wall_distance=wall)
+
+
+def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.ndarray:
+    """Observer at ``distance`` m from the sphere's centre and ``angle_deg`` degrees from its axis.
+
+    The observer lies in the plane spanned by the acceleration axis and the horizontal direction
+    away from any wall (+x); for the wall-floor corner, the plane through the centre normal to
+    the wall, on the side away from it (:func:`acoustiviz.core.images.observer_points`).
+
+    Returns
+    -------
+    (3,) ndarray
+        Position in m.
+    """
+    check_range("distance", distance, setup.radius, math.inf, unit="m", low_open=True)
+    conf = setup.configuration
+    limit = 90.0 if conf.name != "free" else 180.0
+    theta = math.radians(check_range("angle_deg", angle_deg, 0.0, limit, unit="deg"))
+    point = observer_points(conf, distance, theta)[0]
+    if not bool(conf.in_fluid(point[None, :])[0]):
+        raise ParameterError("angle_deg", "the observer would lie inside a wall or below the floor")
+    return point

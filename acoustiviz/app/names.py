@@ -1,0 +1,79 @@
+"""Errors in the user's own words.
+
+The library names its parameters as the API spells them (``radius``, ``v``, ``k_hertz``); a
+front-end's user gave them as options (``--radius``) or scene keys (``sphere.radius_m``). Inside
+:func:`user_terms` a :class:`~acoustiviz.errors.ParameterError` about an API parameter is raised
+again under the user's name, with the same detail.
+
+Examples
+--------
+>>> from acoustiviz.errors import ParameterError
+>>> try:
+...     with user_terms({"radius": "--radius"}):
+...         raise ParameterError("radius", "must be > 0 m, got -1 m")
+... except ParameterError as exc:
+...     print(exc)
+--radius: must be > 0 m, got -1 m
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Mapping
+
+from ..errors import ParameterError
+
+__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS"]
+
+#: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
+DAMPER_OPTIONS = {
+    "M": "--M",
+    "K": "--K",
+    "C": "--C",
+    "m": "--m",
+    "gap": "--gap",
+    "k_hertz": "--k-hertz",
+    "c1": "--c1",
+    "v": "--v0",
+    "duration": "--duration",
+    "solver": "--solver",
+    "dt": "--dt",
+    "rtol": "--rtol",
+}
+
+#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> option.
+IMPACT_OPTIONS = {
+    "radius": "--radius",
+    "velocity": "--velocity",
+    "k_hertz": "--k-hertz",
+    "sphere_material": "--material",
+    "surface_material": "--surface",
+    "density": "--density",
+    "mass": "--mass",
+    "pulse": "--pulse",
+    "c": "--c",
+    "rho": "--rho",
+    "config": "--config",
+    "wall_distance": "--wall-distance",
+    "strike": "--strike",
+    "height": "--height",
+    "distance": "--distance",
+    "angle_deg": "--angle",
+}
+
+
+@contextlib.contextmanager
+def user_terms(names: Mapping[str, str]):
+    """Re-raise a :class:`ParameterError` about a parameter of ``names`` under the user's name.
+
+    Parameters
+    ----------
+    names : mapping of str to str
+        API parameter name -> the option or scene key the user gave.
+    """
+    try:
+        yield
+    except ParameterError as exc:
+        if exc.name in names and names[exc.name] != exc.name:
+            raise exc.renamed(names[exc.name]) from None
+        raise

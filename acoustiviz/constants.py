@@ -1,0 +1,101 @@
+"""One home for each fact: physical constants, the paper's defaults and the lists of choices.
+
+Every other module, the command line and the scene schema take these values from here, so a
+default cannot differ between two front-ends. Values are SI unless the name says otherwise.
+
+Examples
+--------
+>>> from acoustiviz import constants
+>>> round(constants.HERTZ_DURATION_CONSTANT, 6)
+2.943275
+>>> constants.CONFIGURATIONS
+('free', 'plane', 'wall-floor')
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = [
+    "P_REF",
+    "HERTZ_DURATION_CONSTANT",
+    "PAPER_DURATION_CONSTANT",
+    "CONFIGURATIONS",
+    "PULSES",
+    "SOLVERS",
+    "SCENE_SOLVERS",
+    "STRIKES",
+    "PAPER_RADIUS",
+    "PAPER_VELOCITY",
+    "PAPER_K_HERTZ",
+    "PAPER_DENSITY",
+    "PAPER_DISTANCE",
+    "PAPER_ANGLE_DEG",
+    "DEFAULT_WALL_DISTANCE",
+    "TABLE1",
+    "PAPER_GAP",
+    "PAPER_V0",
+    "DEFAULT_DURATION",
+    "DEFAULT_RTOL",
+    "DEFAULT_SOUND_SPEED",
+    "DEFAULT_AIR_DENSITY",
+]
+
+# --- physical constants -------------------------------------------------------------------
+
+#: Reference sound pressure for levels in air, Pa (ISO 1683): 0 dB = 20 µPa.
+P_REF = 20e-6
+#: Hertz contact duration in units of α_max/U0: (4/5)·B(2/5, 1/2) = 2.9432751843...
+#: (Johnson, *Contact Mechanics*, 1985, eq 11.24; the paper rounds it to 2.9432).
+HERTZ_DURATION_CONSTANT = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
+#: The paper's rounded constant (Yufang and Zhongfang, 1992), kept for comparison only.
+PAPER_DURATION_CONSTANT = 2.9432
+#: Speed of sound in air at 20 °C, m/s.
+DEFAULT_SOUND_SPEED = 343.2
+#: Density of air at 20 °C and 101.325 kPa, kg/m³.
+DEFAULT_AIR_DENSITY = 1.204
+
+# --- the choices offered ------------------------------------------------------------------
+
+#: Acoustic configurations: free field, a reflecting plane (floor), a wall-floor corner.
+CONFIGURATIONS = ("free", "plane", "wall-floor")
+#: Acceleration pulses: the paper's peak-matched half-sine (eq 4), an impulse-matched half-sine,
+#: the exact Hertz pulse.
+PULSES = ("half-sine", "impulse-matched", "hertz")
+#: Damper solvers of :func:`acoustiviz.dynamics.simulate`.
+SOLVERS = ("event", "newmark", "impact-map")
+#: Solvers a scene may name: ``"auto"`` takes the cheapest one whose error suits the tolerance.
+SCENE_SOLVERS = ("auto", *SOLVERS)
+#: Which surface of a wall-floor corner the sphere strikes.
+STRIKES = ("floor", "wall")
+
+# --- the paper's Figure 2 impact ----------------------------------------------------------
+
+#: Sphere radius a of the paper's Figure 2, m (a 1.5 inch ball).
+PAPER_RADIUS = 0.01905
+#: Impact speed U0 of Figure 2, m/s.
+PAPER_VELOCITY = 1.4
+#: Hertz stiffness K_HZ of Figure 2 and Table 1, N/m^1.5.
+PAPER_K_HERTZ = 5.6e8
+#: Density of a steel sphere, kg/m³.
+PAPER_DENSITY = 7800.0
+#: Listener distance of Figure 2, m.
+PAPER_DISTANCE = 0.7
+#: Listener angle of Figure 2, degrees from the acceleration axis.
+PAPER_ANGLE_DEG = 45.0
+#: Distance in m from the wall to the sphere's centre in a wall-floor corner when none is given.
+DEFAULT_WALL_DISTANCE = 0.05
+
+# --- the paper's Table 1 damper ------------------------------------------------------------
+
+#: Table 1: main mass M (kg), spring K (N/m), dashpot C (N s/m), impact mass m (kg), Hertz
+#: stiffness k_hertz (N/m^1.5) and contact damping c1 (N s/m).
+TABLE1 = {"M": 0.5, "K": 500.0, "C": 0.05, "m": 0.0405, "k_hertz": PAPER_K_HERTZ, "c1": 20.0}
+#: Total free travel d of the impact mass in Figure 5, m.
+PAPER_GAP = 0.04
+#: Initial main-mass velocity of Figure 5, m/s.
+PAPER_V0 = 2.0
+#: Simulated time of a damper run, s: the Table 1 damper settles in about 15 s.
+DEFAULT_DURATION = 20.0
+#: The event solver's relative tolerance on each contact, used by every front-end.
+DEFAULT_RTOL = 1e-12

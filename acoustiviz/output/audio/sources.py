@@ -1,0 +1,332 @@
+"""The cavity of a damper and the sources it makes: impact sequences, walls, listeners."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..._validate import ParameterError, check_choice, check_points, check_positive
+from ...constants import P_REF
+from ...core.images import CONFIGURATIONS, Configuration, ImageSource, configuration, images_of
+from ...core.medium import AIR, Medium
+
+__all__ = [
+    "MASS_MODELS",
+    "WALL_MODELS",
+    "ImpactSequence",
+    "CavityScene",
+    "sphere_radius",
+    "spl",
+    "wall_sources",
+    "check_listeners",
+    "ear_positions",
+]
+
+
+#: Which mass decelerates in the Hertz contact: the impact mass alone against a fixed wall
+#: (the paper, eq 3) or the effective mass m M / (m + M) of the two free bodies.
+MASS_MODELS = ("impact", "effective")
+
+#: ``"both"``: impacts on the far wall radiate from the far wall; ``"one"``: all from the struck wall.
+WALL_MODELS = ("both", "one")
+
+
+# --------------------------------------------------------------------------- small helpers
+def sphere_radius(mass: float, density: float) -> float:
+    """Radius in m of a solid sphere of ``mass`` kg and ``density`` kg/m³: ``(3 m / (4 π ρ))^{1/3}``.
+
+    Examples
+    --------
+    >>> round(sphere_radius(0.0405, 7800.0) * 1e3, 2)  # the paper's 40.5 g impact mass in steel, mm
+    10.74
+    """
+    m = check_positive("mass", mass, "kg")
+    rho = check_positive("density", density, "kg/m^3")
+    return (3.0 * m / (4.0 * math.pi * rho)) ** (1.0 / 3.0)
+
+
+def spl(pressure) -> float:
+    """Peak sound pressure level ``20 log10(max|p| / 20 µPa)`` in dB of a signal in Pa (-inf if silent)."""
+    peak = float(np.max(np.abs(np.asarray(pressure, dtype=float)), initial=0.0))
+    return 20.0 * math.log10(peak / P_REF) if peak > 0 else -math.inf
+
+
+# --------------------------------------------------------------------------- inputs
+@dataclass(frozen=True)
+class ImpactSequence:
+    """The impacts to render: contact start times, walls and approach speeds.
+
+    Parameters
+    ----------
+    times : (n,) array_like
+        Contact start times in s (>= 0, any order).
+    walls : (n,) array_like of int
+        The wall struck, -1 or +1 (the convention of :mod:`acoustiviz.dynamics`).
+    velocities : (n,) array_like
+        Relative approach speeds in m/s (> 0).
+
+    Examples
+    --------
+    >>> seq = ImpactSequence([0.01, 0.2], [-1, 1], [1.3, 0.9])
+    >>> len(seq), seq.count(+1)
+    (2, 1)
+    """
+
+    times: np.ndarray
+    walls: np.ndarray
+    velocities: np.ndarray
+
+    def __post_init__(self):
+        t = np.array(self.times, dtype=float).reshape(-1)
+        v = np.array(self.velocities, dtype=float).reshape(-1)
+        try:
+            w = np.array(self.walls, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise ParameterError("walls", "expected -1 or +1 for every impact") from None
+        if not (t.size == w.size == v.size):
+            raise ParameterError("times", f"times ({t.size}), walls ({w.size}) and velocities ({v.size}) "
+                                          "must have the same length")
+        if not np.all(np.isfinite(t)) or np.any(t < 0):
+            raise ParameterError("times", "impact times must be finite and >= 0 s")
+        if not np.all(np.isin(w, (-1.0, 1.0))):
+            raise ParameterError("walls", f"every wall must be -1 or +1, got {sorted(set(w.tolist()))}")
+        if not np.all(np.isfinite(v)) or np.any(v <= 0):
+            raise ParameterError("velocities", "approach speeds must be finite and > 0 m/s")
+        wi = w.astype(np.int8)
+        for name, arr in (("times", t), ("walls", wi), ("velocities", v)):
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+    def __len__(self) -> int:
+        return int(self.times.size)
+
+    def count(self, wall: int) -> int:
+        """Number of impacts on ``wall`` (-1 or +1)."""
+        return int(np.count_nonzero(self.walls == wall))
+
+    @classmethod
+    def from_table(cls, table) -> ImpactSequence:
+        """Build from an impact table with ``times``/``time``, ``walls``/``wall`` and approach speeds.
+
+        Accepts any object (or mapping) exposing the contact start times in s, the wall (-1/+1)
+        and the relative approach speed in m/s under the names used by
+        :mod:`acoustiviz.dynamics` (``time``, ``wall``, ``approach_velocity``, singular or plural).
+        Speeds are taken as magnitudes.
+        """
+
+        def get(*names):
+            for nm in names:
+                if isinstance(table, dict) and nm in table:
+                    return table[nm]
+                if hasattr(table, nm):
+                    return getattr(table, nm)
+            raise ParameterError("table", f"the impact table has none of {names}")
+
+        t = get("times", "time", "time_s", "start", "t")
+        w = get("walls", "wall")
+        v = get("approach_velocities", "approach_velocity", "approach_velocity_m_s", "approach_speed",
+                "velocity_in")
+        return cls(t, w, np.abs(np.asarray(v, dtype=float)))
+
+
+@dataclass(frozen=True)
+class CavityScene:
+    """Where the cavity sits and which surfaces reflect.
+
+    Parameters
+    ----------
+    config : {"free", "plane", "wall-floor"}
+        The image configuration of the struck wall (:func:`acoustiviz.images.configuration`).
+    radius : float
+        Sphere (impact mass) radius a in m.
+    gap : float
+        Total free travel d of the impact mass in the cavity in m; the far wall lies ``gap + 2a``
+        from the struck one.
+    struck_wall : {-1, +1}
+        The damper wall lying on the configuration's struck surface.
+    walls : {"both", "one"}
+        ``"both"``: far-wall impacts radiate from the far wall with the reversed axis;
+        ``"one"``: every impact is heard as a strike on the struck wall.
+    wall_distance : float, optional
+        ``"wall-floor"`` only: distance in m of the sphere's centre from the side wall.
+    strike : {"floor", "wall"}
+        ``"wall-floor"`` only: the struck surface.
+    height : float, optional
+        ``"wall-floor"`` with ``strike="wall"``: height in m of the centre above the floor.
+    medium : Medium
+        The fluid.
+    """
+
+    config: str = "plane"
+    radius: float = 0.01905
+    gap: float = 0.04
+    struck_wall: int = -1
+    walls: str = "both"
+    wall_distance: float | None = None
+    strike: str = "floor"
+    height: float | None = None
+    medium: Medium = AIR
+    configuration: Configuration = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        check_choice("config", self.config, CONFIGURATIONS)
+        check_positive("radius", self.radius, "m")
+        check_positive("gap", self.gap, "m")
+        if self.struck_wall not in (-1, 1):
+            raise ParameterError("struck_wall", f"must be -1 or +1, got {self.struck_wall!r}")
+        check_choice("walls", self.walls, WALL_MODELS)
+        if not isinstance(self.medium, Medium):
+            raise ParameterError("medium", f"expected a Medium, got {type(self.medium).__name__}")
+        cfg = configuration(self.config, self.radius, wall_distance=self.wall_distance, strike=self.strike,
+                            height=self.height)
+        object.__setattr__(self, "configuration", cfg)
+
+    @property
+    def axis(self) -> np.ndarray:
+        """Unit normal n of the struck surface (the damper's axis of motion), into the fluid."""
+        return np.asarray(self.configuration.axis, dtype=float)
+
+    @property
+    def far_centre(self) -> np.ndarray:
+        """Centre in m of the sphere when it touches the far wall: ``c0 + gap n``."""
+        return np.asarray(self.configuration.centre, dtype=float) + self.gap * self.axis
+
+    def sources(self, wall: int) -> tuple:
+        """Image sources radiating an impact on damper wall ``wall`` (-1 or +1); see :func:`wall_sources`."""
+        return wall_sources(self, wall)
+
+    def describe(self) -> dict:
+        """A JSON-ready description of the scene and of how impacts map to sources."""
+        cfg = self.configuration
+        far = -self.struck_wall
+        out = {
+            "config": self.config,
+            "radius_m": self.radius,
+            "gap_m": self.gap,
+            "struck_wall": self.struck_wall,
+            "walls": self.walls,
+            "planes": [{"label": p.label, "point_m": p.point.tolist(), "normal": p.normal.tolist()}
+                       for p in cfg.planes],
+            "medium": {"c_m_s": self.medium.c, "rho_kg_m3": self.medium.rho},
+            "sources": {},
+        }
+        if self.config == "wall-floor":
+            out.update(wall_distance_m=self.wall_distance, strike=self.strike, height_m=self.height)
+        for w in (self.struck_wall, far):
+            out["sources"][f"{w:+d}"] = [
+                {"label": s.label, "order": s.order, "position_m": s.position.tolist(), "axis": s.axis.tolist()}
+                for s in self.sources(w)
+            ]
+        return out
+
+
+def wall_sources(scene: CavityScene, wall: int) -> tuple:
+    """Image sources radiating an impact on damper wall ``wall``.
+
+    Parameters
+    ----------
+    scene : CavityScene
+        The scene.
+    wall : {-1, +1}
+        The damper wall struck.
+
+    Returns
+    -------
+    tuple of ImageSource
+        For the struck wall (or any wall with ``walls="one"``): the configuration's sources.
+        For the far wall: the sphere at ``c0 + gap n`` with axis ``-n``, then its images in the
+        configuration's planes (labels prefixed ``"far "``).
+
+    Examples
+    --------
+    >>> sc = CavityScene("plane", radius=0.01, gap=0.04)
+    >>> [(float(s.position[2]), float(s.axis[2])) for s in wall_sources(sc, +1)]
+    [(0.05, -1.0), (-0.05, 1.0)]
+    """
+    if wall not in (-1, 1):
+        raise ParameterError("wall", f"must be -1 or +1, got {wall!r}")
+    cfg = scene.configuration
+    if wall == scene.struck_wall or scene.walls == "one":
+        return tuple(cfg.sources)
+    real = ImageSource(scene.far_centre, -scene.axis, 0, "far")
+    imgs = images_of(real, cfg.planes)
+    return tuple(ImageSource(s.position, s.axis, s.order, "far" if s.order == 0 else f"far {s.label}")
+                 for s in imgs)
+
+
+def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> np.ndarray:
+    """Validate listener positions; return them as an ``(n, 3)`` array in m.
+
+    A listener must be in the fluid of the configuration (not below the floor, not behind a
+    wall, not inside the sphere) and, with ``walls="both"``, not inside the cavity (within a
+    radius of the segment the sphere's centre travels between the two walls).
+
+    Parameters
+    ----------
+    points : (n, 3) or (3,) array_like
+        Positions in m in the configuration's frame.
+    scene : CavityScene
+        The scene.
+    name : str
+        Parameter name used in error messages (e.g. ``"--listener"``).
+
+    Raises
+    ------
+    ParameterError
+        Naming ``name``, the offending position and why it is not allowed.
+    """
+    pts = check_points(name, points)
+    cfg = scene.configuration
+    a = scene.radius
+    tol = 1e-12 * a
+    c0 = np.asarray(cfg.centre, dtype=float)
+    for p in pts:
+        where = f"({p[0]:g}, {p[1]:g}, {p[2]:g}) m"
+        if np.linalg.norm(p - c0) < a - tol:
+            raise ParameterError(name, f"listener {where} is inside the sphere (radius {a:g} m)")
+        for pl in cfg.planes:
+            if (p - pl.point) @ pl.normal < -tol:
+                side = "below the floor" if pl.label == "floor" else f"behind the {pl.label}"
+                raise ParameterError(name, f"listener {where} is {side} (the fluid is where "
+                                           f"(x - {pl.point.tolist()}) . {pl.normal.tolist()} >= 0)")
+        if scene.walls == "both":
+            n = scene.axis
+            s = float(np.clip((p - c0) @ n, 0.0, scene.gap))
+            if np.linalg.norm(p - (c0 + s * n)) < a - tol:
+                raise ParameterError(name, f"listener {where} is inside the cavity (within {a:g} m of the "
+                                           f"sphere's path between the walls)")
+    return pts
+
+
+def ear_positions(centre, scene: CavityScene, *, spacing: float = 0.18) -> np.ndarray:
+    """Two ear (or microphone) positions ``spacing`` m apart, centred on ``centre``, facing the damper.
+
+    The ears lie on the horizontal line (perpendicular to ``+z``) perpendicular to the direction
+    from ``centre`` to the struck wall's contact point; the first row is the left ear of a listener
+    facing the damper, the second the right ear. No head is modelled (two free-field microphones).
+
+    Parameters
+    ----------
+    centre : (3,) array_like
+        Centre of the head in m.
+    scene : CavityScene
+        The scene (gives the contact point).
+    spacing : float
+        Distance between the ears in m (default 0.18).
+
+    Returns
+    -------
+    (2, 3) ndarray
+        Left and right ear positions in m.
+    """
+    c = check_points("centre", centre)[0]
+    d = check_positive("spacing", spacing, "m")
+    look = np.asarray(scene.configuration.contact_point, dtype=float) - c
+    up = np.array([0.0, 0.0, 1.0])
+    side = np.cross(up, look)  # points to the listener's left when facing the damper
+    if np.linalg.norm(side) < 1e-12:  # listener straight above: use +y as the left
+        side = np.array([0.0, 1.0, 0.0])
+    side = side / np.linalg.norm(side)
+    return np.stack([c + 0.5 * d * side, c - 0.5 * d * side])

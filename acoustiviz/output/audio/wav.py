@@ -1,0 +1,138 @@
+"""Calibrated WAV files and their JSON sidecars, written atomically."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..._validate import ParameterError, check_choice, check_positive
+from ...errors import ClippingWarning
+from ..writers import atomic_path
+
+__all__ = [
+    "SUBTYPES",
+    "shared_scale",
+    "write_wav",
+    "write_sidecar",
+    "sidecar_path",
+]
+
+
+#: WAV sample formats: float32 in Pa, or normalised 24-bit integers.
+SUBTYPES = ("FLOAT", "PCM_24")
+
+
+# --------------------------------------------------------------------------- files
+def shared_scale(signals, *, headroom_db: float = 1.0) -> float:
+    """One scale in Pa per full scale for all signals of a run (normalised PCM).
+
+    Parameters
+    ----------
+    signals : iterable of array_like
+        Pressure signals in Pa (any shapes).
+    headroom_db : float
+        The largest |p| of all signals lands this many dB below full scale (>= 0).
+
+    Returns
+    -------
+    float
+        Pa per full scale: a sample value v stands for ``v * scale`` Pa. 1.0 if all are silent.
+    """
+    hr = float(headroom_db)
+    if not (math.isfinite(hr) and hr >= 0):
+        raise ParameterError("headroom_db", f"must be finite and >= 0 dB, got {headroom_db!r}")
+    peak = max((float(np.max(np.abs(np.asarray(s, dtype=float)), initial=0.0)) for s in signals), default=0.0)
+    return peak * 10.0 ** (hr / 20.0) if peak > 0 else 1.0
+
+
+def sidecar_path(wav_path) -> Path:
+    """The JSON sidecar of a WAV file: ``OUT.json`` for ``OUT.wav``."""
+    return Path(wav_path).with_suffix(".json")
+
+
+def write_wav(path, pressure, sample_rate: int, *, subtype: str = "FLOAT", scale: float = 1.0) -> dict:
+    """Write pressure signals to a WAV file atomically; return what was written.
+
+    Parameters
+    ----------
+    path : path-like
+        Output ``.wav`` file.
+    pressure : (n_samples,) or (n_channels, n_samples) array_like
+        Pressure in Pa.
+    sample_rate : int
+        Rate in Hz.
+    subtype : {"FLOAT", "PCM_24"}
+        ``"FLOAT"``: 32-bit float, sample value = pressure / scale (default scale 1: values in Pa;
+        nothing is clipped, values beyond ±1 are stored as they are). ``"PCM_24"``: 24-bit integers of
+        pressure / scale; samples beyond full scale are clipped with a :class:`ClippingWarning`.
+    scale : float
+        Pa per full scale (see :func:`shared_scale`).
+
+    Returns
+    -------
+    dict
+        ``path``, ``subtype``, ``channels``, ``frames``, ``sample_rate_hz``, ``pa_per_full_scale``,
+        ``peak_full_scale`` (largest |sample| before any clipping), ``over_full_scale_db`` (dB by which it
+        exceeds full scale, or 0), ``clipped_samples``.
+    """
+    import soundfile as sf
+
+    check_choice("subtype", subtype, SUBTYPES)
+    sc = check_positive("scale", scale, "Pa")
+    fs = check_positive("sample_rate", sample_rate, "Hz")
+    p = np.asarray(pressure, dtype=float)
+    if p.ndim == 1:
+        p = p[None, :]
+    if p.ndim != 2 or not np.all(np.isfinite(p)):
+        raise ParameterError("pressure", "expected a finite (n_channels, n_samples) array in Pa")
+    data = (p / sc).T
+    peak = float(np.max(np.abs(data), initial=0.0))
+    over_db = 20.0 * math.log10(peak) if peak > 1.0 else 0.0
+    clipped = 0
+    if subtype == "PCM_24":
+        top = 1.0 - 2.0**-23
+        clipped = int(np.count_nonzero((data > top) | (data < -1.0)))
+        if clipped:
+            warnings.warn(f"{path}: {clipped} samples clipped at full scale ({scale:g} Pa); the peak was "
+                          f"{over_db:.2f} dB over full scale", ClippingWarning, stacklevel=2)
+            data = np.clip(data, -1.0, top)
+        out = data
+    else:
+        out = data.astype(np.float32)
+    with atomic_path(path) as tmp:
+        sf.write(str(tmp), out, int(fs), subtype=subtype, format="WAV")
+    return {"path": str(path), "subtype": subtype, "channels": int(p.shape[0]), "frames": int(p.shape[1]),
+            "sample_rate_hz": int(fs), "pa_per_full_scale": sc, "peak_full_scale": peak,
+            "over_full_scale_db": over_db, "clipped_samples": clipped}
+
+
+def write_sidecar(wav_path, record: dict) -> Path:
+    """Write ``record`` as JSON beside ``wav_path`` (``OUT.json`` for ``OUT.wav``), atomically."""
+    path = sidecar_path(wav_path)
+    text = json.dumps(_finite(record), indent=2, default=_json_default, allow_nan=False)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text + "\n", encoding="utf-8")
+    return path
+
+
+def _finite(obj):
+    """``obj`` with arrays as lists and non-finite floats (a silent signal's -inf dB) as None."""
+    if isinstance(obj, dict):
+        return {str(k): _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [_finite(v) for v in (obj.tolist() if isinstance(obj, np.ndarray) else obj)]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _json_default(obj):
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")

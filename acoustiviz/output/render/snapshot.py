@@ -1,0 +1,267 @@
+"""Field snapshots: p(x, t) on planar sections at one or more times, on a diverging map centred on 0 Pa."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..._validate import ParameterError, check_choice, check_positive
+from ...core.images import Configuration
+from ...core.medium import AIR, Medium
+from ...field import snapshots
+from ...grids import PlanarGrid, planar_grid
+from ._common import (
+    _SPHERE_COLOUR,
+    DEFAULT_SIZE,
+    SECTIONS,
+    _add_bar,
+    _add_geometry,
+    _check_inputs,
+    _check_path,
+    _check_size,
+    _font,
+    _grab,
+    _plotter,
+    _scene_label,
+    _set_camera,
+    _write_png,
+    check_backend,
+)
+
+__all__ = [
+    "section_planes",
+    "render_snapshot",
+]
+
+
+# --------------------------------------------------------------------------- snapshots
+def section_planes(config: Configuration, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
+    """Planar grids through the sphere for field snapshots, clipped to the fluid's bounding box.
+
+    Parameters
+    ----------
+    config : Configuration
+        The scene.
+    extent : float
+        Distance in m from the sphere's centre to the far edges of each section.
+    sections : sequence of {"xz", "yz", "xy"}
+        ``"xz"``: the vertical plane ``y = 0`` (normal to the wall, holding the acceleration
+        axis); ``"yz"``: the vertical plane through the centre parallel to the wall; ``"xy"``:
+        the horizontal plane through the centre. Each is bounded by the floor and the wall.
+    n_u : int
+        Points along the longer side (>= 8).
+
+    Returns
+    -------
+    list of PlanarGrid
+    """
+    e = check_positive("extent", extent, "m")
+    if e <= 2.0 * config.radius:
+        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * config.radius:g} m, got {e:g} m")
+    if isinstance(sections, str):
+        sections = (sections,)
+    if int(n_u) != n_u or n_u < 8:
+        raise ParameterError("n_u", f"must be an integer >= 8, got {n_u!r}")
+    c = config.centre
+    lo = c - e
+    hi = c + e
+    for p in config.planes:  # clip at the floor (z) and the wall (x)
+        k = int(np.argmax(np.abs(p.normal)))
+        lo[k] = max(lo[k], p.point[k])
+    out = []
+    for s in sections:
+        check_choice("sections", s, SECTIONS)
+        i, j = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[s]
+        u = np.zeros(3)
+        v = np.zeros(3)
+        u[i] = hi[i] - lo[i]
+        v[j] = hi[j] - lo[j]
+        centre = c.copy()
+        centre[i] = 0.5 * (lo[i] + hi[i])
+        centre[j] = 0.5 * (lo[j] + hi[j])
+        long = max(u[i], v[j])
+        nu = max(2, int(round((n_u - 1) * u[i] / long)) + 1)
+        nv = max(2, int(round((n_u - 1) * v[j] / long)) + 1)
+        out.append(planar_grid(centre, u, v, n_u=nu, n_v=nv))
+    return out
+
+
+def _planes(config, planes, extent, times, medium, n_u, sections=("xz",)):
+    if planes is not None:
+        ps = [planes] if isinstance(planes, PlanarGrid) else list(planes)
+        if not ps or not all(isinstance(p, PlanarGrid) for p in ps):
+            raise ParameterError("planes", "expected a PlanarGrid or a non-empty sequence of them")
+        return ps
+    if extent is None:
+        reach = medium.c * float(np.max(times)) + config.radius
+        extent = max(8.0 * config.radius, 1.25 * reach)
+    return section_planes(config, extent, sections=sections, n_u=n_u)
+
+
+def _plane_mesh(grid: PlanarGrid, values):
+    mesh = grid.to_pyvista()
+    mesh.point_data["p"] = np.asarray(values, dtype=float)
+    return mesh
+
+
+def _symmetric_limit(fields) -> float:
+    """Symmetric colour limit in Pa shared by k frames.
+
+    The median over the frames of each frame's 99.5th percentile of |p|: early frames, close
+    to the sphere, saturate rather than wash out the rest. ``fields`` is a list (one per
+    plane) of (k, n) arrays.
+    """
+    per_frame = []
+    for q in range(fields[0].shape[0]):
+        vals = np.abs(np.concatenate([np.ravel(f[q]) for f in fields]))
+        vals = vals[np.isfinite(vals) & (vals > 0)]
+        if vals.size:
+            per_frame.append(float(np.percentile(vals, 99.5)))
+    lim = float(np.median(per_frame)) if per_frame else 0.0
+    return lim if lim > 0 else 1.0
+
+
+def _snapshot_bounds(planes, config: Configuration):
+    """Bounds (m) of the drawn floor/wall: the planes' box, flat axes widened to show the geometry."""
+    pts = np.vstack([p.points for p in planes])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = float(np.max(hi - lo))
+    for k in range(3):
+        if hi[k] - lo[k] < 1e-9 * span:
+            lo[k] -= 0.3 * span
+            hi[k] += 0.3 * span
+    for p in config.planes:
+        k = int(np.argmax(np.abs(p.normal)))
+        lo[k] = max(lo[k], p.point[k])
+    return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+
+
+def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_bar, n_views):
+    """Draw one snapshot in the active view; return the plane meshes and the time annotation."""
+    meshes = [_plane_mesh(g, f) for g, f in zip(planes, fields, strict=True)]
+    actor = None
+    pv = check_backend()
+    for g, m in zip(planes, meshes, strict=True):
+        actor = pl.add_mesh(m, scalars="p", cmap=cmap, clim=(-clim, clim), show_scalar_bar=False,
+                            nan_color=_SPHERE_COLOUR, lighting=False)
+        corners = g.origin + np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]) @ np.vstack([g.u, g.v])
+        pl.add_mesh(pv.lines_from_points(corners), color="#505050", line_width=max(1.0, 1.5 * size[1] / 900.0))
+    _add_geometry(pl, config, _snapshot_bounds(planes, config), opacity=0.25)
+    vsize = (size[0] / n_views, size[1])
+    clock = pl.add_text(_time_label(t), position="upper_left", font_size=_font(vsize, 18), color="black")
+    if label:
+        pl.add_text(label, position="lower_left", font_size=_font(vsize, 12), color="#222222")
+    pts = np.vstack([p.points for p in planes])
+    focus = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    normals = np.array([p.normal for p in planes])
+    vertical = np.abs(normals[:, 2]) < 0.1
+    if np.all(~vertical):  # horizontal planes only: look down
+        direction = (0.25, -0.5, 1.0)
+    elif np.sum(vertical) > 1:  # crossing vertical planes: look into the open quadrant
+        direction = (0.5, -1.0, 0.45)
+    else:
+        direction = (0.35, -1.0, 0.35)
+    # every view of a series gets the same camera, leaving room for the colour bar of the last one
+    if n_views == 1:
+        _set_camera(pl, focus, direction, zoom=1.3, shift=0.18 if show_bar else 0.0)
+    else:
+        aspect = size[0] / n_views / size[1]  # width / height of one view
+        if aspect >= 1.3:
+            _set_camera(pl, focus, direction, zoom=1.2, shift=0.2)
+        elif aspect >= 1.0:
+            _set_camera(pl, focus, direction, zoom=1.1, shift=0.3)
+        else:  # tall, narrow views: the wide sections must shrink to fit their width
+            _set_camera(pl, focus, direction, zoom=1.1 * aspect, shift=0.1)
+    if show_bar:
+        _add_bar(pl, "sound pressure (Pa)", size, actor.mapper, n_views=n_views, fmt="%.3g")
+    return meshes, clock
+
+
+def _time_label(t: float) -> str:
+    return f"t = {t * 1e3:.3f} ms"
+
+
+def render_snapshot(
+    pulse,
+    config: Configuration,
+    time,
+    path,
+    *,
+    medium: Medium = AIR,
+    planes=None,
+    extent=None,
+    sections=("xz",),
+    n_u: int = 241,
+    size=DEFAULT_SIZE,
+    clim=None,
+    title=None,
+    show_scalar_bar: bool = True,
+    cmap: str = "RdBu_r",
+) -> Path:
+    """Render the pressure p(x, t) on planar grids at one or more times into a PNG file.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    config : Configuration
+        The scene.
+    time : float or sequence of float
+        Snapshot time(s) in s from the start of contact, at most 12; several go side by side
+        (up to three in a row, four and more on a near-square grid) with one colour scale.
+    path : path-like
+        Output ``.png`` file (written atomically).
+    medium : Medium
+        The fluid.
+    planes : PlanarGrid or sequence of PlanarGrid, optional
+        Where to evaluate the field (default :func:`section_planes` with ``sections``).
+    extent : float, optional
+        Half-size in m of the default sections (default 1.25 × the distance sound travels
+        by the last time, at least eight sphere radii).
+    sections : sequence of {"xz", "yz", "xy"}
+        Default sections to draw (ignored with ``planes``).
+    n_u : int
+        Points along the longer side of each default section.
+    size : (int, int)
+        Image width and height in pixels.
+    clim : float, optional
+        Colour limit in Pa: the map spans ``[-clim, clim]`` (default: the median over the
+        snapshots of each one's 99.5th percentile of |p|; larger values saturate).
+    title : str, optional
+        Text at the top left (default: the configuration and the pulse).
+    show_scalar_bar : bool
+        Draw the labelled colour bar.
+    cmap : str
+        A diverging matplotlib colour map; it is centred on zero.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Examples
+    --------
+    >>> render_snapshot(pulse, configuration("plane", 0.01905), [0.5e-3, 1e-3], "p.png")  # doctest: +SKIP
+    PosixPath('p.png')
+    """
+    path = _check_path(path, (".png",))
+    size = _check_size(size)
+    _check_inputs(pulse, config, medium)
+    times = np.atleast_1d(np.asarray(time, dtype=float))
+    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
+        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
+    grids = _planes(config, planes, extent, times, medium, n_u, sections)
+    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]  # each (k, n)
+    lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
+    cols = times.size if times.size <= 3 else int(math.ceil(math.sqrt(times.size)))
+    rows = int(math.ceil(times.size / cols))
+    label = _scene_label(pulse, config) if title is None else title
+    with _plotter(size, shape=(rows, cols)) as pl:
+        for q, tq in enumerate(times):
+            pl.subplot(q // cols, q % cols)
+            _draw_snapshot(pl, config, grids, [f[q] for f in fields], tq, lim, cmap, (size[0], size[1] / rows),
+                           label if q == 0 else None, show_scalar_bar and q == times.size - 1, cols)
+        img = _grab(pl)
+    return _write_png(img, path)

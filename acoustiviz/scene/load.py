@@ -1,0 +1,311 @@
+"""Loading scenes: a validated :class:`Scene` with every default filled in."""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from types import MappingProxyType
+
+from ..errors import ParameterError
+from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
+from .validate import SceneError, _unknown, _validate_table
+
+__all__ = [
+    "Scene",
+    "load_scene",
+    "scene_from_dict",
+    "scene_from_text",
+    "default_scene",
+    "shipped_scenes",
+]
+
+
+# --------------------------------------------------------------------------- the scene
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: every section filled with its defaults. Build it with :func:`load_scene`."""
+
+    data: MappingProxyType
+    source: str = "<scene>"
+    outputs: tuple = field(default=())
+
+    def section(self, name: str) -> dict:
+        """A deep copy of one validated section (``"sphere"``, ``"damper"``, ...)."""
+        return copy.deepcopy(self.data[name])
+
+    @property
+    def name(self) -> str:
+        """The scene's short name."""
+        return self.data["scene"]["name"]
+
+    def wants(self, kind: str) -> bool:
+        """Whether the scene asks for output ``kind``."""
+        return kind in self.outputs
+
+    def output(self, kind: str) -> dict:
+        """Options of one requested output."""
+        return copy.deepcopy(self.data["outputs"][kind])
+
+    # -- physics objects: the rules live in the application layer, shared with the command line
+    def _impact_settings(self, radius: float | None = None) -> dict:
+        s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
+        wall_floor = conf["kind"] == "wall-floor"
+        wall = conf["wall_distance_m"] if wall_floor and conf["strike"] == "floor" else None
+        return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],
+                    sphere_material=s["material"], surface_material=c["surface"], c=self.data["medium"]["c_m_s"],
+                    rho=self.data["medium"]["rho_kg_m3"], config=conf["kind"], wall_distance=wall,
+                    strike=conf["strike"] if wall_floor else "floor",
+                    height=conf["height_m"] if wall_floor and conf["strike"] == "wall" else None)
+
+    def sphere_mass(self) -> float:
+        """Sphere mass in kg: ``mass_kg``, else density (or the material's) times volume."""
+        from ..app.impacts import sphere_mass
+
+        s = self.data["sphere"]
+        return sphere_mass(s["radius_m"], s["mass_kg"], s["density_kg_m3"], s["material"])
+
+    def sphere_density(self) -> float:
+        """Sphere density in kg/m³ (given, the material's, or 7800)."""
+        from ..app.impacts import sphere_mass
+
+        s = self.data["sphere"]
+        if s["density_kg_m3"] is not None:
+            return s["density_kg_m3"]
+        return sphere_mass(1.0, None, None, s["material"]) / (4.0 / 3.0 * math.pi)
+
+    def k_hertz(self, radius: float | None = None) -> float:
+        """Hertz stiffness in N/m^1.5: given, else from the materials (sphere of ``radius``), else 5.6e8."""
+        from ..app.impacts import k_hertz_from
+
+        c, s = self.data["contact"], self.data["sphere"]
+        return k_hertz_from(s["radius_m"] if radius is None else radius, c["k_hertz_n_m1_5"], s["material"],
+                            c["surface"])[0]
+
+    def damper_sphere_radius(self) -> float:
+        """Radius in m of the sphere used for damper impacts (see ``sphere.damper_radius``)."""
+        s = self.data["sphere"]
+        if s["damper_radius"] == "given":
+            return s["radius_m"]
+        m = self.data["damper"]["impact_mass_kg"]
+        return (3.0 * m / (4.0 * math.pi * self.sphere_density())) ** (1.0 / 3.0)
+
+    def setup(self, velocity: float | None = None, kind: str | None = None, radius: float | None = None):
+        """The single impact and its surroundings (:func:`acoustiviz.app.impacts.impact_setup`)."""
+        from ..app.impacts import impact_setup
+
+        partner = math.inf
+        if self.data["contact"]["pulse_mass"] == "effective":
+            partner = self.data["damper"]["main_mass_kg"]
+        return impact_setup(velocity=self.data["impact"]["velocity_m_s"] if velocity is None else velocity,
+                            mass=self.sphere_mass(), pulse=kind or self.data["contact"]["pulse"],
+                            partner_mass=partner, **self._impact_settings(radius))
+
+    def medium(self):
+        """The fluid as a :class:`~acoustiviz.core.medium.Medium`."""
+        return self.setup().medium
+
+    def configuration(self, radius: float | None = None):
+        """The surfaces and image sources (:func:`acoustiviz.core.images.configuration`) for a sphere of ``radius``."""
+        return self.setup(radius=radius).configuration
+
+    def impact(self, velocity: float | None = None):
+        """The single impact (or one at ``velocity`` m/s) as an :class:`~acoustiviz.core.contact.Impact`."""
+        return self.setup(velocity).impact
+
+    def pulse(self, velocity: float | None = None, kind: str | None = None):
+        """The acceleration pulse of :meth:`impact`."""
+        return self.setup(velocity, kind).pulse
+
+    def listeners(self, radius: float | None = None):
+        """Listener names and positions: a list of ``(name, (3,) ndarray in m)``.
+
+        Listeners given by distance and angle are placed from the centre of a sphere of
+        ``radius`` (default ``sphere.radius_m``) touching the struck surface.
+        """
+        import numpy as np
+
+        from ..core.images import observer_points
+
+        conf = self.configuration(radius)
+        out = []
+        for i, lst in enumerate(self.data["listeners"]):
+            name = lst["name"] or f"listener{i + 1}"
+            if lst["position_m"] is not None:
+                pos = np.asarray(lst["position_m"], dtype=float)
+            else:
+                pos = observer_points(conf, lst["distance_m"], math.radians(lst["angle_deg"]))[0]
+            out.append((name, pos))
+        return out
+
+
+def _validate_listeners(raw, src, radius):
+    if raw is None:
+        return [dict(DEFAULT_LISTENER, position_m=None)]
+    if not isinstance(raw, list) or not raw:
+        raise SceneError(src, "listeners", "expected one or more [[listeners]] tables")
+    out = []
+    for i, item in enumerate(raw):
+        path = f"listeners[{i}]"
+        lst = _validate_table(item, SCHEMA["listeners"], src, path)
+        polar = lst["distance_m"] is not None or lst["angle_deg"] is not None
+        if lst["position_m"] is not None and polar:
+            raise SceneError(src, path, "give either position_m or distance_m with angle_deg, not both")
+        if lst["position_m"] is None:
+            if lst["distance_m"] is None or lst["angle_deg"] is None:
+                raise SceneError(src, path, "needs distance_m and angle_deg, or position_m")
+            if lst["distance_m"] <= radius:
+                raise SceneError(src, f"{path}.distance_m", f"listener inside the sphere: must be > radius = "
+                                                            f"{radius:g} m, got {lst['distance_m']:g} m")
+        out.append(lst)
+    return out
+
+
+def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
+    """Validate a parsed scene mapping and fill in every default.
+
+    Parameters
+    ----------
+    raw : dict
+        The parsed TOML document.
+    source : str
+        Name of the file (for messages).
+
+    Raises
+    ------
+    SceneError
+        On the first invalid entry, naming ``source``, the key path and the allowed values.
+    """
+    if not isinstance(raw, dict):
+        raise SceneError(source, "<root>", "expected a TOML table")
+    for key in raw:
+        if key not in SCHEMA:
+            _unknown(source, "", key, SCHEMA)
+    data = {}
+    for name, table in SCHEMA.items():
+        if name == "listeners":
+            continue
+        if name == "outputs":
+            continue
+        data[name] = _validate_table(raw.get(name, {}), table, source, name)
+    radius = data["sphere"]["radius_m"]
+    s = data["sphere"]
+    if s["mass_kg"] is not None and s["density_kg_m3"] is not None:
+        raise SceneError(source, "sphere.mass_kg", "give either mass_kg or density_kg_m3, not both")
+    from ..core.materials import material
+
+    for path, name in (("sphere.material", s["material"]), ("contact.surface", data["contact"]["surface"])):
+        if name is not None:
+            try:
+                material(name)
+            except ParameterError as exc:
+                raise SceneError(source, path, exc.detail) from None
+    if data["contact"]["k_hertz_n_m1_5"] is not None and data["contact"]["surface"] is not None:
+        raise SceneError(source, "contact.k_hertz_n_m1_5", "give either k_hertz_n_m1_5 or surface, not both")
+    conf = data["configuration"]
+    if conf["height_m"] is not None and conf["height_m"] < radius:
+        raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
+                                                           f"{radius:g} m, got {conf['height_m']:g} m")
+    if conf["kind"] == "wall-floor" and conf["strike"] == "floor" and conf["wall_distance_m"] < radius:
+        raise SceneError(source, "configuration.wall_distance_m",
+                         f"the sphere would cut the wall: must be >= radius = {radius:g} m, "
+                         f"got {conf['wall_distance_m']:g} m")
+    data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
+
+    outs_raw = raw.get("outputs", {})
+    if not isinstance(outs_raw, dict):
+        raise SceneError(source, "outputs", f"expected a table, got {outs_raw!r}")
+    outputs = {}
+    for kind, value in outs_raw.items():
+        if kind not in _OUT:
+            _unknown(source, "outputs", kind, _OUT)
+        if value is False:
+            continue
+        if value is True:
+            value = {}
+        outputs[kind] = _validate_table(value, _OUT[kind], source, f"outputs.{kind}")
+    if "wav" in outputs:
+        if outputs["wav"]["struck_wall"] not in (-1, 1):
+            raise SceneError(source, "outputs.wav.struck_wall",
+                             f"must be -1 or +1, got {outputs['wav']['struck_wall']}")
+        if outputs["wav"]["stereo"] and len(data["listeners"]) < 2:
+            raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
+    if "design_table" in outputs and "sweep" not in outputs:
+        raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
+    data["outputs"] = outputs
+    order = tuple(k for k in OUTPUT_KINDS if k in outputs)
+    scene = Scene(MappingProxyType(data), source, order)
+    _check_geometry(scene)
+    return scene
+
+
+def _check_geometry(scene: Scene) -> None:
+    """Listeners in the fluid; grids within the memory cap."""
+    src = scene.source
+    conf = scene.configuration()
+    import numpy as np
+
+    for i, (_name, pos) in enumerate(scene.listeners()):
+        if not bool(conf.in_fluid(np.asarray(pos)[None, :])[0]):
+            key = f"listeners[{i}]"
+            lst = scene.data["listeners"][i]
+            key += ".position_m" if lst["position_m"] is not None else ".angle_deg"
+            raise SceneError(src, key, "listener inside the sphere, below the floor or behind the wall "
+                                       f"(configuration {conf.name!r}; the fluid is z > 0"
+                                       + (", x > -wall_distance" if conf.name == "wall-floor" else "") + ")")
+    grids = scene.data["grids"]
+    cap = grids["memory_limit_mb"] * 2**20
+    n_plane = grids["plane"]["resolution"] ** 2
+    n_sphere = 2 * grids["sphere"]["n_theta"] ** 2
+    checks = []
+    if scene.wants("snapshot"):
+        checks.append(("grids.plane.resolution", n_plane * len(scene.data["outputs"]["snapshot"]["times_s"]) * 8))
+    if scene.wants("animation"):
+        checks.append(("grids.plane.resolution", n_plane * scene.data["outputs"]["animation"]["frames"] * 8))
+    if scene.wants("balloon"):
+        checks.append(("grids.sphere.n_theta", n_sphere * 8 * 8))
+    for key, need in checks:
+        if need > cap:
+            raise SceneError(src, key, f"the grid needs {need / 2**20:.4g} MiB, more than "
+                                       f"grids.memory_limit_mb = {grids['memory_limit_mb']:g} MiB; "
+                                       "lower the resolution or frames, or raise the cap")
+
+
+def scene_from_text(text: str, source: str = "<scene>") -> Scene:
+    """Parse TOML text and validate it (see :func:`scene_from_dict`)."""
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(source, "<toml>", f"not valid TOML: {exc}") from None
+    return scene_from_dict(raw, source)
+
+
+def load_scene(path) -> Scene:
+    """Load and validate a scene file (TOML).
+
+    Raises
+    ------
+    SceneError
+        If the file cannot be read or anything in it is invalid.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError(str(p), "<file>", f"cannot read the scene: {exc.strerror or exc}") from None
+    return scene_from_text(text, str(p))
+
+
+def shipped_scenes() -> dict:
+    """Names and texts of the scenes shipped in ``assets/scenes`` (installed with the package)."""
+    folder = resources.files("acoustiviz").joinpath("assets/scenes")
+    return {f.name.removesuffix(".toml"): f.read_text("utf-8")
+            for f in sorted(folder.iterdir(), key=lambda f: f.name) if f.name.endswith(".toml")}
+
+
+def default_scene() -> Scene:
+    """The built-in default scene: the paper's Table 1 damper striking a plane, listener at 0.7 m, 45°."""
+    return scene_from_text(shipped_scenes()["default"], "<built-in default scene>")

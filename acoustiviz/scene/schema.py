@@ -1,0 +1,242 @@
+"""The scene schema as data: every key with its type, unit, range, default and meaning."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..constants import CONFIGURATIONS as CONFIGS
+from ..constants import (
+    DEFAULT_AIR_DENSITY,
+    DEFAULT_DURATION,
+    DEFAULT_RTOL,
+    DEFAULT_SOUND_SPEED,
+    DEFAULT_WALL_DISTANCE,
+    PAPER_ANGLE_DEG,
+    PAPER_DISTANCE,
+    PAPER_GAP,
+    PAPER_RADIUS,
+    PAPER_V0,
+    PAPER_VELOCITY,
+    PULSES,
+    TABLE1,
+)
+from ..constants import SCENE_SOLVERS as SOLVERS
+
+__all__ = [
+    "SCHEMA",
+    "OUTPUT_KINDS",
+    "schema_help",
+]
+
+
+# --------------------------------------------------------------------------- schema
+@dataclass(frozen=True)
+class Key:
+    """One scene key: its type, unit, allowed range, default and meaning."""
+
+    kind: str  # "float", "int", "bool", "str", "floats", "point", "range"
+    doc: str
+    default: object = None
+    unit: str = ""
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    choices: tuple = ()
+    length: int | None = None  # most values of "floats", exact count of "ints"
+
+
+@dataclass(frozen=True)
+class Table:
+    """A sub-table of keys; ``optional`` tables may be absent (outputs are requested by presence)."""
+
+    keys: dict
+    doc: str = ""
+    array: bool = False  # [[name]] array of tables
+
+
+def _pos(doc, unit, default=None, **kw):
+    return Key("float", doc, default, unit, low=0.0, low_open=True, **kw)
+
+_MEDIUM = {
+    "c_m_s": Key("float", "speed of sound", DEFAULT_SOUND_SPEED, "m/s", low=1.0, high=1e5),
+    "rho_kg_m3": Key("float", "fluid density", DEFAULT_AIR_DENSITY, "kg/m^3", low=1e-3, high=1e5),
+}
+
+_SPHERE = {
+    "radius_m": _pos("sphere radius", "m", PAPER_RADIUS, high=1.0),
+    "material": Key("str", "sphere material from the catalogue (sets density; with contact.surface, K_HZ)", None),
+    "density_kg_m3": _pos("sphere density (default 7800, or the material's)", "kg/m^3", None, high=1e5),
+    "mass_kg": _pos("sphere mass; replaces the density", "kg", None, high=1e4),
+    "damper_radius": Key("str", "sphere radius for damper impacts: 'given' keeps radius_m (the paper's choice), "
+                         "'from-mass' derives it from the impact mass and the density", "given",
+                         choices=("given", "from-mass")),
+}
+
+_CONTACT = {
+    "k_hertz_n_m1_5": _pos("Hertz stiffness K_HZ (default 5.6e8, or from sphere.material and surface)",
+                           "N/m^1.5", None, high=1e14),
+    "surface": Key("str", "surface material from the catalogue (K_HZ from sphere and surface materials)", None),
+    "pulse": Key("str", "acceleration pulse", "half-sine", choices=PULSES),
+    "pulse_mass": Key("str", "mass in the pulse: the impact mass alone or the effective mass of the two bodies",
+                      "impact", choices=("impact", "effective")),
+}
+
+_IMPACT = {
+    "velocity_m_s": _pos("approach speed of the single impact used by waveform, directivity and renders",
+                         "m/s", PAPER_VELOCITY, high=1e3),
+}
+
+_CONFIGURATION = {
+    "kind": Key("str", "free field, reflecting plane (floor z = 0) or wall-floor corner", "plane", choices=CONFIGS),
+    "wall_distance_m": _pos("wall-floor: distance from the wall (x = -wall_distance) to the sphere's centre",
+                            "m", DEFAULT_WALL_DISTANCE, high=100.0),
+    "strike": Key("str", "wall-floor: struck surface (a wall strike puts the sphere against the wall, "
+                  "accelerating along +x)", "floor", choices=("floor", "wall")),
+    "height_m": _pos("wall strike: height of the sphere's centre above the floor (default: the radius)", "m",
+                     None, high=100.0),
+}
+
+_DAMPER = {
+    "main_mass_kg": _pos("main mass M", "kg", TABLE1["M"], high=1e6),
+    "stiffness_n_m": _pos("spring stiffness K", "N/m", TABLE1["K"], high=1e12),
+    "damping_n_s_m": Key("float", "viscous damping C", TABLE1["C"], "N s/m", low=0.0, high=1e9),
+    "impact_mass_kg": _pos("impact mass m", "kg", TABLE1["m"], high=1e5),
+    "gap_m": _pos("total free travel d of the impact mass", "m", PAPER_GAP, high=10.0),
+    "contact_damping_n_s_m": Key("float", "contact damping c1", TABLE1["c1"], "N s/m", low=0.0, high=1e9),
+    "clip_tensile": Key("bool", "clip the contact force at zero (no pull as the bodies part)", False),
+    "initial_velocity_m_s": Key("float", "initial velocity of the main mass", PAPER_V0, "m/s", low=-1e3, high=1e3),
+    "initial_displacement_m": Key("float", "initial displacement of the main mass", 0.0, "m", low=-10, high=10),
+    "duration_s": _pos("simulated time", "s", DEFAULT_DURATION, high=1e4),
+    "solver": Key("str", "damper solver; 'auto' takes the cheapest whose error suits the tolerance "
+                  "(acoustiviz.dynamics.cheapest_solver)", "auto", choices=SOLVERS),
+    "tolerance": _pos("relative accuracy wanted on impact times and speeds (the event solver's rtol)", "", DEFAULT_RTOL,
+                      high=0.5),
+}
+
+_LISTENER = {
+    "name": Key("str", "label used in file names", None),
+    "distance_m": _pos("distance from the sphere's centre (with angle_deg)", "m", None, high=1e4),
+    "angle_deg": Key("float", "angle from the acceleration axis (with distance_m)", None, "deg", low=0.0, high=180.0),
+    "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
+}
+
+_SPHERE_GRID = {
+    "distance_m": _pos("radius of the spherical grid (balloon) around the sphere's centre", "m", 0.7, high=1e4),
+    "n_theta": Key("int", "polar samples (the azimuth gets twice as many)", 32, low=3, high=2000),
+}
+
+_PLANE_GRID = {
+    "extent_m": _pos("distance from the sphere's centre to the far edges of each section (default: the distance "
+                     "sound travels by the last time, x 1.25)", "m", None, high=1e3),
+    "resolution": Key("int", "points along the longer side of each section", 200, low=8, high=20000),
+    "sections": Key("strs", "sections through the sphere's centre: 'xz' the vertical plane normal to the wall "
+                    "(holding the acceleration axis), 'yz' the vertical plane parallel to it, 'xy' the horizontal",
+                    ["xz"], choices=("xz", "yz", "xy")),
+}
+
+_OUT = {
+    "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
+                      "pressure waveform at each listener"),
+    "directivity": Table({"step_deg": Key("float", "angle step", 5.0, "deg", low=0.1, high=45.0, low_open=False)},
+                         "peak, RMS and SPL against angle at the first listener's distance"),
+    "snapshot": Table({"times_s": Key("floats", "snapshot times (at most 12, drawn side by side)", [0.001], "s",
+                                      low=0.0, high=10.0, length=12),
+                       "size_px": Key("ints", "image width and height", [1400, 600], "px", low=64, high=8192,
+                                      length=2)},
+                      "pressure field on the planar sections at given times (pyvista)"),
+    "balloon": Table({"metric": Key("str", "balloon colour/radius", "peak", choices=("peak", "rms", "sel")),
+                      "db_range": _pos("level range from the rim to the centre of the balloon", "dB", 30.0,
+                                       high=200.0),
+                      "size_px": Key("ints", "image width and height", [1200, 900], "px", low=64, high=8192,
+                                     length=2)},
+                     "3-D directivity balloon on the spherical grid (pyvista)"),
+    "animation": Table({"frames": Key("int", "frames", 40, low=2, high=2000),
+                        "fps": Key("int", "frames per second", 12, low=1, high=60),
+                        "size_px": Key("ints", "image width and height", [800, 600], "px", low=64, high=4096,
+                                       length=2)},
+                       "GIF of the wavefront on the planar sections (pyvista)"),
+    "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
+    "impact_table": Table({}, "one row per contact of the damper run (CSV)"),
+    "restitution": Table({
+        "masses_kg": Key("floats", "impact masses", [0.01, 0.02, 0.04, 0.06, 0.08, 0.1], "kg", low=1e-6, high=1e4),
+        "velocities_m_s": Key("floats", "approach speeds", [0.5, 1.0, 2.0], "m/s", low=1e-4, high=1e3)},
+        "coefficient of restitution against impact mass (paper Figure 7)"),
+    "sweep": Table({
+        "gap_m": Key("range", "gap range start:stop:count", "0.02:0.06:5", "m", low=0.0, low_open=True, high=10),
+        "mass_kg": Key("range", "impact-mass range start:stop:count", "0.02:0.08:4", "kg", low=0.0, low_open=True,
+                       high=1e4),
+        "duration_s": _pos("simulated time per design", "s", 5.0, high=1e4),
+        "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024)},
+        "sweep over gap and impact mass (paper Figure 6)"),
+    "design_table": Table({
+        "inclination_m_s": Key("float", "target damping inclination", None, "m/s", low=0.0, high=10.0),
+        "tolerance_m_s": _pos("half-width of the inclination band", "m/s", 0.001, high=10.0)},
+        "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
+    "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=8000, high=384000),
+                  "stereo": Key("bool", "one stereo file from the first two listeners", False),
+                  "subtype": Key("str", "FLOAT: float32 in pascals (1.0 = 1 Pa); PCM_24: normalised, one shared "
+                                 "scale recorded in the sidecar", "FLOAT", choices=("FLOAT", "PCM_24")),
+                  "struck_wall": Key("int", "damper wall lying on the struck surface z = 0", -1, low=-1, high=1),
+                  "walls": Key("str", "'both': impacts on the far wall radiate from it with the reversed axis; "
+                               "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one"))},
+                 "calibrated WAV (Pa) of the damper run at each listener"),
+}
+
+#: The outputs a scene may ask for, in the order they are produced.
+OUTPUT_KINDS = tuple(_OUT)
+
+SCHEMA = {
+    "scene": Table({"name": Key("str", "short name", "scene"), "description": Key("str", "what it shows", "")},
+                   "title"),
+    "medium": Table(_MEDIUM, "the fluid (default air at 20 degC)"),
+    "sphere": Table(_SPHERE, "the impacting sphere"),
+    "contact": Table(_CONTACT, "Hertz contact and the acceleration pulse"),
+    "impact": Table(_IMPACT, "a single impact"),
+    "configuration": Table(_CONFIGURATION, "surfaces around the impact; frame: struck surface z = 0"),
+    "damper": Table(_DAMPER, "the impact damper (paper Table 1 defaults)"),
+    "listeners": Table(_LISTENER, "listeners ([[listeners]], each with distance_m and angle_deg, or position_m)",
+                       array=True),
+    "grids": Table({"sphere": Table(_SPHERE_GRID, "spherical grid"), "plane": Table(_PLANE_GRID, "planar grid"),
+                    "memory_limit_mb": _pos("memory cap of grid evaluations", "MiB", 256.0, high=1e6)},
+                   "evaluation grids"),
+    "outputs": Table(_OUT, "what to produce; only these are computed"),
+}
+
+DEFAULT_LISTENER = {"name": "paper", "distance_m": PAPER_DISTANCE, "angle_deg": PAPER_ANGLE_DEG}
+
+
+def schema_help() -> str:
+    """Human-readable description of every scene key, unit, range and default."""
+    lines = []
+
+    def walk(table: Table, path: str, depth: int):
+        for key, spec in table.keys.items():
+            sub = f"{path}.{key}" if path else key
+            if isinstance(spec, Table):
+                head = f"[[{sub}]]" if spec.array else f"[{sub}]"
+                lines.append(f"{'  ' * depth}{head}  {spec.doc}")
+                walk(spec, sub, depth + 1)
+            else:
+                rng = f" in {_fmt_range(spec)}" if spec.kind in ("float", "int", "floats", "range") else ""
+                ch = f" one of {', '.join(spec.choices)}" if spec.choices else ""
+                lines.append(f"{'  ' * depth}{key} = {_type_name(spec.kind)}{rng}{ch}; default {spec.default!r}: "
+                             f"{spec.doc}")
+
+    for name, table in SCHEMA.items():
+        lines.append(f"[[{name}]]" if table.array else f"[{name}]  {table.doc}")
+        walk(table, name, 1)
+    return "\n".join(lines)
+
+
+def _fmt_range(k: Key) -> str:
+    lb = "(" if k.low_open else "["
+    u = f" {k.unit}" if k.unit else ""
+    return f"{lb}{k.low:g}, {k.high:g}]{u}"
+
+
+def _type_name(kind: str) -> str:
+    return {"float": "a number", "int": "an integer", "bool": "true or false", "str": "a string",
+            "floats": "a list of numbers", "strs": "a list of strings", "point": "a list of 3 numbers",
+            "ints": "a list of integers",
+            "range": "a 'start:stop:count' string"}[kind]

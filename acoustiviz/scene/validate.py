@@ -1,0 +1,176 @@
+"""Validation of scene values against the schema; :class:`SceneError` names the file, key path and range."""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import math
+
+from ..constants import PULSES
+from ..errors import ParameterError
+from .schema import Key, Table, _fmt_range, _type_name
+
+__all__ = [
+    "SceneError",
+    "parse_range",
+]
+
+
+class SceneError(ParameterError):
+    """A scene is invalid; the message names the file, the key path and what is allowed.
+
+    Attributes
+    ----------
+    source : str
+        The scene file.
+    name : str
+        The key path (``"sphere.radius_m"``).
+    detail : str
+        What is wrong and what is allowed.
+    """
+
+    def __init__(self, source: str, key: str, detail: str):
+        super().__init__(key, detail)
+        self.source = source
+        self.args = (f"{source}: {key}: {detail}",)
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+    def __reduce__(self):
+        return (type(self), (self.source, self.name, self.detail))
+
+    @property
+    def key(self) -> str:
+        """The key path (same as :attr:`name`)."""
+        return self.name
+
+
+# --------------------------------------------------------------------------- helpers
+def parse_range(text: str, key: str = "range", source: str = "<range>"):
+    """Parse ``start:stop:count`` (inclusive) into a list of floats; one number is a single value."""
+    parts = str(text).split(":")
+    try:
+        if len(parts) == 1:
+            return [float(parts[0])]
+        if len(parts) != 3:
+            raise ValueError
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise SceneError(source, key, f"expected 'start:stop:count' (inclusive) or one number, got {text!r}") from None
+    if count < 1 or count > 10000:
+        raise SceneError(source, key, f"count must lie in [1, 10000], got {count}")
+    if count == 1:
+        if start != stop:
+            raise SceneError(source, key, "a count of 1 needs start == stop")
+        return [start]
+    step = (stop - start) / (count - 1)
+    return [start + i * step for i in range(count)]
+
+
+def _check_number(v, k: Key, src: str, path: str) -> float:
+    if not math.isfinite(v):
+        raise SceneError(src, path, f"must be finite, got {v}")
+    ok_low = v > k.low if k.low_open else v >= k.low
+    if not (ok_low and v <= k.high):
+        raise SceneError(src, path, f"must lie in {_fmt_range(k)}, got {v:g}")
+    return v
+
+
+def _check_key(value, k: Key, src: str, path: str):
+    kind = k.kind
+    if kind == "float":
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SceneError(src, path, f"expected {_type_name(kind)} in {_fmt_range(k)}, got {value!r}")
+        return _check_number(float(value), k, src, path)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise SceneError(src, path, f"expected {_type_name(kind)} in {_fmt_range(k)}, got {value!r}")
+        return int(_check_number(value, k, src, path))
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise SceneError(src, path, f"expected true or false, got {value!r}")
+        return value
+    if kind == "str":
+        if not isinstance(value, str):
+            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
+        if k.choices and value not in k.choices:
+            close = difflib.get_close_matches(value, k.choices, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise SceneError(src, path, f"must be one of {', '.join(map(repr, k.choices))}, got {value!r}{hint}")
+        return value
+    if kind == "ints":
+        if not isinstance(value, list) or len(value) != k.length:
+            raise SceneError(src, path, f"expected a list of {k.length} integers in {_fmt_range(k)}, got {value!r}")
+        for i, v in enumerate(value):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise SceneError(src, f"{path}[{i}]", f"expected an integer, got {v!r}")
+            _check_number(v, k, src, f"{path}[{i}]")
+        return list(value)
+    if kind in ("floats", "point"):
+        if not isinstance(value, list) or not value:
+            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
+        if kind == "point" and len(value) != 3:
+            raise SceneError(src, path, f"expected {_type_name(kind)}, got {len(value)} values")
+        limit = k.length or 10000
+        if kind == "floats" and len(value) > limit:
+            raise SceneError(src, path, f"at most {limit} values, got {len(value)}")
+        out = []
+        for i, v in enumerate(value):
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise SceneError(src, f"{path}[{i}]", f"expected a number, got {v!r}")
+            out.append(_check_number(float(v), k, src, f"{path}[{i}]") if kind == "floats" else float(v))
+            if kind == "point" and not math.isfinite(out[-1]):
+                raise SceneError(src, f"{path}[{i}]", f"must be finite, got {v}")
+        return out
+    if kind == "strs":
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value) or not value:
+            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
+        allowed = k.choices or PULSES
+        for i, v in enumerate(value):
+            if v not in allowed:
+                raise SceneError(src, f"{path}[{i}]", f"must be one of {', '.join(map(repr, allowed))}, got {v!r}")
+        if len(set(value)) != len(value):
+            raise SceneError(src, path, f"values must not repeat, got {value!r}")
+        return list(value)
+    if kind == "range":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            value = str(value)
+        if not isinstance(value, str):
+            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
+        vals = parse_range(value, path, src)
+        for v in vals:
+            _check_number(v, k, src, path)
+        return value
+    raise AssertionError(kind)  # pragma: no cover
+
+
+def _unknown(src, path, key, allowed):
+    close = difflib.get_close_matches(str(key), list(allowed), n=1)
+    hint = f" (did you mean {close[0]!r}?)" if close else ""
+    where = f"{path}.{key}" if path else str(key)
+    raise SceneError(src, where, f"unknown key{hint}; allowed here: {', '.join(allowed)}")
+
+
+def _validate_table(data, table: Table, src: str, path: str, fill_defaults: bool = True) -> dict:
+    if not isinstance(data, dict):
+        raise SceneError(src, path, f"expected a table, got {data!r}")
+    out = {}
+    for key, value in data.items():
+        if key not in table.keys:
+            _unknown(src, path, key, table.keys)
+        spec = table.keys[key]
+        sub = f"{path}.{key}" if path else key
+        if isinstance(spec, Table):
+            out[key] = _validate_table(value, spec, src, sub)
+        else:
+            out[key] = _check_key(value, spec, src, sub)
+    if fill_defaults:
+        for key, spec in table.keys.items():
+            if key in out:
+                continue
+            if isinstance(spec, Table) and not spec.array and path not in ("outputs",):
+                out[key] = _validate_table({}, spec, src, f"{path}.{key}" if path else key)
+            elif isinstance(spec, Key):
+                out[key] = copy.deepcopy(spec.default)
+    return out
