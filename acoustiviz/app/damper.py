@@ -19,9 +19,9 @@ import time
 import warnings
 from dataclasses import dataclass
 
+from .. import dynamics
 from .._validate import check_choice, check_positive
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
-from .. import dynamics
 from ..dynamics import DamperModel, InitialState, cheapest_solver
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 

@@ -31,7 +31,7 @@ from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
 
-__all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from"]
+__all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from", "surroundings"]
 
 @dataclass(frozen=True)
 class ImpactSetup:
@@ -157,7 +157,17 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
 
 
-def _configuration(radius, config, wall_distance, strike, height) -> Configuration:
+def surroundings(radius: float, config: str, wall_distance=None, strike: str = "floor", height=None) -> tuple:
+    """Resolve the geometry settings of a configuration: ``(wall_distance, strike, height)`` in m.
+
+    A wall-floor floor strike puts the wall ``wall_distance`` m from the centre (default
+    :data:`~acoustiviz.constants.DEFAULT_WALL_DISTANCE`, at least the radius); a wall strike puts
+    the sphere against the wall (wall distance = radius) at ``height`` m above the floor (default:
+    the radius). The free field and the plane take none of them. One rule for single impacts and
+    for the damper's cavity (:func:`acoustiviz.app.wav.cavity`).
+    """
+    check_choice("config", config, CONFIGURATIONS)
+    check_choice("strike", strike, STRIKES)
     if config != "wall-floor":
         if wall_distance is not None:
             raise ParameterError("wall_distance", "only applies to the wall-floor configuration")
@@ -166,15 +176,19 @@ def _configuration(radius, config, wall_distance, strike, height) -> Configurati
     if height is not None and strike != "wall":
         raise ParameterError("height", "only applies to a wall strike")
     if config != "wall-floor":
-        return configuration(config, radius)
+        return None, "floor", None
     if strike == "wall":
         if wall_distance is not None:
             raise ParameterError("wall_distance", "a wall strike puts the sphere against the wall; omit it")
         h = radius if height is None else check_range("height", height, radius, math.inf, unit="m")
-        return configuration("wall-floor", radius, wall_distance=radius, strike="wall", height=h)
+        return radius, "wall", h
     wall = DEFAULT_WALL_DISTANCE if wall_distance is None else wall_distance
-    check_range("wall_distance", wall, radius, math.inf, unit="m")
-    return configuration("wall-floor", radius, wall_distance=wall)
+    return check_range("wall_distance", wall, radius, math.inf, unit="m"), "floor", None
+
+
+def _configuration(radius, config, wall_distance, strike, height) -> Configuration:
+    wall, strike, height = surroundings(radius, config, wall_distance, strike, height)
+    return configuration(config, radius, wall_distance=wall, strike=strike, height=height)
 
 
 def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.ndarray:

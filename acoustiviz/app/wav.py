@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from .._validate import check_range
-from ..constants import DEFAULT_WALL_DISTANCE, P_REF
-from ..errors import ClippingWarning, ParameterError
+from ..constants import P_REF
+from ..errors import ClippingWarning
 from ..output.audio import CavityScene, shared_scale, write_sidecar, write_wav
+from .impacts import surroundings
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files"]
 
@@ -29,27 +29,8 @@ SIDECAR_VERSION = 2
 
 def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
            wall_distance=None, strike: str = "floor", height=None, medium=None) -> CavityScene:
-    """The damper's cavity in its surroundings, with the same rules as a single impact.
-
-    A wall-floor floor strike puts the wall ``wall_distance`` m from the centre (default
-    0.05 m); a wall strike puts the sphere against the wall at ``height`` m above the floor
-    (default: the radius). Other configurations take neither.
-    """
-    if config != "wall-floor":
-        if wall_distance is not None:
-            raise ParameterError("wall_distance", "only applies to the wall-floor configuration")
-        if strike != "floor":
-            raise ParameterError("strike", "only applies to the wall-floor configuration")
-    if height is not None and strike != "wall":
-        raise ParameterError("height", "only applies to a wall strike")
-    if config == "wall-floor" and strike == "wall":
-        if wall_distance is not None:
-            raise ParameterError("wall_distance", "a wall strike puts the sphere against the wall; omit it")
-        wall_distance = radius
-        height = radius if height is None else check_range("height", height, radius, unit="m")
-    elif config == "wall-floor":
-        wall_distance = DEFAULT_WALL_DISTANCE if wall_distance is None else wall_distance
-        check_range("wall_distance", wall_distance, radius, unit="m")
+    """The damper's cavity in its surroundings (:func:`acoustiviz.app.impacts.surroundings` resolves them)."""
+    wall_distance, strike, height = surroundings(radius, config, wall_distance, strike, height)
     extra = {} if medium is None else {"medium": medium}
     return CavityScene(config, radius, gap, struck_wall=struck_wall, walls=walls, wall_distance=wall_distance,
                        strike=strike, height=height, **extra)
