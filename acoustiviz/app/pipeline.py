@@ -143,20 +143,18 @@ def _save(fig, path: Path) -> Path:
 
 def produce_waveform(ctx: RunContext):
     """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
-    from ..field import time_series, waveform_span
+    from ..field import time_series
     from ..output.plot._style import style
     from ..output.plot.waveform import plot_waveform
+    from .views import waveform_times
 
     opts = ctx.scene.output("waveform")
     kinds = opts["pulses"] or [ctx.scene.section("contact")["pulse"]]
     conf, medium = ctx.configuration, ctx.medium
     pulses = {k: ctx.pulse(k) for k in kinds}
-    tau = max(p.duration for p in pulses.values())
     products = []
     for name, pos in ctx.listeners:
-        spans = [waveform_span(p, pos, conf, medium=medium) for p in pulses.values()]
-        first, end = min(sp[0] for sp in spans), max(sp[1] for sp in spans)
-        t = np.arange(max(0.0, first - 0.2 * tau), end, tau / 400)
+        t = waveform_times(list(pulses.values()), pos, conf, medium)
         series = {k: time_series(p, t, pos[None, :], conf, medium=medium)[0] for k, p in pulses.items()}
         cols = [t] + list(series.values())
         header = ["time_s"] + (["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds])
@@ -181,13 +179,14 @@ def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL against angle at the first listener's distance (CSV + polar PNG)."""
     from ..field import directivity
     from ..output.plot.directivity import directivity_figure
+    from .views import directivity_angles
 
     step = ctx.scene.output("directivity")["step_deg"]
     conf = ctx.configuration
     name, pos = ctx.listeners[0]
     dist = float(np.linalg.norm(pos - conf.sources[0].position))
     top = 180.0 if conf.name == "free" else 90.0
-    angles = np.radians(np.arange(0.0, top + 1e-9, step))
+    angles = directivity_angles(conf, step)
     d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
     csv = write_csv_atomic(ctx.path("directivity.csv"), ["angle_deg", "peak_pa", "rms_pa", "spl_db"],
                            [d.angle_deg, d.peak, d.rms, d.spl_db], fmt="%.8g")

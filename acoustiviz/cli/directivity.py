@@ -30,25 +30,20 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     """Compute the directivity, print it, and write the requested files."""
-    import math
-
     import numpy as np
 
-    from .._validate import check_range
     from ..app.names import user_terms
+    from ..app.views import directivity_angles
     from ..field import directivity
     from ._impact import impact_from_args
 
-    step = check_range("--step", args.step, 0.0, 90.0, unit="deg", low_open=True)
     setup = impact_from_args(args)
     a = setup.radius
-    check_range("--distance", args.distance, a, math.inf, unit="m", low_open=True)
+    with user_terms({"step_deg": "--step", "distance": "--distance", "angles": "--step"}):
+        angles = directivity_angles(setup.configuration, args.step)
+        d = directivity(setup.pulse, setup.configuration, args.distance, angles, medium=setup.medium)
+    deg = np.degrees(angles)
     top = 180.0 if setup.configuration.name == "free" else 90.0
-    deg = np.arange(0.0, top + 1e-9 * top, step)
-    if deg[-1] < top - 1e-9:
-        deg = np.append(deg, top)
-    with user_terms({"distance": "--distance", "angles": "--step"}):
-        d = directivity(setup.pulse, setup.configuration, args.distance, np.radians(deg), medium=setup.medium)
     imp = setup.impact
     print(
         f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "

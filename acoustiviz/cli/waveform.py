@@ -22,30 +22,19 @@ def add_parser(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def waveform_times(setup, point, samples_per_duration: int):
-    """Times in s from the start of contact covering arrival, pulse and decay at ``point``."""
-    import numpy as np
-
-    from ..field import waveform_span
-
-    _, t_end = waveform_span(setup.pulse, point, setup.configuration, medium=setup.medium)
-    dt = setup.pulse.duration / samples_per_duration
-    return np.arange(0.0, t_end + dt, dt)
-
-
 def run(args) -> int:
     """Compute, print a summary, and write the requested files."""
     import math
 
-    from .._validate import ParameterError
+    from ..app.names import user_terms
+    from ..app.views import waveform_times
     from ..field import time_series
     from ._impact import impact_from_args, observer_point
 
-    if args.samples_per_duration < 200:
-        raise ParameterError("--samples-per-duration", f"must be >= 200, got {args.samples_per_duration}")
     setup = impact_from_args(args)
     point = observer_point(setup, args.distance, args.angle)
-    t = waveform_times(setup, point, args.samples_per_duration)
+    with user_terms({"samples_per_duration": "--samples-per-duration"}):
+        t = waveform_times([setup.pulse], point, setup.configuration, setup.medium, args.samples_per_duration)
     p = time_series(setup.pulse, t, point[None, :], setup.configuration, medium=setup.medium)[0]
     imp = setup.impact
     print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
