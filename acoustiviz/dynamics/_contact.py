@@ -1,0 +1,326 @@
+"""One contact of the impact damper, integrated by Dormand-Prince 8(5,3) in a regularising time (numba).
+
+The contact is integrated in a transformed time σ with dt = ξ dσ, where ξ = sqrt(δ) is a state
+variable (dξ/dσ = u/2). The Hertz force becomes K_HZ ξ³, a polynomial, so the δ^{3/2}
+singularities at contact onset and end (solution terms in t^{3.5}) disappear: the solution is
+analytic in σ and the 8th-order steps stay long up to both ends. The contact ends at the simple
+root ξ = 0 (dξ/dσ = u/2 < 0 there), located by Newton's method on full Runge-Kutta steps.
+State: t (from onset), x, v, ξ, u = dδ/dt, impulse, dissipated in contact, dissipated by C.
+
+Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..constants import HERTZ_DURATION_CONSTANT
+from . import _dop853 as _dop
+from ._status import STATUS_STEP_UNDERFLOW
+
+# Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner, Solving ODEs I, II.10), vendored.
+_NS = _dop.N_STAGES
+_A = _dop.A
+_B = _dop.B
+_E3 = _dop.E3
+_E5 = _dop.E5
+NY = 8  # contact state: t, x, v, sqrt(delta), u, impulse, dissipated in contact, dissipated by C
+_NY = NY
+#: Rows of the stage array ``kst`` a caller allocates: the stages and the derivative at the new point.
+N_STAGE_ROWS = _NS + 1
+#: Rows of the work array ``work`` a caller allocates.
+N_WORK_ROWS = 10
+
+_HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
+
+
+@njit(cache=True)
+def _force(d, u, kh, c1, clip):
+    """Contact force in N and its elastic part in N at penetration d (m), rate u (m/s)."""
+    if d <= 0.0:
+        return 0.0, 0.0
+    fe = kh * d * math.sqrt(d)
+    f = fe + c1 * u
+    if clip and f < 0.0:
+        f = 0.0
+    return f, fe
+
+
+@njit(cache=True, inline="always")
+def _rhs_into(y, p, sw, out, row):
+    """Derivatives with respect to σ of the contact state into ``out[row]`` (section comment)."""
+    M, K, C, m, kh, c1 = p[0], p[1], p[2], p[3], p[5], p[6]
+    clip = p[7] > 0.5
+    x, v, xi, u = y[1], y[2], y[3], y[4]
+    fe = kh * xi * xi * xi
+    f = fe + c1 * u
+    if clip and f < 0.0:
+        f = 0.0
+    spring = K * x + C * v
+    out[row, 0] = xi
+    out[row, 1] = xi * v
+    out[row, 2] = xi * (sw * f - spring) / M
+    out[row, 3] = 0.5 * u
+    out[row, 4] = xi * (-f / m - f / M + sw * spring / M)
+    out[row, 5] = xi * f
+    out[row, 6] = xi * (f - fe) * u
+    out[row, 7] = xi * C * v * v
+
+
+@njit(cache=True)
+def _rhs(y, p, sw, out):
+    """Derivatives with respect to σ of the contact state into the 1-D array ``out``."""
+    _rhs_into(y, p, sw, out.reshape((1, _NY)), 0)
+
+
+@njit(cache=True)
+def _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew):
+    """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
+    for i in range(_NY):
+        kst[0, i] = f0[i]
+    for st in range(1, _NS):
+        for i in range(_NY):
+            acc = 0.0
+            for j in range(st):
+                acc += _A[st, j] * kst[j, i]
+            ytmp[i] = y[i] + h * acc
+        _rhs_into(ytmp, p, sw, kst, st)
+    for i in range(_NY):
+        acc = 0.0
+        for j in range(_NS):
+            acc += _B[j] * kst[j, i]
+        ynew[i] = y[i] + h * acc
+    _rhs_into(ynew, p, sw, kst, _NS)
+    for i in range(_NY):
+        fnew[i] = kst[_NS, i]
+
+
+@njit(cache=True)
+def _dop_error(y, ynew, h, kst, rtol, atol):
+    """Hairer's DOP853 error norm over all components (1 = at tolerance)."""
+    e5 = 0.0
+    e3 = 0.0
+    for i in range(_NY):
+        sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(_NS + 1):
+            a5 += _E5[j] * kst[j, i]
+            a3 += _E3[j] * kst[j, i]
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _NY)
+
+
+@njit(cache=True)
+def _dfds(y, f, p):
+    """Rate of change of the contact force with σ (same sign as dF/dt while ξ > 0)."""
+    xi = y[3]
+    return 3.0 * p[5] * xi * xi * f[3] + p[6] * f[4]
+
+
+@njit(cache=True)
+def _newton_in_step(kind, target, y, f0, h, glo, p, sw, kst, ytmp, ynew, fnew):
+    """Step length in [0, h] where ξ (kind 0) or t - target (kind 2) vanishes.
+
+    Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
+    inside the bracket; every trial is a full Dormand-Prince step from the step start, so the
+    root is as accurate as the integration. ``ynew``/``fnew`` hold the state at the root and
+    ``glo`` is the sign-carrying value at the step start. The first trial reuses ``ynew``.
+    """
+    lo, hi = 0.0, h
+    hm = h
+    g = ynew[3] if kind == 0 else ynew[0] - target
+    dg = fnew[3] if kind == 0 else fnew[0]
+    for _ in range(40):
+        hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
+        if not (lo < hn < hi):
+            hn = 0.5 * (lo + hi)
+        _dop_step(y, f0, hn, p, sw, kst, ytmp, ynew, fnew)
+        g = ynew[3] if kind == 0 else ynew[0] - target
+        dg = fnew[3] if kind == 0 else fnew[0]
+        if (g > 0.0) == (glo > 0.0):
+            lo = hn
+        else:
+            hi = hn
+        done = abs(hn - hm) <= 8.0 * 2.220446049250313e-16 * hn or g == 0.0
+        hm = hn
+        if done or hi - lo <= 4.0 * 2.220446049250313e-16 * hi:
+            break
+    return hm
+
+
+@njit(cache=True)
+def _peak_in_step(y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
+    """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
+    lo, hi = 0.0, h
+    glo, ghi = g0, g1
+    side = 0
+    hm = hi
+    for _ in range(60):
+        hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+        if not (lo < hm < hi):
+            hm = 0.5 * (lo + hi)
+        _dop_step(y, f0, hm, p, sw, kst, ytmp, ynew, fnew)
+        gm = _dfds(ynew, fnew, p)
+        if gm == 0.0:
+            break
+        if (gm > 0.0) == (glo > 0.0):
+            lo, glo = hm, gm
+            if side == -1:
+                ghi *= 0.5
+            side = -1
+        else:
+            hi, ghi = hm, gm
+            if side == 1:
+                glo *= 0.5
+            side = 1
+        if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
+            break
+    return hm
+
+
+@njit(cache=True)
+def _copy(src, dst):
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True)
+def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst):
+    """Integrate one contact from its onset at ``tc`` s until the bodies part or ``t_end``.
+
+    Returns ``(ended, status, ie, duration, peak_force, yout)`` where ``yout`` is the 8-component
+    state at the end (t from onset, x, v, ξ = sqrt(δ), u, impulse, dissipated in contact,
+    dissipated by C).
+    """
+    M, m, kh, hg, c1 = p[0], p[3], p[5], p[4], p[6]
+    meff = m * M / (m + M)
+    clip = p[7] > 0.5
+    y = work[0]
+    f0 = work[1]
+    ytmp = work[2]
+    ynew = work[3]
+    fnew = work[4]
+    yd = work[5]
+    fd = work[6]
+    atol = work[7]
+    ys = work[8]
+    fs = work[9]
+    y[0] = 0.0
+    y[1] = x
+    y[2] = v
+    y[3] = math.sqrt(max(d0, 0.0))
+    y[4] = u0
+    y[5] = 0.0
+    y[6] = 0.0
+    y[7] = 0.0
+    uref = max(abs(u0), 1e-9)
+    amax = (1.25 * meff * uref * uref / kh) ** 0.4
+    tau_h = _HERTZ_T * amax / uref
+    atol[0] = rtol * tau_h
+    atol[1] = rtol * hg
+    atol[2] = rtol * max(abs(v), uref)
+    atol[3] = rtol * math.sqrt(amax)
+    atol[4] = rtol * uref
+    atol[5] = rtol * meff * uref
+    atol[6] = rtol * 0.5 * meff * uref * uref
+    atol[7] = atol[6]
+    _rhs(y, p, sw, f0)
+    peak, _ = _force(d0, u0, kh, c1, clip)
+    h = 0.02 * tau_h / math.sqrt(amax)  # σ has units of s / sqrt(m)
+    status = 0
+    ended = False
+    nrej = 0
+    rejected = False
+    t_stop = t_end - tc
+    while True:
+        _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew)
+        err = _dop_error(y, ynew, h, kst, rtol, atol)
+        if not (err <= 1.0):
+            if not math.isfinite(err):
+                err = 1e10
+            h = h * max(0.2, 0.9 * err ** (-1.0 / 8.0))
+            nrej += 1
+            rejected = True
+            if nrej > 100000:
+                status = STATUS_STEP_UNDERFLOW
+                break
+            continue
+        hstep = h
+        exiting = ynew[3] <= 0.0
+        if exiting:
+            _copy(ynew, ys)
+            _copy(fnew, fs)
+            hstep = _newton_in_step(0, 0.0, y, f0, h, y[3], p, sw, kst, ytmp, ynew, fnew)
+        stopping = ynew[0] >= t_stop
+        if stopping:
+            exiting = False
+            hstep = _newton_in_step(2, t_stop, y, f0, hstep, -1.0, p, sw, kst, ytmp, ynew, fnew)
+        g0 = _dfds(y, f0, p)
+        g1 = _dfds(ynew, fnew, p)
+        if g0 > 0.0 and g1 <= 0.0:
+            _copy(ynew, yd)
+            _copy(fnew, fd)
+            _peak_in_step(y, f0, hstep, g0, g1, p, sw, kst, ytmp, ynew, fnew)
+            fpk, _ = _force(ynew[3] * ynew[3], ynew[4], kh, c1, clip)
+            peak = max(peak, fpk)
+            _copy(yd, ynew)
+            _copy(fd, fnew)
+        fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
+        peak = max(peak, fend)
+        # dense output inside the step: Newton on t(σ) with full steps from the step start
+        while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+            _copy(ynew, yd)
+            _copy(fnew, fd)
+            target = t_eval[ie] - tc
+            if target > y[0]:
+                _newton_in_step(2, target, y, f0, hstep, -1.0, p, sw, kst, ytmp, ynew, fnew)
+            else:
+                _copy(y, ynew)
+            xi = max(ynew[3], 0.0)
+            dense[ie, 0] = ynew[1]
+            dense[ie, 1] = ynew[2]
+            dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
+            dense[ie, 3] = ynew[2] + sw * ynew[4]
+            dense[ie, 4] = ec0 + ynew[7]
+            dense[ie, 5] = en0 + ynew[6]
+            _copy(yd, ynew)
+            _copy(fd, fnew)
+            ie += 1
+        _copy(ynew, y)
+        _copy(fnew, f0)
+        if exiting:
+            ended = True
+            break
+        if stopping:
+            break
+        # no growth right after a rejection (Hairer, Norsett, Wanner, II.4); a safety factor of
+        # 0.8 on growth cuts rejections from ~20 % to ~5 % of the steps and the total by ~7 %
+        grow = 1.0 if rejected else 10.0
+        rejected = False
+        if err == 0.0:
+            h = h * grow
+        else:
+            h = h * min(grow, 0.8 * err ** (-1.0 / 8.0))
+    return ended, status, ie, y[0], peak, y
+
+
+
+@njit(cache=True)
+def _free_contact(pfree, u0, rtol, work, kst):
+    """Compliant contact of the two masses alone at approach speed ``u0`` m/s.
+
+    Returns ``(status, restitution, duration in s, peak force in N)``.
+    """
+    ended, st, _, dur, peak, yc = _contact(
+        pfree, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), 0, np.empty((0, 6)),
+        0.0, 0.0, work, kst
+    )
+    e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
+    return st, e, dur, peak
