@@ -26,15 +26,15 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-from acoustiviz.dynamics import TABLE1, simulate
-from acoustiviz.dynamics.reference import (
+from _damper_reference import (
     N_COMPARE,
     compare_impacts,
     reference,
     solve_ivp_impacts,
     speed_accuracy,
 )
+
+from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.output.writers import write_csv_atomic
 
 RESULTS = Path(__file__).resolve().parent / "results"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
-from acoustiviz.dynamics import CSV_COLUMNS
+from acoustiviz.output.tables import IMPACT_COLUMNS
 
 
 def test_damper_command_writes_table_and_figure(tmp_path, capsys):
@@ -22,7 +22,7 @@ def test_damper_command_writes_table_and_figure(tmp_path, capsys):
     n = int(re.search(r"^impacts: (\d+)$", out, re.M).group(1))
     assert out.count("damping inclination") == 2
     lines = csv.read_text().splitlines()
-    assert lines[0] == ",".join(CSV_COLUMNS)
+    assert lines[0] == ",".join(IMPACT_COLUMNS)
     assert len(lines) == n + 1
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert set(np.unique(data[:, 1])) <= {-1.0, 1.0}

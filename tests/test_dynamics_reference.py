@@ -3,9 +3,9 @@
 import math
 
 import numpy as np
+from _damper_reference import compare_impacts, solve_ivp_impacts
 
 from acoustiviz.dynamics import TABLE1, ImpactTable, simulate
-from acoustiviz.dynamics.reference import compare_impacts, solve_ivp_impacts
 
 
 def _table(t, u, wall):

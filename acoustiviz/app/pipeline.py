@@ -218,7 +218,9 @@ def produce_impact_table(ctx: RunContext):
     """One row per contact of the damper run (CSV with the damper command's columns)."""
     res = ctx.damper_run
     path = ctx.path("impacts.csv")
-    res.impacts.to_csv(path)
+    from ..output.tables import write_impact_table
+
+    write_impact_table(path, res.impacts)
     imp = res.impacts
     figs = {"impacts": str(len(imp))}
     if len(imp):

@@ -56,7 +56,9 @@ def run(args) -> int:
           f"{result.energy.initial:.4g} J")
     print(f"solver time: {round(1000 * result.solver_time)} ms")
     if args.impacts_csv:
-        path = result.impacts.to_csv(args.impacts_csv)
+        from ..output.tables import write_impact_table
+
+        path = write_impact_table(args.impacts_csv, result.impacts)
         print(f"wrote {path}")
     if args.png:
         from ..output.plot._style import save_figure

@@ -7,7 +7,7 @@ The physics here imports nothing from plotting or the command line.
 """
 
 from .model import TABLE1, DamperModel, InitialState
-from .result import CSV_COLUMNS, EnergyBalance, ImpactTable, SimulationResult
+from .result import EnergyBalance, ImpactTable, SimulationResult
 from .solve import (
     SOLVERS,
     AccuracyWarning,
@@ -23,7 +23,6 @@ __all__ = [
     "TABLE1",
     "DamperModel",
     "InitialState",
-    "CSV_COLUMNS",
     "EnergyBalance",
     "ImpactTable",
     "SimulationResult",

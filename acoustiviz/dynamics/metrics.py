@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_positive, check_range
-from ..contact import restitution
+from ..core.contact import restitution
 from .model import TABLE1, DamperModel, InitialState
 
 __all__ = [
@@ -247,7 +247,7 @@ def restitution_curve(masses, velocities, model: DamperModel = TABLE1) -> np.nda
     Returns
     -------
     (n, k) ndarray
-        Restitution (dimensionless), from :func:`acoustiviz.contact.restitution`.
+        Restitution (dimensionless), from :func:`acoustiviz.core.contact.restitution`.
     """
     m = np.atleast_1d(np.asarray(masses, dtype=float))
     if m.ndim != 1 or not np.all(m > 0):

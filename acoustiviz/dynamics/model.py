@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass
 
 from .._validate import ParameterError, check_finite, check_nonnegative, check_positive
-from ..contact import contact_duration, effective_mass, max_approach
+from ..core.contact import contact_duration, effective_mass, max_approach
 
 __all__ = ["DamperModel", "InitialState", "TABLE1"]
 

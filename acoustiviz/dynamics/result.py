@@ -11,23 +11,9 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .._io import write_csv_atomic
 from .model import DamperModel, InitialState
 
-__all__ = ["ImpactTable", "EnergyBalance", "SimulationResult", "CSV_COLUMNS", "EXTRA_CSV_COLUMNS"]
-
-#: Columns written by :meth:`ImpactTable.to_csv` (the command-line interface promises these).
-CSV_COLUMNS = (
-    "time_s",
-    "wall",
-    "approach_velocity_m_s",
-    "separation_velocity_m_s",
-    "restitution",
-    "duration_s",
-    "peak_force_n",
-)
-#: Further columns written with ``to_csv(..., extra=True)``.
-EXTRA_CSV_COLUMNS = ("impulse_n_s", "energy_lost_j")
+__all__ = ["ImpactTable", "EnergyBalance", "SimulationResult"]
 
 
 def _frozen(a) -> np.ndarray:
@@ -39,6 +25,8 @@ def _frozen(a) -> np.ndarray:
 @dataclass(frozen=True)
 class ImpactTable:
     """One row per contact, in time order; all arrays have the same length.
+
+    Written to CSV by :func:`acoustiviz.output.tables.write_impact_table`.
 
     Attributes
     ----------
@@ -101,22 +89,6 @@ class ImpactTable:
     def head(self, n: int) -> ImpactTable:
         """The first ``n`` impacts."""
         return ImpactTable(*(getattr(self, f)[:n] for f in self.__dataclass_fields__))
-
-    def to_csv(self, path, *, extra: bool = False):
-        """Write the table as CSV atomically; return the path.
-
-        Columns: ``time_s, wall, approach_velocity_m_s, separation_velocity_m_s, restitution,
-        duration_s, peak_force_n`` (and ``impulse_n_s, energy_lost_j`` when ``extra``).
-        """
-        cols = [self.time, self.wall, self.approach_velocity, self.separation_velocity,
-                self.restitution, self.duration, self.peak_force]
-        header = list(CSV_COLUMNS)
-        fmt = ["%.17g", "%d"] + ["%.17g"] * 5
-        if extra:
-            cols += [self.impulse, self.energy_lost]
-            header += list(EXTRA_CSV_COLUMNS)
-            fmt += ["%.17g"] * 2
-        return write_csv_atomic(path, header, cols, fmt=fmt)
 
 
 @dataclass(frozen=True)

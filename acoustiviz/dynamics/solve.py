@@ -26,7 +26,7 @@ Solvers (chosen by name):
     error of the order of (contact duration × main frequency); see the benchmark.
 
 Requesting a Newmark step longer than the shortest possible contact raises
-:class:`~acoustiviz._validate.ParameterError`; a step coarser than 1/20 of it warns.
+:class:`~acoustiviz.errors.ParameterError`; a step coarser than 1/20 of it warns.
 """
 
 from __future__ import annotations
@@ -39,6 +39,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive, check_range
+from ..errors import AccuracyWarning
 from . import _kernels as kern
 from .model import TABLE1, DamperModel, InitialState
 from .result import EnergyBalance, ImpactTable, SimulationResult
@@ -71,10 +72,6 @@ _STATUS_MESSAGES = {
     kern.STATUS_STEP_UNDERFLOW: "stopped: contact step size underflow",
     kern.STATUS_DIVERGED: "stopped: the solution diverged",
 }
-
-
-class AccuracyWarning(UserWarning):
-    """A setting will give inaccurate results (e.g. a coarse Newmark step)."""
 
 
 def _params(model: DamperModel) -> np.ndarray:

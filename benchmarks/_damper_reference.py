@@ -1,4 +1,7 @@
-"""Converged reference runs and solver comparisons for the impact damper.
+"""Converged reference runs and solver comparisons for the impact damper (a test harness).
+
+Kept outside the installed package: the benchmarks, the tests (``pythonpath = ["benchmarks"]``
+in the pytest settings) and the gallery import it as ``_damper_reference``.
 
 The Table 1 motion is chaotic: a change of one part in 1e14 in the initial velocity grows to
 about 1e-7 by the 35th impact and the impact sequence changes after roughly 50 impacts. Solvers
@@ -21,9 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import TABLE1, DamperModel, InitialState
-from .result import ImpactTable, SimulationResult
-from .solve import AccuracyWarning, simulate
+from acoustiviz.dynamics import TABLE1, DamperModel, ImpactTable, InitialState, SimulationResult, simulate
+from acoustiviz.errors import AccuracyWarning
 
 __all__ = [
     "REFERENCE_RTOL",

@@ -1,0 +1,73 @@
+"""Tables of physics results written as CSV files (atomically, see :mod:`acoustiviz.output.writers`).
+
+The physics layers return arrays and small dataclasses; this module decides how they look on disk.
+
+Examples
+--------
+>>> import tempfile, pathlib
+>>> from acoustiviz.dynamics import simulate
+>>> run = simulate(duration=0.5)
+>>> path = write_impact_table(pathlib.Path(tempfile.mkdtemp()) / "impacts.csv", run.impacts)
+>>> path.read_text().splitlines()[0] == ",".join(IMPACT_COLUMNS)
+True
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .writers import write_csv_atomic
+
+__all__ = ["IMPACT_COLUMNS", "EXTRA_IMPACT_COLUMNS", "write_impact_table"]
+
+#: Columns of an impact table file, in order (``acoustiviz damper --impacts-csv`` promises these):
+#: contact start time (s), wall struck (+1 or -1), approach and separation speeds (m/s),
+#: restitution (dimensionless), contact duration (s) and peak contact force (N).
+IMPACT_COLUMNS = (
+    "time_s",
+    "wall",
+    "approach_velocity_m_s",
+    "separation_velocity_m_s",
+    "restitution",
+    "duration_s",
+    "peak_force_n",
+)
+#: Further columns written with ``extra=True``: contact impulse (N s) and energy lost (J).
+EXTRA_IMPACT_COLUMNS = ("impulse_n_s", "energy_lost_j")
+
+# ImpactTable attribute of each column
+_FIELDS = {
+    "time_s": "time",
+    "wall": "wall",
+    "approach_velocity_m_s": "approach_velocity",
+    "separation_velocity_m_s": "separation_velocity",
+    "restitution": "restitution",
+    "duration_s": "duration",
+    "peak_force_n": "peak_force",
+    "impulse_n_s": "impulse",
+    "energy_lost_j": "energy_lost",
+}
+
+
+def write_impact_table(path, impacts, *, extra: bool = False) -> Path:
+    """Write an impact table (one row per contact) as CSV atomically; return the path.
+
+    Parameters
+    ----------
+    path : path-like
+        Output file.
+    impacts : acoustiviz.dynamics.ImpactTable
+        The contacts of a damper run (``SimulationResult.impacts``).
+    extra : bool
+        Also write :data:`EXTRA_IMPACT_COLUMNS`.
+
+    Returns
+    -------
+    pathlib.Path
+        Columns :data:`IMPACT_COLUMNS` (then :data:`EXTRA_IMPACT_COLUMNS`), values to 17
+        significant digits (the wall as an integer).
+    """
+    header = IMPACT_COLUMNS + (EXTRA_IMPACT_COLUMNS if extra else ())
+    cols = [getattr(impacts, _FIELDS[name]) for name in header]
+    fmt = ["%.17g", "%d"] + ["%.17g"] * (len(header) - 2)
+    return write_csv_atomic(path, header, cols, fmt=fmt)
