@@ -60,7 +60,7 @@ class DamperRun:
     result : SimulationResult
         Time histories, impact table, energy balance (:func:`acoustiviz.dynamics.simulate`).
     metrics : DampingMetrics
-        Damping inclination (eq 16 and envelope fit) and settling time.
+        Damping inclination (eq 16 and envelope fit) and settling time from the exact maxima.
     initial : InitialState
         The start of the run.
     warnings : tuple of str
@@ -113,7 +113,7 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
         result = dynamics.simulate(model, duration, solver=name, initial=initial, t_eval=sample_times(duration, model),
                           **kwargs)
     seconds = time.perf_counter() - start
-    metrics = damping_metrics(result.t, result.x)
+    metrics = damping_metrics(result)
     return DamperRun(result, metrics, initial, tuple(str(w.message) for w in caught), seconds, reason)
 
 

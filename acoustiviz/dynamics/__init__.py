@@ -6,8 +6,9 @@ moving in ``+x`` relative to the main mass), ``wall = -1`` when ``z`` reaches ``
 The physics here imports nothing from plotting or the command line.
 """
 
+from .maxima import Maxima, exact_maxima
 from .model import TABLE1, DamperModel, InitialState
-from .result import EnergyBalance, ImpactTable, SimulationResult
+from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
 from .solve import (
     SOLVERS,
     AccuracyWarning,
@@ -24,6 +25,9 @@ __all__ = [
     "DamperModel",
     "InitialState",
     "EnergyBalance",
+    "Extrema",
+    "Maxima",
+    "exact_maxima",
     "ImpactTable",
     "SimulationResult",
     "SOLVERS",

@@ -19,6 +19,7 @@ from numba import njit
 
 from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
+from ._free import record_extremum
 from ._status import STATUS_STEP_UNDERFLOW
 
 # Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner, Solving ODEs I, II.10), vendored.
@@ -124,9 +125,19 @@ def _dfds(y, f, p):
     return 3.0 * p[5] * xi * xi * f[3] + p[6] * f[4]
 
 
+@njit(cache=True, inline="always")
+def _newton_g(kind, target, y, f):
+    """The function whose root :func:`_newton_in_step` seeks, and its σ-derivative."""
+    if kind == 0:
+        return y[3], f[3]
+    if kind == 1:
+        return y[2], f[2]
+    return y[0] - target, f[0]
+
+
 @njit(cache=True)
 def _newton_in_step(kind, target, y, f0, h, glo, p, sw, kst, ytmp, ynew, fnew):
-    """Step length in [0, h] where ξ (kind 0) or t - target (kind 2) vanishes.
+    """Step length in [0, h] where ξ (kind 0), v (kind 1) or t - target (kind 2) vanishes.
 
     Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
     inside the bracket; every trial is a full Dormand-Prince step from the step start, so the
@@ -135,15 +146,13 @@ def _newton_in_step(kind, target, y, f0, h, glo, p, sw, kst, ytmp, ynew, fnew):
     """
     lo, hi = 0.0, h
     hm = h
-    g = ynew[3] if kind == 0 else ynew[0] - target
-    dg = fnew[3] if kind == 0 else fnew[0]
+    g, dg = _newton_g(kind, target, ynew, fnew)
     for _ in range(40):
         hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < hn < hi):
             hn = 0.5 * (lo + hi)
         _dop_step(y, f0, hn, p, sw, kst, ytmp, ynew, fnew)
-        g = ynew[3] if kind == 0 else ynew[0] - target
-        dg = fnew[3] if kind == 0 else fnew[0]
+        g, dg = _newton_g(kind, target, ynew, fnew)
         if (g > 0.0) == (glo > 0.0):
             lo = hn
         else:
@@ -192,8 +201,12 @@ def _copy(src, dst):
 
 
 @njit(cache=True)
-def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst):
+def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
     """Integrate one contact from its onset at ``tc`` s until the bodies part or ``t_end``.
+
+    Every zero of the main-mass velocity inside the contact is located by Newton's method on full
+    Runge-Kutta steps from the step start (as accurate as the integration) and recorded in
+    ``ext`` as an extremum of x (:func:`~acoustiviz.dynamics._free.record_extremum`).
 
     Returns ``(ended, status, ie, duration, peak_force, yout)`` where ``yout`` is the 8-component
     state at the end (t from onset, x, v, ξ = sqrt(δ), u, impulse, dissipated in contact,
@@ -274,6 +287,13 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
             _copy(fd, fnew)
         fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
         peak = max(peak, fend)
+        if (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns inside this step
+            _copy(ynew, yd)
+            _copy(fnew, fd)
+            _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, sw, kst, ytmp, ynew, fnew)
+            record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
+            _copy(yd, ynew)
+            _copy(fd, fnew)
         # dense output inside the step: Newton on t(σ) with full steps from the step start
         while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
             _copy(ynew, yd)
@@ -320,7 +340,7 @@ def _free_contact(pfree, u0, rtol, work, kst):
     """
     ended, st, _, dur, peak, yc = _contact(
         pfree, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), 0, np.empty((0, 6)),
-        0.0, 0.0, work, kst
+        0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64)
     )
     e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
     return st, e, dur, peak

@@ -46,6 +46,55 @@ def _first_acc_zero(x0, v0, a, wd):
 
 
 @njit(cache=True)
+def record_extremum(ext, n_ext, t, x, kind):
+    """Append an extremum of the main-mass displacement (time s, x m, +1 max / -1 min) to ``ext``.
+
+    ``n_ext[0]`` counts every extremum found, also those beyond the capacity of ``ext`` (the
+    caller compares the count with the capacity).
+    """
+    k = n_ext[0]
+    if k < ext.shape[0]:
+        ext[k, 0] = t
+        ext[k, 1] = x
+        ext[k, 2] = kind
+    n_ext[0] = k + 1
+
+
+@njit(cache=True)
+def free_extrema(x0, v0, tau_end, a, wd, t0, ext, n_ext):
+    """Record the extrema of the free main mass in ``(0, tau_end]`` (times from ``t0`` s).
+
+    The velocity of the damped oscillator is ``e^{-a τ} (p cos ωd τ + q sin ωd τ)``, so its zeros
+    are ``ωd τ = atan2(q, p) + π/2 + kπ`` exactly; one Newton step on the closed-form velocity
+    polishes each. At a zero the acceleration is ``-K x / M``: a maximum where ``x > 0``.
+    """
+    if wd <= 0.0 or tau_end <= 0.0:
+        return
+    q0 = (v0 + a * x0) / wd
+    p1 = -a * x0 + wd * q0
+    q1 = -a * q0 - wd * x0
+    if p1 == 0.0 and q1 == 0.0:
+        return  # at rest
+    th = math.atan2(q1, p1) + 0.5 * math.pi
+    th = th + math.ceil(-th / math.pi) * math.pi
+    if th <= 0.0:
+        th += math.pi
+    w2 = a * a + wd * wd
+    while th / wd <= tau_end:
+        tau = th / wd
+        x, v = _osc(x0, v0, tau, a, wd)
+        acc = -w2 * x - 2.0 * a * v
+        if acc != 0.0:
+            tn = tau - v / acc
+            if 0.0 < tn <= tau_end and abs(tn - tau) < 1e-6 / wd:
+                tau = tn
+                x, v = _osc(x0, v0, tau, a, wd)
+        if x != 0.0:
+            record_extremum(ext, n_ext, t0 + tau, x, 1.0 if x > 0.0 else -1.0)
+        th += math.pi
+
+
+@njit(cache=True)
 def _ffval(kind, tau, x0, v0, y0, w0, a, wd, hg):
     """Free-flight gap functions: 0 -> dz/dt, 1 -> d/2 - z, 2 -> z + d/2 (m/s or m)."""
     x, v = _osc(x0, v0, tau, a, wd)

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, _contact, _free_contact
-from ._free import _osc, _scan
+from ._free import _osc, _scan, free_extrema, record_extremum
 from ._newmark import central_difference, newmark
 from ._status import (
     DENSE_COLUMNS,
@@ -87,7 +87,7 @@ def _table_lookup(lnu, table, x, col):
 
 @njit(cache=True)
 def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, final, impact_map,
-                 lnu, table):
+                 lnu, table, ext, n_ext):
     """Event-driven (``impact_map=False``) or impact-map (``True``) integration from t = 0.
 
     The impact map takes the restitution, duration and peak force at each approach speed from
@@ -96,7 +96,11 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
 
     Fills ``impacts`` (rows as ``IMPACT_COLUMNS``), ``dense`` (rows as ``DENSE_COLUMNS`` at
     ``t_eval``) and ``final`` (x, v, y, w, dissipated by C, dissipated in contacts, delta at the
-    end). Returns ``(n_impacts, status, t_reached)``.
+    end). Records every extremum of the main-mass displacement (a zero of its velocity, or for
+    the impact map a jump of the velocity through zero) in ``ext`` (rows: time s, x m, +1 for a
+    maximum or -1 for a minimum; ``n_ext[0]`` counts them): in free flight from the closed form
+    (:func:`~acoustiviz.dynamics._free.free_extrema`), inside contacts by root finding on the
+    contact integration. Returns ``(n_impacts, status, t_reached)``.
     """
     M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]
     meff = m * M / (m + M)
@@ -118,6 +122,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     while True:
         found, tau, sw = _scan(x0, v0, y0, w0, t_end - t0, a, wd, hg)
         tstop = t0 + tau if found else t_end
+        free_extrema(x0, v0, tau, a, wd, t0, ext, n_ext)
         eosc0 = 0.5 * M * v0 * v0 + 0.5 * K * x0 * x0
         while ie < t_eval.shape[0] and t_eval[ie] <= tstop:
             tt = t_eval[ie] - t0
@@ -158,6 +163,8 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
             jimp = (1.0 + e) * meff * u0
             x0 = xx
             v0 = vv + sw * jimp / M
+            if (vv > 0.0) != (v0 > 0.0):  # the impulse turns the main mass: a kink extremum
+                record_extremum(ext, n_ext, tc, xx, 1.0 if vv > 0.0 else -1.0)
             w0 = w0 - sw * jimp / m
             y0 = x0 + sw * hg
             lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
@@ -174,7 +181,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
                 break
             continue
         ended, st, ie, dur, peak, yc = _contact(
-            p, sw, xx, vv, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst
+            p, sw, xx, vv, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst, ext, n_ext
         )
         ec += yc[7]
         en += yc[6]

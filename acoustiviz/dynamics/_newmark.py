@@ -13,6 +13,7 @@ import math
 
 from numba import njit
 
+from ._free import record_extremum
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 
@@ -38,13 +39,41 @@ def _nm_force(x, y, v, w, hg, kh, c1, clip):
 
 
 @njit(cache=True)
-def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final):
+def _hermite_turn(x, v, x1, v1, h):
+    """Where the cubic Hermite interpolant of a step turns: (fraction s in [0, 1], x in m).
+
+    Its slope ``h00' x + h10' h v + h01' x1 + h11' h v1`` is a quadratic in ``s`` with opposite
+    signs at the ends (the caller checks ``v`` and ``v1``), so it has one root there; found by
+    bisection to round-off.
+    """
+    c2 = 6.0 * (x - x1) + 3.0 * h * (v + v1)
+    c1 = 6.0 * (x1 - x) - h * (4.0 * v + 2.0 * v1)
+    c0 = h * v
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if ((c2 * mid + c1) * mid + c0 > 0.0) == (c0 > 0.0):
+            lo = mid
+        else:
+            hi = mid
+    s = 0.5 * (lo + hi)
+    h00 = 2 * s**3 - 3 * s**2 + 1
+    h10 = s**3 - 2 * s**2 + s
+    h01 = -2 * s**3 + 3 * s**2
+    h11 = s**3 - s**2
+    return s, h00 * x + h10 * h * v + h01 * x1 + h11 * h * v1
+
+
+@njit(cache=True)
+def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ext, n_ext):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4) with Newton iterations, fixed step h s.
 
     Contact onset and end are located by linear interpolation of the penetration between steps;
     the approach (separation) speed is extrapolated from the free side of the step, because the
     paper's damping force jumps at first touch.
-    Returns ``(n_impacts, status, t_reached)``; arrays as in :func:`event_solver`.
+    Extrema of x (into ``ext``) are the turning points of the cubic Hermite interpolant of each
+    step whose end velocities differ in sign (:func:`_hermite_turn`), the interpolant of the
+    dense output. Returns ``(n_impacts, status, t_reached)``; arrays as in :func:`event_solver`.
     """
     M, K, C, m, hg, kh, c1 = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     clip = p[7] > 0.5
@@ -138,6 +167,9 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final):
             impacts[n, 6] = jimp + h2 * f
             impacts[n, 7] = lost
             n += 1
+        if (v > 0.0) != (v1 > 0.0):
+            s_turn, x_turn = _hermite_turn(x, v, x1, v1, h)
+            record_extremum(ext, n_ext, t + s_turn * h, x_turn, 1.0 if v > 0.0 else -1.0)
         # dense output: cubic Hermite in displacement, linear acceleration in velocity
         while ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
             s = min((t_eval[ie] - t) / h, 1.0)

@@ -5,7 +5,9 @@ Definitions
 Positive maxima
     The largest main-mass displacement within each positive excursion (between a zero crossing
     of x upward and the next one downward), so that a kink made by an impact inside an excursion
-    never counts as a maximum of its own. Found on samples of x and refined by a parabola.
+    never counts as a maximum of its own (:mod:`acoustiviz.dynamics.maxima`). From a run they are
+    exact (:func:`exact_maxima`: zeros of the closed-form velocity between contacts, roots on the
+    contact integration inside them); from samples, refined by a parabola (:func:`positive_maxima`).
 Damping inclination, two maxima (paper eq 16)
     ``e = (X1 - X2) / (t2 - t1)`` in m/s from the first two positive maxima. Fragile: one impact
     near a maximum changes it a lot, even its sign, across a sweep.
@@ -27,12 +29,16 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive, check_range
 from ..core.contact import restitution
+from .maxima import Maxima, exact_maxima, positive_maxima
 from .model import TABLE1, DamperModel, InitialState
+from .result import SimulationResult
 
 __all__ = [
     "Maxima",
     "Inclination",
     "positive_maxima",
+    "exact_maxima",
+    "metrics_from_maxima",
     "damping_inclination",
     "envelope_inclination",
     "settling_time",
@@ -42,22 +48,6 @@ __all__ = [
     "sample_times",
     "restitution_curve",
 ]
-
-
-@dataclass(frozen=True)
-class Maxima:
-    """Positive maxima of the main-mass displacement.
-
-    Attributes
-    ----------
-    time : ndarray
-        Times of the maxima in s.
-    value : ndarray
-        Displacements at the maxima in m.
-    """
-
-    time: np.ndarray
-    value: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -91,41 +81,6 @@ def sample_times(duration: float, model: DamperModel = TABLE1, per_period: int =
     period = 2.0 * math.pi / model.main_frequency
     n = int(math.ceil(duration / period * per_period)) + 1
     return np.linspace(0.0, duration, n)
-
-
-def positive_maxima(t, x) -> Maxima:
-    """Positive maxima of sampled displacement ``x`` (m) at times ``t`` (s); see module notes."""
-    t = np.asarray(t, dtype=float)
-    x = np.asarray(x, dtype=float)
-    if t.shape != x.shape or t.ndim != 1 or t.size < 3:
-        raise ParameterError("t", "t and x must be 1-D arrays of equal length >= 3")
-    pos = x > 0
-    edges = np.flatnonzero(np.diff(pos.astype(np.int8)))
-    starts = ([0] if pos[0] else []) + [i + 1 for i in edges if not pos[i]]
-    ends = [i + 1 for i in edges if pos[i]]
-    tm, xm = [], []
-    for s in starts:
-        later = [e for e in ends if e > s]
-        if not later:
-            break  # excursion still open at the end of the record
-        e = later[0]
-        seg = x[s:e]
-        if seg.size == 0 or seg.max() <= 0:
-            continue
-        k = s + int(np.argmax(seg))
-        tk, xk = t[k], x[k]
-        if 0 < k < t.size - 1:
-            x0, x1, x2 = x[k - 1], x[k], x[k + 1]
-            den = x0 - 2 * x1 + x2
-            h = t[k + 1] - t[k]
-            if den < 0 and abs(t[k] - t[k - 1] - h) < 1e-9 * h:
-                off = 0.5 * (x0 - x2) / den
-                if abs(off) <= 1:
-                    tk = t[k] + off * h
-                    xk = x1 - 0.25 * (x0 - x2) * off
-        tm.append(tk)
-        xm.append(xk)
-    return Maxima(np.array(tm), np.array(xm))
 
 
 def damping_inclination(maxima: Maxima) -> Inclination:
@@ -190,13 +145,18 @@ class DampingMetrics:
     maxima: Maxima
 
 
-def damping_metrics(t, x, *, window_fraction: float = 0.3, settling_fraction: float = 0.05) -> DampingMetrics:
-    """Damping inclination (eq 16 and envelope fit) and settling time of a displacement history.
+def damping_metrics(run, x=None, *, window_fraction: float = 0.3, settling_fraction: float = 0.05) -> DampingMetrics:
+    """Damping inclination (eq 16 and envelope fit) and settling time of a run or of a record.
 
     Parameters
     ----------
-    t, x : (n,) array_like
-        Times in s and main-mass displacement in m (dense enough to resolve the maxima).
+    run : SimulationResult or (n,) array_like
+        A run of :func:`~acoustiviz.dynamics.simulate`, whose exact maxima are used
+        (:func:`~acoustiviz.dynamics.maxima.exact_maxima`); or the times in s of a sampled record,
+        with ``x``.
+    x : (n,) array_like, optional
+        Main-mass displacement in m at the times ``run`` (a sampled record only; maxima refined
+        by a parabola, :func:`~acoustiviz.dynamics.maxima.positive_maxima`).
     window_fraction : float
         Envelope fit over the maxima down to this fraction of the first (:func:`envelope_inclination`).
     settling_fraction : float
@@ -205,8 +165,28 @@ def damping_metrics(t, x, *, window_fraction: float = 0.3, settling_fraction: fl
     Returns
     -------
     DampingMetrics
+
+    Examples
+    --------
+    >>> from acoustiviz.dynamics import simulate
+    >>> m = damping_metrics(simulate(duration=2.0))
+    >>> m.two_maxima.method, m.two_maxima.n_maxima
+    ('two-maxima', 2)
     """
-    maxima = positive_maxima(t, x)
+    if isinstance(run, SimulationResult):
+        if x is not None:
+            raise ParameterError("x", "give x only with sampled times, not with a SimulationResult")
+        maxima = exact_maxima(run)
+    else:
+        if x is None:
+            raise ParameterError("x", "a sampled record needs its displacements x in m")
+        maxima = positive_maxima(run, x)
+    return metrics_from_maxima(maxima, window_fraction=window_fraction, settling_fraction=settling_fraction)
+
+
+def metrics_from_maxima(maxima: Maxima, *, window_fraction: float = 0.3,
+                        settling_fraction: float = 0.05) -> DampingMetrics:
+    """:class:`DampingMetrics` of given positive maxima (see :func:`damping_metrics`)."""
     return DampingMetrics(damping_inclination(maxima), envelope_inclination(maxima, window_fraction),
                           settling_time(maxima, settling_fraction), maxima)
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from .model import DamperModel, InitialState
 
-__all__ = ["ImpactTable", "EnergyBalance", "SimulationResult"]
+__all__ = ["ImpactTable", "EnergyBalance", "Extrema", "SimulationResult"]
 
 
 def _frozen(a) -> np.ndarray:
@@ -127,6 +127,37 @@ class EnergyBalance:
 
 
 @dataclass(frozen=True)
+class Extrema:
+    """Every turning point of the main-mass displacement x(t) in a run, in time order.
+
+    Between two consecutive entries x is monotone. The event solver finds them exactly: in free
+    flight as zeros of the closed-form velocity of the damped main oscillator, inside a contact by
+    root finding on the contact integration; the impact map adds the kinks where an instantaneous
+    impact reverses the main mass; Newmark takes the turning points of its cubic interpolant.
+
+    Attributes
+    ----------
+    time : ndarray
+        Times in s.
+    value : ndarray
+        Displacements x in m.
+    kind : ndarray
+        +1 for a local maximum, -1 for a local minimum (floats).
+    """
+
+    time: np.ndarray
+    value: np.ndarray
+    kind: np.ndarray
+
+    def __post_init__(self):
+        for name in ("time", "value", "kind"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+
+@dataclass(frozen=True)
 class SimulationResult:
     """What every solver returns (see :func:`acoustiviz.dynamics.simulate`).
 
@@ -156,6 +187,10 @@ class SimulationResult:
     message : str
     solver_time : float
         Wall time of the compiled solver alone in s (compilation and set-up excluded).
+    final_state : tuple
+        ``(x, v, y, w)`` at ``t_end`` in m and m/s.
+    extrema : Extrema
+        Every turning point of x(t) in [0, t_end] (see :func:`acoustiviz.dynamics.exact_maxima`).
     """
 
     solver: str
@@ -177,6 +212,7 @@ class SimulationResult:
     message: str
     solver_time: float
     final_state: tuple = field(default=())
+    extrema: Extrema | None = None
 
     def mechanical_energy(self) -> np.ndarray:
         """Kinetic + spring + Hertz energy at ``t`` in J."""

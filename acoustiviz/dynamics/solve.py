@@ -42,7 +42,7 @@ from .._validate import ParameterError, check_choice, check_positive, check_rang
 from ..errors import AccuracyWarning
 from . import _kernels as kern
 from .model import TABLE1, DamperModel, InitialState
-from .result import EnergyBalance, ImpactTable, SimulationResult
+from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
 
 __all__ = [
     "SOLVERS",
@@ -178,6 +178,46 @@ def _check_t_eval(t_eval, duration):
     return np.ascontiguousarray(t)
 
 
+def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_ext_cap, model, initial):
+    """Run a compiled solver warm; return its counts, wall time and filled arrays.
+
+    Returns ``(n_impacts, status, t_end, seconds, impacts, dense, final, extrema, n_extrema)``.
+    """
+    impacts = np.empty((n_max, 8))
+    dense = np.empty((t_eval.size, 6))
+    final = np.zeros(7)
+    ext = np.empty((n_ext_cap, 3))
+    n_ext = np.zeros(1, np.int64)
+    if solver == "newmark":
+        # warm-up (compiles or loads the cached kernel) so solver_time is the solver alone
+        kern.newmark(p, state0, dt, 1, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)), np.zeros(7),
+                     np.empty((0, 3)), np.zeros(1, np.int64))
+        t0 = time.perf_counter()
+        n, status, t_end = kern.newmark(p, state0, dt, nsteps, t_eval, n_max, impacts, dense, final, ext, n_ext)
+        elapsed = time.perf_counter() - t0
+        if status == kern.STATUS_OK:
+            t_end = duration
+    else:
+        imap = solver == "impact-map"
+        lnu = np.empty(0)
+        table = np.empty((0, 3))
+        if imap:
+            # restitution table over 4 decades of approach speed below the largest possible one
+            umax = initial.max_relative_speed(model)
+            lnu = np.linspace(math.log(umax) - math.log(1e4), math.log(umax) + 0.05, IMPACT_MAP_NODES)
+            table = np.empty((lnu.size, 3))
+            kern.restitution_table(p, lnu[:1], rtol, table[:1])
+        kern.event_solver(p, state0, 1e-9, rtol, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)),
+                          np.zeros(7), imap, lnu, table, np.empty((0, 3)), np.zeros(1, np.int64))
+        t0 = time.perf_counter()
+        if imap:
+            kern.restitution_table(p, lnu, rtol, table)
+        n, status, t_end = kern.event_solver(p, state0, duration, rtol, t_eval, n_max, impacts, dense,
+                                             final, imap, lnu, table, ext, n_ext)
+        elapsed = time.perf_counter() - t0
+    return n, status, t_end, elapsed, impacts, dense, final, ext, int(n_ext[0])
+
+
 def simulate(
     model: DamperModel = TABLE1,
     duration: float = 20.0,
@@ -280,35 +320,17 @@ def simulate(
         settings = {"rtol": rtol}
 
     n_max = int(max_impacts)
-    impacts = np.empty((n_max, 8))
-    dense = np.empty((t_eval.size, 6))
-    final = np.zeros(7)
-    if solver == "newmark":
-        # warm-up (compiles or loads the cached kernel) so solver_time is the solver alone
-        kern.newmark(p, state0, dt, 1, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)), np.zeros(7))
-        t0 = time.perf_counter()
-        n, status, t_end = kern.newmark(p, state0, dt, nsteps, t_eval, n_max, impacts, dense, final)
-        elapsed = time.perf_counter() - t0
-        if status == kern.STATUS_OK:
-            t_end = duration
-    else:
-        imap = solver == "impact-map"
-        lnu = np.empty(0)
-        table = np.empty((0, 3))
-        if imap:
-            # restitution table over 4 decades of approach speed below the largest possible one
-            umax = initial.max_relative_speed(model)
-            lnu = np.linspace(math.log(umax) - math.log(1e4), math.log(umax) + 0.05, IMPACT_MAP_NODES)
-            table = np.empty((lnu.size, 3))
-            kern.restitution_table(p, lnu[:1], rtol, table[:1])
-        kern.event_solver(p, state0, 1e-9, rtol, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)),
-                          np.zeros(7), imap, lnu, table)
-        t0 = time.perf_counter()
-        if imap:
-            kern.restitution_table(p, lnu, rtol, table)
-        n, status, t_end = kern.event_solver(p, state0, duration, rtol, t_eval, n_max, impacts, dense,
-                                             final, imap, lnu, table)
-        elapsed = time.perf_counter() - t0
+    # capacity for the turning points of x: about one per main half-period, plus at most about one
+    # per flight and per contact (grown and re-run should it ever not be enough)
+    n_ext_cap = 2 * int(math.ceil(duration * model.main_frequency / math.pi)) + 2 * n_max + 64
+    while True:
+        out = _run_kernel(solver, p, state0, duration, rtol, dt, nsteps if solver == "newmark" else 0,
+                          t_eval, n_max, n_ext_cap, model, initial)
+        if out[-1] <= n_ext_cap:
+            break
+        n_ext_cap = int(out[-1])
+    n, status, t_end, elapsed, impacts, dense, final, ext, n_ext = out
+    extrema = Extrema(ext[:n_ext, 0], ext[:n_ext, 1], ext[:n_ext, 2])
 
     x0, v0, y0, w0 = state0
     e0 = float(model.energy(x0, v0, y0, w0))
@@ -349,4 +371,5 @@ def simulate(
         message=_STATUS_MESSAGES.get(status, f"status {status}") + f" at t = {t_end:.6g} s",
         solver_time=elapsed,
         final_state=(float(xf), float(vf), float(yf), float(wf)),
+        extrema=extrema,
     )
