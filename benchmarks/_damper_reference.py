@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from acoustiviz.dynamics import TABLE1, DamperModel, ImpactTable, InitialState, SimulationResult, simulate
+from acoustiviz.dynamics.metrics import damping_metrics
 from acoustiviz.errors import AccuracyWarning
 
 __all__ = [
@@ -87,6 +88,9 @@ class BenchmarkRow:
         Against the reference over the first :data:`N_COMPARE` impacts.
     energy_error : float
         Relative energy closure error of the run (dimensionless).
+    inclination_error : float
+        Relative error of the damping inclination of eq 16 (first two exact positive maxima)
+        against the reference's (dimensionless).
     """
 
     solver: str
@@ -95,6 +99,7 @@ class BenchmarkRow:
     n_impacts: int
     comparison: ImpactComparison
     energy_error: float
+    inclination_error: float = math.nan
 
 
 def reference(model: DamperModel = TABLE1, duration: float = 20.0,
@@ -224,6 +229,7 @@ def speed_accuracy(cases, *, model: DamperModel = TABLE1, duration: float = 20.0
     list of BenchmarkRow
     """
     ref = reference(model, duration, initial) if ref is None else ref
+    e_ref = damping_metrics(ref).two_maxima.value
     rows = []
     for solver, kw in cases:
         with warnings.catch_warnings():
@@ -240,5 +246,6 @@ def speed_accuracy(cases, *, model: DamperModel = TABLE1, duration: float = 20.0
         label = ", ".join(f"{k}={v:g}" for k, v in kw.items()) or "default"
         rows.append(BenchmarkRow(solver, label, best, len(res.impacts),
                                  compare_impacts(res.impacts, ref.impacts, n_compare),
-                                 float(res.energy.relative_closure_error)))
+                                 float(res.energy.relative_closure_error),
+                                 abs(damping_metrics(res).two_maxima.value / e_ref - 1.0)))
     return rows
