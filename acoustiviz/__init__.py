@@ -57,6 +57,8 @@ _LAZY = {
     "DamperModel": "dynamics",
     "InitialState": "dynamics",
     "simulate": "dynamics",
+    "exact_maxima": "dynamics",
+    "write_impact_table": "output.tables",
     "load_scene": "scene",
     "run_scene": "app.pipeline",
 }
