@@ -1,4 +1,10 @@
-"""Impact-damper dynamics (paper eq 15): model, solvers, impact table, metrics.
+"""Impact-damper dynamics (paper eq 15): model, solvers, impact table, exact maxima, metrics.
+
+Modules: ``model`` (the damper and its start), ``solve`` (:func:`simulate` and its three
+solvers, compiled in ``_kernels``, ``_free``, ``_contact``, ``_newmark`` with the vendored DOP853
+tableau ``_dop853``), ``result`` (impact table, energy balance, turning points), ``maxima``
+(positive maxima, exact from a run), ``metrics`` (damping inclination, eq 16, and settling time).
+Files are written by :mod:`acoustiviz.output.tables`, never here.
 
 Wall convention: ``wall = +1`` is struck when ``z = y - x`` reaches ``+d/2`` (the impact mass
 moving in ``+x`` relative to the main mass), ``wall = -1`` when ``z`` reaches ``-d/2``.
