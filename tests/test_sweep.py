@@ -8,13 +8,13 @@ from concurrent.futures import Executor, Future
 
 import numpy as np
 import pytest
-from acoustiviz.contact import Impact, acceleration_pulse
-from acoustiviz.images import configuration
-from acoustiviz.medium import Medium
 
-from acoustiviz._validate import ParameterError
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.images import configuration
+from acoustiviz.core.medium import Medium
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics import metrics as dm
+from acoustiviz.errors import ParameterError
 from acoustiviz.field import field_metrics
 from acoustiviz.sweep import (
     CSV_COLUMNS,
@@ -123,8 +123,8 @@ def test_sphere_radius_choices():
     spec = SweepSpec(k_hertz=None, material=("steel", "brass"), settings=Settings(radius_mode="from-mass"))
     d_steel, d_brass = spec.designs()
     assert d_brass.radius < d_steel.radius  # brass is denser than steel
-    from acoustiviz.contact import hertz_stiffness
-    from acoustiviz.materials import material
+    from acoustiviz.core.contact import hertz_stiffness
+    from acoustiviz.core.materials import material
 
     st = material("steel")
     assert d_steel.k_hertz == pytest.approx(hertz_stiffness(d_steel.radius, st, st), rel=1e-15)
@@ -230,7 +230,7 @@ def test_level_grows_with_approach_speed_over_a_wide_range():
 
 
 def test_non_monotone_levels_fall_back_to_every_impact(monkeypatch):
-    import acoustiviz.sweep as sw
+    import acoustiviz.sweep.evaluate as sw
 
     table = {3.0: 100.0, 2.0: 101.0, 1.0: 120.0, 0.5: 90.0}  # a made-up non-monotone law
     monkeypatch.setattr(sw, "impact_spl_db", lambda v, **kw: table[float(v)])
@@ -370,19 +370,35 @@ def test_dask_local_cluster(tmp_path):
         np.testing.assert_array_equal(table[c], inline[c])
 
 
-def test_progress_line_counts_and_estimates():
+def test_progress_bar_only_on_a_terminal_and_resume_count_always():
     import io
 
     from acoustiviz.sweep import Progress
 
-    buf = io.StringIO()
-    p = Progress(4, done_before=2, stream=buf, min_interval=0.0)
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    log = io.StringIO()  # not a terminal: no bar, the lines still written
+    p = Progress(4, done_before=2, stream=log)
+    assert not p.bar
+    p.say("sweep: resuming: 2 of 4 designs done before")
     p.update()
     p.update()
     p.close()
-    out = buf.getvalue().splitlines()
-    assert "1/4 designs (+2 done before)" in out[0] and "ETA" in out[0]
-    assert "2/4" in out[-1]
+    assert log.getvalue() == "sweep: resuming: 2 of 4 designs done before\n"
+    tty = Terminal()
+    p = Progress(4, done_before=2, stream=tty)
+    assert p.bar
+    p.update()
+    p.update()
+    p.close()
+    assert "4/4" in tty.getvalue() and "design" in tty.getvalue()
+    quiet = Terminal()
+    p = Progress(4, stream=quiet, bar=False)  # --quiet on a terminal
+    p.update()
+    p.close()
+    assert quiet.getvalue() == ""
 
 
 def test_design_type_is_frozen():
