@@ -80,7 +80,35 @@ def test_ranges_are_inclusive_and_lists_kept_in_order():
     assert value_range(1.0, 1.0, 1) == (1.0,)
 
 
-@pytest.mark.parametrize("text", ["0.02:0.06", "0.02:0.06:0", "a:b:3", "0.02:0.06:2.5", "x", "1:2:1", ""])
+@pytest.mark.parametrize("start, stop, count", [(0.02, 0.06, 20), (0.02, 0.08, 20), (-0.1, 0.2, 4), (1e-6, 3e-6, 7),
+                                               (5e8, 1e9, 3), (0.06, 0.02, 9), (0.0, 1.0, 11)])
+def test_one_range_rule_for_scenes_and_options(start, stop, count):
+    """The scene's range keys and the sweep's options give the same grid, exactly, and the grid
+    is the exact arithmetic progression (computed here in rational arithmetic) to 15 digits."""
+    from fractions import Fraction
+
+    from acoustiviz.scene import parse_range
+
+    text = f"{start!r}:{stop!r}:{count}"
+    grid = parse_values("--gap", text)
+    assert tuple(parse_range(text)) == grid == value_range(start, stop, count)
+    assert len(grid) == count and grid[0] == start and grid[-1] == stop
+    scale = max(abs(start), abs(stop))
+    a, b = Fraction(start), Fraction(stop)
+    for i, v in enumerate(grid):
+        exact = a + i * (b - a) / (count - 1)
+        assert abs(Fraction(v) - exact) <= Fraction(scale) * Fraction(1, 10**14), (i, v, float(exact))
+
+
+def test_the_figure_6_grid_has_decimal_values():
+    # 0.02 + 9 * 0.04/19 = 0.0389473684210526315...: 15 significant digits, not start + i*step's
+    # 0.038947368421052626 nor the 0.038947368421053 of rounding to 15 decimals
+    assert value_range(0.02, 0.06, 20)[9] == 0.0389473684210526
+    assert value_range(0.02, 0.06, 5) == (0.02, 0.03, 0.04, 0.05, 0.06)
+
+
+@pytest.mark.parametrize("text", ["0.02:0.06", "0.02:0.06:0", "a:b:3", "0.02:0.06:2.5", "x", "1:2:1", "",
+                                  "0:1:10001", "0:inf:3"])
 def test_bad_ranges_name_the_option(text):
     with pytest.raises(ParameterError, match="^--gap"):
         parse_values("--gap", text)

@@ -74,12 +74,14 @@ from .execute import run_sweep
 from .progress import Progress
 from .query import DESIGN_TABLE_COLUMNS, PAPER_TABLE2, Band, DesignChoice, design, design_table, write_design_table
 from .spec import (
+    MAX_RANGE_COUNT,
     PAPER_RADIUS,
     PULSE_MASSES,
     RADIUS_MODES,
     Design,
     Settings,
     SweepSpec,
+    parse_range,
     parse_values,
     sphere_radius,
     value_range,
@@ -117,6 +119,8 @@ __all__ = [
     "SweepTable",
     "Band",
     "DesignChoice",
+    "MAX_RANGE_COUNT",
+    "parse_range",
     "parse_values",
     "value_range",
     "sphere_radius",

@@ -12,8 +12,6 @@ import itertools
 import math
 from dataclasses import asdict, dataclass, field, fields
 
-import numpy as np
-
 from .._validate import check_choice, check_nonnegative, check_positive, check_range
 from ..constants import (
     CONFIGURATIONS,
@@ -38,6 +36,8 @@ __all__ = [
     "Settings",
     "Design",
     "SweepSpec",
+    "MAX_RANGE_COUNT",
+    "parse_range",
     "parse_values",
     "value_range",
     "sphere_radius",
@@ -50,15 +50,26 @@ PULSE_MASSES = ("impact", "effective")
 
 
 # --------------------------------------------------------------------------- values and ranges
+#: Most values a ``start:stop:count`` range may hold.
+MAX_RANGE_COUNT = 10000
+
+
 def value_range(start: float, stop: float, count: int) -> tuple[float, ...]:
-    """``count`` evenly spaced values from ``start`` to ``stop``, both included.
+    """``count`` evenly spaced values from ``start`` to ``stop``, both included: the one range rule.
+
+    Value i is ``start + i (stop - start) / (count - 1)`` rounded to 15 significant digits of
+    the larger end, so that decimal steps give decimal values (0.03, not 0.030000000000000002)
+    and a residue of cancellation gives 0; the ends are ``start`` and ``stop`` exactly. Every
+    front-end (``acoustiviz sweep`` options and scene keys) builds its grids with this rule, so
+    the same range is the same grid -- and one run can resume another's folder.
 
     Parameters
     ----------
     start, stop : float
         First and last value (any unit).
     count : int
-        Number of values (>= 1; 1 gives ``(start,)`` and requires ``start == stop``).
+        Number of values (1 to :data:`MAX_RANGE_COUNT`; 1 gives ``(start,)`` and requires
+        ``start == stop``).
 
     Returns
     -------
@@ -68,19 +79,60 @@ def value_range(start: float, stop: float, count: int) -> tuple[float, ...]:
     --------
     >>> value_range(0.02, 0.06, 5)
     (0.02, 0.03, 0.04, 0.05, 0.06)
+    >>> value_range(-0.1, 0.2, 4)
+    (-0.1, 0.0, 0.1, 0.2)
     """
     n = int(count)
-    if n != count or n < 1:
-        raise ParameterError("count", f"must be an integer >= 1, got {count!r}")
+    if n != count or not 1 <= n <= MAX_RANGE_COUNT:
+        raise ParameterError("count", f"must be an integer in [1, {MAX_RANGE_COUNT}], got {count!r}")
+    start, stop = float(start), float(stop)
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise ParameterError("count", f"a range needs finite ends, got {start!r}:{stop!r}")
     if n == 1:
         if start != stop:
             raise ParameterError("count", f"a range of 1 value needs start == stop, got {start:g}:{stop:g}")
-        return (float(start),)
-    return tuple(float(v) for v in np.round(np.linspace(start, stop, n), 15))
+        return (start,)
+    scale = max(abs(start), abs(stop))
+    digits = 14 - math.floor(math.log10(scale)) if scale > 0 else 0
+    inner = (round(start + i * (stop - start) / (n - 1), digits) + 0.0 for i in range(1, n - 1))
+    return (start, *inner, stop)
+
+
+def parse_range(name: str, text: str) -> tuple[float, ...]:
+    """Parse ``start:stop:count`` (both ends included) with :func:`value_range`.
+
+    Parameters
+    ----------
+    name : str
+        The option or key, named by errors (e.g. ``"--gap"`` or ``"outputs.sweep.gap_m"``).
+    text : str
+        The range.
+
+    Returns
+    -------
+    tuple of float
+
+    Examples
+    --------
+    >>> parse_range("--m", "0.02:0.08:4")
+    (0.02, 0.04, 0.06, 0.08)
+    """
+    s = str(text).strip()
+    parts = s.split(":")
+    if len(parts) != 3:
+        raise ParameterError(name, f"a range is 'start:stop:count' (both ends included), got {s!r}")
+    try:
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise ParameterError(name, f"a range is 'start:stop:count' with an integer count, got {s!r}") from None
+    try:
+        return value_range(start, stop, count)
+    except ParameterError as exc:
+        raise ParameterError(name, f"{exc.detail} (in {s!r})") from None
 
 
 def parse_values(name: str, text, kind=float) -> tuple:
-    """Parse ``start:stop:count`` (inclusive), ``a,b,c`` or a single value.
+    """Parse ``start:stop:count`` (inclusive, :func:`parse_range`), ``a,b,c`` or a single value.
 
     Parameters
     ----------
@@ -114,19 +166,7 @@ def parse_values(name: str, text, kind=float) -> tuple:
         if ":" in s:
             if kind is not float:
                 raise ParameterError(name, f"expected names separated by commas, got {s!r}")
-            parts = s.split(":")
-            if len(parts) != 3:
-                raise ParameterError(name, f"a range is start:stop:count, got {s!r}")
-            try:
-                start, stop = float(parts[0]), float(parts[1])
-                count = int(parts[2])
-            except ValueError:
-                raise ParameterError(name, f"a range is start:stop:count with an integer count, got {s!r}") from None
-            if count < 1:
-                raise ParameterError(name, f"the count of {s!r} must be >= 1")
-            if count == 1 and start != stop:
-                raise ParameterError(name, f"a range of one value needs start == stop, got {s!r}")
-            return value_range(start, stop, count)
+            return parse_range(name, s)
         items = [p.strip() for p in s.split(",")]
     if not items:
         raise ParameterError(name, "expected at least one value")
