@@ -86,6 +86,8 @@ def test_design_command_needs_a_sweep_directory(tmp_path, capsys):
     (["--material", "cheese"], "--material"),
     (["--m", "0.04", "--mass-ratio", "0.1"], "--m"),
     (["--distance", "0.01"], "--distance"),
+    (["--density", "7800"], "--density"),  # a density sets the radius only with --radius mass
+    (["--gap", "0:1:20000"], "--gap"),
 ])
 def test_bad_values_exit_2_naming_the_option(tmp_path, capsys, extra, option):
     assert main(["sweep", "--out", str(tmp_path / "x"), "--duration", "1", *extra]) == 2
@@ -215,3 +217,18 @@ def test_design_without_candidates_names_the_nearest(tmp_path, capsys):
     assert main(["design", "--sweep", str(out), "--inclination", "5", "--tolerance", "0.001"]) == 0
     text = capsys.readouterr().out
     assert "no design" in text and "nearest designs" in text and text.count("m = ") == 3
+
+
+def test_one_set_of_defaults():
+    """The sweep's damper defaults are every front-end's: Table 1, the Figure 5 start, DEFAULT_RTOL."""
+    from acoustiviz import constants
+    from acoustiviz.cli import build_parser
+    from acoustiviz.cli.sweep import spec_from_args
+    from acoustiviz.sweep import Settings
+
+    spec = spec_from_args(build_parser().parse_args(["sweep", "--out", "x"]))
+    assert spec.settings == Settings()
+    assert spec.settings.rtol == constants.DEFAULT_RTOL
+    assert (spec.settings.M, spec.settings.K, spec.settings.C) == tuple(constants.TABLE1[k] for k in "MKC")
+    assert (spec.gap, spec.m, spec.v0, spec.c1) == ((constants.PAPER_GAP,), (constants.TABLE1["m"],),
+                                                    (constants.PAPER_V0,), (constants.TABLE1["c1"],))

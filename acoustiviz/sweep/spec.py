@@ -17,6 +17,7 @@ from ..constants import (
     CONFIGURATIONS,
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
+    DEFAULT_RTOL,
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
     PAPER_DENSITY,
@@ -267,7 +268,7 @@ class Settings:
     clip_tensile: bool = False
     duration: float = DEFAULT_DURATION
     solver: str = "event"
-    rtol: float = 1e-10
+    rtol: float = DEFAULT_RTOL
     radius_mode: str = "fixed"
     radius: float = PAPER_RADIUS
     density: float | None = None
