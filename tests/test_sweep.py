@@ -433,3 +433,72 @@ def test_design_type_is_frozen():
     d = Design(0, 0.04, 0.04, 20.0, 5.6e8, "", 2.0, 0.7, 0.7, "plane", 0.01905)
     with pytest.raises(AttributeError):
         d.gap = 1.0
+
+
+# --------------------------------------------------------------------------- failed designs
+def _failing(monkeypatch, bad_id, fail):
+    """Make the design ``bad_id`` fail with ``fail(design)``; the others are evaluated as usual."""
+    import acoustiviz.sweep.evaluate as ev
+
+    real = ev.evaluate_design
+
+    def patched(d, settings):
+        if d.design_id == bad_id:
+            fail(d)
+        return real(d, settings)
+
+    monkeypatch.setattr(ev, "evaluate_design", patched)
+
+
+def _check_failed_row(table, bad_id, reason, ref):
+    bad = table["design_id"] == bad_id
+    assert table.failed.tolist() == bad.tolist()
+    assert reason in table["error"][bad][0]
+    assert table["success"][bad][0] == 0 and np.isnan(table["max_spl_db"][bad][0])
+    for c in CSV_COLUMNS:  # the other designs as in a run without the failure
+        np.testing.assert_array_equal(table[c][~bad], ref[c][~bad])
+
+
+def test_a_design_that_raises_is_a_failed_row_and_the_sweep_goes_on(tmp_path, monkeypatch):
+    spec = small_spec(duration=1.0)
+    ref = run_sweep(spec, tmp_path / "ref", executor=InlineExecutor())
+
+    def overflow(d):
+        raise OverflowError("math range error")
+
+    _failing(monkeypatch, 3, overflow)
+    table = run_sweep(spec, tmp_path / "a", executor=InlineExecutor())
+    assert table.complete
+    _check_failed_row(table, 3, "OverflowError: math range error", ref)
+    again = InlineExecutor()  # a failed design is a finished row: resuming recomputes nothing
+    assert len(run_sweep(spec, tmp_path / "a", executor=again)) == len(spec.designs()) and again.submitted == 0
+    assert len(load_sweep(tmp_path / "a")) == len(spec.designs())
+    bands = design_table(table)  # the failed design is left out of the design table
+    assert sum(b.n_designs for b in bands) == np.isfinite(ref["inclination_two_maxima_m_s"]).sum() - 1
+
+
+def test_an_executor_error_is_a_failed_row(tmp_path):
+    class Flaky(InlineExecutor):
+        def submit(self, fn, /, *args, **kwargs):
+            if args[0].design_id == 1:
+                fut = Future()
+                fut.set_exception(RuntimeError("worker lost"))
+                return fut
+            return super().submit(fn, *args, **kwargs)
+
+    spec = small_spec(duration=1.0)
+    ref = run_sweep(spec, tmp_path / "ref", executor=InlineExecutor())
+    table = run_sweep(spec, tmp_path / "a", executor=Flaky())
+    _check_failed_row(table, 1, "RuntimeError: worker lost", ref)
+
+
+def test_a_dead_worker_process_is_a_failed_row_and_the_sweep_goes_on(tmp_path, monkeypatch):
+    import os
+
+    spec = small_spec(duration=1.0)
+    ref = run_sweep(spec, tmp_path / "ref", executor=InlineExecutor())
+    _failing(monkeypatch, 2, lambda d: os._exit(3))  # the worker process dies (BrokenProcessPool)
+    table = run_sweep(spec, tmp_path / "a", workers=2)
+    assert table.complete
+    _check_failed_row(table, 2, "worker process died", ref)
+    assert "BrokenProcessPool" in table["error"][table["design_id"] == 2][0]
