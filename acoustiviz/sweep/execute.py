@@ -270,6 +270,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         finally:
             report.close()
             runner.close(interrupted=interrupted)
-            if interrupted:
-                report.say(f"sweep: stopped; {len(rows)} of {len(designs)} designs kept in {path}")
+            if interrupted:  # count what the journal holds: the interrupt may fall between a row and its count
+                kept = len(read_rows(path, spec))
+                report.say(f"sweep: stopped; {kept} of {len(designs)} designs kept in {path}")
     return table_from_rows(spec, rows)
