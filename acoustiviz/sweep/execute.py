@@ -81,19 +81,21 @@ def _shutdown_now(ex: Executor) -> None:
 
 
 def make_executor(executor, workers, settings: Settings, n_tasks: int):
-    """Return ``(executor, kind, cleanup)`` for ``executor``; kind is ``"local"``, ``"given"`` or ``"dask"``.
+    """Return ``(executor, kind, cleanup, n)``; kind is ``"local"``, ``"given"`` or ``"dask"``.
 
-    A local pool has at most ``n_tasks`` processes; it and a Dask client are owned (shut down by
-    the caller, then ``cleanup`` called); a given Executor is used as is.
+    A local pool has ``n`` processes, at most ``n_tasks``; it and a Dask client are owned (shut
+    down by the caller, then ``cleanup`` called); a given Executor is used as is. ``n`` is None
+    except for a local pool.
     """
     if isinstance(executor, Executor):
-        return executor, "given", None
+        return executor, "given", None, None
     if executor is None or executor == "process":
         n = (os.cpu_count() or 1) if workers is None else int(workers)
         if n < 1:
             raise ParameterError("workers", f"must be >= 1, got {workers}")
         warm_up(settings)  # forked workers inherit the loaded kernels
-        return _local_pool(max(1, min(n, int(n_tasks))), settings), "local", None
+        n = max(1, min(n, int(n_tasks)))
+        return _local_pool(n, settings), "local", None, n
     if isinstance(executor, str) and executor.startswith("dask://"):
         address = executor[len("dask://"):]
         if not address:
@@ -107,7 +109,7 @@ def make_executor(executor, workers, settings: Settings, n_tasks: int):
             client = Client(address if "://" in address else f"tcp://{address}", timeout=20)
         except OSError as exc:
             raise ParameterError("executor", f"cannot reach the Dask scheduler at {address}: {exc}") from None
-        return client.get_executor(), "dask", client.close
+        return client.get_executor(), "dask", client.close, None
     raise ParameterError("executor", f"expected 'process', 'dask://HOST:PORT' or an Executor, got {executor!r}")
 
 
@@ -128,8 +130,7 @@ class _Runner:
 
     def __init__(self, executor, workers, settings: Settings, n_tasks: int):
         self.settings = settings
-        self.ex, self.kind, self.cleanup = make_executor(executor, workers, settings, n_tasks)
-        self.n = getattr(self.ex, "_max_workers", 1) if self.kind == "local" else None
+        self.ex, self.kind, self.cleanup, self.n = make_executor(executor, workers, settings, n_tasks)
 
     def _submit(self, design):
         if self.kind != "local":
@@ -161,7 +162,9 @@ class _Runner:
                     try:
                         res = fut.result()
                     except Exception as exc:  # noqa: BLE001 - recorded in the design's row
-                        if self.kind == "local" and _is_broken_pool(exc):
+                        if _is_broken_pool(exc):
+                            if self.kind != "local":  # a caller's pool cannot be replaced: stop, rows kept
+                                raise
                             broken.append(d)
                             continue
                         res = self._failed(d, exc)
@@ -216,7 +219,9 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
     executor : None, "process", "dask://HOST:PORT" or concurrent.futures.Executor
         Where designs run. None or ``"process"``: a local process pool of ``workers`` processes
         (default: all cores). ``"dask://HOST:PORT"``: a Dask distributed scheduler (optional
-        dependency). An Executor instance is used as given and not shut down.
+        dependency). An Executor instance is used as given and not shut down; if it is a
+        process pool that breaks (a worker died), the sweep stops there, finished rows kept,
+        since only a pool of its own can be replaced.
     workers : int, optional
         Processes of the local pool (default ``os.cpu_count()``).
     progress : text stream, optional
