@@ -152,32 +152,56 @@ class _Runner:
         running = {}
         try:
             while queue or running:
+                suspects, broken = [], False
                 while queue and len(running) < limit:
-                    d = queue.pop()
-                    running[self._submit(d)] = d
-                done, _ = wait(running, return_when=FIRST_COMPLETED)
-                broken = []
-                for fut in done:
-                    d = running.pop(fut)
                     try:
-                        res = fut.result()
-                    except Exception as exc:  # noqa: BLE001 - recorded in the design's row
-                        if _is_broken_pool(exc):
-                            if self.kind != "local":  # a caller's pool cannot be replaced: stop, rows kept
-                                raise
-                            broken.append(d)
-                            continue
-                        res = self._failed(d, exc)
-                    yield res
-                if broken:  # the pool is dead: every design it held is suspect
-                    broken += list(running.values())
+                        fut = self._submit(queue[-1])
+                    except Exception as exc:  # a pool found broken at submission: the design waits for a new one
+                        if self.kind != "local" or not _is_broken_pool(exc):
+                            raise
+                        broken = True
+                        break
+                    running[fut] = queue.pop()
+                if not broken:
+                    done, _ = wait(running, return_when=FIRST_COMPLETED)
+                    for fut in done:
+                        d = running.pop(fut)
+                        res, dead = self._outcome(fut, d)
+                        if dead:
+                            suspects.append(d)
+                            broken = True
+                        else:
+                            yield res
+                if broken:  # every design the dead pool held is suspect; finished ones are kept
+                    wait(running, timeout=60)  # a broken pool fails each pending future at once
+                    for fut, d in running.items():
+                        res, dead = self._outcome(fut, d) if fut.done() else (None, True)
+                        if dead:
+                            suspects.append(d)
+                        else:
+                            yield res
                     running.clear()
                     _shutdown_now(self.ex)
-                    yield from self._isolate(sorted(broken, key=lambda d: d.design_id))
+                    yield from self._isolate(sorted(suspects, key=lambda d: d.design_id))
                     self.ex = _local_pool(self.n, self.settings)
         finally:
             for fut in running:  # interrupted: what has not started never will
                 fut.cancel()
+
+    def _outcome(self, fut, design):
+        """``(result, dead)``: the design's result, a failed row for its exception, or ``dead``.
+
+        ``dead`` when the local pool broke under it; a caller's broken pool cannot be replaced, so
+        it stops the sweep.
+        """
+        try:
+            return fut.result(), False
+        except Exception as exc:  # noqa: BLE001 - recorded in the design's row
+            if _is_broken_pool(exc):
+                if self.kind != "local":
+                    raise
+                return None, True
+            return self._failed(design, exc), False
 
     def _isolate(self, suspects):
         """Run each design of a broken pool alone in a fresh one-process pool: only the culprit fails."""
