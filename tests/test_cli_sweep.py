@@ -86,6 +86,8 @@ def test_design_command_needs_a_sweep_directory(tmp_path, capsys):
     (["--material", "cheese"], "--material"),
     (["--m", "0.04", "--mass-ratio", "0.1"], "--m"),
     (["--distance", "0.01"], "--distance"),
+    (["--density", "7800"], "--density"),  # a density sets the radius only with --radius mass
+    (["--gap", "0:1:20000"], "--gap"),
 ])
 def test_bad_values_exit_2_naming_the_option(tmp_path, capsys, extra, option):
     assert main(["sweep", "--out", str(tmp_path / "x"), "--duration", "1", *extra]) == 2
@@ -105,15 +107,43 @@ def test_other_settings_refused_then_overwritten(done, tmp_path, capsys):
     assert {float(r[9]) for r in rows(out / "sweep.csv")[1:]} == {10.0}
 
 
-def _start(out, *extra):
+#: The child process: ``acoustiviz sweep`` whose designs from number GATE_AFTER on wait until the
+#: file GATE exists, so the sweep cannot end before the test has signalled it, however fast or slow
+#: the machine (the workers are forked, so they share the waiting evaluation).
+_CHILD = """
+import os, sys, time
+import acoustiviz.sweep.evaluate as ev
+gate, after, real = sys.argv[1], int(sys.argv[2]), ev.evaluate_design
+def gated(d, settings):
+    if d.design_id >= after:
+        t0 = time.monotonic()
+        while not os.path.exists(gate) and time.monotonic() - t0 < 120:
+            time.sleep(0.01)
+    return real(d, settings)
+ev.evaluate_design = gated
+from acoustiviz.cli import main
+sys.exit(main(sys.argv[3:]))
+"""
+SLOW = ["sweep", "--gap", "0.02:0.06:6", "--m", "0.02:0.08:5", "--duration", "20", "--spl-fastest", "0",
+        "--workers", "1"]
+
+
+def _start(out, gate_after, *, sigint=None):
+    """Start the sweep in a new session; ``sigint``: the SIGINT disposition the child inherits."""
     env = dict(os.environ, MPLBACKEND="Agg")
-    cmd = [sys.executable, "-m", "acoustiviz", "sweep", "--gap", "0.02:0.06:6", "--m", "0.02:0.08:5",
-           "--duration", "20", "--spl-fastest", "0", "--workers", "1", "--out", str(out), *extra]
-    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+    gate = out.parent / f"{out.name}.gate"
+
+    def disposition():  # e.g. SIG_IGN: what a background job of a non-interactive shell inherits
+        if sigint is not None:
+            signal.signal(signal.SIGINT, sigint)
+
+    cmd = [sys.executable, "-c", _CHILD, str(gate), str(gate_after), *SLOW, "--out", str(out)]
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, preexec_fn=disposition)
+    return proc, gate
 
 
-def _wait_rows(path, n, proc, timeout=60.0):
+def _wait_rows(path, n, proc, timeout=120.0):
     t0 = time.monotonic()
     while time.monotonic() - t0 < timeout:
         if path.exists() and path.read_bytes().count(b"\n") >= 1 + n:
@@ -126,8 +156,8 @@ def _wait_rows(path, n, proc, timeout=60.0):
 
 def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
     out = tmp_path / "k"
-    proc = _start(out)
-    _wait_rows(out / "sweep.csv", 3, proc)
+    proc, gate = _start(out, gate_after=3)
+    _wait_rows(out / "sweep.csv", 3, proc)  # designs 0-2 are written, design 3 waits at the gate
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait(timeout=30)
     proc.stdout.close()
@@ -136,12 +166,11 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
     kept_lines = kept.splitlines(keepends=True)
     complete = [ln for ln in kept_lines if ln.endswith("\n")]
     n_kept = len(complete) - 1
-    assert 3 <= n_kept < 30, "the sweep must have been killed midway"
-    argv = ["sweep", "--gap", "0.02:0.06:6", "--m", "0.02:0.08:5", "--duration", "20", "--spl-fastest", "0",
-            "--workers", "1", "--out", str(out)]
+    assert n_kept == 3
+    argv = [*SLOW, "--out", str(out)]
     assert main(argv) == 0
     err = capsys.readouterr().err
-    assert f"0/{30 - n_kept} designs (+{n_kept} done before)" in err or f"/{30 - n_kept} designs" in err
+    assert f"{n_kept} of 30 designs done before, {30 - n_kept} to compute" in err
     final = (out / "sweep.csv").read_text().splitlines(keepends=True)
     assert final[: len(complete)] == complete  # finished rows untouched
     assert len(final) == 31
@@ -149,17 +178,37 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
     assert sorted(ids) == list(range(30))  # each design exactly once
 
 
-def test_ctrl_c_keeps_finished_rows(tmp_path):
+@pytest.mark.parametrize("inherited", [None, signal.SIG_IGN], ids=["sigint-default", "sigint-ignored"])
+def test_ctrl_c_keeps_finished_rows(tmp_path, inherited):
+    """Ctrl-C stops the sweep with status 130 and keeps the finished rows -- also when the process
+    inherited SIGINT ignored (a background job), because the sweep sets the disposition itself."""
+    import threading
+
     out = tmp_path / "c"
-    proc = _start(out)
-    _wait_rows(out / "sweep.csv", 2, proc)
-    os.killpg(proc.pid, signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+    proc, gate = _start(out, gate_after=2, sigint=inherited)
+    watchdog = threading.Timer(60.0, gate.touch)  # never leave the child waiting, even if the test fails
+    watchdog.start()
+    try:
+        _wait_rows(out / "sweep.csv", 2, proc)  # designs 0-1 written, design 2 waits at the gate
+        os.killpg(proc.pid, signal.SIGINT)  # parent and worker alike, as a terminal's Ctrl-C
+        lines = []
+        for line in proc.stderr:  # the parent reports that it stopped before design 2 can finish
+            lines.append(line)
+            if line.startswith("sweep: stopped"):
+                break
+    finally:
+        gate.touch()
+        watchdog.cancel()
+    proc.wait(timeout=120)  # its little output fits the pipes
+    err = "".join(lines) + proc.stderr.read()
+    proc.stdout.close()
+    proc.stderr.close()
     assert proc.returncode == 130, err[-2000:]
+    assert "sweep: stopped; 2 of 30 designs kept" in err
     assert "finished outputs were kept" in err
-    n = len(rows(out / "sweep.csv")) - 1
-    assert 2 <= n < 30
-    assert not (out / "sweep.csv").read_text().endswith(",")
+    assert len(rows(out / "sweep.csv")) - 1 == 2
+    assert (out / "sweep.csv").read_text().endswith("\n")
+    assert sorted(load_sweep(out)["design_id"]) == [0, 1]
 
 
 def test_dask_scheduler_address(tmp_path, capsys):
@@ -215,3 +264,18 @@ def test_design_without_candidates_names_the_nearest(tmp_path, capsys):
     assert main(["design", "--sweep", str(out), "--inclination", "5", "--tolerance", "0.001"]) == 0
     text = capsys.readouterr().out
     assert "no design" in text and "nearest designs" in text and text.count("m = ") == 3
+
+
+def test_one_set_of_defaults():
+    """The sweep's damper defaults are every front-end's: Table 1, the Figure 5 start, DEFAULT_RTOL."""
+    from acoustiviz import constants
+    from acoustiviz.cli import build_parser
+    from acoustiviz.cli.sweep import spec_from_args
+    from acoustiviz.sweep import Settings
+
+    spec = spec_from_args(build_parser().parse_args(["sweep", "--out", "x"]))
+    assert spec.settings == Settings()
+    assert spec.settings.rtol == constants.DEFAULT_RTOL
+    assert (spec.settings.M, spec.settings.K, spec.settings.C) == tuple(constants.TABLE1[k] for k in "MKC")
+    assert (spec.gap, spec.m, spec.v0, spec.c1) == ((constants.PAPER_GAP,), (constants.TABLE1["m"],),
+                                                    (constants.PAPER_V0,), (constants.TABLE1["c1"],))

@@ -161,3 +161,47 @@ def test_sweep_and_design_table_outputs_resume_without_recomputing(tmp_path):
     before = csv.stat().st_mtime_ns, csv.read_text()
     run_scene(scene, out, force=True)  # a finished sweep is not recomputed
     assert (csv.stat().st_mtime_ns, csv.read_text()) == before
+
+
+def _cli_spec(argv):
+    from acoustiviz.cli import build_parser
+    from acoustiviz.cli.sweep import spec_from_args
+
+    return spec_from_args(build_parser().parse_args(["sweep", *argv]))
+
+
+def test_fig6_scene_and_the_sweep_command_write_the_same_sweep_json(tmp_path):
+    """The shipped scene and the command with its settings make one sweep: the same sweep.json,
+    so that either resumes the other's folder."""
+    from pathlib import Path
+
+    import acoustiviz
+    from acoustiviz.app.pipeline import sweep_spec
+    from acoustiviz.sweep.store import SWEEP_JSON, prepare_dir
+
+    scene = load_scene(Path(acoustiviz.__file__).parent / "assets" / "scenes" / "fig6_design_maps.toml")
+    from_scene = sweep_spec(scene)
+    from_cli = _cli_spec(["--gap", "0.02:0.06:20", "--m", "0.02:0.08:20", "--duration", "20", "--out", "x"])
+    assert from_scene == from_cli
+    assert from_scene.gap[9] == 0.0389473684210526  # 0.02 + 9 * 0.04/19 to 15 digits
+    prepare_dir(from_scene, tmp_path / "scene")  # what run_sweep writes before any design runs
+    prepare_dir(from_cli, tmp_path / "cli")
+    text = (tmp_path / "scene" / SWEEP_JSON).read_bytes()
+    assert text == (tmp_path / "cli" / SWEEP_JSON).read_bytes()
+    prepare_dir(from_cli, tmp_path / "scene")  # the command accepts the scene's folder as its own
+    prepare_dir(from_scene, tmp_path / "cli")
+    assert (tmp_path / "scene" / SWEEP_JSON).read_bytes() == text
+
+
+def test_the_sweep_command_resumes_a_scene_sweep(tmp_path, capsys):
+    from acoustiviz.cli import main
+
+    scene = scene_from_dict({"outputs": {"sweep": {"gap_m": "0.03:0.05:2", "mass_kg": "0.03:0.05:2",
+                                                   "duration_s": 0.5, "workers": 1}}})
+    run_scene(scene, tmp_path / "o")
+    folder = tmp_path / "o" / "sweep"
+    before = (folder / "sweep.csv").read_bytes()
+    assert main(["sweep", "--gap", "0.03:0.05:2", "--m", "0.03:0.05:2", "--duration", "0.5", "--workers", "1",
+                 "--out", str(folder)]) == 0
+    assert "all 4 designs already in" in capsys.readouterr().err
+    assert (folder / "sweep.csv").read_bytes() == before

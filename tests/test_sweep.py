@@ -8,13 +8,13 @@ from concurrent.futures import Executor, Future
 
 import numpy as np
 import pytest
-from acoustiviz.contact import Impact, acceleration_pulse
-from acoustiviz.images import configuration
-from acoustiviz.medium import Medium
 
-from acoustiviz._validate import ParameterError
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.images import configuration
+from acoustiviz.core.medium import Medium
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics import metrics as dm
+from acoustiviz.errors import ParameterError
 from acoustiviz.field import field_metrics
 from acoustiviz.sweep import (
     CSV_COLUMNS,
@@ -80,7 +80,35 @@ def test_ranges_are_inclusive_and_lists_kept_in_order():
     assert value_range(1.0, 1.0, 1) == (1.0,)
 
 
-@pytest.mark.parametrize("text", ["0.02:0.06", "0.02:0.06:0", "a:b:3", "0.02:0.06:2.5", "x", "1:2:1", ""])
+@pytest.mark.parametrize("start, stop, count", [(0.02, 0.06, 20), (0.02, 0.08, 20), (-0.1, 0.2, 4), (1e-6, 3e-6, 7),
+                                               (5e8, 1e9, 3), (0.06, 0.02, 9), (0.0, 1.0, 11)])
+def test_one_range_rule_for_scenes_and_options(start, stop, count):
+    """The scene's range keys and the sweep's options give the same grid, exactly, and the grid
+    is the exact arithmetic progression (computed here in rational arithmetic) to 15 digits."""
+    from fractions import Fraction
+
+    from acoustiviz.scene import parse_range
+
+    text = f"{start!r}:{stop!r}:{count}"
+    grid = parse_values("--gap", text)
+    assert tuple(parse_range(text)) == grid == value_range(start, stop, count)
+    assert len(grid) == count and grid[0] == start and grid[-1] == stop
+    scale = max(abs(start), abs(stop))
+    a, b = Fraction(start), Fraction(stop)
+    for i, v in enumerate(grid):
+        exact = a + i * (b - a) / (count - 1)
+        assert abs(Fraction(v) - exact) <= Fraction(scale) * Fraction(1, 10**14), (i, v, float(exact))
+
+
+def test_the_figure_6_grid_has_decimal_values():
+    # 0.02 + 9 * 0.04/19 = 0.0389473684210526315...: 15 significant digits, not start + i*step's
+    # 0.038947368421052626 nor the 0.038947368421053 of rounding to 15 decimals
+    assert value_range(0.02, 0.06, 20)[9] == 0.0389473684210526
+    assert value_range(0.02, 0.06, 5) == (0.02, 0.03, 0.04, 0.05, 0.06)
+
+
+@pytest.mark.parametrize("text", ["0.02:0.06", "0.02:0.06:0", "a:b:3", "0.02:0.06:2.5", "x", "1:2:1", "",
+                                  "0:1:10001", "0:inf:3"])
 def test_bad_ranges_name_the_option(text):
     with pytest.raises(ParameterError, match="^--gap"):
         parse_values("--gap", text)
@@ -123,8 +151,8 @@ def test_sphere_radius_choices():
     spec = SweepSpec(k_hertz=None, material=("steel", "brass"), settings=Settings(radius_mode="from-mass"))
     d_steel, d_brass = spec.designs()
     assert d_brass.radius < d_steel.radius  # brass is denser than steel
-    from acoustiviz.contact import hertz_stiffness
-    from acoustiviz.materials import material
+    from acoustiviz.core.contact import hertz_stiffness
+    from acoustiviz.core.materials import material
 
     st = material("steel")
     assert d_steel.k_hertz == pytest.approx(hertz_stiffness(d_steel.radius, st, st), rel=1e-15)
@@ -230,7 +258,7 @@ def test_level_grows_with_approach_speed_over_a_wide_range():
 
 
 def test_non_monotone_levels_fall_back_to_every_impact(monkeypatch):
-    import acoustiviz.sweep as sw
+    import acoustiviz.sweep.evaluate as sw
 
     table = {3.0: 100.0, 2.0: 101.0, 1.0: 120.0, 0.5: 90.0}  # a made-up non-monotone law
     monkeypatch.setattr(sw, "impact_spl_db", lambda v, **kw: table[float(v)])
@@ -370,22 +398,107 @@ def test_dask_local_cluster(tmp_path):
         np.testing.assert_array_equal(table[c], inline[c])
 
 
-def test_progress_line_counts_and_estimates():
+def test_progress_bar_only_on_a_terminal_and_resume_count_always():
     import io
 
     from acoustiviz.sweep import Progress
 
-    buf = io.StringIO()
-    p = Progress(4, done_before=2, stream=buf, min_interval=0.0)
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    log = io.StringIO()  # not a terminal: no bar, the lines still written
+    p = Progress(4, done_before=2, stream=log)
+    assert not p.bar
+    p.say("sweep: resuming: 2 of 4 designs done before")
     p.update()
     p.update()
     p.close()
-    out = buf.getvalue().splitlines()
-    assert "1/4 designs (+2 done before)" in out[0] and "ETA" in out[0]
-    assert "2/4" in out[-1]
+    assert log.getvalue() == "sweep: resuming: 2 of 4 designs done before\n"
+    tty = Terminal()
+    p = Progress(4, done_before=2, stream=tty)
+    assert p.bar
+    p.update()
+    p.update()
+    p.close()
+    assert "4/4" in tty.getvalue() and "design" in tty.getvalue()
+    quiet = Terminal()
+    p = Progress(4, stream=quiet, bar=False)  # --quiet on a terminal
+    p.update()
+    p.close()
+    assert quiet.getvalue() == ""
 
 
 def test_design_type_is_frozen():
     d = Design(0, 0.04, 0.04, 20.0, 5.6e8, "", 2.0, 0.7, 0.7, "plane", 0.01905)
     with pytest.raises(AttributeError):
         d.gap = 1.0
+
+
+# --------------------------------------------------------------------------- failed designs
+def _failing(monkeypatch, bad_id, fail):
+    """Make the design ``bad_id`` fail with ``fail(design)``; the others are evaluated as usual."""
+    import acoustiviz.sweep.evaluate as ev
+
+    real = ev.evaluate_design
+
+    def patched(d, settings):
+        if d.design_id == bad_id:
+            fail(d)
+        return real(d, settings)
+
+    monkeypatch.setattr(ev, "evaluate_design", patched)
+
+
+def _check_failed_row(table, bad_id, reason, ref):
+    bad = table["design_id"] == bad_id
+    assert table.failed.tolist() == bad.tolist()
+    assert reason in table["error"][bad][0]
+    assert table["success"][bad][0] == 0 and np.isnan(table["max_spl_db"][bad][0])
+    for c in CSV_COLUMNS:  # the other designs as in a run without the failure
+        np.testing.assert_array_equal(table[c][~bad], ref[c][~bad])
+
+
+def test_a_design_that_raises_is_a_failed_row_and_the_sweep_goes_on(tmp_path, monkeypatch):
+    spec = small_spec(duration=1.0)
+    ref = run_sweep(spec, tmp_path / "ref", executor=InlineExecutor())
+
+    def overflow(d):
+        raise OverflowError("math range error")
+
+    _failing(monkeypatch, 3, overflow)
+    table = run_sweep(spec, tmp_path / "a", executor=InlineExecutor())
+    assert table.complete
+    _check_failed_row(table, 3, "OverflowError: math range error", ref)
+    again = InlineExecutor()  # a failed design is a finished row: resuming recomputes nothing
+    assert len(run_sweep(spec, tmp_path / "a", executor=again)) == len(spec.designs()) and again.submitted == 0
+    assert len(load_sweep(tmp_path / "a")) == len(spec.designs())
+    bands = design_table(table)  # the failed design is left out of the design table
+    assert sum(b.n_designs for b in bands) == np.isfinite(ref["inclination_two_maxima_m_s"]).sum() - 1
+
+
+def test_an_executor_error_is_a_failed_row(tmp_path):
+    class Flaky(InlineExecutor):
+        def submit(self, fn, /, *args, **kwargs):
+            if args[0].design_id == 1:
+                fut = Future()
+                fut.set_exception(RuntimeError("worker lost"))
+                return fut
+            return super().submit(fn, *args, **kwargs)
+
+    spec = small_spec(duration=1.0)
+    ref = run_sweep(spec, tmp_path / "ref", executor=InlineExecutor())
+    table = run_sweep(spec, tmp_path / "a", executor=Flaky())
+    _check_failed_row(table, 1, "RuntimeError: worker lost", ref)
+
+
+def test_a_dead_worker_process_is_a_failed_row_and_the_sweep_goes_on(tmp_path, monkeypatch):
+    import os
+
+    spec = small_spec(duration=1.0)
+    ref = run_sweep(spec, tmp_path / "ref", executor=InlineExecutor())
+    _failing(monkeypatch, 2, lambda d: os._exit(3))  # the worker process dies (BrokenProcessPool)
+    table = run_sweep(spec, tmp_path / "a", workers=2)
+    assert table.complete
+    _check_failed_row(table, 2, "worker process died", ref)
+    assert "BrokenProcessPool" in table["error"][table["design_id"] == 2][0]

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..output.writers import write_csv_atomic, write_text_atomic
-from ..scene import Scene, parse_range
+from ..scene import Scene
 from . import damper as _damper
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
@@ -336,109 +336,48 @@ def produce_animation(ctx: RunContext):
     return [Product("animation", path, {"frames": str(opts["frames"]), "fps": str(opts["fps"])})]
 
 
-INCLINATION_MAP = "inclination_map.png"
-SPL_MAP = "max_spl_map.png"
-
-
-def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_width: float = 0.001):
-    """Write ``design_table.csv`` and, for gap × mass sweeps, the two Figure 6 maps.
-
-    Returns
-    -------
-    bands : tuple of Band
-        The design table (paper Table 2).
-    paths : list of Path
-        Files written.
-    others : list of str
-        Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
-    """
-    from ..output.plot._style import save_figure
-    from ..sweep import DESIGN_TABLE_CSV, design_table, write_design_table
-
-    out = Path(out_dir)
-    bands = design_table(table, definition=definition, width=band_width)
-    paths = [write_design_table(bands, out / DESIGN_TABLE_CSV)]
-    others = [a for a in table.spec.swept() if a not in ("gap", "m")]
-    if not others and len(table):
-        from ..output.plot.design import plot_inclination_map, plot_spl_map
-
-        ax = plot_inclination_map(table, definition=definition)
-        paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
-        ax = plot_spl_map(table)
-        paths.append(save_figure(ax.figure, out / SPL_MAP))
-    return bands, paths, others
-
-
 def sweep_spec(scene: Scene):
-    """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (gap × impact mass)."""
-    from ..scene import SceneError
-    from ..sweep import Settings, SweepSpec
+    """The scene's :class:`~acoustiviz.sweep.SweepSpec` (:func:`acoustiviz.app.sweep.scene_sweep_spec`)."""
+    from .sweep import scene_sweep_spec
 
-    opts = scene.output("sweep")
-    d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
-    conf = scene.section("configuration")
-    if conf["kind"] == "wall-floor" and conf["strike"] == "wall":
-        raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
-    medium = scene.medium()
-    settings = Settings(
-        M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"],
-        duration=opts["duration_s"], solver=damper_solver(scene), rtol=min(d["tolerance"], 1e-3),
-        radius_mode="fixed" if s["damper_radius"] == "given" else "from-mass", radius=s["radius_m"],
-        density=scene.sphere_density(), surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"],
-        c=medium.c, rho=medium.rho, wall_distance=conf["wall_distance_m"])
-    (_, pos), *_ = scene.listeners()
-    real = scene.configuration().sources[0]
-    rel = pos - np.asarray(real.position)
-    dist = float(np.linalg.norm(rel))
-    angle = math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / dist)))
-    stiffness = {"material": (s["material"],)} if (s["material"] and c["k_hertz_n_m1_5"] is None) else \
-        {"k_hertz": (scene.k_hertz(),)}
-    return SweepSpec(gap=tuple(parse_range(opts["gap_m"])), m=tuple(parse_range(opts["mass_kg"])),
-                     c1=(d["contact_damping_n_s_m"],), v0=(d["initial_velocity_m_s"],), distance=(dist,),
-                     angle=(angle,), config=(conf["kind"],), settings=settings, **stiffness)
+    return scene_sweep_spec(scene, solver=damper_solver(scene))
 
 
 def produce_sweep(ctx: RunContext):
     """Sweep over gap and impact mass (paper Figure 6): ``sweep/sweep.csv``, the maps and the design table."""
-    from ..sweep import run_sweep
+    from .sweep import run_sweep_outputs
 
     opts = ctx.scene.output("sweep")
-    folder = ctx.path("sweep")
     spec = sweep_spec(ctx.scene)
     ctx.progress(f"sweeping {len(spec.designs())} designs, {opts['duration_s']:g} s of motion each")
-    table = run_sweep(spec, folder, workers=opts["workers"] or None, progress=ctx.stream)
-    ctx.sweep_table = table
-    bands, paths, _ = write_sweep_outputs(table, folder)
-    spl = np.asarray(table["max_spl_db"])
-    figs = {"designs": str(len(table))}
-    if spl.size:
+    run = run_sweep_outputs(spec, ctx.path("sweep"), workers=opts["workers"] or None, progress=ctx.stream)
+    ctx.sweep_table = run.table
+    spl = np.asarray(run.table["max_spl_db"])
+    figs = {"designs": str(len(run.table))}
+    n_failed = int(run.table.failed.sum())
+    if n_failed:
+        figs["failed_designs"] = str(n_failed)
+    if np.isfinite(spl).any():
         figs["max_spl_db_range"] = f"{np.nanmin(spl):.1f}-{np.nanmax(spl):.1f}"
-    best = max(bands, key=lambda b: b.decrease_db, default=None)
+    best = max(run.bands, key=lambda b: b.decrease_db, default=None)
     if best is not None:
         figs["largest_saving_db"] = f"{best.decrease_db:.1f} at {100 * best.low:.3g}-{100 * best.high:.3g} cm/s"
-    from ..sweep import SWEEP_CSV
-
-    return [Product("sweep", folder / SWEEP_CSV, figs)] + [Product("sweep", p, {}) for p in paths]
+    return [Product("sweep", run.journal, figs)] + [Product("sweep", p, {}) for p in run.paths]
 
 
 def produce_design_table(ctx: RunContext):
     """Paper Table 2 from the sweep as a figure beside the paper's values, and the quietest design for a target."""
-    from ..output.plot._style import save_figure
-    from ..output.plot.design import plot_design_table
-    from ..sweep import PAPER_TABLE2, design, design_table
+    from ..sweep import load_sweep
+    from .sweep import scene_design_table
 
     opts = ctx.scene.output("design_table")
     table = getattr(ctx, "sweep_table", None)
     if table is None:  # the sweep output runs first; a scene without it is refused at load time
-        from ..sweep import load_sweep
-
         table = load_sweep(ctx.path("sweep"))
-    bands = design_table(table)
-    ax = plot_design_table(bands, paper=PAPER_TABLE2)
-    png = save_figure(ax.figure, ctx.path("design_table.png"))
+    bands, png, choice = scene_design_table(table, ctx.out, inclination=opts["inclination_m_s"],
+                                            tolerance=opts["tolerance_m_s"])
     products = [Product("design_table", png, {"bands": str(len(bands))})]
-    if opts["inclination_m_s"] is not None:
-        choice = design(table, opts["inclination_m_s"], opts["tolerance_m_s"])
+    if choice is not None:
         path = write_text_atomic(ctx.path("design_choice.txt"), choice.summary() + "\n")
         figs = {"candidates": str(choice.n_candidates)}
         if choice.n_candidates:

@@ -6,7 +6,8 @@ Example::
 
 Among the designs of ``DIR/sweep.csv`` whose damping inclination lies within the tolerance of
 the target, prints the quietest (m, d), its maximum SPL, and by how many dB it is quieter than
-the loudest (the acoustic-based design of the paper, Table 2).
+the loudest (the acoustic-based design of the paper, Table 2). This module only parses the
+options; :func:`acoustiviz.app.sweep.design_report` answers.
 """
 
 from __future__ import annotations
@@ -41,32 +42,12 @@ def add_parser(subparsers):
 
 def run(args) -> int:
     """Run the ``design`` subcommand; return the exit status."""
-    from pathlib import Path
+    from ..app.names import user_terms
+    from ..app.sweep import DESIGN_OPTIONS, design_report
 
-    from .._validate import ParameterError, check_finite, check_nonnegative, check_positive
-    from ..sweep import design, design_table, load_sweep
-
-    check_finite("--inclination", args.inclination)
-    check_nonnegative("--tolerance", args.tolerance, "m/s")
-    check_positive("--band-width", args.band_width, "m/s")
-    if not Path(args.sweep).is_dir():
-        raise ParameterError("--sweep", f"no such directory: {args.sweep}")
-    try:
-        table = load_sweep(args.sweep)
-    except ParameterError as exc:
-        raise ParameterError("--sweep", str(exc).split(": ", 1)[-1]) from None
-    if not table.complete:
-        print(f"note: the sweep is unfinished ({len(table)} of {len(table.spec.designs())} designs)")
-    try:
-        choice = design(table, args.inclination, args.tolerance, definition=args.definition)
-    except ParameterError as exc:
-        raise ParameterError(f"--{exc.name}", str(exc).split(": ", 1)[-1]) from None
-    print(choice.summary())
-    if args.table:
-        print()
-        print(f"design table ({args.definition} damping inclination, bands of {100 * args.band_width:g} cm/s):")
-        print(f"{'e (cm/s)':>9} {'n':>4} {'min SPLmax':>11} {'max SPLmax':>11} {'decrease':>9}  quietest (m, d)")
-        for b in design_table(table, definition=args.definition, width=args.band_width):
-            print(f"{100 * b.centre:9.2f} {b.n_designs:4d} {b.min_spl_db:11.1f} {b.max_spl_db:11.1f} "
-                  f"{b.decrease_db:9.1f}  {1000 * b.quietest_mass:.1f} g, {100 * b.quietest_gap:.2f} cm")
+    with user_terms(DESIGN_OPTIONS):
+        lines = design_report(args.sweep, args.inclination, args.tolerance, definition=args.definition,
+                              table=args.table, band_width=args.band_width)
+    for line in lines:
+        print(line)
     return 0

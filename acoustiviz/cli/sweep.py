@@ -9,23 +9,36 @@ Every swept option takes one value, a range ``start:stop:count`` (both ends incl
 comma-separated list. Writes ``DIR/sweep.json`` (the settings), ``DIR/sweep.csv`` (one row per
 design, as they finish), ``DIR/design_table.csv`` (paper Table 2) and the paper's Figure 6
 maps ``DIR/inclination_map.png`` and ``DIR/max_spl_map.png``. Running the same command again
-resumes an interrupted sweep and recomputes nothing that finished.
+resumes an interrupted sweep and recomputes nothing that finished. This module only parses the
+options; :mod:`acoustiviz.app.sweep` does the rest, with the defaults of
+:mod:`acoustiviz.constants`.
 """
 
 from __future__ import annotations
 
-import math
+from ..constants import (
+    DEFAULT_AIR_DENSITY,
+    DEFAULT_DURATION,
+    DEFAULT_RTOL,
+    DEFAULT_SOUND_SPEED,
+    DEFAULT_WALL_DISTANCE,
+    PAPER_ANGLE_DEG,
+    PAPER_DISTANCE,
+    PAPER_GAP,
+    PAPER_RADIUS,
+    PAPER_V0,
+    PULSES,
+    SOLVERS,
+    TABLE1,
+)
 
-#: library parameter names whose option is not simply ``--name-with-dashes``
-_OPTION = {"n_fastest": "--spl-fastest", "radius_mode": "--radius", "out": "--out", "angle": "--angle",
-           "fit_window_fraction": "--fit-window", "settling_fraction": "--settling-fraction"}
-
-
-
-def _option(name: str) -> str:
-    if name.startswith("-"):
-        return name
-    return _OPTION.get(name, "--" + name.replace("_", "-"))
+#: option destination -> parameter of :func:`acoustiviz.app.sweep.sweep_spec`
+_SPEC = {"gap": "gap", "m": "m", "mass_ratio": "mass_ratio", "c1": "c1", "k_hertz": "k_hertz",
+         "material": "material", "v0": "v0", "distance": "distance", "angle": "angle_deg", "config": "config",
+         "M": "M", "K": "K", "C": "C", "clip_tensile": "clip_tensile", "duration": "duration", "solver": "solver",
+         "rtol": "rtol", "radius": "radius", "density": "density", "surface": "surface", "pulse": "pulse",
+         "pulse_mass": "pulse_mass", "c": "c", "rho": "rho", "wall_distance": "wall_distance",
+         "spl_fastest": "n_fastest"}
 
 
 def add_parser(subparsers):
@@ -38,56 +51,56 @@ def add_parser(subparsers):
             "and the sound of every impact at a listener (default the paper's: 0.7 m, 45 deg, "
             "reflecting plane). Swept options take VALUE, START:STOP:COUNT (inclusive) or A,B,C. "
             "Rows are written to OUT/sweep.csv as designs finish; the same command resumes an "
-            "interrupted sweep."
+            "interrupted sweep. A design that fails is a row with its reason in the error column."
         ),
     )
     a = p.add_argument_group("swept parameters (VALUE, START:STOP:COUNT or A,B,C; SI units)")
-    a.add_argument("--gap", default="0.04", metavar="RANGE", help="total free travel d in m (default 0.04)")
-    a.add_argument("--m", default=None, metavar="RANGE", help="impact mass in kg (default 0.0405)")
-    a.add_argument("--mass-ratio", default=None, metavar="RANGE", help="mass ratio m/M instead of --m")
-    a.add_argument("--c1", default="20", metavar="RANGE", help="contact damping in N s/m (default 20)")
-    a.add_argument("--k-hertz", default=None, metavar="RANGE",
-                   help="Hertz contact stiffness in N/m^1.5 (default 5.6e8)")
-    a.add_argument("--material", default=None, metavar="NAMES",
+    a.add_argument("--gap", metavar="RANGE", help=f"total free travel d in m (default {PAPER_GAP:g})")
+    a.add_argument("--m", metavar="RANGE", help=f"impact mass in kg (default {TABLE1['m']:g})")
+    a.add_argument("--mass-ratio", metavar="RANGE", help="mass ratio m/M instead of --m")
+    a.add_argument("--c1", metavar="RANGE", help=f"contact damping in N s/m (default {TABLE1['c1']:g})")
+    a.add_argument("--k-hertz", metavar="RANGE",
+                   help=f"Hertz contact stiffness in N/m^1.5 (default {TABLE1['k_hertz']:g})")
+    a.add_argument("--material", metavar="NAMES",
                    help="sphere material(s) from the catalogue instead of --k-hertz: K_HZ from the "
                         "sphere radius and the materials (paper eq 2), density for --radius mass")
-    a.add_argument("--v0", default="2", metavar="RANGE", help="initial main-mass velocity in m/s (default 2)")
-    a.add_argument("--distance", default="0.7", metavar="RANGE",
-                   help="listener distance in m from the sphere's centre (default 0.7)")
-    a.add_argument("--angle", default="45", metavar="RANGE",
-                   help="listener angle in degrees from the surface normal (default 45)")
-    a.add_argument("--config", default="plane", metavar="NAMES",
+    a.add_argument("--v0", metavar="RANGE", help=f"initial main-mass velocity in m/s (default {PAPER_V0:g})")
+    a.add_argument("--distance", metavar="RANGE",
+                   help=f"listener distance in m from the sphere's centre (default {PAPER_DISTANCE:g})")
+    a.add_argument("--angle", metavar="RANGE",
+                   help=f"listener angle in degrees from the surface normal (default {PAPER_ANGLE_DEG:g})")
+    a.add_argument("--config", metavar="NAMES",
                    help="free, plane (reflecting plane, default) or wall-floor; a comma list sweeps them")
     g = p.add_argument_group("damper (SI units)")
-    g.add_argument("--M", type=float, default=0.5, help="main mass in kg (default 0.5)")
-    g.add_argument("--K", type=float, default=500.0, help="main spring in N/m (default 500)")
-    g.add_argument("--C", type=float, default=0.05, help="main dashpot in N s/m (default 0.05)")
-    g.add_argument("--clip-tensile", action="store_true",
+    g.add_argument("--M", type=float, help=f"main mass in kg (default {TABLE1['M']:g})")
+    g.add_argument("--K", type=float, help=f"main spring in N/m (default {TABLE1['K']:g})")
+    g.add_argument("--C", type=float, help=f"main dashpot in N s/m (default {TABLE1['C']:g})")
+    g.add_argument("--clip-tensile", action="store_true", default=None,
                    help="clip the contact force at zero (default: the paper's form, which may pull)")
-    g.add_argument("--duration", type=float, default=20.0, help="simulated time per design in s (default 20)")
-    g.add_argument("--solver", choices=("event", "impact-map", "newmark"), default="event",
-                   help="damper solver (default event)")
-    g.add_argument("--rtol", type=float, default=1e-10,
-                   help="relative tolerance of the event solver's contacts (default 1e-10)")
+    g.add_argument("--duration", type=float, help=f"simulated time per design in s (default {DEFAULT_DURATION:g})")
+    g.add_argument("--solver", choices=SOLVERS, help="damper solver (default event)")
+    g.add_argument("--rtol", type=float,
+                   help=f"relative tolerance of the event solver's contacts (default {DEFAULT_RTOL:g})")
     s = p.add_argument_group("sound (SI units)")
-    s.add_argument("--radius", default="0.01905", metavar="M|mass",
-                   help="radius of the radiating sphere in m (default 0.01905, the paper's Figure 2 "
+    s.add_argument("--radius", metavar="M|mass",
+                   help=f"radius of the radiating sphere in m (default {PAPER_RADIUS:g}, the paper's Figure 2 "
                         "sphere, whose levels match the paper's), or 'mass': from the impact mass "
                         "and --density")
-    s.add_argument("--density", type=float, default=None, metavar="KG/M^3",
+    s.add_argument("--density", type=float, metavar="KG/M^3",
                    help="sphere density for --radius mass (default 7800 or the material's)")
-    s.add_argument("--surface", default=None, metavar="NAME",
+    s.add_argument("--surface", metavar="NAME",
                    help="surface material for K_HZ from --material (default: same as the sphere)")
-    s.add_argument("--pulse", default="half-sine", choices=("half-sine", "impulse-matched", "hertz"),
+    s.add_argument("--pulse", choices=PULSES,
                    help="acceleration pulse of each impact (default the paper's peak-matched half-sine)")
-    s.add_argument("--pulse-mass", default="impact", choices=("impact", "effective"),
+    s.add_argument("--pulse-mass", choices=("impact", "effective"),
                    help="mass in the pulse: the impact mass alone against a fixed wall (default, paper "
                         "eq 3) or the effective mass m M/(m+M) of the two bodies")
-    s.add_argument("--c", type=float, default=343.2, metavar="M/S", help="speed of sound (default 343.2)")
-    s.add_argument("--rho", type=float, default=1.204, metavar="KG/M^3", help="air density (default 1.204)")
-    s.add_argument("--wall-distance", type=float, default=0.05, metavar="M",
-                   help="wall-floor: distance from the wall to the sphere's centre in m (default 0.05)")
-    s.add_argument("--spl-fastest", type=int, default=4, metavar="N",
+    s.add_argument("--c", type=float, metavar="M/S", help=f"speed of sound (default {DEFAULT_SOUND_SPEED:g})")
+    s.add_argument("--rho", type=float, metavar="KG/M^3", help=f"air density (default {DEFAULT_AIR_DENSITY:g})")
+    s.add_argument("--wall-distance", type=float, metavar="M",
+                   help=f"wall-floor: distance from the wall to the sphere's centre in m "
+                        f"(default {DEFAULT_WALL_DISTANCE:g})")
+    s.add_argument("--spl-fastest", type=int, metavar="N",
                    help="evaluate the N fastest impacts exactly (the loudest is the fastest); 0: all "
                         "(default 4)")
     o = p.add_argument_group("execution and outputs")
@@ -103,90 +116,35 @@ def add_parser(subparsers):
                         "the envelope fit")
     o.add_argument("--band-width", type=float, default=0.001, metavar="M/S",
                    help="width of the design table's inclination bands in m/s (default 0.001 = 0.1 cm/s)")
-    o.add_argument("--quiet", action="store_true", help="no progress bar")
+    o.add_argument("--quiet", action="store_true",
+                   help="no progress bar (it is drawn only on a terminal anyway; the resume count is still shown)")
     p.set_defaults(func=run)
     return p
 
 
 def spec_from_args(args):
-    """Build the :class:`acoustiviz.sweep.SweepSpec` from parsed options (errors name the option)."""
-    from .._validate import ParameterError, check_range
-    from ..sweep import Settings, SweepSpec, parse_values
+    """The :class:`acoustiviz.sweep.SweepSpec` of parsed options (errors name the option)."""
+    from ..app.names import user_terms
+    from ..app.sweep import SWEEP_OPTIONS, sweep_spec
 
-    if args.m is not None and args.mass_ratio is not None:
-        raise ParameterError("--m", "give either --m or --mass-ratio, not both")
-    if args.k_hertz is not None and args.material is not None:
-        raise ParameterError("--k-hertz", "give either --k-hertz or --material, not both")
-    radius_text = str(args.radius).strip().lower()
-    try:
-        if radius_text == "mass":
-            radius_mode, radius = "from-mass", 0.01905
-        else:
-            radius_mode = "fixed"
-            try:
-                radius = float(radius_text)
-            except ValueError:
-                raise ParameterError("--radius", f"expected a radius in m or 'mass', got {args.radius!r}") from None
-        configs = parse_values("--config", args.config, str)
-        angles_deg = parse_values("--angle", args.angle)
-        limit = 180.0 if set(configs) == {"free"} else 90.0
-        for a in angles_deg:
-            check_range("--angle", a, 0.0, limit, unit="deg")
-        settings = Settings(
-            M=args.M, K=args.K, C=args.C, clip_tensile=bool(args.clip_tensile), duration=args.duration,
-            solver=args.solver, rtol=args.rtol, radius_mode=radius_mode, radius=radius, density=args.density,
-            surface=args.surface, pulse=args.pulse, pulse_mass=args.pulse_mass, c=args.c, rho=args.rho,
-            wall_distance=args.wall_distance, n_fastest=args.spl_fastest,
-        )
-        return SweepSpec(
-            gap=parse_values("--gap", args.gap),
-            m=None if args.mass_ratio is not None else parse_values("--m", args.m or "0.0405"),
-            mass_ratio=None if args.mass_ratio is None else parse_values("--mass-ratio", args.mass_ratio),
-            c1=parse_values("--c1", args.c1),
-            k_hertz=None if args.material is not None else parse_values("--k-hertz", args.k_hertz or "5.6e8"),
-            material=None if args.material is None else parse_values("--material", args.material, str),
-            v0=parse_values("--v0", args.v0),
-            distance=parse_values("--distance", args.distance),
-            angle=tuple(math.radians(a) for a in angles_deg),
-            config=configs,
-            settings=settings,
-        )
-    except ParameterError as exc:
-        raise ParameterError(_option(exc.name), str(exc).split(": ", 1)[-1]) from None
+    given = {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
+    with user_terms(SWEEP_OPTIONS):
+        return sweep_spec(**given)
 
 
 def run(args) -> int:
     """Run the ``sweep`` subcommand; return the exit status."""
     import sys
-    import time
 
-    from .._validate import ParameterError, check_positive
-    from ..pipeline import write_sweep_outputs
-    from ..sweep import run_sweep
+    from ..app.names import user_terms
+    from ..app.sweep import SWEEP_OPTIONS, check_executor, run_sweep_outputs, sweep_summary
 
     spec = spec_from_args(args)
-    check_positive("--band-width", args.band_width, "m/s")
-    if args.workers is not None and args.workers < 1:
-        raise ParameterError("--workers", f"must be >= 1, got {args.workers}")
-    executor = args.executor
-    if executor != "process" and not str(executor).startswith("dask://"):
-        raise ParameterError("--executor", f"expected 'process' or 'dask://HOST:PORT', got {executor!r}")
-    t0 = time.perf_counter()
-    try:
-        table = run_sweep(spec, args.out, executor=executor, workers=args.workers,
-                          progress=None if args.quiet else sys.stderr, overwrite=bool(args.overwrite))
-    except ParameterError as exc:
-        raise ParameterError(_option(exc.name), str(exc).split(": ", 1)[-1]) from None
-    elapsed = time.perf_counter() - t0
-    bands, paths, others = write_sweep_outputs(table, args.out, definition=args.definition, band_width=args.band_width)
-    n = len(table)
-    print(f"sweep: {n} designs in {args.out} ({elapsed:.1f} s this run)")
-    for pth in paths:
-        print(f"wrote {pth}")
-    if others:
-        print(f"maps skipped: they need only --gap and --m swept (also swept: {', '.join(others)})")
-    best = max(bands, key=lambda b: b.decrease_db, default=None)
-    if best is not None:
-        print(f"largest acoustic saving at equal damping ({args.definition}): {best.decrease_db:.1f} dB in the band "
-              f"{100 * best.low:.3g}-{100 * best.high:.3g} cm/s ({best.n_designs} designs)")
+    with user_terms(SWEEP_OPTIONS):
+        check_executor(args.executor, args.workers)
+        result = run_sweep_outputs(spec, args.out, executor=args.executor, workers=args.workers, progress=sys.stderr,
+                                   bar=False if args.quiet else None, overwrite=bool(args.overwrite),
+                                   definition=args.definition, band_width=args.band_width)
+    for line in sweep_summary(result):
+        print(line)
     return 0

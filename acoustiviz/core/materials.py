@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import functools
+import math
 from dataclasses import dataclass
 from importlib import resources
 
@@ -14,7 +15,7 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["Material", "catalogue", "material", "reduced_modulus"]
+__all__ = ["Material", "catalogue", "material", "reduced_modulus", "sphere_radius"]
 
 
 @dataclass(frozen=True)
@@ -101,3 +102,16 @@ def material(name: str) -> Material:
     raise ParameterError(
         "material", f"unknown material {name!r}{hint}; known: {', '.join(sorted(table))}"
     )
+
+
+def sphere_radius(mass: float, density: float) -> float:
+    """Radius in m of a solid sphere of ``mass`` kg and ``density`` kg/m³: a = (3 m / (4 π ρ))^(1/3).
+
+    Examples
+    --------
+    >>> round(sphere_radius(0.0405, 7800.0), 6)  # the Table 1 impact mass as a steel ball
+    0.010742
+    """
+    m = check_positive("mass", mass, "kg")
+    rho = check_positive("density", density, "kg/m^3")
+    return (3.0 * m / (4.0 * math.pi * rho)) ** (1.0 / 3.0)

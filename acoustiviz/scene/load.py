@@ -90,8 +90,9 @@ class Scene:
         s = self.data["sphere"]
         if s["damper_radius"] == "given":
             return s["radius_m"]
-        m = self.data["damper"]["impact_mass_kg"]
-        return (3.0 * m / (4.0 * math.pi * self.sphere_density())) ** (1.0 / 3.0)
+        from ..core.materials import sphere_radius
+
+        return sphere_radius(self.data["damper"]["impact_mass_kg"], self.sphere_density())
 
     def setup(self, velocity: float | None = None, kind: str | None = None, radius: float | None = None):
         """The single impact and its surroundings (:func:`acoustiviz.app.impacts.impact_setup`)."""

@@ -48,24 +48,24 @@ class SceneError(ParameterError):
 
 # --------------------------------------------------------------------------- helpers
 def parse_range(text: str, key: str = "range", source: str = "<range>"):
-    """Parse ``start:stop:count`` (inclusive) into a list of floats; one number is a single value."""
-    parts = str(text).split(":")
+    """Parse ``start:stop:count`` (inclusive) into a list of floats; one number is a single value.
+
+    The values follow the one range rule of every front-end, :func:`acoustiviz.sweep.spec.value_range`,
+    so a scene's sweep grid is the grid of the same ``acoustiviz sweep`` options.
+    """
+    from ..sweep.spec import parse_range as range_values
+
+    text = str(text)
+    if ":" not in text:
+        try:
+            return [float(text)]
+        except ValueError:
+            raise SceneError(source, key, f"expected 'start:stop:count' (inclusive) or one number, got {text!r}") \
+                from None
     try:
-        if len(parts) == 1:
-            return [float(parts[0])]
-        if len(parts) != 3:
-            raise ValueError
-        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-    except ValueError:
-        raise SceneError(source, key, f"expected 'start:stop:count' (inclusive) or one number, got {text!r}") from None
-    if count < 1 or count > 10000:
-        raise SceneError(source, key, f"count must lie in [1, 10000], got {count}")
-    if count == 1:
-        if start != stop:
-            raise SceneError(source, key, "a count of 1 needs start == stop")
-        return [start]
-    step = (stop - start) / (count - 1)
-    return [start + i * step for i in range(count)]
+        return list(range_values(key, text))
+    except ParameterError as exc:
+        raise SceneError(source, key, exc.detail) from None
 
 
 def _check_number(v, k: Key, src: str, path: str) -> float:

@@ -1,0 +1,396 @@
+"""Design sweeps from a user's settings, and the files and report of a finished sweep.
+
+``acoustiviz sweep``, ``acoustiviz design`` and a scene's ``[outputs.sweep]`` and
+``[outputs.design_table]`` all call these functions: :func:`sweep_spec` turns settings (numbers,
+``start:stop:count`` ranges or comma lists) into a :class:`~acoustiviz.sweep.SweepSpec` with the
+defaults of :mod:`acoustiviz.constants`; :func:`scene_sweep_spec` reads a scene through the very
+same function, so the same settings give the same ``sweep.json`` -- and either front-end resumes
+the other's folder; :func:`run_sweep_outputs` runs (or resumes) a sweep and writes the design
+table and the Figure 6 maps. Errors name the API parameter; front-ends translate the names with
+:func:`acoustiviz.app.names.user_terms` (:data:`SWEEP_OPTIONS` for the command line). SI units;
+angles in degrees where a name says ``_deg``.
+
+Examples
+--------
+>>> spec = sweep_spec(gap="0.02:0.06:5", m="0.02,0.04", duration=1.0)
+>>> spec.gap, spec.m, spec.settings.rtol
+((0.02, 0.03, 0.04, 0.05, 0.06), (0.02, 0.04), 1e-12)
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from .._validate import check_choice, check_finite, check_nonnegative, check_positive, check_range
+from ..constants import (
+    CONFIGURATIONS,
+    DEFAULT_AIR_DENSITY,
+    DEFAULT_DURATION,
+    DEFAULT_RTOL,
+    DEFAULT_SOUND_SPEED,
+    DEFAULT_WALL_DISTANCE,
+    PAPER_ANGLE_DEG,
+    PAPER_DISTANCE,
+    PAPER_GAP,
+    PAPER_RADIUS,
+    PAPER_V0,
+    TABLE1,
+)
+from ..errors import ParameterError
+from ..sweep import (
+    DEFINITIONS,
+    DESIGN_TABLE_CSV,
+    PAPER_TABLE2,
+    SWEEP_CSV,
+    Settings,
+    SweepSpec,
+    design,
+    design_table,
+    load_sweep,
+    parse_values,
+    run_sweep,
+    write_design_table,
+)
+
+__all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
+           "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
+           "check_executor"]
+
+#: :func:`sweep_spec` / :func:`run_sweep_outputs` parameter -> ``acoustiviz sweep`` option.
+SWEEP_OPTIONS = {
+    "gap": "--gap", "m": "--m", "mass_ratio": "--mass-ratio", "c1": "--c1", "k_hertz": "--k-hertz",
+    "material": "--material", "v0": "--v0", "distance": "--distance", "angle": "--angle", "angle_deg": "--angle",
+    "config": "--config", "M": "--M", "K": "--K", "C": "--C", "clip_tensile": "--clip-tensile",
+    "duration": "--duration", "solver": "--solver", "rtol": "--rtol", "radius": "--radius",
+    "radius_mode": "--radius", "density": "--density", "surface": "--surface", "pulse": "--pulse",
+    "pulse_mass": "--pulse-mass", "c": "--c", "rho": "--rho", "wall_distance": "--wall-distance",
+    "n_fastest": "--spl-fastest", "out": "--out", "executor": "--executor", "workers": "--workers",
+    "definition": "--definition", "width": "--band-width", "band_width": "--band-width",
+}
+#: :func:`design_report` parameter -> ``acoustiviz design`` option.
+DESIGN_OPTIONS = {"sweep": "--sweep", "out": "--sweep", "inclination": "--inclination", "tolerance": "--tolerance",
+                  "definition": "--definition", "width": "--band-width", "band_width": "--band-width"}
+
+#: File names of the Figure 6 maps inside a sweep directory.
+INCLINATION_MAP = "inclination_map.png"
+SPL_MAP = "max_spl_map.png"
+
+
+def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_hertz=None, material=None,
+               v0=PAPER_V0, distance=PAPER_DISTANCE, angle_deg=PAPER_ANGLE_DEG, config="plane",
+               M=TABLE1["M"], K=TABLE1["K"], C=TABLE1["C"], clip_tensile=False, duration=DEFAULT_DURATION,
+               solver="event", rtol=DEFAULT_RTOL, radius=PAPER_RADIUS, density=None, surface=None,
+               pulse="half-sine", pulse_mass="impact", c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY,
+               wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4) -> SweepSpec:
+    """The sweep of the given settings; swept ones take a value, ``start:stop:count`` or ``a,b,c``.
+
+    Parameters
+    ----------
+    gap, m, mass_ratio, c1, k_hertz, v0, distance : number, str or sequence
+        Swept values: gap d (m), impact mass (kg) or mass ratio m/M instead, contact damping
+        (N·s/m), Hertz stiffness (N/m^1.5), initial main-mass velocity (m/s), listener distance
+        (m). Defaults: paper Table 1 and Figure 5 (m = 40.5 g, K_HZ = 5.6e8).
+    material : str or sequence of str, optional
+        Sphere materials instead of ``k_hertz`` (K_HZ from paper eq 2).
+    angle_deg : number, str or sequence
+        Listener angles in degrees from the acceleration axis (<= 90 with a reflecting surface).
+    config : str or sequence of str
+        ``"free"``, ``"plane"`` or ``"wall-floor"``.
+    M, K, C, clip_tensile, duration, solver, rtol
+        The damper and its solver (:class:`~acoustiviz.sweep.Settings`; ``rtol`` defaults to
+        :data:`~acoustiviz.constants.DEFAULT_RTOL`, as for every damper run).
+    radius : float or "mass"
+        Radius of the radiating sphere in m, or ``"mass"``: from the impact mass and ``density``.
+    density : float, optional
+        Sphere density in kg/m³; only with ``radius="mass"`` (default 7800 or the material's).
+    surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest
+        See :class:`~acoustiviz.sweep.Settings`.
+
+    Returns
+    -------
+    SweepSpec
+    """
+    if m is not None and mass_ratio is not None:
+        raise ParameterError("m", "give either the impact mass or the mass ratio, not both")
+    if k_hertz is not None and material is not None:
+        raise ParameterError("k_hertz", "give either K_HZ or the sphere material, not both")
+    if isinstance(radius, str) and radius.strip().lower() == "mass":
+        radius_mode, radius = "from-mass", PAPER_RADIUS
+    else:
+        radius_mode = "fixed"
+        radius = check_positive("radius", _number("radius", radius, "a radius in m or 'mass'"), "m")
+        if density is not None:
+            raise ParameterError("density", "sets the sphere's radius from the impact mass; it needs a radius "
+                                            "from the mass (--radius mass)")
+    configs = parse_values("config", config, str)
+    for cfg in configs:
+        check_choice("config", cfg, CONFIGURATIONS)
+    angles = parse_values("angle_deg", angle_deg)
+    limit = 180.0 if set(configs) == {"free"} else 90.0
+    for a in angles:
+        check_range("angle_deg", a, 0.0, limit, unit="deg")
+    settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
+                        radius_mode=radius_mode, radius=radius, density=density, surface=surface, pulse=pulse,
+                        pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance, n_fastest=n_fastest)
+    return SweepSpec(
+        gap=parse_values("gap", gap),
+        m=None if mass_ratio is not None else parse_values("m", TABLE1["m"] if m is None else m),
+        mass_ratio=None if mass_ratio is None else parse_values("mass_ratio", mass_ratio),
+        c1=parse_values("c1", c1),
+        k_hertz=None if material is not None else parse_values("k_hertz", TABLE1["k_hertz"] if k_hertz is None
+                                                               else k_hertz),
+        material=None if material is None else parse_values("material", material, str),
+        v0=parse_values("v0", v0),
+        distance=parse_values("distance", distance),
+        angle=tuple(math.radians(a) for a in angles),
+        config=configs,
+        settings=settings,
+    )
+
+
+def _number(name, value, what):
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, f"expected {what}, got {value!r}") from None
+
+
+#: :func:`sweep_spec` parameter -> the scene key it is read from (errors name the key).
+SCENE_KEYS = {"gap": "outputs.sweep.gap_m", "m": "outputs.sweep.mass_kg", "duration": "outputs.sweep.duration_s",
+              "c1": "damper.contact_damping_n_s_m", "v0": "damper.initial_velocity_m_s",
+              "M": "damper.main_mass_kg", "K": "damper.stiffness_n_m", "C": "damper.damping_n_s_m",
+              "rtol": "damper.tolerance", "solver": "damper.solver", "radius": "sphere.radius_m",
+              "density": "sphere.density_kg_m3", "material": "sphere.material", "surface": "contact.surface",
+              "k_hertz": "contact.k_hertz_n_m1_5", "wall_distance": "configuration.wall_distance_m",
+              "distance": "listeners", "angle": "listeners", "angle_deg": "listeners",
+              "config": "configuration.kind"}
+
+
+def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
+    """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (gap × impact mass).
+
+    The scene's settings go through :func:`sweep_spec`, the function behind ``acoustiviz sweep``,
+    so a scene and the command with the same settings make the same sweep. The listener is the
+    scene's first; ``solver`` is the damper solver the scene resolved (its ``"auto"`` choice).
+    """
+    from ..scene import SceneError
+    from .names import user_terms
+
+    opts = scene.output("sweep")
+    d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
+    conf = scene.section("configuration")
+    if conf["kind"] == "wall-floor" and conf["strike"] == "wall":
+        raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
+    listener = scene.data["listeners"][0]
+    if listener["position_m"] is None:
+        distance, angle_deg = listener["distance_m"], listener["angle_deg"]
+    else:  # a listener given by position: its distance and angle from the sphere's centre
+        import numpy as np
+
+        (_, pos), *_ = scene.listeners()
+        real = scene.configuration().sources[0]
+        rel = np.asarray(pos) - np.asarray(real.position)
+        distance = float(np.linalg.norm(rel))
+        angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / distance))))
+    if solver is None:
+        from .pipeline import damper_solver
+
+        solver = damper_solver(scene)
+    medium = scene.medium()
+    from_mass = s["damper_radius"] == "from-mass"
+    stiffness = {"material": s["material"]} if (s["material"] and c["k_hertz_n_m1_5"] is None) else \
+        {"k_hertz": scene.k_hertz()}
+    with user_terms(SCENE_KEYS):
+        return sweep_spec(
+            gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
+            distance=distance, angle_deg=angle_deg, config=conf["kind"], M=d["main_mass_kg"], K=d["stiffness_n_m"],
+            C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"], duration=opts["duration_s"],
+            solver=solver, rtol=min(d["tolerance"], 1e-3),
+            radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
+            surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
+            wall_distance=conf["wall_distance_m"], **stiffness)
+
+
+def check_executor(executor, workers=None):
+    """Check the ``executor`` text (``"process"`` or ``"dask://HOST:PORT"``) and ``workers`` before any work."""
+    if workers is not None and (int(workers) != workers or workers < 1):
+        raise ParameterError("workers", f"must be an integer >= 1, got {workers}")
+    if executor is not None and executor != "process" and not str(executor).startswith("dask://"):
+        raise ParameterError("executor", f"expected 'process' or 'dask://HOST:PORT', got {executor!r}")
+
+
+def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_width: float = 0.001):
+    """Write ``design_table.csv`` and, for gap × mass sweeps, the two Figure 6 maps.
+
+    Returns
+    -------
+    bands : tuple of Band
+        The design table (paper Table 2).
+    paths : list of Path
+        Files written.
+    others : list of str
+        Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
+    """
+    from ..output.plot._style import save_figure
+
+    out = Path(out_dir)
+    bands = design_table(table, definition=definition, width=band_width)
+    paths = [write_design_table(bands, out / DESIGN_TABLE_CSV)]
+    others = [a for a in table.spec.swept() if a not in ("gap", "m")]
+    if not others and len(table):
+        from ..output.plot.design import plot_inclination_map, plot_spl_map
+
+        ax = plot_inclination_map(table, definition=definition)
+        paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
+        ax = plot_spl_map(table)
+        paths.append(save_figure(ax.figure, out / SPL_MAP))
+    return bands, paths, others
+
+
+@dataclass(frozen=True)
+class SweepRun:
+    """A sweep run (or resumed) with its outputs.
+
+    Attributes
+    ----------
+    table : SweepTable
+        Every row of the directory.
+    bands : tuple of Band
+        The design table.
+    paths : list of Path
+        Files written besides ``sweep.json`` and ``sweep.csv``.
+    others : list of str
+        Swept axes besides gap and mass (no maps for those sweeps).
+    seconds : float
+        Wall time of this run in s.
+    out : Path
+        The sweep directory.
+    definition : str
+        Damping-inclination definition of the design table and the maps.
+    """
+
+    table: object
+    bands: tuple
+    paths: list
+    others: list
+    seconds: float
+    out: Path
+    definition: str
+
+    @property
+    def journal(self) -> Path:
+        """``sweep.csv``."""
+        return self.out / SWEEP_CSV
+
+
+def run_sweep_outputs(spec: SweepSpec, out, *, executor="process", workers=None, progress=None, bar=None,
+                      overwrite: bool = False, definition: str = "two-maxima",
+                      band_width: float = 0.001) -> SweepRun:
+    """Run (or resume) ``spec`` into folder ``out`` and write its design table and maps.
+
+    Parameters
+    ----------
+    spec : SweepSpec
+        The sweep.
+    out : path-like
+        The sweep directory.
+    executor, workers, progress, bar, overwrite
+        See :func:`acoustiviz.sweep.run_sweep`.
+    definition : {"two-maxima", "fit"}
+        Damping inclination of the design table and of map A.
+    band_width : float
+        Width of the design table's bands in m/s.
+
+    Returns
+    -------
+    SweepRun
+    """
+    check_choice("definition", definition, DEFINITIONS)
+    check_positive("band_width", band_width, "m/s")
+    check_executor(executor, workers)
+    t0 = time.perf_counter()
+    table = run_sweep(spec, out, executor=executor, workers=workers, progress=progress, bar=bar,
+                      overwrite=bool(overwrite))
+    seconds = time.perf_counter() - t0
+    bands, paths, others = write_sweep_outputs(table, out, definition=definition, band_width=band_width)
+    return SweepRun(table, bands, paths, others, seconds, Path(out), definition)
+
+
+def sweep_summary(run: SweepRun) -> list[str]:
+    """Lines reporting a sweep run: designs, failures, files, the largest acoustic saving."""
+    table = run.table
+    lines = [f"sweep: {len(table)} designs in {run.out} ({run.seconds:.1f} s this run)"]
+    n_failed = int(table.failed.sum())
+    if n_failed:
+        ids = ", ".join(str(i) for i in table["design_id"][table.failed][:10])
+        lines.append(f"failed designs: {n_failed} (design_id {ids}{', ...' if n_failed > 10 else ''}; "
+                     f"reasons in the error column of {run.journal})")
+    lines += [f"wrote {p}" for p in run.paths]
+    if run.others:
+        lines.append(f"maps skipped: they need only --gap and --m swept (also swept: {', '.join(run.others)})")
+    best = max(run.bands, key=lambda b: b.decrease_db, default=None)
+    if best is not None:
+        lines.append(f"largest acoustic saving at equal damping ({run.definition}): {best.decrease_db:.1f} dB in "
+                     f"the band {100 * best.low:.3g}-{100 * best.high:.3g} cm/s ({best.n_designs} designs)")
+    return lines
+
+
+def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, definition: str = "two-maxima",
+                  table: bool = False, band_width: float = 0.001) -> list[str]:
+    """Lines answering the design query of a sweep directory (paper Table 2).
+
+    Parameters
+    ----------
+    sweep : path-like
+        A sweep directory.
+    inclination, tolerance : float
+        Target damping inclination and accepted deviation in m/s.
+    definition : {"two-maxima", "fit"}
+        Damping-inclination definition.
+    table : bool
+        Also give the design table of the whole sweep.
+    band_width : float
+        Band width of the table in m/s.
+    """
+    check_finite("inclination", inclination)
+    check_nonnegative("tolerance", tolerance, "m/s")
+    check_positive("band_width", band_width, "m/s")
+    check_choice("definition", definition, DEFINITIONS)
+    if not Path(sweep).is_dir():
+        raise ParameterError("sweep", f"no such directory: {sweep}")
+    rows = load_sweep(sweep)
+    lines = []
+    if not rows.complete:
+        lines.append(f"note: the sweep is unfinished ({len(rows)} of {len(rows.spec.designs())} designs)")
+    lines += design(rows, inclination, tolerance, definition=definition).summary().splitlines()
+    if table:
+        lines += ["", f"design table ({definition} damping inclination, bands of {100 * band_width:g} cm/s):",
+                  f"{'e (cm/s)':>9} {'n':>4} {'min SPLmax':>11} {'max SPLmax':>11} {'decrease':>9}  quietest (m, d)"]
+        for b in design_table(rows, definition=definition, width=band_width):
+            lines.append(f"{100 * b.centre:9.2f} {b.n_designs:4d} {b.min_spl_db:11.1f} {b.max_spl_db:11.1f} "
+                         f"{b.decrease_db:9.1f}  {1000 * b.quietest_mass:.1f} g, {100 * b.quietest_gap:.2f} cm")
+    return lines
+
+
+def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = 0.0005):
+    """A scene's ``[outputs.design_table]``: the Table 2 figure beside the paper's, and the choice for a target.
+
+    Returns
+    -------
+    bands : tuple of Band
+    png : Path
+        ``design_table.png``.
+    choice : DesignChoice or None
+        The answer for ``inclination`` (None without a target).
+    """
+    from ..output.plot._style import save_figure
+    from ..output.plot.design import plot_design_table
+
+    bands = design_table(table)
+    ax = plot_design_table(bands, paper=PAPER_TABLE2)
+    png = save_figure(ax.figure, Path(out_dir) / "design_table.png")
+    choice = None if inclination is None else design(table, inclination, tolerance)
+    return bands, png, choice

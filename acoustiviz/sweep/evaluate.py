@@ -1,0 +1,250 @@
+"""One design: simulate the damper, radiate its impacts, report one row of the sweep.
+
+:func:`evaluate_design` is the work of one ``sweep.csv`` row; it runs in a worker of any
+executor. :func:`evaluate_or_fail` wraps it so that an exception inside a design becomes a
+failed row with its reason instead of stopping the sweep. SI units; angles in radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..core.images import observer_points
+from ..errors import ParameterError
+from .spec import PAPER_RADIUS, Design, Settings
+
+__all__ = ["DesignResult", "listener_point", "impact_spl_db", "max_spl_db", "evaluate_design",
+           "evaluate_or_fail", "failed_result", "warm_up"]
+
+
+def listener_point(config, distance: float, angle: float) -> np.ndarray:
+    """Listener position in m, ``distance`` from the sphere's centre, ``angle`` rad off its axis.
+
+    The listener lies in the plane of the acceleration axis and the horizontal direction away
+    from any wall (+x), like the command-line ``--distance``/``--angle`` observer
+    (:func:`acoustiviz.core.images.observer_points`).
+
+    Parameters
+    ----------
+    config : acoustiviz.core.images.Configuration
+        The sphere and its images.
+    distance : float
+        Distance in m (> the sphere radius).
+    angle : float
+        Polar angle in rad from the acceleration axis.
+
+    Returns
+    -------
+    (1, 3) ndarray
+    """
+    point = observer_points(config, distance, angle)[0]
+    if not bool(config.in_fluid(point[None, :])[0]):
+        raise ParameterError("angle", "the listener would lie inside a wall or below the floor")
+    return point[None, :]
+
+
+def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz: float, pulse: str,
+                  config, point, medium) -> float:
+    """Peak sound pressure level in dB re 20 µPa of one impact at one listener.
+
+    Parameters
+    ----------
+    velocity : float
+        Approach speed in m/s.
+    mass : float
+        Sphere (impact) mass in kg.
+    partner_mass : float
+        Mass of the struck body in kg (``inf``: an immovable wall, paper eq 3).
+    k_hertz : float
+        Hertz stiffness in N/m^1.5.
+    pulse : str
+        Pulse kind (:func:`acoustiviz.core.contact.acceleration_pulse`).
+    config : acoustiviz.core.images.Configuration
+        Sphere and images.
+    point : (1, 3) array_like
+        Listener in m.
+    medium : acoustiviz.core.medium.Medium
+        The air.
+
+    Returns
+    -------
+    float
+        ``20 log10(max|p| / 20 µPa)``.
+    """
+    from ..core.contact import Impact, acceleration_pulse
+    from ..field import field_metrics
+
+    imp = Impact(velocity=float(velocity), k_hertz=k_hertz, mass=mass, partner_mass=partner_mass)
+    return float(field_metrics(acceleration_pulse(imp, pulse), point, config, medium=medium).peak_spl_db[0])
+
+
+def max_spl_db(velocities, *, n_fastest: int = 4, **impact_kwargs) -> tuple[float, int]:
+    """Largest peak SPL in dB over impacts of the given approach speeds.
+
+    Evaluates the ``n_fastest`` fastest distinct speeds exactly (:func:`impact_spl_db`); the
+    level grows with the speed at fixed geometry (:mod:`acoustiviz.sweep`), so the fastest is
+    the loudest. If the evaluated levels are not ordered like their speeds, every impact is
+    evaluated.
+
+    Parameters
+    ----------
+    velocities : (n,) array_like
+        Approach speeds in m/s of the impacts (non-positive and NaN entries are ignored).
+    n_fastest : int
+        Number of fastest distinct speeds evaluated; 0 evaluates every impact.
+    **impact_kwargs
+        Passed to :func:`impact_spl_db`.
+
+    Returns
+    -------
+    spl : float
+        Maximum peak SPL in dB (``-inf`` without impacts).
+    n_evaluated : int
+        Number of impacts whose level was computed.
+    """
+    u = np.asarray(velocities, dtype=float)
+    u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]  # distinct, fastest first
+    if u.size == 0:
+        return -math.inf, 0
+    k = u.size if n_fastest == 0 else min(int(n_fastest), u.size)
+    levels = [impact_spl_db(v, **impact_kwargs) for v in u[:k]]
+    if k < u.size and any(b > a + 1e-9 for a, b in zip(levels, levels[1:], strict=False)):
+        levels += [impact_spl_db(v, **impact_kwargs) for v in u[k:]]
+        k = u.size
+    return float(max(levels)), int(k)
+
+
+@dataclass(frozen=True)
+class DesignResult:
+    """What one design gives; one row of ``sweep.csv`` (units in the column names).
+
+    A design that could not be evaluated has ``error`` set to the reason, NaN values and
+    ``success`` False.
+    """
+
+    design: Design
+    inclination_two_maxima: float
+    inclination_fit: float
+    fit_window_start: float
+    fit_window_stop: float
+    fit_n_maxima: int
+    settling_time: float
+    n_impacts: int
+    max_spl_db: float
+    energy_dissipated_contact: float
+    energy_dissipated_main: float
+    max_approach_velocity: float
+    spl_impacts_evaluated: int
+    success: bool
+    mass_ratio: float
+    error: str = ""
+
+    def row(self) -> dict:
+        """The CSV row as a dict of column name to value."""
+        d = self.design
+        return {
+            "gap_m": d.gap, "mass_kg": d.m,
+            "inclination_two_maxima_m_s": self.inclination_two_maxima,
+            "inclination_fit_m_s": self.inclination_fit,
+            "settling_time_s": self.settling_time, "n_impacts": self.n_impacts,
+            "max_spl_db": self.max_spl_db, "design_id": d.design_id, "mass_ratio": self.mass_ratio,
+            "c1_n_s_m": d.c1, "k_hertz_n_m1_5": d.k_hertz, "material": d.material, "v0_m_s": d.v0,
+            "distance_m": d.distance, "angle_deg": math.degrees(d.angle), "config": d.config,
+            "radius_m": d.radius,
+            "energy_dissipated_contact_j": self.energy_dissipated_contact,
+            "energy_dissipated_main_j": self.energy_dissipated_main,
+            "max_approach_velocity_m_s": self.max_approach_velocity,
+            "fit_window_start_s": self.fit_window_start, "fit_window_stop_s": self.fit_window_stop,
+            "fit_n_maxima": self.fit_n_maxima, "spl_impacts_evaluated": self.spl_impacts_evaluated,
+            "success": int(self.success), "error": self.error,
+        }
+
+
+def evaluate_design(design: Design, settings: Settings) -> DesignResult:
+    """Simulate one damper design and radiate its impacts (the work of one sweep row).
+
+    Parameters
+    ----------
+    design : Design
+        The design.
+    settings : Settings
+        The sweep's fixed settings.
+
+    Returns
+    -------
+    DesignResult
+
+    Notes
+    -----
+    The damper runs with :func:`acoustiviz.dynamics.simulate` from x = 0, dx/dt = ``v0``, the
+    impact mass centred at rest (paper Figure 5 start); the maxima of x(t) are located on
+    ``samples_per_period`` samples per main period (:mod:`acoustiviz.dynamics.metrics`).
+    """
+    from ..core.images import configuration
+    from ..core.medium import Medium
+    from ..dynamics import DamperModel, InitialState, simulate
+    from ..dynamics import metrics as dm
+
+    s = settings
+    model = DamperModel(M=s.M, K=s.K, C=s.C, m=design.m, gap=design.gap, k_hertz=design.k_hertz,
+                        c1=design.c1, clip_tensile=s.clip_tensile)
+    t = dm.sample_times(s.duration, model, s.samples_per_period)
+    res = simulate(model, s.duration, solver=s.solver, initial=InitialState(v=design.v0), rtol=s.rtol, t_eval=t)
+    metrics = dm.damping_metrics(res.t, res.x, window_fraction=s.fit_window_fraction,
+                                 settling_fraction=s.settling_fraction)
+    two, fit, settle = metrics.two_maxima, metrics.fit, metrics.settling_time
+    conf = configuration(design.config, design.radius,
+                         wall_distance=s.wall_distance if design.config == "wall-floor" else None)
+    point = listener_point(conf, design.distance, design.angle)
+    u = res.impacts.approach_velocity
+    spl, n_eval = max_spl_db(
+        u, n_fastest=s.n_fastest, mass=design.m,
+        partner_mass=math.inf if s.pulse_mass == "impact" else s.M,
+        k_hertz=design.k_hertz, pulse=s.pulse, config=conf, point=point, medium=Medium(c=s.c, rho=s.rho),
+    )
+    return DesignResult(
+        design=design,
+        inclination_two_maxima=float(two.value),
+        inclination_fit=float(fit.value),
+        fit_window_start=float(fit.t_start),
+        fit_window_stop=float(fit.t_stop),
+        fit_n_maxima=int(fit.n_maxima),
+        settling_time=float(settle),
+        n_impacts=len(res.impacts),
+        max_spl_db=spl,
+        energy_dissipated_contact=float(res.energy.dissipated_contact),
+        energy_dissipated_main=float(res.energy.dissipated_main),
+        max_approach_velocity=float(np.max(u)) if u.size else 0.0,
+        spl_impacts_evaluated=n_eval,
+        success=bool(res.success),
+        mass_ratio=design.m / s.M,
+    )
+
+
+def failed_result(design: Design, settings: Settings, reason: str) -> DesignResult:
+    """The row of a design that could not be evaluated: NaN values, ``success`` False, ``reason``."""
+    nan = math.nan
+    one_line = " ".join(str(reason).split()) or "unknown error"
+    return DesignResult(design, nan, nan, nan, nan, 0, nan, 0, nan, nan, nan, nan, 0, False,
+                        design.m / settings.M, one_line)
+
+
+def evaluate_or_fail(design: Design, settings: Settings) -> DesignResult:
+    """:func:`evaluate_design`, or a failed row naming the exception that stopped it.
+
+    Any exception of the design (an overflow, a solver error...) becomes a failed row, so that
+    one bad design does not stop a sweep. ``KeyboardInterrupt`` and ``SystemExit`` still propagate.
+    """
+    try:
+        return evaluate_design(design, settings)
+    except Exception as exc:  # noqa: BLE001 - any failure of one design is recorded in its row
+        return failed_result(design, settings, f"{type(exc).__name__}: {exc}")
+
+
+def warm_up(settings: Settings) -> None:
+    """Run a tiny design so that numba kernels are compiled or loaded from cache before timing."""
+    tiny = replace(settings, duration=0.05)
+    evaluate_or_fail(Design(-1, 0.04, 0.0405, 20.0, 5.6e8, "", 2.0, 0.7, math.pi / 4, "plane", PAPER_RADIUS), tiny)

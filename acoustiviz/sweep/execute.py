@@ -1,0 +1,305 @@
+"""Running a sweep: on a local process pool, on any :class:`concurrent.futures.Executor`, or on Dask.
+
+:func:`run_sweep` computes the designs a directory still lacks and journals each as it finishes
+(:mod:`acoustiviz.sweep.store`). A design whose evaluation fails -- an exception in the worker,
+an overflow, or a worker process that dies (``BrokenProcessPool``) -- becomes a failed row with
+its reason, and the sweep goes on.
+
+Interrupts are deterministic: while a sweep runs, Ctrl-C (SIGINT) raises ``KeyboardInterrupt``
+in the calling process even if it inherited SIGINT ignored, and the workers of the local pool
+ignore SIGINT (it is blocked while they are forked, then set to ignored), so only the parent
+stops, keeping every finished row.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import threading
+from concurrent.futures import FIRST_COMPLETED, Executor, wait
+from pathlib import Path
+
+from ..errors import ParameterError
+from .evaluate import evaluate_or_fail, failed_result, warm_up
+from .progress import Progress
+from .spec import Settings, SweepSpec
+from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
+
+__all__ = ["run_sweep", "make_executor"]
+
+
+def _worker_init(settings: Settings) -> None:
+    """Process-pool initializer: leave Ctrl-C to the parent and load the compiled kernels once."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    warm_up(settings)
+
+
+@contextlib.contextmanager
+def _sigint_blocked():
+    """Hold SIGINT pending (not lost) while worker processes are forked, so none inherits a handler."""
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextlib.contextmanager
+def _interruptible():
+    """Make SIGINT raise KeyboardInterrupt here, whatever disposition the process inherited.
+
+    A process started with SIGINT ignored (a background job of a non-interactive shell) would
+    otherwise run the whole sweep through a Ctrl-C. A handler the application installed itself
+    is left alone. Restored on exit; only possible in the main thread.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.getsignal(signal.SIGINT)
+    replace = old in (signal.SIG_IGN, signal.SIG_DFL, None)
+    if replace:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        if replace:
+            signal.signal(signal.SIGINT, old)
+
+
+def _shutdown_now(ex: Executor) -> None:
+    """Shut ``ex`` down without waiting, cancelling what has not started."""
+    try:
+        ex.shutdown(wait=False, cancel_futures=True)
+    except TypeError:  # executors without cancel_futures (e.g. Dask's ClientExecutor)
+        ex.shutdown(wait=False)
+
+
+def make_executor(executor, workers, settings: Settings, n_tasks: int):
+    """Return ``(executor, kind, cleanup, n)``; kind is ``"local"``, ``"given"`` or ``"dask"``.
+
+    A local pool has ``n`` processes, at most ``n_tasks``; it and a Dask client are owned (shut
+    down by the caller, then ``cleanup`` called); a given Executor is used as is. ``n`` is None
+    except for a local pool.
+    """
+    if isinstance(executor, Executor):
+        return executor, "given", None, None
+    if executor is None or executor == "process":
+        n = (os.cpu_count() or 1) if workers is None else int(workers)
+        if n < 1:
+            raise ParameterError("workers", f"must be >= 1, got {workers}")
+        warm_up(settings)  # forked workers inherit the loaded kernels
+        n = max(1, min(n, int(n_tasks)))
+        return _local_pool(n, settings), "local", None, n
+    if isinstance(executor, str) and executor.startswith("dask://"):
+        address = executor[len("dask://"):]
+        if not address:
+            raise ParameterError("executor", "expected dask://HOST:PORT")
+        try:
+            from distributed import Client
+        except ImportError:
+            raise ParameterError(
+                "executor", "dask:// needs the optional dependency: pip install 'acoustiviz[distributed]'") from None
+        try:
+            client = Client(address if "://" in address else f"tcp://{address}", timeout=20)
+        except OSError as exc:
+            raise ParameterError("executor", f"cannot reach the Dask scheduler at {address}: {exc}") from None
+        return client.get_executor(), "dask", client.close, None
+    raise ParameterError("executor", f"expected 'process', 'dask://HOST:PORT' or an Executor, got {executor!r}")
+
+
+def _local_pool(n: int, settings: Settings):
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(max_workers=n, initializer=_worker_init, initargs=(settings,))
+
+
+def _is_broken_pool(exc: BaseException) -> bool:
+    from concurrent.futures.process import BrokenProcessPool
+
+    return isinstance(exc, BrokenProcessPool)
+
+
+class _Runner:
+    """Submit designs to an executor and yield their results, failed designs included."""
+
+    def __init__(self, executor, workers, settings: Settings, n_tasks: int):
+        self.settings = settings
+        self.ex, self.kind, self.cleanup, self.n = make_executor(executor, workers, settings, n_tasks)
+
+    def _submit(self, design):
+        if self.kind != "local":
+            return self.ex.submit(evaluate_or_fail, design, self.settings)
+        with _sigint_blocked():  # the first submission forks the workers
+            return self.ex.submit(evaluate_or_fail, design, self.settings)
+
+    def _failed(self, design, exc):
+        if _is_broken_pool(exc):
+            why = f"the worker process died ({type(exc).__name__}: {exc})"
+        else:
+            why = f"{type(exc).__name__}: {exc}"
+        return failed_result(design, self.settings, why)
+
+    def results(self, designs):
+        """Yield one DesignResult per design, in order of completion."""
+        queue = list(designs)[::-1]
+        limit = len(queue) if self.n is None else 2 * self.n
+        running = {}
+        try:
+            while queue or running:
+                suspects, broken = [], False
+                while queue and len(running) < limit:
+                    try:
+                        fut = self._submit(queue[-1])
+                    except Exception as exc:  # a pool found broken at submission: the design waits for a new one
+                        if self.kind != "local" or not _is_broken_pool(exc):
+                            raise
+                        broken = True
+                        break
+                    running[fut] = queue.pop()
+                if not broken:
+                    done, _ = wait(running, return_when=FIRST_COMPLETED)
+                    for fut in done:
+                        d = running.pop(fut)
+                        res, dead = self._outcome(fut, d)
+                        if dead:
+                            suspects.append(d)
+                            broken = True
+                        else:
+                            yield res
+                if broken:  # every design the dead pool held is suspect; finished ones are kept
+                    wait(running, timeout=60)  # a broken pool fails each pending future at once
+                    for fut, d in running.items():
+                        res, dead = self._outcome(fut, d) if fut.done() else (None, True)
+                        if dead:
+                            suspects.append(d)
+                        else:
+                            yield res
+                    running.clear()
+                    _shutdown_now(self.ex)
+                    yield from self._isolate(sorted(suspects, key=lambda d: d.design_id))
+                    self.ex = _local_pool(self.n, self.settings)
+        finally:
+            for fut in running:  # interrupted: what has not started never will
+                fut.cancel()
+
+    def _outcome(self, fut, design):
+        """``(result, dead)``: the design's result, a failed row for its exception, or ``dead``.
+
+        ``dead`` when the local pool broke under it; a caller's broken pool cannot be replaced, so
+        it stops the sweep.
+        """
+        try:
+            return fut.result(), False
+        except Exception as exc:  # noqa: BLE001 - recorded in the design's row
+            if _is_broken_pool(exc):
+                if self.kind != "local":
+                    raise
+                return None, True
+            return self._failed(design, exc), False
+
+    def _isolate(self, suspects):
+        """Run each design of a broken pool alone in a fresh one-process pool: only the culprit fails."""
+        for d in suspects:
+            ex = _local_pool(1, self.settings)
+            try:
+                with _sigint_blocked():
+                    fut = ex.submit(evaluate_or_fail, d, self.settings)
+                try:
+                    res = fut.result()
+                except Exception as exc:  # noqa: BLE001
+                    res = self._failed(d, exc)
+                yield res
+            finally:
+                _shutdown_now(ex)
+
+    def close(self, *, interrupted: bool) -> None:
+        """Shut down what this runner owns (at once when interrupted)."""
+        if self.kind != "given":
+            if interrupted:
+                _shutdown_now(self.ex)
+            else:
+                self.ex.shutdown(wait=True)
+        if self.cleanup is not None:
+            self.cleanup()
+
+
+def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = None, progress=None,
+              bar: bool | None = None, overwrite: bool = False) -> SweepTable:
+    """Run (or resume) a sweep, one CSV row per finished design.
+
+    Parameters
+    ----------
+    spec : SweepSpec
+        The designs and settings.
+    out_dir : path-like
+        Directory for ``sweep.json`` and ``sweep.csv`` (created if needed). If it already holds
+        this sweep, only the missing designs are computed; a finished sweep computes nothing.
+    executor : None, "process", "dask://HOST:PORT" or concurrent.futures.Executor
+        Where designs run. None or ``"process"``: a local process pool of ``workers`` processes
+        (default: all cores). ``"dask://HOST:PORT"``: a Dask distributed scheduler (optional
+        dependency). An Executor instance is used as given and not shut down; if it is a
+        process pool that breaks (a worker died), the sweep stops there, finished rows kept,
+        since only a pool of its own can be replaced.
+    workers : int, optional
+        Processes of the local pool (default ``os.cpu_count()``).
+    progress : text stream, optional
+        Where to report (e.g. ``sys.stderr``): how many designs earlier runs finished, failed
+        designs, and a progress bar; None: silent.
+    bar : bool, optional
+        Draw the tqdm progress bar on ``progress``; None (default): only if it is a terminal.
+    overwrite : bool
+        If ``out_dir`` holds a sweep made with other settings, move its ``sweep.csv`` aside to
+        ``sweep.previous.csv`` and start afresh (default: refuse with ``SweepMismatch``).
+
+    Returns
+    -------
+    SweepTable
+        Every row of the directory.
+
+    Notes
+    -----
+    Each finished design is appended to ``sweep.csv``, flushed and synced before the next one
+    is taken, so a kill loses at most the designs being computed. On ``KeyboardInterrupt`` the
+    pending designs are cancelled and the interrupt propagates; the rows written stay.
+    """
+    if not isinstance(spec, SweepSpec):
+        raise ParameterError("spec", f"expected a SweepSpec, got {type(spec).__name__}")
+    if workers is not None and (int(workers) != workers or workers < 1):
+        raise ParameterError("workers", f"must be an integer >= 1, got {workers!r}")
+    out = Path(out_dir)
+    prepare_dir(spec, out, overwrite)
+    path = out / SWEEP_CSV
+    rows = read_rows(path, spec)
+    designs = spec.designs()
+    pending = [d for d in designs if d.design_id not in rows]
+    report = Progress(len(designs), len(rows), progress, bar=bar if pending else False)
+    if not pending:
+        report.say(f"sweep: all {len(designs)} designs already in {path}; nothing to compute")
+        return table_from_rows(spec, rows)
+    if rows:
+        report.say(f"sweep: resuming {out}: {len(rows)} of {len(designs)} designs done before, "
+                   f"{len(pending)} to compute")
+    with _interruptible():
+        runner = _Runner(executor, workers, spec.settings, len(pending))
+        interrupted = True
+        try:
+            with Journal(path) as journal:
+                for res in runner.results(pending):
+                    rows[res.design.design_id] = journal.append(res.row())
+                    report.update()
+                    if res.error:
+                        report.say(f"sweep: design {res.design.design_id} failed: {res.error}")
+            interrupted = False
+        finally:
+            report.close()
+            runner.close(interrupted=interrupted)
+            if interrupted:  # count what the journal holds: the interrupt may fall between a row and its count
+                kept = len(read_rows(path, spec))
+                report.say(f"sweep: stopped; {kept} of {len(designs)} designs kept in {path}")
+    return table_from_rows(spec, rows)
