@@ -14,6 +14,7 @@ from acoustiviz.core.images import configuration
 from acoustiviz.core.medium import Medium
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics import metrics as dm
+from acoustiviz.dynamics.maxima import exact_maxima
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import field_metrics
 from acoustiviz.sweep import (
@@ -170,9 +171,8 @@ def direct_reference(gap, m, settings, *, angle=math.pi / 4, distance=0.7, confi
     """Every value of one design from direct calls of the dynamics and field functions,
     with the level of *every* impact evaluated."""
     model = DamperModel(M=settings.M, K=settings.K, C=settings.C, m=m, gap=gap, k_hertz=5.6e8, c1=20.0)
-    t = dm.sample_times(settings.duration, model, 200)
-    r = simulate(model, settings.duration, initial=InitialState(v=2.0), rtol=settings.rtol, t_eval=t)
-    mx = dm.positive_maxima(r.t, r.x)
+    r = simulate(model, settings.duration, initial=InitialState(v=2.0), rtol=settings.rtol)
+    mx = exact_maxima(r)
     a = 0.01905
     conf = configuration(config, a, wall_distance=0.05 if config == "wall-floor" else None)
     centre = conf.sources[0].position

@@ -258,8 +258,6 @@ class Settings:
         Envelope fit over the maxima still above this fraction of the first (0.3).
     settling_fraction : float
         Settled once every later maximum stays below this fraction of the first (0.05).
-    samples_per_period : int
-        Samples of x(t) per main period for locating the maxima (200).
     """
 
     M: float = TABLE1["M"]
@@ -281,7 +279,6 @@ class Settings:
     n_fastest: int = 4
     fit_window_fraction: float = 0.3
     settling_fraction: float = 0.05
-    samples_per_period: int = 200
 
     def __post_init__(self):
         check_positive("M", self.M, "kg")
@@ -307,8 +304,6 @@ class Settings:
             raise ParameterError("n_fastest", f"must be an integer >= 0 (0: every impact), got {self.n_fastest!r}")
         check_range("fit_window_fraction", self.fit_window_fraction, 0.0, 1.0, low_open=True, high_open=True)
         check_range("settling_fraction", self.settling_fraction, 0.0, 1.0, low_open=True, high_open=True)
-        if int(self.samples_per_period) != self.samples_per_period or self.samples_per_period < 8:
-            raise ParameterError("samples_per_period", f"must be an integer >= 8, got {self.samples_per_period!r}")
 
 
 @dataclass(frozen=True)
