@@ -21,7 +21,7 @@ from .._validate import ParameterError, check_positive
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, sound_levels, third_octave_levels
 
 __all__ = ["ANALYSIS_RATE", "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse", "bands_path",
-           "write_levels_csv"]
+           "write_levels_csv", "summary_lines", "rendered_levels"]
 
 #: Rate in Hz at which computed signals are rendered for their levels (not limited by a 48 kHz file):
 #: flat to 43.2 kHz, so the weightings, the 20 kHz band and the peaks see the whole click.
@@ -120,6 +120,21 @@ class LevelReport:
     loudness: Loudness | None
     channels: list
 
+    def subset(self, indices) -> LevelReport:
+        """The report of the channels ``indices`` only."""
+        from dataclasses import fields, replace
+
+        idx = list(indices)
+
+        def pick(obj):
+            if obj is None:
+                return None
+            return replace(obj, **{f.name: getattr(obj, f.name)[idx] for f in fields(obj)
+                                   if isinstance(getattr(obj, f.name), np.ndarray)
+                                   and getattr(obj, f.name).shape[0] == len(self.channels)})
+
+        return LevelReport(pick(self.levels), pick(self.bands), pick(self.loudness), [self.channels[i] for i in idx])
+
     def describe(self) -> dict:
         """A JSON-ready summary (levels per channel, how they were computed)."""
         out = {"evaluated_at_hz": self.levels.sample_rate, **self.levels.describe(),
@@ -207,3 +222,36 @@ def summary_lines(report: LevelReport, *, rate_note: str = "") -> list:
             out.append(f"     loudness N5 {ld['n5_sone']:.2f} sone (Nmax {ld['nmax_sone']:.2f}), sharpness "
                        f"{ld['sharpness_acum']:.2f} acum")
     return out
+
+
+def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=None, stop=None, channels=None,
+                    with_loudness: bool = False, rendering=None) -> LevelReport:
+    """Levels of an impact sequence at listeners, evaluated on the signal rendered at :data:`ANALYSIS_RATE`.
+
+    Parameters
+    ----------
+    sequence, scene, model, listeners
+        As for :func:`acoustiviz.output.audio.render`.
+    duration : float, optional
+        Minimum signal length in s.
+    start, stop : float, optional
+        Interval in s.
+    channels : sequence of str, optional
+        Names of the listeners.
+    with_loudness : bool
+        Also loudness and sharpness (needs mosqito).
+    rendering : acoustiviz.output.audio.Rendering, optional
+        A rendering already at :data:`ANALYSIS_RATE` to reuse.
+
+    Notes
+    -----
+    The clicks are evaluated in closed form at the renderer's internal rate (>= 16 × 96 kHz) and
+    band-limited flat to 43.2 kHz, so neither the weightings, the 20 kHz band nor the peaks are
+    limited by a 44.1 or 48 kHz file.
+    """
+    from ..output.audio import render
+
+    if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
+        rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration)
+    return analyse(rendering.pressure, ANALYSIS_RATE, start=start, stop=stop, channels=channels,
+                   with_loudness=with_loudness)
