@@ -182,6 +182,11 @@ _OUT = {
                   "walls": Key("str", "'both': impacts on the far wall radiate from it with the reversed axis; "
                                "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one"))},
                  "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
+    "levels": Table({"loudness": Key("bool", "also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)",
+                                     False)},
+                    "LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL, SEL(A) of the damper run at each listener, "
+                    "evaluated at 96 kHz (CSV)"),
+    "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),
 }
 
 #: The outputs a scene may ask for, in the order they are produced.
