@@ -91,3 +91,33 @@ def test_efficiency_and_power_arithmetic_and_errors():
         radiation_efficiency(1e-6, 0.0)
     with pytest.raises(ParameterError, match="duration"):
         sound_power([1e-6], 0.0)
+
+
+def test_run_energy_interpolates_the_configuration_ratio_faithfully():
+    from acoustiviz.app.levels import run_energy
+    from acoustiviz.app.wav import cavity
+    from acoustiviz.dynamics.result import ImpactTable
+    from acoustiviz.output.audio import ClickModel, wall_sources
+
+    speeds = np.array([0.2, 0.5, 0.9, 1.4, 2.0])
+    n = speeds.size
+    table = ImpactTable(time=np.arange(n) * 0.1, wall=-np.ones(n), approach_velocity=speeds,
+                        separation_velocity=0.7 * speeds, restitution=np.full(n, 0.7), duration=np.full(n, 3e-4),
+                        peak_force=np.full(n, 1e3), impulse=np.full(n, 0.1),
+                        energy_lost=0.5 * 0.0405 * speeds**2 * (1 - 0.49))
+    room = cavity("plane", A, 0.04)
+    model = ClickModel()
+    out = run_energy(table, room, model, duration=1.0)
+    grid = spherical_grid_for(room.configuration, 1.0, n_theta=8)
+    # the reference speeds are the table's quartiles: 0.2, 0.5, 0.9, 1.4, 2.0 -> exact at every impact
+    for k, v in enumerate(speeds):
+        direct = radiated_energy_grid(model.pulse_for(v), wall_sources(room, -1), grid, radius=A)
+        assert out.energy_j[k] == pytest.approx(direct, rel=1e-9)
+    # between reference speeds the log-speed interpolation of the ratio stays within 2 %
+    mid = math.sqrt(0.9 * 1.4)
+    ratio = lambda v: (radiated_energy_grid(model.pulse_for(v), wall_sources(room, -1), grid, radius=A)  # noqa: E731
+                       / radiated_energy_free(model.pulse_for(v), radius=A))
+    interp = np.interp(math.log(mid), np.log([0.9, 1.4]), [ratio(0.9), ratio(1.4)])
+    assert interp == pytest.approx(ratio(mid), rel=0.02)
+    assert out.sound_power_w == pytest.approx(out.energy_j.sum())
+    assert out.loudest == n - 1 and out.efficiency[-1] == pytest.approx(out.energy_j[-1] / table.energy_lost[-1])

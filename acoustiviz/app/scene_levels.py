@@ -6,7 +6,8 @@ once per run whichever of the two outputs asks first. The surroundings of the ca
 walls that radiate) are those of ``[outputs.wav]`` when the scene has one, else its defaults.
 
 * ``levels`` writes ``levels.csv`` (one row per listener: LZpeak ... SEL(A), optionally N5, Nmax
-  and sharpness) and reports the figures in the summary;
+  and sharpness) and reports the figures in the summary, with the run's sound power and the
+  radiation efficiency of its loudest impact (:func:`acoustiviz.app.levels.run_energy`);
 * ``spectrum`` writes ``spectrum.csv`` (``channel,band_hz,leq_db,lmax_db``) and ``spectrum.png``.
 """
 
@@ -17,7 +18,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..levels import loudness_available
 from ..scene.schema import SCHEMA
-from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, summary_lines, write_levels_csv
+from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
 
 __all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
 
@@ -73,6 +74,17 @@ def produce_levels(ctx):
     figures = {"evaluated_at_hz": f"{lv.sample_rate:g}",
                "lcpeak_db": f"{np.max(lv.lcpeak_db):.1f}", "lafmax_db": f"{np.max(lv.lafmax_db):.1f}",
                "laeq_db": f"{np.max(lv.laeq_db):.1f}", "sel_a_db": f"{np.max(lv.sel_a_db):.1f}"}
+    _, room, model, _, _ = damper_sound_setup(ctx)
+    energy = run_energy(ctx.damper_run.impacts, room, model, ctx.damper_run.duration)
+    if energy.loudest >= 0:
+        k = energy.loudest
+        figures["sound_power_level_db_re_1pw"] = f"{energy.sound_power_level_db:.1f}"
+        figures["loudest_impact_energy_j"] = f"{energy.energy_j[k]:.3g}"
+        figures["loudest_impact_radiation_efficiency"] = f"{energy.efficiency[k]:.3g}"
+        speed = abs(ctx.damper_run.impacts.approach_velocity[k])
+        ctx.progress(f"sound power {energy.sound_power_w:.3g} W ({energy.sound_power_level_db:.1f} dB re 1 pW); "
+                     f"loudest impact ({speed:.3g} m/s): {energy.energy_j[k]:.3g} J radiated of "
+                     f"{energy.energy_lost_j[k]:.3g} J lost, radiation efficiency {energy.efficiency[k]:.3g}")
     if report.loudness is not None:
         figures["n5_sone"] = f"{np.max(report.loudness.n5_sone):.2f}"
         figures["sharpness_acum"] = f"{np.max(report.loudness.sharpness_acum):.2f}"
