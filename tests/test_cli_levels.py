@@ -79,3 +79,17 @@ def test_bad_options_exit_2_naming_the_option(tmp_path, capsys, extra, option):
 def test_missing_file_exits_2(tmp_path, capsys):
     assert main(["levels", str(tmp_path / "none.wav"), "--csv", str(tmp_path / "x.csv"), "--pa-per-fs", "1"]) == 2
     assert "no such file" in capsys.readouterr().err
+
+
+def test_loudness_columns_when_asked(tmp_path):
+    from acoustiviz.levels import loudness_available
+
+    if not loudness_available():
+        pytest.skip("mosqito (extra 'hearing') not installed")
+    wav = tmp_path / "quiet.wav"
+    sf.write(wav, _tone(seconds=0.6, rms=20e-6 * 10 ** (40 / 20)) / 0.01, FS, subtype="PCM_24")
+    out = tmp_path / "q.csv"
+    assert main(["levels", str(wav), "--csv", str(out), "--pa-per-fs", "0.01", "--start", "0.2", "--loudness"]) == 0
+    row = _rows(out)[0]
+    assert float(row["n5_sone"]) == pytest.approx(1.0, abs=0.05)  # 1 kHz at 40 dB: 1 sone
+    assert float(row["sharpness_acum"]) > 0
