@@ -147,3 +147,17 @@ def test_bad_inputs_are_refused_before_any_work():
         sound_levels(np.array([1.0, np.nan, 2.0]), FS)
     with pytest.raises(ParameterError, match="curve"):
         weighted(tone(1000), FS, "B")
+
+
+def test_metric_levels_give_one_value_per_row_and_name_the_option():
+    from acoustiviz.levels import METRICS, metric_levels
+
+    rows = np.stack([tone(1000), 0.5 * tone(1000), 0.25 * tone(100)])
+    full = sound_levels(rows, FS, start=0.5)
+    for name, field in METRICS.items():
+        assert np.array_equal(metric_levels(rows, FS, name, start=0.5), getattr(full, field))
+    laeq = metric_levels(rows, FS, "laeq", start=0.5)
+    assert laeq[0] - laeq[1] == pytest.approx(20 * math.log10(2), abs=1e-6)
+    with pytest.raises(ParameterError) as err:
+        metric_levels(rows, FS, "dba")
+    assert err.value.name == "metric"

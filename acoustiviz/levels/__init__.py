@@ -27,11 +27,12 @@ from .energy import (
     surface_work_free,
 )
 from .hearing import Loudness, loudness, loudness_available
-from .weighted import LEVEL_COLUMNS, SoundLevels, level_db, sound_levels, weighted
+from .weighted import LEVEL_COLUMNS, METRICS, SoundLevels, level_db, metric_levels, sound_levels, weighted
 
 __all__ = [
     "BAND_LIMITS",
     "LEVEL_COLUMNS",
+    "METRICS",
     "BandLevels",
     "Loudness",
     "SoundLevels",
@@ -39,6 +40,7 @@ __all__ = [
     "level_db",
     "loudness",
     "loudness_available",
+    "metric_levels",
     "pulse_spectrum",
     "radiated_energy_free",
     "radiated_energy_grid",

@@ -28,10 +28,15 @@ from .._validate import ParameterError, check_nonnegative, check_positive
 from ..constants import P_REF
 from ._library import library
 
-__all__ = ["LEVEL_COLUMNS", "SoundLevels", "as_channels", "interval_slice", "weighted", "sound_levels", "level_db"]
+__all__ = ["LEVEL_COLUMNS", "METRICS", "SoundLevels", "as_channels", "interval_slice", "weighted", "sound_levels",
+           "level_db", "metric_levels"]
 
 #: The level columns of :meth:`SoundLevels.rows`, in order.
 LEVEL_COLUMNS = ("lzpeak_db", "lcpeak_db", "lafmax_db", "lasmax_db", "laeq_db", "lzeq_db", "sel_db", "sel_a_db")
+
+#: Metric names as front-ends spell them (``--metric lcpeak``) -> the :class:`SoundLevels` field.
+METRICS = {"lzpeak": "lzpeak_db", "lcpeak": "lcpeak_db", "lafmax": "lafmax_db", "lasmax": "lasmax_db",
+           "laeq": "laeq_db", "lzeq": "lzeq_db", "sel": "sel_db", "sel-a": "sel_a_db"}
 
 def level_db(mean_square, reference: float = P_REF) -> np.ndarray:
     """``10 log10(mean_square / reference²)`` in dB; ``-inf`` for silence.
@@ -223,3 +228,28 @@ def sound_levels(pressure, sample_rate: float, *, start=None, stop=None) -> Soun
         sel_db=level_db(ez), sel_a_db=level_db(ea),
         sample_rate=float(fs), start=win.start / fs, stop=win.stop / fs, library=library().name,
     )
+
+
+def metric_levels(pressure, sample_rate: float, metric: str, *, start=None, stop=None) -> np.ndarray:
+    """One level per row of ``pressure`` (a design, a listener, a point of a directivity grid).
+
+    Parameters
+    ----------
+    pressure : (n_samples,) or (n_rows, n_samples) array_like
+        Sound pressure in Pa on a uniform time grid.
+    sample_rate : float
+        Sample rate in Hz (whole Hz).
+    metric : str
+        A key of :data:`METRICS`: ``"lzpeak"``, ``"lcpeak"``, ``"lafmax"``, ``"lasmax"``, ``"laeq"``,
+        ``"lzeq"``, ``"sel"`` or ``"sel-a"``.
+    start, stop : float, optional
+        Interval in s (see :func:`sound_levels`).
+
+    Returns
+    -------
+    (n_rows,) ndarray
+        The level in dB re 20 µPa (exposure levels re (20 µPa)²·s).
+    """
+    if metric not in METRICS:
+        raise ParameterError("metric", f"must be one of {', '.join(METRICS)}, got {metric!r}")
+    return getattr(sound_levels(pressure, sample_rate, start=start, stop=stop), METRICS[metric])
