@@ -40,9 +40,13 @@ def test_interface_writes_wav_and_sidecar(tmp_path, capsys):
     info = sf.info(str(wav))
     rec = json.loads((tmp_path / "OUT.json").read_text())
     n_ref = len(simulate(DamperModel(), 2.0, initial=InitialState(v=2.0)).impacts)
-    assert fs == 48000 and info.subtype == "FLOAT" and info.channels == 1 and data.size >= 2 * 48000
+    assert fs == 48000 and info.subtype == "PCM_24" and info.channels == 1 and data.size >= 2 * 48000
     assert rec["impact_count"] == n_ref > 10
-    assert rec["subtype"] == "FLOAT" and rec["scale_pa_per_full_scale"] == 1.0 and rec["sample_rate_hz"] == 48000
+    # a file that plays: every sample within [-1, 1], the peak 1 dB below full scale, the calibration recorded
+    assert np.max(np.abs(data)) <= 10 ** (-1 / 20) + 2**-23
+    assert 20 * math.log10(np.max(np.abs(data))) == pytest.approx(-1.0, abs=1e-3)
+    assert rec["subtype"] == "PCM_24" and rec["sample_rate_hz"] == 48000 and rec["peak_dbfs"][0] == pytest.approx(-1.0)
+    data = data * rec["scale_pa_per_full_scale"]  # back to pascals
     assert rec["listeners_m"] == [[0.495, 0.0, 0.514]] and rec["scene"]["config"] == "plane"
     assert rec["click_model"]["pulse"] == "half-sine" and rec["damper"]["solver"] == "event"
     peak_spl = 20 * math.log10(np.max(np.abs(data)) / 20e-6)
@@ -59,7 +63,8 @@ def test_one_click_level_matches_the_field_evaluator(tmp_path):
     csv = _one_impact_csv(tmp_path / "one.csv")
     wav = tmp_path / "one.wav"
     assert main(["auralize", "--impacts", str(csv), "--m", "0.0405", "--duration", "0.05", "--rate", "96000",
-                 "--listener", LISTENER, "--wav", str(wav)]) == 0
+                 "--listener", LISTENER, "--subtype", "FLOAT", "--wav", str(wav)]) == 0
+    assert sf.info(str(wav)).subtype == "FLOAT"  # the explicit option: float32 in pascals
     data, fs = sf.read(wav, dtype="float64")
     pulse = acceleration_pulse(Impact(1.4, 5.6e8, 0.0405), "half-sine")
     t = np.arange(0, 0.01, 1 / (64 * fs))
@@ -73,6 +78,37 @@ def test_one_click_level_matches_the_field_evaluator(tmp_path):
                   for s in images_plane(A).sources)
     assert np.max(np.abs(data)) == pytest.approx(np.max(np.abs(ref)), rel=5e-3)
     assert math.sqrt(np.sum(data**2) / fs) == pytest.approx(math.sqrt(np.sum(ref**2) / (64 * fs)), rel=1e-4)
+
+
+def test_levels_of_one_click_are_its_exposure_and_read_back_from_the_file(tmp_path, capsys):
+    """SEL of one click against the field evaluator's integral of p²; `acoustiviz levels` on the PCM file agrees."""
+    csv = _one_impact_csv(tmp_path / "one.csv")
+    wav = tmp_path / "lv.wav"
+    assert main(["auralize", "--impacts", str(csv), "--duration", "0.3", "--listener", LISTENER, "--levels",
+                 "--levels-csv", str(tmp_path / "lv_levels.csv"), "--wav", str(wav)]) == 0
+    out = capsys.readouterr().out
+    assert "evaluated at 96 kHz" in out and "LAFmax" in out
+    rec = json.loads((tmp_path / "lv.json").read_text())
+    row = rec["levels"]["channels"][0]
+    assert rec["levels"]["evaluated_at_hz"] == 96000
+    pulse = acceleration_pulse(Impact(1.4, 5.6e8, 0.0405), "half-sine")
+    fine = 64 * 96000
+    t = np.arange(0, 0.01, 1 / fine)
+    pt = np.array([[0.495, 0.0, 0.514]])
+    from acoustiviz.core.radiation import sphere_pressure
+
+    ref = sum(sphere_pressure(pulse, t, pt, radius=A, centre=s.position, axis=s.axis)[0]
+              for s in images_plane(A).sources)
+    assert row["sel_db"] == pytest.approx(10 * math.log10(np.sum(ref**2) / fine / 20e-6**2), abs=0.01)
+    assert row["lzpeak_db"] == pytest.approx(20 * math.log10(np.max(np.abs(ref)) / 20e-6), abs=0.05)
+    assert row["lcpeak_db"] < row["lzpeak_db"] and row["lafmax_db"] < row["lcpeak_db"]
+    assert (tmp_path / "lv_levels.csv").exists() and (tmp_path / "lv_levels_bands.csv").exists()
+    # the file at 48 kHz, calibrated by its sidecar, gives the same exposure
+    assert main(["levels", str(wav), "--csv", str(tmp_path / "back.csv")]) == 0
+    back = (tmp_path / "back.csv").read_text().splitlines()
+    cols = dict(zip(back[0].split(","), back[1].split(","), strict=True))
+    assert float(cols["sel_db"]) == pytest.approx(row["sel_db"], abs=0.01)
+    assert float(cols["sel_a_db"]) == pytest.approx(row["sel_a_db"], abs=0.05)
 
 
 def test_several_listeners_share_one_pcm_scale(tmp_path, capsys):

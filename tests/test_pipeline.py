@@ -107,7 +107,8 @@ def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
     from acoustiviz.field import field_metrics
 
     # walls = "one": every impact is heard as a strike on the floor z = 0, the field evaluator's frame
-    scene = scene_from_dict({"damper": {"duration_s": 1.0}, "outputs": {"wav": {"rate_hz": 96000, "walls": "one"}}})
+    scene = scene_from_dict({"damper": {"duration_s": 1.0}, "outputs": {"wav": {"rate_hz": 96000, "walls": "one",
+                                                                                    "subtype": "FLOAT"}}})
     products = run_scene(scene, tmp_path / "o")
     data, rate = sf.read(tmp_path / "o" / "wav_paper.wav", dtype="float64")
     info = sf.info(tmp_path / "o" / "wav_paper.wav")

@@ -25,6 +25,7 @@ from ..errors import ParameterError
 from ..output.writers import write_csv_atomic, write_text_atomic
 from ..scene import Scene
 from . import damper as _damper
+from .scene_levels import produce_levels, produce_spectrum
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
 
@@ -398,6 +399,8 @@ PRODUCERS = {
     "sweep": produce_sweep,
     "design_table": produce_design_table,
     "wav": produce_wav,
+    "levels": produce_levels,
+    "spectrum": produce_spectrum,
 }
 
 

@@ -5,6 +5,11 @@
 (:func:`sidecar_record`, version :data:`SIDECAR_VERSION`) are the same whichever asked. The
 sidecar records the software version, the scene (if any), the calibration in Pa per full scale,
 the listeners, the peaks, whether anything clipped, how the sound was computed and the damper run.
+
+By default the files are normalised 24-bit PCM whose largest sample across the run lies
+``headroom_db`` (1 dB) below full scale, so any player plays them without clipping; the sidecar's
+``scale_pa_per_full_scale`` turns samples back into pascals (``acoustiviz levels`` reads it). The
+float32 file in pascals (``subtype="FLOAT"``) stays available on request.
 """
 
 from __future__ import annotations
@@ -77,7 +82,7 @@ def calibration(files, subtype: str, *, scale=None, headroom_db: float = 1.0) ->
 
 
 def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, scale_source: str,
-                   rendering: dict, scene_name=None, damper=None, radius_source: str = "") -> dict:
+                   rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None) -> dict:
     """The JSON sidecar of one WAV file (schema version :data:`SIDECAR_VERSION`).
 
     Parameters
@@ -100,8 +105,12 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         The damper run (:func:`acoustiviz.app.damper.damper_description`) or the impacts file.
     radius_source : str
         Where the sphere radius came from.
+    levels : dict, optional
+        Weighted levels and bands (:meth:`acoustiviz.app.levels.LevelReport.describe`), recorded
+        under ``levels``.
     """
     peaks = np.max(np.abs(wav.pressure), axis=1)
+    dbfs = [20 * math.log10(pk / scale) if pk > 0 else None for pk in peaks]
     spls = [20 * math.log10(pk / P_REF) if pk > 0 else None for pk in peaks]
     return {
         "sidecar_version": SIDECAR_VERSION,
@@ -120,6 +129,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "channel_names": wav.channel_names,
         "peak_pa": peaks.tolist(),
         "peak_spl_db_re_20upa": spls,
+        "peak_dbfs": dbfs,
         "peak_note": "peaks of the band-limited samples at the output rate",
         "clipping": {"clipped_samples": info["clipped_samples"],
                      "peak_over_full_scale_db": info["over_full_scale_db"]},
@@ -128,11 +138,12 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         **rendering,
         "damper": damper,
         "radius_source": radius_source,
+        **({"levels": levels} if levels is not None else {}),
     }
 
 
-def write_wav_files(files, *, sample_rate: int, subtype: str = "FLOAT", scale=None, headroom_db: float = 1.0,
-                    rendering: dict, scene_name=None, damper=None, radius_source: str = "") -> list:
+def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=None, headroom_db: float = 1.0,
+                    rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None) -> list:
     """Write WAV files and their sidecars with one shared calibration.
 
     Parameters
@@ -141,14 +152,17 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "FLOAT", scale=No
         The files of one run.
     sample_rate : int
         Output rate in Hz.
-    subtype : {"FLOAT", "PCM_24"}
-        Sample format (see :func:`acoustiviz.output.audio.write_wav`).
+    subtype : {"PCM_24", "FLOAT"}
+        Sample format (see :func:`acoustiviz.output.audio.write_wav`): normalised 24-bit PCM (default,
+        peak ``headroom_db`` below full scale) or float32 (in pascals unless ``scale`` is given).
     scale : float, optional
         Pa per full scale (default: :func:`calibration`).
     headroom_db : float
         ``PCM_24`` without ``scale``: the run's peak sits this far below full scale, in dB.
     rendering, scene_name, damper, radius_source
         Recorded in every sidecar (:func:`sidecar_record`).
+    levels : sequence of dict, optional
+        Per file, its levels to record in its sidecar.
 
     Returns
     -------
@@ -157,13 +171,13 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "FLOAT", scale=No
     """
     scale, source = calibration(files, subtype, scale=scale, headroom_db=headroom_db)
     written = []
-    for wav in files:
+    for k, wav in enumerate(files):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ClippingWarning)
             info = write_wav(wav.path, wav.pressure, sample_rate, subtype=subtype, scale=scale)
         record = sidecar_record(wav, info, sample_rate=sample_rate, scale=scale, scale_source=source,
                                 rendering=rendering, scene_name=scene_name, damper=damper,
-                                radius_source=radius_source)
+                                radius_source=radius_source, levels=None if levels is None else levels[k])
         side = write_sidecar(wav.path, record)
         written.append({"record": record, "sidecar": side, "warnings": [str(w.message) for w in caught]})
     return written

@@ -25,6 +25,7 @@ SUBCOMMANDS = {
     "design": "acoustiviz.cli.design",
     "render": "acoustiviz.cli.render",
     "auralize": "acoustiviz.cli.auralize",
+    "levels": "acoustiviz.cli.levels",
 }
 
 

@@ -32,8 +32,9 @@ def add_parser(subparsers) -> None:
         help="calibrated WAV files (and JSON sidecars) of a damper's impact sequence at listeners",
         description="Render every impact of an impact-damper run into the sound pressure at one or more "
         "listeners: Hertz pulse per impact from its own approach speed, rigid-sphere radiation with image "
-        "sources, exact sub-sample times, band-limited to the output rate. Default output: float32 WAV in "
-        "pascals (sample 1.0 = 1 Pa) with OUT.json beside OUT.wav. Lengths in m, times in s.",
+        "sources, exact sub-sample times, band-limited to the output rate. Default output: normalised 24-bit "
+        "WAV peaking 1 dB below full scale, with OUT.json beside OUT.wav recording the calibration in Pa per full "
+        "scale (float32 in pascals with --subtype FLOAT). Lengths in m, times in s.",
     )
     # let "--listener -0.2,0,0.3" read as a value (argparse takes only plain negative numbers for values)
     import re
@@ -84,15 +85,27 @@ def add_parser(subparsers) -> None:
                    help="distance between the ears in m with --stereo and one listener (default %(default)s)")
     o.add_argument("--rate", type=int, default=48000, choices=(44100, 48000, 96000),
                    help="output sample rate in Hz (default %(default)s)")
-    o.add_argument("--subtype", default="FLOAT", choices=("FLOAT", "PCM_24"),
-                   help="FLOAT: float32 in pascals (default); PCM_24: normalised 24-bit with one scale shared "
-                        "by all files of the run, recorded in each sidecar")
+    o.add_argument("--subtype", default="PCM_24", choices=("PCM_24", "FLOAT"),
+                   help="PCM_24 (default): normalised 24-bit that plays without clipping, one scale (Pa per full "
+                        "scale) shared by all files of the run and recorded in each sidecar; FLOAT: float32 in "
+                        "pascals (1.0 = 1 Pa), for analysis")
     o.add_argument("--scale", type=float, default=None, metavar="PA",
-                   help="Pa per full scale (default: 1 for FLOAT; for PCM_24 the run's peak plus --headroom)")
+                   help="Pa per full scale (default: the run's peak plus --headroom for PCM_24; 1 for FLOAT); a "
+                        "PCM_24 scale that clips is reported")
     o.add_argument("--headroom", type=float, default=1.0, metavar="DB",
                    help="PCM_24: the run's peak sits this far below full scale (default %(default)s dB)")
     o.add_argument("--wav", required=True, metavar="PATH", help="output WAV (sidecar: same name, .json)")
     o.add_argument("--png", default=None, metavar="PATH", help="also draw the waveform and spectrogram")
+    lv = p.add_argument_group("levels")
+    lv.add_argument("--levels", action="store_true",
+                    help="print LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) per listener and record "
+                         "them and the 1/3-octave bands in the sidecars; evaluated on the signal computed at 96 kHz, "
+                         "not on the file")
+    lv.add_argument("--levels-csv", default=None, metavar="OUT.csv",
+                    help="also write the levels (one row per listener) and OUT_bands.csv (implies --levels)")
+    lv.add_argument("--loudness", action="store_true",
+                    help="with the levels, ISO 532-1 loudness N5/Nmax (sone) and DIN 45692 sharpness (acum); needs "
+                         "mosqito (pip install 'acoustiviz[hearing]')")
     p.set_defaults(func=run)
 
 
@@ -206,6 +219,14 @@ def run(args) -> int:
     if args.scale is not None:
         check_positive("--scale", args.scale, "Pa")
     check_range("--headroom", args.headroom, 0.0, 60.0, unit="dB")
+    want_levels = args.levels or args.levels_csv is not None or args.loudness
+    if args.levels_csv is not None and Path(args.levels_csv).suffix.lower() != ".csv":
+        raise ParameterError("--levels-csv", f"must end in .csv, got {args.levels_csv!r}")
+    if args.loudness:
+        from ..levels import loudness_available
+
+        if not loudness_available():
+            raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
 
     # ---- impacts
     if args.impacts:
@@ -229,9 +250,25 @@ def run(args) -> int:
     print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
           f"mass model {model.mass_model}, configuration {scene.config}, walls {scene.walls}; "
           f"{args.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
+    per_file = None
+    if want_levels:
+        from ..app.levels import rendered_levels, summary_lines
+
+        names_all = [n for f in files for n in (f.channel_names if args.stereo else f.listeners)]
+        report = rendered_levels(seq, scene, model, listeners, duration=args.duration, channels=names_all,
+                                 with_loudness=args.loudness, rendering=out)
+        for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
+            print(line)
+        groups = [[0, 1]] if args.stereo else [[i] for i in range(len(files))]
+        per_file = [report.subset(g).describe() for g in groups]
+        if args.levels_csv is not None:
+            from ..app.levels import write_levels_csv
+
+            for path in write_levels_csv(args.levels_csv, report):
+                print(f"wrote {path}")
     written = write_wav_files(files, sample_rate=args.rate, subtype=args.subtype, scale=args.scale,
                               headroom_db=args.headroom, rendering=out.describe(), damper=run_desc,
-                              radius_source=radius_source)
+                              radius_source=radius_source, levels=per_file)
     for wav, w in zip(files, written, strict=True):
         for msg in w["warnings"]:
             print(f"warning: {msg}")
@@ -239,6 +276,10 @@ def run(args) -> int:
         spls, peaks = rec["peak_spl_db_re_20upa"], rec["peak_pa"]
         lvl = ", ".join(f"{s:.1f}" if s is not None else "silent" for s in spls)
         print(f"peak SPL: {lvl} dB re 20 uPa (peak {max(peaks):.4g} Pa)")
+        if rec["subtype"] == "PCM_24":
+            top = max((v for v in rec["peak_dbfs"] if v is not None), default=None)
+            print(f"calibration: {rec['scale_pa_per_full_scale']:.6g} Pa per full scale ({rec['scale_source']})"
+                  + (f"; peak {top:.1f} dBFS" if top is not None else ""))
         over = rec["clipping"]["peak_over_full_scale_db"]
         if args.subtype == "FLOAT" and over > 0:
             print(f"note: the peak is {over:.1f} dB above 1.0 = {rec['scale_pa_per_full_scale']:g} Pa; the float "

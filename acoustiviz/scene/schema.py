@@ -175,12 +175,18 @@ _OUT = {
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
     "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=8000, high=384000),
                   "stereo": Key("bool", "one stereo file from the first two listeners", False),
-                  "subtype": Key("str", "FLOAT: float32 in pascals (1.0 = 1 Pa); PCM_24: normalised, one shared "
-                                 "scale recorded in the sidecar", "FLOAT", choices=("FLOAT", "PCM_24")),
+                  "subtype": Key("str", "PCM_24: normalised to peak 1 dB below full scale, one shared scale "
+                                 "(Pa per full scale) recorded in the sidecar; FLOAT: float32 in pascals (1.0 = 1 Pa)",
+                                 "PCM_24", choices=("PCM_24", "FLOAT")),
                   "struck_wall": Key("int", "damper wall lying on the struck surface z = 0", -1, low=-1, high=1),
                   "walls": Key("str", "'both': impacts on the far wall radiate from it with the reversed axis; "
                                "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one"))},
-                 "calibrated WAV (Pa) of the damper run at each listener"),
+                 "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
+    "levels": Table({"loudness": Key("bool", "also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)",
+                                     False)},
+                    "LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL, SEL(A) of the damper run at each listener, "
+                    "evaluated at 96 kHz (CSV)"),
+    "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),
 }
 
 #: The outputs a scene may ask for, in the order they are produced.

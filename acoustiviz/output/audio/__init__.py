@@ -45,9 +45,10 @@ this frame: the main mass's displacement (a few cm) is neglected, as in the pape
 
 Calibration
 -----------
-:func:`write_wav` writes a float32 WAV (``subtype="FLOAT"``) in pascals by default: a sample
-value 1.0 is 1 Pa (94 dB SPL). The alternative is normalised ``"PCM_24"`` with one scale (Pa
-per full scale) shared by all files of a run (:func:`shared_scale`). Nothing is clipped
+Files meant for listening are normalised ``"PCM_24"`` with one scale (Pa per full scale) shared by
+all files of a run (:func:`shared_scale`), the run's peak 1 dB below full scale; the application
+layer writes them by default. :func:`write_wav` also writes float32 (``subtype="FLOAT"``), by
+default in pascals: a sample value 1.0 is 1 Pa (94 dB SPL). Nothing is clipped
 silently: a PCM sample beyond full scale raises a :class:`ClippingWarning` saying by how many dB
 and is recorded in the sidecar. A JSON sidecar (``OUT.json`` beside ``OUT.wav``) records the
 scale, rate, subtype, listeners, scene, pulse, modelling choices, impact count and peak SPL.

@@ -1,0 +1,346 @@
+"""Levels of a calibrated WAV file or a computed signal, and the two CSV files that report them.
+
+``acoustiviz levels SIGNAL.wav`` reads the file, its calibration (Pa per full scale, from the JSON
+sidecar ``SIGNAL.json`` that :mod:`acoustiviz.app.wav` writes, else given), and reports per channel
+the weighted levels of :func:`acoustiviz.levels.sound_levels`, the 1/3-octave bands of
+:func:`acoustiviz.levels.third_octave_levels` and, on request, loudness and sharpness
+(:func:`acoustiviz.levels.loudness`). The same :func:`analyse` serves the damper's auralisation,
+which evaluates the levels on the signal computed at :data:`ANALYSIS_RATE` rather than on the file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._validate import ParameterError, check_positive
+from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, sound_levels, third_octave_levels
+
+__all__ = ["ANALYSIS_RATE", "CalibratedSignal", "LevelReport", "RunEnergy", "read_calibrated_wav", "analyse",
+           "bands_path", "write_levels_csv", "summary_lines", "rendered_levels", "run_energy"]
+
+#: Rate in Hz at which computed signals are rendered for their levels (not limited by a 48 kHz file):
+#: flat to 43.2 kHz, so the weightings, the 20 kHz band and the peaks see the whole click.
+ANALYSIS_RATE = 96000
+
+
+@dataclass(frozen=True)
+class CalibratedSignal:
+    """Pressure read from a WAV file and where its calibration came from.
+
+    Attributes
+    ----------
+    pressure : (n_channels, n_samples) ndarray
+        Sound pressure in Pa.
+    sample_rate : int
+        Rate in Hz.
+    pa_per_full_scale : float
+        The calibration applied: a sample value v is ``v × pa_per_full_scale`` Pa.
+    source : str
+        ``"sidecar <path>"`` or ``"given"``.
+    channels : list of str
+        Channel names (from the sidecar, else ``"1"``, ``"2"``, ...).
+    """
+
+    pressure: np.ndarray
+    sample_rate: int
+    pa_per_full_scale: float
+    source: str
+    channels: list
+
+
+def _sidecar_scale(wav: Path):
+    """``(scale, sidecar record)`` from ``wav``'s JSON sidecar, or ``(None, None)`` if there is none."""
+    from ..output.audio import sidecar_path
+
+    side = sidecar_path(wav)
+    if not side.is_file():
+        return None, None
+    try:
+        record = json.loads(side.read_text(encoding="utf-8"))
+        scale = float(record["scale_pa_per_full_scale"])
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ParameterError("signal", f"cannot read the calibration from the sidecar {side}: {exc}") from None
+    if not (math.isfinite(scale) and scale > 0):
+        raise ParameterError("signal", f"the sidecar {side} records scale_pa_per_full_scale = {scale!r}, not > 0 Pa")
+    return scale, record
+
+
+def read_calibrated_wav(path, *, pa_per_fs=None) -> CalibratedSignal:
+    """Read a WAV file as pressure in Pa.
+
+    Parameters
+    ----------
+    path : path-like
+        The WAV file.
+    pa_per_fs : float, optional
+        Pa per full scale, used when the file has no sidecar (``SIGNAL.json`` beside
+        ``SIGNAL.wav``); with a sidecar its ``scale_pa_per_full_scale`` is used.
+
+    Raises
+    ------
+    ParameterError
+        ``signal`` if the file cannot be read; ``pa_per_fs`` if there is neither a sidecar nor
+        a calibration.
+    """
+    import soundfile as sf
+
+    wav = Path(path)
+    if pa_per_fs is not None:
+        check_positive("pa_per_fs", pa_per_fs, "Pa")
+    scale, record = _sidecar_scale(wav)
+    if scale is not None:
+        source = f"sidecar {wav.with_suffix('.json').name}"
+    elif pa_per_fs is not None:
+        scale, source = float(pa_per_fs), "given"
+    else:
+        raise ParameterError("pa_per_fs", f"{wav.name} has no sidecar {wav.with_suffix('.json').name}: give the "
+                                          "calibration in Pa per full scale (> 0)")
+    try:
+        data, fs = sf.read(str(wav), dtype="float64", always_2d=True)
+    except (OSError, RuntimeError, sf.LibsndfileError) as exc:
+        raise ParameterError("signal", f"cannot read {wav}: {exc}") from None
+    names = None
+    if record is not None and isinstance(record.get("channel_names"), list) \
+            and len(record["channel_names"]) == data.shape[1]:
+        names = [str(n) for n in record["channel_names"]]
+    return CalibratedSignal(data.T * scale, int(fs), scale, source, names or [str(i + 1) for i in range(data.shape[1])])
+
+
+@dataclass(frozen=True)
+class LevelReport:
+    """Everything :func:`analyse` found for one signal."""
+
+    levels: SoundLevels
+    bands: BandLevels
+    loudness: Loudness | None
+    channels: list
+
+    def subset(self, indices) -> LevelReport:
+        """The report of the channels ``indices`` only."""
+        from dataclasses import fields, replace
+
+        idx = list(indices)
+
+        def pick(obj):
+            if obj is None:
+                return None
+            return replace(obj, **{f.name: getattr(obj, f.name)[idx] for f in fields(obj)
+                                   if isinstance(getattr(obj, f.name), np.ndarray)
+                                   and getattr(obj, f.name).shape[0] == len(self.channels)})
+
+        return LevelReport(pick(self.levels), pick(self.bands), pick(self.loudness), [self.channels[i] for i in idx])
+
+    def describe(self) -> dict:
+        """A JSON-ready summary (levels per channel, how they were computed)."""
+        out = {"evaluated_at_hz": self.levels.sample_rate, **self.levels.describe(),
+               "channels": self.levels.rows(self.channels),
+               "bands": {"nominal_hz": self.bands.nominal_hz.tolist(), "leq_db": self.bands.leq_db.tolist(),
+                         "lmax_db": self.bands.lmax_db.tolist(),
+                         "filters": "IEC 61260-1 1/3-octave, order 6; Lmax with F time weighting"}}
+        if self.loudness is not None:
+            out["loudness"] = {"rows": self.loudness.rows(self.channels), "library": self.loudness.library,
+                               "method": "ISO 532-1 time-varying (N5 = 95th percentile), DIN 45692 sharpness",
+                               "field": self.loudness.field}
+        return out
+
+
+def analyse(pressure, sample_rate, *, start=None, stop=None, channels=None, with_loudness: bool = False) -> LevelReport:
+    """Weighted levels, 1/3-octave bands and (optionally) loudness of pressure signals in Pa."""
+    lv = sound_levels(pressure, sample_rate, start=start, stop=stop)
+    bl = third_octave_levels(pressure, sample_rate, start=start, stop=stop)
+    ld = loudness(pressure, sample_rate, start=start, stop=stop) if with_loudness else None
+    n = lv.lzpeak_db.size
+    names = list(channels) if channels is not None else [str(i + 1) for i in range(n)]
+    return LevelReport(lv, bl, ld, names)
+
+
+def bands_path(csv_path) -> Path:
+    """``OUT_bands.csv`` beside ``OUT.csv``."""
+    p = Path(csv_path)
+    return p.with_name(f"{p.stem}_bands{p.suffix or '.csv'}")
+
+
+def _fmt(v) -> str:
+    if isinstance(v, str):
+        return v
+    return "" if not math.isfinite(v) else f"{v:.4f}"
+
+
+def write_levels_csv(csv_path, report: LevelReport) -> tuple:
+    """Write ``OUT.csv`` (one row per channel) and ``OUT_bands.csv`` (one row per channel and band).
+
+    ``OUT.csv``: ``channel,channel_name`` (1-based index and name), the columns of
+    :data:`acoustiviz.levels.LEVEL_COLUMNS` in dB, ``evaluated_at_hz,start_s,stop_s`` and, with
+    loudness, ``n5_sone,nmax_sone,sharpness_acum``. ``OUT_bands.csv``:
+    ``channel,band_hz,leq_db,lmax_db`` (nominal mid-band frequency in Hz, 25 Hz to 20 kHz).
+    A silent channel's levels are empty cells.
+
+    Returns
+    -------
+    tuple of Path
+        The two files written.
+    """
+    from ..output.writers import write_text_atomic
+
+    lv, bl = report.levels, report.bands
+    header = ["channel", "channel_name", *LEVEL_COLUMNS, "evaluated_at_hz", "start_s", "stop_s"]
+    loud = report.loudness.rows(report.channels) if report.loudness is not None else None
+    if loud is not None:
+        header += ["n5_sone", "nmax_sone", "sharpness_acum"]
+    lines = [",".join(header)]
+    for i, row in enumerate(lv.rows(report.channels)):
+        cells = [str(i + 1), row["channel"], *(_fmt(row[c]) for c in LEVEL_COLUMNS),
+                 f"{lv.sample_rate:g}", f"{lv.start:.6g}", f"{lv.stop:.6g}"]
+        if loud is not None:
+            cells += [_fmt(loud[i][c]) for c in ("n5_sone", "nmax_sone", "sharpness_acum")]
+        lines.append(",".join(cells))
+    main = write_text_atomic(csv_path, "\n".join(lines) + "\n")
+    band_lines = ["channel,band_hz,leq_db,lmax_db"]
+    for i in range(bl.leq_db.shape[0]):
+        for k, f in enumerate(bl.nominal_hz):
+            band_lines.append(f"{i + 1},{f:g},{_fmt(bl.leq_db[i, k])},{_fmt(bl.lmax_db[i, k])}")
+    side = write_text_atomic(bands_path(csv_path), "\n".join(band_lines) + "\n")
+    return main, side
+
+
+def summary_lines(report: LevelReport, *, rate_note: str = "") -> list:
+    """Lines for a terminal: the levels of each channel and where they were evaluated."""
+    lv = report.levels
+    out = [f"levels over {lv.start:g}-{lv.stop:g} s, evaluated at {lv.sample_rate / 1e3:g} kHz{rate_note} "
+           f"({lv.library}; IEC 61672-1 weightings, IEC 61260-1 bands)"]
+    for i, row in enumerate(lv.rows(report.channels)):
+        out.append(f"  {row['channel']}: LZpeak {row['lzpeak_db']:.1f}, LCpeak {row['lcpeak_db']:.1f}, "
+                   f"LAFmax {row['lafmax_db']:.1f}, LASmax {row['lasmax_db']:.1f}, LAeq {row['laeq_db']:.1f}, "
+                   f"LZeq {row['lzeq_db']:.1f} dB; SEL {row['sel_db']:.1f}, SEL(A) {row['sel_a_db']:.1f} dB")
+        if report.loudness is not None:
+            ld = report.loudness.rows(report.channels)[i]
+            out.append(f"     loudness N5 {ld['n5_sone']:.2f} sone (Nmax {ld['nmax_sone']:.2f}), sharpness "
+                       f"{ld['sharpness_acum']:.2f} acum")
+    return out
+
+
+def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=None, stop=None, channels=None,
+                    with_loudness: bool = False, rendering=None) -> LevelReport:
+    """Levels of an impact sequence at listeners, evaluated on the signal rendered at :data:`ANALYSIS_RATE`.
+
+    Parameters
+    ----------
+    sequence, scene, model, listeners
+        As for :func:`acoustiviz.output.audio.render`.
+    duration : float, optional
+        Minimum signal length in s.
+    start, stop : float, optional
+        Interval in s.
+    channels : sequence of str, optional
+        Names of the listeners.
+    with_loudness : bool
+        Also loudness and sharpness (needs mosqito).
+    rendering : acoustiviz.output.audio.Rendering, optional
+        A rendering already at :data:`ANALYSIS_RATE` to reuse.
+
+    Notes
+    -----
+    The clicks are evaluated in closed form at the renderer's internal rate (>= 16 × 96 kHz) and
+    band-limited flat to 43.2 kHz, so neither the weightings, the 20 kHz band nor the peaks are
+    limited by a 44.1 or 48 kHz file.
+    """
+    from ..output.audio import render
+
+    if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
+        rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration)
+    return analyse(rendering.pressure, ANALYSIS_RATE, start=start, stop=stop, channels=channels,
+                   with_loudness=with_loudness)
+
+
+@dataclass(frozen=True)
+class RunEnergy:
+    """Acoustic energy of every impact of a damper run, its sound power and radiation efficiency.
+
+    Attributes
+    ----------
+    energy_j : (n_impacts,) ndarray
+        Energy radiated by each impact in J (into the configuration's half or quarter space).
+    energy_lost_j : (n_impacts,) ndarray
+        Kinetic energy lost in each impact in J (the dynamics' impact table).
+    efficiency : (n_impacts,) ndarray
+        ``energy_j / energy_lost_j``.
+    sound_power_w : float
+        Mean sound power over the run in W.
+    loudest : int
+        Index of the impact that radiates most.
+    ratio_speeds_m_s, ratios : dict
+        Per wall (-1, +1): the approach speeds in m/s at which the configuration's energy was
+        integrated over the spherical grid, and its ratio to the free sphere's closed form there.
+    """
+
+    energy_j: np.ndarray
+    energy_lost_j: np.ndarray
+    efficiency: np.ndarray
+    sound_power_w: float
+    loudest: int
+    ratio_speeds_m_s: dict
+    ratios: dict
+
+    @property
+    def sound_power_level_db(self) -> float:
+        """Sound power level in dB re 1 pW."""
+        return 10.0 * math.log10(self.sound_power_w / 1e-12) if self.sound_power_w > 0 else -math.inf
+
+
+def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8) -> RunEnergy:
+    """Radiated energy, sound power and radiation efficiency of a damper run.
+
+    Parameters
+    ----------
+    table : acoustiviz.dynamics.ImpactTable
+        The run's impacts (approach speeds, walls, energy lost).
+    cavity_scene : acoustiviz.output.audio.CavityScene
+        Where the cavity sits (configuration, walls, radius, medium).
+    model : acoustiviz.output.audio.ClickModel
+        How an approach speed becomes an acceleration pulse.
+    duration : float
+        The run's duration in s (for the mean power).
+    n_theta : int
+        Polar nodes of the spherical grid (see :func:`acoustiviz.grids.spherical_grid_for`).
+
+    Notes
+    -----
+    Each impact's energy is the free sphere's closed form for its own pulse
+    (:func:`acoustiviz.levels.radiated_energy_free`) times the ratio of the configuration's energy
+    (:func:`acoustiviz.levels.radiated_energy_grid`, far-field intensity over the half or quarter
+    sphere, with the struck or the far wall's images) to the free sphere's, integrated at the
+    quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
+    ratio depends on the pulse only through its spectrum, which changes slowly with speed.
+    """
+    from ..grids import spherical_grid_for
+    from ..levels import radiated_energy_free, radiated_energy_grid, radiation_efficiency, sound_power
+    from ..output.audio import wall_sources
+
+    a, medium = cavity_scene.radius, cavity_scene.medium
+    v = np.abs(np.asarray(table.approach_velocity, dtype=float))
+    walls = np.asarray(table.wall, dtype=float).astype(int)
+    free = np.array([radiated_energy_free(model.pulse_for(vk), radius=a, medium=medium) for vk in v])
+    grid = spherical_grid_for(cavity_scene.configuration, 1.0, n_theta=n_theta)
+    energy = free.copy()
+    speeds, ratios = {}, {}
+    for w in (-1, 1):
+        sel = walls == w
+        if not np.any(sel):
+            continue
+        ref = np.unique(np.percentile(v[sel], [0, 25, 50, 75, 100]))
+        srcs = wall_sources(cavity_scene, w)
+        r = np.array([radiated_energy_grid(model.pulse_for(s), srcs, grid, radius=a, medium=medium)
+                      / radiated_energy_free(model.pulse_for(s), radius=a, medium=medium) for s in ref])
+        energy[sel] = free[sel] * (np.interp(np.log(v[sel]), np.log(ref), r) if ref.size > 1 else r[0])
+        speeds[w], ratios[w] = ref.tolist(), r.tolist()
+    lost = np.asarray(table.energy_lost, dtype=float)
+    ok = lost > 0
+    eff = np.full(energy.shape, np.nan)
+    eff[ok] = radiation_efficiency(energy[ok], lost[ok])
+    k = int(np.argmax(energy)) if energy.size else -1
+    return RunEnergy(energy, lost, eff, sound_power(energy, duration), k, speeds, ratios)

@@ -1,0 +1,116 @@
+"""Scene outputs ``levels`` and ``spectrum``: how loud the damper run is at each listener.
+
+Both evaluate the damper run rendered at :data:`acoustiviz.app.levels.ANALYSIS_RATE` (96 kHz, the
+clicks computed in closed form at >= 1.5 MHz and band-limited flat to 43.2 kHz) at every listener,
+once per run whichever of the two outputs asks first. The surroundings of the cavity (struck wall,
+walls that radiate) are those of ``[outputs.wav]`` when the scene has one, else its defaults.
+
+* ``levels`` writes ``levels.csv`` (one row per listener: LZpeak ... SEL(A), optionally N5, Nmax
+  and sharpness) and reports the figures in the summary, with the run's sound power and the
+  radiation efficiency of its loudest impact (:func:`acoustiviz.app.levels.run_energy`);
+* ``spectrum`` writes ``spectrum.csv`` (``channel,band_hz,leq_db,lmax_db``) and ``spectrum.png``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..levels import loudness_available
+from ..scene.schema import SCHEMA
+from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
+
+__all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
+
+_CACHE = "_levels_report"
+
+
+def damper_sound_setup(ctx):
+    """``(sequence, cavity, click model, listener names, positions)`` of a scene's damper run."""
+    from ..output.audio import ClickModel, ImpactSequence
+    from .wav import cavity
+
+    wav_defaults = {k: key.default for k, key in SCHEMA["outputs"].keys["wav"].keys.items()}
+    opts = ctx.scene.output("wav") if "wav" in ctx.scene.outputs else wav_defaults
+    conf = ctx.scene.section("configuration")
+    radius = ctx.scene.damper_sphere_radius()
+    wall_floor = conf["kind"] == "wall-floor"
+    strike = conf["strike"] if wall_floor else "floor"
+    room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
+                  walls=opts["walls"],
+                  wall_distance=conf["wall_distance_m"] if wall_floor and strike == "floor" else None,
+                  strike=strike, height=conf["height_m"] if strike == "wall" else None, medium=ctx.medium)
+    contact = ctx.scene.section("contact")
+    model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
+                       mass_model=contact["pulse_mass"], pulse=contact["pulse"])
+    named = ctx.scene.listeners(radius)
+    return (ImpactSequence.from_table(ctx.damper_run.impacts), room, model, [n for n, _ in named],
+            np.array([p for _, p in named]))
+
+
+def _report(ctx) -> LevelReport:
+    """The run's level report, computed once per run and kept on the context."""
+    if _CACHE not in ctx.__dict__:
+        opts = ctx.scene.output("levels") if "levels" in ctx.scene.outputs else {}
+        if opts.get("loudness") and not loudness_available():
+            raise ParameterError("outputs.levels.loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+        seq, room, model, names, points = damper_sound_setup(ctx)
+        ctx.progress(f"levels of {len(seq)} impacts at {len(names)} listener(s), rendered at "
+                     f"{ANALYSIS_RATE / 1e3:g} kHz")
+        ctx.__dict__[_CACHE] = rendered_levels(seq, room, model, points, duration=ctx.damper_run.duration,
+                                               channels=names, with_loudness=bool(opts.get("loudness", False)))
+    return ctx.__dict__[_CACHE]
+
+
+def produce_levels(ctx):
+    """``levels.csv`` (+ its bands): weighted levels of the damper run at each listener."""
+    from .pipeline import Product
+
+    report = _report(ctx)
+    for line in summary_lines(report, rate_note=" (computed signal)"):
+        ctx.progress(line)
+    main, bands = write_levels_csv(ctx.path("levels.csv"), report)
+    lv = report.levels
+    figures = {"evaluated_at_hz": f"{lv.sample_rate:g}",
+               "lcpeak_db": f"{np.max(lv.lcpeak_db):.1f}", "lafmax_db": f"{np.max(lv.lafmax_db):.1f}",
+               "laeq_db": f"{np.max(lv.laeq_db):.1f}", "sel_a_db": f"{np.max(lv.sel_a_db):.1f}"}
+    _, room, model, _, _ = damper_sound_setup(ctx)
+    energy = run_energy(ctx.damper_run.impacts, room, model, ctx.damper_run.duration)
+    if energy.loudest >= 0:
+        k = energy.loudest
+        figures["sound_power_level_db_re_1pw"] = f"{energy.sound_power_level_db:.1f}"
+        figures["loudest_impact_energy_j"] = f"{energy.energy_j[k]:.3g}"
+        figures["loudest_impact_radiation_efficiency"] = f"{energy.efficiency[k]:.3g}"
+        speed = abs(ctx.damper_run.impacts.approach_velocity[k])
+        ctx.progress(f"sound power {energy.sound_power_w:.3g} W ({energy.sound_power_level_db:.1f} dB re 1 pW); "
+                     f"loudest impact ({speed:.3g} m/s): {energy.energy_j[k]:.3g} J radiated of "
+                     f"{energy.energy_lost_j[k]:.3g} J lost, radiation efficiency {energy.efficiency[k]:.3g}")
+    if report.loudness is not None:
+        figures["n5_sone"] = f"{np.max(report.loudness.n5_sone):.2f}"
+        figures["sharpness_acum"] = f"{np.max(report.loudness.sharpness_acum):.2f}"
+    return [Product("levels", main, figures), Product("levels", bands, {})]
+
+
+def produce_spectrum(ctx):
+    """``spectrum.csv`` and ``spectrum.png``: 1/3-octave band Leq and LFmax at each listener."""
+    from ..output.plot._style import style
+    from ..output.plot.levels import plot_band_levels
+    from ..output.writers import write_text_atomic
+    from .pipeline import Product, _fig, _save
+
+    report = _report(ctx)
+    bl = report.bands
+    rows = ["channel,band_hz,leq_db,lmax_db"] + [
+        f"{r['channel']},{r['band_hz']:g},{r['leq_db']:.4f},{r['lmax_db']:.4f}" for r in bl.rows(report.channels)]
+    csv = write_text_atomic(ctx.path("spectrum.csv"), "\n".join(rows) + "\n")
+    with style():
+        fig = _fig()
+        ax = fig.add_subplot()
+        for i, name in enumerate(report.channels):
+            plot_band_levels(bl.nominal_hz, bl.leq_db[i], lmax_db=bl.lmax_db[i], label=name, ax=ax)
+        ax.set_title(f"1/3-octave bands of the damper run over {bl.stop - bl.start:g} s")
+        png = _save(fig, ctx.path("spectrum.png"))
+    k = int(np.argmax(np.max(bl.leq_db, axis=0)))
+    return [Product("spectrum", csv, {"loudest_band_hz": f"{bl.nominal_hz[k]:g}",
+                                      "loudest_band_leq_db": f"{np.max(bl.leq_db[:, k]):.1f}"}),
+            Product("spectrum", png, {})]

@@ -1,0 +1,54 @@
+"""Levels: how loud an impact sounds to people and to standards, and how much of its energy becomes sound.
+
+Pure functions of pressure arrays in Pa and their sample rate, so they serve a computed waveform,
+a damper run at a listener, a WAV read back with its calibration, a design of a sweep or a point
+of a directivity alike. Nothing here writes files.
+
+* :mod:`.weighted` -- LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) (IEC 61672-1);
+* :mod:`.bands` -- 1/3-octave band Leq and LFmax (IEC 61260-1 filters);
+* :mod:`.hearing` -- ISO 532-1 loudness (N5, Nmax) and DIN 45692 sharpness (optional mosqito);
+* :mod:`.energy` -- sound energy of one impact (closed form and spherical-grid intensity),
+  radiation efficiency and the sound power of a run.
+
+The weighting and band filters are those of phonometry (formerly PyOctaveBand), a library
+conformance-tested against IEC 61672-1 and IEC 61260-1 (:mod:`._library`).
+"""
+
+from __future__ import annotations
+
+from .bands import BAND_LIMITS, BandLevels, band_energy_sum, third_octave_levels
+from .energy import (
+    pulse_spectrum,
+    radiated_energy_free,
+    radiated_energy_grid,
+    radiation_efficiency,
+    radiation_resistance,
+    sound_power,
+    surface_work_free,
+)
+from .hearing import Loudness, loudness, loudness_available
+from .weighted import LEVEL_COLUMNS, METRICS, SoundLevels, level_db, metric_levels, sound_levels, weighted
+
+__all__ = [
+    "BAND_LIMITS",
+    "LEVEL_COLUMNS",
+    "METRICS",
+    "BandLevels",
+    "Loudness",
+    "SoundLevels",
+    "band_energy_sum",
+    "level_db",
+    "loudness",
+    "loudness_available",
+    "metric_levels",
+    "pulse_spectrum",
+    "radiated_energy_free",
+    "radiated_energy_grid",
+    "radiation_efficiency",
+    "radiation_resistance",
+    "sound_levels",
+    "sound_power",
+    "surface_work_free",
+    "third_octave_levels",
+    "weighted",
+]

@@ -1,0 +1,123 @@
+"""Sound energy of one impact: closed form, surface work, grid intensity, and their limits."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import trapezoid
+
+from acoustiviz.core.contact import HalfSinePulse, Impact, acceleration_pulse
+from acoustiviz.core.images import configuration
+from acoustiviz.core.medium import AIR
+from acoustiviz.errors import ParameterError
+from acoustiviz.grids import spherical_grid_for
+from acoustiviz.levels import (
+    pulse_spectrum,
+    radiated_energy_free,
+    radiated_energy_grid,
+    radiation_efficiency,
+    radiation_resistance,
+    sound_power,
+    surface_work_free,
+)
+
+A = 0.01905
+IMPACT = Impact(velocity=1.4, k_hertz=5.6e8, mass=0.0405)
+
+
+@pytest.fixture(scope="module", params=["half-sine", "hertz"])
+def pulse(request):
+    return acceleration_pulse(IMPACT, request.param, n_samples=257)
+
+
+def test_closed_form_equals_far_field_intensity_over_the_free_grid(pulse):
+    grid = spherical_grid_for(configuration("free", A), 1.0, n_theta=4)
+    closed = radiated_energy_free(pulse, radius=A)
+    grid_energy = radiated_energy_grid(pulse, configuration("free", A).sources, grid, radius=A)
+    assert grid_energy == pytest.approx(closed, rel=1e-6)
+
+
+def test_closed_form_equals_the_surface_work_less_the_entrained_flow(pulse):
+    assert surface_work_free(pulse, radius=A) == pytest.approx(radiated_energy_free(pulse, radius=A), rel=1e-6)
+
+
+def test_compact_limit_is_the_rayleigh_dipole():
+    # tau >> a/c: R ~ (4 pi a^2/3) rho c (ka)^4 / 4, so E -> (pi rho a^6 / (3 c^3)) * integral (dA/dt)^2 dt
+    a0, tau = 1e3, 300 * A / AIR.c
+    pulse = HalfSinePulse(a0, tau)
+    rayleigh = math.pi * AIR.rho * A**6 / (3 * AIR.c**3) * a0**2 * math.pi**2 / (2 * tau)
+    # the step in dA/dt at both ends adds a tail above c/a that the (ka)^4 law overstates: O(a / (c tau))
+    assert radiated_energy_free(pulse, radius=A) == pytest.approx(rayleigh, rel=2 * A / (AIR.c * tau))
+    assert radiated_energy_free(pulse, radius=A) < rayleigh
+
+
+def test_radiation_resistance_tends_to_the_piston_value_at_high_frequency():
+    r = radiation_resistance(np.array([1e9]), radius=A)
+    assert r[0] == pytest.approx(4 * math.pi * A**2 / 3 * AIR.rho * AIR.c, rel=1e-9)
+
+
+def test_half_sine_spectrum_is_its_fourier_integral():
+    pulse = HalfSinePulse(2.0, 1e-4)
+    t = np.linspace(0, 1e-4, 20001)
+    w = np.array([0.0, 1e4, math.pi / 1e-4, 1e5])
+    direct = [trapezoid(pulse.acceleration(t) * np.exp(-1j * wi * t), t) for wi in w]
+    assert np.allclose(pulse_spectrum(pulse, w), direct, rtol=1e-7, atol=1e-12)
+    assert pulse_spectrum(pulse, np.array([0.0]))[0].real == pytest.approx(pulse.velocity_change)
+
+
+def test_sampled_spectrum_is_the_fourier_integral_of_the_piecewise_linear_pulse():
+    pulse = acceleration_pulse(IMPACT, "hertz", n_samples=33)
+    t = np.linspace(0, pulse.duration, 200001)
+    w = np.array([0.0, 3e3, 3e4, 2e5])
+    direct = [trapezoid(pulse.acceleration(t) * np.exp(-1j * wi * t), t) for wi in w]
+    assert np.allclose(pulse_spectrum(pulse, w), direct, rtol=1e-6, atol=1e-9 * pulse.velocity_change)
+
+
+@pytest.mark.parametrize("config", ["plane", "wall-floor"])
+def test_grid_integration_converges_as_the_grid_is_refined(config):
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    cfg = configuration(config, A, wall_distance=0.05)
+    e = [radiated_energy_grid(pulse, cfg.sources, spherical_grid_for(cfg, 1.0, n_theta=n), radius=A)
+         for n in (3, 6, 12)]
+    d1, d2 = abs(e[1] - e[0]), abs(e[2] - e[1])
+    assert d2 < 0.1 * d1
+    assert d2 < 1e-4 * e[2]
+
+
+def test_efficiency_and_power_arithmetic_and_errors():
+    assert radiation_efficiency([1e-6, 2e-6], [1e-3, 1e-3]) == pytest.approx([1e-3, 2e-3])
+    assert sound_power([1e-6, 3e-6], 2.0) == pytest.approx(2e-6)
+    with pytest.raises(ParameterError, match="energy_lost"):
+        radiation_efficiency(1e-6, 0.0)
+    with pytest.raises(ParameterError, match="duration"):
+        sound_power([1e-6], 0.0)
+
+
+def test_run_energy_interpolates_the_configuration_ratio_faithfully():
+    from acoustiviz.app.levels import run_energy
+    from acoustiviz.app.wav import cavity
+    from acoustiviz.dynamics.result import ImpactTable
+    from acoustiviz.output.audio import ClickModel, wall_sources
+
+    speeds = np.array([0.2, 0.5, 0.9, 1.4, 2.0])
+    n = speeds.size
+    table = ImpactTable(time=np.arange(n) * 0.1, wall=-np.ones(n), approach_velocity=speeds,
+                        separation_velocity=0.7 * speeds, restitution=np.full(n, 0.7), duration=np.full(n, 3e-4),
+                        peak_force=np.full(n, 1e3), impulse=np.full(n, 0.1),
+                        energy_lost=0.5 * 0.0405 * speeds**2 * (1 - 0.49))
+    room = cavity("plane", A, 0.04)
+    model = ClickModel()
+    out = run_energy(table, room, model, duration=1.0)
+    grid = spherical_grid_for(room.configuration, 1.0, n_theta=8)
+    # the reference speeds are the table's quartiles: 0.2, 0.5, 0.9, 1.4, 2.0 -> exact at every impact
+    for k, v in enumerate(speeds):
+        direct = radiated_energy_grid(model.pulse_for(v), wall_sources(room, -1), grid, radius=A)
+        assert out.energy_j[k] == pytest.approx(direct, rel=1e-9)
+    # between reference speeds the log-speed interpolation of the ratio stays within 2 %
+    mid = math.sqrt(0.9 * 1.4)
+    ratio = lambda v: (radiated_energy_grid(model.pulse_for(v), wall_sources(room, -1), grid, radius=A)  # noqa: E731
+                       / radiated_energy_free(model.pulse_for(v), radius=A))
+    interp = np.interp(math.log(mid), np.log([0.9, 1.4]), [ratio(0.9), ratio(1.4)])
+    assert interp == pytest.approx(ratio(mid), rel=0.02)
+    assert out.sound_power_w == pytest.approx(out.energy_j.sum())
+    assert out.loudest == n - 1 and out.efficiency[-1] == pytest.approx(out.energy_j[-1] / table.energy_lost[-1])
