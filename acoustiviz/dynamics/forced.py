@@ -293,13 +293,21 @@ class _Runner:
 
 
 def _find_period(points, k, scale, tol):
-    """Smallest n <= MAX_PERIOD with points k and k-1 returning after n cycles within ``tol``."""
+    """Smallest n <= MAX_PERIOD with points k and k-1 returning after n cycles within ``tol``.
+
+    A period n > 1 also needs its points distinct (closest pair farther than 1000 ``tol``): a
+    slowly spiralling transient returns close to itself after a few cycles without being periodic.
+    """
     for n in range(1, MAX_PERIOD + 1):
         if k - 1 - n < 0:
             return 0
         d0 = np.max(np.abs(points[k] - points[k - n]) / scale)
         d1 = np.max(np.abs(points[k - 1] - points[k - 1 - n]) / scale)
         if d0 <= tol and d1 <= tol:
+            if n > 1:
+                lag = min(np.max(np.abs(points[k] - points[k - j]) / scale) for j in range(1, n))
+                if lag <= 1e3 * tol:
+                    return 0
             return n
     return 0
 
