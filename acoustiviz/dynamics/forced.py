@@ -39,6 +39,10 @@ from .model import DamperModel
 
 __all__ = [
     "EXCITATIONS",
+    "SWEEPS",
+    "FrequencyResponse",
+    "check_settings",
+    "frequency_response",
     "FORCED_SOLVERS",
     "Excitation",
     "SteadyState",
@@ -292,6 +296,25 @@ class _Runner:
         return float(self.model.energy(x, v, y, w))
 
 
+def check_settings(model, excitation, *, solver="event", restitution=None, tolerance=DEFAULT_TOLERANCE,
+                   max_cycles=2000, rtol=1e-10, steps_per_cycle=None, max_impacts_per_cycle=200):
+    """Check the settings of :func:`steady_state` without running; return (tolerance, rtol, max_cycles)."""
+    _check_common(model, excitation, solver, restitution)
+    tol = check_range("tolerance", tolerance, 1e-12, 1e-2)
+    rtol = check_range("rtol", rtol, 1e-14, 1e-4)
+    try:
+        max_cycles = int(max_cycles)
+    except (TypeError, ValueError):
+        raise ParameterError("max_cycles", f"expected an integer, got {max_cycles!r}") from None
+    if max_cycles < 2 * MAX_PERIOD + 2:
+        raise ParameterError("max_cycles", f"must be >= {2 * MAX_PERIOD + 2}, got {max_cycles}")
+    if steps_per_cycle is not None and int(steps_per_cycle) < 8:
+        raise ParameterError("steps_per_cycle", f"must be >= 8, got {steps_per_cycle}")
+    if int(max_impacts_per_cycle) < 1:
+        raise ParameterError("max_impacts_per_cycle", f"must be >= 1, got {max_impacts_per_cycle}")
+    return tol, rtol, max_cycles
+
+
 def _find_period(points, k, scale, tol):
     """Smallest n <= MAX_PERIOD with points k and k-1 returning after n cycles within ``tol``.
 
@@ -363,12 +386,8 @@ def steady_state(
     Periodic motion of an impact oscillator with impacts of restitution e: Masri and Caughey
     (1966); the closed-form reference is :func:`acoustiviz.dynamics.periodic.masri_caughey`.
     """
-    _check_common(model, excitation, solver, restitution)
-    tol = check_range("tolerance", tolerance, 1e-12, 1e-2)
-    rtol = check_range("rtol", rtol, 1e-14, 1e-4)
-    max_cycles = int(max_cycles)
-    if max_cycles < 2 * MAX_PERIOD + 2:
-        raise ParameterError("max_cycles", f"must be >= {2 * MAX_PERIOD + 2}, got {max_cycles}")
+    tol, rtol, max_cycles = check_settings(model, excitation, solver=solver, restitution=restitution,
+                                           tolerance=tolerance, max_cycles=max_cycles, rtol=rtol)
     state = linear_start(model, excitation) if initial is None else tuple(float(s) for s in initial)
     if len(state) != 4 or not all(math.isfinite(s) for s in state):
         raise ParameterError("initial", "expected (x, v, y, w) finite, in m and m/s")
@@ -490,3 +509,7 @@ def simulate_cycles(
         if status != fk.STATUS_OK:
             raise ParameterError("cycles", f"{_STATUS[status]} after {run.k} cycles")
     return np.array(pts), run.imp[:n].copy(), np.array([acc[0], acc[1], acc[2], run.energy() - e0])
+
+
+# the frequency response builds on the steady state above
+from ._forced_response import SWEEPS, FrequencyResponse, frequency_response  # noqa: E402
