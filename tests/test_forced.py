@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from acoustiviz.dynamics import _forced_kernels as fk
 from acoustiviz.dynamics.forced import (
     Excitation,
     _params,
@@ -12,7 +13,6 @@ from acoustiviz.dynamics.forced import (
     simulate_cycles,
     steady_state,
 )
-from acoustiviz.dynamics import _forced_kernels as fk
 from acoustiviz.dynamics.model import DamperModel
 from acoustiviz.dynamics.periodic import linear_amplitude, masri_caughey
 from acoustiviz.errors import ParameterError

@@ -466,7 +466,8 @@ def advance(p, fc, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, 
     ``restitution = -1`` integrates compliant contacts (event solver); ``restitution >= 0``
     applies instantaneous impacts with that coefficient (impact map; ``restitution`` > 1 is
     refused upstream); ``restitution = -2`` applies instantaneous impacts with the restitution
-    of the compliant contact of the two masses alone at each approach speed. New impact rows are written from row ``n``. ``extrema`` tracks the largest
+    of the compliant contact of the two masses alone at each approach speed. New impact rows are
+    written from row ``n``. ``extrema`` tracks the largest
     and smallest x in ``acc[3:5]``. Returns ``(n, status)``.
     """
     M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]

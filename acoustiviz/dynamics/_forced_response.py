@@ -74,7 +74,7 @@ class FrequencyResponse:
     def regime_change(self) -> np.ndarray:
         """True where the regime differs from the previous frequency's (primary sweep)."""
         reg = [r.regime for r in self.primary]
-        return np.array([False] + [a != b for a, b in zip(reg[1:], reg[:-1])])
+        return np.array([False] + [a != b for a, b in zip(reg[1:], reg[:-1], strict=True)])
 
     @property
     def hysteresis(self) -> np.ndarray:
@@ -82,7 +82,7 @@ class FrequencyResponse:
         if self.down is None:
             return np.zeros(len(self.primary), dtype=bool)
         out = []
-        for a, b in zip(self.primary, self.down):
+        for a, b in zip(self.primary, self.down, strict=True):
             scale = max(abs(a.amplitude), abs(b.amplitude), 1e-300)
             out.append(a.regime != b.regime or abs(a.amplitude - b.amplitude) > HYSTERESIS_TOLERANCE * scale)
         return np.array(out)
@@ -97,7 +97,7 @@ class FrequencyResponse:
         if runs is None:
             raise ParameterError("which", "no downward sweep in this response")
         fs, xs = [], []
-        for f, r in zip(self.frequencies, runs):
+        for f, r in zip(self.frequencies, runs, strict=True):
             pts = r.poincare[-(r.period if r.period else len(r.poincare)):, 0]
             fs.append(np.full(pts.size, f))
             xs.append(pts)

@@ -26,7 +26,6 @@ the motion is declared period-``n`` when two consecutive section points both ret
 
 from __future__ import annotations
 
-import cmath
 import math
 from dataclasses import dataclass, field
 
@@ -222,9 +221,11 @@ class SteadyState:
 
 
 def linear_start(model: DamperModel, excitation: Excitation) -> tuple[float, float, float, float]:
-    """Start ``(x, v, y, w)`` at t = 0 in m and m/s: the main mass on its linear steady state, the
-    impact mass at rest at ``y = 0`` (the cavity's centre at rest), moved to the nearest wall if
-    the main mass is farther than d/2 from rest."""
+    """Start ``(x, v, y, w)`` at t = 0 in m and m/s: the main mass on its linear steady state.
+
+    The impact mass is at rest at ``y = 0`` (the cavity's centre at rest), moved to the nearest
+    wall if the main mass is farther than d/2 from rest.
+    """
     xc = excitation.linear_response(model)
     hg = 0.5 * model.gap
     x0 = xc.real

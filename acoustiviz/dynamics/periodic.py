@@ -94,8 +94,10 @@ class MasriCaughey:
     valid: bool
 
     def motion(self, model: DamperModel, excitation: Excitation, t):
-        """Main-mass displacement x (m), velocity v (m/s) and relative displacement z (m) at
-        ``t`` in [0, T/2] s after the wall +1 impact."""
+        """Main-mass displacement x (m), velocity v (m/s) and relative displacement z (m).
+
+        ``t`` in s lies in [0, T/2] after the wall +1 impact.
+        """
         t = np.asarray(t, dtype=float)
         X = excitation.linear_response(model)
         om = excitation.omega

@@ -1,0 +1,193 @@
+"""The damper in operation, for every front-end: frequency response table and figure.
+
+``acoustiviz forced`` parses its options and calls :func:`parse_frequencies`,
+:func:`run_forced`, :func:`write_forced_csv` and :func:`write_forced_png`; the physics is in
+:mod:`acoustiviz.dynamics.forced`. SI units; frequencies in Hz.
+
+Examples
+--------
+>>> parse_frequencies("3:7:5").tolist()
+[3.0, 4.0, 5.0, 6.0, 7.0]
+>>> parse_frequencies("4.5, 5").tolist()
+[4.5, 5.0]
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..dynamics import DamperModel
+from ..dynamics._forced_response import describe
+from ..dynamics.forced import FORCED_SOLVERS, SWEEPS, FrequencyResponse, frequency_response
+from ..errors import ParameterError
+from .names import DAMPER_OPTIONS, user_terms
+
+__all__ = ["FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "ForcedRun", "parse_frequencies", "run_forced",
+           "write_forced_csv", "write_forced_png"]
+
+#: Columns of the frequency-response CSV, one row per frequency (the first eight are promised).
+FORCED_CSV_COLUMNS = (
+    "frequency_hz", "amplitude_m", "amplitude_without_damper_m", "reduction_db", "impacts_per_cycle",
+    "regime", "laeq_db", "lcpeak_db", "period_cycles", "converged", "cycles", "x_max_m", "x_min_m",
+    "mean_impact_speed_m_s", "max_impact_speed_m_s", "impact_phases_deg", "energy_closure",
+    "regime_change",
+)
+#: Extra columns when both sweep directions are run.
+DOWN_COLUMNS = ("amplitude_down_m", "regime_down", "impacts_per_cycle_down", "hysteresis")
+#: API parameter -> command-line option of ``acoustiviz forced``.
+FORCED_OPTIONS = {
+    **DAMPER_OPTIONS,
+    "frequency": "--freq",
+    "frequencies": "--freq",
+    "sweep": "--sweep",
+    "tolerance": "--tolerance",
+    "max_cycles": "--max-cycles",
+    "restitution": "--restitution",
+    "workers": "--workers",
+}
+#: Largest number of frequencies of one run.
+MAX_FREQUENCIES = 10_000
+
+
+def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
+    """Frequencies in Hz from ``"start:stop:count"`` (inclusive, evenly spaced) or ``"f1,f2,..."``."""
+    s = str(text).strip()
+    try:
+        if ":" in s:
+            parts = s.split(":")
+            if len(parts) != 3:
+                raise ValueError
+            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+            if n < 1 or n > MAX_FREQUENCIES:
+                raise ParameterError(name, f"count must lie in [1, {MAX_FREQUENCIES}], got {n}")
+            if n > 1 and not b > a:
+                raise ParameterError(name, f"stop must exceed start, got {a:g}:{b:g}")
+            f = np.linspace(a, b, n) if n > 1 else np.array([a])
+        else:
+            f = np.array([float(p) for p in s.split(",")])
+    except ValueError:
+        raise ParameterError(name, f"expected START:STOP:COUNT or a comma list of frequencies in Hz, "
+                                   f"got {text!r}") from None
+    if f.size == 0 or f.size > MAX_FREQUENCIES or not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise ParameterError(name, f"frequencies must be finite and > 0 Hz (at most {MAX_FREQUENCIES}), "
+                                   f"got {text!r}")
+    if np.unique(f).size != f.size:
+        raise ParameterError(name, f"duplicate frequencies in {text!r}")
+    return np.sort(f)
+
+
+@dataclass(frozen=True)
+class ForcedRun:
+    """A frequency response and its table.
+
+    Attributes
+    ----------
+    response : FrequencyResponse
+    rows : list of dict
+        One row per frequency, keys :data:`FORCED_CSV_COLUMNS` (and :data:`DOWN_COLUMNS`).
+    elapsed : float
+        Wall time of the runs in s.
+    """
+
+    response: FrequencyResponse
+    rows: list
+    elapsed: float
+
+    @property
+    def columns(self) -> tuple:
+        """The CSV columns of this run."""
+        return FORCED_CSV_COLUMNS + (DOWN_COLUMNS if self.response.down is not None else ())
+
+    @property
+    def success(self) -> bool:
+        """True when every run completed (converged or honestly non-periodic)."""
+        runs = self.response.primary + (self.response.down or ())
+        return all(r.success for r in runs)
+
+
+def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str = "force", sweep: str = "up",
+               solver: str = "event", restitution: float | None = None, tolerance: float = 1e-6,
+               max_cycles: int = 2000, workers: int = 1) -> ForcedRun:
+    """Frequency response of ``model`` under a harmonic force (N) or base motion (m).
+
+    Parameters are those of :func:`acoustiviz.dynamics.forced.frequency_response`; ``workers`` > 1
+    runs the frequencies on a local process pool (``sweep="independent"`` only: continuation is
+    sequential by nature). Errors name the command-line options.
+    """
+    with user_terms({**FORCED_OPTIONS, "amplitude": "--force" if kind == "force" else "--base"}):
+        if sweep not in SWEEPS:
+            raise ParameterError("sweep", f"must be one of {', '.join(SWEEPS)}, got {sweep!r}")
+        if solver not in FORCED_SOLVERS:
+            raise ParameterError("solver", f"must be one of {', '.join(FORCED_SOLVERS)}, got {solver!r}")
+        if int(workers) < 1:
+            raise ParameterError("workers", f"must be >= 1, got {workers}")
+        if int(workers) > 1 and sweep != "independent":
+            raise ParameterError("workers", "more than one worker needs --sweep independent (no continuation)")
+        kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "max_cycles": max_cycles}
+        t0 = time.perf_counter()
+        if int(workers) > 1:
+            from concurrent.futures import ProcessPoolExecutor
+
+            with ProcessPoolExecutor(max_workers=min(int(workers), len(frequencies))) as ex:
+                resp = frequency_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
+                                          **kwargs)
+        else:
+            resp = frequency_response(model, frequencies, amplitude, kind=kind, sweep=sweep, **kwargs)
+        elapsed = time.perf_counter() - t0
+    rows = []
+    changes = resp.regime_change
+    hyst = resp.hysteresis
+    for i, r in enumerate(resp.primary):
+        row = describe(r)
+        row.update({"laeq_db": None, "lcpeak_db": None, "regime_change": bool(changes[i])})
+        if resp.down is not None:
+            d = resp.down[i]
+            row.update({"amplitude_down_m": d.amplitude, "regime_down": d.regime,
+                        "impacts_per_cycle_down": d.impacts_per_cycle, "hysteresis": bool(hyst[i])})
+        rows.append(row)
+    return ForcedRun(resp, rows, elapsed)
+
+
+def _cell(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (float, np.floating)):
+        return "" if math.isnan(v) else ("inf" if math.isinf(v) else f"{float(v):.10g}")
+    return str(v)
+
+
+def write_forced_csv(run: ForcedRun, path):
+    """Write the frequency-response table (one row per frequency) atomically; return the path."""
+    from ..output.writers import write_text_atomic
+
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    cols = run.columns
+    w.writerow(cols)
+    for row in run.rows:
+        w.writerow([_cell(row.get(c)) for c in cols])
+    return write_text_atomic(path, buf.getvalue())
+
+
+def write_forced_png(run: ForcedRun, path):
+    """Plot the frequency response (with and without damper) and the bifurcation diagram; return the path."""
+    from matplotlib.figure import Figure
+
+    from ..output.plot._style import save_figure, style
+    from ..output.plot.forced import plot_bifurcation, plot_frequency_response
+
+    with style():
+        fig = Figure(figsize=(7.5, 8.0), layout="constrained")
+        ax1, ax2 = fig.subplots(2, 1, sharex=True)
+        plot_frequency_response(run.response, ax=ax1)
+        plot_bifurcation(run.response, ax=ax2)
+        ax1.set_title("Frequency response of the impact damper in operation")
+    return save_figure(fig, path)

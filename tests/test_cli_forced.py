@@ -1,0 +1,96 @@
+"""``acoustiviz forced``: the promised interface, its CSV and its errors."""
+
+import csv
+import math
+import subprocess
+import sys
+
+import pytest
+
+from acoustiviz.app.forced import parse_frequencies
+from acoustiviz.cli import main
+from acoustiviz.errors import ParameterError
+
+TABLE1 = ["--M", "0.5", "--K", "500", "--C", "0.05", "--m", "0.0405", "--gap", "0.04",
+          "--k-hertz", "5.6e8", "--c1", "20"]
+PROMISED = ["frequency_hz", "amplitude_m", "amplitude_without_damper_m", "reduction_db",
+            "impacts_per_cycle", "regime", "laeq_db", "lcpeak_db"]
+
+
+def _read(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_table1_response_csv_and_png(tmp_path):
+    out, png = tmp_path / "r.csv", tmp_path / "r.png"
+    rc = main(["forced", *TABLE1, "--force", "5", "--freq", "3:7:3", "--csv", str(out), "--png", str(png)])
+    assert rc == 0
+    rows = _read(out)
+    assert [float(r["frequency_hz"]) for r in rows] == [3.0, 5.0, 7.0]
+    assert list(rows[0])[: len(PROMISED)] == PROMISED
+    for r in rows:
+        f = float(r["frequency_hz"])
+        w = 2 * math.pi * f
+        a0 = 5.0 / math.hypot(500 - 0.5 * w * w, 0.05 * w)  # main mass alone, closed form
+        assert float(r["amplitude_without_damper_m"]) == pytest.approx(a0, rel=1e-9)  # 10 digits
+        amp = float(r["amplitude_m"])
+        assert float(r["reduction_db"]) == pytest.approx(20 * math.log10(a0 / amp), abs=1e-7)
+        assert r["regime"] in ("non-periodic",) or r["regime"].startswith("periodic-")
+        assert r["laeq_db"] == "" and r["lcpeak_db"] == ""
+    # far below resonance the 15.5 mm linear motion fits in the 20 mm half gap: no impacts
+    assert float(rows[0]["impacts_per_cycle"]) == 0.0
+    assert float(rows[0]["amplitude_m"]) == pytest.approx(float(rows[0]["amplitude_without_damper_m"]), rel=1e-9)
+    # at resonance the damper cuts the amplitude
+    assert float(rows[1]["reduction_db"]) > 10
+    assert png.stat().st_size > 10_000
+
+
+def test_base_excitation_and_comma_list(tmp_path):
+    out = tmp_path / "b.csv"
+    rc = main(["forced", "--base", "0.002", "--freq", "2,8", "--sweep", "both", "--csv", str(out)])
+    assert rc == 0
+    rows = _read(out)
+    assert len(rows) == 2 and "hysteresis" in rows[0]
+    w = 2 * math.pi * 2.0
+    a0 = 0.002 * math.hypot(500, 0.05 * w) / math.hypot(500 - 0.5 * w * w, 0.05 * w)
+    assert float(rows[0]["amplitude_without_damper_m"]) == pytest.approx(a0, rel=1e-9)
+
+
+@pytest.mark.parametrize("argv,option", [
+    (["--force", "5", "--freq", "7:3:5"], "--freq"),
+    (["--force", "5", "--freq", "abc"], "--freq"),
+    (["--force", "5", "--freq", "0,3"], "--freq"),
+    (["--force", "5", "--freq", "3:7:0"], "--freq"),
+    (["--force", "-1", "--freq", "3:7:3"], "--force"),
+    (["--base", "-1", "--freq", "3:7:3"], "--base"),
+    (["--force", "5", "--freq", "3", "--M", "0"], "--M"),
+    (["--force", "5", "--freq", "3", "--gap", "-0.1"], "--gap"),
+    (["--force", "5", "--freq", "3", "--sweep", "sideways"], "--sweep"),
+    (["--force", "5", "--freq", "3", "--solver", "rk4"], "--solver"),
+    (["--force", "5", "--freq", "3", "--tolerance", "2"], "--tolerance"),
+    (["--force", "5", "--freq", "3", "--max-cycles", "1"], "--max-cycles"),
+    (["--force", "5", "--freq", "3", "--solver", "impact-map", "--restitution", "1.5"], "--restitution"),
+    (["--force", "5", "--freq", "3", "--workers", "2"], "--workers"),
+])
+def test_bad_values_exit_2_naming_the_option(argv, option, capsys, tmp_path):
+    out = tmp_path / "x.csv"
+    rc = main(["forced", *argv, "--csv", str(out)])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert option in err
+    assert not out.exists()
+
+
+def test_force_and_base_together_are_refused():
+    proc = subprocess.run([sys.executable, "-m", "acoustiviz", "forced", "--force", "5", "--base", "0.01",
+                           "--freq", "3"], capture_output=True, text=True)
+    assert proc.returncode == 2 and "--base" in proc.stderr
+
+
+def test_parse_frequencies():
+    assert parse_frequencies("3:7:9").tolist() == pytest.approx([3, 3.5, 4, 4.5, 5, 5.5, 6, 6.5, 7])
+    assert parse_frequencies("5").tolist() == [5.0]
+    with pytest.raises(ParameterError) as err:
+        parse_frequencies("3,3")
+    assert err.value.name == "--freq"
