@@ -78,13 +78,18 @@ class FrequencyResponse:
 
     @property
     def hysteresis(self) -> np.ndarray:
-        """True where the up and down sweeps differ (regime, or amplitude by more than 0.1 %)."""
+        """True where the up and down sweeps end on different motions.
+
+        Different regimes, or both periodic with amplitudes more than 0.1 % apart. Two
+        non-periodic motions are not compared (their measured amplitudes differ anyway).
+        """
         if self.down is None:
             return np.zeros(len(self.primary), dtype=bool)
         out = []
         for a, b in zip(self.primary, self.down, strict=True):
             scale = max(abs(a.amplitude), abs(b.amplitude), 1e-300)
-            out.append(a.regime != b.regime or abs(a.amplitude - b.amplitude) > HYSTERESIS_TOLERANCE * scale)
+            differ = abs(a.amplitude - b.amplitude) > HYSTERESIS_TOLERANCE * scale
+            out.append(a.regime != b.regime or (a.converged and b.converged and differ))
         return np.array(out)
 
     def bifurcation_points(self, which: str = "primary") -> tuple[np.ndarray, np.ndarray]:
