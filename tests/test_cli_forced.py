@@ -94,3 +94,39 @@ def test_parse_frequencies():
     with pytest.raises(ParameterError) as err:
         parse_frequencies("3,3")
     assert err.value.name == "--freq"
+
+
+def test_operating_noise_is_the_sum_of_its_clicks(tmp_path):
+    """A period-1 motion with two equal impacts per cycle: SEL per cycle = two lone clicks' exposure."""
+    import numpy as np
+
+    from acoustiviz.app.forced import default_listener, operating_noise
+    from acoustiviz.app.wav import cavity
+    from acoustiviz.constants import P_REF, PAPER_RADIUS
+    from acoustiviz.dynamics import DamperModel
+    from acoustiviz.dynamics.forced import Excitation, steady_state
+    from acoustiviz.output.audio import ClickModel, ImpactSequence, render
+
+    model = DamperModel()
+    r = steady_state(model, Excitation(6.5, 5.0), initial=(0.0, 0.0, 0.0, 0.5))
+    assert r.regime == "periodic-1" and r.impacts_per_cycle == 2
+    nz = operating_noise(r, seconds=0.5)
+    clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
+    scene = cavity("plane", PAPER_RADIUS, model.gap)
+    energy = 0.0
+    for wall, speed in zip(r.impact_walls, r.impact_speeds, strict=True):
+        one = render(ImpactSequence([0.01], [int(wall)], [speed]), scene, clicks, default_listener())
+        energy += float(np.sum(one.pressure[0] ** 2)) / one.sample_rate
+    assert nz.sel_per_cycle_db == pytest.approx(10 * math.log10(energy / P_REF**2), abs=0.01)
+    assert nz.lzeq_db == pytest.approx(nz.sel_per_cycle_db + 10 * math.log10(6.5), abs=1e-9)
+    assert nz.duration == pytest.approx(4 / 6.5)
+
+
+def test_noise_columns_and_wav(tmp_path):
+    out, wav = tmp_path / "n.csv", tmp_path / "n.wav"
+    rc = main(["forced", "--force", "5", "--freq", "3,7", "--wav", str(wav), "--csv", str(out)])
+    assert rc == 0
+    rows = _read(out)
+    assert rows[0]["lzpeak_db"] == "-inf"  # no impacts at 3 Hz: silence
+    assert float(rows[1]["lzpeak_db"]) > 80
+    assert wav.stat().st_size > 1000 and (tmp_path / "n.json").exists()

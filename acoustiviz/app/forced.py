@@ -22,21 +22,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..constants import P_REF, PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS
 from ..dynamics import DamperModel
-from ..dynamics._forced_response import describe
-from ..dynamics.forced import FORCED_SOLVERS, SWEEPS, FrequencyResponse, frequency_response
+from ..dynamics.forced import FORCED_SOLVERS, SWEEPS, FrequencyResponse, describe, frequency_response
 from ..errors import ParameterError
 from .names import DAMPER_OPTIONS, user_terms
 
-__all__ = ["FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "ForcedRun", "parse_frequencies", "run_forced",
-           "write_forced_csv", "write_forced_png"]
+__all__ = ["FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "ForcedRun", "OperatingNoise", "add_operating_noise",
+           "default_listener", "operating_noise", "parse_frequencies", "run_forced", "write_forced_csv",
+           "write_forced_png", "write_operating_wav"]
 
 #: Columns of the frequency-response CSV, one row per frequency (the first eight are promised).
 FORCED_CSV_COLUMNS = (
     "frequency_hz", "amplitude_m", "amplitude_without_damper_m", "reduction_db", "impacts_per_cycle",
     "regime", "laeq_db", "lcpeak_db", "period_cycles", "converged", "cycles", "x_max_m", "x_min_m",
     "mean_impact_speed_m_s", "max_impact_speed_m_s", "impact_phases_deg", "energy_closure",
-    "regime_change",
+    "regime_change", "lzpeak_db", "lzeq_db", "sel_per_cycle_db",
 )
 #: Extra columns when both sweep directions are run.
 DOWN_COLUMNS = ("amplitude_down_m", "regime_down", "impacts_per_cycle_down", "hysteresis")
@@ -80,6 +81,17 @@ def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
     if np.unique(f).size != f.size:
         raise ParameterError(name, f"duplicate frequencies in {text!r}")
     return np.sort(f)
+
+
+def parse_point(text: str, name: str = "--listener") -> np.ndarray:
+    """A point ``"x,y,z"`` in m."""
+    try:
+        p = np.array([float(v) for v in str(text).split(",")])
+    except ValueError:
+        p = np.empty(0)
+    if p.size != 3 or not np.all(np.isfinite(p)):
+        raise ParameterError(name, f"expected X,Y,Z in m, got {text!r}")
+    return p
 
 
 @dataclass(frozen=True)
@@ -160,7 +172,7 @@ def _cell(v) -> str:
     if isinstance(v, (bool, np.bool_)):
         return "true" if v else "false"
     if isinstance(v, (float, np.floating)):
-        return "" if math.isnan(v) else ("inf" if math.isinf(v) else f"{float(v):.10g}")
+        return "" if math.isnan(v) else (("inf" if v > 0 else "-inf") if math.isinf(v) else f"{float(v):.10g}")
     return str(v)
 
 
@@ -191,3 +203,142 @@ def write_forced_png(run: ForcedRun, path):
         plot_bifurcation(run.response, ax=ax2)
         ax1.set_title("Frequency response of the impact damper in operation")
     return save_figure(fig, path)
+
+
+# --------------------------------------------------------------------------- the noise it makes
+#: Columns of the operating-noise levels (Z-weighted: no frequency weighting).
+NOISE_COLUMNS = ("lzpeak_db", "lzeq_db", "sel_per_cycle_db")
+
+
+def default_listener(radius: float = PAPER_RADIUS) -> np.ndarray:
+    """The paper's listener in m: 0.7 m at 45° above the floor from a sphere of ``radius`` resting on it."""
+    a = math.radians(PAPER_ANGLE_DEG)
+    return np.array([PAPER_DISTANCE * math.cos(a), 0.0, radius + PAPER_DISTANCE * math.sin(a)])
+
+
+@dataclass(frozen=True)
+class OperatingNoise:
+    """The steady click train of the damper in operation at one listener.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        Forcing frequency in Hz.
+    pressure : ndarray
+        Sound pressure in Pa at ``sample_rate`` (the measured cycles repeated to ``duration``).
+    sample_rate : int
+        Hz.
+    duration : float
+        Whole forcing cycles rendered, in s.
+    lzpeak_db : float
+        Peak SPL in dB re 20 µPa (unweighted, band-limited samples; -inf when silent).
+    lzeq_db : float
+        Equivalent continuous level over ``duration`` in dB re 20 µPa (unweighted).
+    sel_per_cycle_db : float
+        Sound exposure level of one forcing cycle in dB re (20 µPa)² s.
+    """
+
+    frequency_hz: float
+    pressure: np.ndarray
+    sample_rate: int
+    duration: float
+    lzpeak_db: float
+    lzeq_db: float
+    sel_per_cycle_db: float
+    rendering: dict
+
+
+def operating_noise(steady, *, listener=None, config: str = "plane", radius: float = PAPER_RADIUS,
+                    seconds: float = 1.0, sample_rate: int = 48000) -> OperatingNoise:
+    """Render the steady-state impacts of ``steady`` at a listener and give their levels.
+
+    The measured cycles of the steady state (one period, or 32 cycles of non-periodic motion)
+    are repeated to at least ``seconds`` s; each impact is a Hertz click of its own approach
+    speed radiated by the rigid sphere of ``radius`` m with image sources
+    (:func:`acoustiviz.output.audio.render`, paper eqs 12-14), the struck wall alternating as the
+    impact mass strikes wall -1 or +1 of the cavity.
+
+    Parameters
+    ----------
+    steady : acoustiviz.dynamics.forced.SteadyState
+    listener : (3,) array_like, optional
+        Position in m (default :func:`default_listener`).
+    config : {"free", "plane", "wall-floor"}
+    radius : float
+        Sphere radius in m (default: the paper's 19.05 mm).
+    seconds : float
+        Least duration in s, (0, 60].
+    sample_rate : {44100, 48000, 96000}
+    """
+    from ..output.audio import ClickModel, ImpactSequence, render
+    from ..output.audio.sources import spl
+    from .wav import cavity
+
+    seconds = float(seconds)
+    if not 0.0 < seconds <= 60.0:
+        raise ParameterError("seconds", f"must lie in (0, 60] s, got {seconds:g}")
+    model = steady.model
+    period = steady.excitation.period
+    window = steady.measured_cycles * period
+    reps = max(1, math.ceil(seconds / window - 1e-9)) if steady.converged else 1
+    t0 = steady.cycles * period
+    keep = steady.impact_speeds > 0
+    base = steady.impact_times[keep] - t0
+    times = np.concatenate([base + k * window for k in range(reps)]) if base.size else np.empty(0)
+    walls = np.tile(steady.impact_walls[keep], reps)
+    speeds = np.tile(steady.impact_speeds[keep], reps)
+    scene = cavity(config, radius, model.gap)
+    pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    seq = ImpactSequence(times, walls.astype(int), speeds)
+    clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
+    duration = reps * window
+    out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=duration)
+    p = out.pressure[0]
+    energy = float(np.sum(p * p)) / out.sample_rate  # Pa² s
+    ref = P_REF * P_REF
+    lzeq = 10.0 * math.log10(energy / (duration * ref)) if energy > 0 else -math.inf
+    sel = 10.0 * math.log10(energy / (reps * steady.measured_cycles) / ref) if energy > 0 else -math.inf
+    return OperatingNoise(steady.excitation.frequency, p, out.sample_rate, duration, spl(p), lzeq, sel,
+                          out.describe())
+
+
+def check_listener(model: DamperModel, listener=None, *, config: str = "plane", radius: float = PAPER_RADIUS,
+                   name: str = "--listener") -> np.ndarray:
+    """Check (before any run) that ``listener`` (m) lies outside the cavity's sphere and above its surfaces."""
+    from ..output.audio import check_listeners
+    from .wav import cavity
+
+    pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    return check_listeners(pts, cavity(config, radius, model.gap), name=name)[0]
+
+
+def add_operating_noise(run: ForcedRun, **kwargs) -> list:
+    """Fill the noise columns of ``run.rows`` (primary sweep) in place; return the :class:`OperatingNoise` list."""
+    noises = []
+    for row, r in zip(run.rows, run.response.primary, strict=True):
+        if not r.success:
+            noises.append(None)
+            continue
+        nz = operating_noise(r, **kwargs)
+        row.update({"lzpeak_db": nz.lzpeak_db, "lzeq_db": nz.lzeq_db, "sel_per_cycle_db": nz.sel_per_cycle_db})
+        noises.append(nz)
+    return noises
+
+
+def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None, radius: float = PAPER_RADIUS):
+    """One WAV (and JSON sidecar) of the damper in operation: each frequency's click train in turn.
+
+    Returns the written record list of :func:`acoustiviz.app.wav.write_wav_files`.
+    """
+    from .wav import WavFile, write_wav_files
+
+    parts = [n.pressure[: int(round(n.duration * n.sample_rate))] for n in noises if n is not None]
+    pressure = np.concatenate(parts) if parts else np.zeros(1)
+    pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    wav = WavFile(path, pressure[None, :], ["listener1"], pts[None, :], ["mono"])
+    first = next((n for n in noises if n is not None), None)
+    rendering = dict(first.rendering) if first is not None else {}
+    rendering["operating_sequence"] = [{"frequency_hz": n.frequency_hz, "duration_s": n.duration}
+                                       for n in noises if n is not None]
+    return write_wav_files([wav], sample_rate=sample_rate, rendering=rendering,
+                           radius_source="default: the paper's sphere")

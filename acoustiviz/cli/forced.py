@@ -58,6 +58,14 @@ def add_parser(subparsers):
                         "(default %(default)s)")
     s.add_argument("--workers", type=int, default=1, metavar="N",
                    help="processes for --sweep independent (default %(default)s)")
+    n = p.add_argument_group("noise in operation (unweighted levels; A/C-weighted columns stay empty)")
+    n.add_argument("--noise", action="store_true",
+                   help="render each frequency's steady click train at the listener: peak SPL, Leq and "
+                        "SEL per cycle (columns lzpeak_db, lzeq_db, sel_per_cycle_db)")
+    n.add_argument("--listener", default=None, metavar="X,Y,Z",
+                   help="listener position in m (implies --noise; default: the paper's, 0.7 m at 45 degrees)")
+    n.add_argument("--wav", metavar="PATH", default=None,
+                   help="write the damper in operation, one second per frequency in turn, as WAV (implies --noise)")
     o = p.add_argument_group("outputs")
     o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency as CSV")
     o.add_argument("--png", metavar="PATH", default=None,
@@ -73,9 +81,22 @@ def run(args) -> int:
     from ..app.names import user_terms
 
     freqs = parse_frequencies(args.freq)
+    listener = None
+    if args.listener is not None:
+        from ..app.forced import parse_point
+
+        listener = parse_point(args.listener, "--listener")
+    if args.wav is not None and not str(args.wav).lower().endswith(".wav"):
+        from ..errors import ParameterError
+
+        raise ParameterError("--wav", f"must end in .wav, got {args.wav!r}")
     with user_terms(FORCED_OPTIONS):
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1)
+    if args.noise or args.listener is not None or args.wav:
+        from ..app.forced import check_listener
+
+        check_listener(model, listener)
     kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
     fr = run_forced(model, freqs, amp, kind=kind, sweep=args.sweep, solver=args.solver,
                     restitution=args.restitution, tolerance=args.tolerance, max_cycles=args.max_cycles,
@@ -93,6 +114,18 @@ def run(args) -> int:
     failed = [r for r in fr.response.primary + (fr.response.down or ()) if not r.success]
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
+    if args.noise or args.listener is not None or args.wav:
+        from ..app.forced import add_operating_noise, write_operating_wav
+
+        noises = add_operating_noise(fr, listener=listener)
+        nan = float("nan")
+        for row in fr.rows:
+            print(f"{row['frequency_hz']:8.3f} Hz: peak {row.get('lzpeak_db', nan):6.1f} dB, "
+                  f"Leq {row.get('lzeq_db', nan):6.1f} dB, SEL/cycle {row.get('sel_per_cycle_db', nan):6.1f} dB"
+                  " (unweighted, re 20 uPa)")
+        if args.wav:
+            rec = write_operating_wav(noises, args.wav, listener=listener)
+            print(f"wrote {args.wav} (sidecar {rec[0]['sidecar']})")
     if args.csv:
         print(f"wrote {write_forced_csv(fr, args.csv)}")
     if args.png:

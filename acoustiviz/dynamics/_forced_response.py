@@ -17,8 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice
-from .forced import Excitation, SteadyState, check_settings, steady_state
 from .model import DamperModel
+
+# .forced re-exports this module's public names, so its names are imported where used
 
 __all__ = ["SWEEPS", "FrequencyResponse", "frequency_response", "HYSTERESIS_TOLERANCE"]
 
@@ -30,6 +31,8 @@ HYSTERESIS_TOLERANCE = 1e-3
 
 def _run_one(args):
     """One steady state (picklable for process pools)."""
+    from .forced import steady_state
+
     model, excitation, kwargs, initial = args
     return steady_state(model, excitation, initial=initial, **kwargs)
 
@@ -141,6 +144,8 @@ def frequency_response(
     -------
     FrequencyResponse
     """
+    from .forced import Excitation, check_settings, steady_state
+
     check_choice("sweep", sweep, SWEEPS)
     try:
         f = np.sort(np.asarray(frequencies, dtype=float).ravel())
@@ -175,7 +180,7 @@ def frequency_response(
     return FrequencyResponse(f, primary, chain(down) if sweep == "both" else None, sweep)
 
 
-def describe(r: SteadyState) -> dict:
+def describe(r) -> dict:
     """Summary of one steady state for tables (SI units; phases in degrees)."""
     speeds = r.impact_speeds
     return {

@@ -41,6 +41,7 @@ __all__ = [
     "SWEEPS",
     "FrequencyResponse",
     "check_settings",
+    "describe",
     "frequency_response",
     "FORCED_SOLVERS",
     "Excitation",
@@ -153,6 +154,8 @@ class SteadyState:
         Largest and smallest main-mass displacement over the measured cycles, in m.
     impacts_per_cycle : float
         Impacts in the measured cycles divided by their number (k / n for period-n).
+    impact_times : ndarray
+        Contact start time of each measured impact in s (from t = 0 of the run).
     impact_phases : ndarray
         Forcing phase ``ωt mod 2π`` of each measured impact, in rad.
     impact_speeds : ndarray
@@ -171,6 +174,8 @@ class SteadyState:
     final_state : tuple
         ``(x, v, y, w)`` at the end (forcing phase 0), to continue from.
     message : str
+    measured_cycles : int
+        Forcing cycles measured (n for period-n, 32 when non-periodic), starting at ``cycles T``.
     """
 
     excitation: Excitation
@@ -184,6 +189,7 @@ class SteadyState:
     x_max: float
     x_min: float
     impacts_per_cycle: float
+    impact_times: np.ndarray
     impact_phases: np.ndarray
     impact_speeds: np.ndarray
     impact_walls: np.ndarray
@@ -198,6 +204,7 @@ class SteadyState:
     message: str
     success: bool = True
     settings: dict = field(default_factory=dict)
+    measured_cycles: int = 1
 
     @property
     def energy_closure(self) -> float:
@@ -448,13 +455,15 @@ def _measured(run, excitation, model, solver, period, cycles, points, n, status,
     return SteadyState(
         excitation=excitation, model=model, solver=solver, regime=regime, converged=bool(period),
         period=int(period), cycles=int(cycles), amplitude=float(amp), x_max=x_max, x_min=x_min,
-        impacts_per_cycle=n / measure, impact_phases=phases, impact_speeds=imp[:, 2].copy(),
+        impacts_per_cycle=n / measure, impact_times=imp[:, 0].copy(), impact_phases=phases,
+        impact_speeds=imp[:, 2].copy(),
         impact_walls=imp[:, 1].copy(), impact_peak_forces=imp[:, 5].copy(),
         impact_durations=imp[:, 4].copy(), work_input=float(acc[0]), dissipated_main=float(acc[1]),
         dissipated_contact=float(acc[2]), energy_change=float(de),
         poincare=np.array(points[-max(NONPERIODIC_CYCLES, 1):]),
         final_state=tuple(float(s) for s in run.st[:4]), message=msg, success=status == fk.STATUS_OK,
         settings={"tolerance": tol, "rtol": run.rtol, "steps_per_cycle": run.nsteps},
+        measured_cycles=int(measure),
     )
 
 
@@ -513,4 +522,4 @@ def simulate_cycles(
 
 
 # the frequency response builds on the steady state above
-from ._forced_response import SWEEPS, FrequencyResponse, frequency_response  # noqa: E402
+from ._forced_response import SWEEPS, FrequencyResponse, describe, frequency_response  # noqa: E402
