@@ -95,7 +95,8 @@ def table_mc(quick):
         ex = Excitation(5.1, 2.0)
         r = steady_state(model, ex, solver="event", tolerance=1e-10)
         sc, _ = _mc_compliant(model, ex)
-        print(f"   K_HZ {kh:8.1e}: contact {np.mean(r.impact_durations):.2e} s, dA {r.amplitude / sc.amplitude - 1:9.2e}")
+        print(f"   K_HZ {kh:8.1e}: contact {np.mean(r.impact_durations):.2e} s, "
+              f"dA {r.amplitude / sc.amplitude - 1:9.2e}")
 
 
 def table_linear():
