@@ -72,6 +72,8 @@ def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
             f = np.linspace(a, b, n) if n > 1 else np.array([a])
         else:
             f = np.array([float(p) for p in s.split(",")])
+    except ParameterError:
+        raise
     except ValueError:
         raise ParameterError(name, f"expected START:STOP:COUNT or a comma list of frequencies in Hz, "
                                    f"got {text!r}") from None
