@@ -130,3 +130,17 @@ def test_noise_columns_and_wav(tmp_path):
     assert rows[0]["lzpeak_db"] == "-inf"  # no impacts at 3 Hz: silence
     assert float(rows[1]["lzpeak_db"]) > 80
     assert wav.stat().st_size > 1000 and (tmp_path / "n.json").exists()
+
+
+def test_design_map_is_silent_and_neutral_where_the_mass_never_strikes():
+    import numpy as np
+
+    from acoustiviz.app.forced import design_map
+    from acoustiviz.dynamics import DamperModel
+
+    # at 3 Hz and 5 N the main mass moves 15.5 mm: clear of a 20 mm half gap, not of a 10 mm one
+    d = design_map(DamperModel(), [0.0405], [0.02, 0.04], 3.0, 5.0)
+    assert d.reduction_db.shape == d.lzeq_db.shape == (1, 2)
+    assert d.reduction_db[0, 1] == pytest.approx(0.0, abs=1e-9)
+    assert d.lzeq_db[0, 1] == -np.inf
+    assert np.isfinite(d.lzeq_db[0, 0]) and d.lzeq_db[0, 0] > 40

@@ -30,7 +30,7 @@ from .names import DAMPER_OPTIONS, user_terms
 
 __all__ = ["FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "ForcedRun", "OperatingNoise", "add_operating_noise",
            "default_listener", "operating_noise", "parse_frequencies", "run_forced", "write_forced_csv",
-           "write_forced_png", "write_operating_wav"]
+           "write_forced_png", "write_operating_wav", "DesignMap", "design_map"]
 
 #: Columns of the frequency-response CSV, one row per frequency (the first eight are promised).
 FORCED_CSV_COLUMNS = (
@@ -344,3 +344,54 @@ def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None
                                        for n in noises if n is not None]
     return write_wav_files([wav], sample_rate=sample_rate, rendering=rendering,
                            radius_source="default: the paper's sphere")
+
+
+@dataclass(frozen=True)
+class DesignMap:
+    """Amplitude reduction and operating noise over impact mass and gap at one forcing.
+
+    Attributes
+    ----------
+    masses, gaps : ndarray
+        Impact masses in kg and gaps in m (the axes).
+    reduction_db : ndarray
+        ``(n_mass, n_gap)`` amplitude reduction in dB (positive: the damper helps).
+    lzeq_db : ndarray
+        ``(n_mass, n_gap)`` unweighted Leq at the listener in dB re 20 µPa (-inf: no impacts).
+    regime : ndarray of str
+        ``(n_mass, n_gap)`` regimes.
+    """
+
+    masses: np.ndarray
+    gaps: np.ndarray
+    reduction_db: np.ndarray
+    lzeq_db: np.ndarray
+    regime: np.ndarray
+
+
+def design_map(model: DamperModel, masses, gaps, frequency: float, amplitude: float, *, kind: str = "force",
+               listener=None, **kwargs) -> DesignMap:
+    """Amplitude reduction against operating noise over impact mass (kg) and gap (m).
+
+    Each design runs from the linear start at ``frequency`` Hz to its steady state
+    (:func:`acoustiviz.dynamics.forced.steady_state`, ``**kwargs``) and its click train is
+    rendered at ``listener`` (:func:`operating_noise`).
+    """
+    from dataclasses import replace
+
+    from ..dynamics.forced import Excitation, steady_state
+
+    masses = np.atleast_1d(np.asarray(masses, dtype=float))
+    gaps = np.atleast_1d(np.asarray(gaps, dtype=float))
+    red = np.full((masses.size, gaps.size), np.nan)
+    leq = np.full_like(red, np.nan)
+    reg = np.empty(red.shape, dtype=object)
+    ex = Excitation(frequency, amplitude, kind)
+    for i, m in enumerate(masses):
+        for j, g in enumerate(gaps):
+            r = steady_state(replace(model, m=float(m), gap=float(g)), ex, **kwargs)
+            reg[i, j] = r.regime if r.success else "failed"
+            if r.success:
+                red[i, j] = r.reduction_db
+                leq[i, j] = operating_noise(r, listener=listener).lzeq_db
+    return DesignMap(masses, gaps, red, leq, reg)
