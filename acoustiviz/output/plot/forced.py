@@ -76,12 +76,17 @@ def plot_bifurcation(response, ax=None, which: str = "primary"):
     -------
     matplotlib Axes
         x in mm at t = kT against frequency in Hz: one dot for period-1 motion, n for period-n,
-        a cloud for non-periodic motion.
+        a cloud for non-periodic motion. When a few points exceed 20 times the median the axis
+        turns logarithmic beyond twice the median (symlog).
     """
     fs, xs = response.bifurcation_points(which)
     with style():
         ax = new_axes(ax, figsize=(7.0, 4.2))
         ax.plot(fs, 1e3 * xs, ".", ms=2.5, color="k")
+        span = float(np.max(np.abs(xs), initial=0.0))
+        small = float(np.median(np.abs(xs))) if xs.size else 0.0
+        if small > 0 and span > 20 * small:  # a resonance dwarfs the rest: logarithmic beyond 2x median
+            ax.set_yscale("symlog", linthresh=2e3 * small)
         ax.set_xlabel("forcing frequency (Hz)")
         ax.set_ylabel("x at forcing phase 0 (mm)")
     return ax
