@@ -395,3 +395,88 @@ def design_map(model: DamperModel, masses, gaps, frequency: float, amplitude: fl
                 red[i, j] = r.reduction_db
                 leq[i, j] = operating_noise(r, listener=listener).lzeq_db
     return DesignMap(masses, gaps, red, leq, reg)
+
+
+# --------------------------------------------------------------------------- scene outputs
+def _scene_forced_run(ctx) -> ForcedRun:
+    """The [excitation] frequency response of a scene run, computed once and kept on ``ctx``."""
+    run = getattr(ctx, "_forced_run", None)
+    if run is None:
+        from ..scene import parse_range
+
+        ex = ctx.scene.section("excitation")
+        freqs = np.asarray(parse_range(ex["frequencies_hz"], "excitation.frequencies_hz"), dtype=float)
+        ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {ex['sweep']} ({ex['solver']} solver)")
+        with user_terms({"frequencies": "excitation.frequencies_hz", "frequency": "excitation.frequencies_hz",
+                         "amplitude": "excitation.amplitude", "tolerance": "excitation.tolerance",
+                         "max_cycles": "excitation.max_cycles"}):
+            run = run_forced(ctx.damper_model, freqs, ex["amplitude"], kind=ex["kind"], sweep=ex["sweep"],
+                             solver=ex["solver"], tolerance=ex["tolerance"], max_cycles=ex["max_cycles"])
+        ctx._forced_run = run
+    return run
+
+
+def produce_frequency_response(ctx):
+    """Scene output ``frequency_response``: the CSV of ``acoustiviz forced`` and its figure."""
+    from matplotlib.figure import Figure
+
+    from ..output.plot._style import save_figure, style
+    from ..output.plot.forced import plot_frequency_response
+    from .pipeline import Product
+
+    run = _scene_forced_run(ctx)
+    csv_path = write_forced_csv(run, ctx.path("frequency_response.csv"))
+    with style():
+        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        plot_frequency_response(run.response, ax=fig.add_subplot())
+        png = save_figure(fig, ctx.path("frequency_response.png"))
+    red = run.response.reduction_db
+    figs = {"frequencies": str(len(run.rows)), "best_reduction_db": f"{np.nanmax(red):.1f}",
+            "non_periodic": str(sum(r["regime"] == "non-periodic" for r in run.rows))}
+    return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
+
+
+def produce_bifurcation(ctx):
+    """Scene output ``bifurcation``: Poincaré displacement against forcing frequency (PNG)."""
+    from matplotlib.figure import Figure
+
+    from ..output.plot._style import save_figure, style
+    from ..output.plot.forced import plot_bifurcation
+    from .pipeline import Product
+
+    run = _scene_forced_run(ctx)
+    with style():
+        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        plot_bifurcation(run.response, ax=fig.add_subplot())
+        png = save_figure(fig, ctx.path("bifurcation.png"))
+    return [Product("bifurcation", png, {"regimes": " ".join(sorted({r["regime"] for r in run.rows}))})]
+
+
+def produce_operating_noise(ctx):
+    """Scene output ``operating_noise``: levels per frequency at the first listener (CSV) and a WAV."""
+    from .pipeline import Product
+
+    run = _scene_forced_run(ctx)
+    opts = ctx.scene.output("operating_noise")
+    name, position = ctx.listeners[0]
+    radius = ctx.scene.damper_sphere_radius()
+    config = ctx.scene.section("configuration")["kind"]
+    noises = []
+    for r in run.response.primary:
+        noises.append(operating_noise(r, listener=position, config=config, radius=radius, seconds=opts["seconds"])
+                      if r.success else None)
+    ok = [n for n in noises if n is not None]
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(("frequency_hz", "regime", "impacts_per_cycle", *NOISE_COLUMNS))
+    for r, n in zip(run.response.primary, noises, strict=True):
+        levels = (n.lzpeak_db, n.lzeq_db, n.sel_per_cycle_db) if n is not None else (None, None, None)
+        w.writerow([_cell(v) for v in (r.excitation.frequency, r.regime, r.impacts_per_cycle, *levels)])
+    from ..output.writers import write_text_atomic
+
+    csv_path = write_text_atomic(ctx.path("operating_noise.csv"), buf.getvalue())
+    wav = ctx.path(f"operating_noise_{name}.wav")
+    write_operating_wav(noises, wav, listener=position, radius=radius)
+    peak = max((n.lzpeak_db for n in ok), default=-math.inf)
+    return [Product("operating_noise", csv_path, {"listener": name, "max_peak_spl_db": f"{peak:.1f}"}),
+            Product("operating_noise", wav, {})]

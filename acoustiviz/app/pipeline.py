@@ -25,6 +25,7 @@ from ..errors import ParameterError
 from ..output.writers import write_csv_atomic, write_text_atomic
 from ..scene import Scene, parse_range
 from . import damper as _damper
+from . import forced as _forced
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
 
@@ -457,6 +458,9 @@ PRODUCERS = {
     "sweep": produce_sweep,
     "design_table": produce_design_table,
     "wav": produce_wav,
+    "frequency_response": _forced.produce_frequency_response,
+    "bifurcation": _forced.produce_bifurcation,
+    "operating_noise": _forced.produce_operating_noise,
 }
 
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice
+from ..constants import FREQUENCY_SWEEPS
 from .model import DamperModel
 
 # .forced re-exports this module's public names, so its names are imported where used
@@ -24,7 +25,7 @@ from .model import DamperModel
 __all__ = ["SWEEPS", "FrequencyResponse", "frequency_response", "HYSTERESIS_TOLERANCE"]
 
 #: Sweep directions.
-SWEEPS = ("up", "down", "both", "independent")
+SWEEPS = FREQUENCY_SWEEPS
 #: Relative amplitude difference between the two sweep directions flagged as hysteresis.
 HYSTERESIS_TOLERANCE = 1e-3
 

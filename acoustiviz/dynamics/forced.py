@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive, check_range
+from ..constants import EXCITATIONS, FORCED_SOLVERS
 from . import _forced_kernels as fk
 from . import _forced_newmark as fn
 from .model import DamperModel
@@ -51,10 +52,6 @@ __all__ = [
     "simulate_cycles",
 ]
 
-#: Kinds of excitation.
-EXCITATIONS = ("force", "base")
-#: Solvers of the forced damper.
-FORCED_SOLVERS = ("event", "impact-map", "newmark")
 #: Default tolerance of the Poincaré return (scaled state, see the module docstring).
 DEFAULT_TOLERANCE = 1e-6
 #: Longest period (in forcing cycles) looked for.
