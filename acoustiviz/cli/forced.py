@@ -111,6 +111,12 @@ def run(args) -> int:
               f"{row['impacts_per_cycle']:8.3f}  {row['regime']}"
               + (f"  (down: {row['regime_down']}, {1e3 * row['amplitude_down_m']:.4f} mm"
                  f"{', hysteresis' if row['hysteresis'] else ''})" if 'regime_down' in row else ""))
+    unsettled = [r for r in fr.response.primary if r.success and not r.converged]
+    if unsettled:
+        r = unsettled[0]
+        print(f"non-periodic at {', '.join(f'{u.excitation.frequency:g}' for u in unsettled)} Hz: no period of up "
+              f"to 8 cycles within {r.cycles} cycles (tolerance {args.tolerance:g}); amplitude and impacts "
+              f"there are over the last {r.measured_cycles} cycles, not a steady state")
     failed = [r for r in fr.response.primary + (fr.response.down or ()) if not r.success]
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
