@@ -228,3 +228,13 @@ def test_energy_balance_under_base_excitation_closes():
     r = steady_state(DamperModel(C=1.0, m=0.1), Excitation(5.1, 0.004, "base"), tolerance=1e-8)
     assert r.converged and r.impacts_per_cycle >= 2
     assert abs(r.energy_closure) < 1e-8
+
+
+def test_a_chattering_run_is_reported_failed_not_measured():
+    """Instantaneous impacts cannot follow the impact mass settling on a wall: they say so."""
+    r = steady_state(DamperModel(), Excitation(4.75, 5.0), solver="impact-map", restitution=0.6)
+    assert not r.success and r.regime == "failed" and "chattering" in r.message
+    assert math.isnan(r.amplitude)
+    # the compliant contacts of the event solver settle on the wall instead
+    ev = steady_state(DamperModel(), Excitation(4.75, 5.0), max_cycles=100)
+    assert ev.success

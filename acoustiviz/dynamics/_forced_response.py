@@ -100,13 +100,15 @@ class FrequencyResponse:
         """Poincaré displacements for a bifurcation diagram: ``(frequency Hz, x m)`` pairs.
 
         The distinct section points of each measured motion (n for period-n, up to 32 for
-        non-periodic motion).
+        non-periodic motion); failed runs are left out.
         """
         runs = self.primary if which == "primary" else self.down
         if runs is None:
             raise ParameterError("which", "no downward sweep in this response")
         fs, xs = [], []
         for f, r in zip(self.frequencies, runs, strict=True):
+            if not r.success:  # a failed run has no measured motion
+                continue
             pts = r.poincare[-(r.period if r.period else len(r.poincare)):, 0]
             fs.append(np.full(pts.size, f))
             xs.append(pts)

@@ -137,8 +137,9 @@ class SteadyState:
     Attributes
     ----------
     regime : str
-        ``"periodic-n"`` (period n forcing cycles) or ``"non-periodic"`` (no period <= 8 found
-        within the cycle limit: chaotic, or a transient too slow for the limit).
+        ``"periodic-n"`` (period n forcing cycles), ``"non-periodic"`` (no period <= 8 found
+        within the cycle limit: chaotic, or a transient too slow for the limit) or ``"failed"``
+        (the solver stopped, see ``message``; the amplitude is then NaN).
     converged : bool
         True when a period was found within ``tolerance``.
     period : int
@@ -444,7 +445,8 @@ def steady_state(
     cycles = run.k
     if status != fk.STATUS_OK:
         return _measured(run, excitation, model, solver, 0, cycles, points[: cycles + 1], 0, status,
-                         np.zeros(5), 0.0, tol, f"{_STATUS[status]} after {cycles} cycles")
+                         np.array([0.0, 0.0, 0.0, -np.inf, np.inf]), 0.0, tol,
+                         f"{_STATUS[status]} after {cycles} cycles")
     measure = period if period else NONPERIODIC_CYCLES
     e0 = run.energy()
     acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
@@ -459,15 +461,16 @@ def steady_state(
            f"last {measure} cycles measured")
     if status != fk.STATUS_OK:
         msg = f"{_STATUS[status]} while measuring"
-    allp = np.vstack([points[: cycles + 1]])
-    return _measured(run, excitation, model, solver, period, cycles, allp, n, status, acc, de, tol, msg,
-                     measure)
+    return _measured(run, excitation, model, solver, period, cycles, points[: cycles + 1], n, status, acc, de,
+                     tol, msg, measure)
 
 
 def _measured(run, excitation, model, solver, period, cycles, points, n, status, acc, de, tol, msg,
               measure=1):
     imp = run.imp[:n]
     regime = f"periodic-{period}" if period else "non-periodic"
+    if status != fk.STATUS_OK:
+        regime = "failed"
     phases = np.mod(excitation.omega * imp[:, 0], 2.0 * math.pi)
     x_max, x_min = float(acc[3]), float(acc[4])
     amp = 0.5 * (x_max - x_min) if math.isfinite(x_max) else math.nan

@@ -15,6 +15,8 @@ __all__ = ["plot_frequency_response", "plot_bifurcation"]
 def _regime_colour(regime: str) -> str:
     if regime == "non-periodic":
         return "tab:red"
+    if regime == "failed":
+        return "0.6"
     return {"periodic-1": "tab:blue", "periodic-2": "tab:green"}.get(regime, "tab:purple")
 
 
@@ -54,7 +56,9 @@ def plot_frequency_response(response, ax=None):
             for fi, h in zip(f, response.hysteresis, strict=True):
                 if h:
                     ax.axvspan(fi - df / 2, fi + df / 2, color="orange", alpha=0.2, lw=0)
-        for reg in ("periodic-1", "periodic-2", "periodic-n (n > 2)", "non-periodic"):
+        regimes = {r.regime for r in response.primary + (response.down or ())}
+        for reg in ("periodic-1", "periodic-2", "periodic-n (n > 2)", "non-periodic") + (
+                ("failed",) if "failed" in regimes else ()):
             ax.plot([], [], "o", color=_regime_colour(reg), label=reg)
         ax.set_yscale("log")
         ax.set_xlabel("forcing frequency (Hz)")
