@@ -534,6 +534,8 @@ def advance(p, fc, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, 
         if n >= max_impacts:
             return n, STATUS_MAX_IMPACTS
         u0 = sw * (st[3] - v)
+        if u0 <= 0.0 and restitution != -1.0:  # resting on a wall: instantaneous impacts cannot follow
+            return n, STATUS_MAX_IMPACTS
         impacts[n, 0] = t
         impacts[n, 1] = sw
         impacts[n, 2] = u0
