@@ -85,10 +85,12 @@ def _main(tau, c):
 
 @njit(cache=True)
 def _fval(kind, tau, c):
-    """0 -> main-mass velocity (m/s), 1 -> d/2 - z (m), 2 -> z + d/2 (m)."""
-    x, v, _ = _main(tau, c)
+    """0 -> main-mass velocity (m/s), 1 -> d/2 - z (m), 2 -> z + d/2 (m), 3 -> acceleration (m/s²)."""
+    x, v, acc = _main(tau, c)
     if kind == 0:
         return v
+    if kind == 3:
+        return acc
     z = c[3] + c[4] * tau - x
     if kind == 1:
         return c[10] - z
@@ -456,115 +458,3 @@ def free_restitution(p, u0, rtol):
     ended, _, peak, yc = _contact(pfree, np.zeros(5), 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol,
                                   work, kst)
     return max(-yc[4], 0.0) / u0, yc[0], peak
-
-
-# ============================================================ drivers
-@njit(cache=True)
-def advance(p, fc, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
-    """Advance the forced damper from ``t0`` to ``t1`` s (state ``st`` updated in place).
-
-    ``restitution = -1`` integrates compliant contacts (event solver); ``restitution >= 0``
-    applies instantaneous impacts with that coefficient (impact map; ``restitution`` > 1 is
-    refused upstream); ``restitution = -2`` applies instantaneous impacts with the restitution
-    of the compliant contact of the two masses alone at each approach speed. New impact rows are
-    written from row ``n``. ``extrema`` tracks the largest
-    and smallest x in ``acc[3:5]``. Returns ``(n, status)``.
-    """
-    M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]
-    meff = m * M / (m + M)
-    a = C / (2.0 * M)
-    wd = math.sqrt(K / M - a * a)
-    work = np.zeros((6, _NY))
-    kst = np.zeros((_NS + 1, _NY))
-    c = np.zeros(11)
-    c[10] = hg
-    t = t0
-    status = STATUS_OK
-    while t < t1:
-        if st[4] > 0.5:  # inside a contact: integrate it
-            sw = st[5]
-            ended, stc, peak, yc = _contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, work, kst)
-            acc[0] += yc[8]
-            acc[1] += yc[7]
-            acc[2] += yc[6]
-            if extrema:
-                acc[3] = max(acc[3], st[0], yc[1])
-                acc[4] = min(acc[4], st[0], yc[1])
-            r = n - 1
-            impacts[r, 4] += yc[0]
-            impacts[r, 5] = max(impacts[r, 5], peak)
-            impacts[r, 6] += yc[5]
-            impacts[r, 7] += yc[6]
-            xi = max(yc[3], 0.0)
-            st[0] = yc[1]
-            st[1] = yc[2]
-            st[2] = yc[1] + sw * (hg + xi * xi)
-            st[3] = yc[2] + sw * yc[4]
-            st[6] = xi
-            st[7] = yc[4]
-            t = t + yc[0]
-            if stc != STATUS_OK:
-                return n, stc
-            if ended:
-                st[4] = 0.0
-                impacts[r, 3] = -yc[4]
-                st[2] = st[0] + sw * hg
-            else:
-                t = t1
-            continue
-        _flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc)
-        found, tau, sw = _scan(c, t1 - t)
-        if found and t + tau >= t1:
-            found = False
-            tau = t1 - t
-        wk, dc = _flight_energy(c, tau, fc, C)
-        acc[0] += wk
-        acc[1] += dc
-        if extrema:
-            _flight_extrema(c, tau, acc)
-        x, v, _ = _main(tau, c)
-        st[0] = x
-        st[1] = v
-        st[2] = st[2] + st[3] * tau
-        if not (math.isfinite(x) and math.isfinite(v)):
-            return n, STATUS_DIVERGED
-        t = t + tau if found else t1
-        if not found:
-            break
-        if n >= max_impacts:
-            return n, STATUS_MAX_IMPACTS
-        u0 = sw * (st[3] - v)
-        if u0 <= 0.0 and restitution != -1.0:  # resting on a wall: instantaneous impacts cannot follow
-            return n, STATUS_MAX_IMPACTS
-        impacts[n, 0] = t
-        impacts[n, 1] = sw
-        impacts[n, 2] = u0
-        if restitution >= 0.0 or restitution < -1.5:  # instantaneous impact
-            e = restitution
-            dur = 0.0
-            peak = 0.0
-            if restitution < 0.0:  # the compliant contact's restitution at this speed
-                e, dur, peak = free_restitution(p, u0, rtol)
-            jimp = (1.0 + e) * meff * u0
-            lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
-            st[1] = v + sw * jimp / M
-            st[3] = st[3] - sw * jimp / m
-            st[2] = st[0] + sw * hg
-            acc[2] += lost
-            impacts[n, 3] = e * u0
-            impacts[n, 4] = dur
-            impacts[n, 5] = peak
-            impacts[n, 6] = jimp
-            impacts[n, 7] = lost
-            n += 1
-            continue
-        for k in range(3, 8):
-            impacts[n, k] = 0.0
-        impacts[n, 3] = math.nan
-        n += 1
-        st[4] = 1.0
-        st[5] = sw
-        st[6] = math.sqrt(max(sw * (st[2] - st[0]) - hg, 0.0))
-        st[7] = u0
-    return n, status
-

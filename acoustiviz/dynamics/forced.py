@@ -15,7 +15,9 @@ Either way the main mass carries ``F(t) = P cos(ωt) + Q sin(ωt)``::
 Solvers: ``"event"`` (closed-form forced free flight with the particular solution, exactly
 bracketed contact onset, contacts by adaptive DOP853 with Hertz stiffness and damping c1),
 ``"impact-map"`` (instantaneous impacts of restitution ``e``; with ``restitution=None`` the
-restitution of the compliant contact at each approach speed) and ``"newmark"`` (the paper's
+restitution of the compliant contact at each approach speed; a Zeno train of rebounds on a wall
+that presses ends in sticking, the two masses moving together until the wall stops pushing, see
+:mod:`._forced_driver`) and ``"newmark"`` (the paper's
 average-acceleration Newmark-beta at a fixed step, an independent second method).
 
 The steady state is found on the Poincaré section at forcing phase 0 (``t = kT``, ``T = 2π/ω``):
@@ -33,6 +35,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import EXCITATIONS, FORCED_SOLVERS
+from . import _forced_driver as fd
 from . import _forced_kernels as fk
 from . import _forced_newmark as fn
 from .model import DamperModel
@@ -56,6 +59,8 @@ __all__ = [
 DEFAULT_TOLERANCE = 1e-6
 #: Longest period (in forcing cycles) looked for.
 MAX_PERIOD = 8
+#: Impact map: a rebound slower than this fraction of ω d/2 on a wall that presses turns into sticking.
+STICK_SPEED_FRACTION = 1e-4
 #: Cycles measured when no period is found.
 NONPERIODIC_CYCLES = 32
 
@@ -258,6 +263,18 @@ def _check_common(model, excitation, solver, restitution):
     excitation.linear_response(model)  # refuses an undamped resonance
 
 
+def _together(model, excitation, solver) -> np.ndarray:
+    """Forcing vector of the two masses moving together, with the sticking speed (impact map only)."""
+    import dataclasses
+
+    try:
+        vec = excitation.vector(dataclasses.replace(model, M=model.M + model.m))
+    except ParameterError:  # undamped resonance of the pair: no sticking phase in closed form
+        return np.zeros(6)
+    u_stick = STICK_SPEED_FRACTION * excitation.omega * 0.5 * model.gap if solver == "impact-map" else 0.0
+    return np.append(vec, u_stick)
+
+
 class _Runner:
     """Advances one solver cycle by cycle (holds the kernel buffers)."""
 
@@ -265,6 +282,7 @@ class _Runner:
                  max_impacts_per_cycle):
         self.p = _params(model)
         self.fc = excitation.vector(model)
+        self.fcs = _together(model, excitation, solver)
         self.T = excitation.period
         self.solver = solver
         self.e = -1.0 if solver == "event" else (-2.0 if restitution is None else float(restitution))
@@ -291,7 +309,7 @@ class _Runner:
             out = fn.newmark_advance(self.p, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0,
                                      cap, acc, extrema)
         else:
-            out = fk.advance(self.p, self.fc, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp,
+            out = fd.advance(self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp,
                              n0, cap, acc, extrema)
         self.k += 1
         return out
