@@ -25,6 +25,9 @@ __all__ = [
     "SOLVERS",
     "SCENE_SOLVERS",
     "STRIKES",
+    "EXCITATIONS",
+    "FORCED_SOLVERS",
+    "FREQUENCY_SWEEPS",
     "PAPER_RADIUS",
     "PAPER_VELOCITY",
     "PAPER_K_HERTZ",
@@ -68,6 +71,12 @@ SOLVERS = ("event", "newmark", "impact-map")
 SCENE_SOLVERS = ("auto", *SOLVERS)
 #: Which surface of a wall-floor corner the sphere strikes.
 STRIKES = ("floor", "wall")
+#: Harmonic excitations of the damper: a force on the main mass, or a base displacement.
+EXCITATIONS = ("force", "base")
+#: Solvers of the forced damper (acoustiviz.dynamics.forced).
+FORCED_SOLVERS = ("event", "impact-map", "newmark")
+#: Frequency sweeps: continuation up, down or both, or independent runs.
+FREQUENCY_SWEEPS = ("up", "down", "both", "independent")
 
 # --- the paper's Figure 2 impact ----------------------------------------------------------
 

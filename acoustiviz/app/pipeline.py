@@ -25,6 +25,7 @@ from ..errors import ParameterError
 from ..output.writers import write_csv_atomic, write_text_atomic
 from ..scene import Scene
 from . import damper as _damper
+from . import forced as _forced
 from .scene_levels import produce_levels, produce_spectrum
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
@@ -401,6 +402,9 @@ PRODUCERS = {
     "wav": produce_wav,
     "levels": produce_levels,
     "spectrum": produce_spectrum,
+    "frequency_response": _forced.produce_frequency_response,
+    "bifurcation": _forced.produce_bifurcation,
+    "operating_noise": _forced.produce_operating_noise,
 }
 
 

@@ -21,6 +21,7 @@ SUBCOMMANDS = {
     "waveform": "acoustiviz.cli.waveform",
     "directivity": "acoustiviz.cli.directivity",
     "damper": "acoustiviz.cli.damper",
+    "forced": "acoustiviz.cli.forced",
     "sweep": "acoustiviz.cli.sweep",
     "design": "acoustiviz.cli.design",
     "render": "acoustiviz.cli.render",

@@ -12,6 +12,9 @@ from ..constants import (
     DEFAULT_RTOL,
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
+    EXCITATIONS,
+    FORCED_SOLVERS,
+    FREQUENCY_SWEEPS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
     PAPER_GAP,
@@ -114,6 +117,19 @@ _DAMPER = {
                       high=0.5),
 }
 
+_EXCITATION = {
+    "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
+                "through K and C", "force", choices=EXCITATIONS),
+    "amplitude": Key("float", "F0 in N (kind force) or B in m (kind base)", 5.0, "N or m", low=0.0, high=1e9),
+    "frequencies_hz": Key("range", "forcing frequencies start:stop:count", "3:7:9", "Hz", low=0.0, low_open=True,
+                          high=1e4),
+    "sweep": Key("str", "continuation up, down or both (hysteresis marked), or independent runs", "up",
+                 choices=FREQUENCY_SWEEPS),
+    "solver": Key("str", "forced-damper solver", "event", choices=FORCED_SOLVERS),
+    "tolerance": Key("float", "Poincare return tolerance of the steady state", 1e-6, "", low=1e-12, high=1e-2),
+    "max_cycles": Key("int", "cycle limit per frequency (beyond it: non-periodic)", 2000, low=18, high=1_000_000),
+}
+
 _LISTENER = {
     "name": Key("str", "label used in file names", None),
     "distance_m": _pos("distance from the sphere's centre (with angle_deg)", "m", None, high=1e4),
@@ -187,6 +203,12 @@ _OUT = {
                     "LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL, SEL(A) of the damper run at each listener, "
                     "evaluated at 96 kHz (CSV)"),
     "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),
+    "frequency_response": Table({}, "steady-state amplitude with and without the damper, regimes and "
+                                "hysteresis over the [excitation] frequencies (CSV, PNG)"),
+    "bifurcation": Table({}, "main-mass displacement at forcing phase 0 against forcing frequency (PNG)"),
+    "operating_noise": Table({"seconds": _pos("click train per frequency", "s", 1.0, high=60.0)},
+                             "peak SPL, Leq and SEL per cycle of the steady click train at the first listener "
+                             "per forcing frequency (CSV) and a WAV of the frequencies in turn"),
 }
 
 #: The outputs a scene may ask for, in the order they are produced.
@@ -201,6 +223,7 @@ SCHEMA = {
     "impact": Table(_IMPACT, "a single impact"),
     "configuration": Table(_CONFIGURATION, "surfaces around the impact; frame: struck surface z = 0"),
     "damper": Table(_DAMPER, "the impact damper (paper Table 1 defaults)"),
+    "excitation": Table(_EXCITATION, "harmonic excitation of the damper in operation"),
     "listeners": Table(_LISTENER, "listeners ([[listeners]], each with distance_m and angle_deg, or position_m)",
                        array=True),
     "grids": Table({"sphere": Table(_SPHERE_GRID, "spherical grid"), "plane": Table(_PLANE_GRID, "planar grid"),

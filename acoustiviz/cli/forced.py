@@ -1,0 +1,139 @@
+r"""``acoustiviz forced``: the damper in operation, frequency response under harmonic excitation.
+
+Example::
+
+    acoustiviz forced --M 0.5 --K 500 --C 0.05 --m 0.0405 --gap 0.04 --k-hertz 5.6e8 --c1 20 \\
+        --force 5 --freq 3:7:9 --csv OUT.csv --png OUT.png
+"""
+
+from __future__ import annotations
+
+from ..constants import PAPER_GAP, TABLE1
+
+
+def add_parser(subparsers):
+    """Register the ``forced`` subcommand."""
+    p = subparsers.add_parser(
+        "forced",
+        help="frequency response of the damper under a harmonic force or base motion",
+        description=(
+            "Run the impact damper (paper eq 15) under a harmonic force F0 cos(wt) on the main mass "
+            "(--force) or a harmonic base motion B cos(wt) (--base) to its periodic steady state at "
+            "each frequency, and report the main-mass amplitude with and without the damper, the "
+            "reduction, the regime (periodic-n or non-periodic) and the impacts per cycle."
+        ),
+    )
+    g = p.add_argument_group("damper (paper eq 15; defaults: Table 1, d = 4 cm)")
+    g.add_argument("--M", type=float, default=TABLE1["M"], metavar="KG", help="main mass in kg (default %(default)s)")
+    g.add_argument("--K", type=float, default=TABLE1["K"], metavar="N/M",
+                   help="main spring in N/m (default %(default)s)")
+    g.add_argument("--C", type=float, default=TABLE1["C"], metavar="N*S/M",
+                   help="main dashpot in N s/m (default %(default)s)")
+    g.add_argument("--m", type=float, default=TABLE1["m"], metavar="KG", help="impact mass in kg (default %(default)s)")
+    g.add_argument("--gap", type=float, default=PAPER_GAP, metavar="M",
+                   help="total free travel d in m (default %(default)s)")
+    g.add_argument("--k-hertz", type=float, default=TABLE1["k_hertz"], metavar="N/M^1.5",
+                   help="Hertz contact stiffness in N/m^1.5 (default %(default)s)")
+    g.add_argument("--c1", type=float, default=TABLE1["c1"], metavar="N*S/M",
+                   help="contact damping in N s/m (default %(default)s)")
+    e = p.add_argument_group("excitation")
+    x = e.add_mutually_exclusive_group(required=True)
+    x.add_argument("--force", type=float, metavar="N", help="force amplitude F0 on the main mass in N")
+    x.add_argument("--base", type=float, metavar="M", help="base displacement amplitude B in m (instead of --force)")
+    e.add_argument("--freq", required=True, metavar="START:STOP:COUNT|F1,F2,...",
+                   help="forcing frequencies in Hz: START:STOP:COUNT (inclusive) or a comma list")
+    s = p.add_argument_group("solver")
+    s.add_argument("--sweep", default="up", metavar="{up,down,both,independent}",
+                   help="continuation direction (each frequency starts from the last state), both "
+                        "(up and down, hysteresis marked) or independent runs (default %(default)s)")
+    s.add_argument("--solver", default="event", metavar="{event,impact-map,newmark}",
+                   help="event (default; compliant Hertz contacts), impact-map (instantaneous impacts) "
+                        "or newmark")
+    s.add_argument("--restitution", type=float, default=None, metavar="E",
+                   help="impact-map restitution in (0, 1] (default: the compliant contact's at each speed)")
+    s.add_argument("--tolerance", type=float, default=1e-6,
+                   help="Poincare return tolerance of the steady state (default %(default)s)")
+    s.add_argument("--max-cycles", type=int, default=2000, metavar="N",
+                   help="cycle limit per frequency; beyond it the motion is reported non-periodic "
+                        "(default %(default)s)")
+    s.add_argument("--workers", type=int, default=1, metavar="N",
+                   help="processes for --sweep independent (default %(default)s)")
+    n = p.add_argument_group("noise in operation (unweighted levels; A/C-weighted columns stay empty)")
+    n.add_argument("--noise", action="store_true",
+                   help="render each frequency's steady click train at the listener: peak SPL, Leq and "
+                        "SEL per cycle (columns lzpeak_db, lzeq_db, sel_per_cycle_db)")
+    n.add_argument("--listener", default=None, metavar="X,Y,Z",
+                   help="listener position in m (implies --noise; default: the paper's, 0.7 m at 45 degrees)")
+    n.add_argument("--wav", metavar="PATH", default=None,
+                   help="write the damper in operation, one second per frequency in turn, as WAV (implies --noise)")
+    o = p.add_argument_group("outputs")
+    o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency as CSV")
+    o.add_argument("--png", metavar="PATH", default=None,
+                   help="plot the frequency response and the bifurcation diagram as PNG")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    """Run the ``forced`` subcommand; return the exit status."""
+    from ..app.damper import damper_model
+    from ..app.forced import FORCED_OPTIONS, parse_frequencies, run_forced, write_forced_csv, write_forced_png
+    from ..app.names import user_terms
+
+    freqs = parse_frequencies(args.freq)
+    listener = None
+    if args.listener is not None:
+        from ..app.forced import parse_point
+
+        listener = parse_point(args.listener, "--listener")
+    if args.wav is not None and not str(args.wav).lower().endswith(".wav"):
+        from ..errors import ParameterError
+
+        raise ParameterError("--wav", f"must end in .wav, got {args.wav!r}")
+    with user_terms(FORCED_OPTIONS):
+        model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
+                             c1=args.c1)
+    if args.noise or args.listener is not None or args.wav:
+        from ..app.forced import check_listener
+
+        check_listener(model, listener)
+    kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
+    fr = run_forced(model, freqs, amp, kind=kind, sweep=args.sweep, solver=args.solver,
+                    restitution=args.restitution, tolerance=args.tolerance, max_cycles=args.max_cycles,
+                    workers=args.workers)
+    unit = "N" if kind == "force" else "m"
+    print(f"{kind} amplitude {amp:g} {unit}; sweep {args.sweep}; solver {args.solver}; "
+          f"{len(freqs)} frequencies in {fr.elapsed:.2f} s")
+    print(f"{'f (Hz)':>8} {'A (mm)':>10} {'A0 (mm)':>10} {'red (dB)':>9} {'imp/cyc':>8}  regime")
+    for row in fr.rows:
+        print(f"{row['frequency_hz']:8.3f} {1e3 * row['amplitude_m']:10.4f} "
+              f"{1e3 * row['amplitude_without_damper_m']:10.4f} {row['reduction_db']:9.2f} "
+              f"{row['impacts_per_cycle']:8.3f}  {row['regime']}"
+              + (f"  (down: {row['regime_down']}, {1e3 * row['amplitude_down_m']:.4f} mm"
+                 f"{', hysteresis' if row['hysteresis'] else ''})" if 'regime_down' in row else ""))
+    unsettled = [r for r in fr.response.primary if r.success and not r.converged]
+    if unsettled:
+        r = unsettled[0]
+        print(f"non-periodic at {', '.join(f'{u.excitation.frequency:g}' for u in unsettled)} Hz: no period of up "
+              f"to 8 cycles within {r.cycles} cycles (tolerance {args.tolerance:g}); amplitude and impacts "
+              f"there are over the last {r.measured_cycles} cycles, not a steady state")
+    failed = [r for r in fr.response.primary + (fr.response.down or ()) if not r.success]
+    for r in failed:
+        print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
+    if args.noise or args.listener is not None or args.wav:
+        from ..app.forced import add_operating_noise, write_operating_wav
+
+        noises = add_operating_noise(fr, listener=listener)
+        nan = float("nan")
+        for row in fr.rows:
+            print(f"{row['frequency_hz']:8.3f} Hz: peak {row.get('lzpeak_db', nan):6.1f} dB, "
+                  f"Leq {row.get('lzeq_db', nan):6.1f} dB, SEL/cycle {row.get('sel_per_cycle_db', nan):6.1f} dB"
+                  " (unweighted, re 20 uPa)")
+        if args.wav:
+            rec = write_operating_wav(noises, args.wav, listener=listener)
+            print(f"wrote {args.wav} (sidecar {rec[0]['sidecar']})")
+    if args.csv:
+        print(f"wrote {write_forced_csv(fr, args.csv)}")
+    if args.png:
+        print(f"wrote {write_forced_png(fr, args.png)}")
+    return 0 if not failed else 1

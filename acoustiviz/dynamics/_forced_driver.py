@@ -1,0 +1,269 @@
+"""Driver of the forced impact damper (numba): flights, contacts, instantaneous impacts, sticking.
+
+Vectors as in :mod:`._forced_kernels`. ``fcs`` is the forcing vector of the main and impact
+masses moving together (mass ``M + m``): ``[ω, P, Q, A_c, A_s, u_stick]`` with the particular
+solution of that oscillator and the speed (m/s) below which instantaneous impacts turn into
+sticking (0 disables it).
+
+Sticking (impact map only). A train of instantaneous impacts of restitution ``e`` against a wall
+that the impact mass is pressed on shortens geometrically (a Zeno sequence). When the relative
+speed after an impact falls below ``u_stick`` while the free relative acceleration presses the
+impact mass on the wall, the last impact is made plastic and the two masses move together
+(``(M + m) x'' + C x' + K x = F(t)``, closed form) while the wall pushes, i.e. while
+``wall · x'' <= 0``. The release, where ``x''`` changes sign, is bracketed with a bound on
+``|x''''|`` and located by Brent's method. After the release the relative gap opens as
+``G'''(0) τ³/6`` (``G(0) = G'(0) = G''(0) = 0``); the flight is followed without contact test for
+``τ_s = 2 G'''(0) / L4`` (``L4`` a bound on ``|x''''|``), over which ``G > 0`` is guaranteed, and
+then scanned as usual.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ._forced_kernels import (
+    _NS,
+    _NY,
+    STATUS_DIVERGED,
+    STATUS_MAX_IMPACTS,
+    STATUS_OK,
+    _brent,
+    _contact,
+    _flight_coeffs,
+    _flight_energy,
+    _flight_extrema,
+    _main,
+    _scan,
+    free_restitution,
+)
+
+
+@njit(cache=True)
+def _jerk(tau, c):
+    """Acceleration (m/s²) and its rate (m/s³) of the closed-form motion ``c`` at ``tau``."""
+    a, wd, om, ac, as_ = c[5], c[6], c[7], c[8], c[9]
+    x, v, acc = _main(tau, c)
+    xh0, vh0 = c[1], c[2]
+    e = math.exp(-a * tau)
+    cw = math.cos(wd * tau)
+    sw = math.sin(wd * tau)
+    b = (vh0 + a * xh0) / wd
+    xh = e * (xh0 * cw + b * sw)
+    vh = e * ((b * wd - a * xh0) * cw - (xh0 * wd + a * b) * sw)
+    ah = -2.0 * a * vh - (a * a + wd * wd) * xh
+    jh = -2.0 * a * ah - (a * a + wd * wd) * vh
+    t = c[0] + tau
+    vp = om * (as_ * math.cos(om * t) - ac * math.sin(om * t))
+    return acc, jh - om * om * vp
+
+
+@njit(cache=True)
+def _bound4(c, tau):
+    """Bound on ``|x''''|`` (m/s⁴) of the motion ``c`` from ``tau`` on."""
+    a, wd, om = c[5], c[6], c[7]
+    x0, v0 = c[1], c[2]
+    r = math.sqrt(x0 * x0 + ((v0 + a * x0) / wd) ** 2)
+    wn2 = a * a + wd * wd
+    return r * math.exp(-a * tau) * wn2 * wn2 + om ** 4 * math.sqrt(c[8] * c[8] + c[9] * c[9])
+
+
+@njit(cache=True)
+def _release(c, tau_end, sw):
+    """First ``tau`` in (0, tau_end] where ``sw x''`` turns >= 0 (the wall stops pushing): (found, tau)."""
+    hmax = 0.25 * 2.0 * math.pi / max(c[6], c[7])
+    hmin = 1e-10 * hmax
+    ta = 0.0
+    ga, gpa = _jerk(0.0, c)
+    ga *= sw
+    gpa *= sw
+    if ga >= 0.0:
+        return True, 0.0
+    while ta < tau_end:
+        h = min(hmax, tau_end - ta)
+        # |g''| = |x''''| bounds the curvature of g = sw x''
+        lb = _bound4(c, ta) / max(c[5] * c[5] + c[6] * c[6], 1e-300) ** 0.0  # (x'''' bound)
+        while True:
+            tb = ta + h
+            gb, gpb = _jerk(tb, c)
+            gb *= sw
+            gpb *= sw
+            mono = abs(gpa) > lb * h
+            if gb >= 0.0:
+                if mono or h <= hmin:
+                    return True, _brent(3, ta, tb, sw * ga, sw * gb, c)
+                h *= 0.5
+                continue
+            q = 0.5 * lb * h * h
+            if mono or ga + gpa * h + q < 0.0 or gb - gpb * h + q < 0.0 or h <= hmin:
+                break
+            h *= 0.5
+        ta = tb
+        ga, gpa = gb, gpb
+    return False, tau_end
+
+
+@njit(cache=True)
+def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
+    """Advance the forced damper from ``t0`` to ``t1`` s (state ``st`` updated in place).
+
+    ``restitution = -1`` integrates compliant contacts (event solver); ``restitution >= 0``
+    applies instantaneous impacts with that coefficient (impact map; ``restitution`` > 1 is
+    refused upstream); ``restitution = -2`` applies instantaneous impacts with the restitution
+    of the compliant contact of the two masses alone at each approach speed. New impact rows are
+    written from row ``n``. ``extrema`` tracks the largest and smallest x in ``acc[3:5]``.
+    ``st[4] = 2`` marks the impact mass stuck on wall ``st[5]`` (impact map, module docstring).
+    Returns ``(n, status)``.
+    """
+    M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]
+    meff = m * M / (m + M)
+    a = C / (2.0 * M)
+    wd = math.sqrt(K / M - a * a)
+    work = np.zeros((6, _NY))
+    kst = np.zeros((_NS + 1, _NY))
+    c = np.zeros(11)
+    c[10] = hg
+    cs = np.zeros(11)  # the two masses moving together
+    cs[10] = hg
+    a_s = C / (2.0 * (M + m))
+    wd_s = math.sqrt(max(K / (M + m) - a_s * a_s, 0.0))
+    u_stick = fcs[5] if wd_s > 0.0 else 0.0
+    t = t0
+    status = STATUS_OK
+    while t < t1:
+        if st[4] > 1.5:  # stuck on wall st[5]: one oscillator of mass M + m until the wall stops pushing
+            sw = st[5]
+            _flight_coeffs(cs, t, st[0], st[1], st[2], st[3], a_s, wd_s, fcs)
+            found, tau = _release(cs, t1 - t, sw)
+            wk, dc = _flight_energy(cs, tau, fcs, C)
+            acc[0] += wk
+            acc[1] += dc
+            if extrema:
+                _flight_extrema(cs, tau, acc)
+            x, v, _ = _main(tau, cs)
+            st[0] = x
+            st[1] = v
+            st[2] = x + sw * hg
+            st[3] = v
+            if not found:
+                break
+            t = t + tau
+            st[4] = 0.0
+            # the gap opens as G'''(0) tau^3 / 6: follow the flight unchecked while G > 0 is certain
+            _flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc)
+            _, jk = _jerk(0.0, c)
+            ts = 2.0 * sw * jk / _bound4(c, 0.0) if sw * jk > 0.0 else 0.0
+            ts = min(ts, t1 - t)
+            if ts > 0.0:
+                wk, dc = _flight_energy(c, ts, fc, C)
+                acc[0] += wk
+                acc[1] += dc
+                if extrema:
+                    _flight_extrema(c, ts, acc)
+                x, v, _ = _main(ts, c)
+                st[0] = x
+                st[1] = v
+                st[2] = st[2] + st[3] * ts
+                t = t + ts
+            continue
+        if st[4] > 0.5:  # inside a contact: integrate it
+            sw = st[5]
+            ended, stc, peak, yc = _contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, work, kst)
+            acc[0] += yc[8]
+            acc[1] += yc[7]
+            acc[2] += yc[6]
+            if extrema:
+                acc[3] = max(acc[3], st[0], yc[1])
+                acc[4] = min(acc[4], st[0], yc[1])
+            r = n - 1
+            impacts[r, 4] += yc[0]
+            impacts[r, 5] = max(impacts[r, 5], peak)
+            impacts[r, 6] += yc[5]
+            impacts[r, 7] += yc[6]
+            xi = max(yc[3], 0.0)
+            st[0] = yc[1]
+            st[1] = yc[2]
+            st[2] = yc[1] + sw * (hg + xi * xi)
+            st[3] = yc[2] + sw * yc[4]
+            st[6] = xi
+            st[7] = yc[4]
+            t = t + yc[0]
+            if stc != STATUS_OK:
+                return n, stc
+            if ended:
+                st[4] = 0.0
+                impacts[r, 3] = -yc[4]
+                st[2] = st[0] + sw * hg
+            else:
+                t = t1
+            continue
+        _flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc)
+        found, tau, sw = _scan(c, t1 - t)
+        if found and t + tau >= t1:
+            found = False
+            tau = t1 - t
+        wk, dc = _flight_energy(c, tau, fc, C)
+        acc[0] += wk
+        acc[1] += dc
+        if extrema:
+            _flight_extrema(c, tau, acc)
+        x, v, _ = _main(tau, c)
+        st[0] = x
+        st[1] = v
+        st[2] = st[2] + st[3] * tau
+        if not (math.isfinite(x) and math.isfinite(v)):
+            return n, STATUS_DIVERGED
+        t = t + tau if found else t1
+        if not found:
+            break
+        if n >= max_impacts:
+            return n, STATUS_MAX_IMPACTS
+        u0 = sw * (st[3] - v)
+        if u0 <= 0.0 and restitution != -1.0:  # resting on a wall: instantaneous impacts cannot follow
+            return n, STATUS_MAX_IMPACTS
+        impacts[n, 0] = t
+        impacts[n, 1] = sw
+        impacts[n, 2] = u0
+        if restitution >= 0.0 or restitution < -1.5:  # instantaneous impact
+            e = restitution
+            dur = 0.0
+            peak = 0.0
+            if restitution < 0.0:  # the compliant contact's restitution at this speed
+                e, dur, peak = free_restitution(p, u0, rtol)
+            jimp = (1.0 + e) * meff * u0
+            lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
+            st[1] = v + sw * jimp / M
+            st[3] = st[3] - sw * jimp / m
+            st[2] = st[0] + sw * hg
+            acc[2] += lost
+            impacts[n, 3] = e * u0
+            impacts[n, 4] = dur
+            impacts[n, 5] = peak
+            impacts[n, 6] = jimp
+            impacts[n, 7] = lost
+            n += 1
+            # a Zeno train of impacts on a wall that presses: stick (module docstring)
+            press = sw * (fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t) - K * st[0] - C * st[1]) / M
+            if e * u0 < u_stick and press <= 0.0:
+                vc = (M * st[1] + m * st[3]) / (M + m)
+                extra = 0.5 * meff * (e * u0) ** 2  # the last rebound made plastic
+                acc[2] += extra
+                impacts[n - 1, 3] = 0.0
+                impacts[n - 1, 6] = meff * u0
+                impacts[n - 1, 7] = lost + extra
+                st[1] = vc
+                st[3] = vc
+                st[4] = 2.0
+                st[5] = sw
+            continue
+        for k in range(3, 8):
+            impacts[n, k] = 0.0
+        impacts[n, 3] = math.nan
+        n += 1
+        st[4] = 1.0
+        st[5] = sw
+        st[6] = math.sqrt(max(sw * (st[2] - st[0]) - hg, 0.0))
+        st[7] = u0
+    return n, status
