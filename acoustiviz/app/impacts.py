@@ -100,7 +100,11 @@ def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) ->
         rho = _material("sphere_material", sphere_material).density
     else:
         rho = PAPER_DENSITY
-    return rho * 4.0 / 3.0 * math.pi * radius**3
+    m = rho * 4.0 / 3.0 * math.pi * radius**3
+    if not (0.0 < m < math.inf):
+        raise ParameterError("radius", f"the sphere's mass (density {rho:g} kg/m^3 x volume) is {m:g} kg, not a "
+                                       f"positive finite number: use a radius between 1e-100 m and 1e100 m")
+    return m
 
 
 def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_material=None, surface_material=None,

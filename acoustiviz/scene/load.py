@@ -243,10 +243,21 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     return scene
 
 
+#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key.
+_SETUP_KEYS = {"radius": "sphere.radius_m", "mass": "sphere.mass_kg", "density": "sphere.density_kg_m3",
+               "velocity": "impact.velocity_m_s", "k_hertz": "contact.k_hertz_n_m1_5"}
+
+
 def _check_geometry(scene: Scene) -> None:
     """Listeners in the fluid; grids within the memory cap."""
     src = scene.source
-    conf = scene.configuration()
+    try:
+        conf = scene.configuration()
+    except ParameterError as exc:
+        key = _SETUP_KEYS.get(exc.name)
+        if key is None:
+            raise
+        raise SceneError(src, key, exc.detail) from None
     import numpy as np
 
     for i, (_name, pos) in enumerate(scene.listeners()):
