@@ -14,10 +14,11 @@ import tracemalloc
 import numpy as np
 from _timing import best_of
 
-from acoustiviz.core import approximations, field
+from acoustiviz import field
+from acoustiviz.core import approximations
 from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.images import images_plane
-from acoustiviz.grids import planar_grid
+from acoustiviz.field.grids import planar_grid
 
 A = 0.01905
 
