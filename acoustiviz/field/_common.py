@@ -8,10 +8,10 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive, check_range
 from ..constants import P_REF
-from ..core.contact import HalfSinePulse, SampledPulse
+from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import Configuration
 from ..core.medium import AIR, Medium
-from ..core.radiation import _knot_states, sphere_pole
+from ..core.radiation import _knot_states, hertz_response_table, sphere_pole
 
 __all__ = ["DEFAULT_CUTOFF", "DEFAULT_MEMORY_LIMIT", "P_REF", "MODEL_NAMES", "decay_time", "default_sample_interval"]
 
@@ -40,12 +40,17 @@ def check_config(config):
 def pulse_args(pulse, radius: float, medium: Medium):
     """Flatten a pulse into the kernel's arguments."""
     s = sphere_pole(radius, medium)
+    notab = np.zeros((1, 1), complex)
     if isinstance(pulse, HalfSinePulse):
         empty = np.zeros(2)
-        return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), s
+        return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), notab, s
+    if isinstance(pulse, HertzPulse):  # knots, 1/piece length, Y at the end, Taylor table
+        knots, tab = hertz_response_table(pulse, s)
+        yend = np.array([tab[-1].sum()])
+        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), yend, tab, s
     xi = np.ascontiguousarray(pulse.times, dtype=float)
     acc = np.ascontiguousarray(pulse.acceleration_samples, dtype=float)
-    return 1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), s
+    return 1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), notab, s
 
 
 def decay_time(radius: float, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF) -> float:

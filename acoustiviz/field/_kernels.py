@@ -1,8 +1,10 @@
 """Numba kernels of the field evaluator: one sphere's pressure added onto a uniform time grid.
 
 The kernels take a pulse flattened by :func:`acoustiviz.field._common.pulse_args` (``kind`` 0: the
-half-sine in closed form; 1: a piecewise-linear pulse with its exact knot states) and the
-geometry of :func:`acoustiviz.field.sources.source_geometry`. Times in s, pressures in Pa.
+half-sine in closed form; 1: a piecewise-linear pulse with its exact knot states; 2: the exact
+Hertz pulse as Taylor polynomials of ``Y`` per piece, from
+:func:`acoustiviz.core.radiation.hertz_response_table`) and the geometry of
+:func:`acoustiviz.field.sources.source_geometry`. Times in s, pressures in Pa.
 """
 
 from __future__ import annotations
@@ -59,7 +61,7 @@ def _y_sampled(tr, xi, acc, yk, s):  # pragma: no cover - compiled
 
 
 @_njit(cache=True)
-def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, s, tail):  # pragma: no cover
+def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail):  # pragma: no cover
     """Add one sphere's pressure to ``buf[k]`` at ``t0 + k dt``; return the touched index range."""
     m = buf.size
     end = tau if kind == 0 else xi[xi.size - 1]
@@ -87,11 +89,28 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, s
                 e *= de
                 f *= dF
         yend = coef * w * (1.0 + np.exp(s * tau))
-    else:
+    elif kind == 1:
         for k in range(k0, kt):
             y = _y_sampled(t0 + k * dt - delay, xi, acc, yk, s)
             buf[k] += p0 * (cre * y.real - cim * y.imag)
         yend = yk[yk.size - 1]
+    else:  # exact Hertz pulse: Taylor polynomial of Y on each piece between the knots xi
+        nt = tab.shape[1]
+        if kt > k0:
+            q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
+            q = min(max(q, 0), xi.size - 2)
+            for k in range(k0, kt):
+                tr = t0 + k * dt - delay
+                while q < xi.size - 2 and tr >= xi[q + 1]:
+                    q += 1
+                u = (tr - xi[q]) * acc[q]
+                yr = tab[q, nt - 1].real
+                yi = tab[q, nt - 1].imag
+                for j in range(nt - 2, -1, -1):
+                    yr = yr * u + tab[q, j].real
+                    yi = yi * u + tab[q, j].imag
+                buf[k] += p0 * (cre * yr - cim * yi)
+        yend = yk[0]
     if ke > kt:
         g = yend * np.exp(s * (t0 + kt * dt - delay - end))
         for k in range(kt, ke):
@@ -101,18 +120,19 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, s
 
 
 @_njit(cache=True)
-def _series_kernel(out, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, s, tail):  # pragma: no cover
+def _series_kernel(out, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s, tail):  # pragma: no cover
     n, nimg = delays.shape
     for i in range(n):
         for j in range(nimg):
             _accumulate(
-                out[i], t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], kind, amp, tau, xi, acc, yk, s, tail
+                out[i], t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], kind, amp, tau, xi, acc, yk, tab,
+                s, tail,
             )
 
 
 @_njit(cache=True)
 def _metrics_kernel(
-    res, buf, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, s, tail
+    res, buf, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s, tail
 ):  # pragma: no cover
     """Per point: max p, min p, sum p² over the point's grid ``t0[i] + k dt``, k < buf.size."""
     n, nimg = delays.shape
@@ -122,7 +142,8 @@ def _metrics_kernel(
         hi = 0
         for j in range(nimg):
             a, b = _accumulate(
-                buf, t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], kind, amp, tau, xi, acc, yk, s, tail
+                buf, t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], kind, amp, tau, xi, acc, yk, tab,
+                s, tail,
             )
             if b > a:
                 lo = min(lo, a)

@@ -71,7 +71,7 @@ def iter_time_series(
     block : (stop - start, m) ndarray
         Pressure in Pa.
     """
-    (kind, amp, tau, xi, acc, yk, s), tail = prepare(pulse, config, medium, cutoff)
+    (kind, amp, tau, xi, acc, yk, tab, s), tail = prepare(pulse, config, medium, cutoff)
     pts = check_points("points", points)
     tt = np.atleast_1d(np.asarray(t, dtype=float))
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
@@ -86,17 +86,17 @@ def iter_time_series(
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
         out = np.zeros((stop - start, tt.size))
-        _series_chunk(out, pulse, tt, dt, pts[start:stop], config, medium, (kind, amp, tau, xi, acc, yk, s), tail)
+        _series_chunk(out, pulse, tt, dt, pts[start:stop], config, medium, (kind, amp, tau, xi, acc, yk, tab, s), tail)
         yield start, stop, out
 
 
 def _series_chunk(out, pulse, tt, dt, sub, config, medium, pargs, tail):
     """Fill the zeroed ``out`` (len(sub), m) with the pressure in Pa at ``sub`` and times ``tt``."""
-    kind, amp, tau, xi, acc, yk, s = pargs
+    kind, amp, tau, xi, acc, yk, tab, s = pargs
     delay, p0, cre, cim, inside = chunk_geometry(sub, config, medium)
     if dt is not None:
         t0 = np.full(sub.shape[0], tt[0])
-        _series_kernel(out, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, s, tail)
+        _series_kernel(out, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail)
     else:
         for j in range(delay.shape[1]):
             y = pulse_response(pulse, tt[None, :] - delay[:, j : j + 1], radius=config.radius, medium=medium)

@@ -153,7 +153,7 @@ def field_metrics(
     -----
     Paper eqs 12-14; the SPL of paper Figure 3 is ``peak_spl_db``.
     """
-    (kind, amp, tau, xi, acc, yk, s), tail = prepare(pulse, config, medium, cutoff)
+    (kind, amp, tau, xi, acc, yk, tab, s), tail = prepare(pulse, config, medium, cutoff)
     pts = check_points("points", points)
     limit = check_positive("memory_limit", memory_limit, "B")
     n = pts.shape[0]
@@ -219,13 +219,13 @@ def field_metrics(
                 )  # fmt: skip
                 models[lo:hi][sel] = code
         if np.all(exact):
-            _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, s, tail)
+            _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail)
         elif np.any(exact):
             sub = np.empty((int(exact.sum()), 3))
             _metrics_kernel(
                 sub, buf, np.ascontiguousarray(t0[exact]), dt, np.ascontiguousarray(delay[exact]),
                 np.ascontiguousarray(p0[exact]), np.ascontiguousarray(cre[exact]),
-                np.ascontiguousarray(cim[exact]), kind, amp, tau, xi, acc, yk, s, tail,
+                np.ascontiguousarray(cim[exact]), kind, amp, tau, xi, acc, yk, tab, s, tail,
             )  # fmt: skip
             res[exact] = sub
         res[inside] = np.nan
