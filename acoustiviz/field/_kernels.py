@@ -131,10 +131,131 @@ def _series_kernel(out, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc
 
 
 @_njit(cache=True)
+def _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
+    """Exact pulse response ``Y`` in m/s at one retarded time ``tr`` in s."""
+    if tr < 0.0:
+        return 0j
+    if kind == 0:
+        w = math.pi / tau
+        coef = amp / (s * s + w * w)
+        if tr < tau:
+            return coef * (-s * math.sin(w * tr) - w * math.cos(w * tr) + w * np.exp(s * tr))
+        return coef * w * (np.exp(s * (tr - tau)) + np.exp(s * tr))
+    if kind == 1:
+        return _y_sampled(tr, xi, acc, yk, s)
+    end = xi[xi.size - 1]
+    if tr >= end:
+        return np.exp(s * (tr - end)) * yk[0]
+    q = np.searchsorted(xi, tr, side="right") - 1
+    q = min(max(q, 0), xi.size - 2)
+    u = (tr - xi[q]) * acc[q]
+    nt = tab.shape[1]
+    y = tab[q, nt - 1]
+    for j in range(nt - 2, -1, -1):
+        y = y * u + tab[q, j]
+    return y
+
+
+@_njit(cache=True)
+def _p_at(t, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
+    """Pressure in Pa at time ``t`` in s of all images of one point (no tail cut)."""
+    total = 0.0
+    for j in range(delays.size):
+        if p0s[j] != 0.0:
+            y = _y_at(t - delays[j], kind, amp, tau, xi, acc, yk, tab, s)
+            total += p0s[j] * (cres[j] * y.real - cims[j] * y.imag)
+    return total
+
+
+@_njit(cache=True)
+def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover
+    """Largest ``sign · p`` in Pa on ``[max(lo, tk - dt), min(hi, tk + dt)]`` by Brent's method.
+
+    A bounded Brent search (golden section with parabolic steps, the algorithm of SciPy's
+    ``fminbound``) in the local variable ``x = (t - tk)/dt`` to ``|Δx| < 1e-9``; returns the
+    refined value, never below the sample ``sign · p(tk)``.
+    """
+    a = max(lo - tk, -dt) / dt
+    b = min(hi - tk, dt) / dt
+    best = sign * _p_at(tk, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s)
+    if not b > a:
+        return best
+    sqrt_eps = 1.4901161193847656e-08
+    gm = 0.5 * (3.0 - math.sqrt(5.0))
+    xatol = 1e-9
+    fulc = a + gm * (b - a)
+    nfc = fulc
+    xf = fulc
+    rat = 0.0
+    e = 0.0
+    x = xf
+    fx = -sign * _p_at(tk + x * dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s)
+    ffulc = fx
+    fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+    tol2 = 2.0 * tol1
+    for _ in range(200):
+        if abs(xf - xm) <= tol2 - 0.5 * (b - a):
+            break
+        golden = True
+        if abs(e) > tol1:
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r = e
+            e = rat
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
+                rat = p / q
+                x = xf + rat
+                if (x - a) < tol2 or (b - x) < tol2:
+                    rat = tol1 if xm >= xf else -tol1
+            else:
+                golden = True
+        if golden:
+            e = (a - xf) if xf >= xm else (b - xf)
+            rat = gm * e
+        step = max(abs(rat), tol1)
+        x = xf + (step if rat >= 0.0 else -step)
+        fu = -sign * _p_at(tk + x * dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s)
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = xf, fx
+            xf, fx = x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc, ffulc = nfc, fnfc
+                nfc, fnfc = x, fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+        tol2 = 2.0 * tol1
+    return max(best, -fx)
+
+
+@_njit(cache=True)
 def _metrics_kernel(
-    res, buf, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s, tail
+    res, buf, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s, tail, refine
 ):  # pragma: no cover
-    """Per point: max p, min p, sum p² over the point's grid ``t0[i] + k dt``, k < buf.size."""
+    """Per point: max p, min p, sum p² over the point's grid ``t0[i] + k dt``, k < buf.size.
+
+    With ``refine`` the extremes are refined between the samples (:func:`_refine`) inside
+    ``[t0[i], t0[i] + (m - 1) dt]``.
+    """
     n, nimg = delays.shape
     m = buf.size
     for i in range(n):
@@ -150,16 +271,28 @@ def _metrics_kernel(
                 hi = max(hi, b)
         pmax = 0.0
         pmin = 0.0
+        kmax = -1
+        kmin = -1
         ssq = 0.0
         for k in range(lo, hi):
             v = buf[k]
             if v > pmax:
                 pmax = v
+                kmax = k
             if v < pmin:
                 pmin = v
+                kmin = k
             ssq += v * v
             buf[k] = 0.0
+        if refine:
+            wlo = t0[i]
+            whi = t0[i] + (m - 1) * dt
+            if kmax >= 0:
+                pmax = _refine(1.0, t0[i] + kmax * dt, dt, wlo, whi, delays[i], p0s[i], cres[i], cims[i], kind, amp,
+                               tau, xi, acc, yk, tab, s)
+            if kmin >= 0:
+                pmin = -_refine(-1.0, t0[i] + kmin * dt, dt, wlo, whi, delays[i], p0s[i], cres[i], cims[i], kind,
+                                amp, tau, xi, acc, yk, tab, s)
         res[i, 0] = pmax
         res[i, 1] = pmin
         res[i, 2] = ssq
-

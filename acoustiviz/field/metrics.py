@@ -41,7 +41,8 @@ class FieldMetrics:
     Attributes
     ----------
     peak_positive, peak_negative : (n,) ndarray
-        Largest and smallest pressure in Pa (``peak_negative <= 0``).
+        Largest and smallest pressure in Pa (``peak_negative <= 0``), of the continuous
+        pressure in the window unless :func:`field_metrics` was told not to refine them.
     rms : (n,) ndarray
         Root-mean-square pressure in Pa over each point's window.
     exposure : (n,) ndarray
@@ -112,6 +113,7 @@ def field_metrics(
     cutoff: float = DEFAULT_CUTOFF,
     memory_limit: float = DEFAULT_MEMORY_LIMIT,
     tolerance=None,
+    refine: bool = True,
 ) -> FieldMetrics:
     """Peaks, RMS and sound exposure at each point, without storing the time series.
 
@@ -144,6 +146,14 @@ def field_metrics(
         Absolute error in Pa allowed per point. When given, each point is served by the
         cheapest model of :mod:`acoustiviz.approximations` whose proven error bound is below
         it (``model`` says which); otherwise the exact closed form serves all points.
+
+    refine : bool
+        Refine each point's largest and smallest pressure between the samples (default): from
+        the extreme sample, a bounded Brent search on the closed form within one sample interval
+        either side (inside the window) to 1e-9 of a sample interval in time, so the peaks are
+        those of the continuous pressure to about 1e-12 relative, whatever the sample interval.
+        Points served by a cheap model (``tolerance``) keep their sampled extremes. RMS and
+        exposure are always sums over the samples.
 
     Returns
     -------
@@ -219,13 +229,13 @@ def field_metrics(
                 )  # fmt: skip
                 models[lo:hi][sel] = code
         if np.all(exact):
-            _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail)
+            _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail, refine)
         elif np.any(exact):
             sub = np.empty((int(exact.sum()), 3))
             _metrics_kernel(
                 sub, buf, np.ascontiguousarray(t0[exact]), dt, np.ascontiguousarray(delay[exact]),
                 np.ascontiguousarray(p0[exact]), np.ascontiguousarray(cre[exact]),
-                np.ascontiguousarray(cim[exact]), kind, amp, tau, xi, acc, yk, tab, s, tail,
+                np.ascontiguousarray(cim[exact]), kind, amp, tau, xi, acc, yk, tab, s, tail, refine,
             )  # fmt: skip
             res[exact] = sub
         res[inside] = np.nan
