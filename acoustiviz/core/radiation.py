@@ -261,7 +261,7 @@ def _split_pieces(breaks, coef, m: int):
     return new_breaks, out.reshape(n * m, deg + 1)
 
 
-def hertz_response_table(pulse: HertzPulse, s: complex):
+def hertz_response_table(pulse: HertzPulse, s: complex, *, split: int = 1, rtol: float = 1e-19):
     """Exact ``Y`` of a Hertz pulse as a Taylor polynomial on each piece of the contact.
 
     ``Y' = s Y + A`` is solved exactly on each piece ``[t_k, t_k + h_k]`` of the piecewise
@@ -276,18 +276,24 @@ def hertz_response_table(pulse: HertzPulse, s: complex):
         The pulse.
     s : complex
         The sphere's pole (:func:`sphere_pole`) in 1/s.
+    split : int
+        Cut every piece into at least this many (shorter pieces need fewer terms).
+    rtol : float
+        Terms below ``rtol · max|Y|`` at the end of a piece's series are dropped.
 
     Returns
     -------
     knots : (K + 1,) ndarray
         Piece boundaries in s (``knots[-1]`` is the duration).
     table : (K, M) complex ndarray
-        ``β_m`` of each piece in m/s, trailing negligible terms dropped.
+        ``β_m`` of each piece in m/s (zero beyond each piece's own number of terms).
+    terms : (K,) ndarray of int
+        Number of terms kept in each piece.
     """
     tau = pulse.duration
     breaks, coef = hertz_shape_pieces()
     hmax = float(np.max(np.diff(breaks))) * tau
-    m = max(1, math.ceil(abs(s) * hmax / _TAYLOR_STEP))
+    m = max(int(split), math.ceil(abs(s) * hmax / _TAYLOR_STEP))
     breaks, coef = _split_pieces(breaks, coef, m)
     knots = breaks * tau
     h = np.diff(knots)
@@ -310,13 +316,15 @@ def hertz_response_table(pulse: HertzPulse, s: complex):
         acc = grow[k] * acc + drive[k]
         y[k + 1] = acc
     table = y[:-1, None] * hom + par
-    size = np.max(np.abs(table), axis=0)
-    keep = int(np.nonzero(size > 1e-19 * max(float(np.abs(y).max()), 1e-300))[0].max()) + 1
-    return knots, np.ascontiguousarray(table[:, :keep])
+    big = np.abs(table) > rtol * max(float(np.abs(y).max()), 1e-300)
+    terms = np.where(big.any(axis=1), nt - np.argmax(big[:, ::-1], axis=1), 1)
+    table[np.arange(nt)[None, :] >= terms[:, None]] = 0.0
+    keep = int(terms.max())
+    return knots, np.ascontiguousarray(table[:, :keep]), terms.astype(np.int64)
 
 
 def _hertz_response(pulse: HertzPulse, s: complex, tr: np.ndarray) -> np.ndarray:
-    knots, table = hertz_response_table(pulse, s)
+    knots, table, _ = hertz_response_table(pulse, s)
     end = knots[-1]
     y = np.zeros(tr.shape, dtype=complex)
     during = (tr >= 0) & (tr < end)

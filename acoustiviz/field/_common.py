@@ -21,6 +21,10 @@ DEFAULT_CUTOFF = 1e-10
 DEFAULT_MEMORY_LIMIT = 256 * 2**20
 #: Model names when no tolerance is given: the exact closed form serves every point.
 MODEL_NAMES = ("exact",)
+#: Pieces of the exact Hertz pulse's Taylor table cut this many times for the kernels, and the
+#: size (relative to max|Y|) below which its terms are dropped: ~9 terms per sample, error < 1e-13.
+_HERTZ_SPLIT = 4
+_HERTZ_RTOL = 1e-15
 #: Largest number of points handled per chunk (keeps the geometry arrays in cache).
 _MAX_CHUNK = 65536
 
@@ -44,9 +48,9 @@ def pulse_args(pulse, radius: float, medium: Medium):
     if isinstance(pulse, HalfSinePulse):
         empty = np.zeros(2)
         return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), notab, s
-    if isinstance(pulse, HertzPulse):  # knots, 1/piece length, Y at the end, Taylor table
-        knots, tab = hertz_response_table(pulse, s)
-        yend = np.array([tab[-1].sum()])
+    if isinstance(pulse, HertzPulse):  # knots, 1/piece length, Y at the end and terms per piece, Taylor table
+        knots, tab, terms = hertz_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
+        yend = np.array([tab[-1].sum(), *terms])
         return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), yend, tab, s
     xi = np.ascontiguousarray(pulse.times, dtype=float)
     acc = np.ascontiguousarray(pulse.acceleration_samples, dtype=float)

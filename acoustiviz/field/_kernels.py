@@ -94,8 +94,7 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, t
             y = _y_sampled(t0 + k * dt - delay, xi, acc, yk, s)
             buf[k] += p0 * (cre * y.real - cim * y.imag)
         yend = yk[yk.size - 1]
-    else:  # exact Hertz pulse: Taylor polynomial of Y on each piece between the knots xi
-        nt = tab.shape[1]
+    else:  # exact Hertz pulse: Taylor polynomial of Y on each piece between the knots xi (yk[1 + q] terms)
         if kt > k0:
             q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
             q = min(max(q, 0), xi.size - 2)
@@ -104,6 +103,7 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, t
                 while q < xi.size - 2 and tr >= xi[q + 1]:
                     q += 1
                 u = (tr - xi[q]) * acc[q]
+                nt = int(yk[1 + q].real)
                 yr = tab[q, nt - 1].real
                 yi = tab[q, nt - 1].imag
                 for j in range(nt - 2, -1, -1):
@@ -149,7 +149,7 @@ def _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compil
     q = np.searchsorted(xi, tr, side="right") - 1
     q = min(max(q, 0), xi.size - 2)
     u = (tr - xi[q]) * acc[q]
-    nt = tab.shape[1]
+    nt = int(yk[1 + q].real)
     y = tab[q, nt - 1]
     for j in range(nt - 2, -1, -1):
         y = y * u + tab[q, j]
