@@ -98,18 +98,38 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, t
         if kt > k0:
             q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
             q = min(max(q, 0), xi.size - 2)
-            for k in range(k0, kt):
-                tr = t0 + k * dt - delay
-                while q < xi.size - 2 and tr >= xi[q + 1]:
-                    q += 1
-                u = (tr - xi[q]) * acc[q]
+            k = k0
+            while k < kt:
+                kend = kt if q == xi.size - 2 else min(kt, int(math.ceil((delay + xi[q + 1] - t0) / dt)))
                 nt = int(yk[1 + q].real)
-                yr = tab[q, nt - 1].real
-                yi = tab[q, nt - 1].imag
-                for j in range(nt - 2, -1, -1):
-                    yr = yr * u + tab[q, j].real
-                    yi = yi * u + tab[q, j].imag
-                buf[k] += p0 * (cre * yr - cim * yi)
+                base = t0 - delay - xi[q]
+                inv = acc[q]
+                kk = k
+                while kk + 1 < kend:  # two samples at a time: four independent Horner chains
+                    u = (base + kk * dt) * inv  # u may leave [0, 1] by rounding: the polynomial is smooth there
+                    v = u + dt * inv
+                    ar = br = tab[q, nt - 1].real
+                    ai = bi = tab[q, nt - 1].imag
+                    for j in range(nt - 2, -1, -1):
+                        cr = tab[q, j].real
+                        ci = tab[q, j].imag
+                        ar = ar * u + cr
+                        ai = ai * u + ci
+                        br = br * v + cr
+                        bi = bi * v + ci
+                    buf[kk] += p0 * (cre * ar - cim * ai)
+                    buf[kk + 1] += p0 * (cre * br - cim * bi)
+                    kk += 2
+                if kk < kend:
+                    u = (base + kk * dt) * inv
+                    ar = tab[q, nt - 1].real
+                    ai = tab[q, nt - 1].imag
+                    for j in range(nt - 2, -1, -1):
+                        ar = ar * u + tab[q, j].real
+                        ai = ai * u + tab[q, j].imag
+                    buf[kk] += p0 * (cre * ar - cim * ai)
+                k = max(k, kend)
+                q += 1
         yend = yk[0]
     if ke > kt:
         g = yend * np.exp(s * (t0 + kt * dt - delay - end))
