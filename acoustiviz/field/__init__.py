@@ -16,7 +16,11 @@ pulse response of :func:`acoustiviz.core.radiation.pulse_response`. The evaluato
   ``cutoff · |P0||C| max|Y|`` for each image;
 * on a uniform time grid advances ``exp(i ω t')`` and ``exp(s t')`` by one complex multiply per
   sample (a numba kernel), the closed form being re-entered exactly at the start of each
-  interval; the sampled (Hertz) pulse is evaluated exactly per sample inside the pulse;
+  interval; the exact Hertz pulse is evaluated per sample from the Taylor polynomials of ``Y``
+  on the pieces of :func:`acoustiviz.core.radiation.hertz_response_table` (no interpolation;
+  about the half-sine's cost), a sampled pulse exactly over its piecewise-linear form;
+* reports the peaks of the continuous pressure: each point's extreme samples are refined by a
+  bounded Brent search on the closed form (:func:`field_metrics`, ``refine``);
 * processes the points in chunks so that its working memory stays under ``memory_limit``
   bytes (default 256 MiB); peak and RMS metrics reduce each point's series on the fly and never
   hold the series of all points.

@@ -4,7 +4,8 @@ The evaluator computes each point only inside its own retarded window: ``Y(t') =
 ``t' < 0``, and after the pulse (length ``T``) ``Y(t') = exp(s (t' - T)) Y(T)`` decays like
 ``exp(-c (t' - T)/a)``; it is dropped once that factor is below ``cutoff`` (default 1e-10, i.e.
 ``23 a/c`` after the pulse). On a uniform time grid a numba kernel advances ``exp(i ω t')`` and
-``exp(s t')`` by one complex multiply per sample; other grids use the vectorised closed form of
+``exp(s t')`` by one complex multiply per sample (the exact Hertz pulse: a short Taylor polynomial
+per sample); other grids use the vectorised closed form of
 :func:`acoustiviz.core.radiation.pulse_response`. Points are processed in chunks within
 ``memory_limit`` bytes. Times in s from the start of contact, points in m, pressures in Pa.
 """
