@@ -153,12 +153,38 @@ def pulse_table(quick: bool) -> None:
     print()
 
 
+def exposure_table(quick: bool) -> None:
+    """Exposure of the whole response with no time grid (field.exposure) on the corner, against field_metrics."""
+    imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3)
+    cfg = configuration("wall-floor", A, wall_distance=0.1)
+    n = 100_000 if quick else 1_000_000
+    pts = np.random.default_rng(1).uniform([0.05, -0.5, 0.05], [1.0, 0.5, 1.0], (n, 3))
+    print(f"exposure (SEL) of the whole response without a time grid, wall-floor corner, {n:,} points "
+          "(CPU s, best of 3)")
+    hdr = (f"{'pulse':>10} {'setup s':>8} {'exposure s':>11} {'points/s':>10} "
+           f"{'vs field_metrics (dt = a/c/256)':>32}")
+    print(hdr)
+    print("-" * len(hdr))
+    for kind in ("half-sine", "hertz"):
+        pulse = acceleration_pulse(imp, kind)
+        field.exposure(pulse, pts[:10], cfg)  # compile
+        setup = _cpu_best_of(lambda pulse=pulse: field.pulse_correlations(pulse, A), 1)
+        corr = field.pulse_correlations(pulse, A)
+        el = _cpu_best_of(lambda pulse=pulse, corr=corr: field.exposure(pulse, pts, cfg, correlations=corr), 3)
+        e = field.exposure(pulse, pts[:500], cfg, correlations=corr)
+        fm = field.field_metrics(pulse, pts[:500], cfg, sample_interval=A / AIR.c / 256)
+        err = float(np.max(np.abs(e / fm.exposure - 1)))
+        print(f"{kind:>10} {setup:8.3f} {el:11.3f} {n / el:10.3e} {err:32.1e}")
+    print()
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small grids only (seconds)")
     parser.add_argument("--pulses-only", action="store_true", help="only the configuration x pulse table")
     args = parser.parse_args(argv)
     pulse_table(args.quick)
+    exposure_table(args.quick)
     if args.pulses_only:
         return 0
     pulse, cfg = _scene()

@@ -212,3 +212,25 @@ def test_directivity_peaks_are_refined():
     tt = d.metrics.window_start[0] + np.arange(0.0, d.metrics.window, 2e-9)
     dense = np.abs(_direct(pulse, tt, x[None, :], cfg)[0])
     assert abs(d.peak[0] / dense.max() - 1) < 1e-8
+
+
+@pytest.mark.parametrize("kind", ["half-sine", "hertz"])
+def test_exposure_without_a_time_grid_matches_quadrature(kind):
+    # the exposure from correlations of Y at the image delays against adaptive quadrature of p(t)^2,
+    # p from the direct sum of free-field spheres; and the Riemann sum of field_metrics converges to it
+    from scipy.integrate import quad
+
+    cfg = CONFIGS["corner"]
+    pulse = acceleration_pulse(IMPACT, kind)
+    pts = np.array([[0.3, 0.1, 0.2], [0.02, -0.01, 0.03]])
+    got = field.exposure(pulse, pts, cfg)
+    fine = field.field_metrics(pulse, pts, cfg, sample_interval=A / field.AIR.c / 256)
+    for i, x in enumerate(pts):
+        d = field.source_geometry(x[None, :], cfg)[0][0]
+        cuts = np.unique(np.concatenate([np.linspace(d.min(), d.max() + IMPACT.duration + 50 * A / field.AIR.c, 60),
+                                         d, d + IMPACT.duration]))
+        ref = sum(quad(lambda t, x=x: _direct(pulse, [t], x[None, :], cfg)[0, 0] ** 2, a, b, epsabs=0,
+                       epsrel=1e-12, limit=200)[0] for a, b in zip(cuts[:-1], cuts[1:], strict=True))
+        assert abs(got[i] / ref - 1) < 1e-10
+        assert abs(fine.exposure[i] / ref - 1) < 1e-8
+    assert np.isnan(field.exposure(pulse, [[0.0, 0.0, A]], cfg)[0])  # the sphere's centre is not in the fluid

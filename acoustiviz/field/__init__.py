@@ -20,15 +20,18 @@ pulse response of :func:`acoustiviz.core.radiation.pulse_response`. The evaluato
   on the pieces of :func:`acoustiviz.core.radiation.hertz_response_table` (no interpolation;
   about the half-sine's cost), a sampled pulse exactly over its piecewise-linear form;
 * reports the peaks of the continuous pressure: each point's extreme samples are refined by a
-  bounded Brent search on the closed form (:func:`field_metrics`, ``refine``);
+  bounded Brent search on the closed form (:func:`field_metrics`, ``refine``); the exposure of
+  the whole response needs no time grid at all (:func:`exposure`, from correlations of ``Y`` at
+  the image delays);
 * processes the points in chunks so that its working memory stays under ``memory_limit``
   bytes (default 256 MiB); peak and RMS metrics reduce each point's series on the fly and never
   hold the series of all points.
 
 Modules: :mod:`.sources` (image-source geometry), :mod:`.evaluate` (time series, snapshots),
-:mod:`.metrics` (peak, RMS, exposure), :mod:`.directivity`, :mod:`.grids` (observer grids) and
-the numba kernels in :mod:`._kernels`. Times are in s from the start of contact, points in m,
-pressures in Pa. The package imports only the physics core and never plots or writes files.
+:mod:`.metrics` (peak, RMS, exposure on a time grid), :mod:`.exposure` (exposure without one),
+:mod:`.directivity`, :mod:`.grids` (observer grids) and the numba kernels in :mod:`._kernels`.
+Times are in s from the start of contact, points in m, pressures in Pa. The package imports only
+the physics core and never plots or writes files.
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ from ._common import (
 )
 from .directivity import Directivity, circle_points, directivity
 from .evaluate import iter_time_series, snapshots, time_series
+from .exposure import PulseCorrelations, exposure, pulse_correlations
 from .metrics import FieldMetrics, field_metrics, spl_db
 from .sources import arrival_windows, image_geometry, source_geometry, waveform_span
 
@@ -61,6 +65,9 @@ __all__ = [
     "time_series",
     "iter_time_series",
     "field_metrics",
+    "exposure",
+    "pulse_correlations",
+    "PulseCorrelations",
     "snapshots",
     "spl_db",
     "Directivity",
