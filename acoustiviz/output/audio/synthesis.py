@@ -61,8 +61,8 @@ class ClickModel:
     pulse : {"half-sine", "impulse-matched", "hertz"}
         The pulse shape (:func:`acoustiviz.contact.acceleration_pulse`); the paper's half-sine by default.
     hertz_samples : int
-        Samples of the exact Hertz pulse (``pulse="hertz"`` only); 513 keeps the pressure within
-        about 2e-5 of the converged pulse's.
+        Tabulated samples of the exact Hertz pulse (``pulse="hertz"`` only), kept for plots; the
+        pressure uses the closed-form pulse whatever their number.
     """
 
     k_hertz: float = 5.6e8
