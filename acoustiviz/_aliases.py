@@ -27,6 +27,7 @@ ALIASES = {
     "audio": "output.audio",
     "_io": "output.writers",
     "pipeline": "app.pipeline",
+    "grids": "field.grids",
 }
 
 

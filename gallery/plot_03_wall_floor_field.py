@@ -19,7 +19,7 @@ from _gallery import fast_mode, output_dir
 from acoustiviz import Impact, acceleration_pulse
 from acoustiviz.core.images import images_wall_floor
 from acoustiviz.field import snapshots
-from acoustiviz.grids import planar_grid
+from acoustiviz.field.grids import planar_grid
 from acoustiviz.output.plot._style import save_figure, style
 
 RADIUS, U0, K_HZ, DENSITY, WALL = 0.01905, 1.4, 5.6e8, 7800.0, 0.05

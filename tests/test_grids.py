@@ -7,7 +7,7 @@ import pytest
 from acoustiviz.images import images_free, images_plane, images_wall_floor
 
 from acoustiviz._validate import ParameterError
-from acoustiviz.grids import planar_grid, spherical_grid, spherical_grid_for
+from acoustiviz.field.grids import planar_grid, spherical_grid, spherical_grid_for
 
 A = 0.01905
 

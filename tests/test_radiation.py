@@ -123,22 +123,59 @@ def test_sampled_half_sine_converges_to_closed_form(ltau):
     assert errs[0] / errs[1] > 10 and errs[1] / errs[2] > 10
 
 
-def test_hertz_pulse_against_quadrature():
-    imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * math.pi * A**3)
-    pulse = acceleration_pulse(imp, "hertz", n_samples=4097)
+def _exact_hertz(imp):
+    """The exact Hertz pulse written out independently: A_max s(θ)^{3/2}, θ = t U0 / α_max."""
     from acoustiviz.contact import hertz_pulse_shape
 
-    class Exact:  # the exact pulse evaluated in closed form for the quadrature
+    class Exact:
         duration = imp.duration
 
         @staticmethod
         def acceleration(t):
             return imp.peak_acceleration * hertz_pulse_shape(t * imp.velocity / imp.max_approach)
 
-    tp = np.linspace(0, imp.duration + 10 / LAM, 31)[1:]
-    ref = _quad_reference(Exact, tp, R, COS45)
-    got = pressure(pulse, tp + (R - A) / C, R, COS45, radius=A)
-    assert np.max(np.abs(got - ref)) / np.max(np.abs(ref)) < 1e-6
+    return Exact
+
+
+@pytest.mark.parametrize(("velocity", "mass", "radius"), [(1.4, 7800 * 4 / 3 * math.pi * A**3, A),
+                                                          (2.0, 0.0405, 0.0107), (0.3, 0.0405, 0.002)])
+def test_hertz_pulse_against_quadrature(velocity, mass, radius):
+    # the pulse response Y of the exact Hertz pulse (no interpolation), at any time, within 1e-9 of its
+    # peak of adaptive quadrature of int exp(s(t'-xi)) A(xi) dxi -- including times in the first and last
+    # thousandth of the contact, where the pulse goes like t^{3/2}; l tau from 11 to 87
+    imp = Impact(velocity=velocity, k_hertz=5.6e8, mass=mass)
+    pulse = acceleration_pulse(imp, "hertz")
+    exact = _exact_hertz(imp)
+    tau, lam = imp.duration, C / radius
+    tp = np.concatenate([np.linspace(0, tau, 26)[1:], tau * np.array([1e-5, 3e-4, 2e-3, 0.9991, 0.99999]),
+                         tau + np.array([1e-9, 0.3, 2.0, 6.0]) / lam])
+    s = complex(-lam, lam)
+    ref = np.zeros(tp.size, complex)
+    for i, x in enumerate(tp):
+        edges = np.linspace(0.0, min(x, tau), 17)
+        pieces = list(zip(edges[:-1], edges[1:], strict=True))
+        for part in (np.real, np.imag):
+            v = sum(quad(lambda xi, x=x, part=part: part(np.exp(s * (x - xi))) * float(exact.acceleration(xi)),
+                         e0, e1, limit=200, epsabs=0, epsrel=1e-13)[0] for e0, e1 in pieces)
+            ref[i] += v if part is np.real else 1j * v
+    got = pulse_response(pulse, tp, radius=radius)
+    assert np.max(np.abs(got - ref)) / np.max(np.abs(ref)) < 1e-9
+    # and the pressure at a near and a far observer, against quadrature of eq 11 literally
+    for r, ct in [(1.5 * radius, -0.5), (R, COS45)]:
+        pref = _quad_reference(exact, tp[:25], r, ct, a=radius)
+        pgot = pressure(pulse, tp[:25] + (r - radius) / C, r, ct, radius=radius)
+        assert np.max(np.abs(pgot - pref)) / np.max(np.abs(pref)) < 1e-9
+
+
+def test_hertz_pulse_is_the_closed_form():
+    imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264)
+    pulse = acceleration_pulse(imp, "hertz", n_samples=33)  # few samples: nothing is interpolated
+    t = np.linspace(-1e-5, imp.duration + 1e-5, 1001)
+    np.testing.assert_allclose(pulse.acceleration(t), _exact_hertz(imp).acceleration(t), rtol=1e-14, atol=0)
+    assert pulse.velocity_change == pytest.approx(imp.impulse / imp.mass, rel=1e-12)  # 2 m_eff U0 / m
+    tp = np.linspace(0, imp.duration, 50)
+    fine = acceleration_pulse(imp, "hertz", n_samples=4097)
+    np.testing.assert_array_equal(pulse_response(pulse, tp, radius=A), pulse_response(fine, tp, radius=A))
 
 
 def test_far_field_dipole_limit():

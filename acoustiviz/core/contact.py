@@ -29,6 +29,7 @@ __all__ = [
     "Impact",
     "HalfSinePulse",
     "SampledPulse",
+    "HertzPulse",
     "DampedContact",
     "hertz_stiffness",
     "effective_mass",
@@ -309,6 +310,70 @@ class SampledPulse:
         return float(np.max(np.abs(self.acceleration_samples)))
 
 
+@dataclass(frozen=True, init=False, repr=False, eq=False)
+class HertzPulse(SampledPulse):
+    """The exact undamped Hertz pulse ``A(t) = amplitude · s(θ_c t / duration)^{3/2}``, in closed form.
+
+    ``s^{3/2}`` is :func:`hertz_pulse_shape` (inverse incomplete beta function), so the
+    acceleration is exact at every time. The pulse also carries ``n_samples`` exact samples
+    clustered at both ends (``times``, ``acceleration_samples``) for plots and bounds; the
+    radiation (:func:`acoustiviz.core.radiation.pulse_response`) does not interpolate them.
+
+    Parameters
+    ----------
+    amplitude : float
+        Peak acceleration in m/s².
+    duration : float
+        Contact duration τ in s.
+    n_samples : int
+        Number of tabulated samples (>= 17).
+
+    Examples
+    --------
+    >>> p = HertzPulse(1000.0, 1e-4)
+    >>> round(p.velocity_change / (1000.0 * 1e-4), 6)  # 1.6/θ_c of amplitude x duration
+    0.543609
+    """
+
+    amplitude: float = 0.0
+
+    def __init__(self, amplitude: float, duration: float, n_samples: int = 1025):
+        tau = check_positive("duration", duration, "s")
+        if not math.isfinite(amplitude):
+            raise ParameterError("amplitude", f"must be finite, got {amplitude}")
+        n = int(n_samples)
+        if n < 17 or n != n_samples:
+            raise ParameterError("n_samples", f"must be an integer >= 17, got {n_samples}")
+        u = np.linspace(0.0, 1.0, n)
+        t = tau * 0.5 * (1.0 - np.cos(np.pi * u))  # Chebyshev-like clustering at both ends
+        t[0], t[-1] = 0.0, tau
+        a = float(amplitude) * hertz_pulse_shape(t * (HERTZ_DURATION_CONSTANT / tau))
+        a[0] = a[-1] = 0.0
+        super().__init__(t, a, "hertz")
+        object.__setattr__(self, "amplitude", float(amplitude))
+
+    def __repr__(self) -> str:
+        return f"HertzPulse(amplitude={self.amplitude!r}, duration={self.duration!r}, n_samples={self.times.size})"
+
+    def __reduce__(self):
+        return (type(self), (self.amplitude, self.duration, self.times.size))
+
+    def acceleration(self, t):
+        """Exact acceleration in m/s² at times ``t`` in s (zero outside the contact)."""
+        t = np.asarray(t, dtype=float)
+        return self.amplitude * hertz_pulse_shape(t * (HERTZ_DURATION_CONSTANT / self.duration))
+
+    @property
+    def velocity_change(self) -> float:
+        """Velocity change ∫A dt = 1.6 amplitude τ / θ_c in m/s (``∫ s^{3/2} dθ = 2/(5/4)``)."""
+        return 1.6 * self.amplitude * self.duration / HERTZ_DURATION_CONSTANT
+
+    @property
+    def peak(self) -> float:
+        """Peak acceleration in m/s²."""
+        return abs(self.amplitude)
+
+
 def hertz_pulse_shape(theta):
     """Universal undamped Hertz force shape ``s(θ)^{3/2}`` (peak 1).
 
@@ -350,13 +415,13 @@ def acceleration_pulse(impact: Impact, kind: str = "half-sine", *, n_samples: in
         ``"half-sine"``: the paper's eq 4, peak A_max and duration τ of the Hertz impact; it
         carries about 1.171 times the true impulse. ``"impulse-matched"``: a half-sine of
         duration τ whose area is the Hertz velocity change 2 m_eff U0 / m. ``"hertz"``: the
-        exact Hertz pulse, sampled at ``n_samples`` points clustered at both ends.
+        exact Hertz pulse in closed form (:class:`HertzPulse`).
     n_samples : int, optional
-        Number of samples of the exact pulse (>= 17).
+        Number of tabulated samples of the exact pulse (>= 17), for plots and bounds only.
 
     Returns
     -------
-    HalfSinePulse or SampledPulse
+    HalfSinePulse or HertzPulse
         The pulse; its ``kind`` says which one it is.
     """
     check_choice("pulse", kind, PULSE_KINDS)
@@ -366,16 +431,7 @@ def acceleration_pulse(impact: Impact, kind: str = "half-sine", *, n_samples: in
     if kind == "impulse-matched":
         dv = impact.impulse / impact.mass
         return HalfSinePulse(math.pi * dv / (2.0 * tau), tau, kind)
-    n = int(n_samples)
-    if n < 17:
-        raise ParameterError("n_samples", f"must be >= 17, got {n_samples}")
-    u = np.linspace(0.0, 1.0, n)
-    t = tau * 0.5 * (1.0 - np.cos(np.pi * u))  # Chebyshev-like clustering at both ends
-    t[0], t[-1] = 0.0, tau
-    theta = t * impact.velocity / impact.max_approach
-    a = impact.peak_acceleration * hertz_pulse_shape(theta)
-    a[0] = a[-1] = 0.0
-    return SampledPulse(t, a, "hertz")
+    return HertzPulse(impact.peak_acceleration, tau, n_samples)
 
 
 # --------------------------------------------------------------------------- damping

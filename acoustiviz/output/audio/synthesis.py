@@ -9,8 +9,8 @@ import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
 from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
-from ...core.medium import Medium
-from ...core.radiation import arrival_time, pulse_response, radiation_coefficients
+from ...core.radiation import pulse_response
+from ...field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
 
 __all__ = [
@@ -61,8 +61,8 @@ class ClickModel:
     pulse : {"half-sine", "impulse-matched", "hertz"}
         The pulse shape (:func:`acoustiviz.contact.acceleration_pulse`); the paper's half-sine by default.
     hertz_samples : int
-        Samples of the exact Hertz pulse (``pulse="hertz"`` only); 513 keeps the pressure within
-        about 2e-5 of the converged pulse's.
+        Tabulated samples of the exact Hertz pulse (``pulse="hertz"`` only), kept for plots; the
+        pressure uses the closed-form pulse whatever their number.
     """
 
     k_hertz: float = 5.6e8
@@ -213,20 +213,6 @@ class Rendering:
         }
 
 
-def _source_geometry(points: np.ndarray, sources, radius: float, medium: Medium):
-    """Delays ``(r - a)/c`` in s and complex weights ``P0 C`` in Pa·s/m of each source at each point.
-
-    Returns arrays shaped ``(n_points, n_sources)``.
-    """
-    pos = np.stack([s.position for s in sources])
-    ax = np.stack([s.axis for s in sources])
-    d = points[:, None, :] - pos[None, :, :]
-    r = np.linalg.norm(d, axis=2)
-    ct = np.einsum("psk,sk->ps", d, ax) / r
-    p0, cc = radiation_coefficients(r, ct, radius=radius, medium=medium)
-    return arrival_time(r, radius=radius, medium=medium), p0 * cc
-
-
 def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, listeners, *,
            sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None) -> Rendering:
     """Render an impact sequence into band-limited pressure signals at the listeners.
@@ -297,7 +283,10 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     half = (h.size - 1) // (2 * L)  # filter half-length in output samples
     f_int = float(L * fs)
     tail = _TAIL_DECADES * math.log(10.0) * a / medium.c
-    geom = {w: _source_geometry(pts, wall_sources(scene, w), a, medium) for w in (-1, 1)}
+    geom = {}
+    for w in (-1, 1):  # delays (r - a)/c in s and complex weights P0 C in Pa·s/m, (listeners, sources)
+        delay, p0, c_shape, _ = image_geometry(pts, wall_sources(scene, w), a, medium=medium)
+        geom[w] = (delay, p0 * c_shape)
 
     end = 0.0
     for w, (delay, _) in geom.items():

@@ -12,7 +12,7 @@ from ..._validate import ParameterError, check_choice, check_positive, check_ran
 from ...core.images import Configuration
 from ...core.medium import AIR, Medium
 from ...field import field_metrics
-from ...grids import SphericalGrid, spherical_grid
+from ...field.grids import SphericalGrid, spherical_grid
 from ._common import (
     DEFAULT_SIZE,
     _add_bar,

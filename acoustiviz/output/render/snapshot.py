@@ -11,7 +11,7 @@ from ..._validate import ParameterError, check_choice, check_positive
 from ...core.images import Configuration
 from ...core.medium import AIR, Medium
 from ...field import snapshots
-from ...grids import PlanarGrid, planar_grid
+from ...field.grids import PlanarGrid, planar_grid
 from ._common import (
     _SPHERE_COLOUR,
     DEFAULT_SIZE,

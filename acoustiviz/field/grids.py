@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import ParameterError, check_choice, check_positive
+from .._validate import ParameterError, check_choice, check_positive
 
 __all__ = [
     "REGIONS",

@@ -1,0 +1,133 @@
+"""Shared helpers of the field evaluator: defaults, argument checks, memory chunking, time steps."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._validate import ParameterError, check_positive, check_range
+from ..constants import P_REF
+from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
+from ..core.images import Configuration
+from ..core.medium import AIR, Medium
+from ..core.radiation import _knot_states, hertz_response_table, sphere_pole
+
+__all__ = ["DEFAULT_CUTOFF", "DEFAULT_MEMORY_LIMIT", "P_REF", "MODEL_NAMES", "decay_time", "default_sample_interval"]
+
+#: Relative size of the decaying tail below which a sphere's response is dropped.
+DEFAULT_CUTOFF = 1e-10
+#: Default cap on the evaluator's working memory, in bytes (256 MiB).
+DEFAULT_MEMORY_LIMIT = 256 * 2**20
+#: Model names when no tolerance is given: the exact closed form serves every point.
+MODEL_NAMES = ("exact",)
+#: Pieces of the exact Hertz pulse's Taylor table cut this many times for the kernels, and the
+#: size (relative to max|Y|) below which its terms are dropped: ~9 terms per sample, error < 1e-13.
+_HERTZ_SPLIT = 4
+_HERTZ_RTOL = 1e-15
+#: Largest number of points handled per chunk (keeps the geometry arrays in cache).
+_MAX_CHUNK = 65536
+
+
+def check_pulse(pulse):
+    if not isinstance(pulse, (HalfSinePulse, SampledPulse)):
+        raise ParameterError("pulse", f"expected a HalfSinePulse or SampledPulse, got {type(pulse).__name__}")
+    return pulse
+
+
+def check_config(config):
+    if not isinstance(config, Configuration):
+        raise ParameterError("config", f"expected an images.Configuration, got {type(config).__name__}")
+    return config
+
+
+def pulse_args(pulse, radius: float, medium: Medium):
+    """Flatten a pulse into the kernel's arguments."""
+    s = sphere_pole(radius, medium)
+    notab = np.zeros((1, 1), complex)
+    if isinstance(pulse, HalfSinePulse):
+        empty = np.zeros(2)
+        return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), notab, s
+    if isinstance(pulse, HertzPulse):  # knots, 1/piece length, Y at the end and terms per piece, Taylor table
+        knots, tab, terms = hertz_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
+        yend = np.array([tab[-1].sum(), *terms])
+        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), yend, tab, s
+    xi = np.ascontiguousarray(pulse.times, dtype=float)
+    acc = np.ascontiguousarray(pulse.acceleration_samples, dtype=float)
+    return 1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), notab, s
+
+
+def decay_time(radius: float, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF) -> float:
+    """Time in s after the pulse ends over which a sphere's response is kept.
+
+    The response after the pulse decays like ``exp(-c t/a)``; it is kept until that factor
+    falls to ``cutoff``: ``(a/c) ln(1/cutoff)``.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius a in m.
+    medium : Medium
+        The fluid.
+    cutoff : float
+        Relative amplitude, in (0, 1).
+
+    Returns
+    -------
+    float
+        Tail length in s.
+    """
+    a = check_positive("radius", radius, "m")
+    c = check_range("cutoff", cutoff, 0.0, 1.0, low_open=True, high_open=True)
+    return a / medium.c * math.log(1.0 / c)
+
+
+
+def default_sample_interval(pulse, radius: float, *, medium: Medium = AIR, samples: int = 64) -> float:
+    """A sample interval in s resolving both the pulse and the sphere's decay time.
+
+    ``min(T, a/c) / samples``: ``samples`` points per pulse length ``T`` or per decay time
+    ``a/c`` of the sphere, whichever is shorter.
+    """
+    a = check_positive("radius", radius, "m")
+    if int(samples) < 4:
+        raise ParameterError("samples", f"must be >= 4, got {samples}")
+    return min(check_pulse(pulse).duration, a / medium.c) / int(samples)
+
+
+def uniform_step(t: np.ndarray):
+    """Return the step of a uniform grid, or None if ``t`` is not uniform (to 1e-9 of a step)."""
+    if t.size < 2:
+        return None
+    dt = (t[-1] - t[0]) / (t.size - 1)
+    if not dt > 0:
+        return None
+    if np.max(np.abs(t - (t[0] + dt * np.arange(t.size)))) > 1e-9 * dt:
+        return None
+    return float(dt)
+
+
+def chunk_size(bytes_per_point: float, fixed: float, memory_limit: float, name="memory_limit") -> int:
+    room = memory_limit - fixed
+    if room < bytes_per_point:
+        raise ParameterError(
+            name,
+            f"{memory_limit:.4g} B is too small: the results and fixed buffers need {fixed:.4g} B, plus "
+            f"{bytes_per_point:.4g} B per point of a chunk",
+        )
+    return int(max(1, min(_MAX_CHUNK, room // bytes_per_point)))
+
+
+def geometry_bytes(nimg: int) -> int:
+    # delay, p0, c (complex), r, ct, ra + per-source temporaries (d (n,3), r, ct) and the mask
+    return 8 * (nimg * 9 + 12)
+
+
+def prepare(pulse, config, medium, cutoff):
+    check_pulse(pulse)
+    check_config(config)
+    if not isinstance(medium, Medium):
+        raise ParameterError("medium", f"expected a Medium, got {type(medium).__name__}")
+    tail = decay_time(config.radius, medium=medium, cutoff=cutoff)
+    return pulse_args(pulse, config.radius, medium), tail
+

@@ -1,0 +1,233 @@
+"""Pressure time series and snapshots of a sphere and its images over many points.
+
+The evaluator computes each point only inside its own retarded window: ``Y(t') = 0`` for
+``t' < 0``, and after the pulse (length ``T``) ``Y(t') = exp(s (t' - T)) Y(T)`` decays like
+``exp(-c (t' - T)/a)``; it is dropped once that factor is below ``cutoff`` (default 1e-10, i.e.
+``23 a/c`` after the pulse). On a uniform time grid a numba kernel advances ``exp(i ω t')`` and
+``exp(s t')`` by one complex multiply per sample (the exact Hertz pulse: a short Taylor polynomial
+per sample); other grids use the vectorised closed form of
+:func:`acoustiviz.core.radiation.pulse_response`. Points are processed in chunks within
+``memory_limit`` bytes. Times in s from the start of contact, points in m, pressures in Pa.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import ParameterError, check_points, check_positive
+from ..core.images import Configuration
+from ..core.medium import AIR, Medium
+from ..core.radiation import pulse_response
+from ._common import (
+    DEFAULT_CUTOFF,
+    DEFAULT_MEMORY_LIMIT,
+    check_config,
+    check_pulse,
+    chunk_size,
+    geometry_bytes,
+    prepare,
+    uniform_step,
+)
+from ._kernels import _series_kernel
+from .sources import chunk_geometry
+
+__all__ = ["iter_time_series", "time_series", "snapshots"]
+
+
+def iter_time_series(
+    pulse,
+    t,
+    points,
+    config: Configuration,
+    *,
+    medium: Medium = AIR,
+    cutoff: float = DEFAULT_CUTOFF,
+    memory_limit: float = DEFAULT_MEMORY_LIMIT,
+):
+    """Yield the pressure at consecutive blocks of points, each block within ``memory_limit``.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    t : (m,) array_like
+        Times in s. A uniform grid uses the numba kernel; any other grid the vectorised
+        closed form.
+    points : (n, 3) array_like
+        Observer positions in m. Points outside the fluid (inside the sphere or behind a
+        plane) get NaN.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    cutoff : float
+        Relative size of the dropped tail (see :func:`decay_time`).
+    memory_limit : float
+        Bytes of working memory per block, the yielded block included.
+
+    Yields
+    ------
+    start, stop : int
+        The block covers ``points[start:stop]``.
+    block : (stop - start, m) ndarray
+        Pressure in Pa.
+    """
+    (kind, amp, tau, xi, acc, yk, tab, s), tail = prepare(pulse, config, medium, cutoff)
+    pts = check_points("points", points)
+    tt = np.atleast_1d(np.asarray(t, dtype=float))
+    if tt.ndim != 1 or not np.all(np.isfinite(tt)):
+        raise ParameterError("t", "expected a finite 1-D array of times in s")
+    limit = check_positive("memory_limit", memory_limit, "B")
+    nimg = len(config.sources)
+    dt = uniform_step(tt)
+    per_point = 8 * tt.size + geometry_bytes(nimg)
+    if dt is None:
+        per_point += 8 * tt.size * 6  # retarded times, complex Y, masks of the vectorised path
+    chunk = chunk_size(per_point, 8 * tt.size * 2, limit)
+    for start in range(0, pts.shape[0], chunk):
+        stop = min(start + chunk, pts.shape[0])
+        out = np.zeros((stop - start, tt.size))
+        _series_chunk(out, pulse, tt, dt, pts[start:stop], config, medium, (kind, amp, tau, xi, acc, yk, tab, s), tail)
+        yield start, stop, out
+
+
+def _series_chunk(out, pulse, tt, dt, sub, config, medium, pargs, tail):
+    """Fill the zeroed ``out`` (len(sub), m) with the pressure in Pa at ``sub`` and times ``tt``."""
+    kind, amp, tau, xi, acc, yk, tab, s = pargs
+    delay, p0, cre, cim, inside = chunk_geometry(sub, config, medium)
+    if dt is not None:
+        t0 = np.full(sub.shape[0], tt[0])
+        _series_kernel(out, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail)
+    else:
+        for j in range(delay.shape[1]):
+            y = pulse_response(pulse, tt[None, :] - delay[:, j : j + 1], radius=config.radius, medium=medium)
+            out += p0[:, j : j + 1] * (cre[:, j : j + 1] * y.real - cim[:, j : j + 1] * y.imag)
+            del y
+    out[inside] = np.nan
+
+
+def time_series(
+    pulse,
+    t,
+    points,
+    config: Configuration,
+    *,
+    medium: Medium = AIR,
+    cutoff: float = DEFAULT_CUTOFF,
+    memory_limit: float = DEFAULT_MEMORY_LIMIT,
+):
+    """Pressure in Pa at every point and time, summed over the sphere and its images.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    t : (m,) array_like
+        Times in s from the start of contact.
+    points : (n, 3) array_like
+        Observer positions in m; points outside the fluid get NaN.
+    config : Configuration
+        The sphere and its images (:func:`acoustiviz.images.configuration`).
+    medium : Medium
+        The fluid (default air at 20 °C).
+    cutoff : float
+        Relative size of the dropped tail (see :func:`decay_time`).
+    memory_limit : float
+        Cap in bytes on the working memory *and* the returned array; a request whose result
+        alone exceeds it raises (use :func:`iter_time_series` or :func:`field_metrics`).
+
+    Returns
+    -------
+    (n, m) ndarray
+        Pressure in Pa.
+
+    Notes
+    -----
+    Paper eqs 12-14 summed over images; see the module notes for the windowing and cutoff.
+
+    Examples
+    --------
+    >>> from acoustiviz.core.contact import Impact, acceleration_pulse
+    >>> from acoustiviz.core.images import images_plane
+    >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264))
+    >>> p = time_series(pulse, np.linspace(0, 4e-3, 4001), [[0.495, 0, 0.495]], images_plane(0.01905))
+    >>> p.shape
+    (1, 4001)
+    """
+    pts = check_points("points", points)
+    tt = np.atleast_1d(np.asarray(t, dtype=float))
+    limit = check_positive("memory_limit", memory_limit, "B")
+    need = 8.0 * pts.shape[0] * tt.size
+    if need > limit:
+        raise ParameterError(
+            "memory_limit",
+            f"the result alone needs {need:.4g} B > {limit:.4g} B; use iter_time_series or field_metrics",
+        )
+    pargs, tail = prepare(pulse, config, medium, cutoff)
+    if tt.ndim != 1 or not np.all(np.isfinite(tt)):
+        raise ParameterError("t", "expected a finite 1-D array of times in s")
+    dt = uniform_step(tt)
+    per_point = geometry_bytes(len(config.sources)) + (0 if dt is not None else 8 * tt.size * 6)
+    chunk = chunk_size(per_point, need, limit)
+    out = np.zeros((pts.shape[0], tt.size))
+    for start in range(0, pts.shape[0], chunk):
+        stop = min(start + chunk, pts.shape[0])
+        _series_chunk(out[start:stop], pulse, tt, dt, pts[start:stop], config, medium, pargs, tail)
+    return out
+
+
+
+def snapshots(
+    pulse,
+    times,
+    points,
+    config: Configuration,
+    *,
+    medium: Medium = AIR,
+    memory_limit: float = DEFAULT_MEMORY_LIMIT,
+):
+    """Pressure field p(x, t) over a set of points at a few given times.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    times : (k,) array_like
+        Snapshot times in s.
+    points : (n, 3) array_like
+        Grid points in m (e.g. ``PlanarGrid.points``); points outside the fluid get NaN.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    memory_limit : float
+        Cap in bytes on the working memory and the returned array.
+
+    Returns
+    -------
+    (k, n) ndarray
+        Pressure in Pa, one row per snapshot time.
+    """
+    check_pulse(pulse)
+    check_config(config)
+    pts = check_points("points", points)
+    tt = np.atleast_1d(np.asarray(times, dtype=float))
+    if tt.ndim != 1 or not np.all(np.isfinite(tt)):
+        raise ParameterError("times", "expected a finite 1-D array of times in s")
+    limit = check_positive("memory_limit", memory_limit, "B")
+    need = 8.0 * pts.shape[0] * tt.size
+    per_point = geometry_bytes(len(config.sources)) + 8 * 6
+    chunk = chunk_size(per_point, need, limit)
+    out = np.empty((tt.size, pts.shape[0]))
+    for lo in range(0, pts.shape[0], chunk):
+        hi = min(lo + chunk, pts.shape[0])
+        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
+        for q, tq in enumerate(tt):
+            acc = np.zeros(hi - lo)
+            for j in range(delay.shape[1]):
+                y = pulse_response(pulse, tq - delay[:, j], radius=config.radius, medium=medium)
+                acc += p0[:, j] * (cre[:, j] * y.real - cim[:, j] * y.imag)
+            acc[inside] = np.nan
+            out[q, lo:hi] = acc
+    return out
+

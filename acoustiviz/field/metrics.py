@@ -1,0 +1,254 @@
+"""Peaks, RMS and sound exposure of the pressure at many points, without storing time series."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import ParameterError, check_points, check_positive
+from ..constants import P_REF
+from ..core.images import Configuration
+from ..core.medium import AIR, Medium
+from ._common import (
+    DEFAULT_CUTOFF,
+    DEFAULT_MEMORY_LIMIT,
+    MODEL_NAMES,
+    chunk_size,
+    default_sample_interval,
+    geometry_bytes,
+    prepare,
+    uniform_step,
+)
+from ._kernels import _metrics_kernel
+from .sources import arrival_windows, chunk_geometry
+
+__all__ = ["FieldMetrics", "field_metrics", "spl_db"]
+
+
+def spl_db(pressure_pa):
+    """Sound pressure level ``20 log10(|p| / 20 µPa)`` in dB (``-inf`` for zero)."""
+    p = np.abs(np.asarray(pressure_pa, dtype=float))
+    with np.errstate(divide="ignore"):
+        return 20.0 * np.log10(p / P_REF)
+
+
+@dataclass(frozen=True)
+class FieldMetrics:
+    """Peak, RMS and exposure of the pressure at each point.
+
+    Attributes
+    ----------
+    peak_positive, peak_negative : (n,) ndarray
+        Largest and smallest pressure in Pa (``peak_negative <= 0``), of the continuous
+        pressure in the window unless :func:`field_metrics` was told not to refine them.
+    rms : (n,) ndarray
+        Root-mean-square pressure in Pa over each point's window.
+    exposure : (n,) ndarray
+        Sound exposure ``∫ p² dt`` in Pa²·s over the window.
+    window_start : (n,) ndarray
+        Start of each point's window in s (its first arrival unless a grid was imposed).
+    window : float
+        Length of every point's window in s.
+    sample_interval : float
+        Time step in s used to sample the pressure.
+    model : (n,) ndarray of uint8
+        Code of the model that served each point: an index into ``model_names``.
+    model_names : tuple of str
+        Names of the models (``"exact"`` first; cheaper ones under a tolerance).
+    """
+
+    peak_positive: np.ndarray
+    peak_negative: np.ndarray
+    rms: np.ndarray
+    exposure: np.ndarray
+    window_start: np.ndarray
+    window: float
+    sample_interval: float
+    model: np.ndarray
+    model_names: tuple = ("exact",)
+
+    @property
+    def model_name(self) -> np.ndarray:
+        """Name of the model that served each point, as an array of str."""
+        return np.asarray(self.model_names)[self.model]
+
+    @property
+    def peak_to_peak(self) -> np.ndarray:
+        """Peak-to-peak pressure in Pa."""
+        return self.peak_positive - self.peak_negative
+
+    @property
+    def peak(self) -> np.ndarray:
+        """Largest absolute pressure max |p| in Pa."""
+        return np.maximum(self.peak_positive, -self.peak_negative)
+
+    @property
+    def peak_spl_db(self) -> np.ndarray:
+        """Peak sound pressure level ``20 log10(max|p| / 20 µPa)`` in dB."""
+        return spl_db(self.peak)
+
+    @property
+    def rms_spl_db(self) -> np.ndarray:
+        """Level of the RMS pressure over the window, dB re 20 µPa."""
+        return spl_db(self.rms)
+
+    @property
+    def sel_db(self) -> np.ndarray:
+        """Sound exposure level ``10 log10(∫p² dt / (p_ref² · 1 s))`` in dB re 20 µPa, 1 s."""
+        with np.errstate(divide="ignore"):
+            return 10.0 * np.log10(self.exposure / (P_REF**2 * 1.0))
+
+
+def field_metrics(
+    pulse,
+    points,
+    config: Configuration,
+    *,
+    medium: Medium = AIR,
+    sample_interval=None,
+    window=None,
+    t=None,
+    cutoff: float = DEFAULT_CUTOFF,
+    memory_limit: float = DEFAULT_MEMORY_LIMIT,
+    tolerance=None,
+    refine: bool = True,
+) -> FieldMetrics:
+    """Peaks, RMS and sound exposure at each point, without storing the time series.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    points : (n, 3) array_like
+        Observer positions in m; points outside the fluid get NaN.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    sample_interval : float, optional
+        Time step in s (default :func:`default_sample_interval`, 64 samples per
+        ``min(T, a/c)``).
+    window : float, optional
+        Length in s of each point's window, which starts at the point's first arrival
+        ``min_j (r_j - a)/c``. Default: long enough for every point to hold the whole
+        non-zero response of all images (the largest arrival spread + ``T`` + the tail of
+        :func:`decay_time`). The RMS is ``sqrt(∫_window p² dt / window)``.
+    t : (m,) array_like, optional
+        A uniform time grid in s shared by all points instead of ``window``; the RMS window
+        is then ``[t[0], t[-1] + dt)``.
+    cutoff : float
+        Relative size of the dropped tail (see :func:`decay_time`).
+    memory_limit : float
+        Cap in bytes on working memory plus the returned arrays.
+    tolerance : float, optional
+        Absolute error in Pa allowed per point. When given, each point is served by the
+        cheapest model of :mod:`acoustiviz.approximations` whose proven error bound is below
+        it (``model`` says which); otherwise the exact closed form serves all points.
+
+    refine : bool
+        Refine each point's largest and smallest pressure between the samples (default): from
+        the extreme sample, a bounded Brent search on the closed form within one sample interval
+        either side (inside the window) to 1e-9 of a sample interval in time, so the peaks are
+        those of the continuous pressure to about 1e-12 relative, whatever the sample interval.
+        Points served by a cheap model (``tolerance``) keep their sampled extremes. RMS and
+        exposure are always sums over the samples.
+
+    Returns
+    -------
+    FieldMetrics
+
+    Notes
+    -----
+    Paper eqs 12-14; the SPL of paper Figure 3 is ``peak_spl_db``.
+    """
+    (kind, amp, tau, xi, acc, yk, tab, s), tail = prepare(pulse, config, medium, cutoff)
+    pts = check_points("points", points)
+    limit = check_positive("memory_limit", memory_limit, "B")
+    n = pts.shape[0]
+    nimg = len(config.sources)
+    if t is not None:
+        tt = np.atleast_1d(np.asarray(t, dtype=float))
+        dt = uniform_step(tt)
+        if dt is None:
+            raise ParameterError("t", "field_metrics needs a uniform time grid (or none)")
+        m = tt.size
+        win = m * dt
+    else:
+        dt = (
+            default_sample_interval(pulse, config.radius, medium=medium)
+            if sample_interval is None
+            else check_positive("sample_interval", sample_interval, "s")
+        )
+        if window is None:
+            win = dt
+            step = chunk_size(geometry_bytes(nimg) + 40, 8.0 * n * 5, limit)
+            for lo in range(0, n, step):
+                sub = pts[lo : lo + step]
+                start, stop = arrival_windows(pulse, sub, config, medium=medium, cutoff=cutoff)
+                ok = config.in_fluid(sub)
+                if np.any(ok):
+                    win = max(win, float(np.max((stop - start)[ok])))
+        else:
+            win = check_positive("window", window, "s")
+        m = max(1, int(math.ceil(win / dt - 1e-9)))
+        win = m * dt
+    out_bytes = 8.0 * n * 5 + n  # four float results, the window starts and the model codes
+    if out_bytes + 8 * m > limit:
+        raise ParameterError("memory_limit", f"the results alone need {out_bytes:.4g} B > {limit:.4g} B")
+    fixed = out_bytes + 8 * m + (limit / 2 if tolerance is not None else 0)  # half for cheap models
+    chunk = chunk_size(geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit)
+    pmax = np.empty(n)
+    pmin = np.empty(n)
+    ssq = np.empty(n)
+    wstart = np.empty(n)
+    models = np.zeros(n, dtype=np.uint8)
+    buf = np.zeros(m)
+    if tolerance is not None:
+        from ..core import approximations as _approx
+
+        tol = check_positive("tolerance", tolerance, "Pa")
+    for lo in range(0, n, chunk):
+        hi = min(lo + chunk, n)
+        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
+        t0 = np.full(hi - lo, tt[0]) if t is not None else delay.min(axis=1)
+        wstart[lo:hi] = t0
+        res = np.empty((hi - lo, 3))
+        exact = np.ones(hi - lo, dtype=bool)
+        if tolerance is not None:
+            choice = _approx.choose_models(pulse, delay, p0, cre + 1j * cim, tol, radius=config.radius, medium=medium)
+            for code, name in enumerate(_approx.MODELS):
+                sel = choice == code
+                if name == "exact" or not np.any(sel):
+                    continue
+                exact &= ~sel
+                res[sel] = _approx.window_metrics(
+                    name, pulse, delay[sel], p0[sel], t0[sel], dt, m, radius=config.radius, medium=medium,
+                    max_bytes=limit / 4,
+                )  # fmt: skip
+                models[lo:hi][sel] = code
+        if np.all(exact):
+            _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail, refine)
+        elif np.any(exact):
+            sub = np.empty((int(exact.sum()), 3))
+            _metrics_kernel(
+                sub, buf, np.ascontiguousarray(t0[exact]), dt, np.ascontiguousarray(delay[exact]),
+                np.ascontiguousarray(p0[exact]), np.ascontiguousarray(cre[exact]),
+                np.ascontiguousarray(cim[exact]), kind, amp, tau, xi, acc, yk, tab, s, tail, refine,
+            )  # fmt: skip
+            res[exact] = sub
+        res[inside] = np.nan
+        pmax[lo:hi], pmin[lo:hi], ssq[lo:hi] = res[:, 0], res[:, 1], res[:, 2]
+    return FieldMetrics(
+        peak_positive=pmax,
+        peak_negative=pmin,
+        rms=np.sqrt(ssq / m),
+        exposure=ssq * dt,
+        window_start=wstart,
+        window=float(win),
+        sample_interval=float(dt),
+        model=models,
+        model_names=MODEL_NAMES if tolerance is None else _approx.MODELS,
+    )
+
