@@ -20,7 +20,7 @@ from _timing import best_of
 from acoustiviz.app.levels import ANALYSIS_RATE, run_energy
 from acoustiviz.core.images import configuration
 from acoustiviz.dynamics import TABLE1, simulate
-from acoustiviz.grids import spherical_grid_for
+from acoustiviz.field.grids import spherical_grid_for
 from acoustiviz.levels import (
     LEVEL_COLUMNS,
     loudness,

@@ -10,7 +10,7 @@ from acoustiviz.core.contact import HalfSinePulse, Impact, acceleration_pulse
 from acoustiviz.core.images import configuration
 from acoustiviz.core.medium import AIR
 from acoustiviz.errors import ParameterError
-from acoustiviz.grids import spherical_grid_for
+from acoustiviz.field.grids import spherical_grid_for
 from acoustiviz.levels import (
     pulse_spectrum,
     radiated_energy_free,

@@ -306,7 +306,7 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     duration : float
         The run's duration in s (for the mean power).
     n_theta : int
-        Polar nodes of the spherical grid (see :func:`acoustiviz.grids.spherical_grid_for`).
+        Polar nodes of the spherical grid (see :func:`acoustiviz.field.grids.spherical_grid_for`).
 
     Notes
     -----
@@ -317,7 +317,7 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
     ratio depends on the pulse only through its spectrum, which changes slowly with speed.
     """
-    from ..grids import spherical_grid_for
+    from ..field.grids import spherical_grid_for
     from ..levels import radiated_energy_free, radiated_energy_grid, radiation_efficiency, sound_power
     from ..output.audio import wall_sources
 

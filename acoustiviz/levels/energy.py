@@ -15,7 +15,7 @@ sphere sends to infinity:
    ``½ m_a ΔV²`` left in the steady flow round the sphere after the pulse. A check of (1).
 3. **Intensity over a spherical grid** (:func:`radiated_energy_grid`): the far-field intensity
    ``p²/(ρ c)`` of the sphere and all its images, integrated over the directions of a weighted
-   spherical grid (:func:`acoustiviz.grids.spherical_grid_for`: the whole sphere, the half space
+   spherical grid (:func:`acoustiviz.field.grids.spherical_grid_for`: the whole sphere, the half space
    above a plane, the quarter space of a corner) and over time. It is exact at infinity (no
    near-field bias), so it is the only route for the plane and the corner, and its error is the
    quadrature's: it converges as the grid is refined.
@@ -200,7 +200,7 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
         Acceleration of the real sphere (m/s²); every image moves with it along its own axis.
     sources : sequence of acoustiviz.core.images.ImageSource
         The sphere and its images (``Configuration.sources``).
-    grid : acoustiviz.grids.SphericalGrid
+    grid : acoustiviz.field.grids.SphericalGrid
         Directions (``directions``), solid-angle weights in sr (``weights``) and ``centre`` in m;
         its radius does not enter (the intensity is taken at infinity).
     radius : float

@@ -7,7 +7,7 @@ VTK cannot open any off-screen OpenGL context a :class:`RuntimeError` says what 
 
 * :func:`render_balloon` -- a directivity balloon: a surface around the contact point whose
   radius grows with the level (peak SPL, RMS level or sound exposure level) measured on a
-  spherical grid (:mod:`acoustiviz.grids`) at a given distance, coloured by the same level, with
+  spherical grid (:mod:`acoustiviz.field.grids`) at a given distance, coloured by the same level, with
   the sphere, the floor and the wall drawn in. Free field: whole sphere; plane: half space;
   wall-floor corner: quarter space. Several configurations go side by side with one colour
   scale.

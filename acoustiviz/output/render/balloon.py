@@ -160,7 +160,7 @@ def balloon_data(
         :func:`acoustiviz.field.field_metrics`), or sound exposure level.
     n_theta : int
         Gauss-Legendre nodes in polar angle (>= 4); azimuth nodes follow
-        :func:`acoustiviz.grids.spherical_grid`.
+        :func:`acoustiviz.field.grids.spherical_grid`.
 
     Returns
     -------
