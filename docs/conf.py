@@ -16,8 +16,9 @@ sys.path.insert(0, str(HERE / "_ext"))
 sys.path.insert(0, str(ROOT))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-import acoustiviz  # noqa: E402
 from gallery_source import prepare_gallery  # noqa: E402
+
+import acoustiviz  # noqa: E402
 
 project = "acoustiviz"
 author = "acoustiviz developers"

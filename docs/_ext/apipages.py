@@ -56,9 +56,9 @@ def _title(text: str, char: str = "=") -> str:
 
 
 def module_page(name: str) -> str:
-    """reST of the page of module ``name``."""
+    """The reST text of the page of module ``name``."""
     mod = importlib.import_module(name)
-    lines = [f".. _api-{name}:\n", _title(f"``{name}``"), f".. automodule:: {name}", "   :members:",
+    lines = [f".. _api-{name}:\n", _title(name), f".. automodule:: {name}", "   :members:",
              "   :ignore-module-all:", ""]
     subs = [m.name for m in pkgutil.iter_modules(getattr(mod, "__path__", []), prefix=name + ".")
             if not m.name.rsplit(".", 1)[1].startswith("_") and m.name.split(".")[1] not in SKIP_TOP]
@@ -79,7 +79,7 @@ def _where(name: str, obj, modules) -> str | None:
 
 
 def index_page(modules) -> str:
-    """reST of the API index: the top-level names, then every module grouped by layer."""
+    """The reST text of the API index: the top-level names, then every module grouped by layer."""
     import acoustiviz
 
     out = [".. _api:\n", _title("API reference"),

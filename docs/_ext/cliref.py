@@ -12,10 +12,6 @@ from __future__ import annotations
 import argparse
 import re
 
-from docutils.statemachine import StringList
-from sphinx.util.docutils import SphinxDirective
-from sphinx.util.nodes import nested_parse_with_titles
-
 _SPECIAL = re.compile(r"([\\`*_|\[\]<>])")
 
 
@@ -59,8 +55,10 @@ def _section(parser, title: str, summary: str, level: int, anchor: str) -> list:
     text = parser.description or summary
     if text:
         lines += [escape(text), ""]
-    usage = " ".join(parser.format_usage().replace("usage:", "").split())
-    lines += [".. code-block:: text", "", "   " + usage, ""]
+    fmt = argparse.HelpFormatter(prog=parser.prog, width=90)
+    fmt.add_usage(parser.usage, parser._actions, parser._mutually_exclusive_groups, prefix="")
+    usage = [ln for ln in fmt.format_help().splitlines() if ln.strip()]
+    lines += [".. code-block:: text", ""] + ["   " + ln for ln in usage] + [""]
     for group in parser._action_groups:
         actions = [a for a in group._group_actions
                    if not isinstance(a, (argparse._HelpAction, argparse._SubParsersAction))
@@ -79,28 +77,35 @@ def _section(parser, title: str, summary: str, level: int, anchor: str) -> list:
     return lines
 
 
-class CliDirective(SphinxDirective):
-    """``.. acoustiviz-cli::`` -- every subcommand of the command line, with its options."""
-
-    has_content = False
-
-    def run(self):
-        """Parse the generated reST into nodes."""
+def reference_lines(parser=None) -> list:
+    """The reST lines of the whole reference: one section per subcommand of ``parser`` (default: acoustiviz's)."""
+    if parser is None:
         from acoustiviz.cli import build_parser
 
         parser = build_parser()
-        lines = []
-        for name, sub, helptext in _subparsers(parser):
-            lines += _section(sub, f"acoustiviz {name}", helptext, 0, name)
-        from docutils import nodes
-
-        container = nodes.section()
-        container.document = self.state.document
-        nested_parse_with_titles(self.state, StringList(lines, source="acoustiviz.cli"), container)
-        return container.children
+    lines = []
+    for name, sub, helptext in _subparsers(parser):
+        lines += _section(sub, f"acoustiviz {name}", helptext, 0, name)
+    return lines
 
 
 def setup(app):
-    """Register the directive."""
+    """Register the ``acoustiviz-cli`` directive."""
+    from docutils import nodes
+    from docutils.statemachine import StringList
+    from sphinx.util.docutils import SphinxDirective
+    from sphinx.util.nodes import nested_parse_with_titles
+
+    class CliDirective(SphinxDirective):
+        """``.. acoustiviz-cli::`` -- every subcommand of the command line, with its options."""
+
+        has_content = False
+
+        def run(self):
+            container = nodes.section()
+            container.document = self.state.document
+            nested_parse_with_titles(self.state, StringList(reference_lines(), source="acoustiviz.cli"), container)
+            return container.children
+
     app.add_directive("acoustiviz-cli", CliDirective)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}

@@ -35,7 +35,9 @@ def _underlines(text: str) -> str:
     for i in range(1, len(lines)):
         u = lines[i].strip()
         if u and len(set(u)) == 1 and u[0] in "=-~^" and len(u) >= 3 and lines[i - 1].strip():
-            lines[i] = u[0] * max(len(u), len(lines[i - 1].strip()))
+            if u[0] == "=":  # the page title: no full stop at its end
+                lines[i - 1] = lines[i - 1].rstrip().removesuffix(".")
+            lines[i] = u[0] * len(lines[i - 1].strip())
     return "\n".join(lines)
 
 
@@ -86,7 +88,7 @@ def scraper(block, block_vars, gallery_conf):
     new = sorted(p for p in out.glob("*.png") if p not in _SEEN)
     _SEEN.update(new)
     paths = []
-    for p, target in zip(new, block_vars["image_path_iterator"]):
+    for p, target in zip(new, block_vars["image_path_iterator"], strict=False):
         shutil.copyfile(p, target)
         paths.append(target)
     return figure_rst(paths, gallery_conf["src_dir"])
