@@ -50,7 +50,7 @@ html_theme_options = {
     "navbar_align": "left",
     "show_toc_level": 2,
     "navigation_with_keys": False,
-    "secondary_sidebar_items": ["page-toc"],
+    "secondary_sidebar_items": {"**": ["page-toc"], "guide/speed_accuracy": []},
     "footer_start": ["copyright"],
     "footer_end": [],
 }
