@@ -62,14 +62,15 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "render",
         help="3-D pictures rendered off-screen: directivity balloon, field snapshot, wavefront animation",
-        description="Off-screen 3-D renders with pyvista (no display needed). Impact and configuration "
+        description="Off-screen 3-D renders with pyvista (no display needed), the data behind them as VTK "
+        "files for ParaView (--vtk) and interactive self-contained HTML pages (--html). Impact and configuration "
         "options are those of 'acoustiviz directivity'; lengths in m, times in s.",
     )
     views = p.add_subparsers(dest="view", metavar="VIEW")
 
     b = views.add_parser(
         "balloon",
-        help="directivity balloon around the contact point (PNG)",
+        help="directivity balloon around the contact point (PNG, VTK, HTML)",
         description="A surface around the contact point whose radius grows with the level measured on a "
         "sphere of radius --distance (whole sphere in free field, half space above the plane, quarter space "
         "in the wall-floor corner), coloured by the same level; the sphere, floor and wall drawn in.",
@@ -91,7 +92,7 @@ def add_parser(subparsers) -> None:
 
     s = views.add_parser(
         "snapshot",
-        help="pressure p(x, t) on planes through the sphere at given times (PNG)",
+        help="pressure p(x, t) on planes through the sphere at given times (PNG, VTK, HTML)",
         description="The pressure field on planes through the sphere at one or more times after the start of "
         "contact, diverging colours centred on zero; several times go side by side with one colour scale.",
     )
@@ -104,7 +105,7 @@ def add_parser(subparsers) -> None:
 
     a = views.add_parser(
         "animation",
-        help="the wavefront leaving the impact and reflecting (GIF, or MP4 with imageio-ffmpeg)",
+        help="the wavefront leaving the impact and reflecting (GIF, MP4 with imageio-ffmpeg, VTK)",
         description="Frames of the pressure on planes through the sphere, from the impact until the last "
         "wavefront (image sources included) has crossed the planes, with a fixed colour range. Each frame "
         "evaluates the field only where it is non-zero.",
