@@ -78,7 +78,7 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
-    "image_scrapers": ("matplotlib",) if not RUN_GALLERY else (prepare_gallery.scraper,),
+    "image_scrapers": ("matplotlib",) if not RUN_GALLERY else ("gallery_source",),
     "show_memory": False,
     "show_signature": False,
     "min_reported_time": 1e9,

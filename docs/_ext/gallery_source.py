@@ -94,4 +94,6 @@ def scraper(block, block_vars, gallery_conf):
     return figure_rst(paths, gallery_conf["src_dir"])
 
 
-prepare_gallery.scraper = scraper
+def _get_sg_image_scraper():
+    """The scraper, found by sphinx-gallery from this module's name in ``image_scrapers``."""
+    return scraper
