@@ -17,6 +17,7 @@ sys.path.insert(0, str(ROOT))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 from gallery_source import prepare_gallery  # noqa: E402
+from interactive import prepare_interactive  # noqa: E402
 
 import acoustiviz  # noqa: E402
 
@@ -38,9 +39,10 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "_gallery_src", "**.ipynb_checkpoints", "sg_execution_times.rst"]
+exclude_patterns = ["_build", "_gallery_src", "_interactive", "**.ipynb_checkpoints", "sg_execution_times.rst"]
 templates_path = []
 html_static_path = ["_static"]
+html_extra_path = [prepare_interactive(HERE)]  # the interactive pages of the user guide, made now
 html_css_files = ["acoustiviz.css"]
 
 # -- HTML theme ---------------------------------------------------------------------------------

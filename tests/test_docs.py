@@ -120,7 +120,8 @@ def test_site_builds_without_warnings_and_renders(tmp_path):
                           str(DOCS), str(out)], cwd=ROOT, env=env, capture_output=True, text=True, timeout=1200)
     assert res.returncode == 0, res.stderr[-4000:]
     for page in ("index.html", "cli.html", "api/index.html", "api/acoustiviz.output.vtk.html",
-                 "auto_examples/index.html", "auto_examples/plot_02_directivity.html", "guide/outputs.html"):
+                 "auto_examples/index.html", "auto_examples/plot_02_directivity.html", "guide/outputs.html",
+                 "interactive/balloon.html", "interactive/snapshot.html"):
         assert (out / page).exists(), page
     gallery_page = (out / "auto_examples" / "plot_09_balloon.html").read_text(encoding="utf-8")
     assert "plot_09_balloon.png" in gallery_page and "render_balloon" in gallery_page  # its figure and its code
