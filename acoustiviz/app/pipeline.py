@@ -309,7 +309,13 @@ def produce_snapshot(ctx: RunContext):
     ctx.progress(f"rendering {len(times)} snapshot(s)")
     path = render_snapshot(ctx.pulse(), ctx.configuration, times if len(times) > 1 else times[0],
                            ctx.path("snapshot.png"), size=tuple(opts["size_px"]), **_plane_options(ctx))
-    return [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
+    products = [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
+    if opts["vtk"]:
+        from ..output.vtk import write_snapshot_vtk
+
+        products += [Product("vtk", p) for p in write_snapshot_vtk(ctx.pulse(), ctx.configuration, times,
+                                                                    ctx.path("snapshot.vtu"), **_plane_options(ctx))]
+    return products
 
 
 def produce_balloon(ctx: RunContext):
@@ -323,8 +329,14 @@ def produce_balloon(ctx: RunContext):
                         n_theta=g["n_theta"])
     path = render_balloon(pulse, conf, ctx.path("balloon.png"), medium=ctx.medium, db_range=opts["db_range"],
                           size=tuple(opts["size_px"]), data=data)
-    return [Product("balloon", path, {"metric": opts["metric"], "max_db": f"{data.max_level:.1f}",
-                                      "mean_db": f"{data.mean_level:.1f}", "distance_m": f"{g['distance_m']:g}"})]
+    products = [Product("balloon", path, {"metric": opts["metric"], "max_db": f"{data.max_level:.1f}",
+                                          "mean_db": f"{data.mean_level:.1f}", "distance_m": f"{g['distance_m']:g}"})]
+    if opts["vtk"]:
+        from ..output.vtk import write_balloon_vtk
+
+        products += [Product("vtk", p) for p in write_balloon_vtk(pulse, conf, ctx.path("balloon.vtu"),
+                                                                   medium=ctx.medium, data=data)]
+    return products
 
 
 def produce_animation(ctx: RunContext):
@@ -335,7 +347,14 @@ def produce_animation(ctx: RunContext):
     ctx.progress(f"rendering {opts['frames']} animation frames")
     path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), frames=opts["frames"],
                             fps=opts["fps"], size=tuple(opts["size_px"]), **_plane_options(ctx))
-    return [Product("animation", path, {"frames": str(opts["frames"]), "fps": str(opts["fps"])})]
+    products = [Product("animation", path, {"frames": str(opts["frames"]), "fps": str(opts["fps"])})]
+    if opts["vtk"]:
+        from ..output.vtk import write_animation_vtk
+
+        products += [Product("vtk", p) for p in write_animation_vtk(ctx.pulse(), ctx.configuration,
+                                                                     ctx.path("animation.vtu"), frames=opts["frames"],
+                                                                     **_plane_options(ctx))]
+    return products
 
 
 def sweep_spec(scene: Scene):

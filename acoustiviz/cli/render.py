@@ -45,19 +45,32 @@ def _section_options(p, *, resolution: int) -> None:
                    help="colour limit in Pa; the diverging map spans [-PA, PA] (default: from the field)")
 
 
+def _output_options(p, *, png: bool, html: bool) -> None:
+    g = p.add_argument_group("outputs (at least one)")
+    if png:
+        g.add_argument("--png", default=None, metavar="PATH", help="output image")
+    g.add_argument("--vtk", default=None, metavar="PATH",
+                   help="the data behind the picture for ParaView, pyvista or meshio: a .vtu (or .vtkhdf) file, "
+                        "with the sphere and planes beside it in PATH_geometry.vtu")
+    if html:
+        g.add_argument("--html", default=None, metavar="PATH",
+                       help="an interactive 3-D view in one self-contained HTML file (no server needed)")
+
+
 def add_parser(subparsers) -> None:
     """Register the ``render`` subcommand and its ``balloon``, ``snapshot`` and ``animation`` views."""
     p = subparsers.add_parser(
         "render",
         help="3-D pictures rendered off-screen: directivity balloon, field snapshot, wavefront animation",
-        description="Off-screen 3-D renders with pyvista (no display needed). Impact and configuration "
+        description="Off-screen 3-D renders with pyvista (no display needed), the data behind them as VTK "
+        "files for ParaView (--vtk) and interactive self-contained HTML pages (--html). Impact and configuration "
         "options are those of 'acoustiviz directivity'; lengths in m, times in s.",
     )
     views = p.add_subparsers(dest="view", metavar="VIEW")
 
     b = views.add_parser(
         "balloon",
-        help="directivity balloon around the contact point (PNG)",
+        help="directivity balloon around the contact point (PNG, VTK, HTML)",
         description="A surface around the contact point whose radius grows with the level measured on a "
         "sphere of radius --distance (whole sphere in free field, half space above the plane, quarter space "
         "in the wall-floor corner), coloured by the same level; the sphere, floor and wall drawn in.",
@@ -74,12 +87,12 @@ def add_parser(subparsers) -> None:
                    help="polar nodes of the measuring grid, 4..512 (default %(default)s)")
     g.add_argument("--opacity", type=float, default=0.7, metavar="X",
                    help="balloon opacity in (0, 1]; below 1 the sphere shows through (default %(default)s)")
-    b.add_argument("--png", required=True, metavar="PATH", help="output image")
+    _output_options(b, png=True, html=True)
     b.set_defaults(func=run)
 
     s = views.add_parser(
         "snapshot",
-        help="pressure p(x, t) on planes through the sphere at given times (PNG)",
+        help="pressure p(x, t) on planes through the sphere at given times (PNG, VTK, HTML)",
         description="The pressure field on planes through the sphere at one or more times after the start of "
         "contact, diverging colours centred on zero; several times go side by side with one colour scale.",
     )
@@ -87,12 +100,12 @@ def add_parser(subparsers) -> None:
     s.add_argument("--time", type=float, nargs="+", default=[0.001], metavar="S",
                    help="snapshot time(s) in s from the start of contact (default 0.001)")
     _section_options(s, resolution=241)
-    s.add_argument("--png", required=True, metavar="PATH", help="output image")
+    _output_options(s, png=True, html=True)
     s.set_defaults(func=run)
 
     a = views.add_parser(
         "animation",
-        help="the wavefront leaving the impact and reflecting (GIF, or MP4 with imageio-ffmpeg)",
+        help="the wavefront leaving the impact and reflecting (GIF, MP4 with imageio-ffmpeg, VTK)",
         description="Frames of the pressure on planes through the sphere, from the impact until the last "
         "wavefront (image sources included) has crossed the planes, with a fixed colour range. Each frame "
         "evaluates the field only where it is non-zero.",
@@ -105,6 +118,7 @@ def add_parser(subparsers) -> None:
     _section_options(a, resolution=201)
     a.add_argument("--gif", default=None, metavar="PATH", help="output GIF")
     a.add_argument("--mp4", default=None, metavar="PATH", help="output MP4 (needs imageio-ffmpeg)")
+    _output_options(a, png=False, html=False)
     a.set_defaults(func=run)
     p.set_defaults(func=run)
 
@@ -135,6 +149,22 @@ def _sections(text: str) -> tuple:
     return names
 
 
+def _check_outputs(args) -> None:
+    """At least one output, each with its file name ending."""
+    from .._validate import ParameterError
+
+    endings = {"png": (".png",), "gif": (".gif",), "mp4": (".mp4",), "vtk": (".vtu", ".vtkhdf"),
+               "html": (".html", ".htm")}
+    given = [k for k in endings if getattr(args, k, None)]
+    if not given:
+        offered = [f"--{k}" for k in endings if hasattr(args, k)]
+        raise ParameterError(offered[0], f"give at least one output: {', '.join(offered)}")
+    for k in given:
+        path = str(getattr(args, k))
+        if not path.lower().endswith(endings[k]):
+            raise ParameterError(f"--{k}", f"expected a file name ending in {' or '.join(endings[k])}, got {path!r}")
+
+
 def _check_common(args):
     """Validate the render options before any work; return the image size."""
     import math
@@ -142,6 +172,7 @@ def _check_common(args):
     from .._validate import ParameterError, check_range
 
     size = parse_size(args.size)
+    _check_outputs(args)
     if args.view == "balloon":
         check_range("--db-range", args.db_range, 0.0, 200.0, unit="dB", low_open=True)
         check_range("--opacity", args.opacity, 0.0, 1.0, low_open=True)
@@ -165,12 +196,6 @@ def _check_common(args):
         if not 2 <= args.frames <= 2000:
             raise ParameterError("--frames", f"must lie in [2, 2000], got {args.frames}")
         check_range("--fps", args.fps, 0.0, 60.0, unit="frames/s", low_open=True)
-        if not args.gif and not args.mp4:
-            raise ParameterError("--gif", "give --gif PATH (or --mp4 PATH) for the animation")
-        if args.gif and not str(args.gif).lower().endswith(".gif"):
-            raise ParameterError("--gif", f"expected a file name ending in .gif, got {args.gif!r}")
-        if args.mp4 and not str(args.mp4).lower().endswith(".mp4"):
-            raise ParameterError("--mp4", f"expected a file name ending in .mp4, got {args.mp4!r}")
         if args.mp4:
             from ..output.render import mp4_available
 
@@ -219,23 +244,52 @@ def _render(args, setup, size) -> list:
 
     common = dict(medium=setup.medium, size=size)
     title = args.title
+    outs = []
     if args.view == "balloon":
         imp = setup.impact
         head = title or (f"{render.METRICS[args.metric][1].split(' (')[0]} at {args.distance:g} m, "
                          f"{args.db_range:g} dB from centre to rim; U0 = {imp.velocity:g} m/s, "
                          f"m = {imp.mass * 1e3:.4g} g, K_HZ = {imp.k_hertz:.3g} N/m^1.5")
-        path = render.render_balloon(setup.pulse, setup.configuration, args.png, distance=args.distance,
-                                     metric=args.metric, db_range=args.db_range, n_theta=args.resolution,
-                                     opacity=args.opacity, title=head, **common)
-        return [path]
-    planes = dict(extent=args.extent, sections=_sections(args.sections), n_u=args.resolution, clim=args.clim,
-                  title=title or _annotation(setup))
+        data = render.balloon_data(setup.pulse, setup.configuration, medium=setup.medium, distance=args.distance,
+                                   metric=args.metric, n_theta=args.resolution)
+        if args.png:
+            outs.append(render.render_balloon(setup.pulse, setup.configuration, args.png, db_range=args.db_range,
+                                              opacity=args.opacity, title=head, data=data, **common))
+        if args.vtk:
+            from ..output.vtk import write_balloon_vtk
+
+            outs += write_balloon_vtk(setup.pulse, setup.configuration, args.vtk, medium=setup.medium, data=data)
+        if args.html:
+            from ..output.html import write_balloon_html
+
+            outs.append(write_balloon_html(setup.pulse, setup.configuration, args.html, medium=setup.medium,
+                                           db_range=args.db_range, title=title, data=data))
+        return outs
+    planes = dict(extent=args.extent, sections=_sections(args.sections), n_u=args.resolution)
     if args.view == "snapshot":
         times = args.time[0] if len(args.time) == 1 else args.time
-        return [render.render_snapshot(setup.pulse, setup.configuration, times, args.png, **planes, **common)]
-    outs = []
+        if args.png:
+            outs.append(render.render_snapshot(setup.pulse, setup.configuration, times, args.png, clim=args.clim,
+                                               title=title or _annotation(setup), **planes, **common))
+        if args.vtk:
+            from ..output.vtk import write_snapshot_vtk
+
+            outs += write_snapshot_vtk(setup.pulse, setup.configuration, times, args.vtk, medium=setup.medium,
+                                       **planes)
+        if args.html:
+            from ..output.html import write_snapshot_html
+
+            outs.append(write_snapshot_html(setup.pulse, setup.configuration, times, args.html, medium=setup.medium,
+                                            clim=args.clim, title=title, **planes))
+        return outs
     for path in (args.gif, args.mp4):
         if path:
             outs.append(render.render_animation(setup.pulse, setup.configuration, path, frames=args.frames,
-                                                fps=args.fps, **planes, **common))
+                                                fps=args.fps, clim=args.clim, title=title or _annotation(setup),
+                                                **planes, **common))
+    if args.vtk:
+        from ..output.vtk import write_animation_vtk
+
+        outs += write_animation_vtk(setup.pulse, setup.configuration, args.vtk, medium=setup.medium,
+                                    frames=args.frames, **planes)
     return outs

@@ -151,6 +151,10 @@ _PLANE_GRID = {
                     ["xz"], choices=("xz", "yz", "xy")),
 }
 
+#: Shared by the 3-D outputs: also write the data behind the picture (acoustiviz.output.vtk).
+_VTK = Key("bool", "also write the data as <output>.vtu with the sphere and planes in <output>_geometry.vtu "
+           "(ParaView, pyvista, meshio)", False)
+
 _OUT = {
     "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
                       "pressure waveform at each listener"),
@@ -159,18 +163,21 @@ _OUT = {
     "snapshot": Table({"times_s": Key("floats", "snapshot times (at most 12, drawn side by side)", [0.001], "s",
                                       low=0.0, high=10.0, length=12),
                        "size_px": Key("ints", "image width and height", [1400, 600], "px", low=64, high=8192,
-                                      length=2)},
+                                      length=2),
+                       "vtk": _VTK},
                       "pressure field on the planar sections at given times (pyvista)"),
     "balloon": Table({"metric": Key("str", "balloon colour/radius", "peak", choices=("peak", "rms", "sel")),
                       "db_range": _pos("level range from the rim to the centre of the balloon", "dB", 30.0,
                                        high=200.0),
                       "size_px": Key("ints", "image width and height", [1200, 900], "px", low=64, high=8192,
-                                     length=2)},
+                                     length=2),
+                      "vtk": _VTK},
                      "3-D directivity balloon on the spherical grid (pyvista)"),
     "animation": Table({"frames": Key("int", "frames", 40, low=2, high=2000),
                         "fps": Key("int", "frames per second", 12, low=1, high=60),
                         "size_px": Key("ints", "image width and height", [800, 600], "px", low=64, high=4096,
-                                       length=2)},
+                                       length=2),
+                        "vtk": _VTK},
                        "GIF of the wavefront on the planar sections (pyvista)"),
     "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),

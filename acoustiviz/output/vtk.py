@@ -1,0 +1,379 @@
+"""Fields for other tools: the data behind each render as VTK files (ParaView, pyvista, meshio).
+
+Each writer evaluates the same field as the matching render of :mod:`acoustiviz.output.render`
+on the same points and writes it, atomically, as an unstructured grid of quadrilaterals:
+
+* :func:`write_snapshot_vtk` and :func:`write_animation_vtk` -- the planar sections, with the
+  pressure at every requested time as point arrays ``pressure_pa_t0000``, ``pressure_pa_t0001``,
+  ... (Pa; NaN inside the sphere) and the times in the field data array ``time_s`` (s from the
+  start of contact);
+* :func:`write_balloon_vtk` -- the measuring sphere of a directivity balloon (radius
+  ``distance`` around the contact point) with every metric of
+  :func:`acoustiviz.field.field_metrics` as point arrays: ``peak_positive_pa``,
+  ``peak_negative_pa``, ``peak_pa``, ``rms_pa`` (Pa), ``exposure_pa2s`` (Pa² s),
+  ``peak_spl_db``, ``rms_spl_db`` and ``sel_db`` (dB re 20 µPa);
+* :func:`write_geometry_vtk` -- the sphere and the reflecting planes, with a cell array
+  ``part`` (0 sphere, 1 floor, 2 wall), beside the data as ``<stem>_geometry.vtu``
+  (:func:`geometry_path`).
+
+The data file is ``.vtu`` (VTK XML, read by ParaView, pyvista and meshio) or ``.vtkhdf`` (VTK
+HDF, read by ParaView >= 5.12 and pyvista). Lengths in m, in the scene frame of
+:mod:`acoustiviz.core.images`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .._validate import ParameterError, check_positive
+from ..core.images import Configuration
+from ..core.medium import AIR, Medium
+from ..field import field_metrics, snapshots
+from .writers import atomic_path
+
+__all__ = [
+    "SUFFIXES",
+    "pressure_name",
+    "geometry_path",
+    "planes_dataset",
+    "balloon_dataset",
+    "geometry_dataset",
+    "write_snapshot_vtk",
+    "write_animation_vtk",
+    "write_balloon_vtk",
+    "write_geometry_vtk",
+]
+
+#: File name endings of the data files.
+SUFFIXES = (".vtu", ".vtkhdf")
+
+#: Point arrays of the balloon file: array name -> FieldMetrics attribute.
+BALLOON_ARRAYS = {
+    "peak_positive_pa": "peak_positive",
+    "peak_negative_pa": "peak_negative",
+    "peak_pa": "peak",
+    "rms_pa": "rms",
+    "exposure_pa2s": "exposure",
+    "peak_spl_db": "peak_spl_db",
+    "rms_spl_db": "rms_spl_db",
+    "sel_db": "sel_db",
+}
+
+
+def pressure_name(index: int) -> str:
+    """Name of the point array holding the pressure (Pa) of time number ``index``: ``pressure_pa_t0003``."""
+    return f"pressure_pa_t{int(index):04d}"
+
+
+def _check_vtk_path(path, name="path") -> Path:
+    p = Path(path)
+    if p.suffix.lower() not in SUFFIXES:
+        raise ParameterError(name, f"expected a file name ending in {' or '.join(SUFFIXES)}, got {str(path)!r}")
+    return p
+
+
+def geometry_path(path) -> Path:
+    """The geometry file written beside the data file ``path``: ``OUT.vtu`` -> ``OUT_geometry.vtu``."""
+    p = Path(path)
+    return p.with_name(f"{p.stem}_geometry.vtu")
+
+
+def _quads(n_u: int, n_v: int, offset: int = 0) -> np.ndarray:
+    """Quadrilaterals (m, 4) of a lattice whose point ``(i, j)`` has index ``offset + j n_u + i``."""
+    i, j = np.meshgrid(np.arange(n_u - 1), np.arange(n_v - 1), indexing="xy")
+    a = (j * n_u + i).ravel() + offset
+    return np.column_stack([a, a + 1, a + 1 + n_u, a + n_u])
+
+
+def _grid(points, quads):
+    import pyvista as pv
+
+    return pv.UnstructuredGrid({pv.CellType.QUAD: np.asarray(quads, dtype=np.int64)}, np.asarray(points, float))
+
+
+def planes_dataset(grids, times, fields):
+    """An unstructured grid of planar sections carrying the pressure at each time.
+
+    Parameters
+    ----------
+    grids : sequence of PlanarGrid
+        The sections; their points are stored in order, one section after the other.
+    times : (k,) array_like
+        Times in s, stored in the field data array ``time_s``.
+    fields : sequence of (k, n_i) array_like
+        Pressure in Pa at each time on each section's points.
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        Point arrays ``pressure_pa_t0000`` ... (one per time, Pa) and ``section`` (index of
+        the section of each point); field data ``time_s``.
+    """
+    tt = np.atleast_1d(np.asarray(times, dtype=float))
+    pts, quads, sec = [], [], []
+    offset = 0
+    for q, g in enumerate(grids):
+        pts.append(g.points)
+        quads.append(_quads(g.n_u, g.n_v, offset))
+        sec.append(np.full(g.points.shape[0], q, dtype=np.int32))
+        offset += g.points.shape[0]
+    mesh = _grid(np.vstack(pts), np.vstack(quads))
+    values = np.hstack([np.asarray(f, dtype=float).reshape(tt.size, -1) for f in fields])
+    for k in range(tt.size):
+        mesh.point_data[pressure_name(k)] = values[k]
+    mesh.point_data["section"] = np.concatenate(sec)
+    mesh.field_data["time_s"] = tt
+    return mesh
+
+
+def balloon_dataset(data, metrics):
+    """The measuring sphere of a balloon with every metric as point arrays.
+
+    Parameters
+    ----------
+    data : acoustiviz.output.render.BalloonData
+        Its lattice of directions, anchor and distance give the points
+        ``anchor + distance * directions`` in m.
+    metrics : acoustiviz.field.FieldMetrics
+        The metrics at those points, in lattice order.
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        Point arrays named in ``BALLOON_ARRAYS`` and ``direction`` (unit vectors); field
+        data ``distance_m`` and ``window_s`` (the RMS window of every point).
+    """
+    n_t, n_p = data.directions.shape[:2]
+    pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
+    mesh = _grid(pts, _quads(n_p, n_t))
+    for name, attr in BALLOON_ARRAYS.items():
+        mesh.point_data[name] = np.asarray(getattr(metrics, attr), dtype=float)
+    mesh.point_data["direction"] = data.directions.reshape(-1, 3)
+    mesh.field_data["distance_m"] = np.array([data.distance])
+    mesh.field_data["window_s"] = np.array([metrics.window])
+    return mesh
+
+
+def _bounds(config: Configuration, points) -> np.ndarray:
+    """Box (2, 3) in m holding ``points`` and the sphere, its flat sides widened, cut by the planes."""
+    pts = np.vstack([np.asarray(points, float).reshape(-1, 3), config.centre - config.radius,
+                     config.centre + config.radius])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = float(np.max(hi - lo))
+    for k in range(3):
+        if hi[k] - lo[k] < 0.2 * span:
+            lo[k] -= 0.3 * span
+            hi[k] += 0.3 * span
+    for p in config.planes:
+        k = int(np.argmax(np.abs(p.normal)))
+        lo[k] = max(lo[k], p.point[k])
+    return np.array([lo, hi])
+
+
+def geometry_dataset(config: Configuration, bounds):
+    """The sphere and the planes of ``config`` as one unstructured grid.
+
+    Parameters
+    ----------
+    config : Configuration
+        The scene.
+    bounds : (2, 3) array_like
+        Lower and upper corners in m of the box the planes fill.
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        Triangles of the sphere and one quadrilateral per plane; cell array ``part``
+        (0 sphere, 1 floor, 2 wall).
+    """
+    import pyvista as pv
+
+    lo, hi = np.asarray(bounds, dtype=float)
+    sphere = pv.Sphere(radius=config.radius, center=config.centre, theta_resolution=48, phi_resolution=32)
+    tris = sphere.faces.reshape(-1, 4)[:, 1:]
+    pts = [np.asarray(sphere.points, float)]
+    cells = {pv.CellType.TRIANGLE: tris}
+    quads, parts = [], [np.zeros(tris.shape[0], dtype=np.int32)]
+    n = pts[0].shape[0]
+    for p in config.planes:
+        k = int(np.argmax(np.abs(p.normal)))
+        i, j = [a for a in range(3) if a != k]
+        corner = np.empty((4, 3))
+        corner[:, k] = p.point[k]
+        corner[:, i] = [lo[i], hi[i], hi[i], lo[i]]
+        corner[:, j] = [lo[j], lo[j], hi[j], hi[j]]
+        pts.append(corner)
+        quads.append(np.arange(n, n + 4))
+        parts.append(np.array([1 if k == 2 else 2], dtype=np.int32))
+        n += 4
+    if quads:
+        cells[pv.CellType.QUAD] = np.array(quads)
+    mesh = pv.UnstructuredGrid(cells, np.vstack(pts))
+    # pyvista orders the cells by type as given: triangles first, then quadrilaterals
+    mesh.cell_data["part"] = np.concatenate(parts)
+    mesh.field_data["sphere_radius_m"] = np.array([config.radius])
+    mesh.field_data["sphere_centre_m"] = np.asarray(config.centre, float)
+    return mesh
+
+
+def _save(mesh, path: Path) -> Path:
+    with atomic_path(path) as tmp:
+        mesh.save(str(tmp))
+    return path
+
+
+def write_geometry_vtk(config: Configuration, path, bounds) -> Path:
+    """Write :func:`geometry_dataset` to ``path`` (``.vtu``, atomically); return the path."""
+    path = Path(path)
+    if path.suffix.lower() != ".vtu":
+        raise ParameterError("path", f"expected a file name ending in .vtu, got {str(path)!r}")
+    return _save(geometry_dataset(config, bounds), path)
+
+
+def _write_with_geometry(mesh, config, path: Path, geometry: bool) -> tuple:
+    out = _save(mesh, path)
+    geo = write_geometry_vtk(config, geometry_path(path), _bounds(config, mesh.points)) if geometry else None
+    return out, geo
+
+
+def write_snapshot_vtk(pulse, config: Configuration, time, path, *, medium: Medium = AIR, planes=None, extent=None,
+                       sections=("xz",), n_u: int = 241, geometry: bool = True) -> tuple:
+    """Write the pressure of a field snapshot on its planar sections to a VTK file.
+
+    The points are those of :func:`acoustiviz.output.render.render_snapshot` called with the
+    same arguments, and the values those of :func:`acoustiviz.field.snapshots` there.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    config : Configuration
+        The scene.
+    time : float or sequence of float
+        Times in s from the start of contact (1 to 12, each >= 0).
+    path : path-like
+        Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
+    medium : Medium
+        The fluid.
+    planes, extent, sections, n_u
+        Where the field is evaluated, as for :func:`acoustiviz.output.render.render_snapshot`.
+    geometry : bool
+        Also write the sphere and planes to :func:`geometry_path` of ``path``.
+
+    Returns
+    -------
+    (pathlib.Path, pathlib.Path or None)
+        The data file and the geometry file.
+
+    Examples
+    --------
+    >>> write_snapshot_vtk(pulse, configuration("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
+    (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
+    """
+    from .render.snapshot import _planes
+
+    path = _check_vtk_path(path)
+    times = np.atleast_1d(np.asarray(time, dtype=float))
+    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
+        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
+    grids = _planes(config, planes, extent, times, medium, n_u, sections)
+    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
+    return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
+
+
+def write_animation_vtk(pulse, config: Configuration, path, *, medium: Medium = AIR, times=None, frames: int = 48,
+                        planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True) -> tuple:
+    """Write every frame of a wavefront animation to one VTK file (one pressure array per frame).
+
+    The frame times and points are those of :func:`acoustiviz.output.render.render_animation`
+    called with the same arguments; each frame is evaluated by
+    :func:`acoustiviz.output.render.frame_fields` (zero where no wave has arrived or all
+    have passed, NaN inside the sphere).
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    config : Configuration
+        The scene.
+    path : path-like
+        Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
+    medium : Medium
+        The fluid.
+    times : (k,) array_like, optional
+        Frame times in s (default :func:`acoustiviz.output.render.animation_times`).
+    frames : int
+        Number of frames when ``times`` is not given (2..2000).
+    planes, extent, sections, n_u
+        Where the field is evaluated, as for the render.
+    geometry : bool
+        Also write the sphere and planes to :func:`geometry_path` of ``path``.
+
+    Returns
+    -------
+    (pathlib.Path, pathlib.Path or None)
+        The data file and the geometry file.
+    """
+    from .render.animation import _reach_time, animation_times, frame_fields
+    from .render.snapshot import _planes
+
+    path = _check_vtk_path(path)
+    if times is None:
+        grids = _planes(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
+        times = animation_times(pulse, config, np.vstack([g.points for g in grids]), medium=medium, frames=frames)
+    else:
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        if times.ndim != 1 or times.size < 1 or not np.all(np.isfinite(times)):
+            raise ParameterError("times", "expected finite frame times in s")
+        grids = _planes(config, planes, extent, times, medium, n_u, sections)
+    fields = [frame_fields(pulse, config, times, g.points, medium=medium) for g in grids]
+    return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
+
+
+def write_balloon_vtk(pulse, config: Configuration, path, *, medium: Medium = AIR, distance: float = 0.7,
+                      n_theta: int = 32, data=None, geometry: bool = True) -> tuple:
+    """Write the metrics of a directivity balloon on its measuring sphere to a VTK file.
+
+    The points are the closed lattice of :func:`acoustiviz.output.render.balloon_data` at
+    ``distance`` from the contact point (the whole sphere, the half space above the plane or
+    the quarter space of the corner), the values those of
+    :func:`acoustiviz.field.field_metrics` there (see ``BALLOON_ARRAYS`` for the names).
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    config : Configuration
+        The scene.
+    path : path-like
+        Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
+    medium : Medium
+        The fluid.
+    distance : float
+        Radius in m of the measuring sphere.
+    n_theta : int
+        Polar resolution of the measuring grid (4..512).
+    data : BalloonData, optional
+        The lattice already computed by ``balloon_data`` (``distance`` and ``n_theta`` are
+        then taken from it).
+    geometry : bool
+        Also write the sphere and planes to :func:`geometry_path` of ``path``.
+
+    Returns
+    -------
+    (pathlib.Path, pathlib.Path or None)
+        The data file and the geometry file.
+    """
+    from .render.balloon import BalloonData, balloon_data
+
+    path = _check_vtk_path(path)
+    if data is None:
+        check_positive("distance", distance, "m")
+        data = balloon_data(pulse, config, medium=medium, distance=distance, n_theta=n_theta)
+    elif not isinstance(data, BalloonData):
+        raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
+    pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
+    metrics = field_metrics(pulse, pts, config, medium=medium)
+    return _write_with_geometry(balloon_dataset(data, metrics), config, path, geometry)
