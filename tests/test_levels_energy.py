@@ -4,9 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import trapezoid
+from scipy.integrate import quad, trapezoid
 
-from acoustiviz.core.contact import HalfSinePulse, Impact, acceleration_pulse
+from acoustiviz.core.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
 from acoustiviz.core.images import configuration
 from acoustiviz.core.medium import AIR
 from acoustiviz.errors import ParameterError
@@ -66,11 +66,22 @@ def test_half_sine_spectrum_is_its_fourier_integral():
 
 
 def test_sampled_spectrum_is_the_fourier_integral_of_the_piecewise_linear_pulse():
-    pulse = acceleration_pulse(IMPACT, "hertz", n_samples=33)
+    hertz = acceleration_pulse(IMPACT, "hertz", n_samples=33)
+    pulse = SampledPulse(hertz.times, hertz.acceleration_samples)
     t = np.linspace(0, pulse.duration, 200001)
     w = np.array([0.0, 3e3, 3e4, 2e5])
     direct = [trapezoid(pulse.acceleration(t) * np.exp(-1j * wi * t), t) for wi in w]
     assert np.allclose(pulse_spectrum(pulse, w), direct, rtol=1e-6, atol=1e-9 * pulse.velocity_change)
+
+
+@pytest.mark.parametrize("w", [0.0, 3e3, 3e4, 2e5, 2e6])
+def test_exact_hertz_spectrum_is_the_fourier_integral_of_the_closed_form(w):
+    pulse = acceleration_pulse(IMPACT, "hertz")
+    tau = pulse.duration
+    parts = [quad(lambda t, f=f: pulse.acceleration(t) * f(w * t), 0.0, tau, limit=2000, epsabs=0, epsrel=1e-12)[0]
+             for f in (math.cos, math.sin)]
+    direct = parts[0] - 1j * parts[1]
+    assert pulse_spectrum(pulse, np.array([w]))[0] == pytest.approx(direct, rel=1e-9, abs=1e-11 * pulse.velocity_change)
 
 
 @pytest.mark.parametrize("config", ["plane", "wall-floor"])

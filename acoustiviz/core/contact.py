@@ -332,7 +332,7 @@ class HertzPulse(SampledPulse):
     --------
     >>> p = HertzPulse(1000.0, 1e-4)
     >>> round(p.velocity_change / (1000.0 * 1e-4), 6)  # 1.6/θ_c of amplitude x duration
-    0.543609
+    0.543612
     """
 
     amplitude: float = 0.0
