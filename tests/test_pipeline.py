@@ -143,6 +143,9 @@ def test_scene_sweep_maps_onto_the_sweep_spec(tmp_path):
     assert spec.c1 == (15.0,) and spec.v0 == (1.5,) and spec.config == ("plane",)
     assert spec.distance[0] == pytest.approx(0.7) and spec.angle[0] == pytest.approx(math.pi / 4)
     assert spec.settings.duration == 1.5 and spec.settings.radius == pytest.approx(0.01905)
+    assert spec.settings.levels is False
+    with_levels = scene_from_dict({"outputs": {"sweep": {"gap_m": "0.02:0.04:3", "levels": True}}})
+    assert sweep_spec(with_levels).settings.levels is True
 
 
 def test_sweep_and_design_table_outputs_resume_without_recomputing(tmp_path):

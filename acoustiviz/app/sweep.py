@@ -215,7 +215,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
             solver=solver, rtol=min(d["tolerance"], 1e-3),
             radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
             surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
-            wall_distance=conf["wall_distance_m"], **stiffness)
+            wall_distance=conf["wall_distance_m"], levels=opts["levels"], **stiffness)
 
 
 def check_executor(executor, workers=None):
