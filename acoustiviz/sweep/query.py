@@ -77,8 +77,9 @@ DESIGN_TABLE_COLUMNS = (
     "decrease_db", "quietest_gap_m", "quietest_mass_kg", "loudest_gap_m", "loudest_mass_kg",
     *(f"{end}_{c}" for c in LEVEL_COLUMNS for end in ("min", "max")),
 )
-#: Columns a design query can rank by: every numeric column of ``sweep.csv`` but the design id.
-RANK_COLUMNS = tuple(c for c in NUMERIC_COLUMNS if c != "design_id")
+#: Columns a design query can rank by: every numeric column of ``sweep.csv`` but the design id and
+#: the success flag.
+RANK_COLUMNS = tuple(c for c in NUMERIC_COLUMNS if c not in ("design_id", "success"))
 
 
 def _nan_range(x) -> tuple:
@@ -201,13 +202,14 @@ class DesignChoice:
             return "\n".join(lines)
         k = self.rank_by
         head = "quietest" if k.endswith("_db") else f"smallest {k}"
-        tail = "loudest: " if k.endswith("_db") else f"largest {k}"
+        tail = "loudest" if k.endswith("_db") else f"largest {k}"
+        pad = " " * max(1, len(head) - len(tail) + 1)
         return "\n".join([
             f"designs with {self.definition} damping inclination {self.inclination:g} +/- {self.tolerance:g} m/s: "
             f"{self.n_candidates}; ranked by {k}",
             f"{head}: m = {q['mass_kg']:.6g} kg, d = {q['gap_m']:.6g} m, max SPL {q['max_spl_db']:.2f} dB"
             f"{self._extra(q)}, inclination {q['inclination']:.6g} m/s",
-            f"{tail}: m = {lo['mass_kg']:.6g} kg, d = {lo['gap_m']:.6g} m, max SPL {lo['max_spl_db']:.2f} dB"
+            f"{tail}:{pad}m = {lo['mass_kg']:.6g} kg, d = {lo['gap_m']:.6g} m, max SPL {lo['max_spl_db']:.2f} dB"
             f"{self._extra(lo)}, inclination {lo['inclination']:.6g} m/s",
             (f"the quietest is {self.saving_db:.2f} dB quieter than the loudest by {k}" if k.endswith("_db")
              else f"{k} spans {self.saving_db:.6g} among them"),
