@@ -18,6 +18,7 @@ import math
 
 __all__ = [
     "P_REF",
+    "ANALYSIS_RATE",
     "HERTZ_DURATION_CONSTANT",
     "PAPER_DURATION_CONSTANT",
     "CONFIGURATIONS",
@@ -111,3 +112,9 @@ DEFAULT_DURATION = 20.0
 #: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12) for about
 #: 20 % more solver time (``benchmarks/bench_dynamics.py``).
 DEFAULT_RTOL = 1e-13
+
+# --- levels ---------------------------------------------------------------------------------
+
+#: Rate in Hz at which computed signals are rendered for their weighted levels (not limited by a
+#: 48 kHz file): flat to 43.2 kHz, so the weightings, the 20 kHz band and the peaks see the whole click.
+ANALYSIS_RATE = 96000

@@ -90,3 +90,61 @@ def test_bad_options_exit_2_naming_the_option(extra, option, capsys):
     assert main([*args, "--config", "plane", *extra]) == 2
     err = capsys.readouterr().err
     assert option in err and len(err.strip().splitlines()) == 1
+
+
+def test_weighted_metric_columns_lcpeak_near_peak_and_one_angle_checked_directly(tmp_path):
+    """``--metric lcpeak`` and ``laeq``: C-peak within the C-weighting effect of the peak SPL; one
+    angle recomputed from an independent fine direct sum, band-limited by another filter."""
+    from scipy.signal import resample_poly
+
+    from acoustiviz.levels import metric_levels
+
+    out = tmp_path / "d.csv"
+    assert main([*ARGS, "--config", "plane", "--step", "15", "--metric", "lcpeak", "--csv", str(out)]) == 0
+    header, data = _read(out)
+    assert header == ["angle_deg", "peak_pa", "rms_pa", "spl_db", "lcpeak_db"]
+    # the click's energy lies around 1-3 kHz, where C-weighting is within 0.3 dB of flat; its
+    # low- and high-frequency parts are cut by at most a few dB, never raised by more than 0.1 dB
+    diff = data[:, 4] - data[:, 3]
+    assert np.all(diff < 0.1) and np.all(diff > -2.0)
+    # independent reference at 45 deg: both spheres of eq 14 summed directly at 1/(16 x 96 kHz),
+    # decimated by scipy's polyphase filter, then the levels called directly
+    cfg = images_plane(A)
+    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3))
+    th = np.pi / 4
+    obs = cfg.centre + 0.7 * np.array([np.sin(th), 0, np.cos(th)])
+    fs, up = 96000, 16
+    t = np.arange(0, 0.02 * fs * up) / (fs * up)
+    p = sum(sphere_pressure(pulse, t, obs, radius=A, centre=s.position, axis=s.axis) for s in cfg.sources)[0]
+    low = resample_poly(p, 1, up, window=("kaiser", 12.0))
+    low = np.concatenate([low, np.zeros(fs - low.size)])  # 1 s, as the command's LAeq interval
+    assert data[3, 0] == 45.0
+    assert data[3, 4] == pytest.approx(metric_levels(low, fs, "lcpeak")[0], abs=0.05)
+    out2 = tmp_path / "e.csv"
+    assert main([*ARGS, "--config", "plane", "--step", "15", "--metric", "laeq", "--csv", str(out2)]) == 0
+    header2, data2 = _read(out2)
+    assert header2[-1] == "laeq_db"
+    assert data2[3, 4] == pytest.approx(metric_levels(low, fs, "laeq")[0], abs=0.05)
+
+
+def test_rms_and_sel_a_metrics_and_bad_metric(tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    assert main([*ARGS, "--config", "free", "--step", "30", "--metric", "rms", "--csv", str(out)]) == 0
+    header, data = _read(out)
+    assert header[-1] == "rms_db"
+    np.testing.assert_allclose(data[:, 4], 20 * np.log10(data[:, 2] / 20e-6), atol=1e-5)
+    out2, png = tmp_path / "s.csv", tmp_path / "s.png"
+    assert main([*ARGS, "--config", "free", "--step", "30", "--metric", "sel-a", "--csv", str(out2),
+                 "--png", str(png)]) == 0
+    _, data2 = _read(out2)
+    assert png.stat().st_size > 10_000
+    # one impact: SEL(A) (re 1 s) equals LAeq over the command's stated 1 s interval
+    out3 = tmp_path / "q.csv"
+    assert main([*ARGS, "--config", "free", "--step", "30", "--metric", "laeq", "--csv", str(out3)]) == 0
+    _, data3 = _read(out3)
+    np.testing.assert_allclose(data2[:, 4], data3[:, 4], atol=1e-6)
+    assert np.all(data2[:, 4] < data2[:, 3] - 20)  # a ms-long click's 1 s average lies far below its peak
+    capsys.readouterr()
+    assert main([*ARGS, "--metric", "loudness"]) == 2
+    err = capsys.readouterr().err
+    assert "--metric" in err and "lcpeak" in err and "sel-a" in err

@@ -143,6 +143,9 @@ def test_scene_sweep_maps_onto_the_sweep_spec(tmp_path):
     assert spec.c1 == (15.0,) and spec.v0 == (1.5,) and spec.config == ("plane",)
     assert spec.distance[0] == pytest.approx(0.7) and spec.angle[0] == pytest.approx(math.pi / 4)
     assert spec.settings.duration == 1.5 and spec.settings.radius == pytest.approx(0.01905)
+    assert spec.settings.levels is False
+    with_levels = scene_from_dict({"outputs": {"sweep": {"gap_m": "0.02:0.04:3", "levels": True}}})
+    assert sweep_spec(with_levels).settings.levels is True
 
 
 def test_sweep_and_design_table_outputs_resume_without_recomputing(tmp_path):
@@ -206,3 +209,62 @@ def test_the_sweep_command_resumes_a_scene_sweep(tmp_path, capsys):
                  "--out", str(folder)]) == 0
     assert "all 4 designs already in" in capsys.readouterr().err
     assert (folder / "sweep.csv").read_bytes() == before
+
+
+def test_wav_sidecar_records_the_physical_and_the_file_peak_separately(tmp_path):
+    import json
+
+    import soundfile as sf
+
+    from acoustiviz.core.contact import Impact, acceleration_pulse
+    from acoustiviz.core.radiation import sphere_pressure
+    from acoustiviz.dynamics import simulate
+
+    # default file: normalised PCM_24 at 48 kHz; walls = "one": every click from the floor's sphere and its image
+    scene = scene_from_dict({"damper": {"duration_s": 1.0}, "outputs": {"wav": {"walls": "one"}}})
+    products = run_scene(scene, tmp_path / "o")
+    side = json.loads((tmp_path / "o" / "wav_paper.json").read_text())
+    assert side["sidecar_version"] == 3
+    data, rate = sf.read(tmp_path / "o" / "wav_paper.wav", dtype="float64")
+    assert rate == 48000
+    # the file's peak: its samples times the calibration
+    file_peak = np.max(np.abs(data)) * side["scale_pa_per_full_scale"]
+    assert side["peak_pa"][0] == pytest.approx(file_peak, rel=1e-5)
+    # the physical peak: the fastest impact's two spheres (eq 14) summed directly at 10 ns steps
+    ctx = RunContext(scene, tmp_path)
+    res = simulate(ctx.damper_model, 1.0, initial=ctx.damper_initial)
+    pulse = acceleration_pulse(Impact(float(np.max(res.impacts.approach_velocity)), 5.6e8, 0.0405), "half-sine")
+    (_, pos), = scene.listeners()
+    cfg = scene.configuration()
+    t0 = (np.linalg.norm(pos - cfg.centre) - cfg.radius) / scene.medium().c - 1e-4
+    t = t0 + np.arange(0, 3e-3, 1e-8)
+    p = sum(sphere_pressure(pulse, t, pos, radius=cfg.radius, centre=s.position, axis=s.axis, medium=scene.medium())
+            for s in cfg.sources)[0]
+    assert side["physical_peak_pa"][0] == pytest.approx(np.max(np.abs(p)), rel=1e-4)
+    assert side["physical_peak_spl_db_re_20upa"][0] == pytest.approx(20 * np.log10(np.max(np.abs(p)) / 20e-6),
+                                                                      abs=1e-3)
+    # band-limiting a ~0.3 ms click to 21.6 kHz moves its peak (the filter's ringing at the pulse's
+    # kinks, the samples' grid): close, but not the same number, beyond the file's 24-bit resolution
+    ratio = side["peak_pa"][0] / side["physical_peak_pa"][0]
+    assert abs(20 * np.log10(ratio)) < 1.0 and abs(ratio - 1) > 1e-5
+    wav = next(p for p in products if p.path.suffix == ".wav")
+    assert float(wav.figures["physical_peak_spl_db"]) == pytest.approx(side["physical_peak_spl_db_re_20upa"][0],
+                                                                       abs=0.06)
+
+
+def test_wav_and_levels_hear_one_setup(tmp_path):
+    """``wav`` and ``levels`` share the scene's sound setup: the 96 kHz analysis of the run finds the
+    unweighted peak the WAV sidecar's closed form records, and both count the same clicks."""
+    import csv
+    import json
+
+    scene = scene_from_dict({"damper": {"duration_s": 0.8},
+                             "outputs": {"wav": {"walls": "both", "struck_wall": 1}, "levels": True}})
+    products = run_scene(scene, tmp_path / "o")
+    side = json.loads((tmp_path / "o" / "wav_paper.json").read_text())
+    with open(tmp_path / "o" / "levels.csv", newline="") as f:
+        (row,) = list(csv.DictReader(f))
+    assert float(row["lzpeak_db"]) == pytest.approx(side["physical_peak_spl_db_re_20upa"][0], abs=0.1)
+    assert side["scene"]["struck_wall"] == 1 and side["scene"]["walls"] == "both"
+    wav = next(p for p in products if p.path.suffix == ".wav")
+    assert int(wav.figures["impacts"]) == side["impacts"] > 0

@@ -18,14 +18,12 @@ from pathlib import Path
 import numpy as np
 
 from .._validate import ParameterError, check_positive
+from ..constants import ANALYSIS_RATE
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, sound_levels, third_octave_levels
 
 __all__ = ["ANALYSIS_RATE", "CalibratedSignal", "LevelReport", "RunEnergy", "read_calibrated_wav", "analyse",
            "bands_path", "write_levels_csv", "summary_lines", "rendered_levels", "run_energy"]
 
-#: Rate in Hz at which computed signals are rendered for their levels (not limited by a 48 kHz file):
-#: flat to 43.2 kHz, so the weightings, the 20 kHz band and the peaks see the whole click.
-ANALYSIS_RATE = 96000
 
 
 @dataclass(frozen=True)

@@ -251,24 +251,14 @@ def produce_restitution(ctx: RunContext):
 
 def produce_wav(ctx: RunContext):
     """Calibrated WAV of the damper run at each listener (:func:`acoustiviz.app.wav.write_wav_files`)."""
-    from ..output.audio import ClickModel, ImpactSequence, render
-    from .wav import WavFile, cavity, write_wav_files
+    from ..output.audio import render
+    from .scene_levels import damper_sound_setup
+    from .wav import WavFile, write_wav_files
 
     opts = ctx.scene.output("wav")
     res = ctx.damper_run
-    conf = ctx.scene.section("configuration")
-    radius = ctx.scene.damper_sphere_radius()
-    wall_floor = conf["kind"] == "wall-floor"
-    strike = conf["strike"] if wall_floor else "floor"
-    room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"], walls=opts["walls"],
-                  wall_distance=conf["wall_distance_m"] if wall_floor and strike == "floor" else None,
-                  strike=strike, height=conf["height_m"] if strike == "wall" else None, medium=ctx.medium)
-    pulse_mass = ctx.scene.section("contact")["pulse_mass"]
-    model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
-                       mass_model=pulse_mass, pulse=ctx.scene.section("contact")["pulse"])
-    named = ctx.scene.listeners(radius)
-    points = np.array([pos for _, pos in named])
-    seq = ImpactSequence.from_table(res.impacts)
+    seq, room, model, names, points = damper_sound_setup(ctx)
+    named = list(zip(names, points, strict=True))
     ctx.progress(f"auralising {len(seq)} impacts at {len(named)} listener(s), {opts['rate_hz']} Hz")
     out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration)
     if opts["stereo"]:
@@ -278,7 +268,7 @@ def produce_wav(ctx: RunContext):
         files = [WavFile(ctx.path(f"wav_{name}.wav"), out.pressure[i:i + 1], [name], points[i:i + 1], ["mono"])
                  for i, (name, _) in enumerate(named)]
     s = ctx.scene.section("sphere")
-    written = write_wav_files(files, sample_rate=opts["rate_hz"], subtype=opts["subtype"], rendering=out.describe(),
+    written = write_wav_files(files, sample_rate=opts["rate_hz"], subtype=opts["subtype"], rendering=out,
                               scene_name=ctx.scene.name,
                               damper=_damper.damper_description(ctx.damper_model, ctx.damper, res.duration),
                               radius_source=f"scene: sphere.damper_radius = {s['damper_radius']!r}")
@@ -288,7 +278,9 @@ def produce_wav(ctx: RunContext):
             ctx.progress(f"warning: {msg}")
         rec = w["record"]
         lvl = max((v for v in rec["peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
+        phys = max((v for v in rec["physical_peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
         products += [Product("wav", wav.path, {"impacts": str(len(seq)), "peak_spl_db": f"{lvl:.1f}",
+                                               "physical_peak_spl_db": f"{phys:.1f}",
                                                "subtype": rec["subtype"], "rate_hz": str(opts["rate_hz"])}),
                      Product("wav", w["sidecar"], {})]
     return products

@@ -26,7 +26,12 @@ _CACHE = "_levels_report"
 
 
 def damper_sound_setup(ctx):
-    """``(sequence, cavity, click model, listener names, positions)`` of a scene's damper run."""
+    """``(sequence, cavity, click model, listener names, positions)`` of a scene's damper run.
+
+    The one setup of a scene's sound: the ``wav`` output renders its files with it and the
+    ``levels`` and ``spectrum`` outputs their analysis, so the three hear the same cavity
+    (``[outputs.wav]`` surroundings, or their defaults), clicks and listeners.
+    """
     from ..output.audio import ClickModel, ImpactSequence
     from .wav import cavity
 

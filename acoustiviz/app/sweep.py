@@ -44,6 +44,7 @@ from ..sweep import (
     DEFINITIONS,
     DESIGN_TABLE_CSV,
     PAPER_TABLE2,
+    RANK_COLUMNS,
     SWEEP_CSV,
     Settings,
     SweepSpec,
@@ -67,12 +68,14 @@ SWEEP_OPTIONS = {
     "duration": "--duration", "solver": "--solver", "rtol": "--rtol", "radius": "--radius",
     "radius_mode": "--radius", "density": "--density", "surface": "--surface", "pulse": "--pulse",
     "pulse_mass": "--pulse-mass", "c": "--c", "rho": "--rho", "wall_distance": "--wall-distance",
-    "n_fastest": "--spl-fastest", "out": "--out", "executor": "--executor", "workers": "--workers",
+    "n_fastest": "--spl-fastest", "levels": "--levels", "out": "--out", "executor": "--executor",
+    "workers": "--workers",
     "definition": "--definition", "width": "--band-width", "band_width": "--band-width",
 }
 #: :func:`design_report` parameter -> ``acoustiviz design`` option.
 DESIGN_OPTIONS = {"sweep": "--sweep", "out": "--sweep", "inclination": "--inclination", "tolerance": "--tolerance",
-                  "definition": "--definition", "width": "--band-width", "band_width": "--band-width"}
+                  "definition": "--definition", "width": "--band-width", "band_width": "--band-width",
+                  "rank_by": "--rank-by"}
 
 #: File names of the Figure 6 maps inside a sweep directory.
 INCLINATION_MAP = "inclination_map.png"
@@ -84,7 +87,7 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
                M=TABLE1["M"], K=TABLE1["K"], C=TABLE1["C"], clip_tensile=False, duration=DEFAULT_DURATION,
                solver="event", rtol=DEFAULT_RTOL, radius=PAPER_RADIUS, density=None, surface=None,
                pulse="half-sine", pulse_mass="impact", c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY,
-               wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4) -> SweepSpec:
+               wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4, levels=False) -> SweepSpec:
     """The sweep of the given settings; swept ones take a value, ``start:stop:count`` or ``a,b,c``.
 
     Parameters
@@ -106,7 +109,7 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         Radius of the radiating sphere in m, or ``"mass"``: from the impact mass and ``density``.
     density : float, optional
         Sphere density in kg/m³; only with ``radius="mass"`` (default 7800 or the material's).
-    surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest
+    surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest, levels
         See :class:`~acoustiviz.sweep.Settings`.
 
     Returns
@@ -134,7 +137,8 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         check_range("angle_deg", a, 0.0, limit, unit="deg")
     settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
                         radius_mode=radius_mode, radius=radius, density=density, surface=surface, pulse=pulse,
-                        pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance, n_fastest=n_fastest)
+                        pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance, n_fastest=n_fastest,
+                        levels=bool(levels))
     return SweepSpec(
         gap=parse_values("gap", gap),
         m=None if mass_ratio is not None else parse_values("m", TABLE1["m"] if m is None else m),
@@ -211,7 +215,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
             solver=solver, rtol=min(d["tolerance"], 1e-3),
             radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
             surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
-            wall_distance=conf["wall_distance_m"], **stiffness)
+            wall_distance=conf["wall_distance_m"], levels=opts["levels"], **stiffness)
 
 
 def check_executor(executor, workers=None):
@@ -339,7 +343,7 @@ def sweep_summary(run: SweepRun) -> list[str]:
 
 
 def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, definition: str = "two-maxima",
-                  table: bool = False, band_width: float = 0.001) -> list[str]:
+                  table: bool = False, band_width: float = 0.001, rank_by: str = "max_spl_db") -> list[str]:
     """Lines answering the design query of a sweep directory (paper Table 2).
 
     Parameters
@@ -354,8 +358,13 @@ def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, defin
         Also give the design table of the whole sweep.
     band_width : float
         Band width of the table in m/s.
+    rank_by : str
+        The column ranking the candidates (:data:`acoustiviz.sweep.RANK_COLUMNS`; default
+        ``max_spl_db``; ``lafmax_db``, ``lcpeak_db``, ``laeq_db`` for a sweep run with levels).
     """
     check_finite("inclination", inclination)
+    if rank_by not in RANK_COLUMNS:
+        raise ParameterError("rank_by", f"must be one of {', '.join(RANK_COLUMNS)}; got {rank_by!r}")
     check_nonnegative("tolerance", tolerance, "m/s")
     check_positive("band_width", band_width, "m/s")
     check_choice("definition", definition, DEFINITIONS)
@@ -365,13 +374,17 @@ def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, defin
     lines = []
     if not rows.complete:
         lines.append(f"note: the sweep is unfinished ({len(rows)} of {len(rows.spec.designs())} designs)")
-    lines += design(rows, inclination, tolerance, definition=definition).summary().splitlines()
+    lines += design(rows, inclination, tolerance, definition=definition, rank_by=rank_by).summary().splitlines()
     if table:
         lines += ["", f"design table ({definition} damping inclination, bands of {100 * band_width:g} cm/s):",
                   f"{'e (cm/s)':>9} {'n':>4} {'min SPLmax':>11} {'max SPLmax':>11} {'decrease':>9}  quietest (m, d)"]
         for b in design_table(rows, definition=definition, width=band_width):
+            ranges = "".join(f"; {name} {lo:.1f}-{hi:.1f} dB" for name, (lo, hi) in
+                             zip(("LAFmax", "LCpeak", "LAeq"), (b.level_ranges or {}).values(), strict=False)
+                             if math.isfinite(lo))
             lines.append(f"{100 * b.centre:9.2f} {b.n_designs:4d} {b.min_spl_db:11.1f} {b.max_spl_db:11.1f} "
-                         f"{b.decrease_db:9.1f}  {1000 * b.quietest_mass:.1f} g, {100 * b.quietest_gap:.2f} cm")
+                         f"{b.decrease_db:9.1f}  {1000 * b.quietest_mass:.1f} g, {100 * b.quietest_gap:.2f} cm"
+                         f"{ranges}")
     return lines
 
 

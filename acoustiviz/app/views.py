@@ -16,10 +16,19 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import check_range
+from ..constants import ANALYSIS_RATE, P_REF
 from ..errors import ParameterError
 from ..field import waveform_span
+from ..levels import METRICS
 
-__all__ = ["waveform_times", "directivity_angles", "MIN_SAMPLES_PER_DURATION"]
+__all__ = ["waveform_times", "directivity_angles", "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS",
+           "LEVEL_INTERVAL", "directivity_metric", "impact_signals", "metric_label", "directivity_metric_figure"]
+
+#: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
+#: the weighted levels of :data:`acoustiviz.levels.METRICS`.
+DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **METRICS}
+#: Interval in s over which one impact's equivalent levels (LAeq, LZeq) are averaged, from its first arrival.
+LEVEL_INTERVAL = 1.0
 
 #: Fewest time samples per contact duration a waveform is drawn or tabulated with.
 MIN_SAMPLES_PER_DURATION = 200
@@ -68,3 +77,129 @@ def directivity_angles(config, step_deg: float) -> np.ndarray:
     if deg[-1] < top - 1e-9:
         deg = np.append(deg, top)
     return np.radians(deg)
+
+
+def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
+                   interval: float = LEVEL_INTERVAL) -> np.ndarray:
+    """Pressure of one impact at each point, band-limited and sampled at ``sample_rate`` over ``interval``.
+
+    The closed-form pressure (:func:`acoustiviz.field.time_series`) is evaluated at
+    ``L × sample_rate`` (``L`` >= 16 and >= 200 samples per contact,
+    :func:`acoustiviz.output.audio.oversampling_factor`), from the earliest arrival at any point to
+    the end of the latest sound (:func:`acoustiviz.field.waveform_span`), low-passed flat to
+    0.45 × ``sample_rate`` by the auraliser's zero-delay decimation filter
+    (:func:`acoustiviz.output.audio.decimation_filter`) and decimated, so nothing aliases.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        The sphere's acceleration pulse.
+    points : (k, 3) array_like
+        Observers in m.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    sample_rate : int
+        Output rate in Hz (default :data:`~acoustiviz.constants.ANALYSIS_RATE`).
+    interval : float
+        Signal length in s from the earliest arrival (zeros after the sound).
+
+    Returns
+    -------
+    (k, round(interval × sample_rate)) ndarray
+        Pressure in Pa; sample 0 is the earliest arrival (rounded down to the output grid).
+    """
+    from scipy.signal import upfirdn
+
+    from ..field import time_series
+    from ..output.audio import decimation_filter, oversampling_factor
+
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    spans = np.array([waveform_span(pulse, p, config, medium=medium) for p in pts])
+    L = oversampling_factor(sample_rate, pulse.duration)
+    h = decimation_filter(L)
+    K = (h.size - 1) // (2 * L)
+    t0 = np.floor(spans[:, 0].min() * sample_rate) / sample_rate
+    n_out = int(round(interval * sample_rate))
+    n_sound = int(np.ceil((spans[:, 1].max() - t0) * sample_rate)) + 1
+    if n_sound + K >= n_out:
+        raise ParameterError("interval", f"must exceed the sound of one impact ({(n_sound + K) / sample_rate:g} s)")
+    t = t0 + np.arange(n_sound * L) / (L * sample_rate)
+    hi = time_series(pulse, t, pts, config, medium=medium)
+    low = upfirdn(h, hi, up=1, down=L, axis=1)[:, K:K + n_sound + K]
+    out = np.zeros((pts.shape[0], n_out))
+    out[:, :low.shape[1]] = low
+    return out
+
+
+def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.ndarray:
+    """The level ``metric`` in dB at each angle of a directivity.
+
+    Parameters
+    ----------
+    directivity : acoustiviz.field.Directivity
+        Peaks and RMS on the circle (its points are used).
+    metric : str
+        A key of :data:`DIRECTIVITY_METRICS`: ``"peak-spl"`` (its peak SPL), ``"rms"`` (the level of
+        its RMS pressure over its window), or a weighted level of :data:`acoustiviz.levels.METRICS`
+        (``"lcpeak"``, ``"lafmax"``, ``"laeq"``, ``"sel-a"``, ...), computed by
+        :func:`acoustiviz.levels.metric_levels` from :func:`impact_signals` at
+        :data:`~acoustiviz.constants.ANALYSIS_RATE` over :data:`LEVEL_INTERVAL` (1 s from the first
+        arrival: LAeq,1s of one impact, numerically equal to its SEL(A)).
+    pulse, config, medium
+        The impact, sphere and fluid of the directivity.
+
+    Returns
+    -------
+    (k,) ndarray
+        dB re 20 µPa (exposure levels re (20 µPa)²·s).
+    """
+    from ..levels import metric_levels
+
+    if metric not in DIRECTIVITY_METRICS:
+        raise ParameterError("metric", f"must be one of {', '.join(DIRECTIVITY_METRICS)}, got {metric!r}")
+    if metric == "peak-spl":
+        return np.asarray(directivity.spl_db, dtype=float)
+    if metric == "rms":
+        with np.errstate(divide="ignore"):
+            return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
+    p = impact_signals(pulse, directivity.points, config, medium)
+    return metric_levels(p, ANALYSIS_RATE, metric)
+
+
+def metric_label(metric: str) -> str:
+    """How a directivity metric is named on a plot axis, with its unit."""
+    names = {"peak-spl": "peak SPL", "rms": "RMS level", "lzpeak": "LZpeak", "lcpeak": "LCpeak",
+             "lafmax": "LAFmax", "lasmax": "LASmax", "laeq": f"LAeq,{LEVEL_INTERVAL:g}s",
+             "lzeq": f"LZeq,{LEVEL_INTERVAL:g}s", "sel": "SEL", "sel-a": "SEL(A)"}
+    unit = "dB re (20 µPa)² s" if metric.startswith("sel") else "dB re 20 µPa"
+    return f"{names.get(metric, metric)} ({unit})"
+
+
+def directivity_metric_figure(directivity, values, metric: str, *, title: str = "", half_space: bool = True):
+    """Paper Figure 3 (peak SPL, RMS pressure) and a third polar plot of ``values`` (``metric``, dB)."""
+    from types import SimpleNamespace
+
+    from matplotlib.figure import Figure
+
+    from ..output.plot._style import style
+    from ..output.plot.directivity import plot_directivity
+
+    with style():
+        fig = Figure(figsize=(13.5, 4.8), layout="constrained")
+        axes = [fig.add_subplot(1, 3, k, projection="polar") for k in (1, 2, 3)]
+        plot_directivity(directivity, "spl", ax=axes[0])
+        plot_directivity(directivity, "rms", ax=axes[1])
+        plot_directivity(SimpleNamespace(angle=directivity.angle, spl_db=np.asarray(values, dtype=float)), "spl",
+                         ax=axes[2])
+        label = metric_label(metric)
+        axes[2].set_title(f"{label} vs angle from the acceleration axis (deg)", fontsize=9)
+        axes[2].set_xlabel(f"radial axis: {label}", fontsize=8)
+        if half_space:
+            for ax in axes:
+                ax.set_thetamin(0)
+                ax.set_thetamax(90)
+        if title:
+            fig.suptitle(title, fontsize=10)
+    return fig

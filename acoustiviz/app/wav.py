@@ -6,6 +6,13 @@
 sidecar records the software version, the scene (if any), the calibration in Pa per full scale,
 the listeners, the peaks, whether anything clipped, how the sound was computed and the damper run.
 
+Two peaks are recorded per channel, because they differ: ``physical_peak_pa``, the largest |p| of
+the sound itself (each click in closed form, :func:`physical_peaks`), and ``peak_pa``, the largest
+|sample| of the band-limited file at its rate times the calibration. Band-limiting a click of a few
+hundred microseconds to 21.6 kHz (48 kHz files) moves its peak (the filter rings at the pulse's
+kinks, the samples fall between the true maxima), so ``peak_pa`` is the level the file plays,
+``physical_peak_pa`` the level the damper makes.
+
 By default the files are normalised 24-bit PCM whose largest sample across the run lies
 ``headroom_db`` (1 dB) below full scale, so any player plays them without clipping; the sidecar's
 ``scale_pa_per_full_scale`` turns samples back into pascals (``acoustiviz levels`` reads it). The
@@ -26,10 +33,11 @@ from ..errors import ClippingWarning
 from ..output.audio import CavityScene, shared_scale, write_sidecar, write_wav
 from .impacts import surroundings
 
-__all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files"]
+__all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
+           "physical_peaks"]
 
-#: Version of the sidecar schema; bumped whenever a key changes meaning.
-SIDECAR_VERSION = 2
+#: Version of the sidecar schema; bumped whenever a key changes meaning (3: physical_peak_pa).
+SIDECAR_VERSION = 3
 
 
 def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
@@ -81,8 +89,61 @@ def calibration(files, subtype: str, *, scale=None, headroom_db: float = 1.0) ->
     return 1.0, "pascals (1.0 = 1 Pa)"
 
 
+def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
+    """Largest |p| in Pa of the sound of a rendered impact sequence at each point, not band-limited.
+
+    Each click is evaluated in closed form by the field evaluator
+    (:func:`acoustiviz.field.field_metrics`, paper eqs 12-14) for the sources of the wall it strikes
+    (:func:`acoustiviz.output.audio.wall_sources`) and the pulse the renderer used
+    (:meth:`acoustiviz.output.audio.ClickModel.pulse_for`). At a fixed point the peak of a click grows
+    with its approach speed (:mod:`acoustiviz.sweep`), so per wall the ``n_fastest`` fastest distinct
+    speeds are evaluated; if their peaks are not ordered like their speeds, every impact of the wall
+    is. Clicks are taken one at a time: a click's sound lasts a few milliseconds (its arrivals, its
+    contact and 40 decay times a/c), and a neighbour's tail overlapping it adds nothing measurable.
+
+    Parameters
+    ----------
+    rendering : acoustiviz.output.audio.Rendering
+        The rendered sequence (its impacts, cavity, click model and listeners).
+    points : (n, 3) array_like, optional
+        Where, in m (default the rendering's listeners).
+    n_fastest : int
+        Fastest distinct speeds evaluated per wall (0: every impact).
+
+    Returns
+    -------
+    (n,) ndarray
+        Peak pressure in Pa (0 without impacts).
+    """
+    from ..core.images import Configuration
+    from ..field import field_metrics
+    from ..output.audio import wall_sources
+
+    scene, model, seq = rendering.scene, rendering.model, rendering.sequence
+    pts = np.asarray(rendering.listeners if points is None else points, dtype=float).reshape(-1, 3)
+    base = scene.configuration
+    peak = np.zeros(pts.shape[0])
+    for wall in (-1, 1):
+        u = np.abs(np.asarray(seq.velocities, dtype=float)[np.asarray(seq.walls) == wall])
+        u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
+        if u.size == 0:
+            continue
+        conf = Configuration(base.name, base.radius, tuple(wall_sources(scene, wall)), base.planes, base.strike)
+
+        def peaks_of(speeds, conf=conf):
+            return np.array([field_metrics(model.pulse_for(v), pts, conf, medium=scene.medium).peak for v in speeds])
+
+        k = u.size if n_fastest == 0 else min(int(n_fastest), u.size)
+        rows = peaks_of(u[:k])
+        if k < u.size and np.any(rows[1:] > rows[:-1] * (1 + 1e-9)):
+            rows = np.vstack([rows, peaks_of(u[k:])])
+        peak = np.maximum(peak, np.max(rows, axis=0))
+    return peak
+
+
 def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, scale_source: str,
-                   rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None) -> dict:
+                   rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None,
+                   physical_peak=None) -> dict:
     """The JSON sidecar of one WAV file (schema version :data:`SIDECAR_VERSION`).
 
     Parameters
@@ -108,10 +169,15 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
     levels : dict, optional
         Weighted levels and bands (:meth:`acoustiviz.app.levels.LevelReport.describe`), recorded
         under ``levels``.
+    physical_peak : (n_channels,) array_like, optional
+        Peak in Pa of the sound itself at each channel's listener (:func:`physical_peaks`), recorded
+        as ``physical_peak_pa`` (None when not given).
     """
     peaks = np.max(np.abs(wav.pressure), axis=1)
     dbfs = [20 * math.log10(pk / scale) if pk > 0 else None for pk in peaks]
     spls = [20 * math.log10(pk / P_REF) if pk > 0 else None for pk in peaks]
+    phys = None if physical_peak is None else [float(v) for v in np.ravel(physical_peak)]
+    phys_spl = None if phys is None else [20 * math.log10(v / P_REF) if v > 0 else None for v in phys]
     return {
         "sidecar_version": SIDECAR_VERSION,
         "acoustiviz_version": __version__,
@@ -130,7 +196,11 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "peak_pa": peaks.tolist(),
         "peak_spl_db_re_20upa": spls,
         "peak_dbfs": dbfs,
-        "peak_note": "peaks of the band-limited samples at the output rate",
+        "peak_note": "peak_pa: the largest |sample| of the band-limited file at its rate (before any "
+                     "clipping) x scale; physical_peak_pa: the largest |p| of the sound itself, each click "
+                     "in closed form, not band-limited",
+        "physical_peak_pa": phys,
+        "physical_peak_spl_db_re_20upa": phys_spl,
         "clipping": {"clipped_samples": info["clipped_samples"],
                      "peak_over_full_scale_db": info["over_full_scale_db"]},
         "impacts": rendering.get("impact_count"),
@@ -143,7 +213,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
 
 
 def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=None, headroom_db: float = 1.0,
-                    rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None) -> list:
+                    rendering, scene_name=None, damper=None, radius_source: str = "", levels=None) -> list:
     """Write WAV files and their sidecars with one shared calibration.
 
     Parameters
@@ -159,7 +229,11 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
         Pa per full scale (default: :func:`calibration`).
     headroom_db : float
         ``PCM_24`` without ``scale``: the run's peak sits this far below full scale, in dB.
-    rendering, scene_name, damper, radius_source
+    rendering : acoustiviz.output.audio.Rendering or dict
+        The rendering the files come from: its description is recorded in every sidecar, and
+        (given the Rendering itself) the physical peak at each channel's listener
+        (:func:`physical_peaks`); a description alone records ``physical_peak_pa`` as null.
+    scene_name, damper, radius_source
         Recorded in every sidecar (:func:`sidecar_record`).
     levels : sequence of dict, optional
         Per file, its levels to record in its sidecar.
@@ -170,6 +244,10 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
         Per file: its ``record`` (the sidecar), the ``sidecar`` path and any ``warnings`` (str).
     """
     scale, source = calibration(files, subtype, scale=scale, headroom_db=headroom_db)
+    physical = [None] * len(files)
+    if not isinstance(rendering, dict):
+        physical = [physical_peaks(rendering, f.positions) for f in files]
+        rendering = rendering.describe()
     written = []
     for k, wav in enumerate(files):
         with warnings.catch_warnings(record=True) as caught:
@@ -177,7 +255,8 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
             info = write_wav(wav.path, wav.pressure, sample_rate, subtype=subtype, scale=scale)
         record = sidecar_record(wav, info, sample_rate=sample_rate, scale=scale, scale_source=source,
                                 rendering=rendering, scene_name=scene_name, damper=damper,
-                                radius_source=radius_source, levels=None if levels is None else levels[k])
+                                radius_source=radius_source, levels=None if levels is None else levels[k],
+                                physical_peak=physical[k])
         side = write_sidecar(wav.path, record)
         written.append({"record": record, "sidecar": side, "warnings": [str(w.message) for w in caught]})
     return written

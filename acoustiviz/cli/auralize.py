@@ -267,7 +267,7 @@ def run(args) -> int:
             for path in write_levels_csv(args.levels_csv, report):
                 print(f"wrote {path}")
     written = write_wav_files(files, sample_rate=args.rate, subtype=args.subtype, scale=args.scale,
-                              headroom_db=args.headroom, rendering=out.describe(), damper=run_desc,
+                              headroom_db=args.headroom, rendering=out, damper=run_desc,
                               radius_source=radius_source, levels=per_file)
     for wav, w in zip(files, written, strict=True):
         for msg in w["warnings"]:

@@ -6,7 +6,8 @@ Example::
 
 Among the designs of ``DIR/sweep.csv`` whose damping inclination lies within the tolerance of
 the target, prints the quietest (m, d), its maximum SPL, and by how many dB it is quieter than
-the loudest (the acoustic-based design of the paper, Table 2). This module only parses the
+the loudest (the acoustic-based design of the paper, Table 2); ``--rank-by lafmax_db`` (or any
+numeric column) ranks by another level. This module only parses the
 options; :func:`acoustiviz.app.sweep.design_report` answers.
 """
 
@@ -36,6 +37,10 @@ def add_parser(subparsers):
                    help="also print the design table (paper Table 2) of the whole sweep")
     p.add_argument("--band-width", type=float, default=0.001, metavar="M/S",
                    help="band width of --table in m/s (default 0.001)")
+    p.add_argument("--rank-by", default="max_spl_db", metavar="COLUMN",
+                   help="numeric column of sweep.csv whose smallest value is the quietest: max_spl_db (default, "
+                        "paper Table 2), lafmax_db, lcpeak_db, laeq_db (sweeps run with --levels), "
+                        "settling_time_s, ...")
     p.set_defaults(func=run)
     return p
 
@@ -47,7 +52,7 @@ def run(args) -> int:
 
     with user_terms(DESIGN_OPTIONS):
         lines = design_report(args.sweep, args.inclination, args.tolerance, definition=args.definition,
-                              table=args.table, band_width=args.band_width)
+                              table=args.table, band_width=args.band_width, rank_by=args.rank_by)
     for line in lines:
         print(line)
     return 0

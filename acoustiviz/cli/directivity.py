@@ -23,7 +23,14 @@ def add_parser(subparsers) -> None:
     p.add_argument(
         "--step", type=float, default=5.0, metavar="DEG", help="angle step in degrees, in (0, 90] (default %(default)s)"
     )
-    p.add_argument("--csv", default=None, metavar="PATH", help="write columns angle_deg,peak_pa,rms_pa,spl_db")
+    p.add_argument("--metric", default="peak-spl", metavar="NAME",
+                   help="level shown against angle: peak-spl (default, max|p|), rms (RMS level over the window), "
+                        "or a weighted level computed from the impact's pressure at each angle, band-limited at "
+                        "96 kHz: lcpeak, lafmax, laeq (over 1 s from the first arrival), sel-a, lzpeak, lasmax, "
+                        "lzeq, sel")
+    p.add_argument("--csv", default=None, metavar="PATH",
+                   help="write columns angle_deg,peak_pa,rms_pa,spl_db and, for another --metric, its column "
+                        "(rms_db, lcpeak_db, lafmax_db, laeq_db, sel_a_db, ...)")
     p.add_argument("--png", default=None, metavar="PATH", help="draw SPL and RMS polar plots")
     p.set_defaults(func=run)
 
@@ -33,15 +40,21 @@ def run(args) -> int:
     import numpy as np
 
     from ..app.names import user_terms
-    from ..app.views import directivity_angles
+    from ..app.views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, metric_label
+    from ..errors import ParameterError
     from ..field import directivity
     from ._impact import impact_from_args
 
+    if args.metric not in DIRECTIVITY_METRICS:
+        raise ParameterError("--metric", f"must be one of {', '.join(DIRECTIVITY_METRICS)}, got {args.metric!r}")
     setup = impact_from_args(args)
     a = setup.radius
     with user_terms({"step_deg": "--step", "distance": "--distance", "angles": "--step"}):
         angles = directivity_angles(setup.configuration, args.step)
         d = directivity(setup.pulse, setup.configuration, args.distance, angles, medium=setup.medium)
+        extra = args.metric != "peak-spl"
+        column = DIRECTIVITY_METRICS[args.metric]
+        values = directivity_metric(d, args.metric, setup.pulse, setup.configuration, setup.medium) if extra else None
     deg = np.degrees(angles)
     top = 180.0 if setup.configuration.name == "free" else 90.0
     imp = setup.impact
@@ -53,26 +66,33 @@ def run(args) -> int:
         f"circle: {args.distance:g} m from the sphere's centre, configuration {setup.configuration.name}; "
         f"RMS window {d.metrics.window * 1e3:.3f} ms from the first arrival"
     )
-    print(f"{'angle_deg':>9} {'peak_pa':>10} {'rms_pa':>10} {'spl_db':>7}")
-    for row in zip(deg, d.peak, d.rms, d.spl_db, strict=True):
-        print(f"{row[0]:9.2f} {row[1]:10.4g} {row[2]:10.4g} {row[3]:7.2f}")
+    if extra and args.metric not in ("rms",):
+        print(f"{metric_label(args.metric)}: from the pressure at each angle band-limited flat to 43.2 kHz and "
+              "sampled at 96 kHz (IEC 61672-1 weightings); equivalent levels over 1 s from the first arrival")
+    print(f"{'angle_deg':>9} {'peak_pa':>10} {'rms_pa':>10} {'spl_db':>7}" + (f" {column:>10}" if extra else ""))
+    for k, row in enumerate(zip(deg, d.peak, d.rms, d.spl_db, strict=True)):
+        print(f"{row[0]:9.2f} {row[1]:10.4g} {row[2]:10.4g} {row[3]:7.2f}" + (f" {values[k]:10.2f}" if extra else ""))
     if args.csv:
         from ..output.writers import write_csv_atomic
 
         write_csv_atomic(
             args.csv,
-            ["angle_deg", "peak_pa", "rms_pa", "spl_db"],
-            [deg, d.peak, d.rms, d.spl_db],
-            fmt=["%.6g", "%.10e", "%.10e", "%.6f"],
+            ["angle_deg", "peak_pa", "rms_pa", "spl_db"] + ([column] if extra else []),
+            [deg, d.peak, d.rms, d.spl_db] + ([values] if extra else []),
+            fmt=["%.6g", "%.10e", "%.10e", "%.6f"] + (["%.6f"] if extra else []),
         )
         print(f"wrote {args.csv}")
     if args.png:
+        from ..app.views import directivity_metric_figure
         from ..output.plot._style import save_figure
         from ..output.plot.directivity import directivity_figure
 
-        fig = directivity_figure(d, half_space=top == 90.0, title=(
-            f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "
-            f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse"))
+        title = (f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "
+                 f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse")
+        if extra:
+            fig = directivity_metric_figure(d, values, args.metric, half_space=top == 90.0, title=title)
+        else:
+            fig = directivity_figure(d, half_space=top == 90.0, title=title)
         save_figure(fig, args.png)
         print(f"wrote {args.png}")
     return 0

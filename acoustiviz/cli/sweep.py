@@ -38,7 +38,7 @@ _SPEC = {"gap": "gap", "m": "m", "mass_ratio": "mass_ratio", "c1": "c1", "k_hert
          "M": "M", "K": "K", "C": "C", "clip_tensile": "clip_tensile", "duration": "duration", "solver": "solver",
          "rtol": "rtol", "radius": "radius", "density": "density", "surface": "surface", "pulse": "pulse",
          "pulse_mass": "pulse_mass", "c": "c", "rho": "rho", "wall_distance": "wall_distance",
-         "spl_fastest": "n_fastest"}
+         "spl_fastest": "n_fastest", "levels": "levels"}
 
 
 def add_parser(subparsers):
@@ -103,6 +103,10 @@ def add_parser(subparsers):
     s.add_argument("--spl-fastest", type=int, metavar="N",
                    help="evaluate the N fastest impacts exactly (the loudest is the fastest); 0: all "
                         "(default 4)")
+    s.add_argument("--levels", action="store_true", default=None,
+                   help="also render each run's click train at the listener at 96 kHz and report its LAFmax, "
+                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; about 0.3 s more "
+                        "per 20 s design, so off by default)")
     o = p.add_argument_group("execution and outputs")
     o.add_argument("--out", required=True, metavar="DIR", help="output directory (resumed if it exists)")
     o.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",

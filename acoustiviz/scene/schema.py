@@ -190,7 +190,9 @@ _OUT = {
         "mass_kg": Key("range", "impact-mass range start:stop:count", "0.02:0.08:4", "kg", low=0.0, low_open=True,
                        high=1e4),
         "duration_s": _pos("simulated time per design", "s", 5.0, high=1e4),
-        "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024)},
+        "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024),
+        "levels": Key("bool", "also LAFmax, LCpeak and LAeq of each design's run at the listener, rendered at "
+                      "96 kHz (about 0.3 s more per 20 s design)", False)},
         "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table({
         "inclination_m_s": Key("float", "target damping inclination", None, "m/s", low=0.0, high=10.0),

@@ -17,7 +17,10 @@ material, initial velocity of the main mass, listener distance and angle, config
 * the maximum sound pressure level at the listener over every impact: each impact is an
   acceleration pulse of the sphere built from its own approach speed
   (:func:`acoustiviz.core.contact.acceleration_pulse`), radiated by the sphere and its images
-  (:func:`acoustiviz.field.field_metrics`).
+  (:func:`acoustiviz.field.field_metrics`);
+* optionally (``Settings.levels``), the weighted levels of the whole run at the listener: LAFmax,
+  LCpeak and LAeq over the simulated duration, from the click train rendered at 96 kHz
+  (:mod:`acoustiviz.sweep.levels`).
 
 Two modelling choices the paper leaves open
 -------------------------------------------
@@ -58,6 +61,8 @@ The package
     the sweep directory: ``sweep.json``, the ``sweep.csv`` journal, resuming, the table of rows;
 :mod:`~acoustiviz.sweep.execute`
     running the designs: a local process pool, any Executor, or Dask; failed designs become rows;
+:mod:`~acoustiviz.sweep.levels`
+    LAFmax, LCpeak and LAeq of a design's click train at the listener (optional, ``levels``);
 :mod:`~acoustiviz.sweep.query`
     the design table (paper Table 2) and the quietest design for a target inclination;
 :mod:`~acoustiviz.sweep.progress`
@@ -71,8 +76,18 @@ from __future__ import annotations
 
 from .evaluate import DesignResult, evaluate_design, impact_spl_db, listener_point, max_spl_db
 from .execute import run_sweep
+from .levels import LEVEL_COLUMNS, design_levels
 from .progress import Progress
-from .query import DESIGN_TABLE_COLUMNS, PAPER_TABLE2, Band, DesignChoice, design, design_table, write_design_table
+from .query import (
+    DESIGN_TABLE_COLUMNS,
+    PAPER_TABLE2,
+    RANK_COLUMNS,
+    Band,
+    DesignChoice,
+    design,
+    design_table,
+    write_design_table,
+)
 from .spec import (
     MAX_RANGE_COUNT,
     PAPER_RADIUS,
@@ -111,6 +126,9 @@ __all__ = [
     "PAPER_RADIUS",
     "PAPER_TABLE2",
     "DESIGN_TABLE_COLUMNS",
+    "RANK_COLUMNS",
+    "LEVEL_COLUMNS",
+    "design_levels",
     "SweepMismatch",
     "Settings",
     "Design",

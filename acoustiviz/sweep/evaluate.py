@@ -8,15 +8,16 @@ failed row with its reason instead of stopping the sweep. SI units; angles in ra
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..core.images import observer_points
 from ..errors import ParameterError
+from .levels import LEVEL_COLUMNS, NO_LEVELS, design_levels
 from .spec import PAPER_RADIUS, Design, Settings
 
-__all__ = ["DesignResult", "listener_point", "impact_spl_db", "max_spl_db", "evaluate_design",
+__all__ = ["DesignResult", "listener_point", "sound_setup", "impact_spl_db", "max_spl_db", "evaluate_design",
            "evaluate_or_fail", "failed_result", "warm_up"]
 
 
@@ -141,6 +142,7 @@ class DesignResult:
     success: bool
     mass_ratio: float
     error: str = ""
+    levels: dict = field(default_factory=lambda: dict(NO_LEVELS))
 
     def row(self) -> dict:
         """The CSV row as a dict of column name to value."""
@@ -159,6 +161,7 @@ class DesignResult:
             "max_approach_velocity_m_s": self.max_approach_velocity,
             "fit_window_start_s": self.fit_window_start, "fit_window_stop_s": self.fit_window_stop,
             "fit_n_maxima": self.fit_n_maxima, "spl_impacts_evaluated": self.spl_impacts_evaluated,
+            **{c: self.levels.get(c, math.nan) for c in LEVEL_COLUMNS},
             "success": int(self.success), "error": self.error,
         }
 
@@ -182,6 +185,8 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
     The damper runs with :func:`acoustiviz.dynamics.simulate` from x = 0, dx/dt = ``v0``, the
     impact mass centred at rest (paper Figure 5 start); eq 16, the envelope fit and the settling
     time use the exact maxima of x(t) (:func:`acoustiviz.dynamics.maxima.exact_maxima`), not samples.
+    With ``settings.levels`` the run's click train is rendered at the listener and its LAFmax,
+    LCpeak and LAeq over ``[0, duration]`` are reported (:func:`acoustiviz.sweep.levels.design_levels`).
     """
     from ..core.images import configuration
     from ..core.medium import Medium
@@ -198,11 +203,16 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
                          wall_distance=s.wall_distance if design.config == "wall-floor" else None)
     point = listener_point(conf, design.distance, design.angle)
     u = res.impacts.approach_velocity
+    medium = Medium(c=s.c, rho=s.rho)
     spl, n_eval = max_spl_db(
         u, n_fastest=s.n_fastest, mass=design.m,
         partner_mass=math.inf if s.pulse_mass == "impact" else s.M,
-        k_hertz=design.k_hertz, pulse=s.pulse, config=conf, point=point, medium=Medium(c=s.c, rho=s.rho),
+        k_hertz=design.k_hertz, pulse=s.pulse, config=conf, point=point, medium=medium,
     )
+    levels = dict(NO_LEVELS)
+    if s.levels:
+        scene, model = sound_setup(design, s, medium)
+        levels, _ = design_levels(res.impacts, scene=scene, model=model, point=point, duration=s.duration)
     return DesignResult(
         design=design,
         inclination_two_maxima=float(two.value),
@@ -219,7 +229,25 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
         spl_impacts_evaluated=n_eval,
         success=bool(res.success),
         mass_ratio=design.m / s.M,
+        levels=levels,
     )
+
+
+def sound_setup(design: Design, settings: Settings, medium=None):
+    """``(cavity scene, click model)`` rendering a design's run as its maximum SPL hears it.
+
+    Every impact strikes the configuration's struck surface (``walls="one"``); the pulse and its
+    mass are the sweep's (``pulse``, ``pulse_mass``).
+    """
+    from ..core.medium import Medium
+    from ..output.audio import CavityScene, ClickModel
+
+    s = settings
+    medium = Medium(c=s.c, rho=s.rho) if medium is None else medium
+    scene = CavityScene(design.config, design.radius, design.gap, walls="one",
+                        wall_distance=s.wall_distance if design.config == "wall-floor" else None, medium=medium)
+    model = ClickModel(k_hertz=design.k_hertz, mass=design.m, main_mass=s.M, mass_model=s.pulse_mass, pulse=s.pulse)
+    return scene, model
 
 
 def failed_result(design: Design, settings: Settings, reason: str) -> DesignResult:

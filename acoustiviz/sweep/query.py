@@ -16,10 +16,11 @@ import numpy as np
 
 from .._validate import check_nonnegative, check_positive, check_range
 from ..errors import ParameterError
-from .store import ALL_COLUMNS, SweepTable, format_value
+from .levels import LEVEL_COLUMNS
+from .store import ALL_COLUMNS, NUMERIC_COLUMNS, SweepTable, format_value
 
-__all__ = ["PAPER_TABLE2", "DESIGN_TABLE_COLUMNS", "Band", "DesignChoice", "design_table", "write_design_table",
-           "design"]
+__all__ = ["PAPER_TABLE2", "DESIGN_TABLE_COLUMNS", "RANK_COLUMNS", "Band", "DesignChoice", "design_table",
+           "write_design_table", "design"]
 
 #: The paper's Table 2: (damping inclination in m/s, minimum and maximum of the maximum SPL in dB,
 #: their difference in dB), for bands 0.1 cm/s wide.
@@ -51,6 +52,9 @@ class Band:
         Design (m, kg) attaining the minimum.
     loudest_gap, loudest_mass : float
         Design (m, kg) attaining the maximum.
+    level_ranges : dict
+        For each of ``lafmax_db``, ``lcpeak_db``, ``laeq_db``: ``(min, max)`` in dB over the band's
+        designs (NaN when the sweep computed no levels).
     """
 
     centre: float
@@ -64,13 +68,23 @@ class Band:
     quietest_mass: float
     loudest_gap: float
     loudest_mass: float
+    level_ranges: dict | None = None
 
 
-#: Columns of ``design_table.csv``.
+#: Columns of ``design_table.csv``: paper Table 2, then the range of each weighted level in the band.
 DESIGN_TABLE_COLUMNS = (
     "inclination_m_s", "band_low_m_s", "band_high_m_s", "n_designs", "min_max_spl_db", "max_max_spl_db",
     "decrease_db", "quietest_gap_m", "quietest_mass_kg", "loudest_gap_m", "loudest_mass_kg",
+    *(f"{end}_{c}" for c in LEVEL_COLUMNS for end in ("min", "max")),
 )
+#: Columns a design query can rank by: every numeric column of ``sweep.csv`` but the design id and
+#: the success flag.
+RANK_COLUMNS = tuple(c for c in NUMERIC_COLUMNS if c not in ("design_id", "success"))
+
+
+def _nan_range(x) -> tuple:
+    x = x[np.isfinite(x)]
+    return (float(np.min(x)), float(np.max(x))) if x.size else (math.nan, math.nan)
 
 
 def design_table(table: SweepTable, *, definition: str = "two-maxima", width: float = 0.001,
@@ -118,8 +132,10 @@ def _band(table, sel, spl, centre, lo, hi) -> Band:
     i_min = sel[np.argmin(spl[sel])]
     i_max = sel[np.argmax(spl[sel])]
     g, m = table["gap_m"], table["mass_kg"]
+    ranges = {c: _nan_range(np.asarray(table[c], dtype=float)[sel]) for c in LEVEL_COLUMNS if c in table.columns}
     return Band(centre, float(lo), float(hi), int(sel.size), float(spl[i_min]), float(spl[i_max]),
-                float(spl[i_max] - spl[i_min]), float(g[i_min]), float(m[i_min]), float(g[i_max]), float(m[i_max]))
+                float(spl[i_max] - spl[i_min]), float(g[i_min]), float(m[i_min]), float(g[i_max]), float(m[i_max]),
+                ranges)
 
 
 def write_design_table(bands, path) -> Path:
@@ -128,9 +144,11 @@ def write_design_table(bands, path) -> Path:
 
     lines = [",".join(DESIGN_TABLE_COLUMNS)]
     for b in bands:
+        ranges = b.level_ranges or {}
+        levels = [v for c in LEVEL_COLUMNS for v in ranges.get(c, (math.nan, math.nan))]
         lines.append(",".join(format_value(v) for v in (
             b.centre, b.low, b.high, b.n_designs, b.min_spl_db, b.max_spl_db, b.decrease_db,
-            b.quietest_gap, b.quietest_mass, b.loudest_gap, b.loudest_mass)))
+            b.quietest_gap, b.quietest_mass, b.loudest_gap, b.loudest_mass, *levels)))
     return write_text_atomic(path, "\n".join(lines) + "\n")
 
 
@@ -147,16 +165,18 @@ class DesignChoice:
     n_candidates : int
         Designs with ``|e - inclination| <= tolerance``.
     quietest, loudest : dict or None
-        Row (column name to value) of the quietest and of the loudest candidate; None when no
-        design lies within the tolerance.
+        Row (column name to value) of the candidate with the smallest and the largest
+        ``rank_by``; None when no design lies within the tolerance.
     saving_db : float
-        Maximum SPL of the loudest minus that of the quietest candidate, in dB (NaN without
-        candidates).
+        ``rank_by`` of the loudest minus that of the quietest candidate (dB for a level; NaN
+        without candidates).
     nearest : tuple of dict
         The designs whose inclination is closest to the target (up to three), for a target
         that no design meets.
     span : tuple of float
         Smallest and largest inclination of the sweep in m/s.
+    rank_by : str
+        The column the candidates were ranked by (default ``max_spl_db``).
     """
 
     inclination: float
@@ -168,6 +188,7 @@ class DesignChoice:
     saving_db: float
     nearest: tuple = ()
     span: tuple = (math.nan, math.nan)
+    rank_by: str = "max_spl_db"
 
     def summary(self) -> str:
         """A few lines of plain text for the command line."""
@@ -177,21 +198,34 @@ class DesignChoice:
                      f"{self.inclination:g} m/s; the sweep spans [{self.span[0]:.4g}, {self.span[1]:.4g}] m/s",
                      "nearest designs (widen --tolerance or the sweep to include them):"]
             lines += [f"  m = {r['mass_kg']:.6g} kg, d = {r['gap_m']:.6g} m, inclination {r['inclination']:.6g} m/s, "
-                      f"max SPL {r['max_spl_db']:.2f} dB" for r in self.nearest]
+                      f"max SPL {r['max_spl_db']:.2f} dB{self._extra(r)}" for r in self.nearest]
             return "\n".join(lines)
+        k = self.rank_by
+        head = "quietest" if k.endswith("_db") else f"smallest {k}"
+        tail = "loudest" if k.endswith("_db") else f"largest {k}"
+        pad = " " * max(1, len(head) - len(tail) + 1)
         return "\n".join([
             f"designs with {self.definition} damping inclination {self.inclination:g} +/- {self.tolerance:g} m/s: "
-            f"{self.n_candidates}",
-            f"quietest: m = {q['mass_kg']:.6g} kg, d = {q['gap_m']:.6g} m, max SPL {q['max_spl_db']:.2f} dB, "
-            f"inclination {q['inclination']:.6g} m/s",
-            f"loudest:  m = {lo['mass_kg']:.6g} kg, d = {lo['gap_m']:.6g} m, max SPL {lo['max_spl_db']:.2f} dB, "
-            f"inclination {lo['inclination']:.6g} m/s",
-            f"the quietest is {self.saving_db:.2f} dB quieter than the loudest",
+            f"{self.n_candidates}; ranked by {k}",
+            f"{head}: m = {q['mass_kg']:.6g} kg, d = {q['gap_m']:.6g} m, max SPL {q['max_spl_db']:.2f} dB"
+            f"{self._extra(q)}, inclination {q['inclination']:.6g} m/s",
+            f"{tail}:{pad}m = {lo['mass_kg']:.6g} kg, d = {lo['gap_m']:.6g} m, max SPL {lo['max_spl_db']:.2f} dB"
+            f"{self._extra(lo)}, inclination {lo['inclination']:.6g} m/s",
+            (f"the quietest is {self.saving_db:.2f} dB quieter than the loudest by {k}" if k.endswith("_db")
+             else f"{k} spans {self.saving_db:.6g} among them"),
         ])
+
+    def _extra(self, row) -> str:
+        """The weighted levels of a row (when the sweep computed them) and the ranked column."""
+        parts = [f"{name} {row[c]:.2f} dB" for c, name in (("lafmax_db", "LAFmax"), ("lcpeak_db", "LCpeak"),
+                                                            ("laeq_db", "LAeq")) if math.isfinite(row.get(c, math.nan))]
+        if self.rank_by not in ("max_spl_db", *LEVEL_COLUMNS):
+            parts.append(f"{self.rank_by} {row[self.rank_by]:.6g}")
+        return "".join(f", {p}" for p in parts)
 
 
 def design(table: SweepTable, inclination: float, tolerance: float, *,
-           definition: str = "two-maxima") -> DesignChoice:
+           definition: str = "two-maxima", rank_by: str = "max_spl_db") -> DesignChoice:
     """For a target damping inclination within a tolerance, the quietest (m, d) and its saving.
 
     Parameters
@@ -204,6 +238,10 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
         Accepted deviation in m/s (>= 0).
     definition : {"two-maxima", "fit"}
         Inclination definition (default paper eq 16).
+    rank_by : str
+        The column whose smallest value is "quietest": any of :data:`RANK_COLUMNS`, e.g.
+        ``max_spl_db`` (default, paper Table 2), ``lafmax_db``, ``lcpeak_db``, ``laeq_db``
+        (sweeps run with levels) or ``settling_time_s``.
 
     Returns
     -------
@@ -214,15 +252,23 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
     Raises
     ------
     ParameterError
-        If the sweep holds no finished design.
+        If the sweep holds no finished design; ``rank_by`` if it names no numeric column or the
+        sweep holds no value of it.
     """
     target = check_range("inclination", inclination, -math.inf, math.inf)
     tol = check_nonnegative("tolerance", tolerance, "m/s")
+    if rank_by not in RANK_COLUMNS:
+        raise ParameterError("rank_by", f"must be one of {', '.join(RANK_COLUMNS)}; got {rank_by!r}")
     e = np.asarray(table.inclination(definition), dtype=float)
     spl = np.asarray(table["max_spl_db"], dtype=float)
     ok = np.isfinite(e) & np.isfinite(spl)
     if not np.any(ok):
         raise ParameterError("sweep", "the sweep holds no finished design")
+    key = np.asarray(table[rank_by], dtype=float)
+    if not np.any(ok & np.isfinite(key)):
+        hint = " (run the sweep with levels: acoustiviz sweep --levels)" if rank_by in LEVEL_COLUMNS else ""
+        raise ParameterError("rank_by", f"the sweep holds no value of {rank_by}{hint}")
+    ok &= np.isfinite(key)
     span = (float(np.min(e[ok])), float(np.max(e[ok])))
 
     def row(i):
@@ -234,8 +280,9 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
     if sel.size == 0:
         valid = np.flatnonzero(ok)
         near = valid[np.argsort(np.abs(e[valid] - target), kind="stable")[:3]]
-        return DesignChoice(target, tol, definition, 0, None, None, math.nan, tuple(row(i) for i in near), span)
-    i_min = sel[np.argmin(spl[sel])]
-    i_max = sel[np.argmax(spl[sel])]
+        return DesignChoice(target, tol, definition, 0, None, None, math.nan, tuple(row(i) for i in near), span,
+                            rank_by)
+    i_min = sel[np.argmin(key[sel])]
+    i_max = sel[np.argmax(key[sel])]
     return DesignChoice(target, tol, definition, int(sel.size), row(i_min), row(i_max),
-                        float(spl[i_max] - spl[i_min]), (), span)
+                        float(key[i_max] - key[i_min]), (), span, rank_by)

@@ -6,8 +6,10 @@
 ``sweep.csv``
     The journal: one row per finished design, in order of completion, each written, flushed and
     synced before the next (:class:`Journal`). Columns :data:`CSV_COLUMNS` then
-    :data:`EXTRA_COLUMNS`. A torn last line left by a kill is dropped on resume; finished
-    designs (failed ones included, with their reason) are never recomputed.
+    :data:`EXTRA_COLUMNS` (``lafmax_db``, ``lcpeak_db``, ``laeq_db`` are NaN unless the sweep's
+    ``levels`` setting is on, :mod:`acoustiviz.sweep.levels`). A torn last line left by a kill is
+    dropped on resume; finished designs (failed ones included, with their reason) are never
+    recomputed.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ __all__ = [
     "CSV_COLUMNS",
     "EXTRA_COLUMNS",
     "ALL_COLUMNS",
+    "NUMERIC_COLUMNS",
     "SWEEP_CSV",
     "SWEEP_JSON",
     "DESIGN_TABLE_CSV",
@@ -75,12 +78,17 @@ EXTRA_COLUMNS = (
     "fit_window_stop_s",
     "fit_n_maxima",
     "spl_impacts_evaluated",
+    "lafmax_db",
+    "lcpeak_db",
+    "laeq_db",
     "success",
     "error",
 )
 ALL_COLUMNS = CSV_COLUMNS + EXTRA_COLUMNS
 _TEXT_COLUMNS = ("material", "config", "error")
 _INT_COLUMNS = ("design_id", "n_impacts", "fit_n_maxima", "spl_impacts_evaluated", "success")
+#: The numeric columns of ``sweep.csv``.
+NUMERIC_COLUMNS = tuple(c for c in ALL_COLUMNS if c not in _TEXT_COLUMNS)
 
 #: File names inside a sweep directory.
 SWEEP_CSV = "sweep.csv"
@@ -90,7 +98,7 @@ _PREVIOUS_CSV = "sweep.previous.csv"
 #: Damping-inclination definitions: paper eq 16, or the envelope fit.
 DEFINITIONS = ("two-maxima", "fit")
 _FORMAT = "acoustiviz-sweep"
-_FORMAT_VERSION = 2  # 2: the error column of failed designs
+_FORMAT_VERSION = 3  # 2: the error column of failed designs; 3: lafmax_db, lcpeak_db, laeq_db
 
 
 class SweepMismatch(ParameterError):
