@@ -268,3 +268,26 @@ def test_wav_and_levels_hear_one_setup(tmp_path):
     assert side["scene"]["struck_wall"] == 1 and side["scene"]["walls"] == "both"
     wav = next(p for p in products if p.path.suffix == ".wav")
     assert int(wav.figures["impacts"]) == side["impacts"] > 0
+
+
+def test_scene_directivity_metric_equals_the_command(tmp_path):
+    """One rule for a weighted directivity: the scene key and `acoustiviz directivity --metric` agree."""
+    from acoustiviz.cli import main
+
+    scene = scene_from_dict({"sphere": {"radius_m": 0.01905}, "impact": {"velocity_m_s": 1.4},
+                             "contact": {"k_hertz_n_m1_5": 5.6e8}, "configuration": {"kind": "plane"},
+                             "outputs": {"directivity": {"step_deg": 30.0, "metric": "lcpeak"}}}, "t.toml")
+    run_scene(scene, tmp_path / "scene")
+    assert main(["directivity", "--radius", "0.01905", "--velocity", "1.4", "--k-hertz", "5.6e8", "--density", "7800",
+                 "--distance", "0.7", "--config", "plane", "--step", "30", "--metric", "lcpeak",
+                 "--csv", str(tmp_path / "cli.csv")]) == 0
+    a = np.genfromtxt(tmp_path / "scene" / "directivity.csv", delimiter=",", names=True)
+    b = np.genfromtxt(tmp_path / "cli.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(a["angle_deg"], b["angle_deg"])
+    np.testing.assert_allclose(a["lcpeak_db"], b["lcpeak_db"], atol=1e-5)
+    assert np.all(a["lcpeak_db"] <= a["spl_db"] + 0.1)  # C weighting removes energy, never adds much
+
+
+def test_scene_directivity_refuses_an_unknown_metric():
+    with pytest.raises(ParameterError, match="outputs.directivity.metric"):
+        scene_from_dict({"outputs": {"directivity": {"metric": "loudness"}}}, "t.toml")

@@ -178,25 +178,35 @@ def produce_waveform(ctx: RunContext):
 
 
 def produce_directivity(ctx: RunContext):
-    """Peak, RMS and SPL against angle at the first listener's distance (CSV + polar PNG)."""
+    """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance (CSV + polar PNG)."""
     from ..field import directivity
     from ..output.plot.directivity import directivity_figure
-    from .views import directivity_angles
+    from .views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, directivity_metric_figure
 
-    step = ctx.scene.output("directivity")["step_deg"]
+    out = ctx.scene.output("directivity")
+    step, metric = out["step_deg"], out.get("metric", "peak-spl")
     conf = ctx.configuration
     name, pos = ctx.listeners[0]
     dist = float(np.linalg.norm(pos - conf.sources[0].position))
     top = 180.0 if conf.name == "free" else 90.0
     angles = directivity_angles(conf, step)
     d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
-    csv = write_csv_atomic(ctx.path("directivity.csv"), ["angle_deg", "peak_pa", "rms_pa", "spl_db"],
-                           [d.angle_deg, d.peak, d.rms, d.spl_db], fmt="%.8g")
-    fig = directivity_figure(d, half_space=top == 90.0, title=f"{conf.name}, r = {dist:g} m (paper Figure 3)")
+    names, columns = ["angle_deg", "peak_pa", "rms_pa", "spl_db"], [d.angle_deg, d.peak, d.rms, d.spl_db]
+    title = f"{conf.name}, r = {dist:g} m (paper Figure 3)"
+    figures = {}
+    if metric != "peak-spl":
+        values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium)
+        names.append(DIRECTIVITY_METRICS[metric])
+        columns.append(values)
+        figures[f"max_{DIRECTIVITY_METRICS[metric]}"] = f"{np.nanmax(values):.1f}"
+        fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)
+    else:
+        fig = directivity_figure(d, half_space=top == 90.0, title=title)
+    csv = write_csv_atomic(ctx.path("directivity.csv"), names, columns, fmt="%.8g")
     png = _save(fig, ctx.path("directivity.png"))
     i = int(np.nanargmax(d.spl_db))
     return [Product("directivity", csv, {"max_spl_db": f"{d.spl_db[i]:.1f}", "at_deg": f"{d.angle_deg[i]:g}",
-                                         "distance_m": f"{dist:g}"}),
+                                         "distance_m": f"{dist:g}", **figures}),
             Product("directivity", png, {})]
 
 

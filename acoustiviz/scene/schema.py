@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..app.views import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
 from ..constants import CONFIGURATIONS as CONFIGS
 from ..constants import (
     DEFAULT_AIR_DENSITY,
@@ -158,8 +159,11 @@ _VTK = Key("bool", "also write the data as <output>.vtu with the sphere and plan
 _OUT = {
     "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
                       "pressure waveform at each listener"),
-    "directivity": Table({"step_deg": Key("float", "angle step", 5.0, "deg", low=0.1, high=45.0, low_open=False)},
-                         "peak, RMS and SPL against angle at the first listener's distance"),
+    "directivity": Table({"step_deg": Key("float", "angle step", 5.0, "deg", low=0.1, high=45.0, low_open=False),
+                          "metric": Key("str", "a further level against angle: a weighted level of one impact "
+                                        "(as `acoustiviz directivity --metric`); peak-spl: none",
+                                        "peak-spl", choices=tuple(_DIRECTIVITY_METRICS))},
+                         "peak, RMS and SPL (and the chosen metric) against angle at the first listener's distance"),
     "snapshot": Table({"times_s": Key("floats", "snapshot times (at most 12, drawn side by side)", [0.001], "s",
                                       low=0.0, high=10.0, length=12),
                        "size_px": Key("ints", "image width and height", [1400, 600], "px", low=64, high=8192,
