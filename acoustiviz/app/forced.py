@@ -210,10 +210,11 @@ def write_forced_png(run: ForcedRun, path):
     from ..output.plot.forced import plot_bifurcation, plot_frequency_response
 
     with style():
-        fig = Figure(figsize=(7.5, 8.0), layout="constrained")
+        fig = Figure(figsize=(9.5, 8.0), layout="constrained")
         ax1, ax2 = fig.subplots(2, 1, sharex=True)
         plot_frequency_response(run.response, ax=ax1)
         plot_bifurcation(run.response, ax=ax2)
+        ax1.set_xlabel("")  # shared with the diagram below
         ax1.set_title("Frequency response of the impact damper in operation")
     return save_figure(fig, path)
 

@@ -304,12 +304,15 @@ class DesignMap:
 
 
 def design_map(model: DamperModel, masses, gaps, frequency: float, amplitude: float, *, kind: str = "force",
-               listener=None, seconds: float = 1.0, **kwargs) -> DesignMap:
+               listener=None, config: str = "plane", radius: float = PAPER_RADIUS, seconds: float = 1.0,
+               **kwargs) -> DesignMap:
     """Amplitude reduction against operating noise (LAeq) over impact mass (kg) and gap (m).
 
     Each design runs from the linear start at ``frequency`` Hz to its steady state
     (:func:`acoustiviz.dynamics.forced.steady_state`, ``**kwargs``) and its click train is
-    rendered at ``listener`` (:func:`operating_noise`, 96 kHz, at least ``seconds`` s).
+    rendered at ``listener`` (:func:`operating_noise`, 96 kHz, at least ``seconds`` s) by a
+    sphere of ``radius`` m (held fixed as the mass changes: the mass enters through the Hertz
+    contact and the impact speeds).
     """
     from dataclasses import replace
 
@@ -327,7 +330,7 @@ def design_map(model: DamperModel, masses, gaps, frequency: float, amplitude: fl
             reg[i, j] = r.regime if r.success else "failed"
             if r.success:
                 red[i, j] = r.reduction_db
-                nz = operating_noise(r, listener=listener, seconds=seconds)
+                nz = operating_noise(r, listener=listener, config=config, radius=radius, seconds=seconds)
                 for c, a in lv.items():
                     a[i, j] = getattr(nz, c)
     return DesignMap(masses, gaps, red, regime=reg, **lv)
