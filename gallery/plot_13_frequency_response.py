@@ -35,7 +35,7 @@ from acoustiviz.dynamics import DamperModel
 from acoustiviz.dynamics.forced import Excitation, frequency_response, steady_state
 from acoustiviz.dynamics.periodic import masri_caughey
 from acoustiviz.output.plot._style import save_figure, style
-from acoustiviz.output.plot.forced import plot_bifurcation, plot_frequency_response, shade_frequencies
+from acoustiviz.output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
 
 FAST = fast_mode()
 model = DamperModel()
@@ -116,18 +116,10 @@ lev = {c: np.array([getattr(n, c) if n is not None else np.nan for n in noises])
 with style():
     fig = Figure(figsize=(7.5, 6.5), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(2, 1))
-    for c, name, mk in (("lcpeak_db", "LCpeak", "^"), ("lafmax_db", "LAFmax", "s"), ("laeq_db", "LAeq", "o")):
-        y = np.where(np.isfinite(lev[c]), lev[c], np.nan)
-        ax1.plot(freqs, y, "-" + mk, ms=3.5, lw=1.0, label=name)
-    silent = freqs[~np.isfinite(lev["laeq_db"])]
-    if silent.size:
-        ax1.plot(silent, np.full(silent.size, np.nanmin(lev["laeq_db"][np.isfinite(lev["laeq_db"])]) - 5), "x",
-                 color="0.4", label="no impacts (silent)")
-    nonper = np.array([r.regime == "non-periodic" for r in resp.primary])
-    shade_frequencies(ax1, freqs, nonper, label="non-periodic (a sample, not a steady state)")
+    plot_operating_levels(freqs, lev, [r.regime for r in resp.primary], ax=ax1)
+    ax1.set_xlabel("")
     ax1.set_ylabel("level at 0.7 m, 45° (dB re 20 µPa)")
     ax1.set_title("Table 1 damper, F0 = 5 N, sweep up: the noise it makes while it works")
-    ax1.legend(fontsize=8, ncol=2, loc="lower right")
     ax2.plot(freqs, resp.reduction_db, "-o", ms=3, color="k")
     ax2.axhline(0, color="0.6", lw=0.8)
     ax2.set_ylabel("amplitude reduction (dB)")

@@ -203,19 +203,31 @@ def write_forced_csv(run: ForcedRun, path):
 
 
 def write_forced_png(run: ForcedRun, path):
-    """Plot the frequency response (with and without damper) and the bifurcation diagram; return the path."""
+    """Plot the frequency response, the bifurcation diagram and the noise levels if computed; return the path.
+
+    The response is drawn with and without the damper; the third panel (LAeq, LAFmax, LCpeak of
+    the click train at the listener) appears when the level columns were filled.
+    """
     from matplotlib.figure import Figure
 
     from ..output.plot._style import save_figure, style
-    from ..output.plot.forced import plot_bifurcation, plot_frequency_response
+    from ..output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
 
+    noise = any(row.get("laeq_db") is not None for row in run.rows)
     with style():
-        fig = Figure(figsize=(9.5, 8.0), layout="constrained")
-        ax1, ax2 = fig.subplots(2, 1, sharex=True)
-        plot_frequency_response(run.response, ax=ax1)
-        plot_bifurcation(run.response, ax=ax2)
-        ax1.set_xlabel("")  # shared with the diagram below
-        ax1.set_title("Frequency response of the impact damper in operation")
+        fig = Figure(figsize=(9.5, 10.5 if noise else 8.0), layout="constrained")
+        axes = fig.subplots(3 if noise else 2, 1, sharex=True)
+        plot_frequency_response(run.response, ax=axes[0])
+        plot_bifurcation(run.response, ax=axes[1])
+        if noise:  # the levels of the click train (primary sweep)
+            levels = {c: [np.nan if row.get(c) is None else row[c] for row in run.rows]
+                      for c in ("laeq_db", "lafmax_db", "lcpeak_db")}
+            plot_operating_levels(run.response.frequencies, levels, [row["regime"] for row in run.rows],
+                                  ax=axes[2])
+            axes[2].set_ylabel("level at the listener (dB re 20 µPa)")
+        for ax in axes[:-1]:
+            ax.set_xlabel("")  # shared with the panel below
+        axes[0].set_title("Frequency response of the impact damper in operation")
     return save_figure(fig, path)
 
 

@@ -1,4 +1,4 @@
-"""Figures of the damper in operation: frequency response and bifurcation diagram.
+"""Figures of the damper in operation: frequency response, bifurcation diagram and the levels of its noise.
 
 Each function takes ``ax=None`` and returns the Axes; styling is local (no global rcParams).
 """
@@ -11,7 +11,7 @@ import numpy as np
 
 from ._style import new_axes, style
 
-__all__ = ["plot_frequency_response", "plot_bifurcation", "shade_frequencies"]
+__all__ = ["plot_frequency_response", "plot_bifurcation", "plot_operating_levels", "shade_frequencies"]
 
 
 def _regime_colour(regime: str) -> str:
@@ -57,9 +57,12 @@ def plot_frequency_response(response, ax=None):
             for lo, hi in _spans(f, response.hysteresis):
                 ax.axvspan(lo, hi, color="orange", alpha=0.2, lw=0)
         regimes = {r.regime for r in response.primary + (response.down or ())}
-        for reg in ("periodic-1", "periodic-2", "periodic-n (n > 2)", "non-periodic") + (
-                ("failed",) if "failed" in regimes else ()):
-            ax.plot([], [], "o", color=_regime_colour(reg), label=reg)
+        longer = any(g.startswith("periodic-") and g not in ("periodic-1", "periodic-2") for g in regimes)
+        for reg, shown in (("periodic-1", "periodic-1" in regimes), ("periodic-2", "periodic-2" in regimes),
+                           ("periodic-n (n > 2)", longer), ("non-periodic", "non-periodic" in regimes),
+                           ("failed", "failed" in regimes)):
+            if shown:  # only the regimes present
+                ax.plot([], [], "o", color=_regime_colour(reg), label=reg)
         if response.down is not None and np.any(response.hysteresis):
             ax.axvspan(np.nan, np.nan, color="orange", alpha=0.2, lw=0, label="hysteresis (up and down differ)")
         ax.set_yscale("log")
@@ -141,3 +144,46 @@ def _symlog(ax, lin: float, span: float) -> None:
     ax.yaxis.set_major_locator(FixedLocator(ticks))
     ax.yaxis.set_minor_locator(FixedLocator([]))
     ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+
+
+def plot_operating_levels(frequencies, levels: dict, regimes=None, ax=None):
+    """Weighted levels of the damper's steady click train against forcing frequency.
+
+    Parameters
+    ----------
+    frequencies : (n,) array_like
+        Forcing frequencies in Hz.
+    levels : dict
+        ``{"laeq_db": ..., "lafmax_db": ..., "lcpeak_db": ...}`` (any of them), each ``(n,)`` in
+        dB re 20 µPa; ``-inf`` where nothing strikes (marked as silent), NaN where not computed.
+    regimes : sequence of str, optional
+        Regime per frequency; non-periodic ones are shaded (their levels are a sample).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    f = np.asarray(frequencies, dtype=float)
+    names = (("lcpeak_db", "LCpeak", "^"), ("lafmax_db", "LAFmax", "s"), ("laeq_db", "LAeq", "o"))
+    with style():
+        ax = new_axes(ax, figsize=(7.0, 4.2))
+        finite = []
+        for key, name, mk in names:
+            if key in levels:
+                y = np.asarray(levels[key], dtype=float)
+                finite.append(y[np.isfinite(y)])
+                ax.plot(f, np.where(np.isfinite(y), y, np.nan), "-" + mk, ms=3.5, lw=1.0, label=name)
+        ref = next((np.asarray(levels[k], dtype=float) for k in ("laeq_db", "lafmax_db", "lcpeak_db")
+                    if k in levels), np.full(f.size, np.nan))
+        silent = np.isneginf(ref)
+        low = min((float(v.min()) for v in finite if v.size), default=0.0)
+        if silent.any():
+            ax.plot(f[silent], np.full(int(silent.sum()), low - 5.0), "x", color="0.4", label="no impacts (silent)")
+        if regimes is not None:
+            shade_frequencies(ax, f, [g == "non-periodic" for g in regimes],
+                              label="non-periodic (a sample, not a steady state)")
+        ax.set_xlabel("forcing frequency (Hz)")
+        ax.set_ylabel("level (dB re 20 µPa)")
+        ax.legend(fontsize=8, ncol=2, loc="lower right")
+    return ax
