@@ -5,6 +5,7 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from acoustiviz.app.forced import parse_frequencies
@@ -111,6 +112,13 @@ def test_noise_columns_and_wav(tmp_path):
     assert rows[0]["lzpeak_db"] == "-inf"  # no impacts at 3 Hz: silence
     assert float(rows[1]["lzpeak_db"]) > 80
     assert wav.stat().st_size > 1000 and (tmp_path / "n.json").exists()
+    import soundfile as sf
+
+    data, fs = sf.read(wav)
+    assert fs == 48000 and np.max(np.abs(data)) <= 1.0  # plays without clipping
+    # each frequency's level interval in turn (whole periods), re-rendered at 48 kHz
+    total = sum(float(r["level_interval_s"]) for r in rows)
+    assert data.shape[0] == pytest.approx(total * fs, abs=len(rows))
 
 
 def test_no_noise_leaves_the_level_columns_empty(tmp_path):
