@@ -13,11 +13,15 @@ continuation.
   where the up and down sweeps end on different motions (hysteresis) are shaded.
 * Middle: bifurcation diagram, the main-mass displacement at forcing phase 0 (Poincaré section)
   over the last cycles: one dot for period-1 motion, n for period-n, a cloud for non-periodic.
-* Design map (third figure): amplitude reduction at 5 Hz against the unweighted Leq of the
-  click train at the paper's listener (0.7 m, 45°), over impact mass and gap.
 * Second figure: the solvers against the closed-form symmetric two-impacts-per-cycle
   motion of Masri and Caughey (1966) for a damper where it is stable (C = 1 N·s/m, m = 0.1 kg,
   F0 = 2 N, instantaneous impacts e = 0.5).
+* Third figure, the noise in operation: the steady click train of each frequency (sweep up) at
+  the paper's listener (0.7 m at 45° above the plane), rendered at 96 kHz: LAeq over whole
+  periods (at least 1 s, after a 1 s lead-in so the F time weighting has settled), LAFmax and
+  LCpeak (IEC 61672-1 weightings), beside the amplitude reduction it buys.
+* Fourth figure, the design map: amplitude reduction at 5 Hz, 5 N against the LAeq of the click
+  train at the same listener, over impact mass and gap.
 """
 
 # %%
@@ -26,12 +30,12 @@ import time
 import numpy as np
 from _gallery import fast_mode, output_dir
 
-from acoustiviz.app.forced import design_map
+from acoustiviz.app.forced import design_map, operating_noise
 from acoustiviz.dynamics import DamperModel
 from acoustiviz.dynamics.forced import Excitation, frequency_response, steady_state
 from acoustiviz.dynamics.periodic import masri_caughey
 from acoustiviz.output.plot._style import save_figure, style
-from acoustiviz.output.plot.forced import plot_bifurcation, plot_frequency_response
+from acoustiviz.output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
 
 FAST = fast_mode()
 model = DamperModel()
@@ -49,16 +53,17 @@ print(f"hysteresis at {int(np.sum(resp.hysteresis))} of {freqs.size} frequencies
 with style():
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(8.0, 8.0), layout="constrained")
+    fig = Figure(figsize=(10.0, 8.0), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     plot_frequency_response(resp, ax=ax1)
+    ax1.set_xlabel("")
     ax1.set_title("Table 1 damper, F0 = 5 N")
     plot_bifurcation(resp, ax=ax2)
     if resp.down is not None:
         fd, xd = resp.bifurcation_points("down")
-        ax2.plot(fd, 1e3 * xd, ".", ms=2.5, color="tab:orange", label="sweep down")
+        ax2.plot(fd, 1e3 * xd, "o", ms=3, mfc="none", mew=0.6, color="tab:orange", label="sweep down")
         ax2.plot([], [], ".", color="k", label="sweep up")
-        ax2.legend(fontsize=8)
+        ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     path = save_figure(fig, output_dir() / "plot_13_frequency_response.png")
 print(f"wrote {path}")
 
@@ -102,19 +107,54 @@ with style():
 print(f"wrote {path}")
 
 # %%
-# Design map: what each design buys (amplitude reduction) and what it costs (noise) at 5 Hz, 5 N.
+# The noise in operation: weighted levels of each frequency's steady click train (sweep up).
+t0 = time.perf_counter()
+noises = [operating_noise(r) if r.success else None for r in resp.primary]
+print(f"levels of {freqs.size} click trains at 96 kHz: {time.perf_counter() - t0:.1f} s")
+lev = {c: np.array([getattr(n, c) if n is not None else np.nan for n in noises])
+       for c in ("laeq_db", "lafmax_db", "lcpeak_db")}
+with style():
+    fig = Figure(figsize=(7.5, 6.5), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(2, 1))
+    plot_operating_levels(freqs, lev, [r.regime for r in resp.primary], ax=ax1)
+    ax1.set_xlabel("")
+    ax1.set_ylabel("level at 0.7 m, 45° (dB re 20 µPa)")
+    ax1.set_title("Table 1 damper, F0 = 5 N, sweep up: the noise it makes while it works")
+    ax2.plot(freqs, resp.reduction_db, "-o", ms=3, color="k")
+    ax2.axhline(0, color="0.6", lw=0.8)
+    ax2.set_ylabel("amplitude reduction (dB)")
+    ax2.set_xlabel("forcing frequency (Hz)")
+    path = save_figure(fig, output_dir() / "plot_13_operating_noise.png")
+print(f"wrote {path}")
+
+# %%
+# Design map: what each design buys (amplitude reduction) and what it costs (LAeq) at 5 Hz, 5 N.
 masses = np.array([0.02, 0.06]) if FAST else np.array([0.02, 0.03, 0.0405, 0.06, 0.08])
 gaps = np.array([0.02, 0.06]) if FAST else np.array([0.02, 0.03, 0.04, 0.06, 0.08])
+t0 = time.perf_counter()
 dm = design_map(model, masses, gaps, 5.0, 5.0, max_cycles=300 if FAST else 2000)
+print(f"design map, {masses.size} x {gaps.size} designs: {time.perf_counter() - t0:.1f} s")
+for i, m in enumerate(masses):
+    print("  m = %5.1f g: " % (1e3 * m) + "  ".join(
+        f"d={100 * g:g} cm {dm.reduction_db[i, j]:6.2f} dB/{dm.laeq_db[i, j]:5.1f} dB(A) {dm.regime[i, j]}"
+        for j, g in enumerate(gaps)))
 with style():
     fig = Figure(figsize=(7.0, 4.6), layout="constrained")
     ax = fig.subplots()
     for j, g in enumerate(gaps):
-        ax.plot(dm.lzeq_db[:, j], dm.reduction_db[:, j], "-o", ms=4, label=f"gap {100 * g:g} cm")
+        ok = np.isfinite(dm.laeq_db[:, j])
+        ax.plot(dm.laeq_db[ok, j], dm.reduction_db[ok, j], "-o", ms=4, label=f"gap {100 * g:g} cm")
+        for i in np.flatnonzero(ok):
+            if dm.regime[i, j] == "non-periodic":
+                ax.plot(dm.laeq_db[i, j], dm.reduction_db[i, j], "o", ms=9, mfc="none", color="tab:red")
+    if any(dm.regime[i, j] == "non-periodic" for i in range(masses.size) for j in range(gaps.size)):
+        ax.plot([], [], "o", ms=9, mfc="none", color="tab:red", label="non-periodic")
     for i, m in enumerate(masses):
-        ax.annotate(f"{1e3 * m:g} g", (dm.lzeq_db[i, -1], dm.reduction_db[i, -1]), fontsize=7,
-                    xytext=(4, 0), textcoords="offset points")
-    ax.set_xlabel("Leq of the click train at 0.7 m, 45° (dB re 20 µPa, unweighted)")
+        j = int(np.flatnonzero(np.isfinite(dm.laeq_db[i]))[-1]) if np.isfinite(dm.laeq_db[i]).any() else None
+        if j is not None:
+            ax.annotate(f"{1e3 * m:g} g", (dm.laeq_db[i, j], dm.reduction_db[i, j]), fontsize=7,
+                        xytext=(4, 0), textcoords="offset points")
+    ax.set_xlabel("LAeq of the click train at 0.7 m, 45° (dB(A) re 20 µPa)")
     ax.set_ylabel("amplitude reduction at 5 Hz (dB)")
     ax.set_title("Design map, F0 = 5 N at 5 Hz: impact mass along each line")
     ax.legend(fontsize=8)

@@ -5,6 +5,7 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from acoustiviz.app.forced import parse_frequencies
@@ -37,7 +38,14 @@ def test_table1_response_csv_and_png(tmp_path):
         amp = float(r["amplitude_m"])
         assert float(r["reduction_db"]) == pytest.approx(20 * math.log10(a0 / amp), abs=1e-7)
         assert r["regime"] in ("non-periodic",) or r["regime"].startswith("periodic-")
-        assert r["laeq_db"] == "" and r["lcpeak_db"] == ""
+        if float(r["impacts_per_cycle"]) > 0:  # levels by default, at the paper's listener
+            levels = [float(r[c]) for c in ("laeq_db", "lcpeak_db", "lafmax_db", "lzpeak_db", "lzeq_db")]
+            assert all(math.isfinite(v) for v in levels)
+            assert float(r["lcpeak_db"]) > float(r["lafmax_db"]) >= float(r["laeq_db"]) > 40
+            assert float(r["level_interval_s"]) * f == pytest.approx(round(float(r["level_interval_s"]) * f),
+                                                                     abs=1e-3)  # whole cycles
+        else:
+            assert r["laeq_db"] == r["lcpeak_db"] == "-inf"  # silence
     # far below resonance the 15.5 mm linear motion fits in the 20 mm half gap: no impacts
     assert float(rows[0]["impacts_per_cycle"]) == 0.0
     assert float(rows[0]["amplitude_m"]) == pytest.approx(float(rows[0]["amplitude_without_damper_m"]), rel=1e-9)
@@ -96,32 +104,6 @@ def test_parse_frequencies():
     assert err.value.name == "--freq"
 
 
-def test_operating_noise_is_the_sum_of_its_clicks(tmp_path):
-    """A period-1 motion with two equal impacts per cycle: SEL per cycle = two lone clicks' exposure."""
-    import numpy as np
-
-    from acoustiviz.app.forced import default_listener, operating_noise
-    from acoustiviz.app.wav import cavity
-    from acoustiviz.constants import P_REF, PAPER_RADIUS
-    from acoustiviz.dynamics import DamperModel
-    from acoustiviz.dynamics.forced import Excitation, steady_state
-    from acoustiviz.output.audio import ClickModel, ImpactSequence, render
-
-    model = DamperModel()
-    r = steady_state(model, Excitation(6.5, 5.0), initial=(0.0, 0.0, 0.0, 0.5))
-    assert r.regime == "periodic-1" and r.impacts_per_cycle == 2
-    nz = operating_noise(r, seconds=0.5)
-    clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
-    scene = cavity("plane", PAPER_RADIUS, model.gap)
-    energy = 0.0
-    for wall, speed in zip(r.impact_walls, r.impact_speeds, strict=True):
-        one = render(ImpactSequence([0.01], [int(wall)], [speed]), scene, clicks, default_listener())
-        energy += float(np.sum(one.pressure[0] ** 2)) / one.sample_rate
-    assert nz.sel_per_cycle_db == pytest.approx(10 * math.log10(energy / P_REF**2), abs=0.01)
-    assert nz.lzeq_db == pytest.approx(nz.sel_per_cycle_db + 10 * math.log10(6.5), abs=1e-9)
-    assert nz.duration == pytest.approx(4 / 6.5)
-
-
 def test_noise_columns_and_wav(tmp_path):
     out, wav = tmp_path / "n.csv", tmp_path / "n.wav"
     rc = main(["forced", "--force", "5", "--freq", "3,7", "--wav", str(wav), "--csv", str(out)])
@@ -130,17 +112,32 @@ def test_noise_columns_and_wav(tmp_path):
     assert rows[0]["lzpeak_db"] == "-inf"  # no impacts at 3 Hz: silence
     assert float(rows[1]["lzpeak_db"]) > 80
     assert wav.stat().st_size > 1000 and (tmp_path / "n.json").exists()
+    import soundfile as sf
+
+    data, fs = sf.read(wav)
+    assert fs == 48000 and np.max(np.abs(data)) <= 1.0  # plays without clipping
+    # each frequency's level interval in turn (whole periods), re-rendered at 48 kHz
+    total = sum(float(r["level_interval_s"]) for r in rows)
+    assert data.shape[0] == pytest.approx(total * fs, abs=len(rows))
 
 
-def test_design_map_is_silent_and_neutral_where_the_mass_never_strikes():
-    import numpy as np
+def test_no_noise_leaves_the_level_columns_empty(tmp_path):
+    out = tmp_path / "q.csv"
+    assert main(["forced", "--force", "5", "--freq", "5", "--no-noise", "--csv", str(out)]) == 0
+    row = _read(out)[0]
+    assert float(row["impacts_per_cycle"]) > 0
+    assert row["laeq_db"] == row["lcpeak_db"] == row["lafmax_db"] == ""
 
-    from acoustiviz.app.forced import design_map
-    from acoustiviz.dynamics import DamperModel
 
-    # at 3 Hz and 5 N the main mass moves 15.5 mm: clear of a 20 mm half gap, not of a 10 mm one
-    d = design_map(DamperModel(), [0.0405], [0.02, 0.04], 3.0, 5.0)
-    assert d.reduction_db.shape == d.lzeq_db.shape == (1, 2)
-    assert d.reduction_db[0, 1] == pytest.approx(0.0, abs=1e-9)
-    assert d.lzeq_db[0, 1] == -np.inf
-    assert np.isfinite(d.lzeq_db[0, 0]) and d.lzeq_db[0, 0] > 40
+@pytest.mark.parametrize("argv,option", [
+    (["--noise-seconds", "0"], "--noise-seconds"),
+    (["--noise-seconds", "nan"], "--noise-seconds"),
+    (["--no-noise", "--wav", "x.wav"], "--wav"),
+    (["--listener", "0,0,0.01"], "--listener"),  # inside the sphere
+    (["--no-noise", "--listener", "0.5,0,-1"], "--listener"),  # below the floor
+])
+def test_bad_noise_options_exit_2(argv, option, capsys, tmp_path):
+    out = tmp_path / "x.csv"
+    assert main(["forced", "--force", "5", "--freq", "7", *argv, "--csv", str(out)]) == 2
+    assert option in capsys.readouterr().err
+    assert not out.exists()

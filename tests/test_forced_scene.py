@@ -35,6 +35,9 @@ def test_scene_writes_the_three_forced_outputs(tmp_path):
     with open(out / "operating_noise.csv", newline="") as fh:
         noise = list(csv.DictReader(fh))
     assert [r["regime"] for r in noise] == [r["regime"] for r in rows]
+    for r, n in zip(rows, noise, strict=True):  # the response table carries the same levels
+        for c in ("laeq_db", "lcpeak_db", "lafmax_db"):
+            assert float(r[c]) == float(n[c]) and float(n[c]) > 40, c
     for name in ("frequency_response.png", "bifurcation.png", "operating_noise_paper.wav"):
         assert (out / name).stat().st_size > 1000, name
     assert "| operating_noise |" in (out / "summary.md").read_text()

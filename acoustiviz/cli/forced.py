@@ -8,6 +8,10 @@ Example::
 
 from __future__ import annotations
 
+import argparse
+import math
+import time
+
 from ..constants import PAPER_GAP, TABLE1
 
 
@@ -58,14 +62,23 @@ def add_parser(subparsers):
                         "(default %(default)s)")
     s.add_argument("--workers", type=int, default=1, metavar="N",
                    help="processes for --sweep independent (default %(default)s)")
-    n = p.add_argument_group("noise in operation (unweighted levels; A/C-weighted columns stay empty)")
-    n.add_argument("--noise", action="store_true",
-                   help="render each frequency's steady click train at the listener: peak SPL, Leq and "
-                        "SEL per cycle (columns lzpeak_db, lzeq_db, sel_per_cycle_db)")
+    n = p.add_argument_group(
+        "noise in operation (on by default)",
+        "The steady click train of each frequency at the listener, rendered at 96 kHz: LAeq, LCpeak and "
+        "LAFmax (IEC 61672-1 weightings), LZpeak, LZeq and SEL per cycle, over a whole number of periods "
+        "of the steady state after a 1 s lead-in of the same train (8 F time constants, so LAFmax has "
+        "settled). Columns laeq_db, lcpeak_db, lafmax_db, lzpeak_db, lzeq_db, sel_per_cycle_db, "
+        "sel_a_per_cycle_db, level_interval_s; -inf where nothing strikes.")
+    n.add_argument("--noise", action=argparse.BooleanOptionalAction, default=True,
+                   help="compute the levels (default; --no-noise leaves the level columns empty)")
     n.add_argument("--listener", default=None, metavar="X,Y,Z",
-                   help="listener position in m (implies --noise; default: the paper's, 0.7 m at 45 degrees)")
+                   help="listener position in m (default: the paper's, 0.7 m from the sphere at 45 degrees "
+                        "above the plane it rests on: 0.495,0,0.514)")
+    n.add_argument("--noise-seconds", type=float, default=1.0, metavar="S",
+                   help="least length of the level interval in s, in (0, 60]; it spans whole periods "
+                        "(default %(default)s)")
     n.add_argument("--wav", metavar="PATH", default=None,
-                   help="write the damper in operation, one second per frequency in turn, as WAV (implies --noise)")
+                   help="write the damper in operation, each frequency's interval in turn, as a 48 kHz WAV")
     o = p.add_argument_group("outputs")
     o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency as CSV")
     o.add_argument("--png", metavar="PATH", default=None,
@@ -86,14 +99,18 @@ def run(args) -> int:
         from ..app.forced import parse_point
 
         listener = parse_point(args.listener, "--listener")
-    if args.wav is not None and not str(args.wav).lower().endswith(".wav"):
-        from ..errors import ParameterError
+    from ..errors import ParameterError
 
+    if args.wav is not None and not str(args.wav).lower().endswith(".wav"):
         raise ParameterError("--wav", f"must end in .wav, got {args.wav!r}")
+    if args.wav is not None and not args.noise:
+        raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
+    if not (math.isfinite(args.noise_seconds) and 0 < args.noise_seconds <= 60):
+        raise ParameterError("--noise-seconds", f"must lie in (0, 60] s, got {args.noise_seconds!r}")
     with user_terms(FORCED_OPTIONS):
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1)
-    if args.noise or args.listener is not None or args.wav:
+    if args.noise or listener is not None:
         from ..app.forced import check_listener
 
         check_listener(model, listener)
@@ -120,15 +137,24 @@ def run(args) -> int:
     failed = [r for r in fr.response.primary + (fr.response.down or ()) if not r.success]
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
-    if args.noise or args.listener is not None or args.wav:
+    if args.noise:
         from ..app.forced import add_operating_noise, write_operating_wav
+        from ..app.forced_noise import noise_statement
 
-        noises = add_operating_noise(fr, listener=listener)
-        nan = float("nan")
-        for row in fr.rows:
-            print(f"{row['frequency_hz']:8.3f} Hz: peak {row.get('lzpeak_db', nan):6.1f} dB, "
-                  f"Leq {row.get('lzeq_db', nan):6.1f} dB, SEL/cycle {row.get('sel_per_cycle_db', nan):6.1f} dB"
-                  " (unweighted, re 20 uPa)")
+        t0 = time.perf_counter()
+        noises = add_operating_noise(fr, listener=listener, seconds=args.noise_seconds)
+        where = "the paper's listener (0.7 m, 45 deg)" if listener is None else f"({args.listener}) m"
+        print(f"noise in operation at {where}: {noise_statement(args.noise_seconds)}; "
+              f"{time.perf_counter() - t0:.2f} s")
+        print(f"{'f (Hz)':>8} {'LAeq':>7} {'LAFmax':>7} {'LCpeak':>7} {'LZpeak':>7} {'LZeq':>7} {'T (s)':>6}"
+              "  (dB re 20 uPa)")
+        for row, nz in zip(fr.rows, noises, strict=True):
+            if nz is None:
+                print(f"{row['frequency_hz']:8.3f}  (no levels: the run failed)")
+                continue
+            note = "" if nz.settled else "  (F weighting not settled: non-periodic record too short)"
+            print(f"{row['frequency_hz']:8.3f} {nz.laeq_db:7.1f} {nz.lafmax_db:7.1f} {nz.lcpeak_db:7.1f} "
+                  f"{nz.lzpeak_db:7.1f} {nz.lzeq_db:7.1f} {nz.duration:6.3f}{note}")
         if args.wav:
             rec = write_operating_wav(noises, args.wav, listener=listener)
             print(f"wrote {args.wav} (sidecar {rec[0]['sidecar']})")

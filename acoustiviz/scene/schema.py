@@ -219,9 +219,12 @@ _OUT = {
     "frequency_response": Table({}, "steady-state amplitude with and without the damper, regimes and "
                                 "hysteresis over the [excitation] frequencies (CSV, PNG)"),
     "bifurcation": Table({}, "main-mass displacement at forcing phase 0 against forcing frequency (PNG)"),
-    "operating_noise": Table({"seconds": _pos("click train per frequency", "s", 1.0, high=60.0)},
-                             "peak SPL, Leq and SEL per cycle of the steady click train at the first listener "
-                             "per forcing frequency (CSV) and a WAV of the frequencies in turn"),
+    "operating_noise": Table({"seconds": _pos("least level interval per frequency (whole periods)", "s", 1.0,
+                                              high=60.0)},
+                             "LAeq, LCpeak, LAFmax, LZpeak, LZeq and SEL per cycle of the steady click train at "
+                             "the first listener per forcing frequency, at 96 kHz over whole periods after a 1 s "
+                             "lead-in (CSV; also the level columns of frequency_response), and a WAV of the "
+                             "frequencies in turn"),
 }
 
 #: The outputs a scene may ask for, in the order they are produced.

@@ -1,15 +1,17 @@
-"""Figures of the damper in operation: frequency response and bifurcation diagram.
+"""Figures of the damper in operation: frequency response, bifurcation diagram and the levels of its noise.
 
 Each function takes ``ax=None`` and returns the Axes; styling is local (no global rcParams).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._style import new_axes, style
 
-__all__ = ["plot_frequency_response", "plot_bifurcation"]
+__all__ = ["plot_frequency_response", "plot_bifurcation", "plot_operating_levels", "shade_frequencies"]
 
 
 def _regime_colour(regime: str) -> str:
@@ -52,19 +54,53 @@ def plot_frequency_response(response, ax=None):
             ax.plot(f, 1e3 * down, "--", color="k", lw=1.0, label="with damper, sweep down")
             for fi, r in zip(f, response.down, strict=True):
                 ax.plot(fi, 1e3 * r.amplitude, "s", ms=4, mfc="none", color=_regime_colour(r.regime))
-            df = np.min(np.diff(f)) / 2 if f.size > 1 else 0.05
-            for fi, h in zip(f, response.hysteresis, strict=True):
-                if h:
-                    ax.axvspan(fi - df / 2, fi + df / 2, color="orange", alpha=0.2, lw=0)
+            for lo, hi in _spans(f, response.hysteresis):
+                ax.axvspan(lo, hi, color="orange", alpha=0.2, lw=0)
         regimes = {r.regime for r in response.primary + (response.down or ())}
-        for reg in ("periodic-1", "periodic-2", "periodic-n (n > 2)", "non-periodic") + (
-                ("failed",) if "failed" in regimes else ()):
-            ax.plot([], [], "o", color=_regime_colour(reg), label=reg)
+        longer = any(g.startswith("periodic-") and g not in ("periodic-1", "periodic-2") for g in regimes)
+        for reg, shown in (("periodic-1", "periodic-1" in regimes), ("periodic-2", "periodic-2" in regimes),
+                           ("periodic-n (n > 2)", longer), ("non-periodic", "non-periodic" in regimes),
+                           ("failed", "failed" in regimes)):
+            if shown:  # only the regimes present
+                ax.plot([], [], "o", color=_regime_colour(reg), label=reg)
+        if response.down is not None and np.any(response.hysteresis):
+            ax.axvspan(np.nan, np.nan, color="orange", alpha=0.2, lw=0, label="hysteresis (up and down differ)")
         ax.set_yscale("log")
         ax.set_xlabel("forcing frequency (Hz)")
         ax.set_ylabel("main-mass amplitude (mm)")
-        ax.legend(fontsize=8, ncol=2)
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return ax
+
+
+def _spans(f: np.ndarray, mask) -> list:
+    """``(lo, hi)`` spans in Hz covering the runs of ``mask``, each point widened to its neighbours' midpoints."""
+    f = np.asarray(f, dtype=float)
+    mask = np.asarray(mask, dtype=bool)
+    if f.size == 0 or not mask.any():
+        return []
+    step = float(np.min(np.diff(f))) if f.size > 1 else 0.1
+    edges = np.concatenate([[f[0] - step / 2], (f[1:] + f[:-1]) / 2, [f[-1] + step / 2]])
+    out, i = [], 0
+    while i < f.size:
+        if mask[i]:
+            j = i
+            while j + 1 < f.size and mask[j + 1]:
+                j += 1
+            out.append((float(edges[i]), float(edges[j + 1])))
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def shade_frequencies(ax, f, mask, *, color="tab:red", alpha=0.12, label=None):
+    """Shade the frequencies (Hz) where ``mask`` holds as contiguous bands; return the spans."""
+    spans = _spans(f, mask)
+    for lo, hi in spans:
+        ax.axvspan(lo, hi, color=color, alpha=alpha, lw=0)
+    if label and spans:
+        ax.axvspan(np.nan, np.nan, color=color, alpha=alpha, lw=0, label=label)
+    return spans
 
 
 def plot_bifurcation(response, ax=None, which: str = "primary"):
@@ -81,16 +117,73 @@ def plot_bifurcation(response, ax=None, which: str = "primary"):
     matplotlib Axes
         x in mm at t = kT against frequency in Hz: one dot for period-1 motion, n for period-n,
         a cloud for non-periodic motion. When a few points exceed 20 times the median the axis
-        turns logarithmic beyond twice the median (symlog).
+        stays linear up to the decade above twice the median and turns logarithmic beyond it
+        (symlog), the linear part given two decades' height.
     """
     fs, xs = response.bifurcation_points(which)
     with style():
         ax = new_axes(ax, figsize=(7.0, 4.2))
         ax.plot(fs, 1e3 * xs, ".", ms=2.5, color="k")
-        span = float(np.max(np.abs(xs), initial=0.0))
-        small = float(np.median(np.abs(xs))) if xs.size else 0.0
-        if small > 0 and span > 20 * small:  # a resonance dwarfs the rest: logarithmic beyond 2x median
-            ax.set_yscale("symlog", linthresh=2e3 * small)
+        span = 1e3 * float(np.max(np.abs(xs), initial=0.0))
+        small = 1e3 * float(np.median(np.abs(xs))) if xs.size else 0.0
+        if small > 0 and span > 20 * small:  # a resonance dwarfs the rest: logarithmic beyond a round decade
+            _symlog(ax, 10.0 ** math.ceil(math.log10(2 * small)), span)
         ax.set_xlabel("forcing frequency (Hz)")
         ax.set_ylabel("x at forcing phase 0 (mm)")
+    return ax
+
+
+def _symlog(ax, lin: float, span: float) -> None:
+    """Linear within ±``lin`` (in the data's unit), logarithmic beyond, ticks at 0, ±lin/2 and the decades."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter
+
+    ax.set_yscale("symlog", linthresh=lin, linscale=2.0)
+    top = 10.0 ** math.ceil(math.log10(span))
+    decades = [lin * 10.0**k for k in range(0, int(round(math.log10(top / lin))) + 1)]
+    ticks = sorted({0.0, lin / 2, -lin / 2, *decades, *(-d for d in decades)})
+    ax.yaxis.set_major_locator(FixedLocator(ticks))
+    ax.yaxis.set_minor_locator(FixedLocator([]))
+    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+
+
+def plot_operating_levels(frequencies, levels: dict, regimes=None, ax=None):
+    """Weighted levels of the damper's steady click train against forcing frequency.
+
+    Parameters
+    ----------
+    frequencies : (n,) array_like
+        Forcing frequencies in Hz.
+    levels : dict
+        ``{"laeq_db": ..., "lafmax_db": ..., "lcpeak_db": ...}`` (any of them), each ``(n,)`` in
+        dB re 20 µPa; ``-inf`` where nothing strikes (marked as silent), NaN where not computed.
+    regimes : sequence of str, optional
+        Regime per frequency; non-periodic ones are shaded (their levels are a sample).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    f = np.asarray(frequencies, dtype=float)
+    names = (("lcpeak_db", "LCpeak", "^"), ("lafmax_db", "LAFmax", "s"), ("laeq_db", "LAeq", "o"))
+    with style():
+        ax = new_axes(ax, figsize=(7.0, 4.2))
+        finite = []
+        for key, name, mk in names:
+            if key in levels:
+                y = np.asarray(levels[key], dtype=float)
+                finite.append(y[np.isfinite(y)])
+                ax.plot(f, np.where(np.isfinite(y), y, np.nan), "-" + mk, ms=3.5, lw=1.0, label=name)
+        ref = next((np.asarray(levels[k], dtype=float) for k in ("laeq_db", "lafmax_db", "lcpeak_db")
+                    if k in levels), np.full(f.size, np.nan))
+        silent = np.isneginf(ref)
+        low = min((float(v.min()) for v in finite if v.size), default=0.0)
+        if silent.any():
+            ax.plot(f[silent], np.full(int(silent.sum()), low - 5.0), "x", color="0.4", label="no impacts (silent)")
+        if regimes is not None:
+            shade_frequencies(ax, f, [g == "non-periodic" for g in regimes],
+                              label="non-periodic (a sample, not a steady state)")
+        ax.set_xlabel("forcing frequency (Hz)")
+        ax.set_ylabel("level (dB re 20 µPa)")
+        ax.legend(fontsize=8, ncol=2, loc="lower right")
     return ax

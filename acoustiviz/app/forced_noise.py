@@ -1,0 +1,384 @@
+"""The noise the damper makes in operation: weighted levels of its steady click train at a listener.
+
+Each impact of the steady state is a Hertz click of its own approach speed radiated by the rigid
+sphere with image sources (:func:`acoustiviz.output.audio.render`, paper eqs 12-14). The train is
+rendered at :data:`NOISE_RATE` (96 kHz: flat to 43.2 kHz, so neither the weightings nor the peaks
+are limited by a 48 kHz file) and its levels are those of :func:`acoustiviz.levels.sound_levels`
+(IEC 61672-1 A/C weighting and F time weighting of the conformance-tested filter library):
+
+* the interval is a whole number of periods of the steady state (at least ``seconds``), placed so
+  that its ends fall in the longest silence between arrivals;
+* it is preceded by :data:`F_SETTLE` s of the same periodic train, so the filters and the F time
+  weighting (τ = 125 ms) start the interval in their periodic state: after 8 τ the running mean
+  square is within ``exp(-8) = 3.4e-4`` (0.0015 dB) of it, which LAFmax needs;
+* LAeq and LZeq average over the interval, SEL per cycle is its exposure over the cycles it
+  spans, LZpeak, LCpeak and LAFmax are the largest values within it.
+
+A non-periodic motion is not repeated: its measured cycles (32) are rendered once, the first
+whole cycles covering :data:`F_SETTLE` (at most half of them) are the lead-in and the rest the
+interval; the figures are then those of a sample of the motion, not of a steady state.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS
+from ..dynamics import DamperModel
+from ..errors import ParameterError
+from .levels import ANALYSIS_RATE
+
+__all__ = ["NOISE_RATE", "F_SETTLE", "NOISE_COLUMNS", "OperatingNoise", "operating_noise", "default_listener",
+           "check_listener", "add_operating_noise", "write_operating_wav", "DesignMap", "design_map",
+           "noise_statement", "produce_operating_noise"]
+
+#: Rate in Hz at which the click train is rendered for its levels.
+NOISE_RATE = ANALYSIS_RATE
+#: Lead-in in s before the interval: 8 F time constants (8 × 125 ms), the F-weighted mean square
+#: then within exp(-8) = 3.4e-4 (0.0015 dB) of its periodic state.
+F_SETTLE = 1.0
+#: Level columns of the noise in operation (dB re 20 µPa; SEL per cycle re (20 µPa)² s).
+NOISE_COLUMNS = ("laeq_db", "lcpeak_db", "lafmax_db", "lzpeak_db", "lzeq_db", "sel_per_cycle_db",
+                 "sel_a_per_cycle_db", "level_interval_s")
+
+
+def default_listener(radius: float = PAPER_RADIUS) -> np.ndarray:
+    """The paper's listener in m: 0.7 m at 45° above the floor from a sphere of ``radius`` resting on it."""
+    a = math.radians(PAPER_ANGLE_DEG)
+    return np.array([PAPER_DISTANCE * math.cos(a), 0.0, radius + PAPER_DISTANCE * math.sin(a)])
+
+
+def noise_statement(seconds: float = 1.0) -> str:
+    """How the levels of the noise in operation are computed, in one sentence (for help and reports)."""
+    return (f"levels at {NOISE_RATE / 1000:g} kHz over a whole number of periods of the steady state "
+            f"(at least {seconds:g} s), after a {F_SETTLE:g} s lead-in of the same train so the F time "
+            f"weighting (125 ms) has settled")
+
+
+@dataclass(frozen=True)
+class OperatingNoise:
+    """The steady click train of the damper in operation at one listener, and its levels.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        Forcing frequency in Hz.
+    pressure : ndarray
+        Sound pressure in Pa at ``sample_rate``: lead-in, interval and one trailing period.
+    sample_rate : int
+        Hz (:data:`NOISE_RATE` unless asked otherwise).
+    start, stop : float
+        The interval in s within ``pressure``.
+    cycles : int
+        Forcing cycles in the interval.
+    duration : float
+        ``stop - start`` in s.
+    settled : bool
+        True when the lead-in lasted at least :data:`F_SETTLE` s.
+    laeq_db, lzeq_db : float
+        A- and Z-weighted equivalent continuous level over the interval, dB re 20 µPa (-inf: silent).
+    lcpeak_db, lzpeak_db : float
+        C- and Z-weighted peak level within the interval, dB re 20 µPa.
+    lafmax_db : float
+        Largest A-weighted F-time-weighted level within the interval, dB re 20 µPa.
+    sel_per_cycle_db, sel_a_per_cycle_db : float
+        Z- and A-weighted sound exposure of one forcing cycle, dB re (20 µPa)² s.
+    sequence : acoustiviz.output.audio.ImpactSequence
+        The impacts rendered (times in s from the start of ``pressure``).
+    rendering : dict
+        How the sound and the levels were computed (JSON-ready).
+    """
+
+    frequency_hz: float
+    pressure: np.ndarray
+    sample_rate: int
+    start: float
+    stop: float
+    cycles: int
+    settled: bool
+    laeq_db: float
+    lzeq_db: float
+    lcpeak_db: float
+    lzpeak_db: float
+    lafmax_db: float
+    sel_per_cycle_db: float
+    sel_a_per_cycle_db: float
+    sequence: object
+    scene: object
+    clicks: object
+    listener: np.ndarray
+    rendering: dict
+
+    @property
+    def duration(self) -> float:
+        """Length of the interval in s."""
+        return self.stop - self.start
+
+    def levels(self) -> dict:
+        """:data:`NOISE_COLUMNS` -> value."""
+        return {c: (self.duration if c == "level_interval_s" else getattr(self, c)) for c in NOISE_COLUMNS}
+
+    def interval_pressure(self, sample_rate: int | None = None) -> np.ndarray:
+        """The interval of the train in Pa at ``sample_rate`` Hz (re-rendered when it differs)."""
+        fs = self.sample_rate if sample_rate is None else int(sample_rate)
+        p = self.pressure
+        if fs != self.sample_rate:
+            from ..output.audio import render
+
+            p = render(self.sequence, self.scene, self.clicks, self.listener, sample_rate=fs,
+                       duration=self.pressure.size / self.sample_rate).pressure[0]
+        return p[int(round(self.start * fs)): int(round(self.stop * fs))]
+
+
+def _quiet_offset(arrivals: np.ndarray, window: float) -> float:
+    """Offset in [0, window) s of the middle of the longest silence between periodic arrivals."""
+    if arrivals.size == 0:
+        return 0.0
+    a = np.sort(np.mod(arrivals, window))
+    gaps = np.diff(np.append(a, a[0] + window))
+    k = int(np.argmax(gaps))
+    return float(np.mod(a[k] + gaps[k] / 2, window))
+
+
+def operating_noise(steady, *, listener=None, config: str = "plane", radius: float = PAPER_RADIUS,
+                    seconds: float = 1.0, sample_rate: int = NOISE_RATE) -> OperatingNoise:
+    """Render the steady-state impacts of ``steady`` at a listener and give their weighted levels.
+
+    Parameters
+    ----------
+    steady : acoustiviz.dynamics.forced.SteadyState
+    listener : (3,) array_like, optional
+        Position in m (default :func:`default_listener`, 0.7 m at 45° above the plane).
+    config : {"free", "plane", "wall-floor"}
+    radius : float
+        Sphere radius in m (default: the paper's 19.05 mm).
+    seconds : float
+        Least length of the interval in s, (0, 60]; it spans whole periods of the motion.
+    sample_rate : {44100, 48000, 96000}
+        Rate of the rendering and the levels in Hz (default 96 kHz).
+
+    Notes
+    -----
+    For a period-n motion with window ``W = n T`` (T the forcing period) the impacts of one window
+    are repeated ``L + N + 1`` times, ``L = ceil(F_SETTLE / W)`` windows of lead-in,
+    ``N = ceil(seconds / W)`` measured and one trailing; the interval is
+    ``[L W + δ, (L + N) W + δ]`` with δ the middle of the longest silence between arrivals, so
+    LAeq is exactly the energy average of the periodic train (eq: LAeq = 10 lg(Σ_k E_A,k / (W p_ref²))
+    over the impacts k of one window) and LAFmax its periodic maximum.
+    """
+    from ..levels import sound_levels
+    from ..output.audio import ClickModel, ImpactSequence, render
+    from .wav import cavity
+
+    seconds = float(seconds)
+    if not 0.0 < seconds <= 60.0:
+        raise ParameterError("seconds", f"must lie in (0, 60] s, got {seconds:g}")
+    model = steady.model
+    period = steady.excitation.period
+    scene = cavity(config, radius, model.gap)
+    pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
+    keep = steady.impact_speeds > 0
+    base = steady.impact_times[keep] - steady.cycles * period  # s from the start of the measured cycles
+    walls, speeds = steady.impact_walls[keep].astype(int), steady.impact_speeds[keep]
+    if steady.converged:
+        window = steady.measured_cycles * period
+        lead = math.ceil(F_SETTLE / window - 1e-9)
+        reps = max(1, math.ceil(seconds / window - 1e-9))
+        total = lead + reps + 1
+        times = np.concatenate([base + k * window for k in range(total)]) if base.size else np.empty(0)
+        walls, speeds = np.tile(walls, total), np.tile(speeds, total)
+        delay = float(np.linalg.norm(pts - np.array([0.0, 0.0, radius]))) / scene.medium.c
+        offset = _quiet_offset(base + delay, window)
+        start, stop = lead * window + offset, (lead + reps) * window + offset
+        cycles, end, settled = reps * steady.measured_cycles, total * window, True
+    else:
+        n = steady.measured_cycles
+        lead = min(math.ceil(F_SETTLE / period - 1e-9), n // 2)
+        times, start, stop, end = base, lead * period, n * period, n * period
+        cycles, settled = n - lead, lead * period >= F_SETTLE * (1 - 1e-9)
+    seq = ImpactSequence(times, walls, speeds)
+    out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
+    p = out.pressure[0]
+    lv = sound_levels(p, out.sample_rate, start=start, stop=stop)
+    start, stop = lv.start, lv.stop  # on the sample grid
+
+    def one(x):
+        return float(x[0])
+
+    per_cycle = 10.0 * math.log10(cycles)
+    rendering = {**out.describe(), "levels": {
+        **lv.describe(), "interval_cycles": cycles, "lead_in_s": start, "f_time_weighting_settled": settled,
+        "steady_state": steady.regime,
+        "method": noise_statement(seconds) if steady.converged else
+        f"non-periodic motion: its {steady.measured_cycles} measured cycles rendered once, levels over "
+        f"the last {cycles} after a {start:.3g} s lead-in"}}
+    return OperatingNoise(
+        frequency_hz=steady.excitation.frequency, pressure=p, sample_rate=out.sample_rate, start=start, stop=stop,
+        cycles=cycles, settled=settled, laeq_db=one(lv.laeq_db), lzeq_db=one(lv.lzeq_db),
+        lcpeak_db=one(lv.lcpeak_db), lzpeak_db=one(lv.lzpeak_db), lafmax_db=one(lv.lafmax_db),
+        sel_per_cycle_db=one(lv.sel_db) - per_cycle, sel_a_per_cycle_db=one(lv.sel_a_db) - per_cycle,
+        sequence=seq, scene=scene, clicks=clicks, listener=pts, rendering=rendering)
+
+
+def check_listener(model: DamperModel, listener=None, *, config: str = "plane", radius: float = PAPER_RADIUS,
+                   name: str = "--listener") -> np.ndarray:
+    """Check (before any run) that ``listener`` (m) lies outside the cavity's sphere and above its surfaces."""
+    from ..output.audio import check_listeners
+    from .wav import cavity
+
+    pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    return check_listeners(pts, cavity(config, radius, model.gap), name=name)[0]
+
+
+def add_operating_noise(run, **kwargs) -> list:
+    """Fill the level columns of ``run.rows`` (a :class:`acoustiviz.app.forced.ForcedRun`, primary sweep).
+
+    Rows of failed runs keep empty levels. Returns the :class:`OperatingNoise` list (None where failed);
+    ``**kwargs`` go to :func:`operating_noise`.
+    """
+    noises = []
+    for row, r in zip(run.rows, run.response.primary, strict=True):
+        nz = operating_noise(r, **kwargs) if r.success else None
+        if nz is not None:
+            row.update(nz.levels())
+        noises.append(nz)
+    return noises
+
+
+def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None, radius: float = PAPER_RADIUS):
+    """One WAV (and JSON sidecar) of the damper in operation: each frequency's interval in turn.
+
+    Each train is rendered again at ``sample_rate`` Hz when its levels were taken at another rate.
+    Returns the written record list of :func:`acoustiviz.app.wav.write_wav_files`.
+    """
+    from .wav import WavFile, write_wav_files
+
+    ok = [n for n in noises if n is not None]
+    parts = [n.interval_pressure(sample_rate) for n in ok]
+    pressure = np.concatenate(parts) if parts else np.zeros(1)
+    pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    wav = WavFile(path, pressure[None, :], ["listener1"], pts[None, :], ["mono"])
+    rendering = {k: v for k, v in ok[0].rendering.items() if k != "levels"} if ok else {}
+    rendering["sample_rate"] = sample_rate
+    rendering["operating_sequence"] = [{"frequency_hz": n.frequency_hz, "duration_s": n.duration,
+                                        "laeq_db": n.laeq_db, "lafmax_db": n.lafmax_db, "lcpeak_db": n.lcpeak_db}
+                                       for n in ok]
+    return write_wav_files([wav], sample_rate=sample_rate, rendering=rendering,
+                           radius_source="default: the paper's sphere")
+
+
+@dataclass(frozen=True)
+class DesignMap:
+    """Amplitude reduction and operating noise over impact mass and gap at one forcing.
+
+    Attributes
+    ----------
+    masses, gaps : ndarray
+        Impact masses in kg and gaps in m (the axes).
+    reduction_db : ndarray
+        ``(n_mass, n_gap)`` amplitude reduction in dB (positive: the damper helps).
+    laeq_db : ndarray
+        ``(n_mass, n_gap)`` LAeq of the click train at the listener in dB re 20 µPa (-inf: no impacts).
+    lzeq_db : ndarray
+        The same unweighted (Leq).
+    lafmax_db, lcpeak_db : ndarray
+        LAFmax and LCpeak in dB re 20 µPa.
+    regime : ndarray of str
+        ``(n_mass, n_gap)`` regimes.
+    """
+
+    masses: np.ndarray
+    gaps: np.ndarray
+    reduction_db: np.ndarray
+    laeq_db: np.ndarray
+    lzeq_db: np.ndarray
+    lafmax_db: np.ndarray
+    lcpeak_db: np.ndarray
+    regime: np.ndarray
+
+
+def design_map(model: DamperModel, masses, gaps, frequency: float, amplitude: float, *, kind: str = "force",
+               listener=None, config: str = "plane", radius: float = PAPER_RADIUS, seconds: float = 1.0,
+               **kwargs) -> DesignMap:
+    """Amplitude reduction against operating noise (LAeq) over impact mass (kg) and gap (m).
+
+    Each design runs from the linear start at ``frequency`` Hz to its steady state
+    (:func:`acoustiviz.dynamics.forced.steady_state`, ``**kwargs``) and its click train is
+    rendered at ``listener`` (:func:`operating_noise`, 96 kHz, at least ``seconds`` s) by a
+    sphere of ``radius`` m (held fixed as the mass changes: the mass enters through the Hertz
+    contact and the impact speeds).
+    """
+    from dataclasses import replace
+
+    from ..dynamics.forced import Excitation, steady_state
+
+    masses = np.atleast_1d(np.asarray(masses, dtype=float))
+    gaps = np.atleast_1d(np.asarray(gaps, dtype=float))
+    red = np.full((masses.size, gaps.size), np.nan)
+    lv = {c: np.full_like(red, np.nan) for c in ("laeq_db", "lzeq_db", "lafmax_db", "lcpeak_db")}
+    reg = np.empty(red.shape, dtype=object)
+    ex = Excitation(frequency, amplitude, kind)
+    for i, m in enumerate(masses):
+        for j, g in enumerate(gaps):
+            r = steady_state(replace(model, m=float(m), gap=float(g)), ex, **kwargs)
+            reg[i, j] = r.regime if r.success else "failed"
+            if r.success:
+                red[i, j] = r.reduction_db
+                nz = operating_noise(r, listener=listener, config=config, radius=radius, seconds=seconds)
+                for c, a in lv.items():
+                    a[i, j] = getattr(nz, c)
+    return DesignMap(masses, gaps, red, regime=reg, **lv)
+
+
+def _cell(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (float, np.floating)):
+        return "" if math.isnan(v) else (("inf" if v > 0 else "-inf") if math.isinf(v) else f"{float(v):.10g}")
+    return str(v)
+
+
+def scene_noises(ctx, run) -> list:
+    """The operating noise of a scene's forced run at its first listener, computed once and kept on ``ctx``."""
+    noises = getattr(ctx, "_forced_noises", None)
+    if noises is None:
+        opts = ctx.scene.output("operating_noise")
+        _, position = ctx.listeners[0]
+        radius = ctx.scene.damper_sphere_radius()
+        config = ctx.scene.section("configuration")["kind"]
+        noises = add_operating_noise(run, listener=position, config=config, radius=radius, seconds=opts["seconds"])
+        ctx._forced_noises = noises
+    return noises
+
+
+def produce_operating_noise(ctx, run):
+    """Scene output ``operating_noise`` of ``run``: levels per frequency at the first listener (CSV) and a WAV."""
+    from ..output.writers import write_text_atomic
+    from .pipeline import Product
+
+    name, position = ctx.listeners[0]
+    radius = ctx.scene.damper_sphere_radius()
+    noises = scene_noises(ctx, run)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(("frequency_hz", "regime", "impacts_per_cycle", *NOISE_COLUMNS))
+    for r, n in zip(run.response.primary, noises, strict=True):
+        levels = n.levels() if n is not None else {}
+        w.writerow([_cell(v) for v in (r.excitation.frequency, r.regime, r.impacts_per_cycle,
+                                       *(levels.get(c) for c in NOISE_COLUMNS))])
+    csv_path = write_text_atomic(ctx.path("operating_noise.csv"), buf.getvalue())
+    wav = ctx.path(f"operating_noise_{name}.wav")
+    write_operating_wav(noises, wav, listener=position, radius=radius)
+    ok = [n for n in noises if n is not None]
+    laeq = max((n.laeq_db for n in ok), default=-math.inf)
+    peak = max((n.lcpeak_db for n in ok), default=-math.inf)
+    return [Product("operating_noise", csv_path, {"listener": name, "max_laeq_db": f"{laeq:.1f}",
+                                                 "max_lcpeak_db": f"{peak:.1f}",
+                                                 "levels": f"{NOISE_RATE / 1000:g} kHz, whole periods"}),
+            Product("operating_noise", wav, {})]
