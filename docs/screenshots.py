@@ -4,7 +4,7 @@ Usage::
 
     python docs/screenshots.py docs/_build/html --out docs/_build/screenshots
 
-takes screenshots of the built site's index page and two gallery pages, and fails (exit
+takes screenshots of the built site's index page and four gallery pages, and fails (exit
 status 1) when a page is blank. Without Chromium it says so and exits 0. The functions are
 also used by the tests of the HTML export.
 """
@@ -19,8 +19,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-#: Pages of the built site that are looked at: the front page and two gallery examples.
-PAGES = ("index.html", "auto_examples/plot_02_directivity.html", "auto_examples/plot_09_balloon.html")
+#: Pages of the built site that are looked at: the front page and four gallery examples.
+PAGES = ("index.html", "auto_examples/plot_02_directivity.html", "auto_examples/plot_09_balloon.html",
+         "auto_examples/plot_13_frequency_response.html", "auto_examples/plot_14_levels.html")
 
 _NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 
