@@ -21,7 +21,10 @@ The peaks of ``p`` are found in three steps:
 3. **Refinement on the closed form.** A safeguarded Newton iteration on ``p'(t) = 0`` within one
    coarse step either side, with ``p``, ``p'`` and ``p''`` from the exact ``Y`` (the exact Hertz
    pulse's Taylor table, :func:`acoustiviz.core.radiation.hertz_response_table`; the half-sine in
-   closed form; a sampled pulse over its piecewise-linear form), to ``1e-7`` of a coarse step.
+   closed form; a sampled pulse over its piecewise-linear form), to ``2e-3`` of a coarse step, the
+   value then being the Newton model's (``O(step³ p''')`` from the maximum, about 1e-11 relative).
+   An interval holding the start or end of an image's pulse (where ``p''`` has a cusp) is split
+   there; each piece is searched on its own, and each such breakpoint is a candidate too.
 
 After the last pulse ends, ``t >= d_max + T``, every image is in its free decay and
 ``p(t) = Re[B exp(s t)]``: its extremes there are those of one damped sinusoid, in closed form (the
@@ -219,7 +222,7 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     -----
     Paper eqs 12-14; see the module notes. The peaks are those of the continuous pressure over all
     time (as :func:`acoustiviz.field.field_metrics` with its default window and refinement), to
-    about 1e-12 relative; each point costs a coarse pass of ``(d_max - d_min + T)/H`` samples of
+    about 1e-11 relative; each point costs a coarse pass of ``(d_max - d_min + T)/H`` samples of
     two multiply-adds per image and a few Newton steps on the closed form.
     """
     check_pulse(pulse)
