@@ -104,6 +104,23 @@ def _p_d2(t, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut): 
             p += y
             p1 += d1 * inv
             p2 += 2.0 * d2 * inv * inv
+        elif tr < 0.0:
+            continue
+        elif kind == 2 and tr >= end:
+            # free decay: Re[a_j Y(T) e^{s x}], x = tr - T, and its derivatives, in real arithmetic
+            x = tr - end
+            e = math.exp(s.real * x)
+            cs = e * math.cos(s.imag * x)
+            sn = e * math.sin(s.imag * x)
+            wr = are[j] * yk[0].real - aim[j] * yk[0].imag
+            wi = are[j] * yk[0].imag + aim[j] * yk[0].real
+            v0r = wr * cs - wi * sn
+            v0i = wr * sn + wi * cs
+            v1r = s.real * v0r - s.imag * v0i
+            v1i = s.real * v0i + s.imag * v0r
+            p += v0r
+            p1 += v1r
+            p2 += s.real * v1r - s.imag * v1i
         else:
             y, y1, y2 = _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s)
             p += are[j] * y.real - aim[j] * y.imag
