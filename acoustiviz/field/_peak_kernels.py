@@ -169,24 +169,49 @@ def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, 
 
 
 @_njit(cache=True)
-def _refine_piece(sign, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s,
-                  lut):  # pragma: no cover - compiled
+def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
+                    tab, s, lut):  # pragma: no cover - compiled
+    """Maximum of ``sign · p`` on ``[a, b]`` where ``sign · p'`` decreases from ``ga > 0`` to ``gb < 0``."""
+    x = a + ga * (b - a) / (ga - gb)  # Newton from the secant root, kept inside [a, b]
+    for _ in range(60):
+        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        v = sign * p
+        g = sign * p1
+        gp = sign * p2
+        if v > best:
+            best = v
+            tbest = x
+        if g > 0.0:
+            a = x
+        else:
+            b = x
+        step = -g / gp if gp < 0.0 else 0.5 * (a + b) - x
+        if abs(step) < xtol and gp < 0.0:
+            model = v - 0.5 * g * g / gp
+            if model > best:
+                best = model
+                tbest = x + step
+            break
+        if b - a < xtol:
+            break
+        xn = x + step
+        x = xn if a < xn < b else 0.5 * (a + b)
+    return best, tbest
+
+
+@_njit(cache=True)
+def _refine_piece(sign, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
+                  tab, s, lut):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
 
-    ``p''`` is assumed to change sign at most once on the interval (its zero is found by the
-    Illinois method and splits it), so that ``p'`` is monotone on each part and has at most one
-    zero there: a maximum, found by safeguarded Newton, when ``p'`` goes from + to -.
+    ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
+    sign at most once on the interval (its zero is found by the Illinois method and splits it), so
+    that ``p'`` is monotone on each part and has at most one zero there: a maximum, found by
+    safeguarded Newton, when ``p'`` goes from + to -.
     """
-    pl, gl, cl = _p_d2(lo, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-    pr, gr, cr = _p_d2(hi, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
     best, tbest = (sign * pl, lo) if sign * pl >= sign * pr else (sign * pr, hi)
     if not hi > lo:
         return best, tbest
-    ends = np.empty(3)
-    gs = np.empty(3)
-    ends[0] = lo
-    gs[0] = sign * gl
-    nseg = 1
     if cl * cr < 0.0 and gl * gr > 0.0:  # p' may cross zero twice: split at the zero of p'' (Illinois)
         a, fa, b, fb = lo, cl, hi, cr
         side = 0
@@ -209,40 +234,15 @@ def _refine_piece(sign, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi
             b, fb = m, cm
             if abs(b - a) < xtol or cm == 0.0:
                 break
-        ends[1] = m
-        gs[1] = sign * gm
-        nseg = 2
-    ends[nseg] = hi
-    gs[nseg] = sign * gr
-    for q in range(nseg):
-        a = ends[q]
-        b = ends[q + 1]
-        if gs[q] > 0.0 and gs[q + 1] < 0.0:
-            # p' decreasing through zero: Newton from the secant root, kept inside [a, b]
-            x = a + gs[q] * (b - a) / (gs[q] - gs[q + 1])
-            for _ in range(60):
-                p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-                v = sign * p
-                g = sign * p1
-                gp = sign * p2
-                if v > best:
-                    best = v
-                    tbest = x
-                if g > 0.0:
-                    a = x
-                else:
-                    b = x
-                step = -g / gp if gp < 0.0 else 0.5 * (a + b) - x
-                if abs(step) < xtol and gp < 0.0:
-                    model = v - 0.5 * g * g / gp
-                    if model > best:
-                        best = model
-                        tbest = x + step
-                    break
-                if b - a < xtol:
-                    break
-                xn = x + step
-                x = xn if a < xn < b else 0.5 * (a + b)
+        if sign * gl > 0.0 and sign * gm < 0.0:
+            best, tbest = _newton_segment(sign, lo, m, sign * gl, sign * gm, best, tbest, xtol, nimg, delays, are,
+                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        if sign * gm > 0.0 and sign * gr < 0.0:
+            best, tbest = _newton_segment(sign, m, hi, sign * gm, sign * gr, best, tbest, xtol, nimg, delays, are,
+                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+    elif sign * gl > 0.0 and sign * gr < 0.0:
+        best, tbest = _newton_segment(sign, lo, hi, sign * gl, sign * gr, best, tbest, xtol, nimg, delays, are, aim,
+                                      kind, amp, tau, xi, acc, yk, tab, s, lut)
     return best, tbest
 
 
@@ -259,15 +259,18 @@ def _refine_bracket(sign, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, a
     best = -np.inf
     tbest = t0
     a = lo
+    pa, ga, ca = _p_d2(a, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
     for q in range(bps.size + 1):
         b = bps[q] if q < bps.size else hi
         if q < bps.size and not (lo < b < hi):
             continue
-        v, tv = _refine_piece(sign, a, b, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        pb, gb, cb = _p_d2(b, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        v, tv = _refine_piece(sign, a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim, kind, amp, tau, xi,
+                              acc, yk, tab, s, lut)
         if v > best:
             best = v
             tbest = tv
-        a = b
+        a, pa, ga, ca = b, pb, gb, cb
     return best, tbest
 
 
