@@ -410,13 +410,17 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         t_end = dmin + (kk - 1) * big_h  # the coarse samples cover [dmin, t_end]; the closed-form tail beyond
         slack = margin * vmax + 0.5 * h * slope * scale
         nref = 0
-        thi, tphi, tlo, tplo = _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s)
+        # after t_end only the free decay: its extremes in closed form, when its bound can matter
+        tail_bound = 0.0
+        for j in range(nimg):
+            decay = math.exp(s.real * (t_end - delays[j] - end))
+            tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
+        thi = tphi = tlo = tplo = 0.0
+        tail_done = False
         for side in range(2):
             sign = 1.0 if side == 0 else -1.0
-            best, tbest = (thi, tphi) if side == 0 else (-tlo, tplo)
-            if best < 0.0:  # p = 0 before the first arrival
-                best = 0.0
-                tbest = dmin
+            best = 0.0  # p = 0 before the first arrival
+            tbest = dmin
             nc = 0
             top = -np.inf
             # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
@@ -466,6 +470,14 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                 cand_t[jb] = cand_t[nc]
                 cand_e[jb] = cand_e[nc]
                 cand_x[jb] = cand_x[nc]
+            if tail_bound > best:
+                if not tail_done:
+                    thi, tphi, tlo, tplo = _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s)
+                    tail_done = True
+                tv, tt = (thi, tphi) if side == 0 else (-tlo, tplo)
+                if tv > best:
+                    best = tv
+                    tbest = tt
             res[i, side] = sign * best
             res[i, 2 + side] = tbest
         res[i, 5] = nref
