@@ -31,6 +31,13 @@ After the last pulse ends, ``t >= d_max + T``, every image is in its free decay 
 end point and the first two stationary points; later ones are ``exp(-π)`` smaller each). The
 exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
 same pass, with the geometry computed once per point. Times in s, pressures in Pa.
+
+Limits: the search is not a proof. It assumes that between the pulse starts and ends ``p`` has
+no two maxima within one coarse step (12 per ``min(T, a/c)`` by default) and ``p''`` changes sign
+at most once per piece of a bracket; two maxima closer than that arise at a pulse's start or end,
+where ``p''`` has a cusp, and are separated there. The tests and ``benchmarks/bench_field.py``
+check it against the refined :func:`acoustiviz.field.field_metrics` on random points of the three
+configurations, near the sphere and the planes included.
 """
 
 from __future__ import annotations
