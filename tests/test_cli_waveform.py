@@ -119,3 +119,27 @@ def test_strike_and_height_need_their_configuration(capsys):
     assert "--strike" in capsys.readouterr().err
     assert main(["waveform", "--config", "wall-floor", "--strike", "wall", "--height", "0.001"]) == 2
     assert "--height" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("config", ["free", "plane", "wall-floor"])
+def test_printed_peaks_are_those_of_the_continuous_waveform(tmp_path, capsys, config):
+    # the printed max/min are the peaks between the samples: against a dense evaluation (1e5
+    # samples across the two samples around each extreme sample of the CSV), to 1e-8 relative
+    from acoustiviz.app.impacts import impact_setup, observer_point
+    from acoustiviz.field import time_series
+
+    out = tmp_path / "w.csv"
+    assert main(["waveform", *FIG2, "--config", config, "--pulse", "hertz", "--csv", str(out)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("pressure:"))
+    words = line.replace(",", "").split()
+    pmax, pmin = float(words[words.index("max") + 1]), float(words[words.index("min") + 1])
+    t, p = _read(out)[1].T
+    s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config=config, pulse="hertz")
+    point = observer_point(s, 0.7, 45.0)
+    dt = t[1] - t[0]
+    for k, sign, printed in ((int(np.argmax(p)), 1.0, pmax), (int(np.argmin(p)), -1.0, pmin)):
+        dense_t = np.linspace(t[k] - dt, t[k] + dt, 100_001)
+        dense = time_series(s.pulse, dense_t, point[None, :], s.configuration, medium=s.medium)[0]
+        ref = sign * np.max(sign * dense)
+        assert sign * printed >= sign * p[k]  # never below the largest sample
+        assert printed == pytest.approx(ref, rel=1e-8)

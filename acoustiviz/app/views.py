@@ -18,10 +18,10 @@ import numpy as np
 from .._validate import check_range
 from ..constants import ANALYSIS_RATE, P_REF
 from ..errors import ParameterError
-from ..field import waveform_span
+from ..field import field_metrics, waveform_span
 from ..levels import METRICS
 
-__all__ = ["waveform_times", "directivity_angles", "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS",
+__all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS",
            "LEVEL_INTERVAL", "directivity_metric", "impact_signals", "metric_label", "directivity_metric_figure"]
 
 #: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
@@ -59,6 +59,33 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
     end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
     dt = min(p.duration for p in pulses) / samples_per_duration
     return np.arange(0.0, end + dt, dt)
+
+
+def waveform_peaks(pulse, point, config, medium) -> tuple[float, float]:
+    """Largest and smallest pressure in Pa of the continuous waveform at ``point``.
+
+    The peaks of :func:`acoustiviz.field.field_metrics` over the whole response (sampled at 64
+    samples per ``min(T, a/c)``, then refined between the samples by a bounded search on the closed
+    form, paper eqs 12-14), not the extreme samples of a tabulated waveform.
+
+    Parameters
+    ----------
+    pulse : pulse
+        Acceleration pulse of the sphere.
+    point : (3,) array_like
+        Observer in m.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+
+    Returns
+    -------
+    peak_positive, peak_negative : float
+        Pressure in Pa (``peak_negative <= 0``).
+    """
+    fm = field_metrics(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium)
+    return float(fm.peak_positive[0]), float(fm.peak_negative[0])
 
 
 def directivity_angles(config, step_deg: float) -> np.ndarray:

@@ -27,7 +27,7 @@ def run(args) -> int:
     import math
 
     from ..app.names import user_terms
-    from ..app.views import waveform_times
+    from ..app.views import waveform_peaks, waveform_times
     from ..field import time_series
     from ._impact import impact_from_args, observer_point
 
@@ -42,8 +42,9 @@ def run(args) -> int:
           f"{imp.peak_acceleration:.4g} m/s^2, pulse {setup.pulse.kind}")
     print(f"observer: {args.distance:g} m at {args.angle:g} deg, configuration {setup.configuration.name}, "
           f"point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m")
-    peak = float(max(abs(p.max()), abs(p.min())))
-    print(f"pressure: max {p.max():.4g} Pa, min {p.min():.4g} Pa, peak SPL "
+    pmax, pmin = waveform_peaks(setup.pulse, point, setup.configuration, setup.medium)  # refined, not sampled
+    peak = max(pmax, -pmin)
+    print(f"pressure: max {pmax:.10g} Pa, min {pmin:.10g} Pa (peaks of the continuous waveform), peak SPL "
           f"{20 * math.log10(peak / 20e-6):.1f} dB re 20 uPa")
     if args.csv:
         from ..output.writers import write_csv_atomic

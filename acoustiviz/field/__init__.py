@@ -29,6 +29,7 @@ pulse response of :func:`acoustiviz.core.radiation.pulse_response`. The evaluato
 
 Modules: :mod:`.sources` (image-source geometry), :mod:`.evaluate` (time series, snapshots),
 :mod:`.metrics` (peak, RMS, exposure on a time grid), :mod:`.exposure` (exposure without one),
+:mod:`.peaks` (peaks and exposure without a time loop),
 :mod:`.directivity`, :mod:`.grids` (observer grids) and the numba kernels in :mod:`._kernels`.
 Times are in s from the start of contact, points in m, pressures in Pa. The package imports only
 the physics core and never plots or writes files.
@@ -49,6 +50,7 @@ from .directivity import Directivity, circle_points, directivity
 from .evaluate import iter_time_series, snapshots, time_series
 from .exposure import PulseCorrelations, exposure, pulse_correlations
 from .metrics import FieldMetrics, field_metrics, spl_db
+from .peaks import PeakExposure, PeakTable, fast_peaks, peak_table
 from .sources import arrival_windows, image_geometry, source_geometry, waveform_span
 
 __all__ = [
@@ -65,6 +67,10 @@ __all__ = [
     "time_series",
     "iter_time_series",
     "field_metrics",
+    "fast_peaks",
+    "peak_table",
+    "PeakExposure",
+    "PeakTable",
     "exposure",
     "pulse_correlations",
     "PulseCorrelations",

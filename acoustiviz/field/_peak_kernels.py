@@ -1,0 +1,483 @@
+"""Numba kernels of :func:`acoustiviz.field.peaks.fast_peaks`: coarse pass, candidates, Newton on the closed form.
+
+``p``, ``p'`` and ``p''`` come from the exact ``Y`` of :mod:`acoustiviz.field._kernels` (the
+Hertz pulse's Taylor table differentiated term by term; the half-sine in closed form; a sampled
+pulse over its piecewise-linear form, ``Y' = s Y + A``). Times in s, pressures in Pa.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._kernels import _njit, _y_at
+from .exposure import _correlation_at
+
+#: Newton stops when its step is below this fraction of the coarse step; the value is then that of
+#: the quadratic model, O(step³ p''') from the maximum (about 1e-11 relative at 12 samples per a/c).
+XTOL = 2e-3
+
+
+@_njit(cache=True)
+def _fill(out, u, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
+    for i in range(u.size):
+        out[i] = _y_at(u[i], kind, amp, tau, xi, acc, yk, tab, s)
+
+
+@_njit(cache=True)
+def _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
+    """``Y``, ``Y'`` and ``Y''`` (m/s, m/s², m/s³) at one retarded time ``tr`` in s."""
+    if tr < 0.0:
+        return 0j, 0j, 0j
+    end = tau if kind == 0 else xi[xi.size - 1]
+    if tr >= end:
+        if kind == 0:
+            y = _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s)
+        elif kind == 1:
+            y = np.exp(s * (tr - end)) * yk[yk.size - 1]
+        else:
+            y = np.exp(s * (tr - end)) * yk[0]
+        return y, s * y, s * s * y
+    if kind == 2:
+        q = np.searchsorted(xi, tr, side="right") - 1
+        q = min(max(q, 0), xi.size - 2)
+        inv = acc[q]
+        u = (tr - xi[q]) * inv
+        nt = int(yk[1 + q].real)
+        y = tab[q, nt - 1]
+        d1 = 0j
+        d2 = 0j
+        for j in range(nt - 2, -1, -1):
+            d2 = d2 * u + d1
+            d1 = d1 * u + y
+            y = y * u + tab[q, j]
+        return y, d1 * inv, 2.0 * d2 * inv * inv
+    y = _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s)
+    if kind == 0:
+        w = math.pi / tau
+        a0 = amp * math.sin(w * tr)
+        a1 = amp * w * math.cos(w * tr)
+    else:
+        k = np.searchsorted(xi, tr, side="right") - 1
+        k = min(max(k, 0), xi.size - 2)
+        a1 = (acc[k + 1] - acc[k]) / (xi[k + 1] - xi[k])
+        a0 = acc[k] + a1 * (tr - xi[k])
+    y1 = s * y + a0
+    return y, y1, s * y1 + a1
+
+
+@_njit(cache=True)
+def _p_d2(t, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut):  # pragma: no cover - compiled
+    """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image."""
+    p = 0.0
+    p1 = 0.0
+    p2 = 0.0
+    end = xi[xi.size - 1]
+    lscale = (lut.size - 1) / end if kind == 2 else 0.0
+    for j in range(nimg):
+        tr = t - delays[j]
+        if kind == 2 and 0.0 <= tr < end:
+            # Re[a_j Y] is a real polynomial on the piece: Horner with its first two derivatives.
+            # The piece: lut[b] is the piece holding the start of bucket b, then a short scan
+            b = min(int(tr * lscale), lut.size - 2)
+            q = lut[b]
+            qe = lut[b + 1]
+            if qe - q > 8:
+                q = q + np.searchsorted(xi[q : qe + 1], tr, side="right") - 1
+            else:
+                while q < qe and xi[q + 1] <= tr:
+                    q += 1
+            q = min(max(q, 0), xi.size - 2)
+            inv = acc[q]
+            u = (tr - xi[q]) * inv
+            nt = int(yk[1 + q].real)
+            ar = are[j]
+            ai = aim[j]
+            y = ar * tab[q, nt - 1].real - ai * tab[q, nt - 1].imag
+            d1 = 0.0
+            d2 = 0.0
+            for m in range(nt - 2, -1, -1):
+                d2 = d2 * u + d1
+                d1 = d1 * u + y
+                y = y * u + (ar * tab[q, m].real - ai * tab[q, m].imag)
+            p += y
+            p1 += d1 * inv
+            p2 += 2.0 * d2 * inv * inv
+        elif tr < 0.0:
+            continue
+        elif kind == 2 and tr >= end:
+            # free decay: Re[a_j Y(T) e^{s x}], x = tr - T, and its derivatives, in real arithmetic
+            x = tr - end
+            e = math.exp(s.real * x)
+            cs = e * math.cos(s.imag * x)
+            sn = e * math.sin(s.imag * x)
+            wr = are[j] * yk[0].real - aim[j] * yk[0].imag
+            wi = are[j] * yk[0].imag + aim[j] * yk[0].real
+            v0r = wr * cs - wi * sn
+            v0i = wr * sn + wi * cs
+            v1r = s.real * v0r - s.imag * v0i
+            v1i = s.real * v0i + s.imag * v0r
+            p += v0r
+            p1 += v1r
+            p2 += s.real * v1r - s.imag * v1i
+        else:
+            y, y1, y2 = _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s)
+            p += are[j] * y.real - aim[j] * y.imag
+            p1 += are[j] * y1.real - aim[j] * y1.imag
+            p2 += are[j] * y2.real - aim[j] * y2.imag
+    return p, p1, p2
+
+
+@_njit(cache=True)
+def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
+                s, lut):  # pragma: no cover - compiled
+    """Largest ``sign · p`` near ``t0`` in ``[lo, hi]``: safeguarded Newton on ``p' = 0``; (value, time)."""
+    x = t0
+    best = -np.inf
+    tbest = t0
+    for _ in range(40):
+        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        v = sign * p
+        g = sign * p1
+        gp = sign * p2
+        if v > best:
+            best = v
+            tbest = x
+        if gp < 0.0:
+            step = -g / gp
+        else:
+            step = 0.25 * (hi - lo) if g > 0.0 else -0.25 * (hi - lo)
+        if abs(step) < xtol:
+            if gp < 0.0:
+                model = v - 0.5 * g * g / gp  # the Newton model's maximum, O(step³) from the true one
+                if model > best:
+                    best = model
+                    tbest = x + step
+            break
+        if g > 0.0:
+            lo = max(lo, x)
+        else:
+            hi = min(hi, x)
+        if hi - lo < xtol:
+            break
+        xn = x + step
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        x = xn
+    return best, tbest
+
+
+@_njit(cache=True)
+def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
+                    tab, s, lut):  # pragma: no cover - compiled
+    """Maximum of ``sign · p`` on ``[a, b]`` where ``sign · p'`` decreases from ``ga > 0`` to ``gb < 0``."""
+    x = a + ga * (b - a) / (ga - gb)  # Newton from the secant root, kept inside [a, b]
+    for _ in range(60):
+        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        v = sign * p
+        g = sign * p1
+        gp = sign * p2
+        if v > best:
+            best = v
+            tbest = x
+        if g > 0.0:
+            a = x
+        else:
+            b = x
+        step = -g / gp if gp < 0.0 else 0.5 * (a + b) - x
+        if abs(step) < xtol and gp < 0.0:
+            model = v - 0.5 * g * g / gp
+            if model > best:
+                best = model
+                tbest = x + step
+            break
+        if b - a < xtol:
+            break
+        xn = x + step
+        x = xn if a < xn < b else 0.5 * (a + b)
+    return best, tbest
+
+
+@_njit(cache=True)
+def _refine_piece(sign, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
+                  tab, s, lut):  # pragma: no cover - compiled
+    """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
+
+    ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
+    sign at most once on the interval (its zero is found by the Illinois method and splits it), so
+    that ``p'`` is monotone on each part and has at most one zero there: a maximum, found by
+    safeguarded Newton, when ``p'`` goes from + to -.
+    """
+    best, tbest = (sign * pl, lo) if sign * pl >= sign * pr else (sign * pr, hi)
+    if not hi > lo:
+        return best, tbest
+    if cl * cr < 0.0 and gl * gr > 0.0:  # p' may cross zero twice: split at the zero of p'' (Illinois)
+        a, fa, b, fb = lo, cl, hi, cr
+        side = 0
+        m = 0.5 * (lo + hi)
+        gm = 0.0
+        for _ in range(60):
+            m = b - fb * (b - a) / (fb - fa)
+            if not (a < m < b) and not (b < m < a):
+                m = 0.5 * (a + b)
+            pm, gm, cm = _p_d2(m, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+            if sign * pm > best:
+                best = sign * pm
+                tbest = m
+            if cm * fb < 0.0:
+                a, fa = b, fb
+                side = 0
+            else:
+                fa = 0.5 * fa if side == 1 else fa
+                side = 1
+            b, fb = m, cm
+            if abs(b - a) < xtol or cm == 0.0:
+                break
+        if sign * gl > 0.0 and sign * gm < 0.0:
+            best, tbest = _newton_segment(sign, lo, m, sign * gl, sign * gm, best, tbest, xtol, nimg, delays, are,
+                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        if sign * gm > 0.0 and sign * gr < 0.0:
+            best, tbest = _newton_segment(sign, m, hi, sign * gm, sign * gr, best, tbest, xtol, nimg, delays, are,
+                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+    elif sign * gl > 0.0 and sign * gr < 0.0:
+        best, tbest = _newton_segment(sign, lo, hi, sign * gl, sign * gr, best, tbest, xtol, nimg, delays, are, aim,
+                                      kind, amp, tau, xi, acc, yk, tab, s, lut)
+    return best, tbest
+
+
+@_njit(cache=True)
+def _refine_bracket(sign, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
+                    s, lut):  # pragma: no cover - compiled
+    """Largest ``sign · p`` on ``[lo, hi]`` near ``t0``, split at the breakpoints ``bps`` inside (sorted)."""
+    inside = 0
+    for b in bps:
+        if lo < b < hi:
+            inside += 1
+    if inside == 0:
+        return _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+    best = -np.inf
+    tbest = t0
+    a = lo
+    pa, ga, ca = _p_d2(a, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+    for q in range(bps.size + 1):
+        b = bps[q] if q < bps.size else hi
+        if q < bps.size and not (lo < b < hi):
+            continue
+        pb, gb, cb = _p_d2(b, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        v, tv = _refine_piece(sign, a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim, kind, amp, tau, xi,
+                              acc, yk, tab, s, lut)
+        if v > best:
+            best = v
+            tbest = tv
+        a, pa, ga, ca = b, pb, gb, cb
+    return best, tbest
+
+
+@_njit(cache=True)
+def _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s):  # pragma: no cover - compiled
+    """Largest and smallest ``p`` for ``t >= t_end`` (all images in free decay) and their times."""
+    b = 0j
+    for j in range(nimg):
+        b += complex(are[j], aim[j]) * yend * np.exp(s * (t_end - delays[j] - end))
+    hi = lo = b.real
+    thi = tlo = t_end
+    # p(v) = Re[b e^{s v}]; p'(v) = Re[b s e^{s v}] = 0 where arg(b s) + Im(s) v = π/2 (mod π)
+    if b != 0j:
+        w = s.imag
+        bs = b * s
+        v0 = ((0.5 * math.pi - math.atan2(bs.imag, bs.real)) % math.pi) / w
+        for k in range(2):
+            v = v0 + k * math.pi / w
+            val = (b * np.exp(s * v)).real
+            if val > hi:
+                hi = val
+                thi = t_end + v
+            if val < lo:
+                lo = val
+                tlo = t_end + v
+    return hi, thi, lo, tlo
+
+
+@_njit(cache=True)
+def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
+                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, lut, ctau, cs, g_coef,
+                  h_coef, cyend, m_g, m_h):  # pragma: no cover - compiled
+    n = pts.shape[0]
+    nimg = spos.shape[0]
+    ncol = ytr.shape[1]
+    delays = np.empty(nimg)
+    are = np.empty(nimg)
+    aim = np.empty(nimg)
+    qs = np.empty(nimg, np.int64)
+    rs = np.empty(nimg, np.int64)
+    coarse = np.empty(ncol + 2)
+    cand_e = np.empty(ncol + 2 + 2 * nimg)
+    cand_x = np.empty(ncol + 2 + 2 * nimg)
+    cand_t = np.empty(ncol + 2 + 2 * nimg)
+    bps = np.empty(2 * nimg)
+    h = big_h / fine
+    tol = 1e-12 * radius
+    g0 = 0j
+    h0 = 0j
+    if do_exp:
+        g0, h0 = _correlation_at(0.0, ctau, cs, g_coef, h_coef, cyend, m_g, m_h)
+    xtol = XTOL * big_h
+    for i in range(n):
+        x0 = pts[i, 0]
+        x1 = pts[i, 1]
+        x2 = pts[i, 2]
+        dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
+        ok = dc >= radius - tol
+        for q in range(ppt.shape[0]):
+            if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
+                ok = False
+        if not ok:
+            for col in range(5):
+                res[i, col] = np.nan
+            res[i, 5] = 0.0
+            continue
+        scale = 0.0
+        for j in range(nimg):
+            d0 = x0 - spos[j, 0]
+            d1 = x1 - spos[j, 1]
+            d2 = x2 - spos[j, 2]
+            r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
+            p0 = rho * c * radius * radius * ct / (r * r)
+            ra = r / radius
+            delays[j] = (r - radius) / c
+            are[j] = p0 * ra
+            aim[j] = -p0 * (1.0 - ra)
+            scale += math.sqrt(are[j] ** 2 + aim[j] ** 2)
+        # exposure: pairs of images and the pulse correlations (module exposure)
+        if do_exp:
+            total = 0.0
+            for j in range(nimg):
+                aj = complex(are[j], aim[j])
+                total += 0.5 * (aj * aj * g0 + (are[j] ** 2 + aim[j] ** 2) * h0).real
+                for k in range(j + 1, nimg):
+                    ak = complex(are[k], aim[k])
+                    lag = delays[j] - delays[k]
+                    if lag >= 0.0:
+                        g, hh = _correlation_at(lag, ctau, cs, g_coef, h_coef, cyend, m_g, m_h)
+                        total += (aj * ak * g + aj * np.conj(ak) * hh).real
+                    else:
+                        g, hh = _correlation_at(-lag, ctau, cs, g_coef, h_coef, cyend, m_g, m_h)
+                        total += (aj * ak * g + ak * np.conj(aj) * hh).real
+            res[i, 4] = total
+        else:
+            res[i, 4] = np.nan
+        # coarse pass on t_k = dmin + k H, k = 0..K (K H >= dmax - dmin + end)
+        dmin = delays[0]
+        dmax = delays[0]
+        for j in range(1, nimg):
+            dmin = min(dmin, delays[j])
+            dmax = max(dmax, delays[j])
+        kk = int(math.ceil((dmax - dmin + end) / big_h)) + 1
+        for j in range(nimg):  # where p'' may jump or have a cusp: the start and end of each pulse
+            bps[2 * j] = delays[j]
+            bps[2 * j + 1] = delays[j] + end
+        for j in range(1, 2 * nimg):  # insertion sort of the few breakpoints
+            b = bps[j]
+            q = j - 1
+            while q >= 0 and bps[q] > b:
+                bps[q + 1] = bps[q]
+                q -= 1
+            bps[q + 1] = b
+        for j in range(nimg):
+            m = pad - int(round((delays[j] - dmin) / h))
+            qs[j] = m // fine
+            rs[j] = m - qs[j] * fine
+        for k in range(kk + 1):
+            coarse[k] = 0.0
+        for j in range(nimg):  # contiguous runs of one residue table per image
+            seg_r = ytr[rs[j], qs[j] : qs[j] + kk + 1]
+            seg_i = yti[rs[j], qs[j] : qs[j] + kk + 1]
+            ar = are[j]
+            ai = aim[j]
+            for k in range(kk + 1):
+                coarse[k] += ar * seg_r[k] - ai * seg_i[k]
+        cmax = 0.0
+        cmin = 0.0
+        jump = 0.0
+        for k in range(kk + 1):
+            cmax = max(cmax, coarse[k])
+            cmin = min(cmin, coarse[k])
+            if k > 0:
+                jump = max(jump, abs(coarse[k] - coarse[k - 1]))
+        vmax = max(cmax, -cmin)
+        t_end = dmin + (kk - 1) * big_h  # the coarse samples cover [dmin, t_end]; the closed-form tail beyond
+        slack = margin * vmax + 0.5 * h * slope * scale
+        nref = 0
+        # after t_end only the free decay: its extremes in closed form, when its bound can matter
+        tail_bound = 0.0
+        for j in range(nimg):
+            decay = math.exp(s.real * (t_end - delays[j] - end))
+            tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
+        thi = tphi = tlo = tplo = 0.0
+        tail_done = False
+        for side in range(2):
+            sign = 1.0 if side == 0 else -1.0
+            best = 0.0  # p = 0 before the first arrival
+            tbest = dmin
+            nc = 0
+            top = -np.inf
+            # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
+            # so samples below this floor cannot come within the slack of the best estimate
+            floor = (cmax if side == 0 else -cmin) - 2.0 * slack - 0.125 * jump
+            for k in range(kk):
+                v0 = sign * coarse[k]
+                if v0 < floor:
+                    continue
+                vm = sign * coarse[k - 1] if k > 0 else 0.0
+                vp = sign * coarse[k + 1]
+                if v0 >= vm and v0 >= vp and v0 > 0.0:
+                    den = vm - 2.0 * v0 + vp
+                    xs = 0.5 * (vm - vp) / den if den < 0.0 else 0.0
+                    est = v0 - 0.25 * (vm - vp) * xs
+                    cand_t[nc] = dmin + k * big_h
+                    cand_e[nc] = est
+                    cand_x[nc] = dmin + (k + xs) * big_h
+                    nc += 1
+                    top = max(top, est)
+            for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
+                k = int((b - dmin) / big_h)
+                if 0 < k < kk:
+                    est = max(sign * coarse[k], sign * coarse[k + 1])
+                    if est > 0.0:
+                        cand_t[nc] = b
+                        cand_e[nc] = est
+                        cand_x[nc] = b
+                        nc += 1
+            # refine, best estimate first, while an estimate can still beat the best refined value
+            while nc > 0:
+                jb = 0
+                for q in range(1, nc):
+                    if cand_e[q] > cand_e[jb]:
+                        jb = q
+                est = cand_e[jb]
+                if est + slack < best or est + slack < top - slack:
+                    break
+                tk = cand_t[jb]
+                val, tv = _refine_bracket(sign, cand_x[jb], max(dmin, tk - big_h), tk + big_h, bps, xtol,
+                                          nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+                nref += 1
+                if val > best:
+                    best = val
+                    tbest = tv
+                nc -= 1
+                cand_t[jb] = cand_t[nc]
+                cand_e[jb] = cand_e[nc]
+                cand_x[jb] = cand_x[nc]
+            if tail_bound > best:
+                if not tail_done:
+                    thi, tphi, tlo, tplo = _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s)
+                    tail_done = True
+                tv, tt = (thi, tphi) if side == 0 else (-tlo, tplo)
+                if tv > best:
+                    best = tv
+                    tbest = tt
+            res[i, side] = sign * best
+            res[i, 2 + side] = tbest
+        res[i, 5] = nref

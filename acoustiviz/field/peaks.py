@@ -1,0 +1,267 @@
+"""Peaks and exposure of the continuous pressure at many points without a time loop.
+
+With ``a_j = P0_j C_j`` and delays ``d_j`` (:mod:`acoustiviz.field.sources`) the pressure at a
+point is a small sum of shifted copies of one observer-independent function (paper eqs 12-14)::
+
+    p(t) = Σ_j Re[a_j Y(t - d_j)] = Σ_j (Re a_j) Yr(t - d_j) - (Im a_j) Yi(t - d_j).
+
+The peaks of ``p`` are found in three steps:
+
+1. **Coarse pass.** ``Yr`` and ``Yi`` are tabulated once per pulse on a fine uniform grid of step
+   ``h = H / fine`` and stored by residue (``fine`` interleaved tables of step ``H``). Each delay
+   is rounded to the fine grid, so that on the point's coarse grid ``t_k = d_min + k H`` every
+   image reads a contiguous run of one table: ``p`` at ``t_k`` costs two multiply-adds per image,
+   from the first arrival to the end of the last image's pulse ``d_max + T``. The rounding moves
+   each image by at most ``h/2`` in time.
+2. **Candidates.** Every local maximum of the coarse samples (of ``p`` for the positive peak, of
+   ``-p`` for the negative one) gets a parabolic estimate of its height; those within ``margin``
+   (relative to the largest coarse ``|p|``, plus the bound ``h/2 · Σ|a_j| max|Y'|`` of the
+   rounding) of the best estimate are refined, best first, until no remaining estimate can beat
+   the best refined value.
+3. **Refinement on the closed form.** A safeguarded Newton iteration on ``p'(t) = 0`` within one
+   coarse step either side, with ``p``, ``p'`` and ``p''`` from the exact ``Y`` (the exact Hertz
+   pulse's Taylor table, :func:`acoustiviz.core.radiation.hertz_response_table`; the half-sine in
+   closed form; a sampled pulse over its piecewise-linear form), to ``2e-3`` of a coarse step, the
+   value then being the Newton model's (``O(step³ p''')`` from the maximum, about 1e-11 relative).
+   An interval holding the start or end of an image's pulse (where ``p''`` has a cusp) is split
+   there; each piece is searched on its own, and each such breakpoint is a candidate too.
+
+After the last pulse ends, ``t >= d_max + T``, every image is in its free decay and
+``p(t) = Re[B exp(s t)]``: its extremes there are those of one damped sinusoid, in closed form (the
+end point and the first two stationary points; later ones are ``exp(-π)`` smaller each). The
+exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
+same pass, with the geometry computed once per point. Times in s, pressures in Pa.
+
+Limits: the search is not a proof. It assumes that between the pulse starts and ends ``p`` has
+no two maxima within one coarse step (12 per ``min(T, a/c)`` by default) and ``p''`` changes sign
+at most once per piece of a bracket; two maxima closer than that arise at a pulse's start or end,
+where ``p''`` has a cusp, and are separated there. The tests and ``benchmarks/bench_field.py``
+check it against the refined :func:`acoustiviz.field.field_metrics` on random points of the three
+configurations, near the sphere and the planes included.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import ParameterError, check_points
+from ..constants import P_REF
+from ..core.images import Configuration
+from ..core.medium import AIR, Medium
+from ._common import check_config, check_pulse, pulse_args
+from ._kernels import _y_at
+from ._peak_kernels import _fill, _peaks_kernel
+from .exposure import PulseCorrelations, pulse_correlations
+
+__all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
+
+#: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
+DEFAULT_SAMPLES = 12
+DEFAULT_FINE = 64
+#: Relative margin (of the largest coarse |p|) within which coarse local maxima are refined.
+DEFAULT_MARGIN = 0.002
+
+
+
+
+@dataclass(frozen=True)
+class PeakTable:
+    """Observer-independent tables of one pulse, sphere and configuration for :func:`fast_peaks`.
+
+    Attributes
+    ----------
+    coarse_step : float
+        Coarse time step H in s.
+    fine : int
+        Fine steps per coarse step.
+    pad : int
+        Fine steps of zeros before ``Y``'s start (a multiple of ``fine``).
+    y_real, y_imag : (fine, K) ndarray
+        ``Yr`` and ``Yi`` in m/s at ``u = (k fine + r - pad) h``, row ``r``, column ``k``.
+    slope_bound : float
+        ``max |Y'|`` in m/s², for the rounding bound.
+    spread : float
+        Largest difference of two images' delays in s (source separation / c).
+    """
+
+    coarse_step: float
+    fine: int
+    pad: int
+    y_real: np.ndarray
+    y_imag: np.ndarray
+    slope_bound: float
+    spread: float
+
+
+@dataclass(frozen=True)
+class PeakExposure:
+    """Peaks, their times and the exposure of the pressure at each point.
+
+    Attributes
+    ----------
+    peak_positive, peak_negative : (n,) ndarray
+        Largest and smallest pressure in Pa of the continuous pressure (``peak_negative <= 0``).
+    time_positive, time_negative : (n,) ndarray
+        Their times in s from the start of contact.
+    exposure : (n,) ndarray
+        ``∫ p² dt`` in Pa²·s over all time (NaN when not asked for).
+    refinements : (n,) ndarray of int
+        Candidates refined on the closed form at each point (both signs).
+    """
+
+    peak_positive: np.ndarray
+    peak_negative: np.ndarray
+    time_positive: np.ndarray
+    time_negative: np.ndarray
+    exposure: np.ndarray
+    refinements: np.ndarray
+
+    @property
+    def peak(self) -> np.ndarray:
+        """Largest absolute pressure max |p| in Pa."""
+        return np.maximum(self.peak_positive, -self.peak_negative)
+
+    @property
+    def peak_spl_db(self) -> np.ndarray:
+        """Peak sound pressure level in dB re 20 µPa."""
+        with np.errstate(divide="ignore"):
+            return 20.0 * np.log10(self.peak / P_REF)
+
+    @property
+    def sel_db(self) -> np.ndarray:
+        """Sound exposure level ``10 log10(∫p² dt / (p_ref² · 1 s))`` in dB."""
+        with np.errstate(divide="ignore"):
+            return 10.0 * np.log10(self.exposure / P_REF**2)
+
+
+def _source_arrays(config: Configuration):
+    pos = np.ascontiguousarray([s.position for s in config.sources], dtype=float)
+    axis = np.ascontiguousarray([s.axis for s in config.sources], dtype=float)
+    if config.planes:
+        ppt = np.ascontiguousarray([p.point for p in config.planes], dtype=float)
+        pnm = np.ascontiguousarray([p.normal for p in config.planes], dtype=float)
+    else:
+        ppt = np.zeros((0, 3))
+        pnm = np.zeros((0, 3))
+    return pos, axis, np.asarray(config.centre, dtype=float), ppt, pnm
+
+
+def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
+               fine: int = DEFAULT_FINE) -> PeakTable:
+    """Tabulate ``Y`` for :func:`fast_peaks` (once per pulse, sphere and configuration).
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse (m/s²) starting at t = 0.
+    config : Configuration
+        The sphere and its images (their separation sets the table's length).
+    medium : Medium
+        The fluid.
+    samples : int
+        Coarse samples per ``min(T, a/c)`` (>= 2).
+    fine : int
+        Fine steps per coarse step (>= 1): the delays are rounded to ``H / fine``.
+
+    Returns
+    -------
+    PeakTable
+    """
+    check_pulse(pulse)
+    check_config(config)
+    if int(samples) != samples or samples < 2:
+        raise ParameterError("samples", f"must be an integer >= 2, got {samples}")
+    if int(fine) != fine or fine < 1:
+        raise ParameterError("fine", f"must be an integer >= 1, got {fine}")
+    samples, fine = int(samples), int(fine)
+    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium)
+    end = float(pulse.duration) if kind == 0 else float(xi[-1])
+    big_h = min(float(pulse.duration), config.radius / medium.c) / samples
+    h = big_h / fine
+    pos = np.array([src.position for src in config.sources])
+    spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
+    pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
+    ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4
+    u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
+    y = np.empty(u.shape, complex)
+    _fill(y.ravel(), u.ravel(), kind, amp, tau, xi, acc, yk, tab, s)
+    # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
+    flat = np.abs(np.diff(y.T.ravel())) / h
+    slope = float(flat.max()) * (1.0 + abs(s) * h) + 1e-300
+    return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread)
+
+
+def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, exposure: bool = True,
+               table: PeakTable | None = None, correlations: PulseCorrelations | None = None,
+               margin: float = DEFAULT_MARGIN, chunk: int = 65536) -> PeakExposure:
+    """Positive and negative peak pressure (and exposure) of the continuous pressure, without a time loop.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    points : (n, 3) array_like
+        Observer positions in m; points outside the fluid get NaN.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    exposure : bool
+        Also return ``∫ p² dt`` (Pa²·s) of the whole response (:func:`acoustiviz.field.exposure`).
+    table : PeakTable, optional
+        From :func:`peak_table` for this pulse, sphere and configuration, to reuse between calls.
+    correlations : PulseCorrelations, optional
+        From :func:`acoustiviz.field.pulse_correlations`, to reuse between calls.
+    margin : float
+        Coarse local maxima whose parabolic estimate is within ``margin`` times the largest coarse
+        ``|p|`` (plus the rounding bound) of the best are refined on the closed form.
+    chunk : int
+        Points per block.
+
+    Returns
+    -------
+    PeakExposure
+
+    Notes
+    -----
+    Paper eqs 12-14; see the module notes. The peaks are those of the continuous pressure over all
+    time (as :func:`acoustiviz.field.field_metrics` with its default window and refinement), to
+    about 1e-11 relative; each point costs a coarse pass of ``(d_max - d_min + T)/H`` samples of
+    two multiply-adds per image and a few Newton steps on the closed form.
+    """
+    check_pulse(pulse)
+    check_config(config)
+    pts = check_points("points", points)
+    if not (margin >= 0.0 and math.isfinite(margin)):
+        raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
+    tb = peak_table(pulse, config, medium=medium) if table is None else table
+    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium)
+    end = float(pulse.duration) if kind == 0 else float(xi[-1])
+    yend = complex(_y_at(end, kind, amp, tau, xi, acc, yk, tab, s))
+    if exposure:
+        corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
+        cargs = (corr.duration, corr.pole, corr.g_coef, corr.h_coef, corr.y_end, corr.m_g, corr.m_h)
+    else:
+        z = np.zeros((1, 1), complex)
+        cargs = (1.0, s, z, z, 0j, 0j, 0j)
+    # piece of the Taylor table of Y holding the start of each of 4096 equal buckets of [0, end]
+    if kind == 2:
+        lut = np.searchsorted(xi, np.linspace(0.0, end, 4097), side="right") - 1
+        lut = np.clip(lut, 0, xi.size - 2).astype(np.int64)
+    else:
+        lut = np.zeros(2, np.int64)
+    spos, saxis, centre, ppt, pnm = _source_arrays(config)
+    n = pts.shape[0]
+    res = np.empty((n, 6))
+    step = max(1, int(chunk))
+    for lo in range(0, n, step):
+        hi = min(lo + step, n)
+        _peaks_kernel(res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm,
+                      float(config.radius), float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad,
+                      tb.y_real, tb.y_imag, tb.slope_bound, float(margin), kind, amp, tau, xi, acc, yk, tab, s,
+                      yend, end, bool(exposure), lut, *cargs)
+    return PeakExposure(res[:, 0].copy(), res[:, 1].copy(), res[:, 2].copy(), res[:, 3].copy(),
+                        res[:, 4].copy(), res[:, 5].astype(np.int64))
