@@ -39,6 +39,7 @@ __all__ = [
     "DEFAULT_RTOL",
     "DEFAULT_SOUND_SPEED",
     "DEFAULT_AIR_DENSITY",
+    "MAX_MEMORY_MB",
 ]
 
 # --- physical constants -------------------------------------------------------------------
@@ -99,3 +100,9 @@ PAPER_V0 = 2.0
 DEFAULT_DURATION = 20.0
 #: The event solver's relative tolerance on each contact, used by every front-end.
 DEFAULT_RTOL = 1e-12
+
+# --- limits on work -----------------------------------------------------------------------
+
+#: Cap in MB on a command's estimated working memory and, separately, on the bytes it writes
+#: (:mod:`acoustiviz.app.budget`); ``--max-memory`` overrides it.
+MAX_MEMORY_MB = 2048.0

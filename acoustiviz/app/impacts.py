@@ -30,6 +30,7 @@ from ..core.images import Configuration, configuration, observer_points
 from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
+from .limits import check_impact, check_sphere_mass
 
 __all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from", "surroundings"]
 
@@ -95,12 +96,12 @@ def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) ->
             raise ParameterError("mass", "give either the mass or the density, not both")
         return check_positive("mass", mass, "kg")
     if density is not None:
-        rho = check_positive("density", density, "kg/m^3")
-    elif sphere_material is not None:
+        return check_sphere_mass(radius, check_positive("density", density, "kg/m^3"), "density")
+    if sphere_material is not None:
         rho = _material("sphere_material", sphere_material).density
     else:
         rho = PAPER_DENSITY
-    return rho * 4.0 / 3.0 * math.pi * radius**3
+    return check_sphere_mass(radius, rho)
 
 
 def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_material=None, surface_material=None,
@@ -152,6 +153,7 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
         _material("sphere_material", sphere_material)  # an unknown name fails here, naming the catalogue
     k, source = k_hertz_from(radius, k_hertz, sphere_material, surface_material)
     m = sphere_mass(radius, mass, density, sphere_material)
+    check_impact(velocity, k, m, partner_mass, radius=radius, c=medium.c, rho=medium.rho)
     conf = _configuration(radius, config, wall_distance, strike, height)
     impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
     return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
