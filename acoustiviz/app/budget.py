@@ -31,6 +31,7 @@ from ..errors import ParameterError
 __all__ = [
     "Estimate",
     "check_budget",
+    "memory_cap",
     "waveform_estimate",
     "directivity_estimate",
     "damper_estimate",
@@ -72,7 +73,10 @@ class Estimate:
 
 
 def _mb(nbytes: float) -> str:
-    return "an unbounded amount" if not math.isfinite(nbytes) else f"{nbytes / _MB:,.0f} MB"
+    if not math.isfinite(nbytes):
+        return "an unbounded amount"
+    mb = nbytes / _MB
+    return f"{mb:,.0f} MB" if mb < 1e7 else f"{mb:.3g} MB"
 
 
 def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--max-memory") -> Estimate:
@@ -95,7 +99,7 @@ def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--m
     """
     cap = MAX_MEMORY_MB if max_memory_mb is None else check_positive(cap_name, max_memory_mb, "MB")
     limit = cap * _MB
-    for amount, noun in ((estimate.memory, "memory"), (estimate.output, "of output files")):
+    for amount, noun in ((estimate.memory, "of memory"), (estimate.output, "of output files")):
         if not (amount <= limit):  # also refuses NaN and inf
             others = " or ".join(estimate.options[1:])
             change = f"lower it{' (or ' + others + ')' if others else ''}"
@@ -104,6 +108,11 @@ def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--m
                 f"this would need {_mb(amount)} {noun} for {estimate.what}, over the cap of {cap:g} MB; "
                 f"{change}, or raise the cap with {cap_name}")
     return estimate
+
+
+def memory_cap(max_memory_mb=None) -> float:
+    """The cap in bytes (``max_memory_mb`` MB, default :data:`~acoustiviz.constants.MAX_MEMORY_MB`)."""
+    return (MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)) * _MB
 
 
 def _count(x: float) -> float:
@@ -151,8 +160,8 @@ def damper_estimate(model, duration: float, *, solver: str = "event", dt=None, p
         with np.errstate(all="ignore"):
             steps = _count(duration / dt)
         if not steps <= 1e10:
-            raise ParameterError("--dt", f"{steps:.3g} Newmark steps of {dt:g} s over {duration:g} s; the cap is "
-                                         "1e10 steps: raise --dt or lower --duration")
+            raise ParameterError("dt", f"{steps:.3g} Newmark steps of {dt:g} s over {duration:g} s; the cap is "
+                                       "1e10 steps: take a longer step or a shorter run")
     return Estimate(_F8 * 16.0 * n, 0.0, f"{n:.3g} samples of the damper's motion", options)
 
 

@@ -32,6 +32,9 @@ from ..core.medium import AIR, Medium
 from ..errors import ParameterError
 from .limits import check_impact, check_sphere_mass
 
+#: Farthest observer in m: squared distances stay finite (:data:`acoustiviz.app.limits.LOG_LIMIT`).
+MAX_DISTANCE = 1e145
+
 __all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from", "surroundings"]
 
 @dataclass(frozen=True)
@@ -205,7 +208,7 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
     (3,) ndarray
         Position in m.
     """
-    check_range("distance", distance, setup.radius, math.inf, unit="m", low_open=True)
+    check_range("distance", distance, setup.radius, MAX_DISTANCE, unit="m", low_open=True)
     conf = setup.configuration
     limit = 90.0 if conf.name != "free" else 180.0
     theta = math.radians(check_range("angle_deg", angle_deg, 0.0, limit, unit="deg"))

@@ -137,13 +137,17 @@ def check_impact(velocity: float, k_hertz: float, mass: float, partner_mass: flo
                                      f"{_fmt_range(lo, hi, 'm/s')}")
 
 
-def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v: float, duration: float) -> None:
+def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v: float, duration: float,
+                 c1: float = 0.0) -> None:
     """Refuse damper settings whose run cannot be computed or measured (see the module notes).
 
     Parameters
     ----------
     M, K, m, gap, k_hertz : float
         Main mass (kg), main spring (N/m), impact mass (kg), free travel d (m), Hertz stiffness (N/m^1.5).
+    c1 : float
+        Contact damping in N s/m: its relaxation time ``mu / c1`` must be at least 1e-4 of the
+        contact time at ``|v|`` (a stiffer dashpot cannot be resolved by the solvers).
     v : float
         Initial velocity of the main mass in m/s (the impact mass starts at rest).
     duration : float
@@ -178,6 +182,13 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
     lo, hi = _speed_interval(cons)
     speed = abs(v)
     if lo <= speed <= hi:
+        tau = _pow10(ltau0 - 0.2 * _lg(speed))
+        c1_max = 1e4 * mu / tau
+        if c1 > c1_max:
+            raise ParameterError("c1", f"{c1:g} N s/m relaxes the contact in {mu / c1:.3g} s, under 1e-4 of its "
+                                       f"{tau:.3g} s duration at {speed:g} m/s: the contact is overdamped beyond "
+                                       f"what the solvers resolve; with these masses and K_HZ it must be <= "
+                                       f"{c1_max:.3g} N s/m")
         return
     inputs = (f"an impact mass of {m:g} kg (main mass {M:g} kg), K_HZ {k_hertz:.4g} N/m^1.5, a free travel of "
               f"{gap:g} m and a run of {duration:g} s")

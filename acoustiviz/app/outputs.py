@@ -93,11 +93,11 @@ def check_output_file(option: str, path, kind: str) -> Path:
     """
     p = _as_path(option, path, "file name")
     known = suffixes(kind)
+    if p.is_dir():
+        raise ParameterError(option, f"{p} is a folder; give a file name inside it, e.g. {p / ('out' + ('.png' if '.png' in known else known[0]))}")
     if p.suffix.lower() not in known:
         got = f"'{p.suffix}'" if p.suffix else "no extension"
         raise ParameterError(option, f"{str(p)!r} has {got}; expected a file ending in {', '.join(known)}")
-    if p.is_dir():
-        raise ParameterError(option, f"{p} is a folder; give a file name inside it, e.g. {p / ('out' + known[0])}")
     parent = p.parent
     if not parent.exists():
         raise ParameterError(option, f"folder {parent} does not exist")

@@ -19,7 +19,7 @@ from .._validate import check_range
 from ..errors import ParameterError
 from ..field import waveform_span
 
-__all__ = ["waveform_times", "directivity_angles", "MIN_SAMPLES_PER_DURATION"]
+__all__ = ["waveform_times", "directivity_angles", "check_samples_per_duration", "MIN_SAMPLES_PER_DURATION"]
 
 #: Fewest time samples per contact duration a waveform is drawn or tabulated with.
 MIN_SAMPLES_PER_DURATION = 200
@@ -44,12 +44,20 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
     samples_per_duration : int
         Samples per contact duration, at least :data:`MIN_SAMPLES_PER_DURATION`.
     """
-    if int(samples_per_duration) != samples_per_duration or samples_per_duration < MIN_SAMPLES_PER_DURATION:
-        raise ParameterError("samples_per_duration",
-                             f"must be an integer >= {MIN_SAMPLES_PER_DURATION}, got {samples_per_duration}")
+    check_samples_per_duration(samples_per_duration)
     end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
     dt = min(p.duration for p in pulses) / samples_per_duration
     return np.arange(0.0, end + dt, dt)
+
+
+def check_samples_per_duration(samples_per_duration) -> int:
+    """``samples_per_duration`` as an int, unless it is not an integer >= :data:`MIN_SAMPLES_PER_DURATION`."""
+    ok = isinstance(samples_per_duration, (int, np.integer)) or (
+        isinstance(samples_per_duration, float) and samples_per_duration.is_integer())
+    if not ok or samples_per_duration < MIN_SAMPLES_PER_DURATION:
+        raise ParameterError("samples_per_duration",
+                             f"must be an integer >= {MIN_SAMPLES_PER_DURATION}, got {samples_per_duration}")
+    return int(samples_per_duration)
 
 
 def directivity_angles(config, step_deg: float) -> np.ndarray:

@@ -35,6 +35,13 @@ def add_parser(subparsers):
 
 def run(args) -> int:
     """Run the ``damper`` subcommand; return the exit status."""
+    from ..app.outputs import check_distinct, check_output_file
+
+    if args.impacts_csv is not None:
+        check_output_file("--impacts-csv", args.impacts_csv, "csv")
+    if args.png is not None:
+        check_output_file("--png", args.png, "figure")
+    check_distinct({"--impacts-csv": args.impacts_csv, "--png": args.png})
     _, damper = damper_from_args(args)
     result = damper.result
     for msg in damper.warnings:
