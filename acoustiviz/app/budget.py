@@ -40,6 +40,7 @@ __all__ = [
     "snapshot_estimate",
     "animation_estimate",
     "sweep_estimate",
+    "range_count",
 ]
 
 _MB = 2.0**20
@@ -202,9 +203,41 @@ def animation_estimate(frames: int, n_u: int, n_sections: int, size, n_sources: 
     return Estimate(mem, frames * frame, f"{frames} frames of {size[0]}x{size[1]} px", options)
 
 
-def sweep_estimate(n_designs: int, model, duration: float, workers: int,
-                   options=("--duration", "--workers")) -> Estimate:
-    """Each worker holds one design's run; the table holds a row (about 400 B) per design."""
+def range_count(text) -> float:
+    """How many values a swept setting ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C`` holds, without listing them.
+
+    Text that does not parse counts as one value (its own check reports it).
+    """
+    t = str(text).strip()
+    if ":" in t:
+        parts = t.split(":")
+        try:
+            n = float(parts[-1])
+        except ValueError:
+            return 1.0
+        return n if math.isfinite(n) and n >= 1 else 1.0
+    return float(max(1, len([p for p in t.split(",") if p.strip()])))
+
+
+def sweep_estimate(swept, model, duration: float, workers: int, options=("--duration",)) -> Estimate:
+    """A sweep: every worker holds one design's run; the table about 1 kB per design (row and settings).
+
+    Parameters
+    ----------
+    swept : mapping of str to str
+        Option (or scene key) -> its text (``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``); the
+        designs are every combination.
+    model : DamperModel
+        A design, for the samples of one run.
+    duration : float
+        Simulated time per design in s.
+    workers : int
+        Designs run at once.
+    """
+    counts = {k: range_count(v) for k, v in swept.items() if v is not None}
+    n = math.prod(counts.values()) if counts else 1.0
     one = damper_estimate(model, duration, options=options)
-    return Estimate(one.memory * max(1, int(workers)) + 400.0 * n_designs, 400.0 * n_designs,
-                    f"{n_designs} designs, {one.what} each, {workers} worker(s)", options)
+    biggest = max(counts, key=counts.get) if counts else options[0]
+    opts = tuple(dict.fromkeys((biggest,) + tuple(options))) if n * 1024.0 > one.memory * workers else options
+    return Estimate(one.memory * max(1, int(workers)) + 1024.0 * n, 400.0 * n,
+                    f"{n:.3g} designs, {one.what} each, {workers} worker(s)", opts)

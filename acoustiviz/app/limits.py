@@ -162,8 +162,8 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
     L = LOG_LIMIT
     lperiod = _lg(2.0 * math.pi) + 0.5 * (_lg(M) - _lg(K))
     if not -L <= lperiod <= L:
-        raise ParameterError("M", f"a main mass of {M:g} kg on a spring of {K:g} N/m has a period of 1e{lperiod:.0f} s, "
-                                  "beyond what can be computed; bring M/K towards ordinary values")
+        raise ParameterError("M", f"a main mass of {M:g} kg on a spring of {K:g} N/m has a period of "
+                                  f"1e{lperiod:.0f} s, beyond what can be computed; bring M/K towards ordinary values")
     period = 10.0**lperiod
     if duration < period / 100.0:
         raise ParameterError("duration", f"{duration:g} s is too short to measure the damping: it must be at least "

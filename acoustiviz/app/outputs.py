@@ -94,7 +94,8 @@ def check_output_file(option: str, path, kind: str) -> Path:
     p = _as_path(option, path, "file name")
     known = suffixes(kind)
     if p.is_dir():
-        raise ParameterError(option, f"{p} is a folder; give a file name inside it, e.g. {p / ('out' + ('.png' if '.png' in known else known[0]))}")
+        example = p / ("out" + (".png" if ".png" in known else known[0]))
+        raise ParameterError(option, f"{p} is a folder; give a file name inside it, e.g. {example}")
     if p.suffix.lower() not in known:
         got = f"'{p.suffix}'" if p.suffix else "no extension"
         raise ParameterError(option, f"{str(p)!r} has {got}; expected a file ending in {', '.join(known)}")
@@ -148,5 +149,5 @@ def check_distinct(paths) -> None:
             continue
         key = os.path.abspath(os.fspath(path))
         if key in seen:
-            raise ParameterError(option, f"names the same file as {seen[key]}: {path}")
+            raise ParameterError(option.split()[0], f"names the same file as {seen[key].split()[0]}: {path}")
         seen[key] = option

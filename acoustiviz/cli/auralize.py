@@ -164,7 +164,9 @@ def run(args) -> int:
     import numpy as np
 
     from .._validate import ParameterError, check_positive, check_range
+    from ..app.budget import check_budget, wav_estimate
     from ..app.names import user_terms
+    from ..app.outputs import check_distinct, check_input_file, check_output_file
     from ..app.wav import WavFile, cavity, write_wav_files
     from ..constants import PAPER_RADIUS
     from ..core.medium import Medium
@@ -203,6 +205,17 @@ def run(args) -> int:
         elif len(points) != 2:
             raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
     listeners = check_listeners(np.array(points), scene, name="--listener")
+    n_files = 1 if args.stereo else len(listeners)
+    outputs = {}
+    for path in _output_paths(args.wav, n_files):
+        outputs[f"--wav {path}"] = check_output_file("--wav", path, "wav")
+        outputs[f"--wav {path.with_suffix('.json')}"] = check_output_file("--wav", path.with_suffix(".json"), "json")
+    if args.png is not None:
+        outputs["--png"] = check_output_file("--png", args.png, "figure")
+    check_distinct(outputs)
+    if args.impacts:
+        check_input_file("--impacts", args.impacts, "CSV file")
+    check_budget(wav_estimate(args.duration, args.rate, len(listeners)), getattr(args, "max_memory", None))
     if args.scale is not None:
         check_positive("--scale", args.scale, "Pa")
     check_range("--headroom", args.headroom, 0.0, 60.0, unit="dB")

@@ -164,6 +164,20 @@ def run(args) -> int:
     from ..pipeline import write_sweep_outputs
     from ..sweep import run_sweep
 
+    from ..app.budget import check_budget, sweep_estimate
+    from ..app.outputs import check_output_dir
+    from ..dynamics import DamperModel
+
+    check_output_dir("--out", args.out)
+    swept = {o: getattr(args, o[2:].replace("-", "_")) for o in ("--gap", "--m", "--mass-ratio", "--c1", "--k-hertz",
+                                                                 "--material", "--v0", "--distance", "--angle",
+                                                                 "--config")}
+    check_positive("--duration", args.duration, "s")
+    try:
+        model = DamperModel(M=args.M, K=args.K, C=args.C)
+    except ParameterError as exc:
+        raise exc.renamed(_option(exc.name)) from None
+    check_budget(sweep_estimate(swept, model, args.duration, args.workers or 2), getattr(args, "max_memory", None))
     spec = spec_from_args(args)
     check_positive("--band-width", args.band_width, "m/s")
     if args.workers is not None and args.workers < 1:
