@@ -116,6 +116,11 @@ def memory_cap(max_memory_mb=None) -> float:
     return (MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)) * _MB
 
 
+def _div(a: float, b: float) -> float:
+    """A / b, with a division by zero (an underflowed denominator) counting as unbounded."""
+    return a / b if b != 0 else math.inf
+
+
 def _count(x: float) -> float:
     """A count that may be huge or not finite, as a float (never an OverflowError)."""
     return x if math.isfinite(x) and x >= 0 else math.inf
@@ -133,7 +138,7 @@ def waveform_estimate(pulses, point, config, medium, samples_per_duration,
     with np.errstate(all="ignore"):
         end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
         dt = min(p.duration for p in pulses) / float(samples_per_duration)
-        n = _count(end / dt + 2.0)
+        n = _count(_div(end, dt) + 2.0)
     nimg = len(config.sources)
     return Estimate(_F8 * n * (4 + nimg) * len(pulses), 38.0 * n * len(pulses), f"{n:.3g} time samples", options)
 
@@ -142,7 +147,7 @@ def directivity_estimate(config, step_deg: float, options=("--step",)) -> Estima
     """Angles of :func:`acoustiviz.app.views.directivity_angles`; per angle its point, geometry and metrics."""
     top = 180.0 if config.name == "free" else 90.0
     with np.errstate(all="ignore"):
-        n = _count(top / float(step_deg) + 2.0)
+        n = _count(_div(top, float(step_deg)) + 2.0)
     per = _F8 * (3 + 12 + 9 * len(config.sources))
     return Estimate(per * n, 60.0 * n, f"{n:.3g} angles", options)
 
@@ -154,12 +159,12 @@ def damper_estimate(model, duration: float, *, solver: str = "event", dt=None, p
     A Newmark run also steps ``duration / dt`` times; more than 1e10 steps is refused as work
     that does not end (named after ``--dt``).
     """
-    period = 2.0 * math.pi / model.main_frequency
+    period = _div(2.0 * math.pi, model.main_frequency)
     with np.errstate(all="ignore"):
-        n = _count(duration / period * per_period + 1.0)
+        n = _count(_div(duration, period) * per_period + 1.0)
     if solver == "newmark" and dt is not None:
         with np.errstate(all="ignore"):
-            steps = _count(duration / dt)
+            steps = _count(_div(duration, dt))
         if not steps <= 1e10:
             raise ParameterError("dt", f"{steps:.3g} Newmark steps of {dt:g} s over {duration:g} s; the cap is "
                                        "1e10 steps: take a longer step or a shorter run")

@@ -24,7 +24,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import check_choice, check_positive, check_range
-from ..constants import CONFIGURATIONS, DEFAULT_WALL_DISTANCE, PAPER_DENSITY, PAPER_K_HERTZ, PULSES, STRIKES
+from ..constants import (
+    CONFIGURATIONS,
+    DEFAULT_WALL_DISTANCE,
+    PAPER_DENSITY,
+    PAPER_K_HERTZ,
+    PAPER_RADIUS,
+    PULSES,
+    STRIKES,
+)
 from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
 from ..core.images import Configuration, configuration, observer_points
 from ..core.materials import material
@@ -99,7 +107,10 @@ def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) ->
             raise ParameterError("mass", "give either the mass or the density, not both")
         return check_positive("mass", mass, "kg")
     if density is not None:
-        return check_sphere_mass(radius, check_positive("density", density, "kg/m^3"), "density")
+        rho = check_positive("density", density, "kg/m^3")
+        # blame the setting farther from an ordinary sphere (the paper's steel ball)
+        off_rho, off_a = abs(math.log10(rho / PAPER_DENSITY)), abs(math.log10(radius / PAPER_RADIUS))
+        return check_sphere_mass(radius, rho, "density" if off_rho > off_a else "radius")
     if sphere_material is not None:
         rho = _material("sphere_material", sphere_material).density
     else:

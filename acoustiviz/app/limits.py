@@ -31,6 +31,9 @@ __all__ = ["LOG_LIMIT", "check_sphere_mass", "check_impact", "check_damper"]
 #: Derived quantities must lie within 10**±LOG_LIMIT in SI units (double precision holds ±308;
 #: the margin leaves room for the products formed downstream).
 LOG_LIMIT = 290.0
+#: Lightest impact mass, as a fraction of the main mass, whose contacts the solvers follow
+#: (a lighter one is pinned between the walls in ever shorter contacts: the event solver stalls).
+MIN_MASS_RATIO = 1e-6
 #: Largest contact time in units of the sphere's decay time a/c for which the radiation
 #: formulas stay finite.
 MAX_DECAY_TIMES_LOG = 100.0
@@ -87,10 +90,10 @@ def check_sphere_mass(radius: float, density: float, name: str = "radius") -> fl
     if -LOG_LIMIT <= lm <= LOG_LIMIT:
         return density * 4.0 / 3.0 * math.pi * radius**3
     if name == "density":
-        d_lo, d_hi = (10 ** (s * LOG_LIMIT - lv - 3.0 * _lg(radius)) for s in (-1, 1))
+        d_lo, d_hi = (_pow10(s * LOG_LIMIT - lv - 3.0 * _lg(radius)) for s in (-1, 1))
         rng = f"at this radius the density must lie in {_fmt_range(d_lo, d_hi, 'kg/m^3')}"
     else:
-        r_lo, r_hi = (10 ** ((s * LOG_LIMIT - _lg(density) - lv) / 3.0) for s in (-1, 1))
+        r_lo, r_hi = (_pow10((s * LOG_LIMIT - _lg(density) - lv) / 3.0) for s in (-1, 1))
         rng = f"at this density the radius must lie in {_fmt_range(r_lo, r_hi, 'm')}"
     raise ParameterError(name, f"a radius of {radius:g} m and a density of {density:g} kg/m^3 give a sphere mass "
                                f"of 1e{lm:.0f} kg, beyond what can be computed; {rng}")
@@ -169,6 +172,10 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
         raise ParameterError("duration", f"{duration:g} s is too short to measure the damping: it must be at least "
                                          f"1/100 of the main period 2 pi sqrt(M/K) = {period:.4g} s, i.e. "
                                          f">= {period / 100.0:.4g} s")
+    if m < MIN_MASS_RATIO * M:
+        raise ParameterError("m", f"an impact mass of {m:g} kg is lighter than {MIN_MASS_RATIO:g} of the main mass "
+                                  f"({M:g} kg), below which the solvers cannot follow its contacts; it must be "
+                                  f">= {MIN_MASS_RATIO * M:.3g} kg")
     if v == 0:
         return
     mu = m * M / (m + M) if math.isfinite(m * M) and m + M > 0 else min(m, M)

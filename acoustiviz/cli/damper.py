@@ -59,8 +59,11 @@ def run(args) -> int:
         print(f"settling time (positive maxima below 5% of the first): {ts:.3f} s")
     else:
         print("settling time (positive maxima below 5% of the first): not settled within the run")
-    print(f"energy closure: {result.energy.relative_closure_error:.2e} of the initial "
-          f"{result.energy.initial:.4g} J")
+    if result.energy.initial > 0:
+        print(f"energy closure: {result.energy.relative_closure_error:.2e} of the initial "
+              f"{result.energy.initial:.4g} J")
+    else:
+        print("energy closure: no initial energy, nothing to close")
     print(f"solver time: {round(1000 * result.solver_time)} ms")
     if args.impacts_csv:
         path = result.impacts.to_csv(args.impacts_csv)

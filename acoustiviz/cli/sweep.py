@@ -161,12 +161,11 @@ def run(args) -> int:
     import time
 
     from .._validate import ParameterError, check_positive
-    from ..pipeline import write_sweep_outputs
-    from ..sweep import run_sweep
-
     from ..app.budget import check_budget, sweep_estimate
     from ..app.outputs import check_output_dir
     from ..dynamics import DamperModel
+    from ..pipeline import write_sweep_outputs
+    from ..sweep import run_sweep
 
     check_output_dir("--out", args.out)
     swept = {o: getattr(args, o[2:].replace("-", "_")) for o in ("--gap", "--m", "--mass-ratio", "--c1", "--k-hertz",
