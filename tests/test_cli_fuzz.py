@@ -136,6 +136,10 @@ CASES = [
     (["auralize", "--wav", "x.wav", "--impacts", "adir"], "--impacts"),
     (["auralize", "--wav", "x.wav", "--v0", "1e200", *FAST_DAMPER], "--v0"),
     (["auralize", "--wav", "x.wav", "--png", "x.wav"], "--png"),
+    (["auralize", "--wav", "x.wav", "--radius", "1e200", *FAST_DAMPER], "--radius"),
+    (["auralize", "--wav", "x.wav", "--c", "1e-30", *FAST_DAMPER], "--c"),
+    (["auralize", "--wav", "x.wav", "--gap", "1e308", *FAST_DAMPER], "--gap"),
+    (["auralize", "--wav", "x.wav", "--m", "1e200", *FAST_DAMPER], "--m"),
     # --- run
     (["run", "--out", "afile/x"], "--out"),
     (["run", "--out", "afile"], "--out"),
