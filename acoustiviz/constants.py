@@ -43,6 +43,7 @@ __all__ = [
     "DEFAULT_RTOL",
     "DEFAULT_SOUND_SPEED",
     "DEFAULT_AIR_DENSITY",
+    "MAX_MEMORY_MB",
 ]
 
 # --- physical constants -------------------------------------------------------------------
@@ -118,3 +119,9 @@ DEFAULT_RTOL = 1e-13
 #: Rate in Hz at which computed signals are rendered for their weighted levels (not limited by a
 #: 48 kHz file): flat to 43.2 kHz, so the weightings, the 20 kHz band and the peaks see the whole click.
 ANALYSIS_RATE = 96000
+
+# --- limits on work -----------------------------------------------------------------------
+
+#: Cap in MB on a command's estimated working memory and, separately, on the bytes it writes
+#: (:mod:`acoustiviz.app.budget`); ``--max-memory`` overrides it.
+MAX_MEMORY_MB = 2048.0

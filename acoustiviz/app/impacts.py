@@ -24,12 +24,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import check_choice, check_positive, check_range
-from ..constants import CONFIGURATIONS, DEFAULT_WALL_DISTANCE, PAPER_DENSITY, PAPER_K_HERTZ, PULSES, STRIKES
+from ..constants import (
+    CONFIGURATIONS,
+    DEFAULT_WALL_DISTANCE,
+    PAPER_DENSITY,
+    PAPER_K_HERTZ,
+    PAPER_RADIUS,
+    PULSES,
+    STRIKES,
+)
 from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
 from ..core.images import Configuration, configuration, observer_points
 from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
+from .limits import check_impact, check_sphere_mass
+
+#: Farthest observer in m: squared distances stay finite (:data:`acoustiviz.app.limits.LOG_LIMIT`).
+MAX_DISTANCE = 1e145
 
 __all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from", "surroundings"]
 
@@ -96,15 +108,14 @@ def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) ->
         return check_positive("mass", mass, "kg")
     if density is not None:
         rho = check_positive("density", density, "kg/m^3")
-    elif sphere_material is not None:
+        # blame the setting farther from an ordinary sphere (the paper's steel ball)
+        off_rho, off_a = abs(math.log10(rho / PAPER_DENSITY)), abs(math.log10(radius / PAPER_RADIUS))
+        return check_sphere_mass(radius, rho, "density" if off_rho > off_a else "radius")
+    if sphere_material is not None:
         rho = _material("sphere_material", sphere_material).density
     else:
         rho = PAPER_DENSITY
-    m = rho * 4.0 / 3.0 * math.pi * radius**3
-    if not (0.0 < m < math.inf):
-        raise ParameterError("radius", f"the sphere's mass (density {rho:g} kg/m^3 x volume) is {m:g} kg, not a "
-                                       f"positive finite number: use a radius between 1e-100 m and 1e100 m")
-    return m
+    return check_sphere_mass(radius, rho)
 
 
 def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_material=None, surface_material=None,
@@ -156,6 +167,7 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
         _material("sphere_material", sphere_material)  # an unknown name fails here, naming the catalogue
     k, source = k_hertz_from(radius, k_hertz, sphere_material, surface_material)
     m = sphere_mass(radius, mass, density, sphere_material)
+    check_impact(velocity, k, m, partner_mass, radius=radius, c=medium.c, rho=medium.rho)
     conf = _configuration(radius, config, wall_distance, strike, height)
     impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
     return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
@@ -207,7 +219,7 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
     (3,) ndarray
         Position in m.
     """
-    check_range("distance", distance, setup.radius, math.inf, unit="m", low_open=True)
+    check_range("distance", distance, setup.radius, MAX_DISTANCE, unit="m", low_open=True)
     conf = setup.configuration
     limit = 90.0 if conf.name != "free" else 180.0
     theta = math.radians(check_range("angle_deg", angle_deg, 0.0, limit, unit="deg"))

@@ -23,7 +23,7 @@ from collections.abc import Mapping
 
 from ..errors import ParameterError
 
-__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS"]
+__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "SCENE_IMPACT_KEYS"]
 
 #: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
 DAMPER_OPTIONS = {
@@ -59,6 +59,25 @@ IMPACT_OPTIONS = {
     "height": "--height",
     "distance": "--distance",
     "angle_deg": "--angle",
+}
+
+
+#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key.
+SCENE_IMPACT_KEYS = {
+    "radius": "sphere.radius_m",
+    "velocity": "impact.velocity_m_s",
+    "k_hertz": "contact.k_hertz_n_m1_5",
+    "sphere_material": "sphere.material",
+    "surface_material": "contact.surface",
+    "density": "sphere.density_kg_m3",
+    "mass": "sphere.mass_kg",
+    "pulse": "contact.pulse",
+    "c": "medium.c_m_s",
+    "rho": "medium.rho_kg_m3",
+    "config": "configuration.kind",
+    "wall_distance": "configuration.wall_distance_m",
+    "strike": "configuration.strike",
+    "height": "configuration.height_m",
 }
 
 

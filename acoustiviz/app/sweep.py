@@ -14,7 +14,7 @@ Examples
 --------
 >>> spec = sweep_spec(gap="0.02:0.06:5", m="0.02,0.04", duration=1.0)
 >>> spec.gap, spec.m, spec.settings.rtol
-((0.02, 0.03, 0.04, 0.05, 0.06), (0.02, 0.04), 1e-12)
+((0.02, 0.03, 0.04, 0.05, 0.06), (0.02, 0.04), 1e-13)
 """
 
 from __future__ import annotations

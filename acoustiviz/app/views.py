@@ -21,8 +21,9 @@ from ..errors import ParameterError
 from ..field import field_metrics, waveform_span
 from ..levels import METRICS
 
-__all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS",
-           "LEVEL_INTERVAL", "directivity_metric", "impact_signals", "metric_label", "directivity_metric_figure"]
+__all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
+           "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
+           "impact_signals", "metric_label", "directivity_metric_figure"]
 
 #: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
 #: the weighted levels of :data:`acoustiviz.levels.METRICS`.
@@ -53,9 +54,7 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
     samples_per_duration : int
         Samples per contact duration, at least :data:`MIN_SAMPLES_PER_DURATION`.
     """
-    if int(samples_per_duration) != samples_per_duration or samples_per_duration < MIN_SAMPLES_PER_DURATION:
-        raise ParameterError("samples_per_duration",
-                             f"must be an integer >= {MIN_SAMPLES_PER_DURATION}, got {samples_per_duration}")
+    check_samples_per_duration(samples_per_duration)
     end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
     dt = min(p.duration for p in pulses) / samples_per_duration
     return np.arange(0.0, end + dt, dt)
@@ -86,6 +85,16 @@ def waveform_peaks(pulse, point, config, medium) -> tuple[float, float]:
     """
     fm = field_metrics(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium)
     return float(fm.peak_positive[0]), float(fm.peak_negative[0])
+
+
+def check_samples_per_duration(samples_per_duration) -> int:
+    """``samples_per_duration`` as an int, unless it is not an integer >= :data:`MIN_SAMPLES_PER_DURATION`."""
+    ok = isinstance(samples_per_duration, (int, np.integer)) or (
+        isinstance(samples_per_duration, float) and samples_per_duration.is_integer())
+    if not ok or samples_per_duration < MIN_SAMPLES_PER_DURATION:
+        raise ParameterError("samples_per_duration",
+                             f"must be an integer >= {MIN_SAMPLES_PER_DURATION}, got {samples_per_duration}")
+    return int(samples_per_duration)
 
 
 def directivity_angles(config, step_deg: float) -> np.ndarray:

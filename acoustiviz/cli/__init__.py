@@ -4,7 +4,12 @@ Each subcommand lives in its own module of this package and provides two
 functions: ``add_parser(subparsers)`` and ``run(args) -> int``. Modules are light
 at import (heavy imports happen inside ``run``) so that ``acoustiviz --help``
 answers at once. Any :class:`acoustiviz._validate.ParameterError` raised while a
-subcommand runs becomes a one-line message on stderr and exit status 2.
+subcommand runs becomes a one-line message on stderr and exit status 2; so does a file that
+cannot be written or read (an :class:`OSError`, named by its file) and memory running out.
+
+Every command takes ``--max-memory MB``: it estimates the memory and the output size of its work
+before starting (:mod:`acoustiviz.app.budget`) and refuses work over the cap (default
+:data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB), naming the option to change.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import importlib
 import sys
 
 from .._validate import ParameterError
+from ..constants import MAX_MEMORY_MB
 
 #: subcommand name -> module implementing it (in the order shown by --help)
 SUBCOMMANDS = {
@@ -42,6 +48,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="acoustiviz",
         description="See and hear the noise of impact dampers. SI units unless an option says otherwise.",
+        epilog=f"Every command estimates its memory and output size before starting and refuses work over "
+               f"{MAX_MEMORY_MB:g} MB (change the cap with --max-memory MB). Bad input: one line naming the "
+               "option, exit status 2.",
     )
     from .. import __version__
 
@@ -55,7 +64,22 @@ def build_parser() -> argparse.ArgumentParser:
                 continue
             raise
         mod.add_parser(sub)
+    for leaf in _leaf_parsers(sub):
+        leaf.add_argument("--max-memory", type=float, default=None, metavar="MB",
+                          help=f"refuse work whose estimated memory or output size exceeds MB megabytes "
+                               f"(default {MAX_MEMORY_MB:g})")
     return parser
+
+
+def _leaf_parsers(subparsers_action):
+    """The parsers of a subparsers action that run a command (nested views included)."""
+    for p in dict.fromkeys(subparsers_action.choices.values()):
+        nested = [a for a in p._actions if isinstance(a, argparse._SubParsersAction)]
+        if nested:
+            for a in nested:
+                yield from _leaf_parsers(a)
+        else:
+            yield p
 
 
 def main(argv=None) -> int:
@@ -75,6 +99,14 @@ def main(argv=None) -> int:
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    except OSError as exc:  # a file that could not be written or read, named by the writer
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"acoustiviz {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"acoustiviz {args.command}: error: out of memory; ask for less work or lower --max-memory "
+              "so that it is refused before it starts", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print(f"acoustiviz {args.command}: interrupted; finished outputs were kept", file=sys.stderr)
         return 130

@@ -50,11 +50,21 @@ def damper_from_args(args):
     model : DamperModel
     run : acoustiviz.app.damper.DamperRun
     """
+    from .._validate import check_finite, check_positive
+    from ..app.budget import check_budget, damper_estimate
     from ..app.damper import damper_model, run_damper
+    from ..app.limits import check_damper
     from ..app.names import DAMPER_OPTIONS, user_terms
 
     with user_terms(DAMPER_OPTIONS):
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1, clip_tensile=bool(args.clip_tensile))
+        duration = check_positive("duration", args.duration, "s")
+        if args.dt is not None:
+            check_positive("dt", args.dt, "s")
+        check_budget(damper_estimate(model, duration, solver=args.solver, dt=args.dt, options=("--duration",)),
+                     getattr(args, "max_memory", None))
+        check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz,
+                     v=check_finite("v", args.v0), duration=duration, c1=model.c1)
         run = run_damper(model, args.duration, solver=args.solver, v0=args.v0, rtol=args.rtol, dt=args.dt)
     return model, run

@@ -172,12 +172,15 @@ def _output_paths(wav, n: int):
 
 def run(args) -> int:
     """Simulate (or read) the impacts, render them, write the WAVs and sidecars, print a summary."""
+    import math
     from pathlib import Path
 
     import numpy as np
 
     from .._validate import ParameterError, check_positive, check_range
+    from ..app.budget import check_budget, wav_estimate
     from ..app.names import user_terms
+    from ..app.outputs import check_distinct, check_input_file, check_output_file
     from ..app.wav import WavFile, cavity, write_wav_files
     from ..constants import PAPER_RADIUS
     from ..core.medium import Medium
@@ -193,13 +196,18 @@ def run(args) -> int:
     check_range("--v0", args.v0, unit="m/s")
     if Path(args.wav).suffix.lower() != ".wav":
         raise ParameterError("--wav", f"must end in .wav, got {args.wav!r}")
+    # ranges in which the rendering stays finite: a damper's sphere, a real fluid, a bounded cavity
+    check_range("--gap", args.gap, 0.0, 1e3, unit="m", low_open=True)
+    check_range("--c", args.c, 1.0, 1e5, unit="m/s")
+    check_range("--rho", args.rho, 1e-6, 1e5, unit="kg/m^3")
     if args.radius is not None and args.density is not None:
         raise ParameterError("--radius", "give either --radius or --density, not both")
     if args.density is not None:
-        radius = sphere_radius(args.m, check_positive("--density", args.density, "kg/m^3"))
+        radius = sphere_radius(args.m, check_range("--density", args.density, 1.0, 1e5, unit="kg/m^3"))
+        check_range("--m", radius, 1e-6, 1.0, unit="m (the radius of a sphere of this mass and --density)")
         radius_source = f"solid sphere of {args.m:g} kg at {args.density:g} kg/m^3"
     else:
-        radius = check_positive("--radius", PAPER_RADIUS if args.radius is None else args.radius, "m")
+        radius = check_range("--radius", PAPER_RADIUS if args.radius is None else args.radius, 1e-6, 1.0, unit="m")
         radius_source = "given" if args.radius is not None else "default: the paper's sphere"
     medium = Medium(c=check_positive("--c", args.c, "m/s"), rho=check_positive("--rho", args.rho, "kg/m^3"))
     with user_terms({"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height"}):
@@ -216,6 +224,24 @@ def run(args) -> int:
         elif len(points) != 2:
             raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
     listeners = check_listeners(np.array(points), scene, name="--listener")
+    n_files = 1 if args.stereo else len(listeners)
+    outputs = {}
+    for path in _output_paths(args.wav, n_files):
+        outputs[f"--wav {path}"] = check_output_file("--wav", path, "wav")
+        outputs[f"--wav {path.with_suffix('.json')}"] = check_output_file("--wav", path.with_suffix(".json"), "json")
+    if args.png is not None:
+        outputs["--png"] = check_output_file("--png", args.png, "figure")
+    check_distinct(outputs)
+    if args.impacts:
+        check_input_file("--impacts", args.impacts, "CSV file")
+    check_budget(wav_estimate(args.duration, args.rate, len(listeners)), getattr(args, "max_memory", None))
+    if not args.impacts:
+        from ..app.limits import check_damper
+        from ..app.names import DAMPER_OPTIONS
+
+        with user_terms(DAMPER_OPTIONS):
+            check_damper(M=args.M, K=args.K, m=args.m, gap=args.gap, k_hertz=args.k_hertz, v=args.v0,
+                         duration=args.duration, c1=args.c1)
     if args.scale is not None:
         check_positive("--scale", args.scale, "Pa")
     check_range("--headroom", args.headroom, 0.0, 60.0, unit="dB")
@@ -235,6 +261,17 @@ def run(args) -> int:
                     "k_hertz_n_m1_5": args.k_hertz}
     else:
         seq, run_desc = _simulate(args)
+    if len(seq):  # the slowest impact gives the longest click: it must fit in the sound
+        from ..core.contact import contact_duration
+
+        slowest = float(seq.velocities.min())
+        with np.errstate(all="ignore"):
+            tau = float(contact_duration(slowest, args.k_hertz, args.m)) if slowest > 0 else math.inf
+        if not tau <= args.duration:
+            raise ParameterError("--m", f"an impact mass of {args.m:g} kg with --k-hertz {args.k_hertz:g} makes the "
+                                        f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
+                                        f"than the {args.duration:g} s sound; use a lighter mass, a stiffer contact "
+                                        "or a longer --duration")
     out = render(seq, scene, model, listeners, sample_rate=args.rate, duration=args.duration)
 
     # ---- files

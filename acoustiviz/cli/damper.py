@@ -35,6 +35,13 @@ def add_parser(subparsers):
 
 def run(args) -> int:
     """Run the ``damper`` subcommand; return the exit status."""
+    from ..app.outputs import check_distinct, check_output_file
+
+    if args.impacts_csv is not None:
+        check_output_file("--impacts-csv", args.impacts_csv, "csv")
+    if args.png is not None:
+        check_output_file("--png", args.png, "figure")
+    check_distinct({"--impacts-csv": args.impacts_csv, "--png": args.png})
     _, damper = damper_from_args(args)
     result = damper.result
     for msg in damper.warnings:
@@ -52,8 +59,11 @@ def run(args) -> int:
         print(f"settling time (positive maxima below 5% of the first): {ts:.3f} s")
     else:
         print("settling time (positive maxima below 5% of the first): not settled within the run")
-    print(f"energy closure: {result.energy.relative_closure_error:.2e} of the initial "
-          f"{result.energy.initial:.4g} J")
+    if result.energy.initial > 0:
+        print(f"energy closure: {result.energy.relative_closure_error:.2e} of the initial "
+              f"{result.energy.initial:.4g} J")
+    else:
+        print("energy closure: no initial energy, nothing to close")
     print(f"solver time: {round(1000 * result.solver_time)} ms")
     if args.impacts_csv:
         from ..output.tables import write_impact_table

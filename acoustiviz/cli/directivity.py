@@ -39,17 +39,28 @@ def run(args) -> int:
     """Compute the directivity, print it, and write the requested files."""
     import numpy as np
 
+    from .._validate import check_range
+    from ..app.budget import check_budget, directivity_estimate
     from ..app.names import user_terms
+    from ..app.outputs import check_distinct, check_output_file
     from ..app.views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, metric_label
     from ..errors import ParameterError
     from ..field import directivity
-    from ._impact import impact_from_args
+    from ._impact import impact_from_args, observer_point
 
     if args.metric not in DIRECTIVITY_METRICS:
         raise ParameterError("--metric", f"must be one of {', '.join(DIRECTIVITY_METRICS)}, got {args.metric!r}")
+    if args.csv is not None:
+        check_output_file("--csv", args.csv, "csv")
+    if args.png is not None:
+        check_output_file("--png", args.png, "figure")
+    check_distinct({"--csv": args.csv, "--png": args.png})
     setup = impact_from_args(args)
     a = setup.radius
+    observer_point(setup, args.distance, 0.0)  # the circle's radius checked as --distance
     with user_terms({"step_deg": "--step", "distance": "--distance", "angles": "--step"}):
+        check_range("step_deg", args.step, 0.0, 90.0, unit="deg", low_open=True)
+        check_budget(directivity_estimate(setup.configuration, args.step), getattr(args, "max_memory", None))
         angles = directivity_angles(setup.configuration, args.step)
         d = directivity(setup.pulse, setup.configuration, args.distance, angles, medium=setup.medium)
         extra = args.metric != "peak-spl"

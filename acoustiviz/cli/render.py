@@ -170,6 +170,7 @@ def _check_common(args):
     import math
 
     from .._validate import ParameterError, check_range
+    from ..app.impacts import MAX_DISTANCE
 
     size = parse_size(args.size)
     _check_outputs(args)
@@ -178,12 +179,12 @@ def _check_common(args):
         check_range("--opacity", args.opacity, 0.0, 1.0, low_open=True)
         if not 4 <= args.resolution <= 512:
             raise ParameterError("--resolution", f"must lie in [4, 512], got {args.resolution}")
-        check_range("--distance", args.distance, 0.0, math.inf, unit="m", low_open=True)
+        check_range("--distance", args.distance, 0.0, MAX_DISTANCE, unit="m", low_open=True)
         return size
     if not 8 <= args.resolution <= 2001:
         raise ParameterError("--resolution", f"must lie in [8, 2001], got {args.resolution}")
     if args.extent is not None:
-        check_range("--extent", args.extent, 0.0, math.inf, unit="m", low_open=True)
+        check_range("--extent", args.extent, 0.0, MAX_DISTANCE, unit="m", low_open=True)
     if args.clim is not None:
         check_range("--clim", args.clim, 0.0, math.inf, unit="Pa", low_open=True)
     _sections(args.sections)
@@ -225,9 +226,27 @@ def run(args) -> int:
         print("acoustiviz render: error: choose a view: balloon, snapshot or animation", file=sys.stderr)
         return 2
     size = _check_common(args)
+    from ..app.budget import animation_estimate, balloon_estimate, check_budget, snapshot_estimate
+    from ..app.outputs import check_distinct, check_output_file
     from ._impact import impact_from_args
 
+    if args.view == "animation":
+        for opt, path in (("--gif", args.gif), ("--mp4", args.mp4)):
+            if path:
+                check_output_file(opt, path, opt[2:])
+        check_distinct({"--gif": args.gif, "--mp4": args.mp4})
+    else:
+        check_output_file("--png", args.png, "png")
     setup = impact_from_args(args)
+    n_src = len(setup.configuration.sources)
+    if args.view == "balloon":
+        est = balloon_estimate(args.resolution, size, n_src)
+    elif args.view == "snapshot":
+        est = snapshot_estimate(args.resolution, len(_sections(args.sections)), len(args.time), size, n_src)
+    else:
+        n_files = bool(args.gif) + bool(args.mp4)
+        est = animation_estimate(args.frames * n_files, args.resolution, len(_sections(args.sections)), size, n_src)
+    check_budget(est, getattr(args, "max_memory", None))
     try:
         with user_terms(_OPTION):
             outputs = _render(args, setup, size)

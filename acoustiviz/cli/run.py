@@ -32,6 +32,14 @@ def run(args) -> int:
         return 0
     if args.out is None:
         raise ParameterError("--out", "give an output folder, e.g. --out acoustiviz-out")
+    from .._validate import check_positive
+    from ..app.outputs import check_input_file, check_output_dir
+
+    if args.max_memory is not None:  # scenes bound their grids with grids.memory_limit_mb
+        check_positive("--max-memory", args.max_memory, "MB")
+    check_output_dir("--out", args.out)
+    if args.scene is not None:
+        check_input_file("SCENE", args.scene, "scene file")
     scene = load_scene(args.scene) if args.scene else default_scene()
     from ..app.pipeline import run_scene
 

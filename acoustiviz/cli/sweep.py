@@ -140,9 +140,23 @@ def run(args) -> int:
     """Run the ``sweep`` subcommand; return the exit status."""
     import sys
 
+    from .._validate import ParameterError, check_positive
+    from ..app.budget import check_budget, sweep_estimate
     from ..app.names import user_terms
+    from ..app.outputs import check_output_dir
     from ..app.sweep import SWEEP_OPTIONS, check_executor, run_sweep_outputs, sweep_summary
+    from ..dynamics import DamperModel
 
+    check_output_dir("--out", args.out)
+    swept = {o: getattr(args, o[2:].replace("-", "_")) for o in ("--gap", "--m", "--mass-ratio", "--c1", "--k-hertz",
+                                                                 "--material", "--v0", "--distance", "--angle",
+                                                                 "--config")}
+    check_positive("--duration", args.duration, "s")
+    try:
+        model = DamperModel(M=args.M, K=args.K, C=args.C)
+    except ParameterError as exc:
+        raise exc.renamed(SWEEP_OPTIONS.get(exc.name, exc.name)) from None
+    check_budget(sweep_estimate(swept, model, args.duration, args.workers or 2), getattr(args, "max_memory", None))
     spec = spec_from_args(args)
     with user_terms(SWEEP_OPTIONS):
         check_executor(args.executor, args.workers)

@@ -26,16 +26,27 @@ def run(args) -> int:
     """Compute, print a summary, and write the requested files."""
     import math
 
+    from ..app.budget import check_budget, memory_cap, waveform_estimate
     from ..app.names import user_terms
-    from ..app.views import waveform_peaks, waveform_times
+    from ..app.outputs import check_distinct, check_output_file
+    from ..app.views import check_samples_per_duration, waveform_peaks, waveform_times
     from ..field import time_series
     from ._impact import impact_from_args, observer_point
 
+    if args.csv is not None:
+        check_output_file("--csv", args.csv, "csv")
+    if args.png is not None:
+        check_output_file("--png", args.png, "figure")
+    check_distinct({"--csv": args.csv, "--png": args.png})
     setup = impact_from_args(args)
     point = observer_point(setup, args.distance, args.angle)
     with user_terms({"samples_per_duration": "--samples-per-duration"}):
+        check_samples_per_duration(args.samples_per_duration)
+        check_budget(waveform_estimate([setup.pulse], point, setup.configuration, setup.medium,
+                                       args.samples_per_duration), getattr(args, "max_memory", None))
         t = waveform_times([setup.pulse], point, setup.configuration, setup.medium, args.samples_per_duration)
-    p = time_series(setup.pulse, t, point[None, :], setup.configuration, medium=setup.medium)[0]
+    p = time_series(setup.pulse, t, point[None, :], setup.configuration, medium=setup.medium,
+                    memory_limit=memory_cap(getattr(args, "max_memory", None)))[0]
     imp = setup.impact
     print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
           f"({setup.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, peak acceleration "

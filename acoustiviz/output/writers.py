@@ -1,4 +1,12 @@
-"""Atomic file writing: a crash never leaves a half-written output."""
+"""Atomic file writing: a crash never leaves a half-written output.
+
+Every writer of the package goes through :func:`atomic_path`: the data go to a temporary file
+beside the target, which is renamed onto the target only once complete. A failure on the way
+(a full disk, a folder that refuses files, a directory in the target's place) removes the
+temporary file and is raised as an :class:`OSError` whose ``filename`` is the *target* (not the
+temporary name) and whose message starts with "cannot write", so that a front-end can report it
+in one line.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +15,11 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "write_text_atomic", "write_csv_atomic"]
+__all__ = ["atomic_path", "temporary_beside", "write_text_atomic", "write_csv_atomic"]
+
+#: Longest part of the target's stem kept in the temporary file's name (the name must stay
+#: within the file system's limit of 255 bytes even for a target near that limit).
+_STEM_CHARS = 40
 
 
 def _umask() -> int:
@@ -16,25 +28,51 @@ def _umask() -> int:
     return mask
 
 
+def temporary_beside(path) -> Path:
+    """Create an empty temporary file beside ``path`` (same folder and suffix) and return its path.
+
+    The caller renames it onto ``path`` or removes it. Raises :class:`OSError` when the folder
+    does not take new files.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem[:_STEM_CHARS]}-", suffix=path.suffix)
+    os.close(fd)
+    return Path(tmp)
+
+
+def _cannot_write(exc: OSError, path: Path) -> OSError:
+    """``exc`` as an OSError about ``path`` (the target) with a one-line message."""
+    reason = exc.strerror or str(exc)
+    if isinstance(exc, IsADirectoryError) or path.is_dir():
+        reason = "it is a folder"
+    return OSError(exc.errno, f"cannot write: {reason}", str(path))
+
+
 @contextlib.contextmanager
 def atomic_path(path):
     """Yield a temporary path beside ``path``; on success rename it onto ``path``.
 
     The temporary file keeps ``path``'s suffix so that writers which pick a format from the
-    suffix (soundfile, matplotlib, pyvista) behave as for the final name.
+    suffix (soundfile, matplotlib, pyvista) behave as for the final name. Missing parent folders
+    are created. On any failure the temporary file is removed and ``path`` is left as it was;
+    an :class:`OSError` is raised again naming ``path``.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=path.suffix)
-    os.close(fd)
     try:
-        yield Path(tmp)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = temporary_beside(path)
+    except OSError as exc:
+        raise _cannot_write(exc, path) from exc
+    try:
+        yield tmp
         # mkstemp creates files readable by the owner only; give outputs the usual permissions
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
+        if isinstance(exc, OSError):
+            raise _cannot_write(exc, path) from exc
         raise
 
 

@@ -64,9 +64,11 @@ class Scene:
     def sphere_mass(self) -> float:
         """Sphere mass in kg: ``mass_kg``, else density (or the material's) times volume."""
         from ..app.impacts import sphere_mass
+        from ..app.names import SCENE_IMPACT_KEYS, user_terms
 
         s = self.data["sphere"]
-        return sphere_mass(s["radius_m"], s["mass_kg"], s["density_kg_m3"], s["material"])
+        with user_terms(SCENE_IMPACT_KEYS):
+            return sphere_mass(s["radius_m"], s["mass_kg"], s["density_kg_m3"], s["material"])
 
     def sphere_density(self) -> float:
         """Sphere density in kg/m³ (given, the material's, or 7800)."""
@@ -97,13 +99,15 @@ class Scene:
     def setup(self, velocity: float | None = None, kind: str | None = None, radius: float | None = None):
         """The single impact and its surroundings (:func:`acoustiviz.app.impacts.impact_setup`)."""
         from ..app.impacts import impact_setup
+        from ..app.names import SCENE_IMPACT_KEYS, user_terms
 
         partner = math.inf
         if self.data["contact"]["pulse_mass"] == "effective":
             partner = self.data["damper"]["main_mass_kg"]
-        return impact_setup(velocity=self.data["impact"]["velocity_m_s"] if velocity is None else velocity,
-                            mass=self.sphere_mass(), pulse=kind or self.data["contact"]["pulse"],
-                            partner_mass=partner, **self._impact_settings(radius))
+        with user_terms(SCENE_IMPACT_KEYS):
+            return impact_setup(velocity=self.data["impact"]["velocity_m_s"] if velocity is None else velocity,
+                                mass=self.sphere_mass(), pulse=kind or self.data["contact"]["pulse"],
+                                partner_mass=partner, **self._impact_settings(radius))
 
     def medium(self):
         """The fluid as a :class:`~acoustiviz.core.medium.Medium`."""

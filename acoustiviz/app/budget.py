@@ -1,0 +1,248 @@
+"""Work bounded before it starts: the memory and output size of a command, estimated up front.
+
+Each estimate counts the arrays a command will hold (time samples x observers x image sources,
+grid points x times, frames x pixels, designs x samples) and the bytes of the files it will
+write, from the settings alone and without allocating anything. :func:`check_budget` refuses an
+estimate above the cap (:data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB, raised or lowered
+with ``--max-memory`` on the command line), naming the option whose value set the size, the
+estimate and the cap. The estimates are upper bounds within a small factor, not exact counts.
+
+Examples
+--------
+>>> est = Estimate(memory=3e12, output=0.0, what="1.8e+11 angles", options=("--step",))
+>>> try:
+...     check_budget(est)
+... except ParameterError as exc:
+...     print(exc.name)
+--step
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import check_positive
+from ..constants import MAX_MEMORY_MB
+from ..errors import ParameterError
+
+__all__ = [
+    "Estimate",
+    "check_budget",
+    "memory_cap",
+    "waveform_estimate",
+    "directivity_estimate",
+    "damper_estimate",
+    "wav_estimate",
+    "balloon_estimate",
+    "snapshot_estimate",
+    "animation_estimate",
+    "sweep_estimate",
+    "range_count",
+]
+
+_MB = 2.0**20
+_F8 = 8.0  # bytes per float64
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Memory and output size of a piece of work.
+
+    Attributes
+    ----------
+    memory : float
+        Working memory in bytes (``inf`` when the settings give no finite size).
+    output : float
+        Bytes of the files written.
+    what : str
+        What sets the size, in the user's terms (``"3.2e+09 time samples"``).
+    options : tuple of str
+        The options or scene keys that set the size; the first names the error.
+    """
+
+    memory: float
+    output: float
+    what: str
+    options: tuple
+
+    def __add__(self, other: Estimate) -> Estimate:
+        return Estimate(max(self.memory, other.memory), self.output + other.output,
+                        f"{self.what}; {other.what}", tuple(dict.fromkeys(self.options + other.options)))
+
+
+def _mb(nbytes: float) -> str:
+    if not math.isfinite(nbytes):
+        return "an unbounded amount"
+    mb = nbytes / _MB
+    return f"{mb:,.0f} MB" if mb < 1e7 else f"{mb:.3g} MB"
+
+
+def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--max-memory") -> Estimate:
+    """Refuse ``estimate`` when its memory or its output exceeds the cap; return it otherwise.
+
+    Parameters
+    ----------
+    estimate : Estimate
+        The work about to start.
+    max_memory_mb : float, optional
+        Cap in MB (default :data:`~acoustiviz.constants.MAX_MEMORY_MB`); applies to working
+        memory and, separately, to the bytes written.
+    cap_name : str
+        The option or scene key that sets the cap (named in errors about it).
+
+    Raises
+    ------
+    ParameterError
+        Named after the first option of ``estimate``, with the estimate, the cap and what to change.
+    """
+    cap = MAX_MEMORY_MB if max_memory_mb is None else check_positive(cap_name, max_memory_mb, "MB")
+    limit = cap * _MB
+    for amount, noun in ((estimate.memory, "of memory"), (estimate.output, "of output files")):
+        if not (amount <= limit):  # also refuses NaN and inf
+            others = " or ".join(estimate.options[1:])
+            change = f"lower it{' (or ' + others + ')' if others else ''}"
+            raise ParameterError(
+                estimate.options[0],
+                f"this would need {_mb(amount)} {noun} for {estimate.what}, over the cap of {cap:g} MB; "
+                f"{change}, or raise the cap with {cap_name}")
+    return estimate
+
+
+def memory_cap(max_memory_mb=None) -> float:
+    """The cap in bytes (``max_memory_mb`` MB, default :data:`~acoustiviz.constants.MAX_MEMORY_MB`)."""
+    return (MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)) * _MB
+
+
+def _div(a: float, b: float) -> float:
+    """A / b, with a division by zero (an underflowed denominator) counting as unbounded."""
+    return a / b if b != 0 else math.inf
+
+
+def _count(x: float) -> float:
+    """A count that may be huge or not finite, as a float (never an OverflowError)."""
+    return x if math.isfinite(x) and x >= 0 else math.inf
+
+
+def waveform_estimate(pulses, point, config, medium, samples_per_duration,
+                      options=("--samples-per-duration", "--distance")) -> Estimate:
+    """Time samples of :func:`acoustiviz.app.views.waveform_times` and the CSV of them.
+
+    Memory: times, pressure and per-image temporaries (8 B each per sample); CSV: about 38 B
+    a row (two ``%.12e`` numbers).
+    """
+    from ..field import waveform_span
+
+    with np.errstate(all="ignore"):
+        end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
+        dt = min(p.duration for p in pulses) / float(samples_per_duration)
+        n = _count(_div(end, dt) + 2.0)
+    nimg = len(config.sources)
+    return Estimate(_F8 * n * (4 + nimg) * len(pulses), 38.0 * n * len(pulses), f"{n:.3g} time samples", options)
+
+
+def directivity_estimate(config, step_deg: float, options=("--step",)) -> Estimate:
+    """Angles of :func:`acoustiviz.app.views.directivity_angles`; per angle its point, geometry and metrics."""
+    top = 180.0 if config.name == "free" else 90.0
+    with np.errstate(all="ignore"):
+        n = _count(_div(top, float(step_deg)) + 2.0)
+    per = _F8 * (3 + 12 + 9 * len(config.sources))
+    return Estimate(per * n, 60.0 * n, f"{n:.3g} angles", options)
+
+
+def damper_estimate(model, duration: float, *, solver: str = "event", dt=None, per_period: int = 200,
+                    options=("--duration",)) -> Estimate:
+    """Samples of a damper run: ``per_period`` per main period (dense output, 6 states + energies).
+
+    A Newmark run also steps ``duration / dt`` times; more than 1e10 steps is refused as work
+    that does not end (named after ``--dt``).
+    """
+    period = _div(2.0 * math.pi, model.main_frequency)
+    with np.errstate(all="ignore"):
+        n = _count(_div(duration, period) * per_period + 1.0)
+    if solver == "newmark" and dt is not None:
+        with np.errstate(all="ignore"):
+            steps = _count(_div(duration, dt))
+        if not steps <= 1e10:
+            raise ParameterError("dt", f"{steps:.3g} Newmark steps of {dt:g} s over {duration:g} s; the cap is "
+                                       "1e10 steps: take a longer step or a shorter run")
+    return Estimate(_F8 * 16.0 * n, 0.0, f"{n:.3g} samples of the damper's motion", options)
+
+
+def wav_estimate(duration: float, sample_rate: float, channels: int, options=("--duration",)) -> Estimate:
+    """A rendered sound: float64 working copy and float32 file per channel."""
+    with np.errstate(all="ignore"):
+        n = _count(duration * sample_rate)
+    return Estimate(_F8 * 3.0 * n * channels, 4.0 * n * channels,
+                    f"{n:.3g} samples x {channels} channel(s) at {sample_rate:g} Hz", options)
+
+
+def _pixels(size) -> float:
+    return float(size[0]) * float(size[1])
+
+
+def balloon_estimate(n_theta: int, size, n_sources: int, options=("--resolution",)) -> Estimate:
+    """A measuring sphere of ``n_theta x 2 n_theta`` nodes and one image of ``size`` pixels."""
+    n = 2.0 * float(n_theta) ** 2
+    mem = _F8 * n * (20 + 9 * n_sources) + 8.0 * _pixels(size)
+    return Estimate(mem, 3.0 * _pixels(size), f"{n:.3g} grid points, {size[0]}x{size[1]} px", options)
+
+
+def snapshot_estimate(n_u: int, n_sections: int, n_times: int, size, n_sources: int,
+                      options=("--resolution", "--time")) -> Estimate:
+    """Planes of ``n_u x n_u`` points at each time, and the image tiles."""
+    pts = float(n_u) ** 2 * n_sections
+    mem = _F8 * pts * (n_times + 6 + 9 * n_sources) + 8.0 * _pixels(size) * n_times
+    return Estimate(mem, 3.0 * _pixels(size) * n_times,
+                    f"{pts:.3g} grid points x {n_times} time(s), {size[0]}x{size[1]} px", options)
+
+
+def animation_estimate(frames: int, n_u: int, n_sections: int, size, n_sources: int,
+                       options=("--frames", "--size", "--resolution")) -> Estimate:
+    """Every frame is held as an RGB image until the file is written; the field one frame at a time."""
+    pts = float(n_u) ** 2 * n_sections
+    frame = 3.0 * _pixels(size)
+    mem = frames * frame + _F8 * pts * (8 + 9 * n_sources)
+    return Estimate(mem, frames * frame, f"{frames} frames of {size[0]}x{size[1]} px", options)
+
+
+def range_count(text) -> float:
+    """How many values a swept setting ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C`` holds, without listing them.
+
+    Text that does not parse counts as one value (its own check reports it).
+    """
+    t = str(text).strip()
+    if ":" in t:
+        parts = t.split(":")
+        try:
+            n = float(parts[-1])
+        except ValueError:
+            return 1.0
+        return n if math.isfinite(n) and n >= 1 else 1.0
+    return float(max(1, len([p for p in t.split(",") if p.strip()])))
+
+
+def sweep_estimate(swept, model, duration: float, workers: int, options=("--duration",)) -> Estimate:
+    """A sweep: every worker holds one design's run; the table about 1 kB per design (row and settings).
+
+    Parameters
+    ----------
+    swept : mapping of str to str
+        Option (or scene key) -> its text (``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``); the
+        designs are every combination.
+    model : DamperModel
+        A design, for the samples of one run.
+    duration : float
+        Simulated time per design in s.
+    workers : int
+        Designs run at once.
+    """
+    counts = {k: range_count(v) for k, v in swept.items() if v is not None}
+    n = math.prod(counts.values()) if counts else 1.0
+    one = damper_estimate(model, duration, options=options)
+    biggest = max(counts, key=counts.get) if counts else options[0]
+    opts = tuple(dict.fromkeys((biggest,) + tuple(options))) if n * 1024.0 > one.memory * workers else options
+    return Estimate(one.memory * max(1, int(workers)) + 1024.0 * n, 400.0 * n,
+                    f"{n:.3g} designs, {one.what} each, {workers} worker(s)", opts)
