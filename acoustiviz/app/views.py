@@ -60,7 +60,7 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
     return np.arange(0.0, end + dt, dt)
 
 
-def waveform_peaks(pulse, point, config, medium) -> tuple[float, float]:
+def waveform_peaks(pulse, point, config, medium, *, memory_limit=None) -> tuple[float, float]:
     """Largest and smallest pressure in Pa of the continuous waveform at ``point``.
 
     The peaks of :func:`acoustiviz.field.field_metrics` over the whole response (sampled at 64
@@ -77,13 +77,16 @@ def waveform_peaks(pulse, point, config, medium) -> tuple[float, float]:
         The sphere and its images.
     medium : Medium
         The fluid.
+    memory_limit : float, optional
+        Working-memory cap in bytes (:func:`acoustiviz.field.field_metrics`).
 
     Returns
     -------
     peak_positive, peak_negative : float
         Pressure in Pa (``peak_negative <= 0``).
     """
-    fm = field_metrics(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium)
+    kw = {} if memory_limit is None else {"memory_limit": memory_limit}
+    fm = field_metrics(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium, **kw)
     return float(fm.peak_positive[0]), float(fm.peak_negative[0])
 
 

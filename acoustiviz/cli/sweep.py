@@ -151,12 +151,13 @@ def run(args) -> int:
     swept = {o: getattr(args, o[2:].replace("-", "_")) for o in ("--gap", "--m", "--mass-ratio", "--c1", "--k-hertz",
                                                                  "--material", "--v0", "--distance", "--angle",
                                                                  "--config")}
-    check_positive("--duration", args.duration, "s")
+    duration = check_positive("--duration", DEFAULT_DURATION if args.duration is None else args.duration, "s")
+    main = {k: TABLE1[k] if getattr(args, k) is None else getattr(args, k) for k in ("M", "K", "C")}
     try:
-        model = DamperModel(M=args.M, K=args.K, C=args.C)
+        model = DamperModel(**main)
     except ParameterError as exc:
         raise exc.renamed(SWEEP_OPTIONS.get(exc.name, exc.name)) from None
-    check_budget(sweep_estimate(swept, model, args.duration, args.workers or 2), getattr(args, "max_memory", None))
+    check_budget(sweep_estimate(swept, model, duration, args.workers or 2), getattr(args, "max_memory", None))
     spec = spec_from_args(args)
     with user_terms(SWEEP_OPTIONS):
         check_executor(args.executor, args.workers)

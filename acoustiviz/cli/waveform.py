@@ -53,7 +53,9 @@ def run(args) -> int:
           f"{imp.peak_acceleration:.4g} m/s^2, pulse {setup.pulse.kind}")
     print(f"observer: {args.distance:g} m at {args.angle:g} deg, configuration {setup.configuration.name}, "
           f"point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m")
-    pmax, pmin = waveform_peaks(setup.pulse, point, setup.configuration, setup.medium)  # refined, not sampled
+    with user_terms({"memory_limit": "--max-memory"}):  # refined peaks, not the largest samples
+        pmax, pmin = waveform_peaks(setup.pulse, point, setup.configuration, setup.medium,
+                                    memory_limit=memory_cap(getattr(args, "max_memory", None)))
     peak = max(pmax, -pmin)
     print(f"pressure: max {pmax:.10g} Pa, min {pmin:.10g} Pa (peaks of the continuous waveform), peak SPL "
           f"{20 * math.log10(peak / 20e-6):.1f} dB re 20 uPa")

@@ -196,7 +196,8 @@ def field_metrics(
         win = m * dt
     out_bytes = 8.0 * n * 5 + n  # four float results, the window starts and the model codes
     if out_bytes + 8 * m > limit:
-        raise ParameterError("memory_limit", f"the results alone need {out_bytes:.4g} B > {limit:.4g} B")
+        raise ParameterError("memory_limit", f"the results and the window of {m} samples need "
+                                             f"{out_bytes + 8 * m:.4g} B > {limit:.4g} B")
     fixed = out_bytes + 8 * m + (limit / 2 if tolerance is not None else 0)  # half for cheap models
     chunk = chunk_size(geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit)
     pmax = np.empty(n)
