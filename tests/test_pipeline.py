@@ -291,3 +291,13 @@ def test_scene_directivity_metric_equals_the_command(tmp_path):
 def test_scene_directivity_refuses_an_unknown_metric():
     with pytest.raises(ParameterError, match="outputs.directivity.metric"):
         scene_from_dict({"outputs": {"directivity": {"metric": "loudness"}}}, "t.toml")
+
+
+def test_a_damper_scene_beyond_the_computable_range_names_its_key(tmp_path):
+    """The damper's limits are checked in one place (app.damper.run_damper) and reported in scene keys."""
+    scene = scene_from_dict({"damper": {"duration_s": 0.001},
+                             "outputs": {"damper_history": {}}}, "t.toml")
+    with pytest.raises(ParameterError) as err:
+        run_scene(scene, tmp_path / "out")
+    assert err.value.name == "damper.duration_s" and "period" in err.value.detail
+    assert not (tmp_path / "out" / "damper_history.csv").exists()

@@ -20,10 +20,11 @@ import warnings
 from dataclasses import dataclass
 
 from .. import dynamics
-from .._validate import check_choice, check_positive
+from .._validate import check_choice, check_finite, check_positive
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
 from ..dynamics import DamperModel, InitialState, cheapest_solver
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
+from .limits import check_damper
 
 __all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "damper_description", "damping_figures"]
 
@@ -101,9 +102,17 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
     Returns
     -------
     DamperRun
+
+    Raises
+    ------
+    ParameterError
+        Before any work, for settings whose run cannot be computed or measured
+        (:func:`acoustiviz.app.limits.check_damper`).
     """
     initial = InitialState(x=x0, v=v0)
     check_positive("duration", duration, "s")
+    check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=check_finite("v", v0),
+                 duration=duration, c1=model.c1)
     name, reason = choose_solver(solver, model, initial, rtol)
     # "auto" reads rtol as the accuracy wanted, which may be coarser than any solver's rtol
     kwargs = {"dt": dt} if name == "newmark" else {"rtol": min(rtol, 1e-3) if solver == "auto" else rtol}

@@ -23,7 +23,7 @@ from collections.abc import Mapping
 
 from ..errors import ParameterError
 
-__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "SCENE_IMPACT_KEYS"]
+__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS"]
 
 #: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
 DAMPER_OPTIONS = {
@@ -62,6 +62,13 @@ IMPACT_OPTIONS = {
 }
 
 
+#: :func:`acoustiviz.app.damper.run_damper` / :class:`~acoustiviz.dynamics.DamperModel` parameter -> scene key.
+SCENE_DAMPER_KEYS = {
+    "M": "damper.main_mass_kg", "K": "damper.stiffness_n_m", "C": "damper.damping_n_s_m", "m": "damper.impact_mass_kg",
+    "gap": "damper.gap_m", "k_hertz": "contact.k_hertz_n_m1_5", "c1": "damper.contact_damping_n_s_m",
+    "v": "damper.initial_velocity_m_s", "duration": "damper.duration_s", "rtol": "damper.tolerance",
+    "solver": "damper.solver",
+}
 #: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key.
 SCENE_IMPACT_KEYS = {
     "radius": "sphere.radius_m",

@@ -39,6 +39,8 @@ FORMATS = {
     "mp4": (".mp4",),
     "animation": (".gif", ".mp4"),
     "text": (".txt", ".md"),
+    "vtk": (".vtu", ".vtkhdf"),
+    "html": (".html", ".htm"),
 }
 
 

@@ -26,6 +26,7 @@ from ..output.writers import write_csv_atomic, write_text_atomic
 from ..scene import Scene
 from . import damper as _damper
 from . import forced as _forced
+from .names import SCENE_DAMPER_KEYS, user_terms
 from .scene_levels import produce_levels, produce_spectrum
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
@@ -121,8 +122,9 @@ class RunContext:
         solver = self.damper_solver
         self.progress(f"simulating the damper for {d['duration_s']:g} s ({solver} solver)")
         rtol = d["tolerance"] if d["solver"] != "auto" else min(d["tolerance"], 1e-3)
-        return _damper.run_damper(self.damper_model, d["duration_s"], solver=solver, v0=self.damper_initial.v,
-                                  x0=self.damper_initial.x, rtol=rtol)
+        with user_terms(SCENE_DAMPER_KEYS):
+            return _damper.run_damper(self.damper_model, d["duration_s"], solver=solver, v0=self.damper_initial.v,
+                                      x0=self.damper_initial.x, rtol=rtol)
 
     @property
     def damper_run(self):

@@ -50,10 +50,9 @@ def damper_from_args(args):
     model : DamperModel
     run : acoustiviz.app.damper.DamperRun
     """
-    from .._validate import check_finite, check_positive
+    from .._validate import check_positive
     from ..app.budget import check_budget, damper_estimate
     from ..app.damper import damper_model, run_damper
-    from ..app.limits import check_damper
     from ..app.names import DAMPER_OPTIONS, user_terms
 
     with user_terms(DAMPER_OPTIONS):
@@ -64,7 +63,5 @@ def damper_from_args(args):
             check_positive("dt", args.dt, "s")
         check_budget(damper_estimate(model, duration, solver=args.solver, dt=args.dt, options=("--duration",)),
                      getattr(args, "max_memory", None))
-        check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz,
-                     v=check_finite("v", args.v0), duration=duration, c1=model.c1)
         run = run_damper(model, args.duration, solver=args.solver, v0=args.v0, rtol=args.rtol, dt=args.dt)
     return model, run

@@ -230,13 +230,11 @@ def run(args) -> int:
     from ..app.outputs import check_distinct, check_output_file
     from ._impact import impact_from_args
 
-    if args.view == "animation":
-        for opt, path in (("--gif", args.gif), ("--mp4", args.mp4)):
-            if path:
-                check_output_file(opt, path, opt[2:])
-        check_distinct({"--gif": args.gif, "--mp4": args.mp4})
-    else:
-        check_output_file("--png", args.png, "png")
+    outputs = {f"--{k}": getattr(args, k, None) for k in ("png", "gif", "mp4", "vtk", "html")}
+    for opt, path in outputs.items():
+        if path:
+            check_output_file(opt, path, opt[2:])
+    check_distinct({k: v for k, v in outputs.items() if v})
     setup = impact_from_args(args)
     n_src = len(setup.configuration.sources)
     if args.view == "balloon":
