@@ -141,3 +141,21 @@ def test_bad_noise_options_exit_2(argv, option, capsys, tmp_path):
     assert main(["forced", "--force", "5", "--freq", "7", *argv, "--csv", str(out)]) == 2
     assert option in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_independent_frequencies_on_a_dask_cluster_equal_the_serial_run(tmp_path):
+    """The sweeps' executors serve the frequency response too: a Dask cluster gives the serial table."""
+    distributed = pytest.importorskip("distributed")
+    argv = ["forced", *TABLE1, "--force", "5", "--freq", "6.5,7", "--sweep", "independent", "--no-noise"]
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://",
+                                  host="127.0.0.1", dashboard_address=None) as cluster:
+        address = cluster.scheduler_address.removeprefix("tcp://")
+        assert main([*argv, "--executor", f"dask://{address}", "--csv", str(tmp_path / "dask.csv")]) == 0
+    assert main([*argv, "--csv", str(tmp_path / "serial.csv")]) == 0
+    assert _read(tmp_path / "dask.csv") == _read(tmp_path / "serial.csv")
+
+
+def test_dask_needs_independent_frequencies(capsys):
+    assert main(["forced", *TABLE1, "--force", "5", "--freq", "6.5,7", "--executor", "dask://127.0.0.1:1"]) == 2
+    err = capsys.readouterr().err
+    assert "--executor" in err and "independent" in err

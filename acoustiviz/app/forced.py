@@ -62,6 +62,7 @@ FORCED_OPTIONS = {
     "max_cycles": "--max-cycles",
     "restitution": "--restitution",
     "workers": "--workers",
+    "executor": "--executor",
 }
 #: Largest number of frequencies of one run.
 MAX_FREQUENCIES = 10_000
@@ -138,12 +139,14 @@ class ForcedRun:
 
 def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str = "force", sweep: str = "up",
                solver: str = "event", restitution: float | None = None, tolerance: float = 1e-6,
-               max_cycles: int = 2000, workers: int = 1) -> ForcedRun:
+               max_cycles: int = 2000, workers: int = 1, executor: str = "process") -> ForcedRun:
     """Frequency response of ``model`` under a harmonic force (N) or base motion (m).
 
     Parameters are those of :func:`acoustiviz.dynamics.forced.frequency_response`; ``workers`` > 1
-    runs the frequencies on a local process pool (``sweep="independent"`` only: continuation is
-    sequential by nature). Errors name the command-line options.
+    runs the frequencies on a local process pool, and ``executor="dask://HOST:PORT"`` on a Dask
+    cluster (the same executors as sweeps, :func:`acoustiviz.sweep.execute.dask_executor`); both
+    need ``sweep="independent"``: continuation is sequential by nature. Errors name the
+    command-line options.
     """
     with user_terms({**FORCED_OPTIONS, "amplitude": "--force" if kind == "force" else "--base"}):
         if sweep not in SWEEPS:
@@ -154,9 +157,20 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             raise ParameterError("workers", f"must be >= 1, got {workers}")
         if int(workers) > 1 and sweep != "independent":
             raise ParameterError("workers", "more than one worker needs --sweep independent (no continuation)")
+        if executor != "process" and sweep != "independent":
+            raise ParameterError("executor", "a Dask cluster needs --sweep independent (no continuation)")
         kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "max_cycles": max_cycles}
         t0 = time.perf_counter()
-        if int(workers) > 1:
+        if executor != "process":
+            from ..sweep.execute import dask_executor
+
+            ex, close = dask_executor(executor)
+            try:
+                resp = frequency_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
+                                          **kwargs)
+            finally:
+                close()
+        elif int(workers) > 1:
             from concurrent.futures import ProcessPoolExecutor
 
             with ProcessPoolExecutor(max_workers=min(int(workers), len(frequencies))) as ex:

@@ -62,6 +62,9 @@ def add_parser(subparsers):
                         "(default %(default)s)")
     s.add_argument("--workers", type=int, default=1, metavar="N",
                    help="processes for --sweep independent (default %(default)s)")
+    s.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",
+                   help="where --sweep independent runs: local processes (--workers) or a Dask scheduler "
+                        "(extra 'distributed'; default %(default)s)")
     n = p.add_argument_group(
         "noise in operation (on by default)",
         "The steady click train of each frequency at the listener, rendered at 96 kHz: LAeq, LCpeak and "
@@ -117,7 +120,7 @@ def run(args) -> int:
     kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
     fr = run_forced(model, freqs, amp, kind=kind, sweep=args.sweep, solver=args.solver,
                     restitution=args.restitution, tolerance=args.tolerance, max_cycles=args.max_cycles,
-                    workers=args.workers)
+                    workers=args.workers, executor=args.executor)
     unit = "N" if kind == "force" else "m"
     print(f"{kind} amplitude {amp:g} {unit}; sweep {args.sweep}; solver {args.solver}; "
           f"{len(freqs)} frequencies in {fr.elapsed:.2f} s")

@@ -97,20 +97,37 @@ def make_executor(executor, workers, settings: Settings, n_tasks: int):
         n = max(1, min(n, int(n_tasks)))
         return _local_pool(n, settings), "local", None, n
     if isinstance(executor, str) and executor.startswith("dask://"):
-        address = executor[len("dask://"):]
-        if not address:
-            raise ParameterError("executor", "expected dask://HOST:PORT")
-        try:
-            from distributed import Client
-        except ImportError:
-            raise ParameterError(
-                "executor", "dask:// needs the optional dependency: pip install 'acoustiviz[distributed]'") from None
-        try:
-            client = Client(address if "://" in address else f"tcp://{address}", timeout=20)
-        except OSError as exc:
-            raise ParameterError("executor", f"cannot reach the Dask scheduler at {address}: {exc}") from None
-        return client.get_executor(), "dask", client.close, None
+        ex, close = dask_executor(executor)
+        return ex, "dask", close, None
     raise ParameterError("executor", f"expected 'process', 'dask://HOST:PORT' or an Executor, got {executor!r}")
+
+
+def dask_executor(url: str):
+    """An Executor on the Dask scheduler at ``dask://HOST:PORT`` and the function that closes its client.
+
+    One home for the Dask connection of every parallel front-end (sweeps, frequency responses).
+
+    Raises
+    ------
+    ParameterError
+        Named ``executor``: a malformed address, the ``distributed`` extra missing, or a
+        scheduler that cannot be reached.
+    """
+    if not isinstance(url, str) or not url.startswith("dask://"):
+        raise ParameterError("executor", f"expected dask://HOST:PORT, got {url!r}")
+    address = url[len("dask://"):]
+    if not address:
+        raise ParameterError("executor", "expected dask://HOST:PORT")
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ParameterError(
+            "executor", "dask:// needs the optional dependency: pip install 'acoustiviz[distributed]'") from None
+    try:
+        client = Client(address if "://" in address else f"tcp://{address}", timeout=20)
+    except OSError as exc:
+        raise ParameterError("executor", f"cannot reach the Dask scheduler at {address}: {exc}") from None
+    return client.get_executor(), client.close
 
 
 def _local_pool(n: int, settings: Settings):
