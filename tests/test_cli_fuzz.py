@@ -193,6 +193,41 @@ def test_unwritable_folder_is_refused_before_work(here, capsys):
     assert_user_error(rc, capsys.readouterr().err, "--csv")
 
 
+@pytest.fixture
+def read_only_folder(here):
+    """A folder on a tmpfs mounted read-only (skipped where this process may not mount one)."""
+    import shutil
+    import subprocess
+
+    ro = here / "rofs"
+    ro.mkdir()
+    if os.name != "posix" or shutil.which("mount") is None:
+        pytest.skip("no mount command")
+    made = subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=1m", "tmpfs", str(ro)], capture_output=True)
+    if made.returncode != 0:
+        pytest.skip("cannot mount a read-only tmpfs here: " + made.stderr.decode(errors="replace").strip())
+    try:
+        yield ro
+    finally:
+        subprocess.run(["umount", str(ro)], capture_output=True, check=False)
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["waveform", "--csv", "rofs/w.csv"], "--csv"),
+    (["waveform", "--png", "rofs/w.png"], "--png"),
+    (["directivity", "--csv", "rofs/d.csv"], "--csv"),
+    (["damper", *FAST_DAMPER, "--impacts-csv", "rofs/i.csv"], "--impacts-csv"),
+    (["auralize", "--duration", "1", "--wav", "rofs/a.wav"], "--wav"),
+    (["render", "snapshot", "--png", "rofs/s.png"], "--png"),
+    (["sweep", "--gap", "0.03", "--m", "0.04", "--duration", "1", "--out", "rofs/sweep", "--quiet"], "--out"),
+    (["run", "--out", "rofs/out"], "--out"),
+])
+def test_read_only_file_system_is_refused_before_work(read_only_folder, argv, option, capsys):
+    rc = call(argv)
+    assert_user_error(rc, capsys.readouterr().err, option)
+    assert list(read_only_folder.iterdir()) == []
+
+
 def test_the_cap_is_documented_and_can_be_raised(capsys):
     with pytest.raises(SystemExit):
         main(["waveform", "--help"])
