@@ -93,3 +93,25 @@ def test_loudness_columns_when_asked(tmp_path):
     row = _rows(out)[0]
     assert float(row["n5_sone"]) == pytest.approx(1.0, abs=0.05)  # 1 kHz at 40 dB: 1 sone
     assert float(row["sharpness_acum"]) > 0
+
+
+@pytest.mark.parametrize("extra, csv_name, option", [
+    (["--max-memory", "0.1"], "x.csv", "--max-memory"),  # 0.5 s at 48 kHz needs about 2 MB
+    ([], "x.txt", "--csv"),
+    ([], "adir", "--csv"),
+])
+def test_work_and_outputs_checked_before_reading_the_signal(tmp_path, capsys, extra, csv_name, option):
+    wav = tmp_path / "s.wav"
+    sf.write(wav, _tone(seconds=0.5) / 2, FS, subtype="FLOAT")
+    (tmp_path / "adir").mkdir()
+    assert main(["levels", str(wav), "--csv", str(tmp_path / csv_name), "--pa-per-fs", "2", *extra]) == 2
+    err = capsys.readouterr().err
+    assert option in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_file_that_is_not_sound_exits_2(tmp_path, capsys):
+    bad = tmp_path / "bad.wav"
+    bad.write_text("not a sound file\n")
+    assert main(["levels", str(bad), "--csv", str(tmp_path / "x.csv"), "--pa-per-fs", "1"]) == 2
+    assert "SIGNAL.wav" in capsys.readouterr().err

@@ -32,14 +32,25 @@ def run(args) -> int:
     from pathlib import Path
 
     from .._validate import ParameterError
+    from ..app.budget import Estimate, check_budget
     from ..app.levels import analyse, read_calibrated_wav, summary_lines, write_levels_csv
     from ..app.names import user_terms
+    from ..app.outputs import check_output_file
     from ..levels import loudness_available
 
     if not Path(args.signal).is_file():
         raise ParameterError("SIGNAL.wav", f"no such file: {args.signal}")
-    if Path(args.csv).suffix.lower() != ".csv":
-        raise ParameterError("--csv", f"must end in .csv, got {args.csv!r}")
+    check_output_file("--csv", args.csv, "csv")
+    import soundfile as sf
+
+    try:
+        info = sf.info(args.signal)
+    except RuntimeError as exc:
+        raise ParameterError("SIGNAL.wav", f"cannot read {args.signal} as a sound file: {exc}") from None
+    # the signal in float64 and about ten filtered copies of one channel (weightings, bands, envelopes)
+    samples = float(info.frames) * max(1, info.channels)
+    check_budget(Estimate(8.0 * (samples + 10.0 * info.frames), 2e4, f"{samples:.3g} samples of {args.signal}",
+                          ("SIGNAL.wav", "--start", "--stop")), getattr(args, "max_memory", None))
     if args.loudness and not loudness_available():
         raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
     terms = {"pa_per_fs": "--pa-per-fs", "start": "--start", "stop": "--stop", "signal": "SIGNAL.wav"}
