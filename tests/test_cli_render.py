@@ -112,3 +112,24 @@ def test_mp4_needs_a_writer(tmp_path, capsys):
 def test_render_without_a_view(capsys):
     assert main(["render"]) == 2
     assert "balloon, snapshot or animation" in capsys.readouterr().err
+
+
+def test_balloon_of_a_weighted_level(tmp_path, capsys):
+    """A weighted balloon (LCpeak) from the command line: the C-weighted peak of a click lies within
+    the C weighting's effect of its unweighted peak SPL, point by point, and the VTK file carries it."""
+    import numpy as np
+    import pyvista
+
+    from acoustiviz.cli import main
+
+    base = ["render", "balloon", "--config", "plane", "--resolution", "4", "--size", "200x150"]
+    assert main([*base, "--metric", "lcpeak", "--png", str(tmp_path / "c.png"), "--vtk", str(tmp_path / "c.vtu")]) == 0
+    assert main([*base, "--metric", "peak", "--vtk", str(tmp_path / "p.vtu")]) == 0
+    assert (tmp_path / "c.png").stat().st_size > 1000
+    c = pyvista.read(tmp_path / "c.vtu")
+    p = pyvista.read(tmp_path / "p.vtu")
+    lc, peak = np.asarray(c.point_data["lcpeak_db"]), np.asarray(c.point_data["peak_spl_db"])
+    np.testing.assert_allclose(peak, np.asarray(p.point_data["peak_spl_db"]))
+    assert np.all(np.isfinite(lc))
+    assert np.all(lc <= peak + 0.1) and np.all(lc >= peak - 2.0)
+    assert not np.allclose(lc, peak)

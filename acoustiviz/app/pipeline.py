@@ -325,12 +325,13 @@ def produce_snapshot(ctx: RunContext):
 def produce_balloon(ctx: RunContext):
     """3-D directivity balloon on the spherical grid around the contact point (PNG)."""
     from ..output.render import balloon_data, render_balloon
+    from .views import balloon_levels
 
     opts = ctx.scene.output("balloon")
     g = ctx.scene.section("grids")["sphere"]
     pulse, conf = ctx.pulse(), ctx.configuration
     data = balloon_data(pulse, conf, medium=ctx.medium, distance=g["distance_m"], metric=opts["metric"],
-                        n_theta=g["n_theta"])
+                        n_theta=g["n_theta"], levels=balloon_levels(opts["metric"], pulse, conf, ctx.medium))
     path = render_balloon(pulse, conf, ctx.path("balloon.png"), medium=ctx.medium, db_range=opts["db_range"],
                           size=tuple(opts["size_px"]), data=data)
     products = [Product("balloon", path, {"metric": opts["metric"], "max_db": f"{data.max_level:.1f}",

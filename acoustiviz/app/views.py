@@ -23,11 +23,15 @@ from ..levels import METRICS
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
            "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
-           "impact_signals", "metric_label", "directivity_metric_figure"]
+           "impact_signals", "metric_label", "directivity_metric_figure", "point_levels", "BALLOON_METRICS",
+           "balloon_levels"]
 
 #: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
 #: the weighted levels of :data:`acoustiviz.levels.METRICS`.
 DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **METRICS}
+#: What a balloon may show: the closed form's peak SPL, RMS level and SEL, or a weighted level of
+#: :data:`acoustiviz.levels.METRICS` (its unweighted ``sel`` is the closed form's).
+BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in METRICS if m != "sel"))
 #: Interval in s over which one impact's equivalent levels (LAeq, LZeq) are averaged, from its first arrival.
 LEVEL_INTERVAL = 1.0
 
@@ -205,6 +209,53 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
             return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
     p = impact_signals(pulse, directivity.points, config, medium)
     return metric_levels(p, ANALYSIS_RATE, metric)
+
+
+def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
+    """The weighted level ``metric`` of one impact as a function of observer points, and its label.
+
+    Parameters
+    ----------
+    metric : str
+        A key of :data:`acoustiviz.levels.METRICS` (``"lcpeak"``, ``"lafmax"``, ``"laeq"``,
+        ``"sel-a"``, ...): computed as for :func:`directivity_metric`, from :func:`impact_signals`
+        at :data:`~acoustiviz.constants.ANALYSIS_RATE` over :data:`LEVEL_INTERVAL`.
+    pulse, config, medium
+        The impact, sphere and fluid.
+    chunk : int
+        Points rendered at once (bounds the memory: ``chunk × ANALYSIS_RATE × LEVEL_INTERVAL``
+        samples, 49 MB at 64 points).
+
+    Returns
+    -------
+    function, label : callable, str
+        ``function(points)`` gives the level in dB at ``(k, 3)`` points in m; ``label`` its name and unit.
+    """
+    from ..levels import metric_levels
+
+    if metric not in METRICS:
+        raise ParameterError("metric", f"must be one of {', '.join(METRICS)}, got {metric!r}")
+
+    def function(points):
+        pts = np.asarray(points, dtype=float).reshape(-1, 3)
+        out = np.empty(pts.shape[0])
+        for lo in range(0, pts.shape[0], chunk):
+            sub = pts[lo:lo + chunk]
+            out[lo:lo + chunk] = metric_levels(impact_signals(pulse, sub, config, medium), ANALYSIS_RATE, metric)
+        return out
+
+    return function, metric_label(metric)
+
+
+def balloon_levels(metric: str, pulse, config, medium):
+    """The ``levels`` argument of :func:`acoustiviz.output.render.balloon_data` for ``metric``.
+
+    ``None`` for the closed form's ``"peak"``, ``"rms"`` and ``"sel"``; :func:`point_levels`
+    for a weighted level of :data:`BALLOON_METRICS`.
+    """
+    if metric not in BALLOON_METRICS:
+        raise ParameterError("metric", f"must be one of {', '.join(BALLOON_METRICS)}, got {metric!r}")
+    return None if metric in ("peak", "rms", "sel") else point_levels(metric, pulse, config, medium)
 
 
 def metric_label(metric: str) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..app.views import BALLOON_METRICS
 from ._impact import add_impact_options
 
 #: Library parameter names -> the option that sets them, for error messages.
@@ -79,8 +80,10 @@ def add_parser(subparsers) -> None:
     g = b.add_argument_group("balloon")
     g.add_argument("--distance", type=float, default=0.7, metavar="M",
                    help="radius in m of the measuring sphere around the contact point (default %(default)s)")
-    g.add_argument("--metric", default="peak", choices=("peak", "rms", "sel"),
-                   help="peak SPL, RMS level or sound exposure level, all dB re 20 uPa (default %(default)s)")
+    g.add_argument("--metric", default="peak", choices=BALLOON_METRICS,
+                   help="peak SPL, RMS level or sound exposure level of the closed form, or a weighted level of "
+                        "the pressure band-limited at 96 kHz (IEC 61672-1: lcpeak, lafmax, laeq = LAeq,1s, sel-a, "
+                        "...), all dB re 20 uPa (default %(default)s)")
     g.add_argument("--db-range", type=float, default=30.0, metavar="DB",
                    help="level range in dB from the balloon's centre to its largest radius (default %(default)s)")
     g.add_argument("--resolution", type=int, default=32, metavar="N",
@@ -264,11 +267,15 @@ def _render(args, setup, size) -> list:
     outs = []
     if args.view == "balloon":
         imp = setup.impact
-        head = title or (f"{render.METRICS[args.metric][1].split(' (')[0]} at {args.distance:g} m, "
+        from ..app.views import balloon_levels
+
+        levels = balloon_levels(args.metric, setup.pulse, setup.configuration, setup.medium)
+        name = levels[1] if levels else render.METRICS[args.metric][1]
+        head = title or (f"{name.split(' (')[0]} at {args.distance:g} m, "
                          f"{args.db_range:g} dB from centre to rim; U0 = {imp.velocity:g} m/s, "
                          f"m = {imp.mass * 1e3:.4g} g, K_HZ = {imp.k_hertz:.3g} N/m^1.5")
         data = render.balloon_data(setup.pulse, setup.configuration, medium=setup.medium, distance=args.distance,
-                                   metric=args.metric, n_theta=args.resolution)
+                                   metric=args.metric, n_theta=args.resolution, levels=levels)
         if args.png:
             outs.append(render.render_balloon(setup.pulse, setup.configuration, args.png, db_range=args.db_range,
                                               opacity=args.opacity, title=head, data=data, **common))

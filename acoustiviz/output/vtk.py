@@ -142,7 +142,8 @@ def balloon_dataset(data, metrics):
     Returns
     -------
     pyvista.UnstructuredGrid
-        Point arrays named in ``BALLOON_ARRAYS`` and ``direction`` (unit vectors); field
+        Point arrays named in ``BALLOON_ARRAYS``, the balloon's weighted level if it shows one
+        (``lcpeak_db``, ``sel_a_db``, ...) and ``direction`` (unit vectors); field
         data ``distance_m`` and ``window_s`` (the RMS window of every point).
     """
     n_t, n_p = data.directions.shape[:2]
@@ -150,6 +151,8 @@ def balloon_dataset(data, metrics):
     mesh = _grid(pts, _quads(n_p, n_t))
     for name, attr in BALLOON_ARRAYS.items():
         mesh.point_data[name] = np.asarray(getattr(metrics, attr), dtype=float)
+    if data.metric not in ("peak", "rms", "sel"):  # a weighted level shown by the balloon, e.g. lcpeak_db
+        mesh.point_data[data.metric.replace("-", "_") + "_db"] = np.asarray(data.level, dtype=float).reshape(-1)
     mesh.point_data["direction"] = data.directions.reshape(-1, 3)
     mesh.field_data["distance_m"] = np.array([data.distance])
     mesh.field_data["window_s"] = np.array([metrics.window])

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..app.views import BALLOON_METRICS as _BALLOON_METRICS
 from ..app.views import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
 from ..constants import CONFIGURATIONS as CONFIGS
 from ..constants import (
@@ -170,7 +171,9 @@ _OUT = {
                                       length=2),
                        "vtk": _VTK},
                       "pressure field on the planar sections at given times (pyvista)"),
-    "balloon": Table({"metric": Key("str", "balloon colour/radius", "peak", choices=("peak", "rms", "sel")),
+    "balloon": Table({"metric": Key("str", "balloon colour/radius: the closed form's peak, rms or sel, or a "
+                                    "weighted level of one impact (as `acoustiviz render balloon --metric`)", "peak",
+                                    choices=_BALLOON_METRICS),
                       "db_range": _pos("level range from the rim to the centre of the balloon", "dB", 30.0,
                                        high=200.0),
                       "size_px": Key("ints", "image width and height", [1200, 900], "px", low=64, high=8192,

@@ -140,6 +140,7 @@ def balloon_data(
     distance: float = 0.7,
     metric: str = "peak",
     n_theta: int = 32,
+    levels=None,
 ) -> BalloonData:
     """Level over a sphere of directions at ``distance`` around the contact point.
 
@@ -161,13 +162,19 @@ def balloon_data(
     n_theta : int
         Gauss-Legendre nodes in polar angle (>= 4); azimuth nodes follow
         :func:`acoustiviz.field.grids.spherical_grid`.
+    levels : tuple (function, label), optional
+        Any other level: ``function(points)`` returns the level in dB at each of ``(k, 3)``
+        points in m, and ``label`` names it with its unit (the weighted levels of
+        :mod:`acoustiviz.levels` come this way, :func:`acoustiviz.app.views.point_levels`);
+        ``metric`` then only names it.
 
     Returns
     -------
     BalloonData
     """
     _check_inputs(pulse, config, medium)
-    check_choice("metric", metric, tuple(METRICS))
+    if levels is None:
+        check_choice("metric", metric, tuple(METRICS))
     r = check_positive("distance", distance, "m")
     if r <= 2.0 * config.radius * 1.05:
         raise ParameterError("distance", f"must exceed 1.05 × the sphere's diameter ({2.1 * config.radius:g} m), "
@@ -180,9 +187,13 @@ def balloon_data(
     pts = anchor + r * dirs.reshape(-1, 3)
     if not np.all(config.in_fluid(pts)):
         raise ParameterError("distance", f"{r:g} m puts measuring points inside the sphere or a wall")
-    attr, label = METRICS[metric]
-    fm = field_metrics(pulse, np.vstack([pts, grid.points]), config, medium=medium)
-    lev = np.asarray(getattr(fm, attr), dtype=float)
+    if levels is None:
+        attr, label = METRICS[metric]
+        fm = field_metrics(pulse, np.vstack([pts, grid.points]), config, medium=medium)
+        lev = np.asarray(getattr(fm, attr), dtype=float)
+    else:
+        function, label = levels
+        lev = np.asarray(function(np.vstack([pts, grid.points])), dtype=float)
     n = pts.shape[0]
     return BalloonData(np.asarray(anchor, float), dirs, lev[:n].reshape(dirs.shape[:2]), grid, lev[n:], r,
                        metric, label, config.name)
