@@ -159,3 +159,14 @@ def test_dask_needs_independent_frequencies(capsys):
     assert main(["forced", *TABLE1, "--force", "5", "--freq", "6.5,7", "--executor", "dask://127.0.0.1:1"]) == 2
     err = capsys.readouterr().err
     assert "--executor" in err and "independent" in err
+
+
+@pytest.mark.parametrize("extra, option", [(["--max-memory", "5"], "--noise-seconds"),
+                                           (["--max-cycles", "100000000"], "--max-cycles"),
+                                           (["--max-cycles", "0"], "--max-cycles")])
+def test_work_is_bounded_before_it_starts(extra, option, capsys, tmp_path):
+    rc = main(["forced", *TABLE1, "--force", "5", "--freq", "3:7:9", "--csv", str(tmp_path / "f.csv"), *extra])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert option in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "f.csv").exists()

@@ -113,6 +113,12 @@ def run(args) -> int:
     with user_terms(FORCED_OPTIONS):
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1)
+    from ..app.budget import check_budget, forced_estimate
+
+    if not (isinstance(args.max_cycles, int) and args.max_cycles >= 1):
+        raise ParameterError("--max-cycles", f"must be an integer >= 1, got {args.max_cycles!r}")
+    check_budget(forced_estimate(len(freqs), args.max_cycles, noise_seconds=args.noise_seconds if args.noise else 0.0,
+                                 wav=args.wav is not None), getattr(args, "max_memory", None))
     if args.noise or listener is not None:
         from ..app.forced import check_listener
 
