@@ -60,7 +60,7 @@ __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
 
 #: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
 DEFAULT_SAMPLES = 12
-DEFAULT_FINE = 64
+DEFAULT_FINE = 256
 #: Relative margin (of the largest coarse |p|) within which coarse local maxima are refined.
 DEFAULT_MARGIN = 0.002
 
