@@ -383,7 +383,7 @@ def _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s):  # pragma: no c
 
 @_njit(cache=True)
 def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, lut, ctau, cs, g_coef,
+                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, cusps, lut, ctau, cs, g_coef,
                   h_coef, cyend, m_g, m_h):  # pragma: no cover - compiled
     n = pts.shape[0]
     nimg = spos.shape[0]
@@ -523,7 +523,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                 cand_e, cand_x, cand_t, cand_k = cand_e1, cand_x1, cand_t1, cand_k1
                 nc, top = nc1, top1
             for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
-                k = int((b - dmin) / big_h)
+                k = int((b - dmin) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
                 if 0 < k < kk:
                     est = max(sign * coarse[k], sign * coarse[k + 1])
                     if est > 0.0:

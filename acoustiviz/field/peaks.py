@@ -253,6 +253,10 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         lut = np.clip(lut, 0, xi.size - 2).astype(np.int64)
     else:
         lut = np.zeros(2, np.int64)
+    # p' jumps at an image's pulse start or end only where A does not vanish there: only then can a
+    # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
+    a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
+    cusps = bool(np.max(np.abs(pulse.acceleration(np.array([0.0, end])))) > 1e-9 * a_scale)
     spos, saxis, centre, ppt, pnm = _source_arrays(config)
     n = pts.shape[0]
     res = np.empty((n, 6))
@@ -262,6 +266,6 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         _peaks_kernel(res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm,
                       float(config.radius), float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad,
                       tb.y_real, tb.y_imag, tb.slope_bound, float(margin), kind, amp, tau, xi, acc, yk, tab, s,
-                      yend, end, bool(exposure), lut, *cargs)
+                      yend, end, bool(exposure), cusps, lut, *cargs)
     return PeakExposure(res[:, 0].copy(), res[:, 1].copy(), res[:, 2].copy(), res[:, 3].copy(),
                         res[:, 4].copy(), res[:, 5].astype(np.int64))
