@@ -243,7 +243,13 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     yend = complex(_y_at(end, kind, amp, tau, xi, acc, yk, tab, s))
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
-        cargs = (corr.duration, corr.pole, corr.g_coef, corr.h_coef, corr.y_end, corr.m_g, corr.m_h)
+        # trailing Chebyshev terms whose sum is below 1e-15 of the largest coefficient change G and H by
+        # less than that: drop them (fewer Clenshaw steps per pair of images)
+        mag = np.maximum(np.abs(corr.g_coef).max(axis=0), np.abs(corr.h_coef).max(axis=0))
+        tail = np.cumsum(mag[::-1])[::-1]  # tail[k] = sum of the terms from k on
+        keep = max(2, int(np.count_nonzero(tail > 1e-15 * mag.max())))
+        cargs = (corr.duration, corr.pole, np.ascontiguousarray(corr.g_coef[:, :keep]),
+                 np.ascontiguousarray(corr.h_coef[:, :keep]), corr.y_end, corr.m_g, corr.m_h)
     else:
         z = np.zeros((1, 1), complex)
         cargs = (1.0, s, z, z, 0j, 0j, 0j)
