@@ -17,6 +17,9 @@ from .exposure import _correlation_at
 #: Newton stops when its step is below this fraction of the coarse step; the value is then that of
 #: the quadratic model, O(step³ p''') from the maximum (about 1e-11 relative at 12 samples per a/c).
 XTOL = 2e-3
+#: Coarse steps sampled after the last pulse ends (about 2 a/c at 12 per a/c): the free decay's
+#: bound beyond them is mostly below the peaks, so its closed-form extremes are rarely needed.
+TAIL_STEPS = 24
 
 
 @_njit(cache=True)
@@ -463,7 +466,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         for j in range(1, nimg):
             dmin = min(dmin, delays[j])
             dmax = max(dmax, delays[j])
-        kk = int(math.ceil((dmax - dmin + end) / big_h)) + 1
+        kk = int(math.ceil((dmax - dmin + end) / big_h)) + 1 + TAIL_STEPS
         for j in range(nimg):  # where p'' may jump or have a cusp: the start and end of each pulse
             bps[2 * j] = delays[j]
             bps[2 * j + 1] = delays[j] + end

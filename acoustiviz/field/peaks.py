@@ -53,7 +53,7 @@ from ..core.images import Configuration
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _y_at
-from ._peak_kernels import _fill, _peaks_kernel
+from ._peak_kernels import TAIL_STEPS, _fill, _peaks_kernel
 from .exposure import PulseCorrelations, pulse_correlations
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
@@ -184,7 +184,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     pos = np.array([src.position for src in config.sources])
     spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
-    ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4
+    ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
     y = np.empty(u.shape, complex)
     _fill(y.ravel(), u.ravel(), kind, amp, tau, xi, acc, yk, tab, s)
