@@ -503,10 +503,9 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         slack = margin * vmax + 0.5 * h * slope * scale
         nref = 0
         # after t_end only the free decay: its extremes in closed form, when its bound can matter
-        tail_bound = 0.0
-        for j in range(nimg):
-            decay = math.exp(s.real * (t_end - delays[j] - end))
-            tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
+        # (Σ|a_j| |Y(T)| times the last image's decay since its pulse ended; each image's when it can matter)
+        tail_bound = scale * abs(yend) * math.exp(s.real * (t_end - dmax - end))
+        tail_tight = False
         thi = tphi = tlo = tplo = 0.0
         tail_done = False
         # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
@@ -576,6 +575,12 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                 cand_e[jb] = cand_e[nc]
                 cand_x[jb] = cand_x[nc]
                 cand_k[jb] = cand_k[nc]
+            if tail_bound > best and not tail_tight:
+                tail_bound = 0.0
+                for j in range(nimg):
+                    decay = math.exp(s.real * (t_end - delays[j] - end))
+                    tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
+                tail_tight = True
             if tail_bound > best:
                 if not tail_done:
                     thi, tphi, tlo, tplo = _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s)
