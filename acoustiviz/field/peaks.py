@@ -11,26 +11,32 @@ The peaks of ``p`` are found in three steps:
    ``h = H / fine`` and stored by residue (``fine`` interleaved tables of step ``H``). Each delay
    is rounded to the fine grid, so that on the point's coarse grid ``t_k = d_min + k H`` every
    image reads a contiguous run of one table: ``p`` at ``t_k`` costs two multiply-adds per image,
-   from the first arrival to the end of the last image's pulse ``d_max + T``. The rounding moves
-   each image by at most ``h/2`` in time.
+   from the first arrival to ``TAIL_STEPS`` coarse steps after the end of the last image's pulse
+   ``d_max + T``. The rounding moves each image by at most ``h/2`` in time (``H/512`` by default).
 2. **Candidates.** Every local maximum of the coarse samples (of ``p`` for the positive peak, of
    ``-p`` for the negative one) gets a parabolic estimate of its height; those within ``margin``
    (relative to the largest coarse ``|p|``, plus the bound ``h/2 · Σ|a_j| max|Y'|`` of the
    rounding) of the best estimate are refined, best first, until no remaining estimate can beat
-   the best refined value.
+   the best refined value. Newton starts at the maximum of the cubic through four coarse samples.
 3. **Refinement on the closed form.** A safeguarded Newton iteration on ``p'(t) = 0`` within one
    coarse step either side, with ``p``, ``p'`` and ``p''`` from the exact ``Y`` (the exact Hertz
    pulse's Taylor table, :func:`acoustiviz.core.radiation.hertz_response_table`; the half-sine in
    closed form; a sampled pulse over its piecewise-linear form), to ``2e-3`` of a coarse step, the
    value then being the Newton model's (``O(step³ p''')`` from the maximum, about 1e-11 relative).
-   An interval holding the start or end of an image's pulse (where ``p''`` has a cusp) is split
-   there; each piece is searched on its own, and each such breakpoint is a candidate too.
+   An interval holding the start or end of an image's pulse (where ``p''`` may jump) is split
+   there; each piece is searched on its own. Where the pulse starts or ends at a non-zero
+   acceleration ``p'`` jumps there too, and each such breakpoint is a candidate as well (searched
+   between its two coarse neighbours); where it starts and ends at zero (half-sine, Hertz) ``p`` is
+   continuously differentiable there and the coarse samples see its maxima as elsewhere.
 
 After the last pulse ends, ``t >= d_max + T``, every image is in its free decay and
-``p(t) = Re[B exp(s t)]``: its extremes there are those of one damped sinusoid, in closed form (the
-end point and the first two stationary points; later ones are ``exp(-π)`` smaller each). The
+``p(t) = Re[B exp(s t)]``: beyond the coarse samples its extremes are those of one damped
+sinusoid, in closed form (the end point and the first two stationary points; later ones are
+``exp(-π)`` smaller each), computed only when the bound ``Σ|a_j| |Y(T)| exp(Re(s) v)`` can beat
+the peak found. The
 exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
-same pass, with the geometry computed once per point. Times in s, pressures in Pa.
+same pass, with the geometry computed once per point (Chebyshev terms summing to less than 1e-15
+of the largest coefficient dropped). Times in s, pressures in Pa.
 
 Limits: the search is not a proof. It assumes that between the pulse starts and ends ``p`` has
 no two maxima within one coarse step (12 per ``min(T, a/c)`` by default) and ``p''`` changes sign
