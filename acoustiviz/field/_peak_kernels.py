@@ -203,8 +203,8 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
 
 
 @_njit(cache=True)
-def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
-                  tab, s, lut):  # pragma: no cover - compiled
+def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc,
+                  yk, tab, s, lut):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
 
     ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
@@ -277,8 +277,8 @@ def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, 
         if q < bps.size and not (lo < b < hi):
             continue
         pb, gb, cb = _p_d2(b, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        v, tv = _refine_piece(sign, max(floor, best), a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim, kind, amp, tau, xi,
-                              acc, yk, tab, s, lut)
+        v, tv = _refine_piece(sign, max(floor, best), a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim,
+                              kind, amp, tau, xi, acc, yk, tab, s, lut)
         if v > best:
             best = v
             tbest = tv
