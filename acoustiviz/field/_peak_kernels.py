@@ -17,6 +17,9 @@ from .exposure import _correlation_at
 #: Newton stops when its step is below this fraction of the coarse step; the value is then that of
 #: the quadratic model, O(step³ p''') from the maximum (about 1e-11 relative at 12 samples per a/c).
 XTOL = 2e-3
+#: Coarse steps sampled after the last pulse ends (about 2 a/c at 12 per a/c): the free decay's
+#: bound beyond them is mostly below the peaks, so its closed-form extremes are rarely needed.
+TAIL_STEPS = 24
 
 
 @_njit(cache=True)
@@ -200,18 +203,24 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
 
 
 @_njit(cache=True)
-def _refine_piece(sign, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
-                  tab, s, lut):  # pragma: no cover - compiled
+def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc,
+                  yk, tab, s, lut):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
 
     ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
     sign at most once on the interval (its zero is found by the Illinois method and splits it), so
     that ``p'`` is monotone on each part and has at most one zero there: a maximum, found by
-    safeguarded Newton, when ``p'`` goes from + to -.
+    safeguarded Newton, when ``p'`` goes from + to -. When ``sign · p`` is concave at both ends (so
+    on the whole interval) and the meeting point of its end tangents is below ``floor`` (a value
+    already reached elsewhere), no point of the interval can beat ``floor``: nothing is evaluated.
     """
     best, tbest = (sign * pl, lo) if sign * pl >= sign * pr else (sign * pr, hi)
     if not hi > lo:
         return best, tbest
+    fa, ga, fb, gb = sign * pl, sign * gl, sign * pr, sign * gr
+    if sign * cl < 0.0 and sign * cr < 0.0 and ga > 0.0 and gb < 0.0:
+        if fa + ga * (fb - fa - gb * (hi - lo)) / (ga - gb) < floor:
+            return best, tbest
     if cl * cr < 0.0 and gl * gr > 0.0:  # p' may cross zero twice: split at the zero of p'' (Illinois)
         a, fa, b, fb = lo, cl, hi, cr
         side = 0
@@ -247,9 +256,12 @@ def _refine_piece(sign, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are,
 
 
 @_njit(cache=True)
-def _refine_bracket(sign, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
+def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
                     s, lut):  # pragma: no cover - compiled
-    """Largest ``sign · p`` on ``[lo, hi]`` near ``t0``, split at the breakpoints ``bps`` inside (sorted)."""
+    """Largest ``sign · p`` on ``[lo, hi]`` near ``t0``, split at the breakpoints ``bps`` inside (sorted).
+
+    Pieces that provably cannot beat ``floor`` (a value already reached) are not searched.
+    """
     inside = 0
     for b in bps:
         if lo < b < hi:
@@ -265,13 +277,86 @@ def _refine_bracket(sign, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, a
         if q < bps.size and not (lo < b < hi):
             continue
         pb, gb, cb = _p_d2(b, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        v, tv = _refine_piece(sign, a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim, kind, amp, tau, xi,
-                              acc, yk, tab, s, lut)
+        v, tv = _refine_piece(sign, max(floor, best), a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim,
+                              kind, amp, tau, xi, acc, yk, tab, s, lut)
         if v > best:
             best = v
             tbest = tv
         a, pa, ga, ca = b, pb, gb, cb
     return best, tbest
+
+
+@_njit(cache=True)
+def _cubic_start(coarse, k, kk, xs):  # pragma: no cover - compiled
+    """Offset (in coarse steps, within ±1) of the maximum of the cubic through 4 coarse samples near ``k``.
+
+    The samples ``k-1, k, k+1`` and ``k+2`` (``k-2`` when the parabola's vertex ``xs`` is left of
+    ``k``); two Newton steps on the cubic's derivative from ``xs``. Only a start for the Newton
+    iteration on the closed form: any value in ``[-1, 1]`` is safe.
+    """
+    f0 = coarse[k]
+    fm = coarse[k - 1] if k > 0 else 0.0
+    fp = coarse[k + 1]
+    b = 0.5 * (fp - fm)
+    c = 0.5 * (fp - 2.0 * f0 + fm)
+    if xs >= 0.0:
+        if k + 2 > kk:
+            return xs
+        d = (coarse[k + 2] - (f0 + 2.0 * b + 4.0 * c)) / 6.0
+    else:
+        f2 = coarse[k - 2] if k >= 2 else 0.0
+        d = ((f0 - 2.0 * b + 4.0 * c) - f2) / 6.0
+    x = xs
+    for _ in range(2):
+        dd = 2.0 * c + 6.0 * d * x
+        if dd == 0.0:
+            return xs
+        x = x - (b + 2.0 * c * x + d * (3.0 * x * x - 1.0)) / dd
+    if not (-1.0 < x < 1.0):
+        return xs
+    return x
+
+
+@_njit(cache=True)
+def _scan(coarse, kk, floor_p, floor_n, dmin, big_h, ce0, cx0, ct0, ce1, cx1, ct1, ck0, ck1):  # pragma: no cover
+    """Coarse local maxima of ``p`` (above ``floor_p``) and of ``-p`` (above ``floor_n``), in one pass.
+
+    Each gets its parabolic estimate (``ce``), its sample time (``ct``) and a Newton start (``cx``);
+    returns the counts and the largest estimate of each sign.
+    """
+    n0 = 0
+    n1 = 0
+    top0 = -np.inf
+    top1 = -np.inf
+    for k in range(kk):
+        c0 = coarse[k]
+        if c0 >= floor_p or -c0 >= floor_n:
+            for sign in (1.0, -1.0):
+                v0 = sign * c0
+                if v0 < (floor_p if sign > 0.0 else floor_n):
+                    continue
+                vm = sign * coarse[k - 1] if k > 0 else 0.0
+                vp = sign * coarse[k + 1]
+                if v0 >= vm and v0 >= vp and v0 > 0.0:
+                    den = vm - 2.0 * v0 + vp
+                    xs = 0.5 * (vm - vp) / den if den < 0.0 else 0.0
+                    est = v0 - 0.25 * (vm - vp) * xs
+                    x = dmin + (k + _cubic_start(coarse, k, kk, xs)) * big_h
+                    if sign > 0.0:
+                        ct0[n0] = dmin + k * big_h
+                        ce0[n0] = est
+                        cx0[n0] = x
+                        ck0[n0] = -1
+                        n0 += 1
+                        top0 = max(top0, est)
+                    else:
+                        ct1[n1] = dmin + k * big_h
+                        ce1[n1] = est
+                        cx1[n1] = x
+                        ck1[n1] = -1
+                        n1 += 1
+                        top1 = max(top1, est)
+    return n0, top0, n1, top1
 
 
 @_njit(cache=True)
@@ -301,7 +386,7 @@ def _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s):  # pragma: no c
 
 @_njit(cache=True)
 def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, lut, ctau, cs, g_coef,
+                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, cusps, lut, ctau, cs, g_coef,
                   h_coef, cyend, m_g, m_h):  # pragma: no cover - compiled
     n = pts.shape[0]
     nimg = spos.shape[0]
@@ -312,9 +397,16 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     qs = np.empty(nimg, np.int64)
     rs = np.empty(nimg, np.int64)
     coarse = np.empty(ncol + 2)
-    cand_e = np.empty(ncol + 2 + 2 * nimg)
-    cand_x = np.empty(ncol + 2 + 2 * nimg)
-    cand_t = np.empty(ncol + 2 + 2 * nimg)
+    cand_e0 = np.empty(ncol + 2 + 2 * nimg)
+    cand_x0 = np.empty(ncol + 2 + 2 * nimg)
+    cand_t0 = np.empty(ncol + 2 + 2 * nimg)
+    cand_k0 = np.empty(ncol + 2 + 2 * nimg, np.int64)
+    cand_e1 = np.empty(ncol + 2 + 2 * nimg)
+    cand_x1 = np.empty(ncol + 2 + 2 * nimg)
+    cand_t1 = np.empty(ncol + 2 + 2 * nimg)
+    cand_k1 = np.empty(ncol + 2 + 2 * nimg, np.int64)
+    done_lo = np.empty(ncol + 2 + 2 * nimg)
+    done_hi = np.empty(ncol + 2 + 2 * nimg)
     bps = np.empty(2 * nimg)
     h = big_h / fine
     tol = 1e-12 * radius
@@ -374,7 +466,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         for j in range(1, nimg):
             dmin = min(dmin, delays[j])
             dmax = max(dmax, delays[j])
-        kk = int(math.ceil((dmax - dmin + end) / big_h)) + 1
+        kk = int(math.ceil((dmax - dmin + end) / big_h)) + 1 + TAIL_STEPS
         for j in range(nimg):  # where p'' may jump or have a cusp: the start and end of each pulse
             bps[2 * j] = delays[j]
             bps[2 * j + 1] = delays[j] + end
@@ -411,44 +503,36 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         slack = margin * vmax + 0.5 * h * slope * scale
         nref = 0
         # after t_end only the free decay: its extremes in closed form, when its bound can matter
-        tail_bound = 0.0
-        for j in range(nimg):
-            decay = math.exp(s.real * (t_end - delays[j] - end))
-            tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
+        # (Σ|a_j| |Y(T)| times the last image's decay since its pulse ended; each image's when it can matter)
+        tail_bound = scale * abs(yend) * math.exp(s.real * (t_end - dmax - end))
+        tail_tight = False
         thi = tphi = tlo = tplo = 0.0
         tail_done = False
+        # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
+        # so samples below these floors cannot come within the slack of the best estimate
+        nc0, top0, nc1, top1 = _scan(coarse, kk, cmax - 2.0 * slack - 0.125 * jump,
+                                     -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand_e0, cand_x0, cand_t0,
+                                     cand_e1, cand_x1, cand_t1, cand_k0, cand_k1)
         for side in range(2):
             sign = 1.0 if side == 0 else -1.0
             best = 0.0  # p = 0 before the first arrival
             tbest = dmin
-            nc = 0
-            top = -np.inf
-            # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
-            # so samples below this floor cannot come within the slack of the best estimate
-            floor = (cmax if side == 0 else -cmin) - 2.0 * slack - 0.125 * jump
-            for k in range(kk):
-                v0 = sign * coarse[k]
-                if v0 < floor:
-                    continue
-                vm = sign * coarse[k - 1] if k > 0 else 0.0
-                vp = sign * coarse[k + 1]
-                if v0 >= vm and v0 >= vp and v0 > 0.0:
-                    den = vm - 2.0 * v0 + vp
-                    xs = 0.5 * (vm - vp) / den if den < 0.0 else 0.0
-                    est = v0 - 0.25 * (vm - vp) * xs
-                    cand_t[nc] = dmin + k * big_h
-                    cand_e[nc] = est
-                    cand_x[nc] = dmin + (k + xs) * big_h
-                    nc += 1
-                    top = max(top, est)
+            ndone = 0
+            if side == 0:
+                cand_e, cand_x, cand_t, cand_k = cand_e0, cand_x0, cand_t0, cand_k0
+                nc, top = nc0, top0
+            else:
+                cand_e, cand_x, cand_t, cand_k = cand_e1, cand_x1, cand_t1, cand_k1
+                nc, top = nc1, top1
             for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
-                k = int((b - dmin) / big_h)
+                k = int((b - dmin) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
                 if 0 < k < kk:
                     est = max(sign * coarse[k], sign * coarse[k + 1])
                     if est > 0.0:
                         cand_t[nc] = b
                         cand_e[nc] = est
                         cand_x[nc] = b
+                        cand_k[nc] = k
                         nc += 1
             # refine, best estimate first, while an estimate can still beat the best refined value
             while nc > 0:
@@ -460,16 +544,43 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                 if est + slack < best or est + slack < top - slack:
                     break
                 tk = cand_t[jb]
-                val, tv = _refine_bracket(sign, cand_x[jb], max(dmin, tk - big_h), tk + big_h, bps, xtol,
-                                          nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-                nref += 1
-                if val > best:
-                    best = val
-                    tbest = tv
+                kb = cand_k[jb]
+                covered = False
+                if kb >= 0:
+                    # a breakpoint's feature lies between the coarse samples kb and kb + 1: skip it when a
+                    # bracket already searched (split at the breakpoint) holds that whole interval
+                    ta = dmin + kb * big_h - 1e-9 * big_h
+                    tz = dmin + (kb + 1) * big_h + 1e-9 * big_h
+                    for q in range(ndone):
+                        if done_lo[q] <= ta and tz <= done_hi[q]:
+                            covered = True
+                            break
+                if not covered:
+                    lo_b = max(dmin, tk - big_h)
+                    hi_b = tk + big_h
+                    if kb >= 0:  # a breakpoint's feature: between its coarse neighbours
+                        lo_b = dmin + kb * big_h
+                        hi_b = dmin + (kb + 1) * big_h
+                    val, tv = _refine_bracket(sign, best, cand_x[jb], lo_b, hi_b, bps, xtol,
+                                              nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+                    done_lo[ndone] = lo_b
+                    done_hi[ndone] = hi_b
+                    ndone += 1
+                    nref += 1
+                    if val > best:
+                        best = val
+                        tbest = tv
                 nc -= 1
                 cand_t[jb] = cand_t[nc]
                 cand_e[jb] = cand_e[nc]
                 cand_x[jb] = cand_x[nc]
+                cand_k[jb] = cand_k[nc]
+            if tail_bound > best and not tail_tight:
+                tail_bound = 0.0
+                for j in range(nimg):
+                    decay = math.exp(s.real * (t_end - delays[j] - end))
+                    tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
+                tail_tight = True
             if tail_bound > best:
                 if not tail_done:
                     thi, tphi, tlo, tplo = _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s)

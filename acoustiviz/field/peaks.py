@@ -11,26 +11,32 @@ The peaks of ``p`` are found in three steps:
    ``h = H / fine`` and stored by residue (``fine`` interleaved tables of step ``H``). Each delay
    is rounded to the fine grid, so that on the point's coarse grid ``t_k = d_min + k H`` every
    image reads a contiguous run of one table: ``p`` at ``t_k`` costs two multiply-adds per image,
-   from the first arrival to the end of the last image's pulse ``d_max + T``. The rounding moves
-   each image by at most ``h/2`` in time.
+   from the first arrival to ``TAIL_STEPS`` coarse steps after the end of the last image's pulse
+   ``d_max + T``. The rounding moves each image by at most ``h/2`` in time (``H/512`` by default).
 2. **Candidates.** Every local maximum of the coarse samples (of ``p`` for the positive peak, of
    ``-p`` for the negative one) gets a parabolic estimate of its height; those within ``margin``
    (relative to the largest coarse ``|p|``, plus the bound ``h/2 · Σ|a_j| max|Y'|`` of the
    rounding) of the best estimate are refined, best first, until no remaining estimate can beat
-   the best refined value.
+   the best refined value. Newton starts at the maximum of the cubic through four coarse samples.
 3. **Refinement on the closed form.** A safeguarded Newton iteration on ``p'(t) = 0`` within one
    coarse step either side, with ``p``, ``p'`` and ``p''`` from the exact ``Y`` (the exact Hertz
    pulse's Taylor table, :func:`acoustiviz.core.radiation.hertz_response_table`; the half-sine in
    closed form; a sampled pulse over its piecewise-linear form), to ``2e-3`` of a coarse step, the
    value then being the Newton model's (``O(step³ p''')`` from the maximum, about 1e-11 relative).
-   An interval holding the start or end of an image's pulse (where ``p''`` has a cusp) is split
-   there; each piece is searched on its own, and each such breakpoint is a candidate too.
+   An interval holding the start or end of an image's pulse (where ``p''`` may jump) is split
+   there; each piece is searched on its own. Where the pulse starts or ends at a non-zero
+   acceleration ``p'`` jumps there too, and each such breakpoint is a candidate as well (searched
+   between its two coarse neighbours); where it starts and ends at zero (half-sine, Hertz) ``p`` is
+   continuously differentiable there and the coarse samples see its maxima as elsewhere.
 
 After the last pulse ends, ``t >= d_max + T``, every image is in its free decay and
-``p(t) = Re[B exp(s t)]``: its extremes there are those of one damped sinusoid, in closed form (the
-end point and the first two stationary points; later ones are ``exp(-π)`` smaller each). The
+``p(t) = Re[B exp(s t)]``: beyond the coarse samples its extremes are those of one damped
+sinusoid, in closed form (the end point and the first two stationary points; later ones are
+``exp(-π)`` smaller each), computed only when the bound ``Σ|a_j| |Y(T)| exp(Re(s) v)`` can beat
+the peak found. The
 exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
-same pass, with the geometry computed once per point. Times in s, pressures in Pa.
+same pass, with the geometry computed once per point (Chebyshev terms summing to less than 1e-15
+of the largest coefficient dropped). Times in s, pressures in Pa.
 
 Limits: the search is not a proof. It assumes that between the pulse starts and ends ``p`` has
 no two maxima within one coarse step (12 per ``min(T, a/c)`` by default) and ``p''`` changes sign
@@ -53,14 +59,14 @@ from ..core.images import Configuration
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _y_at
-from ._peak_kernels import _fill, _peaks_kernel
+from ._peak_kernels import TAIL_STEPS, _fill, _peaks_kernel
 from .exposure import PulseCorrelations, pulse_correlations
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
 
 #: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
 DEFAULT_SAMPLES = 12
-DEFAULT_FINE = 64
+DEFAULT_FINE = 256
 #: Relative margin (of the largest coarse |p|) within which coarse local maxima are refined.
 DEFAULT_MARGIN = 0.002
 
@@ -184,7 +190,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     pos = np.array([src.position for src in config.sources])
     spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
-    ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4
+    ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
     y = np.empty(u.shape, complex)
     _fill(y.ravel(), u.ravel(), kind, amp, tau, xi, acc, yk, tab, s)
@@ -243,7 +249,13 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     yend = complex(_y_at(end, kind, amp, tau, xi, acc, yk, tab, s))
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
-        cargs = (corr.duration, corr.pole, corr.g_coef, corr.h_coef, corr.y_end, corr.m_g, corr.m_h)
+        # trailing Chebyshev terms whose sum is below 1e-15 of the largest coefficient change G and H by
+        # less than that: drop them (fewer Clenshaw steps per pair of images)
+        mag = np.maximum(np.abs(corr.g_coef).max(axis=0), np.abs(corr.h_coef).max(axis=0))
+        tail = np.cumsum(mag[::-1])[::-1]  # tail[k] = sum of the terms from k on
+        keep = max(2, int(np.count_nonzero(tail > 1e-15 * mag.max())))
+        cargs = (corr.duration, corr.pole, np.ascontiguousarray(corr.g_coef[:, :keep]),
+                 np.ascontiguousarray(corr.h_coef[:, :keep]), corr.y_end, corr.m_g, corr.m_h)
     else:
         z = np.zeros((1, 1), complex)
         cargs = (1.0, s, z, z, 0j, 0j, 0j)
@@ -253,6 +265,10 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         lut = np.clip(lut, 0, xi.size - 2).astype(np.int64)
     else:
         lut = np.zeros(2, np.int64)
+    # p' jumps at an image's pulse start or end only where A does not vanish there: only then can a
+    # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
+    a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
+    cusps = bool(np.max(np.abs(pulse.acceleration(np.array([0.0, end])))) > 1e-9 * a_scale)
     spos, saxis, centre, ppt, pnm = _source_arrays(config)
     n = pts.shape[0]
     res = np.empty((n, 6))
@@ -262,6 +278,6 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         _peaks_kernel(res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm,
                       float(config.radius), float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad,
                       tb.y_real, tb.y_imag, tb.slope_bound, float(margin), kind, amp, tau, xi, acc, yk, tab, s,
-                      yend, end, bool(exposure), lut, *cargs)
+                      yend, end, bool(exposure), cusps, lut, *cargs)
     return PeakExposure(res[:, 0].copy(), res[:, 1].copy(), res[:, 2].copy(), res[:, 3].copy(),
                         res[:, 4].copy(), res[:, 5].astype(np.int64))
