@@ -19,6 +19,7 @@ from numba import njit
 
 from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
+from ._dop853 import error_norm as _dop_error
 from ._free import record_extremum
 from ._status import STATUS_STEP_UNDERFLOW
 
@@ -26,8 +27,6 @@ from ._status import STATUS_STEP_UNDERFLOW
 _NS = _dop.N_STAGES
 _A = _dop.A
 _B = _dop.B
-_E3 = _dop.E3
-_E5 = _dop.E5
 NY = 8  # contact state: t, x, v, sqrt(delta), u, impulse, dissipated in contact, dissipated by C
 _NY = NY
 #: Rows of the stage array ``kst`` a caller allocates: the stages and the derivative at the new point.
@@ -97,25 +96,6 @@ def _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew):
     _rhs_into(ynew, p, sw, kst, _NS)
     for i in range(_NY):
         fnew[i] = kst[_NS, i]
-
-
-@njit(cache=True)
-def _dop_error(y, ynew, h, kst, rtol, atol):
-    """Hairer's DOP853 error norm over all components (1 = at tolerance)."""
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(_NY):
-        sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(_NS + 1):
-            a5 += _E5[j] * kst[j, i]
-            a3 += _E3[j] * kst[j, i]
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _NY)
 
 
 @njit(cache=True)

@@ -30,13 +30,19 @@ Arrays (all read-only float64):
 Checks in ``tests/test_dynamics_dop853.py``: the order conditions up to order 8 for quadrature
 (sum_j b_j c_j^k = 1/(k+1)) and the row-sum conditions c_i = sum_j a_ij, that each estimator's
 weights sum to zero, and an observed convergence order of 8 on a smooth problem.
+
+:func:`error_norm` is Hairer's error norm of one step, shared by every compiled DOP853 solver
+of the package (the free-decay contact and the forced contact).
 """
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
-__all__ = ["N_STAGES", "C", "A", "B", "E3", "E5"]
+import numpy as np
+from numba import njit
+
+__all__ = ["N_STAGES", "C", "A", "B", "E3", "E5", "error_norm"]
 
 #: Stages of one step (the 13th, at the new point, is reused as the next step's first).
 N_STAGES = 12
@@ -187,3 +193,29 @@ def _tableau():
 
 
 C, A, B, E3, E5 = _tableau()
+
+
+@njit(cache=True)
+def error_norm(y, ynew, h, kst, rtol, atol):  # pragma: no cover - compiled
+    """Hairer's DOP853 error norm of one step over all components of ``y`` (1 = at tolerance).
+
+    ``kst`` holds the 12 stages and the derivative at the new point (13 rows); the 5th- and
+    3rd-order estimates are combined as in ``dop853.f``:
+    ``|h| e5 / sqrt((e5 + 0.01 e3) n)`` with ``e_k = sum_i (E_k · k_i / sc_i)²`` and
+    ``sc_i = atol_i + rtol max(|y_i|, |ynew_i|)``.
+    """
+    n = y.shape[0]
+    e5 = 0.0
+    e3 = 0.0
+    for i in range(n):
+        sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(N_STAGES + 1):
+            a5 += E5[j] * kst[j, i]
+            a3 += E3[j] * kst[j, i]
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)

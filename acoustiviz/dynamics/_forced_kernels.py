@@ -25,22 +25,22 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate import DOP853
 
-_NS = DOP853.n_stages
-_A = np.ascontiguousarray(DOP853.A[:_NS, :_NS], dtype=float)
-_B = np.ascontiguousarray(DOP853.B, dtype=float)
-_E3 = np.ascontiguousarray(DOP853.E3, dtype=float)
-_E5 = np.ascontiguousarray(DOP853.E5, dtype=float)
+from ..constants import HERTZ_DURATION_CONSTANT
+from . import _dop853 as _dop
+from ._dop853 import error_norm as _dop_error
+from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK, STATUS_STEP_UNDERFLOW
+
+# the vendored Dormand-Prince 8(5,3) tableau, shared with the free-decay contact solver
+_NS = _dop.N_STAGES
+_A = _dop.A
+_B = _dop.B
 _NY = 9  # contact state: t, x, v, ξ, u, impulse, dissipated in contact, dissipated by C, work of F
 _GX, _GW = (np.ascontiguousarray(a) for a in np.polynomial.legendre.leggauss(12))
 
-STATUS_OK = 0
-STATUS_MAX_IMPACTS = 1
-STATUS_STEP_UNDERFLOW = 2
-STATUS_DIVERGED = 3
+__all__ = ["STATUS_OK", "STATUS_MAX_IMPACTS", "STATUS_STEP_UNDERFLOW", "STATUS_DIVERGED", "free_restitution"]
 
-_HERTZ_T = 2.943275  # contact duration in units of alpha_max / U0
+_HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 _EPS = 2.220446049250313e-16
 
 
@@ -314,25 +314,6 @@ def _dop_step(y, f0, h, p, fc, tc, sw, kst, ytmp, ynew, fnew):
     _rhs_into(ynew, p, fc, tc, sw, kst, _NS)
     for i in range(_NY):
         fnew[i] = kst[_NS, i]
-
-
-@njit(cache=True)
-def _dop_error(y, ynew, h, kst, rtol, atol):
-    """Hairer's DOP853 error norm over all components (1 = at tolerance)."""
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(_NY):
-        sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(_NS + 1):
-            a5 += _E5[j] * kst[j, i]
-            a3 += _E3[j] * kst[j, i]
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * _NY)
 
 
 @njit(cache=True)
