@@ -9,12 +9,12 @@ from __future__ import annotations
 from ..constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, TABLE1
 from ..constants import SOLVERS as SOLVER_NAMES
 
-__all__ = ["add_damper_options", "damper_from_args", "DEFAULT_RTOL", "SOLVER_NAMES"]
+__all__ = ["add_model_options", "add_damper_options", "damper_from_args", "DEFAULT_RTOL", "SOLVER_NAMES"]
 
 
-def add_damper_options(parser, *, duration_help: str = "simulated time in s (default %(default)s)") -> None:
-    """Add the damper model, initial velocity and solver options to ``parser``."""
-    g = parser.add_argument_group("damper (paper eq 15; defaults: Table 1, Figure 5)")
+def add_model_options(group) -> None:
+    """Add the damper model's options (paper eq 15: --M --K --C --m --gap --k-hertz --c1) to ``group``."""
+    g = group
     g.add_argument("--M", type=float, default=TABLE1["M"], metavar="KG", help="main mass in kg (default %(default)s)")
     g.add_argument("--K", type=float, default=TABLE1["K"], metavar="N/M",
                    help="main spring in N/m (default %(default)s)")
@@ -27,6 +27,12 @@ def add_damper_options(parser, *, duration_help: str = "simulated time in s (def
                    help="Hertz contact stiffness in N/m^1.5 (default %(default)s)")
     g.add_argument("--c1", type=float, default=TABLE1["c1"], metavar="N*S/M",
                    help="contact damping in N s/m (default %(default)s)")
+
+
+def add_damper_options(parser, *, duration_help: str = "simulated time in s (default %(default)s)") -> None:
+    """Add the damper model, initial velocity and solver options to ``parser``."""
+    g = parser.add_argument_group("damper (paper eq 15; defaults: Table 1, Figure 5)")
+    add_model_options(g)
     g.add_argument("--clip-tensile", action="store_true",
                    help="clip the contact force at zero (default: the paper's form, which may pull)")
     g.add_argument("--v0", type=float, default=PAPER_V0, metavar="M/S",

@@ -12,7 +12,7 @@ import argparse
 import math
 import time
 
-from ..constants import PAPER_GAP, TABLE1
+from ._damper import add_model_options
 
 
 def add_parser(subparsers):
@@ -27,19 +27,7 @@ def add_parser(subparsers):
             "reduction, the regime (periodic-n or non-periodic) and the impacts per cycle."
         ),
     )
-    g = p.add_argument_group("damper (paper eq 15; defaults: Table 1, d = 4 cm)")
-    g.add_argument("--M", type=float, default=TABLE1["M"], metavar="KG", help="main mass in kg (default %(default)s)")
-    g.add_argument("--K", type=float, default=TABLE1["K"], metavar="N/M",
-                   help="main spring in N/m (default %(default)s)")
-    g.add_argument("--C", type=float, default=TABLE1["C"], metavar="N*S/M",
-                   help="main dashpot in N s/m (default %(default)s)")
-    g.add_argument("--m", type=float, default=TABLE1["m"], metavar="KG", help="impact mass in kg (default %(default)s)")
-    g.add_argument("--gap", type=float, default=PAPER_GAP, metavar="M",
-                   help="total free travel d in m (default %(default)s)")
-    g.add_argument("--k-hertz", type=float, default=TABLE1["k_hertz"], metavar="N/M^1.5",
-                   help="Hertz contact stiffness in N/m^1.5 (default %(default)s)")
-    g.add_argument("--c1", type=float, default=TABLE1["c1"], metavar="N*S/M",
-                   help="contact damping in N s/m (default %(default)s)")
+    add_model_options(p.add_argument_group("damper (paper eq 15; defaults: Table 1, d = 4 cm)"))
     e = p.add_argument_group("excitation")
     x = e.add_mutually_exclusive_group(required=True)
     x.add_argument("--force", type=float, metavar="N", help="force amplitude F0 on the main mass in N")
