@@ -316,3 +316,10 @@ def _metrics_kernel(
         res[i, 0] = pmax
         res[i, 1] = pmin
         res[i, 2] = ssq
+
+
+@_njit(cache=True)
+def _fill(out, u, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
+    """``out[i] = Y(u[i])`` (complex m/s) for the flattened pulse of :func:`._common.pulse_args`."""
+    for i in range(u.size):
+        out[i] = _y_at(u[i], kind, amp, tau, xi, acc, yk, tab, s)

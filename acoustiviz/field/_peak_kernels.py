@@ -20,12 +20,8 @@ XTOL = 2e-3
 #: Coarse steps sampled after the last pulse ends (about 2 a/c at 12 per a/c): the free decay's
 #: bound beyond them is mostly below the peaks, so its closed-form extremes are rarely needed.
 TAIL_STEPS = 24
-
-
-@_njit(cache=True)
-def _fill(out, u, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
-    for i in range(u.size):
-        out[i] = _y_at(u[i], kind, amp, tau, xi, acc, yk, tab, s)
+#: Coarse samples per block of :func:`_coarse_stats` (its unrolling assumes eight).
+BLOCK = 8
 
 
 @_njit(cache=True)
@@ -318,44 +314,88 @@ def _cubic_start(coarse, k, kk, xs):  # pragma: no cover - compiled
 
 
 @_njit(cache=True)
-def _scan(coarse, kk, floor_p, floor_n, dmin, big_h, ce0, cx0, ct0, ce1, cx1, ct1, ck0, ck1):  # pragma: no cover
+def _coarse_stats(coarse, kk, bmax, bmin):  # pragma: no cover - compiled
+    """Largest and smallest of ``coarse[0..kk]``, the largest step between neighbours, and block extremes.
+
+    Blocks of :data:`BLOCK` samples (``coarse`` is zero-padded to whole blocks, so its length must
+    be at least ``kk + BLOCK``): ``bmax[b]`` and ``bmin[b]`` bound the samples of block ``b`` for
+    :func:`_scan`. Unrolled by eight for instruction-level parallelism. Returns
+    ``(blocks, max, min, jump)`` with ``max >= 0 >= min``.
+    """
+    nb = (kk + BLOCK) // BLOCK
+    for k in range(kk + 1, nb * BLOCK):
+        coarse[k] = 0.0
+    jump = 0.0
+    prev = 0.0
+    cmax = 0.0
+    cmin = 0.0
+    for b in range(nb):
+        k = BLOCK * b
+        x0 = coarse[k]
+        x1 = coarse[k + 1]
+        x2 = coarse[k + 2]
+        x3 = coarse[k + 3]
+        x4 = coarse[k + 4]
+        x5 = coarse[k + 5]
+        x6 = coarse[k + 6]
+        x7 = coarse[k + 7]
+        mx = max(max(max(x0, x1), max(x2, x3)), max(max(x4, x5), max(x6, x7)))
+        mn = min(min(min(x0, x1), min(x2, x3)), min(min(x4, x5), min(x6, x7)))
+        j0 = max(max(abs(x0 - prev), abs(x1 - x0)), max(abs(x2 - x1), abs(x3 - x2)))
+        j1 = max(max(abs(x4 - x3), abs(x5 - x4)), max(abs(x6 - x5), abs(x7 - x6)))
+        prev = x7
+        bmax[b] = mx
+        bmin[b] = mn
+        cmax = max(cmax, mx)
+        cmin = min(cmin, mn)
+        jump = max(jump, max(j0, j1))
+    return nb, cmax, cmin, jump
+
+
+@_njit(cache=True)
+def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, ce0, cx0, ct0, ce1, cx1, ct1, ck0,
+          ck1):  # pragma: no cover - compiled
     """Coarse local maxima of ``p`` (above ``floor_p``) and of ``-p`` (above ``floor_n``), in one pass.
 
-    Each gets its parabolic estimate (``ce``), its sample time (``ct``) and a Newton start (``cx``);
-    returns the counts and the largest estimate of each sign.
+    Only the blocks of :func:`_coarse_stats` reaching a floor are read. Each maximum gets its
+    parabolic estimate (``ce``), its sample time (``ct``) and a Newton start (``cx``); returns the
+    counts and the largest estimate of each sign.
     """
     n0 = 0
     n1 = 0
     top0 = -np.inf
     top1 = -np.inf
-    for k in range(kk):
-        c0 = coarse[k]
-        if c0 >= floor_p or -c0 >= floor_n:
-            for sign in (1.0, -1.0):
-                v0 = sign * c0
-                if v0 < (floor_p if sign > 0.0 else floor_n):
-                    continue
-                vm = sign * coarse[k - 1] if k > 0 else 0.0
-                vp = sign * coarse[k + 1]
-                if v0 >= vm and v0 >= vp and v0 > 0.0:
-                    den = vm - 2.0 * v0 + vp
-                    xs = 0.5 * (vm - vp) / den if den < 0.0 else 0.0
-                    est = v0 - 0.25 * (vm - vp) * xs
-                    x = dmin + (k + _cubic_start(coarse, k, kk, xs)) * big_h
-                    if sign > 0.0:
-                        ct0[n0] = dmin + k * big_h
-                        ce0[n0] = est
-                        cx0[n0] = x
-                        ck0[n0] = -1
-                        n0 += 1
-                        top0 = max(top0, est)
-                    else:
-                        ct1[n1] = dmin + k * big_h
-                        ce1[n1] = est
-                        cx1[n1] = x
-                        ck1[n1] = -1
-                        n1 += 1
-                        top1 = max(top1, est)
+    for blk in range(nb):
+        if bmax[blk] < floor_p and -bmin[blk] < floor_n:
+            continue
+        for k in range(BLOCK * blk, min(BLOCK * blk + BLOCK, kk)):
+            c0 = coarse[k]
+            if c0 >= floor_p or -c0 >= floor_n:
+                for sign in (1.0, -1.0):
+                    v0 = sign * c0
+                    if v0 < (floor_p if sign > 0.0 else floor_n):
+                        continue
+                    vm = sign * coarse[k - 1] if k > 0 else 0.0
+                    vp = sign * coarse[k + 1]
+                    if v0 >= vm and v0 >= vp and v0 > 0.0:
+                        den = vm - 2.0 * v0 + vp
+                        xs = 0.5 * (vm - vp) / den if den < 0.0 else 0.0
+                        est = v0 - 0.25 * (vm - vp) * xs
+                        x = dmin + (k + _cubic_start(coarse, k, kk, xs)) * big_h
+                        if sign > 0.0:
+                            ct0[n0] = dmin + k * big_h
+                            ce0[n0] = est
+                            cx0[n0] = x
+                            ck0[n0] = -1
+                            n0 += 1
+                            top0 = max(top0, est)
+                        else:
+                            ct1[n1] = dmin + k * big_h
+                            ce1[n1] = est
+                            cx1[n1] = x
+                            ck1[n1] = -1
+                            n1 += 1
+                            top1 = max(top1, est)
     return n0, top0, n1, top1
 
 
@@ -386,8 +426,8 @@ def _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s):  # pragma: no c
 
 @_njit(cache=True)
 def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, cusps, lut, ctau, cs, g_coef,
-                  h_coef, cyend, m_g, m_h):  # pragma: no cover - compiled
+                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, cusps, lut, ctau, cs, cstep,
+                  ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
     n = pts.shape[0]
     nimg = spos.shape[0]
     ncol = ytr.shape[1]
@@ -396,7 +436,9 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     aim = np.empty(nimg)
     qs = np.empty(nimg, np.int64)
     rs = np.empty(nimg, np.int64)
-    coarse = np.empty(ncol + 2)
+    coarse = np.empty(ncol + 2 + BLOCK)
+    bmax = np.empty((ncol + 2 + BLOCK) // BLOCK + 1)
+    bmin = np.empty((ncol + 2 + BLOCK) // BLOCK + 1)
     cand_e0 = np.empty(ncol + 2 + 2 * nimg)
     cand_x0 = np.empty(ncol + 2 + 2 * nimg)
     cand_t0 = np.empty(ncol + 2 + 2 * nimg)
@@ -413,7 +455,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     g0 = 0j
     h0 = 0j
     if do_exp:
-        g0, h0 = _correlation_at(0.0, ctau, cs, g_coef, h_coef, cyend, m_g, m_h)
+        g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
     xtol = XTOL * big_h
     for i in range(n):
         x0 = pts[i, 0]
@@ -452,10 +494,10 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                     ak = complex(are[k], aim[k])
                     lag = delays[j] - delays[k]
                     if lag >= 0.0:
-                        g, hh = _correlation_at(lag, ctau, cs, g_coef, h_coef, cyend, m_g, m_h)
+                        g, hh = _correlation_at(lag, ctau, cs, cstep, ctable, cyend, m_g, m_h)
                         total += (aj * ak * g + aj * np.conj(ak) * hh).real
                     else:
-                        g, hh = _correlation_at(-lag, ctau, cs, g_coef, h_coef, cyend, m_g, m_h)
+                        g, hh = _correlation_at(-lag, ctau, cs, cstep, ctable, cyend, m_g, m_h)
                         total += (aj * ak * g + ak * np.conj(aj) * hh).real
             res[i, 4] = total
         else:
@@ -490,14 +532,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             ai = aim[j]
             for k in range(kk + 1):
                 coarse[k] += ar * seg_r[k] - ai * seg_i[k]
-        cmax = 0.0
-        cmin = 0.0
-        jump = 0.0
-        for k in range(kk + 1):
-            cmax = max(cmax, coarse[k])
-            cmin = min(cmin, coarse[k])
-            if k > 0:
-                jump = max(jump, abs(coarse[k] - coarse[k - 1]))
+        nb, cmax, cmin, jump = _coarse_stats(coarse, kk, bmax, bmin)
         vmax = max(cmax, -cmin)
         t_end = dmin + (kk - 1) * big_h  # the coarse samples cover [dmin, t_end]; the closed-form tail beyond
         slack = margin * vmax + 0.5 * h * slope * scale
@@ -510,7 +545,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         tail_done = False
         # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
         # so samples below these floors cannot come within the slack of the best estimate
-        nc0, top0, nc1, top1 = _scan(coarse, kk, cmax - 2.0 * slack - 0.125 * jump,
+        nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
                                      -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand_e0, cand_x0, cand_t0,
                                      cand_e1, cand_x1, cand_t1, cand_k0, cand_k1)
         for side in range(2):

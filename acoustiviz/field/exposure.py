@@ -24,20 +24,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import check_points
-from ..core.contact import HalfSinePulse, HertzPulse
 from ..core.images import Configuration
 from ..core.medium import AIR, Medium
-from ..core.radiation import hertz_response_table, pulse_response, sphere_pole
-from ._common import check_config, check_pulse
-from ._kernels import _njit
+from ..core.radiation import hertz_shape_pieces
+from ._common import check_config, check_pulse, pulse_args
+from ._kernels import _fill, _njit
 from .sources import chunk_geometry
 
 __all__ = ["PulseCorrelations", "pulse_correlations", "exposure"]
 
-#: Chebyshev panels over [0, T] and their degree; Gauss-Legendre nodes per smooth piece of Y.
+#: Chebyshev panels over [0, T] (at least; one per 2/|s| for long pulses) and their degree;
+#: Gauss-Legendre nodes per smooth piece of Y.
 _PANELS = 24
 _DEGREE = 16
 _GAUSS = 16
+#: The evaluation table: cubic Hermite nodes at spacing ``_HERMITE_STEP / |s|`` (interpolation
+#: error below ``(|s| h)^4 / 384`` of ``G``'s scale: 2.6e-11), at least 64 and at most 2^18 of them.
+_HERMITE_STEP = 0.01
+_HERMITE_NODES = (64, 2**18)
 
 
 @dataclass(frozen=True)
@@ -56,6 +60,11 @@ class PulseCorrelations:
         ``Y(T)`` in m/s.
     m_g, m_h : complex
         ``∫ Y(u) exp(s u) du`` and ``∫ Y(u) exp(s̄ u) du`` over ``u >= 0``, in m.
+    step : float
+        Spacing in s of the evaluation table's lags ``0, step, ..., T``.
+    table : (nodes, 4) complex ndarray
+        ``G``, ``step · G'``, ``H`` and ``step · H'`` at those lags, from the Chebyshev series, for
+        cubic Hermite interpolation (what the kernels evaluate; a few multiply-adds per lag).
     """
 
     duration: float
@@ -65,6 +74,8 @@ class PulseCorrelations:
     y_end: complex
     m_g: complex
     m_h: complex
+    step: float
+    table: np.ndarray
 
     def __call__(self, lag):
         """``G`` and ``H`` at lags ``lag >= 0`` in s, in (m/s)²·s."""
@@ -72,28 +83,41 @@ class PulseCorrelations:
         g = np.empty(lag.shape, complex)
         h = np.empty(lag.shape, complex)
         for i, d in enumerate(lag.ravel()):
-            g.flat[i], h.flat[i] = _correlation_at(d, self.duration, self.pole, self.g_coef, self.h_coef,
+            g.flat[i], h.flat[i] = _correlation_at(d, self.duration, self.pole, self.step, self.table,
                                                    self.y_end, self.m_g, self.m_h)
         return g, h
 
+    def series(self, lag):
+        """``G`` and ``H`` at lags ``0 <= lag <= T`` in s from the Chebyshev series (the table's source)."""
+        lag = np.atleast_1d(np.asarray(lag, dtype=float))
+        return _chebyshev_at(self.g_coef, self.duration, lag), _chebyshev_at(self.h_coef, self.duration, lag)
 
-def _smooth_breaks(pulse, s: complex) -> np.ndarray:
+
+def _chebyshev_at(coef: np.ndarray, tau: float, lag: np.ndarray, derivative: bool = False) -> np.ndarray:
+    """A piecewise Chebyshev series on the equal panels of ``[0, tau]`` (or its derivative) at ``lag``."""
+    npan = coef.shape[0]
+    pos = np.clip(lag / tau * npan, 0.0, npan)
+    p = np.minimum(pos.astype(np.int64), npan - 1)
+    x = 2.0 * (pos - p) - 1.0
+    out = np.empty(lag.shape, complex)
+    cheb = np.polynomial.chebyshev
+    for q in np.unique(p):
+        sel = p == q
+        c = cheb.chebder(coef[q]) * (2.0 * npan / tau) if derivative else coef[q]
+        out[sel] = cheb.chebval(x[sel], c)
+    return out
+
+
+def _smooth_breaks(pulse, s: complex, knots: np.ndarray) -> np.ndarray:
     """Points of ``[0, T]`` between which ``Y`` is smooth and well resolved by Gauss-Legendre."""
     tau = pulse.duration
     n = int(min(max(32, math.ceil(abs(s) * tau)), 4000))
     uniform = np.linspace(0.0, tau, n + 1)
-    if isinstance(pulse, HertzPulse):
-        knots = hertz_response_table(pulse, s)[0]
-    elif isinstance(pulse, HalfSinePulse):
-        knots = np.array([0.0, tau])
-    else:
-        knots = np.asarray(pulse.times, dtype=float)
     return np.unique(np.concatenate([uniform, knots]))
 
 
-def _gauss_on(breaks: np.ndarray):
-    """Gauss-Legendre nodes and weights on every interval between consecutive ``breaks``."""
-    x, w = np.polynomial.legendre.leggauss(_GAUSS)
+def _gauss_on(breaks: np.ndarray, x: np.ndarray, w: np.ndarray):
+    """Gauss-Legendre nodes ``x`` and weights ``w`` of [-1, 1] on every interval between consecutive ``breaks``."""
     lo, hi = breaks[:-1, None], breaks[1:, None]
     half = 0.5 * (hi - lo)
     return (lo + half * (x[None, :] + 1.0)).ravel(), (half * w[None, :]).ravel()
@@ -119,65 +143,90 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     -----
     On ``[0, T]``: ``G(Δ) = ∫_0^T Y(u) Y(u + Δ) du + Y(T)² exp(s Δ)/(-2 s)`` (and likewise ``H``
     with ``Ȳ`` and ``-(s + s̄)``), the integral by Gauss-Legendre (16 nodes) on the pieces between
-    the pulse's own knots, their shifts by ``-Δ`` and a grid of ``|s| T`` steps, evaluated at the
-    Chebyshev points of 24 panels (degree 16).
+    the pulse's own knots, their shifts by ``-Δ`` and a grid of ``|s| T`` steps, with the exact
+    ``Y`` of :func:`acoustiviz.field._kernels._y_at` (that of
+    :func:`acoustiviz.core.radiation.pulse_response`), evaluated at the Chebyshev points of 24
+    panels (more for pulses longer than ``48/|s|``) of degree 16; then tabulated with the
+    derivatives of the series for cubic Hermite interpolation (nodes ``0.01/|s|`` apart).
     """
     check_pulse(pulse)
-    s = sphere_pole(radius, medium)
+    args = pulse_args(pulse, radius, medium)
+    kind, xi, s = args[0], args[3], args[-1]
     tau = float(pulse.duration)
-    base = _smooth_breaks(pulse, s)
-    y_end = complex(pulse_response(pulse, np.array([tau]), radius=radius, medium=medium)[0])
-    xg, wg = _gauss_on(base)
-    yg = pulse_response(pulse, xg, radius=radius, medium=medium)
+
+    def y_at(u):
+        out = np.empty(u.size, complex)
+        _fill(out, np.ascontiguousarray(u, dtype=float).ravel(), *args)
+        return out
+
+    if kind == 0:
+        knots = np.array([0.0, tau])
+    elif kind == 2:  # the exact pulse's polynomial pieces (Y is smooth inside each; its Taylor knots are finer)
+        knots = hertz_shape_pieces()[0] * tau
+    else:
+        knots = np.asarray(xi, dtype=float)
+    base = _smooth_breaks(pulse, s, knots)
+    y_end = complex(y_at(np.array([tau]))[0])
+    gx, gw = np.polynomial.legendre.leggauss(_GAUSS)
+    xg, wg = _gauss_on(base, gx, gw)
+    yg = y_at(xg)
     sb = s.conjugate()
     m_g = complex(np.sum(wg * yg * np.exp(s * xg)) + y_end * np.exp(s * tau) / (-2.0 * s))
     m_h = complex(np.sum(wg * yg * np.exp(sb * xg)) + y_end * np.exp(sb * tau) / (-(s + sb)))
     cheb = np.cos(np.pi * (np.arange(_DEGREE + 1) + 0.5) / (_DEGREE + 1))  # Chebyshev points of [-1, 1]
-    width = tau / _PANELS
-    g_coef = np.empty((_PANELS, _DEGREE + 1), complex)
-    h_coef = np.empty((_PANELS, _DEGREE + 1), complex)
-    for p in range(_PANELS):
+    panels = max(_PANELS, int(math.ceil(abs(s) * tau / 2.0)))
+    width = tau / panels
+    g_coef = np.empty((panels, _DEGREE + 1), complex)
+    h_coef = np.empty((panels, _DEGREE + 1), complex)
+    for p in range(panels):
         lags = (p + 0.5 * (cheb + 1.0)) * width
         gv = np.empty(lags.size, complex)
         hv = np.empty(lags.size, complex)
         for i, lag in enumerate(lags):
             cuts = np.concatenate([base, base - lag])
             cuts = np.unique(cuts[(cuts >= 0.0) & (cuts <= tau)])
-            x, w = _gauss_on(cuts)
-            y0 = pulse_response(pulse, x, radius=radius, medium=medium)
-            y1 = pulse_response(pulse, x + lag, radius=radius, medium=medium)
+            x, w = _gauss_on(cuts, gx, gw)
+            y0 = y_at(x)
+            y1 = y_at(x + lag)
             gv[i] = np.sum(w * y0 * y1) + y_end**2 * np.exp(s * lag) / (-2.0 * s)
             hv[i] = np.sum(w * y0 * np.conj(y1)) + y_end * np.conj(y_end) * np.exp(sb * lag) / (-(s + sb))
         for vals, out in ((gv, g_coef), (hv, h_coef)):
             out[p] = np.polynomial.chebyshev.chebfit(cheb, vals.real, _DEGREE) + \
                 1j * np.polynomial.chebyshev.chebfit(cheb, vals.imag, _DEGREE)
-    return PulseCorrelations(tau, s, g_coef, h_coef, y_end, m_g, m_h)
+    nodes = int(min(max(math.ceil(abs(s) * tau / _HERMITE_STEP), _HERMITE_NODES[0]), _HERMITE_NODES[1]))
+    step = tau / nodes
+    lag = np.arange(nodes + 1) * step
+    table = np.empty((nodes + 1, 4), complex)
+    table[:, 0] = _chebyshev_at(g_coef, tau, lag)
+    table[:, 1] = step * _chebyshev_at(g_coef, tau, lag, derivative=True)
+    table[:, 2] = _chebyshev_at(h_coef, tau, lag)
+    table[:, 3] = step * _chebyshev_at(h_coef, tau, lag, derivative=True)
+    return PulseCorrelations(tau, s, g_coef, h_coef, y_end, m_g, m_h, step, table)
 
 
 @_njit(cache=True)
-def _correlation_at(lag, tau, s, g_coef, h_coef, y_end, m_g, m_h):  # pragma: no cover - compiled
-    """``G(lag)`` and ``H(lag)`` for one lag >= 0 in s."""
+def _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover - compiled
+    """``G(lag)`` and ``H(lag)`` for one lag >= 0 in s (cubic Hermite on the table, closed form after T)."""
     if lag >= tau:
         e = y_end * np.exp(s * (lag - tau))
         return e * m_g, np.conj(e) * m_h
-    npan, nc = g_coef.shape
-    p = min(int(lag / tau * npan), npan - 1)
-    x = 2.0 * (lag / tau * npan - p) - 1.0
-    # Clenshaw recurrences of both series
-    bg1 = 0j
-    bg2 = 0j
-    bh1 = 0j
-    bh2 = 0j
-    for k in range(nc - 1, 0, -1):
-        bg1, bg2 = 2.0 * x * bg1 - bg2 + g_coef[p, k], bg1
-        bh1, bh2 = 2.0 * x * bh1 - bh2 + h_coef[p, k], bh1
-    return x * bg1 - bg2 + g_coef[p, 0], x * bh1 - bh2 + h_coef[p, 0]
+    x = lag / step
+    i = min(int(x), table.shape[0] - 2)
+    t = x - i
+    u = 1.0 - t
+    h00 = (1.0 + 2.0 * t) * u * u
+    h10 = t * u * u
+    h01 = t * t * (3.0 - 2.0 * t)
+    h11 = -t * t * u
+    g = h00 * table[i, 0] + h10 * table[i, 1] + h01 * table[i + 1, 0] + h11 * table[i + 1, 1]
+    h = h00 * table[i, 2] + h10 * table[i, 3] + h01 * table[i + 1, 2] + h11 * table[i + 1, 3]
+    return g, h
 
 
 @_njit(cache=True)
-def _exposure_kernel(out, delays, are, aim, tau, s, g_coef, h_coef, y_end, m_g, m_h):  # pragma: no cover
+def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover
     n, nimg = delays.shape
-    g0, h0 = _correlation_at(0.0, tau, s, g_coef, h_coef, y_end, m_g, m_h)
+    g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
     for i in range(n):
         total = 0.0
         for j in range(nimg):
@@ -187,10 +236,10 @@ def _exposure_kernel(out, delays, are, aim, tau, s, g_coef, h_coef, y_end, m_g, 
                 ak = complex(are[i, k], aim[i, k])
                 lag = delays[i, j] - delays[i, k]
                 if lag >= 0.0:
-                    g, h = _correlation_at(lag, tau, s, g_coef, h_coef, y_end, m_g, m_h)
+                    g, h = _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h)
                     total += (aj * ak * g + aj * np.conj(ak) * h).real
                 else:
-                    g, h = _correlation_at(-lag, tau, s, g_coef, h_coef, y_end, m_g, m_h)
+                    g, h = _correlation_at(-lag, tau, s, step, table, y_end, m_g, m_h)
                     total += (aj * ak * g + ak * np.conj(aj) * h).real
         out[i] = total
 
@@ -234,7 +283,7 @@ def exposure(pulse, points, config: Configuration, *, medium: Medium = AIR, corr
         hi = min(lo + int(chunk), pts.shape[0])
         delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
         res = np.empty(hi - lo)
-        _exposure_kernel(res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.g_coef, corr.h_coef,
+        _exposure_kernel(res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table,
                          corr.y_end, corr.m_g, corr.m_h)
         res[inside] = np.nan
         out[lo:hi] = res

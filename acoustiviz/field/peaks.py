@@ -35,8 +35,7 @@ sinusoid, in closed form (the end point and the first two stationary points; lat
 ``exp(-π)`` smaller each), computed only when the bound ``Σ|a_j| |Y(T)| exp(Re(s) v)`` can beat
 the peak found. The
 exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
-same pass, with the geometry computed once per point (Chebyshev terms summing to less than 1e-15
-of the largest coefficient dropped). Times in s, pressures in Pa.
+same pass, with the geometry computed once per point. Times in s, pressures in Pa.
 
 Limits: the search is not a proof. It assumes that between the pulse starts and ends ``p`` has
 no two maxima within one coarse step (12 per ``min(T, a/c)`` by default) and ``p''`` changes sign
@@ -58,8 +57,8 @@ from ..constants import P_REF
 from ..core.images import Configuration
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
-from ._kernels import _y_at
-from ._peak_kernels import TAIL_STEPS, _fill, _peaks_kernel
+from ._kernels import _fill, _y_at
+from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from .exposure import PulseCorrelations, pulse_correlations
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
@@ -249,16 +248,9 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     yend = complex(_y_at(end, kind, amp, tau, xi, acc, yk, tab, s))
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
-        # trailing Chebyshev terms whose sum is below 1e-15 of the largest coefficient change G and H by
-        # less than that: drop them (fewer Clenshaw steps per pair of images)
-        mag = np.maximum(np.abs(corr.g_coef).max(axis=0), np.abs(corr.h_coef).max(axis=0))
-        tail = np.cumsum(mag[::-1])[::-1]  # tail[k] = sum of the terms from k on
-        keep = max(2, int(np.count_nonzero(tail > 1e-15 * mag.max())))
-        cargs = (corr.duration, corr.pole, np.ascontiguousarray(corr.g_coef[:, :keep]),
-                 np.ascontiguousarray(corr.h_coef[:, :keep]), corr.y_end, corr.m_g, corr.m_h)
+        cargs = (corr.duration, corr.pole, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
     else:
-        z = np.zeros((1, 1), complex)
-        cargs = (1.0, s, z, z, 0j, 0j, 0j)
+        cargs = (1.0, s, 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
     # piece of the Taylor table of Y holding the start of each of 4096 equal buckets of [0, end]
     if kind == 2:
         lut = np.searchsorted(xi, np.linspace(0.0, end, 4097), side="right") - 1
