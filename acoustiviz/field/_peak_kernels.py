@@ -1,8 +1,7 @@
-"""Numba kernels of :func:`acoustiviz.field.peaks.fast_peaks`: coarse pass, candidates, Newton on the closed form.
+"""Numba kernels of :func:`acoustiviz.field.peaks.fast_peaks`: geometry, exposure, coarse pass and candidates.
 
-``p``, ``p'`` and ``p''`` come from the exact ``Y`` of :mod:`acoustiviz.field._kernels` (the
-Hertz pulse's Taylor table differentiated term by term; the half-sine in closed form; a sampled
-pulse over its piecewise-linear form, ``Y' = s Y + A``). Times in s, pressures in Pa.
+The candidates are refined on the closed form by :mod:`acoustiviz.field._peak_refine`. Times in
+s, pressures in Pa.
 """
 
 from __future__ import annotations
@@ -11,7 +10,8 @@ import math
 
 import numpy as np
 
-from ._kernels import _njit, _y_at
+from ._kernels import _njit
+from ._peak_refine import _refine_bracket
 from .exposure import _correlation_at
 
 #: Newton stops when its step is below this fraction of the coarse step; the value is then that of
@@ -22,264 +22,6 @@ XTOL = 2e-3
 TAIL_STEPS = 24
 #: Coarse samples per block of :func:`_coarse_stats` (its unrolling assumes eight).
 BLOCK = 8
-
-
-@_njit(cache=True)
-def _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
-    """``Y``, ``Y'`` and ``Y''`` (m/s, m/s², m/s³) at one retarded time ``tr`` in s."""
-    if tr < 0.0:
-        return 0j, 0j, 0j
-    end = tau if kind == 0 else xi[xi.size - 1]
-    if tr >= end:
-        if kind == 0:
-            y = _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s)
-        elif kind == 1:
-            y = np.exp(s * (tr - end)) * yk[yk.size - 1]
-        else:
-            y = np.exp(s * (tr - end)) * yk[0]
-        return y, s * y, s * s * y
-    if kind == 2:
-        q = np.searchsorted(xi, tr, side="right") - 1
-        q = min(max(q, 0), xi.size - 2)
-        inv = acc[q]
-        u = (tr - xi[q]) * inv
-        nt = int(yk[1 + q].real)
-        y = tab[q, nt - 1]
-        d1 = 0j
-        d2 = 0j
-        for j in range(nt - 2, -1, -1):
-            d2 = d2 * u + d1
-            d1 = d1 * u + y
-            y = y * u + tab[q, j]
-        return y, d1 * inv, 2.0 * d2 * inv * inv
-    y = _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s)
-    if kind == 0:
-        w = math.pi / tau
-        a0 = amp * math.sin(w * tr)
-        a1 = amp * w * math.cos(w * tr)
-    else:
-        k = np.searchsorted(xi, tr, side="right") - 1
-        k = min(max(k, 0), xi.size - 2)
-        a1 = (acc[k + 1] - acc[k]) / (xi[k + 1] - xi[k])
-        a0 = acc[k] + a1 * (tr - xi[k])
-    y1 = s * y + a0
-    return y, y1, s * y1 + a1
-
-
-@_njit(cache=True)
-def _p_d2(t, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut):  # pragma: no cover - compiled
-    """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image."""
-    p = 0.0
-    p1 = 0.0
-    p2 = 0.0
-    end = xi[xi.size - 1]
-    lscale = (lut.size - 1) / end if kind == 2 else 0.0
-    for j in range(nimg):
-        tr = t - delays[j]
-        if kind == 2 and 0.0 <= tr < end:
-            # Re[a_j Y] is a real polynomial on the piece: Horner with its first two derivatives.
-            # The piece: lut[b] is the piece holding the start of bucket b, then a short scan
-            b = min(int(tr * lscale), lut.size - 2)
-            q = lut[b]
-            qe = lut[b + 1]
-            if qe - q > 8:
-                q = q + np.searchsorted(xi[q : qe + 1], tr, side="right") - 1
-            else:
-                while q < qe and xi[q + 1] <= tr:
-                    q += 1
-            q = min(max(q, 0), xi.size - 2)
-            inv = acc[q]
-            u = (tr - xi[q]) * inv
-            nt = int(yk[1 + q].real)
-            ar = are[j]
-            ai = aim[j]
-            y = ar * tab[q, nt - 1].real - ai * tab[q, nt - 1].imag
-            d1 = 0.0
-            d2 = 0.0
-            for m in range(nt - 2, -1, -1):
-                d2 = d2 * u + d1
-                d1 = d1 * u + y
-                y = y * u + (ar * tab[q, m].real - ai * tab[q, m].imag)
-            p += y
-            p1 += d1 * inv
-            p2 += 2.0 * d2 * inv * inv
-        elif tr < 0.0:
-            continue
-        elif kind == 2 and tr >= end:
-            # free decay: Re[a_j Y(T) e^{s x}], x = tr - T, and its derivatives, in real arithmetic
-            x = tr - end
-            e = math.exp(s.real * x)
-            cs = e * math.cos(s.imag * x)
-            sn = e * math.sin(s.imag * x)
-            wr = are[j] * yk[0].real - aim[j] * yk[0].imag
-            wi = are[j] * yk[0].imag + aim[j] * yk[0].real
-            v0r = wr * cs - wi * sn
-            v0i = wr * sn + wi * cs
-            v1r = s.real * v0r - s.imag * v0i
-            v1i = s.real * v0i + s.imag * v0r
-            p += v0r
-            p1 += v1r
-            p2 += s.real * v1r - s.imag * v1i
-        else:
-            y, y1, y2 = _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s)
-            p += are[j] * y.real - aim[j] * y.imag
-            p1 += are[j] * y1.real - aim[j] * y1.imag
-            p2 += are[j] * y2.real - aim[j] * y2.imag
-    return p, p1, p2
-
-
-@_njit(cache=True)
-def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
-                s, lut):  # pragma: no cover - compiled
-    """Largest ``sign · p`` near ``t0`` in ``[lo, hi]``: safeguarded Newton on ``p' = 0``; (value, time)."""
-    x = t0
-    best = -np.inf
-    tbest = t0
-    for _ in range(40):
-        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        v = sign * p
-        g = sign * p1
-        gp = sign * p2
-        if v > best:
-            best = v
-            tbest = x
-        if gp < 0.0:
-            step = -g / gp
-        else:
-            step = 0.25 * (hi - lo) if g > 0.0 else -0.25 * (hi - lo)
-        if abs(step) < xtol:
-            if gp < 0.0:
-                model = v - 0.5 * g * g / gp  # the Newton model's maximum, O(step³) from the true one
-                if model > best:
-                    best = model
-                    tbest = x + step
-            break
-        if g > 0.0:
-            lo = max(lo, x)
-        else:
-            hi = min(hi, x)
-        if hi - lo < xtol:
-            break
-        xn = x + step
-        if not (lo < xn < hi):
-            xn = 0.5 * (lo + hi)
-        x = xn
-    return best, tbest
-
-
-@_njit(cache=True)
-def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
-                    tab, s, lut):  # pragma: no cover - compiled
-    """Maximum of ``sign · p`` on ``[a, b]`` where ``sign · p'`` decreases from ``ga > 0`` to ``gb < 0``."""
-    x = a + ga * (b - a) / (ga - gb)  # Newton from the secant root, kept inside [a, b]
-    for _ in range(60):
-        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        v = sign * p
-        g = sign * p1
-        gp = sign * p2
-        if v > best:
-            best = v
-            tbest = x
-        if g > 0.0:
-            a = x
-        else:
-            b = x
-        step = -g / gp if gp < 0.0 else 0.5 * (a + b) - x
-        if abs(step) < xtol and gp < 0.0:
-            model = v - 0.5 * g * g / gp
-            if model > best:
-                best = model
-                tbest = x + step
-            break
-        if b - a < xtol:
-            break
-        xn = x + step
-        x = xn if a < xn < b else 0.5 * (a + b)
-    return best, tbest
-
-
-@_njit(cache=True)
-def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc,
-                  yk, tab, s, lut):  # pragma: no cover - compiled
-    """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
-
-    ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
-    sign at most once on the interval (its zero is found by the Illinois method and splits it), so
-    that ``p'`` is monotone on each part and has at most one zero there: a maximum, found by
-    safeguarded Newton, when ``p'`` goes from + to -. When ``sign · p`` is concave at both ends (so
-    on the whole interval) and the meeting point of its end tangents is below ``floor`` (a value
-    already reached elsewhere), no point of the interval can beat ``floor``: nothing is evaluated.
-    """
-    best, tbest = (sign * pl, lo) if sign * pl >= sign * pr else (sign * pr, hi)
-    if not hi > lo:
-        return best, tbest
-    fa, ga, fb, gb = sign * pl, sign * gl, sign * pr, sign * gr
-    if sign * cl < 0.0 and sign * cr < 0.0 and ga > 0.0 and gb < 0.0:
-        if fa + ga * (fb - fa - gb * (hi - lo)) / (ga - gb) < floor:
-            return best, tbest
-    if cl * cr < 0.0 and gl * gr > 0.0:  # p' may cross zero twice: split at the zero of p'' (Illinois)
-        a, fa, b, fb = lo, cl, hi, cr
-        side = 0
-        m = 0.5 * (lo + hi)
-        gm = 0.0
-        for _ in range(60):
-            m = b - fb * (b - a) / (fb - fa)
-            if not (a < m < b) and not (b < m < a):
-                m = 0.5 * (a + b)
-            pm, gm, cm = _p_d2(m, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-            if sign * pm > best:
-                best = sign * pm
-                tbest = m
-            if cm * fb < 0.0:
-                a, fa = b, fb
-                side = 0
-            else:
-                fa = 0.5 * fa if side == 1 else fa
-                side = 1
-            b, fb = m, cm
-            if abs(b - a) < xtol or cm == 0.0:
-                break
-        if sign * gl > 0.0 and sign * gm < 0.0:
-            best, tbest = _newton_segment(sign, lo, m, sign * gl, sign * gm, best, tbest, xtol, nimg, delays, are,
-                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        if sign * gm > 0.0 and sign * gr < 0.0:
-            best, tbest = _newton_segment(sign, m, hi, sign * gm, sign * gr, best, tbest, xtol, nimg, delays, are,
-                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-    elif sign * gl > 0.0 and sign * gr < 0.0:
-        best, tbest = _newton_segment(sign, lo, hi, sign * gl, sign * gr, best, tbest, xtol, nimg, delays, are, aim,
-                                      kind, amp, tau, xi, acc, yk, tab, s, lut)
-    return best, tbest
-
-
-@_njit(cache=True)
-def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
-                    s, lut):  # pragma: no cover - compiled
-    """Largest ``sign · p`` on ``[lo, hi]`` near ``t0``, split at the breakpoints ``bps`` inside (sorted).
-
-    Pieces that provably cannot beat ``floor`` (a value already reached) are not searched.
-    """
-    inside = 0
-    for b in bps:
-        if lo < b < hi:
-            inside += 1
-    if inside == 0:
-        return _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-    best = -np.inf
-    tbest = t0
-    a = lo
-    pa, ga, ca = _p_d2(a, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-    for q in range(bps.size + 1):
-        b = bps[q] if q < bps.size else hi
-        if q < bps.size and not (lo < b < hi):
-            continue
-        pb, gb, cb = _p_d2(b, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        v, tv = _refine_piece(sign, max(floor, best), a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim,
-                              kind, amp, tau, xi, acc, yk, tab, s, lut)
-        if v > best:
-            best = v
-            tbest = tv
-        a, pa, ga, ca = b, pb, gb, cb
-    return best, tbest
 
 
 @_njit(cache=True)
@@ -353,13 +95,13 @@ def _coarse_stats(coarse, kk, bmax, bmin):  # pragma: no cover - compiled
 
 
 @_njit(cache=True)
-def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, ce0, cx0, ct0, ce1, cx1, ct1, ck0,
-          ck1):  # pragma: no cover - compiled
+def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, cand):  # pragma: no cover - compiled
     """Coarse local maxima of ``p`` (above ``floor_p``) and of ``-p`` (above ``floor_n``), in one pass.
 
-    Only the blocks of :func:`_coarse_stats` reaching a floor are read. Each maximum gets its
-    parabolic estimate (``ce``), its sample time (``ct``) and a Newton start (``cx``); returns the
-    counts and the largest estimate of each sign.
+    Only the blocks of :func:`_coarse_stats` reaching a floor are read. Each maximum of sign
+    ``side`` (0: ``p``, 1: ``-p``) gets in ``cand[side, :, n]`` its parabolic estimate, its Newton
+    start, its sample time and ``-1`` (no breakpoint); returns the counts and the largest
+    estimate of each sign.
     """
     n0 = 0
     n1 = 0
@@ -382,18 +124,16 @@ def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, ce0, cx0, c
                         xs = 0.5 * (vm - vp) / den if den < 0.0 else 0.0
                         est = v0 - 0.25 * (vm - vp) * xs
                         x = dmin + (k + _cubic_start(coarse, k, kk, xs)) * big_h
-                        if sign > 0.0:
-                            ct0[n0] = dmin + k * big_h
-                            ce0[n0] = est
-                            cx0[n0] = x
-                            ck0[n0] = -1
+                        side = 0 if sign > 0.0 else 1
+                        q = n0 if side == 0 else n1
+                        cand[side, 0, q] = est
+                        cand[side, 1, q] = x
+                        cand[side, 2, q] = dmin + k * big_h
+                        cand[side, 3, q] = -1.0
+                        if side == 0:
                             n0 += 1
                             top0 = max(top0, est)
                         else:
-                            ct1[n1] = dmin + k * big_h
-                            ce1[n1] = est
-                            cx1[n1] = x
-                            ck1[n1] = -1
                             n1 += 1
                             top1 = max(top1, est)
     return n0, top0, n1, top1
@@ -439,14 +179,8 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     coarse = np.empty(ncol + 2 + BLOCK)
     bmax = np.empty((ncol + 2 + BLOCK) // BLOCK + 1)
     bmin = np.empty((ncol + 2 + BLOCK) // BLOCK + 1)
-    cand_e0 = np.empty(ncol + 2 + 2 * nimg)
-    cand_x0 = np.empty(ncol + 2 + 2 * nimg)
-    cand_t0 = np.empty(ncol + 2 + 2 * nimg)
-    cand_k0 = np.empty(ncol + 2 + 2 * nimg, np.int64)
-    cand_e1 = np.empty(ncol + 2 + 2 * nimg)
-    cand_x1 = np.empty(ncol + 2 + 2 * nimg)
-    cand_t1 = np.empty(ncol + 2 + 2 * nimg)
-    cand_k1 = np.empty(ncol + 2 + 2 * nimg, np.int64)
+    # candidates of each sign: estimate, Newton start, time, breakpoint's coarse index (or -1)
+    cand = np.empty((2, 4, ncol + 2 + 2 * nimg))
     done_lo = np.empty(ncol + 2 + 2 * nimg)
     done_hi = np.empty(ncol + 2 + 2 * nimg)
     bps = np.empty(2 * nimg)
@@ -546,40 +280,34 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
         # so samples below these floors cannot come within the slack of the best estimate
         nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
-                                     -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand_e0, cand_x0, cand_t0,
-                                     cand_e1, cand_x1, cand_t1, cand_k0, cand_k1)
+                                     -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand)
         for side in range(2):
             sign = 1.0 if side == 0 else -1.0
             best = 0.0  # p = 0 before the first arrival
             tbest = dmin
             ndone = 0
-            if side == 0:
-                cand_e, cand_x, cand_t, cand_k = cand_e0, cand_x0, cand_t0, cand_k0
-                nc, top = nc0, top0
-            else:
-                cand_e, cand_x, cand_t, cand_k = cand_e1, cand_x1, cand_t1, cand_k1
-                nc, top = nc1, top1
+            nc, top = (nc0, top0) if side == 0 else (nc1, top1)
             for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
                 k = int((b - dmin) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
                 if 0 < k < kk:
                     est = max(sign * coarse[k], sign * coarse[k + 1])
                     if est > 0.0:
-                        cand_t[nc] = b
-                        cand_e[nc] = est
-                        cand_x[nc] = b
-                        cand_k[nc] = k
+                        cand[side, 0, nc] = est
+                        cand[side, 1, nc] = b
+                        cand[side, 2, nc] = b
+                        cand[side, 3, nc] = k
                         nc += 1
             # refine, best estimate first, while an estimate can still beat the best refined value
             while nc > 0:
                 jb = 0
                 for q in range(1, nc):
-                    if cand_e[q] > cand_e[jb]:
+                    if cand[side, 0, q] > cand[side, 0, jb]:
                         jb = q
-                est = cand_e[jb]
+                est = cand[side, 0, jb]
                 if est + slack < best or est + slack < top - slack:
                     break
-                tk = cand_t[jb]
-                kb = cand_k[jb]
+                tk = cand[side, 2, jb]
+                kb = int(cand[side, 3, jb])
                 covered = False
                 if kb >= 0:
                     # a breakpoint's feature lies between the coarse samples kb and kb + 1: skip it when a
@@ -596,7 +324,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                     if kb >= 0:  # a breakpoint's feature: between its coarse neighbours
                         lo_b = dmin + kb * big_h
                         hi_b = dmin + (kb + 1) * big_h
-                    val, tv = _refine_bracket(sign, best, cand_x[jb], lo_b, hi_b, bps, xtol,
+                    val, tv = _refine_bracket(sign, best, cand[side, 1, jb], lo_b, hi_b, bps, xtol,
                                               nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
                     done_lo[ndone] = lo_b
                     done_hi[ndone] = hi_b
@@ -606,10 +334,8 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                         best = val
                         tbest = tv
                 nc -= 1
-                cand_t[jb] = cand_t[nc]
-                cand_e[jb] = cand_e[nc]
-                cand_x[jb] = cand_x[nc]
-                cand_k[jb] = cand_k[nc]
+                for f in range(4):
+                    cand[side, f, jb] = cand[side, f, nc]
             if tail_bound > best and not tail_tight:
                 tail_bound = 0.0
                 for j in range(nimg):
