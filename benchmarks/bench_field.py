@@ -190,7 +190,7 @@ def fast_peaks_table(quick: bool) -> None:
     print(f"peak (positive and negative) + SEL without a time loop (field.fast_peaks), wall-floor corner, {n:,} "
           f"points; CPU s of one thread (numba kernels, not parallel), best of 2; error against field_metrics "
           f"(refined peaks, exposure of field.exposure) on the first {nsub:,}")
-    hdr = (f"{'pulse':>10} {'setup s':>8} {'peak+SEL s':>11} {'points/s':>10} {'refined/pt':>10} "
+    hdr = (f"{'pulse':>10} {'setup s':>8} {'peak+SEL s':>11} {'total s':>8} {'points/s':>10} {'refined/pt':>10} "
            f"{'peak err':>9} {'above fm':>9} {'SEL err':>8} {'field_metrics s':>16}")
     print(hdr)
     print("-" * len(hdr))
@@ -211,8 +211,10 @@ def fast_peaks_table(quick: bool) -> None:
         above = int(np.sum((dpos > 1e-8) | (dneg > 1e-8)))  # field_metrics' sampled search took a lower maximum
         sel = float(np.max(np.abs(fp.exposure / field.exposure(pulse, pts[:nsub], cfg, correlations=corr) - 1)))
         refs = float(np.mean(fp.refinements))
-        print(f"{kind:>10} {setup:8.3f} {el:11.3f} {n / el:10.3e} {refs:10.2f} {err:9.1e} {above:9d} {sel:8.1e} "
-              f"{el_fm * n / nsub:15.1f}*")
+        print(f"{kind:>10} {setup:8.3f} {el:11.3f} {setup + el:8.3f} {n / el:10.3e} {refs:10.2f} {err:9.1e} "
+              f"{above:9d} {sel:8.1e} {el_fm * n / nsub:15.1f}*")
+    print("  setup: the pulse's tables (field.peak_table, field.pulse_correlations), once per pulse and "
+          "configuration; total = setup + peak+SEL")
     print("  * field_metrics time extrapolated from the subset; 'above fm': points where fast_peaks found a higher "
           "maximum than field_metrics (peak err then counts that difference)")
     print()

@@ -236,6 +236,44 @@ def test_exposure_without_a_time_grid_matches_quadrature(kind):
     assert np.isnan(field.exposure(pulse, [[0.0, 0.0, A]], cfg)[0])  # the sphere's centre is not in the fluid
 
 
+@pytest.mark.parametrize("kind", ["half-sine", "hertz"])
+def test_exposure_table_interpolates_its_series(kind):
+    # the kernels read G and H by cubic Hermite from a table of the Chebyshev series and its
+    # derivative; between the nodes they agree with the series to 1e-11 of G(0)
+    pulse = acceleration_pulse(IMPACT, kind)
+    corr = field.pulse_correlations(pulse, A)
+    lag = np.random.default_rng(3).uniform(0.0, pulse.duration, 400)
+    g, h = corr(lag)
+    gs, hs = corr.series(lag)
+    scale = abs(corr.series(0.0)[0][0])
+    assert np.max(np.abs(g - gs)) < 1e-11 * scale
+    assert np.max(np.abs(h - hs)) < 1e-11 * scale
+    # beyond the pulse the closed form continues the series (no step at lag = T)
+    g_t, h_t = corr(pulse.duration * (1 + 1e-12))
+    g_s, h_s = corr.series(pulse.duration)
+    assert abs(g_t[0] - g_s[0]) < 1e-10 * scale and abs(h_t[0] - h_s[0]) < 1e-10 * scale
+
+
+def test_exposure_of_a_long_pulse_matches_quadrature():
+    # a half-sine 90 times longer than a/c (|s| T = 127): the correlations need more panels than
+    # the paper's impact; the exposure on the plane against adaptive quadrature of p(t)^2
+    from scipy.integrate import quad
+
+    from acoustiviz.core.contact import HalfSinePulse
+
+    pulse = HalfSinePulse(200.0, 5e-3)
+    cfg = CONFIGS["plane"]
+    pts = np.array([[0.4, 0.1, 0.3], [0.05, 0.0, 0.01]])
+    got = field.exposure(pulse, pts, cfg)
+    for i, x in enumerate(pts):
+        d = field.source_geometry(x[None, :], cfg)[0][0]
+        cuts = np.unique(np.concatenate([np.linspace(d.min(), d.max() + pulse.duration + 50 * A / field.AIR.c, 400),
+                                         d, d + pulse.duration]))
+        ref = sum(quad(lambda t, x=x: _direct(pulse, [t], x[None, :], cfg)[0, 0] ** 2, a, b, epsabs=0,
+                       epsrel=1e-12, limit=200)[0] for a, b in zip(cuts[:-1], cuts[1:], strict=True))
+        assert abs(got[i] / ref - 1) < 1e-9
+
+
 def _fast_peak_points(cfg, n, seed):
     """Random points in the fluid, a quarter within 1.5 a of the sphere, a quarter within 2 mm of a plane."""
     rng = np.random.default_rng(seed)
