@@ -290,8 +290,63 @@ def hertz_response_table(pulse: HertzPulse, s: complex, *, split: int = 1, rtol:
     terms : (K,) ndarray of int
         Number of terms kept in each piece.
     """
-    tau = pulse.duration
     breaks, coef = hertz_shape_pieces()
+    return _response_table(breaks, coef, pulse.amplitude, pulse.duration, s, split, rtol)
+
+
+def half_sine_shape_pieces(pieces: int = 16, degree: int = 12):
+    """The half-sine ``sin(π x)``, ``0 <= x <= 1``, as polynomial pieces (Taylor series about each piece's start).
+
+    Parameters
+    ----------
+    pieces : int
+        Equal pieces.
+    degree : int
+        Polynomial degree: the truncation is below ``(π/pieces)^(degree+1)/(degree+1)!``
+        (1e-19 by default).
+
+    Returns
+    -------
+    breaks : (pieces + 1,) ndarray
+        Piece boundaries as fractions of the duration.
+    coef : (pieces, degree + 1) ndarray
+        Monomial coefficients in the local variable ``u ∈ [0, 1]`` of each piece.
+    """
+    breaks = np.linspace(0.0, 1.0, pieces + 1)
+    m = np.arange(degree + 1)
+    scale = np.array([(np.pi / pieces) ** j / math.factorial(j) for j in m])
+    coef = scale[None, :] * np.sin(np.pi * breaks[:-1, None] + 0.5 * np.pi * m[None, :])
+    return breaks, coef
+
+
+def half_sine_response_table(pulse: HalfSinePulse, s: complex, *, split: int = 1, rtol: float = 1e-19):
+    """Exact ``Y`` of a half-sine pulse as a Taylor polynomial on each piece (as :func:`hertz_response_table`).
+
+    The same representation as the exact Hertz pulse's (its closed form is
+    :func:`pulse_response`), for kernels that evaluate ``Y`` and its derivatives by Horner.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse
+        The pulse.
+    s : complex
+        The sphere's pole in 1/s.
+    split : int
+        Cut every piece into at least this many.
+    rtol : float
+        Terms below ``rtol · max|Y|`` at the end of a piece's series are dropped.
+
+    Returns
+    -------
+    knots, table, terms
+        As :func:`hertz_response_table`.
+    """
+    breaks, coef = half_sine_shape_pieces()
+    return _response_table(breaks, coef, pulse.amplitude, pulse.duration, s, split, rtol)
+
+
+def _response_table(breaks, coef, amp: float, tau: float, s: complex, split: int, rtol: float):
+    """Taylor table of ``Y' = s Y + A`` on polynomial pieces of ``A / amp`` (fractions of ``tau``)."""
     hmax = float(np.max(np.diff(breaks))) * tau
     m = max(int(split), math.ceil(abs(s) * hmax / _TAYLOR_STEP))
     breaks, coef = _split_pieces(breaks, coef, m)
@@ -302,7 +357,6 @@ def hertz_response_table(pulse: HertzPulse, s: complex, *, split: int = 1, rtol:
     hom = np.empty((n, nt), dtype=complex)  # Taylor terms of exp(s h u)
     par = np.zeros((n, nt), dtype=complex)  # of the particular solution with Y(t_k) = 0
     hom[:, 0] = 1.0
-    amp = pulse.amplitude
     for j in range(nt - 1):
         hom[:, j + 1] = h * s * hom[:, j] / (j + 1)
         force = amp * coef[:, j] if j <= deg else 0.0

@@ -11,7 +11,7 @@ from ..constants import P_REF
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import Configuration
 from ..core.medium import AIR, Medium
-from ..core.radiation import _knot_states, hertz_response_table, sphere_pole
+from ..core.radiation import _knot_states, half_sine_response_table, hertz_response_table, sphere_pole
 
 __all__ = ["DEFAULT_CUTOFF", "DEFAULT_MEMORY_LIMIT", "P_REF", "MODEL_NAMES", "decay_time", "default_sample_interval"]
 
@@ -41,10 +41,13 @@ def check_config(config):
     return config
 
 
-def pulse_args(pulse, radius: float, medium: Medium):
-    """Flatten a pulse into the kernel's arguments."""
+def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False):
+    """Flatten a pulse into the kernel's arguments (``taylor``: the half-sine as a Taylor table too)."""
     s = sphere_pole(radius, medium)
     notab = np.zeros((1, 1), complex)
+    if isinstance(pulse, HalfSinePulse) and taylor:  # kind 2, as the Hertz pulse: Horner instead of exp/sin/cos
+        knots, tab, terms = half_sine_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
+        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), np.array([tab[-1].sum(), *terms]), tab, s
     if isinstance(pulse, HalfSinePulse):
         empty = np.zeros(2)
         return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), notab, s

@@ -19,9 +19,10 @@ The peaks of ``p`` are found in three steps:
    rounding) of the best estimate are refined, best first, until no remaining estimate can beat
    the best refined value. Newton starts at the maximum of the cubic through four coarse samples.
 3. **Refinement on the closed form.** A safeguarded Newton iteration on ``p'(t) = 0`` within one
-   coarse step either side, with ``p``, ``p'`` and ``p''`` from the exact ``Y`` (the exact Hertz
-   pulse's Taylor table, :func:`acoustiviz.core.radiation.hertz_response_table`; the half-sine in
-   closed form; a sampled pulse over its piecewise-linear form), to ``2e-3`` of a coarse step, the
+   coarse step either side, with ``p``, ``p'`` and ``p''`` from the exact ``Y`` (Taylor tables of
+   the exact Hertz pulse and of the half-sine, :func:`acoustiviz.core.radiation.hertz_response_table`
+   and :func:`~acoustiviz.core.radiation.half_sine_response_table`, exact to about 1e-15, evaluated
+   by Horner; a sampled pulse over its piecewise-linear form), to ``2e-3`` of a coarse step, the
    value then being the Newton model's (``O(step³ p''')`` from the maximum, about 1e-11 relative).
    An interval holding the start or end of an image's pulse (where ``p''`` may jump) is split
    there; each piece is searched on its own. Where the pulse starts or ends at a non-zero
@@ -243,7 +244,8 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     if not (margin >= 0.0 and math.isfinite(margin)):
         raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
     tb = peak_table(pulse, config, medium=medium) if table is None else table
-    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium)
+    # the refinement evaluates Y, Y' and Y'' of the half-sine and the Hertz pulse from Taylor tables
+    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium, taylor=True)
     end = float(pulse.duration) if kind == 0 else float(xi[-1])
     yend = complex(_y_at(end, kind, amp, tau, xi, acc, yk, tab, s))
     if exposure:
