@@ -20,6 +20,9 @@ XTOL = 2e-3
 #: Coarse steps sampled after the last pulse ends (about 2 a/c at 12 per a/c): the free decay's
 #: bound beyond them is mostly below the peaks, so its closed-form extremes are rarely needed.
 TAIL_STEPS = 24
+#: A coarse candidate within NEAR + 1 coarse steps of a pulse's start or end has its bracket
+#: widened to NEAR steps either side of it (split there, each side searched).
+NEAR = 2.0
 #: Coarse samples per block of :func:`_coarse_stats` (its unrolling assumes eight).
 BLOCK = 8
 
@@ -324,6 +327,14 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                     if kb >= 0:  # a breakpoint's feature: between its coarse neighbours
                         lo_b = dmin + kb * big_h
                         hi_b = dmin + (kb + 1) * big_h
+                    else:
+                        # p is only C¹ at a pulse's start or end: maxima on either side of one may be
+                        # closer than a coarse step (the samples then show one hump): near a
+                        # breakpoint, both sides are searched out to NEAR coarse steps from it
+                        for b in bps:
+                            if abs(b - tk) < (NEAR + 1.0) * big_h:
+                                lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
+                                hi_b = max(hi_b, b + NEAR * big_h)
                     val, tv = _refine_bracket(sign, best, cand[side, 1, jb], lo_b, hi_b, bps, xtol,
                                               nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
                     done_lo[ndone] = lo_b
