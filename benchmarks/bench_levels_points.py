@@ -28,7 +28,6 @@ from _timing import best_of
 from acoustiviz.app.impacts import impact_setup
 from acoustiviz.app.views import (
     directivity_angles,
-    impact_sound,
     points_metric_levels,
     reference_metric_levels,
 )

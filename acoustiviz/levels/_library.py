@@ -9,7 +9,11 @@ signatures:
 * ``time_weighting(x, fs, mode)`` -- the exponentially averaged square (``"fast"``, ``"slow"``,
   ``"impulse"``);
 * ``OctaveFilterBank(fs, fraction, order, limits)`` -- a fractional-octave bank with public
-  ``freq``, ``nominal_freq``, ``sos`` and ``factor`` (per-band decimation factor) attributes.
+  ``freq``, ``nominal_freq``, ``sos`` and ``factor`` (per-band decimation factor) attributes;
+* ``WeightingFilter(fs, curve)``, where present -- the weighting's second-order sections
+  (``sos``), used only once they are shown to reproduce ``weighting_filter``
+  (:func:`weighting_sos`), so a transient's levels can be run over its sound alone
+  (:mod:`.transient`).
 
 The library is imported on first use (it pulls in SciPy's signal module and, if present,
 numba), so ``import acoustiviz`` stays light.

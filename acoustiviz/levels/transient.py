@@ -9,7 +9,7 @@ those samples are the very samples :func:`sound_levels` computes. After them the
 the filter's free response from its final state ``s``; its energy over the rest of the interval,
 ``H`` samples, is ``sᵀ G_H s`` with the finite-horizon observability Gramian
 
-``G_H = G - (Φ^H)ᵀ G Φ^H``,  ``G = Φᵀ G Φ + cᵀ c``  (discrete Lyapunov equation),
+``G_H = Σ_{j<H} (Φ^j)ᵀ cᵀ c Φ^j``  (summed by doubling, ``G_{a+b} = G_a + (Φ^a)ᵀ G_b Φ^a``),
 
 where ``Φ`` and ``c`` are the sections' state transition and output under zero input. So:
 
@@ -49,11 +49,11 @@ _TIME_MODES = {"lafmax": "fast", "lasmax": "slow"}
 
 @functools.lru_cache(maxsize=16)
 def _system(sample_rate: int, curve: str):
-    """``(sos, Φ, c, G)`` of the library's ``curve`` weighting at ``sample_rate``, or ``None``.
+    """``(sos, Φ, c)`` of the library's ``curve`` weighting at ``sample_rate``, or ``None``.
 
-    The state is scipy's ``sosfilt`` ``zi`` of one channel, ``(n_sections, 2)`` flattened.
+    The state is scipy's ``sosfilt`` ``zi`` of one channel, ``(n_sections, 2)`` flattened; under
+    zero input the output is ``c · s`` and the next state ``Φ s``.
     """
-    from scipy.linalg import solve_discrete_lyapunov
     from scipy.signal import sosfilt
 
     sos = weighting_sos(sample_rate, curve)
@@ -64,11 +64,26 @@ def _system(sample_rate: int, curve: str):
     n = 2 * n_sec
     zi = np.eye(n).reshape(n, n_sec, 2).transpose(1, 0, 2)  # channel j starts in basis state j
     y, zf = sosfilt(sos, np.zeros((n, 1)), axis=-1, zi=zi)
-    c = y[:, 0].copy()
     phi = zf.transpose(1, 0, 2).reshape(n, n).T  # column j: the state after one step from state j
-    gram = solve_discrete_lyapunov(phi.T, np.outer(c, c))
-    gram = 0.5 * (gram + gram.T)
-    return sos, phi, c, gram
+    return sos, phi, y[:, 0].copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _gramian(sample_rate: int, curve: str, horizon: int) -> np.ndarray:
+    """``G_H = Σ_{j<H} (Φ^j)ᵀ cᵀ c Φ^j`` by doubling (``G_{a+b} = G_a + (Φ^a)ᵀ G_b Φ^a``): sums of squares only."""
+    _, phi, c = _system(sample_rate, curve)
+    g_block, p_block = np.outer(c, c), phi  # G and Φ of 2^k steps
+    g, p = np.zeros_like(g_block), np.eye(phi.shape[0])  # G and Φ of the steps summed so far
+    h = int(horizon)
+    while h:
+        if h & 1:
+            g = g + p.T @ g_block @ p
+            p = p_block @ p
+        h >>= 1
+        if h:
+            g_block = g_block + p_block.T @ g_block @ p_block
+            p_block = p_block @ p_block
+    return 0.5 * (g + g.T)
 
 
 def free_response_energy(sample_rate: int, curve: str, state, horizon: int) -> np.ndarray:
@@ -99,17 +114,15 @@ def free_response_energy(sample_rate: int, curve: str, state, horizon: int) -> n
     if system is None:
         raise ParameterError("sample_rate", f"the {curve} weighting of the filter library at {sample_rate} Hz "
                                             "is not a plain cascade of sections")
-    sos, phi, _, gram = system
+    n_sec = system[0].shape[0]
     z = np.asarray(state, dtype=float)
-    if z.ndim != 3 or z.shape[0] != sos.shape[0] or z.shape[2] != 2:
-        raise ParameterError("state", f"expected ({sos.shape[0]}, k, 2) as sosfilt's zf, got shape {z.shape}")
+    if z.ndim != 3 or z.shape[0] != n_sec or z.shape[2] != 2:
+        raise ParameterError("state", f"expected ({n_sec}, k, 2) as sosfilt's zf, got shape {z.shape}")
     s = z.transpose(1, 0, 2).reshape(z.shape[1], -1)
     h = int(horizon)
     if h <= 0:
         return np.zeros(s.shape[0])
-    late = np.linalg.matrix_power(phi, h)
-    g = gram - late.T @ gram @ late
-    return np.maximum(np.einsum("ki,ij,kj->k", s, g, s), 0.0)
+    return np.maximum(np.einsum("ki,ij,kj->k", s, _gramian(int(sample_rate), curve, h), s), 0.0)
 
 
 def _run(curve: str, fs: int, x: np.ndarray, stop: int, n_samples: int):
@@ -124,7 +137,7 @@ def _run(curve: str, fs: int, x: np.ndarray, stop: int, n_samples: int):
 
 @functools.lru_cache(maxsize=8)
 def _alpha(fs: int, mode: str):
-    """The library's ``α`` of the ``mode`` time weighting at ``fs``, or ``None`` if not ``v[n] = (1-α) v[n-1] + α x²``."""
+    """The library's ``α`` of the ``mode`` time weighting at ``fs``: ``v[n] = (1-α) v[n-1] + α x²``, else ``None``."""
     v = np.asarray(library().time_weighting(np.array([1.0, 0.0, 0.0, 0.0]), fs, mode=mode), dtype=float)
     a = float(v[0])
     ok = 0.0 < a < 1.0 and np.allclose(v[1:], a * (1.0 - a) ** np.arange(1, 4), rtol=1e-12, atol=0.0)
