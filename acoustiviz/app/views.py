@@ -23,8 +23,8 @@ from ..levels import METRICS
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
            "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
-           "impact_signals", "metric_label", "directivity_metric_figure", "point_levels", "BALLOON_METRICS",
-           "balloon_levels"]
+           "impact_signals", "impact_sound", "points_metric_levels", "reference_metric_levels", "metric_label",
+           "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
 #: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
 #: the weighted levels of :data:`acoustiviz.levels.METRICS`.
@@ -122,6 +122,30 @@ def directivity_angles(config, step_deg: float) -> np.ndarray:
     return np.radians(deg)
 
 
+def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: float):
+    """The oversampled times of :func:`impact_signals` and what decimates them.
+
+    Returns ``(points, t, L, h, K, n_sound, n_out)``: the ``(k, 3)`` points in m, the times in s at
+    ``L × sample_rate`` from the earliest arrival (rounded down to the output grid) to the end of the
+    latest sound, the decimation filter ``h`` (``2KL + 1`` taps), the output samples of sound and
+    of the whole interval.
+    """
+    from ..output.audio import decimation_filter, oversampling_factor
+
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    spans = np.array([waveform_span(pulse, p, config, medium=medium) for p in pts])
+    L = oversampling_factor(sample_rate, pulse.duration)
+    h = decimation_filter(L)
+    K = (h.size - 1) // (2 * L)
+    t0 = np.floor(spans[:, 0].min() * sample_rate) / sample_rate
+    n_out = int(round(interval * sample_rate))
+    n_sound = int(np.ceil((spans[:, 1].max() - t0) * sample_rate)) + 1
+    if n_sound + K >= n_out:
+        raise ParameterError("interval", f"must exceed the sound of one impact ({(n_sound + K) / sample_rate:g} s)")
+    t = t0 + np.arange(n_sound * L) / (L * sample_rate)
+    return pts, t, L, h, K, n_sound, n_out
+
+
 def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
                    interval: float = LEVEL_INTERVAL) -> np.ndarray:
     """Pressure of one impact at each point, band-limited and sampled at ``sample_rate`` over ``interval``.
@@ -156,24 +180,125 @@ def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS
     from scipy.signal import upfirdn
 
     from ..field import time_series
-    from ..output.audio import decimation_filter, oversampling_factor
 
-    pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    spans = np.array([waveform_span(pulse, p, config, medium=medium) for p in pts])
-    L = oversampling_factor(sample_rate, pulse.duration)
-    h = decimation_filter(L)
-    K = (h.size - 1) // (2 * L)
-    t0 = np.floor(spans[:, 0].min() * sample_rate) / sample_rate
-    n_out = int(round(interval * sample_rate))
-    n_sound = int(np.ceil((spans[:, 1].max() - t0) * sample_rate)) + 1
-    if n_sound + K >= n_out:
-        raise ParameterError("interval", f"must exceed the sound of one impact ({(n_sound + K) / sample_rate:g} s)")
-    t = t0 + np.arange(n_sound * L) / (L * sample_rate)
+    pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, config, medium, sample_rate, interval)
     hi = time_series(pulse, t, pts, config, medium=medium)
     low = upfirdn(h, hi, up=1, down=L, axis=1)[:, K:K + n_sound + K]
     out = np.zeros((pts.shape[0], n_out))
     out[:, :low.shape[1]] = low
     return out
+
+
+def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
+                 interval: float = LEVEL_INTERVAL) -> tuple[np.ndarray, int]:
+    """The samples of :func:`impact_signals` up to the end of the sound, and the interval's length.
+
+    The same oversampled closed form and decimation filter, the filter applied by FFT convolution
+    (equal to :func:`impact_signals`' direct sums to ~1e-14 of the peak) and only the output
+    samples before the zeros computed.
+
+    Parameters
+    ----------
+    pulse, points, config, medium, sample_rate, interval
+        As for :func:`impact_signals`.
+
+    Returns
+    -------
+    sound : (k, n_sound) ndarray
+        Pressure in Pa: the first ``n_sound`` samples of :func:`impact_signals` (all later ones are 0).
+    n_samples : int
+        ``round(interval × sample_rate)``, the length of :func:`impact_signals`' rows.
+    """
+    from scipy.signal import fftconvolve
+
+    from ..field import time_series
+
+    pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, config, medium, sample_rate, interval)
+    hi = time_series(pulse, t, pts, config, medium=medium)
+    full = fftconvolve(hi, h[None, :], axes=1)  # output j of the decimation is full[:, j L]
+    return np.ascontiguousarray(full[:, K * L:(2 * K + n_sound) * L:L]), n_out
+
+
+def _groups(n: int, chunk):
+    """Slices of ``n`` points taken together: all at once (``chunk`` None) or ``chunk`` at a time."""
+    step = n if chunk is None else int(chunk)
+    return [slice(lo, lo + step) for lo in range(0, n, max(step, 1))]
+
+
+def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None) -> dict:
+    """Weighted levels of one impact at each point: :func:`reference_metric_levels` from the sound alone.
+
+    The points are taken ``chunk`` at a time, as by the reference (sample 0 of a chunk is its
+    earliest arrival); each chunk's sound (:func:`impact_sound`) is computed once for all
+    ``metrics`` and its levels over :data:`LEVEL_INTERVAL` come from
+    :func:`acoustiviz.levels.transient.transient_levels`, which filters the sound and a settling
+    stretch only and adds the exact energy (or a rigorous bound) of the filters' free response over
+    the rest of the interval.
+
+    Parameters
+    ----------
+    metrics : sequence of str
+        Keys of :data:`acoustiviz.levels.METRICS`.
+    pulse, config, medium
+        The impact, sphere and fluid.
+    points : (k, 3) array_like
+        Observers in m.
+    chunk : int, optional
+        Points whose signals share one time grid (default: all).
+
+    Returns
+    -------
+    dict
+        Metric -> ``(k,)`` level in dB re 20 µPa (exposure levels re (20 µPa)²·s).
+    """
+    from ..levels.transient import transient_levels
+
+    names = _check_metrics(metrics)
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    out = {m: np.empty(pts.shape[0]) for m in names}
+    for g in _groups(pts.shape[0], chunk):
+        sound, n_out = impact_sound(pulse, pts[g], config, medium)
+        for m, v in transient_levels(sound, ANALYSIS_RATE, n_out, names).items():
+            out[m][g] = v
+    return out
+
+
+def reference_metric_levels(metrics, pulse, points, config, medium, *, chunk=None) -> dict:
+    """The same levels as :func:`points_metric_levels`, straight from the definition.
+
+    :func:`impact_signals` at :data:`~acoustiviz.constants.ANALYSIS_RATE` over the whole
+    :data:`LEVEL_INTERVAL` (``chunk`` points at a time, default all), then
+    :func:`acoustiviz.levels.sound_levels` over all its samples: the computation the fast path is
+    checked against.
+
+    Parameters
+    ----------
+    metrics, pulse, points, config, medium, chunk
+        As for :func:`points_metric_levels`.
+
+    Returns
+    -------
+    dict
+        Metric -> ``(k,)`` level in dB.
+    """
+    from ..levels import sound_levels
+
+    names = _check_metrics(metrics)
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    out = {m: np.empty(pts.shape[0]) for m in names}
+    for g in _groups(pts.shape[0], chunk):
+        lv = sound_levels(impact_signals(pulse, pts[g], config, medium), ANALYSIS_RATE)
+        for m in names:
+            out[m][g] = getattr(lv, METRICS[m])
+    return out
+
+
+def _check_metrics(metrics) -> list:
+    names = [metrics] if isinstance(metrics, str) else list(metrics)
+    for m in names:
+        if m not in METRICS:
+            raise ParameterError("metric", f"must be one of {', '.join(METRICS)}, got {m!r}")
+    return names
 
 
 def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.ndarray:
@@ -186,10 +311,11 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
     metric : str
         A key of :data:`DIRECTIVITY_METRICS`: ``"peak-spl"`` (its peak SPL), ``"rms"`` (the level of
         its RMS pressure over its window), or a weighted level of :data:`acoustiviz.levels.METRICS`
-        (``"lcpeak"``, ``"lafmax"``, ``"laeq"``, ``"sel-a"``, ...), computed by
-        :func:`acoustiviz.levels.metric_levels` from :func:`impact_signals` at
+        (``"lcpeak"``, ``"lafmax"``, ``"laeq"``, ``"sel-a"``, ...): the levels
+        :func:`acoustiviz.levels.sound_levels` gives of :func:`impact_signals` at
         :data:`~acoustiviz.constants.ANALYSIS_RATE` over :data:`LEVEL_INTERVAL` (1 s from the first
-        arrival: LAeq,1s of one impact, numerically equal to its SEL(A)).
+        arrival at any angle: LAeq,1s of one impact, numerically equal to its SEL(A)), computed by
+        :func:`points_metric_levels` from the sound alone.
     pulse, config, medium
         The impact, sphere and fluid of the directivity.
 
@@ -198,8 +324,6 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
     (k,) ndarray
         dB re 20 µPa (exposure levels re (20 µPa)²·s).
     """
-    from ..levels import metric_levels
-
     if metric not in DIRECTIVITY_METRICS:
         raise ParameterError("metric", f"must be one of {', '.join(DIRECTIVITY_METRICS)}, got {metric!r}")
     if metric == "peak-spl":
@@ -207,8 +331,7 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
     if metric == "rms":
         with np.errstate(divide="ignore"):
             return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
-    p = impact_signals(pulse, directivity.points, config, medium)
-    return metric_levels(p, ANALYSIS_RATE, metric)
+    return points_metric_levels([metric], pulse, directivity.points, config, medium)[metric]
 
 
 def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
@@ -218,31 +341,25 @@ def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
     ----------
     metric : str
         A key of :data:`acoustiviz.levels.METRICS` (``"lcpeak"``, ``"lafmax"``, ``"laeq"``,
-        ``"sel-a"``, ...): computed as for :func:`directivity_metric`, from :func:`impact_signals`
-        at :data:`~acoustiviz.constants.ANALYSIS_RATE` over :data:`LEVEL_INTERVAL`.
+        ``"sel-a"``, ...): computed as for :func:`directivity_metric`, by
+        :func:`points_metric_levels` (the levels of :func:`impact_signals` at
+        :data:`~acoustiviz.constants.ANALYSIS_RATE` over :data:`LEVEL_INTERVAL`).
     pulse, config, medium
         The impact, sphere and fluid.
     chunk : int
-        Points rendered at once (bounds the memory: ``chunk × ANALYSIS_RATE × LEVEL_INTERVAL``
-        samples, 49 MB at 64 points).
+        Points whose signals share one time grid (sample 0 at the chunk's earliest arrival); it
+        bounds the memory to ``chunk`` oversampled sounds.
 
     Returns
     -------
     function, label : callable, str
         ``function(points)`` gives the level in dB at ``(k, 3)`` points in m; ``label`` its name and unit.
     """
-    from ..levels import metric_levels
-
     if metric not in METRICS:
         raise ParameterError("metric", f"must be one of {', '.join(METRICS)}, got {metric!r}")
 
     def function(points):
-        pts = np.asarray(points, dtype=float).reshape(-1, 3)
-        out = np.empty(pts.shape[0])
-        for lo in range(0, pts.shape[0], chunk):
-            sub = pts[lo:lo + chunk]
-            out[lo:lo + chunk] = metric_levels(impact_signals(pulse, sub, config, medium), ANALYSIS_RATE, metric)
-        return out
+        return points_metric_levels([metric], pulse, points, config, medium, chunk=chunk)[metric]
 
     return function, metric_label(metric)
 

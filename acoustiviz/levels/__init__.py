@@ -5,6 +5,8 @@ a damper run at a listener, a WAV read back with its calibration, a design of a 
 of a directivity alike. Nothing here writes files.
 
 * :mod:`.weighted` -- LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) (IEC 61672-1);
+* :mod:`.transient` -- the same levels of a signal silent after its first samples, from those
+  samples and the filters' exact free response (one click over 1 s);
 * :mod:`.bands` -- 1/3-octave band Leq and LFmax (IEC 61260-1 filters);
 * :mod:`.hearing` -- ISO 532-1 loudness (N5, Nmax) and DIN 45692 sharpness (optional mosqito);
 * :mod:`.energy` -- sound energy of one impact (closed form and spherical-grid intensity),
@@ -27,6 +29,7 @@ from .energy import (
     surface_work_free,
 )
 from .hearing import Loudness, loudness, loudness_available
+from .transient import transient_levels
 from .weighted import LEVEL_COLUMNS, METRICS, SoundLevels, level_db, metric_levels, sound_levels, weighted
 
 __all__ = [
@@ -50,5 +53,6 @@ __all__ = [
     "sound_power",
     "surface_work_free",
     "third_octave_levels",
+    "transient_levels",
     "weighted",
 ]

@@ -9,7 +9,11 @@ signatures:
 * ``time_weighting(x, fs, mode)`` -- the exponentially averaged square (``"fast"``, ``"slow"``,
   ``"impulse"``);
 * ``OctaveFilterBank(fs, fraction, order, limits)`` -- a fractional-octave bank with public
-  ``freq``, ``nominal_freq``, ``sos`` and ``factor`` (per-band decimation factor) attributes.
+  ``freq``, ``nominal_freq``, ``sos`` and ``factor`` (per-band decimation factor) attributes;
+* ``WeightingFilter(fs, curve)``, where present -- the weighting's second-order sections
+  (``sos``), used only once they are shown to reproduce ``weighting_filter``
+  (:func:`weighting_sos`), so a transient's levels can be run over its sound alone
+  (:mod:`.transient`).
 
 The library is imported on first use (it pulls in SciPy's signal module and, if present,
 numba), so ``import acoustiviz`` stays light.
@@ -21,7 +25,7 @@ import functools
 from importlib import metadata
 from types import SimpleNamespace
 
-__all__ = ["library", "backend"]
+__all__ = ["library", "backend", "weighting_sos"]
 
 
 @functools.lru_cache(maxsize=1)
@@ -46,7 +50,49 @@ def library() -> SimpleNamespace:
     except metadata.PackageNotFoundError:  # pragma: no cover - a source checkout
         version = getattr(lib, "__version__", "?")
     return SimpleNamespace(weighting_filter=lib.weighting_filter, time_weighting=lib.time_weighting,
-                           OctaveFilterBank=lib.OctaveFilterBank, name=f"{dist} {version}")
+                           OctaveFilterBank=lib.OctaveFilterBank,
+                           WeightingFilter=getattr(lib, "WeightingFilter", None), name=f"{dist} {version}")
+
+
+@functools.lru_cache(maxsize=16)
+def weighting_sos(sample_rate: int, curve: str):
+    """The second-order sections the library's ``weighting_filter(x, sample_rate, curve)`` runs, or ``None``.
+
+    Taken from the library's ``WeightingFilter`` and accepted only if ``scipy.signal.sosfilt`` with
+    them, from rest, reproduces the library's own ``weighting_filter`` on a probe signal (4096
+    samples of seeded white noise) to 1e-12 of its largest value: so not where the library
+    resamples internally (below 96 kHz) or where it has no such class.
+
+    Parameters
+    ----------
+    sample_rate : int
+        Sample rate in Hz.
+    curve : {"A", "C"}
+        The frequency weighting.
+
+    Returns
+    -------
+    (n_sections, 6) ndarray or None
+        The sections (``b0 b1 b2 a0 a1 a2``) at ``sample_rate``.
+    """
+    import numpy as np
+    from scipy.signal import sosfilt
+
+    lib = library()
+    if lib.WeightingFilter is None:
+        return None
+    try:
+        sos = np.array(lib.WeightingFilter(int(sample_rate), curve).sos, dtype=float)
+    except Exception:  # pragma: no cover - a library whose class takes other arguments
+        return None
+    if sos.ndim != 2 or sos.shape[1] != 6 or sos.shape[0] == 0:
+        return None
+    probe = np.random.default_rng(61672).standard_normal(4096)
+    ref = np.asarray(lib.weighting_filter(probe, int(sample_rate), curve), dtype=float)
+    mine = sosfilt(sos, probe)
+    if ref.shape != mine.shape or not np.max(np.abs(mine - ref)) <= 1e-12 * np.max(np.abs(ref)):
+        return None
+    return sos
 
 
 def backend() -> str:
