@@ -391,3 +391,16 @@ def test_fast_peaks_a_pulse_that_ends_abruptly():
     agree = (np.abs(fp.peak_positive - fm.peak_positive) <= 1e-8 * scale) & \
         (np.abs(fp.peak_negative - fm.peak_negative) <= 1e-8 * scale)
     assert agree.mean() > 0.95
+
+
+def test_waveform_spans_are_the_spans_of_each_point():
+    cfg = CONFIGS["corner"]
+    pulse = acceleration_pulse(IMPACT, "hertz")
+    pts = _points(cfg, n=12, seed=4)
+    spans = field.waveform_spans(pulse, pts, cfg)
+    assert spans.shape == (pts.shape[0], 2)
+    for p, (first, end) in zip(pts, spans, strict=True):
+        # first arrival: the nearest of the sphere and its images, (r - a)/c from its centre
+        r = min(np.linalg.norm(p - s.position) for s in cfg.sources)
+        assert first == pytest.approx((r - A) / field.AIR.c, rel=1e-12)
+        assert (first, end) == field.waveform_span(pulse, p, cfg)

@@ -18,7 +18,7 @@ import numpy as np
 from .._validate import check_range
 from ..constants import ANALYSIS_RATE, P_REF
 from ..errors import ParameterError
-from ..field import field_metrics, waveform_span
+from ..field import field_metrics, waveform_span, waveform_spans
 from ..levels import METRICS
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
@@ -133,7 +133,7 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
     from ..output.audio import decimation_filter, oversampling_factor
 
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    spans = np.array([waveform_span(pulse, p, config, medium=medium) for p in pts])
+    spans = waveform_spans(pulse, pts, config, medium=medium)
     L = oversampling_factor(sample_rate, pulse.duration)
     h = decimation_filter(L)
     K = (h.size - 1) // (2 * L)

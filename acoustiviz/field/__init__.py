@@ -51,7 +51,7 @@ from .evaluate import iter_time_series, snapshots, time_series
 from .exposure import PulseCorrelations, exposure, pulse_correlations
 from .metrics import FieldMetrics, field_metrics, spl_db
 from .peaks import PeakExposure, PeakTable, fast_peaks, peak_table
-from .sources import arrival_windows, image_geometry, source_geometry, waveform_span
+from .sources import arrival_windows, image_geometry, source_geometry, waveform_span, waveform_spans
 
 __all__ = [
     "DEFAULT_CUTOFF",
@@ -63,6 +63,7 @@ __all__ = [
     "decay_time",
     "arrival_windows",
     "waveform_span",
+    "waveform_spans",
     "default_sample_interval",
     "time_series",
     "iter_time_series",

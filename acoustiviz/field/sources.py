@@ -19,7 +19,7 @@ from ..core.images import Configuration
 from ..core.medium import AIR, Medium
 from ._common import DEFAULT_CUTOFF, check_config, check_pulse, decay_time
 
-__all__ = ["image_geometry", "source_geometry", "waveform_span", "arrival_windows"]
+__all__ = ["image_geometry", "source_geometry", "waveform_span", "waveform_spans", "arrival_windows"]
 
 
 def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
@@ -113,8 +113,35 @@ def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, 
     first, end : float
         Times in s.
     """
-    delay = source_geometry(np.asarray(point, dtype=float)[None, :], config, medium=medium)[0][0]
-    return float(delay.min()), float(delay.max()) + pulse.duration + decay_times * config.radius / medium.c
+    first, end = waveform_spans(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium,
+                                decay_times=decay_times)[0]
+    return float(first), float(end)
+
+
+def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR, decay_times: float = 40.0):
+    """:func:`waveform_span` of many points at once.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    points : (n, 3) array_like
+        Observer positions in m.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    decay_times : float
+        Length of the kept tail in units of a/c.
+
+    Returns
+    -------
+    (n, 2) ndarray
+        First arrival and end of each point's sound, in s from the start of contact.
+    """
+    delay = source_geometry(np.asarray(points, dtype=float).reshape(-1, 3), config, medium=medium)[0]
+    tail = pulse.duration + decay_times * config.radius / medium.c
+    return np.column_stack([delay.min(axis=1), delay.max(axis=1) + tail])
 
 
 def arrival_windows(pulse, points, config: Configuration, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
