@@ -335,7 +335,10 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                             if abs(b - tk) < (NEAR + 1.0) * big_h:
                                 lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
                                 hi_b = max(hi_b, b + NEAR * big_h)
-                    val, tv = _refine_bracket(sign, best, cand[side, 1, jb], lo_b, hi_b, bps, xtol,
+                    # pieces that cannot beat the largest coarse sample less the rounding bound (a value
+                    # that p reaches) are not searched
+                    reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
+                    val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps, xtol,
                                               nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
                     done_lo[ndone] = lo_b
                     done_hi[ndone] = hi_b
