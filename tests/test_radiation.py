@@ -289,3 +289,18 @@ def test_half_sine_response_table_matches_the_closed_form():
     ref = pulse_response(pulse, t, radius=0.0127)
     assert np.max(np.abs(y - ref)) < 1e-13 * np.max(np.abs(ref))
     assert knots[-1] == pulse.duration and np.all(terms >= 1)
+
+
+def test_sampled_response_table_matches_the_exact_piecewise_linear_response():
+    from acoustiviz.core.radiation import sampled_response_table
+
+    t = np.linspace(0.0, 3e-4, 41)
+    pulse = SampledPulse(t, 2e4 * np.sin(np.pi * t / 3e-4) ** 1.5 + 1e3 * (t > 1e-4), "sampled")
+    s = sphere_pole(0.0127, AIR)
+    knots, table, _ = sampled_response_table(pulse, s, split=4, rtol=1e-15)
+    tt = np.random.default_rng(6).uniform(0.0, pulse.duration, 500)
+    k = np.clip(np.searchsorted(knots, tt, side="right") - 1, 0, knots.size - 2)
+    u = (tt - knots[k]) / np.diff(knots)[k]
+    y = np.array([np.polynomial.polynomial.polyval(ui, table[ki]) for ui, ki in zip(u, k, strict=True)])
+    ref = pulse_response(pulse, tt, radius=0.0127)
+    assert np.max(np.abs(y - ref)) < 1e-13 * np.max(np.abs(ref))

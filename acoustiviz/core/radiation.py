@@ -345,6 +345,31 @@ def half_sine_response_table(pulse: HalfSinePulse, s: complex, *, split: int = 1
     return _response_table(breaks, coef, pulse.amplitude, pulse.duration, s, split, rtol)
 
 
+def sampled_response_table(pulse: SampledPulse, s: complex, *, split: int = 1, rtol: float = 1e-19):
+    """Exact ``Y`` of a piecewise-linear pulse as a Taylor polynomial on each piece (as :func:`hertz_response_table`).
+
+    Parameters
+    ----------
+    pulse : SampledPulse
+        The pulse (linear between its samples).
+    s : complex
+        The sphere's pole in 1/s.
+    split : int
+        Cut every piece between two samples into at least this many.
+    rtol : float
+        Terms below ``rtol · max|Y|`` at the end of a piece's series are dropped.
+
+    Returns
+    -------
+    knots, table, terms
+        As :func:`hertz_response_table`.
+    """
+    t = np.asarray(pulse.times, dtype=float)
+    a = np.asarray(pulse.acceleration_samples, dtype=float)
+    coef = np.column_stack([a[:-1], np.diff(a)])  # A = a_k + (a_{k+1} - a_k) u on each piece
+    return _response_table(t / t[-1], coef, 1.0, float(t[-1]), s, split, rtol)
+
+
 def _response_table(breaks, coef, amp: float, tau: float, s: complex, split: int, rtol: float):
     """Taylor table of ``Y' = s Y + A`` on polynomial pieces of ``A / amp`` (fractions of ``tau``)."""
     hmax = float(np.max(np.diff(breaks))) * tau

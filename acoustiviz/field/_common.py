@@ -11,7 +11,13 @@ from ..constants import P_REF
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import Configuration
 from ..core.medium import AIR, Medium
-from ..core.radiation import _knot_states, half_sine_response_table, hertz_response_table, sphere_pole
+from ..core.radiation import (
+    _knot_states,
+    half_sine_response_table,
+    hertz_response_table,
+    sampled_response_table,
+    sphere_pole,
+)
 
 __all__ = ["DEFAULT_CUTOFF", "DEFAULT_MEMORY_LIMIT", "P_REF", "MODEL_NAMES", "decay_time", "default_sample_interval"]
 
@@ -42,7 +48,7 @@ def check_config(config):
 
 
 def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False):
-    """Flatten a pulse into the kernel's arguments (``taylor``: the half-sine as a Taylor table too)."""
+    """Flatten a pulse into the kernel's arguments (``taylor``: every pulse as a Taylor table of ``Y``, kind 2)."""
     s = sphere_pole(radius, medium)
     notab = np.zeros((1, 1), complex)
     if isinstance(pulse, HalfSinePulse) and taylor:  # kind 2, as the Hertz pulse: Horner instead of exp/sin/cos
@@ -55,6 +61,9 @@ def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False):
         knots, tab, terms = hertz_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
         yend = np.array([tab[-1].sum(), *terms])
         return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), yend, tab, s
+    if taylor:
+        knots, tab, terms = sampled_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
+        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), np.array([tab[-1].sum(), *terms]), tab, s
     xi = np.ascontiguousarray(pulse.times, dtype=float)
     acc = np.ascontiguousarray(pulse.acceleration_samples, dtype=float)
     return 1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), notab, s

@@ -169,8 +169,10 @@ def _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s):  # pragma: no c
 
 @_njit(cache=True)
 def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, kind, amp, tau, xi, acc, yk, tab, s, yend, end, do_exp, cusps, lut, ctau, cs, cstep,
-                  ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
+                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
+    end = tp[7]
+    yend = complex(tp[8], tp[9])
+    s = complex(tp[10], tp[11])
     n = pts.shape[0]
     nimg = spos.shape[0]
     ncol = ytr.shape[1]
@@ -339,7 +341,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                     # that p reaches) are not searched
                     reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
                     val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps, xtol,
-                                              nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+                                              nimg, delays, are, aim, tp)
                     done_lo[ndone] = lo_b
                     done_hi[ndone] = hi_b
                     ndone += 1

@@ -13,122 +13,111 @@ import math
 
 import numpy as np
 
-from ._kernels import _njit, _y_at
+from ._common import pulse_args
+from ._kernels import _njit
+
+#: Buckets of the piece look-up table over the pulse.
+LUT_BUCKETS = 4096
+
+
+def taylor_pulse(pulse, radius: float, medium) -> tuple:
+    """The pulse response ``Y`` as :func:`_p_d2` reads it: its Taylor table and a piece look-up table.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse, HertzPulse or SampledPulse
+        Acceleration pulse (m/s²) starting at t = 0.
+    radius : float
+        Sphere radius in m.
+    medium : Medium
+        The fluid.
+
+    Returns
+    -------
+    tuple
+        ``(knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si)``: piece starts in s,
+        their inverse lengths in 1/s, terms per piece, the real and imaginary Taylor coefficients
+        in m/s, the piece holding the start of each of :data:`LUT_BUCKETS` equal buckets of
+        ``[0, end]``, buckets per s, the pulse's end in s, ``Y(end)`` in m/s and the pole in 1/s.
+    """
+    _, _, _, knots, inv, yk, tab, s = pulse_args(pulse, radius, medium, taylor=True)
+    end = float(knots[-1])
+    lut = np.searchsorted(knots, np.linspace(0.0, end, LUT_BUCKETS + 1), side="right") - 1
+    lut = np.clip(lut, 0, knots.size - 2).astype(np.int64)
+    nts = yk[1:].real.astype(np.int64)
+    y_end = complex(yk[0])
+    return (np.ascontiguousarray(knots, dtype=float), np.ascontiguousarray(inv, dtype=float), nts,
+            np.ascontiguousarray(tab.real), np.ascontiguousarray(tab.imag), lut, LUT_BUCKETS / end, end,
+            y_end.real, y_end.imag, float(s.real), float(s.imag))
 
 
 @_njit(cache=True)
-def _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
-    """``Y``, ``Y'`` and ``Y''`` (m/s, m/s², m/s³) at one retarded time ``tr`` in s."""
-    if tr < 0.0:
-        return 0j, 0j, 0j
-    end = tau if kind == 0 else xi[xi.size - 1]
-    if tr >= end:
-        if kind == 0:
-            y = _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s)
-        elif kind == 1:
-            y = np.exp(s * (tr - end)) * yk[yk.size - 1]
-        else:
-            y = np.exp(s * (tr - end)) * yk[0]
-        return y, s * y, s * s * y
-    if kind == 2:
-        q = np.searchsorted(xi, tr, side="right") - 1
-        q = min(max(q, 0), xi.size - 2)
-        inv = acc[q]
-        u = (tr - xi[q]) * inv
-        nt = int(yk[1 + q].real)
-        y = tab[q, nt - 1]
-        d1 = 0j
-        d2 = 0j
-        for j in range(nt - 2, -1, -1):
-            d2 = d2 * u + d1
-            d1 = d1 * u + y
-            y = y * u + tab[q, j]
-        return y, d1 * inv, 2.0 * d2 * inv * inv
-    y = _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s)
-    if kind == 0:
-        w = math.pi / tau
-        a0 = amp * math.sin(w * tr)
-        a1 = amp * w * math.cos(w * tr)
-    else:
-        k = np.searchsorted(xi, tr, side="right") - 1
-        k = min(max(k, 0), xi.size - 2)
-        a1 = (acc[k + 1] - acc[k]) / (xi[k + 1] - xi[k])
-        a0 = acc[k] + a1 * (tr - xi[k])
-    y1 = s * y + a0
-    return y, y1, s * y1 + a1
+def _p_d2(t, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
+    """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image.
 
-
-@_njit(cache=True)
-def _p_d2(t, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut):  # pragma: no cover - compiled
-    """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image."""
+    ``tp = (knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si)`` (:func:`taylor_pulse`)
+    holds ``Y`` as the Taylor table of :func:`acoustiviz.field._common.pulse_args` with ``taylor=True``:
+    on piece ``q`` (``knots[q] <= t' < knots[q + 1]``, ``inv[q] = 1/(knots[q + 1] - knots[q])``),
+    ``Y = Σ_m (tab_r + i tab_i)[q, m] u^m`` with ``u = (t' - knots[q]) inv[q]`` and ``nts[q]`` terms;
+    ``lut[b]`` is the piece holding the start of bucket ``b`` of ``lscale`` buckets per second of
+    ``[0, end]``; after ``end`` the free decay ``Y(end) exp(s (t' - end))``, ``Y(end) = y0r + i y0i``
+    and ``s = sr + i si``.
+    """
+    knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si = tp
     p = 0.0
     p1 = 0.0
     p2 = 0.0
-    end = xi[xi.size - 1]
-    lscale = (lut.size - 1) / end if kind == 2 else 0.0
+    last = lut.size - 2
     for j in range(nimg):
         tr = t - delays[j]
-        if kind == 2 and 0.0 <= tr < end:
-            # Re[a_j Y] is a real polynomial on the piece: Horner with its first two derivatives.
-            # The piece: lut[b] is the piece holding the start of bucket b, then a short scan
-            b = min(int(tr * lscale), lut.size - 2)
-            q = lut[b]
-            qe = lut[b + 1]
-            if qe - q > 8:
-                q = q + np.searchsorted(xi[q : qe + 1], tr, side="right") - 1
-            else:
-                while q < qe and xi[q + 1] <= tr:
-                    q += 1
-            q = min(max(q, 0), xi.size - 2)
-            inv = acc[q]
-            u = (tr - xi[q]) * inv
-            nt = int(yk[1 + q].real)
-            ar = are[j]
-            ai = aim[j]
-            y = ar * tab[q, nt - 1].real - ai * tab[q, nt - 1].imag
+        if tr < 0.0:
+            continue
+        ar = are[j]
+        ai = aim[j]
+        if tr < end:
+            # Re[a_j Y] is a real polynomial on the piece: Horner with its first two derivatives
+            q = lut[min(int(tr * lscale), last)]
+            while knots[q + 1] <= tr:
+                q += 1
+            h = inv[q]
+            u = (tr - knots[q]) * h
+            nt = nts[q]
+            y = ar * tab_r[q, nt - 1] - ai * tab_i[q, nt - 1]
             d1 = 0.0
             d2 = 0.0
             for m in range(nt - 2, -1, -1):
                 d2 = d2 * u + d1
                 d1 = d1 * u + y
-                y = y * u + (ar * tab[q, m].real - ai * tab[q, m].imag)
+                y = y * u + (ar * tab_r[q, m] - ai * tab_i[q, m])
             p += y
-            p1 += d1 * inv
-            p2 += 2.0 * d2 * inv * inv
-        elif tr < 0.0:
-            continue
-        elif kind == 2 and tr >= end:
+            p1 += d1 * h
+            p2 += 2.0 * d2 * h * h
+        else:
             # free decay: Re[a_j Y(T) e^{s x}], x = tr - T, and its derivatives, in real arithmetic
             x = tr - end
-            e = math.exp(s.real * x)
-            cs = e * math.cos(s.imag * x)
-            sn = e * math.sin(s.imag * x)
-            wr = are[j] * yk[0].real - aim[j] * yk[0].imag
-            wi = are[j] * yk[0].imag + aim[j] * yk[0].real
+            e = math.exp(sr * x)
+            cs = e * math.cos(si * x)
+            sn = e * math.sin(si * x)
+            wr = ar * y0r - ai * y0i
+            wi = ar * y0i + ai * y0r
             v0r = wr * cs - wi * sn
             v0i = wr * sn + wi * cs
-            v1r = s.real * v0r - s.imag * v0i
-            v1i = s.real * v0i + s.imag * v0r
+            v1r = sr * v0r - si * v0i
+            v1i = sr * v0i + si * v0r
             p += v0r
             p1 += v1r
-            p2 += s.real * v1r - s.imag * v1i
-        else:
-            y, y1, y2 = _y_d2(tr, kind, amp, tau, xi, acc, yk, tab, s)
-            p += are[j] * y.real - aim[j] * y.imag
-            p1 += are[j] * y1.real - aim[j] * y1.imag
-            p2 += are[j] * y2.real - aim[j] * y2.imag
+            p2 += sr * v1r - si * v1i
     return p, p1, p2
 
 
 @_njit(cache=True)
-def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
-                s, lut):  # pragma: no cover - compiled
+def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Largest ``sign · p`` near ``t0`` in ``[lo, hi]``: safeguarded Newton on ``p' = 0``; (value, time)."""
     x = t0
     best = -np.inf
     tbest = t0
     for _ in range(40):
-        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, tp)
         v = sign * p
         g = sign * p1
         gp = sign * p2
@@ -160,12 +149,11 @@ def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, 
 
 
 @_njit(cache=True)
-def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk,
-                    tab, s, lut):  # pragma: no cover - compiled
+def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Maximum of ``sign · p`` on ``[a, b]`` where ``sign · p'`` decreases from ``ga > 0`` to ``gb < 0``."""
     x = a + ga * (b - a) / (ga - gb)  # Newton from the secant root, kept inside [a, b]
     for _ in range(60):
-        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        p, p1, p2 = _p_d2(x, nimg, delays, are, aim, tp)
         v = sign * p
         g = sign * p1
         gp = sign * p2
@@ -191,8 +179,8 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
 
 
 @_njit(cache=True)
-def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc,
-                  yk, tab, s, lut):  # pragma: no cover - compiled
+def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim,
+                  tp):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
 
     ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
@@ -218,7 +206,7 @@ def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delay
             m = b - fb * (b - a) / (fb - fa)
             if not (a < m < b) and not (b < m < a):
                 m = 0.5 * (a + b)
-            pm, gm, cm = _p_d2(m, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+            pm, gm, cm = _p_d2(m, nimg, delays, are, aim, tp)
             if sign * pm > best:
                 best = sign * pm
                 tbest = m
@@ -233,19 +221,17 @@ def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delay
                 break
         if sign * gl > 0.0 and sign * gm < 0.0:
             best, tbest = _newton_segment(sign, lo, m, sign * gl, sign * gm, best, tbest, xtol, nimg, delays, are,
-                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+                                          aim, tp)
         if sign * gm > 0.0 and sign * gr < 0.0:
             best, tbest = _newton_segment(sign, m, hi, sign * gm, sign * gr, best, tbest, xtol, nimg, delays, are,
-                                          aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+                                          aim, tp)
     elif sign * gl > 0.0 and sign * gr < 0.0:
-        best, tbest = _newton_segment(sign, lo, hi, sign * gl, sign * gr, best, tbest, xtol, nimg, delays, are, aim,
-                                      kind, amp, tau, xi, acc, yk, tab, s, lut)
+        best, tbest = _newton_segment(sign, lo, hi, sign * gl, sign * gr, best, tbest, xtol, nimg, delays, are, aim, tp)
     return best, tbest
 
 
 @_njit(cache=True)
-def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab,
-                    s, lut):  # pragma: no cover - compiled
+def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]`` near ``t0``, split at the breakpoints ``bps`` inside (sorted).
 
     Pieces that provably cannot beat ``floor`` (a value already reached) are not searched.
@@ -255,18 +241,17 @@ def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, 
         if lo < b < hi:
             inside += 1
     if inside == 0:
-        return _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+        return _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, tp)
     best = -np.inf
     tbest = t0
     a = lo
-    pa, ga, ca = _p_d2(a, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
+    pa, ga, ca = _p_d2(a, nimg, delays, are, aim, tp)
     for q in range(bps.size + 1):
         b = bps[q] if q < bps.size else hi
         if q < bps.size and not (lo < b < hi):
             continue
-        pb, gb, cb = _p_d2(b, nimg, delays, are, aim, kind, amp, tau, xi, acc, yk, tab, s, lut)
-        v, tv = _refine_piece(sign, max(floor, best), a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim,
-                              kind, amp, tau, xi, acc, yk, tab, s, lut)
+        pb, gb, cb = _p_d2(b, nimg, delays, are, aim, tp)
+        v, tv = _refine_piece(sign, max(floor, best), a, b, pa, ga, ca, pb, gb, cb, xtol, nimg, delays, are, aim, tp)
         if v > best:
             best = v
             tbest = tv

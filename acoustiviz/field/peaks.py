@@ -62,8 +62,9 @@ from ..constants import P_REF
 from ..core.images import Configuration
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
-from ._kernels import _fill, _y_at
+from ._kernels import _fill
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
+from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
@@ -248,21 +249,14 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     if not (margin >= 0.0 and math.isfinite(margin)):
         raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
     tb = peak_table(pulse, config, medium=medium) if table is None else table
-    # the refinement evaluates Y, Y' and Y'' of the half-sine and the Hertz pulse from Taylor tables
-    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium, taylor=True)
-    end = float(pulse.duration) if kind == 0 else float(xi[-1])
-    yend = complex(_y_at(end, kind, amp, tau, xi, acc, yk, tab, s))
+    # the refinement evaluates Y, Y' and Y'' of every pulse from its Taylor table
+    tp = taylor_pulse(pulse, config.radius, medium)
+    end = tp[7]
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
         cargs = (corr.duration, corr.pole, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
     else:
-        cargs = (1.0, s, 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
-    # piece of the Taylor table of Y holding the start of each of 4096 equal buckets of [0, end]
-    if kind == 2:
-        lut = np.searchsorted(xi, np.linspace(0.0, end, 4097), side="right") - 1
-        lut = np.clip(lut, 0, xi.size - 2).astype(np.int64)
-    else:
-        lut = np.zeros(2, np.int64)
+        cargs = (1.0, complex(tp[10], tp[11]), 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
     # p' jumps at an image's pulse start or end only where A does not vanish there: only then can a
     # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
     a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
@@ -275,7 +269,6 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         hi = min(lo + step, n)
         _peaks_kernel(res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm,
                       float(config.radius), float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad,
-                      tb.y_real, tb.y_imag, tb.slope_bound, float(margin), kind, amp, tau, xi, acc, yk, tab, s,
-                      yend, end, bool(exposure), cusps, lut, *cargs)
+                      tb.y_real, tb.y_imag, tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
     return PeakExposure(res[:, 0].copy(), res[:, 1].copy(), res[:, 2].copy(), res[:, 3].copy(),
                         res[:, 4].copy(), res[:, 5].astype(np.int64))
