@@ -26,6 +26,7 @@ SUBCOMMANDS = {
     "run": "acoustiviz.cli.run",
     "waveform": "acoustiviz.cli.waveform",
     "directivity": "acoustiviz.cli.directivity",
+    "map": "acoustiviz.cli.map",
     "damper": "acoustiviz.cli.damper",
     "forced": "acoustiviz.cli.forced",
     "sweep": "acoustiviz.cli.sweep",

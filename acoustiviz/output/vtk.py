@@ -12,6 +12,10 @@ on the same points and writes it, atomically, as an unstructured grid of quadril
   :func:`acoustiviz.field.field_metrics` as point arrays: ``peak_positive_pa``,
   ``peak_negative_pa``, ``peak_pa``, ``rms_pa`` (Pa), ``exposure_pa2s`` (Pa² s),
   ``peak_spl_db``, ``rms_spl_db`` and ``sel_db`` (dB re 20 µPa);
+* :func:`write_map_vtk` -- a level map on its planar grid (``acoustiviz map``), with point arrays
+  named with their units: ``peak_pa`` (Pa), ``peak_spl_db`` (dB re 20 µPa), ``sel_db``
+  (dB re (20 µPa)²·s), ``time_of_peak_s`` (s from the start of contact) and ``exposure_pa2s``
+  (Pa²·s), NaN inside the sphere;
 * :func:`write_geometry_vtk` -- the sphere and the reflecting planes, with a cell array
   ``part`` (0 sphere, 1 floor, 2 wall), beside the data as ``<stem>_geometry.vtu``
   (:func:`geometry_path`).
@@ -43,6 +47,8 @@ __all__ = [
     "write_snapshot_vtk",
     "write_animation_vtk",
     "write_balloon_vtk",
+    "write_map_vtk",
+    "map_dataset",
     "write_geometry_vtk",
 ]
 
@@ -380,3 +386,53 @@ def write_balloon_vtk(pulse, config: Configuration, path, *, medium: Medium = AI
     pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
     metrics = field_metrics(pulse, pts, config, medium=medium)
     return _write_with_geometry(balloon_dataset(data, metrics), config, path, geometry)
+
+
+def map_dataset(grid, arrays):
+    """A planar grid carrying point arrays, as an unstructured grid of quadrilaterals.
+
+    Parameters
+    ----------
+    grid : acoustiviz.field.grids.PlanarGrid
+        The points in m, in order.
+    arrays : mapping of str to (n,) array_like
+        Point arrays, each named with its unit (``peak_spl_db``, ``time_of_peak_s``).
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+    """
+    mesh = _grid(grid.points, _quads(grid.n_u, grid.n_v))
+    n = grid.points.shape[0]
+    for name, values in arrays.items():
+        v = np.asarray(values, dtype=float)
+        if v.shape != (n,):
+            raise ParameterError("arrays", f"array {name!r} must have {n} values, got shape {v.shape}")
+        mesh.point_data[name] = v
+    return mesh
+
+
+def write_map_vtk(grid, arrays, config: Configuration, path, *, geometry: bool = True) -> tuple:
+    """Write a level map (``acoustiviz map``) to a VTK file, the sphere and planes beside it.
+
+    Parameters
+    ----------
+    grid : acoustiviz.field.grids.PlanarGrid
+        The map's points in m.
+    arrays : mapping of str to (n,) array_like
+        Point arrays named with their units (``peak_pa``, ``peak_spl_db``, ``sel_db``,
+        ``time_of_peak_s``, ``exposure_pa2s``; NaN where there is no fluid).
+    config : Configuration
+        The scene.
+    path : path-like
+        Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
+    geometry : bool
+        Also write the sphere and planes to :func:`geometry_path` of ``path``.
+
+    Returns
+    -------
+    (pathlib.Path, pathlib.Path or None)
+        The data file and the geometry file.
+    """
+    path = _check_vtk_path(path)
+    return _write_with_geometry(map_dataset(grid, arrays), config, path, geometry)

@@ -1,0 +1,457 @@
+"""Where an impact is loud: peak SPL and SEL maps over a plane (``acoustiviz map`` and scene ``level_map``).
+
+:func:`level_map` lays a regular grid over a plane through the scene, evaluates the peaks and
+the exposure of the continuous pressure at every point in the fluid with
+:func:`acoustiviz.field.fast_peaks` (no time loop), and returns a :class:`LevelMap`: the grid,
+the peak pressure in Pa, the peak SPL in dB re 20 µPa, the SEL in dB re (20 µPa)²·s and the
+time of the peak in s from the start of contact. Points inside the sphere hold NaN (left blank
+in the plots and files).
+
+The planes, in the scene frame of :mod:`acoustiviz.core.images` (floor ``z = 0``, wall
+``x = -wall_distance``):
+
+* ``"vertical"`` -- the vertical plane ``y = 0`` through the sphere's centre. It holds the
+  acceleration axis and, in the wall-floor corner, is normal to the wall (the plane of
+  ``acoustiviz render snapshot --sections xz`` and of the directivity circle).
+* ``"horizontal"`` -- the horizontal plane ``z = height`` (default: the height of the sphere's
+  centre), parallel to the floor.
+
+Each map spans ``extent`` m from the sphere's centre to its far edges and is cut at the floor
+and the wall, so no point lies behind a reflecting plane; ``resolution`` points lie along its
+longer side, with square spacing. The settings and their ranges are defined once
+(:data:`MAP_SETTINGS`); the command line and the scene files both read them, so the two can
+never disagree.
+
+Examples
+--------
+>>> from acoustiviz.app.impacts import impact_setup
+>>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
+>>> m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.3, resolution=21)  # doctest: +SKIP
+>>> m.grid.shape  # doctest: +SKIP
+(12, 21)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import check_choice, check_range
+from ..core.medium import AIR, Medium
+from ..errors import ParameterError
+
+__all__ = [
+    "PLANES",
+    "MAP_SETTINGS",
+    "CLI_NAMES",
+    "SCENE_NAMES",
+    "CSV_COLUMNS",
+    "LevelMap",
+    "check_map_settings",
+    "map_grid",
+    "map_estimate",
+    "map_on_grid",
+    "level_map",
+    "write_map_csv",
+    "map_title",
+    "summary_figures",
+    "write_map_outputs",
+    "produce_level_map",
+]
+
+#: The planes a map can lie in (see the module notes).
+PLANES = ("vertical", "horizontal")
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One map setting: its API name, command-line option, scene key, default, range and meaning."""
+
+    name: str
+    option: str
+    key: str
+    kind: str  # "str", "float", "int"
+    default: object
+    doc: str
+    unit: str = ""
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    choices: tuple = ()
+
+
+#: Settings of a level map, shared by ``acoustiviz map`` and the scene output ``[outputs.level_map]``.
+MAP_SETTINGS = (
+    Setting("plane", "--plane", "plane", "str", "vertical",
+            "plane of the map: 'vertical', the plane y = 0 through the sphere's centre holding the "
+            "acceleration axis (normal to the wall in the wall-floor corner); 'horizontal', the plane "
+            "z = height parallel to the floor", choices=PLANES),
+    Setting("height", "--plane-height", "height_m", "float", None,
+            "horizontal plane only: its height z above the floor (default: the sphere's centre); in the free "
+            "field any height, else >= 0", "m", low=-1e3, high=1e3),
+    Setting("extent", "--extent", "extent_m", "float", 0.5,
+            "distance from the sphere's centre to the far edges of the map (more than the sphere's diameter); "
+            "the map is cut at the floor and the wall", "m", low=0.0, high=1e3, low_open=True),
+    Setting("resolution", "--resolution", "resolution", "int", 317,
+            "grid points along the longer side of the map (square spacing; the default gives about 1e5 points "
+            "on a square map)", low=8, high=20000),
+)
+_BY_NAME = {s.name: s for s in MAP_SETTINGS}
+#: API parameter -> command-line option (errors in the user's terms).
+CLI_NAMES = {**{s.name: s.option for s in MAP_SETTINGS}, "max_memory_mb": "--max-memory"}
+#: API parameter -> scene key.
+SCENE_NAMES = {**{s.name: f"outputs.level_map.{s.key}" for s in MAP_SETTINGS},
+               "max_memory_mb": "grids.memory_limit_mb"}
+#: Columns of the CSV file, in order.
+CSV_COLUMNS = ("x_m", "y_m", "z_m", "peak_pa", "peak_spl_db", "sel_db", "time_of_peak_s")
+_CSV_FORMATS = ("%.9e", "%.9e", "%.9e", "%.10e", "%.6f", "%.6f", "%.10e")
+#: Bytes per grid point: points, grid, the evaluator's six results, the four maps, masks and plot
+#: images (an upper bound), and of the CSV (7 columns) and VTK (points, quads, 7 arrays) files.
+_MEMORY_PER_POINT = 8.0 * 40
+_CSV_PER_POINT = 120.0
+_VTK_PER_POINT = 8.0 * 16
+
+
+@dataclass(frozen=True)
+class LevelMap:
+    """Peak SPL and SEL of one impact over a planar grid.
+
+    Attributes
+    ----------
+    grid : acoustiviz.field.grids.PlanarGrid
+        The points in m, ``u`` (along x) varying fastest.
+    plane : str
+        ``"vertical"`` or ``"horizontal"`` (see :data:`PLANES`).
+    peak_pa : (n,) ndarray
+        Largest absolute pressure max|p| in Pa (NaN inside the sphere).
+    peak_spl_db : (n,) ndarray
+        Peak SPL ``20 log10(peak_pa / 20 µPa)`` in dB.
+    sel_db : (n,) ndarray
+        Sound exposure level ``10 log10(∫p² dt / ((20 µPa)² · 1 s))`` in dB, over the whole response.
+    time_of_peak_s : (n,) ndarray
+        Time in s from the start of contact at which ``|p|`` reaches ``peak_pa``.
+    exposure_pa2s : (n,) ndarray
+        ``∫ p² dt`` in Pa²·s.
+    """
+
+    grid: object
+    plane: str
+    peak_pa: np.ndarray
+    peak_spl_db: np.ndarray
+    sel_db: np.ndarray
+    time_of_peak_s: np.ndarray
+    exposure_pa2s: np.ndarray
+
+    def arrays(self) -> dict:
+        """Point arrays with units in their names: ``{"peak_pa": ..., "peak_spl_db": ..., ...}``."""
+        return {"peak_pa": self.peak_pa, "peak_spl_db": self.peak_spl_db, "sel_db": self.sel_db,
+                "time_of_peak_s": self.time_of_peak_s, "exposure_pa2s": self.exposure_pa2s}
+
+    def in_plane(self) -> tuple:
+        """Names of the in-plane axes: ``("x", "z")`` (vertical) or ``("x", "y")`` (horizontal)."""
+        return ("x", "z") if self.plane == "vertical" else ("x", "y")
+
+
+def _defaults(plane, height, extent, resolution):
+    return (_BY_NAME["plane"].default if plane is None else plane, height,
+            _BY_NAME["extent"].default if extent is None else extent,
+            _BY_NAME["resolution"].default if resolution is None else resolution)
+
+
+def check_map_settings(config, *, plane=None, height=None, extent=None, resolution=None) -> tuple:
+    """Check the settings of a map against :data:`MAP_SETTINGS` and the scene; return them resolved.
+
+    Parameters
+    ----------
+    config : Configuration
+        The sphere and its planes.
+    plane : {"vertical", "horizontal"}, optional
+        Default ``"vertical"``.
+    height : float, optional
+        Height in m of a horizontal plane (default the sphere centre's); refused with the vertical plane.
+    extent : float, optional
+        Distance in m from the sphere's centre to the map's far edges (default 0.5), more than 2a.
+    resolution : int, optional
+        Points along the longer side (default 317).
+
+    Returns
+    -------
+    (plane, height, extent, resolution)
+        ``height`` in m (the centre's height when not given, ``None`` for the vertical plane).
+
+    Raises
+    ------
+    ParameterError
+        Named ``plane``, ``height``, ``extent`` or ``resolution`` with the allowed range.
+    """
+    plane, height, extent, resolution = _defaults(plane, height, extent, resolution)
+    check_choice("plane", plane, PLANES)
+    s = _BY_NAME["extent"]
+    extent = check_range("extent", extent, s.low, s.high, unit="m", low_open=True)
+    if extent <= 2.0 * config.radius:
+        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * config.radius:g} m (and be <= "
+                                       f"{s.high:g} m), got {extent:g} m")
+    s = _BY_NAME["resolution"]
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) \
+            or not s.low <= resolution <= s.high:
+        raise ParameterError("resolution", f"must be an integer in [{s.low:g}, {s.high:g}], got {resolution!r}")
+    resolution = int(resolution)
+    if plane == "vertical":
+        if height is not None:
+            raise ParameterError("height", "only used with the horizontal plane; the vertical plane goes through "
+                                           "the sphere's centre")
+        return plane, None, extent, resolution
+    s = _BY_NAME["height"]
+    if height is None:
+        height = float(config.centre[2])
+    low = s.low if config.name == "free" else 0.0
+    height = check_range("height", height, low, s.high, unit="m")
+    if abs(height - config.centre[2]) >= extent:
+        raise ParameterError("height", f"{height:g} m is farther from the sphere's centre (z = "
+                                       f"{config.centre[2]:g} m) than the extent {extent:g} m: the plane would "
+                                       "show no part of the map's box")
+    return plane, height, extent, resolution
+
+
+def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
+    """The planar grid of a map, cut at the floor and the wall (see the module notes).
+
+    Parameters
+    ----------
+    config : Configuration
+        The sphere and its planes.
+    plane, height, extent, resolution
+        As for :func:`check_map_settings`.
+
+    Returns
+    -------
+    acoustiviz.field.grids.PlanarGrid
+        Edges along x and z (vertical) or x and y (horizontal), lengths in m.
+    """
+    from ..field.grids import planar_grid
+
+    plane, height, extent, n = check_map_settings(config, plane=plane, height=height, extent=extent,
+                                                  resolution=resolution)
+    c = np.asarray(config.centre, dtype=float)
+    lo, hi = c - extent, c + extent
+    for p in config.planes:  # cut at the floor (z) and the wall (x)
+        k = int(np.argmax(np.abs(p.normal)))
+        lo[k] = max(lo[k], float(p.point[k]))
+    i, j = (0, 2) if plane == "vertical" else (0, 1)
+    centre = 0.5 * (lo + hi)
+    if plane == "vertical":
+        centre[1] = 0.0
+    else:
+        centre[2] = height
+    u, v = np.zeros(3), np.zeros(3)
+    u[i], v[j] = hi[i] - lo[i], hi[j] - lo[j]
+    long = max(u[i], v[j])
+    nu = max(2, int(round((n - 1) * u[i] / long)) + 1)
+    nv = max(2, int(round((n - 1) * v[j] / long)) + 1)
+    return planar_grid(centre, u, v, n_u=nu, n_v=nv)
+
+
+def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("resolution", "extent")):
+    """Memory and output size of a map of ``n_points`` points (:class:`acoustiviz.app.budget.Estimate`).
+
+    Memory: about 320 B per point (points, results, maps, plot images) plus the evaluator's
+    observer-independent tables (two float64 tables of ``fine`` rows over the images' delay
+    spread plus the pulse, in steps of ``min(T, a/c) / samples``); output: the CSV (about 120 B
+    a point) and the VTK file (about 128 B a point).
+    """
+    from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES
+    from .budget import Estimate
+
+    pos = np.array([s.position for s in config.sources])
+    spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
+    step = min(float(pulse.duration), config.radius / medium.c) / DEFAULT_SAMPLES
+    with np.errstate(all="ignore"):
+        table = 16.0 * DEFAULT_FINE * ((2.0 * spread + float(pulse.duration)) / step + 64.0)
+    n = float(n_points)
+    return Estimate(_MEMORY_PER_POINT * n + table, (_CSV_PER_POINT + _VTK_PER_POINT) * n,
+                    f"a map of {n:.3g} points", tuple(options))
+
+
+def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vertical") -> LevelMap:
+    """Peak SPL, SEL and time of the peak of one impact at the points of any planar grid.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    config : Configuration
+        The sphere and its images.
+    grid : acoustiviz.field.grids.PlanarGrid
+        The points in m; those inside the sphere or behind a plane get NaN.
+    medium : Medium
+        The fluid.
+    plane : str
+        The plane's name kept on the result (labels of the plot).
+
+    Returns
+    -------
+    LevelMap
+
+    Notes
+    -----
+    Paper eqs 12-14 by :func:`acoustiviz.field.fast_peaks`: the peaks of the continuous pressure
+    over all time and the exposure of the whole response, in closed form.
+    """
+    from ..field import fast_peaks
+
+    pts = np.asarray(grid.points, dtype=float)
+    inside = config.in_fluid(pts)
+    n = pts.shape[0]
+    peak, time, expo = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
+    if np.any(inside):
+        r = fast_peaks(pulse, pts[inside], config, medium=medium)
+        pos = r.peak_positive >= -r.peak_negative
+        peak[inside] = np.where(pos, r.peak_positive, -r.peak_negative)
+        time[inside] = np.where(pos, r.time_positive, r.time_negative)
+        expo[inside] = r.exposure
+    from ..constants import P_REF
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        spl = 20.0 * np.log10(peak / P_REF)
+        sel = 10.0 * np.log10(expo / P_REF**2)
+    return LevelMap(grid, plane, peak, spl, sel, time, expo)
+
+
+def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
+              max_memory_mb=None, names=None) -> LevelMap:
+    """Peak SPL and SEL of one impact over a plane through the scene.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere (m/s²) starting at t = 0.
+    config : Configuration
+        The sphere and its images.
+    medium : Medium
+        The fluid.
+    plane : {"vertical", "horizontal"}, optional
+        The plane (default ``"vertical"``; see the module notes).
+    height : float, optional
+        Height in m of the horizontal plane above the floor (default: the sphere's centre).
+    extent : float, optional
+        Distance in m from the sphere's centre to the map's far edges (default 0.5 m).
+    resolution : int, optional
+        Points along the map's longer side, in [8, 20000] (default 317, about 1e5 points on a
+        square map).
+    max_memory_mb : float, optional
+        Cap in MB on the estimated memory (default :data:`acoustiviz.constants.MAX_MEMORY_MB`);
+        a larger map is refused before any work.
+    names : mapping of str to str, optional
+        API parameter -> the user's option or scene key (:data:`CLI_NAMES`, :data:`SCENE_NAMES`):
+        every error is raised under the user's name.
+
+    Returns
+    -------
+    LevelMap
+
+    Raises
+    ------
+    ParameterError
+        Named ``plane``, ``height``, ``extent``, ``resolution`` or ``max_memory_mb`` (in the user's
+        terms with ``names``), before any work.
+    """
+    from .names import user_terms
+
+    names = dict(names or {})
+    with user_terms(names):
+        return _level_map(pulse, config, medium, plane, height, extent, resolution, max_memory_mb, names)
+
+
+def _level_map(pulse, config, medium, plane, height, extent, resolution, max_memory_mb, names):
+    from .budget import check_budget
+
+    plane, height, extent, resolution = check_map_settings(config, plane=plane, height=height, extent=extent,
+                                                           resolution=resolution)
+    grid = map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
+    opts = tuple(names.get(k, k) for k in ("resolution", "extent"))
+    check_budget(map_estimate(config, pulse, medium, grid.points.shape[0], options=opts), max_memory_mb,
+                 cap_name=names.get("max_memory_mb", "max_memory_mb"))
+    return map_on_grid(pulse, config, grid, medium=medium, plane=plane)
+
+
+def write_map_csv(level: LevelMap, path):
+    """Write the map as CSV (:data:`CSV_COLUMNS`, one row per grid point, ``nan`` inside the sphere), atomically."""
+    from ..output.writers import write_csv_atomic
+
+    cols = [level.grid.points[:, 0], level.grid.points[:, 1], level.grid.points[:, 2], level.peak_pa,
+            level.peak_spl_db, level.sel_db, level.time_of_peak_s]
+    return write_csv_atomic(path, list(CSV_COLUMNS), cols, fmt=list(_CSV_FORMATS))
+
+
+def map_title(level: LevelMap, config, setup_text: str = "") -> str:
+    """A one-line title: configuration, plane and the impact."""
+    where = ("vertical plane y = 0 through the centre" if level.plane == "vertical"
+             else f"horizontal plane z = {level.grid.points[0, 2]:.4g} m")
+    return f"{config.name}: {where}" + (f"; {setup_text}" if setup_text else "")
+
+
+def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, title: str = "") -> list:
+    """Write the requested files of a map (the same bytes from the command line and a scene).
+
+    Parameters
+    ----------
+    level : LevelMap
+        The map.
+    config : Configuration
+        The scene (its sphere and planes are drawn and stored beside the VTK data).
+    png, csv, vtk : path-like, optional
+        The figure (:func:`acoustiviz.output.plot.maps.level_map_figure`), the CSV
+        (:func:`write_map_csv`) and the VTK file (:func:`acoustiviz.output.vtk.write_map_vtk`,
+        with ``<stem>_geometry.vtu`` beside it).
+    title : str
+        Title of the figure.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    out = []
+    if csv is not None:
+        out.append(write_map_csv(level, csv))
+    if png is not None:
+        from ..output.plot._style import save_figure
+        from ..output.plot.maps import level_map_figure
+
+        fig = level_map_figure(level.grid, level.peak_spl_db, level.sel_db, config, axes_names=level.in_plane(),
+                               title=title)
+        out.append(save_figure(fig, png))
+    if vtk is not None:
+        from ..output.vtk import write_map_vtk
+
+        out += [p for p in write_map_vtk(level.grid, level.arrays(), config, vtk) if p is not None]
+    return out
+
+
+def produce_level_map(ctx):
+    """Scene output ``level_map``: ``level_map.csv``, ``level_map.png`` and, with ``vtk``, ``level_map.vtu``."""
+    from .pipeline import Product
+
+    opts = ctx.scene.output("level_map")
+    pulse, conf = ctx.pulse(), ctx.configuration
+    level = level_map(pulse, conf, medium=ctx.medium, plane=opts["plane"], height=opts["height_m"],
+                      extent=opts["extent_m"], resolution=opts["resolution"],
+                      max_memory_mb=ctx.scene.section("grids")["memory_limit_mb"], names=SCENE_NAMES)
+    imp = ctx.scene.impact()
+    title = map_title(level, conf, f"U0 = {imp.velocity:g} m/s, a = {conf.radius * 1e3:g} mm, {pulse.kind} pulse")
+    paths = write_map_outputs(level, conf, png=ctx.path("level_map.png"), csv=ctx.path("level_map.csv"),
+                              vtk=ctx.path("level_map.vtu") if opts["vtk"] else None, title=title)
+    figs = summary_figures(level)
+    return [Product("level_map", p, figs if i == 0 else {}) for i, p in enumerate(paths)]
+
+
+def summary_figures(level: LevelMap) -> dict:
+    """Key figures of a map for a summary: points, plane, and the ranges of peak SPL and SEL in dB."""
+    ok = np.isfinite(level.peak_spl_db)
+    figs = {"points": str(level.grid.points.shape[0]), "plane": level.plane}
+    if np.any(ok):
+        figs["spl_db_range"] = f"{np.nanmin(level.peak_spl_db):.1f}-{np.nanmax(level.peak_spl_db):.1f}"
+        figs["sel_db_range"] = f"{np.nanmin(level.sel_db):.1f}-{np.nanmax(level.sel_db):.1f}"
+    return figs
