@@ -53,6 +53,7 @@ __all__ = [
     "map_grid",
     "map_estimate",
     "map_on_grid",
+    "plan_map",
     "level_map",
     "write_map_csv",
     "map_title",
@@ -253,7 +254,7 @@ def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
     return planar_grid(centre, u, v, n_u=nu, n_v=nv)
 
 
-def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("resolution", "extent")):
+def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("resolution",)):
     """Memory and output size of a map of ``n_points`` points (:class:`acoustiviz.app.budget.Estimate`).
 
     Memory: about 320 B per point (points, results, maps, plot images) plus the evaluator's
@@ -357,23 +358,35 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
         Named ``plane``, ``height``, ``extent``, ``resolution`` or ``max_memory_mb`` (in the user's
         terms with ``names``), before any work.
     """
+    grid = plan_map(pulse, config, medium=medium, plane=plane, height=height, extent=extent, resolution=resolution,
+                    max_memory_mb=max_memory_mb, names=names)
+    plane = _BY_NAME["plane"].default if plane is None else plane
+    return map_on_grid(pulse, config, grid, medium=medium, plane=plane)
+
+
+def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
+             max_memory_mb=None, names=None):
+    """Check a map's settings and its memory and output size, and return its grid, without evaluating anything.
+
+    Parameters and errors as for :func:`level_map` (a scene calls this at load time, so that a
+    bad map is refused before any output of the scene is produced).
+
+    Returns
+    -------
+    acoustiviz.field.grids.PlanarGrid
+    """
+    from .budget import check_budget
     from .names import user_terms
 
     names = dict(names or {})
     with user_terms(names):
-        return _level_map(pulse, config, medium, plane, height, extent, resolution, max_memory_mb, names)
-
-
-def _level_map(pulse, config, medium, plane, height, extent, resolution, max_memory_mb, names):
-    from .budget import check_budget
-
-    plane, height, extent, resolution = check_map_settings(config, plane=plane, height=height, extent=extent,
-                                                           resolution=resolution)
-    grid = map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
-    opts = tuple(names.get(k, k) for k in ("resolution", "extent"))
-    check_budget(map_estimate(config, pulse, medium, grid.points.shape[0], options=opts), max_memory_mb,
-                 cap_name=names.get("max_memory_mb", "max_memory_mb"))
-    return map_on_grid(pulse, config, grid, medium=medium, plane=plane)
+        plane, height, extent, resolution = check_map_settings(config, plane=plane, height=height, extent=extent,
+                                                               resolution=resolution)
+        grid = map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
+        opts = (names.get("resolution", "resolution"),)
+        check_budget(map_estimate(config, pulse, medium, grid.points.shape[0], options=opts), max_memory_mb,
+                     cap_name=names.get("max_memory_mb", "max_memory_mb"))
+    return grid
 
 
 def write_map_csv(level: LevelMap, path):

@@ -26,6 +26,7 @@ from ..output.writers import write_csv_atomic, write_text_atomic
 from ..scene import Scene
 from . import damper as _damper
 from . import forced as _forced
+from .maps import produce_level_map
 from .names import SCENE_DAMPER_KEYS, user_terms
 from .scene_levels import produce_levels, produce_spectrum
 
@@ -415,6 +416,7 @@ def produce_design_table(ctx: RunContext):
 PRODUCERS = {
     "waveform": produce_waveform,
     "directivity": produce_directivity,
+    "level_map": produce_level_map,
     "damper_history": produce_damper_history,
     "impact_table": produce_impact_table,
     "snapshot": produce_snapshot,

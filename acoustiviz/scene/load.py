@@ -273,6 +273,16 @@ def _check_geometry(scene: Scene) -> None:
                                        f"(configuration {conf.name!r}; the fluid is z > 0"
                                        + (", x > -wall_distance" if conf.name == "wall-floor" else "") + ")")
     grids = scene.data["grids"]
+    if scene.wants("level_map"):  # settings, memory and output size of the map, before any output is made
+        from ..app.maps import SCENE_NAMES, plan_map
+
+        m = scene.data["outputs"]["level_map"]
+        try:
+            plan_map(scene.pulse(), conf, medium=scene.medium(), plane=m["plane"], height=m["height_m"],
+                     extent=m["extent_m"], resolution=m["resolution"], max_memory_mb=grids["memory_limit_mb"],
+                     names=SCENE_NAMES)
+        except ParameterError as exc:
+            raise SceneError(src, exc.name, exc.detail) from None
     cap = grids["memory_limit_mb"] * 2**20
     n_plane = grids["plane"]["resolution"] ** 2
     n_sphere = 2 * grids["sphere"]["n_theta"] ** 2

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.views import BALLOON_METRICS as _BALLOON_METRICS
 from ..app.views import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
 from ..constants import CONFIGURATIONS as CONFIGS
@@ -157,6 +158,12 @@ _PLANE_GRID = {
 _VTK = Key("bool", "also write the data as <output>.vtu with the sphere and planes in <output>_geometry.vtu "
            "(ParaView, pyvista, meshio)", False)
 
+#: ``[outputs.level_map]``: the settings of ``acoustiviz map`` (one definition, acoustiviz.app.maps).
+_LEVEL_MAP = {st.key: Key(st.kind, st.doc, st.default, st.unit, low=st.low, high=st.high, low_open=st.low_open,
+                          choices=st.choices) for st in _MAP_SETTINGS}
+_LEVEL_MAP["vtk"] = Key("bool", "also write the map as level_map.vtu with the sphere and planes in "
+                        "level_map_geometry.vtu (ParaView, pyvista, meshio)", False)
+
 _OUT = {
     "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
                       "pressure waveform at each listener"),
@@ -165,6 +172,8 @@ _OUT = {
                                         "(as `acoustiviz directivity --metric`); peak-spl: none",
                                         "peak-spl", choices=tuple(_DIRECTIVITY_METRICS))},
                          "peak, RMS and SPL (and the chosen metric) against angle at the first listener's distance"),
+    "level_map": Table(_LEVEL_MAP, "peak SPL and SEL of the single impact over a plane, as `acoustiviz map` "
+                       "(level_map.png, level_map.csv)"),
     "snapshot": Table({"times_s": Key("floats", "snapshot times (at most 12, drawn side by side)", [0.001], "s",
                                       low=0.0, high=10.0, length=12),
                        "size_px": Key("ints", "image width and height", [1400, 600], "px", low=64, high=8192,
