@@ -233,8 +233,13 @@ def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
     """
     from ..field.grids import planar_grid
 
-    plane, height, extent, n = check_map_settings(config, plane=plane, height=height, extent=extent,
-                                                  resolution=resolution)
+    centre, u, v, nu, nv = _grid_spec(config, *check_map_settings(config, plane=plane, height=height, extent=extent,
+                                                                 resolution=resolution))
+    return planar_grid(centre, u, v, n_u=nu, n_v=nv)
+
+
+def _grid_spec(config, plane, height, extent, n):
+    """Centre (m), edge vectors (m) and point counts of a map's grid, from checked settings."""
     c = np.asarray(config.centre, dtype=float)
     lo, hi = c - extent, c + extent
     for p in config.planes:  # cut at the floor (z) and the wall (x)
@@ -251,7 +256,7 @@ def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
     long = max(u[i], v[j])
     nu = max(2, int(round((n - 1) * u[i] / long)) + 1)
     nv = max(2, int(round((n - 1) * v[j] / long)) + 1)
-    return planar_grid(centre, u, v, n_u=nu, n_v=nv)
+    return centre, u, v, nu, nv
 
 
 def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("resolution",)):
@@ -380,13 +385,13 @@ def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, ex
 
     names = dict(names or {})
     with user_terms(names):
-        plane, height, extent, resolution = check_map_settings(config, plane=plane, height=height, extent=extent,
-                                                               resolution=resolution)
-        grid = map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
+        settings = check_map_settings(config, plane=plane, height=height, extent=extent, resolution=resolution)
+        nu, nv = _grid_spec(config, *settings)[3:]
         opts = (names.get("resolution", "resolution"),)
-        check_budget(map_estimate(config, pulse, medium, grid.points.shape[0], options=opts), max_memory_mb,
+        check_budget(map_estimate(config, pulse, medium, nu * nv, options=opts), max_memory_mb,
                      cap_name=names.get("max_memory_mb", "max_memory_mb"))
-    return grid
+        plane, height, extent, resolution = settings
+    return map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
 
 
 def write_map_csv(level: LevelMap, path):
