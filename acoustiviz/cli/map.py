@@ -27,7 +27,8 @@ def add_parser(subparsers) -> None:
                        metavar=None if s.choices else ("M" if s.unit == "m" else "N"),
                        help=f"{s.doc}{rng}{default}".replace("%", "%%").replace("%%(default)s", "%(default)s"))
     o = p.add_argument_group("outputs")
-    o.add_argument("--png", default=None, metavar="PATH", help="two panels, peak SPL and SEL, with the sphere and planes")
+    o.add_argument("--png", default=None, metavar="PATH",
+                   help="two panels, peak SPL and SEL, with the sphere and planes")
     o.add_argument("--csv", default=None, metavar="PATH",
                    help="columns x_m,y_m,z_m,peak_pa,peak_spl_db,sel_db,time_of_peak_s, one row per grid point "
                         "(nan inside the sphere)")
