@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from acoustiviz.dynamics import _forced_kernels as fk
+from acoustiviz.dynamics._contact import free_restitution
 from acoustiviz.dynamics.forced import (
     Excitation,
     _params,
@@ -97,7 +97,7 @@ def _mc_compliant(model, ex):
     p = _params(model)
     for _ in range(40):
         s = [q for q in masri_caughey(model, ex, e) if q.valid][0]
-        e_new = fk.free_restitution(p, s.approach_speed, 1e-12)[0]
+        e_new = free_restitution(p, s.approach_speed, 1e-12)[0]
         if abs(e_new - e) < 1e-13:
             break
         e = e_new

@@ -1,4 +1,4 @@
-"""Codes and column layouts shared by the compiled impact-damper kernels."""
+"""Codes, column layouts and messages shared by the compiled impact-damper kernels."""
 
 #: Columns of the impact array filled by the kernels.
 IMPACT_COLUMNS = ("time", "wall", "approach", "separation", "duration", "peak_force", "impulse", "energy_lost")
@@ -9,3 +9,21 @@ STATUS_OK = 0
 STATUS_MAX_IMPACTS = 1
 STATUS_STEP_UNDERFLOW = 2
 STATUS_DIVERGED = 3
+
+#: The impact limit of a free-decay run (:func:`acoustiviz.dynamics.simulate`).
+LIMIT_RUN = "max_impacts reached (chattering?); raise max_impacts"
+#: The impact limit of a forced run (per forcing cycle).
+LIMIT_CYCLE = "too many impacts in one cycle (chattering?)"
+
+_MESSAGES = {
+    STATUS_OK: "completed",
+    STATUS_STEP_UNDERFLOW: "stopped: contact step size underflow",
+    STATUS_DIVERGED: "stopped: the solution diverged",
+}
+
+
+def status_message(status: int, limit: str = LIMIT_RUN) -> str:
+    """What a kernel status means; ``limit`` says which impact limit ``STATUS_MAX_IMPACTS`` hit."""
+    if status == STATUS_MAX_IMPACTS:
+        return "stopped: " + limit
+    return _MESSAGES.get(status, f"status {status}")
