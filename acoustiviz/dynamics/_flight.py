@@ -19,10 +19,11 @@ they are not, and :func:`scan_forced` brackets with a bound on ``|x''|`` instead
 extrema of x are closed-form only without forcing (:func:`free_extrema` against
 :func:`flight_minmax`).
 
-Flight coefficients ``c`` (11 floats): ``t0`` (s, start of the flight), ``x_h0`` (m), ``v_h0``
+Flight coefficients ``c`` (a tuple of 11 floats): ``t0`` (s, start of the flight), ``x_h0`` (m), ``v_h0``
 (m/s) (free part at ``t0``), ``y0`` (m), ``w0`` (m/s), ``a`` (1/s), ``ωd`` (rad/s), ``ω``
 (rad/s), ``A_c``, ``A_s`` (m), half the gap ``d/2`` (m). Times ``τ`` are measured from ``t0``.
-Forcing vector ``fc``: empty (no external force) or ``[ω rad/s, P N, Q N, A_c m, A_s m, ...]``.
+Forcing vector ``fc``: None (free decay; numba compiles that case without the forcing terms) or
+``[ω rad/s, P N, Q N, A_c m, A_s m, ...]``.
 """
 
 from __future__ import annotations
@@ -32,8 +33,6 @@ import math
 import numpy as np
 from numba import njit
 
-#: Length of the flight-coefficient vector ``c``.
-N_FLIGHT = 11
 _EPS = 2.220446049250313e-16
 _GX, _GW = (np.ascontiguousarray(q) for q in np.polynomial.legendre.leggauss(12))
 
@@ -54,34 +53,20 @@ def _osc(x0, v0, tau, a, wd):
 
 
 @njit(cache=True)
-def flight_coeffs(c, t0, x, v, y, w, a, wd, fc, hg):
-    """Fill the flight coefficients ``c`` (module docstring) for a flight from ``t0`` s.
+def flight_coeffs(t0, x, v, y, w, a, wd, fc, hg):
+    """The flight coefficients ``c`` (module docstring) of a flight from ``t0`` s, as a tuple.
 
     ``x, v, y, w`` (m, m/s) is the state at ``t0``; ``a`` (1/s) and ``wd`` (rad/s) describe the
     free oscillator (of the main mass, or of both masses when stuck together); ``fc`` the
-    forcing (empty: none, then ``x_h0 = x`` and ``v_h0 = v`` exactly); ``hg`` = d/2 in m.
+    forcing (None: free decay, then ``x_h0 = x`` and ``v_h0 = v`` exactly); ``hg`` = d/2 in m.
+    A tuple, not an array: passed by value, it costs no reference counting in the hot calls.
     """
-    c[0] = t0
-    c[3] = y
-    c[4] = w
-    c[5] = a
-    c[6] = wd
-    c[10] = hg
-    if fc.shape[0] == 0:
-        c[1] = x
-        c[2] = v
-        c[7] = 0.0
-        c[8] = 0.0
-        c[9] = 0.0
-        return
+    if fc is None:
+        return (t0, x, v, y, w, a, wd, 0.0, 0.0, 0.0, hg)
     om, ac, as_ = fc[0], fc[3], fc[4]
     cs = math.cos(om * t0)
     sn = math.sin(om * t0)
-    c[1] = x - (ac * cs + as_ * sn)
-    c[2] = v - om * (as_ * cs - ac * sn)
-    c[7] = om
-    c[8] = ac
-    c[9] = as_
+    return (t0, x - (ac * cs + as_ * sn), v - om * (as_ * cs - ac * sn), y, w, a, wd, om, ac, as_, hg)
 
 
 @njit(cache=True)

@@ -40,7 +40,6 @@ from numba import njit
 
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_restitution
 from ._flight import (
-    N_FLIGHT,
     _osc,
     brent,
     flight_coeffs,
@@ -136,8 +135,6 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
     no_dense = np.empty((0, 6))
     no_ext = np.empty((0, 3))
     n_ext = np.zeros(1, np.int64)
-    c = np.zeros(N_FLIGHT)
-    cs = np.zeros(N_FLIGHT)  # the two masses moving together
     a_s = C / (2.0 * (M + m))
     wd_s = math.sqrt(max(K / (M + m) - a_s * a_s, 0.0))
     u_stick = fcs[5] if wd_s > 0.0 else 0.0
@@ -146,7 +143,7 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
     while t < t1:
         if st[4] > 1.5:  # stuck on wall st[5]: one oscillator of mass M + m until the wall stops pushing
             sw = st[5]
-            flight_coeffs(cs, t, st[0], st[1], st[2], st[3], a_s, wd_s, fcs, hg)
+            cs = flight_coeffs(t, st[0], st[1], st[2], st[3], a_s, wd_s, fcs, hg)  # the two masses together
             found, tau = _release(cs, t1 - t, sw)
             wk, dc = flight_energy(cs, tau, fcs, C)
             acc[0] += wk
@@ -163,7 +160,7 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             t = t + tau
             st[4] = 0.0
             # the gap opens as G'''(0) tau^3 / 6: follow the flight unchecked while G > 0 is certain
-            flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc, hg)
+            c = flight_coeffs(t, st[0], st[1], st[2], st[3], a, wd, fc, hg)
             _, jk = _jerk(0.0, c)
             ts = 2.0 * sw * jk / _bound4(c, 0.0) if sw * jk > 0.0 else 0.0
             ts = min(ts, t1 - t)
@@ -211,7 +208,7 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             else:
                 t = t1
             continue
-        flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc, hg)
+        c = flight_coeffs(t, st[0], st[1], st[2], st[3], a, wd, fc, hg)
         found, tau, sw = scan_forced(c, t1 - t)
         if found and t + tau >= t1:
             found = False

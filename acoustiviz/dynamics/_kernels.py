@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact
-from ._flight import N_FLIGHT, _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
+from ._flight import _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
 from ._newmark import central_difference, newmark
 from ._status import (
     DENSE_COLUMNS,
@@ -112,8 +112,6 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     pfree = p.copy()
     pfree[1] = 0.0
     pfree[2] = 0.0
-    nofc = np.empty(0)  # no external force
-    c = np.empty(N_FLIGHT)
     x0, v0, y0, w0 = state0[0], state0[1], state0[2], state0[3]
     t0 = 0.0
     ec = 0.0
@@ -123,7 +121,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     status = STATUS_OK
     dfinal = 0.0
     while True:
-        flight_coeffs(c, t0, x0, v0, y0, w0, a, wd, nofc, hg)
+        c = flight_coeffs(t0, x0, v0, y0, w0, a, wd, None, hg)
         found, tau, sw = scan_unforced(c, t_end - t0)
         tstop = t0 + tau if found else t_end
         free_extrema(c, tau, ext, n_ext)
@@ -185,7 +183,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
                 break
             continue
         ended, st, ie, dur, peak, yc = contact(
-            p, nofc, sw, xx, vv, math.sqrt(d0), u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst, ext, n_ext
+            p, None, sw, xx, vv, math.sqrt(d0), u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst, ext, n_ext
         )
         ec += yc[7]
         en += yc[6]

@@ -9,7 +9,7 @@ Equations (paper eq 15 with forcing), wall ``s = ±1``, penetration ``δ = s (y 
     M x'' + C x' + K x = s F_c + F(t),   m y'' = -s F_c,   F_c = K_HZ δ^{3/2} + c1 dδ/dt (δ > 0).
 
 Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``; forcing vector
-``fc``: empty (free decay) or ``[ω rad/s, P N, Q N, ...]``. State ``st`` (in/out, 8 floats):
+``fc``: None (free decay, compiled without the forcing terms) or ``[ω rad/s, P N, Q N, ...]``. State ``st`` (in/out, 8 floats):
 ``x, v, y, w`` (m, m/s), in-contact flag, wall; impact rows as ``IMPACT_COLUMNS`` of
 :mod:`._status` (a row is opened at contact onset with a NaN separation speed and closed at the
 end of the contact). Accumulators ``acc`` (added to): work of F, dissipated by C, dissipated in
@@ -79,14 +79,6 @@ def _hermite_turn(x, v, x1, v1, h):
 
 
 @njit(cache=True)
-def _external(fc, t):
-    """External force ``P cos(ωt) + Q sin(ωt)`` in N at ``t`` s (0 without forcing)."""
-    if fc.shape[0] == 0:
-        return 0.0
-    return fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t)
-
-
-@njit(cache=True)
 def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,
                     ext, n_ext):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4), ``nsteps`` steps of ``h`` s from ``t0`` s.
@@ -108,10 +100,16 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
     """
     M, K, C, m, hg, kh, c1 = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     clip = p[7] > 0.5
-    forced = fc.shape[0] > 0
+    om = 0.0
+    pc = 0.0
+    ps = 0.0
+    forced = False
+    if fc is not None:  # removed at compile time for free decay
+        om, pc, ps = fc[0], fc[1], fc[2]
+        forced = True
     x, v, y, w = st[0], st[1], st[2], st[3]
     sw, d, u, f, fe, kt = _nm_force(x, y, v, w, hg, kh, c1, clip)
-    fx = _external(fc, t0)
+    fx = pc * math.cos(om * t0) + ps * math.sin(om * t0) if forced else 0.0
     ax = (sw * f - K * x - C * v + fx) / M
     ay = -sw * f / m
     in_contact = sw != 0.0 and st[4] > 0.5
@@ -124,7 +122,7 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
     t = t0
     for k in range(nsteps):
         t1 = t0 + (k + 1) * h
-        fx1 = _external(fc, t1)
+        fx1 = pc * math.cos(om * t1) + ps * math.sin(om * t1) if forced else 0.0
         # predictor: unchanged acceleration
         bx = ax
         by = ay
@@ -263,7 +261,7 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ex
             impacts[0, j] = 0.0
         n = 1
     acc = np.zeros(5)
-    n, status, t, _ = newmark_advance(p, np.empty(0), st, 0.0, h, nsteps, impacts, n, max_impacts, acc, False,
+    n, status, t, _ = newmark_advance(p, None, st, 0.0, h, nsteps, impacts, n, max_impacts, acc, False,
                                       t_eval, 0, dense, ext, n_ext)
     delta = 0.0
     if st[4] > 0.5:
