@@ -218,7 +218,7 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
     main mass at ``x`` m, ``v`` m/s, ``ξ = xi0`` m^0.5 and ``u = u0`` m/s. Tolerances scale with
     the Hertz contact (Johnson, *Contact Mechanics*, 1985, §11.4) at the approach speed of the
     same energy, ``U = sqrt(u0² + 4 K_HZ ξ0⁵ / (5 m_eff))``: ``α_max = (5 m_eff U² / 4 K_HZ)^{2/5}``
-    and duration ``2.94 α_max / U``.
+    and duration ``2.943 α_max / U`` (``HERTZ_DURATION_CONSTANT``).
 
     The peak force is located as the zero of dF_c/dσ inside a step (Illinois); every zero of the
     main-mass velocity inside the contact is located by Newton's method on full Runge-Kutta
@@ -349,6 +349,30 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
         else:
             h = h * min(grow, 0.8 * err ** (-1.0 / 8.0))
     return ended, status, ie, y[0], peak, y
+
+
+@njit(cache=True)
+def instant_impact(p, sw, u0, e, v, w, dur, peak, row):
+    """Instantaneous impact on wall ``sw`` at approach speed ``u0`` m/s with restitution ``e``.
+
+    The rigid-body limit of the contact (impact map): momentum is conserved and the relative
+    speed reverses with factor ``e``, so the impulse is ``J = (1 + e) m_eff u0`` (N s, with
+    ``m_eff = m M / (m + M)``), ``v⁺ = v + s J / M``, ``w⁺ = w - s J / m`` (m/s) and the energy
+    lost ``m_eff u0² (1 - e²) / 2`` (J). Fills ``row[3:8]`` of an impact row (separation speed,
+    duration ``dur`` s, peak force ``peak`` N, impulse, energy lost).
+
+    Returns ``(v⁺, w⁺, energy lost)``.
+    """
+    M, m = p[0], p[3]
+    meff = m * M / (m + M)
+    jimp = (1.0 + e) * meff * u0
+    lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
+    row[3] = e * u0
+    row[4] = dur
+    row[5] = peak
+    row[6] = jimp
+    row[7] = lost
+    return v + sw * jimp / M, w - sw * jimp / m, lost
 
 
 @njit(cache=True)

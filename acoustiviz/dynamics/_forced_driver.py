@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_restitution
+from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_restitution, instant_impact
 from ._flight import (
     _osc,
     brent,
@@ -241,17 +241,9 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             peak = 0.0
             if restitution < 0.0:  # the compliant contact's restitution at this speed
                 e, dur, peak = free_restitution(p, u0, rtol)
-            jimp = (1.0 + e) * meff * u0
-            lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
-            st[1] = v + sw * jimp / M
-            st[3] = st[3] - sw * jimp / m
+            st[1], st[3], lost = instant_impact(p, sw, u0, e, v, st[3], dur, peak, impacts[n])
             st[2] = st[0] + sw * hg
             acc[2] += lost
-            impacts[n, 3] = e * u0
-            impacts[n, 4] = dur
-            impacts[n, 5] = peak
-            impacts[n, 6] = jimp
-            impacts[n, 7] = lost
             n += 1
             # a Zeno train of impacts on a wall that presses: stick (module docstring)
             press = sw * (fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t) - K * st[0] - C * st[1]) / M

@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact
+from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact, instant_impact
 from ._flight import _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
 from ._newmark import central_difference, newmark
 from ._status import (
@@ -103,8 +103,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     (:func:`~acoustiviz.dynamics._flight.free_extrema`), inside contacts by root finding on the
     contact integration. Returns ``(n_impacts, status, t_reached)``.
     """
-    M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]
-    meff = m * M / (m + M)
+    M, K, C, hg = p[0], p[1], p[2], p[4]
     a = C / (2.0 * M)
     wd = math.sqrt(K / M - a * a)
     work = np.zeros((N_WORK_ROWS, NY))
@@ -162,20 +161,12 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
                 peak = math.exp(_table_lookup(lnu, table, lu, 2))
             else:
                 st, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)
-            jimp = (1.0 + e) * meff * u0
             x0 = xx
-            v0 = vv + sw * jimp / M
+            v0, w0, lost = instant_impact(p, sw, u0, e, vv, w0, dur, peak, impacts[n])
             if (vv > 0.0) != (v0 > 0.0):  # the impulse turns the main mass: a kink extremum
                 record_extremum(ext, n_ext, tc, xx, 1.0 if vv > 0.0 else -1.0)
-            w0 = w0 - sw * jimp / m
             y0 = x0 + sw * hg
-            lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
             en += lost
-            impacts[n, 3] = e * u0
-            impacts[n, 4] = dur
-            impacts[n, 5] = peak
-            impacts[n, 6] = jimp
-            impacts[n, 7] = lost
             n += 1
             t0 = tc
             if st != STATUS_OK:

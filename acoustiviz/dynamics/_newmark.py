@@ -9,8 +9,8 @@ Equations (paper eq 15 with forcing), wall ``s = ±1``, penetration ``δ = s (y 
     M x'' + C x' + K x = s F_c + F(t),   m y'' = -s F_c,   F_c = K_HZ δ^{3/2} + c1 dδ/dt (δ > 0).
 
 Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``; forcing vector
-``fc``: None (free decay, compiled without the forcing terms) or ``[ω rad/s, P N, Q N, ...]``. State ``st`` (in/out, 8 floats):
-``x, v, y, w`` (m, m/s), in-contact flag, wall; impact rows as ``IMPACT_COLUMNS`` of
+``fc``: None (free decay, compiled without the forcing terms) or ``[ω rad/s, P N, Q N, ...]``.
+State ``st`` (in/out, 8 floats): ``x, v, y, w`` (m, m/s), in-contact flag, wall; impact rows as ``IMPACT_COLUMNS`` of
 :mod:`._status` (a row is opened at contact onset with a NaN separation speed and closed at the
 end of the contact). Accumulators ``acc`` (added to): work of F, dissipated by C, dissipated in
 contacts (J), largest and smallest x (m).
