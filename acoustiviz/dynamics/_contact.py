@@ -223,7 +223,8 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
     The peak force is located as the zero of dF_c/dσ inside a step (Illinois); every zero of the
     main-mass velocity inside the contact is located by Newton's method on full Runge-Kutta
     steps from the step start (as accurate as the integration) and recorded in ``ext``
-    (:func:`~acoustiviz.dynamics._flight.record_extremum`); x, v, y, w and the dissipated
+    (:func:`~acoustiviz.dynamics._flight.record_extremum`; an empty ``ext`` skips that search,
+    for callers that record no turning points); x, v, y, w and the dissipated
     energies (plus ``ec0``, ``en0`` J) are written to ``dense[ie:]`` at the times ``t_eval``.
 
     Returns ``(ended, status, ie, duration s, peak_force N, yout)`` where ``yout`` is the state at
@@ -307,7 +308,7 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
             _copy(fd, fnew)
         fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
         peak = max(peak, fend)
-        if (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns inside this step
+        if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
             _copy(ynew, yd)
             _copy(fnew, fd)
             _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
