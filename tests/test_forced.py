@@ -276,3 +276,27 @@ def test_sticking_phase_and_release_match_an_ode_solution():
     assert st[3] == pytest.approx(vr, abs=1e-9)  # the impact mass leaves with the release velocity
 
 
+
+
+@pytest.mark.parametrize("solver", ["event", "newmark"])
+def test_zero_forcing_is_free_decay(solver):
+    """With F = 0 the forced driver (bounded scan, quadrature energies, cycle by cycle) follows
+    the free-decay solver (exact scan, closed-form energies) of the Table 1 damper, Figure 5 start."""
+    from acoustiviz.dynamics import TABLE1, InitialState, simulate
+
+    cycles, f = 5, 5.0  # 1 s of free decay, 22 impacts
+    if solver == "event":
+        forced_kw, free_kw = {"rtol": 1e-13}, {"rtol": 1e-13}
+    else:
+        forced_kw, free_kw = {"steps_per_cycle": 40000}, {"dt": 1.0 / (f * 40000)}
+    pts, imp, en = simulate_cycles(TABLE1, Excitation(f, 0.0), cycles, solver=solver,
+                                   initial=(0.0, 2.0, 0.0, 0.0), **forced_kw)
+    r = simulate(TABLE1, cycles / f, solver=solver, initial=InitialState(), **free_kw)
+    assert len(imp) == len(r.impacts) >= 20
+    np.testing.assert_array_equal(imp[:, 1], r.impacts.wall)
+    np.testing.assert_allclose(imp[:, 0], r.impacts.time, rtol=0, atol=1e-11)
+    np.testing.assert_allclose(imp[:, 2], r.impacts.approach_velocity, rtol=1e-10)
+    assert en[0] == 0.0  # no work without a force
+    assert en[1] == pytest.approx(r.energy.dissipated_main, rel=1e-10)
+    assert en[2] == pytest.approx(r.energy.dissipated_contact, rel=1e-10)
+    np.testing.assert_allclose(pts[-1, :2], r.final_state[:2], rtol=1e-9)
