@@ -285,18 +285,20 @@ def test_zero_forcing_is_free_decay(solver):
     from acoustiviz.dynamics import TABLE1, InitialState, simulate
 
     cycles, f = 5, 5.0  # 1 s of free decay, 22 impacts
+    # Newmark restarts each cycle from accelerations recomputed from the state, not from the last
+    # Newton iterate (converged to 1e-13): a small difference the chaotic motion then amplifies
     if solver == "event":
-        forced_kw, free_kw = {"rtol": 1e-13}, {"rtol": 1e-13}
+        forced_kw, free_kw, tol = {"rtol": 1e-13}, {"rtol": 1e-13}, 1e-11
     else:
-        forced_kw, free_kw = {"steps_per_cycle": 40000}, {"dt": 1.0 / (f * 40000)}
+        forced_kw, free_kw, tol = {"steps_per_cycle": 40000}, {"dt": 1.0 / (f * 40000)}, 1e-9
     pts, imp, en = simulate_cycles(TABLE1, Excitation(f, 0.0), cycles, solver=solver,
                                    initial=(0.0, 2.0, 0.0, 0.0), **forced_kw)
     r = simulate(TABLE1, cycles / f, solver=solver, initial=InitialState(), **free_kw)
     assert len(imp) == len(r.impacts) >= 20
     np.testing.assert_array_equal(imp[:, 1], r.impacts.wall)
-    np.testing.assert_allclose(imp[:, 0], r.impacts.time, rtol=0, atol=1e-11)
-    np.testing.assert_allclose(imp[:, 2], r.impacts.approach_velocity, rtol=1e-10)
+    np.testing.assert_allclose(imp[:, 0], r.impacts.time, rtol=0, atol=tol)
+    np.testing.assert_allclose(imp[:, 2], r.impacts.approach_velocity, rtol=10 * tol)
     assert en[0] == 0.0  # no work without a force
-    assert en[1] == pytest.approx(r.energy.dissipated_main, rel=1e-10)
-    assert en[2] == pytest.approx(r.energy.dissipated_contact, rel=1e-10)
-    np.testing.assert_allclose(pts[-1, :2], r.final_state[:2], rtol=1e-9)
+    assert en[1] == pytest.approx(r.energy.dissipated_main, rel=10 * tol)
+    assert en[2] == pytest.approx(r.energy.dissipated_contact, rel=10 * tol)
+    np.testing.assert_allclose(pts[-1, :2], r.final_state[:2], rtol=100 * tol)
