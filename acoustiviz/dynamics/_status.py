@@ -1,4 +1,9 @@
-"""Codes, column layouts and messages shared by the compiled impact-damper kernels."""
+"""Codes, layouts and messages shared by the compiled impact-damper kernels."""
+
+import numpy as np
+
+#: Entries of the kernels' parameter vector ``p`` (SI; ``clip`` 1.0 or 0.0).
+PARAM_COLUMNS = ("M", "K", "C", "m", "half_gap", "k_hertz", "c1", "clip")
 
 #: Columns of the impact array filled by the kernels.
 IMPACT_COLUMNS = ("time", "wall", "approach", "separation", "duration", "peak_force", "impulse", "energy_lost")
@@ -27,3 +32,12 @@ def status_message(status: int, limit: str = LIMIT_RUN) -> str:
     if status == STATUS_MAX_IMPACTS:
         return "stopped: " + limit
     return _MESSAGES.get(status, f"status {status}")
+
+
+def kernel_params(model) -> np.ndarray:
+    """The parameter vector ``p`` (``PARAM_COLUMNS``) of a :class:`~acoustiviz.dynamics.DamperModel`.
+
+    Masses in kg, K in N/m, C and c1 in N s/m, half the gap in m, k_hertz in N/m^1.5.
+    """
+    return np.array([model.M, model.K, model.C, model.m, 0.5 * model.gap, model.k_hertz, model.c1,
+                     1.0 if model.clip_tensile else 0.0])

@@ -38,6 +38,7 @@ from ..constants import EXCITATIONS, FORCED_SOLVERS
 from . import _forced_driver as fd
 from ._newmark import newmark_advance
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
+from ._status import kernel_params as _params
 from .model import DamperModel
 
 __all__ = [
@@ -233,11 +234,6 @@ def linear_start(model: DamperModel, excitation: Excitation) -> tuple[float, flo
     hg = 0.5 * model.gap
     x0 = xc.real
     return x0, -excitation.omega * xc.imag, min(max(0.0, x0 - hg), x0 + hg), 0.0
-
-
-def _params(model: DamperModel) -> np.ndarray:
-    return np.array([model.M, model.K, model.C, model.m, 0.5 * model.gap, model.k_hertz, model.c1,
-                     1.0 if model.clip_tensile else 0.0])
 
 
 def _check_common(model, excitation, solver, restitution):
