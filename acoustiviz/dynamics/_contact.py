@@ -43,7 +43,7 @@ NY = 8
 #: Rows of the stage array ``kst`` a caller allocates: the stages and the derivative at the new point.
 N_STAGE_ROWS = _NS + 1
 #: Rows of the work array ``work`` a caller allocates.
-N_WORK_ROWS = 10
+N_WORK_ROWS = 8
 _EPS = 2.220446049250313e-16
 
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
@@ -211,6 +211,38 @@ def _copy(src, dst):
 
 
 @njit(cache=True)
+def _dense_in_step(t_eval, ie, dense, ec0, en0, h, y, f0, p, fc, tc, sw, work, kst):
+    """Dense output at the times ``t_eval[ie:]`` (s) inside the accepted step of length ``h``.
+
+    Each time is reached by Newton's method on t(σ) with full Runge-Kutta steps from the step
+    start (:func:`_newton_in_step`); rows of ``dense``: x, v, y, w (m, m/s), dissipated by C
+    and in contacts (J, plus ``ec0``, ``en0``). ``work[3:5]`` hold the step end on entry and on
+    return. Returns the next ``ie``.
+    """
+    hg = p[4]
+    ytmp, ynew, fnew, yd, fd = work[2], work[3], work[4], work[5], work[6]
+    while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+        _copy(ynew, yd)
+        _copy(fnew, fd)
+        target = t_eval[ie] - tc
+        if target > y[0]:
+            _newton_in_step(2, target, y, f0, h, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
+        else:
+            _copy(y, ynew)
+        xi = max(ynew[3], 0.0)
+        dense[ie, 0] = ynew[1]
+        dense[ie, 1] = ynew[2]
+        dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
+        dense[ie, 3] = ynew[2] + sw * ynew[4]
+        dense[ie, 4] = ec0 + ynew[7]
+        dense[ie, 5] = en0 + ynew[6]
+        _copy(yd, ynew)
+        _copy(fd, fnew)
+        ie += 1
+    return ie
+
+
+@njit(cache=True)
 def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
     """Integrate one contact from ``tc`` s until the bodies part or ``t_end`` s (module docstring).
 
@@ -224,8 +256,9 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
     main-mass velocity inside the contact is located by Newton's method on full Runge-Kutta
     steps from the step start (as accurate as the integration) and recorded in ``ext``
     (:func:`~acoustiviz.dynamics._flight.record_extremum`; an empty ``ext`` skips that search,
-    for callers that record no turning points); x, v, y, w and the dissipated
-    energies (plus ``ec0``, ``en0`` J) are written to ``dense[ie:]`` at the times ``t_eval``.
+    ``ext=None`` compiles it out); x, v, y, w and the dissipated energies (plus ``ec0``, ``en0``
+    J) are written to ``dense[ie:]`` at the times ``t_eval`` (``t_eval=None``: no dense output,
+    compiled out).
 
     Returns ``(ended, status, ie, duration s, peak_force N, yout)`` where ``yout`` is the state at
     the end (module docstring; t counted from ``tc``).
@@ -241,8 +274,6 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
     yd = work[5]
     fd = work[6]
     atol = work[7]
-    ys = work[8]
-    fs = work[9]
     y[0] = 0.0
     y[1] = x
     y[2] = v
@@ -289,8 +320,6 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            _copy(ynew, ys)
-            _copy(fnew, fs)
             hstep = _newton_in_step(0, 0.0, y, f0, h, y[3], p, fc, tc, sw, kst, ytmp, ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
@@ -308,32 +337,16 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
             _copy(fd, fnew)
         fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
         peak = max(peak, fend)
-        if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
-            _copy(ynew, yd)
-            _copy(fnew, fd)
-            _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
-            record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
-            _copy(yd, ynew)
-            _copy(fd, fnew)
-        # dense output inside the step: Newton on t(σ) with full steps from the step start
-        while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
-            _copy(ynew, yd)
-            _copy(fnew, fd)
-            target = t_eval[ie] - tc
-            if target > y[0]:
-                _newton_in_step(2, target, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-            else:
-                _copy(y, ynew)
-            xi = max(ynew[3], 0.0)
-            dense[ie, 0] = ynew[1]
-            dense[ie, 1] = ynew[2]
-            dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
-            dense[ie, 3] = ynew[2] + sw * ynew[4]
-            dense[ie, 4] = ec0 + ynew[7]
-            dense[ie, 5] = en0 + ynew[6]
-            _copy(yd, ynew)
-            _copy(fd, fnew)
-            ie += 1
+        if ext is not None:  # removed at compile time when no turning points are wanted
+            if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
+                _copy(ynew, yd)
+                _copy(fnew, fd)
+                _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
+                record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
+                _copy(yd, ynew)
+                _copy(fd, fnew)
+        if t_eval is not None:  # dense output inside the step
+            ie = _dense_in_step(t_eval, ie, dense, ec0, en0, hstep, y, f0, p, fc, tc, sw, work, kst)
         _copy(ynew, y)
         _copy(fnew, f0)
         if exiting:

@@ -131,10 +131,6 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
     wd = math.sqrt(K / M - a * a)
     work = np.zeros((N_WORK_ROWS, NY + 1))  # forced contact state: NY + the work of F
     kst = np.zeros((N_STAGE_ROWS, NY + 1))
-    no_eval = np.empty(0)
-    no_dense = np.empty((0, 6))
-    no_ext = np.empty((0, 3))
-    n_ext = np.zeros(1, np.int64)
     a_s = C / (2.0 * (M + m))
     wd_s = math.sqrt(max(K / (M + m) - a_s * a_s, 0.0))
     u_stick = fcs[5] if wd_s > 0.0 else 0.0
@@ -178,8 +174,8 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             continue
         if st[4] > 0.5:  # inside a contact: integrate it
             sw = st[5]
-            ended, stc, _, _, peak, yc = contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, no_eval, 0,
-                                                 no_dense, 0.0, 0.0, work, kst, no_ext, n_ext)
+            ended, stc, _, _, peak, yc = contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, None, 0,
+                                                 None, 0.0, 0.0, work, kst, None, None)
             acc[0] += yc[8]
             acc[1] += yc[7]
             acc[2] += yc[6]
