@@ -211,38 +211,6 @@ def _copy(src, dst):
 
 
 @njit(cache=True)
-def _dense_in_step(t_eval, ie, dense, ec0, en0, h, y, f0, p, fc, tc, sw, work, kst):
-    """Dense output at the times ``t_eval[ie:]`` (s) inside the accepted step of length ``h``.
-
-    Each time is reached by Newton's method on t(σ) with full Runge-Kutta steps from the step
-    start (:func:`_newton_in_step`); rows of ``dense``: x, v, y, w (m, m/s), dissipated by C
-    and in contacts (J, plus ``ec0``, ``en0``). ``work[3:5]`` hold the step end on entry and on
-    return. Returns the next ``ie``.
-    """
-    hg = p[4]
-    ytmp, ynew, fnew, yd, fd = work[2], work[3], work[4], work[5], work[6]
-    while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
-        _copy(ynew, yd)
-        _copy(fnew, fd)
-        target = t_eval[ie] - tc
-        if target > y[0]:
-            _newton_in_step(2, target, y, f0, h, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-        else:
-            _copy(y, ynew)
-        xi = max(ynew[3], 0.0)
-        dense[ie, 0] = ynew[1]
-        dense[ie, 1] = ynew[2]
-        dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
-        dense[ie, 3] = ynew[2] + sw * ynew[4]
-        dense[ie, 4] = ec0 + ynew[7]
-        dense[ie, 5] = en0 + ynew[6]
-        _copy(yd, ynew)
-        _copy(fd, fnew)
-        ie += 1
-    return ie
-
-
-@njit(cache=True)
 def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
     """Integrate one contact from ``tc`` s until the bodies part or ``t_end`` s (module docstring).
 
@@ -345,8 +313,25 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
                 record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
                 _copy(yd, ynew)
                 _copy(fd, fnew)
-        if t_eval is not None:  # dense output inside the step
-            ie = _dense_in_step(t_eval, ie, dense, ec0, en0, hstep, y, f0, p, fc, tc, sw, work, kst)
+        if t_eval is not None:  # dense output inside the step: Newton on t(σ), full steps from the step start
+            while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+                _copy(ynew, yd)
+                _copy(fnew, fd)
+                target = t_eval[ie] - tc
+                if target > y[0]:
+                    _newton_in_step(2, target, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
+                else:
+                    _copy(y, ynew)
+                xi = max(ynew[3], 0.0)
+                dense[ie, 0] = ynew[1]
+                dense[ie, 1] = ynew[2]
+                dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
+                dense[ie, 3] = ynew[2] + sw * ynew[4]
+                dense[ie, 4] = ec0 + ynew[7]
+                dense[ie, 5] = en0 + ynew[6]
+                _copy(yd, ynew)
+                _copy(fd, fnew)
+                ie += 1
         _copy(ynew, y)
         _copy(fnew, f0)
         if exiting:

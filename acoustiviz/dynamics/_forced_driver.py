@@ -14,10 +14,9 @@ the flag is 1 the impact row ``n - 1`` is still open (its separation speed is Na
 Impact rows: ``IMPACT_COLUMNS`` of :mod:`._status`.
 Accumulators ``acc`` (added to): work of F on the main mass, dissipated by C, dissipated in
 contacts (J), and the largest and smallest x reached (m).
-``fcs`` is the forcing vector of the main and impact
-masses moving together (mass ``M + m``): ``[ω, P, Q, A_c, A_s, u_stick]`` with the particular
-solution of that oscillator and the speed (m/s) below which instantaneous impacts turn into
-sticking (0 disables it).
+``fcs`` is the forcing vector of the main and impact masses moving together (mass ``M + m``):
+``[ω, P, Q, A_c, A_s, u_stick]`` with the particular solution of that oscillator and the speed
+(m/s) below which instantaneous impacts turn into sticking (0 disables it).
 
 Sticking (impact map only). A train of instantaneous impacts of restitution ``e`` against a wall
 that the impact mass is pressed on shortens geometrically (a Zeno sequence). When the relative
