@@ -94,7 +94,8 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
     Extrema of x (into ``ext``, ``n_ext`` counting) are the turning points of the cubic Hermite
     interpolant of each step whose end velocities differ in sign (:func:`_hermite_turn`), the
     interpolant of the dense output (x, v, y, w, dissipated by C and in contacts at ``t_eval``
-    into ``dense`` from row ``ie``). New impact rows from row ``n``, at most ``max_impacts``.
+    into ``dense`` from row ``ie``); ``ext=None`` and ``t_eval=None`` compile them out. New
+    impact rows from row ``n``, at most ``max_impacts``.
 
     Returns ``(n, status, t_reached s, ie)``; ``st`` holds the state reached.
     """
@@ -196,23 +197,24 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
             impacts[r, 3] = -(sw * (w1 - v1) - (1.0 - fr) * h * sw * (by - bx))
             impacts[r, 4] = t + fr * h - impacts[r, 0]
             impacts[r, 6] += h2 * f
-        if (v > 0.0) != (v1 > 0.0):
+        if ext is not None and (v > 0.0) != (v1 > 0.0):  # ext=None: compiled out
             s_turn, x_turn = _hermite_turn(x, v, x1, v1, h)
             record_extremum(ext, n_ext, t + s_turn * h, x_turn, 1.0 if v > 0.0 else -1.0)
         # dense output: cubic Hermite in displacement, linear acceleration in velocity
-        while ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
-            s = min((t_eval[ie] - t) / h, 1.0)
-            h00 = 2 * s**3 - 3 * s**2 + 1
-            h10 = s**3 - 2 * s**2 + s
-            h01 = -2 * s**3 + 3 * s**2
-            h11 = s**3 - s**2
-            dense[ie, 0] = h00 * x + h10 * h * v + h01 * x1 + h11 * h * v1
-            dense[ie, 1] = h00 * v + h10 * h * ax + h01 * v1 + h11 * h * bx
-            dense[ie, 2] = h00 * y + h10 * h * w + h01 * y1 + h11 * h * w1
-            dense[ie, 3] = h00 * w + h10 * h * ay + h01 * w1 + h11 * h * by
-            dense[ie, 4] = ec - (1.0 - s) * h2 * C * (v * v + v1 * v1)
-            dense[ie, 5] = en - (1.0 - s) * h2 * (pw_prev + pw)
-            ie += 1
+        if t_eval is not None:  # t_eval=None: compiled out
+            while ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
+                s = min((t_eval[ie] - t) / h, 1.0)
+                h00 = 2 * s**3 - 3 * s**2 + 1
+                h10 = s**3 - 2 * s**2 + s
+                h01 = -2 * s**3 + 3 * s**2
+                h11 = s**3 - s**2
+                dense[ie, 0] = h00 * x + h10 * h * v + h01 * x1 + h11 * h * v1
+                dense[ie, 1] = h00 * v + h10 * h * ax + h01 * v1 + h11 * h * bx
+                dense[ie, 2] = h00 * y + h10 * h * w + h01 * y1 + h11 * h * w1
+                dense[ie, 3] = h00 * w + h10 * h * ay + h01 * w1 + h11 * h * by
+                dense[ie, 4] = ec - (1.0 - s) * h2 * C * (v * v + v1 * v1)
+                dense[ie, 5] = en - (1.0 - s) * h2 * (pw_prev + pw)
+                ie += 1
         x, v, y, w = x1, v1, y1, w1
         ax, ay = bx, by
         sw, d, f, fe, fx = sw1, d1, f1, fe1, fx1

@@ -289,8 +289,7 @@ class _Runner:
         self.imp = np.zeros((self.cap * (MAX_PERIOD + NONPERIODIC_CYCLES + 1), 8))
         self.model = model
         self.k = 0  # cycles done
-        # the Newmark kernel's dense output and turning points, not used here
-        self._no_output = (np.empty(0), 0, np.empty((0, 6)), np.empty((0, 3)), np.zeros(1, np.int64))
+
 
     def cycle(self, n0, acc, extrema):
         """Advance one forcing period; impacts from row ``n0``. Returns ``(n, status)``."""
@@ -298,7 +297,7 @@ class _Runner:
         cap = min(n0 + self.cap, self.imp.shape[0])
         if self.solver == "newmark":
             n, status, _, _ = newmark_advance(self.p, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0,
-                                              cap, acc, extrema, *self._no_output)
+                                              cap, acc, extrema, None, 0, None, None, None)
             out = (n, status)
         else:
             out = fd.advance(self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp,
