@@ -1,7 +1,7 @@
 """One contact of the impact damper, integrated by Dormand-Prince 8(5,3) in a regularising time (numba).
 
 Free decay and forced operation share this solver; the external force
-``F(t) = P cos(ωt) + Q sin(ωt)`` on the main mass is a parameter (the forcing vector ``fc``, empty
+``F(t) = P cos(ωt) + Q sin(ωt)`` on the main mass is a parameter (the forcing vector ``fc``,
 None for none). During a contact on wall ``s = ±1`` with penetration ``δ = s z - d/2`` (paper eq 15)::
 
     M x'' = s F_c - K x - C x' + F(t),    m y'' = -s F_c,    F_c = K_HZ δ^{3/2} + c1 dδ/dt.
@@ -11,7 +11,7 @@ variable (dξ/dσ = u/2). The Hertz force becomes K_HZ ξ³, a polynomial, so th
 singularities at contact onset and end (solution terms in t^{3.5}) disappear: the solution is
 analytic in σ and the 8th-order steps stay long up to both ends. The contact ends at the simple
 root ξ = 0 (dξ/dσ = u/2 < 0 there), located by Newton's method on full Runge-Kutta steps.
-State (:func:`n_state` components): t (s, from onset), x (m), v (m/s), ξ (m^0.5), u = dδ/dt
+State (``NY`` components, ``NY + 1`` with forcing): t (s, from onset), x (m), v (m/s), ξ (m^0.5), u = dδ/dt
 (m/s), impulse (N s), dissipated in contact (J), dissipated by C (J) and, with forcing, the work
 of F on the main mass (J). Without forcing (``fc`` None) numba compiles a specialisation in which
 the ninth component and the evaluation of F do not exist: zero forcing costs nothing.
@@ -47,11 +47,6 @@ N_WORK_ROWS = 8
 _EPS = 2.220446049250313e-16
 
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
-
-
-def n_state(fc) -> int:
-    """Contact-state components (columns of ``work`` and ``kst``) for the forcing vector ``fc``."""
-    return NY if fc is None else NY + 1
 
 
 @njit(cache=True)
