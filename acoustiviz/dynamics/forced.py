@@ -290,12 +290,12 @@ class _Runner:
         self.model = model
         self.k = 0  # cycles done
 
-
     def cycle(self, n0, acc, extrema):
         """Advance one forcing period; impacts from row ``n0``. Returns ``(n, status)``."""
         t0 = self.k * self.T
         cap = min(n0 + self.cap, self.imp.shape[0])
         if self.solver == "newmark":
+            # no dense output, no turning points (None: compiled out)
             n, status, _, _ = newmark_advance(self.p, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0,
                                               cap, acc, extrema, None, 0, None, None, None)
             out = (n, status)
