@@ -223,8 +223,41 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
     J) are written to ``dense[ie:]`` at the times ``t_eval`` (``t_eval=None``: no dense output,
     compiled out).
 
-    Returns ``(ended, status, ie, duration s, peak_force N, yout)`` where ``yout`` is the state at
-    the end (module docstring; t counted from ``tc``).
+    Parameters
+    ----------
+    p : ndarray
+        ``[M kg, K N/m, C N s/m, m kg, d/2 m, K_HZ N/m^1.5, c1 N s/m, clip]``.
+    fc : ndarray or None
+        Forcing ``[ω rad/s, P N, Q N, ...]``; None for free decay (8 state components).
+    sw : float
+        Wall, +1 or -1.
+    x, v, xi0, u0 : float
+        Main-mass displacement (m) and velocity (m/s), sqrt of the penetration (m^0.5) and
+        penetration rate (m/s) at ``tc``.
+    tc, t_end, rtol : float
+        Start and latest end of the integration (s); relative tolerance.
+    t_eval, ie, dense : ndarray, int, ndarray, or None, 0, None
+        Output times (s), the next one due, and the (n, 6) dense rows.
+    ec0, en0 : float
+        Energy dissipated by C and in contacts before ``tc`` (J), added to the dense rows.
+    work, kst : ndarray
+        Buffers ``(N_WORK_ROWS, n)`` and ``(N_STAGE_ROWS, n)``, ``n = NY`` or ``NY + 1`` with
+        forcing.
+    ext, n_ext : ndarray or None
+        Turning points of x (rows: time s, x m, ±1) and their count.
+
+    Returns
+    -------
+    ended : bool
+        True when the bodies parted before ``t_end``.
+    status : int
+        ``STATUS_OK`` or ``STATUS_STEP_UNDERFLOW``.
+    ie : int
+        The next output time due.
+    duration, peak_force : float
+        Time integrated (s) and largest contact force (N).
+    yout : ndarray
+        The state at the end (module docstring; t counted from ``tc``), a view of ``work[0]``.
     """
     M, m, kh, hg, c1 = p[0], p[3], p[5], p[4], p[6]
     meff = m * M / (m + M)

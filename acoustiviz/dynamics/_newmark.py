@@ -94,10 +94,41 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
     Extrema of x (into ``ext``, ``n_ext`` counting) are the turning points of the cubic Hermite
     interpolant of each step whose end velocities differ in sign (:func:`_hermite_turn`), the
     interpolant of the dense output (x, v, y, w, dissipated by C and in contacts at ``t_eval``
-    into ``dense`` from row ``ie``); ``ext=None`` and ``t_eval=None`` compile them out. New
-    impact rows from row ``n``, at most ``max_impacts``.
+    into ``dense`` from row ``ie``); ``ext=None`` and ``t_eval=None`` compile them out.
 
-    Returns ``(n, status, t_reached s, ie)``; ``st`` holds the state reached.
+    Parameters
+    ----------
+    p : ndarray
+        ``[M kg, K N/m, C N s/m, m kg, d/2 m, K_HZ N/m^1.5, c1 N s/m, clip]``.
+    fc : ndarray or None
+        Forcing ``[ω rad/s, P N, Q N, ...]``; None for free decay (compiled without it).
+    st : ndarray
+        State (module docstring), updated in place.
+    t0, h : float
+        Start time and step (s).
+    nsteps : int
+        Steps to take.
+    impacts, n, max_impacts : ndarray, int, int
+        Impact rows, the first free row and the row limit.
+    acc : ndarray
+        Accumulators (module docstring), added to.
+    minmax : bool
+        Track the step-end extremes of x in ``acc[3:5]``.
+    t_eval, ie, dense : ndarray, int, ndarray, or None, 0, None
+        Output times (s), the next one due, and the (n, 6) dense rows.
+    ext, n_ext : ndarray or None
+        Turning points of x (rows: time s, x m, ±1) and their count.
+
+    Returns
+    -------
+    n : int
+        The next free impact row.
+    status : int
+        ``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or ``STATUS_DIVERGED``.
+    t : float
+        Time reached (s); ``st`` holds the state there.
+    ie : int
+        The next output time due.
     """
     M, K, C, m, hg, kh, c1 = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     clip = p[7] > 0.5
