@@ -30,7 +30,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from acoustiviz.dynamics import DamperModel
-from acoustiviz.dynamics import _forced_kernels as fk
+from acoustiviz.dynamics._contact import free_restitution
 from acoustiviz.dynamics.forced import Excitation, _params, frequency_response, steady_state
 from acoustiviz.dynamics.periodic import masri_caughey
 
@@ -62,7 +62,7 @@ def _mc_compliant(model, ex):
     e, s = 0.9, None
     for _ in range(40):
         s = [q for q in masri_caughey(model, ex, e) if q.valid][0]
-        e_new = fk.free_restitution(_params(model), s.approach_speed, 1e-12)[0]
+        e_new = free_restitution(_params(model), s.approach_speed, 1e-12)[0]
         if abs(e_new - e) < 1e-13:
             break
         e = e_new

@@ -1,9 +1,12 @@
 """Impact-damper dynamics (paper eq 15): model, solvers, impact table, exact maxima, metrics.
 
 Modules: ``model`` (the damper and its start), ``solve`` (:func:`simulate` and its three
-solvers, compiled in ``_kernels``, ``_free``, ``_contact``, ``_newmark`` with the vendored DOP853
-tableau ``_dop853``), ``result`` (impact table, energy balance, turning points), ``maxima``
-(positive maxima, exact from a run), ``metrics`` (damping inclination, eq 16, and settling time).
+solvers), ``forced`` (harmonic excitation, steady states, frequency response), ``result``
+(impact table, energy balance, turning points), ``maxima`` (positive maxima, exact from a run),
+``metrics`` (damping inclination, eq 16, and settling time). The compiled kernels serve free
+decay and forced operation alike: ``_flight`` (closed-form flight, contact detection),
+``_contact`` (DOP853 contact, tableau vendored in ``_dop853``), ``_newmark``, ``_status``, and
+the drivers ``_kernels`` (free decay) and ``_forced_driver`` (forced operation).
 Files are written by :mod:`acoustiviz.output.tables`, never here.
 
 Wall convention: ``wall = +1`` is struck when ``z = y - x`` reaches ``+d/2`` (the impact mass

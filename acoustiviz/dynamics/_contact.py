@@ -1,13 +1,23 @@
 """One contact of the impact damper, integrated by Dormand-Prince 8(5,3) in a regularising time (numba).
 
+Free decay and forced operation share this solver; the external force
+``F(t) = P cos(ωt) + Q sin(ωt)`` on the main mass is a parameter (the forcing vector ``fc``,
+None for none). During a contact on wall ``s = ±1`` with penetration ``δ = s z - d/2`` (paper eq 15)::
+
+    M x'' = s F_c - K x - C x' + F(t),    m y'' = -s F_c,    F_c = K_HZ δ^{3/2} + c1 dδ/dt.
+
 The contact is integrated in a transformed time σ with dt = ξ dσ, where ξ = sqrt(δ) is a state
 variable (dξ/dσ = u/2). The Hertz force becomes K_HZ ξ³, a polynomial, so the δ^{3/2}
 singularities at contact onset and end (solution terms in t^{3.5}) disappear: the solution is
 analytic in σ and the 8th-order steps stay long up to both ends. The contact ends at the simple
 root ξ = 0 (dξ/dσ = u/2 < 0 there), located by Newton's method on full Runge-Kutta steps.
-State: t (from onset), x, v, ξ, u = dδ/dt, impulse, dissipated in contact, dissipated by C.
+State (``NY`` components, ``NY + 1`` with forcing): t (s, from onset), x (m), v (m/s), ξ (m^0.5), u = dδ/dt
+(m/s), impulse (N s), dissipated in contact (J), dissipated by C (J) and, with forcing, the work
+of F on the main mass (J). Without forcing (``fc`` None) numba compiles a specialisation in which
+the ninth component and the evaluation of F do not exist: zero forcing costs nothing.
 
 Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``.
+Forcing vector ``fc``: None, or ``[ω rad/s, P N, Q N, ...]``.
 """
 
 from __future__ import annotations
@@ -20,19 +30,21 @@ from numba import njit
 from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
 from ._dop853 import error_norm as _dop_error
-from ._free import record_extremum
-from ._status import STATUS_STEP_UNDERFLOW
+from ._flight import record_extremum
+from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 
 # Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner, Solving ODEs I, II.10), vendored.
 _NS = _dop.N_STAGES
 _A = _dop.A
 _B = _dop.B
-NY = 8  # contact state: t, x, v, sqrt(delta), u, impulse, dissipated in contact, dissipated by C
-_NY = NY
+#: Contact state components without forcing (t, x, v, sqrt(delta), u, impulse, dissipated in
+#: contact, dissipated by C); forcing adds the work of F.
+NY = 8
 #: Rows of the stage array ``kst`` a caller allocates: the stages and the derivative at the new point.
 N_STAGE_ROWS = _NS + 1
 #: Rows of the work array ``work`` a caller allocates.
-N_WORK_ROWS = 10
+N_WORK_ROWS = 8
+_EPS = 2.220446049250313e-16
 
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
@@ -50,8 +62,14 @@ def _force(d, u, kh, c1, clip):
 
 
 @njit(cache=True, inline="always")
-def _rhs_into(y, p, sw, out, row):
-    """Derivatives with respect to σ of the contact state into ``out[row]`` (section comment)."""
+def _rhs_into(y, p, fc, tc, sw, out, row):
+    """Derivatives with respect to σ of the contact state into ``out[row]`` (module docstring).
+
+    ``dt/dσ = ξ``, ``dx/dσ = ξ v``, ``dv/dσ = ξ (s F_c - K x - C v + F) / M``, ``dξ/dσ = u / 2``,
+    ``du/dσ = ξ (-F_c/m - F_c/M + s (K x + C v - F) / M)``, then the integrands ξ F_c, ξ (F_c -
+    K_HZ δ^{3/2}) u, ξ C v² and (forced) ξ F v. ``F`` is evaluated at the physical time
+    ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time).
+    """
     M, K, C, m, kh, c1 = p[0], p[1], p[2], p[3], p[5], p[6]
     clip = p[7] > 0.5
     x, v, xi, u = y[1], y[2], y[3], y[4]
@@ -60,6 +78,11 @@ def _rhs_into(y, p, sw, out, row):
     if clip and f < 0.0:
         f = 0.0
     spring = K * x + C * v
+    if fc is not None:
+        t = tc + y[0]
+        fx = fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t)
+        spring = spring - fx
+        out[row, 8] = xi * fx * v
     out[row, 0] = xi
     out[row, 1] = xi * v
     out[row, 2] = xi * (sw * f - spring) / M
@@ -71,30 +94,31 @@ def _rhs_into(y, p, sw, out, row):
 
 
 @njit(cache=True)
-def _rhs(y, p, sw, out):
+def _rhs(y, p, fc, tc, sw, out):
     """Derivatives with respect to σ of the contact state into the 1-D array ``out``."""
-    _rhs_into(y, p, sw, out.reshape((1, _NY)), 0)
+    _rhs_into(y, p, fc, tc, sw, out.reshape((1, out.shape[0])), 0)
 
 
 @njit(cache=True)
-def _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew):
+def _dop_step(y, f0, h, p, fc, tc, sw, kst, ytmp, ynew, fnew):
     """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
-    for i in range(_NY):
+    ny = NY if fc is None else NY + 1  # a compile-time constant
+    for i in range(ny):
         kst[0, i] = f0[i]
     for st in range(1, _NS):
-        for i in range(_NY):
+        for i in range(ny):
             acc = 0.0
             for j in range(st):
                 acc += _A[st, j] * kst[j, i]
             ytmp[i] = y[i] + h * acc
-        _rhs_into(ytmp, p, sw, kst, st)
-    for i in range(_NY):
+        _rhs_into(ytmp, p, fc, tc, sw, kst, st)
+    for i in range(ny):
         acc = 0.0
         for j in range(_NS):
             acc += _B[j] * kst[j, i]
         ynew[i] = y[i] + h * acc
-    _rhs_into(ynew, p, sw, kst, _NS)
-    for i in range(_NY):
+    _rhs_into(ynew, p, fc, tc, sw, kst, _NS)
+    for i in range(ny):
         fnew[i] = kst[_NS, i]
 
 
@@ -116,7 +140,7 @@ def _newton_g(kind, target, y, f):
 
 
 @njit(cache=True)
-def _newton_in_step(kind, target, y, f0, h, glo, p, sw, kst, ytmp, ynew, fnew):
+def _newton_in_step(kind, target, y, f0, h, glo, p, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in [0, h] where ξ (kind 0), v (kind 1) or t - target (kind 2) vanishes.
 
     Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
@@ -131,21 +155,21 @@ def _newton_in_step(kind, target, y, f0, h, glo, p, sw, kst, ytmp, ynew, fnew):
         hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < hn < hi):
             hn = 0.5 * (lo + hi)
-        _dop_step(y, f0, hn, p, sw, kst, ytmp, ynew, fnew)
+        _dop_step(y, f0, hn, p, fc, tc, sw, kst, ytmp, ynew, fnew)
         g, dg = _newton_g(kind, target, ynew, fnew)
         if (g > 0.0) == (glo > 0.0):
             lo = hn
         else:
             hi = hn
-        done = abs(hn - hm) <= 8.0 * 2.220446049250313e-16 * hn or g == 0.0
+        done = abs(hn - hm) <= 8.0 * _EPS * hn or g == 0.0
         hm = hn
-        if done or hi - lo <= 4.0 * 2.220446049250313e-16 * hi:
+        if done or hi - lo <= 4.0 * _EPS * hi:
             break
     return hm
 
 
 @njit(cache=True)
-def _peak_in_step(y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
+def _peak_in_step(y, f0, h, g0, g1, p, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
     lo, hi = 0.0, h
     glo, ghi = g0, g1
@@ -155,7 +179,7 @@ def _peak_in_step(y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
         hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
         if not (lo < hm < hi):
             hm = 0.5 * (lo + hi)
-        _dop_step(y, f0, hm, p, sw, kst, ytmp, ynew, fnew)
+        _dop_step(y, f0, hm, p, fc, tc, sw, kst, ytmp, ynew, fnew)
         gm = _dfds(ynew, fnew, p)
         if gm == 0.0:
             break
@@ -176,21 +200,64 @@ def _peak_in_step(y, f0, h, g0, g1, p, sw, kst, ytmp, ynew, fnew):
 
 @njit(cache=True)
 def _copy(src, dst):
+    """Copy the 1-D array ``src`` into ``dst``."""
     for i in range(src.shape[0]):
         dst[i] = src[i]
 
 
 @njit(cache=True)
-def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
-    """Integrate one contact from its onset at ``tc`` s until the bodies part or ``t_end``.
+def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
+    """Integrate one contact from ``tc`` s until the bodies part or ``t_end`` s (module docstring).
 
-    Every zero of the main-mass velocity inside the contact is located by Newton's method on full
-    Runge-Kutta steps from the step start (as accurate as the integration) and recorded in
-    ``ext`` as an extremum of x (:func:`~acoustiviz.dynamics._free.record_extremum`).
+    The contact starts (or resumes, for a run continued mid-contact) on wall ``sw`` with the
+    main mass at ``x`` m, ``v`` m/s, ``ξ = xi0`` m^0.5 and ``u = u0`` m/s. Tolerances scale with
+    the Hertz contact (Johnson, *Contact Mechanics*, 1985, §11.4) at the approach speed of the
+    same energy, ``U = sqrt(u0² + 4 K_HZ ξ0⁵ / (5 m_eff))``: ``α_max = (5 m_eff U² / 4 K_HZ)^{2/5}``
+    and duration ``2.943 α_max / U`` (``HERTZ_DURATION_CONSTANT``).
 
-    Returns ``(ended, status, ie, duration, peak_force, yout)`` where ``yout`` is the 8-component
-    state at the end (t from onset, x, v, ξ = sqrt(δ), u, impulse, dissipated in contact,
-    dissipated by C).
+    The peak force is located as the zero of dF_c/dσ inside a step (Illinois); every zero of the
+    main-mass velocity inside the contact is located by Newton's method on full Runge-Kutta
+    steps from the step start (as accurate as the integration) and recorded in ``ext``
+    (:func:`~acoustiviz.dynamics._flight.record_extremum`; an empty ``ext`` skips that search,
+    ``ext=None`` compiles it out); x, v, y, w and the dissipated energies (plus ``ec0``, ``en0``
+    J) are written to ``dense[ie:]`` at the times ``t_eval`` (``t_eval=None``: no dense output,
+    compiled out).
+
+    Parameters
+    ----------
+    p : ndarray
+        ``[M kg, K N/m, C N s/m, m kg, d/2 m, K_HZ N/m^1.5, c1 N s/m, clip]``.
+    fc : ndarray or None
+        Forcing ``[ω rad/s, P N, Q N, ...]``; None for free decay (8 state components).
+    sw : float
+        Wall, +1 or -1.
+    x, v, xi0, u0 : float
+        Main-mass displacement (m) and velocity (m/s), sqrt of the penetration (m^0.5) and
+        penetration rate (m/s) at ``tc``.
+    tc, t_end, rtol : float
+        Start and latest end of the integration (s); relative tolerance.
+    t_eval, ie, dense : ndarray, int, ndarray, or None, 0, None
+        Output times (s), the next one due, and the (n, 6) dense rows.
+    ec0, en0 : float
+        Energy dissipated by C and in contacts before ``tc`` (J), added to the dense rows.
+    work, kst : ndarray
+        Buffers ``(N_WORK_ROWS, n)`` and ``(N_STAGE_ROWS, n)``, ``n = NY`` or ``NY + 1`` with
+        forcing.
+    ext, n_ext : ndarray or None
+        Turning points of x (rows: time s, x m, ±1) and their count.
+
+    Returns
+    -------
+    ended : bool
+        True when the bodies parted before ``t_end``.
+    status : int
+        ``STATUS_OK`` or ``STATUS_STEP_UNDERFLOW``.
+    ie : int
+        The next output time due.
+    duration, peak_force : float
+        Time integrated (s) and largest contact force (N).
+    yout : ndarray
+        The state at the end (module docstring; t counted from ``tc``), a view of ``work[0]``.
     """
     M, m, kh, hg, c1 = p[0], p[3], p[5], p[4], p[6]
     meff = m * M / (m + M)
@@ -203,17 +270,15 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
     yd = work[5]
     fd = work[6]
     atol = work[7]
-    ys = work[8]
-    fs = work[9]
     y[0] = 0.0
     y[1] = x
     y[2] = v
-    y[3] = math.sqrt(max(d0, 0.0))
+    y[3] = xi0
     y[4] = u0
-    y[5] = 0.0
-    y[6] = 0.0
-    y[7] = 0.0
-    uref = max(abs(u0), 1e-9)
+    for i in range(5, y.shape[0]):
+        y[i] = 0.0
+    # the approach speed with the same energy (a contact resumed mid-way has u0 < U)
+    uref = max(math.sqrt(u0 * u0 + 0.8 * kh * xi0 ** 5 / meff), 1e-9)
     amax = (1.25 * meff * uref * uref / kh) ** 0.4
     tau_h = _HERTZ_T * amax / uref
     atol[0] = rtol * tau_h
@@ -223,17 +288,20 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
     atol[4] = rtol * uref
     atol[5] = rtol * meff * uref
     atol[6] = rtol * 0.5 * meff * uref * uref
-    atol[7] = atol[6]
-    _rhs(y, p, sw, f0)
-    peak, _ = _force(d0, u0, kh, c1, clip)
+    for i in range(7, y.shape[0]):
+        atol[i] = atol[6]
+    _rhs(y, p, fc, tc, sw, f0)
+    peak, _ = _force(xi0 * xi0, u0, kh, c1, clip)
     h = 0.02 * tau_h / math.sqrt(amax)  # σ has units of s / sqrt(m)
-    status = 0
+    status = STATUS_OK
     ended = False
     nrej = 0
     rejected = False
     t_stop = t_end - tc
+    if t_stop <= 0.0:
+        return False, status, ie, 0.0, peak, y
     while True:
-        _dop_step(y, f0, h, p, sw, kst, ytmp, ynew, fnew)
+        _dop_step(y, f0, h, p, fc, tc, sw, kst, ytmp, ynew, fnew)
         err = _dop_error(y, ynew, h, kst, rtol, atol)
         if not (err <= 1.0):
             if not math.isfinite(err):
@@ -248,51 +316,50 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            _copy(ynew, ys)
-            _copy(fnew, fs)
-            hstep = _newton_in_step(0, 0.0, y, f0, h, y[3], p, sw, kst, ytmp, ynew, fnew)
+            hstep = _newton_in_step(0, 0.0, y, f0, h, y[3], p, fc, tc, sw, kst, ytmp, ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _newton_in_step(2, t_stop, y, f0, hstep, -1.0, p, sw, kst, ytmp, ynew, fnew)
+            hstep = _newton_in_step(2, t_stop, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
         g0 = _dfds(y, f0, p)
         g1 = _dfds(ynew, fnew, p)
         if g0 > 0.0 and g1 <= 0.0:
             _copy(ynew, yd)
             _copy(fnew, fd)
-            _peak_in_step(y, f0, hstep, g0, g1, p, sw, kst, ytmp, ynew, fnew)
+            _peak_in_step(y, f0, hstep, g0, g1, p, fc, tc, sw, kst, ytmp, ynew, fnew)
             fpk, _ = _force(ynew[3] * ynew[3], ynew[4], kh, c1, clip)
             peak = max(peak, fpk)
             _copy(yd, ynew)
             _copy(fd, fnew)
         fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
         peak = max(peak, fend)
-        if (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns inside this step
-            _copy(ynew, yd)
-            _copy(fnew, fd)
-            _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, sw, kst, ytmp, ynew, fnew)
-            record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
-            _copy(yd, ynew)
-            _copy(fd, fnew)
-        # dense output inside the step: Newton on t(σ) with full steps from the step start
-        while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
-            _copy(ynew, yd)
-            _copy(fnew, fd)
-            target = t_eval[ie] - tc
-            if target > y[0]:
-                _newton_in_step(2, target, y, f0, hstep, -1.0, p, sw, kst, ytmp, ynew, fnew)
-            else:
-                _copy(y, ynew)
-            xi = max(ynew[3], 0.0)
-            dense[ie, 0] = ynew[1]
-            dense[ie, 1] = ynew[2]
-            dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
-            dense[ie, 3] = ynew[2] + sw * ynew[4]
-            dense[ie, 4] = ec0 + ynew[7]
-            dense[ie, 5] = en0 + ynew[6]
-            _copy(yd, ynew)
-            _copy(fd, fnew)
-            ie += 1
+        if ext is not None:  # removed at compile time when no turning points are wanted
+            if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
+                _copy(ynew, yd)
+                _copy(fnew, fd)
+                _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
+                record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
+                _copy(yd, ynew)
+                _copy(fd, fnew)
+        if t_eval is not None:  # dense output inside the step: Newton on t(σ), full steps from the step start
+            while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+                _copy(ynew, yd)
+                _copy(fnew, fd)
+                target = t_eval[ie] - tc
+                if target > y[0]:
+                    _newton_in_step(2, target, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
+                else:
+                    _copy(y, ynew)
+                xi = max(ynew[3], 0.0)
+                dense[ie, 0] = ynew[1]
+                dense[ie, 1] = ynew[2]
+                dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
+                dense[ie, 3] = ynew[2] + sw * ynew[4]
+                dense[ie, 4] = ec0 + ynew[7]
+                dense[ie, 5] = en0 + ynew[6]
+                _copy(yd, ynew)
+                _copy(fd, fnew)
+                ie += 1
         _copy(ynew, y)
         _copy(fnew, f0)
         if exiting:
@@ -311,16 +378,56 @@ def _contact(p, sw, x, v, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, 
     return ended, status, ie, y[0], peak, y
 
 
+@njit(cache=True)
+def instant_impact(p, sw, u0, e, v, w, dur, peak, row):
+    """Instantaneous impact on wall ``sw`` at approach speed ``u0`` m/s with restitution ``e``.
+
+    The rigid-body limit of the contact (impact map): momentum is conserved and the relative
+    speed reverses with factor ``e``, so the impulse is ``J = (1 + e) m_eff u0`` (N s, with
+    ``m_eff = m M / (m + M)``), ``v⁺ = v + s J / M``, ``w⁺ = w - s J / m`` (m/s) and the energy
+    lost ``m_eff u0² (1 - e²) / 2`` (J). Fills ``row[3:8]`` of an impact row (separation speed,
+    duration ``dur`` s, peak force ``peak`` N, impulse, energy lost).
+
+    Returns ``(v⁺, w⁺, energy lost)``.
+    """
+    M, m = p[0], p[3]
+    meff = m * M / (m + M)
+    jimp = (1.0 + e) * meff * u0
+    lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
+    row[3] = e * u0
+    row[4] = dur
+    row[5] = peak
+    row[6] = jimp
+    row[7] = lost
+    return v + sw * jimp / M, w - sw * jimp / m, lost
+
 
 @njit(cache=True)
-def _free_contact(pfree, u0, rtol, work, kst):
-    """Compliant contact of the two masses alone at approach speed ``u0`` m/s.
+def free_contact(pfree, u0, rtol, work, kst):
+    """Compliant contact of the two masses alone (``pfree`` with K = C = 0) at approach speed ``u0`` m/s.
 
+    No forcing, 8-component buffers ``work`` and ``kst``.
     Returns ``(status, restitution, duration in s, peak force in N)``.
     """
-    ended, st, _, dur, peak, yc = _contact(
-        pfree, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), 0, np.empty((0, 6)),
+    ended, st, _, dur, peak, yc = contact(
+        pfree, None, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), 0, np.empty((0, 6)),
         0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64)
     )
     e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
     return st, e, dur, peak
+
+
+@njit(cache=True)
+def free_restitution(p, u0, rtol):
+    """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
+
+    The main spring and dashpot of ``p`` are left out (the impact map's contact, see
+    :func:`free_contact`). Returns ``(restitution, duration in s, peak force in N)``.
+    """
+    pfree = p.copy()
+    pfree[1] = 0.0
+    pfree[2] = 0.0
+    work = np.zeros((N_WORK_ROWS, NY))
+    kst = np.zeros((N_STAGE_ROWS, NY))
+    _, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)
+    return e, dur, peak

@@ -1,9 +1,22 @@
 """Driver of the forced impact damper (numba): flights, contacts, instantaneous impacts, sticking.
 
-Vectors as in :mod:`._forced_kernels`. ``fcs`` is the forcing vector of the main and impact
-masses moving together (mass ``M + m``): ``[ω, P, Q, A_c, A_s, u_stick]`` with the particular
-solution of that oscillator and the speed (m/s) below which instantaneous impacts turn into
-sticking (0 disables it).
+The flight (:mod:`._flight`, with the particular solution of the forcing), the contact
+(:mod:`._contact`) and the status codes (:mod:`._status`) are those of free decay; what is proper
+to forced operation is this driver: a run continued cycle by cycle (a contact may stay open
+across the end of a call), the work of the forcing, and the sticking phase of the impact map.
+
+Parameter vector ``p``: ``[M, K, C, m, half_gap, k_hertz, c1, clip]`` (SI).
+Forcing vector ``fc``: ``[ω rad/s, P N, Q N, A_c m, A_s m]``: the main mass carries
+``F(t) = P cos(ωt) + Q sin(ωt)`` and ``A_c cos(ωt) + A_s sin(ωt)`` is the particular solution.
+State vector ``st`` (in/out, 8 floats): ``x, v, y, w`` (m, m/s), flag (0 flight, 1 in contact,
+2 stuck), wall ±1, ``ξ = sqrt(δ)`` (m^0.5) and ``u = dδ/dt`` (m/s) of an unfinished contact. While
+the flag is 1 the impact row ``n - 1`` is still open (its separation speed is NaN).
+Impact rows: ``IMPACT_COLUMNS`` of :mod:`._status`.
+Accumulators ``acc`` (added to): work of F on the main mass, dissipated by C, dissipated in
+contacts (J), and the largest and smallest x reached (m).
+``fcs`` is the forcing vector of the main and impact masses moving together (mass ``M + m``):
+``[ω, P, Q, A_c, A_s, u_stick]`` with the particular solution of that oscillator and the speed
+(m/s) below which instantaneous impacts turn into sticking (0 disables it).
 
 Sticking (impact map only). A train of instantaneous impacts of restitution ``e`` against a wall
 that the impact mass is pressed on shortens geometrically (a Zeno sequence). When the relative
@@ -24,35 +37,29 @@ import math
 import numpy as np
 from numba import njit
 
-from ._forced_kernels import (
-    _NS,
-    _NY,
-    STATUS_DIVERGED,
-    STATUS_MAX_IMPACTS,
-    STATUS_OK,
-    _brent,
-    _contact,
-    _flight_coeffs,
-    _flight_energy,
-    _flight_extrema,
-    _main,
-    _scan,
-    free_restitution,
+from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_restitution, instant_impact
+from ._flight import (
+    _osc,
+    brent,
+    flight_coeffs,
+    flight_energy,
+    flight_minmax,
+    flight_state,
+    scan_forced,
 )
+from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 
 @njit(cache=True)
 def _jerk(tau, c):
-    """Acceleration (m/s²) and its rate (m/s³) of the closed-form motion ``c`` at ``tau``."""
+    """Acceleration (m/s²) and its rate (m/s³) of the closed-form motion ``c`` at ``tau`` s.
+
+    The rate is ``j_h - ω² v_p``: the free part's ``j_h = -2a a_h - (a² + ωd²) v_h`` and the
+    particular part's ``-ω²`` times its velocity ``v_p``.
+    """
     a, wd, om, ac, as_ = c[5], c[6], c[7], c[8], c[9]
-    x, v, acc = _main(tau, c)
-    xh0, vh0 = c[1], c[2]
-    e = math.exp(-a * tau)
-    cw = math.cos(wd * tau)
-    sw = math.sin(wd * tau)
-    b = (vh0 + a * xh0) / wd
-    xh = e * (xh0 * cw + b * sw)
-    vh = e * ((b * wd - a * xh0) * cw - (xh0 * wd + a * b) * sw)
+    _, _, acc = flight_state(tau, c)
+    xh, vh = _osc(c[1], c[2], tau, a, wd)
     ah = -2.0 * a * vh - (a * a + wd * wd) * xh
     jh = -2.0 * a * ah - (a * a + wd * wd) * vh
     t = c[0] + tau
@@ -84,7 +91,7 @@ def _release(c, tau_end, sw):
     while ta < tau_end:
         h = min(hmax, tau_end - ta)
         # |g''| = |x''''| bounds the curvature of g = sw x''
-        lb = _bound4(c, ta) / max(c[5] * c[5] + c[6] * c[6], 1e-300) ** 0.0  # (x'''' bound)
+        lb = _bound4(c, ta)
         while True:
             tb = ta + h
             gb, gpb = _jerk(tb, c)
@@ -93,7 +100,7 @@ def _release(c, tau_end, sw):
             mono = abs(gpa) > lb * h
             if gb >= 0.0:
                 if mono or h <= hmin:
-                    return True, _brent(3, ta, tb, sw * ga, sw * gb, c)
+                    return True, brent(3, ta, tb, sw * ga, sw * gb, c)
                 h *= 0.5
                 continue
             q = 0.5 * lb * h * h
@@ -121,12 +128,8 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
     meff = m * M / (m + M)
     a = C / (2.0 * M)
     wd = math.sqrt(K / M - a * a)
-    work = np.zeros((6, _NY))
-    kst = np.zeros((_NS + 1, _NY))
-    c = np.zeros(11)
-    c[10] = hg
-    cs = np.zeros(11)  # the two masses moving together
-    cs[10] = hg
+    work = np.zeros((N_WORK_ROWS, NY + 1))  # forced contact state: NY + the work of F
+    kst = np.zeros((N_STAGE_ROWS, NY + 1))
     a_s = C / (2.0 * (M + m))
     wd_s = math.sqrt(max(K / (M + m) - a_s * a_s, 0.0))
     u_stick = fcs[5] if wd_s > 0.0 else 0.0
@@ -135,14 +138,14 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
     while t < t1:
         if st[4] > 1.5:  # stuck on wall st[5]: one oscillator of mass M + m until the wall stops pushing
             sw = st[5]
-            _flight_coeffs(cs, t, st[0], st[1], st[2], st[3], a_s, wd_s, fcs)
+            cs = flight_coeffs(t, st[0], st[1], st[2], st[3], a_s, wd_s, fcs, hg)  # the two masses together
             found, tau = _release(cs, t1 - t, sw)
-            wk, dc = _flight_energy(cs, tau, fcs, C)
+            wk, dc = flight_energy(cs, tau, fcs, C)
             acc[0] += wk
             acc[1] += dc
             if extrema:
-                _flight_extrema(cs, tau, acc)
-            x, v, _ = _main(tau, cs)
+                flight_minmax(cs, tau, acc)
+            x, v, _ = flight_state(tau, cs)
             st[0] = x
             st[1] = v
             st[2] = x + sw * hg
@@ -152,17 +155,17 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             t = t + tau
             st[4] = 0.0
             # the gap opens as G'''(0) tau^3 / 6: follow the flight unchecked while G > 0 is certain
-            _flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc)
+            c = flight_coeffs(t, st[0], st[1], st[2], st[3], a, wd, fc, hg)
             _, jk = _jerk(0.0, c)
             ts = 2.0 * sw * jk / _bound4(c, 0.0) if sw * jk > 0.0 else 0.0
             ts = min(ts, t1 - t)
             if ts > 0.0:
-                wk, dc = _flight_energy(c, ts, fc, C)
+                wk, dc = flight_energy(c, ts, fc, C)
                 acc[0] += wk
                 acc[1] += dc
                 if extrema:
-                    _flight_extrema(c, ts, acc)
-                x, v, _ = _main(ts, c)
+                    flight_minmax(c, ts, acc)
+                x, v, _ = flight_state(ts, c)
                 st[0] = x
                 st[1] = v
                 st[2] = st[2] + st[3] * ts
@@ -170,7 +173,8 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             continue
         if st[4] > 0.5:  # inside a contact: integrate it
             sw = st[5]
-            ended, stc, peak, yc = _contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, work, kst)
+            ended, stc, _, _, peak, yc = contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, None, 0,
+                                                 None, 0.0, 0.0, work, kst, None, None)
             acc[0] += yc[8]
             acc[1] += yc[7]
             acc[2] += yc[6]
@@ -199,17 +203,17 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             else:
                 t = t1
             continue
-        _flight_coeffs(c, t, st[0], st[1], st[2], st[3], a, wd, fc)
-        found, tau, sw = _scan(c, t1 - t)
+        c = flight_coeffs(t, st[0], st[1], st[2], st[3], a, wd, fc, hg)
+        found, tau, sw = scan_forced(c, t1 - t)
         if found and t + tau >= t1:
             found = False
             tau = t1 - t
-        wk, dc = _flight_energy(c, tau, fc, C)
+        wk, dc = flight_energy(c, tau, fc, C)
         acc[0] += wk
         acc[1] += dc
         if extrema:
-            _flight_extrema(c, tau, acc)
-        x, v, _ = _main(tau, c)
+            flight_minmax(c, tau, acc)
+        x, v, _ = flight_state(tau, c)
         st[0] = x
         st[1] = v
         st[2] = st[2] + st[3] * tau
@@ -232,17 +236,9 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             peak = 0.0
             if restitution < 0.0:  # the compliant contact's restitution at this speed
                 e, dur, peak = free_restitution(p, u0, rtol)
-            jimp = (1.0 + e) * meff * u0
-            lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
-            st[1] = v + sw * jimp / M
-            st[3] = st[3] - sw * jimp / m
+            st[1], st[3], lost = instant_impact(p, sw, u0, e, v, st[3], dur, peak, impacts[n])
             st[2] = st[0] + sw * hg
             acc[2] += lost
-            impacts[n, 3] = e * u0
-            impacts[n, 4] = dur
-            impacts[n, 5] = peak
-            impacts[n, 6] = jimp
-            impacts[n, 7] = lost
             n += 1
             # a Zeno train of impacts on a wall that presses: stick (module docstring)
             press = sw * (fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t) - K * st[0] - C * st[1]) / M

@@ -7,10 +7,11 @@ milliseconds per impact for the second; compiled, they take seconds and microsec
 are plain functions of float arrays, cached on disk (``cache=True``), and hold no global state
 besides the constant Dormand-Prince coefficients.
 
-Modules: ``_free`` (closed-form free flight and exact contact detection), ``_contact`` (one
-contact by DOP853, whose tableau is vendored in ``_dop853``), ``_newmark`` (fixed-step schemes),
-``_status`` (status codes and column layouts) and this one (the event-driven and impact-map
-drivers).
+Modules, shared by free decay and forced operation: ``_flight`` (closed-form flight and exact
+contact detection), ``_contact`` (one contact by DOP853, whose tableau is vendored in
+``_dop853``), ``_newmark`` (fixed-step schemes), ``_status`` (status codes, column layouts and
+messages); this one holds the free-decay drivers (event-driven and impact map), ``_forced_driver``
+the forced one.
 
 Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``.
 Impact rows (``IMPACT_COLUMNS``): start time, wall, approach speed, separation speed, duration,
@@ -25,8 +26,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, _contact, _free_contact
-from ._free import _osc, _scan, free_extrema, record_extremum
+from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact, instant_impact
+from ._flight import _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
 from ._newmark import central_difference, newmark
 from ._status import (
     DENSE_COLUMNS,
@@ -65,7 +66,7 @@ def restitution_table(p, lnu, rtol, table):
     kst = np.zeros((N_STAGE_ROWS, NY))
     status = STATUS_OK
     for i in range(lnu.shape[0]):
-        st, e, dur, peak = _free_contact(pfree, math.exp(lnu[i]), rtol, work, kst)
+        st, e, dur, peak = free_contact(pfree, math.exp(lnu[i]), rtol, work, kst)
         table[i, 0] = e
         table[i, 1] = math.log(dur)
         table[i, 2] = math.log(peak)
@@ -99,11 +100,10 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     end). Records every extremum of the main-mass displacement (a zero of its velocity, or for
     the impact map a jump of the velocity through zero) in ``ext`` (rows: time s, x m, +1 for a
     maximum or -1 for a minimum; ``n_ext[0]`` counts them): in free flight from the closed form
-    (:func:`~acoustiviz.dynamics._free.free_extrema`), inside contacts by root finding on the
+    (:func:`~acoustiviz.dynamics._flight.free_extrema`), inside contacts by root finding on the
     contact integration. Returns ``(n_impacts, status, t_reached)``.
     """
-    M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]
-    meff = m * M / (m + M)
+    M, K, C, hg = p[0], p[1], p[2], p[4]
     a = C / (2.0 * M)
     wd = math.sqrt(K / M - a * a)
     work = np.zeros((N_WORK_ROWS, NY))
@@ -120,9 +120,10 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     status = STATUS_OK
     dfinal = 0.0
     while True:
-        found, tau, sw = _scan(x0, v0, y0, w0, t_end - t0, a, wd, hg)
+        c = flight_coeffs(t0, x0, v0, y0, w0, a, wd, None, hg)
+        found, tau, sw = scan_unforced(c, t_end - t0)
         tstop = t0 + tau if found else t_end
-        free_extrema(x0, v0, tau, a, wd, t0, ext, n_ext)
+        free_extrema(c, tau, ext, n_ext)
         eosc0 = 0.5 * M * v0 * v0 + 0.5 * K * x0 * x0
         while ie < t_eval.shape[0] and t_eval[ie] <= tstop:
             tt = t_eval[ie] - t0
@@ -159,29 +160,21 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
                 dur = math.exp(_table_lookup(lnu, table, lu, 1))
                 peak = math.exp(_table_lookup(lnu, table, lu, 2))
             else:
-                st, e, dur, peak = _free_contact(pfree, u0, rtol, work, kst)
-            jimp = (1.0 + e) * meff * u0
+                st, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)
             x0 = xx
-            v0 = vv + sw * jimp / M
+            v0, w0, lost = instant_impact(p, sw, u0, e, vv, w0, dur, peak, impacts[n])
             if (vv > 0.0) != (v0 > 0.0):  # the impulse turns the main mass: a kink extremum
                 record_extremum(ext, n_ext, tc, xx, 1.0 if vv > 0.0 else -1.0)
-            w0 = w0 - sw * jimp / m
             y0 = x0 + sw * hg
-            lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
             en += lost
-            impacts[n, 3] = e * u0
-            impacts[n, 4] = dur
-            impacts[n, 5] = peak
-            impacts[n, 6] = jimp
-            impacts[n, 7] = lost
             n += 1
             t0 = tc
             if st != STATUS_OK:
                 status = st
                 break
             continue
-        ended, st, ie, dur, peak, yc = _contact(
-            p, sw, xx, vv, d0, u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst, ext, n_ext
+        ended, st, ie, dur, peak, yc = contact(
+            p, None, sw, xx, vv, math.sqrt(d0), u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst, ext, n_ext
         )
         ec += yc[7]
         en += yc[6]

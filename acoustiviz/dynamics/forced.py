@@ -36,8 +36,9 @@ import numpy as np
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import EXCITATIONS, FORCED_SOLVERS
 from . import _forced_driver as fd
-from . import _forced_kernels as fk
-from . import _forced_newmark as fn
+from ._newmark import newmark_advance
+from ._status import LIMIT_CYCLE, STATUS_OK, status_message
+from ._status import kernel_params as _params
 from .model import DamperModel
 
 __all__ = [
@@ -63,13 +64,6 @@ MAX_PERIOD = 8
 STICK_SPEED_FRACTION = 1e-4
 #: Cycles measured when no period is found.
 NONPERIODIC_CYCLES = 32
-
-_STATUS = {
-    fk.STATUS_OK: "completed",
-    fk.STATUS_MAX_IMPACTS: "stopped: too many impacts in one cycle (chattering?)",
-    fk.STATUS_STEP_UNDERFLOW: "stopped: contact step size underflow",
-    fk.STATUS_DIVERGED: "stopped: the solution diverged",
-}
 
 
 @dataclass(frozen=True)
@@ -242,11 +236,6 @@ def linear_start(model: DamperModel, excitation: Excitation) -> tuple[float, flo
     return x0, -excitation.omega * xc.imag, min(max(0.0, x0 - hg), x0 + hg), 0.0
 
 
-def _params(model: DamperModel) -> np.ndarray:
-    return np.array([model.M, model.K, model.C, model.m, 0.5 * model.gap, model.k_hertz, model.c1,
-                     1.0 if model.clip_tensile else 0.0])
-
-
 def _check_common(model, excitation, solver, restitution):
     if not isinstance(model, DamperModel):
         raise ParameterError("model", f"expected a DamperModel, got {type(model).__name__}")
@@ -306,8 +295,10 @@ class _Runner:
         t0 = self.k * self.T
         cap = min(n0 + self.cap, self.imp.shape[0])
         if self.solver == "newmark":
-            out = fn.newmark_advance(self.p, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0,
-                                     cap, acc, extrema)
+            # no dense output, no turning points (None: compiled out)
+            n, status, _, _ = newmark_advance(self.p, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0,
+                                              cap, acc, extrema, None, 0, None, None, None)
+            out = (n, status)
         else:
             out = fd.advance(self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp,
                              n0, cap, acc, extrema)
@@ -451,34 +442,34 @@ def steady_state(
     points[0] = run.section()
     acc = np.zeros(5)
     period = 0
-    status = fk.STATUS_OK
+    status = STATUS_OK
     for k in range(1, max_cycles + 1):
         n, status = run.cycle(0, acc, False)
         points[k] = run.section()
-        if status != fk.STATUS_OK:
+        if status != STATUS_OK:
             break
         period = _find_period(points, k, scale, tol)
         if period:
             break
     cycles = run.k
-    if status != fk.STATUS_OK:
+    if status != STATUS_OK:
         return _measured(run, excitation, model, solver, 0, cycles, points[: cycles + 1], 0, status,
                          np.array([0.0, 0.0, 0.0, -np.inf, np.inf]), 0.0, tol,
-                         f"{_STATUS[status]} after {cycles} cycles")
+                         f"{status_message(status, LIMIT_CYCLE)} after {cycles} cycles")
     measure = period if period else NONPERIODIC_CYCLES
     e0 = run.energy()
     acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
     n = 0
     for _ in range(measure):
         n, status = run.cycle(n, acc, True)
-        if status != fk.STATUS_OK:
+        if status != STATUS_OK:
             break
     de = run.energy() - e0
     msg = (f"period {period} found after {cycles} cycles (tolerance {tol:g})" if period else
            f"no period <= {MAX_PERIOD} within {cycles} cycles (tolerance {tol:g}); "
            f"last {measure} cycles measured")
-    if status != fk.STATUS_OK:
-        msg = f"{_STATUS[status]} while measuring"
+    if status != STATUS_OK:
+        msg = f"{status_message(status, LIMIT_CYCLE)} while measuring"
     return _measured(run, excitation, model, solver, period, cycles, points[: cycles + 1], n, status, acc, de,
                      tol, msg, measure)
 
@@ -487,7 +478,7 @@ def _measured(run, excitation, model, solver, period, cycles, points, n, status,
               measure=1):
     imp = run.imp[:n]
     regime = f"periodic-{period}" if period else "non-periodic"
-    if status != fk.STATUS_OK:
+    if status != STATUS_OK:
         regime = "failed"
     phases = np.mod(excitation.omega * imp[:, 0], 2.0 * math.pi)
     x_max, x_min = float(acc[3]), float(acc[4])
@@ -501,7 +492,7 @@ def _measured(run, excitation, model, solver, period, cycles, points, n, status,
         impact_durations=imp[:, 4].copy(), work_input=float(acc[0]), dissipated_main=float(acc[1]),
         dissipated_contact=float(acc[2]), energy_change=float(de),
         poincare=np.array(points[-max(NONPERIODIC_CYCLES, 1):]),
-        final_state=tuple(float(s) for s in run.st[:4]), message=msg, success=status == fk.STATUS_OK,
+        final_state=tuple(float(s) for s in run.st[:4]), message=msg, success=status == STATUS_OK,
         settings={"tolerance": tol, "rtol": run.rtol, "steps_per_cycle": run.nsteps},
         measured_cycles=int(measure),
     )
@@ -556,8 +547,8 @@ def simulate_cycles(
     for _ in range(int(cycles)):
         n, status = run.cycle(n, acc, False)
         pts.append(run.section())
-        if status != fk.STATUS_OK:
-            raise ParameterError("cycles", f"{_STATUS[status]} after {run.k} cycles")
+        if status != STATUS_OK:
+            raise ParameterError("cycles", f"{status_message(status, LIMIT_CYCLE)} after {run.k} cycles")
     return np.array(pts), run.imp[:n].copy(), np.array([acc[0], acc[1], acc[2], run.energy() - e0])
 
 

@@ -42,6 +42,8 @@ from .._validate import ParameterError, check_choice, check_positive, check_rang
 from ..constants import DEFAULT_RTOL
 from ..errors import AccuracyWarning
 from . import _kernels as kern
+from ._status import kernel_params as _params
+from ._status import status_message
 from .model import TABLE1, DamperModel, InitialState
 from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
 
@@ -66,20 +68,6 @@ NEWMARK_DEFAULT_FRACTION = 1.0 / 50.0
 IMPACT_MAP_NODES = 40
 #: The impact map warns when (shortest contact × main angular frequency) exceeds this.
 IMPACT_MAP_WARN_PRODUCT = 0.05
-
-_STATUS_MESSAGES = {
-    kern.STATUS_OK: "completed",
-    kern.STATUS_MAX_IMPACTS: "stopped: max_impacts reached (chattering?); raise max_impacts",
-    kern.STATUS_STEP_UNDERFLOW: "stopped: contact step size underflow",
-    kern.STATUS_DIVERGED: "stopped: the solution diverged",
-}
-
-
-def _params(model: DamperModel) -> np.ndarray:
-    return np.array(
-        [model.M, model.K, model.C, model.m, 0.5 * model.gap, model.k_hertz, model.c1,
-         1.0 if model.clip_tensile else 0.0]
-    )
 
 
 def cheapest_solver(model: DamperModel = TABLE1, initial: InitialState | None = None,
@@ -370,7 +358,7 @@ def simulate(
         dissipated_contact=cols[5],
         energy=energy,
         success=status == kern.STATUS_OK,
-        message=_STATUS_MESSAGES.get(status, f"status {status}") + f" at t = {t_end:.6g} s",
+        message=status_message(status) + f" at t = {t_end:.6g} s",
         solver_time=elapsed,
         final_state=(float(xf), float(vf), float(yf), float(wf)),
         extrema=extrema,
