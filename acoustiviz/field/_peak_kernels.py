@@ -23,6 +23,8 @@ TAIL_STEPS = 24
 #: A coarse candidate within NEAR + 1 coarse steps of a pulse's start or end has its bracket
 #: widened to NEAR steps either side of it (split there, each side searched).
 NEAR = 2.0
+#: Arrival windows closer than this many coarse steps are merged (sampled across the gap).
+GAP_STEPS = 8
 #: Coarse samples per block of :func:`_coarse_stats` (its unrolling assumes eight).
 BLOCK = 8
 
@@ -143,28 +145,66 @@ def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, cand):  # p
 
 
 @_njit(cache=True)
-def _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s):  # pragma: no cover - compiled
-    """Largest and smallest ``p`` for ``t >= t_end`` (all images in free decay) and their times."""
+def _decay_extremes(t_a, t_b, arrived, nimg, delays, are, aim, yend, end, s):  # pragma: no cover - compiled
+    """Largest and smallest ``p`` on ``[t_a, t_b]`` where the images that arrived by ``arrived`` decay freely.
+
+    There ``p(t_a + v) = Re[b e^{s v}]`` (the later images are silent); its extremes are among the
+    ends and the first stationary points (each later one ``exp(-π)`` smaller). ``t_b`` may be
+    infinite. Returns ``(hi, t_hi, lo, t_lo)``.
+    """
     b = 0j
     for j in range(nimg):
-        b += complex(are[j], aim[j]) * yend * np.exp(s * (t_end - delays[j] - end))
+        if delays[j] <= arrived:
+            b += complex(are[j], aim[j]) * yend * np.exp(s * (t_a - delays[j] - end))
     hi = lo = b.real
-    thi = tlo = t_end
-    # p(v) = Re[b e^{s v}]; p'(v) = Re[b s e^{s v}] = 0 where arg(b s) + Im(s) v = π/2 (mod π)
-    if b != 0j:
-        w = s.imag
-        bs = b * s
-        v0 = ((0.5 * math.pi - math.atan2(bs.imag, bs.real)) % math.pi) / w
-        for k in range(2):
-            v = v0 + k * math.pi / w
-            val = (b * np.exp(s * v)).real
-            if val > hi:
-                hi = val
-                thi = t_end + v
-            if val < lo:
-                lo = val
-                tlo = t_end + v
+    thi = tlo = t_a
+    if b == 0j:
+        return hi, thi, lo, tlo
+    w = s.imag
+    if math.isfinite(t_b):
+        val = (b * np.exp(s * (t_b - t_a))).real
+        if val > hi:
+            hi = val
+            thi = t_b
+        if val < lo:
+            lo = val
+            tlo = t_b
+    # p'(v) = Re[b s e^{s v}] = 0 where arg(b s) + Im(s) v = π/2 (mod π)
+    bs = b * s
+    v0 = ((0.5 * math.pi - math.atan2(bs.imag, bs.real)) % math.pi) / w
+    for q in range(2):
+        v = v0 + q * math.pi / w
+        if not t_a + v < t_b:
+            break
+        val = (b * np.exp(s * v)).real
+        if val > hi:
+            hi = val
+            thi = t_a + v
+        if val < lo:
+            lo = val
+            tlo = t_a + v
     return hi, thi, lo, tlo
+
+
+@_njit(cache=True, inline="always")
+def _windows(delays, order, dmin, end, big_h, seg_a, seg_b):  # pragma: no cover - compiled
+    """Coarse-step ranges holding each image's pulse and TAIL_STEPS after it, merged where they meet.
+
+    ``order`` sorts ``delays``; fills ``seg_a``, ``seg_b`` (first and last coarse sample, from
+    ``dmin``) and returns their number. Between them every image that has arrived decays freely.
+    """
+    nseg = 0
+    for q in range(order.size):
+        d = delays[order[q]] - dmin
+        ka = int(math.floor(d / big_h))
+        kb = int(math.ceil((d + end) / big_h)) + 1 + TAIL_STEPS
+        if nseg > 0 and ka <= seg_b[nseg - 1] + GAP_STEPS:
+            seg_b[nseg - 1] = max(seg_b[nseg - 1], kb)
+        else:
+            seg_a[nseg] = max(ka, 0)
+            seg_b[nseg] = kb
+            nseg += 1
+    return nseg
 
 
 @_njit(cache=True)
@@ -189,6 +229,11 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     done_lo = np.empty(ncol + 2 + 2 * nimg)
     done_hi = np.empty(ncol + 2 + 2 * nimg)
     bps = np.empty(2 * nimg)
+    order = np.empty(nimg, np.int64)
+    seg_a = np.empty(nimg, np.int64)
+    seg_b = np.empty(nimg, np.int64)
+    best_s = np.empty(2)
+    tbest_s = np.empty(2)
     h = big_h / fine
     tol = 1e-12 * radius
     g0 = 0j
@@ -241,13 +286,11 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             res[i, 4] = total
         else:
             res[i, 4] = np.nan
-        # coarse pass on t_k = dmin + k H, k = 0..K (K H >= dmax - dmin + end)
         dmin = delays[0]
         dmax = delays[0]
         for j in range(1, nimg):
             dmin = min(dmin, delays[j])
             dmax = max(dmax, delays[j])
-        kk = int(math.ceil((dmax - dmin + end) / big_h)) + 1 + TAIL_STEPS
         for j in range(nimg):  # where p'' may jump or have a cusp: the start and end of each pulse
             bps[2 * j] = delays[j]
             bps[2 * j + 1] = delays[j] + end
@@ -262,110 +305,141 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             m = pad - int(round((delays[j] - dmin) / h))
             qs[j] = m // fine
             rs[j] = m - qs[j] * fine
-        for k in range(kk + 1):
-            coarse[k] = 0.0
-        for j in range(nimg):  # contiguous runs of one residue table per image
-            seg_r = ytr[rs[j], qs[j] : qs[j] + kk + 1]
-            seg_i = yti[rs[j], qs[j] : qs[j] + kk + 1]
-            ar = are[j]
-            ai = aim[j]
-            for k in range(kk + 1):
-                coarse[k] += ar * seg_r[k] - ai * seg_i[k]
-        nb, cmax, cmin, jump = _coarse_stats(coarse, kk, bmax, bmin)
-        vmax = max(cmax, -cmin)
-        t_end = dmin + (kk - 1) * big_h  # the coarse samples cover [dmin, t_end]; the closed-form tail beyond
-        slack = margin * vmax + 0.5 * h * slope * scale
+        # the coarse pass runs over each window of arrivals (t_k = dmin + k H); between windows and
+        # after the last, every image that has arrived decays freely: extremes in closed form
+        if dmax - dmin <= end + (TAIL_STEPS + GAP_STEPS) * big_h:  # the windows meet: one
+            nseg = 1
+            seg_a[0] = 0
+            seg_b[0] = int(math.ceil((dmax - dmin + end) / big_h)) + 1 + TAIL_STEPS
+        else:
+            for j in range(nimg):
+                order[j] = j
+            for j in range(1, nimg):  # the images by arrival
+                oj = order[j]
+                q = j - 1
+                while q >= 0 and delays[order[q]] > delays[oj]:
+                    order[q + 1] = order[q]
+                    q -= 1
+                order[q + 1] = oj
+            nseg = _windows(delays, order, dmin, end, big_h, seg_a, seg_b)
+        best_s[0] = best_s[1] = 0.0  # p = 0 before the first arrival
+        tbest_s[0] = tbest_s[1] = dmin
         nref = 0
-        # after t_end only the free decay: its extremes in closed form, when its bound can matter
-        # (Σ|a_j| |Y(T)| times the last image's decay since its pulse ended; each image's when it can matter)
-        tail_bound = scale * abs(yend) * math.exp(s.real * (t_end - dmax - end))
-        tail_tight = False
-        thi = tphi = tlo = tplo = 0.0
-        tail_done = False
-        # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
-        # so samples below these floors cannot come within the slack of the best estimate
-        nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
-                                     -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand)
-        for side in range(2):
-            sign = 1.0 if side == 0 else -1.0
-            best = 0.0  # p = 0 before the first arrival
-            tbest = dmin
-            ndone = 0
-            nc, top = (nc0, top0) if side == 0 else (nc1, top1)
-            for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
-                k = int((b - dmin) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
-                if 0 < k < kk:
-                    est = max(sign * coarse[k], sign * coarse[k + 1])
-                    if est > 0.0:
-                        cand[side, 0, nc] = est
-                        cand[side, 1, nc] = b
-                        cand[side, 2, nc] = b
-                        cand[side, 3, nc] = k
-                        nc += 1
-            # refine, best estimate first, while an estimate can still beat the best refined value
-            while nc > 0:
-                jb = 0
-                for q in range(1, nc):
-                    if cand[side, 0, q] > cand[side, 0, jb]:
-                        jb = q
-                est = cand[side, 0, jb]
-                if est + slack < best or est + slack < top - slack:
-                    break
-                tk = cand[side, 2, jb]
-                kb = int(cand[side, 3, jb])
-                covered = False
-                if kb >= 0:
-                    # a breakpoint's feature lies between the coarse samples kb and kb + 1: skip it when a
-                    # bracket already searched (split at the breakpoint) holds that whole interval
-                    ta = dmin + kb * big_h - 1e-9 * big_h
-                    tz = dmin + (kb + 1) * big_h + 1e-9 * big_h
-                    for q in range(ndone):
-                        if done_lo[q] <= ta and tz <= done_hi[q]:
-                            covered = True
-                            break
-                if not covered:
-                    lo_b = max(dmin, tk - big_h)
-                    hi_b = tk + big_h
-                    if kb >= 0:  # a breakpoint's feature: between its coarse neighbours
-                        lo_b = dmin + kb * big_h
-                        hi_b = dmin + (kb + 1) * big_h
-                    else:
-                        # p is only C¹ at a pulse's start or end: maxima on either side of one may be
-                        # closer than a coarse step (the samples then show one hump): near a
-                        # breakpoint, both sides are searched out to NEAR coarse steps from it
-                        for b in bps:
-                            if abs(b - tk) < (NEAR + 1.0) * big_h:
-                                lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
-                                hi_b = max(hi_b, b + NEAR * big_h)
-                    # pieces that cannot beat the largest coarse sample less the rounding bound (a value
-                    # that p reaches) are not searched
-                    reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
-                    val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps, xtol,
-                                              nimg, delays, are, aim, tp)
-                    done_lo[ndone] = lo_b
-                    done_hi[ndone] = hi_b
-                    ndone += 1
-                    nref += 1
-                    if val > best:
-                        best = val
-                        tbest = tv
-                nc -= 1
-                for f in range(4):
-                    cand[side, f, jb] = cand[side, f, nc]
-            if tail_bound > best and not tail_tight:
-                tail_bound = 0.0
+        for sg in range(nseg):
+            ka = seg_a[sg]
+            kk = seg_b[sg] - ka
+            t0 = dmin + ka * big_h
+            for k in range(kk + 1):
+                coarse[k] = 0.0
+            for j in range(nimg):  # contiguous runs of one residue table per image
+                if delays[j] > t0 + kk * big_h:
+                    continue  # silent in this window
+                seg_r = ytr[rs[j], qs[j] + ka : qs[j] + ka + kk + 1]
+                seg_i = yti[rs[j], qs[j] + ka : qs[j] + ka + kk + 1]
+                ar = are[j]
+                ai = aim[j]
+                for k in range(kk + 1):
+                    coarse[k] += ar * seg_r[k] - ai * seg_i[k]
+            nb, cmax, cmin, jump = _coarse_stats(coarse, kk, bmax, bmin)
+            vmax = max(cmax, -cmin)
+            t_end = t0 + (kk - 1) * big_h  # the samples cover [t0, t_end]; the closed-form decay beyond
+            slack = margin * vmax + 0.5 * h * slope * scale
+            # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
+            # so samples below these floors cannot come within the slack of the best estimate
+            nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
+                                         -cmin - 2.0 * slack - 0.125 * jump, t0, big_h, cand)
+            for side in range(2):
+                sign = 1.0 if side == 0 else -1.0
+                best = best_s[side]
+                tbest = tbest_s[side]
+                ndone = 0
+                nc, top = (nc0, top0) if side == 0 else (nc1, top1)
+                for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
+                    k = int((b - t0) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
+                    if 0 < k < kk:
+                        est = max(sign * coarse[k], sign * coarse[k + 1])
+                        if est > 0.0:
+                            cand[side, 0, nc] = est
+                            cand[side, 1, nc] = b
+                            cand[side, 2, nc] = b
+                            cand[side, 3, nc] = k
+                            nc += 1
+                # refine, best estimate first, while an estimate can still beat the best refined value
+                while nc > 0:
+                    jb = 0
+                    for q in range(1, nc):
+                        if cand[side, 0, q] > cand[side, 0, jb]:
+                            jb = q
+                    est = cand[side, 0, jb]
+                    if est + slack < best or est + slack < top - slack:
+                        break
+                    tk = cand[side, 2, jb]
+                    kb = int(cand[side, 3, jb])
+                    covered = False
+                    if kb >= 0:
+                        # a breakpoint's feature lies between the coarse samples kb and kb + 1: skip it when
+                        # a bracket already searched (split at the breakpoint) holds that whole interval
+                        ta = t0 + kb * big_h - 1e-9 * big_h
+                        tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
+                        for q in range(ndone):
+                            if done_lo[q] <= ta and tz <= done_hi[q]:
+                                covered = True
+                                break
+                    if not covered:
+                        lo_b = max(dmin, tk - big_h)
+                        hi_b = tk + big_h
+                        if kb >= 0:  # a breakpoint's feature: between its coarse neighbours
+                            lo_b = t0 + kb * big_h
+                            hi_b = t0 + (kb + 1) * big_h
+                        else:
+                            # p is only C¹ at a pulse's start or end: maxima on either side of one may be
+                            # closer than a coarse step (the samples then show one hump): near a
+                            # breakpoint, both sides are searched out to NEAR coarse steps from it
+                            for b in bps:
+                                if abs(b - tk) < (NEAR + 1.0) * big_h:
+                                    lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
+                                    hi_b = max(hi_b, b + NEAR * big_h)
+                        # pieces that cannot beat the largest coarse sample less the rounding bound (a
+                        # value that p reaches) are not searched
+                        reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
+                        val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps,
+                                                  xtol, nimg, delays, are, aim, tp)
+                        done_lo[ndone] = lo_b
+                        done_hi[ndone] = hi_b
+                        ndone += 1
+                        nref += 1
+                        if val > best:
+                            best = val
+                            tbest = tv
+                    nc -= 1
+                    for f in range(4):
+                        cand[side, f, jb] = cand[side, f, nc]
+                best_s[side] = best
+                tbest_s[side] = tbest
+            # after the window: the free decay of every image arrived so far, up to the next window (or
+            # for ever), in closed form where its bound (Σ|a_j| |Y(T)| e^{Re(s)(t_end - d_j - T)}) can
+            # beat a peak found
+            t_next = dmin + seg_a[sg + 1] * big_h if sg + 1 < nseg else np.inf
+            last = dmin
+            for j in range(nimg):
+                if delays[j] <= t_end:
+                    last = max(last, delays[j])
+            bound = scale * abs(yend) * math.exp(s.real * (t_end - last - end))  # the latest decays least
+            if bound > min(best_s[0], best_s[1]):
+                bound = 0.0
                 for j in range(nimg):
-                    decay = math.exp(s.real * (t_end - delays[j] - end))
-                    tail_bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * decay
-                tail_tight = True
-            if tail_bound > best:
-                if not tail_done:
-                    thi, tphi, tlo, tplo = _tail_extremes(t_end, nimg, delays, are, aim, yend, end, s)
-                    tail_done = True
-                tv, tt = (thi, tphi) if side == 0 else (-tlo, tplo)
-                if tv > best:
-                    best = tv
-                    tbest = tt
-            res[i, side] = sign * best
-            res[i, 2 + side] = tbest
+                    if delays[j] <= t_end:
+                        bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * math.exp(
+                            s.real * (t_end - delays[j] - end))
+            if bound > min(best_s[0], best_s[1]):
+                thi, tphi, tlo, tplo = _decay_extremes(t_end, t_next, t_end, nimg, delays, are, aim, yend, end, s)
+                if thi > best_s[0]:
+                    best_s[0] = thi
+                    tbest_s[0] = tphi
+                if -tlo > best_s[1]:
+                    best_s[1] = -tlo
+                    tbest_s[1] = tplo
+        for side in range(2):
+            res[i, side] = (1.0 if side == 0 else -1.0) * best_s[side]
+            res[i, 2 + side] = tbest_s[side]
         res[i, 5] = nref

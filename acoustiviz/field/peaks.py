@@ -11,8 +11,10 @@ The peaks of ``p`` are found in three steps:
    ``h = H / fine`` and stored by residue (``fine`` interleaved tables of step ``H``). Each delay
    is rounded to the fine grid, so that on the point's coarse grid ``t_k = d_min + k H`` every
    image reads a contiguous run of one table: ``p`` at ``t_k`` costs two multiply-adds per image,
-   from the first arrival to ``TAIL_STEPS`` coarse steps after the end of the last image's pulse
-   ``d_max + T``. The rounding moves each image by at most ``h/2`` in time (``H/512`` by default).
+   over each image's window, from its arrival to ``TAIL_STEPS`` coarse steps after its pulse
+   ends (windows that meet are merged; far from a wall the arrivals come in separate windows and
+   the stretches between them are not sampled). The rounding moves each image by at most ``h/2``
+   in time (``H/512`` by default).
 2. **Candidates.** Every local maximum of the coarse samples (of ``p`` for the positive peak, of
    ``-p`` for the negative one) gets a parabolic estimate of its height; those within ``margin``
    (relative to the largest coarse ``|p|``, plus the bound ``h/2 · Σ|a_j| max|Y'|`` of the
@@ -32,11 +34,11 @@ The peaks of ``p`` are found in three steps:
    closer than a coarse step and nearly equal (the samples then show one hump): a candidate within
    three coarse steps of a breakpoint has its bracket widened to two steps either side of it.
 
-After the last pulse ends, ``t >= d_max + T``, every image is in its free decay and
-``p(t) = Re[B exp(s t)]``: beyond the coarse samples its extremes are those of one damped
-sinusoid, in closed form (the end point and the first two stationary points; later ones are
+After a window, until the next one (or for ever after the last), every image that has arrived
+is in its free decay and ``p(t) = Re[B exp(s t)]``: its extremes there are those of one damped
+sinusoid, in closed form (the ends and the first two stationary points; later ones are
 ``exp(-π)`` smaller each), computed only when the bound ``Σ|a_j| |Y(T)| exp(Re(s) v)`` can beat
-the peak found. The
+a peak found. The
 exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
 same pass, with the geometry computed once per point. Times in s, pressures in Pa.
 
@@ -240,8 +242,9 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
     -----
     Paper eqs 12-14; see the module notes. The peaks are those of the continuous pressure over all
     time (as :func:`acoustiviz.field.field_metrics` with its default window and refinement), to
-    about 1e-11 relative; each point costs a coarse pass of ``(d_max - d_min + T)/H`` samples of
-    two multiply-adds per image and a few Newton steps on the closed form.
+    about 1e-11 relative; each point costs a coarse pass of about ``(T + 2 a/c)/H`` samples per
+    window of arrivals (one window unless a wall is far) of two multiply-adds per image, and a few
+    Newton steps on the closed form.
     """
     check_pulse(pulse)
     check_config(config)
