@@ -51,19 +51,18 @@ def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False):
     """Flatten a pulse into the kernel's arguments (``taylor``: every pulse as a Taylor table of ``Y``, kind 2)."""
     s = sphere_pole(radius, medium)
     notab = np.zeros((1, 1), complex)
-    if isinstance(pulse, HalfSinePulse) and taylor:  # kind 2, as the Hertz pulse: Horner instead of exp/sin/cos
-        knots, tab, terms = half_sine_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
+    if isinstance(pulse, HertzPulse):
+        table = hertz_response_table
+    elif taylor:  # the other pulses as the Hertz pulse: Horner instead of exp/sin/cos
+        table = half_sine_response_table if isinstance(pulse, HalfSinePulse) else sampled_response_table
+    else:
+        table = None
+    if table is not None:  # knots, 1/piece length, Y at the end and terms per piece, Taylor table
+        knots, tab, terms = table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
         return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), np.array([tab[-1].sum(), *terms]), tab, s
     if isinstance(pulse, HalfSinePulse):
         empty = np.zeros(2)
         return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), notab, s
-    if isinstance(pulse, HertzPulse):  # knots, 1/piece length, Y at the end and terms per piece, Taylor table
-        knots, tab, terms = hertz_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
-        yend = np.array([tab[-1].sum(), *terms])
-        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), yend, tab, s
-    if taylor:
-        knots, tab, terms = sampled_response_table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
-        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), np.array([tab[-1].sum(), *terms]), tab, s
     xi = np.ascontiguousarray(pulse.times, dtype=float)
     acc = np.ascontiguousarray(pulse.acceleration_samples, dtype=float)
     return 1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), notab, s

@@ -187,14 +187,29 @@ def _decay_extremes(t_a, t_b, arrived, nimg, delays, are, aim, yend, end, s):  #
 
 
 @_njit(cache=True, inline="always")
-def _windows(delays, order, dmin, end, big_h, seg_a, seg_b):  # pragma: no cover - compiled
+def _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b):  # pragma: no cover - compiled
     """Coarse-step ranges holding each image's pulse and TAIL_STEPS after it, merged where they meet.
 
-    ``order`` sorts ``delays``; fills ``seg_a``, ``seg_b`` (first and last coarse sample, from
-    ``dmin``) and returns their number. Between them every image that has arrived decays freely.
+    Fills ``seg_a``, ``seg_b`` (first and last coarse sample, from ``dmin``) and returns their
+    number; ``order`` is work space (the images by arrival). Between the windows every image that
+    has arrived decays freely.
     """
+    nimg = delays.size
+    if dmax - dmin <= end + (TAIL_STEPS + GAP_STEPS) * big_h:  # they all meet: one window
+        seg_a[0] = 0
+        seg_b[0] = int(math.ceil((dmax - dmin + end) / big_h)) + 1 + TAIL_STEPS
+        return 1
+    for j in range(nimg):
+        order[j] = j
+    for j in range(1, nimg):  # insertion sort of the few images by arrival
+        oj = order[j]
+        q = j - 1
+        while q >= 0 and delays[order[q]] > delays[oj]:
+            order[q + 1] = order[q]
+            q -= 1
+        order[q + 1] = oj
     nseg = 0
-    for q in range(order.size):
+    for q in range(nimg):
         d = delays[order[q]] - dmin
         ka = int(math.floor(d / big_h))
         kb = int(math.ceil((d + end) / big_h)) + 1 + TAIL_STEPS
@@ -307,21 +322,7 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             rs[j] = m - qs[j] * fine
         # the coarse pass runs over each window of arrivals (t_k = dmin + k H); between windows and
         # after the last, every image that has arrived decays freely: extremes in closed form
-        if dmax - dmin <= end + (TAIL_STEPS + GAP_STEPS) * big_h:  # the windows meet: one
-            nseg = 1
-            seg_a[0] = 0
-            seg_b[0] = int(math.ceil((dmax - dmin + end) / big_h)) + 1 + TAIL_STEPS
-        else:
-            for j in range(nimg):
-                order[j] = j
-            for j in range(1, nimg):  # the images by arrival
-                oj = order[j]
-                q = j - 1
-                while q >= 0 and delays[order[q]] > delays[oj]:
-                    order[q + 1] = order[q]
-                    q -= 1
-                order[q + 1] = oj
-            nseg = _windows(delays, order, dmin, end, big_h, seg_a, seg_b)
+        nseg = _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b)
         best_s[0] = best_s[1] = 0.0  # p = 0 before the first arrival
         tbest_s[0] = tbest_s[1] = dmin
         nref = 0
