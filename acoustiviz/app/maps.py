@@ -312,22 +312,9 @@ def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vert
     """
     from ..field import fast_peaks
 
-    pts = np.asarray(grid.points, dtype=float)
-    inside = config.in_fluid(pts)
-    n = pts.shape[0]
-    peak, time, expo = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
-    if np.any(inside):
-        r = fast_peaks(pulse, pts[inside], config, medium=medium)
-        pos = r.peak_positive >= -r.peak_negative
-        peak[inside] = np.where(pos, r.peak_positive, -r.peak_negative)
-        time[inside] = np.where(pos, r.time_positive, r.time_negative)
-        expo[inside] = r.exposure
-    from ..constants import P_REF
-
-    with np.errstate(divide="ignore", invalid="ignore"):
-        spl = 20.0 * np.log10(peak / P_REF)
-        sel = 10.0 * np.log10(expo / P_REF**2)
-    return LevelMap(grid, plane, peak, spl, sel, time, expo)
+    r = fast_peaks(pulse, np.asarray(grid.points, dtype=float), config, medium=medium)  # NaN outside the fluid
+    time = np.where(r.peak_positive >= -r.peak_negative, r.time_positive, r.time_negative)
+    return LevelMap(grid, plane, r.peak, r.peak_spl_db, r.sel_db, time, r.exposure)
 
 
 def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
