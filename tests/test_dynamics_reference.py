@@ -1,11 +1,22 @@
 """Reference runs and impact-by-impact comparison."""
 
+import dataclasses
 import math
 
 import numpy as np
-from _damper_reference import compare_impacts, solve_ivp_impacts
+import pytest
+from _damper_reference import (
+    IVP_RTOL,
+    N_COMPARE,
+    REFERENCE_RTOL,
+    compare_impacts,
+    reference,
+    resolved_impacts,
+    solve_ivp_impacts,
+)
 
-from acoustiviz.dynamics import TABLE1, ImpactTable, simulate
+from acoustiviz.constants import DEFAULT_RTOL
+from acoustiviz.dynamics import TABLE1, ImpactTable, InitialState, simulate
 
 
 def _table(t, u, wall):
@@ -26,26 +37,91 @@ def test_compare_impacts_measures_time_velocity_and_walls():
 
 
 def test_independent_method_agrees_with_event_solver_on_early_impacts():
-    ivp = solve_ivp_impacts(TABLE1, n_impacts=4, rtol=1e-12)
+    ivp = solve_ivp_impacts(TABLE1, n_impacts=4, rtol=IVP_RTOL)
     ev = simulate(TABLE1, 0.3, rtol=1e-13).impacts
     c = compare_impacts(ivp, ev, 4)
     assert c.walls_match and c.velocity_error < 1e-9 and c.time_error < 1e-11
 
 
-def test_default_tolerance_reaches_1e_8_s_on_the_first_40_impact_times():
-    # the converged reference (event solver at 2e-15) is itself checked: it moves by less than
-    # 1e-9 s when its tolerance halves, and an independent method (SciPy DOP853 on eq 15 in physical
-    # time, at its finest tolerance) approaches it to within its own chaotic error growth
-    from _damper_reference import N_COMPARE, REFERENCE_RTOL, reference
+def test_independent_method_refuses_tolerances_at_the_round_off_floor():
+    with pytest.raises(ValueError, match="rtol"):
+        solve_ivp_impacts(TABLE1, n_impacts=1, rtol=3e-14)
 
-    from acoustiviz.constants import DEFAULT_RTOL
 
+def test_independent_method_reports_a_failure_instead_of_fewer_impacts(monkeypatch):
+    import scipy.integrate
+
+    real = scipy.integrate.solve_ivp
+    calls = []
+
+    def gives_up_on_the_third_phase(*args, **kwargs):
+        calls.append(1)
+        sol = real(*args, **kwargs)
+        if len(calls) == 3:
+            sol.status, sol.message = -1, "Required step size is less than spacing between numbers."
+        return sol
+
+    monkeypatch.setattr(scipy.integrate, "solve_ivp", gives_up_on_the_third_phase)
+    with pytest.raises(RuntimeError, match="impact 2 of 4.*spacing between numbers"):
+        solve_ivp_impacts(TABLE1, n_impacts=4, rtol=IVP_RTOL)
+
+
+@pytest.fixture(scope="module")
+def converged():
+    """The reference run over 3 s and the independent method at two tolerances, 10x apart."""
     ref = reference(TABLE1, 3.0).impacts
+    ivp = solve_ivp_impacts(TABLE1, n_impacts=N_COMPARE, rtol=IVP_RTOL)
+    coarser = solve_ivp_impacts(TABLE1, n_impacts=N_COMPARE, rtol=10 * IVP_RTOL)
+    return ref, ivp, coarser
+
+
+#: Agreement the independent check asks for, s: five times finer than the error it must catch.
+RESOLUTION = 2e-10
+#: Impacts are compared while the independent method's runs 10x apart in tolerance differ by
+#: less than this (s); its own error there is about a quarter of it, well inside RESOLUTION.
+OWN_ERROR_ESTIMATE = 3e-10
+
+
+def test_independent_method_confirms_the_reference_on_every_impact_it_resolves(converged):
+    # The independent method (SciPy DOP853 on eq 15 in physical time, 4500 epsilon above the
+    # round-off floor) is compared impact by impact over the leading impacts it resolves: its own
+    # error, estimated by a run at a 10x looser tolerance, grows with the motion's sensitivity
+    # (about 1e5 from the first impacts to the 40th), so it resolves about the first 15 impacts
+    # (12 at least, on any CPU); fewer would leave the check without teeth.
+    ref, ivp, coarser = converged
+    assert len(ivp) == len(coarser) == N_COMPARE  # it reports a failure rather than fewer rows
+    n = resolved_impacts(ivp, coarser, OWN_ERROR_ESTIMATE)
+    assert n >= 12, f"the independent method resolves only {n} impacts to {OWN_ERROR_ESTIMATE:g} s"
+    c = compare_impacts(ivp, ref, n)
+    assert c.n == n and c.walls_match, c
+    assert c.time_error < RESOLUTION and c.velocity_error < 1e-9, c
+
+
+def test_the_independent_check_catches_an_impact_time_off_by_1e_9_s(converged):
+    ref, ivp, coarser = converged
+    n = resolved_impacts(ivp, coarser, OWN_ERROR_ESTIMATE)
+    for k in (0, n // 2, n - 1):  # one impact time shifted by 1 ns
+        shifted = ivp.time.copy()
+        shifted[k] += 1e-9
+        bad = dataclasses.replace(ivp, time=shifted)
+        assert compare_impacts(bad, ref, n).time_error >= RESOLUTION
+    # a whole run perturbed: the initial velocity changed by 4 parts in 1e9 moves the first impact
+    # by 4e-11 s and the 15th by 1.3e-9 s; the comparison rejects it
+    run = simulate(TABLE1, 1.5, rtol=REFERENCE_RTOL, initial=InitialState(v=2.0 * (1 + 4e-9))).impacts
+    moved = compare_impacts(run, ref, n)
+    assert moved.walls_match and 5e-10 < moved.time_error < 1e-8, moved
+    assert not moved.time_error < RESOLUTION
+
+
+def test_default_tolerance_reaches_1e_8_s_on_the_first_40_impact_times(converged):
+    # the reference (event solver at 2e-15) is confirmed by the independent method on the
+    # impacts it resolves (above) and is converged over all 40: it moves by less than 1e-9 s
+    # when its tolerance halves (round-off differences between CPUs grow to about 1e-11 s by the
+    # 40th impact, so this holds with a 20x margin)
+    ref = converged[0]
     assert len(ref) >= N_COMPARE == 40
     finer = compare_impacts(simulate(TABLE1, 3.0, rtol=REFERENCE_RTOL / 2).impacts, ref)
-    assert finer.walls_match and finer.time_error < 1e-9
-    ivp = compare_impacts(solve_ivp_impacts(TABLE1, n_impacts=N_COMPARE, rtol=3e-14), ref)
-    assert ivp.n == N_COMPARE and ivp.walls_match and ivp.time_error < 2e-7
+    assert finer.n == N_COMPARE and finer.walls_match and finer.time_error < 1e-9
     run = simulate(TABLE1, 3.0)
     assert run.settings["rtol"] == DEFAULT_RTOL  # the default every front-end uses
     default = compare_impacts(run.impacts, ref)
