@@ -414,15 +414,17 @@ def image_sources(room: Shoebox, centre, order: int, *, radius: float, direction
     far = np.where(ks >= 0, (ks + 1) // 2, (-ks) // 2)  # at the opposite wall
     pos = np.empty(k.shape)
     dirs = np.empty(k.shape)
-    w = np.ones((k.shape[0], beta.shape[1]))
+    w = None
     for i in range(3):
         length = room.dimensions[i]
         idx = k[:, i] + n
-        pos[:, i] = (ks * length + np.where(odd, length - c[i], c[i]))[idx]
-        dirs[:, i] = np.where(odd, -u[i], u[i])[idx]
-        w *= (beta[2 * i][None, :] ** near[:, None] * beta[2 * i + 1][None, :] ** far[:, None])[idx]
-        del idx
-    out = RoomImages(pos, dirs, w if room.bands else w[:, 0], orders, k)
+        pos[:, i] = np.take(ks * length + np.where(odd, length - c[i], c[i]), idx)
+        dirs[:, i] = np.take(np.where(odd, -u[i], u[i]), idx)
+        table = beta[2 * i][None, :] ** near[:, None] * beta[2 * i + 1][None, :] ** far[:, None]
+        factor = np.take(table[:, 0], idx) if room.bands is None else np.take(table, idx, axis=0)
+        w = factor if w is None else np.multiply(w, factor, out=w)
+        del idx, factor
+    out = RoomImages(pos, dirs, w, orders, k)
     for arr in (out.positions, out.directions, out.weights, out.orders, out.lattice):
         arr.setflags(write=False)
     return out

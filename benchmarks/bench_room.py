@@ -1,0 +1,106 @@
+"""Speed of the shoebox room's image sources, and pyroomacoustics' impulse responses of the same room.
+
+Run ``python benchmarks/bench_room.py`` (``--quick``: orders to 10 and 1e3 receivers).
+
+1. Image construction (:func:`acoustiviz.core.room.image_sources`) by order 1..30 in a 6 x 4 x 3 m
+   room with alpha = 0.1 on every surface: the number of images, the best of several runs, and the
+   rate in images per second.
+2. pyroomacoustics (the peer reference, a test-only dependency) on the same room and source at
+   order 10: ``image_source_model`` and ``compute_rir`` at 96 kHz (the rate the levels are computed
+   at) for 1e4 receivers uniformly spread in the room, in chunks of 500 receivers so that the
+   impulse responses (about 17 000 samples each) fit in memory; when the first chunk shows the
+   whole would take over a minute, 1e3 receivers instead, and the table says so. This is the
+   pyroomacoustics side of the issue's goal (peak and SEL of one impact at 1e4 receivers at order
+   10 at least 10x faster than pyroomacoustics' impulse responses); the field evaluator's side is
+   measured once the room is a geometry of the field evaluator.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+from _timing import best_of
+
+from acoustiviz.constants import ANALYSIS_RATE
+from acoustiviz.core.room import Shoebox, image_count, image_sources
+
+DIMS = (6.0, 4.0, 3.0)
+ALPHA = 0.1
+RADIUS = 0.01905
+SOURCE = (2.0, 1.5, RADIUS)
+CHUNK = 500
+BUDGET_S = 60.0
+
+
+def construction_table(max_order: int) -> None:
+    room = Shoebox(DIMS, ALPHA)
+    print(f"1. image construction, {DIMS[0]:g} x {DIMS[1]:g} x {DIMS[2]:g} m room, alpha = {ALPHA:g}")
+    print(f"{'order':>5} {'images':>9} {'time ms':>9} {'Mimages/s':>10}")
+    for n in range(1, max_order + 1):
+        repeat = 7 if n <= 15 else 3
+        t, im = best_of(lambda n=n: image_sources(room, SOURCE, n, radius=RADIUS), repeat)
+        assert len(im) == image_count(n)
+        print(f"{n:>5} {len(im):>9} {1e3 * t:>9.3f} {len(im) / t / 1e6:>10.2f}")
+
+
+def _pra_chunk(pra, mics: np.ndarray, order: int, rate: int):
+    room = pra.ShoeBox(list(DIMS), fs=rate, materials=pra.Material(ALPHA), max_order=order, air_absorption=False)
+    room.add_source(list(SOURCE))
+    room.add_microphone_array(mics.T)
+    t0 = time.perf_counter()
+    room.image_source_model()
+    t1 = time.perf_counter()
+    room.compute_rir()
+    t2 = time.perf_counter()
+    samples = len(room.rir[0][0])
+    return t1 - t0, t2 - t1, samples
+
+
+def pyroomacoustics_table(receivers: int, order: int, rate: int) -> None:
+    try:
+        import pyroomacoustics as pra
+    except ImportError:
+        print("2. pyroomacoustics is not installed (pip install -e '.[test]'): skipped")
+        return
+    rng = np.random.default_rng(20261125)
+    lo = np.full(3, 0.05)
+    hi = np.array(DIMS) - 0.05
+    first = rng.uniform(lo, hi, (CHUNK, 3))
+    ism, rir, samples = _pra_chunk(pra, first, order, rate)
+    note = ""
+    if (ism + rir) * receivers / CHUNK > BUDGET_S:
+        note = (f" (1e4 receivers would take about {(ism + rir) * 1e4 / CHUNK:.0f} s, over the {BUDGET_S:.0f} s "
+                f"budget: {1000} receivers instead)")
+        receivers = 1000
+    total_ism, total_rir, done = ism, rir, CHUNK
+    while done < receivers:
+        m = min(CHUNK, receivers - done)
+        a, b, _ = _pra_chunk(pra, rng.uniform(lo, hi, (m, 3)), order, rate)
+        total_ism, total_rir, done = total_ism + a, total_rir + b, done + m
+    if done > receivers:  # the first chunk alone was more than asked
+        scale = receivers / done
+        total_ism, total_rir, done = total_ism * scale, total_rir * scale, receivers
+    t_ours, im = best_of(lambda: image_sources(Shoebox(DIMS, ALPHA), SOURCE, order, radius=RADIUS), 7)
+    print()
+    print(f"2. pyroomacoustics {pra.__version__}, same room and source, order {order} ({len(im)} images), "
+          f"{rate} Hz, {done} receivers in chunks of {CHUNK}{note}")
+    print(f"{'stage':<34} {'time s':>9} {'ms/receiver':>12}")
+    print(f"{'image_source_model':<34} {total_ism:>9.3f} {1e3 * total_ism / done:>12.4f}")
+    print(f"{'compute_rir (' + str(samples) + ' samples each)':<34} {total_rir:>9.3f} {1e3 * total_rir / done:>12.4f}")
+    print(f"{'pyroomacoustics total':<34} {total_ism + total_rir:>9.3f} {1e3 * (total_ism + total_rir) / done:>12.4f}")
+    print(f"{'acoustiviz image_sources (once)':<34} {t_ours:>9.5f} {'-':>12}")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="orders 1..10 and 1e3 receivers")
+    args = parser.parse_args(argv)
+    construction_table(10 if args.quick else 30)
+    pyroomacoustics_table(1000 if args.quick else 10_000, 10, ANALYSIS_RATE)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
