@@ -9,12 +9,15 @@ import math
 
 import numpy as np
 import pytest
+from scipy.signal import get_window
 
 from acoustiviz.core.medium import AIR, Medium
 from acoustiviz.core.reverberation import (
+    complete_until,
     echo_density_time,
     energy_order,
     image_energy_decay,
+    late_tail,
     mixing_time,
     order_for_time,
     reverberation_time,
@@ -211,9 +214,98 @@ def test_echo_density_matches_the_counted_images():
     (lambda: reverberation_time(Shoebox((6, 4, 3), 0.1), "norris"), "formula", "eyring"),
     (lambda: echo_density_time(Shoebox((6, 4, 3), 0.1), 0.0), "spacing", "> 0"),
     (lambda: image_energy_decay(Shoebox((6, 4, 3), 0.1), [-1.0]), "times", ">= 0"),
+    (lambda: late_tail(Shoebox((6, 4, 3), 0.1), 0.0, 0.1, 48000, 7), "rng", "Generator"),
+    (lambda: late_tail(Shoebox((6, 4, 3), 0.1), 0.0, 1e-6, 48000, np.random.default_rng(0)), "duration",
+     "one sample"),
+    (lambda: late_tail(Shoebox((6, 4, 3), np.full((6, 2), 0.1)), 0.0, 0.1, 48000, np.random.default_rng(0)),
+     "band_centres", "required"),
+    (lambda: late_tail(Shoebox((6, 4, 3), np.full((6, 2), 0.1)), 0.0, 0.1, 48000, np.random.default_rng(0),
+                       band_centres=(1000.0, 500.0)), "band_centres", "increasing"),
+    (lambda: complete_until(Shoebox((6, 4, 3), 0.1), -1, radius=A), "order", ">= 0"),
 ])
 def test_bad_input_names_the_field_and_the_range(make, name, words):
     with pytest.raises(ParameterError) as err:
         make()
     assert err.value.name == name
     assert words in err.value.detail
+
+
+# ------------------------------------------------------------------------------- the statistical tail
+def test_complete_until_holds_every_image_of_higher_order_back():
+    rng = np.random.default_rng(5)
+    room = Shoebox((3.0, 2.4, 2.0), 0.2)
+    order = 9
+    t_c = complete_until(room, order, radius=A)
+    assert order_for_time(room, 0.999 * t_c, radius=A) <= order  # the inverse of order_for_time
+    im = image_sources(room, (0.8, 1.1, A), order + 8, radius=A)
+    rcv = np.vstack([rng.uniform(0, room.dimensions, (300, 3)),
+                     np.indices((2, 2, 2)).reshape(3, -1).T * room.dimensions])
+    beyond = im.positions[im.orders > order]
+    for chunk in np.array_split(rcv, 6):
+        r = np.linalg.norm(beyond[:, None, :] - chunk[None, :, :], axis=2)
+        assert ((r - A) / AIR.c).min() >= t_c
+
+
+def test_expected_decay_is_the_image_sum_after_the_transition():
+    """Where the exact images stop, the tail's expected energy is that of the images that follow.
+
+    Energy of the images arriving in 20 ms windows from the transition on, at three receivers,
+    against the integral of :func:`image_energy_decay` over the same windows.
+    """
+    room = Shoebox((6.0, 4.0, 3.0), 0.3)
+    t_c = complete_until(room, 12, radius=A)
+    im = image_sources(room, (2.0, 1.5, A), order_for_time(room, t_c + 0.06, radius=A), radius=A)
+    ratios = []
+    for receiver in ([3.1, 2.2, 1.3], [0.5, 3.5, 2.5], [5.5, 0.3, 0.2]):
+        r = np.linalg.norm(im.positions - np.array(receiver), axis=1)
+        t = (r - A) / AIR.c
+        for lo in (t_c, t_c + 0.02, t_c + 0.04):
+            m = (t >= lo) & (t < lo + 0.02)
+            tt = np.linspace(lo, lo + 0.02, 2001)
+            ratios.append(np.sum(im.weights[m] ** 2 / r[m] ** 2) / np.trapezoid(image_energy_decay(room, tt), tt))
+    ratios = np.array(ratios)
+    assert np.all(np.abs(ratios - 1) < 0.2)  # hundreds of images a window: fluctuations of about 10 %
+    assert abs(ratios.mean() - 1) < 0.05
+
+
+def test_late_tail_follows_the_decay_and_is_reproducible():
+    room = Shoebox((6.0, 4.0, 3.0), 0.3)
+    fs, start, dur = 48000, 0.065, 0.3
+    h = late_tail(room, start, dur, fs, np.random.default_rng(1))
+    assert h.shape == (round(dur * fs),)
+    np.testing.assert_array_equal(h, late_tail(room, start, dur, fs, np.random.default_rng(1)))
+    t = start + np.arange(h.size) / fs
+    for lo in np.arange(0.0, dur, 0.05):  # 2400 samples a window: the energy to a few per cent
+        m = (t >= start + lo) & (t < start + lo + 0.05)
+        expected = np.sum(image_energy_decay(room, t[m])) / fs
+        assert np.sum(h[m] ** 2) == pytest.approx(expected, rel=0.08)
+
+
+def test_banded_tail_decays_in_each_band_at_its_own_rate():
+    """The energy of each band of the tail, from its spectrum, is that band's share of its own decay.
+
+    Blackman-Harris windows (sidelobes below -92 dB, the bins within 5 of a band edge left out) at
+    the start and 0.16 s later, when the bands differ by 30 dB; four seeds averaged (each window
+    has 80 to 360 degrees of freedom a band).
+    """
+    centres = np.array([500.0, 2000.0, 6000.0])
+    room = Shoebox((6.0, 4.0, 3.0), np.tile([0.1, 0.2, 0.35], (6, 1)))
+    fs, start, dur = 16000, 0.02, 0.3
+    edges = np.sqrt(centres[:-1] * centres[1:])
+    win = round(0.08 * fs)
+    w = get_window("blackmanharris", win)
+    f = np.fft.rfftfreq(win, 1 / fs)
+    band = np.searchsorted(edges, f, side="right")
+    away = np.min(np.abs(f[:, None] - edges[None, :]), axis=1) >= 5 * fs / win
+    t = start + np.arange(round(dur * fs)) / fs
+    tails = [late_tail(room, start, dur, fs, np.random.default_rng(seed), band_centres=centres) for seed in range(4)]
+    for lo in (0, 2 * win):
+        # expected h^2 per sample in each band, weighted by the window as the spectrum is
+        rate = (image_energy_decay(room, t[lo:lo + win]) * w[:, None] ** 2).sum(axis=0) / np.sum(w**2) / fs
+        power = np.mean([np.abs(np.fft.rfft(h[lo:lo + win] * w)) ** 2 for h in tails], axis=0)
+        power *= 2 / (win * np.sum(w**2))  # one-sided: the bins sum to the mean square
+        for b in range(3):
+            sel = (band == b) & away
+            share = np.count_nonzero(sel) / f.size  # the share of a white spectrum these bins hold
+            assert power[sel].sum() == pytest.approx(share * rate[b], rel=0.15)
+    assert rate[0] / rate[2] > 1e3  # the bands do decay at different rates
