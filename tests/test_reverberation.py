@@ -150,19 +150,21 @@ def test_schroeder_decay_of_an_image_sum_gives_eyring_in_a_cube():
     room = Shoebox((5.0, 5.0, 5.0), 0.4)
     te, ts = reverberation_time(room, "eyring"), reverberation_time(room, "sabine")
     t30 = _image_sum_t30(room, np.array([3.1, 2.2, 1.7]), 0.7 * te)
-    assert abs(t30 / te - 1) < 0.10
+    assert 0.0 < t30 / te - 1 < 0.08  # about 4 % above: the spread of sum |u_i| over directions is small
     assert abs(t30 / ts - 1) > 0.10
 
 
-@pytest.mark.parametrize("dims, alpha", [((6.0, 4.0, 3.0), 0.3), ((10.0, 7.0, 3.0), 0.3),
-                                         ((6.0, 4.0, 3.0), (0.1, 0.4, 0.2, 0.2, 0.5, 0.05))],
+@pytest.mark.parametrize("dims, alpha, above", [((6.0, 4.0, 3.0), 0.3, (0.10, 0.18)),
+                                                ((10.0, 7.0, 3.0), 0.3, (0.20, 0.35)),
+                                                ((6.0, 4.0, 3.0), (0.1, 0.4, 0.2, 0.2, 0.5, 0.05), (0.0, 0.5))],
                          ids=["6x4x3", "10x7x3", "6x4x3-six"])
-def test_schroeder_decay_follows_the_direction_averaged_decay(dims, alpha):
+def test_schroeder_decay_follows_the_direction_averaged_decay(dims, alpha, above):
     """In an elongated room the image sum reverberates longer than Eyring's time (Jensen), as predicted.
 
     :func:`image_energy_decay` averages the exponential decay over the images' directions;
     Eyring's formula is the exponential of the average. The Schroeder T30 of the image sum
-    follows the average to 3 %, and lies above Eyring's by more in the longer room.
+    follows the average to 3 %, and lies above Eyring's: by about 14 % in a 6 x 4 x 3 m room,
+    more in the longer room.
     """
     room = Shoebox(dims, alpha)
     te = reverberation_time(room, "eyring")
@@ -171,7 +173,7 @@ def test_schroeder_decay_follows_the_direction_averaged_decay(dims, alpha):
     tt = np.arange(0.0, t_max, 1e-4)
     t30_model = _schroeder_t30(tt, image_energy_decay(room, tt))
     assert abs(t30 / t30_model - 1) < 0.03
-    assert t30 > te
+    assert above[0] < t30 / te - 1 < above[1]
 
 
 def test_image_energy_decay_is_the_image_density_times_the_mean_weight():

@@ -190,7 +190,7 @@ def energy_order(room: Shoebox, tolerance_db: float = -60.0, *, radius: float, m
     Energy model: each image adds ``w^2 / r^2`` (an omnidirectional source of unit power; its
     weight w per band). Summing over the images of order n gives the exact shell weight
     ``W(n) = sum w^2`` (:func:`_shell_weights`, a convolution of three per-axis sequences) and
-    the distance bounds of the module docstring give, at every receiver in the room,
+    the distance bounds of the module docstring give, at every receiver in the room::
 
         neglected <= sum_{n > N} W(n) / ((n - 3) H)^2,
         total >= sum_{n <= N} W(n) / r_max(n)^2,
@@ -357,7 +357,7 @@ def image_energy_decay(room: Shoebox, times, *, medium: Medium = AIR, nodes: int
     arriving between t and t + dt number ``4 pi c^3 t^2 dt / V`` (Kuttruff, ch. 4), so
     ``dE/dt = (4 pi c / V) <w^2>``, with ``<w^2>`` averaged over the directions u of the images.
     An image at distance ``r = c t`` in direction u was reflected about ``r |u_i| / (2 L_i)``
-    times in each of the two walls normal to axis i, so
+    times in each of the two walls normal to axis i, so::
 
         dE/dt = (4 pi c / V) < exp(c t sum_i |u_i| (ln(1 - alpha_i0) + ln(1 - alpha_i1)) / (2 L_i)) >_u.
 

@@ -17,11 +17,11 @@ the image's acceleration direction has that component flipped. An image of the r
 triple ``(kx, ky, kz)``; its order is ``|kx| + |ky| + |kz|`` and its pressure weight the product
 of the reflection coefficients ``beta = sqrt(1 - alpha)`` of the surfaces it was reflected in.
 Every triple is one distinct image, so the images of order ``<= N`` are listed in closed form,
-without a search over duplicates: there are ``4 n^2 + 2`` of order ``n >= 1`` and
+without a search over duplicates: there are ``4 n^2 + 2`` of order ``n >= 1`` and::
 
     (4 N^3 + 6 N^2 + 8 N + 3) / 3
 
-of order ``<= N`` (the octahedral numbers: 1, 7, 25, 63, ...).
+of order ``<= N`` (1, 7, 25, 63, 129, ...).
 
 The order each output needs, the reverberation times and the statistical decay of the image
 sum are in :mod:`acoustiviz.core.reverberation`.
