@@ -62,6 +62,11 @@ def test_image_count_formula_and_brute_force_lattice(order):
     assert np.all(np.diff(im.orders) >= 0) and im.orders[0] == 0
     np.testing.assert_array_equal(im.orders, np.abs(im.lattice).sum(axis=1))
     np.testing.assert_array_equal(im.reflections.sum(axis=1), im.orders)
+    # a lower order is a prefix: the same images as built for it
+    low = im.up_to(order // 2)
+    ref = image_sources(room, (1.0, 0.7, A), order // 2, radius=A)
+    for name in ("positions", "directions", "weights", "orders", "lattice"):
+        np.testing.assert_array_equal(getattr(low, name), getattr(ref, name))
     # the images are distinct points (no duplicates to search for)
     assert np.unique(np.round(im.positions, 9), axis=0).shape[0] == len(im)
 

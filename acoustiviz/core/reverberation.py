@@ -51,6 +51,10 @@ __all__ = [
     "late_tail",
 ]
 
+#: Largest order :func:`energy_order` sums shell by shell before it reports the order as capped
+#: (about 3e13 images: far beyond any memory budget).
+_ORDER_SEARCH_LIMIT = 32768
+
 
 @dataclass(frozen=True)
 class ImageOrder:
@@ -177,8 +181,8 @@ def energy_order(room: Shoebox, tolerance_db: float = -60.0, *, radius: float, m
         that cannot arrive within it carry none. Required when a surface is rigid
         (alpha = 0), whose infinite image sum has no finite energy.
     max_order : int, optional
-        Cap on the order (e.g. :func:`max_order_for_memory`); when it binds, the result says so
-        (``capped``) and gives the bound actually reached.
+        Cap on the order (e.g. :func:`acoustiviz.core.room.max_order_for_memory`); when it binds,
+        the result says so (``capped``) and gives the bound actually reached.
 
     Returns
     -------
@@ -245,12 +249,14 @@ def energy_order(room: Shoebox, tolerance_db: float = -60.0, *, radius: float, m
         ok = np.flatnonzero(ratio <= target)
         if cap_time is not None or (ok.size and rest <= 1e-3 * target * included[-1].min()):
             break
+        if (max_order is not None and m > max_order) or m >= _ORDER_SEARCH_LIMIT:
+            break  # ratio[:m + 1] are bounds already (the remainder is in them); the order is capped below
         m *= 2
     order = int(ok[0]) if ok.size else m
-    capped = False
+    capped = not ok.size and cap_time is None
     if max_order is not None and order > max_order:
         order, capped = max_order, True
-    r = float(ratio[order]) if order <= m else 0.0
+    r = float(ratio[order])
     neglected_db = 10.0 * math.log10(r) if r > 0 else -math.inf
     return ImageOrder(order, image_count(order), neglected_db, tol, capped)
 

@@ -212,6 +212,12 @@ class RoomImages:
         """Largest order held."""
         return int(self.orders.max())
 
+    def up_to(self, order: int) -> RoomImages:
+        """The images of order ``<= order`` (a prefix of these: views, no copy)."""
+        n = image_count(min(check_order("order", order), self.max_order))
+        return RoomImages(self.positions[:n], self.directions[:n], self.weights[:n], self.orders[:n],
+                          self.lattice[:n])
+
     @property
     def axis_reflections(self) -> np.ndarray:
         """``(n, 3)`` number of reflections of each image across the walls normal to x, y and z."""
