@@ -126,6 +126,16 @@ def test_banded_weights_equal_pyroomacoustics():
     np.testing.assert_allclose(a[:, 3:], b[:, 3:], rtol=4 * F32 * order, atol=0)
 
 
+def test_shoebox_is_a_value():
+    room = Shoebox([6, 4, 3], 0.1)
+    assert room == Shoebox((6.0, 4.0, 3.0), [0.1] * 6) and hash(room) == hash(Shoebox((6.0, 4.0, 3.0), 0.1))
+    assert room != Shoebox((6.0, 4.0, 3.0), 0.2) and room != Shoebox((6.0, 4.0, 3.0), np.full((6, 1), 0.1))
+    with pytest.raises(ValueError):
+        room.dimensions[0] = 1.0
+    assert room.areas.tolist() == [12.0, 12.0, 18.0, 18.0, 24.0, 24.0]
+    assert room.absorption_area == pytest.approx(10.8, rel=1e-15) and room.mean_free_path == pytest.approx(8 / 3)
+
+
 def test_directions_flip_with_odd_reflections():
     room = Shoebox((4.0, 3.0, 2.5), 0.3)
     u = np.array([0.2, -0.5, 0.8])

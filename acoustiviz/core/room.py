@@ -1,4 +1,4 @@
-"""A rectangular (shoebox) room: image sources in closed form and the image order each output needs.
+"""A rectangular (shoebox) room and its image sources in closed form (Allen and Berkley 1979).
 
 The room occupies ``[0, Lx] x [0, Ly] x [0, Lz]`` (m). Its six surfaces, in the order used for
 every per-surface array (the order of pyroomacoustics' west, east, south, north, floor, ceiling)::
@@ -73,7 +73,7 @@ def _as_array(name: str, value, shape_hint: str) -> np.ndarray:
     return a
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Shoebox:
     """A rectangular room ``[0, Lx] x [0, Ly] x [0, Lz]`` with absorbing surfaces.
 
@@ -118,12 +118,21 @@ class Shoebox:
             raise ParameterError("absorption", f"expected {hint}, got shape {a.shape}")
         bad = ~(np.isfinite(a) & (a >= 0.0) & (a < 1.0))
         if np.any(bad):
-            i = int(np.argwhere(bad)[0][0])
-            v = a[np.unravel_index(int(np.flatnonzero(bad)[0]), a.shape)]
+            first = np.unravel_index(int(np.flatnonzero(bad)[0]), a.shape)
             raise ParameterError(
-                "absorption", f"each coefficient alpha must lie in [0, 1), got {v!r} on surface {SURFACES[i]}")
+                "absorption",
+                f"each coefficient alpha must lie in [0, 1), got {float(a[first]):g} on surface {SURFACES[first[0]]}")
         a.setflags(write=False)
         object.__setattr__(self, "absorption", a)
+
+    def _key(self):
+        return (self.dimensions.tobytes(), self.absorption.shape, self.absorption.tobytes())
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Shoebox) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
 
     @property
     def bands(self) -> int | None:
@@ -173,7 +182,7 @@ class Shoebox:
         return float(1.0 / math.sqrt(float(np.sum(self.dimensions ** -2.0))))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RoomImages:
     """The images of a sphere in a shoebox room, sorted by order (the real sphere first).
 
