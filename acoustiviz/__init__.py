@@ -44,10 +44,10 @@ _aliases.install()
 
 #: Names importable from ``acoustiviz`` that live in heavier modules, imported on first use.
 _LAZY = {
-    "configuration": "core.images",
-    "images_free": "core.images",
-    "images_plane": "core.images",
-    "images_wall_floor": "core.images",
+    "configuration": "core.geometry",
+    "images_free": "core.geometry",
+    "images_plane": "core.geometry",
+    "images_wall_floor": "core.geometry",
     "time_series": "field",
     "field_metrics": "field",
     "snapshots": "field",

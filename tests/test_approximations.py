@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 from acoustiviz.contact import HalfSinePulse, Impact, acceleration_pulse
-from acoustiviz.images import images_plane
 from acoustiviz.medium import AIR
 from acoustiviz.radiation import pressure, radiation_coefficients
 
 from acoustiviz import approximations as ap
 from acoustiviz import field
+from acoustiviz.core.geometry import images_plane
 
 A = 0.01905
 

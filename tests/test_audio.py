@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 import soundfile as sf
 
-from acoustiviz.core.images import ImageSource, images_plane, images_wall_floor
+from acoustiviz.core.geometry import images_plane, images_wall_floor
+from acoustiviz.core.images import ImageSource
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
 from acoustiviz.errors import ParameterError
@@ -359,7 +360,7 @@ def test_whole_run_level_and_exposure_match_the_field_evaluator():
     reference is the field evaluator on an independently built configuration for each wall (the far wall's
     sphere at a + gap accelerating along -z, imaged in z = 0). Tolerances as for one click.
     """
-    from acoustiviz.core.images import Configuration
+    from acoustiviz.core.geometry import Configuration
     from acoustiviz.dynamics import TABLE1, simulate
 
     run = simulate(TABLE1, 3.0)

@@ -34,7 +34,7 @@ from ..constants import (
     STRIKES,
 )
 from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
-from ..core.images import Configuration, configuration, observer_points
+from ..core.geometry import Geometry, configuration, observer_points
 from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
@@ -59,7 +59,7 @@ class ImpactSetup:
         Sphere radius in m.
     medium : Medium
         The fluid.
-    configuration : Configuration
+    configuration : Geometry
         The sphere and its image sources.
     k_hertz_source : str
         Where K_HZ came from: ``"given"``, ``"Hertz, steel on steel"`` or ``"default (paper)"``.
@@ -69,7 +69,7 @@ class ImpactSetup:
     pulse: object
     radius: float
     medium: Medium
-    configuration: Configuration
+    configuration: Geometry
     k_hertz_source: str
 
 
@@ -202,7 +202,7 @@ def surroundings(radius: float, config: str, wall_distance=None, strike: str = "
     return check_range("wall_distance", wall, radius, math.inf, unit="m"), "floor", None
 
 
-def _configuration(radius, config, wall_distance, strike, height) -> Configuration:
+def _configuration(radius, config, wall_distance, strike, height) -> Geometry:
     wall, strike, height = surroundings(radius, config, wall_distance, strike, height)
     return configuration(config, radius, wall_distance=wall, strike=strike, height=height)
 
@@ -212,7 +212,7 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
 
     The observer lies in the plane spanned by the acceleration axis and the horizontal direction
     away from any wall (+x); for the wall-floor corner, the plane through the centre normal to
-    the wall, on the side away from it (:func:`acoustiviz.core.images.observer_points`).
+    the wall, on the side away from it (:func:`acoustiviz.core.geometry.Geometry.observer_points`).
 
     Returns
     -------

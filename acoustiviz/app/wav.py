@@ -115,7 +115,6 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
     (n,) ndarray
         Peak pressure in Pa (0 without impacts).
     """
-    from ..core.images import Configuration
     from ..field import field_metrics
     from ..output.audio import wall_sources
 
@@ -128,7 +127,7 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
         u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
         if u.size == 0:
             continue
-        conf = Configuration(base.name, base.radius, tuple(wall_sources(scene, wall)), base.planes, base.strike)
+        conf = base.with_sources(wall_sources(scene, wall))
 
         def peaks_of(speeds, conf=conf):
             return np.array([field_metrics(model.pulse_for(v), pts, conf, medium=scene.medium).peak for v in speeds])

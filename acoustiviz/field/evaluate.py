@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import ParameterError, check_points, check_positive
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import pulse_response
 from ._common import (
@@ -38,7 +38,7 @@ def iter_time_series(
     pulse,
     t,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     cutoff: float = DEFAULT_CUTOFF,
@@ -56,7 +56,7 @@ def iter_time_series(
     points : (n, 3) array_like
         Observer positions in m. Points outside the fluid (inside the sphere or behind a
         plane) get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -110,7 +110,7 @@ def time_series(
     pulse,
     t,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     cutoff: float = DEFAULT_CUTOFF,
@@ -126,8 +126,8 @@ def time_series(
         Times in s from the start of contact.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
-        The sphere and its images (:func:`acoustiviz.images.configuration`).
+    config : Geometry
+        The sphere and its images (:func:`acoustiviz.core.geometry.configuration`).
     medium : Medium
         The fluid (default air at 20 °C).
     cutoff : float
@@ -148,7 +148,7 @@ def time_series(
     Examples
     --------
     >>> from acoustiviz.core.contact import Impact, acceleration_pulse
-    >>> from acoustiviz.core.images import images_plane
+    >>> from acoustiviz.core.geometry import images_plane
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264))
     >>> p = time_series(pulse, np.linspace(0, 4e-3, 4001), [[0.495, 0, 0.495]], images_plane(0.01905))
     >>> p.shape
@@ -181,7 +181,7 @@ def snapshots(
     pulse,
     times,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     memory_limit: float = DEFAULT_MEMORY_LIMIT,
@@ -196,7 +196,7 @@ def snapshots(
         Snapshot times in s.
     points : (n, 3) array_like
         Grid points in m (e.g. ``PlanarGrid.points``); points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

@@ -203,7 +203,7 @@ def spherical_grid_for(config, radius: float, *, n_theta: int = 32, n_phi=None) 
 
     Parameters
     ----------
-    config : acoustiviz.images.Configuration
+    config : acoustiviz.core.geometry.Geometry
         The scene.
     radius : float
         Radius in m; for the half and quarter regions it must keep the grid clear of the

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_points, check_positive
 from ..constants import P_REF
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import (
     DEFAULT_CUTOFF,
@@ -104,7 +104,7 @@ class FieldMetrics:
 def field_metrics(
     pulse,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     sample_interval=None,
@@ -123,7 +123,7 @@ def field_metrics(
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

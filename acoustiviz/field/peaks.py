@@ -61,7 +61,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_points
 from ..constants import P_REF
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _fill
@@ -150,7 +150,7 @@ class PeakExposure:
             return 10.0 * np.log10(self.exposure / P_REF**2)
 
 
-def _source_arrays(config: Configuration):
+def _source_arrays(config: Geometry):
     pos = np.ascontiguousarray([s.position for s in config.sources], dtype=float)
     axis = np.ascontiguousarray([s.axis for s in config.sources], dtype=float)
     if config.planes:
@@ -162,7 +162,7 @@ def _source_arrays(config: Configuration):
     return pos, axis, np.asarray(config.centre, dtype=float), ppt, pnm
 
 
-def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
+def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
                fine: int = DEFAULT_FINE) -> PeakTable:
     """Tabulate ``Y`` for :func:`fast_peaks` (once per pulse, sphere and configuration).
 
@@ -170,7 +170,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse (m/s²) starting at t = 0.
-    config : Configuration
+    config : Geometry
         The sphere and its images (their separation sets the table's length).
     medium : Medium
         The fluid.
@@ -207,7 +207,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread)
 
 
-def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, exposure: bool = True,
+def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
                table: PeakTable | None = None, correlations: PulseCorrelations | None = None,
                margin: float = DEFAULT_MARGIN, chunk: int = 65536) -> PeakExposure:
     """Positive and negative peak pressure (and exposure) of the continuous pressure, without a time loop.
@@ -218,7 +218,7 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import check_points
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import DEFAULT_CUTOFF, check_config, check_pulse, decay_time
 
@@ -68,14 +68,14 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     return (r - a) / medium.c, p0, ra - 1j * (1.0 - ra), r
 
 
-def source_geometry(points, config: Configuration, *, medium: Medium = AIR):
+def source_geometry(points, config: Geometry, *, medium: Medium = AIR):
     """:func:`image_geometry` of the sources of a configuration (its sphere and images).
 
     Parameters
     ----------
     points : (n, 3) array_like
         Observer positions in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -88,7 +88,7 @@ def source_geometry(points, config: Configuration, *, medium: Medium = AIR):
     return image_geometry(points, config.sources, config.radius, medium=medium)
 
 
-def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, decay_times: float = 40.0):
+def waveform_span(pulse, point, config: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
     """First arrival and end in s (from the start of contact) of one impact's sound at ``point``.
 
     The end is the last image's arrival plus the pulse plus ``decay_times`` decay times a/c of
@@ -101,7 +101,7 @@ def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, 
         Acceleration pulse of the sphere.
     point : (3,) array_like
         Observer position in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -118,7 +118,7 @@ def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, 
     return float(first), float(end)
 
 
-def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR, decay_times: float = 40.0):
+def waveform_spans(pulse, points, config: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
     """:func:`waveform_span` of many points at once.
 
     Parameters
@@ -127,7 +127,7 @@ def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR
         Acceleration pulse of the sphere.
     points : (n, 3) array_like
         Observer positions in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -144,7 +144,7 @@ def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR
     return np.column_stack([delay.min(axis=1), delay.max(axis=1) + tail])
 
 
-def arrival_windows(pulse, points, config: Configuration, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
+def arrival_windows(pulse, points, config: Geometry, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
     """Interval of each point in which its pressure is non-zero (to ``cutoff``).
 
     Parameters
@@ -153,7 +153,7 @@ def arrival_windows(pulse, points, config: Configuration, *, medium: Medium = AI
         Acceleration pulse of the sphere.
     points : (n, 3) array_like
         Observer positions in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

@@ -114,7 +114,7 @@ class Scene:
         return self.setup().medium
 
     def configuration(self, radius: float | None = None):
-        """The surfaces and image sources (:func:`acoustiviz.core.images.configuration`) for a sphere of ``radius``."""
+        """The surfaces and image sources (:mod:`acoustiviz.core.geometry`) for a sphere of ``radius``."""
         return self.setup(radius=radius).configuration
 
     def impact(self, velocity: float | None = None):
@@ -133,7 +133,7 @@ class Scene:
         """
         import numpy as np
 
-        from ..core.images import observer_points
+        from ..core.geometry import observer_points
 
         conf = self.configuration(radius)
         out = []

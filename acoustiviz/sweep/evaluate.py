@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..core.images import observer_points
+from ..core.geometry import observer_points
 from ..errors import ParameterError
 from .levels import LEVEL_COLUMNS, NO_LEVELS, design_levels
 from .spec import PAPER_RADIUS, Design, Settings
@@ -26,11 +26,11 @@ def listener_point(config, distance: float, angle: float) -> np.ndarray:
 
     The listener lies in the plane of the acceleration axis and the horizontal direction away
     from any wall (+x), like the command-line ``--distance``/``--angle`` observer
-    (:func:`acoustiviz.core.images.observer_points`).
+    (:func:`acoustiviz.core.geometry.Geometry.observer_points`).
 
     Parameters
     ----------
-    config : acoustiviz.core.images.Configuration
+    config : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     distance : float
         Distance in m (> the sphere radius).
@@ -63,7 +63,7 @@ def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz:
         Hertz stiffness in N/m^1.5.
     pulse : str
         Pulse kind (:func:`acoustiviz.core.contact.acceleration_pulse`).
-    config : acoustiviz.core.images.Configuration
+    config : acoustiviz.core.geometry.Geometry
         Sphere and images.
     point : (1, 3) array_like
         Listener in m.
@@ -188,7 +188,7 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
     With ``settings.levels`` the run's click train is rendered at the listener and its LAFmax,
     LCpeak and LAeq over ``[0, duration]`` are reported (:func:`acoustiviz.sweep.levels.design_levels`).
     """
-    from ..core.images import configuration
+    from ..core.geometry import configuration
     from ..core.medium import Medium
     from ..dynamics import DamperModel, InitialState, simulate
     from ..dynamics import metrics as dm

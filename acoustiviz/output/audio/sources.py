@@ -9,7 +9,8 @@ import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_points, check_positive
 from ...constants import P_REF
-from ...core.images import CONFIGURATIONS, Configuration, ImageSource, configuration, images_of
+from ...core.geometry import CONFIGURATIONS, Geometry, configuration
+from ...core.images import ImageSource, images_of
 from ...core.medium import AIR, Medium
 
 __all__ = [
@@ -138,7 +139,7 @@ class CavityScene:
     Parameters
     ----------
     config : {"free", "plane", "wall-floor"}
-        The image configuration of the struck wall (:func:`acoustiviz.images.configuration`).
+        The image configuration of the struck wall (:func:`acoustiviz.core.geometry.configuration`).
     radius : float
         Sphere (impact mass) radius a in m.
     gap : float
@@ -168,7 +169,7 @@ class CavityScene:
     strike: str = "floor"
     height: float | None = None
     medium: Medium = AIR
-    configuration: Configuration = field(init=False, repr=False, compare=False)
+    configuration: Geometry = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         check_choice("config", self.config, CONFIGURATIONS)

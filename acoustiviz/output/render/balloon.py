@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive, check_range
-from ...core.images import Configuration
+from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import field_metrics
 from ...field.grids import SphericalGrid, spherical_grid
@@ -100,7 +100,7 @@ class BalloonData:
         return float(10.0 * np.log10(self.grid.average(lin)))
 
 
-def _region(config: Configuration):
+def _region(config: Geometry):
     """Region, anchor, polar axis and azimuth origin of the balloon of ``config``."""
     if config.name == "free":
         return "sphere", config.centre, config.axis, np.array([1.0, 0.0, 0.0])
@@ -134,7 +134,7 @@ def _closed_lattice(grid: SphericalGrid, up, side) -> np.ndarray:
 
 def balloon_data(
     pulse,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     distance: float = 0.7,
@@ -148,7 +148,7 @@ def balloon_data(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         ``"free"`` (whole sphere around the sphere's centre), ``"plane"`` (half space around
         the contact point) or ``"wall-floor"`` (quarter space around the contact point,
         bounded by the floor and the wall).
@@ -249,7 +249,7 @@ def render_balloon(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration or sequence of Configuration
+    config : Geometry or sequence of Geometry
         The scene; several are drawn side by side with one colour scale.
     path : path-like
         Output ``.png`` file (written atomically).
@@ -290,7 +290,7 @@ def render_balloon(
     Examples
     --------
     >>> from acoustiviz import Impact, acceleration_pulse
-    >>> from acoustiviz.images import configuration
+    >>> from acoustiviz.core.geometry import configuration
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.226), "half-sine")
     >>> corner = configuration("wall-floor", 0.01905, wall_distance=0.05)
     >>> render_balloon(pulse, corner, "balloon.png", size=(800, 600))  # doctest: +SKIP
