@@ -78,7 +78,7 @@ def iter_time_series(
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
-    nimg = len(config.sources)
+    nimg = len(config.images())
     dt = uniform_step(tt)
     per_point = 8 * tt.size + geometry_bytes(nimg)
     if dt is None:
@@ -167,7 +167,7 @@ def time_series(
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     dt = uniform_step(tt)
-    per_point = geometry_bytes(len(config.sources)) + (0 if dt is not None else 8 * tt.size * 6)
+    per_point = geometry_bytes(len(config.images())) + (0 if dt is not None else 8 * tt.size * 6)
     chunk = chunk_size(per_point, need, limit)
     out = np.zeros((pts.shape[0], tt.size))
     for start in range(0, pts.shape[0], chunk):
@@ -216,7 +216,7 @@ def snapshots(
         raise ParameterError("times", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
     need = 8.0 * pts.shape[0] * tt.size
-    per_point = geometry_bytes(len(config.sources)) + 8 * 6
+    per_point = geometry_bytes(len(config.images())) + 8 * 6
     chunk = chunk_size(per_point, need, limit)
     out = np.empty((tt.size, pts.shape[0]))
     for lo in range(0, pts.shape[0], chunk):

@@ -167,7 +167,7 @@ def field_metrics(
     pts = check_points("points", points)
     limit = check_positive("memory_limit", memory_limit, "B")
     n = pts.shape[0]
-    nimg = len(config.sources)
+    nimg = len(config.images())
     if t is not None:
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         dt = uniform_step(tt)

@@ -151,15 +151,15 @@ class PeakExposure:
 
 
 def _source_arrays(config: Geometry):
-    pos = np.ascontiguousarray([s.position for s in config.sources], dtype=float)
-    axis = np.ascontiguousarray([s.axis for s in config.sources], dtype=float)
+    """Image centres, weighted axes (the reflection weight folded into the axis), sphere centre, planes."""
+    imgs = config.images()
     if config.planes:
         ppt = np.ascontiguousarray([p.point for p in config.planes], dtype=float)
         pnm = np.ascontiguousarray([p.normal for p in config.planes], dtype=float)
     else:
         ppt = np.zeros((0, 3))
         pnm = np.zeros((0, 3))
-    return pos, axis, np.asarray(config.centre, dtype=float), ppt, pnm
+    return imgs.positions, imgs.weighted_axes, np.asarray(config.centre, dtype=float), ppt, pnm
 
 
 def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
@@ -194,7 +194,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     end = float(pulse.duration) if kind == 0 else float(xi[-1])
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
-    pos = np.array([src.position for src in config.sources])
+    pos = config.images().positions
     spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
     ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
