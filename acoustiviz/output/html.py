@@ -223,8 +223,7 @@ def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, d
     elif not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
     if balloon_size is None:
-        wall = -config.planes[1].point[0] if config.name == "wall-floor" else 0.0
-        bsize = max(6.0 * config.radius, 1.5 * wall)
+        bsize = max(6.0 * config.radius, 1.5 * config.feature_distance)
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     top = data.max_level
@@ -239,7 +238,7 @@ def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, d
     sub = _scene_label(pulse, config) + f"; max {data.max_level:.1f} dB, energy mean {data.mean_level:.1f} dB"
     text = page(layers, title=head, subtitle=sub, colorbar=data.label, clim=(top - rng, top), cmap="viridis",
                 target=centre, radius=0.5 * float(np.linalg.norm([x1 - x0, y1 - y0, z1 - z0])),
-                direction=(0.9, -1.7, 0.8) if config.name != "free" else (0.9, -1.7, 0.4))
+                direction=(0.9, -1.7, 0.8) if config.planes else (0.9, -1.7, 0.4))
     return write_text_atomic(path, text)
 
 

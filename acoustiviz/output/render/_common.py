@@ -199,9 +199,7 @@ def _set_camera(pl, focus, direction, *, zoom: float = 1.0, shift: float = 0.0):
 
 
 def _scene_label(pulse, config: Geometry) -> str:
-    parts = [config.name]
-    if config.name == "wall-floor":
-        parts.append(f"wall at {-config.planes[1].point[0] * 1e3:.3g} mm")
+    parts = [config.caption()]
     parts.append(f"a = {config.radius * 1e3:.4g} mm")
     parts.append(f"contact {pulse.duration * 1e6:.0f} µs")
     parts.append(f"{getattr(pulse, 'kind', 'sampled')} pulse")

@@ -188,5 +188,4 @@ def _reach_time(config: Geometry, medium: Medium, extent) -> float:
     """A time in s whose default extent frames the scene (used before the frame times exist)."""
     if extent is not None:
         return max(0.0, (float(extent) / 1.25 - config.radius) / medium.c)
-    wall = -config.planes[1].point[0] if config.name == "wall-floor" else 0.0
-    return max(12.0 * config.radius, 6.0 * wall) / medium.c
+    return max(12.0 * config.radius, 6.0 * config.feature_distance) / medium.c

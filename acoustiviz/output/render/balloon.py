@@ -101,13 +101,9 @@ class BalloonData:
 
 
 def _region(config: Geometry):
-    """Region, anchor, polar axis and azimuth origin of the balloon of ``config``."""
-    if config.name == "free":
-        return "sphere", config.centre, config.axis, np.array([1.0, 0.0, 0.0])
-    if config.name == "plane":
-        return "half", config.contact_point, config.planes[0].normal, np.array([1.0, 0.0, 0.0])
-    floor, wall = config.planes
-    return "quarter", config.contact_point, floor.normal, wall.normal
+    """Region, anchor, polar axis and azimuth origin of the balloon of ``config`` (its view region)."""
+    reg = config.view_region()
+    return reg.kind, reg.origin, reg.up, reg.side
 
 
 def _closed_lattice(grid: SphericalGrid, up, side) -> np.ndarray:
@@ -329,8 +325,7 @@ def render_balloon(
 def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, size, n_views, opacity):
     a = config.radius
     if balloon_size is None:
-        wall = -config.planes[1].point[0] if config.name == "wall-floor" else 0.0
-        bsize = max(6.0 * a, 1.5 * wall)
+        bsize = max(6.0 * a, 1.5 * config.feature_distance)
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     mesh = _balloon_mesh(data, bsize, top, rng)
@@ -346,6 +341,7 @@ def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, s
     pl.add_text(line, position="lower_left", font_size=_font((size[0] / n_views, size[1]), 11), color="#222222")
     x0, x1, y0, y1, z0, z1 = bounds
     focus = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
-    direction = (0.9, -1.7, 0.8) if config.name != "free" else (0.9, -1.7, 0.4)
-    _set_camera(pl, focus, direction, zoom=1.35 if config.name != "free" else 1.05)
+    bounded = bool(config.planes)  # look down on a floor; all round a sphere in free field
+    direction = (0.9, -1.7, 0.8) if bounded else (0.9, -1.7, 0.4)
+    _set_camera(pl, focus, direction, zoom=1.35 if bounded else 1.05)
     return actor
