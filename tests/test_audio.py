@@ -170,7 +170,7 @@ def test_far_wall_radiates_reversed_from_the_far_wall():
 
 
 def test_corner_sources_have_images_in_both_planes():
-    scene = CavityScene("wall-floor", radius=A, gap=0.04, wall_distance=0.05)
+    scene = CavityScene(images_wall_floor(A, 0.05), gap=0.04)
     far = audio.wall_sources(scene, 1)
     assert len(far) == 4
     ref_cfg = images_wall_floor(A, 0.05)
@@ -204,7 +204,7 @@ def test_bad_listeners_are_refused(point, words):
 
 
 def test_listener_behind_the_wall_is_refused():
-    scene = CavityScene("wall-floor", radius=A, wall_distance=0.05)
+    scene = CavityScene(images_wall_floor(A, 0.05))
     with pytest.raises(ParameterError, match="behind the wall"):
         render(ImpactSequence([0.0], [-1], [1.0]), scene, ClickModel(), [-0.2, 0.0, 0.3])
 
