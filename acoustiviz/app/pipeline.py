@@ -191,7 +191,7 @@ def produce_directivity(ctx: RunContext):
     conf = ctx.configuration
     name, pos = ctx.listeners[0]
     dist = float(np.linalg.norm(pos - conf.sources[0].position))
-    top = 180.0 if conf.name == "free" else 90.0
+    top = conf.polar_limit_deg
     angles = directivity_angles(conf, step)
     d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
     names, columns = ["angle_deg", "peak_pa", "rms_pa", "spl_db"], [d.angle_deg, d.peak, d.rms, d.spl_db]

@@ -39,12 +39,8 @@ def damper_sound_setup(ctx):
     opts = ctx.scene.output("wav") if "wav" in ctx.scene.outputs else wav_defaults
     conf = ctx.scene.section("configuration")
     radius = ctx.scene.damper_sphere_radius()
-    wall_floor = conf["kind"] == "wall-floor"
-    strike = conf["strike"] if wall_floor else "floor"
     room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
-                  walls=opts["walls"],
-                  wall_distance=conf["wall_distance_m"] if wall_floor and strike == "floor" else None,
-                  strike=strike, height=conf["height_m"] if strike == "wall" else None, medium=ctx.medium)
+                  walls=opts["walls"], medium=ctx.medium, **ctx.scene.geometry_settings())
     contact = ctx.scene.section("contact")
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])

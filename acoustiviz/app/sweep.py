@@ -26,7 +26,6 @@ from pathlib import Path
 
 from .._validate import check_choice, check_finite, check_nonnegative, check_positive, check_range
 from ..constants import (
-    CONFIGURATIONS,
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
@@ -39,6 +38,7 @@ from ..constants import (
     PAPER_V0,
     TABLE1,
 )
+from ..core.geometry import CONFIGURATIONS, geometry_class
 from ..errors import ParameterError
 from ..sweep import (
     DEFINITIONS,
@@ -132,7 +132,7 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
     for cfg in configs:
         check_choice("config", cfg, CONFIGURATIONS)
     angles = parse_values("angle_deg", angle_deg)
-    limit = 180.0 if set(configs) == {"free"} else 90.0
+    limit = min(geometry_class(c).polar_limit_deg for c in configs)
     for a in angles:
         check_range("angle_deg", a, 0.0, limit, unit="deg")
     settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
@@ -186,7 +186,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
     opts = scene.output("sweep")
     d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
     conf = scene.section("configuration")
-    if conf["kind"] == "wall-floor" and conf["strike"] == "wall":
+    if scene.geometry_settings().get("strike", "floor") != "floor":
         raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
     listener = scene.data["listeners"][0]
     if listener["position_m"] is None:

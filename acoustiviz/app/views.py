@@ -115,7 +115,7 @@ def directivity_angles(config, step_deg: float) -> np.ndarray:
         Angle step in degrees, in (0, 90].
     """
     step = check_range("step_deg", step_deg, 0.0, 90.0, unit="deg", low_open=True)
-    top = 180.0 if config.name == "free" else 90.0
+    top = config.polar_limit_deg
     deg = np.arange(0.0, top + 1e-9 * top, step)
     if deg[-1] < top - 1e-9:
         deg = np.append(deg, top)

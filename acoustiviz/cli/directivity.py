@@ -67,7 +67,7 @@ def run(args) -> int:
         column = DIRECTIVITY_METRICS[args.metric]
         values = directivity_metric(d, args.metric, setup.pulse, setup.configuration, setup.medium) if extra else None
     deg = np.degrees(angles)
-    top = 180.0 if setup.configuration.name == "free" else 90.0
+    top = setup.configuration.polar_limit_deg
     imp = setup.impact
     print(
         f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
