@@ -64,7 +64,7 @@ DEFAULT_AIR_DENSITY = 1.204
 #: Acceleration pulses: the paper's peak-matched half-sine (eq 4), an impulse-matched half-sine,
 #: the exact Hertz pulse.
 PULSES = ("half-sine", "impulse-matched", "hertz")
-#: Damper solvers of :func:`acoustiviz.dynamics.simulate`.
+#: Damper solvers of :func:`acoustiviz.dynamics.simulate` (the names it accepts).
 SOLVERS = ("event", "newmark", "impact-map")
 #: Solvers a scene may name: ``"auto"`` takes the cheapest one whose error suits the tolerance.
 SCENE_SOLVERS = ("auto", *SOLVERS)

@@ -343,7 +343,7 @@ def test_silence_and_its_sidecar(tmp_path):
 
 
 def test_figure_axes_carry_units():
-    from acoustiviz.plot.audio import auralisation_figure
+    from acoustiviz.output.plot.audio import auralisation_figure
 
     out = _two_clicks()
     fig = auralisation_figure(list(out.pressure), out.sample_rate, labels=["a", "b"])

@@ -224,8 +224,8 @@ def write_forced_png(run: ForcedRun, path):
     """
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import save_figure, style
     from ..output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
+    from ..output.plot.style import save_figure, style
 
     noise = any(row.get("laeq_db") is not None for row in run.rows)
     with style():
@@ -268,8 +268,8 @@ def produce_frequency_response(ctx):
     """Scene output ``frequency_response``: the CSV of ``acoustiviz forced`` and its figure."""
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import save_figure, style
     from ..output.plot.forced import plot_frequency_response
+    from ..output.plot.style import save_figure, style
     from .pipeline import Product
 
     run = _scene_forced_run(ctx)
@@ -292,8 +292,8 @@ def produce_bifurcation(ctx):
     """Scene output ``bifurcation``: Poincaré displacement against forcing frequency (PNG)."""
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import save_figure, style
     from ..output.plot.forced import plot_bifurcation
+    from ..output.plot.style import save_figure, style
     from .pipeline import Product
 
     run = _scene_forced_run(ctx)

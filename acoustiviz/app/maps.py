@@ -427,8 +427,8 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
     if csv is not None:
         out.append(write_map_csv(level, csv))
     if png is not None:
-        from ..output.plot._style import save_figure
         from ..output.plot.maps import level_map_figure
+        from ..output.plot.style import save_figure
 
         fig = level_map_figure(level.grid, level.peak_spl_db, level.sel_db, config, axes_names=level.in_plane(),
                                title=title)

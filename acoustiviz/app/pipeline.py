@@ -141,7 +141,7 @@ def _fig():
 
 
 def _save(fig, path: Path) -> Path:
-    from ..output.plot._style import save_figure
+    from ..output.plot.style import save_figure
 
     return save_figure(fig, path)
 
@@ -149,7 +149,7 @@ def _save(fig, path: Path) -> Path:
 def produce_waveform(ctx: RunContext):
     """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
     from ..field import time_series
-    from ..output.plot._style import style
+    from ..output.plot.style import style
     from ..output.plot.waveform import plot_waveform
     from .views import waveform_times
 
@@ -215,8 +215,8 @@ def produce_directivity(ctx: RunContext):
 
 def produce_damper_history(ctx: RunContext):
     """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
-    from ..output.plot._style import style
     from ..output.plot.dynamics import plot_free_vibration
+    from ..output.plot.style import style
 
     res = ctx.damper_run
     csv = write_csv_atomic(ctx.path("damper_history.csv"),
@@ -246,8 +246,8 @@ def produce_impact_table(ctx: RunContext):
 def produce_restitution(ctx: RunContext):
     """Coefficient of restitution against impact mass and speed (paper Figure 7), CSV and PNG."""
     from ..dynamics.metrics import restitution_curve
-    from ..output.plot._style import style
     from ..output.plot.dynamics import plot_restitution
+    from ..output.plot.style import style
 
     opts = ctx.scene.output("restitution")
     masses, speeds = np.asarray(opts["masses_kg"]), np.asarray(opts["velocities_m_s"])

@@ -94,8 +94,8 @@ def produce_levels(ctx):
 
 def produce_spectrum(ctx):
     """``spectrum.csv`` and ``spectrum.png``: 1/3-octave band Leq and LFmax at each listener."""
-    from ..output.plot._style import style
     from ..output.plot.levels import plot_band_levels
+    from ..output.plot.style import style
     from ..output.writers import write_text_atomic
     from .pipeline import Product, _fig, _save
 

@@ -238,7 +238,7 @@ def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_
     others : list of str
         Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
     """
-    from ..output.plot._style import save_figure
+    from ..output.plot.style import save_figure
 
     out = Path(out_dir)
     bands = design_table(table, definition=definition, width=band_width)
@@ -399,8 +399,8 @@ def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = 0
     choice : DesignChoice or None
         The answer for ``inclination`` (None without a target).
     """
-    from ..output.plot._style import save_figure
     from ..output.plot.design import plot_design_table
+    from ..output.plot.style import save_figure
 
     bands = design_table(table)
     ax = plot_design_table(bands, paper=PAPER_TABLE2)

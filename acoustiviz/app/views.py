@@ -390,8 +390,8 @@ def directivity_metric_figure(directivity, values, metric: str, *, title: str = 
 
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import style
     from ..output.plot.directivity import plot_directivity
+    from ..output.plot.style import style
 
     with style():
         fig = Figure(figsize=(13.5, 4.8), layout="constrained")

@@ -3,7 +3,7 @@
 The damper options are those of ``acoustiviz damper`` (paper eq 15, Table 1 defaults); the run's
 impact table (or a CSV of impacts given with ``--impacts``) is rendered at each ``--listener``.
 Positions are in m in the frame where the struck surface is ``z = 0`` and the sphere's centre is
-``(0, 0, a)``; see :mod:`acoustiviz.audio` for how the two walls map to sources.
+``(0, 0, a)``; see :mod:`acoustiviz.output.audio` for how the two walls map to sources.
 """
 
 from __future__ import annotations
@@ -326,8 +326,8 @@ def run(args) -> int:
         print(f"wrote {wav.path}")
         print(f"wrote {w['sidecar']}")
     if args.png:
-        from ..output.plot._style import save_figure
         from ..output.plot.audio import auralisation_figure
+        from ..output.plot.style import save_figure
 
         if args.stereo:
             labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]

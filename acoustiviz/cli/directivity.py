@@ -95,8 +95,8 @@ def run(args) -> int:
         print(f"wrote {args.csv}")
     if args.png:
         from ..app.views import directivity_metric_figure
-        from ..output.plot._style import save_figure
         from ..output.plot.directivity import directivity_figure
+        from ..output.plot.style import save_figure
 
         title = (f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "
                  f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse")

@@ -144,7 +144,7 @@ def field_metrics(
         Cap in bytes on working memory plus the returned arrays.
     tolerance : float, optional
         Absolute error in Pa allowed per point. When given, each point is served by the
-        cheapest model of :mod:`acoustiviz.approximations` whose proven error bound is below
+        cheapest model of :mod:`acoustiviz.core.approximations` whose proven error bound is below
         it (``model`` says which); otherwise the exact closed form serves all points.
 
     refine : bool

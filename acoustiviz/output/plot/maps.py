@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..._validate import ParameterError
-from ._style import style
+from .style import style
 
 __all__ = ["plot_level_map", "level_map_figure", "DB_RANGE"]
 
@@ -83,7 +83,7 @@ def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = 
     -------
     matplotlib.axes.Axes
     """
-    from ._style import new_axes
+    from .style import new_axes
 
     if tuple(axes_names) not in (("x", "z"), ("x", "y")):
         raise ParameterError("axes_names", f"must be ('x', 'z') or ('x', 'y'), got {axes_names!r}")
