@@ -9,7 +9,8 @@ Layers, lowest first (a module may import its own layer and those below it, neve
     levels      weighted levels, spectra, loudness, radiated energy
     output      writers, plots, renders, audio
     sweep       design sweeps and the design table
-    app         the application layer and the scene files it runs
+    app         the application layer that both front-ends call
+    scene       scene files: schema, validation, loading (a front-end)
     cli         the command line
 """
 
@@ -31,7 +32,8 @@ LAYERS = [
     {"levels"},
     {"output"},
     {"sweep"},
-    {"app", "scene"},
+    {"app"},
+    {"scene"},
     {"cli"},
 ]
 RANK = {name: i for i, group in enumerate(LAYERS) for name in group}
@@ -143,6 +145,22 @@ def _cycles(graph: dict) -> list:
                 if len(comp) > 1:
                     found.append(sorted(comp))
     return found
+
+
+#: Import cycles still being split elsewhere; an entry here is tolerated, not required.
+KNOWN_CYCLES = [["acoustiviz.dynamics._forced_response", "acoustiviz.dynamics.forced"]]
+
+
+def test_module_graph_is_acyclic():
+    """No module imports, directly or through others, a module that imports it back."""
+    cycles = [c for c in _cycles(_module_graph()) if c not in KNOWN_CYCLES]
+    assert not cycles, "import cycles:\n" + "\n".join(" <-> ".join(c) for c in cycles)
+
+
+def test_cycle_finder_finds_cycles():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a", "e"}, "e": {"d"}, "f": set()}
+    assert sorted(_cycles(graph)) == [["a", "b", "c"], ["d", "e"]]
+    assert _cycles({"a": {"b"}, "b": set()}) == []
 
 
 def test_every_module_belongs_to_a_layer():

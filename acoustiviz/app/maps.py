@@ -442,7 +442,7 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
 
 def produce_level_map(ctx):
     """Scene output ``level_map``: ``level_map.csv``, ``level_map.png`` and, with ``vtk``, ``level_map.vtu``."""
-    from .pipeline import Product
+    from .products import Product
 
     opts = ctx.scene.output("level_map")
     pulse, conf = ctx.pulse(), ctx.configuration

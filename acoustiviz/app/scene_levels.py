@@ -17,7 +17,6 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..levels import loudness_available
-from ..scene.schema import SCHEMA
 from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
 
 __all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
@@ -35,8 +34,7 @@ def damper_sound_setup(ctx):
     from ..output.audio import ClickModel, ImpactSequence
     from .wav import cavity
 
-    wav_defaults = {k: key.default for k, key in SCHEMA["outputs"].keys["wav"].keys.items()}
-    opts = ctx.scene.output("wav") if "wav" in ctx.scene.outputs else wav_defaults
+    opts = ctx.scene.output_or_defaults("wav")
     conf = ctx.scene.section("configuration")
     radius = ctx.scene.damper_sphere_radius()
     room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
@@ -65,7 +63,7 @@ def _report(ctx) -> LevelReport:
 
 def produce_levels(ctx):
     """``levels.csv`` (+ its bands): weighted levels of the damper run at each listener."""
-    from .pipeline import Product
+    from .products import Product
 
     report = _report(ctx)
     for line in summary_lines(report, rate_note=" (computed signal)"):
@@ -97,7 +95,9 @@ def produce_spectrum(ctx):
     from ..output.plot.levels import plot_band_levels
     from ..output.plot.style import style
     from ..output.writers import write_text_atomic
-    from .pipeline import Product, _fig, _save
+    from .products import Product
+    from .products import new_figure as _fig
+    from .products import save as _save
 
     report = _report(ctx)
     bl = report.bands

@@ -180,7 +180,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
     so a scene and the command with the same settings make the same sweep. The listener is the
     scene's first; ``solver`` is the damper solver the scene resolved (its ``"auto"`` choice).
     """
-    from ..scene import SceneError
+    from ..errors import SceneError
     from .names import user_terms
 
     opts = scene.output("sweep")
@@ -200,7 +200,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
         distance = float(np.linalg.norm(rel))
         angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / distance))))
     if solver is None:
-        from .pipeline import damper_solver
+        from .products import damper_solver
 
         solver = damper_solver(scene)
     medium = scene.medium()

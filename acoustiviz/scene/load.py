@@ -51,6 +51,12 @@ class Scene:
         """Options of one requested output."""
         return copy.deepcopy(self.data["outputs"][kind])
 
+    def output_or_defaults(self, kind: str) -> dict:
+        """Options of output ``kind``: the scene's when it asks for it, else the schema's defaults."""
+        if kind in self.outputs:
+            return self.output(kind)
+        return {k: copy.deepcopy(key.default) for k, key in SCHEMA["outputs"].keys[kind].keys.items()}
+
     # -- physics objects: the rules live in the application layer, shared with the command line
     def geometry_settings(self) -> dict:
         """The ``[configuration]`` settings that apply to its ``kind`` (:func:`~acoustiviz.core.geometry.geometry`)."""
