@@ -511,7 +511,7 @@ CONFIGURATIONS = tuple(GEOMETRIES)
 
 def geometry_class(name: str) -> type:
     """The geometry class registered as ``name`` (a ParameterError naming ``config`` otherwise)."""
-    return GEOMETRIES[check_choice("config", name, CONFIGURATIONS)]
+    return GEOMETRIES[check_choice("config", name, tuple(GEOMETRIES))]
 
 
 def relevant_settings(name: str, **settings) -> dict:
