@@ -177,7 +177,10 @@ def _bounds(config: Geometry, points) -> np.ndarray:
             hi[k] += 0.3 * span
     for p in config.planes:
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], p.point[k])
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], p.point[k])
+        else:
+            hi[k] = min(hi[k], p.point[k])
     return np.array([lo, hi])
 
 

@@ -159,9 +159,12 @@ def _scene_extent(config: Geometry, half: float):
     c = config.centre
     lo = c - half
     hi = c + half
-    for p in config.planes:  # the floor bounds z, the wall bounds x
+    for p in config.planes:  # each plane bounds its axis on the side away from the fluid
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = p.point[k]
+        if p.normal[k] > 0:
+            lo[k] = p.point[k]
+        else:
+            hi[k] = p.point[k]
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
@@ -178,9 +181,12 @@ def _add_geometry(pl, config: Geometry, bounds, *, opacity: float = 0.35):
             mesh = pv.Plane(center=((x0 + x1) / 2, (y0 + y1) / 2, pl_.point[2]), direction=n,
                             i_size=x1 - x0, j_size=y1 - y0)
             colour = _PLANE_COLOUR
-        else:  # wall
+        elif abs(n[0]) > 0.5:  # wall across x
             mesh = pv.Plane(center=(pl_.point[0], (y0 + y1) / 2, (z0 + z1) / 2), direction=n,
                             i_size=z1 - z0, j_size=y1 - y0)
+            colour = _WALL_COLOUR
+        else:  # wall across y: the rectangle spanning x and z
+            mesh = pv.Rectangle([[x0, pl_.point[1], z0], [x1, pl_.point[1], z0], [x1, pl_.point[1], z1]])
             colour = _WALL_COLOUR
         pl.add_mesh(mesh, color=colour, opacity=opacity, show_edges=False, lighting=False)
         pl.add_mesh(mesh.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False),

@@ -67,9 +67,12 @@ def section_planes(config: Geometry, extent: float, *, sections=("xz",), n_u: in
     c = config.centre
     lo = c - e
     hi = c + e
-    for p in config.planes:  # clip at the floor (z) and the wall (x)
+    for p in config.planes:  # clip at each plane (the floor's z, a wall's x or y)
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], p.point[k])
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], p.point[k])
+        else:
+            hi[k] = min(hi[k], p.point[k])
     out = []
     for s in sections:
         check_choice("sections", s, SECTIONS)
@@ -134,7 +137,10 @@ def _snapshot_bounds(planes, config: Geometry):
             hi[k] += 0.3 * span
     for p in config.planes:
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], p.point[k])
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], p.point[k])
+        else:
+            hi[k] = min(hi[k], p.point[k])
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
