@@ -16,11 +16,9 @@ The package is laid out in layers, each importing only from those below it:
     the application layer that both front-ends call: ``scene`` files and the ``cli``.
 
 ``constants`` and ``errors`` are the one home of the package's facts and exceptions. Importing
-the package imports only the light core and has no side effect beyond making the old flat module
-paths (``acoustiviz.contact``, ``acoustiviz.render``, ...) aliases of the moved modules.
+the package imports only the light core and has no side effect.
 """
 
-from . import _aliases
 from .core.contact import (
     HERTZ_DURATION_CONSTANT,
     HalfSinePulse,
@@ -40,14 +38,13 @@ from .errors import AccuracyWarning, ClippingWarning, ParameterError
 
 __version__ = "0.1.0"
 
-_aliases.install()
-
 #: Names importable from ``acoustiviz`` that live in heavier modules, imported on first use.
 _LAZY = {
-    "configuration": "core.images",
-    "images_free": "core.images",
-    "images_plane": "core.images",
-    "images_wall_floor": "core.images",
+    "configuration": "core.geometry",
+    "images_free": "core.geometry",
+    "images_plane": "core.geometry",
+    "images_wall_floor": "core.geometry",
+    "geometry": "core.geometry",
     "time_series": "field",
     "field_metrics": "field",
     "snapshots": "field",
@@ -70,8 +67,6 @@ def __getattr__(name):
 
     if name in _LAZY:
         return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-    if name in _aliases.ALIASES:  # an old module path, e.g. ``acoustiviz.render``
-        return importlib.import_module(f".{_aliases.ALIASES[name]}", __name__)
     raise AttributeError(f"module 'acoustiviz' has no attribute {name!r}")
 
 __all__ = [

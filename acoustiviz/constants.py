@@ -8,8 +8,8 @@ Examples
 >>> from acoustiviz import constants
 >>> round(constants.HERTZ_DURATION_CONSTANT, 6)
 2.943275
->>> constants.CONFIGURATIONS
-('free', 'plane', 'wall-floor')
+>>> constants.STRIKES
+('floor', 'wall')
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ __all__ = [
     "ANALYSIS_RATE",
     "HERTZ_DURATION_CONSTANT",
     "PAPER_DURATION_CONSTANT",
-    "CONFIGURATIONS",
     "PULSES",
     "SOLVERS",
     "SCENE_SOLVERS",
@@ -62,12 +61,10 @@ DEFAULT_AIR_DENSITY = 1.204
 
 # --- the choices offered ------------------------------------------------------------------
 
-#: Acoustic configurations: free field, a reflecting plane (floor), a wall-floor corner.
-CONFIGURATIONS = ("free", "plane", "wall-floor")
 #: Acceleration pulses: the paper's peak-matched half-sine (eq 4), an impulse-matched half-sine,
 #: the exact Hertz pulse.
 PULSES = ("half-sine", "impulse-matched", "hertz")
-#: Damper solvers of :func:`acoustiviz.dynamics.simulate`.
+#: Damper solvers of :func:`acoustiviz.dynamics.simulate` (the names it accepts).
 SOLVERS = ("event", "newmark", "impact-map")
 #: Solvers a scene may name: ``"auto"`` takes the cheapest one whose error suits the tolerance.
 SCENE_SOLVERS = ("auto", *SOLVERS)

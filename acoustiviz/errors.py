@@ -18,7 +18,7 @@ Examples
 
 from __future__ import annotations
 
-__all__ = ["ParameterError", "AccuracyWarning", "ClippingWarning"]
+__all__ = ["ParameterError", "SceneError", "AccuracyWarning", "ClippingWarning"]
 
 
 class ParameterError(ValueError):
@@ -50,6 +50,36 @@ class ParameterError(ValueError):
     def renamed(self, name: str) -> ParameterError:
         """The same error under the name a front-end's user gave (an option or a scene key)."""
         return ParameterError(name, self.detail)
+
+
+class SceneError(ParameterError):
+    """A scene is invalid; the message names the file, the key path and what is allowed.
+
+    Attributes
+    ----------
+    source : str
+        The scene file.
+    name : str
+        The key path (``"sphere.radius_m"``).
+    detail : str
+        What is wrong and what is allowed.
+    """
+
+    def __init__(self, source: str, key: str, detail: str):
+        super().__init__(key, detail)
+        self.source = source
+        self.args = (f"{source}: {key}: {detail}",)
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+    def __reduce__(self):
+        return (type(self), (self.source, self.name, self.detail))
+
+    @property
+    def key(self) -> str:
+        """The key path (same as :attr:`name`)."""
+        return self.name
 
 
 class AccuracyWarning(UserWarning):

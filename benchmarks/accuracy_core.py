@@ -20,7 +20,7 @@ from acoustiviz.core.contact import (
     acceleration_pulse,
     hertz_pulse_shape,
 )
-from acoustiviz.core.images import images_plane
+from acoustiviz.core.geometry import images_plane
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import impulse_response, pressure, pulse_response, sphere_pressure
 from acoustiviz.field import directivity, field_metrics

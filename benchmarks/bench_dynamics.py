@@ -137,8 +137,8 @@ def draw_chart(rows, path, goal=None):
     """Error against run time (top) and impacts followed against run time (bottom), as PNG."""
     from matplotlib.figure import Figure
 
-    from acoustiviz.output.plot._style import save_figure, style
     from acoustiviz.output.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
+    from acoustiviz.output.plot.style import save_figure, style
 
     data = [{"solver": r.solver, "label": r.label, "time_s": r.time_s,
              "error": r.comparison.velocity_error, "n_agree": r.comparison.n_agree} for r in rows]

@@ -31,7 +31,7 @@ from scipy.optimize import minimize_scalar
 from acoustiviz import field
 from acoustiviz.core import approximations
 from acoustiviz.core.contact import HERTZ_DURATION_CONSTANT, Impact, SampledPulse, acceleration_pulse, hertz_pulse_shape
-from acoustiviz.core.images import configuration, images_plane
+from acoustiviz.core.geometry import configuration, images_plane
 from acoustiviz.core.medium import AIR
 from acoustiviz.field.grids import planar_grid
 

@@ -18,7 +18,7 @@ import numpy as np
 from _timing import best_of
 
 from acoustiviz.app.levels import ANALYSIS_RATE, run_energy
-from acoustiviz.core.images import configuration
+from acoustiviz.core.geometry import configuration
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.field.grids import spherical_grid_for
 from acoustiviz.levels import (

@@ -19,9 +19,9 @@ import numpy as np
 from _gallery import output_dir
 
 from acoustiviz import AIR, Impact, acceleration_pulse
-from acoustiviz.core.images import configuration
+from acoustiviz.core.geometry import configuration
 from acoustiviz.field import time_series
-from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.output.plot.waveform import plot_waveform
 from acoustiviz.output.writers import write_csv_atomic
 

@@ -18,10 +18,10 @@ import numpy as np
 from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz.core.images import images_plane
+from acoustiviz.core.geometry import images_plane
 from acoustiviz.field import directivity
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.directivity import plot_directivity
+from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.output.writers import write_csv_atomic
 
 RADIUS, U0, K_HZ, DENSITY, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.7

@@ -17,10 +17,10 @@ import numpy as np
 from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz.core.images import images_wall_floor
+from acoustiviz.core.geometry import images_wall_floor
 from acoustiviz.field import snapshots
 from acoustiviz.field.grids import planar_grid
-from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.style import save_figure, style
 
 RADIUS, U0, K_HZ, DENSITY, WALL = 0.01905, 1.4, 5.6e8, 7800.0, 0.05
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)

@@ -24,8 +24,8 @@ from acoustiviz.dynamics.metrics import (
     sample_times,
     settling_time,
 )
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.dynamics import plot_free_vibration
+from acoustiviz.output.plot.style import save_figure, style
 
 DURATION = 4.0 if fast_mode() else 20.0
 t = sample_times(DURATION, TABLE1)

@@ -15,8 +15,8 @@ from _gallery import fast_mode, output_dir
 
 from acoustiviz.dynamics import TABLE1, DamperModel
 from acoustiviz.dynamics.metrics import restitution_curve
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.dynamics import plot_restitution
+from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.output.writers import write_csv_atomic
 
 masses = np.linspace(0.005, 0.1, 8 if fast_mode() else 20)  # kg

@@ -18,8 +18,8 @@ from pathlib import Path
 from _gallery import fast_mode, output_dir
 
 from acoustiviz.dynamics import TABLE1, simulate
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.dynamics import plot_impacts_followed, plot_speed_accuracy
+from acoustiviz.output.plot.style import save_figure, style
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))  # the reference harness
 from _damper_reference import speed_accuracy  # noqa: E402

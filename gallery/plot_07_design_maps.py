@@ -27,8 +27,8 @@ import sys
 from _gallery import fast_mode, output_dir
 from matplotlib.figure import Figure
 
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.design import plot_inclination_map, plot_spl_map
+from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.sweep import Settings, SweepSpec, run_sweep, value_range
 
 n_gap, n_mass, duration = (4, 3, 3.0) if fast_mode() else (20, 20, 20.0)

@@ -26,8 +26,8 @@ import numpy as np
 from _gallery import fast_mode, output_dir
 from matplotlib.figure import Figure
 
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.design import plot_design_table
+from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.sweep import (
     PAPER_TABLE2,
     Settings,

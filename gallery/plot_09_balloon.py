@@ -22,7 +22,7 @@ import math
 from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz.core.images import configuration
+from acoustiviz.core.geometry import configuration
 from acoustiviz.output.render import balloon_data, render_balloon
 
 RADIUS, U0, K_HZ, DENSITY, WALL, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.05, 0.7

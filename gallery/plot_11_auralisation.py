@@ -35,8 +35,8 @@ from _gallery import fast_mode, output_dir
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.metrics import envelope_inclination, positive_maxima, sample_times
 from acoustiviz.output import audio
-from acoustiviz.output.plot._style import save_figure
 from acoustiviz.output.plot.audio import auralisation_figure
+from acoustiviz.output.plot.style import save_figure
 
 RATE, DURATION = 48000, 20.0
 LISTENER = [0.495, 0.0, 0.514]  # m: 0.7 m from the sphere's centre at 45 deg from the plane's normal

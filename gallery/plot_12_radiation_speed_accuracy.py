@@ -24,11 +24,11 @@ from _gallery import fast_mode, output_dir
 
 from acoustiviz.core import approximations as ap
 from acoustiviz.core.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
-from acoustiviz.core.images import images_free
+from acoustiviz.core.geometry import images_free
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import pressure, radiation_coefficients
 from acoustiviz.field import time_series
-from acoustiviz.output.plot._style import save_figure, style
+from acoustiviz.output.plot.style import save_figure, style
 
 A = 0.01905
 C = AIR.c

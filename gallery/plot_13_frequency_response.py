@@ -34,8 +34,8 @@ from acoustiviz.app.forced import design_map, operating_noise
 from acoustiviz.dynamics import DamperModel
 from acoustiviz.dynamics.forced import Excitation, frequency_response, steady_state
 from acoustiviz.dynamics.periodic import masri_caughey
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
+from acoustiviz.output.plot.style import save_figure, style
 
 FAST = fast_mode()
 model = DamperModel()

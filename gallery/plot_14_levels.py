@@ -33,8 +33,8 @@ from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.metrics import envelope_inclination, positive_maxima, sample_times
 from acoustiviz.levels import loudness_available
 from acoustiviz.output import audio
-from acoustiviz.output.plot._style import save_figure, style
 from acoustiviz.output.plot.levels import plot_band_levels, plot_weighted_levels
+from acoustiviz.output.plot.style import save_figure, style
 
 DURATION = 5.0 if fast_mode() else 20.0
 LISTENER = [0.495, 0.0, 0.514]  # m: 0.7 m from the sphere's centre at 45 deg

@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
-from acoustiviz.contact import HalfSinePulse, Impact, acceleration_pulse
-from acoustiviz.images import images_plane
-from acoustiviz.medium import AIR
-from acoustiviz.radiation import pressure, radiation_coefficients
 
-from acoustiviz import approximations as ap
 from acoustiviz import field
+from acoustiviz.core import approximations as ap
+from acoustiviz.core.contact import HalfSinePulse, Impact, acceleration_pulse
+from acoustiviz.core.geometry import images_plane
+from acoustiviz.core.medium import AIR
+from acoustiviz.core.radiation import pressure, radiation_coefficients
 
 A = 0.01905
 

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 import soundfile as sf
 
-from acoustiviz.core.images import ImageSource, images_plane, images_wall_floor
+from acoustiviz.core.geometry import images_plane, images_wall_floor
+from acoustiviz.core.images import ImageSource
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
 from acoustiviz.errors import ParameterError
@@ -169,7 +170,7 @@ def test_far_wall_radiates_reversed_from_the_far_wall():
 
 
 def test_corner_sources_have_images_in_both_planes():
-    scene = CavityScene("wall-floor", radius=A, gap=0.04, wall_distance=0.05)
+    scene = CavityScene(images_wall_floor(A, 0.05), gap=0.04)
     far = audio.wall_sources(scene, 1)
     assert len(far) == 4
     ref_cfg = images_wall_floor(A, 0.05)
@@ -203,7 +204,7 @@ def test_bad_listeners_are_refused(point, words):
 
 
 def test_listener_behind_the_wall_is_refused():
-    scene = CavityScene("wall-floor", radius=A, wall_distance=0.05)
+    scene = CavityScene(images_wall_floor(A, 0.05))
     with pytest.raises(ParameterError, match="behind the wall"):
         render(ImpactSequence([0.0], [-1], [1.0]), scene, ClickModel(), [-0.2, 0.0, 0.3])
 
@@ -342,7 +343,7 @@ def test_silence_and_its_sidecar(tmp_path):
 
 
 def test_figure_axes_carry_units():
-    from acoustiviz.plot.audio import auralisation_figure
+    from acoustiviz.output.plot.audio import auralisation_figure
 
     out = _two_clicks()
     fig = auralisation_figure(list(out.pressure), out.sample_rate, labels=["a", "b"])
@@ -359,7 +360,7 @@ def test_whole_run_level_and_exposure_match_the_field_evaluator():
     reference is the field evaluator on an independently built configuration for each wall (the far wall's
     sphere at a + gap accelerating along -z, imaged in z = 0). Tolerances as for one click.
     """
-    from acoustiviz.core.images import Configuration
+    from acoustiviz.core.geometry import Configuration
     from acoustiviz.dynamics import TABLE1, simulate
 
     run = simulate(TABLE1, 3.0)

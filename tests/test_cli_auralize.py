@@ -11,7 +11,7 @@ import soundfile as sf
 
 from acoustiviz.cli import main
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.images import images_plane
+from acoustiviz.core.geometry import images_plane
 
 try:
     from acoustiviz.field import time_series

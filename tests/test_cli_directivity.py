@@ -7,7 +7,7 @@ import pytest
 
 from acoustiviz.cli import main
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.images import images_plane
+from acoustiviz.core.geometry import images_plane
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
 

@@ -242,8 +242,8 @@ def test_sweep_over_listener_configuration_and_velocity(tmp_path, capsys):
     assert sorted(set(table["v0_m_s"])) == [1.0, 2.0]
     np.testing.assert_allclose(sorted(set(table["angle_deg"])), [30.0, 60.0])
     # radius from the mass and steel's density; K_HZ from the materials at that radius
-    from acoustiviz.contact import hertz_stiffness
-    from acoustiviz.materials import material
+    from acoustiviz.core.contact import hertz_stiffness
+    from acoustiviz.core.materials import material
 
     st = material("steel")
     a = (3 * 0.0405 / (4 * np.pi * st.density)) ** (1 / 3)

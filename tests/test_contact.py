@@ -4,7 +4,10 @@ import math
 
 import numpy as np
 import pytest
-from acoustiviz.contact import (
+from scipy.integrate import quad, solve_ivp
+
+from acoustiviz._validate import ParameterError
+from acoustiviz.core.contact import (
     HERTZ_DURATION_CONSTANT,
     PAPER_DURATION_CONSTANT,
     HalfSinePulse,
@@ -21,10 +24,7 @@ from acoustiviz.contact import (
     peak_force,
     restitution,
 )
-from acoustiviz.materials import Material, material
-from scipy.integrate import quad, solve_ivp
-
-from acoustiviz._validate import ParameterError
+from acoustiviz.core.materials import Material, material
 
 # the paper's Figure 2 impact: steel sphere of radius 19.05 mm at 1.4 m/s, K = 5.6e8 N/m^1.5
 RADIUS = 0.01905

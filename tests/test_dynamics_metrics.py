@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from acoustiviz import contact
 from acoustiviz._validate import ParameterError
+from acoustiviz.core import contact
 from acoustiviz.dynamics import TABLE1, DamperModel, InitialState, simulate
 from acoustiviz.dynamics.metrics import (
     Maxima,

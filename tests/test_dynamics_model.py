@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from acoustiviz import contact
 from acoustiviz._validate import ParameterError
+from acoustiviz.core import contact
 from acoustiviz.dynamics import TABLE1, DamperModel, InitialState
 
 

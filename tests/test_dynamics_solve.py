@@ -2,7 +2,7 @@
 
 References: the closed-form damped oscillator (written out here), conservation of energy and
 momentum, the Hertz impact laws (impulse 2 m_eff U0 without damping), the separate contact
-integration of acoustiviz.contact, and scipy's solve_ivp with events as a second method.
+integration of acoustiviz.core.contact, and scipy's solve_ivp with events as a second method.
 """
 
 import math
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from acoustiviz import contact
 from acoustiviz._validate import ParameterError
+from acoustiviz.core import contact
 from acoustiviz.dynamics import (
     TABLE1,
     AccuracyWarning,

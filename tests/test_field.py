@@ -4,12 +4,12 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from acoustiviz.contact import Impact, acceleration_pulse
-from acoustiviz.images import images_free, images_plane, images_wall_floor
-from acoustiviz.radiation import sphere_pressure
 
 from acoustiviz import field
 from acoustiviz._validate import ParameterError
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.geometry import images_free, images_plane, images_wall_floor
+from acoustiviz.core.radiation import sphere_pressure
 
 A = 0.01905
 MASS = 7800 * 4 / 3 * np.pi * A**3

@@ -4,9 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from acoustiviz.images import images_free, images_plane, images_wall_floor
 
 from acoustiviz._validate import ParameterError
+from acoustiviz.core.geometry import images_free, images_plane, images_wall_floor
 from acoustiviz.field.grids import planar_grid, spherical_grid, spherical_grid_for
 
 A = 0.01905

@@ -4,14 +4,8 @@ import numpy as np
 import pytest
 
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.images import (
-    ImageSource,
-    configuration,
-    images_free,
-    images_plane,
-    images_wall_floor,
-    mirror_point,
-)
+from acoustiviz.core.geometry import configuration, images_free, images_plane, images_wall_floor
+from acoustiviz.core.images import ImageSource, mirror_point
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import pressure, pulse_response, sphere_pressure
 from acoustiviz.errors import ParameterError
@@ -196,7 +190,7 @@ def test_image_source_validation():
     configuration("wall-floor", 0.01905, wall_distance=0.01905, strike="wall", height=0.3),
 ])
 def test_observer_points_keep_distance_and_angle(conf):
-    from acoustiviz.core.images import observer_points
+    from acoustiviz.core.geometry import observer_points
 
     angles = np.radians([0.0, 30.0, 60.0, 90.0])
     pts = observer_points(conf, 0.7, angles)

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad, trapezoid
 
 from acoustiviz.core.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
-from acoustiviz.core.images import configuration
+from acoustiviz.core.geometry import configuration
 from acoustiviz.core.medium import AIR
 from acoustiviz.errors import ParameterError
 from acoustiviz.field.grids import spherical_grid_for

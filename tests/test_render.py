@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz.core.images import configuration
+from acoustiviz.core.geometry import configuration
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import snapshots
 

@@ -145,7 +145,7 @@ def waveform_estimate(pulses, point, config, medium, samples_per_duration,
 
 def directivity_estimate(config, step_deg: float, options=("--step",)) -> Estimate:
     """Angles of :func:`acoustiviz.app.views.directivity_angles`; per angle its point, geometry and metrics."""
-    top = 180.0 if config.name == "free" else 90.0
+    top = config.polar_limit_deg
     with np.errstate(all="ignore"):
         n = _count(_div(top, float(step_deg)) + 2.0)
     per = _F8 * (3 + 12 + 9 * len(config.sources))

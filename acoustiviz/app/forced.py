@@ -224,8 +224,8 @@ def write_forced_png(run: ForcedRun, path):
     """
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import save_figure, style
     from ..output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
+    from ..output.plot.style import save_figure, style
 
     noise = any(row.get("laeq_db") is not None for row in run.rows)
     with style():
@@ -250,10 +250,10 @@ def _scene_forced_run(ctx) -> ForcedRun:
     """The [excitation] frequency response of a scene run, computed once and kept on ``ctx``."""
     run = getattr(ctx, "_forced_run", None)
     if run is None:
-        from ..scene import parse_range
+        from ..sweep.spec import parse_values
 
         ex = ctx.scene.section("excitation")
-        freqs = np.asarray(parse_range(ex["frequencies_hz"], "excitation.frequencies_hz"), dtype=float)
+        freqs = np.asarray(parse_values("excitation.frequencies_hz", ex["frequencies_hz"]), dtype=float)
         ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {ex['sweep']} ({ex['solver']} solver)")
         with user_terms({"frequencies": "excitation.frequencies_hz", "frequency": "excitation.frequencies_hz",
                          "amplitude": "excitation.amplitude", "tolerance": "excitation.tolerance",
@@ -268,9 +268,9 @@ def produce_frequency_response(ctx):
     """Scene output ``frequency_response``: the CSV of ``acoustiviz forced`` and its figure."""
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import save_figure, style
     from ..output.plot.forced import plot_frequency_response
-    from .pipeline import Product
+    from ..output.plot.style import save_figure, style
+    from .products import Product
 
     run = _scene_forced_run(ctx)
     if ctx.scene.wants("operating_noise"):  # the level columns, at the first listener
@@ -292,9 +292,9 @@ def produce_bifurcation(ctx):
     """Scene output ``bifurcation``: Poincaré displacement against forcing frequency (PNG)."""
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import save_figure, style
     from ..output.plot.forced import plot_bifurcation
-    from .pipeline import Product
+    from ..output.plot.style import save_figure, style
+    from .products import Product
 
     run = _scene_forced_run(ctx)
     with style():

@@ -25,8 +25,6 @@ import numpy as np
 
 from .._validate import check_choice, check_positive, check_range
 from ..constants import (
-    CONFIGURATIONS,
-    DEFAULT_WALL_DISTANCE,
     PAPER_DENSITY,
     PAPER_K_HERTZ,
     PAPER_RADIUS,
@@ -34,7 +32,7 @@ from ..constants import (
     STRIKES,
 )
 from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
-from ..core.images import Configuration, configuration, observer_points
+from ..core.geometry import CONFIGURATIONS, Geometry, geometry, observer_points
 from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
@@ -43,7 +41,7 @@ from .limits import check_impact, check_sphere_mass
 #: Farthest observer in m: squared distances stay finite (:data:`acoustiviz.app.limits.LOG_LIMIT`).
 MAX_DISTANCE = 1e145
 
-__all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from", "surroundings"]
+__all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from"]
 
 @dataclass(frozen=True)
 class ImpactSetup:
@@ -59,7 +57,7 @@ class ImpactSetup:
         Sphere radius in m.
     medium : Medium
         The fluid.
-    configuration : Configuration
+    configuration : Geometry
         The sphere and its image sources.
     k_hertz_source : str
         Where K_HZ came from: ``"given"``, ``"Hertz, steel on steel"`` or ``"default (paper)"``.
@@ -69,7 +67,7 @@ class ImpactSetup:
     pulse: object
     radius: float
     medium: Medium
-    configuration: Configuration
+    configuration: Geometry
     k_hertz_source: str
 
 
@@ -168,43 +166,9 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     k, source = k_hertz_from(radius, k_hertz, sphere_material, surface_material)
     m = sphere_mass(radius, mass, density, sphere_material)
     check_impact(velocity, k, m, partner_mass, radius=radius, c=medium.c, rho=medium.rho)
-    conf = _configuration(radius, config, wall_distance, strike, height)
+    conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
     return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
-
-
-def surroundings(radius: float, config: str, wall_distance=None, strike: str = "floor", height=None) -> tuple:
-    """Resolve the geometry settings of a configuration: ``(wall_distance, strike, height)`` in m.
-
-    A wall-floor floor strike puts the wall ``wall_distance`` m from the centre (default
-    :data:`~acoustiviz.constants.DEFAULT_WALL_DISTANCE`, at least the radius); a wall strike puts
-    the sphere against the wall (wall distance = radius) at ``height`` m above the floor (default:
-    the radius). The free field and the plane take none of them. One rule for single impacts and
-    for the damper's cavity (:func:`acoustiviz.app.wav.cavity`).
-    """
-    check_choice("config", config, CONFIGURATIONS)
-    check_choice("strike", strike, STRIKES)
-    if config != "wall-floor":
-        if wall_distance is not None:
-            raise ParameterError("wall_distance", "only applies to the wall-floor configuration")
-        if strike != "floor":
-            raise ParameterError("strike", "only applies to the wall-floor configuration")
-    if height is not None and strike != "wall":
-        raise ParameterError("height", "only applies to a wall strike")
-    if config != "wall-floor":
-        return None, "floor", None
-    if strike == "wall":
-        if wall_distance is not None:
-            raise ParameterError("wall_distance", "a wall strike puts the sphere against the wall; omit it")
-        h = radius if height is None else check_range("height", height, radius, math.inf, unit="m")
-        return radius, "wall", h
-    wall = DEFAULT_WALL_DISTANCE if wall_distance is None else wall_distance
-    return check_range("wall_distance", wall, radius, math.inf, unit="m"), "floor", None
-
-
-def _configuration(radius, config, wall_distance, strike, height) -> Configuration:
-    wall, strike, height = surroundings(radius, config, wall_distance, strike, height)
-    return configuration(config, radius, wall_distance=wall, strike=strike, height=height)
 
 
 def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.ndarray:
@@ -212,7 +176,7 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
 
     The observer lies in the plane spanned by the acceleration axis and the horizontal direction
     away from any wall (+x); for the wall-floor corner, the plane through the centre normal to
-    the wall, on the side away from it (:func:`acoustiviz.core.images.observer_points`).
+    the wall, on the side away from it (:func:`acoustiviz.core.geometry.Geometry.observer_points`).
 
     Returns
     -------
@@ -221,7 +185,7 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
     """
     check_range("distance", distance, setup.radius, MAX_DISTANCE, unit="m", low_open=True)
     conf = setup.configuration
-    limit = 90.0 if conf.name != "free" else 180.0
+    limit = conf.polar_limit_deg
     theta = math.radians(check_range("angle_deg", angle_deg, 0.0, limit, unit="deg"))
     point = observer_points(conf, distance, theta)[0]
     if not bool(conf.in_fluid(point[None, :])[0]):

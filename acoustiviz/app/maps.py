@@ -212,7 +212,7 @@ def check_map_settings(config, *, plane=None, height=None, extent=None, resoluti
     s = _BY_NAME["height"]
     if height is None:
         height = float(config.centre[2])
-    low = s.low if config.name == "free" else 0.0
+    low = s.low if config.floor_height is None else config.floor_height
     height = check_range("height", height, low, s.high, unit="m")
     if abs(height - config.centre[2]) >= extent:
         raise ParameterError("height", f"{height:g} m is farther from the sphere's centre (z = "
@@ -275,7 +275,7 @@ def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("reso
     from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES
     from .budget import Estimate
 
-    pos = np.array([s.position for s in config.sources])
+    pos = config.images().positions
     spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     step = min(float(pulse.duration), config.radius / medium.c) / DEFAULT_SAMPLES
     with np.errstate(all="ignore"):
@@ -427,8 +427,8 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
     if csv is not None:
         out.append(write_map_csv(level, csv))
     if png is not None:
-        from ..output.plot._style import save_figure
         from ..output.plot.maps import level_map_figure
+        from ..output.plot.style import save_figure
 
         fig = level_map_figure(level.grid, level.peak_spl_db, level.sel_db, config, axes_names=level.in_plane(),
                                title=title)
@@ -442,7 +442,7 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
 
 def produce_level_map(ctx):
     """Scene output ``level_map``: ``level_map.csv``, ``level_map.png`` and, with ``vtk``, ``level_map.vtu``."""
-    from .pipeline import Product
+    from .products import Product
 
     opts = ctx.scene.output("level_map")
     pulse, conf = ctx.pulse(), ctx.configuration

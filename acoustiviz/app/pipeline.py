@@ -16,62 +16,28 @@ from __future__ import annotations
 import functools
 import math
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ParameterError
 from ..output.writers import write_csv_atomic, write_text_atomic
-from ..scene import Scene
 from . import damper as _damper
 from . import forced as _forced
 from .maps import produce_level_map
 from .names import SCENE_DAMPER_KEYS, user_terms
+from .products import Product, damper_initial, damper_model, damper_solver
+from .products import new_figure as _fig
+from .products import save as _save
 from .scene_levels import produce_levels, produce_spectrum
 
 __all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
 
 
-@dataclass(frozen=True)
-class Product:
-    """One file written by a run, with the figures worth reading in the summary."""
-
-    kind: str
-    path: Path
-    figures: dict = field(default_factory=dict)
-
-
-def damper_model(scene: Scene):
-    """The scene's :class:`~acoustiviz.dynamics.DamperModel` (K_HZ for the damper sphere's radius)."""
-    d = scene.section("damper")
-    return _damper.damper_model(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"],
-                                m=d["impact_mass_kg"], gap=d["gap_m"],
-                                k_hertz=scene.k_hertz(scene.damper_sphere_radius()),
-                                c1=d["contact_damping_n_s_m"], clip_tensile=d["clip_tensile"])
-
-
-def damper_initial(scene: Scene):
-    """The scene's initial damper state (main mass displaced and moving, impact mass centred at rest)."""
-    from ..dynamics import InitialState
-
-    d = scene.section("damper")
-    return InitialState(x=d["initial_displacement_m"], v=d["initial_velocity_m_s"])
-
-
-def damper_solver(scene: Scene, progress=None) -> str:
-    """The scene's damper solver; ``"auto"`` is the cheapest whose error suits ``damper.tolerance``."""
-    d = scene.section("damper")
-    name, reason = _damper.choose_solver(d["solver"], damper_model(scene), damper_initial(scene), d["tolerance"])
-    if reason and progress is not None:
-        progress(f"solver auto -> {name}: {reason}")
-    return name
-
-
 class RunContext:
     """The scene, the output folder and the lazily computed shared results of one run."""
 
-    def __init__(self, scene: Scene, out: Path, progress=None, stream=None):
+    def __init__(self, scene, out: Path, progress=None, stream=None):
         self.scene = scene
         self.out = Path(out)
         self.progress = progress or (lambda msg: None)
@@ -134,22 +100,10 @@ class RunContext:
 
 
 # --------------------------------------------------------------------------- producers
-def _fig():
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=(7.0, 4.2), layout="constrained")
-
-
-def _save(fig, path: Path) -> Path:
-    from ..output.plot._style import save_figure
-
-    return save_figure(fig, path)
-
-
 def produce_waveform(ctx: RunContext):
     """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
     from ..field import time_series
-    from ..output.plot._style import style
+    from ..output.plot.style import style
     from ..output.plot.waveform import plot_waveform
     from .views import waveform_times
 
@@ -191,7 +145,7 @@ def produce_directivity(ctx: RunContext):
     conf = ctx.configuration
     name, pos = ctx.listeners[0]
     dist = float(np.linalg.norm(pos - conf.sources[0].position))
-    top = 180.0 if conf.name == "free" else 90.0
+    top = conf.polar_limit_deg
     angles = directivity_angles(conf, step)
     d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
     names, columns = ["angle_deg", "peak_pa", "rms_pa", "spl_db"], [d.angle_deg, d.peak, d.rms, d.spl_db]
@@ -215,8 +169,8 @@ def produce_directivity(ctx: RunContext):
 
 def produce_damper_history(ctx: RunContext):
     """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
-    from ..output.plot._style import style
     from ..output.plot.dynamics import plot_free_vibration
+    from ..output.plot.style import style
 
     res = ctx.damper_run
     csv = write_csv_atomic(ctx.path("damper_history.csv"),
@@ -246,8 +200,8 @@ def produce_impact_table(ctx: RunContext):
 def produce_restitution(ctx: RunContext):
     """Coefficient of restitution against impact mass and speed (paper Figure 7), CSV and PNG."""
     from ..dynamics.metrics import restitution_curve
-    from ..output.plot._style import style
     from ..output.plot.dynamics import plot_restitution
+    from ..output.plot.style import style
 
     opts = ctx.scene.output("restitution")
     masses, speeds = np.asarray(opts["masses_kg"]), np.asarray(opts["velocities_m_s"])
@@ -363,7 +317,7 @@ def produce_animation(ctx: RunContext):
     return products
 
 
-def sweep_spec(scene: Scene):
+def sweep_spec(scene):
     """The scene's :class:`~acoustiviz.sweep.SweepSpec` (:func:`acoustiviz.app.sweep.scene_sweep_spec`)."""
     from .sweep import scene_sweep_spec
 
@@ -442,7 +396,7 @@ def _check_out(out: Path, force: bool) -> None:
         raise ParameterError("--out", f"{out} exists and is not empty; pass --force to write into it")
 
 
-def _summary(scene: Scene, products, seconds: float) -> str:
+def _summary(scene, products, seconds: float) -> str:
     lines = [f"# acoustiviz run: {scene.name}", "", scene.section("scene")["description"] or "", "",
              f"Scene: `{scene.source}`. Outputs asked for: {', '.join(scene.outputs) or 'none'}.",
              f"Wall time: {seconds:.1f} s.", "", "| output | file | key figures |", "|---|---|---|"]
@@ -452,12 +406,12 @@ def _summary(scene: Scene, products, seconds: float) -> str:
     return "\n".join(lines) + "\n"
 
 
-def run_scene(scene: Scene, out, *, force: bool = False, progress=None, stream=None):
+def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
     """Produce every output the scene names into folder ``out``.
 
     Parameters
     ----------
-    scene : Scene
+    scene : acoustiviz.scene.Scene
         A validated scene (:func:`acoustiviz.scene.load_scene`).
     out : path-like
         Output folder; created if missing. An existing non-empty folder is refused unless

@@ -17,7 +17,6 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..levels import loudness_available
-from ..scene.schema import SCHEMA
 from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
 
 __all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
@@ -35,16 +34,11 @@ def damper_sound_setup(ctx):
     from ..output.audio import ClickModel, ImpactSequence
     from .wav import cavity
 
-    wav_defaults = {k: key.default for k, key in SCHEMA["outputs"].keys["wav"].keys.items()}
-    opts = ctx.scene.output("wav") if "wav" in ctx.scene.outputs else wav_defaults
+    opts = ctx.scene.output_or_defaults("wav")
     conf = ctx.scene.section("configuration")
     radius = ctx.scene.damper_sphere_radius()
-    wall_floor = conf["kind"] == "wall-floor"
-    strike = conf["strike"] if wall_floor else "floor"
     room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
-                  walls=opts["walls"],
-                  wall_distance=conf["wall_distance_m"] if wall_floor and strike == "floor" else None,
-                  strike=strike, height=conf["height_m"] if strike == "wall" else None, medium=ctx.medium)
+                  walls=opts["walls"], medium=ctx.medium, **ctx.scene.geometry_settings())
     contact = ctx.scene.section("contact")
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
@@ -69,7 +63,7 @@ def _report(ctx) -> LevelReport:
 
 def produce_levels(ctx):
     """``levels.csv`` (+ its bands): weighted levels of the damper run at each listener."""
-    from .pipeline import Product
+    from .products import Product
 
     report = _report(ctx)
     for line in summary_lines(report, rate_note=" (computed signal)"):
@@ -98,10 +92,12 @@ def produce_levels(ctx):
 
 def produce_spectrum(ctx):
     """``spectrum.csv`` and ``spectrum.png``: 1/3-octave band Leq and LFmax at each listener."""
-    from ..output.plot._style import style
     from ..output.plot.levels import plot_band_levels
+    from ..output.plot.style import style
     from ..output.writers import write_text_atomic
-    from .pipeline import Product, _fig, _save
+    from .products import Product
+    from .products import new_figure as _fig
+    from .products import save as _save
 
     report = _report(ctx)
     bl = report.bands

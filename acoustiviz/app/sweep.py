@@ -26,7 +26,6 @@ from pathlib import Path
 
 from .._validate import check_choice, check_finite, check_nonnegative, check_positive, check_range
 from ..constants import (
-    CONFIGURATIONS,
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
@@ -39,6 +38,7 @@ from ..constants import (
     PAPER_V0,
     TABLE1,
 )
+from ..core.geometry import CONFIGURATIONS, geometry_class
 from ..errors import ParameterError
 from ..sweep import (
     DEFINITIONS,
@@ -132,7 +132,7 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
     for cfg in configs:
         check_choice("config", cfg, CONFIGURATIONS)
     angles = parse_values("angle_deg", angle_deg)
-    limit = 180.0 if set(configs) == {"free"} else 90.0
+    limit = min(geometry_class(c).polar_limit_deg for c in configs)
     for a in angles:
         check_range("angle_deg", a, 0.0, limit, unit="deg")
     settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
@@ -180,13 +180,13 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
     so a scene and the command with the same settings make the same sweep. The listener is the
     scene's first; ``solver`` is the damper solver the scene resolved (its ``"auto"`` choice).
     """
-    from ..scene import SceneError
+    from ..errors import SceneError
     from .names import user_terms
 
     opts = scene.output("sweep")
     d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
     conf = scene.section("configuration")
-    if conf["kind"] == "wall-floor" and conf["strike"] == "wall":
+    if scene.geometry_settings().get("strike", "floor") != "floor":
         raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
     listener = scene.data["listeners"][0]
     if listener["position_m"] is None:
@@ -200,7 +200,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
         distance = float(np.linalg.norm(rel))
         angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / distance))))
     if solver is None:
-        from .pipeline import damper_solver
+        from .products import damper_solver
 
         solver = damper_solver(scene)
     medium = scene.medium()
@@ -238,7 +238,7 @@ def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_
     others : list of str
         Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
     """
-    from ..output.plot._style import save_figure
+    from ..output.plot.style import save_figure
 
     out = Path(out_dir)
     bands = design_table(table, definition=definition, width=band_width)
@@ -399,8 +399,8 @@ def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = 0
     choice : DesignChoice or None
         The answer for ``inclination`` (None without a target).
     """
-    from ..output.plot._style import save_figure
     from ..output.plot.design import plot_design_table
+    from ..output.plot.style import save_figure
 
     bands = design_table(table)
     ax = plot_design_table(bands, paper=PAPER_TABLE2)

@@ -115,7 +115,7 @@ def directivity_angles(config, step_deg: float) -> np.ndarray:
         Angle step in degrees, in (0, 90].
     """
     step = check_range("step_deg", step_deg, 0.0, 90.0, unit="deg", low_open=True)
-    top = 180.0 if config.name == "free" else 90.0
+    top = config.polar_limit_deg
     deg = np.arange(0.0, top + 1e-9 * top, step)
     if deg[-1] < top - 1e-9:
         deg = np.append(deg, top)
@@ -390,8 +390,8 @@ def directivity_metric_figure(directivity, values, metric: str, *, title: str = 
 
     from matplotlib.figure import Figure
 
-    from ..output.plot._style import style
     from ..output.plot.directivity import plot_directivity
+    from ..output.plot.style import style
 
     with style():
         fig = Figure(figsize=(13.5, 4.8), layout="constrained")

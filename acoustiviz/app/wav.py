@@ -29,9 +29,9 @@ import numpy as np
 
 from .. import __version__
 from ..constants import P_REF
+from ..core.geometry import geometry
 from ..errors import ClippingWarning
 from ..output.audio import CavityScene, shared_scale, write_sidecar, write_wav
-from .impacts import surroundings
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
            "physical_peaks"]
@@ -42,11 +42,10 @@ SIDECAR_VERSION = 3
 
 def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
            wall_distance=None, strike: str = "floor", height=None, medium=None) -> CavityScene:
-    """The damper's cavity in its surroundings (:func:`acoustiviz.app.impacts.surroundings` resolves them)."""
-    wall_distance, strike, height = surroundings(radius, config, wall_distance, strike, height)
+    """The damper's cavity in its surroundings (:func:`acoustiviz.core.geometry.geometry` builds them)."""
+    conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     extra = {} if medium is None else {"medium": medium}
-    return CavityScene(config, radius, gap, struck_wall=struck_wall, walls=walls, wall_distance=wall_distance,
-                       strike=strike, height=height, **extra)
+    return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)
 
 
 class WavFile:
@@ -115,7 +114,6 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
     (n,) ndarray
         Peak pressure in Pa (0 without impacts).
     """
-    from ..core.images import Configuration
     from ..field import field_metrics
     from ..output.audio import wall_sources
 
@@ -128,7 +126,7 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
         u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
         if u.size == 0:
             continue
-        conf = Configuration(base.name, base.radius, tuple(wall_sources(scene, wall)), base.planes, base.strike)
+        conf = base.with_sources(wall_sources(scene, wall))
 
         def peaks_of(speeds, conf=conf):
             return np.array([field_metrics(model.pulse_for(v), pts, conf, medium=scene.medium).peak for v in speeds])

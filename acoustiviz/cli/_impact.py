@@ -8,7 +8,6 @@ Angles are in degrees on the command line only; everything else is SI.
 from __future__ import annotations
 
 from ..constants import (
-    CONFIGURATIONS,
     DEFAULT_AIR_DENSITY,
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
@@ -21,6 +20,7 @@ from ..constants import (
     PULSES,
     STRIKES,
 )
+from ..core.geometry import CONFIGURATIONS
 
 __all__ = ["add_impact_options", "add_observer_options", "impact_from_args", "observer_point"]
 

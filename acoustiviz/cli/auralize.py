@@ -3,12 +3,13 @@
 The damper options are those of ``acoustiviz damper`` (paper eq 15, Table 1 defaults); the run's
 impact table (or a CSV of impacts given with ``--impacts``) is rendered at each ``--listener``.
 Positions are in m in the frame where the struck surface is ``z = 0`` and the sphere's centre is
-``(0, 0, a)``; see :mod:`acoustiviz.audio` for how the two walls map to sources.
+``(0, 0, a)``; see :mod:`acoustiviz.output.audio` for how the two walls map to sources.
 """
 
 from __future__ import annotations
 
 from ..constants import STRIKES
+from ..core.geometry import CONFIGURATIONS
 from ._damper import add_damper_options
 
 DEFAULT_LISTENER = "0.495,0,0.514"
@@ -42,7 +43,7 @@ def add_parser(subparsers) -> None:
     p._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     _add_run_options(p)
     a = p.add_argument_group("sound model")
-    a.add_argument("--config", default="plane", choices=("free", "plane", "wall-floor"),
+    a.add_argument("--config", default="plane", choices=CONFIGURATIONS,
                    help="reflecting surfaces: none, the struck surface z = 0 (default), or a wall-floor corner")
     a.add_argument("--wall-distance", type=float, default=None, metavar="M",
                    help="wall-floor only: distance in m from the side wall x = -D to the sphere's centre "
@@ -285,7 +286,7 @@ def run(args) -> int:
           f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
           else "impacts: 0 (silence)")
     print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
-          f"mass model {model.mass_model}, configuration {scene.config}, walls {scene.walls}; "
+          f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
           f"{args.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
     per_file = None
     if want_levels:
@@ -325,8 +326,8 @@ def run(args) -> int:
         print(f"wrote {wav.path}")
         print(f"wrote {w['sidecar']}")
     if args.png:
-        from ..output.plot._style import save_figure
         from ..output.plot.audio import auralisation_figure
+        from ..output.plot.style import save_figure
 
         if args.stereo:
             labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]

@@ -71,8 +71,8 @@ def run(args) -> int:
         path = write_impact_table(args.impacts_csv, result.impacts)
         print(f"wrote {path}")
     if args.png:
-        from ..output.plot._style import save_figure
         from ..output.plot.dynamics import plot_free_vibration
+        from ..output.plot.style import save_figure
 
         ax = plot_free_vibration(result)
         path = save_figure(ax.figure, args.png)

@@ -67,7 +67,7 @@ def run(args) -> int:
         column = DIRECTIVITY_METRICS[args.metric]
         values = directivity_metric(d, args.metric, setup.pulse, setup.configuration, setup.medium) if extra else None
     deg = np.degrees(angles)
-    top = 180.0 if setup.configuration.name == "free" else 90.0
+    top = setup.configuration.polar_limit_deg
     imp = setup.impact
     print(
         f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
@@ -95,8 +95,8 @@ def run(args) -> int:
         print(f"wrote {args.csv}")
     if args.png:
         from ..app.views import directivity_metric_figure
-        from ..output.plot._style import save_figure
         from ..output.plot.directivity import directivity_figure
+        from ..output.plot.style import save_figure
 
         title = (f"{setup.configuration.name}: r = {args.distance:g} m, a = {a * 1e3:g} mm, "
                  f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse")

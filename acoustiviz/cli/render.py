@@ -212,9 +212,7 @@ def _check_common(args):
 def _annotation(setup) -> str:
     imp = setup.impact
     conf = setup.configuration
-    where = conf.name
-    if conf.name == "wall-floor":
-        where += f" (wall {-conf.planes[1].point[0] * 1e3:.3g} mm from the centre)"
+    where = conf.caption(long=True)
     return (f"{where}: a = {setup.radius * 1e3:.4g} mm, m = {imp.mass * 1e3:.4g} g, U0 = {imp.velocity:g} m/s, "
             f"K_HZ = {imp.k_hertz:.3g} N/m^1.5, contact {imp.duration * 1e6:.0f} µs, {setup.pulse.kind} pulse")
 

@@ -65,7 +65,7 @@ def run(args) -> int:
         write_csv_atomic(args.csv, ["time_s", "pressure_pa"], [t, p], fmt=["%.12e", "%.10e"])
         print(f"wrote {args.csv}")
     if args.png:
-        from ..output.plot._style import save_figure, style
+        from ..output.plot.style import save_figure, style
         from ..output.plot.waveform import plot_waveform
 
         with style():

@@ -252,7 +252,7 @@ def near_field_bound(pulse, p0, c_shape, *, radius: float, medium: Medium = AIR)
     pulse : HalfSinePulse or SampledPulse
         The acceleration pulse.
     p0, c_shape : array_like
-        ``P0`` (Pa·s/m) and ``C`` from :func:`acoustiviz.radiation.radiation_coefficients`.
+        ``P0`` (Pa·s/m) and ``C`` from :func:`acoustiviz.core.radiation.radiation_coefficients`.
     radius : float
         Sphere radius a in m.
     medium : Medium
@@ -277,7 +277,7 @@ def far_field_bound(pulse, p0, c_shape, *, radius: float, medium: Medium = AIR):
     pulse : HalfSinePulse or SampledPulse
         The acceleration pulse.
     p0, c_shape : array_like
-        ``P0`` (Pa·s/m) and ``C`` from :func:`acoustiviz.radiation.radiation_coefficients`.
+        ``P0`` (Pa·s/m) and ``C`` from :func:`acoustiviz.core.radiation.radiation_coefficients`.
     radius : float
         Sphere radius a in m.
     medium : Medium

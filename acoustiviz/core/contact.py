@@ -68,7 +68,7 @@ def hertz_stiffness(radius: float, sphere: Material, surface: Material) -> float
 
     Examples
     --------
-    >>> from acoustiviz.materials import material
+    >>> from acoustiviz.core.materials import material
     >>> k = hertz_stiffness(0.01, material("steel"), material("steel"))
     >>> f"{k:.3g}"
     '1.54e+10'

@@ -483,7 +483,7 @@ def pressure(pulse, t, distance, cos_theta, *, radius: float, medium: Medium = A
 
     Examples
     --------
-    >>> from acoustiviz.contact import Impact, acceleration_pulse
+    >>> from acoustiviz.core.contact import Impact, acceleration_pulse
     >>> imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2244)
     >>> pulse = acceleration_pulse(imp, "half-sine")
     >>> t = np.linspace(0, 3e-3, 7)

@@ -39,7 +39,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive, check_range
-from ..constants import DEFAULT_RTOL
+from ..constants import DEFAULT_RTOL, SOLVERS
 from ..errors import AccuracyWarning
 from . import _kernels as kern
 from ._status import kernel_params as _params
@@ -58,8 +58,6 @@ __all__ = [
     "cheapest_solver",
 ]
 
-#: Names accepted by :func:`simulate`.
-SOLVERS = ("event", "newmark", "impact-map")
 #: Newmark steps coarser than this fraction of the shortest contact trigger an AccuracyWarning.
 NEWMARK_WARN_FRACTION = 1.0 / 20.0
 #: Default Newmark step as a fraction of the shortest contact.

@@ -9,7 +9,7 @@ import numpy as np
 from .._validate import ParameterError, check_positive, check_range
 from ..constants import P_REF
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import (
     _knot_states,
@@ -42,8 +42,8 @@ def check_pulse(pulse):
 
 
 def check_config(config):
-    if not isinstance(config, Configuration):
-        raise ParameterError("config", f"expected an images.Configuration, got {type(config).__name__}")
+    if not isinstance(config, Geometry):
+        raise ParameterError("config", f"expected a geometry (acoustiviz.core.geometry), got {type(config).__name__}")
     return config
 
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_positive
-from ..core.images import Configuration, observer_points
+from ..core.geometry import Geometry, observer_points
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse
 from .metrics import FieldMetrics, field_metrics
@@ -58,7 +58,7 @@ class Directivity:
         return self.metrics.peak_spl_db
 
 
-def circle_points(config: Configuration, distance: float, angles) -> np.ndarray:
+def circle_points(config: Geometry, distance: float, angles) -> np.ndarray:
     """Points on a circle of radius ``distance`` (m) around the sphere's centre.
 
     The circle lies in the plane spanned by the acceleration axis and the horizontal direction
@@ -67,7 +67,7 @@ def circle_points(config: Configuration, distance: float, angles) -> np.ndarray:
 
     Parameters
     ----------
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     distance : float
         Radius of the circle in m (> sphere radius).
@@ -88,7 +88,7 @@ def circle_points(config: Configuration, distance: float, angles) -> np.ndarray:
 
 def directivity(
     pulse,
-    config: Configuration,
+    config: Geometry,
     distance: float,
     angles,
     *,
@@ -102,7 +102,7 @@ def directivity(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (m/s²).
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     distance : float
         Distance in m from the sphere's centre.

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import ParameterError, check_points, check_positive
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import pulse_response
 from ._common import (
@@ -38,7 +38,7 @@ def iter_time_series(
     pulse,
     t,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     cutoff: float = DEFAULT_CUTOFF,
@@ -56,7 +56,7 @@ def iter_time_series(
     points : (n, 3) array_like
         Observer positions in m. Points outside the fluid (inside the sphere or behind a
         plane) get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -78,7 +78,7 @@ def iter_time_series(
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
-    nimg = len(config.sources)
+    nimg = len(config.images())
     dt = uniform_step(tt)
     per_point = 8 * tt.size + geometry_bytes(nimg)
     if dt is None:
@@ -110,7 +110,7 @@ def time_series(
     pulse,
     t,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     cutoff: float = DEFAULT_CUTOFF,
@@ -126,8 +126,8 @@ def time_series(
         Times in s from the start of contact.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
-        The sphere and its images (:func:`acoustiviz.images.configuration`).
+    config : Geometry
+        The sphere and its images (:func:`acoustiviz.core.geometry.configuration`).
     medium : Medium
         The fluid (default air at 20 °C).
     cutoff : float
@@ -148,7 +148,7 @@ def time_series(
     Examples
     --------
     >>> from acoustiviz.core.contact import Impact, acceleration_pulse
-    >>> from acoustiviz.core.images import images_plane
+    >>> from acoustiviz.core.geometry import images_plane
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264))
     >>> p = time_series(pulse, np.linspace(0, 4e-3, 4001), [[0.495, 0, 0.495]], images_plane(0.01905))
     >>> p.shape
@@ -167,7 +167,7 @@ def time_series(
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     dt = uniform_step(tt)
-    per_point = geometry_bytes(len(config.sources)) + (0 if dt is not None else 8 * tt.size * 6)
+    per_point = geometry_bytes(len(config.images())) + (0 if dt is not None else 8 * tt.size * 6)
     chunk = chunk_size(per_point, need, limit)
     out = np.zeros((pts.shape[0], tt.size))
     for start in range(0, pts.shape[0], chunk):
@@ -181,7 +181,7 @@ def snapshots(
     pulse,
     times,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     memory_limit: float = DEFAULT_MEMORY_LIMIT,
@@ -196,7 +196,7 @@ def snapshots(
         Snapshot times in s.
     points : (n, 3) array_like
         Grid points in m (e.g. ``PlanarGrid.points``); points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -216,7 +216,7 @@ def snapshots(
         raise ParameterError("times", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
     need = 8.0 * pts.shape[0] * tt.size
-    per_point = geometry_bytes(len(config.sources)) + 8 * 6
+    per_point = geometry_bytes(len(config.images())) + 8 * 6
     chunk = chunk_size(per_point, need, limit)
     out = np.empty((tt.size, pts.shape[0]))
     for lo in range(0, pts.shape[0], chunk):

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import check_points
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces
 from ._common import check_config, check_pulse, pulse_args
@@ -244,7 +244,7 @@ def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h
         out[i] = total
 
 
-def exposure(pulse, points, config: Configuration, *, medium: Medium = AIR, correlations=None,
+def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
              chunk: int = 65536) -> np.ndarray:
     """Sound exposure ``∫ p² dt`` in Pa²·s of the whole response at each point, without a time loop.
 
@@ -254,7 +254,7 @@ def exposure(pulse, points, config: Configuration, *, medium: Medium = AIR, corr
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

@@ -196,14 +196,15 @@ def spherical_grid(
 def spherical_grid_for(config, radius: float, *, n_theta: int = 32, n_phi=None) -> SphericalGrid:
     """The spherical grid that closes the fluid region of a configuration.
 
-    ``"free"``: the whole sphere around the sphere's centre. ``"plane"``: the half space
-    around the contact point on the plane. ``"wall-floor"``: the quarter space around the
-    point of the corner's edge nearest the sphere (``(-wall_distance, 0, 0)``). With the rigid
-    planes (zero normal velocity) such a surface encloses all the radiated energy.
+    The region is the geometry's :meth:`~acoustiviz.core.geometry.Geometry.enclosure`: for the
+    free field the whole sphere around the sphere's centre, for the plane the half space around
+    the contact point on the plane, for the wall-floor corner the quarter space around the point
+    of the corner's edge nearest the sphere. With rigid planes (zero normal velocity) such a
+    surface encloses all the radiated energy.
 
     Parameters
     ----------
-    config : acoustiviz.images.Configuration
+    config : acoustiviz.core.geometry.Geometry
         The scene.
     radius : float
         Radius in m; for the half and quarter regions it must keep the grid clear of the
@@ -215,16 +216,9 @@ def spherical_grid_for(config, radius: float, *, n_theta: int = 32, n_phi=None) 
     -------
     SphericalGrid
     """
-    if config.name == "free":
-        g = spherical_grid(radius, region="sphere", centre=config.centre, up=config.axis, n_theta=n_theta, n_phi=n_phi)
-    elif config.name == "plane":
-        g = spherical_grid(radius, region="half", centre=(0.0, 0.0, 0.0), n_theta=n_theta, n_phi=n_phi)
-    else:
-        floor, wall = config.planes
-        edge = np.array([wall.point[0], 0.0, 0.0])
-        g = spherical_grid(
-            radius, region="quarter", centre=edge, up=floor.normal, side=wall.normal, n_theta=n_theta, n_phi=n_phi
-        )
+    reg = config.enclosure()
+    g = spherical_grid(radius, region=reg.kind, centre=reg.origin, up=reg.up, side=reg.side, n_theta=n_theta,
+                       n_phi=n_phi)
     dist = np.linalg.norm(g.points - config.centre, axis=1)
     if np.any(dist < config.radius) or not np.all(config.in_fluid(g.points)):
         raise ParameterError("radius", f"{radius:g} m puts grid points inside the sphere or a wall; make it larger")

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_points, check_positive
 from ..constants import P_REF
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import (
     DEFAULT_CUTOFF,
@@ -104,7 +104,7 @@ class FieldMetrics:
 def field_metrics(
     pulse,
     points,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     sample_interval=None,
@@ -123,7 +123,7 @@ def field_metrics(
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -144,7 +144,7 @@ def field_metrics(
         Cap in bytes on working memory plus the returned arrays.
     tolerance : float, optional
         Absolute error in Pa allowed per point. When given, each point is served by the
-        cheapest model of :mod:`acoustiviz.approximations` whose proven error bound is below
+        cheapest model of :mod:`acoustiviz.core.approximations` whose proven error bound is below
         it (``model`` says which); otherwise the exact closed form serves all points.
 
     refine : bool
@@ -167,7 +167,7 @@ def field_metrics(
     pts = check_points("points", points)
     limit = check_positive("memory_limit", memory_limit, "B")
     n = pts.shape[0]
-    nimg = len(config.sources)
+    nimg = len(config.images())
     if t is not None:
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         dt = uniform_step(tt)

@@ -61,7 +61,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_points
 from ..constants import P_REF
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _fill
@@ -150,19 +150,19 @@ class PeakExposure:
             return 10.0 * np.log10(self.exposure / P_REF**2)
 
 
-def _source_arrays(config: Configuration):
-    pos = np.ascontiguousarray([s.position for s in config.sources], dtype=float)
-    axis = np.ascontiguousarray([s.axis for s in config.sources], dtype=float)
+def _source_arrays(config: Geometry):
+    """Image centres, weighted axes (the reflection weight folded into the axis), sphere centre, planes."""
+    imgs = config.images()
     if config.planes:
         ppt = np.ascontiguousarray([p.point for p in config.planes], dtype=float)
         pnm = np.ascontiguousarray([p.normal for p in config.planes], dtype=float)
     else:
         ppt = np.zeros((0, 3))
         pnm = np.zeros((0, 3))
-    return pos, axis, np.asarray(config.centre, dtype=float), ppt, pnm
+    return imgs.positions, imgs.weighted_axes, np.asarray(config.centre, dtype=float), ppt, pnm
 
 
-def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
+def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
                fine: int = DEFAULT_FINE) -> PeakTable:
     """Tabulate ``Y`` for :func:`fast_peaks` (once per pulse, sphere and configuration).
 
@@ -170,7 +170,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse (m/s²) starting at t = 0.
-    config : Configuration
+    config : Geometry
         The sphere and its images (their separation sets the table's length).
     medium : Medium
         The fluid.
@@ -194,7 +194,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     end = float(pulse.duration) if kind == 0 else float(xi[-1])
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
-    pos = np.array([src.position for src in config.sources])
+    pos = config.images().positions
     spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
     ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
@@ -207,7 +207,7 @@ def peak_table(pulse, config: Configuration, *, medium: Medium = AIR, samples: i
     return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread)
 
 
-def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, exposure: bool = True,
+def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
                table: PeakTable | None = None, correlations: PulseCorrelations | None = None,
                margin: float = DEFAULT_MARGIN, chunk: int = 65536) -> PeakExposure:
     """Positive and negative peak pressure (and exposure) of the continuous pressure, without a time loop.
@@ -218,7 +218,7 @@ def fast_peaks(pulse, points, config: Configuration, *, medium: Medium = AIR, ex
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

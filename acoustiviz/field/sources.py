@@ -5,9 +5,10 @@ field; at an observer ``x`` its pressure is (paper eqs 12-14)::
 
     p_j(x, t) = P0_j Re[C_j Y(t - d_j)],   d_j = (|x - x_j| - a)/c,
 
-with ``P0_j = ρ c a² cosθ_j / r_j²`` and ``C_j = r_j/a - i(1 - r_j/a)``. :func:`image_geometry`
-computes these for any list of sources (the field evaluator and the auralisation both use it);
-:func:`source_geometry` for the sources of a configuration.
+with ``P0_j = w_j ρ c a² cosθ_j / r_j²`` (``w_j`` the image's reflection weight) and
+``C_j = r_j/a - i(1 - r_j/a)``. :func:`image_geometry` computes these for any set of sources
+(the field evaluator and the auralisation both use it); :func:`source_geometry` for the images of
+a geometry (:meth:`acoustiviz.core.geometry.Geometry.images`).
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import check_points
-from ..core.images import Configuration
+from ..core.geometry import Geometry
+from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
 from ._common import DEFAULT_CUTOFF, check_config, check_pulse, decay_time
 
@@ -29,9 +31,9 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     ----------
     points : (n, 3) array_like
         Observer positions in m.
-    sources : sequence of ImageSource
-        The radiating spheres (position in m, unit acceleration axis; an image's sign is
-        carried by its mirrored axis).
+    sources : ImageSet or sequence of ImageSource
+        The radiating spheres (position in m, unit acceleration axis, reflection weight; an
+        image's sign is carried by its mirrored axis).
     radius : float
         Sphere radius a in m.
     medium : Medium
@@ -42,7 +44,7 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     delay : (n, k) ndarray
         ``(r_j - a)/c`` in s for each of the ``k`` sources.
     p0 : (n, k) ndarray
-        ``ρ c a² cosθ_j / r_j²`` in Pa/(m/s).
+        ``w_j ρ c a² cosθ_j / r_j²`` in Pa/(m/s) (``w_j`` the image's reflection weight).
     c_shape : (n, k) complex ndarray
         ``r_j/a - i(1 - r_j/a)``.
     distance : (n, k) ndarray
@@ -53,29 +55,31 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     Paper eqs 11-14. A point at a source's centre gets NaN for that source.
     """
     pts = check_points("points", points)
+    imgs = ImageSet.of(sources)
+    pos, axes = imgs.positions, imgs.weighted_axes
     a = float(radius)
-    n, k = pts.shape[0], len(sources)
+    n, k = pts.shape[0], len(imgs)
     r = np.empty((n, k))
     ct = np.empty((n, k))
-    for j, src in enumerate(sources):
-        d = pts - src.position
+    for j in range(k):
+        d = pts - pos[j]
         r[:, j] = np.sqrt(np.einsum("ij,ij->i", d, d))
         with np.errstate(invalid="ignore", divide="ignore"):
-            ct[:, j] = (d @ src.axis) / r[:, j]
+            ct[:, j] = (d @ axes[j]) / r[:, j]
     ra = r / a
     with np.errstate(invalid="ignore", divide="ignore"):
         p0 = medium.rho * medium.c * a * a * ct / (r * r)
     return (r - a) / medium.c, p0, ra - 1j * (1.0 - ra), r
 
 
-def source_geometry(points, config: Configuration, *, medium: Medium = AIR):
+def source_geometry(points, config: Geometry, *, medium: Medium = AIR):
     """:func:`image_geometry` of the sources of a configuration (its sphere and images).
 
     Parameters
     ----------
     points : (n, 3) array_like
         Observer positions in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -85,10 +89,10 @@ def source_geometry(points, config: Configuration, *, medium: Medium = AIR):
     delay, p0, c_shape, distance : (n, k) ndarray
         As :func:`image_geometry`: s, Pa/(m/s), dimensionless, m.
     """
-    return image_geometry(points, config.sources, config.radius, medium=medium)
+    return image_geometry(points, config.images(), config.radius, medium=medium)
 
 
-def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, decay_times: float = 40.0):
+def waveform_span(pulse, point, config: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
     """First arrival and end in s (from the start of contact) of one impact's sound at ``point``.
 
     The end is the last image's arrival plus the pulse plus ``decay_times`` decay times a/c of
@@ -101,7 +105,7 @@ def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, 
         Acceleration pulse of the sphere.
     point : (3,) array_like
         Observer position in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -118,7 +122,7 @@ def waveform_span(pulse, point, config: Configuration, *, medium: Medium = AIR, 
     return float(first), float(end)
 
 
-def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR, decay_times: float = 40.0):
+def waveform_spans(pulse, points, config: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
     """:func:`waveform_span` of many points at once.
 
     Parameters
@@ -127,7 +131,7 @@ def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR
         Acceleration pulse of the sphere.
     points : (n, 3) array_like
         Observer positions in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -144,7 +148,7 @@ def waveform_spans(pulse, points, config: Configuration, *, medium: Medium = AIR
     return np.column_stack([delay.min(axis=1), delay.max(axis=1) + tail])
 
 
-def arrival_windows(pulse, points, config: Configuration, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
+def arrival_windows(pulse, points, config: Geometry, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
     """Interval of each point in which its pressure is non-zero (to ``cutoff``).
 
     Parameters
@@ -153,7 +157,7 @@ def arrival_windows(pulse, points, config: Configuration, *, medium: Medium = AI
         Acceleration pulse of the sphere.
     points : (n, 3) array_like
         Observer positions in m.
-    config : Configuration
+    config : Geometry
         The sphere and its images.
     medium : Medium
         The fluid.

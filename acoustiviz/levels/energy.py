@@ -32,6 +32,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
+from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces, pulse_response
 
@@ -235,8 +236,9 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration of the real sphere (m/s²); every image moves with it along its own axis.
-    sources : sequence of acoustiviz.core.images.ImageSource
-        The sphere and its images (``Configuration.sources``).
+    sources : ImageSet or sequence of ImageSource
+        The sphere and its images (:meth:`acoustiviz.core.geometry.Geometry.images`), each with its
+        mirrored axis and reflection weight.
     grid : acoustiviz.field.grids.SphericalGrid
         Directions (``directions``), solid-angle weights in sr (``weights``) and ``centre`` in m;
         its radius does not enter (the intensity is taken at infinity).
@@ -251,14 +253,16 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
     -------
     float
         ``E = (1/ρc) Σ_i w_i ∫ q_i(t)² dt`` with the far-field ``q = r p`` in Pa·m:
-        ``q_i(t) = ρ c a Σ_j cos θ_ij Re[(1 + i) Y(t - τ_ij)]``, ``τ_ij = -(x_j - centre)·n_i / c``
+        ``q_i(t) = ρ c a Σ_j g_j cos θ_ij Re[(1 + i) Y(t - τ_ij)]``, ``τ_ij = -(x_j - centre)·n_i / c``,
+        ``g_j`` the image's reflection weight
         (paper eq 11 as ``r → ∞``, each image delayed by its path difference; eq 14).
     """
     from scipy.integrate import trapezoid
 
     a = check_positive("radius", radius, "m")
-    pos = np.stack([np.asarray(s.position, dtype=float) for s in sources]) - np.asarray(grid.centre, dtype=float)
-    axes = np.stack([np.asarray(s.axis, dtype=float) for s in sources])
+    imgs = ImageSet.of(sources)
+    pos = imgs.positions - np.asarray(grid.centre, dtype=float)
+    axes = imgs.weighted_axes  # an image's far field scales with its reflection weight
     dirs, weights = np.asarray(grid.directions, dtype=float), np.asarray(grid.weights, dtype=float)
     reach = float(np.max(np.linalg.norm(pos, axis=1))) / medium.c
     t = _time_grid(pulse, a, medium, -reach, reach, per=100)

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .._validate import ParameterError, check_positive, check_range
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..field import snapshots
 from .writers import write_text_atomic
@@ -63,7 +63,7 @@ def _triangles(mesh) -> np.ndarray:
     return np.asarray(tri.faces).reshape(-1, 4)[:, 1:]
 
 
-def _sphere_layer(config: Configuration) -> dict:
+def _sphere_layer(config: Geometry) -> dict:
     import pyvista as pv
 
     s = pv.Sphere(radius=config.radius, center=config.centre, theta_resolution=40, phi_resolution=24)
@@ -71,7 +71,7 @@ def _sphere_layer(config: Configuration) -> dict:
     return _layer(s.points, _triangles(s), color=_SPHERE, normals=s.point_data["Normals"], lit=True)
 
 
-def _plane_layers(config: Configuration, bounds, opacity: float) -> list:
+def _plane_layers(config: Geometry, bounds, opacity: float) -> list:
     """The floor and the wall as semi-transparent rectangles filling ``bounds`` ((2, 3), m), with outlines."""
     lo, hi = np.asarray(bounds, dtype=float)
     out = []
@@ -175,7 +175,7 @@ def _check_html_path(path) -> Path:
     return p
 
 
-def write_balloon_html(pulse, config: Configuration, path, *, medium: Medium = AIR, distance: float = 0.7,
+def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, distance: float = 0.7,
                        metric: str = "peak", db_range: float = 30.0, n_theta: int = 32, opacity: float = 0.85,
                        balloon_size=None, title=None, data=None) -> Path:
     """Write an interactive page of a directivity balloon (see :func:`acoustiviz.output.render.render_balloon`).
@@ -184,7 +184,7 @@ def write_balloon_html(pulse, config: Configuration, path, *, medium: Medium = A
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     path : path-like
         Output ``.html`` file (written atomically).
@@ -223,8 +223,7 @@ def write_balloon_html(pulse, config: Configuration, path, *, medium: Medium = A
     elif not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
     if balloon_size is None:
-        wall = -config.planes[1].point[0] if config.name == "wall-floor" else 0.0
-        bsize = max(6.0 * config.radius, 1.5 * wall)
+        bsize = max(6.0 * config.radius, 1.5 * config.feature_distance)
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     top = data.max_level
@@ -239,11 +238,11 @@ def write_balloon_html(pulse, config: Configuration, path, *, medium: Medium = A
     sub = _scene_label(pulse, config) + f"; max {data.max_level:.1f} dB, energy mean {data.mean_level:.1f} dB"
     text = page(layers, title=head, subtitle=sub, colorbar=data.label, clim=(top - rng, top), cmap="viridis",
                 target=centre, radius=0.5 * float(np.linalg.norm([x1 - x0, y1 - y0, z1 - z0])),
-                direction=(0.9, -1.7, 0.8) if config.name != "free" else (0.9, -1.7, 0.4))
+                direction=(0.9, -1.7, 0.8) if config.planes else (0.9, -1.7, 0.4))
     return write_text_atomic(path, text)
 
 
-def write_snapshot_html(pulse, config: Configuration, time, path, *, medium: Medium = AIR, planes=None, extent=None,
+def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
                         sections=("xz",), n_u: int = 241, clim=None, title=None, cmap: str = "RdBu_r") -> Path:
     """Write an interactive page of the pressure on planar sections at one or more times.
 
@@ -254,7 +253,7 @@ def write_snapshot_html(pulse, config: Configuration, time, path, *, medium: Med
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     time : float or sequence of float
         Times in s from the start of contact (1 to 12, each >= 0).

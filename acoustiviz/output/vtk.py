@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from .._validate import ParameterError, check_positive
-from ..core.images import Configuration
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..field import field_metrics, snapshots
 from .writers import atomic_path
@@ -165,7 +165,7 @@ def balloon_dataset(data, metrics):
     return mesh
 
 
-def _bounds(config: Configuration, points) -> np.ndarray:
+def _bounds(config: Geometry, points) -> np.ndarray:
     """Box (2, 3) in m holding ``points`` and the sphere, its flat sides widened, cut by the planes."""
     pts = np.vstack([np.asarray(points, float).reshape(-1, 3), config.centre - config.radius,
                      config.centre + config.radius])
@@ -177,16 +177,19 @@ def _bounds(config: Configuration, points) -> np.ndarray:
             hi[k] += 0.3 * span
     for p in config.planes:
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], p.point[k])
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], p.point[k])
+        else:
+            hi[k] = min(hi[k], p.point[k])
     return np.array([lo, hi])
 
 
-def geometry_dataset(config: Configuration, bounds):
+def geometry_dataset(config: Geometry, bounds):
     """The sphere and the planes of ``config`` as one unstructured grid.
 
     Parameters
     ----------
-    config : Configuration
+    config : Geometry
         The scene.
     bounds : (2, 3) array_like
         Lower and upper corners in m of the box the planes fill.
@@ -233,7 +236,7 @@ def _save(mesh, path: Path) -> Path:
     return path
 
 
-def write_geometry_vtk(config: Configuration, path, bounds) -> Path:
+def write_geometry_vtk(config: Geometry, path, bounds) -> Path:
     """Write :func:`geometry_dataset` to ``path`` (``.vtu``, atomically); return the path."""
     path = Path(path)
     if path.suffix.lower() != ".vtu":
@@ -247,7 +250,7 @@ def _write_with_geometry(mesh, config, path: Path, geometry: bool) -> tuple:
     return out, geo
 
 
-def write_snapshot_vtk(pulse, config: Configuration, time, path, *, medium: Medium = AIR, planes=None, extent=None,
+def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
                        sections=("xz",), n_u: int = 241, geometry: bool = True) -> tuple:
     """Write the pressure of a field snapshot on its planar sections to a VTK file.
 
@@ -258,7 +261,7 @@ def write_snapshot_vtk(pulse, config: Configuration, time, path, *, medium: Medi
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     time : float or sequence of float
         Times in s from the start of contact (1 to 12, each >= 0).
@@ -292,7 +295,7 @@ def write_snapshot_vtk(pulse, config: Configuration, time, path, *, medium: Medi
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 
 
-def write_animation_vtk(pulse, config: Configuration, path, *, medium: Medium = AIR, times=None, frames: int = 48,
+def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, times=None, frames: int = 48,
                         planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True) -> tuple:
     """Write every frame of a wavefront animation to one VTK file (one pressure array per frame).
 
@@ -305,7 +308,7 @@ def write_animation_vtk(pulse, config: Configuration, path, *, medium: Medium = 
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
@@ -341,7 +344,7 @@ def write_animation_vtk(pulse, config: Configuration, path, *, medium: Medium = 
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 
 
-def write_balloon_vtk(pulse, config: Configuration, path, *, medium: Medium = AIR, distance: float = 0.7,
+def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, distance: float = 0.7,
                       n_theta: int = 32, data=None, geometry: bool = True) -> tuple:
     """Write the metrics of a directivity balloon on its measuring sphere to a VTK file.
 
@@ -354,7 +357,7 @@ def write_balloon_vtk(pulse, config: Configuration, path, *, medium: Medium = AI
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
@@ -412,7 +415,7 @@ def map_dataset(grid, arrays):
     return mesh
 
 
-def write_map_vtk(grid, arrays, config: Configuration, path, *, geometry: bool = True) -> tuple:
+def write_map_vtk(grid, arrays, config: Geometry, path, *, geometry: bool = True) -> tuple:
     """Write a level map (``acoustiviz map``) to a VTK file, the sphere and planes beside it.
 
     Parameters
@@ -422,7 +425,7 @@ def write_map_vtk(grid, arrays, config: Configuration, path, *, geometry: bool =
     arrays : mapping of str to (n,) array_like
         Point arrays named with their units (``peak_pa``, ``peak_spl_db``, ``sel_db``,
         ``time_of_peak_s``, ``exposure_pa2s``; NaN where there is no fluid).
-    config : Configuration
+    config : Geometry
         The scene.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).

@@ -10,6 +10,7 @@ from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
 
+from ..core.geometry import geometry, relevant_settings
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
 from .validate import SceneError, _unknown, _validate_table
@@ -50,16 +51,22 @@ class Scene:
         """Options of one requested output."""
         return copy.deepcopy(self.data["outputs"][kind])
 
+    def output_or_defaults(self, kind: str) -> dict:
+        """Options of output ``kind``: the scene's when it asks for it, else the schema's defaults."""
+        if kind in self.outputs:
+            return self.output(kind)
+        return {k: copy.deepcopy(key.default) for k, key in SCHEMA["outputs"].keys[kind].keys.items()}
+
     # -- physics objects: the rules live in the application layer, shared with the command line
+    def geometry_settings(self) -> dict:
+        """The ``[configuration]`` settings that apply to its ``kind`` (:func:`~acoustiviz.core.geometry.geometry`)."""
+        return _geometry_settings(self.data["configuration"])
+
     def _impact_settings(self, radius: float | None = None) -> dict:
         s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
-        wall_floor = conf["kind"] == "wall-floor"
-        wall = conf["wall_distance_m"] if wall_floor and conf["strike"] == "floor" else None
         return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],
                     sphere_material=s["material"], surface_material=c["surface"], c=self.data["medium"]["c_m_s"],
-                    rho=self.data["medium"]["rho_kg_m3"], config=conf["kind"], wall_distance=wall,
-                    strike=conf["strike"] if wall_floor else "floor",
-                    height=conf["height_m"] if wall_floor and conf["strike"] == "wall" else None)
+                    rho=self.data["medium"]["rho_kg_m3"], config=conf["kind"], **self.geometry_settings())
 
     def sphere_mass(self) -> float:
         """Sphere mass in kg: ``mass_kg``, else density (or the material's) times volume."""
@@ -114,7 +121,7 @@ class Scene:
         return self.setup().medium
 
     def configuration(self, radius: float | None = None):
-        """The surfaces and image sources (:func:`acoustiviz.core.images.configuration`) for a sphere of ``radius``."""
+        """The surfaces and image sources (:mod:`acoustiviz.core.geometry`) for a sphere of ``radius``."""
         return self.setup(radius=radius).configuration
 
     def impact(self, velocity: float | None = None):
@@ -133,7 +140,7 @@ class Scene:
         """
         import numpy as np
 
-        from ..core.images import observer_points
+        from ..core.geometry import observer_points
 
         conf = self.configuration(radius)
         out = []
@@ -214,10 +221,10 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     if conf["height_m"] is not None and conf["height_m"] < radius:
         raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
                                                            f"{radius:g} m, got {conf['height_m']:g} m")
-    if conf["kind"] == "wall-floor" and conf["strike"] == "floor" and conf["wall_distance_m"] < radius:
-        raise SceneError(source, "configuration.wall_distance_m",
-                         f"the sphere would cut the wall: must be >= radius = {radius:g} m, "
-                         f"got {conf['wall_distance_m']:g} m")
+    try:
+        geometry(conf["kind"], radius, **_geometry_settings(conf))
+    except ParameterError as exc:
+        raise SceneError(source, f"configuration.{_GEOMETRY_KEYS.get(exc.name, exc.name)}", exc.detail) from None
     data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
 
     outs_raw = raw.get("outputs", {})
@@ -247,6 +254,15 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     return scene
 
 
+#: Geometry settings -> their keys in ``[configuration]``.
+_GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m"}
+
+
+def _geometry_settings(conf: dict) -> dict:
+    """The settings of a ``[configuration]`` table that apply to its ``kind``."""
+    return relevant_settings(conf["kind"], **{k: conf[v] for k, v in _GEOMETRY_KEYS.items()})
+
+
 #: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key.
 _SETUP_KEYS = {"radius": "sphere.radius_m", "mass": "sphere.mass_kg", "density": "sphere.density_kg_m3",
                "velocity": "impact.velocity_m_s", "k_hertz": "contact.k_hertz_n_m1_5"}
@@ -270,8 +286,7 @@ def _check_geometry(scene: Scene) -> None:
             lst = scene.data["listeners"][i]
             key += ".position_m" if lst["position_m"] is not None else ".angle_deg"
             raise SceneError(src, key, "listener inside the sphere, below the floor or behind the wall "
-                                       f"(configuration {conf.name!r}; the fluid is z > 0"
-                                       + (", x > -wall_distance" if conf.name == "wall-floor" else "") + ")")
+                                       f"(configuration {conf.name!r}; the fluid is {conf.fluid_text()})")
     grids = scene.data["grids"]
     if scene.wants("level_map"):  # settings, memory and output size of the map, before any output is made
         from ..app.maps import SCENE_NAMES, plan_map

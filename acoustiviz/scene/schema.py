@@ -8,7 +8,6 @@ from dataclasses import dataclass
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.views import BALLOON_METRICS as _BALLOON_METRICS
 from ..app.views import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
-from ..constants import CONFIGURATIONS as CONFIGS
 from ..constants import (
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
@@ -28,6 +27,7 @@ from ..constants import (
     TABLE1,
 )
 from ..constants import SCENE_SOLVERS as SOLVERS
+from ..core.geometry import CONFIGURATIONS as CONFIGS
 
 __all__ = [
     "SCHEMA",

@@ -7,43 +7,13 @@ import difflib
 import math
 
 from ..constants import PULSES
-from ..errors import ParameterError
+from ..errors import ParameterError, SceneError
 from .schema import Key, Table, _fmt_range, _type_name
 
 __all__ = [
     "SceneError",
     "parse_range",
 ]
-
-
-class SceneError(ParameterError):
-    """A scene is invalid; the message names the file, the key path and what is allowed.
-
-    Attributes
-    ----------
-    source : str
-        The scene file.
-    name : str
-        The key path (``"sphere.radius_m"``).
-    detail : str
-        What is wrong and what is allowed.
-    """
-
-    def __init__(self, source: str, key: str, detail: str):
-        super().__init__(key, detail)
-        self.source = source
-        self.args = (f"{source}: {key}: {detail}",)
-
-    def __str__(self) -> str:
-        return self.args[0]
-
-    def __reduce__(self):
-        return (type(self), (self.source, self.name, self.detail))
-
-    @property
-    def key(self) -> str:
-        """The key path (same as :attr:`name`)."""
-        return self.name
 
 
 # --------------------------------------------------------------------------- helpers

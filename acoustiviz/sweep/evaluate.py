@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..core.images import observer_points
+from ..core.geometry import observer_points
 from ..errors import ParameterError
 from .levels import LEVEL_COLUMNS, NO_LEVELS, design_levels
 from .spec import PAPER_RADIUS, Design, Settings
@@ -26,11 +26,11 @@ def listener_point(config, distance: float, angle: float) -> np.ndarray:
 
     The listener lies in the plane of the acceleration axis and the horizontal direction away
     from any wall (+x), like the command-line ``--distance``/``--angle`` observer
-    (:func:`acoustiviz.core.images.observer_points`).
+    (:func:`acoustiviz.core.geometry.Geometry.observer_points`).
 
     Parameters
     ----------
-    config : acoustiviz.core.images.Configuration
+    config : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     distance : float
         Distance in m (> the sphere radius).
@@ -63,7 +63,7 @@ def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz:
         Hertz stiffness in N/m^1.5.
     pulse : str
         Pulse kind (:func:`acoustiviz.core.contact.acceleration_pulse`).
-    config : acoustiviz.core.images.Configuration
+    config : acoustiviz.core.geometry.Geometry
         Sphere and images.
     point : (1, 3) array_like
         Listener in m.
@@ -188,7 +188,6 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
     With ``settings.levels`` the run's click train is rendered at the listener and its LAFmax,
     LCpeak and LAeq over ``[0, duration]`` are reported (:func:`acoustiviz.sweep.levels.design_levels`).
     """
-    from ..core.images import configuration
     from ..core.medium import Medium
     from ..dynamics import DamperModel, InitialState, simulate
     from ..dynamics import metrics as dm
@@ -199,8 +198,7 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
     res = simulate(model, s.duration, solver=s.solver, initial=InitialState(v=design.v0), rtol=s.rtol)
     metrics = dm.damping_metrics(res, window_fraction=s.fit_window_fraction, settling_fraction=s.settling_fraction)
     two, fit, settle = metrics.two_maxima, metrics.fit, metrics.settling_time
-    conf = configuration(design.config, design.radius,
-                         wall_distance=s.wall_distance if design.config == "wall-floor" else None)
+    conf = design.geometry(s)
     point = listener_point(conf, design.distance, design.angle)
     u = res.impacts.approach_velocity
     medium = Medium(c=s.c, rho=s.rho)
@@ -244,8 +242,7 @@ def sound_setup(design: Design, settings: Settings, medium=None):
 
     s = settings
     medium = Medium(c=s.c, rho=s.rho) if medium is None else medium
-    scene = CavityScene(design.config, design.radius, design.gap, walls="one",
-                        wall_distance=s.wall_distance if design.config == "wall-floor" else None, medium=medium)
+    scene = CavityScene(design.geometry(s), gap=design.gap, walls="one", medium=medium)
     model = ClickModel(k_hertz=design.k_hertz, mass=design.m, main_mass=s.M, mass_model=s.pulse_mass, pulse=s.pulse)
     return scene, model
 

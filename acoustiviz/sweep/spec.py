@@ -14,7 +14,6 @@ from dataclasses import asdict, dataclass, field, fields
 
 from .._validate import check_choice, check_nonnegative, check_positive, check_range
 from ..constants import (
-    CONFIGURATIONS,
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
@@ -28,6 +27,7 @@ from ..constants import (
     SOLVERS,
     TABLE1,
 )
+from ..core.geometry import CONFIGURATIONS, Geometry, geometry, geometry_class
 from ..errors import ParameterError
 
 __all__ = [
@@ -339,7 +339,7 @@ class Design:
     angle : float
         Listener angle from the sphere's acceleration axis in rad.
     config : str
-        ``"free"``, ``"plane"`` or ``"wall-floor"``.
+        Geometry name (:data:`acoustiviz.core.geometry.GEOMETRIES`, e.g. ``"plane"``).
     radius : float
         Radius of the radiating sphere in m.
     """
@@ -355,6 +355,10 @@ class Design:
     angle: float
     config: str
     radius: float
+
+    def geometry(self, settings: Settings) -> Geometry:
+        """The design's geometry: its configuration around its sphere, with the sweep's wall distance."""
+        return geometry(self.config, self.radius, lenient=True, wall_distance=settings.wall_distance)
 
 
 @dataclass(frozen=True)
@@ -439,11 +443,12 @@ class SweepSpec:
         _check_all("angle", self.angle, check_range, 0.0, math.pi, unit="rad")
         _check_all("config", self.config, check_choice, CONFIGURATIONS)
         for cfg in self.config:
-            if cfg != "free":
-                for a in self.angle:
-                    if a > math.pi / 2 + 1e-12:
-                        raise ParameterError(
-                            "angle", f"must be <= pi/2 rad (90 deg) with a reflecting surface, got {a:g} rad")
+            limit = geometry_class(cfg).polar_limit_deg
+            for a in self.angle:
+                if a > math.radians(limit) + 1e-12:
+                    raise ParameterError(
+                        "angle", f"must be <= {math.radians(limit):.6g} rad ({limit:g} deg) with the {cfg} "
+                                 f"configuration, got {a:g} rad")
         # build every design now so that bad combinations fail before any work
         self.designs()
 
@@ -485,13 +490,12 @@ class SweepSpec:
                 sphere_mat = _material("material", mat)
                 surf = _material("surface", s.surface) if s.surface else sphere_mat
                 kh = float(hertz_stiffness(radius, sphere_mat, surf))
-            if cfg == "wall-floor" and s.wall_distance < radius:
-                raise ParameterError(
-                    "wall_distance", f"must be >= the sphere radius {radius:g} m, got {s.wall_distance:g} m")
             if dist <= radius:
                 raise ParameterError("distance", f"must exceed the sphere radius {radius:g} m, got {dist:g} m")
-            out.append(Design(i, float(gap), float(m), float(c1), float(kh), mat, float(v0), float(dist),
-                              float(ang), cfg, radius))
+            design = Design(i, float(gap), float(m), float(c1), float(kh), mat, float(v0), float(dist),
+                            float(ang), cfg, radius)
+            design.geometry(s)  # a wall closer than the radius fails here, naming wall_distance
+            out.append(design)
         return tuple(out)
 
     def to_dict(self) -> dict:

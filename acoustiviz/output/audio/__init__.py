@@ -1,8 +1,8 @@
 """Auralisation: impact sequences rendered into band-limited, calibrated WAV files.
 
 Each impact of a sequence (a time, the wall it strikes and its approach speed) becomes a Hertz
-acceleration pulse of the impact mass (:mod:`acoustiviz.contact`); the rigid-sphere radiation
-model (:mod:`acoustiviz.radiation`) and the image sources of the scene (:mod:`acoustiviz.images`)
+acceleration pulse of the impact mass (:mod:`acoustiviz.core.contact`); the rigid-sphere radiation
+model (:mod:`acoustiviz.core.radiation`) and the image sources of the scene (:mod:`acoustiviz.core.geometry`)
 give its pressure at each listener; the clicks are placed at their exact (sub-sample) times and
 summed. The result is in pascals.
 

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_points, check_positive
-from ...constants import P_REF
-from ...core.images import CONFIGURATIONS, Configuration, ImageSource, configuration, images_of
+from ...constants import P_REF, PAPER_RADIUS
+from ...core.geometry import Geometry, geometry
+from ...core.images import ImageSource
 from ...core.medium import AIR, Medium
 
 __all__ = [
@@ -137,10 +138,13 @@ class CavityScene:
 
     Parameters
     ----------
-    config : {"free", "plane", "wall-floor"}
-        The image configuration of the struck wall (:func:`acoustiviz.images.configuration`).
-    radius : float
-        Sphere (impact mass) radius a in m.
+    config : Geometry or str
+        The geometry of the struck wall's surroundings (:mod:`acoustiviz.core.geometry`), or a
+        registry name (``"free"``, ``"plane"``, ...) built with its default settings and
+        ``radius``. Stored as the geometry value.
+    radius : float, optional
+        Sphere (impact mass) radius a in m: the geometry's own, or with a name the sphere to
+        build it with (default 0.01905).
     gap : float
         Total free travel d of the impact mass in the cavity in m; the far wall lies ``gap + 2a``
         from the struck one.
@@ -149,39 +153,38 @@ class CavityScene:
     walls : {"both", "one"}
         ``"both"``: far-wall impacts radiate from the far wall with the reversed axis;
         ``"one"``: every impact is heard as a strike on the struck wall.
-    wall_distance : float, optional
-        ``"wall-floor"`` only: distance in m of the sphere's centre from the side wall.
-    strike : {"floor", "wall"}
-        ``"wall-floor"`` only: the struck surface.
-    height : float, optional
-        ``"wall-floor"`` with ``strike="wall"``: height in m of the centre above the floor.
     medium : Medium
         The fluid.
     """
 
-    config: str = "plane"
-    radius: float = 0.01905
+    config: Geometry | str = "plane"
+    radius: float | None = None
     gap: float = 0.04
     struck_wall: int = -1
     walls: str = "both"
-    wall_distance: float | None = None
-    strike: str = "floor"
-    height: float | None = None
     medium: Medium = AIR
-    configuration: Configuration = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        check_choice("config", self.config, CONFIGURATIONS)
-        check_positive("radius", self.radius, "m")
+        if isinstance(self.config, Geometry):
+            cfg = self.config
+            if self.radius is not None and check_positive("radius", self.radius, "m") != cfg.radius:
+                raise ParameterError("radius", f"the geometry's sphere has radius {cfg.radius:g} m, got "
+                                               f"{self.radius:g} m")
+        else:
+            cfg = geometry(self.config, PAPER_RADIUS if self.radius is None else self.radius)
+        object.__setattr__(self, "config", cfg)
+        object.__setattr__(self, "radius", cfg.radius)
         check_positive("gap", self.gap, "m")
         if self.struck_wall not in (-1, 1):
             raise ParameterError("struck_wall", f"must be -1 or +1, got {self.struck_wall!r}")
         check_choice("walls", self.walls, WALL_MODELS)
         if not isinstance(self.medium, Medium):
             raise ParameterError("medium", f"expected a Medium, got {type(self.medium).__name__}")
-        cfg = configuration(self.config, self.radius, wall_distance=self.wall_distance, strike=self.strike,
-                            height=self.height)
-        object.__setattr__(self, "configuration", cfg)
+
+    @property
+    def configuration(self) -> Geometry:
+        """The geometry: the sphere on the struck wall, its images and the reflecting planes."""
+        return self.config
 
     @property
     def axis(self) -> np.ndarray:
@@ -202,7 +205,7 @@ class CavityScene:
         cfg = self.configuration
         far = -self.struck_wall
         out = {
-            "config": self.config,
+            "config": cfg.name,
             "radius_m": self.radius,
             "gap_m": self.gap,
             "struck_wall": self.struck_wall,
@@ -212,8 +215,7 @@ class CavityScene:
             "medium": {"c_m_s": self.medium.c, "rho_kg_m3": self.medium.rho},
             "sources": {},
         }
-        if self.config == "wall-floor":
-            out.update(wall_distance_m=self.wall_distance, strike=self.strike, height_m=self.height)
+        out.update(cfg.settings())
         for w in (self.struck_wall, far):
             out["sources"][f"{w:+d}"] = [
                 {"label": s.label, "order": s.order, "position_m": s.position.tolist(), "axis": s.axis.tolist()}
@@ -251,8 +253,8 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
     if wall == scene.struck_wall or scene.walls == "one":
         return tuple(cfg.sources)
     real = ImageSource(scene.far_centre, -scene.axis, 0, "far")
-    imgs = images_of(real, cfg.planes)
-    return tuple(ImageSource(s.position, s.axis, s.order, "far" if s.order == 0 else f"far {s.label}")
+    imgs = cfg.image_sources(real)
+    return tuple(ImageSource(s.position, s.axis, s.order, "far" if s.order == 0 else f"far {s.label}", s.weight)
                  for s in imgs)
 
 

@@ -59,7 +59,7 @@ class ClickModel:
         approach and duration from the effective mass m M / (m + M) of two free bodies; the
         acceleration is the peak force over m.
     pulse : {"half-sine", "impulse-matched", "hertz"}
-        The pulse shape (:func:`acoustiviz.contact.acceleration_pulse`); the paper's half-sine by default.
+        The pulse shape (:func:`acoustiviz.core.contact.acceleration_pulse`); the paper's half-sine by default.
     hertz_samples : int
         Tabulated samples of the exact Hertz pulse (``pulse="hertz"`` only), kept for plots; the
         pressure uses the closed-form pulse whatever their number.
@@ -80,7 +80,7 @@ class ClickModel:
         check_choice("pulse", self.pulse, PULSE_KINDS)
 
     def impact(self, velocity: float) -> Impact:
-        """The :class:`~acoustiviz.contact.Impact` at approach speed ``velocity`` in m/s."""
+        """The :class:`~acoustiviz.core.contact.Impact` at approach speed ``velocity`` in m/s."""
         partner = self.main_mass if self.mass_model == "effective" else math.inf
         return Impact(velocity=float(velocity), k_hertz=self.k_hertz, mass=self.mass, partner_mass=partner)
 
@@ -244,7 +244,7 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     -----
     For impact k on wall w with pulse ``A_k`` the pressure at a listener is
     ``Σ_j P0_j Re[C_j Y_k(t - t_k - (r_j - a)/c)]`` over the wall's sources j
-    (:func:`acoustiviz.radiation.pulse_response`, paper eqs 12-14). It is evaluated in closed form
+    (:func:`acoustiviz.core.radiation.pulse_response`, paper eqs 12-14). It is evaluated in closed form
     on the internal grid over the click's window (arrival to a tail of ``exp(-c t/a) < 1e-8``),
     filtered by :func:`decimation_filter` and decimated, and added into the output. Cost grows
     with the number of impacts, not with the signal's length.

@@ -1,6 +1,6 @@
 """Matplotlib figures. Each function takes ``ax=None`` and returns the Axes it drew on.
 
-Submodules are imported on demand (``from acoustiviz.plot.waveform import plot_waveform``) so
+Submodules are imported on demand (``from acoustiviz.output.plot.waveform import plot_waveform``) so
 that importing :mod:`acoustiviz` never imports matplotlib. Plot functions style themselves
-inside :func:`acoustiviz.plot._style.style` and leave global matplotlib state alone.
+inside :func:`acoustiviz.output.plot.style.style` and leave global matplotlib state alone.
 """

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import new_axes, style
+from ...constants import P_REF
+from .style import new_axes, style
 
 __all__ = ["plot_pressure_signal", "plot_spectrogram", "auralisation_figure"]
-
-P_REF = 20e-6  # Pa
 
 
 def _signal(signal, sample_rate):

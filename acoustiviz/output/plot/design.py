@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import new_axes, style
+from .style import new_axes, style
 
 __all__ = ["plot_inclination_map", "plot_spl_map", "plot_map", "plot_design_table"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import new_axes, style
+from .style import new_axes, style
 
 __all__ = ["plot_free_vibration", "plot_restitution", "plot_speed_accuracy", "plot_impacts_followed"]
 

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ._style import new_axes, style
+from .style import new_axes, style
 
 __all__ = ["plot_frequency_response", "plot_bifurcation", "plot_operating_levels", "shade_frequencies"]
 

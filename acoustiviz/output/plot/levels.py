@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import new_axes, style
+from .style import new_axes, style
 
 __all__ = ["plot_band_levels", "plot_weighted_levels"]
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..._validate import ParameterError
-from ._style import style
+from .style import style
 
 __all__ = ["plot_level_map", "level_map_figure", "DB_RANGE"]
 
@@ -42,18 +42,25 @@ def _draw_geometry(ax, config, axes_names, offset: float, box) -> None:
         ax.add_patch(Circle((c[i], c[j]), r, facecolor="0.45", edgecolor="k", lw=0.8, zorder=4))
     x0, x1, y0, y1 = box
     band = 0.04 * max(x1 - x0, y1 - y0)
+    ext = {(i, 1): 0.0, (i, -1): 0.0, (j, 1): 0.0, (j, -1): 0.0}  # room for the bands beyond the box
     for p in config.planes:
         n = int(np.argmax(np.abs(p.normal)))
         at = float(p.point[n])
-        if n == i:  # a plane across the horizontal axis: a vertical band to its left
-            ax.add_patch(Rectangle((at - band, y0 - band), band, y1 - y0 + 2 * band, clip_on=False, **_WALL))
-            ax.text(at + 0.01 * (x1 - x0), y1 - 0.02 * (y1 - y0), p.label, rotation=90, ha="left", va="top",
-                    **_LABEL)
-        elif n == j:  # a plane across the vertical axis: a horizontal band below it
-            ax.add_patch(Rectangle((x0 - band, at - band), x1 - x0 + 2 * band, band, clip_on=False, **_WALL))
-            ax.text(x1 - 0.02 * (x1 - x0), at + 0.01 * (y1 - y0), p.label, ha="right", va="bottom", **_LABEL)
-    ax.set_xlim(x0 - (band if any(int(np.argmax(np.abs(p.normal))) == i for p in config.planes) else 0), x1)
-    ax.set_ylim(y0 - (band if any(int(np.argmax(np.abs(p.normal))) == j for p in config.planes) else 0), y1)
+        up = 1 if p.normal[n] > 0 else -1  # the fluid lies above (+1) or below (-1) the plane on its axis
+        if n == i:  # a plane across the horizontal axis: a vertical band on its solid side
+            ax.add_patch(Rectangle((at - band if up > 0 else at, y0 - band), band, y1 - y0 + 2 * band, clip_on=False,
+                                   **_WALL))
+            ax.text(at + up * 0.01 * (x1 - x0), y1 - 0.02 * (y1 - y0), p.label, rotation=90,
+                    ha="left" if up > 0 else "right", va="top", **_LABEL)
+            ext[(i, up)] = band
+        elif n == j:  # a plane across the vertical axis: a horizontal band on its solid side
+            ax.add_patch(Rectangle((x0 - band, at - band if up > 0 else at), x1 - x0 + 2 * band, band, clip_on=False,
+                                   **_WALL))
+            ax.text(x1 - 0.02 * (x1 - x0), at + up * 0.01 * (y1 - y0), p.label, ha="right",
+                    va="bottom" if up > 0 else "top", **_LABEL)
+            ext[(j, up)] = band
+    ax.set_xlim(x0 - ext[(i, 1)], x1 + ext[(i, -1)])
+    ax.set_ylim(y0 - ext[(j, 1)], y1 + ext[(j, -1)])
 
 
 def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = "level (dB)", cmap: str = "magma",
@@ -83,7 +90,7 @@ def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = 
     -------
     matplotlib.axes.Axes
     """
-    from ._style import new_axes
+    from .style import new_axes
 
     if tuple(axes_names) not in (("x", "z"), ("x", "y")):
         raise ParameterError("axes_names", f"must be ('x', 'z') or ('x', 'y'), got {axes_names!r}")

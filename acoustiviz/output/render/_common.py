@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError
-from ...core.images import Configuration
+from ...core.geometry import Geometry
 from ...core.medium import Medium
 from ..writers import atomic_path
 
@@ -138,8 +138,8 @@ def _check_path(path, suffixes) -> Path:
 
 
 def _check_inputs(pulse, config, medium):
-    if not isinstance(config, Configuration):
-        raise ParameterError("config", f"expected an images.Configuration, got {type(config).__name__}")
+    if not isinstance(config, Geometry):
+        raise ParameterError("config", f"expected a geometry (acoustiviz.core.geometry), got {type(config).__name__}")
     if not isinstance(medium, Medium):
         raise ParameterError("medium", f"expected a Medium, got {type(medium).__name__}")
     if not hasattr(pulse, "duration"):
@@ -147,25 +147,28 @@ def _check_inputs(pulse, config, medium):
 
 
 def _configs(config) -> list:
-    cs = [config] if isinstance(config, Configuration) else list(config)
-    if not cs or not all(isinstance(c, Configuration) for c in cs):
-        raise ParameterError("config", "expected an images.Configuration or a non-empty sequence of them")
+    cs = [config] if isinstance(config, Geometry) else list(config)
+    if not cs or not all(isinstance(c, Geometry) for c in cs):
+        raise ParameterError("config", "expected a geometry (acoustiviz.core.geometry) or a non-empty sequence of them")
     return cs
 
 
 # --------------------------------------------------------------------------- scene geometry
-def _scene_extent(config: Configuration, half: float):
+def _scene_extent(config: Geometry, half: float):
     """Bounds ``(x0, x1, y0, y1, z0, z1)`` in m of a cube of half-size ``half`` around the sphere, cut by the planes."""
     c = config.centre
     lo = c - half
     hi = c + half
-    for p in config.planes:  # the floor bounds z, the wall bounds x
+    for p in config.planes:  # each plane bounds its axis on the side away from the fluid
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = p.point[k]
+        if p.normal[k] > 0:
+            lo[k] = p.point[k]
+        else:
+            hi[k] = p.point[k]
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
-def _add_geometry(pl, config: Configuration, bounds, *, opacity: float = 0.35):
+def _add_geometry(pl, config: Geometry, bounds, *, opacity: float = 0.35):
     """Draw the sphere, and the floor and wall as semi-transparent rectangles spanning ``bounds`` (m)."""
     pv = check_backend()
     a = config.radius
@@ -178,9 +181,12 @@ def _add_geometry(pl, config: Configuration, bounds, *, opacity: float = 0.35):
             mesh = pv.Plane(center=((x0 + x1) / 2, (y0 + y1) / 2, pl_.point[2]), direction=n,
                             i_size=x1 - x0, j_size=y1 - y0)
             colour = _PLANE_COLOUR
-        else:  # wall
+        elif abs(n[0]) > 0.5:  # wall across x
             mesh = pv.Plane(center=(pl_.point[0], (y0 + y1) / 2, (z0 + z1) / 2), direction=n,
                             i_size=z1 - z0, j_size=y1 - y0)
+            colour = _WALL_COLOUR
+        else:  # wall across y: the rectangle spanning x and z
+            mesh = pv.Rectangle([[x0, pl_.point[1], z0], [x1, pl_.point[1], z0], [x1, pl_.point[1], z1]])
             colour = _WALL_COLOUR
         pl.add_mesh(mesh, color=colour, opacity=opacity, show_edges=False, lighting=False)
         pl.add_mesh(mesh.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False),
@@ -198,10 +204,8 @@ def _set_camera(pl, focus, direction, *, zoom: float = 1.0, shift: float = 0.0):
         pl.camera.SetWindowCenter(shift, 0.0)
 
 
-def _scene_label(pulse, config: Configuration) -> str:
-    parts = [config.name]
-    if config.name == "wall-floor":
-        parts.append(f"wall at {-config.planes[1].point[0] * 1e3:.3g} mm")
+def _scene_label(pulse, config: Geometry) -> str:
+    parts = [config.caption()]
     parts.append(f"a = {config.radius * 1e3:.4g} mm")
     parts.append(f"contact {pulse.duration * 1e6:.0f} µs")
     parts.append(f"{getattr(pulse, 'kind', 'sampled')} pulse")

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_positive, check_range
-from ...core.images import Configuration
+from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import arrival_windows, snapshots, source_geometry
 from ..writers import atomic_path
@@ -22,7 +22,7 @@ __all__ = [
 
 
 # --------------------------------------------------------------------------- animation
-def animation_times(pulse, config: Configuration, points, *, medium: Medium = AIR, frames: int = 48) -> np.ndarray:
+def animation_times(pulse, config: Geometry, points, *, medium: Medium = AIR, frames: int = 48) -> np.ndarray:
     """Frame times in s from the start of contact until the last wavefront crosses ``points``.
 
     The last time is the latest arrival, over the points and the image sources, of the end of
@@ -32,7 +32,7 @@ def animation_times(pulse, config: Configuration, points, *, medium: Medium = AI
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     points : (n, 3) array_like
         Points in m (e.g. the planar grids' points).
@@ -53,7 +53,7 @@ def animation_times(pulse, config: Configuration, points, *, medium: Medium = AI
     return np.linspace(0.5 * pulse.duration, end, int(frames))
 
 
-def frame_fields(pulse, config: Configuration, times, points, *, medium: Medium = AIR) -> np.ndarray:
+def frame_fields(pulse, config: Geometry, times, points, *, medium: Medium = AIR) -> np.ndarray:
     """Pressure (k, n) in Pa at ``times`` (k,), evaluating each frame only where it is non-zero.
 
     Points outside their arrival window at a frame time (:func:`acoustiviz.field.arrival_windows`)
@@ -93,7 +93,7 @@ def _write_frames(frames, path: Path, fps: float):
 
 def render_animation(
     pulse,
-    config: Configuration,
+    config: Geometry,
     path,
     *,
     medium: Medium = AIR,
@@ -115,7 +115,7 @@ def render_animation(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     path : path-like
         Output ``.gif`` (always available) or ``.mp4`` (needs ``imageio-ffmpeg``), written
@@ -184,9 +184,8 @@ def render_animation(
     return _write_frames(images, path, rate)
 
 
-def _reach_time(config: Configuration, medium: Medium, extent) -> float:
+def _reach_time(config: Geometry, medium: Medium, extent) -> float:
     """A time in s whose default extent frames the scene (used before the frame times exist)."""
     if extent is not None:
         return max(0.0, (float(extent) / 1.25 - config.radius) / medium.c)
-    wall = -config.planes[1].point[0] if config.name == "wall-floor" else 0.0
-    return max(12.0 * config.radius, 6.0 * wall) / medium.c
+    return max(12.0 * config.radius, 6.0 * config.feature_distance) / medium.c

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive, check_range
-from ...core.images import Configuration
+from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import field_metrics
 from ...field.grids import SphericalGrid, spherical_grid
@@ -100,14 +100,10 @@ class BalloonData:
         return float(10.0 * np.log10(self.grid.average(lin)))
 
 
-def _region(config: Configuration):
-    """Region, anchor, polar axis and azimuth origin of the balloon of ``config``."""
-    if config.name == "free":
-        return "sphere", config.centre, config.axis, np.array([1.0, 0.0, 0.0])
-    if config.name == "plane":
-        return "half", config.contact_point, config.planes[0].normal, np.array([1.0, 0.0, 0.0])
-    floor, wall = config.planes
-    return "quarter", config.contact_point, floor.normal, wall.normal
+def _region(config: Geometry):
+    """Region, anchor, polar axis and azimuth origin of the balloon of ``config`` (its view region)."""
+    reg = config.view_region()
+    return reg.kind, reg.origin, reg.up, reg.side
 
 
 def _closed_lattice(grid: SphericalGrid, up, side) -> np.ndarray:
@@ -134,7 +130,7 @@ def _closed_lattice(grid: SphericalGrid, up, side) -> np.ndarray:
 
 def balloon_data(
     pulse,
-    config: Configuration,
+    config: Geometry,
     *,
     medium: Medium = AIR,
     distance: float = 0.7,
@@ -148,7 +144,7 @@ def balloon_data(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         ``"free"`` (whole sphere around the sphere's centre), ``"plane"`` (half space around
         the contact point) or ``"wall-floor"`` (quarter space around the contact point,
         bounded by the floor and the wall).
@@ -249,7 +245,7 @@ def render_balloon(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration or sequence of Configuration
+    config : Geometry or sequence of Geometry
         The scene; several are drawn side by side with one colour scale.
     path : path-like
         Output ``.png`` file (written atomically).
@@ -290,7 +286,7 @@ def render_balloon(
     Examples
     --------
     >>> from acoustiviz import Impact, acceleration_pulse
-    >>> from acoustiviz.images import configuration
+    >>> from acoustiviz.core.geometry import configuration
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.226), "half-sine")
     >>> corner = configuration("wall-floor", 0.01905, wall_distance=0.05)
     >>> render_balloon(pulse, corner, "balloon.png", size=(800, 600))  # doctest: +SKIP
@@ -329,8 +325,7 @@ def render_balloon(
 def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, size, n_views, opacity):
     a = config.radius
     if balloon_size is None:
-        wall = -config.planes[1].point[0] if config.name == "wall-floor" else 0.0
-        bsize = max(6.0 * a, 1.5 * wall)
+        bsize = max(6.0 * a, 1.5 * config.feature_distance)
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     mesh = _balloon_mesh(data, bsize, top, rng)
@@ -346,6 +341,7 @@ def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, s
     pl.add_text(line, position="lower_left", font_size=_font((size[0] / n_views, size[1]), 11), color="#222222")
     x0, x1, y0, y1, z0, z1 = bounds
     focus = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
-    direction = (0.9, -1.7, 0.8) if config.name != "free" else (0.9, -1.7, 0.4)
-    _set_camera(pl, focus, direction, zoom=1.35 if config.name != "free" else 1.05)
+    bounded = bool(config.planes)  # look down on a floor; all round a sphere in free field
+    direction = (0.9, -1.7, 0.8) if bounded else (0.9, -1.7, 0.4)
+    _set_camera(pl, focus, direction, zoom=1.35 if bounded else 1.05)
     return actor

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
-from ...core.images import Configuration
+from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import snapshots
 from ...field.grids import PlanarGrid, planar_grid
@@ -37,12 +37,12 @@ __all__ = [
 
 
 # --------------------------------------------------------------------------- snapshots
-def section_planes(config: Configuration, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
+def section_planes(config: Geometry, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
     """Planar grids through the sphere for field snapshots, clipped to the fluid's bounding box.
 
     Parameters
     ----------
-    config : Configuration
+    config : Geometry
         The scene.
     extent : float
         Distance in m from the sphere's centre to the far edges of each section.
@@ -67,9 +67,12 @@ def section_planes(config: Configuration, extent: float, *, sections=("xz",), n_
     c = config.centre
     lo = c - e
     hi = c + e
-    for p in config.planes:  # clip at the floor (z) and the wall (x)
+    for p in config.planes:  # clip at each plane (the floor's z, a wall's x or y)
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], p.point[k])
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], p.point[k])
+        else:
+            hi[k] = min(hi[k], p.point[k])
     out = []
     for s in sections:
         check_choice("sections", s, SECTIONS)
@@ -123,7 +126,7 @@ def _symmetric_limit(fields) -> float:
     return lim if lim > 0 else 1.0
 
 
-def _snapshot_bounds(planes, config: Configuration):
+def _snapshot_bounds(planes, config: Geometry):
     """Bounds (m) of the drawn floor/wall: the planes' box, flat axes widened to show the geometry."""
     pts = np.vstack([p.points for p in planes])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
@@ -134,7 +137,10 @@ def _snapshot_bounds(planes, config: Configuration):
             hi[k] += 0.3 * span
     for p in config.planes:
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], p.point[k])
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], p.point[k])
+        else:
+            hi[k] = min(hi[k], p.point[k])
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
@@ -185,7 +191,7 @@ def _time_label(t: float) -> str:
 
 def render_snapshot(
     pulse,
-    config: Configuration,
+    config: Geometry,
     time,
     path,
     *,
@@ -206,7 +212,7 @@ def render_snapshot(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Configuration
+    config : Geometry
         The scene.
     time : float or sequence of float
         Snapshot time(s) in s from the start of contact, at most 12; several go side by side

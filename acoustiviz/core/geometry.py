@@ -1,0 +1,589 @@
+"""Geometry as a value: the sphere, the rigid surfaces around it, its image sources and its fluid.
+
+A geometry is a frozen value built from a registry name and its settings. It knows its
+reflecting surfaces and yields everything the rest of the package used to derive from a
+configuration's name:
+
+* its **image sources** (:meth:`Geometry.images`: positions, mirrored acceleration axes,
+  reflection weights and orders, as arrays the field evaluator sums), also of a sphere moved
+  elsewhere in it (:meth:`Geometry.image_sources`, the damper cavity's far wall);
+* the **region a listener may occupy** (:meth:`Geometry.in_fluid`, :meth:`Geometry.sphere_distance`),
+  the directions a polar pattern may cover (:attr:`Geometry.polar_limit_deg`) and the floor
+  that bounds a horizontal map (:attr:`Geometry.floor_height`);
+* the **solid-angle regions** of its closing grid (:meth:`Geometry.enclosure`) and of its
+  directivity balloon (:meth:`Geometry.view_region`), and the size views should frame
+  (:attr:`Geometry.feature_distance`);
+* its **labels** (:meth:`Geometry.caption`) and the settings a sidecar records (:meth:`Geometry.settings`).
+
+:data:`GEOMETRIES` maps the names of scenes and of the command line (``--config``,
+``[configuration] kind``) to the classes; :func:`geometry` builds one from a name and its
+settings with the front-ends' rules (defaults, settings that do not apply). A new geometry is
+one class here and one registry entry: nothing outside this module compares a geometry's name.
+
+Frame (all lengths in m): the struck surface is the plane ``z = 0`` and the fluid is ``z > 0``;
+the sphere's centre is at ``(0, 0, a)`` and its acceleration (the rebound from the surface) points
+along ``+z``, except for a wall strike in the corner (:class:`WallFloorCorner`). This module knows
+nothing of acoustics, grids or files.
+
+Examples
+--------
+>>> g = geometry("wall-floor", 0.01905, wall_distance=0.05)
+>>> type(g).__name__, len(g.images()), g.images().orders.tolist()
+('WallFloorCorner', 4, [0, 1, 1, 2])
+>>> g.enclosure().kind, [round(float(x), 3) for x in g.enclosure().origin]
+('quarter', [-0.05, 0.0, 0.0])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import ClassVar
+
+import numpy as np
+
+from .._validate import ParameterError, check_choice, check_points, check_positive, check_range
+from ..constants import DEFAULT_WALL_DISTANCE, STRIKES
+from .images import ImageSet, ImageSource, Plane, images_of
+
+__all__ = [
+    "CONFIGURATIONS",
+    "GEOMETRIES",
+    "Configuration",
+    "FreeField",
+    "Geometry",
+    "ReflectingPlane",
+    "Region",
+    "WallFloorCorner",
+    "configuration",
+    "geometry",
+    "geometry_class",
+    "relevant_settings",
+    "images_free",
+    "images_plane",
+    "images_wall_floor",
+    "observer_points",
+]
+
+_X = np.array([1.0, 0.0, 0.0])
+_Z = np.array([0.0, 0.0, 1.0])
+#: Settings of the registry's geometries and the value each takes when it does not apply.
+_NEUTRAL = {"wall_distance": None, "strike": "floor", "height": None}
+
+
+@dataclass(frozen=True, eq=False)
+class Region:
+    """A region of directions around an anchor: a closing grid's or a balloon's.
+
+    Parameters
+    ----------
+    kind : {"sphere", "half", "quarter"}
+        All directions; those above a plane of normal ``up``; those above two perpendicular
+        planes of normals ``up`` and ``side``.
+    origin : (3,) ndarray
+        Anchor in m (on the plane, or on the corner's edge, for the half and quarter regions).
+    up, side : (3,) ndarray
+        Polar axis and azimuth origin (unit vectors).
+    """
+
+    kind: str
+    origin: np.ndarray
+    up: np.ndarray
+    side: np.ndarray
+
+
+class Geometry:
+    """A rigid sphere of radius a and the rigid surfaces around it (base of every geometry).
+
+    Subclasses are frozen dataclasses with a ``radius`` field (m, the same for every image); they
+    provide ``planes`` (the reflecting planes, normals into the fluid) and ``real`` (the real
+    sphere, an :class:`ImageSource` of order 0), and may override :meth:`image_sources` (default:
+    the images in at most two perpendicular planes), :meth:`enclosure`, :meth:`view_region`,
+    :attr:`feature_distance`, :meth:`caption` and :meth:`settings`.
+    """
+
+    #: Registry name (the scene's ``kind`` and the command line's ``--config``).
+    name: ClassVar[str] = "custom"
+    #: Settings :func:`geometry` accepts for this class (beyond the radius).
+    SETTINGS: ClassVar[tuple] = ()
+    #: Largest polar angle in degrees from the acceleration axis a listener may take in the
+    #: paper's observer plane (the fluid above the struck surface: 90; all around: 180).
+    polar_limit_deg: ClassVar[float] = 90.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "radius", check_positive("radius", self.radius, "m"))
+
+    # -- images --------------------------------------------------------------------------
+    def image_sources(self, real: ImageSource) -> tuple:
+        """``real`` (an :class:`ImageSource` of order 0 anywhere in the fluid) and its images.
+
+        Returns a tuple of :class:`ImageSource`: ``real`` first, then its images in this
+        geometry's surfaces with their mirrored axes, reflection weights and orders.
+        """
+        return images_of(real, self.planes)
+
+    @cached_property
+    def sources(self) -> tuple:
+        """The real sphere first, then its images (tuple of :class:`ImageSource`)."""
+        return self.image_sources(self.real)
+
+    def images(self) -> ImageSet:
+        """The real sphere and its images as arrays (:class:`ImageSet`): what the field evaluator sums."""
+        return self._image_set
+
+    @cached_property
+    def _image_set(self) -> ImageSet:
+        return ImageSet.of(self.sources)
+
+    @property
+    def centre(self) -> np.ndarray:
+        """Centre of the real sphere in m."""
+        return self.real.position
+
+    @property
+    def axis(self) -> np.ndarray:
+        """Acceleration axis of the real sphere (unit vector)."""
+        return self.real.axis
+
+    @property
+    def contact_point(self) -> np.ndarray:
+        """Point in m where the sphere touches the struck surface."""
+        return self.centre - self.radius * self.axis
+
+    # -- the fluid -----------------------------------------------------------------------
+    def in_fluid(self, points) -> np.ndarray:
+        """Boolean mask of the ``(n, 3)`` points (m) outside the sphere and on the fluid side.
+
+        Points on a plane or on the sphere's surface count as in the fluid (a relative
+        tolerance of 1e-12 of the radius absorbs round-off).
+        """
+        pts = check_points("points", points)
+        tol = 1e-12 * self.radius
+        ok = np.linalg.norm(pts - self.centre, axis=1) >= self.radius - tol
+        for pl in self.planes:
+            ok &= (pts - pl.point) @ pl.normal >= -tol
+        return ok
+
+    def sphere_distance(self, points) -> np.ndarray:
+        """Distance in m of ``(n, 3)`` points from the sphere's surface (negative inside it)."""
+        pts = check_points("points", points)
+        return np.linalg.norm(pts - self.centre, axis=1) - self.radius
+
+    def fluid_text(self) -> str:
+        """Where the fluid is, in words (for error messages): e.g. ``"z > 0 m, x > -0.05 m"``."""
+        parts = []
+        for p in self.planes:
+            i = int(np.argmax(np.abs(p.normal)))
+            if abs(p.normal[i]) == 1.0:
+                parts.append(f"{'xyz'[i]} {'>' if p.normal[i] > 0 else '<'} {p.point[i]:g} m")
+            else:
+                parts.append(f"(x - {p.point.tolist()}) . {p.normal.tolist()} > 0")
+        return ", ".join(parts) or "everywhere outside the sphere"
+
+    @property
+    def floor_height(self):
+        """Height z in m of a floor bounding the fluid from below, or None without one."""
+        for pl in self.planes:
+            if pl.normal[2] == 1.0:
+                return float(pl.point[2])
+        return None
+
+    def observer_points(self, distance, angles) -> np.ndarray:
+        """Observers at ``distance`` (m) from the sphere's centre and ``angles`` (rad) from its axis.
+
+        The observers (a ``(k, 3)`` array in m, not checked against the fluid) lie in the plane
+        spanned by the acceleration axis and the horizontal direction ``+x`` (for an axis along
+        ``x``, the vertical ``+z``): for the wall-floor corner the plane through the centre normal
+        to the wall, on the side away from it. The one convention of every command, scene and sweep.
+        """
+        th = np.atleast_1d(np.asarray(angles, dtype=float))
+        r = np.atleast_1d(np.asarray(distance, dtype=float))
+        axis = np.asarray(self.axis, dtype=float)
+        perp = _X if abs(axis[0]) < 0.5 else _Z
+        return np.asarray(self.centre, dtype=float) + r[:, None] * (
+            np.cos(th)[:, None] * axis + np.sin(th)[:, None] * perp)
+
+    # -- regions and views ---------------------------------------------------------------
+    def enclosure(self) -> Region:
+        """The region of directions of a spherical surface that closes the fluid.
+
+        The whole sphere around the sphere's centre without planes; the half space around the
+        foot of the centre on one plane; the quarter space around the point of the corner's edge
+        nearest the centre for two perpendicular planes. With rigid planes (zero normal velocity)
+        such a surface encloses all the radiated energy.
+        """
+        c, planes = self.centre, self.planes
+        if not planes:
+            return Region("sphere", c, self.axis, _X)
+        if len(planes) == 1:
+            (p,) = planes
+            return Region("half", c - ((c - p.point) @ p.normal) * p.normal, p.normal, _X)
+        if len(planes) == 2:
+            p, q = planes
+            foot = c - ((c - p.point) @ p.normal) * p.normal - ((c - q.point) @ q.normal) * q.normal
+            return Region("quarter", foot, p.normal, q.normal)
+        raise ParameterError("config", f"{type(self).__name__} has no enclosing region of directions")
+
+    def view_region(self) -> Region:
+        """The region of directions of a directivity balloon: anchored at the contact point."""
+        planes = self.planes
+        if not planes:
+            return Region("sphere", self.centre, self.axis, _X)
+        if len(planes) == 1:
+            return Region("half", self.contact_point, planes[0].normal, _X)
+        if len(planes) == 2:
+            return Region("quarter", self.contact_point, planes[0].normal, planes[1].normal)
+        raise ParameterError("config", f"{type(self).__name__} has no balloon region")
+
+    @property
+    def feature_distance(self) -> float:
+        """Distance in m from the sphere's centre to a side surface a view should frame (0: none)."""
+        return 0.0
+
+    def caption(self, *, long: bool = False) -> str:
+        """A label for titles: the registry name and what sets the geometry apart.
+
+        Parameters
+        ----------
+        long : bool
+            The wording of a figure's annotation instead of a plot's short label.
+        """
+        return self.name
+
+    def settings(self) -> dict:
+        """The geometry's own settings as JSON-ready values (SI, keys ending in the unit)."""
+        return {}
+
+    # -- construction --------------------------------------------------------------------
+    @classmethod
+    def from_settings(cls, radius: float, **settings) -> Geometry:
+        """Build from the settings of a front-end, refusing those that do not apply.
+
+        ``radius`` in m; ``settings`` as for :func:`geometry`.
+        """
+        cls._refuse(settings)
+        return cls(radius)
+
+    @classmethod
+    def relevant(cls, settings) -> dict:
+        """The subset of ``settings`` (a mapping) that applies to this class (the rest is dropped)."""
+        return {}
+
+    @classmethod
+    def _refuse(cls, settings, keep=()):
+        for k, v in settings.items():
+            if k not in _NEUTRAL:
+                raise ParameterError(k, f"not a setting of any geometry (known: {', '.join(_NEUTRAL)})")
+            if k == "strike":
+                check_choice("strike", v, STRIKES)
+            if k not in keep and v != _NEUTRAL[k]:
+                owners = [n for n, c in GEOMETRIES.items() if k in c.SETTINGS]
+                raise ParameterError(k, f"only applies to the {' and '.join(owners)} configuration")
+
+    def with_sources(self, sources) -> Configuration:
+        """The same surfaces radiated by other sources (e.g. the sphere at a cavity's far wall)."""
+        return Configuration(self.name, self.radius, tuple(sources), tuple(self.planes),
+                             self.settings().get("strike", "floor"))
+
+
+@dataclass(frozen=True)
+class FreeField(Geometry):
+    """The sphere alone in free field: centre ``(0, 0, a)``, acceleration ``+z``.
+
+    Examples
+    --------
+    >>> len(FreeField(0.01).images()), FreeField(0.01).polar_limit_deg
+    (1, 180.0)
+    """
+
+    radius: float
+
+    name: ClassVar[str] = "free"
+    polar_limit_deg: ClassVar[float] = 180.0
+
+    @cached_property
+    def planes(self) -> tuple:
+        """No reflecting planes."""
+        return ()
+
+    @cached_property
+    def real(self) -> ImageSource:
+        """The sphere: centre ``(0, 0, a)``, axis ``+z``."""
+        return ImageSource(np.array([0.0, 0.0, self.radius]), np.array([0.0, 0.0, 1.0]), 0, "real")
+
+
+@dataclass(frozen=True)
+class ReflectingPlane(Geometry):
+    """The sphere touching the rigid plane ``z = 0`` and its image (paper eq 14, Figure 1).
+
+    Sources: the real sphere at ``(0, 0, a)`` with axis ``+z`` and its image at ``(0, 0, -a)``
+    with the mirrored axis ``-z``. One plane, ``z = 0``, normal ``+z``. With the mirrored axis
+    the image adds with a plus sign; taking its polar angle from the real axis instead flips the
+    sign of ``cos θ2`` and gives the paper's eq 14, ``p(r1, θ1, t1) - p(r2, θ2, t2)``.
+    """
+
+    radius: float
+
+    name: ClassVar[str] = "plane"
+
+    @cached_property
+    def planes(self) -> tuple:
+        """The floor ``z = 0``, normal ``+z``."""
+        return (Plane(np.zeros(3), np.array([0.0, 0.0, 1.0]), "floor"),)
+
+    @cached_property
+    def real(self) -> ImageSource:
+        """The sphere: centre ``(0, 0, a)``, axis ``+z``."""
+        return ImageSource(np.array([0.0, 0.0, self.radius]), np.array([0.0, 0.0, 1.0]), 0, "real")
+
+
+@dataclass(frozen=True)
+class WallFloorCorner(Geometry):
+    """The sphere in a wall-floor corner (two perpendicular rigid planes) and its 3 images.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius a in m.
+    wall_distance : float
+        Horizontal distance in m from the sphere's centre to the wall ``x = -wall_distance``;
+        ``>= radius``. With ``strike="wall"`` the sphere touches the wall, so it must equal
+        the radius (``None`` means the radius).
+    strike : {"floor", "wall"}
+        Which surface the sphere strikes. ``"floor"``: centre ``(0, 0, a)``, acceleration
+        ``+z``. ``"wall"``: centre ``(0, 0, height)``, acceleration ``+x`` (away from the wall).
+    height : float, optional
+        With ``strike="wall"`` only: height in m of the sphere's centre above the floor,
+        ``>= radius`` (default the radius: the ball touches the wall and the floor).
+
+    Notes
+    -----
+    Four sources: the real sphere, its images in the floor and in the wall (order 1) and the
+    image in both (order 2). Planes: floor ``z = 0`` (normal ``+z``) and wall
+    ``x = -wall_distance`` (normal ``+x``). Two perpendicular planes make a closed group of
+    three images, so the method of images is exact here (Allen and Berkley's construction for a
+    rectangular room, restricted to one corner).
+    """
+
+    radius: float
+    wall_distance: float | None = None
+    strike: str = "floor"
+    height: float | None = None
+
+    name: ClassVar[str] = "wall-floor"
+    SETTINGS: ClassVar[tuple] = ("wall_distance", "strike", "height")
+
+    def __post_init__(self):
+        super().__post_init__()
+        a = self.radius
+        check_choice("strike", self.strike, STRIKES)
+        if self.strike == "floor":
+            if self.wall_distance is None:
+                raise ParameterError(
+                    "wall_distance", "required for the wall-floor corner (distance in m >= radius)")
+            w = check_positive("wall_distance", self.wall_distance, "m")
+            if w < a * (1 - 1e-12):
+                raise ParameterError(
+                    "wall_distance", f"must be >= radius = {a:g} m (sphere inside the wall), got {w:g} m")
+            if self.height is not None and abs(float(self.height) - a) > 1e-12 * a:
+                raise ParameterError(
+                    "height", "only used with strike='wall'; a floor strike has its centre at z = radius")
+            h = None
+        else:
+            w = a if self.wall_distance is None else check_positive("wall_distance", self.wall_distance, "m")
+            if abs(w - a) > 1e-9 * a:
+                raise ParameterError(
+                    "wall_distance", f"a sphere striking the wall touches it: must equal radius = {a:g} m")
+            h = a if self.height is None else check_positive("height", self.height, "m")
+            if h < a * (1 - 1e-12):
+                raise ParameterError("height", f"must be >= radius = {a:g} m (sphere inside the floor), got {h:g} m")
+        object.__setattr__(self, "wall_distance", w)
+        object.__setattr__(self, "height", h)
+
+    @cached_property
+    def planes(self) -> tuple:
+        """The floor ``z = 0`` (normal ``+z``) and the wall ``x = -wall_distance`` (normal ``+x``)."""
+        return (Plane(np.zeros(3), np.array([0.0, 0.0, 1.0]), "floor"),
+                Plane(np.array([-self.wall_distance, 0.0, 0.0]), np.array([1.0, 0.0, 0.0]), "wall"))
+
+    @cached_property
+    def real(self) -> ImageSource:
+        """The sphere: on the floor with axis ``+z``, or against the wall with axis ``+x``."""
+        if self.strike == "floor":
+            return ImageSource(np.array([0.0, 0.0, self.radius]), np.array([0.0, 0.0, 1.0]), 0, "real")
+        return ImageSource(np.array([0.0, 0.0, self.height]), np.array([1.0, 0.0, 0.0]), 0, "real")
+
+    @property
+    def feature_distance(self) -> float:
+        """Distance in m from the sphere's centre to the wall."""
+        return float(self.wall_distance)
+
+    def caption(self, *, long: bool = False) -> str:  # noqa: D102 - see Geometry.caption
+        mm = f"{self.wall_distance * 1e3:.3g} mm"
+        return f"{self.name} (wall {mm} from the centre)" if long else f"{self.name}, wall at {mm}"
+
+    def settings(self) -> dict:
+        """``wall_distance_m``, ``strike`` and ``height_m`` (None for a floor strike)."""
+        return {"wall_distance_m": self.wall_distance, "strike": self.strike, "height_m": self.height}
+
+    @classmethod
+    def from_settings(cls, radius: float, *, wall_distance=None, strike: str = "floor", height=None,
+                      **others) -> WallFloorCorner:
+        """The front-ends' rule: a floor strike puts the wall ``wall_distance`` m from the centre.
+
+        The default is :data:`~acoustiviz.constants.DEFAULT_WALL_DISTANCE`, at least the radius;
+        a wall strike puts the sphere against the wall (no ``wall_distance``) at ``height`` m
+        above the floor (default: the radius).
+        """
+        cls._refuse(others)
+        a = check_positive("radius", radius, "m")
+        check_choice("strike", strike, STRIKES)
+        if height is not None and strike != "wall":
+            raise ParameterError("height", "only applies to a wall strike")
+        if strike == "wall":
+            if wall_distance is not None:
+                raise ParameterError("wall_distance", "a wall strike puts the sphere against the wall; omit it")
+            h = a if height is None else check_range("height", height, a, math.inf, unit="m")
+            return cls(a, a, "wall", h)
+        wall = DEFAULT_WALL_DISTANCE if wall_distance is None else wall_distance
+        if math.isfinite(float(wall)) and wall < a:
+            raise ParameterError("wall_distance", f"the sphere would cut the wall: must be >= radius = {a:g} m, "
+                                                  f"got {wall:g} m")
+        return cls(a, check_range("wall_distance", wall, a, math.inf, unit="m"), "floor")
+
+    @classmethod
+    def relevant(cls, settings) -> dict:
+        """The strike, and the wall distance (floor strike) or the height (wall strike)."""
+        strike = settings.get("strike", "floor")
+        out = {"strike": strike}
+        key = "wall_distance" if strike == "floor" else "height"
+        if settings.get(key) is not None:
+            out[key] = settings[key]
+        return out
+
+
+@dataclass(frozen=True)
+class Configuration(Geometry):
+    """A geometry given by its sources: a sphere and explicit images in front of rigid planes.
+
+    Parameters
+    ----------
+    name : str
+        A label.
+    radius : float
+        Sphere radius a in m (the same for every image).
+    sources : tuple of ImageSource
+        The real sphere first, then its images.
+    planes : tuple of Plane
+        The rigid planes bounding the fluid.
+    strike : str
+        Which surface the sphere strikes (``"floor"`` or ``"wall"``).
+    """
+
+    name: str = field()
+    radius: float
+    sources: tuple = field(default_factory=tuple)
+    planes: tuple = field(default_factory=tuple)
+    strike: str = "floor"
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not self.sources or self.sources[0].order != 0:
+            raise ParameterError("sources", "the real sphere (order 0) must come first")
+
+    @property
+    def real(self) -> ImageSource:
+        """The real sphere."""
+        return self.sources[0]
+
+    @property
+    def polar_limit_deg(self) -> float:
+        """180 degrees without planes, else 90."""
+        return 90.0 if self.planes else 180.0
+
+
+#: The registry: scene and command-line names -> geometry classes.
+GEOMETRIES = {cls.name: cls for cls in (FreeField, ReflectingPlane, WallFloorCorner)}
+#: Configuration names understood by :func:`geometry` (the ``--config`` choices, the scene's ``kind``).
+CONFIGURATIONS = tuple(GEOMETRIES)
+
+
+def geometry_class(name: str) -> type:
+    """The geometry class registered as ``name`` (a ParameterError naming ``config`` otherwise)."""
+    return GEOMETRIES[check_choice("config", name, tuple(GEOMETRIES))]
+
+
+def relevant_settings(name: str, **settings) -> dict:
+    """The subset of ``settings`` (e.g. a scene's whole table) that applies to geometry ``name``."""
+    return geometry_class(name).relevant(settings)
+
+
+def geometry(name: str, radius: float, *, lenient: bool = False, **settings) -> Geometry:
+    """Build a geometry from its registry name and the settings of a front-end.
+
+    Parameters
+    ----------
+    name : {"free", "plane", "wall-floor"}
+        Registry name (:data:`GEOMETRIES`).
+    radius : float
+        Sphere radius a in m.
+    lenient : bool
+        Drop the settings that do not apply to ``name`` (a scene's table, a sweep's settings)
+        instead of refusing them.
+    **settings
+        ``wall_distance`` (m, ``"wall-floor"`` floor strike; default
+        :data:`~acoustiviz.constants.DEFAULT_WALL_DISTANCE`), ``strike`` (``"floor"`` or
+        ``"wall"``, ``"wall-floor"`` only), ``height`` (m, wall strike only; default the radius).
+
+    Returns
+    -------
+    Geometry
+
+    Examples
+    --------
+    >>> geometry("plane", 0.01).sources[1].position.tolist()
+    [0.0, 0.0, -0.01]
+    >>> geometry("plane", 0.01, lenient=True, wall_distance=0.2).name
+    'plane'
+    """
+    cls = geometry_class(name)
+    if lenient:
+        settings = cls.relevant(settings)
+    return cls.from_settings(radius, **settings)
+
+
+def configuration(name: str, radius: float, *, wall_distance=None, strike: str = "floor", height=None) -> Geometry:
+    """Build a geometry by name with every setting explicit (no defaults; others' settings ignored).
+
+    ``wall_distance`` (m), ``strike`` and ``height`` (m) are those of :class:`WallFloorCorner`;
+    the free field and the plane take none. Raises a ParameterError naming ``config`` for an
+    unknown name.
+    """
+    cls = geometry_class(name)
+    given = {"wall_distance": wall_distance, "strike": strike, "height": height}
+    return cls(radius, **{k: v for k, v in given.items() if k in cls.SETTINGS})
+
+
+def images_free(radius: float) -> FreeField:
+    """The sphere alone in free field (:class:`FreeField`)."""
+    return FreeField(radius)
+
+
+def images_plane(radius: float) -> ReflectingPlane:
+    """The sphere touching the rigid plane ``z = 0`` and its image (:class:`ReflectingPlane`).
+
+    >>> [float(s.position[2]) for s in images_plane(0.01).sources]
+    [0.01, -0.01]
+    """
+    return ReflectingPlane(radius)
+
+
+def images_wall_floor(radius: float, wall_distance=None, *, strike: str = "floor", height=None) -> WallFloorCorner:
+    """The sphere in a wall-floor corner and its 3 images (:class:`WallFloorCorner`)."""
+    return WallFloorCorner(radius, wall_distance, strike, height)
+
+
+def observer_points(config: Geometry, distance, angles) -> np.ndarray:
+    """Observers at ``distance`` (m) and ``angles`` (rad) from the axis (:meth:`Geometry.observer_points`)."""
+    return config.observer_points(distance, angles)
