@@ -3,7 +3,7 @@
 References used here: pyroomacoustics' ShoeBox image-source model (a separate implementation, in
 float32); brute-force enumeration of the lattice; the mirror symmetry of the pressure field
 about each rigid wall computed with the free-field sphere model of :mod:`acoustiviz.core.radiation`;
-today's wall-floor corner of :mod:`acoustiviz.core.images`; Sabine's and Eyring's formulas and a
+today's wall-floor corner of :mod:`acoustiviz.core.geometry`; Sabine's and Eyring's formulas and a
 direction-averaged decay for the Schroeder curves.
 """
 
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.images import images_wall_floor
+from acoustiviz.core.geometry import images_wall_floor
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import pressure
 from acoustiviz.core.reverberation import order_for_time
