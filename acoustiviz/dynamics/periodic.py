@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_range
-from .forced import Excitation
+from ._forced_steady import Excitation
 from .model import DamperModel
 
 __all__ = ["MasriCaughey", "linear_amplitude", "masri_caughey", "transition_matrix"]
