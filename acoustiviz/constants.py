@@ -105,7 +105,7 @@ FORCED_STARTS = 6
 #: Largest number of starts per frequency.
 FORCED_MAX_STARTS = 256
 #: Forcing cycles each start is run directly before its motion is measured as non-periodic.
-FORCED_MAX_CYCLES = 300
+FORCED_MAX_CYCLES = 500
 #: Least cycle limit accepted.
 FORCED_MIN_CYCLES = 18
 

@@ -32,6 +32,7 @@ amplitude and impact rate of the last 32 cycles agree with its batch statistics 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -73,6 +74,11 @@ LYAPUNOV_D0 = 1e-7
 PROBE_CYCLES = 64
 #: Cycles of a probe's statistics.
 PROBE_WINDOW = 32
+#: Windows measured at most while the batch amplitudes drift.
+WINDOW_TRIES = 3
+#: Standard errors between the halves of a window beyond which its amplitudes drift (a false
+#: alarm, about 5 % of stationary windows, costs one more window).
+DRIFT_SIGMAS = 2.0
 
 
 def _state(s):
@@ -181,6 +187,7 @@ def _classify(lam, err, period):
     """Regime and reason of a non-periodic motion from its largest Lyapunov exponent (1/s)."""
     if not math.isfinite(lam):
         return "unresolved", "the Lyapunov estimate failed"
+    lam, err = float(lam), float(err)
     k = LYAPUNOV_SIGMAS
     if lam - k * err > 0:
         return "chaotic", f"largest Lyapunov exponent {lam:.3g} ± {err:.2g} 1/s, positive beyond {k:g} standard errors"
@@ -194,8 +201,38 @@ def _classify(lam, err, period):
                           f"over {NONPERIODIC_CYCLES} cycles")
 
 
+def _drifting(amps) -> bool:
+    """True when the two halves of the batch amplitudes differ beyond :data:`DRIFT_SIGMAS` standard errors."""
+    h = amps.size // 2
+    sd = float(np.std(amps, ddof=1))
+    return abs(float(np.mean(amps[:h])) - float(np.mean(amps[h:]))) > DRIFT_SIGMAS * sd * math.sqrt(2.0 / h)
+
+
 def measure_window(model, excitation, settings, state, cycles, total):
-    """A :class:`SteadyState` of a non-periodic motion from ``state``: batch statistics and Lyapunov exponent."""
+    """A :class:`SteadyState` of a non-periodic motion from ``state``: batch statistics and Lyapunov exponent.
+
+    A window whose batch amplitudes drift (the halves differ beyond :data:`DRIFT_SIGMAS`
+    standard errors: still a transient) is followed by another, up to :data:`WINDOW_TRIES`;
+    a motion that still drifts is ``unresolved``.
+    """
+    tries = 0
+    while True:
+        steady, amps = _window(model, excitation, settings, state, cycles, total)
+        if not steady.success or not _drifting(amps):
+            break
+        tries += 1
+        if tries == WINDOW_TRIES:
+            return replace(steady, regime="unresolved", message=(
+                f"unresolved: the batch amplitudes still drift after {cycles + steady.measured_cycles} cycles "
+                f"(a transient slower than the cycle limit); last window: {steady.message}"))
+        state, cycles, total = steady.final_state, cycles + steady.measured_cycles, steady.cycles_integrated
+    if tries:
+        steady = replace(steady, message=f"{steady.message} (after {tries} drifting windows)")
+    return steady
+
+
+def _window(model, excitation, settings, state, cycles, total):
+    """One window of :func:`measure_window`: ``(SteadyState, batch amplitudes)``."""
     nb, bc = WINDOW_BATCHES, BATCH_CYCLES
     run = _Runner(model, excitation, settings, state, rows=settings.max_impacts_per_cycle * nb * bc)
     run.cap = settings.max_impacts_per_cycle
@@ -219,7 +256,7 @@ def measure_window(model, excitation, settings, state, cycles, total):
                 _, status = pert.cycle(0, dummy, False)
             if status != STATUS_OK:
                 return _failed(model, excitation, settings, cycles + run.k, status, run.state(),
-                               total + run.total + pert.total)
+                               total + run.total + pert.total), None
             pts.append(run.section())
             diff = (pert.section() - pts[-1]) / scale
             d = float(np.linalg.norm(diff))
@@ -249,7 +286,7 @@ def measure_window(model, excitation, settings, state, cycles, total):
         energy_change=float(run.energy() - e0), poincare=np.array(pts), final_state=tuple(run.state()),
         message=msg, success=True, settings=_settings_dict(settings), measured_cycles=m,
         amplitude_std_err=amp_err, residual=math.nan, stable=True,
-        cycles_integrated=int(total + run.total + pert.total), lyapunov=lam, lyapunov_std_err=lam_err)
+        cycles_integrated=int(total + run.total + pert.total), lyapunov=lam, lyapunov_std_err=lam_err), amps
 
 
 def same_motion(a: SteadyState, b: SteadyState) -> bool:
@@ -284,6 +321,7 @@ class _Outcome:
     steady: SteadyState | None = None
     known: int = -1
     unstable: list = field(default_factory=list)
+    cycles: int = 0  # cycles of a start captured by a known attractor (not in any steady state)
 
 
 def _period_guess(pts, k):
@@ -328,8 +366,7 @@ def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _O
     xhi = np.empty(settings.max_cycles + 1)
     xlo = np.empty(settings.max_cycles + 1)
     ipc = np.empty(settings.max_cycles + 1)
-    next_try = np.zeros(MAX_PERIOD + 1, dtype=int)
-    wait = np.full(MAX_PERIOD + 1, 8, dtype=int)
+    next_try, wait = 0, 8
     periodic_known = [(i, a) for i, a in enumerate(known) if a.period and a.stable]
     chaotic_known = [(i, a) for i, a in enumerate(known) if not a.period and a.success]
     prev = np.full(MAX_PERIOD + 1, np.inf)
@@ -346,21 +383,21 @@ def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _O
         for i, a in periodic_known:
             cols = slice(0, 2) if a.impacts_per_cycle == 0 else slice(0, 4)
             if np.min(np.max(np.abs(a.poincare[:, cols] / scale[cols] - pts[k, cols]), axis=1)) < CAPTURE_DISTANCE:
-                out.known = i
+                out.known, out.cycles = i, total + run.total
                 return out
         d = _period_guess(pts, k)
         close = np.flatnonzero((d < TRIGGER) & (prev < TRIGGER))
         prev = d
         n = int(close[0]) if close.size else (int(np.argmin(d)) if k in CHECKPOINTS else 0)
-        if n and k >= next_try[n]:
+        if n and k >= next_try:
             steady = refine(s, n, k)
             if steady is not None and steady.stable:
                 out.steady = replace(steady, cycles_integrated=steady.cycles_integrated + run.total)
                 return out
             if steady is not None:
                 out.unstable.append(steady)
-            next_try[n] = k + wait[n]
-            wait[n] *= 2
+            next_try = k + wait  # shooting failed or met a saddle: wait longer each time
+            wait *= 2
         if chaotic_known and k >= PROBE_CYCLES and k % PROBE_CYCLES == 0:
             w = slice(k - PROBE_WINDOW + 1, k + 1)
             hi = xhi[w].reshape(-1, BATCH_CYCLES).max(axis=1)
@@ -369,7 +406,7 @@ def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _O
             rate = float(np.mean(ipc[w]))
             for i, a in chaotic_known:
                 if _stats_agree(a, amp, a.amplitude_std_err * math.sqrt(WINDOW_BATCHES) / math.sqrt(hi.size), rate):
-                    out.known = i
+                    out.known, out.cycles = i, total + run.total
                     return out
     k = settings.max_cycles
     d = _period_guess(pts, k)
@@ -401,6 +438,12 @@ class FrequencyAttractors:
         Continued states (seeds) that reached each attractor.
     unstable : tuple of SteadyState
         Unstable periodic orbits met on the way (by shooting from a seed or a passing run).
+    cpu_s : float
+        CPU time of the process that ran this frequency, in s (all rounds).
+    cycles_integrated : int
+        Forcing cycles integrated for this frequency (every start and seed, shooting included).
+    newton_iterations : int
+        Newton steps of the shootings that converged.
     """
 
     excitation: Excitation
@@ -409,6 +452,9 @@ class FrequencyAttractors:
     starts: int
     seeded: tuple
     unstable: tuple
+    cpu_s: float = math.nan
+    cycles_integrated: int = 0
+    newton_iterations: int = 0
 
     @property
     def basin_fractions(self) -> np.ndarray:
@@ -436,20 +482,33 @@ def attractors_at(model, excitation, settings, *, seeds=(), previous=None) -> Fr
     ``previous`` (a :class:`FrequencyAttractors` of the same frequency) keeps what was found
     before: only the seeds are run then.
     """
+    c0 = time.process_time()
+    work = [0, 0]
+
+    def tally(o):
+        for r in ([o.steady] if o.steady is not None else []) + o.unstable:
+            work[1] += r.newton_iterations
+        work[0] += o.steady.cycles_integrated if o.steady is not None else o.cycles
+
     if previous is None:
         found, counts, seeded, unstable = [], [], [], []
         for start in start_states(model, excitation, settings.starts):
             o = settle(model, excitation, settings, start, known=tuple(found))
+            tally(o)
             unstable.extend(o.unstable)
             if o.steady is None:
                 counts[o.known] += 1
             else:
                 _add(found, counts, seeded, o.steady, False)
+        cpu0 = 0.0
     else:
         found, counts = list(previous.attractors), list(previous.counts)
         seeded, unstable = list(previous.seeded), list(previous.unstable)
+        cpu0 = previous.cpu_s
+        work = [previous.cycles_integrated, previous.newton_iterations]
     for state, period in seeds:
         o = settle(model, excitation, settings, state, known=tuple(found), seed_period=period)
+        tally(o)
         unstable.extend(o.unstable)
         if o.steady is None:
             seeded[o.known] += 1
@@ -460,7 +519,7 @@ def attractors_at(model, excitation, settings, *, seeds=(), previous=None) -> Fr
         if not any(same_motion(u, v) for v in distinct):
             distinct.append(u)
     return FrequencyAttractors(excitation, tuple(found), tuple(counts), settings.starts, tuple(seeded),
-                               tuple(distinct))
+                               tuple(distinct), cpu0 + time.process_time() - c0, work[0], work[1])
 
 
 def steady_state(
