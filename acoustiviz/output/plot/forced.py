@@ -153,10 +153,10 @@ def plot_bifurcation(response, ax=None, which: str = "primary"):
     matplotlib Axes
         x in mm at t = kT against frequency in Hz: one dot for period-1 motion, n for period-n,
         a cloud for non-periodic motion; the unstable periodic orbits of an attractor response as
-        open red circles, those of the same period at neighbouring frequencies joined by dashed
-        lines (the branch continuation followed). When a few points exceed 20 times the median the axis
-        stays linear up to the decade above twice the median and turns logarithmic beyond it
-        (symlog), the linear part given two decades' height.
+        open red circles, those of the same period at neighbouring frequencies within 25 % of each
+        other joined by dashed lines (a branch as continuation followed it). When a few points
+        exceed 20 times the median the axis stays linear up to the decade above twice the median
+        and turns logarithmic beyond it (symlog), the linear part given two decades' height.
     """
     attractors = hasattr(response, "per_frequency")
     fs, xs = response.bifurcation_points() if attractors else response.bifurcation_points(which)
@@ -186,9 +186,10 @@ def _unstable(response, ax):
             ax.plot(np.full(len(xs), f), 1e3 * np.asarray(xs), "o", ms=3.5, mfc="none", color="tab:red")
             nxt = per_f.get(i + 1)
             if nxt:
-                for x in xs:  # each point to its nearest at the next frequency
+                for x in xs:  # each point to its nearest at the next frequency, when near (one branch)
                     y = min(nxt, key=lambda q, x=x: abs(q - x))
-                    ax.plot([f, response.frequencies[i + 1]], [1e3 * x, 1e3 * y], "--", color="tab:red", lw=0.8)
+                    if abs(y - x) <= 0.25 * max(abs(x), abs(y)):
+                        ax.plot([f, response.frequencies[i + 1]], [1e3 * x, 1e3 * y], "--", color="tab:red", lw=0.8)
     ax.plot([], [], "o--", mfc="none", color="tab:red", lw=0.8, label="unstable periodic orbits")
 
 
