@@ -129,9 +129,14 @@ def run(args) -> int:
 
         check_listener(model, listener)
     kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
+    import sys
+
+    def progress(msg):  # to stderr: the table on stdout stays clean
+        print(f"forced: {msg}", file=sys.stderr, flush=True)
+
     fr = run_forced(model, freqs, amp, kind=kind, sweep=args.sweep, solver=args.solver,
                     restitution=args.restitution, tolerance=args.tolerance, rtol=args.rtol, starts=args.starts,
-                    max_cycles=args.max_cycles, workers=args.workers, executor=args.executor)
+                    max_cycles=args.max_cycles, workers=args.workers, executor=args.executor, progress=progress)
     unit = "N" if kind == "force" else "m"
     print(f"{kind} amplitude {amp:g} {unit}; sweep {args.sweep}; solver {args.solver}; {args.starts} starts; "
           f"tolerance {args.tolerance:g} m, m/s; rtol {args.rtol:g}; max cycles {args.max_cycles}; "

@@ -290,7 +290,8 @@ def attractor_response(
     settings : ForcedSettings, optional
         Or its fields as keywords (tolerance, rtol, starts, max_cycles, solver, restitution).
     progress : callable, optional
-        Called with a one-line message after each round.
+        Called with a one-line message after each frequency of the first round and after each
+        continuation round.
 
     Returns
     -------
@@ -303,7 +304,11 @@ def attractor_response(
     for ex in excitations[1:]:
         ex.linear_response(model)  # refuses an undamped resonance before any run
     run = executor.map if executor is not None else map
-    results = list(run(_run_attractors, [(model, ex, settings, (), None) for ex in excitations]))
+    results = []
+    for k, r in enumerate(run(_run_attractors, [(model, ex, settings, (), None) for ex in excitations])):
+        results.append(r)
+        if progress:
+            progress(f"{f[k]:g} Hz ({k + 1}/{f.size}): {len(r.attractors)} attractor(s) from {settings.starts} starts")
     new = [list(r.attractors) for r in results]
     rounds = 0
     if progress:
