@@ -172,6 +172,17 @@ def produce_bench_forced_quote() -> dict:
     return {"new_cpu": b["new_cpu"], "old_cpu": b["old_cpu"], "date": b["date"]}
 
 
+@functools.cache
+def bench_forced_all() -> str:
+    """``benchmarks/results/bench_forced.txt`` (``python benchmarks/bench_forced.py --quick --write``)."""
+    return (ROOT / "benchmarks" / "results" / "bench_forced.txt").read_text()
+
+
+def produce_bench_forced_all() -> dict:
+    """Every table of the forced benchmark as its results file has it."""
+    return {"table": bench_forced_all()}
+
+
 def produce_bench_forced_table() -> dict:
     """The benchmark table the guide shows, as the file has it."""
     return {"table": bench_forced()["table"]}
@@ -203,6 +214,12 @@ REGISTRY = (
            r"took (?P<new_cpu>[\d.]+) s of CPU against (?P<old_cpu>[\d.]+) s for the single start of before "
            r"\((?P<date>[^)]*)\)", produce_bench_forced_quote,
            "python benchmarks/bench_forced.py --attractors --write"),
+    Figure("bench-forced-row", "docs/guide/speed_accuracy.md",
+           r"6 starts each, in (?P<new_cpu>[\d.]+) s of CPU against (?P<old_cpu>[\d.]+) s for one start",
+           produce_bench_forced_quote, "python benchmarks/bench_forced.py --attractors --write"),
+    Figure("bench-forced-tables", "docs/guide/speed_accuracy.md",
+           r"with the machine and the date\):\n\n```text\n(?P<table>.*?)```", produce_bench_forced_all,
+           "python benchmarks/bench_forced.py --quick --write"),
     Figure("bench-forced-table", "docs/guide/operation.md",
            r"```text\n(?P<table>6\. every attractor.*?)```", produce_bench_forced_table,
            "python benchmarks/bench_forced.py --attractors --write"),

@@ -83,6 +83,7 @@ def test_masri_caughey_orbit_stability_agrees_with_the_direct_run():
     s = min((q for q in masri_caughey(MC_MODEL, ex, 0.5) if q.valid), key=lambda q: abs(q.x0 - r.poincare[0, 0]))
     assert r.regime == "periodic-1" and r.stable and r.max_floquet_modulus < 1
     np.testing.assert_allclose(r.impact_speeds, s.approach_speed, rtol=1e-10)
+    assert r.amplitude == pytest.approx(s.amplitude, rel=1e-10)  # the closed form's maximum, refined
 
 
 def test_a_multiplier_crosses_minus_one_at_a_period_doubling():

@@ -317,7 +317,9 @@ def produce_frequency_response(ctx):
     red = [r["reduction_db"] for r in run.rows]
     figs = {"frequencies": str(run.response.frequencies.size), "attractors": str(len(run.rows)),
             "best_reduction_db": f"{np.nanmax(red):.1f}",
-            "non_periodic": str(sum(not r["regime"].startswith("periodic-") for r in run.rows))}
+            "non_periodic": str(sum(not r["regime"].startswith("periodic-") for r in run.rows)),
+            **{k: f"{v:g}" if isinstance(v, float) else str(v) for k, v in run.response.settings.describe().items()
+               if k in ("starts", "tolerance", "rtol", "max_cycles")}}
     return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
 
 
