@@ -521,6 +521,8 @@ def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
     -------
     DampedContact
     """
+    from scipy.optimize import minimize_scalar
+
     zeta = impact.damping_ratio
     sol, te, ve = _damped_contact_dimensionless(zeta, impact.clip_tensile, dense=True)
     if not math.isfinite(te):
@@ -534,7 +536,9 @@ def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
     force = impact.k_hertz * np.maximum(alpha, 0.0) ** 1.5 + impact.damping * rate
     if impact.clip_tensile:
         force = np.maximum(force, 0.0)
-    peak = _refined_peak(sol, th, force, impact.k_hertz * am**1.5, impact.damping * u0)
+    k, fh, fd = int(np.argmax(force)), impact.k_hertz * am**1.5, impact.damping * u0  # refine the peak:
+    pk = minimize_scalar(lambda t: -(fh * max(float(sol.sol(t)[0]), 0.0) ** 1.5 + fd * float(sol.sol(t)[1])),
+                         bounds=(th[max(k - 1, 0)], th[min(k + 1, th.size - 1)]), options={"xatol": 1e-14})
     return DampedContact(
         time=th * tscale,
         approach=alpha,
@@ -542,31 +546,9 @@ def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
         force=force,
         restitution=ve,
         duration=te * tscale,
-        peak_force=peak,
+        peak_force=max(float(force[k]), -float(pk.fun)),
         clip_tensile=impact.clip_tensile,
     )
-
-
-def _refined_peak(sol, th, force, f_hertz, f_damp) -> float:
-    """Largest contact force in N: the best sample refined on the dense solution by a bounded search.
-
-    ``force = f_hertz s^{3/2} + f_damp s'`` in the dimensionless time of ``sol``; the maximum lies
-    between the samples either side of the largest one (the force rises then falls once).
-    """
-    from scipy.optimize import minimize_scalar
-
-    k = int(np.argmax(force))
-    best = float(force[k])
-    lo, hi = th[max(k - 1, 0)], th[min(k + 1, th.size - 1)]
-    if hi > lo:
-
-        def neg(t):
-            s, v = sol.sol(t)
-            return -(f_hertz * max(float(s), 0.0) ** 1.5 + f_damp * float(v))
-
-        res = minimize_scalar(neg, bounds=(lo, hi), method="bounded", options={"xatol": 1e-14})
-        best = max(best, -float(res.fun))
-    return best
 
 
 def restitution(velocity, k_hertz, mass, partner_mass=math.inf, damping=0.0, clip_tensile=False):
