@@ -20,7 +20,9 @@ aligns with the most expanding direction). The regime is
 * ``quasi-periodic`` when it is zero within that error bar and the bar is tight
   (below :data:`QUASI_PERIODIC_BOUND` per forcing cycle);
 * ``unresolved`` otherwise, the reason in ``message`` (a contracting motion with no period up to
-  8 found, or an exponent that the window cannot tell from zero).
+  8 found, or an exponent that the window cannot tell from zero); before that verdict the end
+  of the window is tried once more by shooting (a slow spiral onto an orbit whose section
+  point lay inside a contact when the direct run stopped).
 
 Starts after the first that meet a known attractor are counted in its basin without being
 measured again: a stable periodic orbit when the section point comes within
@@ -416,6 +418,14 @@ def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _O
             out.steady = replace(steady, cycles_integrated=steady.cycles_integrated + run.total)
             return out
     steady = measure_window(model, excitation, settings, run.state(), settings.max_cycles, total + run.total)
+    if steady.success and steady.regime == "unresolved":  # a slow spiral onto an orbit: shoot from where it got to
+        total = steady.cycles_integrated
+        x, v, y, w = steady.final_state
+        for n in dict.fromkeys((1, int(np.argmin(_period_guess(steady.poincare / scale, len(steady.poincare) - 1))))):
+            orbit = refine(np.array([x, v, y - x, w - v]), n, steady.cycles + steady.measured_cycles)
+            if orbit is not None and orbit.stable:
+                out.steady = orbit
+                return out
     out.steady = steady
     return out
 
