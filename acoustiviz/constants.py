@@ -28,6 +28,14 @@ __all__ = [
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "FREQUENCY_SWEEPS",
+    "FORCED_TOLERANCE",
+    "FORCED_TOLERANCE_RANGE",
+    "FORCED_RTOL",
+    "FORCED_RTOL_RANGE",
+    "FORCED_STARTS",
+    "FORCED_MAX_STARTS",
+    "FORCED_MAX_CYCLES",
+    "FORCED_MIN_CYCLES",
     "PAPER_RADIUS",
     "PAPER_VELOCITY",
     "PAPER_K_HERTZ",
@@ -76,6 +84,27 @@ EXCITATIONS = ("force", "base")
 FORCED_SOLVERS = ("event", "impact-map", "newmark")
 #: Frequency sweeps: continuation up, down or both, or independent runs.
 FREQUENCY_SWEEPS = ("up", "down", "both", "independent")
+
+# --- settings of the forced damper's steady states (API, CLI and scenes share these) -------
+
+#: Newton residual below which a periodic orbit counts as converged: the largest component of
+#: ``P^n(z) - z`` on the Poincaré section, displacements in m and velocities in m/s.
+FORCED_TOLERANCE = 1e-9
+#: Tolerance range accepted for :data:`FORCED_TOLERANCE` (m, m/s).
+FORCED_TOLERANCE_RANGE = (1e-14, 1e-3)
+#: Relative tolerance of the event solver's contact integration (DOP853).
+FORCED_RTOL = 1e-10
+#: Range accepted for :data:`FORCED_RTOL`.
+FORCED_RTOL_RANGE = (1e-14, 1e-4)
+#: Starts per frequency looking for coexisting attractors (the linear start, rest, and the impact
+#: mass spread over the cavity), besides the states continued from the neighbouring frequencies.
+FORCED_STARTS = 6
+#: Largest number of starts per frequency.
+FORCED_MAX_STARTS = 256
+#: Forcing cycles each start is run directly before its motion is measured as non-periodic.
+FORCED_MAX_CYCLES = 500
+#: Least cycle limit accepted.
+FORCED_MIN_CYCLES = 18
 
 # --- the paper's Figure 2 impact ----------------------------------------------------------
 

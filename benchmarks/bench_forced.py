@@ -4,6 +4,9 @@ Usage::
 
     python benchmarks/bench_forced.py           # all tables
     python benchmarks/bench_forced.py --quick   # fewer frequencies, no Newmark steady states
+    python benchmarks/bench_forced.py --attractors --write   # table 6 only, written to
+                                                             # benchmarks/results/bench_forced_attractors.txt
+    python benchmarks/bench_forced.py --quick --write         # all tables, also to results/bench_forced.txt
 
 Tables printed:
 
@@ -18,6 +21,11 @@ Tables printed:
 5. The noise in operation of that sweep (what ``acoustiviz forced`` adds by default): time per
    frequency to render the steady click train at 96 kHz (1 s lead-in + at least 1 s of whole
    periods + one trailing period) and take LAeq, LAFmax and LCpeak, against the dynamics' time.
+6. Every attractor, Table 1 damper, F0 = 5 N, ``--freq 3:7:9`` with the default starts (what
+   ``acoustiviz forced`` runs), against the single-start direct run of the code at ``--baseline``
+   (a git revision, default the one before shooting came in), side by side in one run, each in
+   its own process after its kernels are compiled: per frequency the cycles integrated, the
+   Newton iterations, the attractors and the CPU seconds.
 """
 
 from __future__ import annotations
@@ -44,8 +52,10 @@ def _timed(fn, *a, **k):
 
 
 def table_solvers(quick):
-    print("\n1. steady state per solver (C = 1 N s/m, m = 0.1 kg, F0 = 2 N; tolerance 1e-8)")
-    print(f"{'solver':>10} {'f Hz':>6} {'regime':>13} {'cycles':>7} {'time s':>8} {'ms/cycle':>9} {'closure':>9}")
+    print("\n1. steady state per solver from the linear start (C = 1 N s/m, m = 0.1 kg, F0 = 2 N; Newton residual "
+          "1e-8 m, m/s, Newmark 1e-3)")
+    print(f"{'solver':>10} {'f Hz':>6} {'regime':>13} {'direct':>7} {'integr.':>8} {'time s':>8} {'ms/cycle':>9} "
+          f"{'closure':>9}")
     solvers = ["event", "impact-map"] + ([] if quick else ["newmark"])
     for solver in solvers:
         for f in (5.1, 5.3):
@@ -53,8 +63,8 @@ def table_solvers(quick):
             steady_state(MC_MODEL, ex, solver=solver, max_cycles=18)  # compile / load the kernels
             r, dt = _timed(steady_state, MC_MODEL, ex, solver=solver,
                            tolerance=1e-3 if solver == "newmark" else 1e-8)
-            n = r.cycles + r.measured_cycles
-            print(f"{solver:>10} {f:6.2f} {r.regime:>13} {r.cycles:7d} {dt:8.3f} {1e3 * dt / n:9.3f} "
+            n = r.cycles_integrated
+            print(f"{solver:>10} {f:6.2f} {r.regime:>13} {r.cycles:7d} {n:8d} {dt:8.3f} {1e3 * dt / n:9.3f} "
                   f"{r.energy_closure:9.1e}")
 
 
@@ -154,15 +164,133 @@ def table_noise(quick):
     print(f"   dynamics (sweep up) {t_up:.2f} s; levels {total:.2f} s ({100 * total / t_up:.0f} % more)")
 
 
+BASELINE = "acad2ed"
+_OLD = r"""
+import json, sys, time
+import numpy as np
+from acoustiviz.dynamics import DamperModel
+from acoustiviz.dynamics.forced import Excitation, steady_state
+m = DamperModel()
+steady_state(m, Excitation(5.0, 5.0), max_cycles=18)  # compile / load the kernels
+state, out = None, []
+for f in np.linspace(3, 7, 9):
+    c0 = time.process_time()
+    r = steady_state(m, Excitation(float(f), 5.0), initial=state)
+    out.append([float(f), r.cycles + r.measured_cycles, r.regime, time.process_time() - c0, r.amplitude])
+    state = r.final_state if r.success else None
+print(json.dumps(out))
+"""
+
+
+def table_attractors(baseline=BASELINE, write=False):
+    """Table 6 (module docstring); with ``write`` also to benchmarks/results/bench_forced_attractors.txt."""
+    import json
+    import os
+    import platform
+    import subprocess
+    import sys
+    import tempfile
+    from datetime import UTC, datetime
+    from pathlib import Path
+
+    from acoustiviz.constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE
+    from acoustiviz.dynamics.forced import attractor_response
+
+    lines = []
+
+    def say(text=""):
+        print(text)
+        lines.append(text)
+
+    root = Path(__file__).resolve().parent.parent
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = subprocess.run(["git", "-C", str(root), "archive", baseline, "acoustiviz"], capture_output=True,
+                              check=True).stdout
+        subprocess.run(["tar", "-x", "-C", tmp], input=tree, check=True)
+        env = {**os.environ, "PYTHONPATH": tmp}
+        old = json.loads(subprocess.run([sys.executable, "-c", _OLD], capture_output=True, text=True, env=env,
+                                        cwd=tmp, check=True).stdout)
+    model = DamperModel()
+    f = np.linspace(3, 7, 9)
+    attractor_response(model, [5.0], 5.0, starts=1, max_cycles=18)  # compile / load the kernels
+    c0 = time.process_time()
+    resp = attractor_response(model, f, 5.0)
+    total = time.process_time() - c0
+    now = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
+    say(f"6. every attractor, Table 1 damper, F0 = 5 N, --freq 3:7:9 ({now}; {platform.machine()}, "
+        f"{platform.python_implementation()} {platform.python_version()}, {os.cpu_count()} cores)")
+    say(f"   new: {FORCED_STARTS} starts, tolerance {FORCED_TOLERANCE:g} m and m/s, rtol {FORCED_RTOL:g}, "
+        f"max cycles {FORCED_MAX_CYCLES}, sweep up, {resp.rounds} continuation rounds; "
+        f"old ({baseline}): one start, sweep up, max cycles 2000")
+    say(f"{'f Hz':>5} | {'old cycles':>10} {'old CPU s':>9} {'old regime':>13} | {'cycles':>7} {'Newton it':>9} "
+        f"{'CPU s':>6} {'attractors':>10}  regimes")
+    for (fo, cyc, reg, cpu, _), fa in zip(old, resp.per_frequency, strict=True):
+        regs = ", ".join(f"{a.regime} {1e3 * a.amplitude:.2f} mm" for a in fa.attractors)
+        say(f"{fo:5.2f} | {cyc:10d} {cpu:9.2f} {reg:>13} | {fa.cycles_integrated:7d} {fa.newton_iterations:9d} "
+            f"{fa.cpu_s:6.2f} {len(fa.attractors):10d}  {regs}")
+    old_total = sum(o[3] for o in old)
+    say(f"total | {sum(o[1] for o in old):10d} {old_total:9.2f} {'':>13} | "
+        f"{sum(fa.cycles_integrated for fa in resp.per_frequency):7d} "
+        f"{sum(fa.newton_iterations for fa in resp.per_frequency):9d} {total:6.2f}")
+    say(f"CPU ratio old / new: {old_total / total:.2f}")
+    if write:
+        from acoustiviz.output.writers import write_text_atomic
+
+        path = root / "benchmarks" / "results" / "bench_forced_attractors.txt"
+        write_text_atomic(path, "\n".join(lines) + "\n")
+        print(f"wrote {path}")
+
+
+class _Tee:
+    """Write to stdout and keep a copy."""
+
+    def __init__(self, out):
+        self.out, self.parts = out, []
+
+    def write(self, text):
+        self.parts.append(text)
+        return self.out.write(text)
+
+    def flush(self):
+        self.out.flush()
+
+
 def main(argv=None):
+    """Print the tables (module docstring); ``--write`` keeps them in benchmarks/results/."""
+    import contextlib
+    import sys
+    from pathlib import Path
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    if "--write" in args and "--attractors" not in args:
+        tee = _Tee(sys.stdout)
+        with contextlib.redirect_stdout(tee):
+            _main(args)
+        from acoustiviz.output.writers import write_text_atomic
+
+        path = Path(__file__).resolve().parent / "results" / "bench_forced.txt"
+        write_text_atomic(path, "".join(tee.parts).lstrip("\n"))
+        print(f"wrote {path}")
+        return
+    _main(args)
+
+
+def _main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--attractors", action="store_true", help="table 6 only")
+    p.add_argument("--baseline", default=BASELINE, help="git revision of the single-start run (table 6)")
+    p.add_argument("--write", action="store_true", help="write table 6 to benchmarks/results/")
     a = p.parse_args(argv)
+    if a.attractors:
+        table_attractors(a.baseline, a.write)
+        return
     table_solvers(a.quick)
     table_mc(a.quick)
     table_linear()
     table_sweep(a.quick)
     table_noise(a.quick)
+    table_attractors(a.baseline, a.write)
 
 
 if __name__ == "__main__":

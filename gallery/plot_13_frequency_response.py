@@ -5,18 +5,20 @@ The damper in operation: frequency response, bifurcation diagram, Masri-Caughey 
 The Table 1 damper (M = 0.5 kg, K = 500 N/m, C = 0.05 N·s/m, m = 40.5 g, K_HZ = 5.6e8 N/m^1.5,
 c1 = 20 N·s/m, gap d = 4 cm) driven by a harmonic force F0 cos(ωt) with F0 = 5 N on the main mass.
 Without the impact mass the lightly damped structure (ζ = 0.16 %) would resonate at 5.03 Hz with
-an amplitude of 3 m; with it, each forcing frequency is run to its periodic steady state (event
-solver: closed-form forced flight, compliant Hertz contacts), sweeping up and then down with
-continuation.
+an amplitude of 3 m; with it, six starts per forcing frequency are each run to their attractor
+(event solver: closed-form forced flight, compliant Hertz contacts), periodic orbits refined by
+shooting with their Floquet multipliers, and the attractors continued up and down in frequency
+(:func:`acoustiviz.dynamics.forced.attractor_response`).
 
-* Top: main-mass amplitude with and without the damper; markers coloured by regime; frequencies
-  where the up and down sweeps end on different motions (hysteresis) are shaded.
-* Middle: bifurcation diagram, the main-mass displacement at forcing phase 0 (Poincaré section)
-  over the last cycles: one dot for period-1 motion, n for period-n, a cloud for non-periodic.
+* Top: main-mass amplitude with and without the damper; every attractor, coloured by regime,
+  its marker growing with the share of starts that reach it; the largest amplitude joined.
+* Middle: bifurcation diagram, the main-mass displacement at forcing phase 0 (Poincaré section):
+  one dot for period-1 motion, n for period-n, a cloud for non-periodic motion; the unstable
+  periodic orbits found on the way open and dashed.
 * Second figure: the solvers against the closed-form symmetric two-impacts-per-cycle
   motion of Masri and Caughey (1966) for a damper where it is stable (C = 1 N·s/m, m = 0.1 kg,
   F0 = 2 N, instantaneous impacts e = 0.5).
-* Third figure, the noise in operation: the steady click train of each frequency (sweep up) at
+* Third figure, the noise in operation: the click train of the loudest attractor of each frequency at
   the paper's listener (0.7 m at 45° above the plane), rendered at 96 kHz: LAeq over whole
   periods (at least 1 s, after a 1 s lead-in so the F time weighting has settled), LAFmax and
   LCpeak (IEC 61672-1 weightings), beside the amplitude reduction it buys.
@@ -32,22 +34,23 @@ from _gallery import fast_mode, output_dir
 
 from acoustiviz.app.forced import design_map, operating_noise
 from acoustiviz.dynamics import DamperModel
-from acoustiviz.dynamics.forced import Excitation, frequency_response, steady_state
+from acoustiviz.dynamics.forced import Excitation, attractor_response, steady_state
 from acoustiviz.dynamics.periodic import masri_caughey
 from acoustiviz.output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
 from acoustiviz.output.plot.style import save_figure, style
 
 FAST = fast_mode()
 model = DamperModel()
-freqs = np.linspace(3.0, 7.0, 9 if FAST else 81)
+freqs = np.linspace(3.0, 7.0, 9 if FAST else 41)
 t0 = time.perf_counter()
-resp = frequency_response(model, freqs, 5.0, sweep="up" if FAST else "both",
-                          max_cycles=300 if FAST else 2000)
-print(f"{freqs.size} frequencies, sweep {resp.sweep}: {time.perf_counter() - t0:.1f} s")
-for f, r in zip(freqs[:: max(1, freqs.size // 9)], resp.primary[:: max(1, freqs.size // 9)], strict=True):
-    print(f"{f:5.2f} Hz  {1e3 * r.amplitude:8.2f} mm (alone {1e3 * r.amplitude_without_damper:8.2f} mm)"
-          f"  {r.reduction_db:6.2f} dB  {r.impacts_per_cycle:5.2f} impacts/cycle  {r.regime}")
-print(f"hysteresis at {int(np.sum(resp.hysteresis))} of {freqs.size} frequencies")
+resp = attractor_response(model, freqs, 5.0, sweep="both", starts=3 if FAST else 6)
+print(f"{freqs.size} frequencies, {len(resp.entries())} attractors, {len(resp.unstable)} unstable orbits, "
+      f"{resp.rounds} continuation rounds: {time.perf_counter() - t0:.1f} s")
+for i, j, a, basin in resp.entries()[:: max(1, len(resp.entries()) // 12)]:
+    print(f"{freqs[i]:5.2f} Hz  #{j + 1}  {1e3 * a.amplitude:8.2f} mm "
+          f"(alone {1e3 * a.amplitude_without_damper:8.2f} mm)  {a.reduction_db:6.2f} dB  "
+          f"{a.impacts_per_cycle:5.2f} impacts/cycle  basin {basin:.2f}  {a.regime}")
+print(f"several attractors at {sum(len(fa.attractors) > 1 for fa in resp.per_frequency)} of {freqs.size} frequencies")
 
 # %%
 with style():
@@ -59,11 +62,6 @@ with style():
     ax1.set_xlabel("")
     ax1.set_title("Table 1 damper, F0 = 5 N")
     plot_bifurcation(resp, ax=ax2)
-    if resp.down is not None:
-        fd, xd = resp.bifurcation_points("down")
-        ax2.plot(fd, 1e3 * xd, "o", ms=3, mfc="none", mew=0.6, color="tab:orange", label="sweep down")
-        ax2.plot([], [], ".", color="k", label="sweep up")
-        ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     path = save_figure(fig, output_dir() / "plot_13_frequency_response.png")
 print(f"wrote {path}")
 
@@ -76,7 +74,7 @@ rows = []
 for f in fmc:
     ex = Excitation(float(f), 2.0)
     sols = [s for s in masri_caughey(mc_model, ex, e) if s.valid]
-    r = steady_state(mc_model, ex, solver="impact-map", restitution=e, tolerance=1e-10)
+    r = steady_state(mc_model, ex, solver="impact-map", restitution=e, tolerance=1e-12)
     sym = (r.regime == "periodic-1" and r.impacts_per_cycle == 2
            and abs(abs(r.impact_phases[1] - r.impact_phases[0]) - np.pi) < 1e-4)
     ref = min(sols, key=lambda s: abs(s.approach_speed - r.impact_speeds[0])) if sols and sym else None
@@ -107,20 +105,26 @@ with style():
 print(f"wrote {path}")
 
 # %%
-# The noise in operation: weighted levels of each frequency's steady click train (sweep up).
+# The noise in operation: weighted levels of the loudest attractor's click train at each frequency.
 t0 = time.perf_counter()
-noises = [operating_noise(r) if r.success else None for r in resp.primary]
+loudest = []
+for fa in resp.per_frequency:
+    ok = [a for a in fa.attractors if a.success]
+    nz = [operating_noise(a) for a in ok]
+    k = int(np.argmax([n.lcpeak_db for n in nz])) if nz else -1
+    loudest.append((ok[k], nz[k]) if nz else (None, None))
+noises = [n for _, n in loudest]
 print(f"levels of {freqs.size} click trains at 96 kHz: {time.perf_counter() - t0:.1f} s")
 lev = {c: np.array([getattr(n, c) if n is not None else np.nan for n in noises])
        for c in ("laeq_db", "lafmax_db", "lcpeak_db")}
 with style():
     fig = Figure(figsize=(7.5, 6.5), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(2, 1))
-    plot_operating_levels(freqs, lev, [r.regime for r in resp.primary], ax=ax1)
+    plot_operating_levels(freqs, lev, [a.regime if a is not None else "unresolved" for a, _ in loudest], ax=ax1)
     ax1.set_xlabel("")
     ax1.set_ylabel("level at 0.7 m, 45° (dB re 20 µPa)")
-    ax1.set_title("Table 1 damper, F0 = 5 N, sweep up: the noise it makes while it works")
-    ax2.plot(freqs, resp.reduction_db, "-o", ms=3, color="k")
+    ax1.set_title("Table 1 damper, F0 = 5 N, the loudest attractor: the noise it makes while it works")
+    ax2.plot(freqs, [a.reduction_db if a is not None else np.nan for a, _ in loudest], "-o", ms=3, color="k")
     ax2.axhline(0, color="0.6", lw=0.8)
     ax2.set_ylabel("amplitude reduction (dB)")
     ax2.set_xlabel("forcing frequency (Hz)")

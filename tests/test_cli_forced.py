@@ -23,13 +23,21 @@ def _read(path):
         return list(csv.DictReader(fh))
 
 
+NEW = ["attractor", "basin_fraction", "stable", "max_floquet_modulus", "residual", "amplitude_std_err_m"]
+
+
 def test_table1_response_csv_and_png(tmp_path):
     out, png = tmp_path / "r.csv", tmp_path / "r.png"
     rc = main(["forced", *TABLE1, "--force", "5", "--freq", "3:7:3", "--csv", str(out), "--png", str(png)])
     assert rc == 0
     rows = _read(out)
-    assert [float(r["frequency_hz"]) for r in rows] == [3.0, 5.0, 7.0]
-    assert list(rows[0])[: len(PROMISED)] == PROMISED
+    assert sorted({float(r["frequency_hz"]) for r in rows}) == [3.0, 5.0, 7.0]
+    assert list(rows[0])[: len(PROMISED)] == PROMISED and set(NEW) <= set(rows[0])
+    for f in (3.0, 5.0, 7.0):  # one row per attractor, the basins of the starts add up to 1
+        group = [r for r in rows if float(r["frequency_hz"]) == f]
+        assert [int(r["attractor"]) for r in group] == list(range(1, len(group) + 1))
+        assert sum(float(r["basin_fraction"]) for r in group) == pytest.approx(1.0)
+        assert sum("amplitude" in r["worst_case"] for r in group) == 1
     for r in rows:
         f = float(r["frequency_hz"])
         w = 2 * math.pi * f
@@ -37,7 +45,13 @@ def test_table1_response_csv_and_png(tmp_path):
         assert float(r["amplitude_without_damper_m"]) == pytest.approx(a0, rel=1e-9)  # 10 digits
         amp = float(r["amplitude_m"])
         assert float(r["reduction_db"]) == pytest.approx(20 * math.log10(a0 / amp), abs=1e-7)
-        assert r["regime"] in ("non-periodic",) or r["regime"].startswith("periodic-")
+        assert r["regime"] in ("quasi-periodic", "chaotic", "unresolved") or r["regime"].startswith("periodic-")
+        if r["regime"].startswith("periodic-"):
+            assert r["converged"] == "true" and float(r["residual"]) < 1e-9
+            assert float(r["amplitude_std_err_m"]) == 0.0 and r["max_floquet_modulus"]
+            assert (r["stable"] == "true") == (float(r["max_floquet_modulus"]) <= 1 + 1e-5)
+        else:
+            assert r["converged"] == "false" and r["residual"] == "" and float(r["amplitude_std_err_m"]) > 0
         if float(r["impacts_per_cycle"]) > 0:  # levels by default, at the paper's listener
             levels = [float(r[c]) for c in ("laeq_db", "lcpeak_db", "lafmax_db", "lzpeak_db", "lzeq_db")]
             assert all(math.isfinite(v) for v in levels)
@@ -46,23 +60,26 @@ def test_table1_response_csv_and_png(tmp_path):
                                                                      abs=1e-3)  # whole cycles
         else:
             assert r["laeq_db"] == r["lcpeak_db"] == "-inf"  # silence
-    # far below resonance the 15.5 mm linear motion fits in the 20 mm half gap: no impacts
-    assert float(rows[0]["impacts_per_cycle"]) == 0.0
-    assert float(rows[0]["amplitude_m"]) == pytest.approx(float(rows[0]["amplitude_without_damper_m"]), rel=1e-9)
-    # at resonance the damper cuts the amplitude
-    assert float(rows[1]["reduction_db"]) > 10
+        assert (r["tolerance"], r["rtol"], r["starts"], r["max_cycles"]) == ("1e-09", "1e-10", "6", "500")
+    # far below resonance the 15.5 mm linear motion fits in the 20 mm half gap: a motion without impacts
+    quiet = [r for r in rows if float(r["frequency_hz"]) == 3.0 and float(r["impacts_per_cycle"]) == 0.0]
+    assert len(quiet) == 1
+    assert float(quiet[0]["amplitude_m"]) == pytest.approx(float(quiet[0]["amplitude_without_damper_m"]), rel=1e-9)
+    # at resonance every attractor cuts the amplitude
+    assert all(float(r["reduction_db"]) > 10 for r in rows if float(r["frequency_hz"]) == 5.0)
     assert png.stat().st_size > 10_000
 
 
 def test_base_excitation_and_comma_list(tmp_path):
     out = tmp_path / "b.csv"
-    rc = main(["forced", "--base", "0.002", "--freq", "2,8", "--sweep", "both", "--csv", str(out)])
+    rc = main(["forced", "--base", "0.002", "--freq", "2,8", "--sweep", "both", "--starts", "3", "--csv", str(out)])
     assert rc == 0
     rows = _read(out)
-    assert len(rows) == 2 and "hysteresis" in rows[0]
+    assert {float(r["frequency_hz"]) for r in rows} == {2.0, 8.0} and "hysteresis" in rows[0]
     w = 2 * math.pi * 2.0
     a0 = 0.002 * math.hypot(500, 0.05 * w) / math.hypot(500 - 0.5 * w * w, 0.05 * w)
     assert float(rows[0]["amplitude_without_damper_m"]) == pytest.approx(a0, rel=1e-9)
+    assert all(r["starts"] == "3" for r in rows)
 
 
 @pytest.mark.parametrize("argv,option", [
@@ -79,7 +96,10 @@ def test_base_excitation_and_comma_list(tmp_path):
     (["--force", "5", "--freq", "3", "--tolerance", "2"], "--tolerance"),
     (["--force", "5", "--freq", "3", "--max-cycles", "1"], "--max-cycles"),
     (["--force", "5", "--freq", "3", "--solver", "impact-map", "--restitution", "1.5"], "--restitution"),
-    (["--force", "5", "--freq", "3", "--workers", "2"], "--workers"),
+    (["--force", "5", "--freq", "3", "--workers", "0"], "--workers"),
+    (["--force", "5", "--freq", "3", "--starts", "0"], "--starts"),
+    (["--force", "5", "--freq", "3", "--rtol", "1e-2"], "--rtol"),
+    (["--force", "5", "--freq", "3", "--tolerance", "0"], "--tolerance"),
 ])
 def test_bad_values_exit_2_naming_the_option(argv, option, capsys, tmp_path):
     out = tmp_path / "x.csv"
@@ -155,10 +175,10 @@ def test_independent_frequencies_on_a_dask_cluster_equal_the_serial_run(tmp_path
     assert _read(tmp_path / "dask.csv") == _read(tmp_path / "serial.csv")
 
 
-def test_dask_needs_independent_frequencies(capsys):
+def test_an_unreachable_dask_scheduler_is_named(capsys):
     assert main(["forced", *TABLE1, "--force", "5", "--freq", "6.5,7", "--executor", "dask://127.0.0.1:1"]) == 2
     err = capsys.readouterr().err
-    assert "--executor" in err and "independent" in err
+    assert "--executor" in err and "Dask" in err
 
 
 @pytest.mark.parametrize("extra, option", [(["--max-memory", "5"], "--noise-seconds"),

@@ -204,3 +204,17 @@ def test_unknown_pulse_and_material_are_clear_errors():
         material("steal")
     with pytest.raises(ParameterError, match="nu"):
         Material(E=1e9, nu=0.6, density=1000)
+
+
+def test_damped_contact_peak_force_is_the_refined_maximum():
+    """The peak is the maximum of the dense solution, not the largest of the output samples."""
+    undamped = Impact(1.4, 5.6e8, 0.0405, 0.5)
+    dc = damped_contact(undamped, n_output=64)
+    # without damping the peak is the closed form K (5 m_eff U0^2 / (4 K))^(3/5)
+    assert dc.peak_force == pytest.approx(undamped.peak_force, rel=1e-10)  # the ODE is solved to rtol 1e-11
+    assert dc.peak_force > float(dc.force.max())  # 64 samples miss the top
+    damped = Impact(1.4, 5.6e8, 0.0405, 0.5, damping=20.0)
+    coarse, fine = damped_contact(damped, n_output=64), damped_contact(damped, n_output=400_001)
+    assert coarse.peak_force == pytest.approx(fine.peak_force, rel=1e-12)
+    assert coarse.peak_force >= float(fine.force.max()) * (1 - 1e-13)  # no sample lies above it
+    assert coarse.peak_force - float(fine.force.max()) < 1e-9 * coarse.peak_force

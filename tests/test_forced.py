@@ -159,10 +159,14 @@ def test_newmark_converges_to_the_event_solver():
     assert errs[1] < errs[0] / 3
 
 
-def test_regime_without_period_is_reported_not_averaged():
+def test_regime_without_period_is_reported_with_its_evidence():
+    """Table 1 at 4 Hz, 5 N: no periodic orbit; chaotic only with a positive exponent beyond its error bar."""
     r = steady_state(DamperModel(), Excitation(4.0, 5.0), max_cycles=40)
-    assert not r.converged and r.regime == "non-periodic" and r.period == 0
-    assert "no period" in r.message
+    assert not r.converged and r.period == 0 and math.isnan(r.residual)
+    assert r.regime == "chaotic" and "Lyapunov" in r.message
+    assert r.lyapunov - 3 * r.lyapunov_std_err > 0
+    assert r.measured_cycles == 128 and r.amplitude_std_err > 0
+    assert r.x_max - r.x_min >= 2 * r.amplitude  # the mean batch amplitude within the window's extremes
 
 
 @pytest.mark.parametrize("kwargs,name", [

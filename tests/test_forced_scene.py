@@ -31,13 +31,14 @@ def test_scene_writes_the_three_forced_outputs(tmp_path):
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     with open(out / "frequency_response.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert [float(r["frequency_hz"]) for r in rows] == [6.0, 6.5, 7.0]
+    assert sorted({float(r["frequency_hz"]) for r in rows}) == [6.0, 6.5, 7.0]  # a row per attractor
     with open(out / "operating_noise.csv", newline="") as fh:
         noise = list(csv.DictReader(fh))
     assert [r["regime"] for r in noise] == [r["regime"] for r in rows]
     for r, n in zip(rows, noise, strict=True):  # the response table carries the same levels
         for c in ("laeq_db", "lcpeak_db", "lafmax_db"):
-            assert float(r[c]) == float(n[c]) and float(n[c]) > 40, c
+            assert float(r[c]) == float(n[c]), c
+            assert float(n[c]) > 40 or float(r["impacts_per_cycle"]) == 0, c
     for name in ("frequency_response.png", "bifurcation.png", "operating_noise_paper.wav"):
         assert (out / name).stat().st_size > 1000, name
     assert "| operating_noise |" in (out / "summary.md").read_text()
@@ -49,6 +50,9 @@ def test_scene_writes_the_three_forced_outputs(tmp_path):
     ('frequencies_hz = "0:7:3"', "frequencies_hz"),
     ('sweep = "sideways"', "sweep"),
     ('max_cycles = 3', "max_cycles"),
+    ('starts = 0', "starts"),
+    ('rtol = 0.1', "rtol"),
+    ('tolerance = 0.0', "tolerance"),
 ])
 def test_bad_excitation_keys_are_named(line, key):
     block = '[excitation]\namplitude = 5.0\nfrequencies_hz = "6:7:3"\n'

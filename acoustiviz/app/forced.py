@@ -23,8 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE
 from ..dynamics import DamperModel
-from ..dynamics.forced import FORCED_SOLVERS, SWEEPS, FrequencyResponse, describe, frequency_response
+from ..dynamics.forced import FORCED_SOLVERS, SWEEPS, AttractorResponse, attractor_response, describe
 from ..errors import ParameterError
 from .forced_noise import (
     NOISE_COLUMNS,
@@ -43,15 +44,18 @@ __all__ = ["FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun",
            "add_operating_noise", "check_listener", "default_listener", "operating_noise", "parse_frequencies",
            "run_forced", "write_forced_csv", "write_forced_png", "write_operating_wav", "DesignMap", "design_map"]
 
-#: Columns of the frequency-response CSV, one row per frequency (the first eight are promised).
+#: Columns of the frequency-response CSV, one row per (frequency, attractor); the first eight
+#: and ``attractor, basin_fraction, stable, max_floquet_modulus, residual, amplitude_std_err_m``
+#: are promised.
 FORCED_CSV_COLUMNS = (
     "frequency_hz", "amplitude_m", "amplitude_without_damper_m", "reduction_db", "impacts_per_cycle",
     "regime", "laeq_db", "lcpeak_db", "lafmax_db", "period_cycles", "converged", "cycles", "x_max_m", "x_min_m",
     "mean_impact_speed_m_s", "max_impact_speed_m_s", "impact_phases_deg", "energy_closure",
     "regime_change", "lzpeak_db", "lzeq_db", "sel_per_cycle_db", "sel_a_per_cycle_db", "level_interval_s",
+    "attractor", "basin_fraction", "stable", "max_floquet_modulus", "residual", "amplitude_std_err_m",
+    "attractors", "hysteresis", "worst_case", "lyapunov_1_s", "lyapunov_std_err_1_s", "newton_iterations",
+    "cycles_integrated", "solver", "tolerance", "rtol", "starts", "max_cycles", "message",
 )
-#: Extra columns when both sweep directions are run.
-DOWN_COLUMNS = ("amplitude_down_m", "regime_down", "impacts_per_cycle_down", "hysteresis")
 #: API parameter -> command-line option of ``acoustiviz forced``.
 FORCED_OPTIONS = {
     **DAMPER_OPTIONS,
@@ -59,6 +63,8 @@ FORCED_OPTIONS = {
     "frequencies": "--freq",
     "sweep": "--sweep",
     "tolerance": "--tolerance",
+    "rtol": "--rtol",
+    "starts": "--starts",
     "max_cycles": "--max-cycles",
     "restitution": "--restitution",
     "workers": "--workers",
@@ -110,43 +116,66 @@ def parse_point(text: str, name: str = "--listener") -> np.ndarray:
 
 @dataclass(frozen=True)
 class ForcedRun:
-    """A frequency response and its table.
+    """The attractors over a list of frequencies, and their table.
 
     Attributes
     ----------
-    response : FrequencyResponse
+    response : AttractorResponse
     rows : list of dict
-        One row per frequency, keys :data:`FORCED_CSV_COLUMNS` (and :data:`DOWN_COLUMNS`).
+        One row per (frequency, attractor), keys :data:`FORCED_CSV_COLUMNS`.
     elapsed : float
         Wall time of the runs in s.
+    cpu : float
+        CPU time of this process during the runs in s (worker processes not included).
     """
 
-    response: FrequencyResponse
+    response: AttractorResponse
     rows: list
     elapsed: float
+    cpu: float = math.nan
 
     @property
     def columns(self) -> tuple:
         """The CSV columns of this run."""
-        return FORCED_CSV_COLUMNS + (DOWN_COLUMNS if self.response.down is not None else ())
+        return FORCED_CSV_COLUMNS
+
+    @property
+    def steady_states(self) -> list:
+        """The :class:`acoustiviz.dynamics.forced.SteadyState` of each row."""
+        return [a for _, _, a, _ in self.response.entries()]
 
     @property
     def success(self) -> bool:
-        """True when every run completed (converged or honestly non-periodic)."""
-        runs = self.response.primary + (self.response.down or ())
-        return all(r.success for r in runs)
+        """True when every run completed (whatever its regime)."""
+        return all(r.success for r in self.steady_states)
+
+
+def mark_worst_case(rows: list) -> None:
+    """Fill ``worst_case`` of ``rows``: per frequency, the attractor of largest amplitude and of largest LCpeak."""
+    by_f: dict = {}
+    for row in rows:
+        by_f.setdefault(row["frequency_hz"], []).append(row)
+    for group in by_f.values():
+        marks = {id(r): [] for r in group}
+        for key, label in (("amplitude_m", "amplitude"), ("lcpeak_db", "lcpeak")):
+            vals = [(r[key], r) for r in group if r.get(key) is not None and not math.isnan(r[key])]
+            if vals:
+                marks[id(max(vals, key=lambda t: t[0])[1])].append(label)
+        for r in group:
+            r["worst_case"] = "+".join(marks[id(r)])
 
 
 def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str = "force", sweep: str = "up",
-               solver: str = "event", restitution: float | None = None, tolerance: float = 1e-6,
-               max_cycles: int = 2000, workers: int = 1, executor: str = "process") -> ForcedRun:
-    """Frequency response of ``model`` under a harmonic force (N) or base motion (m).
+               solver: str = "event", restitution: float | None = None, tolerance: float = FORCED_TOLERANCE,
+               rtol: float = FORCED_RTOL, starts: int = FORCED_STARTS, max_cycles: int = FORCED_MAX_CYCLES,
+               workers: int = 1, executor: str = "process", progress=None) -> ForcedRun:
+    """Every attractor of ``model`` under a harmonic force (N) or base motion (m) at each frequency (Hz).
 
-    Parameters are those of :func:`acoustiviz.dynamics.forced.frequency_response`; ``workers`` > 1
-    runs the frequencies on a local process pool, and ``executor="dask://HOST:PORT"`` on a Dask
-    cluster (the same executors as sweeps, :func:`acoustiviz.sweep.execute.dask_executor`); both
-    need ``sweep="independent"``: continuation is sequential by nature. Errors name the
-    command-line options.
+    Parameters are those of :func:`acoustiviz.dynamics.forced.attractor_response` (``tolerance``
+    in m and m/s, the Newton residual of a periodic orbit); ``workers`` > 1 runs the frequencies
+    of each round on a local process pool, and ``executor="dask://HOST:PORT"`` on a Dask cluster
+    (the same executors as sweeps, :func:`acoustiviz.sweep.execute.dask_executor`). Errors name
+    the command-line options.
     """
     with user_terms({**FORCED_OPTIONS, "amplitude": "--force" if kind == "force" else "--base"}):
         if sweep not in SWEEPS:
@@ -155,42 +184,43 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             raise ParameterError("solver", f"must be one of {', '.join(FORCED_SOLVERS)}, got {solver!r}")
         if int(workers) < 1:
             raise ParameterError("workers", f"must be >= 1, got {workers}")
-        if int(workers) > 1 and sweep != "independent":
-            raise ParameterError("workers", "more than one worker needs --sweep independent (no continuation)")
-        if executor != "process" and sweep != "independent":
-            raise ParameterError("executor", "a Dask cluster needs --sweep independent (no continuation)")
-        kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "max_cycles": max_cycles}
-        t0 = time.perf_counter()
+        kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "rtol": rtol,
+                  "starts": starts, "max_cycles": max_cycles}
+        t0, c0 = time.perf_counter(), time.process_time()
         if executor != "process":
             from ..sweep.execute import dask_executor
 
             ex, close = dask_executor(executor)
             try:
-                resp = frequency_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
-                                          **kwargs)
+                resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
+                                          progress=progress, **kwargs)
             finally:
                 close()
         elif int(workers) > 1:
             from concurrent.futures import ProcessPoolExecutor
 
             with ProcessPoolExecutor(max_workers=min(int(workers), len(frequencies))) as ex:
-                resp = frequency_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
-                                          **kwargs)
+                resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
+                                          progress=progress, **kwargs)
         else:
-            resp = frequency_response(model, frequencies, amplitude, kind=kind, sweep=sweep, **kwargs)
-        elapsed = time.perf_counter() - t0
+            resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, progress=progress,
+                                      **kwargs)
+        elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
     rows = []
-    changes = resp.regime_change
-    hyst = resp.hysteresis
-    for i, r in enumerate(resp.primary):
-        row = describe(r)
-        row.update({**dict.fromkeys(NOISE_COLUMNS), "regime_change": bool(changes[i])})
-        if resp.down is not None:
-            d = resp.down[i]
-            row.update({"amplitude_down_m": d.amplitude, "regime_down": d.regime,
-                        "impacts_per_cycle_down": d.impacts_per_cycle, "hysteresis": bool(hyst[i])})
-        rows.append(row)
-    return ForcedRun(resp, rows, elapsed)
+    settings = resp.settings.describe()
+    prev_regimes: set = set()
+    for i, fa in enumerate(resp.per_frequency):
+        regimes = {a.regime for a in fa.attractors}
+        for j, a in enumerate(fa.attractors):
+            row = describe(a)
+            row.update({**dict.fromkeys(NOISE_COLUMNS), "attractor": j + 1,
+                        "basin_fraction": float(fa.basin_fractions[j]), "attractors": len(fa.attractors),
+                        "hysteresis": len(fa.attractors) > 1, "regime_change": bool(i and regimes != prev_regimes),
+                        "worst_case": "", **settings})
+            rows.append(row)
+        prev_regimes = regimes
+    mark_worst_case(rows)
+    return ForcedRun(resp, rows, elapsed, cpu)
 
 
 def _cell(v) -> str:
@@ -204,7 +234,7 @@ def _cell(v) -> str:
 
 
 def write_forced_csv(run: ForcedRun, path):
-    """Write the frequency-response table (one row per frequency) atomically; return the path."""
+    """Write the frequency-response table (one row per frequency and attractor) atomically; return the path."""
     from ..output.writers import write_text_atomic
 
     buf = io.StringIO()
@@ -233,11 +263,11 @@ def write_forced_png(run: ForcedRun, path):
         axes = fig.subplots(3 if noise else 2, 1, sharex=True)
         plot_frequency_response(run.response, ax=axes[0])
         plot_bifurcation(run.response, ax=axes[1])
-        if noise:  # the levels of the click train (primary sweep)
+        if noise:  # the levels of the click train of every attractor
             levels = {c: [np.nan if row.get(c) is None else row[c] for row in run.rows]
                       for c in ("laeq_db", "lafmax_db", "lcpeak_db")}
-            plot_operating_levels(run.response.frequencies, levels, [row["regime"] for row in run.rows],
-                                  ax=axes[2])
+            plot_operating_levels([row["frequency_hz"] for row in run.rows], levels,
+                                  [row["regime"] for row in run.rows], ax=axes[2])
             axes[2].set_ylabel("level at the listener (dB re 20 µPa)")
         for ax in axes[:-1]:
             ax.set_xlabel("")  # shared with the panel below
@@ -257,9 +287,11 @@ def _scene_forced_run(ctx) -> ForcedRun:
         ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {ex['sweep']} ({ex['solver']} solver)")
         with user_terms({"frequencies": "excitation.frequencies_hz", "frequency": "excitation.frequencies_hz",
                          "amplitude": "excitation.amplitude", "tolerance": "excitation.tolerance",
+                         "rtol": "excitation.rtol", "starts": "excitation.starts",
                          "max_cycles": "excitation.max_cycles"}):
             run = run_forced(ctx.damper_model, freqs, ex["amplitude"], kind=ex["kind"], sweep=ex["sweep"],
-                             solver=ex["solver"], tolerance=ex["tolerance"], max_cycles=ex["max_cycles"])
+                             solver=ex["solver"], tolerance=ex["tolerance"], rtol=ex["rtol"], starts=ex["starts"],
+                             max_cycles=ex["max_cycles"])
         ctx._forced_run = run
     return run
 
@@ -282,9 +314,12 @@ def produce_frequency_response(ctx):
         fig = Figure(figsize=(7.0, 4.2), layout="constrained")
         plot_frequency_response(run.response, ax=fig.add_subplot())
         png = save_figure(fig, ctx.path("frequency_response.png"))
-    red = run.response.reduction_db
-    figs = {"frequencies": str(len(run.rows)), "best_reduction_db": f"{np.nanmax(red):.1f}",
-            "non_periodic": str(sum(r["regime"] == "non-periodic" for r in run.rows))}
+    red = [r["reduction_db"] for r in run.rows]
+    figs = {"frequencies": str(run.response.frequencies.size), "attractors": str(len(run.rows)),
+            "best_reduction_db": f"{np.nanmax(red):.1f}",
+            "non_periodic": str(sum(not r["regime"].startswith("periodic-") for r in run.rows)),
+            **{k: f"{v:g}" if isinstance(v, float) else str(v) for k, v in run.response.settings.describe().items()
+               if k in ("starts", "tolerance", "rtol", "max_cycles")}}
     return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
 
 

@@ -14,9 +14,9 @@ are limited by a 48 kHz file) and its levels are those of :func:`acoustiviz.leve
 * LAeq and LZeq average over the interval, SEL per cycle is its exposure over the cycles it
   spans, LZpeak, LCpeak and LAFmax are the largest values within it.
 
-A non-periodic motion is not repeated: its measured cycles (32) are rendered once, the first
-whole cycles covering :data:`F_SETTLE` (at most half of them) are the lead-in and the rest the
-interval; the figures are then those of a sample of the motion, not of a steady state.
+A non-periodic motion is not repeated: the cycles of its measured window (128) are rendered
+once, the first whole cycles covering :data:`F_SETTLE` (at most half of them) are the lead-in
+and the rest the interval, the same window as its amplitude statistics.
 """
 
 from __future__ import annotations
@@ -186,7 +186,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     keep = steady.impact_speeds > 0
     base = steady.impact_times[keep] - steady.cycles * period  # s from the start of the measured cycles
     walls, speeds = steady.impact_walls[keep].astype(int), steady.impact_speeds[keep]
-    if steady.converged:
+    if steady.period > 0:
         window = steady.measured_cycles * period
         lead = math.ceil(F_SETTLE / window - 1e-9)
         reps = max(1, math.ceil(seconds / window - 1e-9))
@@ -215,7 +215,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     rendering = {**out.describe(), "levels": {
         **lv.describe(), "interval_cycles": cycles, "lead_in_s": start, "f_time_weighting_settled": settled,
         "steady_state": steady.regime,
-        "method": noise_statement(seconds) if steady.converged else
+        "method": noise_statement(seconds) if steady.period > 0 else
         f"non-periodic motion: its {steady.measured_cycles} measured cycles rendered once, levels over "
         f"the last {cycles} after a {start:.3g} s lead-in"}}
     return OperatingNoise(
@@ -237,17 +237,21 @@ def check_listener(model: DamperModel, listener=None, *, config: str = "plane", 
 
 
 def add_operating_noise(run, **kwargs) -> list:
-    """Fill the level columns of ``run.rows`` (a :class:`acoustiviz.app.forced.ForcedRun`, primary sweep).
+    """Fill the level columns of ``run.rows`` (a :class:`acoustiviz.app.forced.ForcedRun`, every attractor).
 
-    Rows of failed runs keep empty levels. Returns the :class:`OperatingNoise` list (None where failed);
-    ``**kwargs`` go to :func:`operating_noise`.
+    Rows of failed runs keep empty levels; the worst case per frequency is marked again with the
+    levels. Returns the :class:`OperatingNoise` list (None where failed); ``**kwargs`` go to
+    :func:`operating_noise`.
     """
+    from .forced import mark_worst_case
+
     noises = []
-    for row, r in zip(run.rows, run.response.primary, strict=True):
+    for row, r in zip(run.rows, run.steady_states, strict=True):
         nz = operating_noise(r, **kwargs) if r.success else None
         if nz is not None:
             row.update(nz.levels())
         noises.append(nz)
+    mark_worst_case(run.rows)
     return noises
 
 
@@ -368,7 +372,7 @@ def produce_operating_noise(ctx, run):
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(("frequency_hz", "regime", "impacts_per_cycle", *NOISE_COLUMNS))
-    for r, n in zip(run.response.primary, noises, strict=True):
+    for r, n in zip(run.steady_states, noises, strict=True):
         levels = n.levels() if n is not None else {}
         w.writerow([_cell(v) for v in (r.excitation.frequency, r.regime, r.impacts_per_cycle,
                                        *(levels.get(c) for c in NOISE_COLUMNS))])

@@ -3,7 +3,7 @@ r"""``acoustiviz forced``: the damper in operation, frequency response under har
 Example::
 
     acoustiviz forced --M 0.5 --K 500 --C 0.05 --m 0.0405 --gap 0.04 --k-hertz 5.6e8 --c1 20 \\
-        --force 5 --freq 3:7:9 --csv OUT.csv --png OUT.png
+        --force 5 --freq 3:7:9 --starts 8 --rtol 1e-12 --tolerance 1e-9 --csv OUT.csv --png OUT.png
 """
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import argparse
 import math
 import time
 
+from ..constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE
 from ._damper import add_model_options
 
 
@@ -22,9 +23,11 @@ def add_parser(subparsers):
         help="frequency response of the damper under a harmonic force or base motion",
         description=(
             "Run the impact damper (paper eq 15) under a harmonic force F0 cos(wt) on the main mass "
-            "(--force) or a harmonic base motion B cos(wt) (--base) to its periodic steady state at "
-            "each frequency, and report the main-mass amplitude with and without the damper, the "
-            "reduction, the regime (periodic-n or non-periodic) and the impacts per cycle."
+            "(--force) or a harmonic base motion B cos(wt) (--base) from several starts at each "
+            "frequency to every attractor they reach (periodic orbits refined by shooting, with their "
+            "Floquet multipliers), and report for each the main-mass amplitude with and without the "
+            "damper, the reduction, the regime (periodic-n, quasi-periodic, chaotic or unresolved), "
+            "the fraction of starts that reached it and the impacts per cycle."
         ),
     )
     add_model_options(p.add_argument_group("damper (paper eq 15; defaults: Table 1, d = 4 cm)"))
@@ -36,22 +39,28 @@ def add_parser(subparsers):
                    help="forcing frequencies in Hz: START:STOP:COUNT (inclusive) or a comma list")
     s = p.add_argument_group("solver")
     s.add_argument("--sweep", default="up", metavar="{up,down,both,independent}",
-                   help="continuation direction (each frequency starts from the last state), both "
-                        "(up and down, hysteresis marked) or independent runs (default %(default)s)")
+                   help="continuation: the attractors of each frequency also start the next higher (up), "
+                        "lower (down) or both neighbours, or none (independent) (default %(default)s)")
     s.add_argument("--solver", default="event", metavar="{event,impact-map,newmark}",
                    help="event (default; compliant Hertz contacts), impact-map (instantaneous impacts) "
                         "or newmark")
     s.add_argument("--restitution", type=float, default=None, metavar="E",
                    help="impact-map restitution in (0, 1] (default: the compliant contact's at each speed)")
-    s.add_argument("--tolerance", type=float, default=1e-6,
-                   help="Poincare return tolerance of the steady state (default %(default)s)")
-    s.add_argument("--max-cycles", type=int, default=2000, metavar="N",
-                   help="cycle limit per frequency; beyond it the motion is reported non-periodic "
+    s.add_argument("--starts", type=int, default=FORCED_STARTS, metavar="N",
+                   help="starts per frequency looking for coexisting attractors: the linear start, rest and "
+                        "the impact mass spread over the cavity (default %(default)s)")
+    s.add_argument("--tolerance", type=float, default=FORCED_TOLERANCE, metavar="TOL",
+                   help="Newton residual of a periodic orbit, largest component of P^n(s) - s in m and m/s "
+                        "(default %(default)g)")
+    s.add_argument("--rtol", type=float, default=FORCED_RTOL,
+                   help="relative tolerance of the contact integration, event solver (default %(default)g)")
+    s.add_argument("--max-cycles", type=int, default=FORCED_MAX_CYCLES, metavar="N",
+                   help="cycles each start runs before its motion is measured as non-periodic "
                         "(default %(default)s)")
     s.add_argument("--workers", type=int, default=1, metavar="N",
-                   help="processes for --sweep independent (default %(default)s)")
+                   help="processes running the frequencies in parallel (default %(default)s)")
     s.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",
-                   help="where --sweep independent runs: local processes (--workers) or a Dask scheduler "
+                   help="where the frequencies run: local processes (--workers) or a Dask scheduler "
                         "(extra 'distributed'; default %(default)s)")
     n = p.add_argument_group(
         "noise in operation (on by default)",
@@ -71,7 +80,7 @@ def add_parser(subparsers):
     n.add_argument("--wav", metavar="PATH", default=None,
                    help="write the damper in operation, each frequency's interval in turn, as a 48 kHz WAV")
     o = p.add_argument_group("outputs")
-    o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency as CSV")
+    o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency and attractor as CSV")
     o.add_argument("--png", metavar="PATH", default=None,
                    help="plot the frequency response and the bifurcation diagram as PNG")
     p.set_defaults(func=run)
@@ -102,36 +111,39 @@ def run(args) -> int:
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1)
     from ..app.budget import check_budget, forced_estimate
+    from ..constants import FORCED_MAX_STARTS, FORCED_MIN_CYCLES, FORCED_RTOL_RANGE, FORCED_TOLERANCE_RANGE
 
-    if not (isinstance(args.max_cycles, int) and args.max_cycles >= 1):
-        raise ParameterError("--max-cycles", f"must be an integer >= 1, got {args.max_cycles!r}")
-    check_budget(forced_estimate(len(freqs), args.max_cycles, noise_seconds=args.noise_seconds if args.noise else 0.0,
+    if not (isinstance(args.max_cycles, int) and args.max_cycles >= FORCED_MIN_CYCLES):
+        raise ParameterError("--max-cycles", f"must be an integer >= {FORCED_MIN_CYCLES}, got {args.max_cycles!r}")
+    if not 1 <= args.starts <= FORCED_MAX_STARTS:
+        raise ParameterError("--starts", f"must lie in [1, {FORCED_MAX_STARTS}], got {args.starts}")
+    for opt, v, (lo, hi) in (("--tolerance", args.tolerance, FORCED_TOLERANCE_RANGE),
+                             ("--rtol", args.rtol, FORCED_RTOL_RANGE)):
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise ParameterError(opt, f"must lie in [{lo:g}, {hi:g}], got {v!r}")
+    check_budget(forced_estimate(len(freqs) * args.starts, args.max_cycles,
+                                 noise_seconds=args.noise_seconds if args.noise else 0.0,
                                  wav=args.wav is not None), getattr(args, "max_memory", None))
     if args.noise or listener is not None:
         from ..app.forced import check_listener
 
         check_listener(model, listener)
     kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
+    import sys
+
+    def progress(msg):  # to stderr: the table on stdout stays clean
+        print(f"forced: {msg}", file=sys.stderr, flush=True)
+
     fr = run_forced(model, freqs, amp, kind=kind, sweep=args.sweep, solver=args.solver,
-                    restitution=args.restitution, tolerance=args.tolerance, max_cycles=args.max_cycles,
-                    workers=args.workers, executor=args.executor)
+                    restitution=args.restitution, tolerance=args.tolerance, rtol=args.rtol, starts=args.starts,
+                    max_cycles=args.max_cycles, workers=args.workers, executor=args.executor, progress=progress)
     unit = "N" if kind == "force" else "m"
-    print(f"{kind} amplitude {amp:g} {unit}; sweep {args.sweep}; solver {args.solver}; "
-          f"{len(freqs)} frequencies in {fr.elapsed:.2f} s")
-    print(f"{'f (Hz)':>8} {'A (mm)':>10} {'A0 (mm)':>10} {'red (dB)':>9} {'imp/cyc':>8}  regime")
-    for row in fr.rows:
-        print(f"{row['frequency_hz']:8.3f} {1e3 * row['amplitude_m']:10.4f} "
-              f"{1e3 * row['amplitude_without_damper_m']:10.4f} {row['reduction_db']:9.2f} "
-              f"{row['impacts_per_cycle']:8.3f}  {row['regime']}"
-              + (f"  (down: {row['regime_down']}, {1e3 * row['amplitude_down_m']:.4f} mm"
-                 f"{', hysteresis' if row['hysteresis'] else ''})" if 'regime_down' in row else ""))
-    unsettled = [r for r in fr.response.primary if r.success and not r.converged]
-    if unsettled:
-        r = unsettled[0]
-        print(f"non-periodic at {', '.join(f'{u.excitation.frequency:g}' for u in unsettled)} Hz: no period of up "
-              f"to 8 cycles within {r.cycles} cycles (tolerance {args.tolerance:g}); amplitude and impacts "
-              f"there are over the last {r.measured_cycles} cycles, not a steady state")
-    failed = [r for r in fr.response.primary + (fr.response.down or ()) if not r.success]
+    print(f"{kind} amplitude {amp:g} {unit}; sweep {args.sweep}; solver {args.solver}; {args.starts} starts; "
+          f"tolerance {args.tolerance:g} m, m/s; rtol {args.rtol:g}; max cycles {args.max_cycles}; "
+          f"{len(freqs)} frequencies, {len(fr.rows)} attractors in {fr.elapsed:.2f} s")
+    failed = [r for r in fr.steady_states if not r.success]
+    if not args.noise:
+        _print_table(fr, None)
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
     if args.noise:
@@ -143,15 +155,7 @@ def run(args) -> int:
         where = "the paper's listener (0.7 m, 45 deg)" if listener is None else f"({args.listener}) m"
         print(f"noise in operation at {where}: {noise_statement(args.noise_seconds)}; "
               f"{time.perf_counter() - t0:.2f} s")
-        print(f"{'f (Hz)':>8} {'LAeq':>7} {'LAFmax':>7} {'LCpeak':>7} {'LZpeak':>7} {'LZeq':>7} {'T (s)':>6}"
-              "  (dB re 20 uPa)")
-        for row, nz in zip(fr.rows, noises, strict=True):
-            if nz is None:
-                print(f"{row['frequency_hz']:8.3f}  (no levels: the run failed)")
-                continue
-            note = "" if nz.settled else "  (F weighting not settled: non-periodic record too short)"
-            print(f"{row['frequency_hz']:8.3f} {nz.laeq_db:7.1f} {nz.lafmax_db:7.1f} {nz.lcpeak_db:7.1f} "
-                  f"{nz.lzpeak_db:7.1f} {nz.lzeq_db:7.1f} {nz.duration:6.3f}{note}")
+        _print_table(fr, noises)
         if args.wav:
             rec = write_operating_wav(noises, args.wav, listener=listener)
             print(f"wrote {args.wav} (sidecar {rec[0]['sidecar']})")
@@ -160,3 +164,25 @@ def run(args) -> int:
     if args.png:
         print(f"wrote {write_forced_png(fr, args.png)}")
     return 0 if not failed else 1
+
+
+def _print_table(fr, noises) -> None:
+    """One line per (frequency, attractor), the worst case (largest amplitude, largest LCpeak) marked."""
+    lv = noises is not None
+    print(f"{'f (Hz)':>8} {'#':>2} {'A (mm)':>9} {'±':>7} {'A0 (mm)':>9} {'red dB':>7} {'imp/cyc':>7} {'basin':>5} "
+          f"{'|mu|max':>8} {'stable':>6}" + (f" {'LAeq':>6} {'LAFmax':>6} {'LCpeak':>6}" if lv else "")
+          + "  regime  (worst case)")
+    for k, row in enumerate(fr.rows):
+        mu = row["max_floquet_modulus"]
+        line = (f"{row['frequency_hz']:8.3f} {row['attractor']:2d} {1e3 * row['amplitude_m']:9.3f} "
+                f"{1e3 * row['amplitude_std_err_m']:7.3f} {1e3 * row['amplitude_without_damper_m']:9.3f} "
+                f"{row['reduction_db']:7.2f} {row['impacts_per_cycle']:7.3f} {row['basin_fraction']:5.2f} "
+                f"{'' if math.isnan(mu) else f'{mu:.4f}':>8} {'yes' if row['stable'] else 'no':>6}")
+        if lv:
+            nz = noises[k]
+            line += (f" {nz.laeq_db:6.1f} {nz.lafmax_db:6.1f} {nz.lcpeak_db:6.1f}" if nz is not None
+                     else f" {'':>6} {'':>6} {'':>6}")
+        print(line + f"  {row['regime']}" + (f"  ({row['worst_case']})" if row["worst_case"] else ""))
+    odd = [row for row in fr.rows if not row["regime"].startswith("periodic-")]
+    for row in odd:
+        print(f"{row['frequency_hz']:g} Hz #{row['attractor']}: {row['message']}")

@@ -452,7 +452,7 @@ class DampedContact:
     duration : float
         Contact duration in s.
     peak_force : float
-        Largest contact force in N.
+        Largest contact force in N (the maximum of the dense solution, not of the samples).
     clip_tensile : bool
         Whether the force was clipped at zero.
     """
@@ -521,6 +521,8 @@ def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
     -------
     DampedContact
     """
+    from scipy.optimize import minimize_scalar
+
     zeta = impact.damping_ratio
     sol, te, ve = _damped_contact_dimensionless(zeta, impact.clip_tensile, dense=True)
     if not math.isfinite(te):
@@ -534,6 +536,9 @@ def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
     force = impact.k_hertz * np.maximum(alpha, 0.0) ** 1.5 + impact.damping * rate
     if impact.clip_tensile:
         force = np.maximum(force, 0.0)
+    k, fh, fd = int(np.argmax(force)), impact.k_hertz * am**1.5, impact.damping * u0  # refine the peak:
+    pk = minimize_scalar(lambda t: -(fh * max(float(sol.sol(t)[0]), 0.0) ** 1.5 + fd * float(sol.sol(t)[1])),
+                         bounds=(th[max(k - 1, 0)], th[min(k + 1, th.size - 1)]), options={"xatol": 1e-14})
     return DampedContact(
         time=th * tscale,
         approach=alpha,
@@ -541,7 +546,7 @@ def damped_contact(impact: Impact, *, n_output: int = 513) -> DampedContact:
         force=force,
         restitution=ve,
         duration=te * tscale,
-        peak_force=float(force.max()),
+        peak_force=max(float(force[k]), -float(pk.fun)),
         clip_tensile=impact.clip_tensile,
     )
 

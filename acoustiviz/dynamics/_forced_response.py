@@ -1,12 +1,17 @@
-"""Frequency response of the forced impact damper: sweeps up and down with continuation.
+"""Frequency response of the forced impact damper: every attractor per frequency, and sweeps with continuation.
 
-Each frequency is run to its periodic steady state (:func:`.forced.steady_state`). With
-continuation (``sweep="up"``, ``"down"`` or ``"both"``) a run starts from the last state of the
-previous frequency (at forcing phase 0), so the sweep follows a branch of periodic motions as a
-slowly varied machine speed would, and the two directions can end on different branches
-(hysteresis). ``sweep="independent"`` starts every frequency from the linear steady state
-(:func:`.forced.linear_start`); those runs are independent and go to an executor when one is
-given (any :class:`concurrent.futures.Executor`: a local process pool, a Dask executor).
+:func:`attractor_response` looks for every attractor at each frequency
+(:func:`._attractors.attractors_at`: several starts, each run to its attractor and refined by
+shooting) and then continues the attractors found along the frequency axis: the states of the
+attractors of a frequency are the seeds of its neighbours (the higher one for ``sweep="up"``, the
+lower one for ``"down"``, both for ``"both"``, none for ``"independent"``), which is what a
+slowly varied machine speed does; rounds are repeated while a seed finds an attractor that was
+not known, so a branch is followed as far as it exists. The frequencies of a round are
+independent and go to an executor when one is given (any :class:`concurrent.futures.Executor`:
+a local process pool, a Dask executor).
+
+:func:`frequency_response` is the single-start sweep: each frequency from the last state of the
+previous one (or the linear start), one attractor per frequency.
 """
 
 from __future__ import annotations
@@ -18,11 +23,12 @@ import numpy as np
 
 from .._validate import ParameterError, check_choice
 from ..constants import FREQUENCY_SWEEPS
+from ._attractors import attractors_at, steady_state
+from ._forced_steady import Excitation, ForcedSettings, check_settings
 from .model import DamperModel
 
-# .forced re-exports this module's public names, so its names are imported where used
-
-__all__ = ["SWEEPS", "FrequencyResponse", "frequency_response", "HYSTERESIS_TOLERANCE"]
+__all__ = ["SWEEPS", "AttractorResponse", "FrequencyResponse", "attractor_response", "frequency_response",
+           "describe", "HYSTERESIS_TOLERANCE"]
 
 #: Sweep directions.
 SWEEPS = FREQUENCY_SWEEPS
@@ -32,10 +38,14 @@ HYSTERESIS_TOLERANCE = 1e-3
 
 def _run_one(args):
     """One steady state (picklable for process pools)."""
-    from .forced import steady_state
+    model, excitation, settings, initial = args
+    return steady_state(model, excitation, initial=initial, settings=settings)
 
-    model, excitation, kwargs, initial = args
-    return steady_state(model, excitation, initial=initial, **kwargs)
+
+def _run_attractors(args):
+    """The attractors of one frequency (picklable for process pools)."""
+    model, excitation, settings, seeds, previous = args
+    return attractors_at(model, excitation, settings, seeds=seeds, previous=previous)
 
 
 @dataclass(frozen=True)
@@ -141,15 +151,40 @@ def frequency_response(
     executor : concurrent.futures.Executor, optional
         Runs the independent frequencies in parallel (``sweep="independent"`` only).
     **kwargs
-        Passed to :func:`.forced.steady_state` (solver, restitution, tolerance, max_cycles, rtol).
+        Settings of :func:`._attractors.steady_state` (solver, restitution, tolerance, max_cycles, rtol).
 
     Returns
     -------
     FrequencyResponse
     """
-    from .forced import Excitation, check_settings, steady_state
-
     check_choice("sweep", sweep, SWEEPS)
+    f = _frequencies(frequencies)
+    if executor is not None and sweep != "independent":
+        raise ParameterError("executor", "runs in parallel only with sweep='independent' (no continuation)")
+    excitations = [Excitation(float(fi), amplitude, kind) for fi in f]
+    settings = check_settings(model, excitations[0], **kwargs)
+
+    def chain(order):
+        out, state = {}, None
+        for i in order:
+            r = steady_state(model, excitations[i], initial=state, settings=settings)
+            out[i] = r
+            state = r.final_state if r.success else None
+        return tuple(out[i] for i in range(f.size))
+
+    up = range(f.size)
+    down = range(f.size - 1, -1, -1)
+    if sweep == "independent":
+        tasks = [(model, ex, settings, None) for ex in excitations]
+        results = list(executor.map(_run_one, tasks)) if executor is not None else [_run_one(t) for t in tasks]
+        return FrequencyResponse(f, tuple(results), None, sweep)
+    if sweep == "down":
+        return FrequencyResponse(f, chain(down), None, sweep)
+    primary = chain(up)
+    return FrequencyResponse(f, primary, chain(down) if sweep == "both" else None, sweep)
+
+
+def _frequencies(frequencies) -> np.ndarray:
     try:
         f = np.sort(np.asarray(frequencies, dtype=float).ravel())
     except (TypeError, ValueError):
@@ -158,29 +193,152 @@ def frequency_response(
         raise ParameterError("frequencies", "expected one or more finite frequencies > 0 Hz")
     if np.any(np.diff(f) == 0):
         raise ParameterError("frequencies", "duplicate frequencies")
-    if executor is not None and sweep != "independent":
-        raise ParameterError("executor", "runs in parallel only with sweep='independent' (no continuation)")
+    return f
+
+
+@dataclass(frozen=True)
+class AttractorResponse:
+    """Every attractor found at each of a list of forcing frequencies.
+
+    Attributes
+    ----------
+    frequencies : ndarray
+        Forcing frequencies in Hz, increasing.
+    per_frequency : tuple of FrequencyAttractors
+        The attractors (with their basin fractions) and the unstable orbits met, per frequency.
+    sweep : str
+        Continuation of the attractors along the frequencies (module docstring).
+    settings : ForcedSettings
+    rounds : int
+        Rounds of continuation run.
+    """
+
+    frequencies: np.ndarray
+    per_frequency: tuple
+    sweep: str
+    settings: ForcedSettings
+    rounds: int = 0
+
+    def entries(self) -> list:
+        """``(frequency index, attractor index, SteadyState, basin fraction)`` of every attractor."""
+        out = []
+        for i, fa in enumerate(self.per_frequency):
+            fr = fa.basin_fractions
+            for j, a in enumerate(fa.attractors):
+                out.append((i, j, a, float(fr[j])))
+        return out
+
+    @property
+    def unstable(self) -> list:
+        """``(frequency index, SteadyState)`` of the unstable periodic orbits found."""
+        return [(i, u) for i, fa in enumerate(self.per_frequency) for u in fa.unstable]
+
+    @property
+    def cycles_integrated(self) -> int:
+        """Forcing cycles integrated in all (attractors and unstable orbits as recorded)."""
+        return sum(a.cycles_integrated for _, _, a, _ in self.entries())
+
+    def bifurcation_points(self, stable: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Poincaré displacements ``(frequency Hz, x m)`` of the attractors (``stable``) or unstable orbits.
+
+        The n points of a period-n orbit, the window's points of non-periodic motion; runs the
+        solver stopped are left out.
+        """
+        runs = ([(i, a) for i, _, a, _ in self.entries()] if stable else self.unstable)
+        fs, xs = [np.empty(0)], [np.empty(0)]
+        for i, r in runs:
+            if r.success and r.poincare.size:
+                fs.append(np.full(len(r.poincare), self.frequencies[i]))
+                xs.append(r.poincare[:, 0])
+        return np.concatenate(fs), np.concatenate(xs)
+
+
+def _seed(a):
+    """``(state, period)`` continuing attractor ``a`` at a neighbouring frequency."""
+    if a.period:
+        x, v, z, u = (float(q) for q in a.poincare[0])
+        return (x, v, x + z, v + u), a.period
+    return a.final_state, 0
+
+
+def attractor_response(
+    model: DamperModel,
+    frequencies,
+    amplitude: float,
+    *,
+    kind: str = "force",
+    sweep: str = "up",
+    executor=None,
+    settings: ForcedSettings | None = None,
+    progress=None,
+    **kwargs,
+) -> AttractorResponse:
+    """Every attractor of the forced damper at each of ``frequencies`` (module docstring).
+
+    Parameters
+    ----------
+    model : DamperModel
+    frequencies : array_like
+        Forcing frequencies in Hz (> 0; sorted here, duplicates refused).
+    amplitude : float
+        Force amplitude in N (``kind="force"``) or base amplitude in m (``kind="base"``).
+    kind : {"force", "base"}
+    sweep : {"up", "down", "both", "independent"}
+        Which neighbours' attractors seed a frequency (module docstring).
+    executor : concurrent.futures.Executor, optional
+        Runs the frequencies of each round in parallel.
+    settings : ForcedSettings, optional
+        Or its fields as keywords (tolerance, rtol, starts, max_cycles, solver, restitution).
+    progress : callable, optional
+        Called with a one-line message after each frequency of the first round and after each
+        continuation round.
+
+    Returns
+    -------
+    AttractorResponse
+    """
+    check_choice("sweep", sweep, SWEEPS)
+    f = _frequencies(frequencies)
     excitations = [Excitation(float(fi), amplitude, kind) for fi in f]
-    check_settings(model, excitations[0], **kwargs)
-
-    def chain(order):
-        out, state = {}, None
-        for i in order:
-            r = steady_state(model, excitations[i], initial=state, **kwargs)
-            out[i] = r
-            state = r.final_state if r.success else None
-        return tuple(out[i] for i in range(f.size))
-
-    up = range(f.size)
-    down = range(f.size - 1, -1, -1)
-    if sweep == "independent":
-        tasks = [(model, ex, kwargs, None) for ex in excitations]
-        results = list(executor.map(_run_one, tasks)) if executor is not None else [_run_one(t) for t in tasks]
-        return FrequencyResponse(f, tuple(results), None, sweep)
-    if sweep == "down":
-        return FrequencyResponse(f, chain(down), None, sweep)
-    primary = chain(up)
-    return FrequencyResponse(f, primary, chain(down) if sweep == "both" else None, sweep)
+    settings = check_settings(model, excitations[0], settings, **kwargs)
+    for ex in excitations[1:]:
+        ex.linear_response(model)  # refuses an undamped resonance before any run
+    run = executor.map if executor is not None else map
+    results = []
+    for k, r in enumerate(run(_run_attractors, [(model, ex, settings, (), None) for ex in excitations])):
+        results.append(r)
+        if progress:
+            progress(f"{f[k]:g} Hz ({k + 1}/{f.size}): {len(r.attractors)} attractor(s) from {settings.starts} starts")
+    new = [list(r.attractors) for r in results]
+    rounds = 0
+    if progress:
+        progress(f"{f.size} frequencies x {settings.starts} starts: "
+                 f"{sum(len(r.attractors) for r in results)} attractors")
+    up, down = sweep in ("up", "both"), sweep in ("down", "both")
+    while sweep != "independent" and rounds < f.size:
+        seeds = [[] for _ in f]
+        for i, fresh in enumerate(new):
+            for a in fresh:
+                if not a.success:
+                    continue
+                if up and i + 1 < f.size:
+                    seeds[i + 1].append(_seed(a))
+                if down and i > 0:
+                    seeds[i - 1].append(_seed(a))
+        todo = [i for i in range(f.size) if seeds[i]]
+        if not todo:
+            break
+        rounds += 1
+        before = [len(r.attractors) for r in results]
+        done = list(run(_run_attractors, [(model, excitations[i], settings, tuple(seeds[i]), results[i])
+                                          for i in todo]))
+        new = [[] for _ in f]
+        for i, r in zip(todo, done, strict=True):
+            results[i] = r
+            new[i] = list(r.attractors[before[i]:])
+        if progress:
+            progress(f"continuation round {rounds}: {sum(len(x) for x in new)} new attractors")
+    return AttractorResponse(f, tuple(results), sweep, settings, rounds)
 
 
 def describe(r) -> dict:
@@ -202,4 +360,13 @@ def describe(r) -> dict:
         "max_impact_speed_m_s": float(np.max(speeds)) if speeds.size else math.nan,
         "impact_phases_deg": " ".join(f"{math.degrees(p):.2f}" for p in r.impact_phases),
         "energy_closure": r.energy_closure,
+        "stable": r.stable,
+        "max_floquet_modulus": r.max_floquet_modulus,
+        "residual": r.residual,
+        "amplitude_std_err_m": r.amplitude_std_err,
+        "lyapunov_1_s": r.lyapunov,
+        "lyapunov_std_err_1_s": r.lyapunov_std_err,
+        "newton_iterations": r.newton_iterations,
+        "cycles_integrated": r.cycles_integrated,
+        "message": r.message,
     }

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_range
-from .forced import Excitation
+from ._forced_steady import Excitation
 from .model import DamperModel
 
 __all__ = ["MasriCaughey", "linear_amplitude", "masri_caughey", "transition_matrix"]
@@ -129,6 +129,20 @@ class MasriCaughey:
         return sign * x, sign * v, sign * (x + z), -sign * self.w_before
 
 
+def _largest(sol, model, excitation, t, ax) -> float:
+    """Largest |x| in m over [0, T/2]: the best sample refined by a bounded scalar search (to ~1e-15 s)."""
+    from scipy.optimize import minimize_scalar
+
+    k = int(np.argmax(ax))
+    lo, hi = t[max(k - 1, 0)], t[min(k + 1, t.size - 1)]
+    best = float(ax[k])
+    if hi > lo:
+        res = minimize_scalar(lambda s: -abs(float(sol.motion(model, excitation, s)[0])), bounds=(lo, hi),
+                              method="bounded", options={"xatol": 1e-15})
+        best = max(best, -float(res.fun))
+    return best
+
+
 def masri_caughey(model: DamperModel, excitation: Excitation, restitution: float) -> list[MasriCaughey]:
     """The symmetric two-impacts-per-cycle periodic motions (Masri and Caughey, 1966).
 
@@ -182,7 +196,7 @@ def masri_caughey(model: DamperModel, excitation: Excitation, restitution: float
         t = np.linspace(0.0, math.pi / om, 4001)
         x, _, z = sol.motion(model, excitation, t)
         inside = bool(np.all(np.abs(z[1:-1]) <= hg * (1.0 + 1e-9)))
-        amp = float(np.max(np.abs(x)))
+        amp = _largest(sol, model, excitation, t, np.abs(x))
         out.append(MasriCaughey(sol.x0, sol.phase, sol.approach_speed, sol.v_before, sol.v_after,
                                 sol.w_before, amp, bool(w_before > 0.0 and inside)))
     return sorted(out, key=lambda r: -r.amplitude)

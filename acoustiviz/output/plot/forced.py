@@ -15,11 +15,32 @@ __all__ = ["plot_frequency_response", "plot_bifurcation", "plot_operating_levels
 
 
 def _regime_colour(regime: str) -> str:
-    if regime == "non-periodic":
+    if regime in ("non-periodic", "chaotic"):
         return "tab:red"
-    if regime == "failed":
+    if regime == "quasi-periodic":
+        return "tab:orange"
+    if regime in ("failed", "unresolved"):
         return "0.6"
     return {"periodic-1": "tab:blue", "periodic-2": "tab:green"}.get(regime, "tab:purple")
+
+
+def _plot_attractors(response, ax):
+    """Every attractor of an :class:`acoustiviz.dynamics.forced.AttractorResponse` on amplitude axes (mm)."""
+    entries = [e for e in response.entries() if e[2].success]
+    regimes = set()
+    worst: dict = {}
+    for i, _, a, basin in entries:
+        f = response.frequencies[i]
+        regimes.add(a.regime)
+        c = _regime_colour(a.regime)
+        err = 1e3 * a.amplitude_std_err if not a.period else 0.0
+        ax.errorbar(f, 1e3 * a.amplitude, yerr=err or None, fmt="o", ms=4 + 4 * basin, color=c,
+                    mfc=c if basin > 0 else "none", capsize=2, lw=0.8)
+        worst[i] = max(worst.get(i, 0.0), a.amplitude)
+    idx = sorted(worst)
+    ax.plot(response.frequencies[idx], [1e3 * worst[i] for i in idx], color="k", lw=1.0,
+            label="with damper, largest amplitude (worst case)")
+    return regimes
 
 
 def plot_frequency_response(response, ax=None):
@@ -34,16 +55,31 @@ def plot_frequency_response(response, ax=None):
     -------
     matplotlib Axes
         Amplitude in mm (log scale) against frequency in Hz; markers coloured by regime (blue
-        periodic-1, green periodic-2, purple longer periods, red non-periodic); the downward
-        sweep dashed when present; frequencies with hysteresis shaded.
+        periodic-1, green periodic-2, purple longer periods, red chaotic, orange quasi-periodic,
+        grey unresolved). For an attractor response every attractor is drawn, the marker's
+        size growing with its basin fraction (open: found only by continuation), non-periodic
+        ones with their standard error, and the largest amplitude per frequency joined (the
+        worst case); for a single sweep the downward sweep is dashed when present and the
+        frequencies with hysteresis shaded.
     """
     f = response.frequencies
     with style():
         ax = new_axes(ax, figsize=(7.0, 4.2))
         fine = np.linspace(f.min(), f.max(), 400)
-        r0 = response.primary[0]
+        attractors = hasattr(response, "per_frequency")
+        r0 = response.per_frequency[0].attractors[0] if attractors else response.primary[0]
         lin = [abs(r0.excitation.at(fi).linear_response(r0.model)) for fi in fine]
         ax.plot(fine, 1e3 * np.asarray(lin), color="0.5", lw=1.2, label="without damper (linear)")
+        if attractors:
+            regimes = _plot_attractors(response, ax)
+            for reg in sorted(regimes):
+                ax.plot([], [], "o", color=_regime_colour(reg), label=reg)
+            ax.plot([], [], "o", color="0.3", mfc="none", label="found only by continuation")
+            ax.set_yscale("log")
+            ax.set_xlabel("forcing frequency (Hz)")
+            ax.set_ylabel("main-mass amplitude (mm)")
+            ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+            return ax
         label = {"up": "with damper, sweep up", "down": "with damper, sweep down",
                  "both": "with damper, sweep up", "independent": "with damper"}[response.sweep]
         ax.plot(f, 1e3 * response.amplitude, color="k", lw=1.0, label=label)
@@ -116,14 +152,20 @@ def plot_bifurcation(response, ax=None, which: str = "primary"):
     -------
     matplotlib Axes
         x in mm at t = kT against frequency in Hz: one dot for period-1 motion, n for period-n,
-        a cloud for non-periodic motion. When a few points exceed 20 times the median the axis
-        stays linear up to the decade above twice the median and turns logarithmic beyond it
-        (symlog), the linear part given two decades' height.
+        a cloud for non-periodic motion; the unstable periodic orbits of an attractor response as
+        open red circles, those of the same period at neighbouring frequencies within 25 % of each
+        other joined by dashed lines (a branch as continuation followed it). When a few points
+        exceed 20 times the median the axis stays linear up to the decade above twice the median
+        and turns logarithmic beyond it (symlog), the linear part given two decades' height.
     """
-    fs, xs = response.bifurcation_points(which)
+    attractors = hasattr(response, "per_frequency")
+    fs, xs = response.bifurcation_points() if attractors else response.bifurcation_points(which)
     with style():
         ax = new_axes(ax, figsize=(7.0, 4.2))
-        ax.plot(fs, 1e3 * xs, ".", ms=2.5, color="k")
+        ax.plot(fs, 1e3 * xs, ".", ms=2.5, color="k", label="attractors" if attractors else None)
+        if attractors and response.unstable:
+            _unstable(response, ax)
+            ax.legend(fontsize=8, loc="upper left")
         span = 1e3 * float(np.max(np.abs(xs), initial=0.0))
         small = 1e3 * float(np.median(np.abs(xs))) if xs.size else 0.0
         if small > 0 and span > 20 * small:  # a resonance dwarfs the rest: logarithmic beyond a round decade
@@ -131,6 +173,24 @@ def plot_bifurcation(response, ax=None, which: str = "primary"):
         ax.set_xlabel("forcing frequency (Hz)")
         ax.set_ylabel("x at forcing phase 0 (mm)")
     return ax
+
+
+def _unstable(response, ax):
+    """Unstable periodic orbits: open circles, the same period at neighbouring frequencies dashed."""
+    by = {}
+    for i, u in response.unstable:
+        by.setdefault(u.period, {}).setdefault(i, []).extend(u.poincare[:, 0])
+    for per_f in by.values():
+        for i, xs in per_f.items():
+            f = response.frequencies[i]
+            ax.plot(np.full(len(xs), f), 1e3 * np.asarray(xs), "o", ms=3.5, mfc="none", color="tab:red")
+            nxt = per_f.get(i + 1)
+            if nxt:
+                for x in xs:  # each point to its nearest at the next frequency, when near (one branch)
+                    y = min(nxt, key=lambda q, x=x: abs(q - x))
+                    if abs(y - x) <= 0.25 * max(abs(x), abs(y)):
+                        ax.plot([f, response.frequencies[i + 1]], [1e3 * x, 1e3 * y], "--", color="tab:red", lw=0.8)
+    ax.plot([], [], "o--", mfc="none", color="tab:red", lw=0.8, label="unstable periodic orbits")
 
 
 def _symlog(ax, lin: float, span: float) -> None:
@@ -166,6 +226,7 @@ def plot_operating_levels(frequencies, levels: dict, regimes=None, ax=None):
     """
     f = np.asarray(frequencies, dtype=float)
     names = (("lcpeak_db", "LCpeak", "^"), ("lafmax_db", "LAFmax", "s"), ("laeq_db", "LAeq", "o"))
+    uf = np.unique(f)
     with style():
         ax = new_axes(ax, figsize=(7.0, 4.2))
         finite = []
@@ -173,7 +234,14 @@ def plot_operating_levels(frequencies, levels: dict, regimes=None, ax=None):
             if key in levels:
                 y = np.asarray(levels[key], dtype=float)
                 finite.append(y[np.isfinite(y)])
-                ax.plot(f, np.where(np.isfinite(y), y, np.nan), "-" + mk, ms=3.5, lw=1.0, label=name)
+                yf = np.where(np.isfinite(y), y, np.nan)
+                if uf.size == f.size:
+                    ax.plot(f, yf, "-" + mk, ms=3.5, lw=1.0, label=name)
+                else:  # several attractors per frequency: each a marker, the loudest joined
+                    line = ax.plot(f, yf, mk, ms=3.5, label=name)[0]
+                    top = [np.nanmax(np.where(f == u, yf, np.nan)) if np.any(np.isfinite(yf[f == u])) else np.nan
+                           for u in uf]
+                    ax.plot(uf, top, "-", lw=1.0, color=line.get_color())
         ref = next((np.asarray(levels[k], dtype=float) for k in ("laeq_db", "lafmax_db", "lcpeak_db")
                     if k in levels), np.full(f.size, np.nan))
         silent = np.isneginf(ref)
@@ -181,8 +249,11 @@ def plot_operating_levels(frequencies, levels: dict, regimes=None, ax=None):
         if silent.any():
             ax.plot(f[silent], np.full(int(silent.sum()), low - 5.0), "x", color="0.4", label="no impacts (silent)")
         if regimes is not None:
-            shade_frequencies(ax, f, [g == "non-periodic" for g in regimes],
-                              label="non-periodic (a sample, not a steady state)")
+            bad = {u: False for u in uf}
+            for fi, g in zip(f, regimes, strict=True):
+                bad[fi] = bad[fi] or not str(g).startswith("periodic-")
+            shade_frequencies(ax, uf, [bad[u] for u in uf],
+                              label="non-periodic (window statistics)")
         ax.set_xlabel("forcing frequency (Hz)")
         ax.set_ylabel("level (dB re 20 µPa)")
         ax.legend(fontsize=8, ncol=2, loc="lower right")

@@ -1,0 +1,45 @@
+"""The attractors of one frequency: starts, regime rules, de-duplication."""
+
+import numpy as np
+import pytest
+
+from acoustiviz.dynamics._attractors import _classify, _drifting, same_motion, start_states
+from acoustiviz.dynamics.forced import Excitation, steady_state
+from acoustiviz.dynamics.model import DamperModel
+
+
+def test_starts_are_deterministic_and_inside_the_cavity():
+    model, ex = DamperModel(), Excitation(5.0, 5.0)
+    a, b = start_states(model, ex, 8), start_states(model, ex, 8)
+    assert a == b and len(a) == 8 and len(set(a)) == 8
+    assert a[1] == (0.0, 0.0, 0.0, 0.0)  # rest
+    for x, _, y, _ in a[2:]:
+        assert abs(y - x) < 0.5 * model.gap
+
+
+@pytest.mark.parametrize("lam,err,regime,word", [
+    (5.0, 0.5, "chaotic", "positive beyond"),
+    (-1.0, 0.1, "unresolved", "contracting"),
+    (1e-3, 1e-3, "quasi-periodic", "zero within"),
+    (0.5, 0.4, "unresolved", "cannot be told"),
+    (float("nan"), 0.1, "unresolved", "failed"),
+])
+def test_regime_rules_from_the_lyapunov_exponent(lam, err, regime, word):
+    got, why = _classify(lam, err, 0.2)  # 1/s, forcing period 0.2 s
+    assert got == regime and word in why
+
+
+def test_a_drifting_window_is_told_from_a_stationary_one():
+    rng = np.random.default_rng(1)
+    noise = rng.normal(0.0, 1e-3, 8)
+    assert not _drifting(0.14 + noise)
+    assert _drifting(0.14 + noise + np.linspace(0.02, 0.0, 8))  # a decaying transient
+
+
+def test_motions_without_impacts_are_one_motion_wherever_the_impact_mass_floats():
+    model, ex = DamperModel(gap=10.0), Excitation(3.0, 5.0)
+    a = steady_state(model, ex, initial=(0.0, 0.0, 0.0, 0.0), tolerance=1e-12)
+    b = steady_state(model, ex, initial=(0.0, 0.0, 1.0, 0.0), tolerance=1e-12)
+    assert a.impacts_per_cycle == b.impacts_per_cycle == 0
+    assert abs(a.poincare[0, 2] - b.poincare[0, 2]) > 0.5  # the impact mass elsewhere
+    assert same_motion(a, b)
