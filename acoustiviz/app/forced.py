@@ -35,6 +35,7 @@ from .forced_noise import (
     check_listener,
     default_listener,
     design_map,
+    mark_worst_case,
     operating_noise,
     write_operating_wav,
 )
@@ -148,21 +149,6 @@ class ForcedRun:
     def success(self) -> bool:
         """True when every run completed (whatever its regime)."""
         return all(r.success for r in self.steady_states)
-
-
-def mark_worst_case(rows: list) -> None:
-    """Fill ``worst_case`` of ``rows``: per frequency, the attractor of largest amplitude and of largest LCpeak."""
-    by_f: dict = {}
-    for row in rows:
-        by_f.setdefault(row["frequency_hz"], []).append(row)
-    for group in by_f.values():
-        marks = {id(r): [] for r in group}
-        for key, label in (("amplitude_m", "amplitude"), ("lcpeak_db", "lcpeak")):
-            vals = [(r[key], r) for r in group if r.get(key) is not None and not math.isnan(r[key])]
-            if vals:
-                marks[id(max(vals, key=lambda t: t[0])[1])].append(label)
-        for r in group:
-            r["worst_case"] = "+".join(marks[id(r)])
 
 
 def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str = "force", sweep: str = "up",

@@ -34,7 +34,7 @@ from ..errors import ParameterError
 from .levels import ANALYSIS_RATE
 
 __all__ = ["NOISE_RATE", "F_SETTLE", "NOISE_COLUMNS", "OperatingNoise", "operating_noise", "default_listener",
-           "check_listener", "add_operating_noise", "write_operating_wav", "DesignMap", "design_map",
+           "mark_worst_case", "check_listener", "add_operating_noise", "write_operating_wav", "DesignMap", "design_map",
            "noise_statement", "produce_operating_noise"]
 
 #: Rate in Hz at which the click train is rendered for its levels.
@@ -45,6 +45,21 @@ F_SETTLE = 1.0
 #: Level columns of the noise in operation (dB re 20 µPa; SEL per cycle re (20 µPa)² s).
 NOISE_COLUMNS = ("laeq_db", "lcpeak_db", "lafmax_db", "lzpeak_db", "lzeq_db", "sel_per_cycle_db",
                  "sel_a_per_cycle_db", "level_interval_s")
+
+
+def mark_worst_case(rows: list) -> None:
+    """Fill ``worst_case`` of ``rows``: per frequency, the attractor of largest amplitude and of largest LCpeak."""
+    by_f: dict = {}
+    for row in rows:
+        by_f.setdefault(row["frequency_hz"], []).append(row)
+    for group in by_f.values():
+        marks = {id(r): [] for r in group}
+        for key, label in (("amplitude_m", "amplitude"), ("lcpeak_db", "lcpeak")):
+            vals = [(r[key], r) for r in group if r.get(key) is not None and not math.isnan(r[key])]
+            if vals:
+                marks[id(max(vals, key=lambda t: t[0])[1])].append(label)
+        for r in group:
+            r["worst_case"] = "+".join(marks[id(r)])
 
 
 def default_listener(radius: float = PAPER_RADIUS) -> np.ndarray:
@@ -243,8 +258,6 @@ def add_operating_noise(run, **kwargs) -> list:
     levels. Returns the :class:`OperatingNoise` list (None where failed); ``**kwargs`` go to
     :func:`operating_noise`.
     """
-    from .forced import mark_worst_case
-
     noises = []
     for row, r in zip(run.rows, run.steady_states, strict=True):
         nz = operating_noise(r, **kwargs) if r.success else None
