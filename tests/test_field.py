@@ -8,6 +8,7 @@ import pytest
 from acoustiviz import field
 from acoustiviz._validate import ParameterError
 from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.geometry import geometry as av_geometry
 from acoustiviz.core.geometry import images_free, images_plane, images_wall_floor
 from acoustiviz.core.radiation import sphere_pressure
 
@@ -439,3 +440,22 @@ def test_decay_extremes_of_the_free_decay_on_an_interval(t_b):
     assert hi == pytest.approx(p.max(), rel=1e-9, abs=1e-12 * np.abs(p).max())
     assert lo == pytest.approx(p.min(), rel=1e-9, abs=1e-12 * np.abs(p).max())
     assert t_a <= thi <= t_b and t_a <= tlo <= t_b
+
+
+@pytest.mark.parametrize("kind", ["hertz", "half-sine"])
+@pytest.mark.parametrize("config", ["plane", "wall-floor"])
+def test_rms_is_over_the_exact_window_not_one_rounded_to_whole_samples(kind, config):
+    # RMS^2 x window is the exposure of the whole response, which field.exposure integrates in
+    # closed form without a time grid (an independent route): with the window rounded up to whole
+    # samples of the default step the RMS was 2e-4 to 8e-4 low
+    imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264)
+    pulse = acceleration_pulse(imp, kind)
+    g = av_geometry(config, 0.01905, **({"wall_distance": 0.3} if config == "wall-floor" else {}))
+    th = np.radians([0.0, 30.0, 45.0, 60.0, 85.0])
+    pts = np.c_[0.7 * np.sin(th), 0 * th, 0.01905 + 0.7 * np.cos(th)]
+    fm = field.field_metrics(pulse, pts, g)
+    start, stop = field.arrival_windows(pulse, pts, g)
+    assert fm.window == pytest.approx(float(np.max(stop - start)), rel=1e-15)
+    assert fm.window / fm.sample_interval == pytest.approx(round(fm.window / fm.sample_interval), abs=1e-6)
+    exact = np.sqrt(field.exposure(pulse, pts, g) / fm.window)
+    np.testing.assert_allclose(fm.rms, exact, rtol=1e-6)

@@ -52,7 +52,7 @@ class FieldMetrics:
     window : float
         Length of every point's window in s.
     sample_interval : float
-        Time step in s used to sample the pressure.
+        Time step in s used to sample the pressure (the window over a whole number of samples).
     model : (n,) ndarray of uint8
         Code of the model that served each point: an index into ``model_names``.
     model_names : tuple of str
@@ -128,8 +128,9 @@ def field_metrics(
     medium : Medium
         The fluid.
     sample_interval : float, optional
-        Time step in s (default :func:`default_sample_interval`, 64 samples per
-        ``min(T, a/c)``).
+        Largest time step in s (default :func:`default_sample_interval`, 64 samples per
+        ``min(T, a/c)``); the step used is the window divided by a whole number of samples, so
+        the samples fill the window exactly.
     window : float, optional
         Length in s of each point's window, which starts at the point's first arrival
         ``min_j (r_j - a)/c``. Default: long enough for every point to hold the whole
@@ -192,8 +193,10 @@ def field_metrics(
                     win = max(win, float(np.max((stop - start)[ok])))
         else:
             win = check_positive("window", window, "s")
+        # the window is the exact interval: m whole samples of a step at most dt fill it (rounding
+        # it up to whole samples of dt lengthened it by up to one step and lowered the RMS)
         m = max(1, int(math.ceil(win / dt - 1e-9)))
-        win = m * dt
+        dt = win / m
     out_bytes = 8.0 * n * 5 + n  # four float results, the window starts and the model codes
     if out_bytes + 8 * m > limit:
         raise ParameterError("memory_limit", f"the results and the window of {m} samples need "
