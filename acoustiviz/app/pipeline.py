@@ -78,7 +78,14 @@ class RunContext:
         self.stream = stream  # where long steps draw their progress bars (None: silent)
 
     def path(self, name: str) -> Path:
-        """Path of an output file inside the run folder."""
+        """Path of an output file (or folder) directly inside the run folder.
+
+        ``name`` must be a plain file name: one holding a separator, ``..`` or a NUL is refused
+        (a :class:`ParameterError`), so nothing is written outside the output folder whatever the
+        scene says (its labels are checked at load time too, :func:`acoustiviz.output.writers.label_problem`).
+        """
+        if not name or name in (".", "..") or "/" in name or "\\" in name or "\x00" in name:
+            raise ParameterError("--out", f"refusing to write {name!r}: not a file name inside {self.out}")
         return self.out / name
 
     # -- physics objects shared by several outputs

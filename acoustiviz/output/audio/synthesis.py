@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
+from ...constants import SAMPLE_RATES
 from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
 from ...core.radiation import pulse_response
 from ...field.sources import image_geometry
@@ -26,7 +27,6 @@ __all__ = [
 
 
 #: Output sample rates in Hz.
-SAMPLE_RATES = (44100, 48000, 96000)
 
 #: Upper edge of the flat passband as a fraction of the output rate (0.45 fs).
 PASSBAND_FRACTION = 0.45
