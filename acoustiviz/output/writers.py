@@ -24,8 +24,8 @@ import stat
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "temporary_beside", "refuse_replacing", "label_problem", "LABEL_MAX", "write_text_atomic", "write_bytes_atomic",
-           "write_csv_atomic"]
+__all__ = ["atomic_path", "temporary_beside", "refuse_replacing", "label_problem", "LABEL_MAX",
+           "write_text_atomic", "write_bytes_atomic", "write_csv_atomic"]
 
 #: Longest part of the target's stem kept in the temporary file's name (the name must stay
 #: within the file system's limit of 255 bytes even for a target near that limit).

@@ -12,7 +12,7 @@ from types import MappingProxyType
 
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
-from .validate import SceneError, _unknown, _validate_table
+from .validate import SceneError, _unknown, _validate_table, parse_range
 
 __all__ = [
     "Scene",
@@ -251,6 +251,17 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
+    if {"frequency_response", "bifurcation", "operating_noise"} & set(outputs):
+        from ..app.limits import check_forcing_frequencies
+
+        key = "excitation.frequencies_hz"
+        try:
+            check_forcing_frequencies(parse_range(data["excitation"]["frequencies_hz"], key, source),
+                                      M=data["damper"]["main_mass_kg"], K=data["damper"]["stiffness_n_m"])
+        except SceneError:
+            raise
+        except ParameterError as exc:
+            raise SceneError(source, key, exc.detail) from None
     data["outputs"] = outputs
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
