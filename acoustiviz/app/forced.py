@@ -290,6 +290,9 @@ def produce_frequency_response(ctx):
     red = run.response.reduction_db
     figs = {"frequencies": str(len(run.rows)), "best_reduction_db": f"{np.nanmax(red):.1f}",
             "non_periodic": str(sum(r["regime"] == "non-periodic" for r in run.rows))}
+    failed = [r.excitation.frequency for r in run.response.primary + (run.response.down or ()) if not r.success]
+    if failed:  # the run is incomplete, as with `acoustiviz forced` (exit status 1)
+        figs["failed_frequencies_hz"] = " ".join(f"{f:g}" for f in failed)
     return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
 
 

@@ -30,7 +30,16 @@ from .maps import produce_level_map
 from .names import SCENE_DAMPER_KEYS, user_terms
 from .scene_levels import produce_levels, produce_spectrum
 
-__all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
+__all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
+
+#: Figures of a :class:`Product` that mark it incomplete (some of its work failed; the command
+#: line exits with status 1 after writing everything, as its single commands do).
+INCOMPLETE_FIGURES = ("failed_frequencies_hz",)
+
+
+def incomplete(products) -> list:
+    """``"kind: figure = value"`` for every product of a run marked incomplete (:data:`INCOMPLETE_FIGURES`)."""
+    return [f"{p.kind}: {k} = {p.figures[k]}" for p in products for k in INCOMPLETE_FIGURES if k in p.figures]
 
 
 @dataclass(frozen=True)
