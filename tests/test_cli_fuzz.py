@@ -66,7 +66,8 @@ CASES = [
     (["waveform", "--velocity", "inf"], "--velocity"),
     (["waveform", "--velocity", "-0"], "--velocity"),
     (["waveform", "--velocity", "1e-300"], "--velocity"),
-    (["waveform", "--velocity", "1e100"], "--samples-per-duration"),
+    (["waveform", "--velocity", "1e100"], "--velocity"),  # the option typed, not one left at its default
+    (["waveform", "--radius", "1e-9"], "--radius"),
     (["waveform", "--radius", "1e-300"], "--radius"),
     (["waveform", "--radius", "1e200"], "--radius"),
     (["waveform", "--density", "1e300"], "--density"),

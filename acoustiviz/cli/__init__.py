@@ -86,7 +86,10 @@ def _leaf_parsers(subparsers_action):
 def main(argv=None) -> int:
     """Entry point of the ``acoustiviz`` console script; returns the exit status."""
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
+    # the options typed (not defaulted): errors about work too large name one of these first
+    args.given_options = frozenset(str(tok).split("=", 1)[0] for tok in argv if str(tok).startswith("--"))
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
