@@ -127,20 +127,25 @@ def parse_point(text: str, option: str = "--listener"):
 
 def read_impacts_csv(path):
     """Impact times (s), walls (-1/+1) and approach speeds (m/s) from a damper impact CSV."""
+    import warnings
+
     import numpy as np
 
     from .._validate import ParameterError
     from ..output.audio import ImpactSequence
 
     try:
-        data = np.genfromtxt(path, delimiter=",", names=True, ndmin=1)
+        with warnings.catch_warnings():  # an empty file: refused below, not warned about
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.genfromtxt(path, delimiter=",", names=True, ndmin=1)
     except OSError as exc:
         raise ParameterError("--impacts", f"cannot read {path}: {exc}") from None
     except UnicodeDecodeError as exc:
         raise ParameterError("--impacts", f"{path} is not a CSV file (not UTF-8 text: {exc.reason} at byte "
                                           f"{exc.start})") from None
-    except ValueError as exc:
-        raise ParameterError("--impacts", f"{path} is not a table of impacts: {str(exc).splitlines()[0]}") from None
+    except (ValueError, IndexError) as exc:
+        reason = (str(exc).splitlines() or ["empty"])[0] if not isinstance(exc, IndexError) else "no header row"
+        raise ParameterError("--impacts", f"{path} is not a table of impacts: {reason}") from None
     names = data.dtype.names or ()
     need = ("time_s", "wall", "approach_velocity_m_s")
     if any(n not in names for n in need):

@@ -180,12 +180,14 @@ class SweepTable:
         return out.reshape(ng, nm)
 
 
-def _number(kind, text: str, column: str, design: int, name: str):
+def _number(kind, text: str, column: str, where, name: str):
+    """``kind(text)``, or a :class:`ParameterError` ``name`` saying where (a design id or a file line)."""
     try:
         return kind(text)
     except (TypeError, ValueError):
         what = "an integer" if kind is int else "a number"
-        raise ParameterError(name, f"design {design}: column {column} holds {text!r}, expected {what} "
+        place = f"design {where}" if isinstance(where, int) else where
+        raise ParameterError(name, f"{place}: column {column} holds {text!r}, expected {what} "
                                    "(the sweep's files are damaged)") from None
 
 
@@ -391,6 +393,8 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
                                  and math.isclose(float(row["mass_kg"]), d.m, rel_tol=1e-12))
         except (ValueError, IndexError):
             same = False
+        for c in NUMERIC_COLUMNS:  # damage found on reading, naming the line, before any work
+            _number(int if c in _INT_COLUMNS else float, row[c], c, f"{path} line {k}", name)
         if not same:
             raise ParameterError(name, f"{path} line {k} does not match a design of {SWEEP_JSON}")
         rows.setdefault(did, row)
