@@ -417,7 +417,15 @@ def test_other_settings_are_refused_unless_overwritten(tmp_path):
     ex = InlineExecutor()
     table = run_sweep(other, tmp_path, executor=ex, overwrite=True)
     assert ex.submitted == len(other.designs()) and len(table) == len(other.designs())
-    assert (tmp_path / "sweep.previous.csv").exists()
+    assert (tmp_path / "sweep.previous-1.csv").exists()  # kept beside the settings that made it
+    assert read_spec_of(tmp_path / "sweep.previous-1.json") == spec.to_dict()
+
+
+def read_spec_of(path):
+    """The settings recorded in a sweep.json (or a moved-aside sweep.previous-N.json)."""
+    import json
+
+    return json.loads(path.read_text())["spec"]
 
 
 def test_process_pool_gives_the_same_rows(tmp_path):

@@ -272,7 +272,8 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         Draw the tqdm progress bar on ``progress``; None (default): only if it is a terminal.
     overwrite : bool
         If ``out_dir`` holds a sweep made with other settings, move its ``sweep.csv`` aside to
-        ``sweep.previous.csv`` and start afresh (default: refuse with ``SweepMismatch``).
+        the next free ``sweep.previous-N.csv`` (with its ``sweep.json`` as ``sweep.previous-N.json``)
+        and start afresh (default: refuse with ``SweepMismatch``).
 
     Returns
     -------
