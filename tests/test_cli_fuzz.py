@@ -750,3 +750,22 @@ def test_the_operating_noise_sidecar_states_the_files_rate(here, capsys):
     assert doc["duration_s"] == pytest.approx(info.frames / info.samplerate, rel=1e-12)
     assert doc["band_limit"]["stopband_from_hz"] == info.samplerate / 2
     assert "sample_rate" not in doc
+
+
+def test_a_warning_from_the_computation_is_one_line_not_a_source_listing(here, capsys, monkeypatch):
+    import warnings
+
+    import acoustiviz.app.views as views
+
+    real = views.waveform_times
+
+    def noisy(*args, **kwargs):
+        warnings.warn("a library's remark\nover two lines", UserWarning, stacklevel=1)
+        np.float64(1e308) * np.float64(10.0)  # numpy's overflow RuntimeWarning
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(views, "waveform_times", noisy)
+    assert call(["waveform", "--csv", "w.csv"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["acoustiviz waveform: warning: a library's remark over two lines",
+                   "acoustiviz waveform: warning: overflow encountered in scalar multiply"]

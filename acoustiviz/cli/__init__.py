@@ -93,8 +93,17 @@ def main(argv=None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
+    import warnings
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        # a warning from the computation is one line naming the command, not a source listing
+        text = " ".join(str(message).split())
+        print(f"acoustiviz {args.command}: warning: {text}", file=sys.stderr if file is None else file)
+
     try:
-        return int(args.func(args) or 0)
+        with warnings.catch_warnings():
+            warnings.showwarning = one_line
+            return int(args.func(args) or 0)
     except ParameterError as exc:
         print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
         return 2
