@@ -136,7 +136,8 @@ _EXCITATION = {
 }
 
 _LISTENER = {
-    "name": Key("str", "label used in file names", None),
+    "name": Key("str", "label used in file names (default listenerN): unique, 1-64 letters, digits, '_', '-', '.' "
+                       "and inner spaces, starting with a letter, digit or '_'", None),
     "distance_m": _pos("distance from the sphere's centre (with angle_deg)", "m", None, high=1e4),
     "angle_deg": Key("float", "angle from the acceleration axis (with distance_m)", None, "deg", low=0.0, high=180.0),
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
