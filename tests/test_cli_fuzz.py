@@ -222,6 +222,8 @@ def read_only_folder(here):
     (["render", "snapshot", "--png", "rofs/s.png"], "--png"),
     (["sweep", "--gap", "0.03", "--m", "0.04", "--duration", "1", "--out", "rofs/sweep", "--quiet"], "--out"),
     (["run", "--out", "rofs/out"], "--out"),
+    (["forced", "--force", "5", "--freq", "5", "--png", "rofs/f.png"], "--png"),
+    (["forced", "--force", "5", "--freq", "5", "--wav", "rofs/f.wav"], "--wav"),
 ])
 def test_read_only_file_system_is_refused_before_work(read_only_folder, argv, option, capsys):
     rc = call(argv)
