@@ -771,3 +771,27 @@ def test_a_warning_from_the_computation_is_one_line_not_a_source_listing(here, c
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["acoustiviz waveform: warning: a library's remark over two lines",
                    "acoustiviz waveform: warning: overflow encountered in scalar multiply"]
+
+
+@pytest.mark.parametrize("wav, sidecar", [
+    (b"RIFF\x00\x00garbage", None),
+    (b"", None),
+    ("good", b"[1, 2"),
+    ("good", b"[1, 2]\n"),
+    ("good", b"\xff\xfe\x00"),
+    ("good", b'{"scale_pa_per_full_scale": "x"}'),
+    ("good", b'{"scale_pa_per_full_scale": -1}'),
+    ("good", b'{"scale_pa_per_full_scale": null}'),
+])
+def test_a_damaged_wav_or_sidecar_is_one_line_for_levels(here, capsys, wav, sidecar):
+    import soundfile as sf
+
+    if wav == "good":
+        sf.write(str(here / "s.wav"), 0.1 * np.sin(np.arange(4800) / 5.0), 48000, subtype="PCM_24")
+    else:
+        (here / "s.wav").write_bytes(wav)
+    if sidecar is not None:
+        (here / "s.json").write_bytes(sidecar)
+    rc, err = run_cli(["levels", "s.wav", "--csv", "l.csv"], capsys)
+    assert_user_error(rc, err, "s.json" if sidecar is not None else "s.wav")
+    assert not (here / "l.csv").exists()
