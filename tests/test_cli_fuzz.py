@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -407,9 +408,11 @@ def test_sweep_overwrite_twice_keeps_both_previous_sweeps_with_their_spec(here, 
         assert call([*SMALL_SWEEP, "--gap", g, "--overwrite"]) == 0, capsys.readouterr().err
     capsys.readouterr()
     names = {p.name for p in (here / "sw").iterdir()}
-    assert {"sweep.csv", "sweep.json", "sweep.previous-1.csv", "sweep.previous-1.json", "sweep.previous-2.csv",
-            "sweep.previous-2.json", "design_table.previous-1.csv", "design_table.previous-2.csv"} <= names
-    assert not {n for n in names if n.startswith(".") or n.startswith("sweep.previous-3")}
+    current = {p.name for p in (here / "sw").iterdir() if ".previous-" not in p.name}
+    assert {"sweep.csv", "sweep.json", "design_table.csv"} <= current
+    for n in (1, 2):  # every file of each earlier sweep, moved aside under its number
+        assert {f"{Path(c).stem}.previous-{n}{Path(c).suffix}" for c in current} <= names
+    assert len(names) == 3 * len(current)
     for n, g in ((1, gaps[0]), (2, gaps[1])):  # each moved-aside journal beside the settings that made it
         doc = json.loads((here / "sw" / f"sweep.previous-{n}.json").read_text())
         assert doc["spec"]["gap"] == [float(g)]
@@ -795,3 +798,12 @@ def test_a_damaged_wav_or_sidecar_is_one_line_for_levels(here, capsys, wav, side
     rc, err = run_cli(["levels", "s.wav", "--csv", "l.csv"], capsys)
     assert_user_error(rc, err, "s.json" if sidecar is not None else "s.wav")
     assert not (here / "l.csv").exists()
+
+
+def test_overwrite_moves_only_the_sweeps_own_files(here, capsys):
+    assert call([*SMALL_SWEEP, "--gap", "0.03"]) == 0
+    (here / "sw" / "notes.txt").write_text("mine\n")
+    assert call([*SMALL_SWEEP, "--gap", "0.04", "--overwrite"]) == 0
+    capsys.readouterr()
+    assert (here / "sw" / "notes.txt").read_text() == "mine\n"
+    assert (here / "sw" / "max_spl_map.previous-1.png").exists() and (here / "sw" / "max_spl_map.png").exists()

@@ -12,8 +12,8 @@
     recomputed.
 ``sweep.previous-N.csv``, ``sweep.previous-N.json``
     A sweep moved aside by ``overwrite`` (N = 1, 2, ... in order), its journal with the settings
-    that made it (and its ``design_table.previous-N.csv`` if it had one): a second
-    ``--overwrite`` never replaces the first one's.
+    that made it, and every other file it had (``design_table.previous-N.csv``,
+    ``max_spl_map.previous-N.png``, ...): a second ``--overwrite`` never replaces the first one's.
 
 A damaged directory (a binary or non-UTF-8 file, a word where a number belongs, a
 ``sweep.json`` that is not an object) is refused with a one-line :class:`ParameterError` naming
@@ -27,6 +27,7 @@ import io
 import json
 import math
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -105,6 +106,9 @@ SWEEP_JSON = "sweep.json"
 DESIGN_TABLE_CSV = "design_table.csv"
 #: Prefix of a sweep moved aside by ``overwrite``: ``sweep.previous-N.csv`` with ``sweep.previous-N.json``.
 _PREVIOUS = "sweep.previous-{n}"
+#: The files a sweep writes beside its ``*_map.png`` figures (moved aside together by ``overwrite``).
+_SWEEP_FILES = (SWEEP_CSV, SWEEP_JSON, DESIGN_TABLE_CSV, "design_table.png")
+_MOVED = re.compile(r"\.previous-\d+(\.[^.]*)?$")
 #: Damping-inclination definitions: paper eq 16, or the envelope fit.
 DEFINITIONS = ("two-maxima", "fit")
 _FORMAT = "acoustiviz-sweep"
@@ -329,19 +333,24 @@ def previous_sweeps(out) -> list[Path]:
 
 
 def _move_aside(out: Path) -> None:
-    """Rename the sweep's files (journal, settings, design table) to the next free ``sweep.previous-N``."""
+    """Rename the sweep's files to the next free ``previous-N``: ``sweep.csv`` to ``sweep.previous-N.csv``.
+
+    The files a sweep writes go (the journal, its settings, the design table and the figures
+    made from them, ``*_map.png`` and ``design_table.png``: ``max_spl_map.png`` to
+    ``max_spl_map.previous-N.png``), so the sweep moved aside keeps everything that described it;
+    other files, files already moved aside and sub-folders stay.
+    """
     from ..output.writers import refuse_replacing
 
     n = 1
     while any((out / (_PREVIOUS.format(n=n) + ext)).exists() for ext in (".csv", ".json")):
         n += 1
-    stem = _PREVIOUS.format(n=n)
-    moves = [(out / SWEEP_CSV, out / f"{stem}.csv"), (out / SWEEP_JSON, out / f"{stem}.json"),
-             (out / DESIGN_TABLE_CSV, out / f"design_table.previous-{n}.csv")]
-    for src, dst in moves:
-        if src.exists():
-            refuse_replacing(src)
-            os.replace(src, dst)
+    for src in sorted(out.iterdir()):
+        ours = src.name in _SWEEP_FILES or src.name.endswith("_map.png")
+        if not ours or src.is_symlink() or not src.is_file() or _MOVED.search(src.name):
+            continue
+        refuse_replacing(src)
+        os.replace(src, out / f"{src.stem}.previous-{n}{src.suffix}")
     _fsync_dir(out)
 
 
