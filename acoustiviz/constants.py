@@ -151,3 +151,6 @@ ANALYSIS_RATE = 96000
 #: Cap in MB on a command's estimated working memory and, separately, on the bytes it writes
 #: (:mod:`acoustiviz.app.budget`); ``--max-memory`` overrides it.
 MAX_MEMORY_MB = 2048.0
+
+#: Output sample rates in Hz of rendered sound (WAV files, levels): the rule of every front-end.
+SAMPLE_RATES = (44100, 48000, 96000)

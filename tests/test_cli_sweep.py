@@ -247,8 +247,8 @@ def test_sweep_over_listener_configuration_and_velocity(tmp_path, capsys):
 
     st = material("steel")
     a = (3 * 0.0405 / (4 * np.pi * st.density)) ** (1 / 3)
-    np.testing.assert_allclose(table["radius_m"], a, rtol=1e-14)
-    np.testing.assert_allclose(table["k_hertz_n_m1_5"], hertz_stiffness(a, st, st), rtol=1e-14)
+    np.testing.assert_allclose(table["radius_m"], a, rtol=1e-12)  # cube root: < 5e-15 apart
+    np.testing.assert_allclose(table["k_hertz_n_m1_5"], hertz_stiffness(a, st, st), rtol=1e-12)
     assert not (out / "inclination_map.png").exists()
 
 

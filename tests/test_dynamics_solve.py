@@ -262,8 +262,9 @@ def test_impact_map_uses_compliant_restitution():
     # the map interpolates a 40-node table in ln(speed): ~2e-7, far below its model error (~1e-3)
     np.testing.assert_allclose(imp.restitution, e_ref, rtol=1e-6)
     meff = TABLE1.effective_mass
+    # the same product by another route: a few roundings (< 1e-15); 1e-13 is above that, far below any wrong factor
     np.testing.assert_allclose(imp.impulse, (1 + imp.restitution) * meff * imp.approach_velocity,
-                               rtol=1e-14)
+                               rtol=1e-13)
     assert abs(r.energy.relative_closure_error) < 1e-13
 
 

@@ -25,7 +25,7 @@ def test_lookup_is_forgiving_about_spelling():
 
 def test_reduced_modulus_of_identical_bodies():
     s = material("steel")
-    assert reduced_modulus(s, s) == pytest.approx(s.E / (2 * (1 - s.nu**2)), rel=1e-14)
+    assert reduced_modulus(s, s) == pytest.approx(s.E / (2 * (1 - s.nu**2)), rel=1e-12)  # < 10 roundings either way
 
 
 def test_soft_surface_lowers_stiffness():

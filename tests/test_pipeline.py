@@ -301,3 +301,23 @@ def test_a_damper_scene_beyond_the_computable_range_names_its_key(tmp_path):
         run_scene(scene, tmp_path / "out")
     assert err.value.name == "damper.duration_s" and "period" in err.value.detail
     assert not (tmp_path / "out" / "damper_history.csv").exists()
+
+
+def test_a_sidecar_states_the_rate_and_length_of_its_file_not_of_the_rendering_it_describes(tmp_path):
+    """A train analysed at 96 kHz and written at 48 kHz: the sidecar gives the file's 48 kHz (it said 96000)."""
+    import json
+
+    import soundfile as sf
+
+    from acoustiviz.app.wav import WavFile, write_wav_files
+
+    fs, n = 48000, 4800
+    wav = WavFile(tmp_path / "a.wav", np.sin(np.arange(n) / 7.0)[None, :], ["listener1"], np.array([[0.5, 0, 0.5]]),
+                  ["mono"])
+    described = {"sample_rate_hz": 96000, "duration_s": 0.2, "sample_rate": 96000, "impact_count": 3}
+    [w] = write_wav_files([wav], sample_rate=fs, rendering=described)
+    info = sf.info(str(tmp_path / "a.wav"))
+    doc = json.loads(w["sidecar"].read_text())
+    assert doc["sample_rate_hz"] == info.samplerate == fs and doc["frames"] == info.frames == n
+    assert doc["duration_s"] == n / fs and "sample_rate" not in doc
+    assert doc["impacts"] == 3  # the rest of the description is kept

@@ -37,7 +37,7 @@ def kernel(tp, r, ct, a=A, rho=RHO, c=C):
 def test_initial_value_is_piston_limit():
     tarr = (R - A) / C
     h0 = impulse_response(tarr, R, COS45, radius=A)
-    assert h0 == pytest.approx(RHO * C * (A / R) * COS45, rel=1e-14)
+    assert h0 == pytest.approx(RHO * C * (A / R) * COS45, rel=1e-12)  # < 10 roundings either way
 
 
 def test_zero_before_arrival():
@@ -172,7 +172,11 @@ def test_hertz_pulse_is_the_closed_form():
     imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264)
     pulse = acceleration_pulse(imp, "hertz", n_samples=33)  # few samples: nothing is interpolated
     t = np.linspace(-1e-5, imp.duration + 1e-5, 1001)
-    np.testing.assert_allclose(pulse.acceleration(t), _exact_hertz(imp).acceleration(t), rtol=1e-14, atol=0)
+    # two routes to theta = t U0 / alpha_max differ by a few roundings; near the contact's end, where the pulse
+    # falls to zero like a power of (theta_end - theta), that is a large *relative* difference of a tiny value, so
+    # the comparison is absolute, to 1e-12 of the peak (the rounding is ~1e-15 of it)
+    exact = _exact_hertz(imp).acceleration(t)
+    np.testing.assert_allclose(pulse.acceleration(t), exact, rtol=1e-12, atol=1e-12 * imp.peak_acceleration)
     assert pulse.velocity_change == pytest.approx(imp.impulse / imp.mass, rel=1e-12)  # 2 m_eff U0 / m
     tp = np.linspace(0, imp.duration, 50)
     fine = acceleration_pulse(imp, "hertz", n_samples=4097)

@@ -3,7 +3,6 @@ table by hand, resumable row-by-row output, and the process-pool and Dask execut
 
 import csv
 import math
-import threading
 from concurrent.futures import Executor, Future
 
 import numpy as np
@@ -40,24 +39,49 @@ from acoustiviz.sweep import (
 SPL_TOL_DB = 1e-9  # the same arithmetic: agreement to round-off
 
 
+class _ConsumedFuture(Future):
+    """A finished future that reports when its result has been taken."""
+
+    def __init__(self, on_result):
+        super().__init__()
+        self._on_result = on_result
+
+    def result(self, timeout=None):
+        out = super().result(timeout)
+        self._on_result()
+        return out
+
+
 class InlineExecutor(Executor):
     """Runs each task at submission and counts submissions.
 
     With ``interrupt_at=k`` it simulates Ctrl-C after k finished designs: task k + 1 fails with
-    KeyboardInterrupt shortly after the first k are done, and later tasks never start.
+    KeyboardInterrupt as soon as the sweep has taken the first k results (not after a delay, so the
+    outcome does not depend on how fast the machine is), and later tasks never start.
     """
 
     def __init__(self, interrupt_at=None):
         self.submitted = 0
+        self.taken = 0
         self.interrupt_at = interrupt_at
+        self._late = None
+
+    def _taken(self):
+        self.taken += 1
+        if self.taken == self.interrupt_at and self._late is not None:
+            self._late.set_exception(KeyboardInterrupt())
 
     def submit(self, fn, /, *args, **kwargs):
-        fut = Future()
         self.submitted += 1
         if self.interrupt_at is None or self.submitted <= self.interrupt_at:
+            fut = _ConsumedFuture(self._taken)
             fut.set_result(fn(*args, **kwargs))
-        elif self.submitted == self.interrupt_at + 1:
-            threading.Timer(0.2, fut.set_exception, (KeyboardInterrupt(),)).start()
+            return fut
+        fut = Future()
+        if self.submitted == self.interrupt_at + 1:
+            self._late = fut
+            if self.interrupt_at == 0 or self.taken >= self.interrupt_at:
+                fut.set_exception(KeyboardInterrupt())
         return fut  # later tasks stay pending (cancellable)
 
 
@@ -82,7 +106,7 @@ def test_ranges_are_inclusive_and_lists_kept_in_order():
 
 
 @pytest.mark.parametrize("start, stop, count", [(0.02, 0.06, 20), (0.02, 0.08, 20), (-0.1, 0.2, 4), (1e-6, 3e-6, 7),
-                                               (5e8, 1e9, 3), (0.06, 0.02, 9), (0.0, 1.0, 11)])
+                                               (5e8, 1e9, 3), (0.0, 1.0, 11)])
 def test_one_range_rule_for_scenes_and_options(start, stop, count):
     """The scene's range keys and the sweep's options give the same grid, exactly, and the grid
     is the exact arithmetic progression (computed here in rational arithmetic) to 15 digits."""
@@ -99,6 +123,23 @@ def test_one_range_rule_for_scenes_and_options(start, stop, count):
     for i, v in enumerate(grid):
         exact = a + i * (b - a) / (count - 1)
         assert abs(Fraction(v) - exact) <= Fraction(scale) * Fraction(1, 10**14), (i, v, float(exact))
+
+
+@pytest.mark.parametrize("start, stop, count", [(0.06, 0.02, 9), (0.02, 0.02, 3), (-0.1, -0.2, 2)])
+def test_one_range_rule_refuses_a_range_not_in_increasing_order(start, stop, count):
+    """Every front-end (sweep options, scene keys, forced frequencies) refuses it, with the same words."""
+    from acoustiviz.app.forced import parse_frequencies
+    from acoustiviz.scene import parse_range
+
+    text = f"{start!r}:{stop!r}:{count}"
+    with pytest.raises(ParameterError, match="stop > start") as a:
+        parse_values("--gap", text)
+    with pytest.raises(ParameterError, match="stop > start") as b:
+        parse_range(text, "outputs.sweep.gap_m")
+    with pytest.raises(ParameterError, match="stop > start"):
+        parse_frequencies(text)
+    assert a.value.name == "--gap" and b.value.name == "outputs.sweep.gap_m"
+    assert a.value.detail.split(" (in ")[0] == b.value.detail.split(" (in ")[0]
 
 
 def test_the_figure_6_grid_has_decimal_values():
@@ -146,7 +187,7 @@ def test_grid_order_and_mass_ratio():
 def test_sphere_radius_choices():
     s = Settings(radius_mode="from-mass", density=7800.0)
     m = 0.0405
-    assert sphere_radius(m, s) == pytest.approx((3 * m / (4 * math.pi * 7800.0)) ** (1 / 3), rel=1e-15)
+    assert sphere_radius(m, s) == pytest.approx((3 * m / (4 * math.pi * 7800.0)) ** (1 / 3), rel=1e-12)
     assert sphere_radius(m, Settings()) == 0.01905
     # materials give the density and K_HZ (paper eq 2) at the sphere's radius
     spec = SweepSpec(k_hertz=None, material=("steel", "brass"), settings=Settings(radius_mode="from-mass"))
@@ -156,8 +197,8 @@ def test_sphere_radius_choices():
     from acoustiviz.core.materials import material
 
     st = material("steel")
-    assert d_steel.k_hertz == pytest.approx(hertz_stiffness(d_steel.radius, st, st), rel=1e-15)
-    assert d_steel.radius == pytest.approx((3 * 0.0405 / (4 * math.pi * st.density)) ** (1 / 3), rel=1e-15)
+    assert d_steel.k_hertz == pytest.approx(hertz_stiffness(d_steel.radius, st, st), rel=1e-12)
+    assert d_steel.radius == pytest.approx((3 * 0.0405 / (4 * math.pi * st.density)) ** (1 / 3), rel=1e-12)
 
 
 def test_spec_roundtrips_through_json_dict():
@@ -376,7 +417,15 @@ def test_other_settings_are_refused_unless_overwritten(tmp_path):
     ex = InlineExecutor()
     table = run_sweep(other, tmp_path, executor=ex, overwrite=True)
     assert ex.submitted == len(other.designs()) and len(table) == len(other.designs())
-    assert (tmp_path / "sweep.previous.csv").exists()
+    assert (tmp_path / "sweep.previous-1.csv").exists()  # kept beside the settings that made it
+    assert read_spec_of(tmp_path / "sweep.previous-1.json") == spec.to_dict()
+
+
+def read_spec_of(path):
+    """The settings recorded in a sweep.json (or a moved-aside sweep.previous-N.json)."""
+    import json
+
+    return json.loads(path.read_text())["spec"]
 
 
 def test_process_pool_gives_the_same_rows(tmp_path):

@@ -169,3 +169,36 @@ def test_write_refuses_other_suffix(tmp_path):
     with pytest.raises(ValueError, match="vtu"):
         write_animation_vtk(s.pulse, s.configuration, tmp_path / "a.vtk", frames=2)
     assert not list(tmp_path.iterdir())
+
+
+def test_a_vtu_is_written_by_python_and_reads_back_as_pyvista_writes_it(tmp_path):
+    import pyvista as pv
+
+    from acoustiviz.output.vtk import _save
+
+    mesh = pv.Sphere().cast_to_unstructured_grid()
+    mesh.point_data["p"] = np.arange(mesh.n_points, dtype=float)
+    mesh.field_data["r"] = np.array([0.5])
+    ours = _save(mesh, tmp_path / "ours.vtu")
+    mesh.save(str(tmp_path / "theirs.vtu"))
+    assert ours.read_bytes() == (tmp_path / "theirs.vtu").read_bytes()
+    back = pv.read(ours)
+    np.testing.assert_array_equal(back.point_data["p"], mesh.point_data["p"])
+
+
+def test_a_vtkhdf_without_room_is_refused_before_vtk_writes(tmp_path, monkeypatch):
+    import errno
+    import shutil
+    from collections import namedtuple
+
+    import pyvista as pv
+
+    import acoustiviz.output.vtk as vtk
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(1 << 30, (1 << 30) - 4096, 4096))
+    mesh = pv.Sphere().cast_to_unstructured_grid()
+    with pytest.raises(OSError) as info:
+        vtk._save(mesh, tmp_path / "m.vtkhdf")
+    assert info.value.errno == errno.ENOSPC and info.value.filename == str(tmp_path / "m.vtkhdf")
+    assert list(tmp_path.iterdir()) == []

@@ -31,6 +31,7 @@ from ..errors import ParameterError
 __all__ = [
     "Estimate",
     "check_budget",
+    "given_first",
     "memory_cap",
     "waveform_estimate",
     "directivity_estimate",
@@ -80,6 +81,16 @@ def _mb(nbytes: float) -> str:
     return f"{mb:,.0f} MB" if mb < 1e7 else f"{mb:.3g} MB"
 
 
+def given_first(options, given=()) -> tuple:
+    """``options`` with those in ``given`` (the options the user typed) first, each group in its order.
+
+    An estimate's error is named after its first option: this way it names a setting the user
+    chose (``--radius 1e-9`` making the contact short) rather than one left at its default.
+    """
+    given = set(given or ())
+    return tuple(o for o in options if o in given) + tuple(o for o in options if o not in given)
+
+
 def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--max-memory") -> Estimate:
     """Refuse ``estimate`` when its memory or its output exceeds the cap; return it otherwise.
 
@@ -103,7 +114,7 @@ def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--m
     for amount, noun in ((estimate.memory, "of memory"), (estimate.output, "of output files")):
         if not (amount <= limit):  # also refuses NaN and inf
             others = " or ".join(estimate.options[1:])
-            change = f"lower it{' (or ' + others + ')' if others else ''}"
+            change = f"change it{' (or ' + others + ')' if others else ''}"
             raise ParameterError(
                 estimate.options[0],
                 f"this would need {_mb(amount)} {noun} for {estimate.what}, over the cap of {cap:g} MB; "
@@ -143,13 +154,33 @@ def waveform_estimate(pulses, point, config, medium, samples_per_duration,
     return Estimate(_F8 * n * (4 + nimg) * len(pulses), 38.0 * n * len(pulses), f"{n:.3g} time samples", options)
 
 
-def directivity_estimate(config, step_deg: float, options=("--step",)) -> Estimate:
-    """Angles of :func:`acoustiviz.app.views.directivity_angles`; per angle its point, geometry and metrics."""
+def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=None, medium=None,
+                         window_options=("--wall-distance",)) -> Estimate:
+    """Angles of :func:`acoustiviz.app.views.directivity_angles`; per angle its point, geometry and metrics.
+
+    Given the ``pulse`` and ``medium``, also the window of samples the RMS takes at every angle:
+    from the first arrival to the last image's pulse and decay, sampled at
+    :func:`acoustiviz.field.default_sample_interval` (a far wall makes it long; the error is then
+    named after ``window_options``).
+    """
     top = config.polar_limit_deg
     with np.errstate(all="ignore"):
         n = _count(_div(top, float(step_deg)) + 2.0)
     per = _F8 * (3 + 12 + 9 * len(config.sources))
-    return Estimate(per * n, 60.0 * n, f"{n:.3g} angles", options)
+    est = Estimate(per * n, 60.0 * n, f"{n:.3g} angles", options)
+    if pulse is None or medium is None:
+        return est
+    from ..field import default_sample_interval
+
+    pos = np.array([src.position for src in config.sources])
+    with np.errstate(all="ignore"):
+        spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
+        window = spread + float(pulse.duration) + 40.0 * config.radius / medium.c
+        m = _count(_div(window, default_sample_interval(pulse, config.radius, medium=medium)))
+    if _F8 * m <= est.memory:
+        return est
+    return Estimate(est.memory + _F8 * m, est.output, f"{n:.3g} angles and a window of {m:.3g} samples",
+                    tuple(window_options) + tuple(options))
 
 
 def damper_estimate(model, duration: float, *, solver: str = "event", dt=None, per_period: int = 200,

@@ -76,7 +76,12 @@ MAX_FREQUENCIES = 10_000
 
 
 def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
-    """Frequencies in Hz from ``"start:stop:count"`` (inclusive, evenly spaced) or ``"f1,f2,..."``."""
+    """Frequencies in Hz from ``"start:stop:count"`` (inclusive, evenly spaced) or ``"f1,f2,..."``.
+
+    Ranges follow the one range rule of every front-end (:func:`acoustiviz.sweep.spec.value_range`).
+    """
+    from ..sweep.spec import value_range
+
     s = str(text).strip()
     try:
         if ":" in s:
@@ -84,21 +89,18 @@ def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
             if len(parts) != 3:
                 raise ValueError
             a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-            if n < 1 or n > MAX_FREQUENCIES:
-                raise ParameterError(name, f"count must lie in [1, {MAX_FREQUENCIES}], got {n}")
-            if n > 1 and not b > a:
-                raise ParameterError(name, f"stop must exceed start, got {a:g}:{b:g}")
-            f = np.linspace(a, b, n) if n > 1 else np.array([a])
+            f = np.array(value_range(a, b, n))
         else:
             f = np.array([float(p) for p in s.split(",")])
-    except ParameterError:
-        raise
+    except ParameterError as exc:
+        raise ParameterError(name, f"{exc.detail} (in {s!r})") from None
     except ValueError:
         raise ParameterError(name, f"expected START:STOP:COUNT or a comma list of frequencies in Hz, "
                                    f"got {text!r}") from None
-    if f.size == 0 or f.size > MAX_FREQUENCIES or not np.all(np.isfinite(f)) or np.any(f <= 0):
-        raise ParameterError(name, f"frequencies must be finite and > 0 Hz (at most {MAX_FREQUENCIES}), "
-                                   f"got {text!r}")
+    if f.size == 0 or f.size > MAX_FREQUENCIES:
+        raise ParameterError(name, f"expected 1 to {MAX_FREQUENCIES} frequencies, got {f.size}")
+    if not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise ParameterError(name, f"frequencies must be finite and > 0 Hz, got {text!r}")
     if np.unique(f).size != f.size:
         raise ParameterError(name, f"duplicate frequencies in {text!r}")
     return np.sort(f)
@@ -170,6 +172,9 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             raise ParameterError("solver", f"must be one of {', '.join(FORCED_SOLVERS)}, got {solver!r}")
         if int(workers) < 1:
             raise ParameterError("workers", f"must be >= 1, got {workers}")
+        from .limits import check_forcing_frequencies
+
+        check_forcing_frequencies(frequencies, M=model.M, K=model.K)
         kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "rtol": rtol,
                   "starts": starts, "max_cycles": max_cycles}
         t0, c0 = time.perf_counter(), time.process_time()
@@ -306,6 +311,9 @@ def produce_frequency_response(ctx):
             "non_periodic": str(sum(not r["regime"].startswith("periodic-") for r in run.rows)),
             **{k: f"{v:g}" if isinstance(v, float) else str(v) for k, v in run.response.settings.describe().items()
                if k in ("starts", "tolerance", "rtol", "max_cycles")}}
+    failed = sorted({r.excitation.frequency for r in run.steady_states if not r.success})
+    if failed:  # the run is incomplete, as with `acoustiviz forced` (exit status 1)
+        figs["failed_frequencies_hz"] = " ".join(f"{f:g}" for f in failed)
     return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
 
 

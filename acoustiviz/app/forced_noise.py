@@ -281,8 +281,11 @@ def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None
     pressure = np.concatenate(parts) if parts else np.zeros(1)
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     wav = WavFile(path, pressure[None, :], ["listener1"], pts[None, :], ["mono"])
-    rendering = {k: v for k, v in ok[0].rendering.items() if k != "levels"} if ok else {}
-    rendering["sample_rate"] = sample_rate
+    from ..output.audio.synthesis import band_limit
+
+    # the levels' rendering (at its own rate) re-rendered at the file's rate: its band limit is the file's
+    rendering = {k: v for k, v in ok[0].rendering.items() if k not in ("levels", "internal_rate_hz")} if ok else {}
+    rendering["band_limit"] = band_limit(sample_rate)
     rendering["operating_sequence"] = [{"frequency_hz": n.frequency_hz, "duration_s": n.duration,
                                         "laeq_db": n.laeq_db, "lafmax_db": n.lafmax_db, "lcpeak_db": n.lcpeak_db}
                                        for n in ok]

@@ -26,7 +26,8 @@ import math
 from ..constants import HERTZ_DURATION_CONSTANT
 from ..errors import ParameterError
 
-__all__ = ["LOG_LIMIT", "check_sphere_mass", "check_impact", "check_damper"]
+__all__ = ["LOG_LIMIT", "FORCING_DECADES", "check_sphere_mass", "check_impact", "check_damper",
+           "check_forcing_frequencies"]
 
 #: Derived quantities must lie within 10**±LOG_LIMIT in SI units (double precision holds ±308;
 #: the margin leaves room for the products formed downstream).
@@ -37,6 +38,10 @@ MIN_MASS_RATIO = 1e-6
 #: Largest contact time in units of the sphere's decay time a/c for which the radiation
 #: formulas stay finite.
 MAX_DECAY_TIMES_LOG = 100.0
+#: Forcing frequencies are accepted within this many decades of the main system's natural
+#: frequency sqrt(K/M)/2 pi: three decades above, the main mass moves 1e-6 of its static
+#: deflection (there is nothing to damp); three below, it follows the force quasi-statically.
+FORCING_DECADES = 3.0
 
 
 def _lg(x: float) -> float:
@@ -205,3 +210,29 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
         raise ParameterError("v", f"no initial speed gives a contact that can be computed with {inputs}: {why}")
     raise ParameterError("v", f"{v:g} m/s is outside the range that can be simulated with {inputs}: the speed "
                               f"(either sign) must lie in {_fmt_range(lo, hi, 'm/s')} ({why})")
+
+
+def check_forcing_frequencies(frequencies, *, M: float, K: float) -> None:
+    """Refuse forcing frequencies far from the main system's natural frequency (:data:`FORCING_DECADES`).
+
+    Parameters
+    ----------
+    frequencies : array_like
+        Forcing frequencies in Hz.
+    M, K : float
+        Main mass (kg) and main spring (N/m).
+
+    Raises
+    ------
+    ParameterError
+        Named ``frequencies``, with the accepted range in Hz and why.
+    """
+    f0 = math.sqrt(K / M) / (2.0 * math.pi)
+    lo, hi = f0 * 10.0**-FORCING_DECADES, f0 * 10.0**FORCING_DECADES
+    bad = [float(f) for f in frequencies if not lo <= float(f) <= hi]
+    if bad:
+        raise ParameterError("frequencies", f"{bad[0]:g} Hz is outside {_fmt_range(lo, hi, 'Hz')}: forcing "
+                                            f"frequencies must lie within a factor {10**FORCING_DECADES:g} of the "
+                                            f"main system's natural frequency sqrt(K/M)/2 pi = {f0:.4g} Hz (far "
+                                            "above it the main mass does not move, far below it follows the "
+                                            "force statically: the damper has nothing to act on)")

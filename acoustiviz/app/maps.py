@@ -103,6 +103,8 @@ MAP_SETTINGS = (
             "on a square map)", low=8, high=20000),
 )
 _BY_NAME = {s.name: s for s in MAP_SETTINGS}
+#: Most points of one map (160 times the default's 1e5): the work is bounded, not only its memory.
+MAX_MAP_POINTS = 4000 * 4000
 #: API parameter -> command-line option (errors in the user's terms).
 CLI_NAMES = {**{s.name: s.option for s in MAP_SETTINGS}, "max_memory_mb": "--max-memory"}
 #: API parameter -> scene key.
@@ -382,6 +384,10 @@ def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, ex
         opts = (names.get("resolution", "resolution"),)
         check_budget(map_estimate(config, pulse, medium, nu * nv, options=opts), max_memory_mb,
                      cap_name=names.get("max_memory_mb", "max_memory_mb"))
+        if nu * nv > MAX_MAP_POINTS:  # a bound on the work, whatever memory the caller allows
+            raise ParameterError("resolution", f"a map of {nu} x {nv} = {nu * nv:.3g} points is more than the "
+                                               f"{MAX_MAP_POINTS:.3g} a map may hold (a square map of resolution "
+                                               f"{math.isqrt(MAX_MAP_POINTS)}), whatever the memory cap; lower it")
         plane, height, extent, resolution = settings
     return map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
 

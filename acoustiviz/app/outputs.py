@@ -59,7 +59,21 @@ def _as_path(option: str, path, what: str) -> Path:
         raise ParameterError(option, f"expected a {what}, got {path!r}")
     if "\x00" in text:
         raise ParameterError(option, f"a {what} cannot contain a NUL character, got {text!r}")
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ParameterError(option, f"a {what} must be valid UTF-8 text, got {text!r}") from None
     return Path(text)
+
+
+def _refuse_replacing(option: str, target: Path) -> None:
+    """A symbolic link or a read-only file in the target's place is refused (never replaced)."""
+    from ..output.writers import refuse_replacing
+
+    try:
+        refuse_replacing(target)
+    except OSError as exc:
+        raise ParameterError(option, f"will not replace {target}: {exc.strerror}") from None
 
 
 def _probe(option: str, target: Path) -> None:
@@ -106,6 +120,7 @@ def check_output_file(option: str, path, kind: str) -> Path:
         raise ParameterError(option, f"folder {parent} does not exist")
     if not parent.is_dir():
         raise ParameterError(option, f"{parent} is a file, not a folder")
+    _refuse_replacing(option, p)
     _probe(option, p)
     return p
 

@@ -31,7 +31,16 @@ from .products import new_figure as _fig
 from .products import save as _save
 from .scene_levels import produce_levels, produce_spectrum
 
-__all__ = ["Product", "RunContext", "run_scene", "PRODUCERS"]
+__all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
+
+#: Figures of a :class:`Product` that mark it incomplete (some of its work failed; the command
+#: line exits with status 1 after writing everything, as its single commands do).
+INCOMPLETE_FIGURES = ("failed_frequencies_hz",)
+
+
+def incomplete(products) -> list:
+    """``"kind: figure = value"`` for every product of a run marked incomplete (:data:`INCOMPLETE_FIGURES`)."""
+    return [f"{p.kind}: {k} = {p.figures[k]}" for p in products for k in INCOMPLETE_FIGURES if k in p.figures]
 
 
 class RunContext:
@@ -44,7 +53,14 @@ class RunContext:
         self.stream = stream  # where long steps draw their progress bars (None: silent)
 
     def path(self, name: str) -> Path:
-        """Path of an output file inside the run folder."""
+        """Path of an output file (or folder) directly inside the run folder.
+
+        ``name`` must be a plain file name: one holding a separator, ``..`` or a NUL is refused
+        (a :class:`ParameterError`), so nothing is written outside the output folder whatever the
+        scene says (its labels are checked at load time too, :func:`acoustiviz.output.writers.label_problem`).
+        """
+        if not name or name in (".", "..") or "/" in name or "\\" in name or "\x00" in name:
+            raise ParameterError("--out", f"refusing to write {name!r}: not a file name inside {self.out}")
         return self.out / name
 
     # -- physics objects shared by several outputs

@@ -24,7 +24,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._validate import check_choice, check_finite, check_nonnegative, check_positive, check_range
+from .._validate import check_choice, check_positive, check_range
 from ..constants import (
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
@@ -362,10 +362,11 @@ def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, defin
         The column ranking the candidates (:data:`acoustiviz.sweep.RANK_COLUMNS`; default
         ``max_spl_db``; ``lafmax_db``, ``lcpeak_db``, ``laeq_db`` for a sweep run with levels).
     """
-    check_finite("inclination", inclination)
+    from ..sweep.query import check_target
+
+    check_target(inclination, tolerance)
     if rank_by not in RANK_COLUMNS:
         raise ParameterError("rank_by", f"must be one of {', '.join(RANK_COLUMNS)}; got {rank_by!r}")
-    check_nonnegative("tolerance", tolerance, "m/s")
     check_positive("band_width", band_width, "m/s")
     check_choice("definition", definition, DEFINITIONS)
     if not Path(sweep).is_dir():

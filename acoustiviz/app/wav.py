@@ -139,6 +139,11 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
     return peak
 
 
+#: Keys of a rendering's description that are facts of the file written, taken from the file instead
+#: (a train analysed at 96 kHz may be written at 48 kHz).
+_FILE_FACTS = ("sample_rate_hz", "duration_s", "sample_rate")
+
+
 def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, scale_source: str,
                    rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None,
                    physical_peak=None) -> dict:
@@ -182,7 +187,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "scene_name": scene_name,
         "file": wav.path.name,
         "subtype": info["subtype"],
-        "sample_rate_hz": int(sample_rate),
+        "sample_rate_hz": int(info["sample_rate_hz"]),
         "channels": info["channels"],
         "frames": info["frames"],
         "scale_pa_per_full_scale": scale,
@@ -203,7 +208,9 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
                      "peak_over_full_scale_db": info["over_full_scale_db"]},
         "impacts": rendering.get("impact_count"),
         "configuration": rendering.get("scene", {}).get("config"),
-        **rendering,
+        # how the sound was made; what the file itself holds (rate, length) is stated above from the file
+        **{k: v for k, v in rendering.items() if k not in _FILE_FACTS},
+        "duration_s": info["frames"] / info["sample_rate_hz"],
         "damper": damper,
         "radius_source": radius_source,
         **({"levels": levels} if levels is not None else {}),

@@ -86,12 +86,24 @@ def _leaf_parsers(subparsers_action):
 def main(argv=None) -> int:
     """Entry point of the ``acoustiviz`` console script; returns the exit status."""
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
+    # the options typed (not defaulted): errors about work too large name one of these first
+    args.given_options = frozenset(str(tok).split("=", 1)[0] for tok in argv if str(tok).startswith("--"))
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
+    import warnings
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        # a warning from the computation is one line naming the command, not a source listing
+        text = " ".join(str(message).split())
+        print(f"acoustiviz {args.command}: warning: {text}", file=sys.stderr if file is None else file)
+
     try:
-        return int(args.func(args) or 0)
+        with warnings.catch_warnings():
+            warnings.showwarning = one_line
+            return int(args.func(args) or 0)
     except ParameterError as exc:
         print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -128,15 +128,25 @@ def parse_point(text: str, option: str = "--listener"):
 
 def read_impacts_csv(path):
     """Impact times (s), walls (-1/+1) and approach speeds (m/s) from a damper impact CSV."""
+    import warnings
+
     import numpy as np
 
     from .._validate import ParameterError
     from ..output.audio import ImpactSequence
 
     try:
-        data = np.genfromtxt(path, delimiter=",", names=True, ndmin=1)
+        with warnings.catch_warnings():  # an empty file: refused below, not warned about
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.genfromtxt(path, delimiter=",", names=True, ndmin=1)
     except OSError as exc:
         raise ParameterError("--impacts", f"cannot read {path}: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise ParameterError("--impacts", f"{path} is not a CSV file (not UTF-8 text: {exc.reason} at byte "
+                                          f"{exc.start})") from None
+    except (ValueError, IndexError) as exc:
+        reason = (str(exc).splitlines() or ["empty"])[0] if not isinstance(exc, IndexError) else "no header row"
+        raise ParameterError("--impacts", f"{path} is not a table of impacts: {reason}") from None
     names = data.dtype.names or ()
     need = ("time_s", "wall", "approach_velocity_m_s")
     if any(n not in names for n in need):
@@ -233,9 +243,16 @@ def run(args) -> int:
     if args.png is not None:
         outputs["--png"] = check_output_file("--png", args.png, "figure")
     check_distinct(outputs)
+    seq = None
+    sound_length, length_options = args.duration, ("--duration",)
     if args.impacts:
         check_input_file("--impacts", args.impacts, "CSV file")
-    check_budget(wav_estimate(args.duration, args.rate, len(listeners)), getattr(args, "max_memory", None))
+        seq = read_impacts_csv(args.impacts)
+        last = float(seq.times.max()) if len(seq) else 0.0
+        if last > args.duration:  # the sound lasts until the last click has died away
+            sound_length, length_options = last, ("--impacts", "--duration")
+    check_budget(wav_estimate(sound_length, args.rate, len(listeners), options=length_options),
+                 getattr(args, "max_memory", None))
     if not args.impacts:
         from ..app.limits import check_damper
         from ..app.names import DAMPER_OPTIONS
@@ -256,8 +273,7 @@ def run(args) -> int:
             raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
 
     # ---- impacts
-    if args.impacts:
-        seq = read_impacts_csv(args.impacts)
+    if seq is not None:
         run_desc = {"impacts_csv": str(args.impacts), "m_kg": args.m, "M_kg": args.M, "gap_m": args.gap,
                     "k_hertz_n_m1_5": args.k_hertz}
     else:

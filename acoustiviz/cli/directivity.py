@@ -60,7 +60,9 @@ def run(args) -> int:
     observer_point(setup, args.distance, 0.0)  # the circle's radius checked as --distance
     with user_terms({"step_deg": "--step", "distance": "--distance", "angles": "--step"}):
         check_range("step_deg", args.step, 0.0, 90.0, unit="deg", low_open=True)
-        check_budget(directivity_estimate(setup.configuration, args.step), getattr(args, "max_memory", None))
+        check_budget(directivity_estimate(setup.configuration, args.step, pulse=setup.pulse, medium=setup.medium,
+                                          window_options=("--wall-distance", "--distance")),
+                     getattr(args, "max_memory", None))
         angles = directivity_angles(setup.configuration, args.step)
         d = directivity(setup.pulse, setup.configuration, args.distance, angles, medium=setup.medium)
         extra = args.metric != "peak-spl"

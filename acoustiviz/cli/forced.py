@@ -99,10 +99,15 @@ def run(args) -> int:
         from ..app.forced import parse_point
 
         listener = parse_point(args.listener, "--listener")
+    from ..app.outputs import check_distinct, check_output_file
     from ..errors import ParameterError
 
-    if args.wav is not None and not str(args.wav).lower().endswith(".wav"):
-        raise ParameterError("--wav", f"must end in .wav, got {args.wav!r}")
+    outputs = {"--csv": args.csv and check_output_file("--csv", args.csv, "csv"),
+               "--png": args.png and check_output_file("--png", args.png, "figure")}
+    if args.wav is not None:
+        outputs["--wav"] = check_output_file("--wav", args.wav, "wav")
+        outputs["--wav (sidecar)"] = check_output_file("--wav", outputs["--wav"].with_suffix(".json"), "json")
+    check_distinct(outputs)
     if args.wav is not None and not args.noise:
         raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
     if not (math.isfinite(args.noise_seconds) and 0 < args.noise_seconds <= 60):

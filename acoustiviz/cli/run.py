@@ -41,7 +41,7 @@ def run(args) -> int:
     if args.scene is not None:
         check_input_file("SCENE", args.scene, "scene file")
     scene = load_scene(args.scene) if args.scene else default_scene()
-    from ..app.pipeline import run_scene
+    from ..app.pipeline import incomplete, run_scene
 
     def progress(msg):
         if not args.quiet:
@@ -52,4 +52,7 @@ def run(args) -> int:
     for p in products:
         figs = ", ".join(f"{k}={v}" for k, v in p.figures.items())
         print(f"{p.path}" + (f"  ({figs})" if figs else ""))
-    return 0
+    failures = incomplete(products)
+    for line in failures:
+        print(f"warning: incomplete: {line}", file=sys.stderr)
+    return 1 if failures else 0

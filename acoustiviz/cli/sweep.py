@@ -114,7 +114,8 @@ def add_parser(subparsers):
     o.add_argument("--workers", type=int, default=None, metavar="N",
                    help="processes of the local pool (default: all cores; a Dask cluster has its own)")
     o.add_argument("--overwrite", action="store_true",
-                   help="if DIR holds a sweep with other settings, move its sweep.csv aside and start afresh")
+                   help="if DIR holds a sweep with other settings, move its sweep.csv and sweep.json aside "
+                        "(sweep.previous-N.csv and .json, N = 1, 2, ...) and start afresh")
     o.add_argument("--definition", default="two-maxima", choices=("two-maxima", "fit"),
                    help="damping inclination of the design table and map A: paper eq 16 (default) or "
                         "the envelope fit")

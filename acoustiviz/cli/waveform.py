@@ -26,7 +26,7 @@ def run(args) -> int:
     """Compute, print a summary, and write the requested files."""
     import math
 
-    from ..app.budget import check_budget, memory_cap, waveform_estimate
+    from ..app.budget import check_budget, given_first, memory_cap, waveform_estimate
     from ..app.names import user_terms
     from ..app.outputs import check_distinct, check_output_file
     from ..app.views import check_samples_per_duration, waveform_peaks, waveform_times
@@ -42,8 +42,12 @@ def run(args) -> int:
     point = observer_point(setup, args.distance, args.angle)
     with user_terms({"samples_per_duration": "--samples-per-duration"}):
         check_samples_per_duration(args.samples_per_duration)
+        # the samples are the waveform's span over contact time / N: any of these settings sets their number
+        size_options = given_first(("--samples-per-duration", "--distance", "--radius", "--velocity", "--k-hertz",
+                                    "--density", "--material", "--surface", "--c"), args.given_options)
         check_budget(waveform_estimate([setup.pulse], point, setup.configuration, setup.medium,
-                                       args.samples_per_duration), getattr(args, "max_memory", None))
+                                       args.samples_per_duration, options=size_options),
+                     getattr(args, "max_memory", None))
         t = waveform_times([setup.pulse], point, setup.configuration, setup.medium, args.samples_per_duration)
     p = time_series(setup.pulse, t, point[None, :], setup.configuration, medium=setup.medium,
                     memory_limit=memory_cap(getattr(args, "max_memory", None)))[0]

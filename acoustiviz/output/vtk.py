@@ -27,6 +27,8 @@ HDF, read by ParaView >= 5.12 and pyvista). Lengths in m, in the scene frame of
 
 from __future__ import annotations
 
+import errno
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -35,7 +37,7 @@ from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..field import field_metrics, snapshots
-from .writers import atomic_path
+from .writers import atomic_path, write_bytes_atomic
 
 __all__ = [
     "SUFFIXES",
@@ -230,7 +232,42 @@ def geometry_dataset(config: Geometry, bounds):
     return mesh
 
 
+def _vtu_text(mesh) -> str:
+    """``mesh`` as the text of a ``.vtu`` file (binary data base64-encoded, zlib-compressed, as pyvista writes it)."""
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetInputData(mesh)
+    writer.SetDataModeToBinary()
+    writer.SetCompressorTypeToZLib()
+    writer.WriteToOutputStringOn()
+    if not writer.Write():
+        raise OSError(errno.EIO, "cannot write: VTK could not encode the data")
+    return writer.GetOutputString()
+
+
+#: Free space (bytes) a ``.vtkhdf`` needs beyond 8 times the data's size (a 0.33 MiB map made a 2 MiB file).
+_HDF_MARGIN = 8 << 20
+
+
 def _save(mesh, path: Path) -> Path:
+    """Write ``mesh`` to ``path`` atomically; a full disk is an :class:`OSError`, never a native abort.
+
+    A ``.vtu`` is encoded in memory and written by Python (:func:`~acoustiviz.output.writers.write_bytes_atomic`).
+    VTK's HDF5 writer can only write to a file and aborts the process on a full disk, so for a
+    ``.vtkhdf`` the free space is checked first (8 times the data's size and 8 MiB).
+    """
+    path = Path(path)
+    if path.suffix.lower() == ".vtu":
+        return write_bytes_atomic(path, _vtu_text(mesh).encode("ascii"))
+    need = 8 * mesh.actual_memory_size * 1024 + _HDF_MARGIN
+    try:
+        free = shutil.disk_usage(path.parent if str(path.parent) else ".").free
+    except OSError:
+        free = need
+    if free < need:
+        raise OSError(errno.ENOSPC, f"cannot write: not enough free space ({free / 2**20:.3g} MiB free, about "
+                                    f"{need / 2**20:.3g} MiB needed)", str(path))
     with atomic_path(path) as tmp:
         mesh.save(str(tmp))
     return path

@@ -6,20 +6,65 @@ beside the target, which is renamed onto the target only once complete. A failur
 temporary file and is raised as an :class:`OSError` whose ``filename`` is the *target* (not the
 temporary name) and whose message starts with "cannot write", so that a front-end can report it
 in one line.
+
+Nothing the user made is replaced behind their back: a target that is a symbolic link, or an
+existing file without write permission for its owner (``chmod 444``), is refused with such an
+error (:func:`refuse_replacing`) instead of being replaced by a new regular file. Writers whose
+library would fail natively or with an untyped error on a full disk (VTK, libsndfile) produce
+their bytes in memory and hand them to :func:`write_bytes_atomic`, so that a full disk is an
+ordinary :class:`OSError` (``ENOSPC``) and no temporary file is left behind.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "temporary_beside", "write_text_atomic", "write_csv_atomic"]
+__all__ = ["atomic_path", "temporary_beside", "refuse_replacing", "label_problem", "LABEL_MAX",
+           "write_text_atomic", "write_bytes_atomic", "write_csv_atomic"]
 
 #: Longest part of the target's stem kept in the temporary file's name (the name must stay
 #: within the file system's limit of 255 bytes even for a target near that limit).
 _STEM_CHARS = 40
+
+
+#: Longest label (a listener's name, ...) that becomes part of a file name, in characters.
+LABEL_MAX = 64
+#: Device names Windows reserves (with any extension); refused everywhere so that a scene is portable.
+_RESERVED = frozenset({"con", "prn", "aux", "nul", *(f"com{i}" for i in range(10)), *(f"lpt{i}" for i in range(10))})
+
+
+def label_problem(label) -> str | None:
+    """Why ``label`` cannot become part of a file name inside an output folder, or None if it can.
+
+    A label is 1 to :data:`LABEL_MAX` letters, digits, ``_``, ``-`` and ``.`` (inner spaces
+    allowed), starts with a letter, digit or ``_`` and ends without a dot or space. So it holds no
+    path separator, no ``..``, no NUL or control character and no character a file system
+    refuses, and it is not a device name Windows reserves (``CON``, ``NUL``, ``COM1``, ...): a
+    name taken from someone else's input can never choose a folder or a device.
+
+    Examples
+    --------
+    >>> label_problem("left") is None
+    True
+    >>> label_problem("../../victim/data")
+    "may hold only letters, digits, '_', '-', '.' and inner spaces; got '../../victim/data'"
+    """
+    if not isinstance(label, str) or not label:
+        return f"expected a non-empty name, got {label!r}"
+    if len(label) > LABEL_MAX:
+        return f"at most {LABEL_MAX} characters, got {len(label)}"
+    if not all(ch.isalnum() or ch in "_-. " for ch in label) or not label.isprintable():
+        return f"may hold only letters, digits, '_', '-', '.' and inner spaces; got {label!r}"
+    if not (label[0].isalnum() or label[0] == "_") or label[-1] in ". ":
+        return f"must start with a letter, digit or '_' and not end with '.' or a space; got {label!r}"
+    if label.split(".")[0].strip().lower() in _RESERVED:
+        return f"{label!r} is a device name on Windows; choose another"
+    return None
 
 
 def _umask() -> int:
@@ -35,9 +80,32 @@ def temporary_beside(path) -> Path:
     does not take new files.
     """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem[:_STEM_CHARS]}-", suffix=path.suffix)
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem[:_STEM_CHARS]}-", suffix=path.suffix)
+    except (ValueError, UnicodeError) as exc:  # a NUL byte or a name the file system cannot encode
+        raise OSError(errno.EINVAL, f"not a valid file name ({exc})", str(path)) from None
     os.close(fd)
     return Path(tmp)
+
+
+def refuse_replacing(path) -> None:
+    """Raise :class:`OSError` (``EEXIST``) if ``path`` is a symbolic link or a read-only file.
+
+    A link is never replaced by a regular file (the data would silently stop reaching the
+    link's target, or a link planted in an output folder would redirect it); a file whose owner
+    has no write permission was protected on purpose. Both are left as they are.
+    """
+    path = Path(path)
+    try:
+        st = os.lstat(path)
+    except (OSError, ValueError):
+        return
+    if stat.S_ISLNK(st.st_mode):
+        raise OSError(errno.EEXIST, f"it is a symbolic link (to {os.readlink(path)}); "
+                                    "remove it or choose another name", str(path))
+    if stat.S_ISREG(st.st_mode) and not st.st_mode & stat.S_IWUSR:
+        raise OSError(errno.EEXIST, "the file exists and is read-only; make it writable "
+                                    "(chmod u+w) or choose another name", str(path))
 
 
 def _cannot_write(exc: OSError, path: Path) -> OSError:
@@ -59,6 +127,7 @@ def atomic_path(path):
     """
     path = Path(path)
     try:
+        refuse_replacing(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = temporary_beside(path)
     except OSError as exc:
@@ -67,6 +136,7 @@ def atomic_path(path):
         yield tmp
         # mkstemp creates files readable by the owner only; give outputs the usual permissions
         os.chmod(tmp, 0o666 & ~_umask())
+        refuse_replacing(path)  # made a link or read-only while the data were computed
         os.replace(tmp, path)
     except BaseException as exc:
         with contextlib.suppress(OSError):
@@ -80,6 +150,19 @@ def write_text_atomic(path, text: str) -> Path:
     """Write ``text`` to ``path`` atomically (UTF-8); return the path."""
     with atomic_path(path) as tmp:
         Path(tmp).write_text(text, encoding="utf-8")
+    return Path(path)
+
+
+def write_bytes_atomic(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; return the path.
+
+    The bytes are written and synced by Python, so that a full disk or a quota is an
+    :class:`OSError` naming ``path`` and no temporary file is left behind.
+    """
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+        fh.write(data)
+        fh.flush()
+        os.fsync(fh.fileno())
     return Path(path)
 
 

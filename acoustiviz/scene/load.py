@@ -13,7 +13,7 @@ from types import MappingProxyType
 from ..core.geometry import geometry, relevant_settings
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
-from .validate import SceneError, _unknown, _validate_table
+from .validate import SceneError, _unknown, _validate_table, parse_range
 
 __all__ = [
     "Scene",
@@ -159,10 +159,21 @@ def _validate_listeners(raw, src, radius):
         return [dict(DEFAULT_LISTENER, position_m=None)]
     if not isinstance(raw, list) or not raw:
         raise SceneError(src, "listeners", "expected one or more [[listeners]] tables")
+    from ..output.writers import label_problem
+
     out = []
+    seen = {}
     for i, item in enumerate(raw):
         path = f"listeners[{i}]"
         lst = _validate_table(item, SCHEMA["listeners"], src, path)
+        name = lst["name"] or f"listener{i + 1}"  # the name that becomes part of file names
+        problem = label_problem(name)
+        if problem is not None:
+            raise SceneError(src, f"{path}.name", f"becomes part of file names, so it {problem}")
+        if name.lower() in seen:  # case-insensitive file systems would make them one file
+            raise SceneError(src, f"{path}.name", f"{name!r} is already the name of listeners[{seen[name.lower()]}]; "
+                                                  "each listener needs its own name (it names their files)")
+        seen[name.lower()] = i
         polar = lst["distance_m"] is not None or lst["angle_deg"] is not None
         if lst["position_m"] is not None and polar:
             raise SceneError(src, path, "give either position_m or distance_m with angle_deg, not both")
@@ -247,6 +258,17 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
+    if {"frequency_response", "bifurcation", "operating_noise"} & set(outputs):
+        from ..app.limits import check_forcing_frequencies
+
+        key = "excitation.frequencies_hz"
+        try:
+            check_forcing_frequencies(parse_range(data["excitation"]["frequencies_hz"], key, source),
+                                      M=data["damper"]["main_mass_kg"], K=data["damper"]["stiffness_n_m"])
+        except SceneError:
+            raise
+        except ParameterError as exc:
+            raise SceneError(source, key, exc.detail) from None
     data["outputs"] = outputs
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
@@ -335,8 +357,13 @@ def load_scene(path) -> Scene:
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
+    except OSError as exc:
         raise SceneError(str(p), "<file>", f"cannot read the scene: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(str(p), "<file>", f"not a scene (TOML is UTF-8 text): {exc.reason} at byte {exc.start}") \
+            from None
+    except ValueError as exc:  # a NUL byte in the file name
+        raise SceneError(repr(str(p)), "<file>", f"cannot read the scene: {exc}") from None
     return scene_from_text(text, str(p))
 
 

@@ -32,10 +32,12 @@ from ..constants import (
     PAPER_V0,
     PAPER_VELOCITY,
     PULSES,
+    SAMPLE_RATES,
     TABLE1,
 )
 from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import CONFIGURATIONS as CONFIGS
+from ..sweep.query import MAX_INCLINATION
 
 __all__ = [
     "SCHEMA",
@@ -148,7 +150,8 @@ _EXCITATION = {
 }
 
 _LISTENER = {
-    "name": Key("str", "label used in file names", None),
+    "name": Key("str", "label used in file names (default listenerN): unique, 1-64 letters, digits, '_', '-', '.' "
+                       "and inner spaces, starting with a letter, digit or '_'", None),
     "distance_m": _pos("distance from the sphere's centre (with angle_deg)", "m", None, high=1e4),
     "angle_deg": Key("float", "angle from the acceleration axis (with distance_m)", None, "deg", low=0.0, high=180.0),
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
@@ -225,10 +228,11 @@ _OUT = {
                       "96 kHz (about 0.3 s more per 20 s design)", False)},
         "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table({
-        "inclination_m_s": Key("float", "target damping inclination", None, "m/s", low=0.0, high=10.0),
-        "tolerance_m_s": _pos("half-width of the inclination band", "m/s", 0.001, high=10.0)},
+        "inclination_m_s": _pos("target damping inclination", "m/s", None, high=MAX_INCLINATION),
+        "tolerance_m_s": _pos("half-width of the inclination band", "m/s", 0.001, high=MAX_INCLINATION)},
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
-    "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=8000, high=384000),
+    "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),
+                                 choices=SAMPLE_RATES),
                   "stereo": Key("bool", "one stereo file from the first two listeners", False),
                   "subtype": Key("str", "PCM_24: normalised to peak 1 dB below full scale, one shared scale "
                                  "(Pa per full scale) recorded in the sidecar; FLOAT: float32 in pascals (1.0 = 1 Pa)",
@@ -290,7 +294,7 @@ def schema_help() -> str:
                 walk(spec, sub, depth + 1)
             else:
                 rng = f" in {_fmt_range(spec)}" if spec.kind in ("float", "int", "floats", "range") else ""
-                ch = f" one of {', '.join(spec.choices)}" if spec.choices else ""
+                ch = f" one of {', '.join(map(str, spec.choices))}" if spec.choices else ""
                 lines.append(f"{'  ' * depth}{key} = {_type_name(spec.kind)}{rng}{ch}; default {spec.default!r}: "
                              f"{spec.doc}")
 

@@ -56,6 +56,9 @@ def _check_key(value, k: Key, src: str, path: str):
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int):
             raise SceneError(src, path, f"expected {_type_name(kind)} in {_fmt_range(k)}, got {value!r}")
+        if k.choices and value not in k.choices:
+            raise SceneError(src, path, f"must be one of {', '.join(map(str, k.choices))}"
+                                        f"{' ' + k.unit if k.unit else ''}, got {value}")
         return int(_check_number(value, k, src, path))
     if kind == "bool":
         if not isinstance(value, bool):

@@ -272,7 +272,8 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         Draw the tqdm progress bar on ``progress``; None (default): only if it is a terminal.
     overwrite : bool
         If ``out_dir`` holds a sweep made with other settings, move its ``sweep.csv`` aside to
-        ``sweep.previous.csv`` and start afresh (default: refuse with ``SweepMismatch``).
+        the next free ``sweep.previous-N.csv`` (with its ``sweep.json`` as ``sweep.previous-N.json``)
+        and start afresh (default: refuse with ``SweepMismatch``).
 
     Returns
     -------
@@ -292,13 +293,13 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
     out = Path(out_dir)
     prepare_dir(spec, out, overwrite)
     path = out / SWEEP_CSV
-    rows = read_rows(path, spec)
+    rows = read_rows(path, spec, "out")
     designs = spec.designs()
     pending = [d for d in designs if d.design_id not in rows]
     report = Progress(len(designs), len(rows), progress, bar=bar if pending else False)
     if not pending:
         report.say(f"sweep: all {len(designs)} designs already in {path}; nothing to compute")
-        return table_from_rows(spec, rows)
+        return table_from_rows(spec, rows, "out")
     if rows:
         report.say(f"sweep: resuming {out}: {len(rows)} of {len(designs)} designs done before, "
                    f"{len(pending)} to compute")
@@ -317,6 +318,6 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
             report.close()
             runner.close(interrupted=interrupted)
             if interrupted:  # count what the journal holds: the interrupt may fall between a row and its count
-                kept = len(read_rows(path, spec))
+                kept = len(read_rows(path, spec, "out"))
                 report.say(f"sweep: stopped; {kept} of {len(designs)} designs kept in {path}")
-    return table_from_rows(spec, rows)
+    return table_from_rows(spec, rows, "out")

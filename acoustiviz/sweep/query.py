@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import check_nonnegative, check_positive, check_range
+from .._validate import check_positive, check_range
 from ..errors import ParameterError
 from .levels import LEVEL_COLUMNS
 from .store import ALL_COLUMNS, NUMERIC_COLUMNS, SweepTable, format_value
@@ -224,6 +224,21 @@ class DesignChoice:
         return "".join(f", {p}" for p in parts)
 
 
+#: Largest target damping inclination and tolerance in m/s (both must be > 0): the rule of every front-end.
+MAX_INCLINATION = 10.0
+
+
+def check_target(inclination: float, tolerance: float) -> tuple[float, float]:
+    """The target damping inclination and its tolerance in m/s, each checked to lie in (0, 10] m/s.
+
+    A damper's damping inclination (paper eq 16) is a positive rate of decay; a zero tolerance
+    would match only designs equal to the target to the last bit.
+    """
+    target = check_range("inclination", inclination, 0.0, MAX_INCLINATION, unit="m/s", low_open=True)
+    tol = check_range("tolerance", tolerance, 0.0, MAX_INCLINATION, unit="m/s", low_open=True)
+    return target, tol
+
+
 def design(table: SweepTable, inclination: float, tolerance: float, *,
            definition: str = "two-maxima", rank_by: str = "max_spl_db") -> DesignChoice:
     """For a target damping inclination within a tolerance, the quietest (m, d) and its saving.
@@ -235,7 +250,7 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
     inclination : float
         Target damping inclination in m/s (e.g. 0.008 m/s = 0.8 cm/s).
     tolerance : float
-        Accepted deviation in m/s (>= 0).
+        Accepted deviation in m/s (> 0; both in (0, 10] m/s, :func:`check_target`).
     definition : {"two-maxima", "fit"}
         Inclination definition (default paper eq 16).
     rank_by : str
@@ -255,8 +270,7 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
         If the sweep holds no finished design; ``rank_by`` if it names no numeric column or the
         sweep holds no value of it.
     """
-    target = check_range("inclination", inclination, -math.inf, math.inf)
-    tol = check_nonnegative("tolerance", tolerance, "m/s")
+    target, tol = check_target(inclination, tolerance)
     if rank_by not in RANK_COLUMNS:
         raise ParameterError("rank_by", f"must be one of {', '.join(RANK_COLUMNS)}; got {rank_by!r}")
     e = np.asarray(table.inclination(definition), dtype=float)

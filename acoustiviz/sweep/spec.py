@@ -70,7 +70,8 @@ def value_range(start: float, stop: float, count: int) -> tuple[float, ...]:
         First and last value (any unit).
     count : int
         Number of values (1 to :data:`MAX_RANGE_COUNT`; 1 gives ``(start,)`` and requires
-        ``start == stop``).
+        ``start == stop``; more require ``stop > start``: a range is given in increasing order,
+        by every front-end).
 
     Returns
     -------
@@ -93,6 +94,9 @@ def value_range(start: float, stop: float, count: int) -> tuple[float, ...]:
         if start != stop:
             raise ParameterError("count", f"a range of 1 value needs start == stop, got {start:g}:{stop:g}")
         return (start,)
+    if not stop > start:
+        raise ParameterError("count", f"a range of {n} values needs stop > start (give it in increasing order), "
+                                      f"got {start:g}:{stop:g}")
     scale = max(abs(start), abs(stop))
     digits = 14 - math.floor(math.log10(scale)) if scale > 0 else 0
     inner = (round(start + i * (stop - start) / (n - 1), digits) + 0.0 for i in range(1, n - 1))

@@ -10,6 +10,14 @@
     ``levels`` setting is on, :mod:`acoustiviz.sweep.levels`). A torn last line left by a kill is
     dropped on resume; finished designs (failed ones included, with their reason) are never
     recomputed.
+``sweep.previous-N.csv``, ``sweep.previous-N.json``
+    A sweep moved aside by ``overwrite`` (N = 1, 2, ... in order), its journal with the settings
+    that made it, and every other file it had (``design_table.previous-N.csv``,
+    ``max_spl_map.previous-N.png``, ...): a second ``--overwrite`` never replaces the first one's.
+
+A damaged directory (a binary or non-UTF-8 file, a word where a number belongs, a
+``sweep.json`` that is not an object) is refused with a one-line :class:`ParameterError` naming
+the file, the line and the column.
 """
 
 from __future__ import annotations
@@ -19,6 +27,7 @@ import io
 import json
 import math
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -43,6 +52,7 @@ __all__ = [
     "spec_document",
     "read_spec",
     "prepare_dir",
+    "previous_sweeps",
     "read_rows",
     "load_sweep",
     "table_from_rows",
@@ -94,7 +104,11 @@ NUMERIC_COLUMNS = tuple(c for c in ALL_COLUMNS if c not in _TEXT_COLUMNS)
 SWEEP_CSV = "sweep.csv"
 SWEEP_JSON = "sweep.json"
 DESIGN_TABLE_CSV = "design_table.csv"
-_PREVIOUS_CSV = "sweep.previous.csv"
+#: Prefix of a sweep moved aside by ``overwrite``: ``sweep.previous-N.csv`` with ``sweep.previous-N.json``.
+_PREVIOUS = "sweep.previous-{n}"
+#: The files a sweep writes beside its ``*_map.png`` figures (moved aside together by ``overwrite``).
+_SWEEP_FILES = (SWEEP_CSV, SWEEP_JSON, DESIGN_TABLE_CSV, "design_table.png")
+_MOVED = re.compile(r"\.previous-\d+(\.[^.]*)?$")
 #: Damping-inclination definitions: paper eq 16, or the envelope fit.
 DEFINITIONS = ("two-maxima", "fit")
 _FORMAT = "acoustiviz-sweep"
@@ -170,8 +184,22 @@ class SweepTable:
         return out.reshape(ng, nm)
 
 
-def table_from_rows(spec: SweepSpec, rows: dict[int, dict]) -> SweepTable:
-    """A :class:`SweepTable` from rows of text values keyed by design id."""
+def _number(kind, text: str, column: str, where, name: str):
+    """``kind(text)``, or a :class:`ParameterError` ``name`` saying where (a design id or a file line)."""
+    try:
+        return kind(text)
+    except (TypeError, ValueError):
+        what = "an integer" if kind is int else "a number"
+        place = f"design {where}" if isinstance(where, int) else where
+        raise ParameterError(name, f"{place}: column {column} holds {text!r}, expected {what} "
+                                   "(the sweep's files are damaged)") from None
+
+
+def table_from_rows(spec: SweepSpec, rows: dict[int, dict], name: str = "sweep") -> SweepTable:
+    """A :class:`SweepTable` from rows of text values keyed by design id.
+
+    A cell that is not a number where one belongs raises :class:`ParameterError` named ``name``.
+    """
     ids = sorted(rows)
     cols = {}
     for c in ALL_COLUMNS:
@@ -179,9 +207,10 @@ def table_from_rows(spec: SweepSpec, rows: dict[int, dict]) -> SweepTable:
         if c in _TEXT_COLUMNS:
             cols[c] = np.array(vals, dtype=str)
         elif c in _INT_COLUMNS:
-            cols[c] = np.array([int(v) for v in vals], dtype=int)
+            cols[c] = np.array([_number(int, v, c, i, name) for i, v in zip(ids, vals, strict=True)], dtype=int)
         else:
-            cols[c] = np.array([float(v) for v in vals], dtype=float)
+            cols[c] = np.array([_number(float, v, c, i, name) for i, v in zip(ids, vals, strict=True)],
+                               dtype=float)
     for a in cols.values():
         a.setflags(write=False)
     return SweepTable(spec, cols)
@@ -212,18 +241,31 @@ def spec_text(spec: SweepSpec) -> str:
     return json.dumps(spec_document(spec), indent=2) + "\n"
 
 
-def read_spec(out_dir) -> SweepSpec:
-    """The :class:`SweepSpec` stored in ``out_dir/sweep.json``."""
+def _read_document(path: Path, name: str):
+    """``sweep.json`` parsed, or :class:`ParameterError` ``name`` naming the file (not JSON, not an object)."""
+    try:
+        doc = json.loads(path.read_bytes().decode("utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise ParameterError(name, f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}") from None
+    if not isinstance(doc, dict):
+        raise ParameterError(name, f"cannot read {path}: expected a JSON object, got a {type(doc).__name__}")
+    return doc
+
+
+def read_spec(out_dir, name: str = "sweep") -> SweepSpec:
+    """The :class:`SweepSpec` stored in ``out_dir/sweep.json`` (errors named ``name``)."""
     path = Path(out_dir) / SWEEP_JSON
     if not path.is_file():
-        raise ParameterError("sweep", f"{out_dir} holds no {SWEEP_JSON}: not a sweep directory")
+        raise ParameterError(name, f"{out_dir} holds no {SWEEP_JSON}: not a sweep directory")
+    doc = _read_document(path, name)
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
         if doc.get("format") != _FORMAT:
             raise ValueError("not an acoustiviz sweep")
+        if "spec" not in doc:
+            raise ValueError("it has no 'spec'")
         return SweepSpec.from_dict(doc["spec"])
-    except (ValueError, KeyError, TypeError) as exc:
-        raise ParameterError("sweep", f"cannot read {path}: {exc}") from None
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise ParameterError(name, f"cannot read {path}: {exc}") from None
 
 
 def _differences(a: dict, b: dict, prefix="") -> list[str]:
@@ -240,8 +282,10 @@ def _differences(a: dict, b: dict, prefix="") -> list[str]:
 def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
     """Create ``out`` with ``sweep.json``, or check that it holds the same settings.
 
-    With ``overwrite``, a directory made with other settings has its ``sweep.csv`` moved aside
-    to ``sweep.previous.csv`` and starts afresh; without, it is refused (:class:`SweepMismatch`).
+    With ``overwrite``, a directory made with other settings has its ``sweep.csv`` and
+    ``sweep.json`` moved aside to the next free ``sweep.previous-N.csv`` and ``.json`` and starts
+    afresh; without, it is refused (:class:`SweepMismatch`). A ``sweep.json`` that cannot be read
+    counts as other settings.
     """
     from ..output.writers import write_text_atomic
 
@@ -251,10 +295,11 @@ def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
     want = spec_document(spec)
     if path.is_file():
         try:
-            have = json.loads(path.read_text(encoding="utf-8"))
-        except ValueError:
+            have = _read_document(path, "out")
+        except ParameterError:
             have = {}
-        diffs = _differences(have.get("spec", {}), want["spec"])
+        spec_there = have.get("spec", {})
+        diffs = _differences(spec_there if isinstance(spec_there, dict) else {}, want["spec"])
         if have.get("format") != _FORMAT:
             diffs = diffs or ["not an acoustiviz sweep.json"]
         elif have.get("format_version") != _FORMAT_VERSION:
@@ -268,21 +313,54 @@ def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
             )
         if not diffs:
             return
-        if (out / SWEEP_CSV).exists():
-            os.replace(out / SWEEP_CSV, out / _PREVIOUS_CSV)
-        if (out / DESIGN_TABLE_CSV).exists():
-            (out / DESIGN_TABLE_CSV).unlink()
+        _move_aside(out)
     elif (out / SWEEP_CSV).exists() and not overwrite:
         raise SweepMismatch("out", f"{out} has a {SWEEP_CSV} but no {SWEEP_JSON}; use another directory or "
                                    "--overwrite")
     elif (out / SWEEP_CSV).exists():
-        os.replace(out / SWEEP_CSV, out / _PREVIOUS_CSV)
+        _move_aside(out)
     write_text_atomic(path, spec_text(spec))
 
 
+def previous_sweeps(out) -> list[Path]:
+    """The journals moved aside by ``overwrite`` in ``out``, oldest first (``sweep.previous-N.csv``)."""
+    found = []
+    for p in Path(out).glob("sweep.previous-*.csv"):
+        n = p.stem.removeprefix("sweep.previous-")
+        if n.isdigit():
+            found.append((int(n), p))
+    return [p for _, p in sorted(found)]
+
+
+def _move_aside(out: Path) -> None:
+    """Rename the sweep's files to the next free ``previous-N``: ``sweep.csv`` to ``sweep.previous-N.csv``.
+
+    The files a sweep writes go (the journal, its settings, the design table and the figures
+    made from them, ``*_map.png`` and ``design_table.png``: ``max_spl_map.png`` to
+    ``max_spl_map.previous-N.png``), so the sweep moved aside keeps everything that described it;
+    other files, files already moved aside and sub-folders stay.
+    """
+    from ..output.writers import refuse_replacing
+
+    n = 1
+    while any((out / (_PREVIOUS.format(n=n) + ext)).exists() for ext in (".csv", ".json")):
+        n += 1
+    for src in sorted(out.iterdir()):
+        ours = src.name in _SWEEP_FILES or src.name.endswith("_map.png")
+        if not ours or src.is_symlink() or not src.is_file() or _MOVED.search(src.name):
+            continue
+        refuse_replacing(src)
+        os.replace(src, out / f"{src.stem}.previous-{n}{src.suffix}")
+    _fsync_dir(out)
+
+
 # --------------------------------------------------------------------------- sweep.csv
-def read_rows(path: Path, spec: SweepSpec) -> dict[int, dict]:
-    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is cut off the file."""
+def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]:
+    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is cut off the file.
+
+    A damaged file (not UTF-8 text, other columns, a row with another number of fields or that
+    matches no design) raises :class:`ParameterError` named ``name``.
+    """
     path = Path(path)
     if not path.exists():
         return {}
@@ -294,18 +372,28 @@ def read_rows(path: Path, spec: SweepSpec) -> dict[int, dict]:
             f.flush()
             os.fsync(f.fileno())
         raw = raw[:cut]
-    lines = raw.decode("utf-8").splitlines()
+    try:
+        lines = raw.decode("utf-8").splitlines()
+    except UnicodeDecodeError as exc:
+        raise ParameterError(name, f"{path} is not a sweep journal: not UTF-8 text ({exc.reason} at byte "
+                                   f"{exc.start})") from None
     if not lines:
         return {}
-    header = next(csv.reader([lines[0]]))
+    try:
+        header = next(csv.reader([lines[0]]))
+    except csv.Error as exc:
+        raise ParameterError(name, f"{path} line 1 is damaged: {exc}") from None
     if tuple(header) != ALL_COLUMNS:
-        raise SweepMismatch("out", f"{path} has other columns than this version writes; use another directory")
+        raise SweepMismatch(name, f"{path} has other columns than this version writes; use another directory")
     designs = spec.designs()
     rows: dict[int, dict] = {}
     for k, line in enumerate(lines[1:], start=2):
-        vals = next(csv.reader([line]))
+        try:
+            vals = next(csv.reader([line]))
+        except (csv.Error, StopIteration) as exc:
+            raise ParameterError(name, f"{path} line {k} is damaged: {exc or 'empty'}") from None
         if len(vals) != len(header):
-            raise ParameterError("out", f"{path} line {k} is damaged ({len(vals)} fields, {len(header)} expected)")
+            raise ParameterError(name, f"{path} line {k} is damaged ({len(vals)} fields, {len(header)} expected)")
         row = dict(zip(header, vals, strict=True))
         try:
             did = int(row["design_id"])
@@ -314,26 +402,30 @@ def read_rows(path: Path, spec: SweepSpec) -> dict[int, dict]:
                                  and math.isclose(float(row["mass_kg"]), d.m, rel_tol=1e-12))
         except (ValueError, IndexError):
             same = False
+        for c in NUMERIC_COLUMNS:  # damage found on reading, naming the line, before any work
+            _number(int if c in _INT_COLUMNS else float, row[c], c, f"{path} line {k}", name)
         if not same:
-            raise ParameterError("out", f"{path} line {k} does not match a design of {SWEEP_JSON}")
+            raise ParameterError(name, f"{path} line {k} does not match a design of {SWEEP_JSON}")
         rows.setdefault(did, row)
     return rows
 
 
-def load_sweep(out_dir) -> SweepTable:
+def load_sweep(out_dir, name: str = "sweep") -> SweepTable:
     """Read a sweep directory (finished or not) into a :class:`SweepTable`.
 
     Parameters
     ----------
     out_dir : path-like
         Directory written by :func:`acoustiviz.sweep.run_sweep`.
+    name : str
+        The option or key that named the directory (named by errors about damaged files).
     """
     out = Path(out_dir)
-    spec = read_spec(out)
+    spec = read_spec(out, name)
     path = out / SWEEP_CSV
     if not path.is_file():
-        raise ParameterError("sweep", f"{out} holds no {SWEEP_CSV}")
-    return table_from_rows(spec, read_rows(path, spec))
+        raise ParameterError(name, f"{out} holds no {SWEEP_CSV}")
+    return table_from_rows(spec, read_rows(path, spec, name), name)
 
 
 def _fsync_dir(path: Path) -> None:

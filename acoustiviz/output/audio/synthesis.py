@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
+from ...constants import SAMPLE_RATES
 from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
 from ...core.radiation import pulse_response
 from ...field.sources import image_geometry
@@ -26,7 +27,6 @@ __all__ = [
 
 
 #: Output sample rates in Hz.
-SAMPLE_RATES = (44100, 48000, 96000)
 
 #: Upper edge of the flat passband as a fraction of the output rate (0.45 fs).
 PASSBAND_FRACTION = 0.45
@@ -96,6 +96,12 @@ class ClickModel:
 
 
 # --------------------------------------------------------------------------- band-limiting
+def band_limit(sample_rate: float) -> dict:
+    """The band limit of a sound rendered at ``sample_rate`` Hz (JSON-ready; frequencies in Hz)."""
+    return {"passband_hz": PASSBAND_FRACTION * sample_rate, "stopband_from_hz": 0.5 * sample_rate,
+            "stopband_attenuation_db": STOPBAND_ATTENUATION_DB, "filter": "linear-phase Kaiser FIR, zero delay"}
+
+
 def oversampling_factor(sample_rate: float, shortest_contact: float) -> int:
     """Internal-to-output rate ratio L: at least 16 and at least 200 internal samples per contact.
 
@@ -199,10 +205,7 @@ class Rendering:
         return {
             "sample_rate_hz": self.sample_rate,
             "internal_rate_hz": self.internal_rate,
-            "band_limit": {"passband_hz": PASSBAND_FRACTION * self.sample_rate,
-                           "stopband_from_hz": 0.5 * self.sample_rate,
-                           "stopband_attenuation_db": STOPBAND_ATTENUATION_DB,
-                           "filter": "linear-phase Kaiser FIR, zero delay"},
+            "band_limit": band_limit(self.sample_rate),
             "duration_s": self.n_samples / self.sample_rate,
             "impact_count": len(seq),
             "impact_count_by_wall": {"-1": seq.count(-1), "+1": seq.count(1)},

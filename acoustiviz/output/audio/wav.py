@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import warnings
@@ -11,7 +12,7 @@ import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
 from ...errors import ClippingWarning
-from ..writers import atomic_path
+from ..writers import atomic_path, write_bytes_atomic
 
 __all__ = [
     "SUBTYPES",
@@ -103,8 +104,10 @@ def write_wav(path, pressure, sample_rate: int, *, subtype: str = "FLOAT", scale
         out = data
     else:
         out = data.astype(np.float32)
-    with atomic_path(path) as tmp:
-        sf.write(str(tmp), out, int(fs), subtype=subtype, format="WAV")
+    # encoded in memory, written by Python: a full disk is an OSError naming the file, not a libsndfile error
+    buf = io.BytesIO()
+    sf.write(buf, out, int(fs), subtype=subtype, format="WAV")
+    write_bytes_atomic(path, buf.getvalue())
     return {"path": str(path), "subtype": subtype, "channels": int(p.shape[0]), "frames": int(p.shape[1]),
             "sample_rate_hz": int(fs), "pa_per_full_scale": sc, "peak_full_scale": peak,
             "over_full_scale_db": over_db, "clipped_samples": clipped}
