@@ -537,7 +537,7 @@ def test_forced_checks_its_outputs_before_computing(here, capsys, monkeypatch):
     def never(*args, **kwargs):
         raise AssertionError("computed before checking the outputs")
 
-    monkeypatch.setattr(forced, "frequency_response", never)
+    monkeypatch.setattr(forced, "attractor_response", never)
     for argv, option in ((["--png", "out.jpgx"], "--png"), (["--csv", "adir"], "--csv"),
                          (["--png", "missing/f.png"], "--png"), (["--wav", "f.mp3"], "--wav"),
                          (["--csv", "f.csv", "--png", "f.csv"], "--png")):
@@ -659,19 +659,22 @@ def test_a_listener_inside_the_sphere_or_below_the_floor_is_refused_like_scenes_
 
 
 def _one_frequency_fails(monkeypatch):
-    """Make the last frequency of every frequency response fail, as a solver failure would."""
+    """Make every attractor at the last frequency of each response fail, as a solver failure would."""
     import dataclasses
 
     import acoustiviz.app.forced as forced
 
-    real = forced.frequency_response
+    real = forced.attractor_response
 
     def failing(*args, **kwargs):
         resp = real(*args, **kwargs)
-        last = dataclasses.replace(resp.primary[-1], success=False, message="injected solver failure")
-        return dataclasses.replace(resp, primary=resp.primary[:-1] + (last,))
+        last = resp.per_frequency[-1]
+        broken = tuple(dataclasses.replace(a, success=False, message="injected solver failure")
+                       for a in last.attractors)
+        per = resp.per_frequency[:-1] + (dataclasses.replace(last, attractors=broken),)
+        return dataclasses.replace(resp, per_frequency=per)
 
-    monkeypatch.setattr(forced, "frequency_response", failing)
+    monkeypatch.setattr(forced, "attractor_response", failing)
 
 
 FAILING_SCENE = """
