@@ -334,100 +334,141 @@ def _period_guess(pts, k):
     return d
 
 
-def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _Outcome:
-    """Run one start to its attractor (module docstring); ``known`` attractors may capture it."""
-    scale = section_scale(model, excitation)
-    pmap = PoincareMap(model, excitation, settings)
-    out = _Outcome()
-    total = 0
+class _Settler:
+    """One start run to its attractor (:func:`settle`): the run, its section points and the shootings."""
 
-    def refine(point, n, k):
-        nonlocal total
+    def __init__(self, model, excitation, settings, start, known):
+        self.model, self.excitation, self.settings = model, excitation, settings
+        self.scale = section_scale(model, excitation)
+        self.pmap = PoincareMap(model, excitation, settings)
+        self.out = _Outcome()
+        self.total = 0
+        self.run = _Runner(model, excitation, settings, start, rows=settings.max_impacts_per_cycle)
+        n = settings.max_cycles + 1
+        self.pts = np.empty((n, 4))
+        self.pts[0] = self.run.section() / self.scale
+        self.xhi, self.xlo, self.ipc = np.empty(n), np.empty(n), np.empty(n)
+        self.periodic_known = [(i, a) for i, a in enumerate(known) if a.period and a.stable]
+        self.chaotic_known = [(i, a) for i, a in enumerate(known) if not a.period and a.success]
+
+    def refine(self, point, n, k):
+        """Shoot a period-``n`` orbit from ``point`` (cycle ``k``); its measured steady state, or None."""
+        s = self.settings
         while True:
-            before = pmap.cycles
-            shot = shoot(pmap, point, n, settings.tolerance, scale, rtol=settings.rtol)
-            total += pmap.cycles - before
+            before = self.pmap.cycles
+            shot = shoot(self.pmap, point, n, s.tolerance, self.scale, rtol=s.rtol)
+            self.total += self.pmap.cycles - before
             if not shot.converged:
                 return None
-            steady, smaller = measure_periodic(model, excitation, settings, shot.point, n, shot, k, total)
+            steady, smaller = measure_periodic(self.model, self.excitation, s, shot.point, n, shot, k, self.total)
             if steady is not None:
-                total = steady.cycles_integrated
+                self.total = steady.cycles_integrated
                 return steady
             n = smaller
 
-    run = _Runner(model, excitation, settings, start, rows=settings.max_impacts_per_cycle)
+    def captured(self, i) -> _Outcome:
+        """The outcome of a start captured by known attractor ``i``."""
+        self.out.known, self.out.cycles = i, self.total + self.run.total
+        return self.out
+
+    def stable(self, steady, *, add_run=True) -> _Outcome:
+        """The outcome of a start that reached the stable orbit ``steady``."""
+        extra = self.run.total if add_run else 0
+        self.out.steady = replace(steady, cycles_integrated=steady.cycles_integrated + extra) if extra else steady
+        return self.out
+
+    def periodic_capture(self, k):
+        """Index of the known stable periodic attractor whose section point ``k`` lies on, or None."""
+        for i, a in self.periodic_known:
+            cols = slice(0, 2) if a.impacts_per_cycle == 0 else slice(0, 4)
+            d = np.abs(a.poincare[:, cols] / self.scale[cols] - self.pts[k, cols])
+            if np.min(np.max(d, axis=1)) < CAPTURE_DISTANCE:
+                return i
+        return None
+
+    def chaotic_capture(self, k):
+        """Index of the known non-periodic attractor whose statistics the last window matches, or None."""
+        if not self.chaotic_known or k < PROBE_CYCLES or k % PROBE_CYCLES:
+            return None
+        w = slice(k - PROBE_WINDOW + 1, k + 1)
+        hi = self.xhi[w].reshape(-1, BATCH_CYCLES).max(axis=1)
+        lo = self.xlo[w].reshape(-1, BATCH_CYCLES).min(axis=1)
+        amp = float(np.mean(0.5 * (hi - lo)))
+        rate = float(np.mean(self.ipc[w]))
+        for i, a in self.chaotic_known:
+            if _stats_agree(a, amp, a.amplitude_std_err * math.sqrt(WINDOW_BATCHES) / math.sqrt(hi.size), rate):
+                return i
+        return None
+
+    def step(self, k):
+        """Integrate cycle ``k``; a failed outcome when the solver stopped, else None."""
+        acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
+        n_imp, status = self.run.cycle(0, acc, True)
+        if status != STATUS_OK:
+            self.out.steady = _failed(self.model, self.excitation, self.settings, k, status, self.run.state(),
+                                      self.total + self.run.total)
+            return self.out
+        self.xhi[k], self.xlo[k] = acc[3], acc[4]
+        self.ipc[k] = n_imp
+        self.section = self.run.section()
+        self.pts[k] = self.section / self.scale
+        return None
+
+    def finish(self) -> _Outcome:
+        """After the last cycle: a last shooting, else the motion measured over a window."""
+        s, k = self.settings, self.settings.max_cycles
+        d = _period_guess(self.pts, k)
+        for n in dict.fromkeys((int(np.argmin(d)), 1)):  # a last try at the best guess and at period 1
+            steady = self.refine(self.run.section(), n, k)
+            if steady is not None and steady.stable:
+                return self.stable(steady)
+        steady = measure_window(self.model, self.excitation, s, self.run.state(), k, self.total + self.run.total)
+        if steady.success and steady.regime == "unresolved":  # a slow spiral onto an orbit: shoot from there
+            self.total = steady.cycles_integrated
+            x, v, y, w = steady.final_state
+            last = _period_guess(steady.poincare / self.scale, len(steady.poincare) - 1)
+            for n in dict.fromkeys((1, int(np.argmin(last)))):
+                orbit = self.refine(np.array([x, v, y - x, w - v]), n, steady.cycles + steady.measured_cycles)
+                if orbit is not None and orbit.stable:
+                    return self.stable(orbit, add_run=False)
+        self.out.steady = steady
+        return self.out
+
+
+def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _Outcome:
+    """Run one start to its attractor (module docstring); ``known`` attractors may capture it."""
+    st = _Settler(model, excitation, settings, start, known)
     if seed_period:
-        steady = refine(run.section(), seed_period, 0)
+        steady = st.refine(st.run.section(), seed_period, 0)
         if steady is not None and steady.stable:
-            out.steady = steady
-            return out
+            return st.stable(steady, add_run=False)
         if steady is not None:
-            out.unstable.append(steady)
-    pts = np.empty((settings.max_cycles + 1, 4))
-    pts[0] = run.section() / scale
-    xhi = np.empty(settings.max_cycles + 1)
-    xlo = np.empty(settings.max_cycles + 1)
-    ipc = np.empty(settings.max_cycles + 1)
+            st.out.unstable.append(steady)
     next_try, wait = 0, 8
-    periodic_known = [(i, a) for i, a in enumerate(known) if a.period and a.stable]
-    chaotic_known = [(i, a) for i, a in enumerate(known) if not a.period and a.success]
     prev = np.full(MAX_PERIOD + 1, np.inf)
     for k in range(1, settings.max_cycles + 1):
-        acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
-        n_imp, status = run.cycle(0, acc, True)
-        if status != STATUS_OK:
-            out.steady = _failed(model, excitation, settings, k, status, run.state(), total + run.total)
-            return out
-        xhi[k], xlo[k] = acc[3], acc[4]
-        ipc[k] = n_imp
-        s = run.section()
-        pts[k] = s / scale
-        for i, a in periodic_known:
-            cols = slice(0, 2) if a.impacts_per_cycle == 0 else slice(0, 4)
-            if np.min(np.max(np.abs(a.poincare[:, cols] / scale[cols] - pts[k, cols]), axis=1)) < CAPTURE_DISTANCE:
-                out.known, out.cycles = i, total + run.total
-                return out
-        d = _period_guess(pts, k)
+        failed = st.step(k)
+        if failed is not None:
+            return failed
+        i = st.periodic_capture(k)
+        if i is not None:
+            return st.captured(i)
+        d = _period_guess(st.pts, k)
         close = np.flatnonzero((d < TRIGGER) & (prev < TRIGGER))
         prev = d
         n = int(close[0]) if close.size else (int(np.argmin(d)) if k in CHECKPOINTS else 0)
         if n and k >= next_try:
-            steady = refine(s, n, k)
+            steady = st.refine(st.section, n, k)
             if steady is not None and steady.stable:
-                out.steady = replace(steady, cycles_integrated=steady.cycles_integrated + run.total)
-                return out
+                return st.stable(steady)
             if steady is not None:
-                out.unstable.append(steady)
+                st.out.unstable.append(steady)
             next_try = k + wait  # shooting failed or met a saddle: wait longer each time
             wait *= 2
-        if chaotic_known and k >= PROBE_CYCLES and k % PROBE_CYCLES == 0:
-            w = slice(k - PROBE_WINDOW + 1, k + 1)
-            hi = xhi[w].reshape(-1, BATCH_CYCLES).max(axis=1)
-            lo = xlo[w].reshape(-1, BATCH_CYCLES).min(axis=1)
-            amp = float(np.mean(0.5 * (hi - lo)))
-            rate = float(np.mean(ipc[w]))
-            for i, a in chaotic_known:
-                if _stats_agree(a, amp, a.amplitude_std_err * math.sqrt(WINDOW_BATCHES) / math.sqrt(hi.size), rate):
-                    out.known, out.cycles = i, total + run.total
-                    return out
-    k = settings.max_cycles
-    d = _period_guess(pts, k)
-    for n in dict.fromkeys((int(np.argmin(d)), 1)):  # a last try at the best guess and at period 1
-        steady = refine(run.section(), n, k)
-        if steady is not None and steady.stable:
-            out.steady = replace(steady, cycles_integrated=steady.cycles_integrated + run.total)
-            return out
-    steady = measure_window(model, excitation, settings, run.state(), settings.max_cycles, total + run.total)
-    if steady.success and steady.regime == "unresolved":  # a slow spiral onto an orbit: shoot from where it got to
-        total = steady.cycles_integrated
-        x, v, y, w = steady.final_state
-        for n in dict.fromkeys((1, int(np.argmin(_period_guess(steady.poincare / scale, len(steady.poincare) - 1))))):
-            orbit = refine(np.array([x, v, y - x, w - v]), n, steady.cycles + steady.measured_cycles)
-            if orbit is not None and orbit.stable:
-                out.steady = orbit
-                return out
-    out.steady = steady
-    return out
+        i = st.chaotic_capture(k)
+        if i is not None:
+            return st.captured(i)
+    return st.finish()
 
 
 @dataclass(frozen=True)

@@ -261,6 +261,21 @@ def _seed(a):
     return a.final_state, 0
 
 
+def _neighbour_seeds(new, sweep) -> list:
+    """Per frequency, the seeds its neighbours' newly found attractors give it (``sweep`` says which side)."""
+    up, down = sweep in ("up", "both"), sweep in ("down", "both")
+    seeds = [[] for _ in new]
+    for i, fresh in enumerate(new):
+        for a in fresh:
+            if not a.success:
+                continue
+            if up and i + 1 < len(new):
+                seeds[i + 1].append(_seed(a))
+            if down and i > 0:
+                seeds[i - 1].append(_seed(a))
+    return seeds
+
+
 def attractor_response(
     model: DamperModel,
     frequencies,
@@ -314,17 +329,8 @@ def attractor_response(
     if progress:
         progress(f"{f.size} frequencies x {settings.starts} starts: "
                  f"{sum(len(r.attractors) for r in results)} attractors")
-    up, down = sweep in ("up", "both"), sweep in ("down", "both")
     while sweep != "independent" and rounds < f.size:
-        seeds = [[] for _ in f]
-        for i, fresh in enumerate(new):
-            for a in fresh:
-                if not a.success:
-                    continue
-                if up and i + 1 < f.size:
-                    seeds[i + 1].append(_seed(a))
-                if down and i > 0:
-                    seeds[i - 1].append(_seed(a))
+        seeds = _neighbour_seeds(new, sweep)
         todo = [i for i in range(f.size) if seeds[i]]
         if not todo:
             break

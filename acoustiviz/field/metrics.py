@@ -101,6 +101,35 @@ class FieldMetrics:
             return 10.0 * np.log10(self.exposure / (P_REF**2 * 1.0))
 
 
+def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff, limit):
+    """``(dt, m, window)``: the step in s, the number of samples that fill each point's window
+    exactly, and the window in s.
+
+    The window is ``window`` (s) or, by default, the longest arrival spread of the points in the
+    fluid (:func:`arrival_windows`); ``m`` whole samples of a step at most the sample interval fill
+    it (rounding it up to whole samples of the interval would lengthen it and lower the RMS).
+    """
+    dt = (
+        default_sample_interval(pulse, config.radius, medium=medium)
+        if sample_interval is None
+        else check_positive("sample_interval", sample_interval, "s")
+    )
+    if window is None:
+        win = dt
+        n = pts.shape[0]
+        step = chunk_size(geometry_bytes(len(config.images())) + 40, 8.0 * n * 5, limit)
+        for lo in range(0, n, step):
+            sub = pts[lo : lo + step]
+            start, stop = arrival_windows(pulse, sub, config, medium=medium, cutoff=cutoff)
+            ok = config.in_fluid(sub)
+            if np.any(ok):
+                win = max(win, float(np.max((stop - start)[ok])))
+    else:
+        win = check_positive("window", window, "s")
+    m = max(1, int(math.ceil(win / dt - 1e-9)))
+    return win / m, m, win
+
+
 def field_metrics(
     pulse,
     points,
@@ -177,26 +206,7 @@ def field_metrics(
         m = tt.size
         win = m * dt
     else:
-        dt = (
-            default_sample_interval(pulse, config.radius, medium=medium)
-            if sample_interval is None
-            else check_positive("sample_interval", sample_interval, "s")
-        )
-        if window is None:
-            win = dt
-            step = chunk_size(geometry_bytes(nimg) + 40, 8.0 * n * 5, limit)
-            for lo in range(0, n, step):
-                sub = pts[lo : lo + step]
-                start, stop = arrival_windows(pulse, sub, config, medium=medium, cutoff=cutoff)
-                ok = config.in_fluid(sub)
-                if np.any(ok):
-                    win = max(win, float(np.max((stop - start)[ok])))
-        else:
-            win = check_positive("window", window, "s")
-        # the window is the exact interval: m whole samples of a step at most dt fill it (rounding
-        # it up to whole samples of dt lengthened it by up to one step and lowered the RMS)
-        m = max(1, int(math.ceil(win / dt - 1e-9)))
-        dt = win / m
+        dt, m, win = _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff, limit)
     out_bytes = 8.0 * n * 5 + n  # four float results, the window starts and the model codes
     if out_bytes + 8 * m > limit:
         raise ParameterError("memory_limit", f"the results and the window of {m} samples need "

@@ -47,75 +47,97 @@ def _check_number(v, k: Key, src: str, path: str) -> float:
     return v
 
 
-def _check_key(value, k: Key, src: str, path: str):
+def _check_float(value, k: Key, src: str, path: str):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)} in {_fmt_range(k)}, got {value!r}")
+    return _check_number(float(value), k, src, path)
+
+
+def _check_int(value, k: Key, src: str, path: str):
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)} in {_fmt_range(k)}, got {value!r}")
+    if k.choices and value not in k.choices:
+        raise SceneError(src, path, f"must be one of {', '.join(map(str, k.choices))}"
+                                    f"{' ' + k.unit if k.unit else ''}, got {value}")
+    return int(_check_number(value, k, src, path))
+
+
+def _check_bool(value, k: Key, src: str, path: str):
+    if not isinstance(value, bool):
+        raise SceneError(src, path, f"expected true or false, got {value!r}")
+    return value
+
+
+def _check_str(value, k: Key, src: str, path: str):
+    if not isinstance(value, str):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)}, got {value!r}")
+    if k.choices and value not in k.choices:
+        close = difflib.get_close_matches(value, k.choices, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise SceneError(src, path, f"must be one of {', '.join(map(repr, k.choices))}, got {value!r}{hint}")
+    return value
+
+
+def _check_ints(value, k: Key, src: str, path: str):
+    if not isinstance(value, list) or len(value) != k.length:
+        raise SceneError(src, path, f"expected a list of {k.length} integers in {_fmt_range(k)}, got {value!r}")
+    for i, v in enumerate(value):
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise SceneError(src, f"{path}[{i}]", f"expected an integer, got {v!r}")
+        _check_number(v, k, src, f"{path}[{i}]")
+    return list(value)
+
+
+def _check_floats(value, k: Key, src: str, path: str):
     kind = k.kind
-    if kind == "float":
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise SceneError(src, path, f"expected {_type_name(kind)} in {_fmt_range(k)}, got {value!r}")
-        return _check_number(float(value), k, src, path)
-    if kind == "int":
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise SceneError(src, path, f"expected {_type_name(kind)} in {_fmt_range(k)}, got {value!r}")
-        if k.choices and value not in k.choices:
-            raise SceneError(src, path, f"must be one of {', '.join(map(str, k.choices))}"
-                                        f"{' ' + k.unit if k.unit else ''}, got {value}")
-        return int(_check_number(value, k, src, path))
-    if kind == "bool":
-        if not isinstance(value, bool):
-            raise SceneError(src, path, f"expected true or false, got {value!r}")
-        return value
-    if kind == "str":
-        if not isinstance(value, str):
-            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
-        if k.choices and value not in k.choices:
-            close = difflib.get_close_matches(value, k.choices, n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise SceneError(src, path, f"must be one of {', '.join(map(repr, k.choices))}, got {value!r}{hint}")
-        return value
-    if kind == "ints":
-        if not isinstance(value, list) or len(value) != k.length:
-            raise SceneError(src, path, f"expected a list of {k.length} integers in {_fmt_range(k)}, got {value!r}")
-        for i, v in enumerate(value):
-            if isinstance(v, bool) or not isinstance(v, int):
-                raise SceneError(src, f"{path}[{i}]", f"expected an integer, got {v!r}")
-            _check_number(v, k, src, f"{path}[{i}]")
-        return list(value)
-    if kind in ("floats", "point"):
-        if not isinstance(value, list) or not value:
-            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
-        if kind == "point" and len(value) != 3:
-            raise SceneError(src, path, f"expected {_type_name(kind)}, got {len(value)} values")
-        limit = k.length or 10000
-        if kind == "floats" and len(value) > limit:
-            raise SceneError(src, path, f"at most {limit} values, got {len(value)}")
-        out = []
-        for i, v in enumerate(value):
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise SceneError(src, f"{path}[{i}]", f"expected a number, got {v!r}")
-            out.append(_check_number(float(v), k, src, f"{path}[{i}]") if kind == "floats" else float(v))
-            if kind == "point" and not math.isfinite(out[-1]):
-                raise SceneError(src, f"{path}[{i}]", f"must be finite, got {v}")
-        return out
-    if kind == "strs":
-        if not isinstance(value, list) or not all(isinstance(v, str) for v in value) or not value:
-            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
-        allowed = k.choices or PULSES
-        for i, v in enumerate(value):
-            if v not in allowed:
-                raise SceneError(src, f"{path}[{i}]", f"must be one of {', '.join(map(repr, allowed))}, got {v!r}")
-        if len(set(value)) != len(value):
-            raise SceneError(src, path, f"values must not repeat, got {value!r}")
-        return list(value)
-    if kind == "range":
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            value = str(value)
-        if not isinstance(value, str):
-            raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
-        vals = parse_range(value, path, src)
-        for v in vals:
-            _check_number(v, k, src, path)
-        return value
-    raise AssertionError(kind)  # pragma: no cover
+    if not isinstance(value, list) or not value:
+        raise SceneError(src, path, f"expected {_type_name(kind)}, got {value!r}")
+    if kind == "point" and len(value) != 3:
+        raise SceneError(src, path, f"expected {_type_name(kind)}, got {len(value)} values")
+    limit = k.length or 10000
+    if kind == "floats" and len(value) > limit:
+        raise SceneError(src, path, f"at most {limit} values, got {len(value)}")
+    out = []
+    for i, v in enumerate(value):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise SceneError(src, f"{path}[{i}]", f"expected a number, got {v!r}")
+        out.append(_check_number(float(v), k, src, f"{path}[{i}]") if kind == "floats" else float(v))
+        if kind == "point" and not math.isfinite(out[-1]):
+            raise SceneError(src, f"{path}[{i}]", f"must be finite, got {v}")
+    return out
+
+
+def _check_strs(value, k: Key, src: str, path: str):
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value) or not value:
+        raise SceneError(src, path, f"expected {_type_name(k.kind)}, got {value!r}")
+    allowed = k.choices or PULSES
+    for i, v in enumerate(value):
+        if v not in allowed:
+            raise SceneError(src, f"{path}[{i}]", f"must be one of {', '.join(map(repr, allowed))}, got {v!r}")
+    if len(set(value)) != len(value):
+        raise SceneError(src, path, f"values must not repeat, got {value!r}")
+    return list(value)
+
+
+def _check_range(value, k: Key, src: str, path: str):
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        value = str(value)
+    if not isinstance(value, str):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)}, got {value!r}")
+    vals = parse_range(value, path, src)
+    for v in vals:
+        _check_number(v, k, src, path)
+    return value
+
+
+#: The check of each kind of key: it returns the value as the scene holds it, or raises SceneError.
+_CHECKS = {"float": _check_float, "int": _check_int, "bool": _check_bool, "str": _check_str,
+           "ints": _check_ints, "floats": _check_floats, "point": _check_floats, "strs": _check_strs,
+           "range": _check_range}
+
+
+def _check_key(value, k: Key, src: str, path: str):
+    return _CHECKS[k.kind](value, k, src, path)
 
 
 def _unknown(src, path, key, allowed):

@@ -355,15 +355,8 @@ def _move_aside(out: Path) -> None:
 
 
 # --------------------------------------------------------------------------- sweep.csv
-def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]:
-    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is cut off the file.
-
-    A damaged file (not UTF-8 text, other columns, a row with another number of fields or that
-    matches no design) raises :class:`ParameterError` named ``name``.
-    """
-    path = Path(path)
-    if not path.exists():
-        return {}
+def _journal_lines(path: Path, name: str) -> list:
+    """The text lines of the journal ``path``; a torn last line is cut off the file first."""
     raw = path.read_bytes()
     if raw and not raw.endswith(b"\n"):  # killed in the middle of a row: drop the partial line
         cut = raw.rfind(b"\n") + 1
@@ -373,10 +366,33 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
             os.fsync(f.fileno())
         raw = raw[:cut]
     try:
-        lines = raw.decode("utf-8").splitlines()
+        return raw.decode("utf-8").splitlines()
     except UnicodeDecodeError as exc:
         raise ParameterError(name, f"{path} is not a sweep journal: not UTF-8 text ({exc.reason} at byte "
                                    f"{exc.start})") from None
+
+
+def _matches_design(row: dict, designs) -> bool:
+    """True when the row's design id, gap and mass are those of a design of the spec."""
+    try:
+        did = int(row["design_id"])
+        d = designs[did]
+        return did >= 0 and (math.isclose(float(row["gap_m"]), d.gap, rel_tol=1e-12)
+                             and math.isclose(float(row["mass_kg"]), d.m, rel_tol=1e-12))
+    except (ValueError, IndexError):
+        return False
+
+
+def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]:
+    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is cut off the file.
+
+    A damaged file (not UTF-8 text, other columns, a row with another number of fields or that
+    matches no design) raises :class:`ParameterError` named ``name``.
+    """
+    path = Path(path)
+    if not path.exists():
+        return {}
+    lines = _journal_lines(path, name)
     if not lines:
         return {}
     try:
@@ -395,18 +411,12 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
         if len(vals) != len(header):
             raise ParameterError(name, f"{path} line {k} is damaged ({len(vals)} fields, {len(header)} expected)")
         row = dict(zip(header, vals, strict=True))
-        try:
-            did = int(row["design_id"])
-            d = designs[did]
-            same = did >= 0 and (math.isclose(float(row["gap_m"]), d.gap, rel_tol=1e-12)
-                                 and math.isclose(float(row["mass_kg"]), d.m, rel_tol=1e-12))
-        except (ValueError, IndexError):
-            same = False
+        same = _matches_design(row, designs)
         for c in NUMERIC_COLUMNS:  # damage found on reading, naming the line, before any work
             _number(int if c in _INT_COLUMNS else float, row[c], c, f"{path} line {k}", name)
         if not same:
             raise ParameterError(name, f"{path} line {k} does not match a design of {SWEEP_JSON}")
-        rows.setdefault(did, row)
+        rows.setdefault(int(row["design_id"]), row)
     return rows
 
 
