@@ -87,20 +87,9 @@ def add_parser(subparsers):
     return p
 
 
-def run(args) -> int:
-    """Run the ``forced`` subcommand; return the exit status."""
-    from ..app.damper import damper_model
-    from ..app.forced import FORCED_OPTIONS, parse_frequencies, run_forced, write_forced_csv, write_forced_png
-    from ..app.names import user_terms
-
-    freqs = parse_frequencies(args.freq)
-    listener = None
-    if args.listener is not None:
-        from ..app.forced import parse_point
-
-        listener = parse_point(args.listener, "--listener")
+def _check_outputs(args) -> None:
+    """Refuse unwritable or clashing output files (before any work)."""
     from ..app.outputs import check_distinct, check_output_file
-    from ..errors import ParameterError
 
     outputs = {"--csv": args.csv and check_output_file("--csv", args.csv, "csv"),
                "--png": args.png and check_output_file("--png", args.png, "figure")}
@@ -108,15 +97,22 @@ def run(args) -> int:
         outputs["--wav"] = check_output_file("--wav", args.wav, "wav")
         outputs["--wav (sidecar)"] = check_output_file("--wav", outputs["--wav"].with_suffix(".json"), "json")
     check_distinct(outputs)
+
+
+def _check_noise(args) -> None:
+    """Refuse a WAV without the noise in operation and a noise interval out of (0, 60] s."""
+    from ..errors import ParameterError
+
     if args.wav is not None and not args.noise:
         raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
     if not (math.isfinite(args.noise_seconds) and 0 < args.noise_seconds <= 60):
         raise ParameterError("--noise-seconds", f"must lie in (0, 60] s, got {args.noise_seconds!r}")
-    with user_terms(FORCED_OPTIONS):
-        model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
-                             c1=args.c1)
-    from ..app.budget import check_budget, forced_estimate
+
+
+def _check_solver_settings(args) -> None:
+    """Refuse cycle counts, starts and tolerances out of their ranges."""
     from ..constants import FORCED_MAX_STARTS, FORCED_MIN_CYCLES, FORCED_RTOL_RANGE, FORCED_TOLERANCE_RANGE
+    from ..errors import ParameterError
 
     if not (isinstance(args.max_cycles, int) and args.max_cycles >= FORCED_MIN_CYCLES):
         raise ParameterError("--max-cycles", f"must be an integer >= {FORCED_MIN_CYCLES}, got {args.max_cycles!r}")
@@ -126,6 +122,27 @@ def run(args) -> int:
                              ("--rtol", args.rtol, FORCED_RTOL_RANGE)):
         if not (math.isfinite(v) and lo <= v <= hi):
             raise ParameterError(opt, f"must lie in [{lo:g}, {hi:g}], got {v!r}")
+
+
+def run(args) -> int:
+    """Run the ``forced`` subcommand; return the exit status."""
+    from ..app.budget import check_budget, forced_estimate
+    from ..app.damper import damper_model
+    from ..app.forced import FORCED_OPTIONS, parse_frequencies, run_forced
+    from ..app.names import user_terms
+
+    freqs = parse_frequencies(args.freq)
+    listener = None
+    if args.listener is not None:
+        from ..app.forced import parse_point
+
+        listener = parse_point(args.listener, "--listener")
+    _check_outputs(args)
+    _check_noise(args)
+    with user_terms(FORCED_OPTIONS):
+        model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
+                             c1=args.c1)
+    _check_solver_settings(args)
     check_budget(forced_estimate(len(freqs) * args.starts, args.max_cycles,
                                  noise_seconds=args.noise_seconds if args.noise else 0.0,
                                  wav=args.wav is not None), getattr(args, "max_memory", None))
@@ -151,6 +168,14 @@ def run(args) -> int:
         _print_table(fr, None)
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
+    _write_outputs(args, fr, listener)
+    return 0 if not failed else 1
+
+
+def _write_outputs(args, fr, listener) -> None:
+    """The noise in operation (table and WAV) when asked, then the CSV and the figure."""
+    from ..app.forced import write_forced_csv, write_forced_png
+
     if args.noise:
         from ..app.forced import add_operating_noise, write_operating_wav
         from ..app.forced_noise import noise_statement
@@ -168,7 +193,6 @@ def run(args) -> int:
         print(f"wrote {write_forced_csv(fr, args.csv)}")
     if args.png:
         print(f"wrote {write_forced_png(fr, args.png)}")
-    return 0 if not failed else 1
 
 
 def _print_table(fr, noises) -> None:
