@@ -215,6 +215,19 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             continue
         data[name] = _validate_table(raw.get(name, {}), table, source, name)
     radius = data["sphere"]["radius_m"]
+    _check_materials(data, source)
+    _check_configuration(data, source)
+    data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
+    outputs = _validate_outputs(raw.get("outputs", {}), data, source)
+    data["outputs"] = outputs
+    order = tuple(k for k in OUTPUT_KINDS if k in outputs)
+    scene = Scene(MappingProxyType(data), source, order)
+    _check_geometry(scene)
+    return scene
+
+
+def _check_materials(data: dict, source: str) -> None:
+    """The sphere's mass or density and the contact's stiffness or surface: one of each, named materials."""
     s = data["sphere"]
     if s["mass_kg"] is not None and s["density_kg_m3"] is not None:
         raise SceneError(source, "sphere.mass_kg", "give either mass_kg or density_kg_m3, not both")
@@ -228,6 +241,11 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
                 raise SceneError(source, path, exc.detail) from None
     if data["contact"]["k_hertz_n_m1_5"] is not None and data["contact"]["surface"] is not None:
         raise SceneError(source, "contact.k_hertz_n_m1_5", "give either k_hertz_n_m1_5 or surface, not both")
+
+
+def _check_configuration(data: dict, source: str) -> None:
+    """The sphere above the floor and the geometry's settings valid for its kind."""
+    radius = data["sphere"]["radius_m"]
     conf = data["configuration"]
     if conf["height_m"] is not None and conf["height_m"] < radius:
         raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
@@ -236,9 +254,10 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
         geometry(conf["kind"], radius, **_geometry_settings(conf))
     except ParameterError as exc:
         raise SceneError(source, f"configuration.{_GEOMETRY_KEYS.get(exc.name, exc.name)}", exc.detail) from None
-    data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
 
-    outs_raw = raw.get("outputs", {})
+
+def _validate_outputs(outs_raw, data: dict, source: str) -> dict:
+    """The ``[outputs]`` tables, validated, with the checks that need the rest of the scene."""
     if not isinstance(outs_raw, dict):
         raise SceneError(source, "outputs", f"expected a table, got {outs_raw!r}")
     outputs = {}
@@ -250,6 +269,12 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
         if value is True:
             value = {}
         outputs[kind] = _validate_table(value, _OUT[kind], source, f"outputs.{kind}")
+    _check_output_needs(outputs, data, source)
+    return outputs
+
+
+def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
+    """What some outputs need of the rest of the scene: listeners, a sweep, forcing frequencies."""
     if "wav" in outputs:
         if outputs["wav"]["struck_wall"] not in (-1, 1):
             raise SceneError(source, "outputs.wav.struck_wall",
@@ -269,11 +294,6 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             raise
         except ParameterError as exc:
             raise SceneError(source, key, exc.detail) from None
-    data["outputs"] = outputs
-    order = tuple(k for k in OUTPUT_KINDS if k in outputs)
-    scene = Scene(MappingProxyType(data), source, order)
-    _check_geometry(scene)
-    return scene
 
 
 #: Geometry settings -> their keys in ``[configuration]``.
