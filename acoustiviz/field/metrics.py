@@ -102,8 +102,7 @@ class FieldMetrics:
 
 
 def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff, limit):
-    """``(dt, m, window)``: the step in s, the number of samples that fill each point's window
-    exactly, and the window in s.
+    """Return ``(dt, m, window)``: the step in s, the samples that fill the window, the window in s.
 
     The window is ``window`` (s) or, by default, the longest arrival spread of the points in the
     fluid (:func:`arrival_windows`); ``m`` whole samples of a step at most the sample interval fill
