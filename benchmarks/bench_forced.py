@@ -238,7 +238,7 @@ def table_attractors(baseline=BASELINE, write=False):
 
         path = root / "benchmarks" / "results" / "bench_forced_attractors.txt"
         write_text_atomic(path, "\n".join(lines) + "\n")
-        print(f"wrote {path}")
+        print(f"wrote {path.relative_to(root)}")
 
 
 class _Tee:

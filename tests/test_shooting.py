@@ -128,3 +128,19 @@ def test_two_contact_tolerances_find_the_same_attractors_at_5_hz():
         else:
             assert abs(p.amplitude - q.amplitude) < 3 * math.hypot(p.amplitude_std_err, q.amplitude_std_err)
             assert abs(p.lyapunov - q.lyapunov) < 3 * math.hypot(p.lyapunov_std_err, q.lyapunov_std_err)
+
+
+def test_newton_steps_are_the_least_norm_solution_without_blas():
+    """The step solve (plain Jacobi SVD) equals the pseudo-inverse's, regular and rank-deficient."""
+    from acoustiviz.dynamics._shooting import PINV_RCOND, pinv_solve
+
+    rng = np.random.default_rng(7)
+    for k in range(60):
+        a = rng.normal(size=(4, 4))
+        if k % 3 == 0:  # a floating impact mass: a direction the map does not move
+            a[:, 3] = 2.0 * a[:, 2]
+        b = rng.normal(size=4)
+        x = pinv_solve(a, b, PINV_RCOND)
+        # independent: the normal equations of the least-norm solution, a^T a x = a^T b with x in range(a^T)
+        np.testing.assert_allclose(a.T @ (a @ x), a.T @ b, rtol=0, atol=1e-10 * np.abs(a.T @ b).max())
+        np.testing.assert_allclose(x, np.linalg.pinv(a, rcond=PINV_RCOND) @ b, rtol=1e-9, atol=1e-12)

@@ -261,7 +261,7 @@ def _window(model, excitation, settings, state, cycles, total):
                                total + run.total + pert.total), None
             pts.append(run.section())
             diff = (pert.section() - pts[-1]) / scale
-            d = float(np.linalg.norm(diff))
+            d = math.hypot(*diff)  # not BLAS: its sum's order depends on the processor
             if d > 0.0:
                 logsum += math.log(d / LYAPUNOV_D0)
                 direction = diff / d

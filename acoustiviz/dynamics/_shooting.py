@@ -162,6 +162,64 @@ def _jacobian(fun, q, h, f0=None):
     return jac
 
 
+def pinv_solve(a, b, rcond: float) -> np.ndarray:
+    """Least-norm solution ``pinv(a) b`` of a small square system, the same on every machine.
+
+    One-sided Jacobi SVD (Hestenes) in plain floating point, in a fixed order of operations:
+    the multiple of a step that LAPACK gives through OpenBLAS depends on the processor's kernels
+    in its last bits, and a Newton step that lands near a grazing or a basin boundary then sends
+    the run to another attractor on another machine. Singular values below ``rcond`` times the
+    largest are dropped, as :func:`numpy.linalg.pinv` does.
+
+    Parameters
+    ----------
+    a : (n, n) array_like
+        The matrix (dimensionless, scaled section variables).
+    b : (n,) array_like
+        Right-hand side.
+    rcond : float
+        Relative cut-off of the singular values.
+
+    Returns
+    -------
+    (n,) ndarray
+    """
+    n = len(b)
+    u = [[float(a[i][j]) for i in range(n)] for j in range(n)]  # the columns of a, rotated into U Σ
+    v = [[1.0 if i == j else 0.0 for i in range(n)] for j in range(n)]  # the columns of V
+    for _ in range(60):
+        rotated = False
+        for i in range(n - 1):
+            for j in range(i + 1, n):
+                ci, cj = u[i], u[j]
+                alpha = math.fsum(x * x for x in ci)
+                beta = math.fsum(x * x for x in cj)
+                gamma = math.fsum(x * y for x, y in zip(ci, cj, strict=True))
+                if gamma == 0.0 or abs(gamma) <= 1e-15 * math.sqrt(alpha * beta):
+                    continue
+                rotated = True
+                zeta = (beta - alpha) / (2.0 * gamma)
+                t = math.copysign(1.0, zeta) / (abs(zeta) + math.hypot(1.0, zeta))
+                c = 1.0 / math.hypot(1.0, t)
+                sn = c * t
+                for w in (u, v):
+                    wi, wj = w[i], w[j]
+                    w[i] = [c * x - sn * y for x, y in zip(wi, wj, strict=True)]
+                    w[j] = [sn * x + c * y for x, y in zip(wi, wj, strict=True)]
+        if not rotated:
+            break
+    sigma = [math.sqrt(math.fsum(x * x for x in col)) for col in u]
+    cut = rcond * max(sigma)
+    bb = [float(x) for x in b]
+    out = [0.0] * n
+    for k in range(n):
+        if sigma[k] <= cut or sigma[k] == 0.0:
+            continue
+        coef = math.fsum(x * y for x, y in zip(u[k], bb, strict=True)) / (sigma[k] * sigma[k])
+        out = [o + coef * vk for o, vk in zip(out, v[k], strict=True)]
+    return np.array(out)
+
+
 def shoot(pmap: PoincareMap, s0, n: int, tolerance: float, scale, *, rtol: float = 1e-10,
           max_iterations: int = SHOOT_MAX_ITERATIONS, multipliers: bool = True) -> ShootResult:
     """Newton's method on ``P^n(s) = s`` from ``s0`` (m, m/s); see the module docstring.
@@ -196,7 +254,7 @@ def shoot(pmap: PoincareMap, s0, n: int, tolerance: float, scale, *, rtol: float
         if jac is None:
             break
         a = jac - np.eye(4)
-        dq = -np.linalg.pinv(a, rcond=PINV_RCOND) @ (p - q)
+        dq = -pinv_solve(a, p - q, PINV_RCOND)
         lam, accepted = 1.0, False
         for _ in range(5):
             qn = q + lam * dq
