@@ -32,6 +32,7 @@ from _damper_reference import (
     IVP_RTOL,
     N_COMPARE,
     REFERENCE_RTOL,
+    RESOLVED_BOUND,
     compare_impacts,
     reference,
     resolved_impacts,
@@ -85,11 +86,11 @@ def check_reference(duration):
     ivp = solve_ivp_impacts(TABLE1, n_impacts=N_COMPARE, rtol=IVP_RTOL)
     el = time.perf_counter() - t0
     coarser = solve_ivp_impacts(TABLE1, n_impacts=N_COMPARE, rtol=10 * IVP_RTOL)
-    n_resolved = resolved_impacts(ivp, coarser, 3e-10)
+    n_resolved = resolved_impacts(ivp, coarser, RESOLVED_BOUND)
     for n in (n_resolved, N_COMPARE):
         c = compare_impacts(ivp, ref.impacts, n)
         print(f"  vs scipy DOP853 + events (independent, rtol {IVP_RTOL:g}, {el:.1f} s), first {c.n}"
-              f"{' (those it resolves to 3e-10 s)' if n == n_resolved else ''}: "
+              f"{f' (those it resolves to {RESOLVED_BOUND:g} s)' if n == n_resolved else ''}: "
               f"|dt| {c.time_error:.1e} s, du/u {c.velocity_error:.1e}, walls match {c.walls_match}")
     return ref
 
