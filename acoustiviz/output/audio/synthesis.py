@@ -10,8 +10,8 @@ import numpy as np
 from ..._validate import ParameterError, check_choice, check_positive
 from ...constants import SAMPLE_RATES
 from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
-from ...core.radiation import pulse_response
 from ...core.images import ImageSet
+from ...core.radiation import pulse_response
 from ...field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
 
