@@ -220,6 +220,9 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
                      "peak_over_full_scale_db": info["over_full_scale_db"]},
         "impacts": rendering.get("impact_count"),
         "configuration": rendering.get("scene", {}).get("config"),
+        # a room's image model, also at the top level: the order, the number of images, the neglected energy
+        **{k: rendering["scene"][k] for k in ("image_order", "images", "neglected_energy_db")
+           if k in rendering.get("scene", {})},
         # how the sound was made; what the file itself holds (rate, length) is stated above from the file
         **{k: v for k, v in rendering.items() if k not in _FILE_FACTS},
         "duration_s": info["frames"] / info["sample_rate_hz"],
