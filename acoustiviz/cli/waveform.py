@@ -13,6 +13,10 @@ def add_parser(subparsers) -> None:
         description="Pressure in Pa radiated by a sphere striking a surface, at one observer. "
         "Time runs from the start of contact. Defaults: the paper's Figure 2 scene.",
     )
+    import re
+
+    # let "--room -6,4,3" or "--source -1,0,0" reach the validation (argparse takes only plain negative numbers)
+    p._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     add_impact_options(p)
     add_observer_options(p)
     add_room_options(p, duration=True)

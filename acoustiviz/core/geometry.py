@@ -475,14 +475,15 @@ ROOM_TOLERANCE_DB = -60.0
 
 def _triple(name: str, value, what: str) -> tuple:
     """``value`` as 3 finite floats (a sequence or an ``"x,y,z"`` string), naming ``name``."""
+    given = value
     if isinstance(value, str):
         value = value.split(",")
     try:
         v = tuple(float(x) for x in value)
     except (TypeError, ValueError):
-        raise ParameterError(name, f"expected {what}, got {value!r}") from None
+        raise ParameterError(name, f"expected {what}, got {given!r}") from None
     if len(v) != 3 or not all(math.isfinite(x) for x in v):
-        raise ParameterError(name, f"expected {what}, got {value!r}")
+        raise ParameterError(name, f"expected {what}, got {given!r}")
     return v
 
 
