@@ -12,10 +12,11 @@ import numpy as np
 import pytest
 
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.geometry import GEOMETRIES, FreeField, Room, WallFloorCorner, geometry
+from acoustiviz.core.geometry import GEOMETRIES, FreeField, WallFloorCorner, geometry
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.reverberation import energy_order, order_for_time
 from acoustiviz.core.room import Shoebox, image_count, image_sources
+from acoustiviz.core.room_geometry import Room
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import time_series
 

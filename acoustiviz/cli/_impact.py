@@ -72,7 +72,7 @@ def add_room_options(parser, *, duration: bool = False) -> None:
 
     ``duration``: also add ``--duration`` (the window in s the images must reach).
     """
-    from ..core.geometry import ROOM_STRIKES
+    from ..core.room_geometry import ROOM_STRIKES
 
     g = parser.add_argument_group("room (a shoebox [0, LX] x [0, LY] x [0, LZ] m, floor z = 0)")
     g.add_argument("--room", default=None, metavar="LX,LY,LZ",
