@@ -161,8 +161,9 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     radius = check_positive("radius", radius, "m")
     velocity = check_positive("velocity", velocity, "m/s")
     check_choice("pulse", pulse, PULSES)
-    check_choice("config", config, CONFIGURATIONS)
-    check_choice("strike", strike, STRIKES)
+    if room is None:
+        check_choice("config", config, CONFIGURATIONS)
+        check_choice("strike", strike, STRIKES)
     medium = Medium(c=check_positive("c", c, "m/s"), rho=check_positive("rho", rho, "kg/m^3"))
     if sphere_material is not None:
         _material("sphere_material", sphere_material)  # an unknown name fails here, naming the catalogue
