@@ -260,9 +260,41 @@ class Room(Geometry):
                              direction=real.axis)
 
     def image_sources(self, real: ImageSource) -> ImageSet:
-        """``real`` and its images in the room's six surfaces, as an :class:`ImageSet` (sorted by order)."""
-        im = self.room_images(real)
-        return ImageSet(im.positions, im.directions, im.weights * real.weight, im.orders, ("",) * len(im))
+        """``real`` and its images in the room's six surfaces, as an :class:`ImageSet` (sorted by order).
+
+        The sets of the last two spheres asked for are kept (the struck and the far wall of a
+        damper's cavity are asked for again by each stage of a WAV).
+        """
+        key = (real.position.tobytes(), real.axis.tobytes(), real.weight)
+        cache = self.__dict__.setdefault("_image_cache", {})
+        if key not in cache:
+            made = self._moved(real, cache.values())
+            if made is None:
+                im = self.room_images(real)
+                w = im.weights if real.weight == 1.0 else im.weights * real.weight
+                made = ImageSet(im.positions, im.directions, w, im.orders, ("",) * len(im))
+            if len(cache) >= 2:
+                cache.pop(next(iter(cache)))
+            cache[key] = made
+        return cache[key]
+
+    @staticmethod
+    def _moved(real: ImageSource, known) -> ImageSet | None:
+        """The images of ``real`` from those of a sphere moved along its own axis (a cavity's far wall), or None.
+
+        Every image is the real sphere under a fixed mirror map M (a product of reflections), so
+        moving the sphere by ``g u`` along its axis ``u`` moves image j by ``g M u = g d_j``, its own
+        acceleration direction; reversing the axis reverses every ``d_j``; the weights do not change.
+        """
+        for s in known:
+            u, shift = s.axes[0], real.position - s.positions[0]
+            g = float(shift @ u)
+            sign = float(real.axis @ u)
+            if abs(abs(sign) - 1.0) > 1e-12 or np.linalg.norm(shift - g * u) > 1e-12 * max(1.0, abs(g)) \
+                    or real.weight != s.weights[0]:
+                continue
+            return ImageSet(s.positions + g * s.axes, sign * s.axes, s.weights, s.orders, s.labels)
+        return None
 
     @cached_property
     def sources(self) -> ImageSet:
