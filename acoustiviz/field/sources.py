@@ -61,7 +61,7 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     n, k = pts.shape[0], len(imgs)
     r = np.empty((n, k))
     ct = np.empty((n, k))
-    if k <= n:  # few sources (the paper's geometries): one vectorised pass per source
+    if k <= max(n, 64):  # few sources (the paper's geometries): one vectorised pass per source
         for j in range(k):
             d = pts - pos[j]
             r[:, j] = np.sqrt(np.einsum("ij,ij->i", d, d))
