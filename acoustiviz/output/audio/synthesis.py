@@ -46,9 +46,9 @@ _TAIL_DECADES = 8.0
 #: :data:`EXACT_SOURCES` are rendered as fractional-delay trains convolved with the band-limited
 #: click (:func:`_train_kernel`); up to it every source is evaluated in closed form.
 TRAIN_ABOVE = 64
-#: Sources rendered in closed form when the rest go through trains: the real sphere and the
-#: first-order images of a room (its images come sorted by order).
-EXACT_SOURCES = 7
+#: Sources rendered in closed form when the rest go through trains: the real sphere (a room's
+#: images come sorted by order; its reflections, one impact apart, all go through the trains).
+EXACT_SOURCES = 1
 #: Half-length in output samples of the windowed-sinc fractional delay, and its table's steps per sample.
 _SINC_HALF = 48
 _SINC_STEPS = 512
