@@ -214,6 +214,9 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "peak_note": "peak_pa: the largest |sample| of the band-limited file at its rate (before any "
                      "clipping) x scale; physical_peak_pa: the largest |p| of the sound itself, each click "
                      "in closed form, not band-limited",
+        **({"physical_peak_note": f"room: over the direct clicks and the images arriving within "
+                                  f"{ROOM_PEAK_WINDOW:g} s of them"}
+           if rendering.get("scene", {}).get("config") == "room" else {}),
         "physical_peak_pa": phys,
         "physical_peak_spl_db_re_20upa": phys_spl,
         "clipping": {"clipped_samples": info["clipped_samples"],
