@@ -11,8 +11,15 @@ Run ``python benchmarks/bench_room.py`` (``--quick``: orders to 10 and 1e3 recei
    impulse responses (about 17 000 samples each) fit in memory; when the first chunk shows the
    whole would take over a minute, 1e3 receivers instead, and the table says so. This is the
    pyroomacoustics side of the issue's goal (peak and SEL of one impact at 1e4 receivers at order
-   10 at least 10x faster than pyroomacoustics' impulse responses); the field evaluator's side is
-   measured once the room is a geometry of the field evaluator.
+   10 at least 10x faster than pyroomacoustics' impulse responses).
+3. The field evaluator's side, in the same run: the peak (:func:`acoustiviz.field.fast_peaks`,
+   exposure off) and the SEL (:func:`acoustiviz.field.exposure`) of one impact of the Figure 2
+   sphere in the same room at order 10 (:class:`acoustiviz.core.room_geometry.Room`), at receivers
+   drawn as in 2 (``--receivers``, default 1000: the per-receiver cost is what compares), and the
+   ratio to pyroomacoustics' per-receiver time.
+4. A 20 s WAV of the Table 1 damper (the ``acoustiviz auralize`` defaults, simulated once) at the
+   listener (3, 2, 1.5) m: rendered in free field, then in the 6 x 4 x 3 m room with alpha = 0.1
+   (images to -60 dB, built inside the timing), alternately, best of ``--wav-repeat``; CPU time.
 """
 
 from __future__ import annotations
@@ -63,7 +70,7 @@ def pyroomacoustics_table(receivers: int, order: int, rate: int) -> None:
         import pyroomacoustics as pra
     except ImportError:
         print("2. pyroomacoustics is not installed (pip install -e '.[test]'): skipped")
-        return
+        return None
     rng = np.random.default_rng(20261125)
     lo = np.full(3, 0.05)
     hi = np.array(DIMS) - 0.05
@@ -91,14 +98,116 @@ def pyroomacoustics_table(receivers: int, order: int, rate: int) -> None:
     print(f"{'compute_rir (' + str(samples) + ' samples each)':<34} {total_rir:>9.3f} {1e3 * total_rir / done:>12.4f}")
     print(f"{'pyroomacoustics total':<34} {total_ism + total_rir:>9.3f} {1e3 * (total_ism + total_rir) / done:>12.4f}")
     print(f"{'acoustiviz image_sources (once)':<34} {t_ours:>9.5f} {'-':>12}")
+    return 1e3 * (total_ism + total_rir) / done
+
+
+def field_table(receivers: int, order: int, pra_ms) -> None:
+    from acoustiviz.core.contact import Impact, acceleration_pulse
+    from acoustiviz.core.room_geometry import Room
+    from acoustiviz.field import exposure, fast_peaks
+    from acoustiviz.field.peaks import peak_table
+
+    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * RADIUS**3),
+                               "half-sine")
+    rng = np.random.default_rng(20261125)
+    pts = rng.uniform(np.full(3, 0.05), np.array(DIMS) - 0.05, (receivers, 3))
+    t0 = time.perf_counter()
+    room = Room(RADIUS, DIMS, ALPHA, SOURCE, order=order)
+    room.images()
+    ta = time.perf_counter()
+    table = peak_table(pulse, room)  # once per pulse, sphere and room: Y over the images' spread
+    t1 = time.perf_counter()
+    pk = fast_peaks(pulse, pts, room, exposure=False, table=table)
+    t2 = time.perf_counter()
+    e = exposure(pulse, pts, room)
+    t3 = time.perf_counter()
+    assert np.all(np.isfinite(pk.peak_positive)) and np.all(e > 0)
+    per = 1e3 * (t3 - t1) / receivers
+    print()
+    print(f"3. acoustiviz peak and SEL of one impact, room order {order} ({room.image_count} images), "
+          f"{receivers} receivers (wall time, as 2.)")
+    print(f"{'stage':<34} {'time s':>9} {'ms/receiver':>12}")
+    print(f"{'Room value and its images':<34} {ta - t0:>9.3f} {'-':>12}")
+    print(f"{'peak_table (once)':<34} {t1 - ta:>9.3f} {'-':>12}")
+    print(f"{'fast_peaks (peak, exposure off)':<34} {t2 - t1:>9.3f} {1e3 * (t2 - t1) / receivers:>12.3f}")
+    print(f"{'exposure (SEL)':<34} {t3 - t2:>9.3f} {1e3 * (t3 - t2) / receivers:>12.3f}")
+    print(f"{'acoustiviz peak + SEL':<34} {t3 - t1:>9.3f} {per:>12.3f}")
+    if pra_ms is not None:
+        print(f"pyroomacoustics / acoustiviz per receiver: {pra_ms / per:.3g} (above 1: acoustiviz faster; "
+              f"SEL alone {pra_ms / (1e3 * (t3 - t2) / receivers):.3g})")
+        total = (t1 - ta) + per * 1e-3 * 1e4
+        print(f"at 1e4 receivers: acoustiviz about {total:.0f} s (table once + per receiver), pyroomacoustics "
+              f"{pra_ms * 10:.0f} s")
+
+
+def wav_table(repeat: int) -> None:
+    from acoustiviz.app.damper import run_damper
+    from acoustiviz.app.wav import cavity
+    from acoustiviz.constants import DEFAULT_DURATION
+    from acoustiviz.dynamics import DamperModel
+    from acoustiviz.output.audio import ClickModel, ImpactSequence, render
+
+    model = DamperModel()
+    run = run_damper(model, DEFAULT_DURATION)
+    seq = ImpactSequence.from_table(run.result.impacts)
+    click = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
+    listener = [3.0, 2.0, 1.5]
+    room_settings = {"dimensions": DIMS, "absorption": ALPHA, "source": SOURCE}
+    times = {"free": [], "room": []}
+    info = None
+    for _ in range(repeat):
+        for name in ("free", "room"):
+            t0 = time.process_time()
+            scene = cavity("free", RADIUS, model.gap, room=room_settings if name == "room" else None)
+            out = render(seq, scene, click, listener, duration=DEFAULT_DURATION)
+            times[name].append(time.process_time() - t0)
+            if name == "room":
+                conf = scene.configuration
+                info = (conf.image_order, conf.image_count, conf.neglected_energy_db, out.n_samples / out.sample_rate)
+    best = {k: min(v) for k, v in times.items()}
+    print()
+    print(f"4. {DEFAULT_DURATION:g} s WAV of the Table 1 damper ({len(seq)} impacts), listener (3, 2, 1.5) m, 48 kHz, "
+          f"CPU time, best of {repeat}")
+    print(f"{'surroundings':<44} {'time s':>9}")
+    print(f"{'free field':<44} {best['free']:>9.3f}")
+    label = f"room 6 x 4 x 3 m, alpha 0.1, order {info[0]} ({info[1]} images)"
+    print(f"{label:<44} {best['room']:>9.3f}")
+    print(f"render, room / free field: {best['room'] / best['free']:.2f} (goal: within 3); neglected energy "
+          f"{info[2]:.1f} dB, signal {info[3]:.2f} s")
+    # the whole command, as a user runs it: damper simulation, rendering, calibration, files
+    import contextlib
+    import io
+    import tempfile
+
+    from acoustiviz.cli import main as cli
+
+    room_args = ["--room", ",".join(f"{x:g}" for x in DIMS), "--absorption", f"{ALPHA:g}",
+                 "--source", ",".join(f"{x:g}" for x in SOURCE)]
+    whole = {"free": [], "room": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        for i in range(repeat):
+            for name in ("free", "room"):
+                extra = room_args if name == "room" else ["--config", "free"]
+                t0 = time.process_time()
+                with contextlib.redirect_stdout(io.StringIO()):
+                    assert cli(["auralize", *extra, "--listener", "3,2,1.5", "--wav", f"{tmp}/{name}{i}.wav"]) == 0
+                whole[name].append(time.process_time() - t0)
+    best = {k: min(v) for k, v in whole.items()}
+    print(f"{'acoustiviz auralize, free field (whole command)':<44} {best['free']:>9.3f}")
+    print(f"{'acoustiviz auralize --room 6,4,3 --absorption 0.1':<44} {best['room']:>9.3f}")
+    print(f"whole command, room / free field: {best['room'] / best['free']:.2f} (goal: within 3)")
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="orders 1..10 and 1e3 receivers")
+    parser.add_argument("--receivers", type=int, default=1000, help="receivers of the acoustiviz side (3.)")
+    parser.add_argument("--wav-repeat", type=int, default=2, help="repeats of the WAV timing (4.)")
     args = parser.parse_args(argv)
     construction_table(10 if args.quick else 30)
-    pyroomacoustics_table(1000 if args.quick else 10_000, 10, ANALYSIS_RATE)
+    pra_ms = pyroomacoustics_table(1000 if args.quick else 10_000, 10, ANALYSIS_RATE)
+    field_table(args.receivers, 10, pra_ms)
+    wav_table(args.wav_repeat)
     return 0
 
 

@@ -22,6 +22,7 @@ A = 0.01905
 
 def test_registry_names_its_classes():
     assert CONFIGURATIONS == ("free", "plane", "wall-floor")
+    assert tuple(GEOMETRIES) == (*CONFIGURATIONS, "room")  # the room needs its dimensions: not a --config choice
     assert all(cls.name == name for name, cls in GEOMETRIES.items())
     assert [type(geometry(n, A)) for n in CONFIGURATIONS] == [FreeField, ReflectingPlane, WallFloorCorner]
 
@@ -43,7 +44,9 @@ def test_front_end_defaults():
     ("wall-floor", {"wall_distance": 0.5 * A}, "wall_distance"),
     ("wall-floor", {"strike": "wall", "height": 0.5 * A}, "height"),
     ("wall-floor", {"strike": "roof"}, "strike"),
-    ("room", {}, "config"),
+    ("room", {}, "dimensions"),  # a room needs its dimensions
+    ("plane", {"dimensions": (6, 4, 3)}, "dimensions"),
+    ("roof", {}, "config"),
     ("plane", {"colour": "red"}, "colour"),
 ])
 def test_settings_that_do_not_apply_are_refused(name, settings, bad):

@@ -138,20 +138,24 @@ def _count(x: float) -> float:
 
 
 def waveform_estimate(pulses, point, config, medium, samples_per_duration,
-                      options=("--samples-per-duration", "--distance")) -> Estimate:
+                      options=("--samples-per-duration", "--distance"), *, window=None) -> Estimate:
     """Time samples of :func:`acoustiviz.app.views.waveform_times` and the CSV of them.
 
-    Memory: times, pressure and per-image temporaries (8 B each per sample); CSV: about 38 B
-    a row (two ``%.12e`` numbers).
+    Memory: times, pressure and per-image temporaries (8 B each per sample) of up to four images
+    (beyond them, the compiled uniform-grid kernel holds none: a room's images add their delays and
+    weights, 48 B each); CSV: about 38 B a row (two ``%.12e`` numbers). ``window``: the end in s of
+    the times (a room's window) instead of the end of the sound.
     """
     from ..field import waveform_span
 
     with np.errstate(all="ignore"):
-        end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
+        end = window if window is not None else max(waveform_span(p, point, config, medium=medium)[1]
+                                                    for p in pulses)
         dt = min(p.duration for p in pulses) / float(samples_per_duration)
         n = _count(_div(end, dt) + 2.0)
-    nimg = len(config.sources)
-    return Estimate(_F8 * n * (4 + nimg) * len(pulses), 38.0 * n * len(pulses), f"{n:.3g} time samples", options)
+    nimg = len(config.images())
+    per_image = _F8 * n * (4 + min(nimg, 4)) + 48.0 * max(nimg - 4, 0)
+    return Estimate(per_image * len(pulses), 38.0 * n * len(pulses), f"{n:.3g} time samples", options)
 
 
 def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=None, medium=None,

@@ -119,7 +119,7 @@ def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) ->
 def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_material=None, surface_material=None,
                  density=None, mass=None, pulse: str = "half-sine", c: float = AIR.c, rho: float = AIR.rho,
                  config: str = "free", wall_distance=None, strike: str = "floor", height=None,
-                 partner_mass: float = math.inf) -> ImpactSetup:
+                 partner_mass: float = math.inf, room=None) -> ImpactSetup:
     """Validate the settings of one impact and build its physics objects.
 
     Parameters
@@ -150,6 +150,9 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
         Wall strike: height in m of the sphere's centre above the floor (default: the radius).
     partner_mass : float
         Mass in kg of the struck body (default infinite: an immovable wall, paper eq 3).
+    room : dict, optional
+        The settings of a shoebox room (:class:`acoustiviz.core.geometry.Room`: ``dimensions``,
+        ``absorption``, ``source``, ``strike``, ``duration``, ...); replaces ``config`` and its settings.
 
     Returns
     -------
@@ -158,15 +161,19 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     radius = check_positive("radius", radius, "m")
     velocity = check_positive("velocity", velocity, "m/s")
     check_choice("pulse", pulse, PULSES)
-    check_choice("config", config, CONFIGURATIONS)
-    check_choice("strike", strike, STRIKES)
+    if room is None:
+        check_choice("config", config, CONFIGURATIONS)
+        check_choice("strike", strike, STRIKES)
     medium = Medium(c=check_positive("c", c, "m/s"), rho=check_positive("rho", rho, "kg/m^3"))
     if sphere_material is not None:
         _material("sphere_material", sphere_material)  # an unknown name fails here, naming the catalogue
     k, source = k_hertz_from(radius, k_hertz, sphere_material, surface_material)
     m = sphere_mass(radius, mass, density, sphere_material)
     check_impact(velocity, k, m, partner_mass, radius=radius, c=medium.c, rho=medium.rho)
-    conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
+    if room is not None:  # the room's own settings (Room.from_settings validates them all)
+        conf = geometry("room", radius, **{"sound_speed": medium.c, **room})
+    else:
+        conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
     return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
 

@@ -23,7 +23,7 @@ from collections.abc import Mapping
 
 from ..errors import ParameterError
 
-__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS"]
+__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS"]
 
 #: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
 DAMPER_OPTIONS = {
@@ -59,6 +59,18 @@ IMPACT_OPTIONS = {
     "height": "--height",
     "distance": "--distance",
     "angle_deg": "--angle",
+}
+
+#: :class:`acoustiviz.core.geometry.Room` setting -> option.
+ROOM_OPTIONS = {
+    "dimensions": "--room",
+    "absorption": "--absorption",
+    "source": "--source",
+    "strike": "--room-strike",
+    "order": "--image-order",
+    "tolerance_db": "--tolerance-db",
+    "duration": "--duration",
+    "sound_speed": "--c",
 }
 
 

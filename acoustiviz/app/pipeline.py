@@ -129,7 +129,8 @@ def produce_waveform(ctx: RunContext):
     pulses = {k: ctx.pulse(k) for k in kinds}
     products = []
     for name, pos in ctx.listeners:
-        t = waveform_times(list(pulses.values()), pos, conf, medium)
+        # a room's window (its reverberation outlasts any span), else the whole sound
+        t = waveform_times(list(pulses.values()), pos, conf, medium, window=getattr(conf, "duration", None))
         series = {k: time_series(p, t, pos[None, :], conf, medium=medium)[0] for k, p in pulses.items()}
         cols = [t] + list(series.values())
         header = ["time_s"] + (["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds])
@@ -146,6 +147,9 @@ def produce_waveform(ctx: RunContext):
         peak = float(np.abs(first).max())
         figs = {"pulse": kinds[0], "max_pa": f"{first.max():.4g}", "min_pa": f"{first.min():.4g}",
                 "peak_spl_db": f"{20 * math.log10(peak / 20e-6):.1f}"}
+        if hasattr(conf, "image_order"):  # a room: its image model
+            figs.update(image_order=str(conf.image_order), images=str(conf.image_count),
+                        neglected_energy_db=f"{conf.neglected_energy_db:.1f}")
         products += [Product("waveform", csv, figs), Product("waveform", png, {})]
     return products
 

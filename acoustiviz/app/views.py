@@ -39,7 +39,7 @@ LEVEL_INTERVAL = 1.0
 MIN_SAMPLES_PER_DURATION = 200
 
 
-def waveform_times(pulses, point, config, medium, samples_per_duration: int = 400) -> np.ndarray:
+def waveform_times(pulses, point, config, medium, samples_per_duration: int = 400, *, window=None) -> np.ndarray:
     """Times in s from the start of contact to the end of the sound of every pulse at ``point``.
 
     The step is the shortest pulse's duration / ``samples_per_duration``; the end is the latest
@@ -57,10 +57,15 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
         The fluid.
     samples_per_duration : int
         Samples per contact duration, at least :data:`MIN_SAMPLES_PER_DURATION`.
+    window : float, optional
+        End in s of the times instead of the end of the sound (a room's window: its reverberation
+        outlasts any useful span).
     """
     check_samples_per_duration(samples_per_duration)
-    end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
     dt = min(p.duration for p in pulses) / samples_per_duration
+    if window is not None:
+        return np.arange(0.0, float(window) + 0.5 * dt, dt)
+    end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
     return np.arange(0.0, end + dt, dt)
 
 

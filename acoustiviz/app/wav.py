@@ -41,9 +41,17 @@ SIDECAR_VERSION = 3
 
 
 def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
-           wall_distance=None, strike: str = "floor", height=None, medium=None) -> CavityScene:
-    """The damper's cavity in its surroundings (:func:`acoustiviz.core.geometry.geometry` builds them)."""
-    conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
+           wall_distance=None, strike: str = "floor", height=None, medium=None, room=None) -> CavityScene:
+    """The damper's cavity in its surroundings (:func:`acoustiviz.core.geometry.geometry` builds them).
+
+    ``room``: the settings of a shoebox room (:class:`acoustiviz.core.geometry.Room`), which then
+    replaces ``config`` and its settings.
+    """
+    if room is not None:
+        c = {} if medium is None else {"sound_speed": medium.c}
+        conf = geometry("room", radius, **{**c, **room})
+    else:
+        conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     extra = {} if medium is None else {"medium": medium}
     return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)
 
@@ -120,13 +128,17 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
     scene, model, seq = rendering.scene, rendering.model, rendering.sequence
     pts = np.asarray(rendering.listeners if points is None else points, dtype=float).reshape(-1, 3)
     base = scene.configuration
+    if getattr(base, "name", None) == "room":  # the images that arrive with the clicks, not the reverberation
+        scene = _early_room(scene, pts, model, seq)
+        base = scene.configuration
     peak = np.zeros(pts.shape[0])
     for wall in (-1, 1):
         u = np.abs(np.asarray(seq.velocities, dtype=float)[np.asarray(seq.walls) == wall])
         u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
         if u.size == 0:
             continue
-        conf = base.with_sources(wall_sources(scene, wall))
+        srcs = wall_sources(scene, wall)
+        conf = base.with_sources(srcs.sources() if hasattr(srcs, "sources") else srcs)
 
         def peaks_of(speeds, conf=conf):
             return np.array([field_metrics(model.pulse_for(v), pts, conf, medium=scene.medium).peak for v in speeds])
@@ -202,12 +214,18 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "peak_note": "peak_pa: the largest |sample| of the band-limited file at its rate (before any "
                      "clipping) x scale; physical_peak_pa: the largest |p| of the sound itself, each click "
                      "in closed form, not band-limited",
+        **({"physical_peak_note": f"room: over the direct clicks and the images arriving within "
+                                  f"{ROOM_PEAK_WINDOW:g} s of them"}
+           if rendering.get("scene", {}).get("config") == "room" else {}),
         "physical_peak_pa": phys,
         "physical_peak_spl_db_re_20upa": phys_spl,
         "clipping": {"clipped_samples": info["clipped_samples"],
                      "peak_over_full_scale_db": info["over_full_scale_db"]},
         "impacts": rendering.get("impact_count"),
         "configuration": rendering.get("scene", {}).get("config"),
+        # a room's image model, also at the top level: the order, the number of images, the neglected energy
+        **{k: rendering["scene"][k] for k in ("image_order", "images", "neglected_energy_db")
+           if k in rendering.get("scene", {})},
         # how the sound was made; what the file itself holds (rate, length) is stated above from the file
         **{k: v for k, v in rendering.items() if k not in _FILE_FACTS},
         "duration_s": info["frames"] / info["sample_rate_hz"],
@@ -215,6 +233,23 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "radius_source": radius_source,
         **({"levels": levels} if levels is not None else {}),
     }
+
+
+#: A room's physical peak is taken over the images that arrive within this time in s of the first
+#: arrival at each listener (the early reflections that can add to the direct click's peak).
+ROOM_PEAK_WINDOW = 0.02
+
+
+def _early_room(scene, pts, model, seq):
+    """The cavity in the same room with only the images that arrive within :data:`ROOM_PEAK_WINDOW` s."""
+    import dataclasses
+
+    room = scene.configuration
+    longest = max((model.pulse_for(v).duration for v in np.unique(seq.velocities) if v > 0), default=0.0)
+    reach = float(np.max(np.linalg.norm(pts - room.centre, axis=1))) + scene.gap
+    window = (reach - room.radius) / scene.medium.c + longest + ROOM_PEAK_WINDOW
+    early = dataclasses.replace(room, order=None, tolerance_db=-200.0, duration=window)
+    return dataclasses.replace(scene, config=early)
 
 
 def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=None, headroom_db: float = 1.0,

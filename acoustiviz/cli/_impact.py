@@ -22,7 +22,8 @@ from ..constants import (
 )
 from ..core.geometry import CONFIGURATIONS
 
-__all__ = ["add_impact_options", "add_observer_options", "impact_from_args", "observer_point"]
+__all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings", "impact_from_args",
+           "observer_point"]
 
 
 def add_impact_options(parser, *, velocity: bool = True) -> None:
@@ -66,6 +67,57 @@ def add_impact_options(parser, *, velocity: bool = True) -> None:
                         "(default: the radius, a ball in the corner)")
 
 
+def add_room_options(parser, *, duration: bool = False) -> None:
+    """Add the shoebox room's options (``--room``, ``--absorption``, ``--source``, ...) to ``parser``.
+
+    ``duration``: also add ``--duration`` (the window in s the images must reach).
+    """
+    from ..core.room_geometry import ROOM_STRIKES
+
+    g = parser.add_argument_group("room (a shoebox [0, LX] x [0, LY] x [0, LZ] m, floor z = 0)")
+    g.add_argument("--room", default=None, metavar="LX,LY,LZ",
+                   help="put the sphere in a rectangular room of these dimensions in m (image sources to the "
+                        "order the output needs; replaces --config)")
+    g.add_argument("--absorption", default=None, metavar="A|A1,...,A6",
+                   help="energy absorption coefficient alpha in [0, 1) of every surface, or of x0,x1,y0,y1,z0 "
+                        "(floor),z1 (default 0: rigid)")
+    g.add_argument("--source", default=None, metavar="X,Y,Z",
+                   help="centre of the sphere in m, at least its radius from every surface (default: the middle "
+                        "of the floor)")
+    g.add_argument("--room-strike", default="floor", choices=ROOM_STRIKES, metavar="SURFACE",
+                   help="the struck surface: floor (default), ceiling, or x0, x1, y0, y1, z0, z1")
+    g.add_argument("--image-order", type=int, default=None, metavar="N",
+                   help="image order (default: chosen from --tolerance-db and the window)")
+    g.add_argument("--tolerance-db", type=float, default=None, metavar="DB",
+                   help="largest neglected image energy relative to the total in dB, in [-200, 0) (default -60)")
+    if duration:
+        g.add_argument("--duration", type=float, default=None, metavar="S",
+                       help="with --room: the window in s from the start of contact (required with --room)")
+
+
+def room_settings(args, *, duration=None) -> dict | None:
+    """The room settings of the parsed options (None without ``--room``), as strings for :class:`Room` to validate.
+
+    A room option without ``--room`` is refused, naming it.
+    """
+    from .._validate import ParameterError
+
+    if args.room is None:
+        for opt, val in (("--absorption", args.absorption), ("--source", args.source),
+                         ("--image-order", args.image_order), ("--tolerance-db", args.tolerance_db)):
+            if val is not None:
+                raise ParameterError(opt, "only applies with --room LX,LY,LZ")
+        if args.room_strike != "floor":
+            raise ParameterError("--room-strike", "only applies with --room LX,LY,LZ")
+        return None
+    if getattr(args, "config", None) not in (None, "free", "room"):
+        raise ParameterError("--config", "give either --config or --room, not both")
+    out = {"dimensions": args.room, "absorption": args.absorption, "source": args.source,
+           "strike": args.room_strike, "order": args.image_order, "tolerance_db": args.tolerance_db,
+           "duration": duration}
+    return {k: v for k, v in out.items() if v is not None}
+
+
 def add_observer_options(parser, *, angle: bool = True) -> None:
     """Add ``--distance`` (m) and ``--angle`` (degrees) for one observer."""
     g = parser.add_argument_group("observer")
@@ -92,14 +144,17 @@ def impact_from_args(args, *, velocity: float | None = None):
     acoustiviz.app.impacts.ImpactSetup
     """
     from ..app.impacts import impact_setup
-    from ..app.names import IMPACT_OPTIONS, user_terms
+    from ..app.names import IMPACT_OPTIONS, ROOM_OPTIONS, user_terms
 
-    with user_terms(IMPACT_OPTIONS):
+    room = room_settings(args, duration=getattr(args, "duration", None)) if hasattr(args, "room") else None
+    terms = {**IMPACT_OPTIONS, **ROOM_OPTIONS} if room is not None else IMPACT_OPTIONS
+    with user_terms(terms):
         return impact_setup(radius=args.radius, velocity=args.velocity if velocity is None else velocity,
                             k_hertz=args.k_hertz, sphere_material=args.material, surface_material=args.surface,
                             density=args.density, mass=args.mass, pulse=args.pulse, c=args.c, rho=args.rho,
                             config=args.config, wall_distance=args.wall_distance,
-                            strike=getattr(args, "strike", "floor"), height=getattr(args, "height", None))
+                            strike=getattr(args, "strike", "floor"), height=getattr(args, "height", None),
+                            room=room)
 
 
 def observer_point(setup, distance: float, angle_deg: float):

@@ -75,6 +75,9 @@ def add_parser(subparsers) -> None:
                    help="speed of sound in m/s (default %(default)s)")
     a.add_argument("--rho", type=float, default=1.204, metavar="KG/M^3",
                    help="density of air in kg/m^3 (default %(default)s)")
+    from ._impact import add_room_options
+
+    add_room_options(p)
     o = p.add_argument_group("listeners and files")
     o.add_argument("--listener", action="append", default=None, metavar="X,Y,Z",
                    help=f"listener position in m (repeatable; default {DEFAULT_LISTENER}: 0.7 m at 45 degrees "
@@ -221,9 +224,26 @@ def run(args) -> int:
         radius = check_range("--radius", PAPER_RADIUS if args.radius is None else args.radius, 1e-6, 1.0, unit="m")
         radius_source = "given" if args.radius is not None else "default: the paper's sphere"
     medium = Medium(c=check_positive("--c", args.c, "m/s"), rho=check_positive("--rho", args.rho, "kg/m^3"))
-    with user_terms({"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height"}):
+    from ..app.names import ROOM_OPTIONS
+    from ._impact import room_settings
+
+    if args.room is not None and args.config != "plane":
+        raise ParameterError("--config", "give either --config or --room, not both")
+    args.config = "free" if args.room is not None else args.config
+    room = room_settings(args)
+    if room is not None and "order" not in room:
+        try:  # a rigid surface has no finite image energy: the images that arrive within the sound
+            rigid = min(float(x) for x in str(room.get("absorption", 0.0)).split(",")) == 0.0
+        except ValueError:
+            rigid = False  # Room names --absorption
+        if rigid:
+            room["duration"] = args.duration
+    terms = {"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height",
+             **(ROOM_OPTIONS if room is not None else {})}
+    with user_terms(terms):
         scene = cavity(args.config, radius, args.gap, struck_wall=args.struck_wall, walls=args.walls,
-                       wall_distance=args.wall_distance, strike=args.strike, height=args.height, medium=medium)
+                       wall_distance=args.wall_distance, strike=args.strike, height=args.height, medium=medium,
+                       room=room)
     model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
                        pulse=args.pulse)
 
@@ -234,6 +254,8 @@ def run(args) -> int:
                                                                                   args.ear_spacing, "m")))
         elif len(points) != 2:
             raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
+    if room is not None:
+        scene.configuration.in_room("--listener", np.array(points))
     listeners = check_listeners(np.array(points), scene, name="--listener")
     n_files = 1 if args.stereo else len(listeners)
     outputs = {}
@@ -304,6 +326,11 @@ def run(args) -> int:
     print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
           f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
           f"{args.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
+    if room is not None:
+        conf = scene.configuration
+        print(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
+              f"neglected_energy_db {conf.neglected_energy_db:.1f}" + (" (capped by the memory budget)"
+                                                                        if conf.order_capped else ""))
     per_file = None
     if want_levels:
         from ..app.levels import rendered_levels, summary_lines

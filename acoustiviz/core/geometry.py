@@ -69,7 +69,8 @@ __all__ = [
 _X = np.array([1.0, 0.0, 0.0])
 _Z = np.array([0.0, 0.0, 1.0])
 #: Settings of the registry's geometries and the value each takes when it does not apply.
-_NEUTRAL = {"wall_distance": None, "strike": "floor", "height": None}
+_NEUTRAL = {"wall_distance": None, "strike": "floor", "height": None, "dimensions": None, "absorption": None,
+            "source": None, "order": None, "tolerance_db": None, "duration": None, "sound_speed": None}
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,6 +108,8 @@ class Geometry:
     name: ClassVar[str] = "custom"
     #: Settings :func:`geometry` accepts for this class (beyond the radius).
     SETTINGS: ClassVar[tuple] = ()
+    #: Settings without a default (a room's dimensions): such a geometry is not a plain ``--config`` choice.
+    REQUIRED: ClassVar[tuple] = ()
     #: Largest polar angle in degrees from the acceleration axis a listener may take in the
     #: paper's observer plane (the fluid above the struck surface: 90; all around: 180).
     polar_limit_deg: ClassVar[float] = 90.0
@@ -275,7 +278,7 @@ class Geometry:
         for k, v in settings.items():
             if k not in _NEUTRAL:
                 raise ParameterError(k, f"not a setting of any geometry (known: {', '.join(_NEUTRAL)})")
-            if k == "strike":
+            if k == "strike" and "strike" not in keep:
                 check_choice("strike", v, STRIKES)
             if k not in keep and v != _NEUTRAL[k]:
                 owners = [n for n, c in GEOMETRIES.items() if k in c.SETTINGS]
@@ -504,9 +507,11 @@ class Configuration(Geometry):
 
 
 #: The registry: scene and command-line names -> geometry classes.
+#: :mod:`acoustiviz.core.room_geometry` adds the shoebox room, ``"room"`` (imported with :mod:`acoustiviz.core`).
 GEOMETRIES = {cls.name: cls for cls in (FreeField, ReflectingPlane, WallFloorCorner)}
-#: Configuration names understood by :func:`geometry` (the ``--config`` choices, the scene's ``kind``).
-CONFIGURATIONS = tuple(GEOMETRIES)
+#: Names of the geometries built from a radius alone, with default settings (the ``--config`` choices);
+#: the room (``--room``, a scene's ``kind = "room"``) needs its dimensions.
+CONFIGURATIONS = tuple(n for n, c in GEOMETRIES.items() if not c.REQUIRED)
 
 
 def geometry_class(name: str) -> type:

@@ -244,6 +244,36 @@ def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h
         out[i] = total
 
 
+#: Above this many sources (a room's images) the exposure sums only the pairs whose arrivals lie
+#: within the pulse plus :data:`PAIR_DECAY_TIMES` decay times a/c of each other (sorted delays).
+PAIRS_ABOVE = 64
+#: A pair further apart correlates by less than exp(-40) = 4e-18 of its product: dropped.
+PAIR_DECAY_TIMES = 40.0
+
+
+@_njit(cache=True)
+def _exposure_kernel_near(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, reach):  # pragma: no cover
+    """:func:`_exposure_kernel` over the pairs closer than ``reach`` s in delay (delays sorted per point)."""
+    n, nimg = delays.shape
+    g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
+    for i in range(n):
+        order = np.argsort(delays[i])
+        total = 0.0
+        for jj in range(nimg):
+            j = order[jj]
+            aj = complex(are[i, j], aim[i, j])
+            total += 0.5 * (aj * aj * g0 + (are[i, j] ** 2 + aim[i, j] ** 2) * h0).real
+            for kk in range(jj + 1, nimg):
+                k = order[kk]
+                lag = delays[i, k] - delays[i, j]  # >= 0: k arrives after j
+                if not lag <= reach:  # (NaN: a point inside the sphere, masked later)
+                    break
+                ak = complex(are[i, k], aim[i, k])
+                g, h = _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h)
+                total += (ak * aj * g + ak * np.conj(aj) * h).real
+        out[i] = total
+
+
 def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
              chunk: int = 65536) -> np.ndarray:
     """Sound exposure ``∫ p² dt`` in Pa²·s of the whole response at each point, without a time loop.
@@ -283,8 +313,12 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
         hi = min(lo + int(chunk), pts.shape[0])
         delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
         res = np.empty(hi - lo)
-        _exposure_kernel(res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table,
-                         corr.y_end, corr.m_g, corr.m_h)
+        args = (res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
+                corr.m_g, corr.m_h)
+        if delay.shape[1] > PAIRS_ABOVE:
+            _exposure_kernel_near(*args, corr.duration + PAIR_DECAY_TIMES * config.radius / medium.c)
+        else:
+            _exposure_kernel(*args)
         res[inside] = np.nan
         out[lo:hi] = res
     return out

@@ -61,11 +61,18 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     n, k = pts.shape[0], len(imgs)
     r = np.empty((n, k))
     ct = np.empty((n, k))
-    for j in range(k):
-        d = pts - pos[j]
-        r[:, j] = np.sqrt(np.einsum("ij,ij->i", d, d))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ct[:, j] = (d @ axes[j]) / r[:, j]
+    if k <= max(n, 64):  # few sources (the paper's geometries): one vectorised pass per source
+        for j in range(k):
+            d = pts - pos[j]
+            r[:, j] = np.sqrt(np.einsum("ij,ij->i", d, d))
+            with np.errstate(invalid="ignore", divide="ignore"):
+                ct[:, j] = (d @ axes[j]) / r[:, j]
+    else:  # many sources (a room's images): one vectorised pass per point
+        for i in range(n):
+            d = pts[i] - pos
+            r[i] = np.sqrt(np.einsum("ij,ij->i", d, d))
+            with np.errstate(invalid="ignore", divide="ignore"):
+                ct[i] = np.einsum("ij,ij->i", d, axes) / r[i]
     ra = r / a
     with np.errstate(invalid="ignore", divide="ignore"):
         p0 = medium.rho * medium.c * a * a * ct / (r * r)

@@ -59,8 +59,13 @@ class Scene:
 
     # -- physics objects: the rules live in the application layer, shared with the command line
     def geometry_settings(self) -> dict:
-        """The ``[configuration]`` settings that apply to its ``kind`` (:func:`~acoustiviz.core.geometry.geometry`)."""
-        return _geometry_settings(self.data["configuration"])
+        """The ``[configuration]`` settings that apply to its ``kind`` (:func:`~acoustiviz.core.geometry.geometry`).
+
+        A room's come as ``{"room": settings}`` (the ``room`` argument of
+        :func:`~acoustiviz.app.impacts.impact_setup` and :func:`~acoustiviz.app.wav.cavity`).
+        """
+        settings = _geometry_settings(self.data["configuration"])
+        return {"room": settings} if self.data["configuration"]["kind"] == "room" else settings
 
     def _impact_settings(self, radius: float | None = None) -> dict:
         s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
@@ -204,6 +209,14 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     """
     if not isinstance(raw, dict):
         raise SceneError(source, "<root>", "expected a TOML table")
+    if "geometry" in raw:  # [geometry] is another name of [configuration]
+        if "configuration" in raw:
+            raise SceneError(source, "geometry", "give either [geometry] or [configuration], not both")
+        raw = {("configuration" if k == "geometry" else k): v for k, v in raw.items()}
+    conf_raw = raw.get("configuration")
+    if isinstance(conf_raw, dict) and isinstance(conf_raw.get("absorption"), (int, float)) \
+            and not isinstance(conf_raw.get("absorption"), bool):  # one value for every surface
+        raw = {**raw, "configuration": {**conf_raw, "absorption": [conf_raw["absorption"]]}}
     for key in raw:
         if key not in SCHEMA:
             _unknown(source, "", key, SCHEMA)
@@ -297,7 +310,9 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
 
 
 #: Geometry settings -> their keys in ``[configuration]``.
-_GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m"}
+_GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m",
+                  "dimensions": "room_m", "absorption": "absorption", "source": "source_m", "order": "image_order",
+                  "tolerance_db": "tolerance_db", "duration": "window_s"}
 
 
 def _geometry_settings(conf: dict) -> dict:

@@ -36,7 +36,8 @@ from ..constants import (
     TABLE1,
 )
 from ..constants import SCENE_SOLVERS as SOLVERS
-from ..core.geometry import CONFIGURATIONS as CONFIGS
+from ..core.geometry import GEOMETRIES
+from ..core.room_geometry import ROOM_STRIKES
 from ..sweep.query import MAX_INCLINATION
 
 __all__ = [
@@ -104,13 +105,26 @@ _IMPACT = {
 }
 
 _CONFIGURATION = {
-    "kind": Key("str", "free field, reflecting plane (floor z = 0) or wall-floor corner", "plane", choices=CONFIGS),
+    "kind": Key("str", "free field, reflecting plane (floor z = 0), wall-floor corner, or a shoebox room "
+                "(also written [geometry])", "plane", choices=tuple(GEOMETRIES)),
     "wall_distance_m": _pos("wall-floor: distance from the wall (x = -wall_distance) to the sphere's centre",
                             "m", DEFAULT_WALL_DISTANCE, high=100.0),
     "strike": Key("str", "wall-floor: struck surface (a wall strike puts the sphere against the wall, "
-                  "accelerating along +x)", "floor", choices=("floor", "wall")),
+                  "accelerating along +x); room: floor, ceiling or x0, x1, y0, y1, z0, z1", "floor",
+                  choices=("floor", "wall") + ROOM_STRIKES[1:]),
     "height_m": _pos("wall strike: height of the sphere's centre above the floor (default: the radius)", "m",
                      None, high=100.0),
+    "room_m": Key("floats", "room: dimensions [Lx, Ly, Lz] of the room [0, Lx] x [0, Ly] x [0, Lz], floor z = 0",
+                  None, "m", length=3),
+    "absorption": Key("floats", "room: energy absorption coefficient alpha in [0, 1), one value or six "
+                      "(x0, x1, y0, y1, z0 floor, z1 ceiling); default 0, rigid", None, length=6),
+    "source_m": Key("point", "room: centre of the sphere (default: the middle of the floor)", None, "m"),
+    "image_order": Key("int", "room: image order (default: from tolerance_db and window_s)", None, low=0,
+                       high=10000),
+    "tolerance_db": Key("float", "room: largest neglected image energy relative to the total (default -60)",
+                        None, "dB", low=-200.0, high=0.0),
+    "window_s": _pos("room: window from the start of contact that the images must reach (required with a "
+                     "rigid surface)", "s", None, high=1e4),
 }
 
 _DAMPER = {

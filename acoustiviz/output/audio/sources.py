@@ -10,7 +10,7 @@ import numpy as np
 from ..._validate import ParameterError, check_choice, check_points, check_positive
 from ...constants import P_REF, PAPER_RADIUS
 from ...core.geometry import Geometry, geometry
-from ...core.images import ImageSource
+from ...core.images import ImageSet, ImageSource
 from ...core.medium import AIR, Medium
 
 __all__ = [
@@ -217,6 +217,12 @@ class CavityScene:
         }
         out.update(cfg.settings())
         for w in (self.struck_wall, far):
+            srcs = self.sources(w)
+            if isinstance(srcs, ImageSet):  # a room's images: their count and the real sphere, not each one
+                out["sources"][f"{w:+d}"] = {"images": len(srcs), "max_order": int(srcs.orders.max()),
+                                             "real_position_m": srcs.positions[0].tolist(),
+                                             "real_axis": srcs.axes[0].tolist()}
+                continue
             out["sources"][f"{w:+d}"] = [
                 {"label": s.label, "order": s.order, "position_m": s.position.tolist(), "axis": s.axis.tolist()}
                 for s in self.sources(w)
@@ -236,10 +242,11 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
 
     Returns
     -------
-    tuple of ImageSource
+    tuple of ImageSource, or ImageSet
         For the struck wall (or any wall with ``walls="one"``): the configuration's sources.
         For the far wall: the sphere at ``c0 + gap n`` with axis ``-n``, then its images in the
-        configuration's planes (labels prefixed ``"far "``).
+        configuration's planes (labels prefixed ``"far "``). A geometry whose images come as an
+        :class:`~acoustiviz.core.images.ImageSet` (a room's thousands) gives them as one.
 
     Examples
     --------
@@ -251,9 +258,11 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
         raise ParameterError("wall", f"must be -1 or +1, got {wall!r}")
     cfg = scene.configuration
     if wall == scene.struck_wall or scene.walls == "one":
-        return tuple(cfg.sources)
+        return cfg.sources if isinstance(cfg.sources, ImageSet) else tuple(cfg.sources)
     real = ImageSource(scene.far_centre, -scene.axis, 0, "far")
     imgs = cfg.image_sources(real)
+    if isinstance(imgs, ImageSet):
+        return imgs
     return tuple(ImageSource(s.position, s.axis, s.order, "far" if s.order == 0 else f"far {s.label}", s.weight)
                  for s in imgs)
 

@@ -10,6 +10,7 @@ import numpy as np
 from ..._validate import ParameterError, check_choice, check_positive
 from ...constants import SAMPLE_RATES
 from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
+from ...core.images import ImageSet
 from ...core.radiation import pulse_response
 from ...field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
@@ -40,6 +41,57 @@ _SAMPLES_PER_CONTACT = 200
 
 #: response tails are kept until exp(-c t / a) < 1e-8 (-160 dB of the click)
 _TAIL_DECADES = 8.0
+
+#: Above this many sources per wall (a room's images) the sources after the first
+#: :data:`EXACT_SOURCES` are rendered as fractional-delay trains convolved with the band-limited
+#: click (:func:`_train_kernel`); up to it every source is evaluated in closed form.
+TRAIN_ABOVE = 64
+#: Sources rendered in closed form when the rest go through trains: the real sphere (a room's
+#: images come sorted by order; its reflections, one impact apart, all go through the trains).
+EXACT_SOURCES = 1
+#: Half-length in output samples of the windowed-sinc fractional delay, and its table's steps per sample.
+_SINC_HALF = 48
+_SINC_STEPS = 512
+#: Images per block when building the trains (bounds the working memory of the delays and weights).
+_TRAIN_BLOCK = 200_000
+
+
+def _sinc_table(half: int = _SINC_HALF, steps: int = _SINC_STEPS) -> np.ndarray:
+    """``g(q - f)`` for q = -half+1..half and fractions f = 0..1 in ``steps`` steps, ``(steps + 1, 2 half)``.
+
+    ``g`` is the ideal band-limited interpolator ``sinc`` times a 4-term Blackman-Harris window of
+    length ``2 half`` (sidelobes below -92 dB): a fractional delay flat to about ``0.46 fs``.
+    """
+    f = np.linspace(0.0, 1.0, steps + 1)[:, None]
+    x = np.arange(-half + 1, half + 1)[None, :] - f
+    u = np.pi * (x / half + 1.0)  # 0 .. 2 pi across the window
+    w = 0.35875 - 0.48829 * np.cos(u) + 0.14128 * np.cos(2 * u) - 0.01168 * np.cos(3 * u)
+    return np.sinc(x) * w
+
+
+def _train_kernel_py(out_re, out_im, pos, wre, wim, table, half, steps):  # pragma: no cover - compiled
+    """Add ``w_j g(n - pos_j)`` into the trains for every source j (``pos`` in samples, >= half)."""
+    for j in range(pos.size):
+        p = pos[j]
+        n0 = int(math.floor(p))
+        fr = (p - n0) * steps
+        r = int(fr)
+        if r >= steps:
+            r = steps - 1
+        u = fr - r
+        base = n0 - half + 1
+        for q in range(2 * half):
+            g = table[r, q] * (1.0 - u) + table[r + 1, q] * u
+            out_re[base + q] += wre[j] * g
+            out_im[base + q] += wim[j] * g
+
+
+try:
+    from numba import njit as _njit
+
+    _train_kernel = _njit(cache=True)(_train_kernel_py)
+except ImportError:  # pragma: no cover - numba is a dependency
+    _train_kernel = _train_kernel_py
 
 
 @dataclass(frozen=True)
@@ -286,9 +338,14 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     half = (h.size - 1) // (2 * L)  # filter half-length in output samples
     f_int = float(L * fs)
     tail = _TAIL_DECADES * math.log(10.0) * a / medium.c
-    geom = {}
+    geom, trains = {}, {}
     for w in (-1, 1):  # delays (r - a)/c in s and complex weights P0 C in Pa·s/m, (listeners, sources)
-        delay, p0, c_shape, _ = image_geometry(pts, wall_sources(scene, w), a, medium=medium)
+        srcs = wall_sources(scene, w)
+        if len(srcs) > TRAIN_ABOVE and np.any(sequence.walls == w):
+            trains[w] = _trains(pts, srcs, a, medium, fs)
+            srcs = ImageSet(srcs.positions[:EXACT_SOURCES], srcs.axes[:EXACT_SOURCES],
+                            srcs.weights[:EXACT_SOURCES], srcs.orders[:EXACT_SOURCES], srcs.labels[:EXACT_SOURCES])
+        delay, p0, c_shape, _ = image_geometry(pts, srcs, a, medium=medium)
         geom[w] = (delay, p0 * c_shape)
 
     end = 0.0
@@ -296,6 +353,8 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
         sel = sequence.walls == w
         if np.any(sel):
             end = max(end, float(np.max(sequence.times[sel] + taus[sel])) + float(delay.max()) + tail)
+            if w in trains:
+                end = max(end, float(np.max(sequence.times[sel] + taus[sel])) + trains[w][2] + tail)
     n_out = max(math.ceil(end * fs) + half + 1, math.ceil((duration or 0.0) * fs))
     out = np.zeros((pts.shape[0], n_out))
     for k, pulse in enumerate(pulses):  # loop over impacts ...
@@ -314,4 +373,59 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
             s0, s1 = max(lo, 0), min(lo + z.size, n_out)
             if s1 > s0:
                 out[i, s0:s1] += z[s0 - lo:s1 - lo]
+    for w, (q0, tr, _) in trains.items():  # the rest of the images: the band-limited click through the trains
+        sel = np.flatnonzero(sequence.walls == w)
+        dry = np.zeros((2, n_out))
+        for k in sel:
+            pulse, tk = pulses[k], float(sequence.times[k])
+            n0 = math.floor(tk * fs)
+            idx = np.arange(n0 * L, math.ceil((tk + pulse.duration + tail) * f_int) + 1)
+            y = pulse_response(pulse, (idx - tk * f_int) / f_int, radius=a, medium=medium)
+            lo = n0 - half
+            for part, x in ((0, y.real), (1, y.imag)):
+                z = fftconvolve(x, h)[::L]
+                s0, s1 = max(lo, 0), min(lo + z.size, n_out)
+                if s1 > s0:
+                    dry[part, s0:s1] += z[s0 - lo:s1 - lo]
+        for i in range(pts.shape[0]):  # Re[W Y] = Re W Re Y - Im W Im Y
+            wet = fftconvolve(dry[0], tr[i, 0]) - fftconvolve(dry[1], tr[i, 1])
+            s0, s1 = max(q0, 0), min(q0 + wet.size, n_out)
+            if s1 > s0:
+                out[i, s0:s1] += wet[s0 - q0:s1 - q0]
     return Rendering(out, fs, f_int, pts, sequence, scene, model)
+
+
+def _trains(pts, srcs, radius, medium, fs):
+    """Fractional-delay trains of the sources after the first :data:`EXACT_SOURCES`, per listener.
+
+    Returns ``(q0, trains, last)``: ``trains[i, 0]`` (``[i, 1]``) holds ``Re`` (``Im``) of the
+    weights ``P0_j C_j`` (Pa·s/m) of listener i's sources placed at their delays ``(r_j - a)/c``
+    through the windowed-sinc interpolator (:func:`_sinc_table`), sample 0 at ``q0 / fs`` s; ``last``
+    is the latest delay in s. Convolving the band-limited click ``Y`` with them delays and weights
+    every image's click at once: the sum is that of the closed form to the interpolator's accuracy
+    (about 1e-4 of each image's click up to ``0.45 fs``).
+    """
+    n = len(srcs)
+    d_min, d_max = np.full(pts.shape[0], np.inf), np.zeros(pts.shape[0])
+    for lo in range(EXACT_SOURCES, n, _TRAIN_BLOCK):  # first pass: the span of the delays
+        hi = min(lo + _TRAIN_BLOCK, n)
+        r = np.linalg.norm(pts[:, None, :] - srcs.positions[None, lo:hi, :], axis=-1)
+        d_min, d_max = np.minimum(d_min, r.min(axis=1)), np.maximum(d_max, r.max(axis=1))
+        del r
+    d_min, d_max = (d_min.min() - radius) / medium.c, (d_max.max() - radius) / medium.c
+    q0 = math.floor(d_min * fs) - _SINC_HALF - 1
+    size = math.ceil(d_max * fs) - q0 + _SINC_HALF + 2
+    out = np.zeros((pts.shape[0], 2, size))
+    table = _sinc_table()
+    for lo in range(EXACT_SOURCES, n, _TRAIN_BLOCK):
+        hi = min(lo + _TRAIN_BLOCK, n)
+        block = ImageSet(srcs.positions[lo:hi], srcs.axes[lo:hi], srcs.weights[lo:hi], srcs.orders[lo:hi],
+                         srcs.labels[lo:hi])
+        delay, p0, c_shape, _ = image_geometry(pts, block, radius, medium=medium)
+        weight = p0 * c_shape
+        for i in range(pts.shape[0]):
+            _train_kernel(out[i, 0], out[i, 1], np.ascontiguousarray(delay[i] * fs - q0),
+                          np.ascontiguousarray(weight[i].real), np.ascontiguousarray(weight[i].imag), table,
+                          _SINC_HALF, _SINC_STEPS)
+        del delay, p0, c_shape, weight
+    return q0, out, d_max
