@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from acoustiviz.dynamics._attractors import _classify, _drifting, same_motion, start_states
+from acoustiviz.dynamics._attractors import start_states
+from acoustiviz.dynamics._measure import _classify, _drifting, same_motion
 from acoustiviz.dynamics.forced import Excitation, steady_state
 from acoustiviz.dynamics.model import DamperModel
 
