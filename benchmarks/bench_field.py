@@ -1,6 +1,7 @@
 """Speed and accuracy of the field evaluator: each configuration x pulse, then scaling and memory.
 
-Run ``python benchmarks/bench_field.py`` (or ``--quick``). The scene is the paper's Figure 2
+Run ``python benchmarks/bench_field.py`` (or ``--quick``; ``--write`` also keeps the output in
+``benchmarks/results/bench_field.txt``, machine and date first). The scene is the paper's Figure 2
 impact (a = 19.05 mm steel sphere, 1.4 m/s, K = 5.6e8 N/m^1.5). The first table times
 ``field_metrics`` (peak refined, RMS, SEL; default windows) and ``time_series`` on the same points
 for the free field, the plane and the wall-floor corner with the half-sine, the exact Hertz pulse
@@ -24,7 +25,7 @@ import tracemalloc
 import warnings
 
 import numpy as np
-from _timing import best_of
+from _timing import best_of, run_writing
 from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
 
@@ -250,6 +251,8 @@ def fast_peaks_table(quick: bool) -> None:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true",
+                        help="also write the output to benchmarks/results/bench_field.txt (machine and date first)")
     parser.add_argument("--quick", action="store_true", help="small grids only (seconds)")
     parser.add_argument("--pulses-only", action="store_true", help="only the configuration x pulse table")
     parser.add_argument("--peaks-only", action="store_true", help="only the fast peak + SEL table")
@@ -334,4 +337,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_writing("bench_field", main))
