@@ -583,6 +583,11 @@ REGISTRY = (
            r"(?P<amp>[\d.]+) ± (?P<err>[\d.]+) m\) while its clicks reach LCpeak (?P<lcpeak>[\d.]+) dB and\s+LAeq "
            r"(?P<laeq>[\d.]+) dB", produce_headline_forced,
            "acoustiviz forced --force 5 --freq 5 (Table 1 damper)"),
+    Figure("readme-headline-damper", "README.md",
+           r"prints them\):\s+(?P<impacts>\d+) impacts, peak SPL\s+(?P<peak>[\d.]+) dB, LCpeak (?P<lcpeak>[\d.]+) "
+           r"dB, LAFmax (?P<lafmax>[\d.]+) dB, LAeq (?P<laeq>[\d.]+) dB, SEL\(A\) (?P<sela>[\d.]+) dB,\s+sound power\s+"
+           r"(?P<lw>[\d.]+) dB re 1 pW, its loudest impact turning (?P<eff>[\d.]+) % of the energy",
+           produce_headline_damper, "acoustiviz run --out DIR (default scene, its levels output)"),
     Figure("bench-forced-quote", "docs/guide/operation.md",
            r"took (?P<new_cpu>[\d.]+) s of CPU against (?P<old_cpu>[\d.]+) s for the single start of before "
            r"\((?P<date>[^)]*)\)", produce_bench_forced_quote,
@@ -596,6 +601,36 @@ REGISTRY = (
     Figure("bench-forced-table", "docs/guide/operation.md",
            r"```text\n(?P<table>6\. every attractor.*?)```", produce_bench_forced_table,
            "python benchmarks/bench_forced.py --attractors --write"),
+    # docs/guide/hearing.md
+    Figure("hearing-auralize", "docs/guide/hearing.md",
+           r"```console\n\$ acoustiviz auralize --wav damper\.wav --levels\n(?P<output>.*?)```",
+           produce_hearing_auralize, AURALIZE_CMD),
+    Figure("hearing-auralize-prose", "docs/guide/hearing.md",
+           r"loudest part \(LCpeak (?P<lcpeak>\d+) dB\) while the A-weighted, 125 ms-averaged LAFmax is "
+           r"(?P<c_minus_a>\d+) dB lower, and\s+the average over the run \(LAeq\) another (?P<f_minus_eq>\d+) dB lower",
+           produce_hearing_auralize, AURALIZE_CMD),
+    Figure("hearing-sidecar", "docs/guide/hearing.md", r"```json\n(?P<json>.*?)```", produce_hearing_sidecar,
+           AURALIZE_CMD),
+    Figure("hearing-band-limit", "docs/guide/hearing.md",
+           r"peak, here by (?P<pct>[\d.]+) % \((?P<db>[\d.]+) dB\)", produce_hearing_sidecar, AURALIZE_CMD),
+    Figure("hearing-wav-levels", "docs/guide/hearing.md",
+           r"```console\n\$ acoustiviz levels damper\.wav --csv levels\.csv\n(?P<output>.*?)```",
+           produce_hearing_wav_levels, "acoustiviz levels damper.wav --csv levels.csv"),
+    Figure("hearing-wav-5s", "docs/guide/hearing.md",
+           r"```console\n\$ acoustiviz levels damper\.wav --csv first5s\.csv --start 0 --stop 5 --loudness\n"
+           r"(?P<output>.*?)```", produce_hearing_wav_5s, WAV_5S_CMD),
+    Figure("hearing-wav-5s-prose", "docs/guide/hearing.md",
+           r"LAeq is (?P<above>\d+) dB above that of the whole run", produce_hearing_wav_5s, WAV_5S_CMD),
+    Figure("hearing-designs", "docs/guide/hearing.md", r"```text\n(?P<table>design .*?)```",
+           produce_hearing_designs, "python gallery/plot_14_levels.py"),
+    Figure("hearing-designs-prose", "docs/guide/hearing.md",
+           r"\(LAeq is (?P<eq_minus_z>\d+) dB above LZeq\); the quieter\s+design is about (?P<quieter_db>\d+) dB "
+           r"quieter by every level and (?P<less_loud>\d+) % less loud", produce_hearing_designs,
+           "python gallery/plot_14_levels.py"),
+    Figure("hearing-energy", "docs/guide/hearing.md",
+           r"the loudest impact turns (?P<eff1>[\d.]+) %\s+of the energy it destroys into sound \((?P<eff2>[\d.]+) % "
+           r"for the quieter design\), and the run radiates a sound\s+power level of (?P<lw>[\d.]+) dB re 1 pW",
+           produce_hearing_energy, "python gallery/plot_14_levels.py"),
     # docs/guide/sweeps.md
     Figure("sweeps-sweep", "docs/guide/sweeps.md",
            r"```console\n\$ " + re.escape(SWEEP_CMD) + r"\n(?P<output>.*?)```", produce_sweep_run, SWEEP_CMD),
