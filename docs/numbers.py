@@ -411,7 +411,6 @@ def bench_field() -> dict:
     """Figures of ``benchmarks/results/bench_field.txt`` (``python benchmarks/bench_field.py --write``)."""
     text = _benchmark("bench_field")
     pulses = [r for r in _rows(text, "config ") if len(r) == 9]  # config pulse metrics_s points/s x s x err err
-    by = {(r[0], r[1]): r for r in pulses}
     hertz = [r for r in pulses if r[1] == "hertz"]
     sampled = [r for r in pulses if r[1] == "hertz-1025-linear"]
     expo = _rows(text, "pulse  setup s  exposure s")
@@ -423,10 +422,9 @@ def bench_field() -> dict:
     missed = sum(int(r[-1]) for r in fast.values())
     differ = sum(int(r[-2]) for r in fast.values())
     fm_s = float(hz[9].rstrip("*"))
-    del by
     return {
         "table": text,
-        "rate": _range([float(r[4]) for r in scaling], ".1e").replace("e+0", "e").replace("e+", "e"),
+        "rate": _range([float(r[3]) for r in scaling], ".1e").replace("e+0", "e").replace("e+", "e"),
         "speedup": _range([float(r[6]) for r in scaling], ".0f"),
         "hertz_cost": _range([float(r[4]) for r in hertz], ".2f"),
         "hertz_pct": _range([100 * (float(r[4]) - 1) for r in hertz], ".0f"),
@@ -641,6 +639,59 @@ REGISTRY = (
            "acoustiviz " + " ".join(DESIGN_ARGS)),
     Figure("sweeps-refused", "docs/guide/sweeps.md", r"```text\n  (?P<error>acoustiviz sweep: error: --out: [^\n]*)\n",
            produce_sweep_refused, "acoustiviz sweep --gap 0.02:0.06:4 ... --out sw"),
+    # the benchmark result files: the README's field timing and docs/guide/speed_accuracy.md
+    Figure("readme-field-timing", "README.md",
+           r"at (?P<n_fast>1e\d) points of a\s+wall-floor corner in (?P<fp_s>[\d.-]+) s of one core with the exact "
+           r"Hertz pulse, within (?P<fp_err_bound>[\de.-]+) of the peak", produce_bench_field, FIELD_CMD),
+    Figure("bench-field-row", "docs/guide/speed_accuracy.md",
+           r"\| `python benchmarks/bench_field\.py \[--quick\]` \| (?P<rate>[\d.e-]+) point-samples/s per core "
+           r"for peaks/RMS, (?P<speedup>[\d-]+)× a per-point convolution; the exact Hertz pulse at "
+           r"(?P<hertz_cost>[\d.-]+)× the half-sine's cost with errors ≤ (?P<hertz_err>[\de.-]+) "
+           r"\(the former sampled pulse: (?P<sampled_cost>[\d-]+)× the cost, errors (?P<sampled_err>[\de.-]+)\); "
+           r"SEL of 1e6 points without a time grid at (?P<sel_rate>[\de.-]+) points/s, peaks and SEL of "
+           r"(?P<n_fast>1e\d) corner points in (?P<fp_s>[\d.-]+) s with the exact Hertz pulse "
+           r"\((?P<fp_total>[\d.]+) s with its setup; `field\.fast_peaks`, (?P<fp_x>\d+)× `field_metrics`, "
+           r"(?P<missed>no peak|\d+ peaks?) missed against a second search\); 1e6 points in (?P<mem>[\d.]+) MiB",
+           produce_bench_field, FIELD_CMD),
+    Figure("bench-field-table", "docs/guide/speed_accuracy.md",
+           r"all images summed; one thread\.\n\n```text\n(?P<table>.*?)```", produce_bench_field, FIELD_CMD),
+    Figure("bench-field-prose", "docs/guide/speed_accuracy.md",
+           r"to rounding, and `field_metrics` costs (?P<hertz_pct>[\d-]+) % more\s+with it; the former pulse sampled "
+           r"at 1025 points and interpolated linearly cost (?P<sampled_cost>[\d-]+)× as much\s+for errors of "
+           r"(?P<sampled_err_lo>[\de.-]+) to (?P<sampled_err>[\de.-]+) of the peak", produce_bench_field, FIELD_CMD),
+    Figure("bench-field-fast-peaks", "docs/guide/speed_accuracy.md",
+           r"the exposure of (?P<n_fast>1e\d) corner\s+points in (?P<fp_s>[\d.-]+) s of one core with the exact Hertz "
+           r"pulse \((?P<fp_total>[\d.]+) s with the setup of its\s+tables; (?P<hs_s>[\d.-]+) s for the half-sine\), "
+           r"(?P<fp_x>\d+) times faster than `field_metrics`, which it matches to\s+(?P<fp_err>[\de.-]+) of the peak"
+           r".*?no time grid, (?P<sel_err>[\de.-]+) from the quadrature reference.*?closed form: "
+           r"(?P<differ>none differ|\d+ differ)\.", produce_bench_field, FIELD_CMD),
+    Figure("bench-dynamics-row", "docs/guide/speed_accuracy.md",
+           r"event solver at its default tolerance: 3 s of Table 1 \((?P<impacts>\d+) impacts\) in (?P<ms>[\d.]+) ms, "
+           r"first 40 impacts within (?P<du>[\de.-]+) \(speed\) and (?P<dt>[\de.-]+) s \(time\), about "
+           r"(?P<speedup>\d+)× the paper's Newmark at 1e-7 s; 20 s \((?P<impacts20>\d+) impacts\) in "
+           r"(?P<ms20>[\d.]+) ms", produce_bench_dynamics, DYNAMICS_CMD + "; --full for 20 s"),
+    Figure("bench-dynamics-table", "docs/guide/speed_accuracy.md",
+           r"then times\nevery solver setting:\n\n```text\n(?P<table>.*?)```", produce_bench_dynamics, DYNAMICS_CMD),
+    Figure("bench-dynamics-prose", "docs/guide/speed_accuracy.md",
+           r"confirm there \(du/u (?P<ivp_du>[\de.+-]+) over the first 40\)\.\s+Newmark\s+agrees with the reference "
+           r"on at most the first (?P<newmark_agree>\d+) impacts even at a step of 1e-7 s, and the impact\s+map "
+           r"\(instantaneous\s+impacts\) on (?P<map_agree>the first [\w ]+ only)\.", produce_bench_dynamics,
+           DYNAMICS_CMD),
+    Figure("bench-levels-row", "docs/guide/speed_accuracy.md",
+           r"20 s at 96 kHz: 8 weighted levels in (?P<wl>[\d.]+) s, 30 bands in (?P<bands>[\d.]+) s; a 48 kHz "
+           r"rendering moves each level by ≤ (?P<dmax>[\d.]+) dB; radiated energy by closed form and surface "
+           r"work within (?P<sw>[\de.-]+)", produce_bench_levels, LEVELS_CMD),
+    Figure("bench-levels-table", "docs/guide/speed_accuracy.md",
+           r"\{doc\}`hearing`\):\n\n```text\n(?P<table>.*?)```", produce_bench_levels, LEVELS_CMD),
+    Figure("bench-levels-prose", "docs/guide/speed_accuracy.md",
+           r"128-direction grid\s+within (?P<free>[\de.-]+)\)\. On the plane the grid has converged to "
+           r"(?P<plane>[\de.-]+) at 128 directions; in the corner the\s+quick run's two resolutions still differ by "
+           r"(?P<corner>[\d.]+) %.*?A 48 kHz rendering is good to (?P<dmax>[\d.]+) dB for every level",
+           produce_bench_levels, LEVELS_CMD),
+    Figure("bench-audio-row", "docs/guide/speed_accuracy.md",
+           r"20 s of a Table 1 run at 48 kHz in (?P<hs>[\d.]+) s \(half-sine, mono; (?P<hertz>[\d.]+) s with the exact "
+           r"Hertz pulse\), (?P<xrt>[\d-]+)× real time", produce_bench_audio,
+           "python benchmarks/bench_audio.py --write"),
 )
 
 
