@@ -4,13 +4,15 @@ Usage::
 
     python benchmarks/bench_dynamics.py           # 3 s of motion (the first 40 impacts), ~1 min
     python benchmarks/bench_dynamics.py --full    # 20 s of motion, more settings (several minutes)
+    python benchmarks/bench_dynamics.py --write   # the default run, also to results/bench_dynamics.txt
 
 Prints one row per solver setting: warm run time, errors over the first 40 impacts (largest
 relative error of the approach speeds, largest error of the contact start times), the relative
 error of eq 16 (damping inclination from the first two exact positive maxima), the energy closure
 and the speed against the paper's Newmark at 1e-7 s measured in the same run; then the cost of the
-default contact tolerance against 1e-12. Writes ``benchmarks/results/bench_dynamics.csv`` and
-``bench_dynamics.png`` (error against run time).
+default contact tolerance against 1e-12. ``--full`` writes ``benchmarks/results/bench_dynamics.csv``
+and ``bench_dynamics.png`` (error against run time); ``--write`` keeps the printed output in
+``benchmarks/results/bench_dynamics.txt`` (machine and date first).
 
 The reference is the event solver at rtol = 2e-15. Before the table the script checks it: energy
 closure, agreement with the same solver at half and 2.5x its tolerance, and agreement with an
@@ -39,6 +41,7 @@ from _damper_reference import (
     solve_ivp_impacts,
     speed_accuracy,
 )
+from _timing import run_writing
 
 from acoustiviz.constants import DEFAULT_RTOL
 from acoustiviz.dynamics import TABLE1, simulate
@@ -154,6 +157,8 @@ def draw_chart(rows, path, goal=None):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--write", action="store_true",
+                    help="also write the output to benchmarks/results/bench_dynamics.txt (machine and date first)")
     ap.add_argument("--full", action="store_true", help="20 s of motion and more settings")
     ap.add_argument("--quick", action="store_true", help="the default (kept for old scripts)")
     args = ap.parse_args(argv)
@@ -166,6 +171,8 @@ def main(argv=None):
     t_def, t_12 = default_cost(duration)
     print(f"\ndefault tolerance rtol {DEFAULT_RTOL:g}: {1e3 * t_def:.3f} ms against {1e3 * t_12:.3f} ms "
           f"at 1e-12 (x{t_def / t_12:.2f}; best of 101 interleaved runs)")
+    if not args.full:  # the chart and its CSV in results/ are the --full run's
+        return 0
     RESULTS.mkdir(parents=True, exist_ok=True)
     write_csv_atomic(
         RESULTS / "bench_dynamics.csv",
@@ -188,4 +195,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_writing("bench_dynamics", main))

@@ -1,6 +1,7 @@
 """Speed and accuracy of the field evaluator: each configuration x pulse, then scaling and memory.
 
-Run ``python benchmarks/bench_field.py`` (or ``--quick``). The scene is the paper's Figure 2
+Run ``python benchmarks/bench_field.py`` (or ``--quick``; ``--write`` also keeps the output in
+``benchmarks/results/bench_field.txt``, machine and date first). The scene is the paper's Figure 2
 impact (a = 19.05 mm steel sphere, 1.4 m/s, K = 5.6e8 N/m^1.5). The first table times
 ``field_metrics`` (peak refined, RMS, SEL; default windows) and ``time_series`` on the same points
 for the free field, the plane and the wall-floor corner with the half-sine, the exact Hertz pulse
@@ -12,19 +13,18 @@ A third table times ``field.fast_peaks`` (positive and negative peaks and SEL wi
 on 1e6 corner points against the refined ``field_metrics`` on a subset (``--peaks-only``: that
 table alone). The last table is the half-sine on the plane from 1e3 to 1e6 points against a
 per-point numerical convolution. A *point-sample* is the pressure at one point and one time (all images
-summed). The evaluator runs on one thread.
+summed). The evaluator runs on one thread; times are CPU seconds of this process.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import time
 import tracemalloc
 import warnings
 
 import numpy as np
-from _timing import best_of
+from _timing import cpu_best_of, run_writing
 from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
 
@@ -107,12 +107,7 @@ def _accuracy(kind, pulse, imp, cfg, pts):
 
 def _cpu_best_of(f, repeat: int) -> float:
     """Shortest CPU time in s of this process over ``repeat`` calls (steadier than wall time on a shared machine)."""
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.process_time()
-        f()
-        best = min(best, time.process_time() - t0)
-    return best
+    return cpu_best_of(f, repeat)[0]
 
 
 def pulse_table(quick: bool) -> None:
@@ -250,6 +245,8 @@ def fast_peaks_table(quick: bool) -> None:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true",
+                        help="also write the output to benchmarks/results/bench_field.txt (machine and date first)")
     parser.add_argument("--quick", action="store_true", help="small grids only (seconds)")
     parser.add_argument("--pulses-only", action="store_true", help="only the configuration x pulse table")
     parser.add_argument("--peaks-only", action="store_true", help="only the fast peak + SEL table")
@@ -271,7 +268,7 @@ def main(argv=None) -> int:
 
     print(
         f"scene: plane, a = {A * 1e3:g} mm, pulse {pulse.kind} tau = {pulse.duration * 1e6:.1f} us, "
-        f"dt = {dt * 1e9:.1f} ns, window per point = whole non-zero response"
+        f"dt = {dt * 1e9:.1f} ns, window per point = whole non-zero response; CPU s, best of 2 (1 at 1e6 points)"
     )
     hdr = (
         f"{'points':>9} {'samples/pt':>10} {'metrics s':>10} {'metrics pt-samp/s':>18} "
@@ -281,13 +278,13 @@ def main(argv=None) -> int:
     print("-" * len(hdr))
     for n in sizes:
         pts = _grid(n)
-        el, fm = best_of(lambda pts=pts: field.field_metrics(pulse, pts, cfg), 1 if n >= 1e6 else 2)
+        el, fm = cpu_best_of(lambda pts=pts: field.field_metrics(pulse, pts, cfg), 1 if n >= 1e6 else 2)
         m = int(round(fm.window / fm.sample_interval))
         rate = pts.shape[0] * m / el
         # time series on a shared grid, for at most 5 000 points (the result must fit in memory)
         ns = min(pts.shape[0], 5_000)
         t = np.arange(0.0, 4e-3, dt)
-        el_s, _ = best_of(lambda ns=ns, t=t, pts=pts: field.time_series(pulse, t, pts[:ns], cfg), 2)
+        el_s, _ = cpu_best_of(lambda ns=ns, t=t, pts=pts: field.time_series(pulse, t, pts[:ns], cfg), 2)
         rate_s = ns * t.size / el_s
         # the straightforward method: per point and image, convolve the sampled pulse and kernel
         nc = 20
@@ -303,7 +300,7 @@ def main(argv=None) -> int:
                     p += approximations.convolution_pressure(pulse, tt, r, float(d @ s.axis) / r, radius=A, step=dt)
             return p
 
-        el_c, _ = best_of(conv, 2)
+        el_c, _ = cpu_best_of(conv, 2)
         rate_c = nc * m / el_c
         print(f"{pts.shape[0]:9d} {m:10d} {el:10.3f} {rate:18.3e} {rate_s:17.3e} {rate_c:22.3e} {rate / rate_c:9.0f}")
 
@@ -334,4 +331,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_writing("bench_field", main))

@@ -1,12 +1,14 @@
 """Speed and accuracy of the levels: weighted levels, bands, loudness and radiated energy.
 
-Run ``python benchmarks/bench_levels.py`` (or ``--quick``). Part 1: the paper's Table 1 damper
+Run ``python benchmarks/bench_levels.py`` (or ``--quick``; ``--write`` also keeps the output in
+``benchmarks/results/bench_levels.txt``, machine and date first). Part 1: the paper's Table 1 damper
 (20 s, event solver) rendered at the listener 0.7 m from the 19.05 mm sphere at 45 degrees; the
 time of each analysis of the 96 kHz signal, and how much each level moves when it is evaluated
 on the 48 kHz (or 44.1 kHz) rendering instead -- what a 48 kHz file would cost. Part 2: the energy
 of the fastest impact by the closed form, the surface work and the far-field intensity over the
 spherical grids (free, plane, corner) at increasing resolution, with the relative change per
-refinement (the free grid against the closed form). Times are best of ``--repeat`` warm runs.
+refinement (the free grid against the closed form). Times are CPU seconds of this process, best of
+``--repeat`` warm runs.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import argparse
 import time
 
 import numpy as np
-from _timing import best_of
+from _timing import cpu_best_of, run_writing
 
 from acoustiviz.app.levels import ANALYSIS_RATE, run_energy
 from acoustiviz.core.geometry import configuration
@@ -39,19 +41,19 @@ RADIUS = 0.01905
 
 def part_levels(seq, scene, repeat: int, quick: bool) -> None:
     model = audio.ClickModel()
-    t_render, hi = best_of(lambda: audio.render(seq, scene, model, LISTENER, sample_rate=ANALYSIS_RATE,
+    t_render, hi = cpu_best_of(lambda: audio.render(seq, scene, model, LISTENER, sample_rate=ANALYSIS_RATE,
                                                 duration=20.0), repeat)
     p = hi.pressure
-    print(f"\n1. levels of 20 s at {ANALYSIS_RATE / 1e3:g} kHz ({p.shape[1]} samples); rendering {t_render:.2f} s")
-    hdr = f"{'analysis':>28} {'time (s)':>9}"
+    print(f"\n1. levels of 20 s at {ANALYSIS_RATE / 1e3:g} kHz ({p.shape[1]} samples); rendering {t_render:.2f} s CPU")
+    hdr = f"{'analysis':>28} {'CPU (s)':>9}"
     print(hdr)
     print("-" * len(hdr))
-    t, lv = best_of(lambda: sound_levels(p, ANALYSIS_RATE), repeat)
+    t, lv = cpu_best_of(lambda: sound_levels(p, ANALYSIS_RATE), repeat)
     print(f"{'weighted levels (8 levels)':>28} {t:9.3f}")
-    t, _ = best_of(lambda: third_octave_levels(p, ANALYSIS_RATE), repeat)
+    t, _ = cpu_best_of(lambda: third_octave_levels(p, ANALYSIS_RATE), repeat)
     print(f"{'1/3-octave bands (30)':>28} {t:9.3f}")
     if loudness_available() and not quick:
-        t, ld = best_of(lambda: loudness(p, ANALYSIS_RATE), 1)
+        t, ld = cpu_best_of(lambda: loudness(p, ANALYSIS_RATE), 1)
         print(f"{'loudness + sharpness':>28} {t:9.3f}   N5 {ld.n5_sone[0]:.2f} sone, S {ld.sharpness_acum[0]:.2f} acum")
     rates = (48000,) if quick else (48000, 44100)
     print(f"\nlevel at {ANALYSIS_RATE / 1e3:g} kHz and its change (dB) when evaluated on a lower-rate rendering")
@@ -70,11 +72,11 @@ def part_energy(seq, repeat: int, quick: bool) -> None:
     k = int(np.argmax(seq.velocities))
     pulse = model.pulse_for(seq.velocities[k])
     print(f"\n2. energy of the fastest impact ({seq.velocities[k]:.3g} m/s, half-sine, a = {RADIUS * 1e3:g} mm)")
-    t_cf, e_cf = best_of(lambda: radiated_energy_free(pulse, radius=RADIUS), repeat)
-    t_sw, e_sw = best_of(lambda: surface_work_free(pulse, radius=RADIUS), repeat)
-    print(f"closed form {e_cf:.6e} J in {t_cf * 1e3:.1f} ms; surface work {e_sw:.6e} J "
-          f"(rel. diff. {abs(e_sw / e_cf - 1):.1e}) in {t_sw * 1e3:.1f} ms")
-    hdr = f"{'config':>10} {'n_theta':>7} {'directions':>10} {'energy (J)':>13} {'rel. change':>12} {'time (s)':>9}"
+    t_cf, e_cf = cpu_best_of(lambda: radiated_energy_free(pulse, radius=RADIUS), repeat)
+    t_sw, e_sw = cpu_best_of(lambda: surface_work_free(pulse, radius=RADIUS), repeat)
+    print(f"closed form {e_cf:.6e} J in {t_cf * 1e3:.1f} ms CPU; surface work {e_sw:.6e} J "
+          f"(rel. diff. {abs(e_sw / e_cf - 1):.1e}) in {t_sw * 1e3:.1f} ms CPU")
+    hdr = f"{'config':>10} {'n_theta':>7} {'directions':>10} {'energy (J)':>13} {'rel. change':>12} {'CPU (s)':>9}"
     print(hdr)
     print("-" * len(hdr))
     levels = (4, 8) if quick else (4, 8, 16)
@@ -83,7 +85,7 @@ def part_energy(seq, repeat: int, quick: bool) -> None:
         prev = e_cf if name == "free" else None
         for n in levels:
             grid = spherical_grid_for(cfg, 1.0, n_theta=n)
-            t, e = best_of(lambda grid=grid, cfg=cfg: radiated_energy_grid(pulse, cfg.sources, grid, radius=RADIUS),
+            t, e = cpu_best_of(lambda grid=grid, cfg=cfg: radiated_energy_grid(pulse, cfg.sources, grid, radius=RADIUS),
                            repeat)
             change = f"{abs(e / prev - 1):.1e}" if prev is not None else "-"
             print(f"{name:>10} {n:>7} {grid.weights.size:>10} {e:13.6e} {change:>12} {t:9.3f}")
@@ -93,6 +95,8 @@ def part_energy(seq, repeat: int, quick: bool) -> None:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true",
+                        help="also write the output to benchmarks/results/bench_levels.txt (machine and date first)")
     parser.add_argument("--quick", action="store_true", help="fewer cases, one repeat, no loudness")
     parser.add_argument("--repeat", type=int, default=2, help="timed repeats; the best is shown (default 2)")
     args = parser.parse_args(argv)
@@ -104,13 +108,13 @@ def main(argv=None) -> int:
     print(f"damper: Table 1, 20 s, {len(seq)} impacts, solved in {time.perf_counter() - t0:.2f} s (not counted)")
     part_levels(seq, scene, repeat, args.quick)
     part_energy(seq, repeat, args.quick)
-    t, en = best_of(lambda: run_energy(run.impacts, scene, audio.ClickModel(), 20.0), 1)
+    t, en = cpu_best_of(lambda: run_energy(run.impacts, scene, audio.ClickModel(), 20.0), 1)
     k = en.loudest
-    print(f"\n3. run energy: {len(seq)} impacts in {t:.2f} s; sound power {en.sound_power_w:.3e} W "
+    print(f"\n3. run energy: {len(seq)} impacts in {t:.2f} s CPU; sound power {en.sound_power_w:.3e} W "
           f"({en.sound_power_level_db:.1f} dB re 1 pW); loudest impact {en.energy_j[k]:.3e} J of "
           f"{en.energy_lost_j[k]:.3e} J lost: radiation efficiency {en.efficiency[k]:.3g}")
     return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_writing("bench_levels", main))

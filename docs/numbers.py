@@ -27,10 +27,12 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:] = [p for p in sys.path if os.path.abspath(p or os.curdir) != _HERE]
 
 import argparse  # noqa: E402
+import atexit  # noqa: E402
 import contextlib  # noqa: E402
 import functools  # noqa: E402
 import io  # noqa: E402
 import re  # noqa: E402
+import shutil  # noqa: E402
 import tempfile  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -53,19 +55,55 @@ class Figure:
     command: str = ""
 
 
-def _cli(argv) -> str:
-    """Stdout of ``acoustiviz ARGV`` (status 0 required), with timings replaced by :data:`TIME`."""
+@functools.cache
+def _workdir(name: str) -> Path:
+    """A temporary folder kept for the whole check (commands that read what others wrote run in it)."""
+    path = Path(tempfile.mkdtemp(prefix=f"numbers-{name}-"))
+    atexit.register(shutil.rmtree, path, ignore_errors=True)
+    return path
+
+
+def _cli(argv, cwd=None) -> str:
+    """Stdout of ``acoustiviz ARGV`` (status 0 required) run in ``cwd``, with timings replaced by :data:`TIME`.
+
+    Run in ``cwd`` (a :func:`_workdir`), the relative paths of the command are printed as the text shows them.
+    """
     from acoustiviz.cli import main
 
     buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
+    with contextlib.chdir(cwd or os.getcwd()), contextlib.redirect_stdout(buf):
         rc = main(list(argv))
     if rc != 0:
         raise RuntimeError(f"acoustiviz {' '.join(argv)} exited with {rc}")
     text = buf.getvalue()
     text = re.sub(r"in \d+\.\d+ s\b", f"in {TIME} s", text)
     text = re.sub(r"; \d+\.\d+ s$", f"; {TIME} s", text, flags=re.M)
+    text = re.sub(r"\(\d+\.\d+ s this run\)", f"({TIME} s this run)", text)
     return text
+
+
+def _benchmark(name: str) -> str:
+    """``benchmarks/results/NAME.txt``, written by ``python benchmarks/NAME.py ... --write``."""
+    return (ROOT / "benchmarks" / "results" / f"{name}.txt").read_text(encoding="utf-8")
+
+
+def _range(values, fmt: str, sep: str = "-") -> str:
+    """``lo-hi`` of the formatted values (one value when both ends format alike)."""
+    lo, hi = format(min(values), fmt), format(max(values), fmt)
+    return lo if lo == hi else f"{lo}{sep}{hi}"
+
+
+def _bound(x: float) -> str:
+    """A bound on ``x`` to one significant figure, rounded up (2.2e-14 -> 3e-14; 6e-12 -> 6e-12)."""
+    import math
+
+    if x <= 0:
+        return "0"
+    e = math.floor(math.log10(x))
+    d = math.ceil(round(x / 10**e, 9))
+    if d == 10:
+        d, e = 1, e + 1
+    return f"{d}e{e:+03d}".replace("e+0", "e").replace("e-0", "e-").replace("e+", "e")
 
 
 def _without_writes(text: str) -> str:
@@ -135,25 +173,355 @@ def produce_headline_forced() -> dict:
     }
 
 
+def _levels_line(text: str) -> dict:
+    """The figures of a ``LZpeak ..., SEL(A) ... dB`` line, by name."""
+    get = {key: re.search(rf"{key} (-?[\d.]+)", text).group(1)
+           for key in ("LZpeak", "LCpeak", "LAFmax", "LASmax", "LAeq", "LZeq")}
+    get["SEL"] = re.search(r"SEL (-?[\d.]+)", text).group(1)
+    get["SELA"] = re.search(r"SEL\(A\) (-?[\d.]+)", text).group(1)
+    return get
+
+
 @functools.cache
-def damper_levels() -> dict:
-    """``acoustiviz auralize --wav damper.wav --levels``: the Table 1 damper's 20 s run at the paper's listener."""
-    with tempfile.TemporaryDirectory() as tmp:
-        text = _cli(["auralize", "--wav", str(Path(tmp) / "damper.wav"), "--levels"])
-    get = {}
-    m = re.search(r"impacts: (\d+)", text)
-    get["impacts"] = m.group(1)
-    for key in ("LZpeak", "LCpeak", "LAFmax", "LAeq"):
-        get[key] = re.search(rf"{key} ([\d.]+)", text).group(1)
-    get["SELA"] = re.search(r"SEL\(A\) ([\d.]+)", text).group(1)
+def default_scene_levels() -> dict:
+    """``acoustiviz run --out DIR`` on the default scene, its ``levels`` output: the printed lines and summary.md.
+
+    The other outputs of the default scene do not change these figures (they are the damper run's
+    levels at the listener, its sound power and the radiation efficiency of its loudest impact), so
+    only ``[outputs.levels]`` is kept.
+    """
+    from acoustiviz.scene import shipped_scenes
+
+    text = shipped_scenes()["default"]
+    scene = text[:text.index("[outputs.")] + "[outputs.levels]\n"
+    tmp = _workdir("scene")
+    (tmp / "levels.toml").write_text(scene, encoding="utf-8")
+    buf = io.StringIO()
+    with contextlib.redirect_stderr(buf):
+        out = _cli(["run", "levels.toml", "--out", "out"], cwd=tmp)
+    progress = buf.getvalue() + out
+    summary = (tmp / "out" / "summary.md").read_text(encoding="utf-8")
+    figures = dict(re.findall(r"(\w+) = ([-\d.e+]+)", summary))
+    get = _levels_line(re.search(r"LZpeak.*$", progress, re.M).group(0))
+    get["impacts"] = re.search(r"levels of (\d+) impacts", progress).group(1)
+    get["lw"] = figures["sound_power_level_db_re_1pw"]
+    get["eff_pct"] = f"{100 * float(figures['loudest_impact_radiation_efficiency']):.2f}"
     return get
 
 
 def produce_headline_damper() -> dict:
-    """The README's figures of the 20 s damper run."""
-    d = damper_levels()
+    """The README's figures of the 20 s damper run (the default scene's levels output)."""
+    d = default_scene_levels()
     return {"impacts": d["impacts"], "peak": d["LZpeak"], "lcpeak": d["LCpeak"], "lafmax": d["LAFmax"],
-            "laeq": d["LAeq"], "sela": d["SELA"]}
+            "laeq": d["LAeq"], "sela": d["SELA"], "lw": d["lw"], "eff": d["eff_pct"]}
+
+
+# ---- docs/guide/hearing.md
+@functools.cache
+def damper_levels() -> dict:
+    """``acoustiviz auralize --wav damper.wav --levels``: the Table 1 damper's 20 s run at the paper's listener.
+
+    Run in a folder kept for the check: ``acoustiviz levels`` reads the WAV file afterwards.
+    """
+    import json
+
+    tmp = _workdir("hearing")
+    text = _cli(["auralize", "--wav", "damper.wav", "--levels"], cwd=tmp)
+    get = _levels_line(re.search(r"LZpeak.*$", text, re.M).group(0))
+    get["impacts"] = re.search(r"impacts: (\d+)", text).group(1)
+    get["output"] = text
+    get["sidecar"] = json.loads((tmp / "damper.json").read_text(encoding="utf-8"))
+    return get
+
+
+def produce_hearing_auralize() -> dict:
+    """The console block of ``auralize --levels`` and the prose figures drawn from it."""
+    d = damper_levels()
+    return {"output": d["output"], "lcpeak": f"{float(d['LCpeak']):.0f}",
+            "c_minus_a": f"{float(d['LCpeak']) - float(d['LAFmax']):.0f}",
+            "f_minus_eq": f"{float(d['LAFmax']) - float(d['LAeq']):.0f}"}
+
+
+SIDECAR_KEYS = ("subtype", "sample_rate_hz", "scale_pa_per_full_scale", "pressure_pa", "peak_pa", "peak_dbfs",
+                "physical_peak_pa", "clipping")
+
+
+def produce_hearing_sidecar() -> dict:
+    """The keys of ``damper.json`` the guide shows, and how far band-limiting moved the peak."""
+    import json
+    import math
+
+    side = damper_levels()["sidecar"]
+    lines = "".join(f'"{k}": {json.dumps(side[k])},\n' for k in SIDECAR_KEYS)
+    ratio = side["physical_peak_pa"][0] / side["peak_pa"][0]
+    return {"json": lines, "pct": f"{100 * abs(ratio - 1):.2f}", "db": f"{abs(20 * math.log10(ratio)):.2f}"}
+
+
+@functools.cache
+def wav_levels() -> str:
+    """``acoustiviz levels damper.wav --csv levels.csv`` on the file ``auralize`` wrote."""
+    damper_levels()
+    return _cli(["levels", "damper.wav", "--csv", "levels.csv"], cwd=_workdir("hearing"))
+
+
+@functools.cache
+def wav_levels_5s() -> str:
+    """``acoustiviz levels damper.wav --csv first5s.csv --start 0 --stop 5 --loudness``."""
+    damper_levels()
+    return _cli(["levels", "damper.wav", "--csv", "first5s.csv", "--start", "0", "--stop", "5", "--loudness"],
+                cwd=_workdir("hearing"))
+
+
+def produce_hearing_wav_levels() -> dict:
+    """The console block of ``acoustiviz levels`` on the whole file."""
+    return {"output": wav_levels()}
+
+
+def produce_hearing_wav_5s() -> dict:
+    """The console block of the first 5 s with loudness, and its LAeq against the whole run's."""
+    first = _levels_line(wav_levels_5s())
+    whole = _levels_line(wav_levels())
+    return {"output": wav_levels_5s(), "above": f"{float(first['LAeq']) - float(whole['LAeq']):.0f}"}
+
+
+@functools.cache
+def levels_gallery() -> dict:
+    """``gallery/plot_14_levels.py`` (full mode): its printed design table and its results."""
+    import runpy
+
+    tmp = _workdir("gallery")
+    gallery = str(ROOT / "gallery")
+    env = {k: os.environ.get(k) for k in ("ACOUSTIVIZ_GALLERY_DIR", "ACOUSTIVIZ_FAST")}
+    os.environ["ACOUSTIVIZ_GALLERY_DIR"] = str(tmp)
+    os.environ.pop("ACOUSTIVIZ_FAST", None)
+    sys.path.insert(0, gallery)
+    buf = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(buf):
+            ns = runpy.run_path(str(ROOT / "gallery" / "plot_14_levels.py"), run_name="__main__")
+    finally:
+        sys.path.remove(gallery)
+        for k, v in env.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+    return {"table": _without_writes(buf.getvalue()), "results": ns["results"]}
+
+
+def produce_hearing_designs() -> dict:
+    """The two designs' table, and the prose comparing them (level differences, loudness)."""
+    g = levels_gallery()
+    (_, t1), (_, q) = g["results"].items()
+    cols = ("lcpeak_db", "lafmax_db", "laeq_db", "sel_a_db")
+    a, b = t1["report"].levels.rows()[0], q["report"].levels.rows()[0]
+    diff = [round(a[c], 1) - round(b[c], 1) for c in cols]  # as the table shows them
+    out = {"table": g["table"], "quieter_db": f"{sum(diff) / len(diff):.0f}",
+           "eq_minus_z": f"{a['laeq_db'] - a['lzeq_db']:.0f}"}
+    if t1["report"].loudness is not None:
+        n1, n2 = t1["report"].loudness.rows()[0]["n5_sone"], q["report"].loudness.rows()[0]["n5_sone"]
+        out["less_loud"] = f"{100 * (1 - round(n2, 2) / round(n1, 2)):.0f}"
+    return out
+
+
+def produce_hearing_energy() -> dict:
+    """The radiation efficiency of each design's loudest impact and the Table 1 run's sound power."""
+    (_, t1), (_, q) = levels_gallery()["results"].items()
+    e1, e2 = t1["energy"], q["energy"]
+    return {"eff1": f"{100 * e1.efficiency[e1.loudest]:.2f}", "eff2": f"{100 * e2.efficiency[e2.loudest]:.2f}",
+            "lw": f"{e1.sound_power_level_db:.1f}"}
+
+
+# ---- docs/guide/sweeps.md
+SWEEP_ARGS = ["sweep", "--gap", "0.02:0.06:3", "--m", "0.02,0.0405,0.06", "--duration", "20", "--levels", "--out", "sw",
+              "--workers", "2"]
+DESIGN_ARGS = ["design", "--sweep", "sw", "--inclination", "0.005", "--tolerance", "0.003"]
+
+
+@functools.cache
+def sweep_run() -> str:
+    """``acoustiviz sweep ... --out sw``: 9 designs of 20 s with levels (its time is :data:`TIME`)."""
+    return _cli(SWEEP_ARGS, cwd=_workdir("sweeps"))
+
+
+@functools.cache
+def design_query(rank_by: str) -> str:
+    """``acoustiviz design --sweep sw ... --rank-by RANK_BY`` on the sweep above."""
+    sweep_run()
+    return _cli([*DESIGN_ARGS, "--rank-by", rank_by], cwd=_workdir("sweeps"))
+
+
+def produce_sweep_run() -> dict:
+    """The console block of the sweep."""
+    return {"output": sweep_run()}
+
+
+def produce_design_lafmax() -> dict:
+    """The console block of the query ranked by LAFmax."""
+    return {"output": design_query("lafmax_db")}
+
+
+def produce_design_max_spl() -> dict:
+    """How far apart the same designs are by the paper's measure (``--rank-by max_spl_db``)."""
+    text = design_query("max_spl_db")
+    return {"spread": re.search(r"the quietest is ([\d.]+) dB quieter", text).group(1)}
+
+
+def produce_sweep_refused() -> dict:
+    """The one-line refusal of a sweep directory made with other settings (``--gap 0.02:0.06:4``)."""
+    from acoustiviz.cli import main
+
+    sweep_run()
+    args = [*SWEEP_ARGS]
+    args[args.index("0.02:0.06:3")] = "0.02:0.06:4"
+    buf = io.StringIO()
+    quiet = contextlib.redirect_stdout(io.StringIO())
+    with contextlib.chdir(_workdir("sweeps")), contextlib.redirect_stderr(buf), quiet:
+        try:
+            rc = main(args)
+        except SystemExit as exc:
+            rc = exc.code
+    if rc != 2:
+        raise RuntimeError(f"acoustiviz {' '.join(args)} exited with {rc}, not 2")
+    return {"error": buf.getvalue().strip().splitlines()[-1]}
+
+
+# ---- docs/guide/speed_accuracy.md and the README's field timing: the benchmark result files
+def _e(x: float, digits: int = 1) -> str:
+    """``x`` in the guide's short scientific form: 1.1e8, 2.8e6, 6e-12."""
+    m, e = f"{x:.{digits}e}".split("e")
+    return f"{m}e{int(e)}"
+
+
+def _rows(text: str, head: str) -> list:
+    """The whitespace-split rows of the table under the line starting ``head`` (after its dashes)."""
+    lines = text.splitlines()
+    i = next(k for k, line in enumerate(lines) if line.strip().startswith(head))
+    out = []
+    for line in lines[i + 2:]:  # to a blank line or a note (a line of another length)
+        row = line.split()
+        if not row or out and len(row) not in (len(out[0]), len(out[0]) + 1):
+            break
+        out.append(row)
+    return out
+
+
+@functools.cache
+def bench_field() -> dict:
+    """Figures of ``benchmarks/results/bench_field.txt`` (``python benchmarks/bench_field.py --write``)."""
+    text = _benchmark("bench_field")
+    pulses = [r for r in _rows(text, "config ") if len(r) == 9]  # config pulse metrics_s points/s x s x err err
+    hertz = [r for r in pulses if r[1] == "hertz"]
+    sampled = [r for r in pulses if r[1] == "hertz-1025-linear"]
+    expo = _rows(text, "pulse  setup s  exposure s")
+    fast = {r[0]: r for r in _rows(text, "pulse  setup s  peak+SEL s")}
+    n_fast = int(re.search(r"fast_peaks\), wall-floor corner, ([\d,]+) points", text).group(1).replace(",", ""))
+    scaling = _rows(text, "points samples/pt")
+    mem = re.search(r"peak memory of field_metrics on [\d,]+ points .*?: ([\d.]+) MiB", text).group(1)
+    hz, hs = fast["hertz"], fast["half-sine"]
+    missed = sum(int(r[-1]) for r in fast.values())
+    differ = sum(int(r[-2]) for r in fast.values())
+    fm_s = float(hz[9].rstrip("*"))
+    return {
+        "table": text,
+        "rate": _range([float(r[3]) for r in scaling], ".1e").replace("e+0", "e").replace("e+", "e"),
+        "speedup": _range([float(r[6]) for r in scaling], ".0f"),
+        "hertz_cost": _range([float(r[4]) for r in hertz], ".2f"),
+        "hertz_pct": _range([100 * (float(r[4]) - 1) for r in hertz], ".0f"),
+        "hertz_err": _bound(max(float(x) for r in hertz for x in r[7:9])),
+        "sampled_cost": _range([float(r[4]) for r in sampled], ".0f"),
+        "sampled_err": _e(max(float(x) for r in sampled for x in r[7:9]), 0),
+        "sampled_err_lo": _e(min(float(x) for r in sampled for x in r[7:9]), 0),
+        "sel_rate": _range([float(r[3]) for r in expo], ".1e").replace("e+0", "e").replace("e+", "e"),
+        "n_fast": _e(n_fast, 0),
+        "fp_s": f"{float(hz[2]):.1f}", "fp_total": f"{float(hz[3]):.1f}", "hs_s": f"{float(hs[2]):.1f}",
+        "fp_x": f"{fm_s / float(hz[3]):.0f}",
+        "fp_err": _e(float(hz[6]), 0), "fp_err_bound": _bound(float(hz[6])),
+        "sel_err": _e(float(hz[8]), 1),
+        "missed": "no peak" if missed == 0 else f"{missed} peak{'s' * (missed > 1)}",
+        "differ": "none differ" if differ == 0 else f"{differ} differ",
+        "mem": mem,
+    }
+
+
+def produce_bench_field() -> dict:
+    """The field evaluator's figures, as its results file has them."""
+    return bench_field()
+
+
+@functools.cache
+def bench_dynamics() -> dict:
+    """Figures of ``benchmarks/results/bench_dynamics.txt`` and of the ``--full`` run's ``bench_dynamics.csv``.
+
+    ``python benchmarks/bench_dynamics.py --write`` writes the first (3 s), ``--full`` the second (20 s).
+    """
+    import csv
+
+    text = _benchmark("bench_dynamics")
+    rows = _rows(text, "solver      setting")
+    default = next(r for r in rows if r[-1] == "(default)")
+    newmark = [r for r in rows if r[0] == "newmark"]
+    imap = [r for r in rows if r[0] == "impact-map"]
+    ivp = re.findall(r"vs scipy DOP853 .*?first 40: \|dt\| ([\d.e+-]+) s, du/u ([\d.e+-]+)", text)
+    with open(ROOT / "benchmarks" / "results" / "bench_dynamics.csv", newline="") as fh:
+        full = list(csv.DictReader(fh))
+    from acoustiviz.constants import DEFAULT_RTOL
+
+    row20 = next(r for r in full if r["solver"] == "event" and r["setting"] == f"rtol={DEFAULT_RTOL:g}")
+    speedup = float(default[-2].rstrip("x"))
+    agree = max(int(r[8]) for r in newmark)
+    map_agree = int(imap[0][8])
+    return {
+        "table": text,
+        "impacts": default[3], "ms": f"{float(default[2]):.1f}", "du": default[4].replace("e-0", "e-"),
+        "dt": default[5].replace("e-0", "e-"), "speedup": f"{round(speedup, -2):.0f}",
+        "impacts20": row20["n_impacts"], "ms20": f"{1e3 * float(row20['time_s']):.1f}",
+        "ivp_du": ivp[0][1] if ivp else "",
+        "newmark_agree": str(agree),
+        "map_agree": "the first one only" if map_agree == 1 else f"the first {map_agree} only",
+    }
+
+
+def produce_bench_dynamics() -> dict:
+    """The damper solvers' figures, as the results files have them."""
+    return bench_dynamics()
+
+
+@functools.cache
+def bench_levels() -> dict:
+    """Figures of ``benchmarks/results/bench_levels.txt`` (``python benchmarks/bench_levels.py --quick --write``)."""
+    text = _benchmark("bench_levels")
+    wl = re.search(r"weighted levels \(8 levels\)\s+([\d.]+)", text).group(1)
+    bands = re.search(r"1/3-octave bands \(30\)\s+([\d.]+)", text).group(1)
+    changes = [abs(float(r[2])) for r in _rows(text, "level       96 kHz")]
+    sw = float(re.search(r"\(rel\. diff\. ([\d.e+-]+)\)", text).group(1))
+    grid = {(r[0], r[1]): r for r in _rows(text, "config n_theta")}
+    free = max(float(r[4]) for k, r in grid.items() if k[0] == "free" and k[1] != "4")
+    plane = max(float(r[4]) for k, r in grid.items() if k[0] == "plane" and r[4] != "-")
+    corner = max(float(r[4]) for k, r in grid.items() if k[0] == "wall-floor" and r[4] != "-")
+    return {"table": text, "wl": f"{float(wl):.2f}", "bands": f"{float(bands):.1f}",
+            "dmax": f"{max(changes):.3f}", "sw": _bound(sw), "free": _bound(max(free, sw)),
+            "plane": _bound(plane), "corner": f"{100 * corner:.1f}"}
+
+
+def produce_bench_levels() -> dict:
+    """The levels' figures, as the results file has them."""
+    return bench_levels()
+
+
+@functools.cache
+def bench_audio() -> dict:
+    """Figures of ``benchmarks/results/bench_audio.txt`` (``python benchmarks/bench_audio.py --write``)."""
+    rows = _rows(_benchmark("bench_audio"), "rate (Hz)")
+    hs = next(r for r in rows if r[:3] == ["48000", "half-sine", "mono"])
+    hz = next(r for r in rows if r[:3] == ["48000", "hertz", "mono"])
+    return {"hs": f"{float(hs[4]):.2f}", "hertz": f"{float(hz[4]):.2f}",
+            "xrt": _range([float(r[5]) for r in rows], ".0f")}
+
+
+def produce_bench_audio() -> dict:
+    """The auralisation's figures, as the results file has them."""
+    return bench_audio()
 
 
 @functools.cache
@@ -190,6 +558,13 @@ def produce_bench_forced_table() -> dict:
 
 # --------------------------------------------------------------------------- the registry
 FORCED_CMD = "acoustiviz forced " + " ".join(FORCED_TABLE_ARGS) + " --csv OUT.csv"
+FIELD_CMD = "python benchmarks/bench_field.py --write"
+DYNAMICS_CMD = "python benchmarks/bench_dynamics.py --write"
+LEVELS_CMD = "python benchmarks/bench_levels.py --quick --write"
+SWEEP_CMD = "acoustiviz " + " ".join(SWEEP_ARGS)
+DESIGN_CMD = "acoustiviz " + " ".join(DESIGN_ARGS) + " --rank-by lafmax_db"
+AURALIZE_CMD = "acoustiviz auralize --wav damper.wav --levels"
+WAV_5S_CMD = "acoustiviz levels damper.wav --csv first5s.csv --start 0 --stop 5 --loudness"
 REGISTRY = (
     Figure("forced-table", "docs/guide/operation.md",
            r"```console\n\$ " + re.escape(FORCED_CMD) + r"\n(?P<output>.*?)```", produce_forced_table, FORCED_CMD),
@@ -207,9 +582,10 @@ REGISTRY = (
            r"(?P<laeq>[\d.]+) dB", produce_headline_forced,
            "acoustiviz forced --force 5 --freq 5 (Table 1 damper)"),
     Figure("readme-headline-damper", "README.md",
-           r"reports them\): (?P<impacts>\d+) impacts, peak SPL\s+(?P<peak>[\d.]+) dB, LCpeak (?P<lcpeak>[\d.]+) dB, "
-           r"LAFmax (?P<lafmax>[\d.]+) dB, LAeq (?P<laeq>[\d.]+) dB, SEL\(A\) (?P<sela>[\d.]+) dB",
-           produce_headline_damper, "acoustiviz auralize --wav damper.wav --levels"),
+           r"prints them\):\s+(?P<impacts>\d+) impacts, peak SPL\s+(?P<peak>[\d.]+) dB, LCpeak (?P<lcpeak>[\d.]+) "
+           r"dB, LAFmax (?P<lafmax>[\d.]+) dB, LAeq (?P<laeq>[\d.]+) dB, SEL\(A\) (?P<sela>[\d.]+) dB,\s+sound power\s+"
+           r"(?P<lw>[\d.]+) dB re 1 pW, its loudest impact turning (?P<eff>[\d.]+) % of the energy",
+           produce_headline_damper, "acoustiviz run --out DIR (default scene, its levels output)"),
     Figure("bench-forced-quote", "docs/guide/operation.md",
            r"took (?P<new_cpu>[\d.]+) s of CPU against (?P<old_cpu>[\d.]+) s for the single start of before "
            r"\((?P<date>[^)]*)\)", produce_bench_forced_quote,
@@ -223,6 +599,99 @@ REGISTRY = (
     Figure("bench-forced-table", "docs/guide/operation.md",
            r"```text\n(?P<table>6\. every attractor.*?)```", produce_bench_forced_table,
            "python benchmarks/bench_forced.py --attractors --write"),
+    # docs/guide/hearing.md
+    Figure("hearing-auralize", "docs/guide/hearing.md",
+           r"```console\n\$ acoustiviz auralize --wav damper\.wav --levels\n(?P<output>.*?)```",
+           produce_hearing_auralize, AURALIZE_CMD),
+    Figure("hearing-auralize-prose", "docs/guide/hearing.md",
+           r"loudest part \(LCpeak (?P<lcpeak>\d+) dB\) while the A-weighted, 125 ms-averaged LAFmax is "
+           r"(?P<c_minus_a>\d+) dB lower, and\s+the average over the run \(LAeq\) another (?P<f_minus_eq>\d+) dB lower",
+           produce_hearing_auralize, AURALIZE_CMD),
+    Figure("hearing-sidecar", "docs/guide/hearing.md", r"```json\n(?P<json>.*?)```", produce_hearing_sidecar,
+           AURALIZE_CMD),
+    Figure("hearing-band-limit", "docs/guide/hearing.md",
+           r"peak, here by (?P<pct>[\d.]+) % \((?P<db>[\d.]+) dB\)", produce_hearing_sidecar, AURALIZE_CMD),
+    Figure("hearing-wav-levels", "docs/guide/hearing.md",
+           r"```console\n\$ acoustiviz levels damper\.wav --csv levels\.csv\n(?P<output>.*?)```",
+           produce_hearing_wav_levels, "acoustiviz levels damper.wav --csv levels.csv"),
+    Figure("hearing-wav-5s", "docs/guide/hearing.md",
+           r"```console\n\$ acoustiviz levels damper\.wav --csv first5s\.csv --start 0 --stop 5 --loudness\n"
+           r"(?P<output>.*?)```", produce_hearing_wav_5s, WAV_5S_CMD),
+    Figure("hearing-wav-5s-prose", "docs/guide/hearing.md",
+           r"LAeq is (?P<above>\d+) dB above that of the whole run", produce_hearing_wav_5s, WAV_5S_CMD),
+    Figure("hearing-designs", "docs/guide/hearing.md", r"```text\n(?P<table>design .*?)```",
+           produce_hearing_designs, "python gallery/plot_14_levels.py"),
+    Figure("hearing-designs-prose", "docs/guide/hearing.md",
+           r"\(LAeq is (?P<eq_minus_z>\d+) dB above LZeq\); the quieter\s+design is about (?P<quieter_db>\d+) dB "
+           r"quieter by every level and (?P<less_loud>\d+) % less loud", produce_hearing_designs,
+           "python gallery/plot_14_levels.py"),
+    Figure("hearing-energy", "docs/guide/hearing.md",
+           r"the loudest impact turns (?P<eff1>[\d.]+) %\s+of the energy it destroys into sound \((?P<eff2>[\d.]+) % "
+           r"for the quieter design\), and the run radiates a sound\s+power level of (?P<lw>[\d.]+) dB re 1 pW",
+           produce_hearing_energy, "python gallery/plot_14_levels.py"),
+    # docs/guide/sweeps.md
+    Figure("sweeps-sweep", "docs/guide/sweeps.md",
+           r"```console\n\$ " + re.escape(SWEEP_CMD) + r"\n(?P<output>.*?)```", produce_sweep_run, SWEEP_CMD),
+    Figure("sweeps-design", "docs/guide/sweeps.md",
+           r"```console\n\$ " + re.escape(DESIGN_CMD) + r"\n(?P<output>.*?)```", produce_design_lafmax, DESIGN_CMD),
+    Figure("sweeps-design-max-spl", "docs/guide/sweeps.md",
+           r"ranked by the paper's measure differ by (?P<spread>[\d.]+) dB", produce_design_max_spl,
+           "acoustiviz " + " ".join(DESIGN_ARGS)),
+    Figure("sweeps-refused", "docs/guide/sweeps.md", r"```text\n  (?P<error>acoustiviz sweep: error: --out: [^\n]*)\n",
+           produce_sweep_refused, "acoustiviz sweep --gap 0.02:0.06:4 ... --out sw"),
+    # the benchmark result files: the README's field timing and docs/guide/speed_accuracy.md
+    Figure("readme-field-timing", "README.md",
+           r"at (?P<n_fast>1e\d) points of a\s+wall-floor corner in (?P<fp_s>[\d.-]+) s of one core with the exact "
+           r"Hertz pulse, within (?P<fp_err_bound>[\de.-]+) of the peak", produce_bench_field, FIELD_CMD),
+    Figure("bench-field-row", "docs/guide/speed_accuracy.md",
+           r"\| `python benchmarks/bench_field\.py \[--quick\]` \| (?P<rate>[\d.e-]+) point-samples/s per core "
+           r"for peaks/RMS, (?P<speedup>[\d-]+)× a per-point convolution; the exact Hertz pulse at "
+           r"(?P<hertz_cost>[\d.-]+)× the half-sine's cost with errors ≤ (?P<hertz_err>[\de.-]+) "
+           r"\(the former sampled pulse: (?P<sampled_cost>[\d-]+)× the cost, errors (?P<sampled_err>[\de.-]+)\); "
+           r"SEL of 1e6 points without a time grid at (?P<sel_rate>[\de.-]+) points/s, peaks and SEL of "
+           r"(?P<n_fast>1e\d) corner points in (?P<fp_s>[\d.-]+) s with the exact Hertz pulse "
+           r"\((?P<fp_total>[\d.]+) s with its setup; `field\.fast_peaks`, (?P<fp_x>\d+)× `field_metrics`, "
+           r"(?P<missed>no peak|\d+ peaks?) missed against a second search\); 1e6 points in (?P<mem>[\d.]+) MiB",
+           produce_bench_field, FIELD_CMD),
+    Figure("bench-field-table", "docs/guide/speed_accuracy.md",
+           r"all images summed; one thread\.\n\n```text\n(?P<table>.*?)```", produce_bench_field, FIELD_CMD),
+    Figure("bench-field-prose", "docs/guide/speed_accuracy.md",
+           r"to rounding, and `field_metrics` costs (?P<hertz_pct>[\d-]+) % more\s+with it; the former pulse sampled "
+           r"at 1025 points and interpolated linearly cost (?P<sampled_cost>[\d-]+)× as much\s+for errors of "
+           r"(?P<sampled_err_lo>[\de.-]+) to (?P<sampled_err>[\de.-]+) of the peak", produce_bench_field, FIELD_CMD),
+    Figure("bench-field-fast-peaks", "docs/guide/speed_accuracy.md",
+           r"the exposure of (?P<n_fast>1e\d) corner\s+points in (?P<fp_s>[\d.-]+) s of one core with the exact Hertz "
+           r"pulse \((?P<fp_total>[\d.]+) s with the setup of its\s+tables; (?P<hs_s>[\d.-]+) s for the half-sine\), "
+           r"(?P<fp_x>\d+) times faster than `field_metrics`, which it matches to\s+(?P<fp_err>[\de.-]+) of the peak"
+           r".*?no time grid, (?P<sel_err>[\de.-]+) from the quadrature reference.*?closed form: "
+           r"(?P<differ>none differ|\d+ differ)\.", produce_bench_field, FIELD_CMD),
+    Figure("bench-dynamics-row", "docs/guide/speed_accuracy.md",
+           r"event solver at its default tolerance: 3 s of Table 1 \((?P<impacts>\d+) impacts\) in (?P<ms>[\d.]+) ms, "
+           r"first 40 impacts within (?P<du>[\de.-]+) \(speed\) and (?P<dt>[\de.-]+) s \(time\), about "
+           r"(?P<speedup>\d+)× the paper's Newmark at 1e-7 s; 20 s \((?P<impacts20>\d+) impacts\) in "
+           r"(?P<ms20>[\d.]+) ms", produce_bench_dynamics, DYNAMICS_CMD + "; --full for 20 s"),
+    Figure("bench-dynamics-table", "docs/guide/speed_accuracy.md",
+           r"then times\nevery solver setting:\n\n```text\n(?P<table>.*?)```", produce_bench_dynamics, DYNAMICS_CMD),
+    Figure("bench-dynamics-prose", "docs/guide/speed_accuracy.md",
+           r"confirm there \(du/u (?P<ivp_du>[\de.+-]+) over the first 40\)\.\s+Newmark\s+agrees with the reference "
+           r"on at most the first (?P<newmark_agree>\d+) impacts even at a step of 1e-7 s, and the impact\s+map "
+           r"\(instantaneous\s+impacts\) on (?P<map_agree>the first [\w ]+ only)\.", produce_bench_dynamics,
+           DYNAMICS_CMD),
+    Figure("bench-levels-row", "docs/guide/speed_accuracy.md",
+           r"20 s at 96 kHz: 8 weighted levels in (?P<wl>[\d.]+) s, 30 bands in (?P<bands>[\d.]+) s; a 48 kHz "
+           r"rendering moves each level by ≤ (?P<dmax>[\d.]+) dB; radiated energy by closed form and surface "
+           r"work within (?P<sw>[\de.-]+)", produce_bench_levels, LEVELS_CMD),
+    Figure("bench-levels-table", "docs/guide/speed_accuracy.md",
+           r"\{doc\}`hearing`\):\n\n```text\n(?P<table>.*?)```", produce_bench_levels, LEVELS_CMD),
+    Figure("bench-levels-prose", "docs/guide/speed_accuracy.md",
+           r"128-direction grid\s+within (?P<free>[\de.-]+)\)\. On the plane the grid has converged to "
+           r"(?P<plane>[\de.-]+) at 128 directions; in the corner the\s+quick run's two resolutions still differ by "
+           r"(?P<corner>[\d.]+) %.*?A 48 kHz rendering is good to (?P<dmax>[\d.]+) dB for every level",
+           produce_bench_levels, LEVELS_CMD),
+    Figure("bench-audio-row", "docs/guide/speed_accuracy.md",
+           r"20 s of a Table 1 run at 48 kHz in (?P<hs>[\d.]+) s \(half-sine, mono; (?P<hertz>[\d.]+) s with the exact "
+           r"Hertz pulse\), (?P<xrt>[\d-]+)× real time", produce_bench_audio,
+           "python benchmarks/bench_audio.py --write"),
 )
 
 
@@ -278,7 +747,7 @@ def main(argv=None) -> int:
         p.error(f"--only: unknown names; known: {', '.join(f.name for f in REGISTRY)}")
     if a.list:
         for f in REGISTRY:
-            print(f"{f.name:26s} {f.file:28s} {f.command}")
+            print(f"{f.name:28s} {f.file:30s} {f.command}")
         return 0
     if a.update:
         changed = update(figs)

@@ -44,3 +44,12 @@ def test_every_registered_pattern_finds_its_text():
 def test_the_quoted_figures_are_what_the_program_gives():
     proc = subprocess.run([sys.executable, str(SCRIPT), "--check"], capture_output=True, text=True, cwd=ROOT)
     assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_quoted_bounds_round_up_and_ranges_collapse():
+    mod = _module()
+    assert [mod._bound(x) for x in (2.2e-14, 6e-12, 9.95e-8, 1.7e-2)] == ["3e-14", "6e-12", "1e-7", "2e-2"]
+    assert mod._range([1.17, 1.1, 1.13], ".2f") == "1.10-1.17"
+    assert mod._range([2.04, 1.96], ".0f") == "2"
+    rows = mod._rows("title\n  a  b  c\n-------\n x 1 2\n y 3 4 (default)\n note: a line longer than any row\n", "a  b")
+    assert rows == [["x", "1", "2"], ["y", "3", "4", "(default)"]]
