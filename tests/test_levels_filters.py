@@ -7,6 +7,7 @@ Table 3, the toneburst responses of its Table 4 (F), and the class 1 relative-at
 of IEC 61260-1 Table 1 with its Formulas (9)-(11).
 """
 
+import inspect
 import math
 
 import numpy as np
@@ -233,6 +234,8 @@ def _noise(fs, seconds=2.0):
 @pytest.mark.parametrize("fs", [48000, 96000])
 def test_weighted_levels_agree_with_pyoctaveband(fs):
     po = _pyoctaveband()
+    if fs < 96000 and "high_accuracy" not in inspect.signature(po.weighting_filter).parameters:
+        pytest.skip("this PyOctaveBand designs the weighting at the input rate (no oversampling below 96 kHz)")
     x = _noise(fs)
     for curve in "AC":
         ours, theirs = weighting_filter(x, fs, curve), np.asarray(po.weighting_filter(x, fs, curve))
