@@ -8,7 +8,8 @@ filtering (so they work with any NumPy >= 2.2 / SciPy >= 1.15):
   bilinear transform at a rate of at least 96 kHz (the signal is oversampled by a whole factor of
   at most 8 and brought back), normalised to 0 dB at 1 kHz;
 * :func:`time_weighting` -- the exponentially averaged square with time constant 125 ms (F),
-  1 s (S), or 35 ms rising / 1.5 s falling (I) (IEC 61672-1:2013, 3.7-3.8);
+  1 s (S), or 35 ms rising / 1.5 s falling (I) (IEC 61672-1:2013, 3.7-3.8; I, whose recursion
+  depends on its own output, runs as a loop compiled by numba);
 * :class:`OctaveFilterBank` -- base-10 fractional-octave Butterworth band-pass filters
   (IEC 61260-1:2014, 5.2-5.6), each band designed and run at the input rate decimated by a whole
   factor that keeps the band's upper edge below 1/1.25 of the decimated Nyquist frequency.
@@ -158,14 +159,28 @@ def weighting_filter(x, fs: float, curve: str = "A") -> np.ndarray:
     return WeightingFilter(fs, curve).filter(x)
 
 
+@functools.lru_cache(maxsize=1)
+def _impulse_kernel():
+    """The I time weighting's recursion over rows of squares, compiled on first use."""
+    from numba import njit
+
+    @njit(cache=False)
+    def run(x2, a_rise, a_fall):  # pragma: no cover - compiled
+        out = np.empty_like(x2)
+        for i in range(x2.shape[0]):
+            v = 0.0
+            for n in range(x2.shape[1]):
+                step = x2[i, n] - v
+                v += (a_rise if step > 0.0 else a_fall) * step
+                out[i, n] = v
+        return out
+
+    return run
+
+
 def _impulse(x2: np.ndarray, a_rise: float, a_fall: float) -> np.ndarray:
-    out = np.empty_like(x2)
-    v = np.zeros(x2.shape[:-1])
-    for n in range(x2.shape[-1]):
-        step = x2[..., n] - v
-        v = v + np.where(step > 0, a_rise, a_fall) * step
-        out[..., n] = v
-    return out
+    rows = np.ascontiguousarray(x2.reshape(-1, x2.shape[-1]) if x2.ndim else x2.reshape(1, 1))
+    return _impulse_kernel()(rows, a_rise, a_fall).reshape(x2.shape)
 
 
 def time_weighting(x, fs: float, mode: str = "fast") -> np.ndarray:
