@@ -10,3 +10,12 @@ from hypothesis import settings  # noqa: E402
 # failure is reproducible from a clean clone, never a draw of the day; no deadline (machine load)
 settings.register_profile("acoustiviz", derandomize=True, database=None, deadline=None)
 settings.load_profile("acoustiviz")
+
+
+def pytest_report_header(config):
+    """The versions and CPU the run is on (.ci/versions.py), at the top of every report."""
+    import runpy
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / ".ci" / "versions.py"
+    return runpy.run_path(str(script))["version_line"]() if script.is_file() else None

@@ -210,7 +210,7 @@ def summary_lines(report: LevelReport, *, rate_note: str = "") -> list:
     """Lines for a terminal: the levels of each channel and where they were evaluated."""
     lv = report.levels
     out = [f"levels over {lv.start:g}-{lv.stop:g} s, evaluated at {lv.sample_rate / 1e3:g} kHz{rate_note} "
-           f"({lv.library}; IEC 61672-1 weightings, IEC 61260-1 bands)"]
+           f"({lv.library})"]
     for i, row in enumerate(lv.rows(report.channels)):
         out.append(f"  {row['channel']}: LZpeak {row['lzpeak_db']:.1f}, LCpeak {row['lcpeak_db']:.1f}, "
                    f"LAFmax {row['lafmax_db']:.1f}, LASmax {row['lasmax_db']:.1f}, LAeq {row['laeq_db']:.1f}, "

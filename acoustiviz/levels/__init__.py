@@ -12,8 +12,9 @@ of a directivity alike. Nothing here writes files.
 * :mod:`.energy` -- sound energy of one impact (closed form and spherical-grid intensity),
   radiation efficiency and the sound power of a run.
 
-The weighting and band filters are those of phonometry (formerly PyOctaveBand), a library
-conformance-tested against IEC 61672-1 and IEC 61260-1 (:mod:`._library`).
+The weighting and band filters are written from IEC 61672-1 and IEC 61260-1 (:mod:`._filters`,
+named in one place by :mod:`._library`) and tested against the standards' tables and acceptance
+limits and against PyOctaveBand.
 """
 
 from __future__ import annotations

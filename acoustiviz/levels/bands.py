@@ -1,7 +1,7 @@
 """One-third-octave band levels of pressure signals (IEC 61260-1 filters).
 
-The bank is the library's (:mod:`._library`): order-6 Butterworth band-pass filters, class 1 to
-IEC 61260-1:2014, each band run at a rate decimated for its centre frequency (multirate). Here
+The bank (:mod:`._filters`) is order-6 Butterworth band-pass filters, class 1 to IEC 61260-1:2014,
+each band run at a rate decimated for its centre frequency (multirate). Here
 each band's filtered signal is reduced to two numbers over the interval: its equivalent level
 ``Leq,T`` and its largest F-time-weighted (125 ms) level ``LFmax``. The default bands run from
 25 Hz to 20 kHz nominal (28 bands); the top band needs a sample rate of at least 44.8 kHz.
@@ -45,7 +45,7 @@ class BandLevels:
     start, stop : float
         The interval in s.
     library : str
-        The filter library and version.
+        The filters that computed the levels.
     """
 
     centre_hz: np.ndarray
@@ -103,7 +103,7 @@ def third_octave_levels(pressure, sample_rate: float, *, start=None, stop=None, 
     Notes
     -----
     Each band's signal is the input decimated by the bank's factor for that band and filtered by
-    its second-order sections (the library's own multirate scheme); its ``Leq,T`` averages the
+    its second-order sections (the bank's multirate scheme); its ``Leq,T`` averages the
     square over the interval and its ``LFmax`` is the largest exponential average with time
     constant 125 ms (IEC 61672-1), both at the band's decimated rate. For a stationary signal
     the band energies add up to the energy of the band-limited signal (:func:`band_energy_sum`)

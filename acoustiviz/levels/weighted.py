@@ -3,8 +3,8 @@
 Every function here is a pure function of a pressure array in Pa and its sample rate in Hz, so it
 serves a computed waveform, a damper run at a listener, a WAV file read back with its calibration,
 one design of a sweep or one point of a directivity alike. The A and C frequency weightings and the
-F and S time weightings are those of the conformance-tested library (:mod:`._library`); only the
-level arithmetic (peaks, energy averages over an interval, exposure) is written here.
+F and S time weightings are the IEC 61672-1 filters of :mod:`._filters`; here is the level
+arithmetic (peaks, energy averages over an interval, exposure).
 
 Levels in dB re 20 µPa (``P_REF``); exposure levels in dB re (20 µPa)²·1 s:
 
@@ -139,7 +139,7 @@ class SoundLevels:
     start, stop : float
         The interval in s.
     library : str
-        The filter library and version.
+        The filters that computed the levels.
     """
 
     lzpeak_db: np.ndarray
@@ -182,7 +182,7 @@ def sound_levels(pressure, sample_rate: float, *, start=None, stop=None) -> Soun
         Sound pressure in Pa, sample ``n`` at ``n / sample_rate`` s.
     sample_rate : float
         Sample rate in Hz (whole Hz). The weightings are accurate to IEC 61672-1 class 1 up to
-        16 kHz at 48 kHz and above (the library oversamples internally below 96 kHz).
+        16 kHz at 48 kHz and above (the weighting oversamples internally below 96 kHz).
     start, stop : float, optional
         The interval in s (default: the whole signal). Peaks and maxima are taken within it,
         equivalent levels average over it and exposure levels integrate over it.

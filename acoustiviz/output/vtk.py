@@ -269,8 +269,19 @@ def _save(mesh, path: Path) -> Path:
         raise OSError(errno.ENOSPC, f"cannot write: not enough free space ({free / 2**20:.3g} MiB free, about "
                                     f"{need / 2**20:.3g} MiB needed)", str(path))
     with atomic_path(path) as tmp:
-        mesh.save(str(tmp))
+        _write_hdf(mesh, tmp)
     return path
+
+
+def _write_hdf(mesh, path) -> None:
+    """Write ``mesh`` with VTK's own HDF writer (VTK >= 9.4; pyvista saves ``.vtkhdf`` only from 0.46 on)."""
+    from vtkmodules.vtkIOHDF import vtkHDFWriter
+
+    writer = vtkHDFWriter()
+    writer.SetFileName(str(path))
+    writer.SetInputData(mesh)
+    if not writer.Write():
+        raise OSError(errno.EIO, "cannot write: VTK could not write the HDF file", str(path))
 
 
 def write_geometry_vtk(config: Geometry, path, bounds) -> Path:

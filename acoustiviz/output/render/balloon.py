@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -211,7 +212,10 @@ def _balloon_mesh(data: BalloonData, size: float, top: float, db_range: float):
     x, y, z = (pts[..., k].T[..., None] for k in range(3))
     mesh = pv.StructuredGrid(x, y, z)
     mesh.point_data["level"] = np.ascontiguousarray(lev).reshape(-1)
-    surf = mesh.extract_surface(pass_pointid=False, pass_cellid=False, algorithm="dataset_surface")
+    # vtkDataSetSurfaceFilter: named where pyvista offers a choice of filter, the only one in older pyvista
+    named = "algorithm" in inspect.signature(mesh.extract_surface).parameters
+    choice = {"algorithm": "dataset_surface"} if named else {}
+    surf = mesh.extract_surface(pass_pointid=False, pass_cellid=False, **choice)
     return surf.clean(tolerance=1e-9 * size)
 
 
