@@ -1,0 +1,68 @@
+"""Importing the package and asking for help stay light: no compiler, no plotting, no 3-D, no filters.
+
+Each check runs in a fresh interpreter (a subprocess) and inspects ``sys.modules`` afterwards, so
+what another test imported does not count. No timing is asserted (``benchmarks/bench_startup.py``
+measures the times).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+#: modules a light start must not load: the kernel compiler, plotting, 3-D rendering and filters
+HEAVY = ("numba", "matplotlib", "pyvista", "vtk", "vtkmodules", "scipy.signal")
+
+
+def _loaded_after(code: str) -> list[str]:
+    """The :data:`HEAVY` modules present in ``sys.modules`` after running ``code`` in a new interpreter."""
+    probe = code + f"\nimport json, sys\nprint(json.dumps([m for m in {HEAVY!r} if m in sys.modules]))\n"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    out = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_import_is_light():
+    assert _loaded_after("import acoustiviz") == []
+
+
+def _help_code(argv: list[str]) -> str:
+    return ("import contextlib, io, runpy, sys\n"
+            f"sys.argv = ['acoustiviz', *{argv!r}]\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    try:\n"
+            "        runpy.run_module('acoustiviz', run_name='__main__')\n"
+            "    except SystemExit as exc:\n"
+            "        assert exc.code in (0, None), exc.code\n")
+
+
+def _subcommands() -> list[str]:
+    from acoustiviz.cli import SUBCOMMANDS
+
+    return list(SUBCOMMANDS)
+
+
+def test_help_is_light():
+    assert _loaded_after(_help_code(["--help"])) == []
+
+
+@pytest.mark.parametrize("sub", _subcommands())
+def test_subcommand_help_is_light(sub):
+    assert _loaded_after(_help_code([sub, "--help"])) == []
+
+
+def test_metric_names_follow_the_levels():
+    # the light copies the command line offers as choices are the levels' own metric names
+    from acoustiviz.app.views import BALLOON_METRICS, DIRECTIVITY_METRICS
+    from acoustiviz.levels import METRICS, SoundLevels
+
+    assert set(METRICS.values()) <= set(SoundLevels.__dataclass_fields__)
+    assert set(BALLOON_METRICS) == {"peak", "rms", "sel"} | set(METRICS)
+    assert {k: v for k, v in DIRECTIVITY_METRICS.items() if k in METRICS} == METRICS
