@@ -156,9 +156,9 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
             lu = math.log(u0) if u0 > 0.0 else -math.inf
             if lnu.shape[0] >= 4 and lnu[1] <= lu <= lnu[lnu.shape[0] - 2]:
                 st = STATUS_OK
-                e = _table_lookup(lnu, table, lu, 0)
-                dur = math.exp(_table_lookup(lnu, table, lu, 1))
-                peak = math.exp(_table_lookup(lnu, table, lu, 2))
+                e = _table_lookup(lnu, table, lu, np.int64(0))
+                dur = math.exp(_table_lookup(lnu, table, lu, np.int64(1)))
+                peak = math.exp(_table_lookup(lnu, table, lu, np.int64(2)))
             else:
                 st, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)
             x0 = xx
