@@ -66,3 +66,34 @@ def test_metric_names_follow_the_levels():
     assert set(METRICS.values()) <= set(SoundLevels.__dataclass_fields__)
     assert set(BALLOON_METRICS) == {"peak", "rms", "sel"} | set(METRICS)
     assert {k: v for k, v in DIRECTIVITY_METRICS.items() if k in METRICS} == METRICS
+
+
+def test_compile_for_compiles_without_running_and_once():
+    # a kernel compiled for the types of its arguments is not run, and a second request costs nothing
+    import numpy as np
+    from numba import njit
+
+    from acoustiviz._jit import compile_for, in_cache
+
+
+    @njit
+    def twice(a, x):
+        return 2.0 * a[0] * x
+
+    args = (np.ones(3), 1.5)
+    assert not in_cache(twice, args)
+    assert compile_for(twice, args) > 0.0
+    assert in_cache(twice, args)
+    assert compile_for(twice, args) == 0.0
+    assert len(twice.signatures) == 1
+    assert twice(np.full(3, 2.0), 1.5) == 6.0
+    assert len(twice.signatures) == 1  # the call found the compiled signature
+
+
+def test_simulate_reports_compile_time_apart():
+    from acoustiviz.dynamics import simulate
+
+    simulate(duration=0.5)
+    r = simulate(duration=0.5)
+    assert r.compile_time == 0.0  # compiled in this process already: nothing to compile or load
+    assert r.solver_time > 0.0
