@@ -12,7 +12,8 @@ directory and imported through ``PYTHONPATH``, with the same interpreter and the
 
 Measures: ``acoustiviz --help`` and each subcommand's ``--help``; ``import acoustiviz``; the README's
 main job ``acoustiviz run --out DIR`` cold and warm; the default damper run (``acoustiviz damper``,
-20 s, event solver) cold. After the cold README job, every numba dispatcher found in the
+20 s, event solver) cold and warm; and (full run only) the wall time of one warm
+``fast_peaks`` call at 1e3 points, best of 5. After the cold README job, every numba dispatcher found in the
 ``acoustiviz`` modules is listed with its number of compiled signatures and its compile time, taken
 from numba's ``numba:compile`` events: "self" is the time of the kernel's own compilations less the
 compilations of other kernels nested in them, so the self times add up to the total compile time.
@@ -42,7 +43,7 @@ ROOT = Path(__file__).resolve().parents[1]
 BASELINE = "4a6bf44"
 
 #: ratio targets of the measures that have one (issue 24), as "<= x"
-TARGETS = {"run cold": 0.4, "run warm": 0.6, "damper cold": 0.25, "--help": 0.5}
+TARGETS = {"run cold": 0.4, "run warm": 0.6, "damper cold": 0.25, "--help": 0.5, "fast_peaks 1e3 pts (wall)": 0.1}
 
 # The probe run inside each child: runs the command line (argv in ACV_ARGV, JSON) in-process, and with
 # ACV_KERNELS set records numba's compile events and lists the dispatchers with their signatures.
@@ -72,6 +73,23 @@ if record:
 if argv == ["import"]:
     import acoustiviz  # noqa: F401
     status = 0
+elif argv == ["fast_peaks"]:  # wall ms of one warm fast_peaks call at 1e3 points (best of 5)
+    import numpy as np
+    from acoustiviz import Impact, acceleration_pulse
+    from acoustiviz.core.geometry import images_wall_floor
+    from acoustiviz.field import fast_peaks
+    a = 0.01905
+    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * a**3), "hertz")
+    cfg = images_wall_floor(a, 0.05)
+    pts = np.random.default_rng(1).uniform([0.1, -0.6, 0.05], [0.8, 0.6, 0.8], (1000, 3))
+    fast_peaks(pulse, pts[:10], cfg)
+    best = float("inf")
+    for _ in range(5):
+        t0 = time.perf_counter()
+        fast_peaks(pulse, pts, cfg)
+        best = min(best, time.perf_counter() - t0)
+    print(f"FAST_PEAKS_MS {1e3 * best}")
+    status = 0
 else:
     from acoustiviz.cli import main
     try:
@@ -94,8 +112,12 @@ sys.exit(status)
 """
 
 
-def cpu_run(tree: Path, argv: list[str], cache: Path, cwd: Path, kernels: Path | None = None) -> float:
-    """CPU seconds (user + system) of one probe subprocess running ``argv`` against ``tree``."""
+def cpu_run(tree: Path, argv: list[str], cache: Path, cwd: Path, kernels: Path | None = None,
+            stdout: list | None = None) -> float:
+    """CPU seconds (user + system) of one probe subprocess running ``argv`` against ``tree``.
+
+    The child's standard output is appended to ``stdout`` when given.
+    """
     env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
     env.update(PYTHONPATH=str(tree), NUMBA_CACHE_DIR=str(cache), ACV_ARGV=json.dumps(argv), MPLBACKEND="Agg")
     env.pop("DISPLAY", None)
@@ -106,6 +128,8 @@ def cpu_run(tree: Path, argv: list[str], cache: Path, cwd: Path, kernels: Path |
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode not in (0, 1):  # 1: a damper run that did not settle still ran
         raise RuntimeError(f"{tree}: acoustiviz {' '.join(argv)} failed ({proc.returncode}):\n{proc.stderr[-2000:]}")
+    if stdout is not None:
+        stdout.append(proc.stdout)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
@@ -140,6 +164,9 @@ def measure(tree: Path, work: Path, quick: bool, subs: list[str]) -> tuple[dict,
         shutil.rmtree(out, ignore_errors=True)
         res["run warm"] = cpu_run(tree, ["run", "--out", str(out)], cache, work)
         shutil.rmtree(out, ignore_errors=True)
+        text = []
+        cpu_run(tree, ["fast_peaks"], cache, work, stdout=text)
+        res["fast_peaks 1e3 pts (wall)"] = float(text[0].split("FAST_PEAKS_MS")[1].split()[0]) / 1e3
     kernels = json.loads(kfile.read_text())
     return res, kernels
 
@@ -156,7 +183,7 @@ def table(base: dict, now: dict, kb: dict, kn: dict, commit: str, quick: bool) -
     """The report: one row per measure, then the kernels' signatures and compile times."""
     lines = [f"acoustiviz start-up, CPU seconds (user + system), baseline {commit} vs this tree"
              f"{' (--quick)' if quick else ''}; cold = empty numba cache", ""]
-    lines.append(f"{'measure':<24}{'baseline s':>12}{'now s':>10}{'ratio':>8}{'target':>9}")
+    lines.append(f"{'measure':<28}{'baseline s':>12}{'now s':>10}{'ratio':>8}{'target':>9}")
     help_ratios = []
     for key in base:
         b, n = base[key], now.get(key, float("nan"))
@@ -167,7 +194,7 @@ def table(base: dict, now: dict, kb: dict, kn: dict, commit: str, quick: bool) -
             help_ratios.append(ratio)
         ok = "" if target is None else ("  ok" if ratio <= target else "  MISS")
         tcol = f"<= {target:g}" if target is not None else "-"
-        lines.append(f"{key:<24}{b:>12.2f}{n:>10.2f}{ratio:>8.2f}{tcol:>9}{ok}")
+        lines.append(f"{key:<28}{b:>12.3f}{n:>10.3f}{ratio:>8.3f}{tcol:>9}{ok}")
     sig_b, sig_n = sum(v[0] for v in kb.values()), sum(v[0] for v in kn.values())
     comp_b, comp_n = sum(v[1] for v in kb.values()), sum(v[1] for v in kn.values())
     job = "damper" if quick else "run"

@@ -192,8 +192,7 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
     else:
         imap = solver == "impact-map"
         compiled = 0.0
-        lnu = np.empty(0)
-        table = np.empty((0, 3))
+        lnu = table = None  # the event solver: its kernel is compiled without the impact map's branch
         if imap:
             # restitution table over 4 decades of approach speed below the largest possible one
             umax = initial.max_relative_speed(model)
@@ -201,13 +200,13 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
             table = np.empty((lnu.size, 3))
             compiled = compile_for(kern.restitution_table, (p, lnu, float(rtol), table))
         compiled += compile_for(kern.event_solver, (p, state0, float(duration), float(rtol), t_eval, int(n_max),
-                                                    impacts, dense, final, imap, lnu, table, ext, n_ext),
-                                "event solver", EVENT_SOLVER_COMPILE_S)
+                                                    impacts, dense, final, lnu, table, ext, n_ext),
+                                "impact-map solver" if imap else "event solver", EVENT_SOLVER_COMPILE_S)
         t0 = time.perf_counter()
         if imap:
             kern.restitution_table(p, lnu, rtol, table)
         n, status, t_end = kern.event_solver(p, state0, duration, rtol, t_eval, n_max, impacts, dense,
-                                             final, imap, lnu, table, ext, n_ext)
+                                             final, lnu, table, ext, n_ext)
         elapsed = time.perf_counter() - t0
     return n, status, t_end, elapsed, compiled, impacts, dense, final, ext, int(n_ext[0])
 
