@@ -61,6 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._jit import compile_for
 from .._validate import ParameterError, check_points
 from ..constants import P_REF
 from ..core.geometry import Geometry
@@ -72,6 +73,10 @@ from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
+
+#: CPU time in s of the peak search's first compilation with its callees (about 9 s on a 2-core
+#: machine, ``benchmarks/bench_startup.py``); quoted when it happens.
+PEAKS_COMPILE_S = 9.0
 
 #: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
 DEFAULT_SAMPLES = 12
@@ -265,9 +270,12 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     step = max(1, int(chunk))
     for lo in range(0, n, step):
         hi = min(lo + step, n)
-        _peaks_kernel(res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm,
-                      float(config.radius), float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad,
-                      tb.y_real, tb.y_imag, tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
+        args = (res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm, float(config.radius),
+                float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
+                tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
+        if lo == 0:  # say so once if the peak search's kernels are compiled now
+            compile_for(_peaks_kernel, args, "peak-search", PEAKS_COMPILE_S)
+        _peaks_kernel(*args)
     # the columns are views of the kernel's output (no second copy of the result)
     return PeakExposure(res[:, 0], res[:, 1], res[:, 2], res[:, 3], res[:, 4], res[:, 5].astype(np.int64))
 
