@@ -97,3 +97,23 @@ def test_simulate_reports_compile_time_apart():
     r = simulate(duration=0.5)
     assert r.compile_time == 0.0  # compiled in this process already: nothing to compile or load
     assert r.solver_time > 0.0
+
+
+def test_compiling_line_only_when_the_cache_is_cold(tmp_path):
+    # a cached kernel announced as long to compile: the line is printed by the first process (empty
+    # cache) and not by the second, which loads the kernel from the cache
+    mod = tmp_path / "kern_mod.py"
+    mod.write_text("from numba import njit\n\n\n@njit(cache=True)\ndef twice(x):\n    return 2.0 * x\n")
+    code = ("import sys\n"
+            "from acoustiviz._jit import compile_for\n"
+            "import kern_mod\n"
+            "compile_for(kern_mod.twice, (1.5,), 'test', 3.0)\n"
+            "compile_for(kern_mod.twice, (1.5,), 'test', 3.0)\n"
+            "assert kern_mod.twice(1.5) == 3.0\n")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path), os.environ.get("PYTHONPATH", "")])}
+    runs = [subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+            for _ in range(2)]
+    assert all(r.returncode == 0 for r in runs), [r.stderr for r in runs]
+    assert runs[0].stderr.count("compiling the test kernels (once per installation, about 3 s)") == 1
+    assert "compiling" not in runs[1].stderr
