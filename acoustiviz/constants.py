@@ -145,6 +145,16 @@ DEFAULT_RTOL = 1e-13
 #: Rate in Hz at which computed signals are rendered for their weighted levels (not limited by a
 #: 48 kHz file): flat to 43.2 kHz, so the weightings, the 20 kHz band and the peaks see the whole click.
 ANALYSIS_RATE = 96000
+#: Weighted level name (``--metric``) -> its column in level tables (IEC 61672-1 weightings:
+#: Z/C peak, A fast/slow maximum, A/Z equivalent level, unweighted and A-weighted sound exposure level).
+LEVEL_METRICS = {"lzpeak": "lzpeak_db", "lcpeak": "lcpeak_db", "lafmax": "lafmax_db", "lasmax": "lasmax_db",
+                 "laeq": "laeq_db", "lzeq": "lzeq_db", "sel": "sel_db", "sel-a": "sel_a_db"}
+#: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
+#: the weighted levels of :data:`LEVEL_METRICS`.
+DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **LEVEL_METRICS}
+#: What a balloon may show: the closed form's peak SPL, RMS level and SEL, or a weighted level of
+#: :data:`LEVEL_METRICS` (its unweighted ``sel`` is the closed form's).
+BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in LEVEL_METRICS if m != "sel"))
 
 # --- limits on work -----------------------------------------------------------------------
 

@@ -2,7 +2,7 @@
 
 Layers, lowest first (a module may import its own layer and those below it, never above):
 
-    foundation  errors, constants, _validate
+    foundation  errors, constants, _validate, _jit
     core        medium, materials, contact, radiation, images, approximations
     dynamics    the impact damper and its solvers
     field       the field evaluator, its kernels and grids
@@ -25,7 +25,7 @@ import acoustiviz
 
 PKG = Path(acoustiviz.__file__).parent
 LAYERS = [
-    {"errors", "constants", "_validate"},
+    {"errors", "constants", "_validate", "_jit"},
     {"core"},
     {"dynamics"},
     {"field"},

@@ -463,3 +463,29 @@ def test_rms_is_over_the_exact_window_not_one_rounded_to_whole_samples(kind, con
     assert fm.window / fm.sample_interval == pytest.approx(round(fm.window / fm.sample_interval), abs=1e-6)
     exact = np.sqrt(field.exposure(pulse, pts, g) / fm.window)
     np.testing.assert_allclose(fm.rms, exact, rtol=1e-6)
+
+
+@pytest.mark.parametrize("kind", ["hertz", "half-sine"])
+def test_fast_peaks_reuses_its_tables_across_calls(kind):
+    # the observer-independent tables are built once per pulse, configuration and medium: a second
+    # call with equal (not identical) arguments hits the cache and gives the same numbers as the
+    # tables passed explicitly; the result's columns share one buffer (no second copy)
+    from acoustiviz.field import peaks
+
+    cfg = CONFIGS["corner"]
+    pts = _fast_peak_points(cfg, 40, seed=3)
+    peaks._observer_tables.cache_clear()
+    first = field.fast_peaks(acceleration_pulse(IMPACT, kind), pts, cfg)
+    again = field.fast_peaks(acceleration_pulse(IMPACT, kind), pts, cfg)
+    info = peaks._observer_tables.cache_info()
+    assert (info.hits, info.misses) == (1, 1)
+    pulse = acceleration_pulse(IMPACT, kind)
+    explicit = field.fast_peaks(pulse, pts, cfg, table=field.peak_table(pulse, cfg),
+                                correlations=field.pulse_correlations(pulse, A))
+    for name in ("peak_positive", "peak_negative", "time_positive", "time_negative", "exposure", "refinements"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(first, name))
+        np.testing.assert_array_equal(getattr(explicit, name), getattr(first, name))
+    assert first.peak_positive.base is not None and first.peak_positive.base is first.exposure.base
+    other = field.fast_peaks(acceleration_pulse(Impact(velocity=0.7, k_hertz=5.6e8, mass=MASS), kind), pts, cfg)
+    assert peaks._observer_tables.cache_info().misses == 2  # another pulse builds its own tables
+    assert np.all(other.peak < first.peak)

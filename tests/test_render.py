@@ -235,3 +235,30 @@ def test_memory_does_not_grow_over_50_renders(pulse, plane, tmp_path):
     grown = _rss_bytes() - before
     assert len(_plotter_module._ALL_PLOTTERS) == n_plotters
     assert grown < 25 * 2**20, f"RSS grew by {grown / 2**20:.1f} MiB over 50 renders"
+
+
+@pytest.mark.skipif(not __import__("sys").platform.startswith("linux"), reason="X/EGL choice is Linux's")
+def test_headless_render_is_quiet(tmp_path):
+    # without a display, the render opens VTK's off-screen window directly: no X warning on stderr
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
+    env["PYTHONPATH"] = os.pathsep.join([str(root), env.get("PYTHONPATH", "")])
+    code = ("import math, sys\n"
+            "from acoustiviz import Impact, acceleration_pulse\n"
+            "from acoustiviz.core.geometry import configuration\n"
+            "from acoustiviz.output.render import render_balloon\n"
+            f"a = {A!r}\n"
+            "imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * math.pi * a**3)\n"
+            "render_balloon(acceleration_pulse(imp, 'half-sine'), configuration('plane', a), sys.argv[1],\n"
+            f"               size={SIZE!r}, n_theta=8)\n")
+    out = tmp_path / "b.png"
+    proc = subprocess.run([sys.executable, "-c", code, str(out)], env=env, capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "bad X server" not in proc.stderr and "vtkXOpenGLRenderWindow" not in proc.stderr, proc.stderr
+    _assert_real_picture(_img(out))

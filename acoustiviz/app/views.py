@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import check_range
-from ..constants import ANALYSIS_RATE, P_REF
+from ..constants import ANALYSIS_RATE, BALLOON_METRICS, DIRECTIVITY_METRICS, P_REF
 from ..errors import ParameterError
 from ..field import field_metrics, waveform_span, waveform_spans
 from ..levels import METRICS
@@ -26,12 +26,6 @@ __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samp
            "impact_signals", "impact_sound", "points_metric_levels", "reference_metric_levels", "metric_label",
            "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
-#: ``--metric`` of a directivity -> its CSV column: the peak SPL, the RMS level over the window, and
-#: the weighted levels of :data:`acoustiviz.levels.METRICS`.
-DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **METRICS}
-#: What a balloon may show: the closed form's peak SPL, RMS level and SEL, or a weighted level of
-#: :data:`acoustiviz.levels.METRICS` (its unweighted ``sel`` is the closed form's).
-BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in METRICS if m != "sel"))
 #: Interval in s over which one impact's equivalent levels (LAeq, LZeq) are averaged, from its first arrival.
 LEVEL_INTERVAL = 1.0
 

@@ -65,6 +65,7 @@ def run(args) -> int:
     else:
         print("energy closure: no initial energy, nothing to close")
     print(f"solver time: {round(1000 * result.solver_time)} ms")
+    print(f"kernel compile (or cache load) time: {round(1000 * result.compile_time)} ms")
     if args.impacts_csv:
         from ..output.tables import write_impact_table
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..app.views import BALLOON_METRICS
+from ..constants import BALLOON_METRICS
 from ._impact import add_impact_options
 
 #: Library parameter names -> the option that sets them, for error messages.

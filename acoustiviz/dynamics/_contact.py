@@ -316,11 +316,11 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _newton_in_step(0, 0.0, y, f0, h, y[3], p, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _newton_in_step(np.int64(0), 0.0, y, f0, h, y[3], p, fc, tc, sw, kst, ytmp, ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _newton_in_step(2, t_stop, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _newton_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
         g0 = _dfds(y, f0, p)
         g1 = _dfds(ynew, fnew, p)
         if g0 > 0.0 and g1 <= 0.0:
@@ -337,7 +337,7 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
             if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
                 _copy(ynew, yd)
                 _copy(fnew, fd)
-                _newton_in_step(1, 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
+                _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
                 record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
                 _copy(yd, ynew)
                 _copy(fd, fnew)
@@ -347,7 +347,7 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
                 _copy(fnew, fd)
                 target = t_eval[ie] - tc
                 if target > y[0]:
-                    _newton_in_step(2, target, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
+                    _newton_in_step(np.int64(2), target, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
                 else:
                     _copy(y, ynew)
                 xi = max(ynew[3], 0.0)
@@ -410,7 +410,7 @@ def free_contact(pfree, u0, rtol, work, kst):
     Returns ``(status, restitution, duration in s, peak force in N)``.
     """
     ended, st, _, dur, peak, yc = contact(
-        pfree, None, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), 0, np.empty((0, 6)),
+        pfree, None, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), np.int64(0), np.empty((0, 6)),
         0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64)
     )
     e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0

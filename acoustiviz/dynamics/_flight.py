@@ -259,12 +259,12 @@ def scan_unforced(c, tau_end):
     while ta < tau_end:
         tb = min(tz, tau_end)
         if tb > ta:
-            da = _fval(4, ta, c)
-            db = _fval(4, tb, c)
+            da = _fval(np.int64(4), ta, c)
+            db = _fval(np.int64(4), tb, c)
             npc = 2
             pieces[0] = ta
             if (da < 0.0) != (db < 0.0) and da != 0.0 and db != 0.0:
-                pieces[1] = brent(4, ta, tb, da, db, c)
+                pieces[1] = brent(np.int64(4), ta, tb, da, db, c)
                 pieces[2] = tb
                 npc = 3
             else:
@@ -272,21 +272,21 @@ def scan_unforced(c, tau_end):
             for i in range(npc - 1):
                 p = pieces[i]
                 q = pieces[i + 1]
-                hup = _fval(1, p, c)
-                huq = _fval(1, q, c)
+                hup = _fval(np.int64(1), p, c)
+                huq = _fval(np.int64(1), q, c)
                 if huq < hup:  # z increasing: only wall +1 can be reached
                     if hup <= 0.0:
                         return True, p, 1.0
                     if huq <= 0.0:
-                        return True, brent(1, p, q, hup, huq, c), 1.0
+                        return True, brent(np.int64(1), p, q, hup, huq, c), 1.0
                 else:
-                    hlp = _fval(2, p, c)
-                    hlq = _fval(2, q, c)
+                    hlp = _fval(np.int64(2), p, c)
+                    hlq = _fval(np.int64(2), q, c)
                     if hlq < hlp:
                         if hlp <= 0.0:
                             return True, p, -1.0
                         if hlq <= 0.0:
-                            return True, brent(2, p, q, hlp, hlq, c), -1.0
+                            return True, brent(np.int64(2), p, q, hlp, hlq, c), -1.0
         ta = tb
         tz += half
     return False, tau_end, 0.0
@@ -334,9 +334,9 @@ def scan_forced(c, tau_end):
             dzb = c[4] - v
             if abs(dza) > lb * h:  # monotone z
                 if dza > 0.0 and gpb <= 0.0:
-                    return True, brent(1, ta, tb, gpa, gpb, c), 1.0
+                    return True, brent(np.int64(1), ta, tb, gpa, gpb, c), 1.0
                 if dza < 0.0 and gmb <= 0.0:
-                    return True, brent(2, ta, tb, gma, gmb, c), -1.0
+                    return True, brent(np.int64(2), ta, tb, gma, gmb, c), -1.0
                 break
             q = 0.5 * lb * h * h
             okp = (gpa > 0.0 and gpa - dza * h - q > 0.0) or (gpb > 0.0 and gpb + dzb * h - q > 0.0)
@@ -345,9 +345,9 @@ def scan_forced(c, tau_end):
                 break
             if h <= hmin:
                 if gpb <= 0.0:
-                    return True, brent(1, ta, tb, gpa, gpb, c) if gpa > 0.0 else ta, 1.0
+                    return True, brent(np.int64(1), ta, tb, gpa, gpb, c) if gpa > 0.0 else ta, 1.0
                 if gmb <= 0.0:
-                    return True, brent(2, ta, tb, gma, gmb, c) if gma > 0.0 else ta, -1.0
+                    return True, brent(np.int64(2), ta, tb, gma, gmb, c) if gma > 0.0 else ta, -1.0
                 break
             h *= 0.5
         ta = tb
@@ -402,7 +402,7 @@ def flight_minmax(c, tau, acc):
         acc[3] = max(acc[3], x)
         acc[4] = min(acc[4], x)
         if (va > 0.0) != (vb > 0.0) and va != 0.0 and vb != 0.0:
-            tr = brent(0, ta, tb, va, vb, c)
+            tr = brent(np.int64(0), ta, tb, va, vb, c)
             x, _, _ = flight_state(tr, c)
             acc[3] = max(acc[3], x)
             acc[4] = min(acc[4], x)

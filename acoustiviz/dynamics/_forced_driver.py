@@ -100,7 +100,7 @@ def _release(c, tau_end, sw):
             mono = abs(gpa) > lb * h
             if gb >= 0.0:
                 if mono or h <= hmin:
-                    return True, brent(3, ta, tb, sw * ga, sw * gb, c)
+                    return True, brent(np.int64(3), ta, tb, sw * ga, sw * gb, c)
                 h *= 0.5
                 continue
             q = 0.5 * lb * h * h
@@ -173,7 +173,7 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             continue
         if st[4] > 0.5:  # inside a contact: integrate it
             sw = st[5]
-            ended, stc, _, _, peak, yc = contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, None, 0,
+            ended, stc, _, _, peak, yc = contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, None, np.int64(0),
                                                  None, 0.0, 0.0, work, kst, None, None)
             acc[0] += yc[8]
             acc[1] += yc[7]

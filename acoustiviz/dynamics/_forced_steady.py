@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._jit import compile_for
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import (
     EXCITATIONS,
@@ -51,6 +52,10 @@ from ._newmark import newmark_advance
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
+
+#: CPU time in s of the forced event solver's first compilation with its callees (about 12 s on a
+#: 2-core machine, ``benchmarks/bench_startup.py``); quoted when it happens.
+FORCED_COMPILE_S = 12.0
 
 __all__ = [
     "EXCITATIONS",
@@ -375,6 +380,7 @@ class _Runner:
         self.hg = 0.5 * model.gap
         self.st = np.zeros(8)
         self.cap = int(settings.max_impacts_per_cycle)
+        self._compiled = False
         rows = self.cap * (MAX_PERIOD + 1) if rows is None else int(rows)
         self.imp = np.zeros((rows + 1, 8))
         self.model = model
@@ -402,8 +408,12 @@ class _Runner:
                                               cap, acc, extrema, None, 0, None, None, None)
             out = (n, status)
         else:
-            out = fd.advance(self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp,
-                             n0, cap, acc, extrema)
+            args = (self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
+                    extrema)
+            if not self._compiled:  # say so once if the forced solver's kernels are compiled now
+                compile_for(fd.advance, args, "forced-response", FORCED_COMPILE_S)
+                self._compiled = True
+            out = fd.advance(*args)
         self.k += 1
         self.total += 1
         return out

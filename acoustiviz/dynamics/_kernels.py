@@ -87,9 +87,8 @@ def _table_lookup(lnu, table, x, col):
 
 
 @njit(cache=True)
-def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, final, impact_map,
-                 lnu, table, ext, n_ext):
-    """Event-driven (``impact_map=False``) or impact-map (``True``) integration from t = 0.
+def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, final, lnu, table, ext, n_ext):
+    """Event-driven (``lnu`` and ``table`` None) or impact-map (both arrays) integration from t = 0.
 
     The impact map takes the restitution, duration and peak force at each approach speed from
     ``table`` (see :func:`restitution_table`) by cubic interpolation in ln(speed) inside the
@@ -152,13 +151,13 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
         impacts[n, 0] = tc
         impacts[n, 1] = sw
         impacts[n, 2] = u0
-        if impact_map:
+        if table is not None:  # the impact map; numba compiles this branch only for an array table
             lu = math.log(u0) if u0 > 0.0 else -math.inf
             if lnu.shape[0] >= 4 and lnu[1] <= lu <= lnu[lnu.shape[0] - 2]:
                 st = STATUS_OK
-                e = _table_lookup(lnu, table, lu, 0)
-                dur = math.exp(_table_lookup(lnu, table, lu, 1))
-                peak = math.exp(_table_lookup(lnu, table, lu, 2))
+                e = _table_lookup(lnu, table, lu, np.int64(0))
+                dur = math.exp(_table_lookup(lnu, table, lu, np.int64(1)))
+                peak = math.exp(_table_lookup(lnu, table, lu, np.int64(2)))
             else:
                 st, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)
             x0 = xx

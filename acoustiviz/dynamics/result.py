@@ -191,6 +191,9 @@ class SimulationResult:
         ``(x, v, y, w)`` at ``t_end`` in m and m/s.
     extrema : Extrema
         Every turning point of x(t) in [0, t_end] (see :func:`acoustiviz.dynamics.exact_maxima`).
+    compile_time : float
+        Wall time in s spent before the run compiling the solver's kernels, or loading them from
+        numba's cache (milliseconds once compiled on the installation).
     """
 
     solver: str
@@ -213,6 +216,7 @@ class SimulationResult:
     solver_time: float
     final_state: tuple = field(default=())
     extrema: Extrema | None = None
+    compile_time: float = 0.0
 
     def mechanical_energy(self) -> np.ndarray:
         """Kinetic + spring + Hertz energy at ``t`` in J."""

@@ -38,6 +38,7 @@ from types import MappingProxyType
 
 import numpy as np
 
+from .._jit import compile_for
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import DEFAULT_RTOL, SOLVERS
 from ..errors import AccuracyWarning
@@ -64,6 +65,9 @@ NEWMARK_WARN_FRACTION = 1.0 / 20.0
 NEWMARK_DEFAULT_FRACTION = 1.0 / 50.0
 #: Nodes of the impact map's restitution table (uniform in ln(speed) over four decades).
 IMPACT_MAP_NODES = 40
+#: CPU time in s of the event solver's first compilation with its callees, on a 2-core machine
+#: (``benchmarks/bench_startup.py``, "damper cold" less "damper warm"); quoted when it happens.
+EVENT_SOLVER_COMPILE_S = 9.0
 #: The impact map warns when (shortest contact × main angular frequency) exceeds this.
 IMPACT_MAP_WARN_PRODUCT = 0.05
 
@@ -166,9 +170,10 @@ def _check_t_eval(t_eval, duration):
 
 
 def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_ext_cap, model, initial):
-    """Run a compiled solver warm; return its counts, wall time and filled arrays.
+    """Compile (or load) a solver, then run it; return its counts, wall times and filled arrays.
 
-    Returns ``(n_impacts, status, t_end, seconds, impacts, dense, final, extrema, n_extrema)``.
+    Returns ``(n_impacts, status, t_end, seconds, compile seconds, impacts, dense, final, extrema,
+    n_extrema)``.
     """
     impacts = np.empty((n_max, 8))
     dense = np.empty((t_eval.size, 6))
@@ -176,9 +181,9 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
     ext = np.empty((n_ext_cap, 3))
     n_ext = np.zeros(1, np.int64)
     if solver == "newmark":
-        # warm-up (compiles or loads the cached kernel) so solver_time is the solver alone
-        kern.newmark(p, state0, dt, 1, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)), np.zeros(7),
-                     np.empty((0, 3)), np.zeros(1, np.int64))
+        # compiled (or loaded from the cache) apart, so that the solver time is the solver alone
+        compiled = compile_for(kern.newmark, (p, state0, float(dt), int(nsteps), t_eval, int(n_max), impacts, dense,
+                                              final, ext, n_ext))
         t0 = time.perf_counter()
         n, status, t_end = kern.newmark(p, state0, dt, nsteps, t_eval, n_max, impacts, dense, final, ext, n_ext)
         elapsed = time.perf_counter() - t0
@@ -186,23 +191,24 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
             t_end = duration
     else:
         imap = solver == "impact-map"
-        lnu = np.empty(0)
-        table = np.empty((0, 3))
+        compiled = 0.0
+        lnu = table = None  # the event solver: its kernel is compiled without the impact map's branch
         if imap:
             # restitution table over 4 decades of approach speed below the largest possible one
             umax = initial.max_relative_speed(model)
             lnu = np.linspace(math.log(umax) - math.log(1e4), math.log(umax) + 0.05, IMPACT_MAP_NODES)
             table = np.empty((lnu.size, 3))
-            kern.restitution_table(p, lnu[:1], rtol, table[:1])
-        kern.event_solver(p, state0, 1e-9, rtol, np.empty(0), 1, np.empty((1, 8)), np.empty((0, 6)),
-                          np.zeros(7), imap, lnu, table, np.empty((0, 3)), np.zeros(1, np.int64))
+            compiled = compile_for(kern.restitution_table, (p, lnu, float(rtol), table))
+        compiled += compile_for(kern.event_solver, (p, state0, float(duration), float(rtol), t_eval, int(n_max),
+                                                    impacts, dense, final, lnu, table, ext, n_ext),
+                                "impact-map solver" if imap else "event solver", EVENT_SOLVER_COMPILE_S)
         t0 = time.perf_counter()
         if imap:
             kern.restitution_table(p, lnu, rtol, table)
         n, status, t_end = kern.event_solver(p, state0, duration, rtol, t_eval, n_max, impacts, dense,
-                                             final, imap, lnu, table, ext, n_ext)
+                                             final, lnu, table, ext, n_ext)
         elapsed = time.perf_counter() - t0
-    return n, status, t_end, elapsed, impacts, dense, final, ext, int(n_ext[0])
+    return n, status, t_end, elapsed, compiled, impacts, dense, final, ext, int(n_ext[0])
 
 
 def simulate(
@@ -317,7 +323,7 @@ def simulate(
         if out[-1] <= n_ext_cap:
             break
         n_ext_cap = int(out[-1])
-    n, status, t_end, elapsed, impacts, dense, final, ext, n_ext = out
+    n, status, t_end, elapsed, compiled, impacts, dense, final, ext, n_ext = out
     extrema = Extrema(ext[:n_ext, 0], ext[:n_ext, 1], ext[:n_ext, 2])
 
     x0, v0, y0, w0 = state0
@@ -358,6 +364,7 @@ def simulate(
         success=status == kern.STATUS_OK,
         message=status_message(status) + f" at t = {t_end:.6g} s",
         solver_time=elapsed,
+        compile_time=compiled,
         final_state=(float(xf), float(vf), float(yf), float(wf)),
         extrema=extrema,
     )

@@ -54,11 +54,14 @@ a dense scan of the closed form.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._jit import compile_for
 from .._validate import ParameterError, check_points
 from ..constants import P_REF
 from ..core.geometry import Geometry
@@ -70,6 +73,10 @@ from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
+
+#: CPU time in s of the peak search's first compilation with its callees (about 9 s on a 2-core
+#: machine, ``benchmarks/bench_startup.py``); quoted when it happens.
+PEAKS_COMPILE_S = 9.0
 
 #: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
 DEFAULT_SAMPLES = 12
@@ -251,6 +258,30 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     pts = check_points("points", points)
     if not (margin >= 0.0 and math.isfinite(margin)):
         raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
+    if table is None and correlations is None:
+        # the observer-independent tables, built once per pulse, configuration and medium
+        tb, tp, cargs, cusps, sources = _observer_tables(_Keyed(pulse), _Keyed(config), _Keyed(medium),
+                                                         bool(exposure))
+    else:
+        tb, tp, cargs, cusps, sources = _build_tables(pulse, config, medium, bool(exposure), table, correlations)
+    spos, saxis, centre, ppt, pnm = sources
+    n = pts.shape[0]
+    res = np.empty((n, 6))
+    step = max(1, int(chunk))
+    for lo in range(0, n, step):
+        hi = min(lo + step, n)
+        args = (res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm, float(config.radius),
+                float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
+                tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
+        if lo == 0:  # say so once if the peak search's kernels are compiled now
+            compile_for(_peaks_kernel, args, "peak-search", PEAKS_COMPILE_S)
+        _peaks_kernel(*args)
+    # the columns are views of the kernel's output (no second copy of the result)
+    return PeakExposure(res[:, 0], res[:, 1], res[:, 2], res[:, 3], res[:, 4], res[:, 5].astype(np.int64))
+
+
+def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table=None, correlations=None):
+    """What :func:`fast_peaks` needs besides the points: peak table, Taylor pulse, correlations, sources."""
     tb = peak_table(pulse, config, medium=medium) if table is None else table
     # the refinement evaluates Y, Y' and Y'' of every pulse from its Taylor table
     tp = taylor_pulse(pulse, config.radius, medium)
@@ -264,14 +295,39 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
     a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
     cusps = bool(np.max(np.abs(pulse.acceleration(np.array([0.0, end])))) > 1e-9 * a_scale)
-    spos, saxis, centre, ppt, pnm = _source_arrays(config)
-    n = pts.shape[0]
-    res = np.empty((n, 6))
-    step = max(1, int(chunk))
-    for lo in range(0, n, step):
-        hi = min(lo + step, n)
-        _peaks_kernel(res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm,
-                      float(config.radius), float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad,
-                      tb.y_real, tb.y_imag, tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
-    return PeakExposure(res[:, 0].copy(), res[:, 1].copy(), res[:, 2].copy(), res[:, 3].copy(),
-                        res[:, 4].copy(), res[:, 5].astype(np.int64))
+    return tb, tp, cargs, cusps, _source_arrays(config)
+
+
+def _value_key(obj):
+    """A hashable key equal for equal values: the object, or its fields with arrays as bytes."""
+    try:
+        hash(obj)
+        return obj
+    except TypeError:
+        if isinstance(obj, np.ndarray):
+            return (obj.dtype.str, obj.shape, obj.tobytes())
+        if dataclasses.is_dataclass(obj):
+            return (type(obj), *(_value_key(getattr(obj, f.name)) for f in dataclasses.fields(obj)))
+        raise
+
+
+class _Keyed:
+    """An argument of :func:`_observer_tables`, hashed and compared by value (:func:`_value_key`)."""
+
+    __slots__ = ("obj", "key")
+
+    def __init__(self, obj):
+        self.obj = obj
+        self.key = _value_key(obj)
+
+    def __hash__(self):
+        return hash(self.key)
+
+    def __eq__(self, other):
+        return isinstance(other, _Keyed) and type(self.key) is type(other.key) and self.key == other.key
+
+
+@functools.lru_cache(maxsize=16)
+def _observer_tables(pulse: _Keyed, config: _Keyed, medium: _Keyed, exposure: bool):
+    """:func:`_build_tables` kept for the last 16 pulse, configuration and medium values (read, never written)."""
+    return _build_tables(pulse.obj, config.obj, medium.obj, exposure)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_nonnegative, check_positive
-from ..constants import P_REF
+from ..constants import LEVEL_METRICS, P_REF
 from ._library import library
 
 __all__ = ["LEVEL_COLUMNS", "METRICS", "SoundLevels", "as_channels", "interval_slice", "weighted", "sound_levels",
@@ -35,8 +35,7 @@ __all__ = ["LEVEL_COLUMNS", "METRICS", "SoundLevels", "as_channels", "interval_s
 LEVEL_COLUMNS = ("lzpeak_db", "lcpeak_db", "lafmax_db", "lasmax_db", "laeq_db", "lzeq_db", "sel_db", "sel_a_db")
 
 #: Metric names as front-ends spell them (``--metric lcpeak``) -> the :class:`SoundLevels` field.
-METRICS = {"lzpeak": "lzpeak_db", "lcpeak": "lcpeak_db", "lafmax": "lafmax_db", "lasmax": "lasmax_db",
-           "laeq": "laeq_db", "lzeq": "lzeq_db", "sel": "sel_db", "sel-a": "sel_a_db"}
+METRICS = LEVEL_METRICS
 
 def level_db(mean_square, reference: float = P_REF) -> np.ndarray:
     """``10 log10(mean_square / reference²)`` in dB; ``-inf`` for silence.

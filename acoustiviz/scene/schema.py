@@ -6,8 +6,7 @@ import math
 from dataclasses import dataclass
 
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
-from ..app.views import BALLOON_METRICS as _BALLOON_METRICS
-from ..app.views import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
+from ..constants import BALLOON_METRICS as _BALLOON_METRICS
 from ..constants import (
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
@@ -35,6 +34,7 @@ from ..constants import (
     SAMPLE_RATES,
     TABLE1,
 )
+from ..constants import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
 from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import GEOMETRIES
 from ..core.room_geometry import ROOM_STRIKES

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -57,11 +59,25 @@ def check_backend():
     module
         The :mod:`pyvista` module.
     """
+    _headless_window()
     try:
         import pyvista
     except ImportError as exc:  # pragma: no cover - pyvista is a dependency
         raise RuntimeError(f"3-D renders need pyvista and VTK ('pip install pyvista'): {exc}") from exc
     return pyvista
+
+
+def _headless_window() -> None:
+    """On Linux without a display, make VTK open its EGL off-screen window first.
+
+    VTK's default render window on Linux is the X one; with no X server it logs a coloured
+    ``vtkXOpenGLRenderWindow ... bad X server connection`` warning to stderr before falling back to EGL.
+    Asking for EGL first (``VTK_DEFAULT_OPENGL_WINDOW``, read when a window is created) skips the
+    attempt and the warning; a choice already made in the environment is kept.
+    """
+    headless = not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+    if sys.platform.startswith("linux") and headless:
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
 def mp4_available() -> bool:

@@ -1,0 +1,239 @@
+"""Start-up and first-run cost of ``acoustiviz``, side by side with a baseline commit.
+
+Every measure runs in a fresh Python subprocess and is reported in CPU seconds (user + system of the
+child and its own children, ``resource.getrusage(RUSAGE_CHILDREN)``), because wall time on a shared
+machine varies with the load while CPU time does not. "Cold" runs start from an empty numba cache
+directory (``NUMBA_CACHE_DIR`` set to a new temporary directory), so every kernel is compiled; "warm"
+runs reuse the cache the cold run filled.
+
+The baseline is the commit ``--baseline`` (default 4a6bf44, the start-up cost before kernels were
+fixed to one signature and imports made lazy), extracted with ``git archive`` into a temporary
+directory and imported through ``PYTHONPATH``, with the same interpreter and the same packages.
+
+Measures: ``acoustiviz --help`` and each subcommand's ``--help``; ``import acoustiviz``; the README's
+main job ``acoustiviz run --out DIR`` cold and warm; the default damper run (``acoustiviz damper``,
+20 s, event solver) cold and warm; and (full run only) the wall time of one warm
+``fast_peaks`` call at 1e3 points, best of 5. After the cold README job, every numba dispatcher found in the
+``acoustiviz`` modules is listed with its number of compiled signatures and its compile time, taken
+from numba's ``numba:compile`` events: "self" is the time of the kernel's own compilations less the
+compilations of other kernels nested in them, so the self times add up to the total compile time.
+
+Usage::
+
+    python benchmarks/bench_startup.py            # full (a few minutes of CPU)
+    python benchmarks/bench_startup.py --quick    # --help, import and the damper run only
+
+The table is also written to ``benchmarks/results/bench_startup.txt`` (``--quick`` writes
+``bench_startup_quick.txt``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+BASELINE = "4a6bf44"
+
+#: ratio targets of the measures that have one (issue 24), as "<= x"
+TARGETS = {"run cold": 0.4, "run warm": 0.6, "damper cold": 0.25, "--help": 0.5, "fast_peaks 1e3 pts (wall)": 0.1}
+
+# The probe run inside each child: runs the command line (argv in ACV_ARGV, JSON) in-process, and with
+# ACV_KERNELS set records numba's compile events and lists the dispatchers with their signatures.
+PROBE = r"""
+import json, os, sys, time
+argv = json.loads(os.environ["ACV_ARGV"])
+record = os.environ.get("ACV_KERNELS")
+events = []
+if record:
+    from numba.core import event as ev
+
+    class _L(ev.Listener):
+        def __init__(self):
+            self.stack = []
+
+        def on_start(self, e):
+            self.stack.append([time.process_time(), 0.0, e.data["dispatcher"]])
+
+        def on_end(self, e):
+            t0, nested, disp = self.stack.pop()
+            total = time.process_time() - t0
+            if self.stack:
+                self.stack[-1][1] += total
+            events.append((disp, total - nested))
+
+    ev.register("numba:compile", _L())
+if argv == ["import"]:
+    import acoustiviz  # noqa: F401
+    status = 0
+elif argv == ["fast_peaks"]:  # wall ms of one warm fast_peaks call at 1e3 points (best of 5)
+    import numpy as np
+    from acoustiviz import Impact, acceleration_pulse
+    from acoustiviz.core.geometry import images_wall_floor
+    from acoustiviz.field import fast_peaks
+    a = 0.01905
+    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * a**3), "hertz")
+    cfg = images_wall_floor(a, 0.05)
+    pts = np.random.default_rng(1).uniform([0.1, -0.6, 0.05], [0.8, 0.6, 0.8], (1000, 3))
+    fast_peaks(pulse, pts[:10], cfg)
+    best = float("inf")
+    for _ in range(5):
+        t0 = time.perf_counter()
+        fast_peaks(pulse, pts, cfg)
+        best = min(best, time.perf_counter() - t0)
+    print(f"FAST_PEAKS_MS {1e3 * best}")
+    status = 0
+else:
+    from acoustiviz.cli import main
+    try:
+        status = main(argv)
+    except SystemExit as exc:  # --help
+        status = exc.code or 0
+if record:
+    self_time, disps = {}, {}
+    for disp, t in events:
+        self_time[id(disp)] = self_time.get(id(disp), 0.0) + t
+        disps[id(disp)] = disp
+    rows = {}
+    for i, disp in disps.items():
+        key = f"{disp.py_func.__module__.removeprefix('acoustiviz.')}.{disp.py_func.__name__}"
+        n, t = rows.get(key, (0, 0.0))
+        rows[key] = (n + len(disp.signatures), t + self_time[i])
+    with open(record, "w") as f:
+        json.dump(rows, f)
+sys.exit(status)
+"""
+
+
+def cpu_run(tree: Path, argv: list[str], cache: Path, cwd: Path, kernels: Path | None = None,
+            stdout: list | None = None) -> float:
+    """CPU seconds (user + system) of one probe subprocess running ``argv`` against ``tree``.
+
+    The child's standard output is appended to ``stdout`` when given.
+    """
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env.update(PYTHONPATH=str(tree), NUMBA_CACHE_DIR=str(cache), ACV_ARGV=json.dumps(argv), MPLBACKEND="Agg")
+    env.pop("DISPLAY", None)
+    if kernels is not None:
+        env["ACV_KERNELS"] = str(kernels)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = subprocess.run([sys.executable, "-c", PROBE], env=env, cwd=cwd, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode not in (0, 1):  # 1: a damper run that did not settle still ran
+        raise RuntimeError(f"{tree}: acoustiviz {' '.join(argv)} failed ({proc.returncode}):\n{proc.stderr[-2000:]}")
+    if stdout is not None:
+        stdout.append(proc.stdout)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def subcommands(tree: Path) -> list[str]:
+    """The subcommand names of the tree's command line."""
+    out = subprocess.run([sys.executable, "-c", "from acoustiviz.cli import SUBCOMMANDS; print(*SUBCOMMANDS)"],
+                         env={**os.environ, "PYTHONPATH": str(tree)}, capture_output=True, text=True, check=True)
+    return out.stdout.split()
+
+
+def measure(tree: Path, work: Path, quick: bool, subs: list[str]) -> tuple[dict, dict]:
+    """Every measure of one tree: ({measure: CPU s}, {kernel: (signatures, compile s)})."""
+    cache = work / "cache"
+    res, kernels = {}, {}
+
+    def fresh():
+        shutil.rmtree(cache, ignore_errors=True)
+        cache.mkdir()
+        return cache
+
+    res["--help"] = cpu_run(tree, ["--help"], fresh(), work)
+    for sub in subs if not quick else subs[:1]:
+        res[f"{sub} --help"] = cpu_run(tree, [sub, "--help"], fresh(), work)
+    res["import acoustiviz"] = cpu_run(tree, ["import"], fresh(), work)
+    kfile = work / "kernels_damper.json"
+    res["damper cold"] = cpu_run(tree, ["damper"], fresh(), work, kernels=kfile)
+    res["damper warm"] = cpu_run(tree, ["damper"], cache, work)
+    if not quick:
+        kfile = work / "kernels_run.json"
+        out = work / "out"
+        res["run cold"] = cpu_run(tree, ["run", "--out", str(out)], fresh(), work, kernels=kfile)
+        shutil.rmtree(out, ignore_errors=True)
+        res["run warm"] = cpu_run(tree, ["run", "--out", str(out)], cache, work)
+        shutil.rmtree(out, ignore_errors=True)
+        text = []
+        cpu_run(tree, ["fast_peaks"], cache, work, stdout=text)
+        res["fast_peaks 1e3 pts (wall)"] = float(text[0].split("FAST_PEAKS_MS")[1].split()[0]) / 1e3
+    kernels = json.loads(kfile.read_text())
+    return res, kernels
+
+
+def baseline_tree(commit: str, dest: Path) -> Path:
+    """Extract ``commit`` of this repository into ``dest`` (``git archive``); return the tree."""
+    dest.mkdir(parents=True, exist_ok=True)
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit], capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    return dest
+
+
+def table(base: dict, now: dict, kb: dict, kn: dict, commit: str, quick: bool) -> str:
+    """The report: one row per measure, then the kernels' signatures and compile times."""
+    lines = [f"acoustiviz start-up, CPU seconds (user + system), baseline {commit} vs this tree"
+             f"{' (--quick)' if quick else ''}; cold = empty numba cache", ""]
+    lines.append(f"{'measure':<28}{'baseline s':>12}{'now s':>10}{'ratio':>8}{'target':>9}")
+    help_ratios = []
+    for key in base:
+        b, n = base[key], now.get(key, float("nan"))
+        ratio = n / b if b > 0 else float("nan")
+        target = TARGETS.get(key)
+        if key.endswith("--help"):
+            target = TARGETS["--help"]
+            help_ratios.append(ratio)
+        ok = "" if target is None else ("  ok" if ratio <= target else "  MISS")
+        tcol = f"<= {target:g}" if target is not None else "-"
+        lines.append(f"{key:<28}{b:>12.3f}{n:>10.3f}{ratio:>8.3f}{tcol:>9}{ok}")
+    sig_b, sig_n = sum(v[0] for v in kb.values()), sum(v[0] for v in kn.values())
+    comp_b, comp_n = sum(v[1] for v in kb.values()), sum(v[1] for v in kn.values())
+    job = "damper" if quick else "run"
+    lines += ["", f"numba kernels after the cold {job} job: compiled kernels {sum(v[0] > 0 for v in kb.values())} -> "
+              f"{sum(v[0] > 0 for v in kn.values())}, signatures {sig_b} -> {sig_n}, "
+              f"compile CPU s {comp_b:.1f} -> {comp_n:.1f}", ""]
+    lines.append(f"{'kernel':<44}{'sigs base':>10}{'sigs now':>10}{'compile base s':>16}{'compile now s':>15}")
+    keys = sorted(set(kb) | set(kn), key=lambda k: -max(kb.get(k, (0, 0))[1], kn.get(k, (0, 0))[1]))
+    for k in keys:
+        (sb, cb), (sn, cn) = kb.get(k, (0, 0.0)), kn.get(k, (0, 0.0))
+        if sb == 0 and sn == 0:
+            continue
+        lines.append(f"{k:<44}{sb:>10d}{sn:>10d}{cb:>16.2f}{cn:>15.2f}")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    """Run the benchmark; print and save the table."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="--help, import and the damper run only")
+    ap.add_argument("--baseline", default=BASELINE, help=f"commit to compare with (default {BASELINE})")
+    args = ap.parse_args(argv)
+    with tempfile.TemporaryDirectory(prefix="bench_startup_") as tmp:
+        tmp = Path(tmp)
+        base_tree = baseline_tree(args.baseline, tmp / "baseline")
+        subs = subcommands(ROOT)
+        (tmp / "wb").mkdir()
+        (tmp / "wn").mkdir()
+        base, kb = measure(base_tree, tmp / "wb", args.quick, subs)
+        now, kn = measure(ROOT, tmp / "wn", args.quick, subs)
+    text = table(base, now, kb, kn, args.baseline, args.quick)
+    print(text, end="")
+    out = ROOT / "benchmarks" / "results" / f"bench_startup{'_quick' if args.quick else ''}.txt"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp_out = out.with_suffix(".txt.tmp")
+    tmp_out.write_text(text)
+    os.replace(tmp_out, out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
