@@ -565,7 +565,22 @@ SWEEP_CMD = "acoustiviz " + " ".join(SWEEP_ARGS)
 DESIGN_CMD = "acoustiviz " + " ".join(DESIGN_ARGS) + " --rank-by lafmax_db"
 AURALIZE_CMD = "acoustiviz auralize --wav damper.wav --levels"
 WAV_5S_CMD = "acoustiviz levels damper.wav --csv first5s.csv --start 0 --stop 5 --loudness"
+def produce_bench_startup() -> dict:
+    """The README main job's CPU time, cold (empty kernel cache) and warm, from ``bench_startup.txt``.
+
+    Rounded to 5 s: the text says "about"; the file has the measured seconds.
+    """
+    text = _benchmark("bench_startup")
+    cold = float(re.search(r"^run cold\s+[\d.]+\s+([\d.]+)", text, re.M).group(1))
+    warm = float(re.search(r"^run warm\s+[\d.]+\s+([\d.]+)", text, re.M).group(1))
+    return {"cold": f"{5 * round(cold / 5):d}", "warm": f"{5 * round(warm / 5):d}"}
+
+
 REGISTRY = (
+    Figure("readme-startup", "README.md",
+           r"on a 2-core machine about (?P<cold>\d+) s of CPU the first time, most of it\s+compiling the numba "
+           r"kernels once per installation, then (?P<warm>\d+) s; measured by `benchmarks/bench_startup\.py`",
+           produce_bench_startup, "python benchmarks/bench_startup.py"),
     Figure("forced-table", "docs/guide/operation.md",
            r"```console\n\$ " + re.escape(FORCED_CMD) + r"\n(?P<output>.*?)```", produce_forced_table, FORCED_CMD),
     Figure("forced-coexisting", "docs/guide/operation.md",
