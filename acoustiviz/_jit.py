@@ -5,7 +5,9 @@ its on-disk cache (``cache=True``), so a first run on an installation pays the c
 runs load it in milliseconds. :func:`compile_for` compiles (or loads) a kernel for the types of
 given arguments without running it, returning the seconds that took, so that run times report the
 kernel alone; when the kernel is not in the cache and its compilation is known to be long, it first
-prints one line to stderr saying so.
+prints one line to stderr saying so, where someone is watching (stderr a terminal): in a log or a
+pipe the line would only add to what a program reading stderr has to parse, and whether it came
+would depend on the state of the cache.
 
 Imports numba only when called.
 """
@@ -44,7 +46,16 @@ def in_cache(dispatcher, args) -> bool:
         return False
 
 
-def compile_for(dispatcher, args, name: str | None = None, seconds: float = 0.0) -> float:
+def _watched() -> bool:
+    """True when stderr is a terminal."""
+    try:
+        return bool(sys.stderr is not None and sys.stderr.isatty())
+    except (AttributeError, ValueError):  # replaced or closed stream
+        return False
+
+
+def compile_for(dispatcher, args, name: str | None = None, seconds: float = 0.0,
+                announce: bool | None = None) -> float:
     """Compile ``dispatcher`` for the types of ``args`` (or load it from the cache); return the wall s.
 
     Parameters
@@ -59,11 +70,15 @@ def compile_for(dispatcher, args, name: str | None = None, seconds: float = 0.0)
         ``compiling the <name> kernels (once per installation, about N s)``.
     seconds : float, optional
         The typical compile time in s (CPU, ``benchmarks/bench_startup.py``) quoted in that line.
+    announce : bool, optional
+        Whether that line may be printed; default: when stderr is a terminal.
     """
     sig = _signature(args)
     if dispatcher.overloads.get(sig) is not None:
         return 0.0
-    if name and seconds > 2.0 and name not in _ANNOUNCED and not in_cache(dispatcher, args):
+    if announce is None:
+        announce = _watched()
+    if announce and name and seconds > 2.0 and name not in _ANNOUNCED and not in_cache(dispatcher, args):
         _ANNOUNCED.add(name)
         print(f"compiling the {name} kernels (once per installation, about {seconds:.0f} s)",
               file=sys.stderr, flush=True)

@@ -69,6 +69,7 @@ def _sidecar_keys(path):
     return set(json.loads(path.read_text())) - {"damper"}
 
 
+@pytest.mark.slow
 def test_auralize_and_scene_write_one_sidecar_schema(tmp_path):
     from acoustiviz.app.pipeline import run_scene
 

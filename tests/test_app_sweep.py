@@ -68,6 +68,7 @@ def test_scene_errors_name_the_scene_key():
     assert exc.value.name == "listeners" and "sphere radius" in exc.value.detail
 
 
+@pytest.mark.slow
 def test_outputs_and_report(tmp_path):
     spec = sweep_spec(gap="0.03,0.05", m="0.04", duration=1.0)
     run = run_sweep_outputs(spec, tmp_path, workers=1)

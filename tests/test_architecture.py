@@ -170,6 +170,7 @@ def test_every_module_belongs_to_a_layer():
     assert tops <= set(RANK), f"modules outside any layer: {sorted(tops - set(RANK))}"
 
 
+@pytest.mark.slow
 def test_imports_point_down_the_layers():
     bad = []
     for path, rel in _modules():

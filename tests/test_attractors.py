@@ -37,6 +37,7 @@ def test_a_drifting_window_is_told_from_a_stationary_one():
     assert _drifting(0.14 + noise + np.linspace(0.02, 0.0, 8))  # a decaying transient
 
 
+@pytest.mark.slow
 def test_motions_without_impacts_are_one_motion_wherever_the_impact_mass_floats():
     model, ex = DamperModel(gap=10.0), Excitation(3.0, 5.0)
     a = steady_state(model, ex, initial=(0.0, 0.0, 0.0, 0.0), tolerance=1e-12)

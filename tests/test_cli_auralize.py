@@ -176,6 +176,7 @@ def test_bad_options_exit_2_naming_the_option(tmp_path, capsys, extra, option):
     assert not (tmp_path / "x.wav").exists()
 
 
+@pytest.mark.slow
 def test_console_script_runs(tmp_path):
     csv = _one_impact_csv(tmp_path / "one.csv")
     res = subprocess.run([sys.executable, "-m", "acoustiviz", "auralize", "--impacts", str(csv), "--duration",

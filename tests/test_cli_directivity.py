@@ -33,6 +33,7 @@ def _read(path):
     return rows[0], np.array(rows[1:], dtype=float)
 
 
+@pytest.mark.slow
 def test_plane_directivity_csv_and_png(tmp_path):
     out, png = tmp_path / "d.csv", tmp_path / "d.png"
     assert main([*ARGS, "--config", "plane", "--step", "5", "--csv", str(out), "--png", str(png)]) == 0

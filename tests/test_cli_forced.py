@@ -26,6 +26,7 @@ def _read(path):
 NEW = ["attractor", "basin_fraction", "stable", "max_floquet_modulus", "residual", "amplitude_std_err_m"]
 
 
+@pytest.mark.slow
 def test_table1_response_csv_and_png(tmp_path):
     out, png = tmp_path / "r.csv", tmp_path / "r.png"
     rc = main(["forced", *TABLE1, "--force", "5", "--freq", "3:7:3", "--csv", str(out), "--png", str(png)])
@@ -124,6 +125,7 @@ def test_parse_frequencies():
     assert err.value.name == "--freq"
 
 
+@pytest.mark.slow
 def test_noise_columns_and_wav(tmp_path):
     out, wav = tmp_path / "n.csv", tmp_path / "n.wav"
     rc = main(["forced", "--force", "5", "--freq", "3,7", "--wav", str(wav), "--csv", str(out)])
@@ -141,6 +143,7 @@ def test_noise_columns_and_wav(tmp_path):
     assert data.shape[0] == pytest.approx(total * fs, abs=len(rows))
 
 
+@pytest.mark.slow
 def test_no_noise_leaves_the_level_columns_empty(tmp_path):
     out = tmp_path / "q.csv"
     assert main(["forced", "--force", "5", "--freq", "5", "--no-noise", "--csv", str(out)]) == 0
@@ -163,6 +166,7 @@ def test_bad_noise_options_exit_2(argv, option, capsys, tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_independent_frequencies_on_a_dask_cluster_equal_the_serial_run(tmp_path):
     """The sweeps' executors serve the frequency response too: a Dask cluster gives the serial table."""
     distributed = pytest.importorskip("distributed")
@@ -175,6 +179,7 @@ def test_independent_frequencies_on_a_dask_cluster_equal_the_serial_run(tmp_path
     assert _read(tmp_path / "dask.csv") == _read(tmp_path / "serial.csv")
 
 
+@pytest.mark.slow
 def test_an_unreachable_dask_scheduler_is_named(capsys):
     assert main(["forced", *TABLE1, "--force", "5", "--freq", "6.5,7", "--executor", "dask://127.0.0.1:1"]) == 2
     err = capsys.readouterr().err

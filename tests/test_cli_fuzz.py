@@ -152,6 +152,7 @@ CASES = [
 
 
 @pytest.mark.parametrize("argv, option", CASES, ids=[" ".join(c[0]) for c in CASES])
+@pytest.mark.slow
 def test_bad_input_is_one_line_naming_the_option(here, capsys, argv, option):
     rc = call(argv)
     assert_user_error(rc, capsys.readouterr().err, option)
@@ -239,6 +240,7 @@ def test_the_cap_is_documented_and_can_be_raised(capsys):
     assert "--max-memory" in out and "2048" in out
 
 
+@pytest.mark.slow
 def test_max_memory_lets_through_what_the_default_refuses(here, capsys):
     argv = ["directivity", "--step", "0.01", "--max-memory", "0.05"]
     assert_user_error(call(argv), capsys.readouterr().err, "--step")
@@ -260,6 +262,7 @@ def _finite_csv(path):
 @settings(max_examples=150, derandomize=True, deadline=None, phases=(Phase.explicit, Phase.generate),
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(option=st.sampled_from(IMPACT_OPTIONS), value=st.sampled_from(POOL))
+@pytest.mark.slow
 def test_waveform_fuzz_either_finite_or_one_line(here, capsys, option, value):
     for f in here.glob("w.csv"):
         f.unlink()
@@ -281,6 +284,7 @@ DAMPER_OPTIONS = ["--M", "--K", "--C", "--m", "--gap", "--k-hertz", "--c1", "--v
 @settings(max_examples=150, derandomize=True, deadline=None, phases=(Phase.explicit, Phase.generate),
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(option=st.sampled_from(DAMPER_OPTIONS), value=st.sampled_from(POOL))
+@pytest.mark.slow
 def test_damper_fuzz_either_finite_or_one_line(here, capsys, option, value):
     argv = ["damper", *FAST_DAMPER, option, value]
     rc = call(argv)
@@ -398,6 +402,7 @@ def test_run_force_keeps_read_only_files_and_links_in_the_folder(here, capsys):
 SMALL_SWEEP = ["sweep", "--m", "0.04", "--duration", "0.5", "--quiet", "--out", "sw"]
 
 
+@pytest.mark.slow
 def test_sweep_overwrite_twice_keeps_both_previous_sweeps_with_their_spec(here, capsys):
     import json
 
@@ -486,6 +491,7 @@ def test_a_damaged_journal_is_one_line_when_resuming(here, capsys, finished_swee
 
 
 @pytest.mark.parametrize("kind", ["json list", "binary json", "spec not a table"])
+@pytest.mark.slow
 def test_a_damaged_settings_file_is_refused_or_moved_aside(here, capsys, finished_sweep, kind):
     import shutil
 
@@ -598,6 +604,7 @@ def tiny_disk(here):
     ["render", "balloon", "--resolution", "16", "--vtk", "tiny/b.vtu", "--png", "b.png"],
     ["auralize", "--duration", "1", "--wav", "tiny/a.wav"],
 ])
+@pytest.mark.slow
 def test_a_real_full_disk_is_one_line_and_no_crash(tiny_disk, argv):
     import subprocess
     import sys
@@ -686,6 +693,7 @@ frequency_response = true
 """
 
 
+@pytest.mark.slow
 def test_a_failed_frequency_exits_1_from_the_command_and_from_a_scene(here, capsys, monkeypatch):
     _one_frequency_fails(monkeypatch)
     rc, _ = run_cli(["forced", "--force", "5", "--freq", "5:6:2", "--no-noise", "--csv", "f.csv"], capsys)
@@ -744,6 +752,7 @@ def test_the_scene_wav_rate_rule_is_its_help_and_is_checked_at_load(here, capsys
     assert "w.toml" in err and left_over(here) == ["w.toml"]
 
 
+@pytest.mark.slow
 def test_the_operating_noise_sidecar_states_the_files_rate(here, capsys):
     import json
 
@@ -803,6 +812,7 @@ def test_a_damaged_wav_or_sidecar_is_one_line_for_levels(here, capsys, wav, side
     assert not (here / "l.csv").exists()
 
 
+@pytest.mark.slow
 def test_overwrite_moves_only_the_sweeps_own_files(here, capsys):
     assert call([*SMALL_SWEEP, "--gap", "0.03"]) == 0
     (here / "sw" / "notes.txt").write_text("mine\n")

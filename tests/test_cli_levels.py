@@ -81,6 +81,7 @@ def test_missing_file_exits_2(tmp_path, capsys):
     assert "no such file" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_loudness_columns_when_asked(tmp_path):
     from acoustiviz.levels import loudness_available
 

@@ -9,6 +9,7 @@ from acoustiviz.scene import load_scene
 SMALL = ["--resolution", "24", "--extent", "0.2"]
 
 
+@pytest.mark.slow
 def test_writes_png_csv_and_vtk(tmp_path, capsys):
     pv = pytest.importorskip("pyvista")
     Image = pytest.importorskip("PIL.Image")
@@ -36,6 +37,7 @@ def test_horizontal_plane_at_a_height(tmp_path):
     assert np.all(rows["z_m"] == 0.1) and np.all(np.isfinite(rows["sel_db"]))
 
 
+@pytest.mark.slow
 def test_csv_equals_the_scene_output_byte_for_byte(tmp_path):
     csv = tmp_path / "cli.csv"
     assert main(["map", "--config", "wall-floor", "--wall-distance", "0.07", "--pulse", "hertz", "--velocity", "0.9",

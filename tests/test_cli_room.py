@@ -25,6 +25,7 @@ ISSUE_WAVEFORM = ["waveform", "--radius", "0.01905", "--velocity", "1.4", "--k-h
 ROOM = ["--room", "6,4,3", "--absorption", "0.1", "--source", "2,1.5,0.01905"]
 
 
+@pytest.mark.slow
 def test_issue_waveform_command_writes_the_columns_and_the_image_fields(tmp_path, capsys):
     out = tmp_path / "OUT.csv"
     assert main([*ISSUE_WAVEFORM, "--csv", str(out)]) == 0

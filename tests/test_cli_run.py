@@ -12,6 +12,7 @@ from acoustiviz.scene import OUTPUT_KINDS
 SCENES = Path(__file__).resolve().parents[1] / "assets" / "scenes"
 
 
+@pytest.mark.slow
 def test_default_scene_produces_every_kind_of_output(tmp_path):
     out = tmp_path / "out"
     res = subprocess.run([sys.executable, "-m", "acoustiviz", "run", "--out", str(out)], capture_output=True,
@@ -35,6 +36,7 @@ SHIPPED = sorted(p.stem for p in SCENES.glob("*.toml") if p.stem != "default")
 
 
 @pytest.mark.parametrize("name", SHIPPED)
+@pytest.mark.slow
 def test_every_shipped_scene_runs(name, tmp_path):
     assert main(["run", str(SCENES / f"{name}.toml"), "--out", str(tmp_path / name), "--quiet"]) == 0
     assert (tmp_path / name / "summary.md").exists()
@@ -54,6 +56,7 @@ def test_help_scene_lists_keys(capsys):
     assert "[outputs]" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_output_piped_into_head_ends_without_a_traceback(tmp_path):
     # a reader that stops early closes the pipe; the command must not print a traceback.
     # 1801 angles print about 70 kB, more than a pipe holds, so the writer does meet the closed pipe

@@ -28,6 +28,7 @@ def done(tmp_path_factory):
     return out
 
 
+@pytest.mark.slow
 def test_outputs_and_columns(done, capsys):
     r = rows(done / "sweep.csv")
     assert tuple(r[0][: len(CSV_COLUMNS)]) == CSV_COLUMNS
@@ -41,6 +42,7 @@ def test_outputs_and_columns(done, capsys):
         "decrease_db"]
 
 
+@pytest.mark.slow
 def test_rerun_of_a_finished_sweep_computes_nothing(done, capsys):
     before = (done / "sweep.csv").read_bytes()
     assert main([*SWEEP[:-1], "--out", str(done)]) == 0  # with the progress output
@@ -97,6 +99,7 @@ def test_bad_values_exit_2_naming_the_option(tmp_path, capsys, extra, option):
     assert not (tmp_path / "x" / "sweep.csv").exists()
 
 
+@pytest.mark.slow
 def test_other_settings_refused_then_overwritten(done, tmp_path, capsys):
     out = tmp_path / "o"
     assert main([*SWEEP, "--out", str(out)]) == 0
@@ -154,6 +157,7 @@ def _wait_rows(path, n, proc, timeout=120.0):
     raise AssertionError("no rows appeared")
 
 
+@pytest.mark.slow
 def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
     out = tmp_path / "k"
     proc, gate = _start(out, gate_after=3)
@@ -179,6 +183,7 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("inherited", [None, signal.SIG_IGN], ids=["sigint-default", "sigint-ignored"])
+@pytest.mark.slow
 def test_ctrl_c_keeps_finished_rows(tmp_path, inherited):
     """Ctrl-C stops the sweep with status 130 and keeps the finished rows -- also when the process
     inherited SIGINT ignored (a background job), because the sweep sets the disposition itself."""
@@ -211,6 +216,7 @@ def test_ctrl_c_keeps_finished_rows(tmp_path, inherited):
     assert sorted(load_sweep(out)["design_id"]) == [0, 1]
 
 
+@pytest.mark.slow
 def test_dask_scheduler_address(tmp_path, capsys):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://",
@@ -252,6 +258,7 @@ def test_sweep_over_listener_configuration_and_velocity(tmp_path, capsys):
     assert not (out / "inclination_map.png").exists()
 
 
+@pytest.mark.slow
 def test_design_without_candidates_names_the_nearest(tmp_path, capsys):
     # the issue's own pair of commands on a small sweep: a target outside every design's reach
     # is answered (exit 0), not refused

@@ -65,6 +65,7 @@ def test_pulse_choice_changes_the_waveform(tmp_path):
     assert peaks["hertz"] != pytest.approx(peaks["half-sine"], rel=1e-3)
 
 
+@pytest.mark.slow
 def test_material_options_replace_k_hertz(tmp_path):
     out = tmp_path / "m.csv"
     assert main(["waveform", "--material", "steel", "--surface", "glass", "--csv", str(out)]) == 0
@@ -91,6 +92,7 @@ def test_bad_values_exit_2_naming_the_option(args, option, capsys, tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_console_script_has_no_traceback(tmp_path):
     res = subprocess.run([sys.executable, "-m", "acoustiviz", "waveform", "--radius", "-1"],
                          capture_output=True, text=True, cwd=tmp_path)

@@ -116,6 +116,7 @@ def test_free_vibration_maxima_are_the_closed_form_ones():
     np.testing.assert_allclose(mx.value[:n], xk[:n], rtol=1e-13)
 
 
+@pytest.mark.slow
 def test_impact_map_kinks_and_newmark_interpolant_give_maxima_near_the_exact_ones():
     # the two approximate solvers follow the exact maxima to their own accuracy (an impact falls
     # 6e-5 s before the first maximum here, the hardest case)

@@ -85,6 +85,7 @@ RESOLUTION = 3e-10
 SPEED_RESOLUTION = 3e-9
 
 
+@pytest.mark.slow
 def test_independent_method_confirms_the_reference_on_every_impact_it_resolves(converged):
     # The independent method (SciPy DOP853 on eq 15 in physical time, 4500 epsilon above the
     # round-off floor) is compared impact by impact over the leading impacts it resolves: its own

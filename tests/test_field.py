@@ -73,6 +73,7 @@ def test_chunked_equals_unchunked():
     np.testing.assert_allclose(m1.peak, m2.peak, rtol=1e-12, atol=0)
 
 
+@pytest.mark.slow
 def test_memory_cap_is_respected():
     cfg = CONFIGS["plane"]
     pulse = acceleration_pulse(IMPACT, "half-sine")
@@ -183,6 +184,7 @@ def test_bad_inputs_name_the_parameter(call, name):
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
 @pytest.mark.parametrize("name", ["plane", "corner"])
+@pytest.mark.slow
 def test_peaks_are_refined_to_the_continuous_maximum(kind, name):
     # an independent reference: the direct sum of sphere_pressure sampled every 10 ns, then SciPy's
     # bounded Brent search on that sum around the densest sample; the refined peaks agree to 1e-8
@@ -220,6 +222,7 @@ def test_directivity_peaks_are_refined():
 
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
+@pytest.mark.slow
 def test_exposure_without_a_time_grid_matches_quadrature(kind):
     # the exposure from correlations of Y at the image delays against adaptive quadrature of p(t)^2,
     # p from the direct sum of free-field spheres; and the Riemann sum of field_metrics converges to it
@@ -259,6 +262,7 @@ def test_exposure_table_interpolates_its_series(kind):
     assert abs(g_t[0] - g_s[0]) < 1e-10 * scale and abs(h_t[0] - h_s[0]) < 1e-10 * scale
 
 
+@pytest.mark.slow
 def test_exposure_of_a_long_pulse_matches_quadrature():
     # a half-sine 90 times longer than a/c (|s| T = 127): the correlations need more panels than
     # the paper's impact; the exposure on the plane against adaptive quadrature of p(t)^2
@@ -296,6 +300,7 @@ def _fast_peak_points(cfg, n, seed):
 
 @pytest.mark.parametrize("kind", ["hertz", "half-sine"])
 @pytest.mark.parametrize("name", ["free", "plane", "corner"])
+@pytest.mark.slow
 def test_fast_peaks_match_the_refined_field_metrics(kind, name):
     # against field_metrics (64 samples per min(T, a/c), then Brent on the closed form): never below
     # it by more than 1e-8 of the peak; and each peak is the pressure at its reported time, evaluated
@@ -342,6 +347,7 @@ def test_fast_peaks_a_close_pair_of_maxima_across_a_pulse_end():
 @pytest.mark.parametrize("x", [(0.09985707895096389, -0.4222972254255243, 0.06957363500316173),
                                (0.3135862306698611, -0.17956052216627472, 0.060130762082192035),
                                (0.5430742671773279, 0.48626835580640837, 0.11677409838035327)])
+@pytest.mark.slow
 def test_fast_peaks_two_maxima_either_side_of_a_pulse_end(x):
     # corner, wall at 0.1 m: at these points the largest pressure has two maxima 1.3-1.5 coarse steps
     # apart, 1e-7 to 2e-5 apart in height, on either side of the end of one image's pulse, so that
@@ -411,6 +417,7 @@ def test_waveform_spans_are_the_spans_of_each_point():
         assert (first, end) == field.waveform_span(pulse, p, cfg)
 
 
+@pytest.mark.slow
 def test_fast_peaks_far_from_a_wall_sample_only_the_arrivals():
     # a wall 3 m away: the arrivals come 17 ms apart and the coarse pass samples only each arrival
     # and its decay (the free decay between them is taken in closed form); the peaks agree with
@@ -448,6 +455,7 @@ def test_decay_extremes_of_the_free_decay_on_an_interval(t_b):
 
 @pytest.mark.parametrize("kind", ["hertz", "half-sine"])
 @pytest.mark.parametrize("config", ["plane", "wall-floor"])
+@pytest.mark.slow
 def test_rms_is_over_the_exact_window_not_one_rounded_to_whole_samples(kind, config):
     # RMS^2 x window is the exposure of the whole response, which field.exposure integrates in
     # closed form without a time grid (an independent route): with the window rounded up to whole
@@ -466,6 +474,7 @@ def test_rms_is_over_the_exact_window_not_one_rounded_to_whole_samples(kind, con
 
 
 @pytest.mark.parametrize("kind", ["hertz", "half-sine"])
+@pytest.mark.slow
 def test_fast_peaks_reuses_its_tables_across_calls(kind):
     # the observer-independent tables are built once per pulse, configuration and medium: a second
     # call with equal (not identical) arguments hits the cache and gives the same numbers as the

@@ -134,6 +134,7 @@ def test_event_solver_tends_to_masri_caughey_as_contacts_shorten():
 
 # ------------------------------------------------------------------ energy and second method
 @pytest.mark.parametrize("solver,tol", [("event", 1e-8), ("impact-map", 1e-10), ("newmark", 1e-3)])
+@pytest.mark.slow
 def test_energy_balance_per_cycle_closes(solver, tol):
     ex = Excitation(5.1, MC_FORCE)
     r = steady_state(MC_MODEL, ex, solver=solver, tolerance=1e-3 if solver == "newmark" else 1e-8,

@@ -115,6 +115,7 @@ def test_a_silent_steady_state_has_no_level():
     assert nz.laeq_db == nz.lafmax_db == nz.lcpeak_db == -math.inf
 
 
+@pytest.mark.slow
 def test_design_map_gives_laeq():
     # at 3 Hz and 5 N the main mass moves 15.5 mm: clear of a 20 mm half gap, not of a 10 mm one
     d = design_map(DamperModel(), [0.0405], [0.02, 0.04], 3.0, 5.0, seconds=0.3)

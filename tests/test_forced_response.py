@@ -10,6 +10,7 @@ from acoustiviz.dynamics.model import DamperModel
 from acoustiviz.errors import ParameterError
 
 
+@pytest.mark.slow
 def test_coexisting_attractors_at_7_hz_are_all_reported():
     """Table 1 at 7 Hz, 5 N: the motion without impacts and the two-impact orbit coexist."""
     resp = attractor_response(DamperModel(), [7.0], 5.0, sweep="independent", starts=6)
@@ -36,6 +37,7 @@ def test_continuation_seeds_the_neighbouring_frequency():
     assert ind.rounds == 0 and all(sum(fa.seeded) == 0 for fa in ind.per_frequency)
 
 
+@pytest.mark.slow
 def test_attractors_on_an_executor_equal_serial_runs():
     f = np.array([6.5, 7.0])
     serial = attractor_response(DamperModel(), f, 5.0, sweep="independent", starts=2)

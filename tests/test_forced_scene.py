@@ -24,6 +24,7 @@ seconds = 0.3
 """
 
 
+@pytest.mark.slow
 def test_scene_writes_the_three_forced_outputs(tmp_path):
     path = tmp_path / "forced.toml"
     path.write_text(SCENE)

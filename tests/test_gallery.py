@@ -16,6 +16,7 @@ def test_gallery_is_not_empty():
 
 
 @pytest.mark.parametrize("script", SCRIPTS, ids=[s.stem for s in SCRIPTS])
+@pytest.mark.slow
 def test_gallery_script_runs(script, tmp_path):
     env = dict(os.environ, ACOUSTIVIZ_FAST="1", ACOUSTIVIZ_GALLERY_DIR=str(tmp_path), MPLBACKEND="Agg")
     res = subprocess.run([sys.executable, str(script)], cwd=tmp_path, env=env, capture_output=True, text=True,

@@ -149,6 +149,7 @@ def test_bad_inputs_are_refused_before_any_work():
         weighted(tone(1000), FS, "B")
 
 
+@pytest.mark.slow
 def test_metric_levels_give_one_value_per_row_and_name_the_option():
     from acoustiviz.levels import METRICS, metric_levels
 

@@ -30,6 +30,7 @@ def pulse(request):
     return acceleration_pulse(IMPACT, request.param, n_samples=257)
 
 
+@pytest.mark.slow
 def test_closed_form_equals_far_field_intensity_over_the_free_grid(pulse):
     grid = spherical_grid_for(configuration("free", A), 1.0, n_theta=4)
     closed = radiated_energy_free(pulse, radius=A)
@@ -37,10 +38,12 @@ def test_closed_form_equals_far_field_intensity_over_the_free_grid(pulse):
     assert grid_energy == pytest.approx(closed, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_closed_form_equals_the_surface_work_less_the_entrained_flow(pulse):
     assert surface_work_free(pulse, radius=A) == pytest.approx(radiated_energy_free(pulse, radius=A), rel=1e-6)
 
 
+@pytest.mark.slow
 def test_compact_limit_is_the_rayleigh_dipole():
     # tau >> a/c: R ~ (4 pi a^2/3) rho c (ka)^4 / 4, so E -> (pi rho a^6 / (3 c^3)) * integral (dA/dt)^2 dt
     a0, tau = 1e3, 300 * A / AIR.c
@@ -90,6 +93,7 @@ def test_exact_hertz_spectrum_is_the_fourier_integral_of_the_closed_form(w):
 
 
 @pytest.mark.parametrize("config", ["plane", "wall-floor"])
+@pytest.mark.slow
 def test_grid_integration_converges_as_the_grid_is_refined(config):
     pulse = acceleration_pulse(IMPACT, "half-sine")
     cfg = configuration(config, A, wall_distance=0.05)
@@ -109,6 +113,7 @@ def test_efficiency_and_power_arithmetic_and_errors():
         sound_power([1e-6], 0.0)
 
 
+@pytest.mark.slow
 def test_run_energy_interpolates_the_configuration_ratio_faithfully():
     from acoustiviz.app.levels import run_energy
     from acoustiviz.app.wav import cavity

@@ -71,6 +71,7 @@ def test_the_typed_table_is_the_closed_form_rounded():
 
 @pytest.mark.parametrize("fs", [44100, 48000, 96000])
 @pytest.mark.parametrize("curve", ["A", "C"])
+@pytest.mark.slow
 def test_weighting_meets_table_3_class_1_and_follows_the_closed_form(curve, fs):
     table, closed = (TABLE_A, a_closed) if curve == "A" else (TABLE_C, c_closed)
     dev_closed = []

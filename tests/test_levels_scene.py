@@ -22,6 +22,7 @@ def run(tmp_path_factory):
     return out, run_scene(scene, out)
 
 
+@pytest.mark.slow
 def test_levels_and_spectrum_files_and_summary(run):
     out, products = run
     names = {p.path.name for p in products}

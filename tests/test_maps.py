@@ -41,6 +41,7 @@ CASES = [("free", "half-sine", {}), ("plane", "hertz", {}), ("wall-floor", "half
 
 
 @pytest.mark.parametrize(("config", "pulse", "kw"), CASES)
+@pytest.mark.slow
 def test_peaks_and_sel_equal_the_refined_field_metrics(config, pulse, kw):
     s = _setup(config, pulse, **kw)
     for plane in ("vertical", "horizontal"):
@@ -161,6 +162,7 @@ def test_vtk_holds_the_map_with_units_in_the_names(tmp_path):
         np.testing.assert_array_equal(np.asarray(mesh.point_data[name]), getattr(m, name))
 
 
+@pytest.mark.slow
 def test_png_is_written(tmp_path):
     Image = pytest.importorskip("PIL.Image")
     s = _setup("plane")

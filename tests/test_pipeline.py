@@ -148,6 +148,7 @@ def test_scene_sweep_maps_onto_the_sweep_spec(tmp_path):
     assert sweep_spec(with_levels).settings.levels is True
 
 
+@pytest.mark.slow
 def test_sweep_and_design_table_outputs_resume_without_recomputing(tmp_path):
     scene = scene_from_dict({"outputs": {"sweep": {"gap_m": "0.03:0.04:2", "mass_kg": "0.03:0.05:2",
                                                    "duration_s": 1.0},
@@ -197,6 +198,7 @@ def test_fig6_scene_and_the_sweep_command_write_the_same_sweep_json(tmp_path):
     assert (tmp_path / "scene" / SWEEP_JSON).read_bytes() == text
 
 
+@pytest.mark.slow
 def test_the_sweep_command_resumes_a_scene_sweep(tmp_path, capsys):
     from acoustiviz.cli import main
 
@@ -252,6 +254,7 @@ def test_wav_sidecar_records_the_physical_and_the_file_peak_separately(tmp_path)
                                                                        abs=0.06)
 
 
+@pytest.mark.slow
 def test_wav_and_levels_hear_one_setup(tmp_path):
     """``wav`` and ``levels`` share the scene's sound setup: the 96 kHz analysis of the run finds the
     unweighted peak the WAV sidecar's closed form records, and both count the same clicks."""
@@ -270,6 +273,7 @@ def test_wav_and_levels_hear_one_setup(tmp_path):
     assert int(wav.figures["impacts"]) == side["impacts"] > 0
 
 
+@pytest.mark.slow
 def test_scene_directivity_metric_equals_the_command(tmp_path):
     """One rule for a weighted directivity: the scene key and `acoustiviz directivity --metric` agree."""
     from acoustiviz.cli import main

@@ -86,6 +86,7 @@ def _quad_reference(pulse, tp, r, ct, a=A, medium=AIR):
 
 
 @pytest.mark.parametrize("ltau", [0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4])
+@pytest.mark.slow
 def test_half_sine_closed_form_against_quadrature(ltau):
     tau = ltau / LAM
     pulse = HalfSinePulse(amplitude=1e4, duration=tau)
@@ -140,6 +141,7 @@ def _exact_hertz(imp):
 
 @pytest.mark.parametrize(("velocity", "mass", "radius"), [(1.4, 7800 * 4 / 3 * math.pi * A**3, A),
                                                           (2.0, 0.0405, 0.0107), (0.3, 0.0405, 0.002)])
+@pytest.mark.slow
 def test_hertz_pulse_against_quadrature(velocity, mass, radius):
     # the pulse response Y of the exact Hertz pulse (no interpolation), at any time, within 1e-9 of its
     # peak of adaptive quadrature of int exp(s(t'-xi)) A(xi) dxi -- including times in the first and last
@@ -230,6 +232,7 @@ def _frequency_domain_synthesis(amp, tau, r, ct, t, a=A, medium=AIR, n_fft=2**18
 
 
 @pytest.mark.parametrize(("ltau", "r"), [(0.5, 0.7), (28.9, 0.7), (3.0, 2 * A), (300.0, 5.0)])
+@pytest.mark.slow
 def test_waveform_matches_frequency_domain_synthesis(ltau, r):
     tau = ltau / LAM
     amp = 1e4

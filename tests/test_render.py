@@ -87,6 +87,7 @@ def test_balloon_png_has_the_size_and_real_content(pulse, plane, corner, tmp_pat
     assert [p.name for p in tmp_path.iterdir()] == ["corner.png"]  # no temporary left behind
 
 
+@pytest.mark.slow
 def test_balloons_differ_between_configurations(pulse, plane, corner, tmp_path):
     a = _img(_balloon(pulse, plane, tmp_path / "plane.png"))
     b = _img(_balloon(pulse, corner, tmp_path / "corner.png"))
@@ -218,6 +219,7 @@ def _rss_bytes():
 
 
 @pytest.mark.skipif(not hasattr(__import__("os"), "sysconf"), reason="needs /proc")
+@pytest.mark.slow
 def test_memory_does_not_grow_over_50_renders(pulse, plane, tmp_path):
     from pyvista.plotting import plotter as _plotter_module
 
@@ -238,6 +240,7 @@ def test_memory_does_not_grow_over_50_renders(pulse, plane, tmp_path):
 
 
 @pytest.mark.skipif(not __import__("sys").platform.startswith("linux"), reason="X/EGL choice is Linux's")
+@pytest.mark.slow
 def test_headless_render_is_quiet(tmp_path):
     # without a display, the render opens VTK's off-screen window directly: no X warning on stderr
     import os

@@ -61,6 +61,7 @@ def test_order_for_time_examples():
 
 @pytest.mark.parametrize("alpha, tol_db", [(0.3, -30.0), ((0.05, 0.5, 0.2, 0.3, 0.1, 0.6), -40.0)],
                          ids=["uniform", "six"])
+@pytest.mark.slow
 def test_energy_order_bound_holds_by_brute_force(alpha, tol_db):
     """The images beyond the chosen order carry less than the bound, at receivers all over the room."""
     dims = np.array([3.0, 2.2, 1.8])
@@ -225,6 +226,7 @@ def test_echo_density_matches_the_counted_images():
                        band_centres=(1000.0, 500.0)), "band_centres", "increasing"),
     (lambda: complete_until(Shoebox((6, 4, 3), 0.1), -1, radius=A), "order", ">= 0"),
 ])
+@pytest.mark.slow
 def test_bad_input_names_the_field_and_the_range(make, name, words):
     with pytest.raises(ParameterError) as err:
         make()
@@ -270,6 +272,7 @@ def test_expected_decay_is_the_image_sum_after_the_transition():
     assert abs(ratios.mean() - 1) < 0.05
 
 
+@pytest.mark.slow
 def test_late_tail_follows_the_decay_and_is_reproducible():
     room = Shoebox((6.0, 4.0, 3.0), 0.3)
     fs, start, dur = 48000, 0.065, 0.3
@@ -283,6 +286,7 @@ def test_late_tail_follows_the_decay_and_is_reproducible():
         assert np.sum(h[m] ** 2) == pytest.approx(expected, rel=0.08)
 
 
+@pytest.mark.slow
 def test_banded_tail_decays_in_each_band_at_its_own_rate():
     """The energy of each band of the tail, from its spectrum, is that band's share of its own decay.
 

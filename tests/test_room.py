@@ -211,6 +211,7 @@ def _asymmetry(im, dims, pulse, h, t):
     return worst
 
 
+@pytest.mark.slow
 def test_normal_velocity_vanishes_on_every_rigid_wall():
     """Central differences of p across each rigid wall vanish (Euler: dp/dn = -rho du_n/dt = 0).
 

@@ -156,6 +156,7 @@ def _is_clean_error(exc):
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.dictionaries(_sections, st.one_of(st.dictionaries(_keys, _values, max_size=4), _values), max_size=4))
+@pytest.mark.slow
 def test_random_scenes_load_or_fail_cleanly(raw):
     try:
         scene_from_dict(raw, "fuzz.toml")

@@ -114,6 +114,7 @@ def test_a_multiplier_crosses_minus_one_at_a_period_doubling():
     assert len(split) == 2 and 1e-3 < split[0] < split[1]  # the period-2 orbit grows from the period-1 one
 
 
+@pytest.mark.slow
 def test_two_contact_tolerances_find_the_same_attractors_at_5_hz():
     """Table 1 at 5 Hz, 5 N: rtol 1e-10 and 1e-12 give the same attractor set, non-periodic
     statistics within their stated errors."""

@@ -54,6 +54,7 @@ def test_help_is_light():
 
 
 @pytest.mark.parametrize("sub", _subcommands())
+@pytest.mark.slow
 def test_subcommand_help_is_light(sub):
     assert _loaded_after(_help_code([sub, "--help"])) == []
 
@@ -90,6 +91,20 @@ def test_compile_for_compiles_without_running_and_once():
     assert len(twice.signatures) == 1  # the call found the compiled signature
 
 
+def test_no_compiling_line_where_stderr_is_not_a_terminal(capsys):
+    from numba import njit
+
+    from acoustiviz._jit import compile_for
+
+    @njit
+    def thrice(x):
+        return 3.0 * x
+
+    compile_for(thrice, (1.5,), "test", 30.0)  # long and not cached, but nobody is watching
+    assert capsys.readouterr().err == ""
+    assert thrice(1.0) == 3.0
+
+
 def test_simulate_reports_compile_time_apart():
     from acoustiviz.dynamics import simulate
 
@@ -99,6 +114,7 @@ def test_simulate_reports_compile_time_apart():
     assert r.solver_time > 0.0
 
 
+@pytest.mark.slow
 def test_compiling_line_only_when_the_cache_is_cold(tmp_path):
     # a cached kernel announced as long to compile: the line is printed by the first process (empty
     # cache) and not by the second, which loads the kernel from the cache
@@ -107,8 +123,8 @@ def test_compiling_line_only_when_the_cache_is_cold(tmp_path):
     code = ("import sys\n"
             "from acoustiviz._jit import compile_for\n"
             "import kern_mod\n"
-            "compile_for(kern_mod.twice, (1.5,), 'test', 3.0)\n"
-            "compile_for(kern_mod.twice, (1.5,), 'test', 3.0)\n"
+            "compile_for(kern_mod.twice, (1.5,), 'test', 3.0, announce=True)\n"
+            "compile_for(kern_mod.twice, (1.5,), 'test', 3.0, announce=True)\n"
             "assert kern_mod.twice(1.5) == 3.0\n")
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
            "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path), os.environ.get("PYTHONPATH", "")])}

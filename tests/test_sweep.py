@@ -256,6 +256,7 @@ def test_listener_in_wall_floor_corner_matches_direct_call():
     Settings(duration=3.0, pulse="impulse-matched", radius=0.005),
 ])
 @pytest.mark.parametrize("config", ["free", "plane", "wall-floor"])
+@pytest.mark.slow
 def test_level_of_fastest_impacts_is_the_max_over_all_impacts(settings, config):
     """The shortcut (the few fastest impacts) against every impact of the run."""
     d = SweepSpec(gap=(0.05,), m=(0.03,), config=(config,), settings=settings).designs()[0]
@@ -274,6 +275,7 @@ def test_level_of_fastest_impacts_is_the_max_over_all_impacts(settings, config):
     assert max_spl_db(u, n_fastest=0, **kw) == (pytest.approx(every, abs=SPL_TOL_DB), np.unique(u).size)
 
 
+@pytest.mark.slow
 def test_level_grows_with_approach_speed_over_a_wide_range():
     """The premise of the shortcut: at fixed geometry the peak level rises with the approach speed,
     by 6 dB or more per doubling, over radii, masses, stiffnesses, listeners, configurations, pulses."""

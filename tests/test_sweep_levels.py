@@ -118,6 +118,7 @@ def test_rank_by_rejects_other_names_and_missing_levels():
     assert "design_id" not in RANK_COLUMNS and set(RANK_COLUMNS) < set(NUMERIC_COLUMNS)
 
 
+@pytest.mark.slow
 def test_cli_sweep_levels_and_design_rank_by(tmp_path, capsys):
     out = tmp_path / "s"
     assert main(["sweep", "--gap", "0.03,0.05", "--m", "0.0405", "--duration", "0.6", "--workers", "1", "--quiet",

@@ -33,6 +33,7 @@ def _assert_levels_close(new, ref, tol=TOL_DB):
 
 @pytest.mark.parametrize("pulse", ["half-sine", "hertz"])
 @pytest.mark.parametrize("config", ["free", "plane", "wall-floor"])
+@pytest.mark.slow
 def test_every_metric_matches_the_full_interval(config, pulse):
     s = _setup(config, pulse)
     # on axis, oblique, grazing, very near the sphere (2 mm off its surface) and far (late arrival)
@@ -54,6 +55,7 @@ def test_the_sound_is_the_start_of_the_full_signal():
     assert not np.any(full[:, sound.shape[1]:])
 
 
+@pytest.mark.slow
 def test_a_late_point_keeps_the_time_grid_of_its_chunk():
     s = _setup("plane", "half-sine")
     pts = np.array([observer_point(s, d, 40.0) for d in (0.2, 0.25, 6.0, 0.7)])
@@ -67,6 +69,7 @@ def test_a_late_point_keeps_the_time_grid_of_its_chunk():
 
 
 @pytest.mark.parametrize("metric", ["lcpeak", "lasmax", "laeq"])
+@pytest.mark.slow
 def test_directivity_metric_matches_the_full_interval(metric):
     s = _setup("free", "half-sine")
     d = directivity(s.pulse, s.configuration, 0.7, directivity_angles(s.configuration, 30.0), medium=s.medium)

@@ -137,6 +137,7 @@ def test_animation_frames(tmp_path, monkeypatch):
     assert not (tmp_path / "a.gif").exists()
 
 
+@pytest.mark.slow
 def test_scene_requests_vtk(tmp_path):
     from acoustiviz import load_scene, run_scene
 
