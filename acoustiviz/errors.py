@@ -37,6 +37,18 @@ class ParameterError(ValueError):
         The failing parameter.
     detail : str
         What is wrong and what is allowed.
+
+    Examples
+    --------
+    A negative impact speed is refused when the impact is built, naming the parameter; the error
+    is a ``ValueError``:
+
+    >>> from acoustiviz import Impact
+    >>> try:
+    ...     Impact(velocity=-1.4, k_hertz=5.6e8, mass=0.2259)
+    ... except ValueError as err:
+    ...     print(type(err).__name__, "|", err.name, "|", err.detail)
+    ParameterError | velocity | must be > 0 m/s, got -1.4 m/s
     """
 
     def __init__(self, name: str, detail: str):
@@ -83,8 +95,38 @@ class SceneError(ParameterError):
 
 
 class AccuracyWarning(UserWarning):
-    """A method is used near the limit where its error stops being small (e.g. a coarse time step)."""
+    """A method is used near the limit where its error stops being small (e.g. a coarse time step).
+
+    Examples
+    --------
+    A Newmark step of 1/10 of the shortest possible contact of the paper's Table 1 damper
+    (0.184 ms) resolves each contact by a handful of steps only, and says so:
+
+    >>> import warnings
+    >>> from acoustiviz.dynamics import simulate
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     _ = simulate(duration=0.02, solver="newmark", dt=1.84e-5)
+    >>> [w.category.__name__ for w in caught]
+    ['AccuracyWarning']
+    >>> print(str(caught[0].message).split(":")[0])
+    Newmark step 1.84e-05 s is coarser than 1/20 of the shortest contact (0.000184 s)
+    """
 
 
 class ClippingWarning(UserWarning):
-    """Samples of an audio file were clipped at full scale."""
+    """Samples of an audio file were clipped at full scale.
+
+    Examples
+    --------
+    A 2 Pa peak written as 24-bit PCM with 1 Pa at full scale is 6.02 dB over and clipped:
+
+    >>> import tempfile, warnings
+    >>> from pathlib import Path
+    >>> from acoustiviz.output.audio import write_wav
+    >>> with tempfile.TemporaryDirectory() as folder, warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     info = write_wav(Path(folder) / "click.wav", [0.0, 2.0, -0.5], 48000, subtype="PCM_24", scale=1.0)
+    >>> [w.category.__name__ for w in caught], info["clipped_samples"], round(info["over_full_scale_db"], 2)
+    (['ClippingWarning'], 1, 6.02)
+    """

@@ -45,7 +45,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_choice, check_points, check_positive, check_range
 from ..constants import DEFAULT_WALL_DISTANCE, STRIKES
-from .images import ImageSet, ImageSource, Plane, images_of
+from .images import ImageSet, ImageSource, Plane, Region, images_of
 
 __all__ = [
     "CONFIGURATIONS",
@@ -71,27 +71,6 @@ _Z = np.array([0.0, 0.0, 1.0])
 #: Settings of the registry's geometries and the value each takes when it does not apply.
 _NEUTRAL = {"wall_distance": None, "strike": "floor", "height": None, "dimensions": None, "absorption": None,
             "source": None, "order": None, "tolerance_db": None, "duration": None, "sound_speed": None}
-
-
-@dataclass(frozen=True, eq=False)
-class Region:
-    """A region of directions around an anchor: a closing grid's or a balloon's.
-
-    Parameters
-    ----------
-    kind : {"sphere", "half", "quarter"}
-        All directions; those above a plane of normal ``up``; those above two perpendicular
-        planes of normals ``up`` and ``side``.
-    origin : (3,) ndarray
-        Anchor in m (on the plane, or on the corner's edge, for the half and quarter regions).
-    up, side : (3,) ndarray
-        Polar axis and azimuth origin (unit vectors).
-    """
-
-    kind: str
-    origin: np.ndarray
-    up: np.ndarray
-    side: np.ndarray
 
 
 class Geometry:
@@ -564,6 +543,11 @@ def configuration(name: str, radius: float, *, wall_distance=None, strike: str =
     ``wall_distance`` (m), ``strike`` and ``height`` (m) are those of :class:`WallFloorCorner`;
     the free field and the plane take none. Raises a ParameterError naming ``config`` for an
     unknown name.
+
+    Examples
+    --------
+    >>> configuration("plane", 0.01905, wall_distance=0.05)  # a plane has no wall: ignored
+    ReflectingPlane(radius=0.01905)
     """
     cls = geometry_class(name)
     given = {"wall_distance": wall_distance, "strike": strike, "height": height}
@@ -571,21 +555,40 @@ def configuration(name: str, radius: float, *, wall_distance=None, strike: str =
 
 
 def images_free(radius: float) -> FreeField:
-    """The sphere alone in free field (:class:`FreeField`)."""
+    """The sphere alone in free field (:class:`FreeField`).
+
+    Examples
+    --------
+    >>> len(images_free(0.01905).images()), images_free(0.01905).polar_limit_deg  # one source, all around
+    (1, 180.0)
+    """
     return FreeField(radius)
 
 
 def images_plane(radius: float) -> ReflectingPlane:
     """The sphere touching the rigid plane ``z = 0`` and its image (:class:`ReflectingPlane`).
 
-    >>> [float(s.position[2]) for s in images_plane(0.01).sources]
-    [0.01, -0.01]
+    Examples
+    --------
+    The image sits below the plane and accelerates the other way (paper eq 14, Figure 1):
+
+    >>> [(float(s.position[2]), float(s.axis[2])) for s in images_plane(0.01).sources]
+    [(0.01, 1.0), (-0.01, -1.0)]
     """
     return ReflectingPlane(radius)
 
 
 def images_wall_floor(radius: float, wall_distance=None, *, strike: str = "floor", height=None) -> WallFloorCorner:
-    """The sphere in a wall-floor corner and its 3 images (:class:`WallFloorCorner`)."""
+    """The sphere in a wall-floor corner and its 3 images (:class:`WallFloorCorner`).
+
+    Examples
+    --------
+    Floor strike 5 cm from the wall: the sphere, its images in floor and wall, and in both:
+
+    >>> s = images_wall_floor(0.01905, 0.05).images()
+    >>> len(s), s.orders.tolist(), np.round(s.positions[:, 0], 3).tolist()  # x in m
+    (4, [0, 1, 1, 2], [0.0, 0.0, -0.1, -0.1])
+    """
     return WallFloorCorner(radius, wall_distance, strike, height)
 
 

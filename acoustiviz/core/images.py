@@ -11,7 +11,8 @@ from the real axis.
 
 This module knows nothing of acoustics nor of any particular geometry: the geometries
 (:mod:`acoustiviz.core.geometry`) build their images from it, and the field evaluator sums the
-free-field radiation of every image of an :class:`ImageSet`. All lengths in m.
+free-field radiation of every image of an :class:`ImageSet`. :class:`Region` describes the
+directions a geometry's closing grid or directivity balloon covers. All lengths in m.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ __all__ = [
     "ImageSource",
     "ImageSet",
     "Plane",
+    "Region",
     "mirror_point",
     "mirror_vector",
     "images_of",
@@ -245,3 +247,24 @@ def images_of(real: ImageSource, planes) -> tuple:
         ax = mirror_vector(mirror_vector(real.axis, p1), p2)
         out.append(ImageSource(pos, ax, 2, f"{p1.label}+{p2.label}", real.weight * p1.reflection * p2.reflection))
     return tuple(out)
+
+
+@dataclass(frozen=True, eq=False)
+class Region:
+    """A region of directions around an anchor: a closing grid's or a balloon's.
+
+    Parameters
+    ----------
+    kind : {"sphere", "half", "quarter"}
+        All directions; those above a plane of normal ``up``; those above two perpendicular
+        planes of normals ``up`` and ``side``.
+    origin : (3,) ndarray
+        Anchor in m (on the plane, or on the corner's edge, for the half and quarter regions).
+    up, side : (3,) ndarray
+        Polar axis and azimuth origin (unit vectors).
+    """
+
+    kind: str
+    origin: np.ndarray
+    up: np.ndarray
+    side: np.ndarray

@@ -61,6 +61,17 @@ def air_at(temperature: float = 20.0, pressure: float = 101325.0) -> Medium:
     Speed of sound and density of dry air from the ideal-gas law with
     R_specific = 287.05 J/(kg·K) and γ = 1.4 (Kinsler et al., *Fundamentals of
     Acoustics*, 4th ed., §5.6).
+
+    Examples
+    --------
+    Sound is faster and air thinner on a hot day; 20 °C gives the default :data:`AIR`:
+
+    >>> for t in (0.0, 20.0, 35.0):
+    ...     air = air_at(t)
+    ...     print(f"{t:4.0f} °C  c = {air.c:.1f} m/s  rho = {air.rho:.3f} kg/m³")
+       0 °C  c = 331.3 m/s  rho = 1.292 kg/m³
+      20 °C  c = 343.2 m/s  rho = 1.204 kg/m³
+      35 °C  c = 351.9 m/s  rho = 1.146 kg/m³
     """
     t = check_range("temperature", temperature, -50.0, 100.0, unit="degC")
     p = check_range("pressure", pressure, 5e4, 2e5, unit="Pa")

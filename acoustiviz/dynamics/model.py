@@ -161,6 +161,21 @@ class InitialState:
         Impact-mass displacement in m; None centres it (``y = x``).
     w : float
         Impact-mass velocity in m/s.
+
+    Examples
+    --------
+    The paper's start on its Table 1 damper (gap 40 mm): the main mass closes the 20 mm half-gap
+    at nearly 2 m/s and strikes after about 10 ms. Started at 0.5 m/s it swings only
+    ``0.5 / sqrt(K/M)`` = 15.8 mm and never strikes:
+
+    >>> from acoustiviz.dynamics import DamperModel, simulate
+    >>> model = DamperModel()
+    >>> InitialState().as_tuple(model)  # x, v, y, w in m and m/s
+    (0.0, 2.0, 0.0, 0.0)
+    >>> round(float(simulate(model, 0.5).impacts.time[0]) * 1e3, 2)  # ms
+    10.18
+    >>> len(simulate(model, 0.5, initial=InitialState(v=0.5)).impacts)
+    0
     """
 
     x: float = 0.0

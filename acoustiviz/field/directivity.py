@@ -125,6 +125,21 @@ def directivity(
     Notes
     -----
     Paper eqs 12-14 and Figure 3; SPL is the peak level ``20 log10(max|p|/20 µPa)``.
+
+    Examples
+    --------
+    The paper's Figure 3 at 0.7 m above a reflecting plane: loudest along the axis, 4.4 dB less
+    at 45°, and 25 dB less at grazing incidence, where the sphere's dipole and its image nearly
+    cancel:
+
+    >>> import math
+    >>> from acoustiviz.core.contact import Impact, acceleration_pulse
+    >>> a = 0.01905  # the paper's Figure 2 sphere at 1.4 m/s, K = 5.6e8 N/m^1.5
+    >>> pulse = acceleration_pulse(Impact(1.4, 5.6e8, 7800.0 * 4.0 / 3.0 * math.pi * a**3))
+    >>> from acoustiviz.core.geometry import images_plane
+    >>> d = directivity(pulse, images_plane(a), 0.7, np.radians([0.0, 45.0, 90.0]))
+    >>> np.round(d.spl_db, 1)  # peak SPL in dB re 20 µPa
+    array([93.2, 88.8, 68.2])
     """
     check_pulse(pulse)
     pts = circle_points(config, distance, angles)

@@ -207,6 +207,21 @@ def snapshots(
     -------
     (k, n) ndarray
         Pressure in Pa, one row per snapshot time.
+
+    Examples
+    --------
+    Above a reflecting plane, 0.7 m up the axis and 0.7 m along the floor: silence before the
+    sound can arrive (``(r - a)/c`` = 1.98 ms), then a pressure; a point below the floor is NaN:
+
+    >>> import math
+    >>> from acoustiviz.core.contact import Impact, acceleration_pulse
+    >>> a = 0.01905  # the paper's Figure 2 sphere at 1.4 m/s, K = 5.6e8 N/m^1.5
+    >>> pulse = acceleration_pulse(Impact(1.4, 5.6e8, 7800.0 * 4.0 / 3.0 * math.pi * a**3))
+    >>> from acoustiviz.core.geometry import images_plane
+    >>> points = [[0.0, 0.0, a + 0.7], [0.7, 0.0, a], [0.0, 0.0, -0.1]]
+    >>> np.round(snapshots(pulse, [1e-3, 2.3e-3], points, images_plane(a)), 4)  # Pa
+    array([[ 0.    ,  0.    ,     nan],
+           [-0.5939, -0.0066,     nan]])
     """
     check_pulse(pulse)
     check_config(config)

@@ -171,7 +171,7 @@ def radiated_energy_free(pulse, *, radius: float, medium: Medium = AIR) -> float
     Parameters
     ----------
     pulse : HalfSinePulse or SampledPulse
-        The sphere's acceleration in m/s² along its axis (:func:`acoustiviz.core.contact.acceleration_pulse`).
+        The sphere's acceleration in m/s² along its axis (:func:`acoustiviz.core.pulses.acceleration_pulse`).
     radius : float
         Sphere radius a in m.
     medium : Medium

@@ -7,8 +7,10 @@ Examples
 >>> import tempfile, pathlib
 >>> from acoustiviz.dynamics import simulate
 >>> run = simulate(duration=0.5)
->>> path = write_impact_table(pathlib.Path(tempfile.mkdtemp()) / "impacts.csv", run.impacts)
->>> path.read_text().splitlines()[0] == ",".join(IMPACT_COLUMNS)
+>>> with tempfile.TemporaryDirectory() as folder:
+...     path = write_impact_table(pathlib.Path(folder) / "impacts.csv", run.impacts)
+...     header = path.read_text().splitlines()[0]
+>>> header == ",".join(IMPACT_COLUMNS)
 True
 """
 
@@ -66,6 +68,24 @@ def write_impact_table(path, impacts, *, extra: bool = False) -> Path:
     pathlib.Path
         Columns :data:`IMPACT_COLUMNS` (then :data:`EXTRA_IMPACT_COLUMNS`), values to 17
         significant digits (the wall as an integer).
+
+    Examples
+    --------
+    The first contact of the paper's Table 1 damper (started at 2 m/s): the impact mass strikes
+    the wall at -gap/2 at 1.9 m/s and rebounds with e = 0.93 after a 0.24 ms contact:
+
+    >>> import csv, tempfile
+    >>> from acoustiviz.dynamics import simulate
+    >>> run = simulate(duration=0.5)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = write_impact_table(Path(folder) / "impacts.csv", run.impacts)
+    ...     with path.open(newline="") as f:
+    ...         rows = list(csv.DictReader(f))
+    >>> first = rows[0]
+    >>> first["wall"], round(float(first["approach_velocity_m_s"]), 4), round(float(first["restitution"]), 4)
+    ('-1', 1.8953, 0.9306)
+    >>> round(float(first["duration_s"]) * 1e3, 4)  # ms
+    0.2428
     """
     header = IMPACT_COLUMNS + (EXTRA_IMPACT_COLUMNS if extra else ())
     cols = [getattr(impacts, _FIELDS[name]) for name in header]

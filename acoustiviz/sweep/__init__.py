@@ -16,7 +16,7 @@ material, initial velocity of the main mass, listener distance and angle, config
   with its window), the settling time, the number of impacts and the energy dissipated;
 * the maximum sound pressure level at the listener over every impact: each impact is an
   acceleration pulse of the sphere built from its own approach speed
-  (:func:`acoustiviz.core.contact.acceleration_pulse`), radiated by the sphere and its images
+  (:func:`acoustiviz.core.pulses.acceleration_pulse`), radiated by the sphere and its images
   (:func:`acoustiviz.field.field_metrics`);
 * optionally (``Settings.levels``), the weighted levels of the whole run at the listener: LAFmax,
   LCpeak and LAeq over the simulated duration, from the click train rendered at 96 kHz

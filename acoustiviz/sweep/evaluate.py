@@ -62,7 +62,7 @@ def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz:
     k_hertz : float
         Hertz stiffness in N/m^1.5.
     pulse : str
-        Pulse kind (:func:`acoustiviz.core.contact.acceleration_pulse`).
+        Pulse kind (:func:`acoustiviz.core.pulses.acceleration_pulse`).
     config : acoustiviz.core.geometry.Geometry
         Sphere and images.
     point : (1, 3) array_like

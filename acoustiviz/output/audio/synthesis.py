@@ -111,7 +111,7 @@ class ClickModel:
         approach and duration from the effective mass m M / (m + M) of two free bodies; the
         acceleration is the peak force over m.
     pulse : {"half-sine", "impulse-matched", "hertz"}
-        The pulse shape (:func:`acoustiviz.core.contact.acceleration_pulse`); the paper's half-sine by default.
+        The pulse shape (:func:`acoustiviz.core.pulses.acceleration_pulse`); the paper's half-sine by default.
     hertz_samples : int
         Tabulated samples of the exact Hertz pulse (``pulse="hertz"`` only), kept for plots; the
         pressure uses the closed-form pulse whatever their number.
