@@ -2,7 +2,7 @@
 
 :func:`run_writing` gives a benchmark its ``--write`` option: the printed output is also saved to
 ``benchmarks/results/<name>.txt`` under a header line naming the command, the date and the machine
-(CPU model, cores, Python). The guide quotes its timings from those files (``docs/numbers.py``
+(CPU model, cores, Python). The guide quotes its timings from those files (``docs/check_numbers.py``
 checks that the text says what the file says).
 """
 

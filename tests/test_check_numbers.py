@@ -1,4 +1,4 @@
-"""docs/numbers.py: every figure the README and the guide quote from the program is rerun and checked."""
+"""docs/check_numbers.py: every figure the README and the guide quote from the program is rerun and checked."""
 
 import importlib.util
 import subprocess
@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-SCRIPT = ROOT / "docs" / "numbers.py"
+SCRIPT = ROOT / "docs" / "check_numbers.py"
 
 
 def _module():

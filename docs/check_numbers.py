@@ -2,10 +2,10 @@
 
 Usage::
 
-    python docs/numbers.py --check            # exit 1 and list every quoted figure that differs
-    python docs/numbers.py --update           # rewrite the quoted figures with what the program gives now
-    python docs/numbers.py --check --only forced-table   # some entries only
-    python docs/numbers.py --list             # the registry
+    python docs/check_numbers.py --check            # exit 1 and list every quoted figure that differs
+    python docs/check_numbers.py --update           # rewrite the quoted figures with what the program gives now
+    python docs/check_numbers.py --check --only forced-table   # some entries only
+    python docs/check_numbers.py --list             # the registry
 
 The registry (:data:`REGISTRY`) has one entry per quoted figure or block: the file, a regular
 expression whose named groups are the quoted text, and the function that produces that text by
@@ -18,24 +18,18 @@ says. To add a figure: write a producer returning ``{group: text}`` and append a
 
 from __future__ import annotations
 
+import argparse
+import atexit
+import contextlib
+import functools
+import io
 import os
+import re
+import shutil
 import sys
-
-# run as a script, this file's folder comes first on sys.path, where this file would hide the
-# standard library's ``numbers`` (which numpy imports): take the folder out first
-_HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path[:] = [p for p in sys.path if os.path.abspath(p or os.curdir) != _HERE]
-
-import argparse  # noqa: E402
-import atexit  # noqa: E402
-import contextlib  # noqa: E402
-import functools  # noqa: E402
-import io  # noqa: E402
-import re  # noqa: E402
-import shutil  # noqa: E402
-import tempfile  # noqa: E402
-from dataclasses import dataclass  # noqa: E402
-from pathlib import Path  # noqa: E402
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 TABLE1 = ["--M", "0.5", "--K", "500", "--C", "0.05", "--m", "0.0405", "--gap", "0.04", "--k-hertz", "5.6e8",
