@@ -184,23 +184,15 @@ def _output_paths(wav, n: int):
     return [wav.with_name(f"{wav.stem}-{i + 1}{wav.suffix}") for i in range(n)]
 
 
-def run(args) -> int:
-    """Simulate (or read) the impacts, render them, write the WAVs and sidecars, print a summary."""
-    import math
+def _check_sphere_and_medium(args):
+    """Validate the damper, sphere and fluid options; return ``(radius, radius_source, medium)``."""
     from pathlib import Path
 
-    import numpy as np
-
     from .._validate import ParameterError, check_positive, check_range
-    from ..app.budget import check_budget, wav_estimate
-    from ..app.names import user_terms
-    from ..app.outputs import check_distinct, check_input_file, check_output_file
-    from ..app.wav import WavFile, cavity, write_wav_files
     from ..constants import PAPER_RADIUS
     from ..core.medium import Medium
-    from ..output.audio import ClickModel, check_listeners, ear_positions, render, sphere_radius
+    from ..output.audio import sphere_radius
 
-    # ---- validate every option before any work
     for opt, val, unit in (("--M", args.M, "kg"), ("--K", args.K, "N/m"), ("--m", args.m, "kg"),
                            ("--gap", args.gap, "m"), ("--k-hertz", args.k_hertz, "N/m^1.5"),
                            ("--duration", args.duration, "s")):
@@ -224,7 +216,12 @@ def run(args) -> int:
         radius = check_range("--radius", PAPER_RADIUS if args.radius is None else args.radius, 1e-6, 1.0, unit="m")
         radius_source = "given" if args.radius is not None else "default: the paper's sphere"
     medium = Medium(c=check_positive("--c", args.c, "m/s"), rho=check_positive("--rho", args.rho, "kg/m^3"))
-    from ..app.names import ROOM_OPTIONS
+    return radius, radius_source, medium
+
+
+def _room_of(args):
+    """The ``--room`` settings (or None); a rigid room's images are those arriving within the sound."""
+    from .._validate import ParameterError
     from ._impact import room_settings
 
     if args.room is not None and args.config != "plane":
@@ -238,14 +235,28 @@ def run(args) -> int:
             rigid = False  # Room names --absorption
         if rigid:
             room["duration"] = args.duration
+    return room
+
+
+def _cavity_of(args, radius, medium, room):
+    """The sound scene: the cavity's walls in the geometry the options give."""
+    from ..app.names import ROOM_OPTIONS, user_terms
+    from ..app.wav import cavity
+
     terms = {"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height",
              **(ROOM_OPTIONS if room is not None else {})}
     with user_terms(terms):
-        scene = cavity(args.config, radius, args.gap, struck_wall=args.struck_wall, walls=args.walls,
-                       wall_distance=args.wall_distance, strike=args.strike, height=args.height, medium=medium,
-                       room=room)
-    model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
-                       pulse=args.pulse)
+        return cavity(args.config, radius, args.gap, struck_wall=args.struck_wall, walls=args.walls,
+                      wall_distance=args.wall_distance, strike=args.strike, height=args.height, medium=medium,
+                      room=room)
+
+
+def _listeners_of(args, scene, room):
+    """The listener positions (m): the given ones, or two ears around one head with ``--stereo``."""
+    import numpy as np
+
+    from .._validate import ParameterError, check_positive
+    from ..output.audio import check_listeners, ear_positions
 
     points = [parse_point(s) for s in (args.listener or [DEFAULT_LISTENER])]
     if args.stereo:
@@ -256,8 +267,13 @@ def run(args) -> int:
             raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
     if room is not None:
         scene.configuration.in_room("--listener", np.array(points))
-    listeners = check_listeners(np.array(points), scene, name="--listener")
-    n_files = 1 if args.stereo else len(listeners)
+    return check_listeners(np.array(points), scene, name="--listener")
+
+
+def _check_outputs(args, n_files: int) -> None:
+    """Refuse unwritable or clashing WAV, sidecar and figure paths."""
+    from ..app.outputs import check_distinct, check_output_file
+
     outputs = {}
     for path in _output_paths(args.wav, n_files):
         outputs[f"--wav {path}"] = check_output_file("--wav", path, "wav")
@@ -265,6 +281,13 @@ def run(args) -> int:
     if args.png is not None:
         outputs["--png"] = check_output_file("--png", args.png, "figure")
     check_distinct(outputs)
+
+
+def _impacts_given(args, n_listeners: int):
+    """The impacts read from ``--impacts`` (or None), with the sound's length checked against the budget."""
+    from ..app.budget import check_budget, wav_estimate
+    from ..app.outputs import check_input_file
+
     seq = None
     sound_length, length_options = args.duration, ("--duration",)
     if args.impacts:
@@ -273,11 +296,20 @@ def run(args) -> int:
         last = float(seq.times.max()) if len(seq) else 0.0
         if last > args.duration:  # the sound lasts until the last click has died away
             sound_length, length_options = last, ("--impacts", "--duration")
-    check_budget(wav_estimate(sound_length, args.rate, len(listeners), options=length_options),
+    check_budget(wav_estimate(sound_length, args.rate, n_listeners, options=length_options),
                  getattr(args, "max_memory", None))
+    return seq
+
+
+def _check_run_and_levels(args) -> None:
+    """The damper to simulate (when no ``--impacts``), the file's scale and the levels asked for."""
+    from pathlib import Path
+
+    from .._validate import ParameterError, check_positive, check_range
+
     if not args.impacts:
         from ..app.limits import check_damper
-        from ..app.names import DAMPER_OPTIONS
+        from ..app.names import DAMPER_OPTIONS, user_terms
 
         with user_terms(DAMPER_OPTIONS):
             check_damper(M=args.M, K=args.K, m=args.m, gap=args.gap, k_hertz=args.k_hertz, v=args.v0,
@@ -285,7 +317,6 @@ def run(args) -> int:
     if args.scale is not None:
         check_positive("--scale", args.scale, "Pa")
     check_range("--headroom", args.headroom, 0.0, 60.0, unit="dB")
-    want_levels = args.levels or args.levels_csv is not None or args.loudness
     if args.levels_csv is not None and Path(args.levels_csv).suffix.lower() != ".csv":
         raise ParameterError("--levels-csv", f"must end in .csv, got {args.levels_csv!r}")
     if args.loudness:
@@ -294,62 +325,66 @@ def run(args) -> int:
         if not loudness_available():
             raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
 
-    # ---- impacts
-    if seq is not None:
-        run_desc = {"impacts_csv": str(args.impacts), "m_kg": args.m, "M_kg": args.M, "gap_m": args.gap,
-                    "k_hertz_n_m1_5": args.k_hertz}
-    else:
-        seq, run_desc = _simulate(args)
-    if len(seq):  # the slowest impact gives the longest click: it must fit in the sound
-        from ..core.contact import contact_duration
 
-        slowest = float(seq.velocities.min())
-        with np.errstate(all="ignore"):
-            tau = float(contact_duration(slowest, args.k_hertz, args.m)) if slowest > 0 else math.inf
-        if not tau <= args.duration:
-            raise ParameterError("--m", f"an impact mass of {args.m:g} kg with --k-hertz {args.k_hertz:g} makes the "
-                                        f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
-                                        f"than the {args.duration:g} s sound; use a lighter mass, a stiffer contact "
-                                        "or a longer --duration")
-    out = render(seq, scene, model, listeners, sample_rate=args.rate, duration=args.duration)
+def _check_click_fits(seq, args) -> None:
+    """The slowest impact gives the longest click: it must fit in the sound."""
+    import math
 
-    # ---- files
-    channels = [out.pressure] if args.stereo else [out.pressure[i:i + 1] for i in range(out.pressure.shape[0])]
-    chan_listeners = [listeners] if args.stereo else [listeners[i:i + 1] for i in range(listeners.shape[0])]
-    paths = _output_paths(args.wav, len(channels))
-    names = ["left", "right"] if args.stereo else ["mono"]
-    files = [WavFile(path, data, [f"listener{i + 1}" for i in range(len(pts))] if not args.stereo else names, pts,
-                     names) for path, data, pts in zip(paths, channels, chan_listeners, strict=True)]
+    import numpy as np
+
+    from .._validate import ParameterError
+    from ..core.contact import contact_duration
+
+    if not len(seq):
+        return
+    slowest = float(seq.velocities.min())
+    with np.errstate(all="ignore"):
+        tau = float(contact_duration(slowest, args.k_hertz, args.m)) if slowest > 0 else math.inf
+    if not tau <= args.duration:
+        raise ParameterError("--m", f"an impact mass of {args.m:g} kg with --k-hertz {args.k_hertz:g} makes the "
+                                    f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
+                                    f"than the {args.duration:g} s sound; use a lighter mass, a stiffer contact "
+                                    "or a longer --duration")
+
+
+def _print_sound(seq, scene, model, out, radius, radius_source, room, rate) -> None:
+    """The impacts, the sound model and (in a room) its images, one line each."""
     print(f"impacts: {len(seq)} ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
           f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
           else "impacts: 0 (silence)")
     print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
           f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
-          f"{args.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
+          f"{rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
     if room is not None:
         conf = scene.configuration
         print(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
               f"neglected_energy_db {conf.neglected_energy_db:.1f}" + (" (capped by the memory budget)"
                                                                         if conf.order_capped else ""))
-    per_file = None
-    if want_levels:
-        from ..app.levels import rendered_levels, summary_lines
 
-        names_all = [n for f in files for n in (f.channel_names if args.stereo else f.listeners)]
-        report = rendered_levels(seq, scene, model, listeners, duration=args.duration, channels=names_all,
-                                 with_loudness=args.loudness, rendering=out)
-        for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
-            print(line)
-        groups = [[0, 1]] if args.stereo else [[i] for i in range(len(files))]
-        per_file = [report.subset(g).describe() for g in groups]
-        if args.levels_csv is not None:
-            from ..app.levels import write_levels_csv
 
-            for path in write_levels_csv(args.levels_csv, report):
-                print(f"wrote {path}")
-    written = write_wav_files(files, sample_rate=args.rate, subtype=args.subtype, scale=args.scale,
-                              headroom_db=args.headroom, rendering=out, damper=run_desc,
-                              radius_source=radius_source, levels=per_file)
+def _levels_per_file(args, seq, scene, model, listeners, files, out):
+    """The levels of each file when asked for (printed, and written with ``--levels-csv``), else None."""
+    if not (args.levels or args.levels_csv is not None or args.loudness):
+        return None
+    from ..app.levels import rendered_levels, summary_lines
+
+    names_all = [n for f in files for n in (f.channel_names if args.stereo else f.listeners)]
+    report = rendered_levels(seq, scene, model, listeners, duration=args.duration, channels=names_all,
+                             with_loudness=args.loudness, rendering=out)
+    for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
+        print(line)
+    groups = [[0, 1]] if args.stereo else [[i] for i in range(len(files))]
+    per_file = [report.subset(g).describe() for g in groups]
+    if args.levels_csv is not None:
+        from ..app.levels import write_levels_csv
+
+        for path in write_levels_csv(args.levels_csv, report):
+            print(f"wrote {path}")
+    return per_file
+
+
+def _print_written(args, files, written) -> None:
+    """Each file's warnings, peak, calibration and name."""
     for wav, w in zip(files, written, strict=True):
         for msg in w["warnings"]:
             print(f"warning: {msg}")
@@ -368,17 +403,64 @@ def run(args) -> int:
                   "PCM_24 for listening)")
         print(f"wrote {wav.path}")
         print(f"wrote {w['sidecar']}")
-    if args.png:
-        from ..output.plot.audio import auralisation_figure
-        from ..output.plot.style import save_figure
 
-        if args.stereo:
-            labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]
-            signals = list(channels[0])
-        else:
-            labels = [Path(p).name for p in paths]
-            signals = [c[0] for c in channels]
-        fig = auralisation_figure(signals, args.rate, labels=labels)
-        save_figure(fig, args.png)
-        print(f"wrote {args.png}")
+
+def _write_png(args, paths, channels) -> None:
+    """The waveforms of the files as one figure."""
+    from pathlib import Path
+
+    from ..output.plot.audio import auralisation_figure
+    from ..output.plot.style import save_figure
+
+    if args.stereo:
+        labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]
+        signals = list(channels[0])
+    else:
+        labels = [Path(p).name for p in paths]
+        signals = [c[0] for c in channels]
+    fig = auralisation_figure(signals, args.rate, labels=labels)
+    save_figure(fig, args.png)
+    print(f"wrote {args.png}")
+
+
+def run(args) -> int:
+    """Simulate (or read) the impacts, render them, write the WAVs and sidecars, print a summary."""
+    from ..app.wav import WavFile, write_wav_files
+    from ..output.audio import ClickModel, render
+
+    # ---- validate every option before any work
+    radius, radius_source, medium = _check_sphere_and_medium(args)
+    room = _room_of(args)
+    scene = _cavity_of(args, radius, medium, room)
+    model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
+                       pulse=args.pulse)
+    listeners = _listeners_of(args, scene, room)
+    _check_outputs(args, 1 if args.stereo else len(listeners))
+    seq = _impacts_given(args, len(listeners))
+    _check_run_and_levels(args)
+
+    # ---- impacts
+    if seq is not None:
+        run_desc = {"impacts_csv": str(args.impacts), "m_kg": args.m, "M_kg": args.M, "gap_m": args.gap,
+                    "k_hertz_n_m1_5": args.k_hertz}
+    else:
+        seq, run_desc = _simulate(args)
+    _check_click_fits(seq, args)
+    out = render(seq, scene, model, listeners, sample_rate=args.rate, duration=args.duration)
+
+    # ---- files
+    channels = [out.pressure] if args.stereo else [out.pressure[i:i + 1] for i in range(out.pressure.shape[0])]
+    chan_listeners = [listeners] if args.stereo else [listeners[i:i + 1] for i in range(listeners.shape[0])]
+    paths = _output_paths(args.wav, len(channels))
+    names = ["left", "right"] if args.stereo else ["mono"]
+    files = [WavFile(path, data, [f"listener{i + 1}" for i in range(len(pts))] if not args.stereo else names, pts,
+                     names) for path, data, pts in zip(paths, channels, chan_listeners, strict=True)]
+    _print_sound(seq, scene, model, out, radius, radius_source, room, args.rate)
+    per_file = _levels_per_file(args, seq, scene, model, listeners, files, out)
+    written = write_wav_files(files, sample_rate=args.rate, subtype=args.subtype, scale=args.scale,
+                              headroom_db=args.headroom, rendering=out, damper=run_desc,
+                              radius_source=radius_source, levels=per_file)
+    _print_written(args, files, written)
+    if args.png:
+        _write_png(args, paths, channels)
     return 0
