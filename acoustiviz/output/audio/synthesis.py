@@ -311,8 +311,33 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     >>> out.pressure.shape[0], round(float(out.peak_spl[0]))
     (1, 102)
     """
-    from scipy.signal import fftconvolve
+    pts, fs, duration = _check_render_args(sequence, scene, model, listeners, sample_rate, duration)
+    a, medium = scene.radius, scene.medium
+    pulses = [model.pulse_for(v) for v in sequence.velocities]
+    taus = np.array([p.duration for p in pulses]) if pulses else np.array([1.0])
+    L = _oversampling(fs, taus, oversampling)
+    h = decimation_filter(L)
+    half = (h.size - 1) // (2 * L)  # filter half-length in output samples
+    f_int = float(L * fs)
+    tail = _TAIL_DECADES * math.log(10.0) * a / medium.c
+    geom, trains = _wall_geometry(sequence, scene, pts, fs)
+    end = 0.0
+    for w, (delay, _) in geom.items():
+        sel = sequence.walls == w
+        if np.any(sel):
+            end = max(end, float(np.max(sequence.times[sel] + taus[sel])) + float(delay.max()) + tail)
+            if w in trains:
+                end = max(end, float(np.max(sequence.times[sel] + taus[sel])) + trains[w][2] + tail)
+    n_out = max(math.ceil(end * fs) + half + 1, math.ceil((duration or 0.0) * fs))
+    out = np.zeros((pts.shape[0], n_out))
+    grid = (fs, L, f_int, h, half, tail)
+    _add_exact_clicks(out, sequence, pulses, geom, grid, a, medium)
+    _add_trains(out, sequence, pulses, trains, grid, a, medium)
+    return Rendering(out, fs, f_int, pts, sequence, scene, model)
 
+
+def _check_render_args(sequence, scene, model, listeners, sample_rate, duration):
+    """Refuse bad arguments of :func:`render`; return the listeners (m), the rate (Hz) and the duration (s)."""
     if not isinstance(sequence, ImpactSequence):
         raise ParameterError("sequence", f"expected an ImpactSequence, got {type(sequence).__name__}")
     if not isinstance(scene, CavityScene):
@@ -325,19 +350,25 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     pts = check_listeners(listeners, scene)
     if duration is not None:
         duration = check_positive("duration", duration, "s")
-    a, medium = scene.radius, scene.medium
-    pulses = [model.pulse_for(v) for v in sequence.velocities]
-    taus = np.array([p.duration for p in pulses]) if pulses else np.array([1.0])
+    return pts, fs, duration
+
+
+def _oversampling(fs: int, taus, oversampling) -> int:
+    """The internal rate over the output rate: given, or :func:`oversampling_factor` of the shortest click."""
     if oversampling is None:
-        L = oversampling_factor(fs, float(taus.min()))
-    else:
-        L = int(oversampling)
-        if L < 2 or L != oversampling:
-            raise ParameterError("oversampling", f"must be an integer >= 2, got {oversampling!r}")
-    h = decimation_filter(L)
-    half = (h.size - 1) // (2 * L)  # filter half-length in output samples
-    f_int = float(L * fs)
-    tail = _TAIL_DECADES * math.log(10.0) * a / medium.c
+        return oversampling_factor(fs, float(taus.min()))
+    L = int(oversampling)
+    if L < 2 or L != oversampling:
+        raise ParameterError("oversampling", f"must be an integer >= 2, got {oversampling!r}")
+    return L
+
+
+def _wall_geometry(sequence, scene, pts, fs):
+    """Per wall struck: delays (s) and weights (Pa·s/m) of the exact sources, trains of the rest.
+
+    The sources beyond :data:`TRAIN_ABOVE` of a wall go into fractional-delay trains per listener.
+    """
+    a, medium = scene.radius, scene.medium
     geom, trains = {}, {}
     for w in (-1, 1):  # delays (r - a)/c in s and complex weights P0 C in Pa·s/m, (listeners, sources)
         srcs = wall_sources(scene, w)
@@ -347,20 +378,19 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
                             srcs.weights[:EXACT_SOURCES], srcs.orders[:EXACT_SOURCES], srcs.labels[:EXACT_SOURCES])
         delay, p0, c_shape, _ = image_geometry(pts, srcs, a, medium=medium)
         geom[w] = (delay, p0 * c_shape)
+    return geom, trains
 
-    end = 0.0
-    for w, (delay, _) in geom.items():
-        sel = sequence.walls == w
-        if np.any(sel):
-            end = max(end, float(np.max(sequence.times[sel] + taus[sel])) + float(delay.max()) + tail)
-            if w in trains:
-                end = max(end, float(np.max(sequence.times[sel] + taus[sel])) + trains[w][2] + tail)
-    n_out = max(math.ceil(end * fs) + half + 1, math.ceil((duration or 0.0) * fs))
-    out = np.zeros((pts.shape[0], n_out))
+
+def _add_exact_clicks(out, sequence, pulses, geom, grid, a, medium) -> None:
+    """Add each impact's click from the exactly rendered sources, in closed form, band-limited."""
+    from scipy.signal import fftconvolve
+
+    fs, L, f_int, h, half, tail = grid
+    n_out = out.shape[1]
     for k, pulse in enumerate(pulses):  # loop over impacts ...
         tk = float(sequence.times[k])
         delay_all, weight_all = geom[int(sequence.walls[k])]
-        for i in range(pts.shape[0]):  # ... and listeners; vectorised over sources and samples
+        for i in range(out.shape[0]):  # ... and listeners; vectorised over sources and samples
             delay, weight = delay_all[i], weight_all[i]
             n0 = math.floor((tk + delay.min()) * fs)
             m_stop = math.ceil((tk + delay.max() + pulse.duration + tail) * f_int) + 1
@@ -373,7 +403,15 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
             s0, s1 = max(lo, 0), min(lo + z.size, n_out)
             if s1 > s0:
                 out[i, s0:s1] += z[s0 - lo:s1 - lo]
-    for w, (q0, tr, _) in trains.items():  # the rest of the images: the band-limited click through the trains
+
+
+def _add_trains(out, sequence, pulses, trains, grid, a, medium) -> None:
+    """Add the rest of the images: the band-limited click through each listener's delay trains."""
+    from scipy.signal import fftconvolve
+
+    fs, L, f_int, h, half, tail = grid
+    n_out = out.shape[1]
+    for w, (q0, tr, _) in trains.items():
         sel = np.flatnonzero(sequence.walls == w)
         dry = np.zeros((2, n_out))
         for k in sel:
@@ -387,12 +425,11 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
                 s0, s1 = max(lo, 0), min(lo + z.size, n_out)
                 if s1 > s0:
                     dry[part, s0:s1] += z[s0 - lo:s1 - lo]
-        for i in range(pts.shape[0]):  # Re[W Y] = Re W Re Y - Im W Im Y
+        for i in range(out.shape[0]):  # Re[W Y] = Re W Re Y - Im W Im Y
             wet = fftconvolve(dry[0], tr[i, 0]) - fftconvolve(dry[1], tr[i, 1])
             s0, s1 = max(q0, 0), min(q0 + wet.size, n_out)
             if s1 > s0:
                 out[i, s0:s1] += wet[s0 - q0:s1 - q0]
-    return Rendering(out, fs, f_int, pts, sequence, scene, model)
 
 
 def _trains(pts, srcs, radius, medium, fs):
