@@ -211,6 +211,51 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
     return n, status, t_end, elapsed, compiled, impacts, dense, final, ext, int(n_ext[0])
 
 
+def _solver_settings(model, initial, solver, duration, rtol, dt) -> dict:
+    """The solver's settings (``rtol``, or the Newmark ``dt`` in s and ``steps``), refused or warned about.
+
+    The event solver and the impact map need an underdamped main oscillator; a Newmark step longer
+    than the shortest contact is refused and one above 1/20 of it warns, as does an impact map whose
+    contacts last a noticeable part of the main oscillation (:class:`AccuracyWarning`).
+    """
+    tau_min = shortest_contact(model, initial)
+    if solver in ("event", "impact-map") and not model.underdamped:
+        raise ParameterError(
+            "C",
+            f"the {solver} solver needs an underdamped main oscillator, C < 2 sqrt(K M) = "
+            f"{2 * math.sqrt(model.K * model.M):g} N s/m, got {model.C:g} N s/m; use solver='newmark'",
+        )
+    if solver == "newmark":
+        if dt is None:
+            dt = default_step(model, initial)
+        dt = check_positive("dt", dt, "s")
+        if dt > tau_min:
+            raise ParameterError(
+                "dt",
+                f"a step of {dt:g} s is longer than the shortest possible contact ({tau_min:.3g} s);"
+                f" use dt <= {NEWMARK_WARN_FRACTION * tau_min:.3g} s",
+            )
+        if dt > NEWMARK_WARN_FRACTION * tau_min:
+            warnings.warn(
+                f"Newmark step {dt:g} s is coarser than 1/20 of the shortest contact "
+                f"({tau_min:.3g} s): restitution and impact times will be inaccurate",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+        nsteps = max(int(round(duration / dt)), 1)
+        return {"dt": duration / nsteps, "steps": nsteps}  # land exactly on the duration
+    if solver == "impact-map":
+        prod = tau_min * model.main_frequency
+        if prod > IMPACT_MAP_WARN_PRODUCT:
+            warnings.warn(
+                f"contacts last up to {tau_min:.3g} s, {prod:.2g} rad of the main oscillation: "
+                "the instantaneous impact map will be inaccurate; use solver='event'",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+    return {"rtol": rtol}
+
+
 def simulate(
     model: DamperModel = TABLE1,
     duration: float = 20.0,
@@ -272,53 +317,15 @@ def simulate(
     state0 = np.array(initial.as_tuple(model))
     t_eval = _check_t_eval(t_eval, duration)
     p = _params(model)
-    settings: dict = {}
-    tau_min = shortest_contact(model, initial)
-    if solver in ("event", "impact-map") and not model.underdamped:
-        raise ParameterError(
-            "C",
-            f"the {solver} solver needs an underdamped main oscillator, C < 2 sqrt(K M) = "
-            f"{2 * math.sqrt(model.K * model.M):g} N s/m, got {model.C:g} N s/m; use solver='newmark'",
-        )
-    if solver == "newmark":
-        if dt is None:
-            dt = default_step(model, initial)
-        dt = check_positive("dt", dt, "s")
-        if dt > tau_min:
-            raise ParameterError(
-                "dt",
-                f"a step of {dt:g} s is longer than the shortest possible contact ({tau_min:.3g} s);"
-                f" use dt <= {NEWMARK_WARN_FRACTION * tau_min:.3g} s",
-            )
-        if dt > NEWMARK_WARN_FRACTION * tau_min:
-            warnings.warn(
-                f"Newmark step {dt:g} s is coarser than 1/20 of the shortest contact "
-                f"({tau_min:.3g} s): restitution and impact times will be inaccurate",
-                AccuracyWarning,
-                stacklevel=2,
-            )
-        nsteps = max(int(round(duration / dt)), 1)
-        dt = duration / nsteps  # land exactly on the duration
-        settings = {"dt": dt, "steps": nsteps}
-    elif solver == "impact-map":
-        settings = {"rtol": rtol}
-        prod = tau_min * model.main_frequency
-        if prod > IMPACT_MAP_WARN_PRODUCT:
-            warnings.warn(
-                f"contacts last up to {tau_min:.3g} s, {prod:.2g} rad of the main oscillation: "
-                "the instantaneous impact map will be inaccurate; use solver='event'",
-                AccuracyWarning,
-                stacklevel=2,
-            )
-    else:
-        settings = {"rtol": rtol}
+    settings = _solver_settings(model, initial, solver, duration, rtol, dt)
+    dt, nsteps = settings.get("dt", dt), settings.get("steps", 0)
 
     n_max = int(max_impacts)
     # capacity for the turning points of x: about one per main half-period, plus at most about one
     # per flight and per contact (grown and re-run should it ever not be enough)
     n_ext_cap = 2 * int(math.ceil(duration * model.main_frequency / math.pi)) + 2 * n_max + 64
     while True:
-        out = _run_kernel(solver, p, state0, duration, rtol, dt, nsteps if solver == "newmark" else 0,
+        out = _run_kernel(solver, p, state0, duration, rtol, dt, nsteps,
                           t_eval, n_max, n_ext_cap, model, initial)
         if out[-1] <= n_ext_cap:
             break
