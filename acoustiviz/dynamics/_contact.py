@@ -206,7 +206,7 @@ def _copy(src, dst):
 
 
 @njit(cache=True)
-def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
+def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):  # noqa: C901 - one compiled kernel
     """Integrate one contact from ``tc`` s until the bodies part or ``t_end`` s (module docstring).
 
     The contact starts (or resumes, for a run continued mid-contact) on wall ``sw`` with the

@@ -113,7 +113,7 @@ def _release(c, tau_end, sw):
 
 
 @njit(cache=True)
-def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
+def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):  # noqa: C901 - one compiled kernel
     """Advance the forced damper from ``t0`` to ``t1`` s (state ``st`` updated in place).
 
     ``restitution = -1`` integrates compliant contacts (event solver); ``restitution >= 0``

@@ -79,7 +79,7 @@ def _hermite_turn(x, v, x1, v1, h):
 
 
 @njit(cache=True)
-def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,
+def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,  # noqa: C901 - one compiled kernel
                     ext, n_ext):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4), ``nsteps`` steps of ``h`` s from ``t0`` s.
 

@@ -61,7 +61,7 @@ def _y_sampled(tr, xi, acc, yk, s):  # pragma: no cover - compiled
 
 
 @_njit(cache=True)
-def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail):  # pragma: no cover
+def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail):  # noqa: C901 - one compiled kernel  # pragma: no cover
     """Add one sphere's pressure to ``buf[k]`` at ``t0 + k dt``; return the touched index range."""
     m = buf.size
     end = tau if kind == 0 else xi[xi.size - 1]
@@ -188,7 +188,7 @@ def _p_at(t, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # p
 
 
 @_njit(cache=True)
-def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover
+def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # noqa: C901 - one compiled kernel  # pragma: no cover
     """Largest ``sign · p`` in Pa on ``[max(lo, tk - dt), min(hi, tk + dt)]`` by Brent's method.
 
     A bounded Brent search (golden section with parabolic steps, the algorithm of SciPy's
