@@ -20,13 +20,16 @@ from pathlib import Path
 RESULTS = Path(__file__).resolve().parent / "results"
 
 
-def best_of(f, repeat: int):
-    """Call ``f`` ``repeat`` times; return (the shortest wall time in s, the last result)."""
+def best_of(f, repeat: int, clock=time.perf_counter):
+    """Call ``f`` ``repeat`` times; return (the shortest time on ``clock`` in s, the last result).
+
+    The default clock is the wall clock.
+    """
     best, out = math.inf, None
     for _ in range(max(1, int(repeat))):
-        t0 = time.perf_counter()
+        t0 = clock()
         out = f()
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, clock() - t0)
     return best, out
 
 
@@ -36,12 +39,7 @@ def cpu_best_of(f, repeat: int):
     CPU time is steadier than wall time on a machine shared with other work (and counts every
     thread of this process).
     """
-    best, out = math.inf, None
-    for _ in range(max(1, int(repeat))):
-        t0 = time.process_time()
-        out = f()
-        best = min(best, time.process_time() - t0)
-    return best, out
+    return best_of(f, repeat, clock=time.process_time)
 
 
 def machine() -> str:
@@ -60,7 +58,7 @@ def results_header(command: str) -> str:
     return f"$ {command} ({datetime.now(UTC).strftime('%Y-%m-%d %H:%M UTC')}; {machine()})"
 
 
-class _Tee:
+class Tee:
     """Write to a stream and keep a copy."""
 
     def __init__(self, out):
@@ -87,7 +85,7 @@ def run_writing(name: str, main, argv=None) -> int:
     args = [a for a in args if a != "--write"]
     header = results_header(" ".join(["python", f"benchmarks/{name}.py", *args]))
     print(header)
-    tee = _Tee(sys.stdout)
+    tee = Tee(sys.stdout)
     with contextlib.redirect_stdout(tee):
         status = main(args)
     if status:

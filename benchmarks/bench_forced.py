@@ -36,6 +36,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+from _timing import Tee
 
 from acoustiviz.dynamics import DamperModel
 from acoustiviz.dynamics._contact import free_restitution
@@ -241,20 +242,6 @@ def table_attractors(baseline=BASELINE, write=False):
         print(f"wrote {path.relative_to(root)}")
 
 
-class _Tee:
-    """Write to stdout and keep a copy."""
-
-    def __init__(self, out):
-        self.out, self.parts = out, []
-
-    def write(self, text):
-        self.parts.append(text)
-        return self.out.write(text)
-
-    def flush(self):
-        self.out.flush()
-
-
 def main(argv=None):
     """Print the tables (module docstring); ``--write`` keeps them in benchmarks/results/."""
     import contextlib
@@ -263,7 +250,7 @@ def main(argv=None):
 
     args = list(sys.argv[1:] if argv is None else argv)
     if "--write" in args and "--attractors" not in args:
-        tee = _Tee(sys.stdout)
+        tee = Tee(sys.stdout)
         with contextlib.redirect_stdout(tee):
             _main(args)
         from acoustiviz.output.writers import write_text_atomic

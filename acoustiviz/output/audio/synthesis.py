@@ -12,6 +12,7 @@ from ...constants import SAMPLE_RATES
 from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
 from ...core.images import ImageSet
 from ...core.radiation import pulse_response
+from ...field._kernels import _njit
 from ...field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
 
@@ -86,12 +87,7 @@ def _train_kernel_py(out_re, out_im, pos, wre, wim, table, half, steps):  # prag
             out_im[base + q] += wim[j] * g
 
 
-try:
-    from numba import njit as _njit
-
-    _train_kernel = _njit(cache=True)(_train_kernel_py)
-except ImportError:  # pragma: no cover - numba is a dependency
-    _train_kernel = _train_kernel_py
+_train_kernel = _njit(cache=True)(_train_kernel_py)
 
 
 @dataclass(frozen=True)
