@@ -121,6 +121,7 @@ def produce_waveform(ctx: RunContext):
     from ..field import time_series
     from ..output.plot.style import style
     from ..output.plot.waveform import plot_waveform
+    from .columns import waveform_extremes, write_waveform_csv
     from .views import waveform_times
 
     opts = ctx.scene.output("waveform")
@@ -132,9 +133,8 @@ def produce_waveform(ctx: RunContext):
         # a room's window (its reverberation outlasts any span), else the whole sound
         t = waveform_times(list(pulses.values()), pos, conf, medium, window=getattr(conf, "duration", None))
         series = {k: time_series(p, t, pos[None, :], conf, medium=medium)[0] for k, p in pulses.items()}
-        cols = [t] + list(series.values())
-        header = ["time_s"] + (["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds])
-        csv = write_csv_atomic(ctx.path(f"waveform_{name}.csv"), header, cols, fmt="%.10e")
+        header = ["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds]
+        csv = write_waveform_csv(ctx.path(f"waveform_{name}.csv"), t, list(series.values()), header)
         with style():
             fig = _fig()
             ax = fig.add_subplot()
@@ -143,10 +143,9 @@ def produce_waveform(ctx: RunContext):
             ax.set_title(f"listener {name!r}, {conf.name}, U0 = {ctx.scene.impact().velocity:g} m/s")
             ax.legend(fontsize=8)
             png = _save(fig, ctx.path(f"waveform_{name}.png"))
-        first = series[kinds[0]]
-        peak = float(np.abs(first).max())
-        figs = {"pulse": kinds[0], "max_pa": f"{first.max():.4g}", "min_pa": f"{first.min():.4g}",
-                "peak_spl_db": f"{20 * math.log10(peak / 20e-6):.1f}"}
+        pmax, pmin = waveform_extremes(pulses[kinds[0]], series[kinds[0]], pos, conf, medium)
+        figs = {"pulse": kinds[0], "max_pa": f"{pmax:.4g}", "min_pa": f"{pmin:.4g}",
+                "peak_spl_db": f"{20 * math.log10(max(pmax, -pmin) / 20e-6):.1f}"}
         if hasattr(conf, "image_order"):  # a room: its image model
             figs.update(image_order=str(conf.image_order), images=str(conf.image_count),
                         neglected_energy_db=f"{conf.neglected_energy_db:.1f}")
@@ -158,6 +157,7 @@ def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance (CSV + polar PNG)."""
     from ..field import directivity
     from ..output.plot.directivity import directivity_figure
+    from .columns import write_directivity_csv
     from .views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, directivity_metric_figure
 
     out = ctx.scene.output("directivity")
@@ -168,18 +168,16 @@ def produce_directivity(ctx: RunContext):
     top = conf.polar_limit_deg
     angles = directivity_angles(conf, step)
     d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
-    names, columns = ["angle_deg", "peak_pa", "rms_pa", "spl_db"], [d.angle_deg, d.peak, d.rms, d.spl_db]
     title = f"{conf.name}, r = {dist:g} m (paper Figure 3)"
-    figures = {}
+    figures, column, values = {}, None, None
     if metric != "peak-spl":
         values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium)
-        names.append(DIRECTIVITY_METRICS[metric])
-        columns.append(values)
-        figures[f"max_{DIRECTIVITY_METRICS[metric]}"] = f"{np.nanmax(values):.1f}"
+        column = DIRECTIVITY_METRICS[metric]
+        figures[f"max_{column}"] = f"{np.nanmax(values):.1f}"
         fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)
     else:
         fig = directivity_figure(d, half_space=top == 90.0, title=title)
-    csv = write_csv_atomic(ctx.path("directivity.csv"), names, columns, fmt="%.8g")
+    csv = write_directivity_csv(ctx.path("directivity.csv"), d, column, values)
     png = _save(fig, ctx.path("directivity.png"))
     i = int(np.nanargmax(d.spl_db))
     return [Product("directivity", csv, {"max_spl_db": f"{d.spl_db[i]:.1f}", "at_deg": f"{d.angle_deg[i]:g}",

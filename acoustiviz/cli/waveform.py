@@ -36,12 +36,11 @@ def run(args) -> int:
     """Compute, print a summary, and write the requested files."""
     import math
 
-    import numpy as np
-
     from ..app.budget import check_budget, given_first, memory_cap, waveform_estimate
+    from ..app.columns import waveform_extremes
     from ..app.names import user_terms
     from ..app.outputs import check_distinct, check_output_file
-    from ..app.views import check_samples_per_duration, waveform_peaks, waveform_times
+    from ..app.views import check_samples_per_duration, waveform_times
     from ..field import time_series
     from ._impact import impact_from_args, observer_point
 
@@ -74,12 +73,9 @@ def run(args) -> int:
           f"({setup.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, peak acceleration "
           f"{imp.peak_acceleration:.4g} m/s^2, pulse {setup.pulse.kind}")
     _print_observer(args, setup, point)
-    with user_terms({"memory_limit": "--max-memory"}):  # refined peaks, not the largest samples
-        if room:  # the peaks within the window
-            pmax, pmin = float(np.max(p)), float(np.min(p))
-        else:
-            pmax, pmin = waveform_peaks(setup.pulse, point, setup.configuration, setup.medium,
-                                        memory_limit=memory_cap(getattr(args, "max_memory", None)))
+    with user_terms({"memory_limit": "--max-memory"}):  # refined peaks, or in a room the samples of the window
+        pmax, pmin = waveform_extremes(setup.pulse, p, point, setup.configuration, setup.medium,
+                                       memory_limit=memory_cap(getattr(args, "max_memory", None)))
     peak = max(pmax, -pmin)
     how = "largest samples in the window" if room else "peaks of the continuous waveform"
     print(f"pressure: max {pmax:.10g} Pa, min {pmin:.10g} Pa ({how}), peak SPL "
@@ -139,10 +135,10 @@ def _print_observer(args, setup, point) -> None:
 
 def _write_csv(args, setup, point, t, p, pmax, pmin) -> None:
     """``time_s,pressure_pa``; in a room, a JSON sidecar with the images and the settings."""
-    from ..output.writers import write_csv_atomic
+    from ..app.columns import write_waveform_csv
 
     conf, imp = setup.configuration, setup.impact
-    write_csv_atomic(args.csv, ["time_s", "pressure_pa"], [t, p], fmt=["%.12e", "%.10e"])
+    write_waveform_csv(args.csv, t, [p], ["pressure_pa"])
     print(f"wrote {args.csv}")
     if args.room is not None:
         import json
