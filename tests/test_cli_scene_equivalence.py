@@ -2,8 +2,9 @@
 
 Each case is one workflow set up twice: as the argv of its command and as the equivalent scene
 TOML run by ``acoustiviz run``. Both run in this process and the files they write are compared
-byte for byte (CSV, JSON, VTU and the sweep's PNG maps) or, where a file records its own name or
-the scene's (a WAV's sidecar), by the decoded samples. The key figures a command prints and a
+byte for byte (CSV, JSON, VTU and the sweep's PNG maps), a sweep's journal line by line in any
+order (its rows are written as designs finish), and a WAV by its decoded samples (its sidecar
+records its own file name and the scene's). The key figures a command prints and a
 scene writes to ``summary.md`` are compared at the precision of the summary.
 
 A disagreement found here is resolved in the application layer, where both front-ends take it.
@@ -29,6 +30,7 @@ class Case:
     scene: str
     same: tuple  # (CLI file, scene file relative to the run folder), compared byte for byte
     wav: tuple = ()  # (CLI file, scene file): compared by their decoded samples
+    rows: tuple = ()  # (CLI file, scene file): the same lines, in any order (a journal written as work finishes)
     figures: dict = field(default_factory=dict)  # summary figure -> regex on the CLI's stdout giving it
 
 
@@ -66,8 +68,9 @@ CASES = {
                    "--quiet", "--out", "sw"),
                   '[damper]\nsolver = "event"\n[outputs.sweep]\ngap_m = "0.02:0.04:2"\nmass_kg = "0.02:0.04:2"\n'
                   'duration_s = 1.0\nworkers = 1\n',
-                  tuple((f"sw/{n}", f"sweep/{n}") for n in ("sweep.csv", "sweep.json", "design_table.csv",
-                                                             "inclination_map.png", "max_spl_map.png"))),
+                  tuple((f"sw/{n}", f"sweep/{n}") for n in ("sweep.json", "design_table.csv", "inclination_map.png",
+                                                             "max_spl_map.png")),
+                  rows=(("sw/sweep.csv", "sweep/sweep.csv"),)),
     "auralize-levels": Case(
         ("auralize", "--duration", "0.5", "--solver", "event", "--listener", "0.495,0,0.514", "--wav", "a.wav",
          "--levels-csv", "l.csv"),
@@ -116,6 +119,9 @@ def _summary_figures(out: Path) -> dict:
 def _check(case: Case, cli: Path, out: Path, said: str) -> None:
     for mine, theirs in case.same:
         assert (cli / mine).read_bytes() == (out / theirs).read_bytes(), f"{mine} differs from the scene's {theirs}"
+    for mine, theirs in case.rows:
+        lines = [sorted((folder / f).read_text().splitlines()) for folder, f in ((cli, mine), (out, theirs))]
+        assert lines[0] == lines[1], f"{mine} differs from the scene's {theirs}"
     for mine, theirs in case.wav:
         import soundfile
 

@@ -271,27 +271,26 @@ def produce_wav(ctx: RunContext):
     return products
 
 
-def _plane_options(ctx: RunContext) -> dict:
-    g = ctx.scene.section("grids")["plane"]
-    return {"extent": g["extent_m"], "sections": tuple(g["sections"]), "n_u": g["resolution"],
-            "medium": ctx.medium}
+def _plane_options(ctx: RunContext, s) -> dict:
+    return {"extent": s.extent, "sections": s.sections, "n_u": s.n_u, "medium": ctx.medium}
 
 
 def produce_snapshot(ctx: RunContext):
     """Pressure p(x, t) on the planar sections at the requested times (one PNG, side by side)."""
     from ..output.render import render_snapshot
 
-    opts = ctx.scene.output("snapshot")
-    times = opts["times_s"]
+    s = ctx.scene.view_settings("snapshot")
+    times = list(s.times)
     ctx.progress(f"rendering {len(times)} snapshot(s)")
     path = render_snapshot(ctx.pulse(), ctx.configuration, times if len(times) > 1 else times[0],
-                           ctx.path("snapshot.png"), size=tuple(opts["size_px"]), **_plane_options(ctx))
+                           ctx.path("snapshot.png"), size=s.size, **_plane_options(ctx, s))
     products = [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
-    if opts["vtk"]:
+    if ctx.scene.output("snapshot")["vtk"]:
         from ..output.vtk import write_snapshot_vtk
 
         products += [Product("vtk", p) for p in write_snapshot_vtk(ctx.pulse(), ctx.configuration, times,
-                                                                    ctx.path("snapshot.vtu"), **_plane_options(ctx))]
+                                                                    ctx.path("snapshot.vtu"),
+                                                                    **_plane_options(ctx, s))]
     return products
 
 
@@ -300,16 +299,15 @@ def produce_balloon(ctx: RunContext):
     from ..output.render import balloon_data, render_balloon
     from .views import balloon_levels
 
-    opts = ctx.scene.output("balloon")
-    g = ctx.scene.section("grids")["sphere"]
+    s = ctx.scene.view_settings("balloon")
     pulse, conf = ctx.pulse(), ctx.configuration
-    data = balloon_data(pulse, conf, medium=ctx.medium, distance=g["distance_m"], metric=opts["metric"],
-                        n_theta=g["n_theta"], levels=balloon_levels(opts["metric"], pulse, conf, ctx.medium))
-    path = render_balloon(pulse, conf, ctx.path("balloon.png"), medium=ctx.medium, db_range=opts["db_range"],
-                          size=tuple(opts["size_px"]), data=data)
-    products = [Product("balloon", path, {"metric": opts["metric"], "max_db": f"{data.max_level:.1f}",
-                                          "mean_db": f"{data.mean_level:.1f}", "distance_m": f"{g['distance_m']:g}"})]
-    if opts["vtk"]:
+    data = balloon_data(pulse, conf, medium=ctx.medium, distance=s.distance, metric=s.metric, n_theta=s.n_theta,
+                        levels=balloon_levels(s.metric, pulse, conf, ctx.medium))
+    path = render_balloon(pulse, conf, ctx.path("balloon.png"), medium=ctx.medium, db_range=s.db_range,
+                          size=s.size, data=data)
+    products = [Product("balloon", path, {"metric": s.metric, "max_db": f"{data.max_level:.1f}",
+                                          "mean_db": f"{data.mean_level:.1f}", "distance_m": f"{s.distance:g}"})]
+    if ctx.scene.output("balloon")["vtk"]:
         from ..output.vtk import write_balloon_vtk
 
         products += [Product("vtk", p) for p in write_balloon_vtk(pulse, conf, ctx.path("balloon.vtu"),
@@ -321,17 +319,17 @@ def produce_animation(ctx: RunContext):
     """GIF of the wavefront leaving the impact and reflecting, on the planar sections."""
     from ..output.render import render_animation
 
-    opts = ctx.scene.output("animation")
-    ctx.progress(f"rendering {opts['frames']} animation frames")
-    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), frames=opts["frames"],
-                            fps=opts["fps"], size=tuple(opts["size_px"]), **_plane_options(ctx))
-    products = [Product("animation", path, {"frames": str(opts["frames"]), "fps": str(opts["fps"])})]
-    if opts["vtk"]:
+    s = ctx.scene.view_settings("animation")
+    ctx.progress(f"rendering {s.frames} animation frames")
+    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), frames=s.frames, fps=s.fps,
+                            size=s.size, **_plane_options(ctx, s))
+    products = [Product("animation", path, {"frames": str(s.frames), "fps": f"{s.fps:g}"})]
+    if ctx.scene.output("animation")["vtk"]:
         from ..output.vtk import write_animation_vtk
 
         products += [Product("vtk", p) for p in write_animation_vtk(ctx.pulse(), ctx.configuration,
-                                                                     ctx.path("animation.vtu"), frames=opts["frames"],
-                                                                     **_plane_options(ctx))]
+                                                                     ctx.path("animation.vtu"), frames=s.frames,
+                                                                     **_plane_options(ctx, s))]
     return products
 
 

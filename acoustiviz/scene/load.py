@@ -121,6 +121,31 @@ class Scene:
                                 mass=self.sphere_mass(), pulse=kind or self.data["contact"]["pulse"],
                                 partner_mass=partner, **self._impact_settings(radius))
 
+    def view_settings(self, view: str):
+        """The settings object of a 3-D view: ``"balloon"``, ``"snapshot"`` or ``"animation"``.
+
+        Mapped from ``[grids]`` and ``[outputs.<view>]`` onto :mod:`acoustiviz.app.settings.render`;
+        errors name the scene keys.
+        """
+        from ..app.names import user_terms
+        from ..app.settings.render import SETTINGS_OF_VIEW
+
+        cls = SETTINGS_OF_VIEW[view]
+        out, grids = self.output_or_defaults(view), self.data["grids"]
+        if view == "balloon":
+            g = grids["sphere"]
+            values = dict(distance=g["distance_m"], metric=out["metric"], db_range=out["db_range"],
+                          n_theta=g["n_theta"])
+        else:
+            g = grids["plane"]
+            values = dict(sections=tuple(g["sections"]), extent=g["extent_m"], n_u=g["resolution"])
+            if view == "snapshot":
+                values["times"] = tuple(out["times_s"])
+            else:
+                values.update(frames=out["frames"], fps=out["fps"])
+        with user_terms(view_names(view)):
+            return cls.from_values({**values, "size": tuple(out["size_px"])}, scene=True)
+
     def medium(self):
         """The fluid as a :class:`~acoustiviz.core.medium.Medium`."""
         return self.setup().medium
@@ -355,21 +380,30 @@ def _check_geometry(scene: Scene) -> None:
                      names=SCENE_NAMES)
         except ParameterError as exc:
             raise SceneError(src, exc.name, exc.detail) from None
-    cap = grids["memory_limit_mb"] * 2**20
-    n_plane = grids["plane"]["resolution"] ** 2
-    n_sphere = 2 * grids["sphere"]["n_theta"] ** 2
-    checks = []
-    if scene.wants("snapshot"):
-        checks.append(("grids.plane.resolution", n_plane * len(scene.data["outputs"]["snapshot"]["times_s"]) * 8))
-    if scene.wants("animation"):
-        checks.append(("grids.plane.resolution", n_plane * scene.data["outputs"]["animation"]["frames"] * 8))
-    if scene.wants("balloon"):
-        checks.append(("grids.sphere.n_theta", n_sphere * 8 * 8))
-    for key, need in checks:
-        if need > cap:
-            raise SceneError(src, key, f"the grid needs {need / 2**20:.4g} MiB, more than "
-                                       f"grids.memory_limit_mb = {grids['memory_limit_mb']:g} MiB; "
-                                       "lower the resolution or frames, or raise the cap")
+    _check_views(scene, conf)
+
+
+def view_names(view: str) -> dict:
+    """API name of a 3-D view's setting -> its scene key."""
+    from ..app.settings.render import SETTINGS_OF_VIEW
+
+    return {**SETTINGS_OF_VIEW[view].scene_names(), "size": f"outputs.{view}.size_px",
+            "times": "outputs.snapshot.times_s", "sections": "grids.plane.sections"}
+
+
+def _check_views(scene: Scene, conf) -> None:
+    """The memory and output size of each 3-D view within ``grids.memory_limit_mb``, by the command line's rule."""
+    from ..app.budget import check_budget
+    from ..app.render import render_estimate
+
+    for view in ("snapshot", "animation", "balloon"):
+        if not scene.wants(view):
+            continue
+        try:
+            est = render_estimate(view, scene.view_settings(view), len(conf.sources), options=view_names(view))
+            check_budget(est, scene.data["grids"]["memory_limit_mb"], cap_name="grids.memory_limit_mb")
+        except ParameterError as exc:
+            raise SceneError(scene.source, exc.name, exc.detail) from None
 
 
 def scene_from_text(text: str, source: str = "<scene>") -> Scene:

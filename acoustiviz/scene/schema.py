@@ -6,7 +6,8 @@ import math
 from dataclasses import dataclass
 
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
-from ..constants import BALLOON_METRICS as _BALLOON_METRICS
+from ..app.settings.base import SIZE_RANGE
+from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..constants import (
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
@@ -171,15 +172,28 @@ _LISTENER = {
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
 
-_SPHERE_GRID = {
-    "distance_m": _pos("radius of the spherical grid (balloon) around the sphere's centre", "m", 0.7, high=1e4),
-    "n_theta": Key("int", "polar samples (the azimuth gets twice as many)", 32, low=3, high=2000),
-}
+def _from_table(settings, table: str) -> dict:
+    """The keys of scene table ``table`` (``"grids.sphere"``) among ``settings``, built from their records.
+
+    The records are the single home of each range, unit, default and meaning
+    (:mod:`acoustiviz.app.settings`); the scene takes its own default where it has one.
+    """
+    keys = {}
+    for st in settings:
+        if st.key and st.key.rsplit(".", 1)[0] == table:
+            keys.setdefault(st.key.rsplit(".", 1)[1], Key(st.kind, st.doc, st.in_scene, st.unit, low=st.low,
+                                                          high=st.high, low_open=st.low_open, choices=st.choices))
+    return keys
+
+
+def _size(default) -> Key:
+    return Key("ints", "image width and height", default, "px", low=SIZE_RANGE[0], high=SIZE_RANGE[1], length=2)
+
+
+_SPHERE_GRID = _from_table(BALLOON, "grids.sphere")
 
 _PLANE_GRID = {
-    "extent_m": _pos("distance from the sphere's centre to the far edges of each section (default: the distance "
-                     "sound travels by the last time, x 1.25)", "m", None, high=1e3),
-    "resolution": Key("int", "points along the longer side of each section", 200, low=8, high=20000),
+    **_from_table(SNAPSHOT + ANIMATION, "grids.plane"),
     "sections": Key("strs", "sections through the sphere's centre: 'xz' the vertical plane normal to the wall "
                     "(holding the acceleration axis), 'yz' the vertical plane parallel to it, 'xy' the horizontal",
                     ["xz"], choices=("xz", "yz", "xy")),
@@ -205,26 +219,14 @@ _OUT = {
                          "peak, RMS and SPL (and the chosen metric) against angle at the first listener's distance"),
     "level_map": Table(_LEVEL_MAP, "peak SPL and SEL of the single impact over a plane, as `acoustiviz map` "
                        "(level_map.png, level_map.csv)"),
-    "snapshot": Table({"times_s": Key("floats", "snapshot times (at most 12, drawn side by side)", [0.001], "s",
-                                      low=0.0, high=10.0, length=12),
-                       "size_px": Key("ints", "image width and height", [1400, 600], "px", low=64, high=8192,
-                                      length=2),
+    "snapshot": Table({"times_s": Key("floats", f"snapshot times (at most {MAX_TIMES}, drawn side by side)",
+                                      [0.001], "s", low=0.0, high=10.0, length=MAX_TIMES),
+                       "size_px": _size([1400, 600]),
                        "vtk": _VTK},
                       "pressure field on the planar sections at given times (pyvista)"),
-    "balloon": Table({"metric": Key("str", "balloon colour/radius: the closed form's peak, rms or sel, or a "
-                                    "weighted level of one impact (as `acoustiviz render balloon --metric`)", "peak",
-                                    choices=_BALLOON_METRICS),
-                      "db_range": _pos("level range from the rim to the centre of the balloon", "dB", 30.0,
-                                       high=200.0),
-                      "size_px": Key("ints", "image width and height", [1200, 900], "px", low=64, high=8192,
-                                     length=2),
-                      "vtk": _VTK},
+    "balloon": Table({**_from_table(BALLOON, "outputs.balloon"), "size_px": _size([1200, 900]), "vtk": _VTK},
                      "3-D directivity balloon on the spherical grid (pyvista)"),
-    "animation": Table({"frames": Key("int", "frames", 40, low=2, high=2000),
-                        "fps": Key("int", "frames per second", 12, low=1, high=60),
-                        "size_px": Key("ints", "image width and height", [800, 600], "px", low=64, high=4096,
-                                       length=2),
-                        "vtk": _VTK},
+    "animation": Table({**_from_table(ANIMATION, "outputs.animation"), "size_px": _size([800, 600]), "vtk": _VTK},
                        "GIF of the wavefront on the planar sections (pyvista)"),
     "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),

@@ -1,0 +1,90 @@
+"""The base of every settings object: a frozen dataclass that checks itself once against its table."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ...errors import ParameterError
+
+__all__ = ["Settings", "check_size", "parse_size"]
+
+#: Smallest and largest image side in pixels.
+SIZE_RANGE = (64, 8192)
+
+
+def check_size(size, name: str = "size") -> tuple:
+    """``(width, height)`` in pixels, each an integer in :data:`SIZE_RANGE`, or a :class:`ParameterError`."""
+    lo, hi = SIZE_RANGE
+    try:
+        w, h = size
+    except (TypeError, ValueError):
+        raise ParameterError(name, f"expected (width, height) in pixels, got {size!r}") from None
+    for v in (w, h):
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise ParameterError(name, f"width and height must be integers in [{lo}, {hi}] px, got {size!r}")
+    if not (lo <= w <= hi and lo <= h <= hi):
+        raise ParameterError(name, f"width and height must lie in [{lo}, {hi}] px, got {w}x{h}")
+    return w, h
+
+
+def parse_size(text: str, name: str = "size") -> tuple:
+    """``"1200x900"`` -> ``(1200, 900)``, each side checked (:func:`check_size`); a ParameterError naming ``name``."""
+    parts = str(text).lower().replace("\u00d7", "x").split("x")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        w, h = int(parts[0]), int(parts[1])
+    except ValueError:
+        raise ParameterError(name, f"expected WIDTHxHEIGHT in pixels, e.g. 1200x900, got {text!r}") from None
+    return check_size((w, h), name)
+
+
+@dataclasses.dataclass(frozen=True)
+class Settings:
+    """A workflow's settings; subclasses list their :class:`Setting` records in ``TABLE``.
+
+    Each field named in ``TABLE`` is checked (and converted to its type) once, when the object is
+    made; errors name the API parameter, which the front-ends rename to the option or scene key
+    (:meth:`cli_names`, :meth:`scene_names`).
+    """
+
+    TABLE = ()
+
+    def __post_init__(self):
+        for s in self.TABLE:
+            object.__setattr__(self, s.name, s.check(getattr(self, s.name)))
+        self.validate()
+
+    def validate(self) -> None:
+        """Checks beyond the table's ranges (subclasses)."""
+
+    @classmethod
+    def table(cls) -> dict:
+        """``{name: Setting}``."""
+        return {s.name: s for s in cls.TABLE}
+
+    @classmethod
+    def cli_names(cls) -> dict:
+        """API parameter -> command-line option."""
+        return {s.name: s.option for s in cls.TABLE if s.option}
+
+    @classmethod
+    def scene_names(cls) -> dict:
+        """API parameter -> scene key."""
+        return {s.name: s.key for s in cls.TABLE if s.key}
+
+    @classmethod
+    def from_values(cls, values: dict, *, scene: bool = False):
+        """The settings of ``values`` (``{name: value}``); a missing name takes its table default.
+
+        ``scene``: take the scene's default where it differs from the command line's.
+        """
+        fields = {f.name for f in dataclasses.fields(cls)}
+        table = cls.table()
+        kw = {k: v for k, v in values.items() if k in fields}
+        for name, s in table.items():
+            if name not in kw and name in fields:
+                kw[name] = s.in_scene if scene else s.default
+        return cls(**kw)
+
+

@@ -1,0 +1,137 @@
+"""Settings of the 3-D views: ``acoustiviz render balloon|snapshot|animation`` and the scene outputs of the same names.
+
+One table per view; a scene's ``[grids.sphere]`` and ``[grids.plane]`` keys and its
+``[outputs.balloon|snapshot|animation]`` keys are the same settings as the command's options.
+Where the two front-ends start from different defaults (a scene's planes share one resolution,
+the command's views each have their own), the table records both (``scene_default``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from ...constants import BALLOON_METRICS
+from ...errors import ParameterError
+from .base import Settings, check_size
+from .table import Setting
+
+__all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "SECTIONS", "MAX_TIMES", "BalloonSettings", "SnapshotSettings",
+           "AnimationSettings", "SETTINGS_OF_VIEW"]
+
+#: Planes through the sphere's centre a field view may show.
+SECTIONS = ("xz", "yz", "xy")
+#: Most snapshot times drawn side by side.
+MAX_TIMES = 12
+#: Farthest edge of a field plane and largest balloon radius in m (a render of a field kilometres
+#: across shows nothing of an impact).
+MAX_EXTENT, MAX_BALLOON_DISTANCE = 1e3, 1e4
+
+BALLOON = (
+    Setting("distance", "--distance", "grids.sphere.distance_m", "float", 0.7,
+            "radius of the measuring sphere around the contact point", "m", low=0.0, high=MAX_BALLOON_DISTANCE,
+            low_open=True),
+    Setting("metric", "--metric", "outputs.balloon.metric", "str", "peak",
+            "peak SPL, RMS level or sound exposure level of the closed form, or a weighted level of the pressure "
+            "band-limited at 96 kHz (IEC 61672-1: lcpeak, lafmax, laeq = LAeq,1s, sel-a, ...), all dB re 20 uPa",
+            choices=BALLOON_METRICS),
+    Setting("db_range", "--db-range", "outputs.balloon.db_range", "float", 30.0,
+            "level range from the balloon's centre to its largest radius", "dB", low=0.0, high=200.0,
+            low_open=True),
+    Setting("n_theta", "--resolution", "grids.sphere.n_theta", "int", 32,
+            "polar nodes of the measuring grid (the azimuth gets twice as many)", low=4, high=2000),
+    Setting("opacity", "--opacity", None, "float", 0.7, "balloon opacity; below 1 the sphere shows through",
+            low=0.0, high=1.0, low_open=True),
+)
+
+_PLANES = (
+    Setting("extent", "--extent", "grids.plane.extent_m", "float", None,
+            "distance from the sphere's centre to the far edges of the planes (default: 1.25 x the distance "
+            "sound travels by the last time)", "m", low=0.0, high=MAX_EXTENT, low_open=True),
+    Setting("clim", "--clim", None, "float", None,
+            "colour limit; the diverging map spans [-clim, clim] (default: from the field)", "Pa", low=0.0,
+            high=math.inf, low_open=True),
+)
+
+
+def _resolution(default: int) -> Setting:
+    return Setting("n_u", "--resolution", "grids.plane.resolution", "int", default,
+                   "points along the longer side of each plane", low=8, high=20000, scene_default=200)
+
+
+SNAPSHOT = (*_PLANES, _resolution(241))
+ANIMATION = (
+    *_PLANES, _resolution(201),
+    Setting("frames", "--frames", "outputs.animation.frames", "int", 48, "number of frames", low=2, high=2000,
+            scene_default=40),
+    Setting("fps", "--fps", "outputs.animation.fps", "float", 12.0, "frames per second", "frames/s", low=0.0,
+            high=60.0, low_open=True),
+)
+
+
+def _check_sections(sections) -> tuple:
+    names = tuple(sections)
+    if not names or any(n not in SECTIONS for n in names) or len(set(names)) != len(names):
+        raise ParameterError("sections", f"expected a subset of {', '.join(SECTIONS)}, got {list(names)!r}")
+    return names
+
+
+@dataclasses.dataclass(frozen=True)
+class BalloonSettings(Settings):
+    """The directivity balloon: measuring sphere, level, colour range and image."""
+
+    TABLE = BALLOON
+    distance: float = 0.7
+    metric: str = "peak"
+    db_range: float = 30.0
+    n_theta: int = 32
+    opacity: float = 0.7
+    size: tuple = (1200, 900)
+
+    def validate(self) -> None:  # noqa: D102
+        object.__setattr__(self, "size", check_size(self.size))
+
+
+@dataclasses.dataclass(frozen=True)
+class SnapshotSettings(Settings):
+    """The pressure on planes through the sphere at given times."""
+
+    TABLE = SNAPSHOT
+    times: tuple = (0.001,)
+    sections: tuple = ("xz",)
+    extent: float | None = None
+    n_u: int = 241
+    clim: float | None = None
+    size: tuple = (1200, 900)
+
+    def validate(self) -> None:  # noqa: D102
+        times = tuple(self.times)
+        if not times or len(times) > MAX_TIMES:
+            raise ParameterError("times", f"one to at most {MAX_TIMES} times, got {len(times)}")
+        from ..._validate import check_range
+
+        object.__setattr__(self, "times", tuple(check_range("times", t, 0.0, 10.0, unit="s") for t in times))
+        object.__setattr__(self, "sections", _check_sections(self.sections))
+        object.__setattr__(self, "size", check_size(self.size))
+
+
+@dataclasses.dataclass(frozen=True)
+class AnimationSettings(Settings):
+    """The wavefront leaving the impact, frame by frame."""
+
+    TABLE = ANIMATION
+    frames: int = 48
+    fps: float = 12.0
+    sections: tuple = ("xz",)
+    extent: float | None = None
+    n_u: int = 201
+    clim: float | None = None
+    size: tuple = (800, 600)
+
+    def validate(self) -> None:  # noqa: D102
+        object.__setattr__(self, "sections", _check_sections(self.sections))
+        object.__setattr__(self, "size", check_size(self.size))
+
+
+#: View name -> its settings class.
+SETTINGS_OF_VIEW = {"balloon": BalloonSettings, "snapshot": SnapshotSettings, "animation": AnimationSettings}

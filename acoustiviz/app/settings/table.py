@@ -1,0 +1,127 @@
+"""One record per setting: the single home of its limit, default, unit and meaning.
+
+A :class:`Setting` names a value three ways (its API name, its command-line option and its scene
+key) and holds its type, unit, allowed range, choices, default and one-line meaning. The command
+line builds its options from it (:func:`add_option`, the ``--help`` text included), the scene
+schema builds its keys from it, and the settings objects of :mod:`acoustiviz.app.settings`
+check their values with it (:meth:`Setting.check`), so a limit is written once and the three can
+never disagree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._validate import check_choice, check_range
+from ...errors import ParameterError
+
+__all__ = ["Setting", "SAME", "add_option", "by_name"]
+
+#: ``scene_default`` of a setting whose default is the same in a scene as on the command line.
+SAME = "same"
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One setting: its API name, command-line option, scene key, default, range and meaning.
+
+    Attributes
+    ----------
+    name : str
+        The API parameter (and settings-object field) it sets.
+    option : str or None
+        The command-line option (None: none).
+    key : str or None
+        The scene key, relative to its table (None: none).
+    kind : {"str", "float", "int"}
+        The type of one value.
+    default : object
+        The default (None: computed from other settings, or absent).
+    doc : str
+        One line saying what it sets.
+    unit : str
+        SI unit of a number ("" for counts and names).
+    low, high : float
+        Allowed interval of a number (``low`` excluded when ``low_open``).
+    choices : tuple
+        The allowed names of a string.
+    scene_default : object
+        The default a scene gives it when it differs from the command line's (:data:`SAME`: the same).
+    """
+
+    name: str
+    option: str | None
+    key: str | None
+    kind: str
+    default: object
+    doc: str
+    unit: str = ""
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    choices: tuple = ()
+    scene_default: object = SAME
+
+    @property
+    def in_scene(self) -> object:
+        """The default of the scene key."""
+        return self.default if self.scene_default == SAME else self.scene_default
+
+    def range_text(self) -> str:
+        """``"(0, 90] deg"``: the allowed interval and unit of a number, ``""`` for a string."""
+        if self.kind == "str":
+            return ""
+        u = f" {self.unit}" if self.unit else ""
+        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}]{u}"
+
+    def check(self, value, name: str | None = None):
+        """``value`` in the setting's type, or a :class:`ParameterError` naming ``name`` (default: the API name).
+
+        ``None`` passes unchanged (a setting left to its computed default).
+        """
+        name = name or self.name
+        if value is None:
+            return None
+        if self.kind == "str":
+            return check_choice(name, value, self.choices) if self.choices else str(value)
+        if self.kind == "int":
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+                    or not self.low <= value <= self.high:
+                raise ParameterError(name, f"must be an integer in [{self.low:g}, {self.high:g}], got {value!r}")
+            return int(value)
+        return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open)
+
+
+_TYPES = {"str": str, "float": float, "int": int}
+
+
+def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, **kw) -> None:
+    """Add ``s`` to an argparse parser or group: its type, default, choices and help from the table.
+
+    Parameters
+    ----------
+    group : argparse parser or argument group
+    s : Setting
+    metavar : str, optional
+        Shown for the value (default: ``M`` for lengths, ``N`` for counts).
+    default : object, optional
+        The option's default when it is not ``s.default`` (:data:`SAME`).
+    **kw
+        Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``).
+    """
+    rng = f", in {s.range_text()}" if s.kind != "str" else ""
+    value = s.default if default == SAME else default
+    shown = " (default %(default)s)" if value is not None else ""
+    if metavar is None and not s.choices:
+        metavar = "M" if s.unit == "m" else "N"
+    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=s.choices or None,
+                       metavar=None if s.choices else metavar,
+                       help=f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s"), **kw)
+
+
+def by_name(settings) -> dict:
+    """``{name: Setting}`` of a sequence of settings."""
+    return {s.name: s for s in settings}
