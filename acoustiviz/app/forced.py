@@ -106,17 +106,6 @@ def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
     return np.sort(f)
 
 
-def parse_point(text: str, name: str = "--listener") -> np.ndarray:
-    """A point ``"x,y,z"`` in m."""
-    try:
-        p = np.array([float(v) for v in str(text).split(",")])
-    except ValueError:
-        p = np.empty(0)
-    if p.size != 3 or not np.all(np.isfinite(p)):
-        raise ParameterError(name, f"expected X,Y,Z in m, got {text!r}")
-    return p
-
-
 @dataclass(frozen=True)
 class ForcedRun:
     """The attractors over a list of frequencies, and their table.

@@ -114,19 +114,10 @@ def add_parser(subparsers) -> None:
 
 
 def parse_point(text: str, option: str = "--listener"):
-    """Parse ``"x,y,z"`` (m) into a float array, naming ``option`` in errors."""
-    import numpy as np
+    """``"x,y,z"`` in m as a float array (:func:`acoustiviz.app.settings.parse.parse_point`)."""
+    from ..app.settings.parse import parse_point as _parse_point
 
-    from .._validate import ParameterError
-
-    parts = [s.strip() for s in str(text).split(",")]
-    try:
-        xyz = np.array([float(s) for s in parts])
-    except ValueError:
-        raise ParameterError(option, f"expected x,y,z in m, got {text!r}") from None
-    if xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
-        raise ParameterError(option, f"expected three finite coordinates x,y,z in m, got {text!r}")
-    return xyz
+    return _parse_point(text, option)
 
 
 def read_impacts_csv(path):

@@ -134,7 +134,7 @@ def run(args) -> int:
     freqs = parse_frequencies(args.freq)
     listener = None
     if args.listener is not None:
-        from ..app.forced import parse_point
+        from ..app.settings.parse import parse_point
 
         listener = parse_point(args.listener, "--listener")
     _check_outputs(args)

@@ -81,7 +81,7 @@ def add_parser(subparsers) -> None:
 def _settings(args):
     """The view's settings object from the options (errors name the options)."""
     from ..app.names import user_terms
-    from ..app.settings.base import parse_size
+    from ..app.settings.parse import parse_size
     from ..app.settings.render import SETTINGS_OF_VIEW
 
     cls = SETTINGS_OF_VIEW[args.view]

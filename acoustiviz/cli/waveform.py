@@ -97,7 +97,7 @@ def _room_listener(args):
             if val is not None:
                 raise ParameterError(opt, "only applies with --room LX,LY,LZ")
         return None
-    from .auralize import parse_point
+    from ..app.settings.parse import parse_point
 
     if args.duration is None:
         raise ParameterError("--duration", "required with --room: the window in s from the start of contact")

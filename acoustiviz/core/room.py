@@ -110,7 +110,8 @@ class Shoebox:
         object.__setattr__(self, "dimensions", d)
         hint = "one value, six (x0, x1, y0, y1, z0, z1) or a (6, n_bands) array"
         a = _as_array("absorption", self.absorption, hint)
-        if a.ndim == 0:
+        one = a.ndim == 0
+        if one:
             a = np.full(6, float(a))
         elif a.shape == (6,) or (a.ndim == 2 and a.shape[0] == 6 and a.shape[1] >= 1):
             a = a.copy()
@@ -119,9 +120,9 @@ class Shoebox:
         bad = ~(np.isfinite(a) & (a >= 0.0) & (a < 1.0))
         if np.any(bad):
             first = np.unravel_index(int(np.flatnonzero(bad)[0]), a.shape)
-            raise ParameterError(
-                "absorption",
-                f"each coefficient alpha must lie in [0, 1), got {float(a[first]):g} on surface {SURFACES[first[0]]}")
+            where = "" if one else f" on surface {SURFACES[first[0]]}"
+            raise ParameterError("absorption", f"energy absorption coefficient alpha must lie in [0, 1), got "
+                                               f"{float(a[first]):g}{where}")
         a.setflags(write=False)
         object.__setattr__(self, "absorption", a)
 

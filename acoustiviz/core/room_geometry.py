@@ -47,7 +47,10 @@ def _triple(name: str, value, what: str) -> tuple:
 
 
 def _absorption(value) -> tuple:
-    """One value or six (x0, x1, y0, y1, z0, z1) in [0, 1), as a tuple of 1 or 6 floats."""
+    """One value or six (x0, x1, y0, y1, z0, z1), as a tuple of 1 or 6 floats.
+
+    Their range, [0, 1), is checked once, by :class:`acoustiviz.core.room.Shoebox`.
+    """
     if isinstance(value, str):
         value = value.split(",")
     vals = (value,) if isinstance(value, (int, float, np.floating, np.integer)) else tuple(value)
@@ -59,11 +62,6 @@ def _absorption(value) -> tuple:
     if len(vals) not in (1, 6):
         raise ParameterError("absorption", f"expected one value or six (x0, x1, y0, y1, z0, z1) in [0, 1), "
                                            f"got {len(vals)}")
-    for i, a in enumerate(vals):
-        if not (math.isfinite(a) and 0.0 <= a < 1.0):
-            where = "" if len(vals) == 1 else f" on surface {SURFACES[i]}"
-            raise ParameterError("absorption", f"energy absorption coefficient alpha must lie in [0, 1), got "
-                                               f"{a:g}{where}")
     return vals
 
 
@@ -143,6 +141,7 @@ class Room(Geometry):
                                                    f"{2 * a:g} m")
         object.__setattr__(self, "dimensions", dims)
         object.__setattr__(self, "absorption", _absorption(self.absorption))
+        self.shoebox  # noqa: B018 - the coefficients in [0, 1), checked by the room itself
         strike = check_choice("strike", self.strike, ROOM_STRIKES)
         object.__setattr__(self, "strike", strike)
         src = (dims[0] / 2, dims[1] / 2, a) if self.source is None else _triple(
