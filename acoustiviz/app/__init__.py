@@ -4,7 +4,12 @@ The command line (:mod:`acoustiviz.cli`) and scene files (:mod:`acoustiviz.scene
 their input; both call these functions, so the two front-ends cannot disagree on a rule, a
 default or a file format.
 
+* :mod:`.settings` -- one frozen settings object per workflow, checked against one table of ranges,
+  defaults and units from which the options and the scene keys are built;
 * :mod:`.names` -- errors in the user's words: API parameter names mapped to options or scene keys;
+* :mod:`.columns` -- the waveform and directivity tables and the peaks a waveform reports;
+* :mod:`.waveform` -- the waveform of one impact at one observer and its files;
+* :mod:`.render` -- the 3-D views' memory estimate and files;
 * :mod:`.impacts` -- sphere, contact, pulse, medium, configuration and observers of one impact;
 * :mod:`.damper` -- build and run a damper model, and the figures reported about it;
 * :mod:`.wav` -- auralised WAV files and their one sidecar schema;

@@ -44,6 +44,7 @@ import numpy as np
 from .._validate import check_choice, check_range
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
+from .settings.table import Setting
 
 __all__ = [
     "PLANES",
@@ -69,38 +70,23 @@ __all__ = [
 PLANES = ("vertical", "horizontal")
 
 
-@dataclass(frozen=True)
-class Setting:
-    """One map setting: its API name, command-line option, scene key, default, range and meaning."""
-
-    name: str
-    option: str
-    key: str
-    kind: str  # "str", "float", "int"
-    default: object
-    doc: str
-    unit: str = ""
-    low: float = -math.inf
-    high: float = math.inf
-    low_open: bool = False
-    choices: tuple = ()
-
-
 #: Settings of a level map, shared by ``acoustiviz map`` and the scene output ``[outputs.level_map]``.
+#: The scene table of a map's settings.
+_TABLE = "outputs.level_map"
 MAP_SETTINGS = (
     Setting("plane", "--plane", "plane", "str", "vertical",
             "plane of the map: 'vertical', the plane y = 0 through the sphere's centre holding the "
             "acceleration axis (normal to the wall in the wall-floor corner); 'horizontal', the plane "
-            "z = height parallel to the floor", choices=PLANES),
+            "z = height parallel to the floor", choices=PLANES, table=_TABLE),
     Setting("height", "--plane-height", "height_m", "float", None,
             "horizontal plane only: its height z above the floor (default: the sphere's centre); in the free "
-            "field any height, else >= 0", "m", low=-1e3, high=1e3),
+            "field any height, else >= 0", "m", low=-1e3, high=1e3, table=_TABLE),
     Setting("extent", "--extent", "extent_m", "float", 0.5,
             "distance from the sphere's centre to the far edges of the map (more than the sphere's diameter); "
-            "the map is cut at the floor and the wall", "m", low=0.0, high=1e3, low_open=True),
+            "the map is cut at the floor and the wall", "m", low=0.0, high=1e3, low_open=True, table=_TABLE),
     Setting("resolution", "--resolution", "resolution", "int", 317,
             "grid points along the longer side of the map (square spacing; the default gives about 1e5 points "
-            "on a square map)", low=8, high=20000),
+            "on a square map)", low=8, high=20000, table=_TABLE),
 )
 _BY_NAME = {s.name: s for s in MAP_SETTINGS}
 #: Most points of one map (160 times the default's 1e5): the work is bounded, not only its memory.
@@ -108,7 +94,7 @@ MAX_MAP_POINTS = 4000 * 4000
 #: API parameter -> command-line option (errors in the user's terms).
 CLI_NAMES = {**{s.name: s.option for s in MAP_SETTINGS}, "max_memory_mb": "--max-memory"}
 #: API parameter -> scene key.
-SCENE_NAMES = {**{s.name: f"outputs.level_map.{s.key}" for s in MAP_SETTINGS},
+SCENE_NAMES = {**{s.name: s.path for s in MAP_SETTINGS},
                "max_memory_mb": "grids.memory_limit_mb"}
 #: Columns of the CSV file, in order.
 CSV_COLUMNS = ("x_m", "y_m", "z_m", "peak_pa", "peak_spl_db", "sel_db", "time_of_peak_s")

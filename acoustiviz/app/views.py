@@ -20,6 +20,7 @@ from ..constants import ANALYSIS_RATE, BALLOON_METRICS, DIRECTIVITY_METRICS, P_R
 from ..errors import ParameterError
 from ..field import field_metrics, waveform_span, waveform_spans
 from ..levels import METRICS
+from .settings.impact import MIN_SAMPLES_PER_DURATION
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
            "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
@@ -28,9 +29,6 @@ __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samp
 
 #: Interval in s over which one impact's equivalent levels (LAeq, LZeq) are averaged, from its first arrival.
 LEVEL_INTERVAL = 1.0
-
-#: Fewest time samples per contact duration a waveform is drawn or tabulated with.
-MIN_SAMPLES_PER_DURATION = 200
 
 
 def waveform_times(pulses, point, config, medium, samples_per_duration: int = 400, *, window=None) -> np.ndarray:

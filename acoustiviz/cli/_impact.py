@@ -91,8 +91,10 @@ def add_room_options(parser, *, duration: bool = False) -> None:
     g.add_argument("--tolerance-db", type=float, default=None, metavar="DB",
                    help="largest neglected image energy relative to the total in dB, in [-200, 0) (default -60)")
     if duration:
-        g.add_argument("--duration", type=float, default=None, metavar="S",
-                       help="with --room: the window in s from the start of contact (required with --room)")
+        from ..app.settings.impact import WAVEFORM
+        from ..app.settings.table import add_option
+
+        add_option(g, WAVEFORM[1], metavar="S")
 
 
 def room_settings(args, *, duration=None) -> dict | None:

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 from ..app.maps import MAP_SETTINGS
+from ..app.settings.table import add_option
 from ._impact import add_impact_options
-
-_TYPES = {"str": str, "float": float, "int": int}
 
 
 def add_parser(subparsers) -> None:
@@ -21,11 +20,7 @@ def add_parser(subparsers) -> None:
     add_impact_options(p)
     g = p.add_argument_group("map plane")
     for s in MAP_SETTINGS:
-        rng = f", in {'(' if s.low_open else '['}{s.low:g}, {s.high:g}] {s.unit}".rstrip() if s.kind != "str" else ""
-        default = " (default %(default)s)" if s.default is not None else ""
-        g.add_argument(s.option, type=_TYPES[s.kind], default=s.default, choices=s.choices or None,
-                       metavar=None if s.choices else ("M" if s.unit == "m" else "N"),
-                       help=f"{s.doc}{rng}{default}".replace("%", "%%").replace("%%(default)s", "%(default)s"))
+        add_option(g, s)
     o = p.add_argument_group("outputs")
     o.add_argument("--png", default=None, metavar="PATH",
                    help="two panels, peak SPL and SEL, with the sphere and planes")

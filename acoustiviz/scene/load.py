@@ -392,16 +392,23 @@ def view_names(view: str) -> dict:
 
 
 def _check_views(scene: Scene, conf) -> None:
-    """The memory and output size of each 3-D view within ``grids.memory_limit_mb``, by the command line's rule."""
-    from ..app.budget import check_budget
+    """The memory and output size of each 3-D view and of the directivity's angles within ``grids.memory_limit_mb``.
+
+    The estimates are the command line's (:mod:`acoustiviz.app.budget`).
+    """
+    from ..app.budget import check_budget, directivity_estimate
     from ..app.render import render_estimate
 
-    for view in ("snapshot", "animation", "balloon"):
-        if not scene.wants(view):
-            continue
+    cap = scene.data["grids"]["memory_limit_mb"]
+    estimates = [(lambda view=view: render_estimate(view, scene.view_settings(view), len(conf.sources),
+                                                    options=view_names(view)))
+                 for view in ("snapshot", "animation", "balloon") if scene.wants(view)]
+    if scene.wants("directivity"):  # the angles of the step, as the command counts them
+        step = scene.data["outputs"]["directivity"]["step_deg"]
+        estimates.append(lambda: directivity_estimate(conf, step, ("outputs.directivity.step_deg",)))
+    for estimate in estimates:
         try:
-            est = render_estimate(view, scene.view_settings(view), len(conf.sources), options=view_names(view))
-            check_budget(est, scene.data["grids"]["memory_limit_mb"], cap_name="grids.memory_limit_mb")
+            check_budget(estimate(), cap, cap_name="grids.memory_limit_mb")
         except ParameterError as exc:
             raise SceneError(scene.source, exc.name, exc.detail) from None
 

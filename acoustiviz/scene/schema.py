@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.base import SIZE_RANGE
+from ..app.settings.impact import DIRECTIVITY, WAVEFORM
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..constants import (
     DEFAULT_AIR_DENSITY,
@@ -35,7 +36,6 @@ from ..constants import (
     SAMPLE_RATES,
     TABLE1,
 )
-from ..constants import DIRECTIVITY_METRICS as _DIRECTIVITY_METRICS
 from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import GEOMETRIES
 from ..core.room_geometry import ROOM_STRIKES
@@ -75,6 +75,20 @@ class Table:
 
 def _pos(doc, unit, default=None, **kw):
     return Key("float", doc, default, unit, low=0.0, low_open=True, **kw)
+
+def _from_table(settings, table: str) -> dict:
+    """The keys of scene table ``table`` (``"grids.sphere"``) among ``settings``, built from their records.
+
+    The records are the single home of each range, unit, default and meaning
+    (:mod:`acoustiviz.app.settings`); the scene takes its own default where it has one.
+    """
+    keys = {}
+    for st in settings:
+        if st.key and st.table == table:
+            keys.setdefault(st.key, Key(st.kind, st.doc, st.in_scene, st.unit, low=st.low,
+                                                          high=st.high, low_open=st.low_open, choices=st.choices))
+    return keys
+
 
 _MEDIUM = {
     "c_m_s": Key("float", "speed of sound", DEFAULT_SOUND_SPEED, "m/s", low=1.0, high=1e5),
@@ -124,8 +138,7 @@ _CONFIGURATION = {
                        high=10000),
     "tolerance_db": Key("float", "room: largest neglected image energy relative to the total (default -60)",
                         None, "dB", low=-200.0, high=0.0),
-    "window_s": _pos("room: window from the start of contact that the images must reach (required with a "
-                     "rigid surface)", "s", None, high=1e4),
+    **_from_table(WAVEFORM, "configuration"),
 }
 
 _DAMPER = {
@@ -172,20 +185,6 @@ _LISTENER = {
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
 
-def _from_table(settings, table: str) -> dict:
-    """The keys of scene table ``table`` (``"grids.sphere"``) among ``settings``, built from their records.
-
-    The records are the single home of each range, unit, default and meaning
-    (:mod:`acoustiviz.app.settings`); the scene takes its own default where it has one.
-    """
-    keys = {}
-    for st in settings:
-        if st.key and st.key.rsplit(".", 1)[0] == table:
-            keys.setdefault(st.key.rsplit(".", 1)[1], Key(st.kind, st.doc, st.in_scene, st.unit, low=st.low,
-                                                          high=st.high, low_open=st.low_open, choices=st.choices))
-    return keys
-
-
 def _size(default) -> Key:
     return Key("ints", "image width and height", default, "px", low=SIZE_RANGE[0], high=SIZE_RANGE[1], length=2)
 
@@ -204,18 +203,14 @@ _VTK = Key("bool", "also write the data as <output>.vtu with the sphere and plan
            "(ParaView, pyvista, meshio)", False)
 
 #: ``[outputs.level_map]``: the settings of ``acoustiviz map`` (one definition, acoustiviz.app.maps).
-_LEVEL_MAP = {st.key: Key(st.kind, st.doc, st.default, st.unit, low=st.low, high=st.high, low_open=st.low_open,
-                          choices=st.choices) for st in _MAP_SETTINGS}
+_LEVEL_MAP = _from_table(_MAP_SETTINGS, "outputs.level_map")
 _LEVEL_MAP["vtk"] = Key("bool", "also write the map as level_map.vtu with the sphere and planes in "
                         "level_map_geometry.vtu (ParaView, pyvista, meshio)", False)
 
 _OUT = {
     "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
                       "pressure waveform at each listener"),
-    "directivity": Table({"step_deg": Key("float", "angle step", 5.0, "deg", low=0.1, high=45.0, low_open=False),
-                          "metric": Key("str", "a further level against angle: a weighted level of one impact "
-                                        "(as `acoustiviz directivity --metric`); peak-spl: none",
-                                        "peak-spl", choices=tuple(_DIRECTIVITY_METRICS))},
+    "directivity": Table(_from_table(DIRECTIVITY, "outputs.directivity"),
                          "peak, RMS and SPL (and the chosen metric) against angle at the first listener's distance"),
     "level_map": Table(_LEVEL_MAP, "peak SPL and SEL of the single impact over a plane, as `acoustiviz map` "
                        "(level_map.png, level_map.csv)"),

@@ -59,7 +59,7 @@ class Settings:
     @classmethod
     def scene_names(cls) -> dict:
         """API parameter -> scene key."""
-        return {s.name: s.key for s in cls.TABLE if s.key}
+        return {s.name: s.path for s in cls.TABLE if s.key}
 
     @classmethod
     def from_values(cls, values: dict, *, scene: bool = False):

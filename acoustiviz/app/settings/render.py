@@ -28,26 +28,27 @@ MAX_TIMES = 12
 MAX_EXTENT, MAX_BALLOON_DISTANCE = 1e3, 1e4
 
 BALLOON = (
-    Setting("distance", "--distance", "grids.sphere.distance_m", "float", 0.7,
+    Setting("distance", "--distance", "distance_m", "float", 0.7,
             "radius of the measuring sphere around the contact point", "m", low=0.0, high=MAX_BALLOON_DISTANCE,
-            low_open=True),
-    Setting("metric", "--metric", "outputs.balloon.metric", "str", "peak",
+            low_open=True, table="grids.sphere"),
+    Setting("metric", "--metric", "metric", "str", "peak",
             "peak SPL, RMS level or sound exposure level of the closed form, or a weighted level of the pressure "
             "band-limited at 96 kHz (IEC 61672-1: lcpeak, lafmax, laeq = LAeq,1s, sel-a, ...), all dB re 20 uPa",
-            choices=BALLOON_METRICS),
-    Setting("db_range", "--db-range", "outputs.balloon.db_range", "float", 30.0,
+            choices=BALLOON_METRICS, table="outputs.balloon"),
+    Setting("db_range", "--db-range", "db_range", "float", 30.0,
             "level range from the balloon's centre to its largest radius", "dB", low=0.0, high=200.0,
-            low_open=True),
-    Setting("n_theta", "--resolution", "grids.sphere.n_theta", "int", 32,
-            "polar nodes of the measuring grid (the azimuth gets twice as many)", low=4, high=2000),
+            low_open=True, table="outputs.balloon"),
+    Setting("n_theta", "--resolution", "n_theta", "int", 32,
+            "polar nodes of the measuring grid (the azimuth gets twice as many)", low=4, high=2000,
+            table="grids.sphere"),
     Setting("opacity", "--opacity", None, "float", 0.7, "balloon opacity; below 1 the sphere shows through",
             low=0.0, high=1.0, low_open=True),
 )
 
 _PLANES = (
-    Setting("extent", "--extent", "grids.plane.extent_m", "float", None,
+    Setting("extent", "--extent", "extent_m", "float", None,
             "distance from the sphere's centre to the far edges of the planes (default: 1.25 x the distance "
-            "sound travels by the last time)", "m", low=0.0, high=MAX_EXTENT, low_open=True),
+            "sound travels by the last time)", "m", low=0.0, high=MAX_EXTENT, low_open=True, table="grids.plane"),
     Setting("clim", "--clim", None, "float", None,
             "colour limit; the diverging map spans [-clim, clim] (default: from the field)", "Pa", low=0.0,
             high=math.inf, low_open=True),
@@ -55,17 +56,18 @@ _PLANES = (
 
 
 def _resolution(default: int) -> Setting:
-    return Setting("n_u", "--resolution", "grids.plane.resolution", "int", default,
-                   "points along the longer side of each plane", low=8, high=20000, scene_default=200)
+    return Setting("n_u", "--resolution", "resolution", "int", default,
+                   "points along the longer side of each plane", low=8, high=20000, scene_default=200,
+                   table="grids.plane")
 
 
 SNAPSHOT = (*_PLANES, _resolution(241))
 ANIMATION = (
     *_PLANES, _resolution(201),
-    Setting("frames", "--frames", "outputs.animation.frames", "int", 48, "number of frames", low=2, high=2000,
-            scene_default=40),
-    Setting("fps", "--fps", "outputs.animation.fps", "float", 12.0, "frames per second", "frames/s", low=0.0,
-            high=60.0, low_open=True),
+    Setting("frames", "--frames", "frames", "int", 48, "number of frames", low=2, high=2000,
+            scene_default=40, table="outputs.animation"),
+    Setting("fps", "--fps", "fps", "float", 12.0, "frames per second", "frames/s", low=0.0,
+            high=60.0, low_open=True, table="outputs.animation"),
 )
 
 

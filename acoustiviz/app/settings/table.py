@@ -35,7 +35,7 @@ class Setting:
     option : str or None
         The command-line option (None: none).
     key : str or None
-        The scene key, relative to its table (None: none).
+        The scene key within its table (None: none).
     kind : {"str", "float", "int"}
         The type of one value.
     default : object
@@ -50,6 +50,8 @@ class Setting:
         The allowed names of a string.
     scene_default : object
         The default a scene gives it when it differs from the command line's (:data:`SAME`: the same).
+    table : str
+        The scene table holding ``key`` (``"outputs.level_map"``, ``"grids.plane"``).
     """
 
     name: str
@@ -64,6 +66,12 @@ class Setting:
     low_open: bool = False
     choices: tuple = ()
     scene_default: object = SAME
+    table: str = ""
+
+    @property
+    def path(self) -> str | None:
+        """The full scene key (``"grids.plane.resolution"``), None without one."""
+        return f"{self.table}.{self.key}" if self.key else None
 
     @property
     def in_scene(self) -> object:

@@ -1,0 +1,115 @@
+"""One table of ranges and defaults: the options, the scene keys and the settings objects read the same records."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+
+import pytest
+
+from acoustiviz.app.maps import MAP_SETTINGS
+from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
+from acoustiviz.app.settings.render import (
+    ANIMATION,
+    BALLOON,
+    SNAPSHOT,
+    AnimationSettings,
+    BalloonSettings,
+    SnapshotSettings,
+)
+from acoustiviz.cli import build_parser
+from acoustiviz.errors import ParameterError
+from acoustiviz.scene.schema import SCHEMA
+
+#: (command path, table, settings class or None)
+TABLES = [
+    (("render", "balloon"), BALLOON, BalloonSettings),
+    (("render", "snapshot"), SNAPSHOT, SnapshotSettings),
+    (("render", "animation"), ANIMATION, AnimationSettings),
+    (("waveform",), WAVEFORM, WaveformSettings),
+    (("directivity",), DIRECTIVITY, DirectivitySettings),
+    (("map",), MAP_SETTINGS, None),
+]
+RECORDS = [(cmd, s, cls) for cmd, table, cls in TABLES for s in table]
+
+
+def _ids(case):
+    cmd, s, _ = case
+    return f"{'-'.join(cmd)}:{s.name}"
+
+
+def _subparser(parser, names):
+    for name in names:
+        action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        parser = action.choices[name]
+    return parser
+
+
+@pytest.fixture(scope="module")
+def parser():
+    return build_parser()
+
+
+def _range(s) -> str:
+    """``(0, 90]``: the interval as the help and the scene reference print it."""
+    return f"{'(' if s.low_open else '['}{s.low:g}, {s.high:g}]"
+
+
+@pytest.mark.parametrize("case", RECORDS, ids=[_ids(c) for c in RECORDS])
+def test_option_takes_its_default_and_range_from_the_table(case, parser):
+    cmd, s, _ = case
+    if s.option is None:
+        pytest.skip("a scene key only")
+    action = next(a for a in _subparser(parser, cmd)._actions if s.option in a.option_strings)
+    assert action.default == s.default
+    if s.choices and action.choices is None:  # checked after parsing: every choice named in the help
+        assert all(c in action.help for c in s.choices)
+    elif s.choices:
+        assert tuple(action.choices) == tuple(s.choices)
+    else:
+        assert _range(s) in action.help % {"default": action.default}
+
+
+@pytest.mark.parametrize("case", RECORDS, ids=[_ids(c) for c in RECORDS])
+def test_scene_key_takes_its_default_and_range_from_the_table(case):
+    _, s, _ = case
+    if s.key is None:
+        pytest.skip("an option only")
+    table = SCHEMA
+    for part in s.table.split("."):
+        table = table[part].keys if isinstance(table, dict) else table.keys[part].keys
+    k = table[s.key]
+    assert (k.kind, k.low, k.high, k.low_open, tuple(k.choices), k.unit) == \
+        (s.kind, s.low, s.high, s.low_open, tuple(s.choices), s.unit)
+    assert k.default == s.in_scene
+
+
+@pytest.mark.parametrize("case", [c for c in RECORDS if c[2] is not None],
+                         ids=[_ids(c) for c in RECORDS if c[2] is not None])
+def test_settings_object_checks_the_tables_range(case):
+    _, s, cls = case
+    fields = {f.name for f in dataclasses.fields(cls)}
+    assert s.name in fields
+    assert getattr(cls(), s.name) == s.default  # the dataclass's default is the table's
+    if s.choices:
+        bad = "no-such-" + str(s.choices[0])
+    elif s.kind == "int":
+        bad = int(s.low) - 1
+    else:
+        bad = s.low if s.low_open else (s.high * 2 if math.isfinite(s.high) else -1.0)
+    with pytest.raises(ParameterError) as err:
+        cls(**{s.name: bad})
+    assert err.value.name == s.name
+
+
+def test_settings_are_frozen():
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        BalloonSettings().n_theta = 8
+
+
+def test_both_plane_resolutions_share_one_scene_key():
+    """The command's snapshot and animation have their own default resolution; a scene's planes share one."""
+    a, b = (next(s for s in t if s.name == "n_u") for t in (SNAPSHOT, ANIMATION))
+    assert (a.path, a.low, a.high, a.in_scene) == (b.path, b.low, b.high, b.in_scene) == \
+        ("grids.plane.resolution", 8, 20000, 200)
