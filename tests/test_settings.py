@@ -9,6 +9,7 @@ import math
 import pytest
 
 from acoustiviz.app.maps import MAP_SETTINGS
+from acoustiviz.app.settings.forced import FORCED, ForcedSettings
 from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
 from acoustiviz.app.settings.render import (
     ANIMATION,
@@ -29,6 +30,7 @@ TABLES = [
     (("render", "animation"), ANIMATION, AnimationSettings),
     (("waveform",), WAVEFORM, WaveformSettings),
     (("directivity",), DIRECTIVITY, DirectivitySettings),
+    (("forced",), FORCED, ForcedSettings),
     (("map",), MAP_SETTINGS, None),
 ]
 RECORDS = [(cmd, s, cls) for cmd, table, cls in TABLES for s in table]

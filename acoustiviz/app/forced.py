@@ -41,7 +41,8 @@ from .forced_noise import (
 )
 from .names import DAMPER_OPTIONS, user_terms
 
-__all__ = ["FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun", "OperatingNoise",
+__all__ = ["forced_table", "operating_noise_report",
+           "FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun", "OperatingNoise",
            "add_operating_noise", "check_listener", "default_listener", "operating_noise", "parse_frequencies",
            "run_forced", "write_forced_csv", "write_forced_png", "write_operating_wav", "DesignMap", "design_map"]
 
@@ -327,3 +328,60 @@ def produce_operating_noise(ctx):
     from .forced_noise import produce_operating_noise as produce
 
     return produce(ctx, _scene_forced_run(ctx))
+
+
+def forced_table(fr, noises=None) -> str:
+    """The attractors as text: one line per (frequency, attractor), the worst case marked.
+
+    The worst case is the largest amplitude and, with ``noises`` (one :class:`OperatingNoise` or None
+    per row), the largest LCpeak; rows that are not periodic are followed by their message.
+    """
+    lv = noises is not None
+    lines = [f"{'f (Hz)':>8} {'#':>2} {'A (mm)':>9} {'±':>7} {'A0 (mm)':>9} {'red dB':>7} {'imp/cyc':>7} "
+             f"{'basin':>5} {'|mu|max':>8} {'stable':>6}" + (f" {'LAeq':>6} {'LAFmax':>6} {'LCpeak':>6}" if lv else "")
+             + "  regime  (worst case)"]
+    for k, row in enumerate(fr.rows):
+        mu = row["max_floquet_modulus"]
+        line = (f"{row['frequency_hz']:8.3f} {row['attractor']:2d} {1e3 * row['amplitude_m']:9.3f} "
+                f"{1e3 * row['amplitude_std_err_m']:7.3f} {1e3 * row['amplitude_without_damper_m']:9.3f} "
+                f"{row['reduction_db']:7.2f} {row['impacts_per_cycle']:7.3f} {row['basin_fraction']:5.2f} "
+                f"{'' if math.isnan(mu) else f'{mu:.4f}':>8} {'yes' if row['stable'] else 'no':>6}")
+        if lv:
+            nz = noises[k]
+            line += (f" {nz.laeq_db:6.1f} {nz.lafmax_db:6.1f} {nz.lcpeak_db:6.1f}" if nz is not None
+                     else f" {'':>6} {'':>6} {'':>6}")
+        lines.append(line + f"  {row['regime']}" + (f"  ({row['worst_case']})" if row["worst_case"] else ""))
+    odd = [row for row in fr.rows if not row["regime"].startswith("periodic-")]
+    for row in odd:
+        lines.append(f"{row['frequency_hz']:g} Hz #{row['attractor']}: {row['message']}")
+    return "\n".join(lines)
+
+
+def operating_noise_report(fr, listener, seconds: float, *, wav=None) -> list:
+    """Add the noise in operation to ``fr`` at ``listener`` and, with ``wav``, write it; return the report lines.
+
+    Parameters
+    ----------
+    fr : ForcedRun
+        The attractors of each frequency.
+    listener : (3,) ndarray or None
+        Listener in m (None: the paper's, 0.7 m at 45 degrees).
+    seconds : float
+        Least length in s of each level interval (whole periods).
+    wav : path-like, optional
+        The WAV of the frequencies in turn (with its JSON sidecar).
+    """
+    import time
+
+    from .forced_noise import noise_statement
+
+    t0 = time.perf_counter()
+    noises = add_operating_noise(fr, listener=listener, seconds=seconds)
+    where = ("the paper's listener (0.7 m, 45 deg)" if listener is None
+             else f"({','.join(f'{v:g}' for v in listener)}) m")
+    lines = [f"noise in operation at {where}: {noise_statement(seconds)}; {time.perf_counter() - t0:.2f} s",
+             forced_table(fr, noises)]
+    if wav:
+        rec = write_operating_wav(noises, wav, listener=listener)
+        lines.append(f"wrote {wav} (sidecar {rec[0]['sidecar']})")
+    return lines

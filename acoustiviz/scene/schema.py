@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.base import SIZE_RANGE
+from ..app.settings.forced import FORCED
 from ..app.settings.impact import DIRECTIVITY, WAVEFORM
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..constants import (
@@ -16,16 +17,6 @@ from ..constants import (
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
     EXCITATIONS,
-    FORCED_MAX_CYCLES,
-    FORCED_MAX_STARTS,
-    FORCED_MIN_CYCLES,
-    FORCED_RTOL,
-    FORCED_RTOL_RANGE,
-    FORCED_SOLVERS,
-    FORCED_STARTS,
-    FORCED_TOLERANCE,
-    FORCED_TOLERANCE_RANGE,
-    FREQUENCY_SWEEPS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
     PAPER_GAP,
@@ -164,17 +155,7 @@ _EXCITATION = {
     "amplitude": Key("float", "F0 in N (kind force) or B in m (kind base)", 5.0, "N or m", low=0.0, high=1e9),
     "frequencies_hz": Key("range", "forcing frequencies start:stop:count", "3:7:9", "Hz", low=0.0, low_open=True,
                           high=1e4),
-    "sweep": Key("str", "continuation up, down or both (hysteresis marked), or independent runs", "up",
-                 choices=FREQUENCY_SWEEPS),
-    "solver": Key("str", "forced-damper solver", "event", choices=FORCED_SOLVERS),
-    "tolerance": Key("float", "Newton residual of a periodic orbit (largest component of P^n(s) - s)",
-                     FORCED_TOLERANCE, "m, m/s", low=FORCED_TOLERANCE_RANGE[0], high=FORCED_TOLERANCE_RANGE[1]),
-    "rtol": Key("float", "relative tolerance of the contact integration (event solver)", FORCED_RTOL, "",
-                low=FORCED_RTOL_RANGE[0], high=FORCED_RTOL_RANGE[1]),
-    "starts": Key("int", "starts per frequency looking for coexisting attractors", FORCED_STARTS, low=1,
-                  high=FORCED_MAX_STARTS),
-    "max_cycles": Key("int", "cycles each start runs before its motion is measured as non-periodic",
-                      FORCED_MAX_CYCLES, low=FORCED_MIN_CYCLES, high=1_000_000),
+    **_from_table(FORCED, "excitation"),
 }
 
 _LISTENER = {
@@ -260,8 +241,7 @@ _OUT = {
     "frequency_response": Table({}, "steady-state amplitude with and without the damper, regimes and "
                                 "hysteresis over the [excitation] frequencies (CSV, PNG)"),
     "bifurcation": Table({}, "main-mass displacement at forcing phase 0 against forcing frequency (PNG)"),
-    "operating_noise": Table({"seconds": _pos("least level interval per frequency (whole periods)", "s", 1.0,
-                                              high=60.0)},
+    "operating_noise": Table(_from_table(FORCED, "outputs.operating_noise"),
                              "LAeq, LCpeak, LAFmax, LZpeak, LZeq and SEL per cycle of the steady click train at "
                              "the first listener per forcing frequency, at 96 kHz over whole periods after a 1 s "
                              "lead-in (CSV; also the level columns of frequency_response), and a WAV of the "

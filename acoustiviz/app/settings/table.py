@@ -106,7 +106,8 @@ class Setting:
 _TYPES = {"str": str, "float": float, "int": int}
 
 
-def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, **kw) -> None:
+def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, parse_choices: bool = True,
+               **kw) -> None:
     """Add ``s`` to an argparse parser or group: its type, default, choices and help from the table.
 
     Parameters
@@ -117,16 +118,20 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, *
         Shown for the value (default: ``M`` for lengths, ``N`` for counts).
     default : object, optional
         The option's default when it is not ``s.default`` (:data:`SAME`).
+    parse_choices : bool
+        Let argparse refuse a name outside ``s.choices``; False leaves it to the settings object
+        (its error is the command's one line naming the option, with the closest name).
     **kw
         Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``).
     """
     rng = f", in {s.range_text()}" if s.kind != "str" else ""
     value = s.default if default == SAME else default
     shown = " (default %(default)s)" if value is not None else ""
-    if metavar is None and not s.choices:
+    choices = s.choices if parse_choices else ()
+    if metavar is None and not choices:
         metavar = "M" if s.unit == "m" else "N"
-    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=s.choices or None,
-                       metavar=None if s.choices else metavar,
+    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=choices or None,
+                       metavar=None if choices else metavar,
                        help=f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s"), **kw)
 
 

@@ -1,0 +1,62 @@
+"""Settings of the damper in operation: `acoustiviz forced`, a scene's [excitation] and [outputs.operating_noise]."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ...constants import (
+    FORCED_MAX_CYCLES,
+    FORCED_MAX_STARTS,
+    FORCED_MIN_CYCLES,
+    FORCED_RTOL,
+    FORCED_RTOL_RANGE,
+    FORCED_SOLVERS,
+    FORCED_STARTS,
+    FORCED_TOLERANCE,
+    FORCED_TOLERANCE_RANGE,
+    FREQUENCY_SWEEPS,
+)
+from .base import Settings
+from .table import Setting
+
+__all__ = ["FORCED", "ForcedSettings", "MAX_FORCED_CYCLES"]
+
+#: Most cycles one start runs before its motion is measured (a bound on the work of each start).
+MAX_FORCED_CYCLES = 1_000_000
+
+FORCED = (
+    Setting("sweep", "--sweep", "sweep", "str", "up",
+            "continuation: the attractors of each frequency also start the next higher (up), lower (down) or both "
+            "neighbours, or none (independent)", choices=FREQUENCY_SWEEPS, table="excitation"),
+    Setting("solver", "--solver", "solver", "str", "event",
+            "event (compliant Hertz contacts), impact-map (instantaneous impacts) or newmark",
+            choices=FORCED_SOLVERS, table="excitation"),
+    Setting("starts", "--starts", "starts", "int", FORCED_STARTS,
+            "starts per frequency looking for coexisting attractors: the linear start, rest and the impact mass "
+            "spread over the cavity", low=1, high=FORCED_MAX_STARTS, table="excitation"),
+    Setting("tolerance", "--tolerance", "tolerance", "float", FORCED_TOLERANCE,
+            "Newton residual of a periodic orbit, largest component of P^n(s) - s", "m, m/s",
+            low=FORCED_TOLERANCE_RANGE[0], high=FORCED_TOLERANCE_RANGE[1], table="excitation"),
+    Setting("rtol", "--rtol", "rtol", "float", FORCED_RTOL, "relative tolerance of the contact integration, event "
+            "solver", low=FORCED_RTOL_RANGE[0], high=FORCED_RTOL_RANGE[1], table="excitation"),
+    Setting("max_cycles", "--max-cycles", "max_cycles", "int", FORCED_MAX_CYCLES,
+            "cycles each start runs before its motion is measured as non-periodic", low=FORCED_MIN_CYCLES,
+            high=MAX_FORCED_CYCLES, table="excitation"),
+    Setting("noise_seconds", "--noise-seconds", "seconds", "float", 1.0,
+            "least length of the level interval per frequency; it spans whole periods", "s", low=0.0, high=60.0,
+            low_open=True, table="outputs.operating_noise"),
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class ForcedSettings(Settings):
+    """How the attractors of each forcing frequency are found and their noise measured."""
+
+    TABLE = FORCED
+    sweep: str = "up"
+    solver: str = "event"
+    starts: int = FORCED_STARTS
+    tolerance: float = FORCED_TOLERANCE
+    rtol: float = FORCED_RTOL
+    max_cycles: int = FORCED_MAX_CYCLES
+    noise_seconds: float = 1.0
