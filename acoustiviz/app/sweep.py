@@ -58,7 +58,10 @@ from ..sweep import (
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
-           "check_executor"]
+           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow"]
+
+#: Parameters of :func:`sweep_spec` a sweep runs over (each ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``).
+SWEPT = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
 
 #: :func:`sweep_spec` / :func:`run_sweep_outputs` parameter -> ``acoustiviz sweep`` option.
 SWEEP_OPTIONS = {
@@ -408,3 +411,67 @@ def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = 0
     png = save_figure(ax.figure, Path(out_dir) / "design_table.png")
     choice = None if inclination is None else design(table, inclination, tolerance)
     return bands, png, choice
+
+
+def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=None) -> None:
+    """Refuse a sweep whose memory or output would exceed the cap, before anything is built or run.
+
+    Parameters
+    ----------
+    given : dict
+        The :func:`sweep_spec` parameters given (absent ones take their defaults).
+    workers : int, optional
+        Designs run at once (default: counted as 2).
+    max_memory_mb : float, optional
+        The cap (:func:`acoustiviz.app.budget.check_budget`).
+    names : dict, optional
+        Parameter -> the option or scene key named in errors (default :data:`SWEEP_OPTIONS`).
+    """
+    from ..dynamics import DamperModel
+    from .budget import check_budget, sweep_estimate
+
+    names = SWEEP_OPTIONS if names is None else names
+    swept = {names.get(p, p): given.get(p) for p in SWEPT}
+    duration = check_positive(names.get("duration", "duration"), given.get("duration", DEFAULT_DURATION), "s")
+    try:
+        model = DamperModel(**{k: given.get(k, TABLE1[k]) for k in ("M", "K", "C")})
+    except ParameterError as exc:
+        raise exc.renamed(names.get(exc.name, exc.name)) from None
+    check_budget(sweep_estimate(swept, model, duration, workers or 2, options=(names.get("duration", "duration"),)),
+                 max_memory_mb)
+
+
+def sweep_workflow(given: dict, out, *, executor: str = "process", workers=None, max_memory_mb=None,
+                   names=None, **run) -> list:
+    """Check, build and run (or resume) a sweep into folder ``out``; return its summary lines.
+
+    The output folder, the memory and output size, the settings and the executor are checked
+    before any design runs; errors name :data:`SWEEP_OPTIONS` (or ``names``).
+
+    Parameters
+    ----------
+    given : dict
+        The :func:`sweep_spec` parameters given (absent ones take their defaults).
+    out : path-like
+        The sweep folder (resumed when it holds the same sweep).
+    executor, workers
+        Where the designs run (:func:`run_sweep_outputs`).
+    max_memory_mb : float, optional
+        The cap (:func:`check_sweep_work`).
+    names : dict, optional
+        Parameter -> the option or scene key named in errors.
+    **run
+        Further :func:`run_sweep_outputs` arguments (``progress``, ``bar``, ``overwrite``,
+        ``definition``, ``band_width``).
+    """
+    from .names import user_terms
+    from .outputs import check_output_dir
+
+    names = SWEEP_OPTIONS if names is None else names
+    check_output_dir(names["out"], out)
+    check_sweep_work(given, workers=workers, max_memory_mb=max_memory_mb, names=names)
+    with user_terms(names):
+        spec = sweep_spec(**given)
+        check_executor(executor, workers)
+        result = run_sweep_outputs(spec, out, executor=executor, workers=workers, **run)
+    return sweep_summary(result)

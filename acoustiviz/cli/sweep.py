@@ -127,44 +127,30 @@ def add_parser(subparsers):
     return p
 
 
+def _given(args) -> dict:
+    """The :func:`acoustiviz.app.sweep.sweep_spec` parameters the options give."""
+    return {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
+
+
 def spec_from_args(args):
     """The :class:`acoustiviz.sweep.SweepSpec` of parsed options (errors name the option)."""
     from ..app.names import user_terms
     from ..app.sweep import SWEEP_OPTIONS, sweep_spec
 
-    given = {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
     with user_terms(SWEEP_OPTIONS):
-        return sweep_spec(**given)
+        return sweep_spec(**_given(args))
 
 
 def run(args) -> int:
     """Run the ``sweep`` subcommand; return the exit status."""
     import sys
 
-    from .._validate import ParameterError, check_positive
-    from ..app.budget import check_budget, sweep_estimate
-    from ..app.names import user_terms
-    from ..app.outputs import check_output_dir
-    from ..app.sweep import SWEEP_OPTIONS, check_executor, run_sweep_outputs, sweep_summary
-    from ..dynamics import DamperModel
+    from ..app.sweep import sweep_workflow
 
-    check_output_dir("--out", args.out)
-    swept = {o: getattr(args, o[2:].replace("-", "_")) for o in ("--gap", "--m", "--mass-ratio", "--c1", "--k-hertz",
-                                                                 "--material", "--v0", "--distance", "--angle",
-                                                                 "--config")}
-    duration = check_positive("--duration", DEFAULT_DURATION if args.duration is None else args.duration, "s")
-    main = {k: TABLE1[k] if getattr(args, k) is None else getattr(args, k) for k in ("M", "K", "C")}
-    try:
-        model = DamperModel(**main)
-    except ParameterError as exc:
-        raise exc.renamed(SWEEP_OPTIONS.get(exc.name, exc.name)) from None
-    check_budget(sweep_estimate(swept, model, duration, args.workers or 2), getattr(args, "max_memory", None))
-    spec = spec_from_args(args)
-    with user_terms(SWEEP_OPTIONS):
-        check_executor(args.executor, args.workers)
-        result = run_sweep_outputs(spec, args.out, executor=args.executor, workers=args.workers, progress=sys.stderr,
-                                   bar=False if args.quiet else None, overwrite=bool(args.overwrite),
-                                   definition=args.definition, band_width=args.band_width)
-    for line in sweep_summary(result):
+    lines = sweep_workflow(_given(args), args.out, executor=args.executor, workers=args.workers,
+                           max_memory_mb=getattr(args, "max_memory", None), progress=sys.stderr,
+                           bar=False if args.quiet else None, overwrite=bool(args.overwrite),
+                           definition=args.definition, band_width=args.band_width)
+    for line in lines:
         print(line)
     return 0
