@@ -198,3 +198,41 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
     if not bool(conf.in_fluid(point[None, :])[0]):
         raise ParameterError("angle_deg", "the observer would lie inside a wall or below the floor")
     return point
+
+
+def room_settings(dimensions, *, absorption=None, source=None, strike="floor", order=None, tolerance_db=None,
+                  duration=None, config=None, names=None) -> dict | None:
+    """The settings of a room as given (text or numbers, for :class:`acoustiviz.core.geometry.Room` to check).
+
+    Without ``dimensions`` there is no room (None), and a room setting given anyway is refused,
+    naming it; so is a configuration other than the free field given with a room.
+
+    Parameters
+    ----------
+    dimensions : str or sequence, optional
+        ``LX,LY,LZ`` in m.
+    absorption, source, strike, order, tolerance_db, duration
+        The room's settings (:class:`~acoustiviz.core.geometry.Room`); None: its default.
+    config : str, optional
+        The configuration asked for besides the room.
+    names : dict, optional
+        Setting -> the option named in errors (default :data:`acoustiviz.app.names.ROOM_OPTIONS`).
+    """
+    from .names import ROOM_OPTIONS
+
+    names = ROOM_OPTIONS if names is None else names
+    room = names["dimensions"]
+    if dimensions is None:
+        given = {"absorption": absorption, "source": source, "order": order, "tolerance_db": tolerance_db}
+        for key, val in given.items():
+            if val is not None:
+                raise ParameterError(names[key], f"only applies with {room} LX,LY,LZ")
+        if strike != "floor":
+            raise ParameterError(names["strike"], f"only applies with {room} LX,LY,LZ")
+        return None
+    if config not in (None, "free", "room"):
+        raise ParameterError(names.get("config", "--config"), f"give either {names.get('config', '--config')} or "
+                                                              f"{room}, not both")
+    out = {"dimensions": dimensions, "absorption": absorption, "source": source, "strike": strike, "order": order,
+           "tolerance_db": tolerance_db, "duration": duration}
+    return {k: v for k, v in out.items() if v is not None}

@@ -98,26 +98,12 @@ def add_room_options(parser, *, duration: bool = False) -> None:
 
 
 def room_settings(args, *, duration=None) -> dict | None:
-    """The room settings of the parsed options (None without ``--room``), as strings for :class:`Room` to validate.
+    """The room settings of the options (:func:`acoustiviz.app.impacts.room_settings`); None without ``--room``."""
+    from ..app.impacts import room_settings as _room_settings
 
-    A room option without ``--room`` is refused, naming it.
-    """
-    from .._validate import ParameterError
-
-    if args.room is None:
-        for opt, val in (("--absorption", args.absorption), ("--source", args.source),
-                         ("--image-order", args.image_order), ("--tolerance-db", args.tolerance_db)):
-            if val is not None:
-                raise ParameterError(opt, "only applies with --room LX,LY,LZ")
-        if args.room_strike != "floor":
-            raise ParameterError("--room-strike", "only applies with --room LX,LY,LZ")
-        return None
-    if getattr(args, "config", None) not in (None, "free", "room"):
-        raise ParameterError("--config", "give either --config or --room, not both")
-    out = {"dimensions": args.room, "absorption": args.absorption, "source": args.source,
-           "strike": args.room_strike, "order": args.image_order, "tolerance_db": args.tolerance_db,
-           "duration": duration}
-    return {k: v for k, v in out.items() if v is not None}
+    return _room_settings(args.room, absorption=args.absorption, source=args.source, strike=args.room_strike,
+                          order=args.image_order, tolerance_db=args.tolerance_db, duration=duration,
+                          config=getattr(args, "config", None))
 
 
 def add_observer_options(parser, *, angle: bool = True) -> None:
