@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
+from acoustiviz.errors import ParameterError
 
 
 @dataclass(frozen=True)
@@ -161,3 +162,18 @@ def test_design_choice_is_the_same(tmp_path, monkeypatch, capsys):
     assert main(["design", "--sweep", str(cli / "sw"), "--inclination", "0.007", "--tolerance", "0.001"]) == 0
     said = capsys.readouterr().out
     assert (out / "design_choice.txt").read_text() in said
+
+
+def test_a_click_longer_than_the_sound_is_refused_by_both():
+    """The one check (app.damper.check_click_fits) names the option on the command line and the key in a scene."""
+    from acoustiviz.app.damper import check_click_fits
+    from acoustiviz.core.contact import contact_duration
+    from acoustiviz.output.audio import ImpactSequence
+
+    seq = ImpactSequence(times=np.array([0.001, 0.002]), walls=np.array([-1, 1]), velocities=np.array([1e-3, 2.0]))
+    tau = float(contact_duration(1e-3, 5.6e8, 0.0405))  # the slowest impact's contact time, eqs 1-4
+    check_click_fits(seq, 5.6e8, 0.0405, 1.01 * tau)
+    for names, key in ((None, "m"), ({"m": "damper.impact_mass_kg"}, "damper.impact_mass_kg")):
+        with pytest.raises(ParameterError) as err:
+            check_click_fits(seq, 5.6e8, 0.0405, 0.99 * tau, names=names)
+        assert err.value.name == key and "longer than" in err.value.detail

@@ -26,7 +26,8 @@ from ..dynamics import DamperModel, InitialState, cheapest_solver
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 from .limits import check_damper
 
-__all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "damper_description", "damping_figures"]
+__all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "damper_description", "damping_figures",
+           "check_click_fits"]
 
 
 def damper_model(*, M: float = TABLE1["M"], K: float = TABLE1["K"], C: float = TABLE1["C"], m: float = TABLE1["m"],
@@ -149,3 +150,43 @@ def damping_figures(run: DamperRun) -> dict:
             # the run alone, and apart the kernels' compilation (or loading from numba's cache)
             "solver_ms": f"{1e3 * max(run.seconds - run.result.compile_time, 0.0):.1f}",
             "compile_ms": f"{1e3 * run.result.compile_time:.1f}"}
+
+
+def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names=None) -> None:
+    """Refuse a sound in which the click of the slowest impact would outlast the sound itself.
+
+    The contact, hence the click, of an impact lasts ``T = 2.943 alpha / v`` (paper eqs 1-4),
+    longest for the slowest impact; a click longer than the sound cannot be heard whole.
+
+    Parameters
+    ----------
+    seq : acoustiviz.output.audio.ImpactSequence
+        The impacts heard.
+    k_hertz : float
+        Hertz contact stiffness in N/m^1.5.
+    mass : float
+        Impact mass in kg.
+    duration : float
+        Length of the sound in s.
+    names : dict, optional
+        ``m``, ``k_hertz`` and ``duration`` -> the option or scene key named in the error (default
+        the API names).
+    """
+    import math
+
+    import numpy as np
+
+    from ..core.contact import contact_duration
+    from ..errors import ParameterError
+
+    if not len(seq):
+        return
+    n = {"m": "m", "k_hertz": "k_hertz", "duration": "duration", **(names or {})}
+    slowest = float(seq.velocities.min())
+    with np.errstate(all="ignore"):
+        tau = float(contact_duration(slowest, k_hertz, mass)) if slowest > 0 else math.inf
+    if not tau <= duration:
+        raise ParameterError(n["m"], f"an impact mass of {mass:g} kg with {n['k_hertz']} {k_hertz:g} makes the "
+                                     f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
+                                     f"than the {duration:g} s sound; use a lighter mass, a stiffer contact or a "
+                                     f"longer {n['duration']}")

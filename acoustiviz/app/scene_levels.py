@@ -29,9 +29,11 @@ def damper_sound_setup(ctx):
 
     The one setup of a scene's sound: the ``wav`` output renders its files with it and the
     ``levels`` and ``spectrum`` outputs their analysis, so the three hear the same cavity
-    (``[outputs.wav]`` surroundings, or their defaults), clicks and listeners.
+    (``[outputs.wav]`` surroundings, or their defaults), clicks and listeners. A click longer
+    than the run is refused as on the command line (:func:`acoustiviz.app.damper.check_click_fits`).
     """
     from ..output.audio import ClickModel, ImpactSequence
+    from .damper import check_click_fits
     from .wav import cavity
 
     opts = ctx.scene.output_or_defaults("wav")
@@ -43,8 +45,12 @@ def damper_sound_setup(ctx):
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
     named = ctx.scene.listeners(radius)
-    return (ImpactSequence.from_table(ctx.damper_run.impacts), room, model, [n for n, _ in named],
-            np.array([p for _, p in named]))
+    seq = ImpactSequence.from_table(ctx.damper_run.impacts)
+    d = ctx.damper_model
+    check_click_fits(seq, d.k_hertz, d.m, ctx.damper_run.duration,
+                     names={"m": "damper.impact_mass_kg", "k_hertz": "contact.k_hertz_n_m1_5",
+                            "duration": "damper.duration_s"})
+    return seq, room, model, [n for n, _ in named], np.array([p for _, p in named])
 
 
 def _report(ctx) -> LevelReport:

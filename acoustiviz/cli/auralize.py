@@ -318,24 +318,11 @@ def _check_run_and_levels(args) -> None:
 
 
 def _check_click_fits(seq, args) -> None:
-    """The slowest impact gives the longest click: it must fit in the sound."""
-    import math
+    """The slowest impact gives the longest click: it must fit in the sound (app.damper.check_click_fits)."""
+    from ..app.damper import check_click_fits
 
-    import numpy as np
-
-    from .._validate import ParameterError
-    from ..core.contact import contact_duration
-
-    if not len(seq):
-        return
-    slowest = float(seq.velocities.min())
-    with np.errstate(all="ignore"):
-        tau = float(contact_duration(slowest, args.k_hertz, args.m)) if slowest > 0 else math.inf
-    if not tau <= args.duration:
-        raise ParameterError("--m", f"an impact mass of {args.m:g} kg with --k-hertz {args.k_hertz:g} makes the "
-                                    f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
-                                    f"than the {args.duration:g} s sound; use a lighter mass, a stiffer contact "
-                                    "or a longer --duration")
+    check_click_fits(seq, args.k_hertz, args.m, args.duration,
+                     names={"m": "--m", "k_hertz": "--k-hertz", "duration": "--duration"})
 
 
 def _print_sound(seq, scene, model, out, radius, radius_source, room, rate) -> None:
