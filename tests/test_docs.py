@@ -132,3 +132,12 @@ def test_site_builds_without_warnings_and_renders(tmp_path):
         pytest.skip("Chromium is not installed: the site built, the screenshots were not taken")
     assert shots.main([str(out), "--out", str(tmp_path / "shots")]) == 0
     assert len(list((tmp_path / "shots").glob("*.png"))) == len(shots.PAGES)
+
+
+def test_scene_reference_lists_every_key_with_the_tables_range():
+    from acoustiviz.app.settings.render import BALLOON
+
+    text = "\n".join(cliref.scene_reference_lines())
+    assert ".. _cli-scene-keys:" in text and "[outputs.balloon]" in text
+    n_theta = next(s for s in BALLOON if s.name == "n_theta")
+    assert f"n_theta = an integer in {n_theta.range_text()}" in text

@@ -262,17 +262,16 @@ def _scene_forced_run(ctx) -> ForcedRun:
     run = getattr(ctx, "_forced_run", None)
     if run is None:
         from ..sweep.spec import parse_values
+        from .settings.forced import ForcedSettings
 
-        ex = ctx.scene.section("excitation")
+        ex, st = ctx.scene.section("excitation"), ctx.scene.forced_settings()
         freqs = np.asarray(parse_values("excitation.frequencies_hz", ex["frequencies_hz"]), dtype=float)
-        ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {ex['sweep']} ({ex['solver']} solver)")
+        ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {st.sweep} ({st.solver} solver)")
         with user_terms({"frequencies": "excitation.frequencies_hz", "frequency": "excitation.frequencies_hz",
-                         "amplitude": "excitation.amplitude", "tolerance": "excitation.tolerance",
-                         "rtol": "excitation.rtol", "starts": "excitation.starts",
-                         "max_cycles": "excitation.max_cycles"}):
-            run = run_forced(ctx.damper_model, freqs, ex["amplitude"], kind=ex["kind"], sweep=ex["sweep"],
-                             solver=ex["solver"], tolerance=ex["tolerance"], rtol=ex["rtol"], starts=ex["starts"],
-                             max_cycles=ex["max_cycles"])
+                         "amplitude": "excitation.amplitude", **ForcedSettings.scene_names()}):
+            run = run_forced(ctx.damper_model, freqs, ex["amplitude"], kind=ex["kind"], sweep=st.sweep,
+                             solver=st.solver, tolerance=st.tolerance, rtol=st.rtol, starts=st.starts,
+                             max_cycles=st.max_cycles)
         ctx._forced_run = run
     return run
 

@@ -89,6 +89,22 @@ def reference_lines(parser=None) -> list:
     return lines
 
 
+def scene_reference_lines() -> list:
+    """The reST lines of the scene-file reference: every key with its type, range, unit and default.
+
+    The text is :func:`acoustiviz.scene.schema_help` (``acoustiviz run --help-scene``), built from
+    the same records as the options above (:mod:`acoustiviz.app.settings`).
+    """
+    from acoustiviz.scene import schema_help
+
+    title = "Scene files (acoustiviz run)"
+    return ([".. _cli-scene-keys:", "", title, "=" * len(title), "",
+             escape("Every key of a scene file, as 'acoustiviz run --help-scene' prints it: its type, allowed "
+                    "range and unit, default and meaning. A setting that is also an option takes the same range "
+                    "and default from the same record."), "", ".. code-block:: text", ""]
+            + ["   " + ln for ln in schema_help().splitlines()] + [""])
+
+
 def setup(app):
     """Register the ``acoustiviz-cli`` directive."""
     from docutils import nodes
@@ -97,14 +113,15 @@ def setup(app):
     from sphinx.util.nodes import nested_parse_with_titles
 
     class CliDirective(SphinxDirective):
-        """``.. acoustiviz-cli::`` -- every subcommand of the command line, with its options."""
+        """``.. acoustiviz-cli::`` -- every subcommand of the command line with its options, then the scene keys."""
 
         has_content = False
 
         def run(self):
             container = nodes.section()
             container.document = self.state.document
-            nested_parse_with_titles(self.state, StringList(reference_lines(), source="acoustiviz.cli"), container)
+            lines = reference_lines() + scene_reference_lines()
+            nested_parse_with_titles(self.state, StringList(lines, source="acoustiviz.cli"), container)
             return container.children
 
     app.add_directive("acoustiviz-cli", CliDirective)

@@ -1,14 +1,25 @@
 """Settings objects: one frozen dataclass per workflow, checked once against one table of ranges and defaults.
 
 ``table``   the :class:`Setting` record (API name, option, scene key, type, unit, range, default, meaning)
+            and :func:`add_option`, which builds a command-line option from it
 ``base``    the :class:`Settings` base class that checks its fields against its table, and image sizes
 ``parse``   a point X,Y,Z and an image size WxH typed as text
+``impact``  the waveform and the directivity of one impact
 ``render``  the balloon, snapshot and animation views
-``impact``  the waveform and directivity of one impact
+``forced``  the damper in operation: continuation, solver, tolerances and level interval
+
+The command line builds its options from the records, the scene schema its keys, and the
+settings objects check their values with them; ``acoustiviz --help``, ``acoustiviz run
+--help-scene`` and the documentation's reference all print the same ranges and defaults.
 """
 
 from .base import Settings, check_size
+from .forced import ForcedSettings
+from .impact import DirectivitySettings, WaveformSettings
 from .parse import parse_point, parse_size
+from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .table import SAME, Setting, add_option
 
-__all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size"]
+__all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
+           "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
+           "ForcedSettings"]
