@@ -9,6 +9,7 @@ import math
 import pytest
 
 from acoustiviz.app.maps import MAP_SETTINGS
+from acoustiviz.app.settings.design import DESIGN, DesignSettings
 from acoustiviz.app.settings.forced import FORCED, ForcedSettings
 from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
 from acoustiviz.app.settings.render import (
@@ -31,6 +32,7 @@ TABLES = [
     (("waveform",), WAVEFORM, WaveformSettings),
     (("directivity",), DIRECTIVITY, DirectivitySettings),
     (("forced",), FORCED, ForcedSettings),
+    (("design",), DESIGN, DesignSettings),
     (("map",), MAP_SETTINGS, None),
 ]
 RECORDS = [(cmd, s, cls) for cmd, table, cls in TABLES for s in table]

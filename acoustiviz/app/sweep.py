@@ -55,6 +55,7 @@ from ..sweep import (
     run_sweep,
     write_design_table,
 )
+from .settings.design import DEFAULT_TOLERANCE
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
@@ -345,7 +346,7 @@ def sweep_summary(run: SweepRun) -> list[str]:
     return lines
 
 
-def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, definition: str = "two-maxima",
+def design_report(sweep, inclination: float, tolerance: float = DEFAULT_TOLERANCE, *, definition: str = "two-maxima",
                   table: bool = False, band_width: float = 0.001, rank_by: str = "max_spl_db") -> list[str]:
     """Lines answering the design query of a sweep directory (paper Table 2).
 
@@ -392,7 +393,7 @@ def design_report(sweep, inclination: float, tolerance: float = 0.0005, *, defin
     return lines
 
 
-def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = 0.0005):
+def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = DEFAULT_TOLERANCE):
     """A scene's ``[outputs.design_table]``: the Table 2 figure beside the paper's, and the choice for a target.
 
     Returns

@@ -13,6 +13,9 @@ options; :func:`acoustiviz.app.sweep.design_report` answers.
 
 from __future__ import annotations
 
+from ..app.settings.design import DESIGN
+from ..app.settings.table import add_option
+
 
 def add_parser(subparsers):
     """Register the ``design`` subcommand."""
@@ -26,10 +29,8 @@ def add_parser(subparsers):
         ),
     )
     p.add_argument("--sweep", required=True, metavar="DIR", help="sweep directory (holds sweep.csv)")
-    p.add_argument("--inclination", required=True, type=float, metavar="M/S",
-                   help="target damping inclination in m/s")
-    p.add_argument("--tolerance", type=float, default=0.0005, metavar="M/S",
-                   help="accepted deviation in m/s (default 0.0005)")
+    add_option(p, DESIGN[0], metavar="M/S", required=True)
+    add_option(p, DESIGN[1], metavar="M/S")
     p.add_argument("--definition", default="two-maxima", choices=("two-maxima", "fit"),
                    help="damping inclination: paper eq 16 from the first two maxima (default) or the "
                         "linear fit of the maxima envelope")

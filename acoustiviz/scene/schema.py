@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.base import SIZE_RANGE
+from ..app.settings.design import DESIGN
 from ..app.settings.forced import FORCED
 from ..app.settings.impact import DIRECTIVITY, WAVEFORM
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
@@ -30,7 +31,6 @@ from ..constants import (
 from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import GEOMETRIES
 from ..core.room_geometry import ROOM_STRIKES
-from ..sweep.query import MAX_INCLINATION
 
 __all__ = [
     "SCHEMA",
@@ -219,9 +219,7 @@ _OUT = {
         "levels": Key("bool", "also LAFmax, LCpeak and LAeq of each design's run at the listener, rendered at "
                       "96 kHz (about 0.3 s more per 20 s design)", False)},
         "sweep over gap and impact mass (paper Figure 6)"),
-    "design_table": Table({
-        "inclination_m_s": _pos("target damping inclination", "m/s", None, high=MAX_INCLINATION),
-        "tolerance_m_s": _pos("half-width of the inclination band", "m/s", 0.001, high=MAX_INCLINATION)},
+    "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
     "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),
                                  choices=SAMPLE_RATES),
