@@ -154,12 +154,17 @@ def test_command_and_scene_render_the_same_data(name, tmp_path, monkeypatch, cap
     _check(case, *_run_both(case, tmp_path, monkeypatch, capsys))
 
 
-def test_design_choice_is_the_same(tmp_path, monkeypatch, capsys):
-    """``acoustiviz design`` on a sweep prints the choice a scene's design table writes."""
+@pytest.mark.parametrize("tolerance", [None, 0.001])
+def test_design_choice_is_the_same(tolerance, tmp_path, monkeypatch, capsys):
+    """``acoustiviz design`` on a sweep prints the choice a scene's design table writes (default tolerance too)."""
     case = CASES["sweep"]
-    toml = case.scene + "[outputs.design_table]\ninclination_m_s = 0.007\ntolerance_m_s = 0.001\n"
+    toml = case.scene + "[outputs.design_table]\ninclination_m_s = 0.007\n"
+    argv = ["design", "--sweep", str(tmp_path / "cli" / "sw"), "--inclination", "0.007"]
+    if tolerance is not None:
+        toml += f"tolerance_m_s = {tolerance}\n"
+        argv += ["--tolerance", str(tolerance)]
     cli, out, _ = _run_both(Case(case.argv, toml, case.same), tmp_path, monkeypatch, capsys)
-    assert main(["design", "--sweep", str(cli / "sw"), "--inclination", "0.007", "--tolerance", "0.001"]) == 0
+    assert main(argv) == 0
     said = capsys.readouterr().out
     assert (out / "design_choice.txt").read_text() in said
 
