@@ -20,6 +20,7 @@ from acoustiviz.app.settings.render import (
     BalloonSettings,
     SnapshotSettings,
 )
+from acoustiviz.app.settings.sweep import SWEEP, SweepSettings
 from acoustiviz.cli import build_parser
 from acoustiviz.errors import ParameterError
 from acoustiviz.scene.schema import SCHEMA
@@ -33,6 +34,7 @@ TABLES = [
     (("directivity",), DIRECTIVITY, DirectivitySettings),
     (("forced",), FORCED, ForcedSettings),
     (("design",), DESIGN, DesignSettings),
+    (("sweep",), SWEEP, SweepSettings),
     (("map",), MAP_SETTINGS, None),
 ]
 RECORDS = [(cmd, s, cls) for cmd, table, cls in TABLES for s in table]

@@ -430,10 +430,14 @@ def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=Non
     """
     from ..dynamics import DamperModel
     from .budget import check_budget, sweep_estimate
+    from .names import user_terms
 
     names = SWEEP_OPTIONS if names is None else names
     swept = {names.get(p, p): given.get(p) for p in SWEPT}
-    duration = check_positive(names.get("duration", "duration"), given.get("duration", DEFAULT_DURATION), "s")
+    from .settings.sweep import SweepSettings
+
+    with user_terms({"duration": names.get("duration", "duration")}):
+        duration = SweepSettings(given.get("duration", DEFAULT_DURATION)).duration
     try:
         model = DamperModel(**{k: given.get(k, TABLE1[k]) for k in ("M", "K", "C")})
     except ParameterError as exc:

@@ -16,9 +16,10 @@ options; :mod:`acoustiviz.app.sweep` does the rest, with the defaults of
 
 from __future__ import annotations
 
+from ..app.settings.sweep import SWEEP
+from ..app.settings.table import add_option
 from ..constants import (
     DEFAULT_AIR_DENSITY,
-    DEFAULT_DURATION,
     DEFAULT_RTOL,
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
@@ -77,7 +78,7 @@ def add_parser(subparsers):
     g.add_argument("--C", type=float, help=f"main dashpot in N s/m (default {TABLE1['C']:g})")
     g.add_argument("--clip-tensile", action="store_true", default=None,
                    help="clip the contact force at zero (default: the paper's form, which may pull)")
-    g.add_argument("--duration", type=float, help=f"simulated time per design in s (default {DEFAULT_DURATION:g})")
+    add_option(g, SWEEP[0], metavar="DURATION")
     g.add_argument("--solver", choices=SOLVERS, help="damper solver (default event)")
     g.add_argument("--rtol", type=float,
                    help=f"relative tolerance of the event solver's contacts (default {DEFAULT_RTOL:g})")

@@ -11,6 +11,7 @@ from ..app.settings.design import DESIGN
 from ..app.settings.forced import FORCED
 from ..app.settings.impact import DIRECTIVITY, WAVEFORM
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
+from ..app.settings.sweep import SWEEP
 from ..constants import (
     DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
@@ -214,7 +215,7 @@ _OUT = {
         "gap_m": Key("range", "gap range start:stop:count", "0.02:0.06:5", "m", low=0.0, low_open=True, high=10),
         "mass_kg": Key("range", "impact-mass range start:stop:count", "0.02:0.08:4", "kg", low=0.0, low_open=True,
                        high=1e4),
-        "duration_s": _pos("simulated time per design", "s", 5.0, high=1e4),
+        **_from_table(SWEEP, "outputs.sweep"),
         "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024),
         "levels": Key("bool", "also LAFmax, LCpeak and LAeq of each design's run at the listener, rendered at "
                       "96 kHz (about 0.3 s more per 20 s design)", False)},

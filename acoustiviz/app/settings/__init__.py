@@ -7,6 +7,8 @@
 ``impact``  the waveform and the directivity of one impact
 ``render``  the balloon, snapshot and animation views
 ``forced``  the damper in operation: continuation, solver, tolerances and level interval
+``design``  the target damping inclination and its tolerance
+``sweep``   the simulated time per design of a sweep
 
 The command line builds its options from the records, the scene schema its keys, and the
 settings objects check their values with them; ``acoustiviz --help``, ``acoustiviz run
