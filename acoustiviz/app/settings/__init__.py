@@ -16,12 +16,14 @@ settings objects check their values with them; ``acoustiviz --help``, ``acoustiv
 """
 
 from .base import Settings, check_size
+from .design import DesignSettings
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
+from .sweep import SweepSettings
 from .table import SAME, Setting, add_option
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings"]
+           "ForcedSettings", "DesignSettings", "SweepSettings"]
