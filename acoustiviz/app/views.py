@@ -22,7 +22,8 @@ from ..field import field_metrics, waveform_span, waveform_spans
 from ..levels import METRICS
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
-           "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
+           "write_directivity_csv", "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL",
+           "directivity_metric",
            "impact_signals", "impact_sound", "points_metric_levels", "reference_metric_levels", "metric_label",
            "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
@@ -331,6 +332,38 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
         with np.errstate(divide="ignore"):
             return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
     return points_metric_levels([metric], pulse, directivity.points, config, medium)[metric]
+
+
+def write_directivity_csv(path, directivity, metric: str = "peak-spl", values=None):
+    """Write ``angle_deg,peak_pa,rms_pa,spl_db`` (and the ``metric`` column) atomically.
+
+    The one file of the command (``acoustiviz directivity --csv``) and of the scene output.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.csv`` file.
+    directivity : acoustiviz.field.Directivity
+        Peaks and RMS on the circle.
+    metric : str
+        A key of :data:`DIRECTIVITY_METRICS`; another than ``"peak-spl"`` adds its column of ``values`` (dB).
+    values : (k,) array_like, optional
+        The level ``metric`` at each angle (:func:`directivity_metric`).
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    from ..output.writers import write_csv_atomic
+
+    extra = metric != "peak-spl"
+    d = directivity
+    return write_csv_atomic(
+        path,
+        ["angle_deg", "peak_pa", "rms_pa", "spl_db"] + ([DIRECTIVITY_METRICS[metric]] if extra else []),
+        [d.angle_deg, d.peak, d.rms, d.spl_db] + ([np.asarray(values, dtype=float)] if extra else []),
+        fmt=["%.6g", "%.10e", "%.10e", "%.6f"] + (["%.6f"] if extra else []),
+    )
 
 
 def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
