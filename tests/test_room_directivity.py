@@ -17,6 +17,7 @@ from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.geometry import FreeField, ReflectingPlane, WallFloorCorner
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
+from acoustiviz.core.reach import check_view_radius, circle_limit, view_limit
 from acoustiviz.core.room_geometry import Room
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import directivity
@@ -83,7 +84,7 @@ def test_rigid_room_directivity_near_the_source_is_the_sum_of_its_image_spheres(
         assert d.rms[k] == pytest.approx(math.sqrt(np.sum(p * p) / m), rel=1e-11)
         i = int(np.argmax(np.abs(p)))
         sign = math.copysign(1.0, p[i])
-        res = minimize_scalar(lambda s: -sign * _image_sum(pulse, room, point, s)[0],
+        res = minimize_scalar(lambda s, sg=sign, x=point: -sg * _image_sum(pulse, room, x, s)[0],
                               bounds=(t[max(i - 1, 0)], t[min(i + 1, m - 1)]), method="bounded",
                               options={"xatol": 1e-9 * fm.sample_interval})
         assert d.peak[k] == pytest.approx(max(scale, -res.fun), abs=1e-10 * scale)
@@ -96,18 +97,18 @@ def test_rigid_room_directivity_near_the_source_is_the_sum_of_its_image_spheres(
 def test_a_circle_or_balloon_that_leaves_the_room_is_refused_with_its_range():
     pulse = _pulse()
     room = Room(A, (3.0, 2.5, 2.0), 0.3, (1.0, 1.0, A), duration=0.01)
-    assert room.circle_limit() == pytest.approx(2.0 - A, rel=1e-12)  # the ceiling, straight up
-    assert room.view_limit() == pytest.approx(1.0, rel=1e-12)  # walls x0 and y0 from the contact point
+    assert circle_limit(room) == pytest.approx(2.0 - A, rel=1e-12)  # the ceiling, straight up
+    assert view_limit(room) == pytest.approx(1.0, rel=1e-12)  # walls x0 and y0 from the contact point
     with pytest.raises(ParameterError, match=r"distance: must lie in \(0.01905, 1.98095\] m .*got 2.5 m"):
         directivity(pulse, room, 2.5, [0.0])
     with pytest.raises(ParameterError, match=r"distance: the sound reaches the circle at .* after the room's window"):
         directivity(pulse, Room(A, (3.0, 2.5, 2.0), 0.3, (1.0, 1.0, A), duration=0.001), 1.5, [0.0])
     with pytest.raises(ParameterError, match=r"distance: must lie in \(0.040005, 1\] m for the measuring sphere"):
-        room.check_view_radius(1.2, 2.1 * A)
+        check_view_radius(room, 1.2, 2.1 * A)
     # a sphere away from the struck surface: the whole circle and sphere, bounded by the nearest wall
     mid = Room(A, (3.0, 2.5, 2.0), 0.3, (1.0, 1.0, 0.8), duration=0.01)
-    assert mid.polar_limit_deg == 180.0 and mid.circle_limit() == pytest.approx(0.8, rel=1e-12)
-    assert mid.view_limit() == pytest.approx(0.8, rel=1e-12)
+    assert mid.polar_limit_deg == 180.0 and circle_limit(mid) == pytest.approx(0.8, rel=1e-12)
+    assert view_limit(mid) == pytest.approx(0.8, rel=1e-12)
 
 
 def test_radiated_energy_is_refused_in_a_room_saying_why():

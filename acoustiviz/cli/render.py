@@ -232,6 +232,7 @@ def run(args) -> int:
     size = _check_common(args)
     from ..app.budget import animation_estimate, balloon_estimate, check_budget, snapshot_estimate
     from ..app.outputs import check_distinct, check_output_file
+    from ..core.reach import check_view_radius
     from ._impact import impact_from_args
 
     outputs = {f"--{k}": getattr(args, k, None) for k in ("png", "gif", "mp4", "vtk", "html")}
@@ -243,7 +244,7 @@ def run(args) -> int:
     n_src = len(setup.configuration.images())
     if args.view == "balloon":  # the measuring sphere inside a room's walls, before any work
         with user_terms({"distance": "--distance"}):
-            setup.configuration.check_view_radius(args.distance, 2.1 * setup.radius)
+            check_view_radius(setup.configuration, args.distance, 2.1 * setup.radius)
         est = balloon_estimate(args.resolution, size, n_src)
     elif args.view == "snapshot":
         est = snapshot_estimate(args.resolution, len(_sections(args.sections)), len(args.time), size, n_src)

@@ -92,8 +92,7 @@ class Geometry:
     #: Largest polar angle in degrees from the acceleration axis a listener may take in the
     #: paper's observer plane (the fluid above the struck surface: 90; all around: 180).
     polar_limit_deg: ClassVar[float] = 90.0
-    #: True when the surfaces close the fluid (a room): no surface in the fluid encloses the sound
-    #: radiated away, so the radiated energy and the sound power are not defined (:meth:`enclosure`).
+    #: True when the surfaces close the fluid (a room): no radiated energy or sound power (:meth:`enclosure`).
     enclosed: ClassVar[bool] = False
 
     def __post_init__(self):
@@ -188,70 +187,6 @@ class Geometry:
         perp = _X if abs(axis[0]) < 0.5 else _Z
         return np.asarray(self.centre, dtype=float) + r[:, None] * (
             np.cos(th)[:, None] * axis + np.sin(th)[:, None] * perp)
-
-    def circle_limit(self) -> float:
-        """Largest radius in m of the observer circle (:meth:`observer_points`) that stays in the fluid.
-
-        The circle around the sphere's centre in the plane of the axis ``u`` and the side
-        direction ``v``, from 0 to :attr:`polar_limit_deg`: for each plane (normal ``n`` into the
-        fluid, the centre at height ``h`` above it) the circle reaches the plane at the radius
-        ``h / m`` with ``m`` the largest of ``-(cos θ u + sin θ v) . n`` over the polar range
-        (``sqrt(A^2 + B^2)`` at ``θ = atan2(B, A)`` when that angle lies in the range, else its
-        ends). ``inf`` when no plane is in the way.
-        """
-        c = np.asarray(self.centre, dtype=float)
-        u = np.asarray(self.axis, dtype=float)
-        v = self.observer_points(1.0, math.pi / 2)[0] - c
-        top = math.radians(self.polar_limit_deg)
-        best = math.inf
-        for pl in self.planes:
-            a_, b_ = -float(u @ pl.normal), -float(v @ pl.normal)
-            ends = [a_, a_ * math.cos(top) + b_ * math.sin(top)]
-            th = math.atan2(b_, a_)
-            if -1e-12 <= th <= top + 1e-12:
-                ends.append(math.hypot(a_, b_))
-            m = max(ends)
-            if m > 1e-12:
-                best = min(best, float((c - pl.point) @ pl.normal) / m)
-        return best
-
-    def view_limit(self) -> float:
-        """Largest radius in m of a balloon around :meth:`view_region` that stays in the fluid.
-
-        For each plane (normal ``n``, the anchor at height ``h`` above it) the directions of the
-        region reach at most ``m = max(-d . n)`` towards it: 1 over the whole sphere of
-        directions; over the half space about ``up``, 1 when ``-n`` lies in it, else
-        ``sqrt(1 - (n . up)^2)``; the radius is then at most ``h / m``. ``inf`` when no plane is in
-        the way (a quarter space's two planes bound it and are not counted).
-        """
-        reg = self.view_region()
-        if reg.kind == "quarter":
-            return math.inf
-        up = np.asarray(reg.up, dtype=float)
-        best = math.inf
-        for pl in self.planes:
-            n = np.asarray(pl.normal, dtype=float)
-            if reg.kind == "sphere" or float(-n @ up) >= 0.0:
-                m = 1.0
-            else:
-                m = math.sqrt(max(0.0, 1.0 - float(n @ up) ** 2))
-            if m > 1e-12:
-                best = min(best, float((np.asarray(reg.origin) - pl.point) @ n) / m)
-        return best
-
-    def check_view_radius(self, distance: float, lowest: float) -> float:
-        """``distance`` (m) if a balloon of that radius around :meth:`view_region` fits, else an error naming it.
-
-        ``lowest`` (m) is the exclusive lower bound (the balloon's clearance of the sphere); the upper
-        bound is :meth:`view_limit`.
-        """
-        r, top = float(distance), self.view_limit()
-        if not lowest < r <= top:
-            span = f"({lowest:g}, {top:.6g}]" if math.isfinite(top) else f"({lowest:g}, inf)"
-            origin = ", ".join(f"{float(x):.6g}" for x in self.view_region().origin)
-            raise ParameterError("distance", f"must lie in {span} m for the measuring sphere around ({origin}) m "
-                                             f"to stay in the fluid ({self.fluid_text()}), got {r:g} m")
-        return r
 
     # -- regions and views ---------------------------------------------------------------
     def enclosure(self) -> Region:

@@ -10,6 +10,7 @@ import numpy as np
 from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry, observer_points
 from ..core.medium import AIR, Medium
+from ..core.reach import circle_limit
 from ._common import check_config, check_pulse
 from .metrics import FieldMetrics, field_metrics
 from .sources import source_geometry
@@ -82,7 +83,7 @@ def circle_points(config: Geometry, distance: float, angles) -> np.ndarray:
     """
     check_config(config)
     r = check_positive("distance", distance, "m")
-    top = config.circle_limit()
+    top = circle_limit(config)
     if r <= config.radius and not math.isfinite(top):
         raise ParameterError("distance", f"must exceed the sphere radius {config.radius:g} m, got {r:g} m")
     if r <= config.radius or r > top:

@@ -385,6 +385,7 @@ def _check_circles(scene: Scene, conf) -> None:
     """
     import numpy as np
 
+    from ..core.reach import check_view_radius
     from ..field.directivity import circle_points, room_window
 
     src = scene.source
@@ -400,7 +401,7 @@ def _check_circles(scene: Scene, conf) -> None:
                                        f"from the sphere's centre): {exc.detail}") from None
     if scene.wants("balloon"):
         try:
-            conf.check_view_radius(scene.data["grids"]["sphere"]["distance_m"], 0.0)
+            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 0.0)
         except ParameterError as exc:
             raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 
