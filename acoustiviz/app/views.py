@@ -127,8 +127,8 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
 
     Returns ``(points, t, L, h, K, n_sound, n_out)``: the ``(k, 3)`` points in m, the times in s at
     ``L × sample_rate`` from the earliest arrival (rounded down to the output grid) to the end of the
-    latest sound (in a room, at most to the end of its window ``duration``), the decimation filter ``h`` (``2KL + 1`` taps), the output samples of sound and
-    of the whole interval.
+    latest sound (in a room, at most to the end of its window ``duration``), the decimation filter
+    ``h`` (``2KL + 1`` taps), the output samples of sound and of the whole interval.
     """
     from ..output.audio import decimation_filter, oversampling_factor
 
