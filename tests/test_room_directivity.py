@@ -205,3 +205,46 @@ position_m = [{x}, 1.0, 1.0]
         scene_from_text(base.format(x=1.5) + "[grids.sphere]\ndistance_m = 1.5\n[outputs.balloon]\n", "t.toml")
     with pytest.raises(SceneError, match="outputs.sweep: .* a room is not swept"):
         scene_from_text(base.format(x=1.5) + "[outputs.sweep]\n", "t.toml")
+
+
+@pytest.mark.slow
+def test_forced_noise_in_a_room_is_the_same_from_the_command_and_the_scene(tmp_path):
+    import csv
+
+    from acoustiviz.app.pipeline import run_scene
+    from acoustiviz.scene.load import scene_from_text
+
+    room = ["--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--duration", "0.05"]
+    assert main(["forced", "--force", "5", "--freq", "5:5:1", "--noise-seconds", "0.2", *room,
+                 "--listener", "1.5,1,0.5", "--csv", str(tmp_path / "cli.csv")]) in (0, 1)
+    scene = scene_from_text("""
+[geometry]
+kind = "room"
+room_m = [3.0, 2.5, 2.0]
+absorption = 0.3
+source_m = [1.0, 1.0, 0.01905]
+window_s = 0.05
+[excitation]
+kind = "force"
+amplitude = 5.0
+frequencies_hz = "5:5:1"
+[[listeners]]
+name = "l"
+position_m = [1.5, 1.0, 0.5]
+[outputs.operating_noise]
+seconds = 0.2
+""", "t.toml")
+    run_scene(scene, tmp_path / "scene")
+    with open(tmp_path / "cli.csv", newline="") as fh:
+        cli = next(csv.DictReader(fh))
+    with open(tmp_path / "scene" / "operating_noise.csv", newline="") as fh:
+        sc = next(csv.DictReader(fh))
+    for col in ("laeq_db", "lcpeak_db", "lafmax_db"):
+        assert float(cli[col]) == pytest.approx(float(sc[col]), abs=1e-9), col
+
+
+def test_forced_in_a_room_needs_its_listener(capsys):
+    assert main(["forced", "--force", "5", "--freq", "5:5:1", "--room", "3,2.5,2", "--duration", "0.05"]) == 2
+    assert "--listener: required with --room" in capsys.readouterr().err
+    assert main(["forced", "--force", "5", "--freq", "5:5:1", "--duration", "0.05"]) == 2
+    assert "--duration: only applies with --room" in capsys.readouterr().err

@@ -79,6 +79,9 @@ def add_parser(subparsers):
                         "(default %(default)s)")
     n.add_argument("--wav", metavar="PATH", default=None,
                    help="write the damper in operation, each frequency's interval in turn, as a 48 kHz WAV")
+    from ._impact import add_room_options
+
+    add_room_options(p, duration=True)  # --duration: how long each click's reflections are heard
     o = p.add_argument_group("outputs")
     o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency and attractor as CSV")
     o.add_argument("--png", metavar="PATH", default=None,
@@ -129,7 +132,7 @@ def run(args) -> int:
     from ..app.budget import check_budget, forced_estimate
     from ..app.damper import damper_model
     from ..app.forced import FORCED_OPTIONS, parse_frequencies, run_forced
-    from ..app.names import user_terms
+    from ..app.names import ROOM_OPTIONS, user_terms
 
     freqs = parse_frequencies(args.freq)
     listener = None
@@ -139,6 +142,7 @@ def run(args) -> int:
         listener = parse_point(args.listener, "--listener")
     _check_outputs(args)
     _check_noise(args)
+    room = _room(args, listener)
     with user_terms(FORCED_OPTIONS):
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1)
@@ -149,7 +153,8 @@ def run(args) -> int:
     if args.noise or listener is not None:
         from ..app.forced import check_listener
 
-        check_listener(model, listener)
+        with user_terms(ROOM_OPTIONS):  # a room's settings checked here, before any run
+            check_listener(model, listener, settings=room)
     kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
     import sys
 
@@ -168,11 +173,28 @@ def run(args) -> int:
         _print_table(fr, None)
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
-    _write_outputs(args, fr, listener)
+    _write_outputs(args, fr, listener, room)
     return 0 if not failed else 1
 
 
-def _write_outputs(args, fr, listener) -> None:
+def _room(args, listener):
+    """The cavity's surroundings in a room (``{"room": settings}``), or None above the paper's plane.
+
+    With ``--room`` the listener must be given (``--listener``) and ``--duration`` says how long
+    after each click its reflections are heard (the images that arrive within it).
+    """
+    from ..errors import ParameterError
+    from ._impact import room_duration, room_settings
+
+    duration = room_duration(args)
+    if args.room is None:
+        return None
+    if listener is None:
+        raise ParameterError("--listener", "required with --room: the listener's position X,Y,Z in m in the room")
+    return {"room": room_settings(args, duration=duration)}
+
+
+def _write_outputs(args, fr, listener, room=None) -> None:
     """The noise in operation (table and WAV) when asked, then the CSV and the figure."""
     from ..app.forced import write_forced_csv, write_forced_png
 
@@ -181,7 +203,7 @@ def _write_outputs(args, fr, listener) -> None:
         from ..app.forced_noise import noise_statement
 
         t0 = time.perf_counter()
-        noises = add_operating_noise(fr, listener=listener, seconds=args.noise_seconds)
+        noises = add_operating_noise(fr, listener=listener, seconds=args.noise_seconds, settings=room)
         where = "the paper's listener (0.7 m, 45 deg)" if listener is None else f"({args.listener}) m"
         print(f"noise in operation at {where}: {noise_statement(args.noise_seconds)}; "
               f"{time.perf_counter() - t0:.2f} s")
