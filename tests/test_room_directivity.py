@@ -203,8 +203,11 @@ position_m = [{x}, 1.0, 1.0]
         scene_from_text(base.format(x=2.9) + "[outputs.directivity]\n", "t.toml")
     with pytest.raises(SceneError, match=r"grids.sphere.distance_m: must lie in \(0, 1\] m"):
         scene_from_text(base.format(x=1.5) + "[grids.sphere]\ndistance_m = 1.5\n[outputs.balloon]\n", "t.toml")
-    with pytest.raises(SceneError, match="outputs.sweep: .* a room is not swept"):
-        scene_from_text(base.format(x=1.5) + "[outputs.sweep]\n", "t.toml")
+    # a sweep takes the scene's room: its designs are built in it
+    from acoustiviz.app.pipeline import sweep_spec
+
+    spec = sweep_spec(scene_from_text(base.format(x=1.5) + "[outputs.sweep]\n", "t.toml"))
+    assert spec.config == ("room",) and dict(spec.settings.room)["dimensions"] == (3.0, 2.5, 2.0)
 
 
 @pytest.mark.slow
@@ -248,3 +251,25 @@ def test_forced_in_a_room_needs_its_listener(capsys):
     assert "--listener: required with --room" in capsys.readouterr().err
     assert main(["forced", "--force", "5", "--freq", "5:5:1", "--duration", "0.05"]) == 2
     assert "--duration: only applies with --room" in capsys.readouterr().err
+
+
+def test_sweep_in_a_room_beyond_every_arrival_equals_the_plane_and_round_trips():
+    from acoustiviz.app.sweep import sweep_spec
+    from acoustiviz.sweep.evaluate import evaluate_design
+    from acoustiviz.sweep.spec import SweepSpec
+
+    room = {"dimensions": (1000.0, 1000.0, 1000.0), "source": (500.0, 500.0, A), "duration": 0.005}
+    common = dict(gap=0.04, m=0.0405, duration=2.0, distance=0.7, angle_deg=45.0)
+    in_room = sweep_spec(config="room", room=room, **common)
+    plane = sweep_spec(config="plane", **common)
+    (d_room,), (d_plane,) = in_room.designs(), plane.designs()
+    assert d_room.geometry(in_room.settings).dimensions == (1000.0, 1000.0, 1000.0)
+    r, p = evaluate_design(d_room, in_room.settings), evaluate_design(d_plane, plane.settings)
+    assert r.n_impacts == p.n_impacts > 0 and r.inclination_two_maxima == p.inclination_two_maxima
+    assert r.max_spl_db == pytest.approx(p.max_spl_db, abs=1e-9)  # dB: the floor's image alone arrives
+    assert SweepSpec.from_dict(in_room.to_dict()) == in_room
+    assert "room" not in plane.to_dict()["settings"]  # sweeps without a room are stored as before
+    with pytest.raises(ParameterError, match="config: must be one of 'free', 'plane', 'wall-floor', got 'room'"):
+        sweep_spec(config="room", **common)  # a room without its settings
+    with pytest.raises(ParameterError, match=r"angle: must be <= 1.5708 rad \(90 deg\) with the room"):
+        sweep_spec(config="room", room=room, **{**common, "angle_deg": 120.0})

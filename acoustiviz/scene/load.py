@@ -10,7 +10,7 @@ from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
 
-from ..core.geometry import CONFIGURATIONS, geometry, geometry_class, relevant_settings
+from ..core.geometry import geometry, relevant_settings
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
 from .validate import SceneError, _unknown, _validate_table, parse_range
@@ -296,10 +296,6 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
             raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
-    if "sweep" in outputs and geometry_class(data["configuration"]["kind"]).REQUIRED:
-        raise SceneError(source, "outputs.sweep", f"sweeps build each design's geometry from a configuration name "
-                                                  f"({', '.join(CONFIGURATIONS)}) and the wall distance; a "
-                                                  f"{data['configuration']['kind']} is not swept")
     if {"frequency_response", "bifurcation", "operating_noise"} & set(outputs):
         from ..app.limits import check_forcing_frequencies
 
