@@ -273,3 +273,19 @@ def test_sweep_in_a_room_beyond_every_arrival_equals_the_plane_and_round_trips()
         sweep_spec(config="room", **common)  # a room without its settings
     with pytest.raises(ParameterError, match=r"angle: must be <= 1.5708 rad \(90 deg\) with the room"):
         sweep_spec(config="room", room=room, **{**common, "angle_deg": 120.0})
+
+
+def test_sweep_command_in_a_room(tmp_path, capsys):
+    import csv
+
+    room = ["--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905"]
+    assert main(["sweep", "--room", "3,2.5,2", "--out", str(tmp_path / "y")]) == 2
+    assert "--room-window: required: surface x0 is rigid" in capsys.readouterr().err
+    assert main(["sweep", "--room-window", "0.01", "--out", str(tmp_path / "z")]) == 2
+    assert "--room-window: only applies with --room" in capsys.readouterr().err
+    out = tmp_path / "s"
+    assert main(["sweep", *room, "--room-window", "0.01", "--duration", "1", "--distance", "0.5", "--angle", "30",
+                 "--out", str(out), "--quiet", "--workers", "1"]) == 0
+    with open(out / "sweep.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 1 and rows[0]["config"] == "room" and float(rows[0]["max_spl_db"]) > 0

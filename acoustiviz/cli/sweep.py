@@ -107,6 +107,12 @@ def add_parser(subparsers):
                    help="also render each run's click train at the listener at 96 kHz and report its LAFmax, "
                         "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; about 0.3 s more "
                         "per 20 s design, so off by default)")
+    from ._impact import add_room_options
+
+    add_room_options(p)  # --config room with --room; the window its images reach is --room-window
+    p.add_argument("--room-window", type=float, default=None, metavar="S",
+                   help="with --room: the window in s from the start of each impact whose images the peak SPL "
+                        "takes (required when a surface is rigid and --image-order is not given)")
     o = p.add_argument_group("execution and outputs")
     o.add_argument("--out", required=True, metavar="DIR", help="output directory (resumed if it exists)")
     o.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",
@@ -133,8 +139,31 @@ def spec_from_args(args):
     from ..app.sweep import SWEEP_OPTIONS, sweep_spec
 
     given = {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
+    room = _room(args)
+    if room is not None:
+        given.update(config=args.config or room[0], room=room[1])
     with user_terms(SWEEP_OPTIONS):
         return sweep_spec(**given)
+
+
+def _room(args):
+    """``(registry name, settings)`` of ``--room`` checked before any work (errors name the options), or None."""
+    from .._validate import ParameterError
+    from ..app.names import ROOM_OPTIONS, user_terms
+    from ..constants import PAPER_RADIUS
+    from ..core.geometry import geometry
+    from ..core.room_geometry import Room
+    from ._impact import room_settings
+
+    if args.room is None:
+        if args.room_window is not None:
+            raise ParameterError("--room-window", "only applies with --room LX,LY,LZ")
+        return None
+    room = room_settings(args, duration=args.room_window)
+    radius = args.radius if args.radius not in (None, "mass") else PAPER_RADIUS
+    with user_terms({**ROOM_OPTIONS, "duration": "--room-window"}):
+        geometry(Room.name, float(radius), **room)
+    return Room.name, room
 
 
 def run(args) -> int:
