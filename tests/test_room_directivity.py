@@ -289,3 +289,15 @@ def test_sweep_command_in_a_room(tmp_path, capsys):
     with open(out / "sweep.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 1 and rows[0]["config"] == "room" and float(rows[0]["max_spl_db"]) > 0
+
+
+def test_map_command_in_a_room_lies_on_the_plane_through_the_sphere_inside_the_walls(tmp_path):
+    import csv
+
+    out = tmp_path / "m.csv"
+    assert main(["map", *ROOM, "--extent", "5", "--resolution", "16", "--csv", str(out)]) == 0
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    x, y, z = (np.array([float(r[k]) for r in rows]) for k in ("x_m", "y_m", "z_m"))
+    assert np.all(y == 1.0)  # the vertical plane through the sphere's centre
+    assert x.min() == 0.0 and x.max() == 3.0 and z.min() == 0.0 and z.max() == 2.0  # cut at the walls and ceiling
