@@ -397,7 +397,7 @@ def _check_circles(scene: Scene, conf) -> None:
                                        f"from the sphere's centre): {exc.detail}") from None
     if scene.wants("balloon"):
         try:
-            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 0.0)
+            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 2.1 * conf.radius)
         except ParameterError as exc:
             raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 
