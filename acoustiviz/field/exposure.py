@@ -14,6 +14,12 @@ exponentials in closed form; on ``[0, T]`` they are computed once per pulse by G
 quadrature of the exact ``Y`` (:func:`acoustiviz.core.radiation.pulse_response`) over the pieces
 where ``Y`` is smooth, and stored as piecewise Chebyshev series. A point then costs a few
 series evaluations per pair of images: no time grid, no sampling error.
+
+With many images (a room's) the pairs further apart than ``T`` are summed at once: their
+correlations are one damped exponential ``exp(s Δ)``, so that, the arrivals sorted, a running sum
+carried from one arrival to the next holds all of them (:func:`_exposure_sorted`); only the pairs
+arriving within ``T`` of each other read the table. The cost is ``O(n log n)`` plus those close
+pairs instead of ``O(n²)``, and the result the same sum.
 """
 
 from __future__ import annotations
@@ -27,7 +33,7 @@ from .._validate import check_points
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces
-from ._common import check_config, check_pulse, pulse_args
+from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
 from ._kernels import _fill, _njit
 from .sources import chunk_geometry
 
@@ -244,34 +250,60 @@ def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h
         out[i] = total
 
 
-#: Above this many sources (a room's images) the exposure sums only the pairs whose arrivals lie
-#: within the pulse plus :data:`PAIR_DECAY_TIMES` decay times a/c of each other (sorted delays).
+#: Above this many sources (a room's images) the exposure sorts the arrivals and sums the pairs
+#: further apart than the pulse in closed form, as one running sum (:func:`_exposure_sorted`).
 PAIRS_ABOVE = 64
-#: A pair further apart correlates by less than exp(-40) = 4e-18 of its product: dropped.
-PAIR_DECAY_TIMES = 40.0
+#: Bytes of working memory per point and source of :func:`exposure` (delays, amplitudes, shape
+#: coefficients, distances and temporaries), for its chunk under the evaluator's memory cap.
+_BYTES_PER_SOURCE = 96
 
 
 @_njit(cache=True)
-def _exposure_kernel_near(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, reach):  # pragma: no cover
-    """:func:`_exposure_kernel` over the pairs closer than ``reach`` s in delay (delays sorted per point)."""
-    n, nimg = delays.shape
-    g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
-    for i in range(n):
-        order = np.argsort(delays[i])
-        total = 0.0
-        for jj in range(nimg):
+def _exposure_sorted(order, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, g0, h0):  # pragma: no cover
+    """``∫ p² dt`` of one point from its sources taken in order of arrival (``order``), in O(n + close pairs).
+
+    A pair ``j`` before ``k`` with lag ``Δ = d_k - d_j >= T`` correlates in closed form,
+    ``G(Δ) = Y(T) e^{s(Δ - T)} m_g`` and ``H(Δ) = conj(Y(T) e^{s(Δ - T)}) m_h``, so that all of them
+    together give ``Re[a_k (Y(T) m_g S_k + conj(Y(T)) m_h conj(S_k))]`` with
+    ``S_k = Σ_{d_j <= d_k - T} a_j e^{s (d_k - d_j - T)}``, carried from one arrival to the next
+    (every factor ``|e^{s x}| <= 1``, ``x >= 0``: no growth of round-off). The pairs closer than
+    ``T`` read the tabulated correlations (:func:`_correlation_at`).
+    """
+    n = order.size
+    cg = y_end * m_g
+    ch = np.conj(y_end) * m_h
+    total = 0.0
+    acc = 0j  # S at the arrival of the previous source
+    t_acc = 0.0
+    first = 0  # the earliest source not yet in S
+    for kk in range(n):
+        k = order[kk]
+        dk = delays[k]
+        ak = complex(are[k], aim[k])
+        total += 0.5 * (ak * ak * g0 + (are[k] ** 2 + aim[k] ** 2) * h0).real
+        if kk > 0:
+            acc *= np.exp(s * (dk - t_acc))
+        t_acc = dk
+        while first < kk and delays[order[first]] <= dk - tau:
+            j = order[first]
+            acc += complex(are[j], aim[j]) * np.exp(s * (dk - delays[j] - tau))
+            first += 1
+        total += (ak * (cg * acc + ch * np.conj(acc))).real
+        for jj in range(first, kk):  # closer than the pulse: the table
             j = order[jj]
-            aj = complex(are[i, j], aim[i, j])
-            total += 0.5 * (aj * aj * g0 + (are[i, j] ** 2 + aim[i, j] ** 2) * h0).real
-            for kk in range(jj + 1, nimg):
-                k = order[kk]
-                lag = delays[i, k] - delays[i, j]  # >= 0: k arrives after j
-                if not lag <= reach:  # (NaN: a point inside the sphere, masked later)
-                    break
-                ak = complex(are[i, k], aim[i, k])
-                g, h = _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h)
-                total += (ak * aj * g + ak * np.conj(aj) * h).real
-        out[i] = total
+            aj = complex(are[j], aim[j])
+            g, h = _correlation_at(dk - delays[j], tau, s, step, table, y_end, m_g, m_h)
+            total += (ak * aj * g + ak * np.conj(aj) * h).real
+    return total
+
+
+@_njit(cache=True)
+def _exposure_kernel_sorted(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover
+    """:func:`_exposure_kernel` by :func:`_exposure_sorted` at each point (delays sorted per point)."""
+    g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
+    for i in range(delays.shape[0]):
+        order = np.argsort(delays[i])
+        out[i] = _exposure_sorted(order, delays[i], are[i], aim[i], tau, s, step, table, y_end, m_g, m_h, g0, h0)
 
 
 def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
@@ -291,7 +323,8 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     correlations : PulseCorrelations, optional
         Those of ``pulse`` and the sphere (:func:`pulse_correlations`), to reuse between calls.
     chunk : int
-        Points per block (bounds the working memory).
+        Points per block, at most (fewer when the block's geometry would exceed the evaluator's
+        256 MiB working memory, :data:`acoustiviz.field._common.DEFAULT_MEMORY_LIMIT`).
 
     Returns
     -------
@@ -309,14 +342,16 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     pts = check_points("points", points)
     corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
     out = np.empty(pts.shape[0])
-    for lo in range(0, pts.shape[0], max(1, int(chunk))):
-        hi = min(lo + int(chunk), pts.shape[0])
+    # points per block: at most ``chunk``, and within the evaluator's memory cap
+    step = max(1, min(int(chunk), DEFAULT_MEMORY_LIMIT // (_BYTES_PER_SOURCE * len(config.images()))))
+    for lo in range(0, pts.shape[0], step):
+        hi = min(lo + step, pts.shape[0])
         delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
         res = np.empty(hi - lo)
         args = (res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
                 corr.m_g, corr.m_h)
         if delay.shape[1] > PAIRS_ABOVE:
-            _exposure_kernel_near(*args, corr.duration + PAIR_DECAY_TIMES * config.radius / medium.c)
+            _exposure_kernel_sorted(*args)
         else:
             _exposure_kernel(*args)
         res[inside] = np.nan
