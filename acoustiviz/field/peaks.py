@@ -68,7 +68,7 @@ from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _fill
-from ._peak_bound import _bound_kernel, envelope
+from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
@@ -84,9 +84,9 @@ DEFAULT_SAMPLES = 12
 DEFAULT_FINE = 256
 #: Relative margin (of the largest coarse |p|) within which coarse local maxima are refined.
 DEFAULT_MARGIN = 0.002
-#: Above this many sources (a room's images) the search runs by bounded chunks
-#: (:mod:`acoustiviz.field._peak_bound`) and the tables cover the pulse only.
-BOUND_ABOVE = 64
+#: Above this many sources (a room's images) the tables cover the pulse only and the search runs
+#: over the sorted arrivals (:mod:`acoustiviz.field._peak_dense`).
+PULSE_TABLE_ABOVE = 64
 
 
 
@@ -109,11 +109,10 @@ class PeakTable:
         ``max |Y'|`` in m/s², for the rounding bound.
     spread : float
         Delay span in s the tables cover besides the pulse: the largest difference of two images'
-        delays (source separation / c) for the windowed search, 0 for the bounded one.
-    envelope : ndarray or None
-        For the bounded search (more than :data:`BOUND_ABOVE` sources): sliding maxima of ``|Y|``
-        in m/s over the pulse's coarse steps (:func:`acoustiviz.field._peak_bound.envelope`);
-        None for the windowed search.
+        delays (source separation / c), 0 when the tables cover the pulse only.
+    pulse_only : bool
+        The tables cover the pulse only (more than :data:`PULSE_TABLE_ABOVE` sources): each
+        image's free decay past it is computed in closed form (:mod:`acoustiviz.field._peak_dense`).
     """
 
     coarse_step: float
@@ -123,7 +122,7 @@ class PeakTable:
     y_imag: np.ndarray
     slope_bound: float
     spread: float
-    envelope: np.ndarray | None = None
+    pulse_only: bool = False
 
 
 @dataclass(frozen=True)
@@ -212,7 +211,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
     pos = config.images().positions
-    bounded = pos.shape[0] > BOUND_ABOVE
+    bounded = pos.shape[0] > PULSE_TABLE_ABOVE
     if bounded:  # the pulse only: each image's decay past it is computed in closed form
         spread = 0.0
         pad = 2 * fine
@@ -227,9 +226,8 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
     flat = np.abs(np.diff(y.T.ravel())) / h
     slope = float(flat.max()) * (1.0 + abs(s) * h) + 1e-300
-    env = envelope(y, fine, pad, h, slope, end, big_h) if bounded else None
     return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread,
-                     env)
+                     bounded)
 
 
 def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
@@ -290,9 +288,8 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         hi = min(lo + step, n)
         args = (res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm, float(config.radius),
                 float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
-                tb.slope_bound, float(margin), tp, bool(exposure), cusps)
-        kernel = _peaks_kernel if tb.envelope is None else _bound_kernel
-        args = (*args, *cargs) if tb.envelope is None else (*args, tb.envelope, *cargs)
+                tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
+        kernel = _dense_kernel if tb.pulse_only else _peaks_kernel
         if lo == 0:  # say so once if the peak search's kernels are compiled now
             compile_for(kernel, args, "peak-search", PEAKS_COMPILE_S)
         kernel(*args)
