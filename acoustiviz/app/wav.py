@@ -104,13 +104,13 @@ def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", tra
                          transition=transition, band_centres=centres, band_absorption=alpha)
 
 
-def least_absorbing(rs) -> list:
-    """Each surface's smallest alpha over the bands of ``rs``: the room's broadband absorption with bands.
+def least_absorbing(band_absorption) -> list:
+    """Each surface's smallest alpha over the bands of a ``(6, n_bands)`` absorption: the room's broadband one.
 
     The band that absorbs least decays slowest, so it sets the image order and the room's other
     outputs (the physical peak of the sidecar) use it.
     """
-    return [float(x) for x in np.asarray(rs.band_absorption).min(axis=1)]
+    return [float(x) for x in np.asarray(band_absorption, dtype=float).reshape(6, -1).min(axis=1)]
 
 
 class WavFile:

@@ -490,7 +490,7 @@ def run(args) -> int:
     if rs is not None and rs.banded:  # the least absorbing band sets the room's image order and its peaks
         from ..app.wav import least_absorbing
 
-        args.absorption = ",".join(f"{x:.17g}" for x in least_absorbing(rs))
+        args.absorption = ",".join(f"{x:.17g}" for x in least_absorbing(rs.band_absorption))
     room = _room_of(args)
     scene = _cavity_of(args, radius, medium, room)
     model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
