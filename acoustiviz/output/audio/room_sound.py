@@ -271,9 +271,10 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
                                                            s.orders[:1], s.labels[:1]), a, medium=medium)
         geom[w] = (delay, p0 * c_shape)
         if w in walls and len(s) > 1:
-            trains[w] = _early_trains(pts, s, ratio, plan, rs, a, medium, fs)
+            trains[w] = _early_trains(pts, s, delay[:, 0], ratio, plan, rs, a, medium, fs)
     last = float(np.max(sequence.times + taus)) if len(sequence) else 0.0
-    end = last + tail + max([float(geom[w][0].max()) for w in walls] + [tr[2] for tr in trains.values()]
+    end = last + tail + max([float(geom[w][0].max()) for w in walls]
+                            + [tr[2] + float(geom[w][0].max()) for w, tr in trains.items()]
                             + [plan.tail_end or 0.0]) if walls else 0.0
     n_out = max(math.ceil(end * fs) + half + 1, math.ceil((duration or 0.0) * fs))
     out = np.zeros((pts.shape[0], n_out))
@@ -283,7 +284,8 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
     tail_info = None
     if plan.transition is not None and walls:
         sign = {w: float(np.sign(srcs[w].axes[0] @ srcs[scene.struck_wall].axes[0])) for w in (-1, 1)}
-        tail_info = _add_tail(out, dry, sign, plan, rs, a, medium, fs)
+        shift = {w: np.rint(geom[w][0][:, 0] * fs).astype(int) for w in (-1, 1)}
+        tail_info = _add_tail(out, dry, sign, shift, plan, rs, a, medium, fs)
     info = _describe(plan, rs, conf2, tail_info, len(srcs[scene.struck_wall]))
     return Rendering(out, fs, f_int, pts, sequence, scene2, model, info)
 
@@ -295,12 +297,14 @@ def _band_ratios(conf, box) -> np.ndarray:
     return np.exp(refl @ lg)
 
 
-def _early_trains(pts, srcs, ratio, plan, rs, radius, medium, fs):
+def _early_trains(pts, srcs, direct, ratio, plan, rs, radius, medium, fs):
     """The images after the direct sound arriving before the transition, as fractional-delay trains.
 
-    As :func:`acoustiviz.output.audio.synthesis._trains`, the images cut at the transition time;
-    per band (weights times ``ratio``) and split by :func:`~acoustiviz.core.reverberation.band_masks`
-    when the absorption is banded. Returns ``(q0, trains (n_listeners, 2, size), last delay s)``.
+    As :func:`acoustiviz.output.audio.synthesis._trains`, the images cut at the transition time,
+    each placed at its delay after the direct sound's (``direct``, s, per listener): the trains
+    drive the click evaluated at the direct sound's exact arrival. Per band (weights times
+    ``ratio``) and split by :func:`~acoustiviz.core.reverberation.band_masks` when the absorption
+    is banded. Returns ``(q0, trains (n_listeners, 2, size), last delay after the direct sound s)``.
     """
     from ...core.images import ImageSet
     from ...core.reverberation import band_masks
@@ -314,7 +318,8 @@ def _early_trains(pts, srcs, ratio, plan, rs, radius, medium, fs):
     if not np.any(keep):
         keep[:, 0] = True  # an empty train: one image with no weight
         weight = np.where(keep, 0.0, weight)
-    d_min, d_max = float(delay[keep].min()), float(delay[keep].max())
+    rel = delay - direct[:, None]  # >= 0: an image is farther than the sphere it mirrors
+    d_min, d_max = float(rel[keep].min()), float(rel[keep].max())
     pad = 0 if ratio is None else math.ceil(8.0 * fs / min(rs.band_centres[0] * 1.414, rs.band_centres[-1]))
     q0 = math.floor(d_min * fs) - _SINC_HALF - 1 - pad
     size = math.ceil(d_max * fs) - q0 + _SINC_HALF + 2 + pad
@@ -323,7 +328,7 @@ def _early_trains(pts, srcs, ratio, plan, rs, radius, medium, fs):
     table = _sinc_table()
     for i in range(pts.shape[0]):
         k = keep[i]
-        pos = np.ascontiguousarray(delay[i, k] * fs - q0)
+        pos = np.ascontiguousarray(rel[i, k] * fs - q0)
         per = np.zeros((nb, 2, size))
         for b in range(nb):
             wb = weight[i, k] if ratio is None else weight[i, k] * ratio[1:][k, b]
@@ -362,11 +367,15 @@ def _decimate_rows(rows, h, L: int) -> list:
 
 
 def _clicks(out, sequence, pulses, geom, grid, radius, medium) -> list:
-    """Add each impact's direct click in closed form (as the exact render); return the dry clicks.
+    """Add each impact's direct click in closed form; return the clicks that drive the images.
 
-    The dry clicks are the band-limited ``Re Y`` and ``Im Y`` of each impact at its time, as the
-    exact render's trains take them: ``[(wall, lo, z (2, m))]``, sample ``lo + j`` holding
-    ``z[:, j]``, cut to the signal. The decimations are batched.
+    Per impact and listener ``Y`` is evaluated once in closed form at the exact retarded times
+    of the direct sound, ``t - t_k - (r_0 - a)/c``, on the internal grid, and ``Re Y`` and
+    ``Im Y`` are band-limited and decimated (batched). The direct click is
+    ``Re W_0 Re Y - Im W_0 Im Y`` (``W_0 = P0 C`` of the sphere, paper eqs 12-14); the images'
+    trains, placed at their delays after the direct sound's, take ``Re Y`` and ``Im Y``.
+    Returns ``[(wall, listener, lo, z (2, m))]``, sample ``lo + j`` holding ``z[:, j]``, cut to
+    the signal.
     """
     from ...core.radiation import pulse_response
 
@@ -375,34 +384,25 @@ def _clicks(out, sequence, pulses, geom, grid, radius, medium) -> list:
     rows, places = [], []
     for k, pulse in enumerate(pulses):
         tk, w = float(sequence.times[k]), int(sequence.walls[k])
-        delay_all, weight_all = geom[w]
+        delay_all = geom[w][0]
         for i in range(out.shape[0]):
-            delay, weight = delay_all[i], weight_all[i]
-            n0 = math.floor((tk + delay.min()) * fs)
-            idx = np.arange(n0 * L, math.ceil((tk + delay.max() + pulse.duration + tail) * f_int) + 1)
-            y = pulse_response(pulse, (idx - tk * f_int)[None, :] / f_int - delay[:, None], radius=radius,
-                               medium=medium)
-            rows.append(np.real(weight[:, None] * y).sum(axis=0))
-            places.append(("exact", i, n0 - half))
-        n0 = math.floor(tk * fs)
-        idx = np.arange(n0 * L, math.ceil((tk + pulse.duration + tail) * f_int) + 1)
-        y = pulse_response(pulse, (idx - tk * f_int) / f_int, radius=radius, medium=medium)
-        rows += [y.real, y.imag]
-        places += [("dry", w, n0 - half), None]
+            d0 = float(delay_all[i, 0])
+            n0 = math.floor((tk + d0) * fs)
+            idx = np.arange(n0 * L, math.ceil((tk + d0 + pulse.duration + tail) * f_int) + 1)
+            y = pulse_response(pulse, (idx - tk * f_int) / f_int - d0, radius=radius, medium=medium)
+            rows += [y.real, y.imag]
+            places.append((w, i, n0 - half))
     zs = _decimate_rows(rows, h, L)
     dry = []
-    for j, place in enumerate(places):
-        if place is None:
-            continue
-        kind, i, lo = place
-        z = zs[j] if kind == "exact" else np.stack([zs[j], zs[j + 1]])
-        s0, s1 = max(lo, 0), min(lo + z.shape[-1], n_out)
+    for j, (w, i, lo) in enumerate(places):
+        z = np.stack([zs[2 * j], zs[2 * j + 1]])
+        s0, s1 = max(lo, 0), min(lo + z.shape[1], n_out)
         if s1 <= s0:
             continue
-        if kind == "exact":
-            out[i, s0:s1] += z[s0 - lo:s1 - lo]
-        else:
-            dry.append((i, s0, z[:, s0 - lo:s1 - lo]))
+        z = z[:, s0 - lo:s1 - lo]
+        w0 = complex(geom[w][1][i, 0])
+        out[i, s0:s1] += w0.real * z[0] - w0.imag * z[1]
+        dry.append((w, i, s0, z))
     return dry
 
 
@@ -417,54 +417,77 @@ def _add_early(out, dry, q0, tr) -> None:
         return
     n_out = out.shape[1]
     size = tr.shape[-1]
-    lz = max(z.shape[1] for _, _, z in dry)
+    lz = max(z.shape[1] for _, _, _, z in dry)
     m = sfft.next_fast_len(lz + size - 1, real=True)
     for i in range(out.shape[0]):
         ft = sfft.rfft(tr[i], m, axis=-1)
-        for b0 in range(0, len(dry), _BATCH):
-            chunk = dry[b0:b0 + _BATCH]
+        mine = [d for d in dry if d[1] == i]
+        for b0 in range(0, len(mine), _BATCH):
+            chunk = mine[b0:b0 + _BATCH]
             z = np.zeros((2, len(chunk), lz))
-            for j, (_, _, zz) in enumerate(chunk):
+            for j, (_, _, _, zz) in enumerate(chunk):
                 z[:, j, :zz.shape[1]] = zz
             fz = sfft.rfft(z, m, axis=-1)
             wet = sfft.irfft(fz[0] * ft[0] - fz[1] * ft[1], m, axis=-1)
-            for j, (_, lo, zz) in enumerate(chunk):
+            for j, (_, _, lo, zz) in enumerate(chunk):
                 n = zz.shape[1] + size - 1
                 s0, s1 = max(lo + q0, 0), min(lo + q0 + n, n_out)
                 if s1 > s0:
                     out[i, s0:s1] += wet[j, s0 - lo - q0:s1 - lo - q0]
 
 
-def _add_tail(out, dry, sign, plan, rs, radius, medium, fs) -> dict:
-    """Convolve the far-field click train with each listener's statistical tail (one FFT convolution each)."""
-    import scipy.fft as sfft
+def _add_tail(out, dry, sign, shift, plan, rs, radius, medium, fs) -> dict:
+    """Convolve each listener's far-field click train with its statistical tail (one FFT convolution each).
 
+    The click train is ``rho c a (Re Y - Im Y)`` of every impact (the far-field click at 1 m on
+    the axis), signed by the wall's direction and moved back by the direct sound's delay
+    (``shift``, whole samples) so that it starts at the impact; the tail's sample m lies at
+    ``t_k + m_x / fs + m / fs``.
+    """
     from ...core.reverberation import late_tail
 
     n_out = out.shape[1]
     m_x = math.ceil(plan.transition * fs)
     start = m_x / fs
     length = max(plan.tail_end - start, 1.0 / fs)
-    drive = np.zeros(n_out)  # rho c a (Re Y - Im Y): the far-field click at 1 m on the axis, per impact
-    rca = medium.rho * medium.c * radius
-    for w, lo, z in dry:
-        drive[lo:lo + z.shape[1]] += (sign[w] * rca) * (z[0] - z[1])
-    first = int(np.flatnonzero(drive)[0]) if np.any(drive) else 0
-    scale = math.sqrt(1.0 / 3.0)  # <cos^2 theta> of the dipole over the late images' directions
     n_tail = int(round(length * fs))
-    m = sfft.next_fast_len(n_out - first + n_tail - 1, real=True)
-    # single precision: the tail is a random signal; its FFT round-off (1e-7) is below a 24-bit file's step
-    spec = sfft.rfft(drive[first:].astype(np.float32), m)
+    rca = medium.rho * medium.c * radius
+    scale = math.sqrt(1.0 / 3.0)  # <cos^2 theta> of the dipole over the late images' directions
     for i in range(out.shape[0]):
+        drive = np.zeros(n_out, dtype=np.float32)
+        for w, li, lo, z in dry:
+            if li != i:
+                continue
+            at = lo - int(shift[w][i])
+            s0 = max(at, 0)
+            drive[s0:at + z.shape[1]] += ((sign[w] * rca) * (z[0] - z[1]))[s0 - at:]
         rng = np.random.default_rng([int(rs.seed), i])
         h = scale * late_tail(plan.box, start, length, fs, rng, band_centres=rs.band_centres, medium=medium,
                               decay=rs.decay, transition_octaves=CROSSOVER_OCTAVES if rs.banded else 0.0)
-        wet = sfft.irfft(spec * sfft.rfft(h.astype(np.float32), m), m)
-        s0 = first + m_x
-        s1 = min(s0 + wet.size, n_out)
-        if s1 > s0:
-            out[i, s0:s1] += wet[:s1 - s0]
-    return {"samples": int(round(length * fs)), "start_s": start}
+        # single precision: the tail is a random signal; its FFT round-off (1e-7) is below a 24-bit file's step
+        wet = _overlap_add(drive, h.astype(np.float32))
+        s1 = min(m_x + wet.size, n_out)
+        if s1 > m_x:
+            out[i, m_x:s1] += wet[:s1 - m_x]
+    return {"samples": n_tail, "start_s": start}
+
+
+def _overlap_add(x: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """``convolve(x, h)`` by overlap-add in blocks of about eight times ``h`` (FFT), in the dtype of x."""
+    import scipy.fft as sfft
+
+    m = sfft.next_fast_len(max(8 * h.size, 1024), real=True)
+    step = m - h.size + 1
+    nb = -(-x.size // step)
+    xp = np.zeros(nb * step, dtype=x.dtype)
+    xp[:x.size] = x
+    y = sfft.irfft(sfft.rfft(xp.reshape(nb, step), m, axis=-1) * sfft.rfft(h, m), m, axis=-1)
+    out = np.zeros(nb * step + h.size - 1, dtype=x.dtype)
+    blocks = out[:nb * step].reshape(nb, step)  # a view
+    blocks[:] = y[:, :step]
+    blocks[1:, :h.size - 1] += y[:-1, step:step + h.size - 1]  # each block's overlap into the next (h < step)
+    out[nb * step:] += y[-1, step:step + h.size - 1]
+    return out[:x.size + h.size - 1]
 
 
 def _describe(plan, rs, conf2, tail_info, images) -> dict:
