@@ -13,8 +13,8 @@ tolerance needs (order 154, 4.9 million images, for a 6 x 4 x 3 m room with alph
 * **Late part, statistical** (``late_tail=True``): from ``t_x`` on, one room impulse response per
   listener, Gaussian noise from a seeded generator shaped per band to the decay of the
   reverberation (Eyring's by default, from the image sum's expected level at ``t_x``:
-  :func:`acoustiviz.core.reverberation.late_tail`), until the energy left is below the
-  tolerance of the total (:func:`acoustiviz.core.reverberation.tail_end`). It is convolved (FFT)
+  :func:`acoustiviz.core.tail.late_tail`), until the energy left is below the
+  tolerance of the total (:func:`acoustiviz.core.tail.tail_end`). It is convolved (FFT)
   with the far-field click train: far from the sphere an image's pressure is
   ``w cos(theta) rho c a (Re Y - Im Y) / r``, and over the many directions of the late images
   ``<cos^2 theta> = 1/3``. The far wall's sphere accelerates the other way, so its impacts
@@ -22,7 +22,7 @@ tolerance needs (order 154, 4.9 million images, for a 6 x 4 x 3 m room with alph
 * **Absorption per octave band** (``band_centres``, ``band_absorption``): each image's weight in
   band b is the product of ``sqrt(1 - alpha_b)`` of the surfaces it was reflected in; the
   images' trains are built per band and split by zero-phase masks that sum to one
-  (:func:`acoustiviz.core.reverberation.band_masks`), and the tail decays per band. The direct
+  (:func:`acoustiviz.core.tail.band_masks`), and the tail decays per band. The direct
   sound is not reflected and stays broadband.
 
 The transition time is ``max(sqrt(V) ms, t_d)`` by default: Polack's mixing time and the time
@@ -40,6 +40,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_range
+from .synthesis import (
+    _SINC_HALF,
+    _SINC_STEPS,
+    _TAIL_DECADES,
+    Rendering,
+    _oversampling,
+    _sinc_table,
+    _train_kernel,
+    decimation_filter,
+)
 
 __all__ = ["RoomSound", "TAIL_SEED", "parse_absorption_bands", "render_room"]
 
@@ -49,7 +59,7 @@ TAIL_SEED = 20261126
 MAX_EXACT_IMAGES = 100_000
 #: Band centres in Hz accepted for a per-band absorption.
 BAND_RANGE_HZ = (16.0, 20000.0)
-#: Width in octaves of the crossovers between absorption bands (:func:`~acoustiviz.core.reverberation.band_masks`).
+#: Width in octaves of the crossovers between absorption bands (:func:`~acoustiviz.core.tail.band_masks`).
 CROSSOVER_OCTAVES = 0.5
 
 
@@ -67,7 +77,7 @@ class RoomSound:
         Seed of the tail's random generator (>= 0); listener i draws from ``(seed, i)``.
     decay : {"eyring", "images"}
         The tail's decay: Eyring's T60 per band (default) or the image sum's own expected decay
-        (:func:`acoustiviz.core.reverberation.tail_decay_rate`).
+        (:func:`acoustiviz.core.tail.tail_decay_rate`).
     transition : float, optional
         Transition time in s from the start of contact (default: module docstring).
     max_images : int
@@ -114,6 +124,10 @@ class RoomSound:
             c, a = _check_bands(self.band_centres, self.band_absorption, "band_centres", "band_absorption")
             object.__setattr__(self, "band_centres", tuple(float(x) for x in c))
             object.__setattr__(self, "band_absorption", a)
+
+    def render_scene(self, sequence, scene, model, pts, fs: int, duration, oversampling):
+        """:func:`render_room` with these settings (what :func:`acoustiviz.output.audio.render` calls)."""
+        return render_room(sequence, scene, model, pts, fs, duration, oversampling, self)
 
     @property
     def banded(self) -> bool:
@@ -197,8 +211,9 @@ class _Plan:
 
 def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
     """The exact image order, the transition time and the tail's end."""
-    from ...core.reverberation import complete_until, echo_density_time, energy_order, mixing_time, tail_end
+    from ...core.reverberation import complete_until, echo_density_time, energy_order, mixing_time
     from ...core.room import Shoebox, image_count, max_order_for_memory
+    from ...core.tail import tail_end
 
     a = conf.radius
     box = Shoebox(conf.dimensions, rs.band_absorption) if rs.banded else conf.shoebox
@@ -236,12 +251,6 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
     """:func:`acoustiviz.output.audio.render` of a scene in a room with a :class:`RoomSound` (arguments checked)."""
     from ...field.sources import image_geometry
     from .sources import wall_sources
-    from .synthesis import (
-        _TAIL_DECADES,
-        Rendering,
-        _oversampling,
-        decimation_filter,
-    )
 
     conf = scene.configuration
     if getattr(conf, "name", None) != "room":
@@ -303,13 +312,12 @@ def _early_trains(pts, srcs, direct, ratio, plan, rs, radius, medium, fs):
     As :func:`acoustiviz.output.audio.synthesis._trains`, the images cut at the transition time,
     each placed at its delay after the direct sound's (``direct``, s, per listener): the trains
     drive the click evaluated at the direct sound's exact arrival. Per band (weights times
-    ``ratio``) and split by :func:`~acoustiviz.core.reverberation.band_masks` when the absorption
+    ``ratio``) and split by :func:`~acoustiviz.core.tail.band_masks` when the absorption
     is banded. Returns ``(q0, trains (n_listeners, 2, size), last delay after the direct sound s)``.
     """
     from ...core.images import ImageSet
-    from ...core.reverberation import band_masks
+    from ...core.tail import band_masks
     from ...field.sources import image_geometry
-    from .synthesis import _SINC_HALF, _SINC_STEPS, _sinc_table, _train_kernel
 
     rest = ImageSet(srcs.positions[1:], srcs.axes[1:], srcs.weights[1:], srcs.orders[1:], srcs.labels[1:])
     delay, p0, c_shape, _ = image_geometry(pts, rest, radius, medium=medium)
@@ -444,7 +452,7 @@ def _add_tail(out, dry, sign, shift, plan, rs, radius, medium, fs) -> dict:
     (``shift``, whole samples) so that it starts at the impact; the tail's sample m lies at
     ``t_k + m_x / fs + m / fs``.
     """
-    from ...core.reverberation import late_tail
+    from ...core.tail import late_tail
 
     n_out = out.shape[1]
     m_x = math.ceil(plan.transition * fs)

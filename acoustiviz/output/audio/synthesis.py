@@ -322,10 +322,10 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     (1, 102)
     """
     pts, fs, duration = _check_render_args(sequence, scene, model, listeners, sample_rate, duration)
-    if room_sound is not None:
-        from .room_sound import render_room
-
-        return render_room(sequence, scene, model, pts, fs, duration, oversampling, room_sound)
+    if room_sound is not None:  # a RoomSound renders the room itself (room_sound.py builds on this module)
+        if not callable(getattr(room_sound, "render_scene", None)):
+            raise ParameterError("room_sound", f"expected a RoomSound, got {type(room_sound).__name__}")
+        return room_sound.render_scene(sequence, scene, model, pts, fs, duration, oversampling)
     a, medium = scene.radius, scene.medium
     pulses = [model.pulse_for(v) for v in sequence.velocities]
     taus = np.array([p.duration for p in pulses]) if pulses else np.array([1.0])
