@@ -173,9 +173,10 @@ def tail_end(room: Shoebox, start: float, tolerance_db: float = -60.0, *, decay:
     slope = np.log(rate[-1] / rate[-2]) / dt  # < 0
     after = np.concatenate([np.cumsum(seg[::-1], axis=0)[::-1], np.zeros((1, rate.shape[1]))], axis=0)
     after += rate[-1] / np.maximum(-slope, 1e-300)
-    early = np.linspace(0.0, t0, 257)
-    e_early = np.trapezoid(np.atleast_2d(image_energy_decay(room, early, medium=medium).reshape(early.size, -1)),
-                           early, axis=0) if t0 > 0 else np.zeros(rate.shape[1])
+    x, wq = np.polynomial.legendre.leggauss(16)  # the early decay is smooth: Gauss-Legendre over [0, start]
+    early = 0.5 * t0 * (x + 1.0)
+    e_early = 0.5 * t0 * np.tensordot(wq, np.atleast_2d(
+        image_energy_decay(room, early, medium=medium).reshape(early.size, -1)), axes=(0, 0))
     total = e_early + after[0]
     ratio = (after / total).max(axis=1)
     ok = np.flatnonzero(ratio <= 10.0 ** (tol / 10.0))

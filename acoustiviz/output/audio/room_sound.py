@@ -328,7 +328,8 @@ def _early_trains(pts, srcs, direct, ratio, plan, rs, radius, medium, fs):
         weight = np.where(keep, 0.0, weight)
     rel = delay - direct[:, None]  # >= 0: an image is farther than the sphere it mirrors
     d_min, d_max = float(rel[keep].min()), float(rel[keep].max())
-    pad = 0 if ratio is None else math.ceil(8.0 * fs / min(rs.band_centres[0] * 1.414, rs.band_centres[-1]))
+    # room for the band filters' zero-phase ringing, both sides: four periods of the lowest crossover
+    pad = 0 if ratio is None else math.ceil(4.0 * fs / min(rs.band_centres[0] * 1.414, rs.band_centres[-1]))
     q0 = math.floor(d_min * fs) - _SINC_HALF - 1 - pad
     size = math.ceil(d_max * fs) - q0 + _SINC_HALF + 2 + pad
     nb = 1 if ratio is None else ratio.shape[1]
