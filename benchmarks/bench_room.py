@@ -189,15 +189,15 @@ def wav_table(repeat: int) -> None:
     print()
     print(f"4. {DEFAULT_DURATION:g} s WAV of the Table 1 damper ({len(seq)} impacts), listener (3, 2, 1.5) m, 48 kHz, "
           f"CPU time, best of {repeat}")
-    print(f"{'surroundings':<58} {'time s':>8} {'/ free':>7}")
-    print(f"{'free field':<58} {best['free']:>8.3f} {1.0:>7.2f}")
+    print(f"{'surroundings':<72} {'time s':>8} {'/ free':>7}")
+    print(f"{'free field':<72} {best['free']:>8.3f} {1.0:>7.2f}")
     labels = {"room": "room 6 x 4 x 3 m, alpha 0.1, exact images",
               "tail": "room, --late-tail",
               "tail+bands": "room, --late-tail --absorption-bands (6 bands)"}
     for name in ("room", "tail", "tail+bands"):
         order, images, neg, t_x, sig = info[name]
-        label = f"{labels[name]}: order {order} ({images} images)"
-        print(f"{label:<58} {best[name]:>8.3f} {best[name] / best['free']:>7.2f}")
+        label = f"{labels[name]}: order {order} ({images:,} images)"
+        print(f"{label:<72} {best[name]:>8.3f} {best[name] / best['free']:>7.2f}")
     for name in ("room", "tail", "tail+bands"):
         order, images, neg, t_x, sig = info[name]
         trans = f", transition {1e3 * t_x:.1f} ms" if t_x is not None else ""
@@ -223,11 +223,11 @@ def wav_table(repeat: int) -> None:
                     assert cli(["auralize", *extra, "--listener", "3,2,1.5", "--wav", f"{tmp}/{i}.wav"]) == 0
                 whole[name].append(time.process_time() - t0)
     best = {k: min(v) for k, v in whole.items()}
-    print(f"{'acoustiviz auralize (whole command)':<58} {'time s':>8} {'/ free':>7}")
+    print(f"{'acoustiviz auralize (whole command)':<72} {'time s':>8} {'/ free':>7}")
     for name, label in (("free", "--config free"), ("room", "--room 6,4,3 --absorption 0.1"),
                         ("tail", "--room 6,4,3 --absorption 0.1 --late-tail"),
                         ("tail+bands", "--room 6,4,3 --absorption-bands ... --late-tail")):
-        print(f"{label:<58} {best[name]:>8.3f} {best[name] / best['free']:>7.2f}")
+        print(f"{label:<72} {best[name]:>8.3f} {best[name] / best['free']:>7.2f}")
     print("goal: the room within 3x the free field (whole command)")
 
 
