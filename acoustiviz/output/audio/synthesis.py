@@ -226,6 +226,9 @@ class Rendering:
         Geometry and medium.
     model : ClickModel
         Contact and pulse model.
+    room : dict, optional
+        In a room rendered with a :class:`~acoustiviz.output.audio.room_sound.RoomSound`: the
+        exact image order, the transition time, the tail and the bands (JSON-ready).
     """
 
     pressure: np.ndarray
@@ -235,6 +238,7 @@ class Rendering:
     sequence: ImpactSequence
     scene: CavityScene
     model: ClickModel
+    room: dict | None = None
 
     @property
     def n_samples(self) -> int:
@@ -259,7 +263,7 @@ class Rendering:
     def describe(self) -> dict:
         """A JSON-ready record of everything that made this rendering (without file details)."""
         seq = self.sequence
-        return {
+        out = {
             "sample_rate_hz": self.sample_rate,
             "internal_rate_hz": self.internal_rate,
             "band_limit": band_limit(self.sample_rate),
@@ -271,10 +275,16 @@ class Rendering:
             "scene": self.scene.describe(),
             "click_model": self.model.describe(),
         }
+        if self.room is not None:  # the exact images, the transition and the tail replace the room's own order
+            out["scene"].update({k: self.room[k] for k in ("image_order", "images", "neglected_energy_db",
+                                                             "late_tail", "transition_s")})
+            out["room_sound"] = self.room
+        return out
 
 
 def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, listeners, *,
-           sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None) -> Rendering:
+           sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None,
+           room_sound=None) -> Rendering:
     """Render an impact sequence into band-limited pressure signals at the listeners.
 
     Parameters
@@ -294,6 +304,10 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
         (never cut short).
     oversampling : int, optional
         Internal rate over output rate; default :func:`oversampling_factor`.
+    room_sound : RoomSound, optional
+        In a room: a statistical late tail after the exact early images, and the absorption per
+        octave band (:mod:`acoustiviz.output.audio.room_sound`); without it every image to the
+        room's energy tolerance is summed exactly.
 
     Returns
     -------
@@ -317,6 +331,10 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     (1, 102)
     """
     pts, fs, duration = _check_render_args(sequence, scene, model, listeners, sample_rate, duration)
+    if room_sound is not None:  # a RoomSound renders the room itself (room_sound.py builds on this module)
+        if not callable(getattr(room_sound, "render_scene", None)):
+            raise ParameterError("room_sound", f"expected a RoomSound, got {type(room_sound).__name__}")
+        return room_sound.render_scene(sequence, scene, model, pts, fs, duration, oversampling)
     a, medium = scene.radius, scene.medium
     pulses = [model.pulse_for(v) for v in sequence.velocities]
     taus = np.array([p.duration for p in pulses]) if pulses else np.array([1.0])
