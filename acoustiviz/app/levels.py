@@ -223,7 +223,7 @@ def summary_lines(report: LevelReport, *, rate_note: str = "") -> list:
 
 
 def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=None, stop=None, channels=None,
-                    with_loudness: bool = False, rendering=None) -> LevelReport:
+                    with_loudness: bool = False, rendering=None, room_sound=None) -> LevelReport:
     """Levels of an impact sequence at listeners, evaluated on the signal rendered at :data:`ANALYSIS_RATE`.
 
     Parameters
@@ -240,6 +240,8 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
         Also loudness and sharpness (needs mosqito).
     rendering : acoustiviz.output.audio.Rendering, optional
         A rendering already at :data:`ANALYSIS_RATE` to reuse.
+    room_sound : acoustiviz.output.audio.RoomSound, optional
+        In a room: the late tail and the absorption bands of the rendering (:func:`~acoustiviz.output.audio.render`).
 
     Notes
     -----
@@ -250,7 +252,8 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
     from ..output.audio import render
 
     if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
-        rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration)
+        rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration,
+                           room_sound=room_sound)
     return analyse(rendering.pressure, ANALYSIS_RATE, start=start, stop=stop, channels=channels,
                    with_loudness=with_loudness)
 

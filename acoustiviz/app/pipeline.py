@@ -253,7 +253,8 @@ def produce_wav(ctx: RunContext):
     seq, room, model, names, points = damper_sound_setup(ctx)
     named = list(zip(names, points, strict=True))
     ctx.progress(f"auralising {len(seq)} impacts at {len(named)} listener(s), {opts['rate_hz']} Hz")
-    out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration)
+    out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration,
+                 room_sound=ctx.scene.room_sound())
     if opts["stereo"]:
         files = [WavFile(ctx.path("wav_stereo.wav"), out.pressure[:2], [named[0][0], named[1][0]], points[:2],
                          ["left", "right"])]

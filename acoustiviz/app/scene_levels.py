@@ -57,7 +57,8 @@ def _report(ctx) -> LevelReport:
         ctx.progress(f"levels of {len(seq)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")
         ctx.__dict__[_CACHE] = rendered_levels(seq, room, model, points, duration=ctx.damper_run.duration,
-                                               channels=names, with_loudness=bool(opts.get("loudness", False)))
+                                               channels=names, with_loudness=bool(opts.get("loudness", False)),
+                                               room_sound=ctx.scene.room_sound())
     return ctx.__dict__[_CACHE]
 
 

@@ -105,8 +105,8 @@ def add_parser(subparsers):
                         "(default 4)")
     s.add_argument("--levels", action="store_true", default=None,
                    help="also render each run's click train at the listener at 96 kHz and report its LAFmax, "
-                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; about 0.3 s more "
-                        "per 20 s design, so off by default)")
+                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; many times the "
+                        "cost of the motion, so off by default)")
     from ._impact import add_room_options
 
     add_room_options(p)  # --config room with --room; the window its images reach is --room-window

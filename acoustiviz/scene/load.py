@@ -67,6 +67,22 @@ class Scene:
         settings = _geometry_settings(self.data["configuration"])
         return {"room": settings} if self.data["configuration"]["kind"] == "room" else settings
 
+    def room_sound(self):
+        """The :class:`~acoustiviz.output.audio.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
+        from ..app.wav import ROOM_SOUND_SCENE_KEYS, room_sound
+
+        if self.data["configuration"]["kind"] != "room":
+            return None
+        o = self.output_or_defaults("wav")
+        try:
+            return room_sound(late_tail=o["late_tail"], seed=o["tail_seed"], decay=o["tail_decay"],
+                              transition=o["transition_s"], absorption_bands=o["absorption_bands"],
+                              names=ROOM_SOUND_SCENE_KEYS)
+        except SceneError:
+            raise
+        except ParameterError as exc:
+            raise SceneError(self.source, exc.name, exc.detail) from None
+
     def _impact_settings(self, radius: float | None = None) -> dict:
         s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
         return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],
@@ -229,6 +245,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
         data[name] = _validate_table(raw.get(name, {}), table, source, name)
     radius = data["sphere"]["radius_m"]
     _check_materials(data, source)
+    _band_absorption(raw, data, source)
     _check_configuration(data, source)
     data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
     outputs = _validate_outputs(raw.get("outputs", {}), data, source)
@@ -236,6 +253,8 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
     _check_geometry(scene)
+    if "wav" in outputs:
+        scene.room_sound()  # the tail's and the bands' settings, refused here rather than mid-run
     return scene
 
 
@@ -254,6 +273,29 @@ def _check_materials(data: dict, source: str) -> None:
                 raise SceneError(source, path, exc.detail) from None
     if data["contact"]["k_hertz_n_m1_5"] is not None and data["contact"]["surface"] is not None:
         raise SceneError(source, "contact.k_hertz_n_m1_5", "give either k_hertz_n_m1_5 or surface, not both")
+
+
+def _band_absorption(raw: dict, data: dict, source: str) -> None:
+    """``outputs.wav.absorption_bands``: checked, and each surface's least absorbing band as the room's absorption."""
+    wav = raw.get("outputs", {}).get("wav") if isinstance(raw.get("outputs"), dict) else None
+    text = wav.get("absorption_bands") if isinstance(wav, dict) else None
+    if text is None:
+        return
+    key = "outputs.wav.absorption_bands"
+    if not isinstance(text, str):
+        raise SceneError(source, key, f"expected a string 'F:A,F:A,...', got {text!r}")
+    if data["configuration"]["kind"] != "room":
+        raise SceneError(source, key, "only for a room ([geometry] kind = \"room\")")
+    if data["configuration"]["absorption"] is not None:
+        raise SceneError(source, key, "give either configuration.absorption or outputs.wav.absorption_bands, not both")
+    from ..app.wav import least_absorbing
+    from ..output.audio import parse_absorption_bands
+
+    try:
+        _, alpha = parse_absorption_bands(text, key)
+    except ParameterError as exc:
+        raise SceneError(source, key, exc.detail) from None
+    data["configuration"]["absorption"] = least_absorbing(alpha)
 
 
 def _check_configuration(data: dict, source: str) -> None:
@@ -289,7 +331,11 @@ def _validate_outputs(outs_raw, data: dict, source: str) -> dict:
 def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
     """What some outputs need of the rest of the scene: listeners, a sweep, forcing frequencies."""
     if "wav" in outputs:
-        if outputs["wav"]["struck_wall"] not in (-1, 1):
+        wav = outputs["wav"]
+        if (wav["late_tail"] or wav["absorption_bands"] is not None) and data["configuration"]["kind"] != "room":
+            key = "late_tail" if wav["late_tail"] else "absorption_bands"
+            raise SceneError(source, f"outputs.wav.{key}", "only for a room ([geometry] kind = \"room\")")
+        if wav["struck_wall"] not in (-1, 1):
             raise SceneError(source, "outputs.wav.struck_wall",
                              f"must be -1 or +1, got {outputs['wav']['struck_wall']}")
         if outputs["wav"]["stereo"] and len(data["listeners"]) < 2:
