@@ -301,3 +301,21 @@ def test_map_command_in_a_room_lies_on_the_plane_through_the_sphere_inside_the_w
     x, y, z = (np.array([float(r[k]) for r in rows]) for k in ("x_m", "y_m", "z_m"))
     assert np.all(y == 1.0)  # the vertical plane through the sphere's centre
     assert x.min() == 0.0 and x.max() == 3.0 and z.min() == 0.0 and z.max() == 2.0  # cut at the walls and ceiling
+
+
+@pytest.mark.parametrize("metric", ["peak", "sel"])
+def test_balloon_in_a_room_beyond_every_arrival_equals_the_plane(metric):
+    from acoustiviz.output.render import balloon_data
+
+    pulse = _pulse()
+    room = Room(A, (1000.0, 1000.0, 1000.0), 0.0, (500.0, 500.0, A), duration=0.004)
+    b_room = balloon_data(pulse, room, distance=0.5, metric=metric, n_theta=6)
+    assert b_room.grid.region == "half"
+    plane = ReflectingPlane(A)
+    b_plane = balloon_data(pulse, plane, distance=0.5, metric=metric, n_theta=6)
+    # the same directions about the contact point
+    np.testing.assert_allclose(b_room.directions, b_plane.directions, rtol=0, atol=1e-15)
+    if metric == "peak":  # the peak lies in both windows: equal to round-off
+        np.testing.assert_allclose(b_room.level, b_plane.level, rtol=0, atol=1e-9)
+    else:  # both windows hold the whole click of both spheres: the sampled exposures agree
+        np.testing.assert_allclose(b_room.level, b_plane.level, rtol=0, atol=1e-6)

@@ -14,6 +14,7 @@ from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...core.reach import check_view_radius, view_limit
 from ...field import field_metrics
+from ...field.directivity import room_window
 from ...field.grids import SphericalGrid, spherical_grid
 from ._common import (
     DEFAULT_SIZE,
@@ -160,7 +161,8 @@ def balloon_data(
         (:func:`acoustiviz.core.reach.view_limit`).
     metric : {"peak", "rms", "sel"}
         Peak SPL, level of the RMS pressure (same window length everywhere, see
-        :func:`acoustiviz.field.field_metrics`), or sound exposure level.
+        :func:`acoustiviz.field.field_metrics`; in a room the window of
+        :func:`acoustiviz.field.directivity.room_window`), or sound exposure level.
     n_theta : int
         Gauss-Legendre nodes in polar angle (>= 4); azimuth nodes follow
         :func:`acoustiviz.field.grids.spherical_grid`.
@@ -192,7 +194,9 @@ def balloon_data(
         raise ParameterError("distance", f"{r:g} m puts measuring points inside the sphere or a wall")
     if levels is None:
         attr, label = METRICS[metric]
-        fm = field_metrics(pulse, np.vstack([pts, grid.points]), config, medium=medium)
+        every = np.vstack([pts, grid.points])
+        # a room: each point's window ends by the room's (the images that arrive within it), as for a directivity
+        fm = field_metrics(pulse, every, config, medium=medium, window=room_window(config, every, medium))
         lev = np.asarray(getattr(fm, attr), dtype=float)
     else:
         function, label = levels
