@@ -215,7 +215,8 @@ def check_map_settings(config, *, plane=None, height=None, extent=None, resoluti
     if height is None:
         height = float(config.centre[2])
     low = s.low if config.floor_height is None else config.floor_height
-    height = check_range("height", height, low, s.high, unit="m")
+    ceilings = [float(p.point[2]) for p in config.planes if p.normal[2] == -1.0]  # a room's ceiling
+    height = check_range("height", height, low, min([s.high, *ceilings]), unit="m")
     if abs(height - config.centre[2]) >= extent:
         raise ParameterError("height", f"{height:g} m is farther from the sphere's centre (z = "
                                        f"{config.centre[2]:g} m) than the extent {extent:g} m: the plane would "
