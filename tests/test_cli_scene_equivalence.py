@@ -36,6 +36,10 @@ class Case:
 
 
 PLANE = '[configuration]\nkind = "plane"\n'
+#: A room, its absorbing walls and a 5 ms window (the images of first and second order reach 0.5 m).
+ROOM_ARGV = ("--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--duration", "0.005")
+ROOM = ('[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = [0.3]\n'
+        'source_m = [1.0, 1.0, 0.01905]\nwindow_s = 0.005\n')
 WAVEFORM_FIGURES = {"max_pa": r"pressure: max (\S+) Pa", "min_pa": r"min (\S+) Pa"}
 
 CASES = {
@@ -60,6 +64,11 @@ CASES = {
                                 "d.csv"),
                                PLANE + '[outputs.directivity]\nstep_deg = 30.0\nmetric = "lcpeak"\n',
                                (("d.csv", "directivity.csv"),)),
+    "directivity-room": Case(("directivity", *ROOM_ARGV, "--distance", "0.5", "--step", "30", "--csv", "d.csv"),
+                             ROOM + '[[listeners]]\nname = "up"\nposition_m = [1.0, 1.0, 0.51905]\n'
+                             '[outputs.directivity]\nstep_deg = 30.0\n', (("d.csv", "directivity.csv"),)),
+    "map-room": Case(("map", *ROOM_ARGV, "--resolution", "16", "--csv", "m.csv"),
+                     ROOM + "[outputs.level_map]\nresolution = 16\n", (("m.csv", "level_map.csv"),)),
     "map": Case(("map", "--config", "plane", "--resolution", "16", "--csv", "m.csv"),
                 PLANE + "[outputs.level_map]\nresolution = 16\n", (("m.csv", "level_map.csv"),)),
     "damper": Case(("damper", "--duration", "1", "--impacts-csv", "i.csv"),

@@ -17,12 +17,12 @@ from acoustiviz.core.reverberation import (
     echo_density_time,
     energy_order,
     image_energy_decay,
-    late_tail,
     mixing_time,
     order_for_time,
     reverberation_time,
 )
 from acoustiviz.core.room import Shoebox, image_count, image_sources
+from acoustiviz.core.tail import late_tail
 from acoustiviz.errors import ParameterError
 
 A = 0.01905  # the paper's sphere, m

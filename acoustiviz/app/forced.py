@@ -41,7 +41,7 @@ from .forced_noise import (
 )
 from .names import DAMPER_OPTIONS, user_terms
 
-__all__ = ["forced_table", "operating_noise_report",
+__all__ = ["forced_table", "operating_noise_report", "room_surroundings",
            "FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun", "OperatingNoise",
            "add_operating_noise", "check_listener", "default_listener", "operating_noise", "parse_frequencies",
            "run_forced", "write_forced_csv", "write_forced_png", "write_operating_wav", "DesignMap", "design_map"]
@@ -356,7 +356,30 @@ def forced_table(fr, noises=None) -> str:
     return "\n".join(lines)
 
 
-def operating_noise_report(fr, listener, seconds: float, *, wav=None) -> list:
+def room_surroundings(room: dict | None, listener, *, room_name: str = "a room") -> dict | None:
+    """The cavity's surroundings in a room (``{"room": room}``), or None above the paper's plane.
+
+    In a room the listener must be given: the paper's default (0.7 m at 45 degrees above the
+    plane) has no place in it. The room's ``duration`` (s) says how long after each click its
+    reflections are heard (the images that arrive within it).
+
+    Parameters
+    ----------
+    room : dict or None
+        The room's settings (:func:`acoustiviz.app.impacts.room_settings`).
+    listener : (3,) array_like or None
+        The listener in m.
+    room_name : str
+        How the error names the room (``"--room"`` on the command line).
+    """
+    if room is None:
+        return None
+    if listener is None:
+        raise ParameterError("listener", f"required with {room_name}: the listener's position X,Y,Z in m in the room")
+    return {"room": room}
+
+
+def operating_noise_report(fr, listener, seconds: float, *, wav=None, settings=None) -> list:
     """Add the noise in operation to ``fr`` at ``listener`` and, with ``wav``, write it; return the report lines.
 
     Parameters
@@ -369,13 +392,15 @@ def operating_noise_report(fr, listener, seconds: float, *, wav=None) -> list:
         Least length in s of each level interval (whole periods).
     wav : path-like, optional
         The WAV of the frequencies in turn (with its JSON sidecar).
+    settings : dict, optional
+        The cavity's surroundings (:func:`room_surroundings`; None: the paper's plane).
     """
     import time
 
     from .forced_noise import noise_statement
 
     t0 = time.perf_counter()
-    noises = add_operating_noise(fr, listener=listener, seconds=seconds)
+    noises = add_operating_noise(fr, listener=listener, seconds=seconds, settings=settings)
     where = ("the paper's listener (0.7 m, 45 deg)" if listener is None
              else f"({','.join(f'{v:g}' for v in listener)}) m")
     lines = [f"noise in operation at {where}: {noise_statement(seconds)}; {time.perf_counter() - t0:.2f} s",

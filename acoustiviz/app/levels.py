@@ -223,7 +223,7 @@ def summary_lines(report: LevelReport, *, rate_note: str = "") -> list:
 
 
 def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=None, stop=None, channels=None,
-                    with_loudness: bool = False, rendering=None) -> LevelReport:
+                    with_loudness: bool = False, rendering=None, room_sound=None) -> LevelReport:
     """Levels of an impact sequence at listeners, evaluated on the signal rendered at :data:`ANALYSIS_RATE`.
 
     Parameters
@@ -240,6 +240,8 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
         Also loudness and sharpness (needs mosqito).
     rendering : acoustiviz.output.audio.Rendering, optional
         A rendering already at :data:`ANALYSIS_RATE` to reuse.
+    room_sound : acoustiviz.output.audio.RoomSound, optional
+        In a room: the late tail and the absorption bands of the rendering (:func:`~acoustiviz.output.audio.render`).
 
     Notes
     -----
@@ -250,7 +252,8 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
     from ..output.audio import render
 
     if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
-        rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration)
+        rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration,
+                           room_sound=room_sound)
     return analyse(rendering.pressure, ANALYSIS_RATE, start=start, stop=stop, channels=channels,
                    with_loudness=with_loudness)
 
@@ -314,11 +317,16 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     sphere, with the struck or the far wall's images) to the free sphere's, integrated at the
     quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
     ratio depends on the pulse only through its spectrum, which changes slowly with speed.
+
+    Not defined in a room (a geometry that is ``enclosed``): its walls close the fluid and return
+    the sound, so no surface around the sphere encloses an energy radiated away; refused with that
+    reason (a ParameterError naming ``config``).
     """
     from ..field.grids import spherical_grid_for
     from ..levels import radiated_energy_free, radiated_energy_grid, radiation_efficiency, sound_power
     from ..output.audio import wall_sources
 
+    cavity_scene.configuration.enclosure()  # a room refuses here, saying why, before any work
     a, medium = cavity_scene.radius, cavity_scene.medium
     v = np.abs(np.asarray(table.approach_velocity, dtype=float))
     walls = np.asarray(table.wall, dtype=float).astype(int)

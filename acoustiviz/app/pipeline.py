@@ -164,11 +164,12 @@ def produce_directivity(ctx: RunContext):
     step, metric = out["step_deg"], out.get("metric", "peak-spl")
     conf = ctx.configuration
     name, pos = ctx.listeners[0]
-    dist = float(np.linalg.norm(pos - conf.sources[0].position))
+    dist = float(np.linalg.norm(pos - conf.centre))
     top = conf.polar_limit_deg
     angles = directivity_angles(conf, step)
-    d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
-    title = f"{conf.name}, r = {dist:g} m (paper Figure 3)"
+    with user_terms({"distance": f"listeners.{name}"}):
+        d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
+    title = f"{conf.caption()}, r = {dist:g} m (paper Figure 3)"
     figures, column, values = {}, None, None
     if metric != "peak-spl":
         values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium)
@@ -177,6 +178,8 @@ def produce_directivity(ctx: RunContext):
         fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)
     else:
         fig = directivity_figure(d, half_space=top == 90.0, title=title)
+    if hasattr(conf, "image_order"):  # a room: its image model
+        figures.update(image_order=str(conf.image_order), images=str(conf.image_count))
     csv = write_directivity_csv(ctx.path("directivity.csv"), d, column, values)
     png = _save(fig, ctx.path("directivity.png"))
     i = int(np.nanargmax(d.spl_db))
@@ -245,7 +248,8 @@ def produce_wav(ctx: RunContext):
     seq, room, model, names, points = damper_sound_setup(ctx)
     named = list(zip(names, points, strict=True))
     ctx.progress(f"auralising {len(seq)} impacts at {len(named)} listener(s), {opts['rate_hz']} Hz")
-    out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration)
+    out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration,
+                 room_sound=ctx.scene.room_sound())
     if opts["stereo"]:
         files = [WavFile(ctx.path("wav_stereo.wav"), out.pressure[:2], [named[0][0], named[1][0]], points[:2],
                          ["left", "right"])]

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from .budget import animation_estimate, balloon_estimate, snapshot_estimate
 
-__all__ = ["OUTPUT_ENDINGS", "check_view_outputs", "render_estimate", "annotation", "render_files"]
+__all__ = ["OUTPUT_ENDINGS", "check_view_outputs", "check_view_fits", "render_estimate", "annotation", "render_files"]
 
 #: Output kind of a view -> the file name endings it accepts.
 OUTPUT_ENDINGS = {"png": (".png",), "gif": (".gif",), "mp4": (".mp4",), "vtk": (".vtu", ".vtkhdf"),
@@ -33,6 +33,20 @@ def check_view_outputs(offered: dict) -> dict:
         if not str(path).lower().endswith(ends):
             raise ParameterError(f"--{k}", f"expected a file name ending in {' or '.join(ends)}, got {path!r}")
     return paths
+
+
+def check_view_fits(view: str, settings, setup) -> None:
+    """Refuse a balloon whose measuring sphere leaves the fluid (a room's walls), before any work.
+
+    The sphere of radius ``settings.distance`` (m) must clear the struck sphere (more than 2.1
+    radii from its centre) and stay within the fluid (:func:`acoustiviz.core.reach.check_view_radius`);
+    errors name ``distance``. The planes of a snapshot or an animation are cut at the walls and need
+    no check.
+    """
+    if view == "balloon":
+        from ..core.reach import check_view_radius
+
+        check_view_radius(setup.configuration, settings.distance, 2.1 * setup.radius)
 
 
 def render_estimate(view: str, settings, n_sources: int, *, n_files: int = 1, options: dict | None = None):

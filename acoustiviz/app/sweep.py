@@ -38,7 +38,7 @@ from ..constants import (
     PAPER_V0,
     TABLE1,
 )
-from ..core.geometry import CONFIGURATIONS, geometry_class
+from ..core.geometry import geometry_class
 from ..errors import ParameterError
 from ..sweep import (
     DEFINITIONS,
@@ -55,11 +55,12 @@ from ..sweep import (
     run_sweep,
     write_design_table,
 )
+from ..sweep.spec import sweepable
 from .settings.design import DEFAULT_TOLERANCE
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
-           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow"]
+           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow", "with_room"]
 
 #: Parameters of :func:`sweep_spec` a sweep runs over (each ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``).
 SWEPT = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
@@ -91,7 +92,7 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
                M=TABLE1["M"], K=TABLE1["K"], C=TABLE1["C"], clip_tensile=False, duration=DEFAULT_DURATION,
                solver="event", rtol=DEFAULT_RTOL, radius=PAPER_RADIUS, density=None, surface=None,
                pulse="half-sine", pulse_mass="impact", c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY,
-               wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4, levels=False) -> SweepSpec:
+               wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4, levels=False, room=None) -> SweepSpec:
     """The sweep of the given settings; swept ones take a value, ``start:stop:count`` or ``a,b,c``.
 
     Parameters
@@ -115,6 +116,9 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         Sphere density in kg/m³; only with ``radius="mass"`` (default 7800 or the material's).
     surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest, levels
         See :class:`~acoustiviz.sweep.Settings`.
+    room : dict, optional
+        The settings of a shoebox room (:class:`acoustiviz.core.room_geometry.Room`), for
+        ``config="room"`` (:attr:`acoustiviz.sweep.Settings.room`).
 
     Returns
     -------
@@ -132,17 +136,18 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         if density is not None:
             raise ParameterError("density", "sets the sphere's radius from the impact mass; it needs a radius "
                                             "from the mass (--radius mass)")
-    configs = parse_values("config", config, str)
-    for cfg in configs:
-        check_choice("config", cfg, CONFIGURATIONS)
-    angles = parse_values("angle_deg", angle_deg)
-    limit = min(geometry_class(c).polar_limit_deg for c in configs)
-    for a in angles:
-        check_range("angle_deg", a, 0.0, limit, unit="deg")
     settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
                         radius_mode=radius_mode, radius=radius, density=density, surface=surface, pulse=pulse,
                         pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance, n_fastest=n_fastest,
-                        levels=bool(levels))
+                        levels=bool(levels), room=room)
+    configs = parse_values("config", config, str)
+    for cfg in configs:
+        check_choice("config", cfg, sweepable(settings))
+    angles = parse_values("angle_deg", angle_deg)
+    # the paper's geometries bound the angle by their class; a room by where its sphere is (SweepSpec checks)
+    limits = [lim for c in configs if isinstance(lim := geometry_class(c).polar_limit_deg, float)]
+    for a in angles:
+        check_range("angle_deg", a, 0.0, min(limits, default=180.0), unit="deg")
     return SweepSpec(
         gap=parse_values("gap", gap),
         m=None if mass_ratio is not None else parse_values("m", TABLE1["m"] if m is None else m),
@@ -199,10 +204,10 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
         import numpy as np
 
         (_, pos), *_ = scene.listeners()
-        real = scene.configuration().sources[0]
-        rel = np.asarray(pos) - np.asarray(real.position)
+        geom = scene.configuration()
+        rel = np.asarray(pos) - np.asarray(geom.centre)
         distance = float(np.linalg.norm(rel))
-        angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / distance))))
+        angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(geom.axis)) / distance))))
     if solver is None:
         from .products import damper_solver
 
@@ -219,7 +224,8 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
             solver=solver, rtol=min(d["tolerance"], 1e-3),
             radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
             surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
-            wall_distance=conf["wall_distance_m"], levels=opts["levels"], **stiffness)
+            wall_distance=conf["wall_distance_m"], levels=opts["levels"],
+            room=scene.geometry_settings().get("room"), **stiffness)
 
 
 def check_executor(executor, workers=None):
@@ -480,3 +486,32 @@ def sweep_workflow(given: dict, out, *, executor: str = "process", workers=None,
         check_executor(executor, workers)
         result = run_sweep_outputs(spec, out, executor=executor, workers=workers, **run)
     return sweep_summary(result)
+
+
+def with_room(given: dict, room: dict | None) -> dict:
+    """The :func:`sweep_spec` parameters ``given`` with a shoebox room's, the room checked before any work.
+
+    Parameters
+    ----------
+    given : dict
+        The :func:`sweep_spec` parameters given.
+    room : dict or None
+        The room's settings (:func:`acoustiviz.app.impacts.room_settings`: dimensions in m,
+        absorption, source in m, the window ``duration`` in s, ...); None: ``given`` unchanged.
+
+    Returns
+    -------
+    dict
+        ``given`` with ``room`` and, unless a configuration is given, ``config="room"``. The room
+        is built once around the sweep's sphere (the paper's radius when it follows the mass), so
+        a source too close to a wall or a window without images fails here; errors name the room's
+        parameters (the caller renames them).
+    """
+    if room is None:
+        return given
+    from ..core.geometry import geometry
+    from ..core.room_geometry import Room
+
+    radius = given.get("radius")
+    geometry(Room.name, PAPER_RADIUS if radius in (None, "mass") else float(radius), **room)
+    return {**given, "config": given.get("config") or Room.name, "room": room}

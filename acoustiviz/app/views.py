@@ -23,7 +23,8 @@ from ..levels import METRICS
 from .settings.impact import MIN_SAMPLES_PER_DURATION
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
-           "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
+           "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL",
+           "directivity_metric",
            "impact_signals", "impact_sound", "points_metric_levels", "reference_metric_levels", "metric_label",
            "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
@@ -124,8 +125,8 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
 
     Returns ``(points, t, L, h, K, n_sound, n_out)``: the ``(k, 3)`` points in m, the times in s at
     ``L × sample_rate`` from the earliest arrival (rounded down to the output grid) to the end of the
-    latest sound, the decimation filter ``h`` (``2KL + 1`` taps), the output samples of sound and
-    of the whole interval.
+    latest sound (in a room, at most to the end of its window ``duration``), the decimation filter
+    ``h`` (``2KL + 1`` taps), the output samples of sound and of the whole interval.
     """
     from ..output.audio import decimation_filter, oversampling_factor
 
@@ -136,7 +137,11 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
     K = (h.size - 1) // (2 * L)
     t0 = np.floor(spans[:, 0].min() * sample_rate) / sample_rate
     n_out = int(round(interval * sample_rate))
-    n_sound = int(np.ceil((spans[:, 1].max() - t0) * sample_rate)) + 1
+    end = float(spans[:, 1].max())
+    reach = getattr(config, "duration", None)  # a room: the sound within its window (every image arriving in it)
+    if reach is not None:
+        end = max(min(end, float(reach)), t0)
+    n_sound = int(np.ceil((end - t0) * sample_rate)) + 1
     if n_sound + K >= n_out:
         raise ParameterError("interval", f"must exceed the sound of one impact ({(n_sound + K) / sample_rate:g} s)")
     t = t0 + np.arange(n_sound * L) / (L * sample_rate)

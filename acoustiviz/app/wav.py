@@ -34,7 +34,17 @@ from ..errors import ClippingWarning
 from ..output.audio import CavityScene, shared_scale, write_sidecar, write_wav
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
-           "physical_peaks"]
+           "physical_peaks", "room_sound", "least_absorbing", "ROOM_SOUND_OPTIONS", "ROOM_SOUND_SCENE_KEYS"]
+
+#: :class:`~acoustiviz.output.audio.RoomSound` parameter -> ``acoustiviz auralize`` option.
+ROOM_SOUND_OPTIONS = {"late_tail": "--late-tail", "seed": "--tail-seed", "decay": "--tail-decay",
+                      "transition": "--transition", "band_centres": "--absorption-bands",
+                      "band_absorption": "--absorption-bands"}
+#: :class:`~acoustiviz.output.audio.RoomSound` parameter -> scene key.
+ROOM_SOUND_SCENE_KEYS = {"late_tail": "outputs.wav.late_tail", "seed": "outputs.wav.tail_seed",
+                         "decay": "outputs.wav.tail_decay", "transition": "outputs.wav.transition_s",
+                         "band_centres": "outputs.wav.absorption_bands",
+                         "band_absorption": "outputs.wav.absorption_bands"}
 
 #: Version of the sidecar schema; bumped whenever a key changes meaning (3: physical_peak_pa).
 SIDECAR_VERSION = 3
@@ -54,6 +64,53 @@ def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, wal
         conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     extra = {} if medium is None else {"medium": medium}
     return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)
+
+
+def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", transition=None,
+               absorption_bands=None, names=ROOM_SOUND_OPTIONS):
+    """The :class:`~acoustiviz.output.audio.RoomSound` of a front-end's settings, or None when neither is asked for.
+
+    Parameters
+    ----------
+    late_tail : bool
+        The statistical tail after the transition time.
+    seed : int, optional
+        The tail's seed (default :data:`acoustiviz.constants.TAIL_SEED`).
+    decay : {"eyring", "images"}
+        The tail's decay law.
+    transition : float, optional
+        Transition time in s.
+    absorption_bands : str, optional
+        ``"F:A,F:A,..."`` or ``"F:A1/.../A6,..."`` (:func:`acoustiviz.output.audio.parse_absorption_bands`).
+    names : mapping
+        Parameter -> the user's option or key, named in errors.
+
+    Returns
+    -------
+    RoomSound or None
+        None without ``late_tail`` and ``absorption_bands``: the exact render, unchanged.
+    """
+    from ..constants import TAIL_SEED
+    from ..output.audio import RoomSound, parse_absorption_bands
+    from .names import user_terms
+
+    if not late_tail and absorption_bands is None:
+        return None
+    centres = alpha = None
+    if absorption_bands is not None:
+        centres, alpha = parse_absorption_bands(absorption_bands, names["band_absorption"])
+    with user_terms(names):
+        return RoomSound(late_tail=bool(late_tail), seed=TAIL_SEED if seed is None else seed, decay=decay,
+                         transition=transition, band_centres=centres, band_absorption=alpha)
+
+
+def least_absorbing(band_absorption) -> list:
+    """Each surface's smallest alpha over the bands of a ``(6, n_bands)`` absorption: the room's broadband one.
+
+    The band that absorbs least decays slowest, so it sets the image order and the room's other
+    outputs (the physical peak of the sidecar) use it.
+    """
+    return [float(x) for x in np.asarray(band_absorption, dtype=float).reshape(6, -1).min(axis=1)]
 
 
 class WavFile:
@@ -224,7 +281,8 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "impacts": rendering.get("impact_count"),
         "configuration": rendering.get("scene", {}).get("config"),
         # a room's image model, also at the top level: the order, the number of images, the neglected energy
-        **{k: rendering["scene"][k] for k in ("image_order", "images", "neglected_energy_db")
+        **{k: rendering["scene"][k] for k in ("image_order", "images", "neglected_energy_db", "late_tail",
+                                              "transition_s")
            if k in rendering.get("scene", {})},
         # how the sound was made; what the file itself holds (rate, length) is stated above from the file
         **{k: v for k, v in rendering.items() if k not in _FILE_FACTS},

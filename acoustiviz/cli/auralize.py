@@ -78,6 +78,7 @@ def add_parser(subparsers) -> None:
     from ._impact import add_room_options
 
     add_room_options(p)
+    _add_room_sound_options(p)
     o = p.add_argument_group("listeners and files")
     o.add_argument("--listener", action="append", default=None, metavar="X,Y,Z",
                    help=f"listener position in m (repeatable; default {DEFAULT_LISTENER}: 0.7 m at 45 degrees "
@@ -111,6 +112,53 @@ def add_parser(subparsers) -> None:
                     help="with the levels, ISO 532-1 loudness N5/Nmax (sone) and DIN 45692 sharpness (acum); needs "
                          "mosqito (pip install 'acoustiviz[hearing]')")
     p.set_defaults(func=run)
+
+
+def _add_room_sound_options(parser) -> None:
+    """The statistical tail and the absorption per octave band of a room's WAV (with ``--room``)."""
+    from ..constants import TAIL_SEED
+
+    g = parser.add_argument_group("room sound (with --room)")
+    g.add_argument("--late-tail", action="store_true",
+                   help="images exactly only until the transition time (the mixing time, or when reflections "
+                        "arrive once per click), then a seeded statistical tail (noise decaying per band at "
+                        "Eyring's T60, from the images' level) until --tolerance-db of the energy: seconds instead "
+                        "of minutes for a reverberant room; the direct click and the early images stay exact")
+    g.add_argument("--tail-seed", type=int, default=None, metavar="N",
+                   help=f"seed of the tail's noise, an integer >= 0 (default {TAIL_SEED}: the same WAV every run)")
+    g.add_argument("--tail-decay", default=None, choices=("eyring", "images"),
+                   help="the tail's decay: Eyring's T60 per band (default) or the image sum's own expected decay")
+    g.add_argument("--transition", type=float, default=None, metavar="S",
+                   help="with --late-tail: transition time in s from the start of contact, in (0, 10] "
+                        "(default: max(sqrt(V) ms, one reflection per contact duration))")
+    g.add_argument("--absorption-bands", default=None, metavar="F:A,...",
+                   help="absorption per octave band for the WAV instead of --absorption: comma-separated F:A "
+                        "(band centre F in Hz in [16, 20000], increasing; alpha A in [0, 1) on every surface) "
+                        "or F:A1/A2/A3/A4/A5/A6 (per surface x0,x1,y0,y1,z0 floor,z1 ceiling), e.g. "
+                        "125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,4000:0.35; the images and the tail "
+                        "are filtered per band, the direct click stays broadband")
+
+
+def _room_sound_of(args):
+    """The RoomSound of the options (None without --late-tail and --absorption-bands), refused without --room."""
+    from .._validate import ParameterError
+    from ..app.wav import room_sound
+
+    given = {"--late-tail": args.late_tail or None, "--tail-seed": args.tail_seed, "--tail-decay": args.tail_decay,
+             "--transition": args.transition, "--absorption-bands": args.absorption_bands}
+    if args.room is None:
+        for opt, val in given.items():
+            if val is not None:
+                raise ParameterError(opt, "only applies with --room LX,LY,LZ")
+        return None
+    if not args.late_tail:
+        for opt in ("--tail-seed", "--tail-decay", "--transition"):
+            if given[opt] is not None:
+                raise ParameterError(opt, "only applies with --late-tail")
+    if args.absorption_bands is not None and args.absorption is not None:
+        raise ParameterError("--absorption-bands", "give either --absorption or --absorption-bands, not both")
+    return room_sound(late_tail=args.late_tail, seed=args.tail_seed, decay=args.tail_decay or "eyring",
+                      transition=args.transition, absorption_bands=args.absorption_bands)
 
 
 def parse_point(text: str, option: str = "--listener"):
@@ -333,14 +381,22 @@ def _print_sound(seq, scene, model, out, radius, radius_source, room, rate) -> N
     print(f"sound: sphere radius {radius * 1e3:.2f} mm ({radius_source}), pulse {model.pulse}, "
           f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
           f"{rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
-    if room is not None:
+    if room is not None and out.room is not None:
+        r = out.room
+        neg = r["neglected_energy_db"]
+        tail = (f"late tail from {r['transition_s']:.4f} s to {r['tail_end_s']:.3f} s ({r['tail_decay']}, seed "
+                f"{r['tail_seed']})" if r["late_tail"] else "no late tail")
+        bands = f", absorption in {len(r['absorption_bands_hz'])} bands" if "absorption_bands_hz" in r else ""
+        print(f"room: {scene.configuration.caption()}; image_order {r['image_order']}, images {r['images']}, "
+              f"{tail}{bands}, neglected_energy_db " + (f"{neg:.1f}" if isinstance(neg, float) else str(neg)))
+    elif room is not None:
         conf = scene.configuration
         print(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
               f"neglected_energy_db {conf.neglected_energy_db:.1f}" + (" (capped by the memory budget)"
                                                                         if conf.order_capped else ""))
 
 
-def _levels_per_file(args, seq, scene, model, listeners, files, out):
+def _levels_per_file(args, seq, scene, model, listeners, files, out, rs=None):
     """The levels of each file when asked for (printed, and written with ``--levels-csv``), else None."""
     if not (args.levels or args.levels_csv is not None or args.loudness):
         return None
@@ -348,7 +404,7 @@ def _levels_per_file(args, seq, scene, model, listeners, files, out):
 
     names_all = [n for f in files for n in (f.channel_names if args.stereo else f.listeners)]
     report = rendered_levels(seq, scene, model, listeners, duration=args.duration, channels=names_all,
-                             with_loudness=args.loudness, rendering=out)
+                             with_loudness=args.loudness, rendering=out, room_sound=rs)
     for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
         print(line)
     groups = [[0, 1]] if args.stereo else [[i] for i in range(len(files))]
@@ -408,6 +464,11 @@ def run(args) -> int:
 
     # ---- validate every option before any work
     radius, radius_source, medium = _check_sphere_and_medium(args)
+    rs = _room_sound_of(args)
+    if rs is not None and rs.banded:  # the least absorbing band sets the room's image order and its peaks
+        from ..app.wav import least_absorbing
+
+        args.absorption = ",".join(f"{x:.17g}" for x in least_absorbing(rs.band_absorption))
     room = _room_of(args)
     scene = _cavity_of(args, radius, medium, room)
     model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
@@ -424,7 +485,7 @@ def run(args) -> int:
     else:
         seq, run_desc = _simulate(args)
     _check_click_fits(seq, args)
-    out = render(seq, scene, model, listeners, sample_rate=args.rate, duration=args.duration)
+    out = render(seq, scene, model, listeners, sample_rate=args.rate, duration=args.duration, room_sound=rs)
 
     # ---- files
     channels = [out.pressure] if args.stereo else [out.pressure[i:i + 1] for i in range(out.pressure.shape[0])]
@@ -433,8 +494,8 @@ def run(args) -> int:
     names = ["left", "right"] if args.stereo else ["mono"]
     files = [WavFile(path, data, [f"listener{i + 1}" for i in range(len(pts))] if not args.stereo else names, pts,
                      names) for path, data, pts in zip(paths, channels, chan_listeners, strict=True)]
-    _print_sound(seq, scene, model, out, radius, radius_source, room, args.rate)
-    per_file = _levels_per_file(args, seq, scene, model, listeners, files, out)
+    _print_sound(seq, out.scene, model, out, radius, radius_source, room, args.rate)
+    per_file = _levels_per_file(args, seq, scene, model, listeners, files, out, rs)
     written = write_wav_files(files, sample_rate=args.rate, subtype=args.subtype, scale=args.scale,
                               headroom_db=args.headroom, rendering=out, damper=run_desc,
                               radius_source=radius_source, levels=per_file)

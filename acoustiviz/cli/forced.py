@@ -64,6 +64,9 @@ def add_parser(subparsers):
     add_option(n, FORCED[6], metavar="S")
     n.add_argument("--wav", metavar="PATH", default=None,
                    help="write the damper in operation, each frequency's interval in turn, as a 48 kHz WAV")
+    from ._impact import add_room_options
+
+    add_room_options(p, duration=True)  # --duration: how long each click's reflections are heard
     o = p.add_argument_group("outputs")
     o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency and attractor as CSV")
     o.add_argument("--png", metavar="PATH", default=None,
@@ -88,10 +91,11 @@ def run(args) -> int:
     """Run the ``forced`` subcommand; return the exit status."""
     from ..app.budget import check_budget, forced_estimate
     from ..app.damper import damper_model
-    from ..app.forced import FORCED_OPTIONS, forced_table, parse_frequencies, run_forced
-    from ..app.names import user_terms
+    from ..app.forced import FORCED_OPTIONS, forced_table, parse_frequencies, room_surroundings, run_forced
+    from ..app.names import ROOM_OPTIONS, user_terms
     from ..app.settings.forced import ForcedSettings
     from ..errors import ParameterError
+    from ._impact import room_duration, room_settings
 
     freqs = parse_frequencies(args.freq)
     listener = None
@@ -104,6 +108,8 @@ def run(args) -> int:
         raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
     with user_terms(ForcedSettings.cli_names()):
         st = ForcedSettings.from_values({s.name: getattr(args, s.name) for s in FORCED})
+    with user_terms({**ROOM_OPTIONS, "listener": "--listener"}):
+        room = room_surroundings(room_settings(args, duration=room_duration(args)), listener, room_name="--room")
     with user_terms(FORCED_OPTIONS):
         model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
                              c1=args.c1)
@@ -113,7 +119,8 @@ def run(args) -> int:
     if args.noise or listener is not None:
         from ..app.forced import check_listener
 
-        check_listener(model, listener)
+        with user_terms(ROOM_OPTIONS):  # a room's settings checked here, before any run
+            check_listener(model, listener, settings=room)
     kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
     import sys
 
@@ -132,18 +139,18 @@ def run(args) -> int:
         print(forced_table(fr, None))
     for r in failed:
         print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
-    _write_outputs(args, fr, listener)
+    _write_outputs(args, fr, listener, room)
     return 0 if not failed else 1
 
 
-def _write_outputs(args, fr, listener) -> None:
+def _write_outputs(args, fr, listener, room=None) -> None:
     """The noise in operation (table and WAV) when asked, then the CSV and the figure."""
     from ..app.forced import write_forced_csv, write_forced_png
 
     if args.noise:
         from ..app.forced import operating_noise_report
 
-        for line in operating_noise_report(fr, listener, args.noise_seconds, wav=args.wav):
+        for line in operating_noise_report(fr, listener, args.noise_seconds, wav=args.wav, settings=room):
             print(line)
     if args.csv:
         print(f"wrote {write_forced_csv(fr, args.csv)}")

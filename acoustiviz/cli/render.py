@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..app.settings.render import ANIMATION, BALLOON, SNAPSHOT
 from ..app.settings.table import add_option
-from ._impact import add_impact_options
+from ._impact import add_impact_options, add_room_options
 
 #: Output options of the views.
 _OUTPUTS = ("png", "gif", "mp4", "vtk", "html")
@@ -15,6 +15,7 @@ _METAVARS = {"distance": "M", "db_range": "DB", "opacity": "X", "extent": "M", "
 
 def _options(p, table, *, size: str) -> None:
     add_impact_options(p)
+    add_room_options(p, duration=True)
     g = p.add_argument_group("image")
     g.add_argument("--size", default=size, metavar="WxH",
                    help="image size in pixels, width x height, each 64..8192 (default %(default)s)")
@@ -49,8 +50,8 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "render", help="3-D pictures rendered off-screen: directivity balloon, field snapshot, wavefront animation",
         description="Off-screen 3-D renders with pyvista (no display needed), the data behind them as VTK "
-        "files for ParaView (--vtk) and interactive self-contained HTML pages (--html). Impact and configuration "
-        "options are those of 'acoustiviz directivity'; lengths in m, times in s.")
+        "files for ParaView (--vtk) and interactive self-contained HTML pages (--html). Impact, configuration "
+        "and room options are those of 'acoustiviz directivity'; lengths in m, times in s.")
     views = p.add_subparsers(dest="view", metavar="VIEW")
     b = views.add_parser(
         "balloon", help="directivity balloon around the contact point (PNG, VTK, HTML)",
@@ -102,13 +103,14 @@ def run(args) -> int:
     from ..app.budget import check_budget
     from ..app.names import user_terms
     from ..app.outputs import check_distinct, check_output_file
-    from ..app.render import check_view_outputs, render_estimate, render_files
-    from ._impact import impact_from_args
+    from ..app.render import check_view_fits, check_view_outputs, render_estimate, render_files
+    from ._impact import impact_from_args, room_duration
 
     if not getattr(args, "view", None):
         print("acoustiviz render: error: choose a view: balloon, snapshot or animation", file=sys.stderr)
         return 2
     settings = _settings(args)
+    room_duration(args)
     paths = check_view_outputs({k: getattr(args, k) for k in _OUTPUTS if hasattr(args, k)})
     if args.view == "animation" and paths.get("mp4"):
         from .._validate import ParameterError
@@ -123,7 +125,9 @@ def run(args) -> int:
     setup = impact_from_args(args)
     n_files = bool(paths.get("gif")) + bool(paths.get("mp4"))
     names = {**type(settings).cli_names(), **_MORE_NAMES}
-    est = render_estimate(args.view, settings, len(setup.configuration.sources), n_files=n_files, options=names)
+    with user_terms(names):
+        check_view_fits(args.view, settings, setup)  # a balloon's sphere inside a room's walls
+    est = render_estimate(args.view, settings, len(setup.configuration.images()), n_files=n_files, options=names)
     check_budget(est, getattr(args, "max_memory", None))
     try:
         with user_terms(names):

@@ -106,8 +106,14 @@ def add_parser(subparsers):
                         "(default 4)")
     s.add_argument("--levels", action="store_true", default=None,
                    help="also render each run's click train at the listener at 96 kHz and report its LAFmax, "
-                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; about 0.3 s more "
-                        "per 20 s design, so off by default)")
+                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; many times the "
+                        "cost of the motion, so off by default)")
+    from ._impact import add_room_options
+
+    add_room_options(p)  # --config room with --room; the window its images reach is --room-window
+    p.add_argument("--room-window", type=float, default=None, metavar="S",
+                   help="with --room: the window in s from the start of each impact whose images the peak SPL "
+                        "takes (required when a surface is rigid and --image-order is not given)")
     o = p.add_argument_group("execution and outputs")
     o.add_argument("--out", required=True, metavar="DIR", help="output directory (resumed if it exists)")
     o.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",
@@ -129,8 +135,17 @@ def add_parser(subparsers):
 
 
 def _given(args) -> dict:
-    """The :func:`acoustiviz.app.sweep.sweep_spec` parameters the options give."""
-    return {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
+    """The :func:`acoustiviz.app.sweep.sweep_spec` parameters the options give, ``--room``'s checked now."""
+    from .._validate import ParameterError
+    from ..app.names import ROOM_OPTIONS, user_terms
+    from ..app.sweep import with_room
+    from ._impact import room_settings
+
+    if args.room is None and args.room_window is not None:
+        raise ParameterError("--room-window", "only applies with --room LX,LY,LZ")
+    given = {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
+    with user_terms({**ROOM_OPTIONS, "duration": "--room-window"}):
+        return with_room(given, room_settings(args, duration=args.room_window))
 
 
 def spec_from_args(args):
@@ -138,8 +153,9 @@ def spec_from_args(args):
     from ..app.names import user_terms
     from ..app.sweep import SWEEP_OPTIONS, sweep_spec
 
+    given = _given(args)
     with user_terms(SWEEP_OPTIONS):
-        return sweep_spec(**_given(args))
+        return sweep_spec(**given)
 
 
 def run(args) -> int:

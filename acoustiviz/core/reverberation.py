@@ -48,7 +48,6 @@ __all__ = [
     "echo_density_time",
     "image_energy_decay",
     "complete_until",
-    "late_tail",
 ]
 
 #: Largest order :func:`energy_order` sums shell by shell before it reports the order as capped
@@ -436,7 +435,8 @@ def complete_until(room: Shoebox, order: int, *, radius: float, medium: Medium =
     float
         ``max(0, ((N - 2) H - a) / c)``: every image of order > N is at least ``(N - 2) H`` from
         every point of the room (module docstring), so nothing it radiates arrives earlier. The
-        inverse of :func:`order_for_time`; a statistical tail (:func:`late_tail`) takes over here.
+        inverse of :func:`order_for_time`; a statistical tail
+        (:func:`acoustiviz.core.tail.late_tail`) takes over here.
 
     Examples
     --------
@@ -446,85 +446,3 @@ def complete_until(room: Shoebox, order: int, *, radius: float, medium: Medium =
     n = check_order("order", order)
     a = check_positive("radius", radius, "m")
     return max(0.0, ((n - 2) * room.lattice_spacing - a) / medium.c)
-
-
-def _band_masks(freqs: np.ndarray, centres: np.ndarray) -> np.ndarray:
-    """Brick-wall masks ``(n_bands, n_freqs)`` that partition the frequency axis at the geometric means."""
-    edges = np.sqrt(centres[:-1] * centres[1:])
-    band = np.searchsorted(edges, freqs, side="right")
-    return band[None, :] == np.arange(centres.size)[:, None]
-
-
-def late_tail(room: Shoebox, start: float, duration: float, sample_rate: float, rng: np.random.Generator, *,
-              band_centres=None, medium: Medium = AIR) -> np.ndarray:
-    """A statistical late tail of the image sum: Gaussian noise shaped to its expected decay.
-
-    The image sum is an impulse response ``h(t) = sum_k (w_k / r_k) delta(t - r_k / c)``: a
-    click ``p1(t)`` radiated by the source (its pressure at 1 m) is heard as ``p1 * h``. After
-    the mixing time the arrivals are dense and their signs and delays effectively random; this
-    returns ``h`` sampled as a noise whose expected energy per sample is the image sum's,
-    ``E[h_m^2] = (dE/dt)(t_m) / sample_rate`` (:func:`image_energy_decay`), per band when the
-    absorption is.
-
-    Parameters
-    ----------
-    room : Shoebox
-        The room and its absorption.
-    start : float
-        Time in s of the first sample after the emission, >= 0 (e.g. :func:`complete_until` the
-        order of the images computed exactly, or :func:`mixing_time` if that is later).
-    duration : float
-        Length of the tail in s, > 0.
-    sample_rate : float
-        Samples per second, > 0.
-    rng : numpy.random.Generator
-        The source of randomness (seeded by the caller, so the tail is reproducible).
-    band_centres : (n_bands,) array_like, optional
-        Centre frequencies in Hz of the absorption's bands, increasing; required when the
-        absorption is banded, unused otherwise. The white noise is split by brick-wall masks at
-        the geometric means of neighbouring centres (the lowest band down to 0 Hz, the highest
-        up to Nyquist), which partition its spectrum exactly, and each band follows its own decay.
-    medium : Medium
-        The fluid.
-
-    Returns
-    -------
-    (n,) ndarray
-        ``h`` at ``start + m / sample_rate`` for ``m = 0..n-1`` with ``n = round(duration * sample_rate)``,
-        in 1/m (a pressure at 1 m convolved with it gives Pa).
-
-    Notes
-    -----
-    The tail's energy follows the expected energy density of the image sum itself, so where the
-    exact images stop and the tail starts the two agree on average: the match at the transition
-    is by construction, not by fitting. The sphere radiates like a dipole; averaged over the
-    images' directions its ``cos^2 theta`` is 1/3, which the caller folds into ``p1``.
-    """
-    t0 = check_range("start", start, 0.0, unit="s")
-    dur = check_positive("duration", duration, "s")
-    fs = check_positive("sample_rate", sample_rate, "Hz")
-    if not isinstance(rng, np.random.Generator):
-        raise ParameterError("rng", f"expected a numpy.random.Generator (seeded), got {type(rng).__name__}")
-    n = int(round(dur * fs))
-    if n < 1:
-        raise ParameterError("duration", f"shorter than one sample at {fs:g} Hz, got {dur:g} s")
-    t = t0 + np.arange(n) / fs
-    rate = image_energy_decay(room, t, medium=medium)
-    noise = rng.standard_normal(n)
-    if room.bands is None:
-        if band_centres is not None:
-            raise ParameterError("band_centres", "only for a banded absorption; this room has one value per surface")
-        return np.sqrt(rate / fs) * noise
-    if band_centres is None:
-        raise ParameterError("band_centres", f"required: the absorption has {room.bands} bands")
-    centres = np.asarray(band_centres, dtype=float).reshape(-1)
-    if centres.size != room.bands or not np.all(np.isfinite(centres)) or np.any(centres <= 0) \
-            or np.any(np.diff(centres) <= 0):
-        raise ParameterError("band_centres",
-                             f"expected {room.bands} increasing frequencies > 0 Hz, got {band_centres!r}")
-    spectrum = np.fft.rfft(noise)
-    masks = _band_masks(np.fft.rfftfreq(n, 1.0 / fs), centres)
-    out = np.zeros(n)
-    for b in range(room.bands):
-        out += np.sqrt(rate[:, b] / fs) * np.fft.irfft(spectrum * masks[b], n)
-    return out

@@ -67,6 +67,22 @@ class Scene:
         settings = _geometry_settings(self.data["configuration"])
         return {"room": settings} if self.data["configuration"]["kind"] == "room" else settings
 
+    def room_sound(self):
+        """The :class:`~acoustiviz.output.audio.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
+        from ..app.wav import ROOM_SOUND_SCENE_KEYS, room_sound
+
+        if self.data["configuration"]["kind"] != "room":
+            return None
+        o = self.output_or_defaults("wav")
+        try:
+            return room_sound(late_tail=o["late_tail"], seed=o["tail_seed"], decay=o["tail_decay"],
+                              transition=o["transition_s"], absorption_bands=o["absorption_bands"],
+                              names=ROOM_SOUND_SCENE_KEYS)
+        except SceneError:
+            raise
+        except ParameterError as exc:
+            raise SceneError(self.source, exc.name, exc.detail) from None
+
     def _impact_settings(self, radius: float | None = None) -> dict:
         s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
         return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],
@@ -264,6 +280,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
         data[name] = _validate_table(raw.get(name, {}), table, source, name)
     radius = data["sphere"]["radius_m"]
     _check_materials(data, source)
+    _band_absorption(raw, data, source)
     _check_configuration(data, source)
     data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
     outputs = _validate_outputs(raw.get("outputs", {}), data, source)
@@ -271,6 +288,8 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
     _check_geometry(scene)
+    if "wav" in outputs:
+        scene.room_sound()  # the tail's and the bands' settings, refused here rather than mid-run
     return scene
 
 
@@ -289,6 +308,29 @@ def _check_materials(data: dict, source: str) -> None:
                 raise SceneError(source, path, exc.detail) from None
     if data["contact"]["k_hertz_n_m1_5"] is not None and data["contact"]["surface"] is not None:
         raise SceneError(source, "contact.k_hertz_n_m1_5", "give either k_hertz_n_m1_5 or surface, not both")
+
+
+def _band_absorption(raw: dict, data: dict, source: str) -> None:
+    """``outputs.wav.absorption_bands``: checked, and each surface's least absorbing band as the room's absorption."""
+    wav = raw.get("outputs", {}).get("wav") if isinstance(raw.get("outputs"), dict) else None
+    text = wav.get("absorption_bands") if isinstance(wav, dict) else None
+    if text is None:
+        return
+    key = "outputs.wav.absorption_bands"
+    if not isinstance(text, str):
+        raise SceneError(source, key, f"expected a string 'F:A,F:A,...', got {text!r}")
+    if data["configuration"]["kind"] != "room":
+        raise SceneError(source, key, "only for a room ([geometry] kind = \"room\")")
+    if data["configuration"]["absorption"] is not None:
+        raise SceneError(source, key, "give either configuration.absorption or outputs.wav.absorption_bands, not both")
+    from ..app.wav import least_absorbing
+    from ..output.audio import parse_absorption_bands
+
+    try:
+        _, alpha = parse_absorption_bands(text, key)
+    except ParameterError as exc:
+        raise SceneError(source, key, exc.detail) from None
+    data["configuration"]["absorption"] = least_absorbing(alpha)
 
 
 def _check_configuration(data: dict, source: str) -> None:
@@ -324,7 +366,11 @@ def _validate_outputs(outs_raw, data: dict, source: str) -> dict:
 def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
     """What some outputs need of the rest of the scene: listeners, a sweep, forcing frequencies."""
     if "wav" in outputs:
-        if outputs["wav"]["struck_wall"] not in (-1, 1):
+        wav = outputs["wav"]
+        if (wav["late_tail"] or wav["absorption_bands"] is not None) and data["configuration"]["kind"] != "room":
+            key = "late_tail" if wav["late_tail"] else "absorption_bands"
+            raise SceneError(source, f"outputs.wav.{key}", "only for a room ([geometry] kind = \"room\")")
+        if wav["struck_wall"] not in (-1, 1):
             raise SceneError(source, "outputs.wav.struck_wall",
                              f"must be -1 or +1, got {outputs['wav']['struck_wall']}")
         if outputs["wav"]["stereo"] and len(data["listeners"]) < 2:
@@ -380,6 +426,7 @@ def _check_geometry(scene: Scene) -> None:
             raise SceneError(src, key, "listener inside the sphere, below the floor or behind the wall "
                                        f"(configuration {conf.name!r}; the fluid is {conf.fluid_text()})")
     grids = scene.data["grids"]
+    _check_circles(scene, conf)
     if scene.wants("level_map"):  # settings, memory and output size of the map, before any output is made
         from ..app.maps import SCENE_NAMES, plan_map
 
@@ -421,6 +468,35 @@ def _check_views(scene: Scene, conf) -> None:
             check_budget(estimate(), cap, cap_name="grids.memory_limit_mb")
         except ParameterError as exc:
             raise SceneError(scene.source, exc.name, exc.detail) from None
+
+
+def _check_circles(scene: Scene, conf) -> None:
+    """The directivity's circle (the first listener's distance) and the balloon's sphere fit in the fluid.
+
+    Checked at load time, before any output is made: in a room the circle and the balloon must stay
+    inside its walls, and the sound must reach the circle within the room's window.
+    """
+    import numpy as np
+
+    from ..core.reach import check_view_radius
+    from ..field.directivity import circle_points, room_window
+
+    src = scene.source
+    if scene.wants("directivity"):
+        lst = scene.data["listeners"][0]
+        key = "listeners[0]." + ("position_m" if lst["position_m"] is not None else "distance_m")
+        (_, pos), *_ = scene.listeners()
+        try:
+            pts = circle_points(conf, float(np.linalg.norm(np.asarray(pos) - conf.centre)), [0.0, math.pi / 2])
+            room_window(conf, pts, scene.medium())
+        except ParameterError as exc:
+            raise SceneError(src, key, f"the directivity's circle (its radius the first listener's distance "
+                                       f"from the sphere's centre): {exc.detail}") from None
+    if scene.wants("balloon"):
+        try:
+            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 2.1 * conf.radius)
+        except ParameterError as exc:
+            raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 
 
 def scene_from_text(text: str, source: str = "<scene>") -> Scene:

@@ -230,7 +230,19 @@ _OUT = {
                                  "PCM_24", choices=("PCM_24", "FLOAT")),
                   "struck_wall": Key("int", "damper wall lying on the struck surface z = 0", -1, low=-1, high=1),
                   "walls": Key("str", "'both': impacts on the far wall radiate from it with the reversed axis; "
-                               "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one"))},
+                               "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one")),
+                  "late_tail": Key("bool", "room: images exactly only until the transition time, then a seeded "
+                                   "statistical tail (noise decaying per band, Eyring's T60 by default) until "
+                                   "configuration.tolerance_db of the energy", False),
+                  "tail_seed": Key("int", "room: seed of the tail's noise", 20261126, low=0, high=2**63 - 1),
+                  "tail_decay": Key("str", "room: the tail's decay, Eyring's T60 per band or the image sum's own",
+                                    "eyring", choices=("eyring", "images")),
+                  "transition_s": _pos("room, late_tail: transition time from the start of contact (default: "
+                                       "max(sqrt(V) ms, one reflection per contact duration))", "s", None, high=10.0),
+                  "absorption_bands": Key("str", "room: absorption per octave band instead of configuration."
+                                          "absorption, 'F:A,F:A,...' (centre F in Hz in [16, 20000], increasing; "
+                                          "alpha A in [0, 1)) or 'F:A1/A2/A3/A4/A5/A6,...' per surface; the "
+                                          "room's other outputs use each surface's least absorbing band", None)},
                  "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
     "levels": Table({"loudness": Key("bool", "also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)",
                                      False)},

@@ -73,13 +73,17 @@ def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz:
     Returns
     -------
     float
-        ``20 log10(max|p| / 20 µPa)``.
+        ``20 log10(max|p| / 20 µPa)``; in a room, over the images that arrive within its window
+        (:func:`acoustiviz.field.directivity.room_window`).
     """
     from ..core.contact import Impact, acceleration_pulse
     from ..field import field_metrics
+    from ..field.directivity import room_window
 
     imp = Impact(velocity=float(velocity), k_hertz=k_hertz, mass=mass, partner_mass=partner_mass)
-    return float(field_metrics(acceleration_pulse(imp, pulse), point, config, medium=medium).peak_spl_db[0])
+    window = room_window(config, np.atleast_2d(point), medium)  # a room: the images arriving within its window
+    return float(field_metrics(acceleration_pulse(imp, pulse), point, config, medium=medium,
+                               window=window).peak_spl_db[0])
 
 
 def max_spl_db(velocities, *, n_fastest: int = 4, **impact_kwargs) -> tuple[float, int]:

@@ -27,7 +27,7 @@ from ..constants import (
     SOLVERS,
     TABLE1,
 )
-from ..core.geometry import CONFIGURATIONS, Geometry, geometry, geometry_class
+from ..core.geometry import GEOMETRIES, Geometry, geometry
 from ..errors import ParameterError
 
 __all__ = [
@@ -264,9 +264,13 @@ class Settings:
         Settled once every later maximum stays below this fraction of the first (0.05).
     levels : bool
         Also render each run's click train at the listener and report its LAFmax, LCpeak and
-        LAeq over the run (:mod:`acoustiviz.sweep.levels`; about 0.3 s more per 20 s run, 17 times a
-        design without them, so off by
-        default: the columns are then empty).
+        LAeq over the run (:mod:`acoustiviz.sweep.levels`; many times the cost of the motion, measured
+        by ``benchmarks/bench_sweep.py``, so off by default: the columns are then empty).
+    room : mapping or sequence of (key, value), optional
+        The settings of a geometry that needs more than a radius (a shoebox room,
+        :class:`acoustiviz.core.room_geometry.Room`: ``dimensions``, ``absorption``, ``source``,
+        ``order``, ``tolerance_db``, ``duration``, ...); kept as sorted ``(key, value)`` pairs with
+        tuples for sequences. Designs whose configuration is such a geometry are built with them.
     """
 
     M: float = TABLE1["M"]
@@ -289,6 +293,7 @@ class Settings:
     fit_window_fraction: float = 0.3
     settling_fraction: float = 0.05
     levels: bool = False
+    room: tuple | None = None
 
     def __post_init__(self):
         check_positive("M", self.M, "kg")
@@ -316,6 +321,23 @@ class Settings:
         check_range("settling_fraction", self.settling_fraction, 0.0, 1.0, low_open=True, high_open=True)
         if not isinstance(self.levels, bool):
             raise ParameterError("levels", f"must be True or False, got {self.levels!r}")
+        if self.room is not None:
+            items = self.room.items() if isinstance(self.room, dict) else self.room
+            object.__setattr__(self, "room", tuple(sorted((str(k), _frozen(v)) for k, v in items)))
+
+    @property
+    def geometry_settings(self) -> dict:
+        """The settings a design's geometry is built with beyond its radius (the room's and the sound speed)."""
+        if self.room is None:
+            return {"wall_distance": self.wall_distance}
+        return {"wall_distance": self.wall_distance, "sound_speed": self.c, **dict(self.room)}
+
+
+def _frozen(value):
+    """``value`` with every list or tuple (recursively) a tuple: hashable and equal after a JSON round trip."""
+    if isinstance(value, (list, tuple)):
+        return tuple(_frozen(v) for v in value)
+    return value
 
 
 @dataclass(frozen=True)
@@ -362,7 +384,7 @@ class Design:
 
     def geometry(self, settings: Settings) -> Geometry:
         """The design's geometry: its configuration around its sphere, with the sweep's wall distance."""
-        return geometry(self.config, self.radius, lenient=True, wall_distance=settings.wall_distance)
+        return geometry(self.config, self.radius, lenient=True, **settings.geometry_settings)
 
 
 @dataclass(frozen=True)
@@ -445,15 +467,8 @@ class SweepSpec:
         _check_all("v0", self.v0, _check_nonzero)
         _check_all("distance", self.distance, check_positive, "m")
         _check_all("angle", self.angle, check_range, 0.0, math.pi, unit="rad")
-        _check_all("config", self.config, check_choice, CONFIGURATIONS)
-        for cfg in self.config:
-            limit = geometry_class(cfg).polar_limit_deg
-            for a in self.angle:
-                if a > math.radians(limit) + 1e-12:
-                    raise ParameterError(
-                        "angle", f"must be <= {math.radians(limit):.6g} rad ({limit:g} deg) with the {cfg} "
-                                 f"configuration, got {a:g} rad")
-        # build every design now so that bad combinations fail before any work
+        _check_all("config", self.config, check_choice, sweepable(self.settings))
+        # build every design now so that bad combinations (an angle beyond the fluid) fail before any work
         self.designs()
 
     @property
@@ -498,7 +513,10 @@ class SweepSpec:
                 raise ParameterError("distance", f"must exceed the sphere radius {radius:g} m, got {dist:g} m")
             design = Design(i, float(gap), float(m), float(c1), float(kh), mat, float(v0), float(dist),
                             float(ang), cfg, radius)
-            design.geometry(s)  # a wall closer than the radius fails here, naming wall_distance
+            limit = design.geometry(s).polar_limit_deg  # a wall closer than the radius fails here
+            if ang > math.radians(limit) + 1e-12:
+                raise ParameterError("angle", f"must be <= {math.radians(limit):.6g} rad ({limit:g} deg) with the "
+                                              f"{cfg} configuration, got {ang:g} rad")
             out.append(design)
         return tuple(out)
 
@@ -507,6 +525,8 @@ class SweepSpec:
         d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "settings"}
         d = {k: (list(v) if v is not None else None) for k, v in d.items()}
         d["settings"] = asdict(self.settings)
+        if d["settings"]["room"] is None:  # a sweep without a room reads as before rooms were swept
+            del d["settings"]["room"]
         return d
 
     @classmethod
@@ -516,6 +536,12 @@ class SweepSpec:
         settings = Settings(**d.pop("settings"))
         kw = {k: (tuple(v) if v is not None else None) for k, v in d.items()}
         return cls(**kw, settings=settings)
+
+
+def sweepable(settings: Settings) -> tuple:
+    """Names of the geometries a sweep with ``settings`` can build: those whose required settings it has."""
+    given = dict(settings.room or ())
+    return tuple(n for n, c in GEOMETRIES.items() if all(k in given for k in c.REQUIRED))
 
 
 def sphere_radius(mass: float, settings: Settings, material: str | None = None) -> float:

@@ -60,6 +60,7 @@ from __future__ import annotations
 
 from ...constants import P_REF
 from ...errors import ClippingWarning
+from .room_sound import RoomSound, parse_absorption_bands
 from .sources import (
     MASS_MODELS,
     WALL_MODELS,
@@ -104,6 +105,8 @@ __all__ = [
     "check_listeners",
     "ear_positions",
     "render",
+    "RoomSound",
+    "parse_absorption_bands",
     "shared_scale",
     "write_wav",
     "write_sidecar",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -180,20 +181,28 @@ def decimation_filter(oversampling: int) -> np.ndarray:
     Returns
     -------
     ndarray
-        Filter taps (sum 1).
+        Filter taps (sum 1), read-only: the design (a long Kaiser window) is made once per factor
+        and shared by every render.
     """
-    from scipy.signal import firwin, kaiser_beta
-
     L = int(oversampling)
     if L < 2 or L != oversampling:
         raise ParameterError("oversampling", f"must be an integer >= 2, got {oversampling!r}")
+    return _decimation_taps(L)
+
+
+@functools.lru_cache(maxsize=8)
+def _decimation_taps(L: int) -> np.ndarray:
+    from scipy.signal import firwin, kaiser_beta
+
     width = (0.5 - PASSBAND_FRACTION) / L * 2.0  # transition width as a fraction of the internal Nyquist
     atten = STOPBAND_ATTENUATION_DB + 3.0  # Kaiser's formulas are approximate: design with a margin
     numtaps = math.ceil((atten - 7.95) / (2.285 * math.pi * width)) + 1
     k = math.ceil((numtaps - 1) / (2 * L))
     cutoff = (PASSBAND_FRACTION + 0.5) / 2.0 / L * 2.0  # mid-transition, fraction of the internal Nyquist
     h = firwin(2 * k * L + 1, cutoff, window=("kaiser", kaiser_beta(atten)))
-    return h / h.sum()
+    h /= h.sum()
+    h.flags.writeable = False
+    return h
 
 
 # --------------------------------------------------------------------------- synthesis
@@ -217,6 +226,9 @@ class Rendering:
         Geometry and medium.
     model : ClickModel
         Contact and pulse model.
+    room : dict, optional
+        In a room rendered with a :class:`~acoustiviz.output.audio.room_sound.RoomSound`: the
+        exact image order, the transition time, the tail and the bands (JSON-ready).
     """
 
     pressure: np.ndarray
@@ -226,6 +238,7 @@ class Rendering:
     sequence: ImpactSequence
     scene: CavityScene
     model: ClickModel
+    room: dict | None = None
 
     @property
     def n_samples(self) -> int:
@@ -250,7 +263,7 @@ class Rendering:
     def describe(self) -> dict:
         """A JSON-ready record of everything that made this rendering (without file details)."""
         seq = self.sequence
-        return {
+        out = {
             "sample_rate_hz": self.sample_rate,
             "internal_rate_hz": self.internal_rate,
             "band_limit": band_limit(self.sample_rate),
@@ -262,10 +275,16 @@ class Rendering:
             "scene": self.scene.describe(),
             "click_model": self.model.describe(),
         }
+        if self.room is not None:  # the exact images, the transition and the tail replace the room's own order
+            out["scene"].update({k: self.room[k] for k in ("image_order", "images", "neglected_energy_db",
+                                                             "late_tail", "transition_s")})
+            out["room_sound"] = self.room
+        return out
 
 
 def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, listeners, *,
-           sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None) -> Rendering:
+           sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None,
+           room_sound=None) -> Rendering:
     """Render an impact sequence into band-limited pressure signals at the listeners.
 
     Parameters
@@ -285,6 +304,10 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
         (never cut short).
     oversampling : int, optional
         Internal rate over output rate; default :func:`oversampling_factor`.
+    room_sound : RoomSound, optional
+        In a room: a statistical late tail after the exact early images, and the absorption per
+        octave band (:mod:`acoustiviz.output.audio.room_sound`); without it every image to the
+        room's energy tolerance is summed exactly.
 
     Returns
     -------
@@ -308,6 +331,10 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     (1, 102)
     """
     pts, fs, duration = _check_render_args(sequence, scene, model, listeners, sample_rate, duration)
+    if room_sound is not None:  # a RoomSound renders the room itself (room_sound.py builds on this module)
+        if not callable(getattr(room_sound, "render_scene", None)):
+            raise ParameterError("room_sound", f"expected a RoomSound, got {type(room_sound).__name__}")
+        return room_sound.render_scene(sequence, scene, model, pts, fs, duration, oversampling)
     a, medium = scene.radius, scene.medium
     pulses = [model.pulse_for(v) for v in sequence.velocities]
     taus = np.array([p.duration for p in pulses]) if pulses else np.array([1.0])
