@@ -153,9 +153,8 @@ def spec_from_args(args):
     from ..app.names import user_terms
     from ..app.sweep import SWEEP_OPTIONS, sweep_spec
 
-    given = _given(args)
     with user_terms(SWEEP_OPTIONS):
-        return sweep_spec(**given)
+        return sweep_spec(**_given(args))
 
 
 def run(args) -> int:
