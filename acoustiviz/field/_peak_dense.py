@@ -270,6 +270,17 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     tol = 1e-12 * radius
     g0 = 0j
     h0 = 0j
+    ptab = np.empty((ctable.shape[0], 8))  # pair_table(ctable)
+    for q in range(ctable.shape[0]):
+        g, dg, hh, dh = ctable[q, 0], ctable[q, 1], ctable[q, 2], ctable[q, 3]
+        ptab[q, 0] = g.real + hh.real
+        ptab[q, 1] = dg.real + dh.real
+        ptab[q, 2] = g.imag - hh.imag
+        ptab[q, 3] = dg.imag - dh.imag
+        ptab[q, 4] = g.imag + hh.imag
+        ptab[q, 5] = dg.imag + dh.imag
+        ptab[q, 6] = g.real - hh.real
+        ptab[q, 7] = dg.real - dh.real
     if do_exp:
         g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
     for i in range(n):
@@ -298,16 +309,16 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             are[j] = p0 * ra
             aim[j] = -p0 * (1.0 - ra)
         order = np.argsort(delays)
-        if do_exp:
-            res[i, 4] = _exposure_sorted(order, delays, are, aim, ctau, cs, cstep, ctable, cyend, m_g, m_h, g0, h0)
-        else:
-            res[i, 4] = np.nan
         for q in range(nimg):
             j = order[q]
             ds[q] = delays[j]
             ar[q] = are[j]
             ai[q] = aim[j]
             mag[q] = math.sqrt(are[j] ** 2 + aim[j] ** 2)
+        if do_exp:
+            res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
+        else:
+            res[i, 4] = np.nan
         dmin = ds[0]
         for q in range(nimg):
             nq[q] = int(round((ds[q] - dmin) / h))

@@ -258,52 +258,89 @@ PAIRS_ABOVE = 64
 _BYTES_PER_SOURCE = 96
 
 
+def pair_table(table: np.ndarray) -> np.ndarray:
+    """The correlation table recombined for real pair sums: ``Re G ± Re H`` and ``Im G ∓ Im H``.
+
+    Parameters
+    ----------
+    table : (nodes, 4) complex ndarray
+        ``G``, ``step G'``, ``H``, ``step H'`` at the lags (:attr:`PulseCorrelations.table`).
+
+    Returns
+    -------
+    (nodes, 8) ndarray
+        ``Re(G + H)``, ``Im(G - H)``, ``Im(G + H)``, ``Re(G - H)``, each followed by ``step``
+        times its derivative, in (m/s)²·s: for a pair ``j`` before ``k``,
+        ``Re[a_k a_j G + a_k ā_j H] = a_k' (a_j' A - a_j'' B₋) - a_k'' (a_j'' D + a_j' B₊)``
+        (``'`` and ``''`` the real and imaginary parts).
+    """
+    g, dg, hh, dh = table[:, 0], table[:, 1], table[:, 2], table[:, 3]
+    out = np.empty((table.shape[0], 8))
+    for col, (v, dv) in enumerate(((g.real + hh.real, dg.real + dh.real), (g.imag - hh.imag, dg.imag - dh.imag),
+                                   (g.imag + hh.imag, dg.imag + dh.imag), (g.real - hh.real, dg.real - dh.real))):
+        out[:, 2 * col] = v
+        out[:, 2 * col + 1] = dv
+    return out
+
+
 @_njit(cache=True)
-def _exposure_sorted(order, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, g0, h0):  # pragma: no cover
-    """``∫ p² dt`` of one point from its sources taken in order of arrival (``order``), in O(n + close pairs).
+def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  # pragma: no cover - compiled
+    """``∫ p² dt`` of one point from its sources sorted by arrival (``ds`` ascending), in O(n + close pairs).
 
     A pair ``j`` before ``k`` with lag ``Δ = d_k - d_j >= T`` correlates in closed form,
     ``G(Δ) = Y(T) e^{s(Δ - T)} m_g`` and ``H(Δ) = conj(Y(T) e^{s(Δ - T)}) m_h``, so that all of them
     together give ``Re[a_k (Y(T) m_g S_k + conj(Y(T)) m_h conj(S_k))]`` with
     ``S_k = Σ_{d_j <= d_k - T} a_j e^{s (d_k - d_j - T)}``, carried from one arrival to the next
     (every factor ``|e^{s x}| <= 1``, ``x >= 0``: no growth of round-off). The pairs closer than
-    ``T`` read the tabulated correlations (:func:`_correlation_at`).
+    ``T`` read the tabulated correlations (:func:`pair_table` of :attr:`PulseCorrelations.table`,
+    cubic Hermite as :func:`_correlation_at`).
     """
-    n = order.size
+    n = ds.size
     cg = y_end * m_g
     ch = np.conj(y_end) * m_h
+    last = ptab.shape[0] - 2
     total = 0.0
     acc = 0j  # S at the arrival of the previous source
-    t_acc = 0.0
     first = 0  # the earliest source not yet in S
-    for kk in range(n):
-        k = order[kk]
-        dk = delays[k]
-        ak = complex(are[k], aim[k])
-        total += 0.5 * (ak * ak * g0 + (are[k] ** 2 + aim[k] ** 2) * h0).real
-        if kk > 0:
-            acc *= np.exp(s * (dk - t_acc))
-        t_acc = dk
-        while first < kk and delays[order[first]] <= dk - tau:
-            j = order[first]
-            acc += complex(are[j], aim[j]) * np.exp(s * (dk - delays[j] - tau))
+    for k in range(n):
+        dk = ds[k]
+        akr = ar[k]
+        aki = ai[k]
+        ak = complex(akr, aki)
+        total += 0.5 * (ak * ak * g0 + (akr * akr + aki * aki) * h0).real
+        if k > 0:
+            acc *= np.exp(s * (dk - ds[k - 1]))
+        while first < k and ds[first] <= dk - tau:
+            acc += complex(ar[first], ai[first]) * np.exp(s * (dk - ds[first] - tau))
             first += 1
         total += (ak * (cg * acc + ch * np.conj(acc))).real
-        for jj in range(first, kk):  # closer than the pulse: the table
-            j = order[jj]
-            aj = complex(are[j], aim[j])
-            g, h = _correlation_at(dk - delays[j], tau, s, step, table, y_end, m_g, m_h)
-            total += (ak * aj * g + ak * np.conj(aj) * h).real
+        close = 0.0
+        for j in range(first, k):  # closer than the pulse: the table
+            x = (dk - ds[j]) / step
+            i = min(int(x), last)
+            t = x - i
+            u = 1.0 - t
+            h00 = (1.0 + 2.0 * t) * u * u
+            h10 = t * u * u
+            h01 = t * t * (3.0 - 2.0 * t)
+            h11 = -t * t * u
+            va = h00 * ptab[i, 0] + h10 * ptab[i, 1] + h01 * ptab[i + 1, 0] + h11 * ptab[i + 1, 1]
+            vbm = h00 * ptab[i, 2] + h10 * ptab[i, 3] + h01 * ptab[i + 1, 2] + h11 * ptab[i + 1, 3]
+            vbp = h00 * ptab[i, 4] + h10 * ptab[i, 5] + h01 * ptab[i + 1, 4] + h11 * ptab[i + 1, 5]
+            vd = h00 * ptab[i, 6] + h10 * ptab[i, 7] + h01 * ptab[i + 1, 6] + h11 * ptab[i + 1, 7]
+            close += akr * (ar[j] * va - ai[j] * vbm) - aki * (ai[j] * vd + ar[j] * vbp)
+        total += close
     return total
 
 
 @_njit(cache=True)
-def _exposure_kernel_sorted(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover
+def _exposure_kernel_sorted(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, ptab):  # pragma: no cover
     """:func:`_exposure_kernel` by :func:`_exposure_sorted` at each point (delays sorted per point)."""
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
     for i in range(delays.shape[0]):
         order = np.argsort(delays[i])
-        out[i] = _exposure_sorted(order, delays[i], are[i], aim[i], tau, s, step, table, y_end, m_g, m_h, g0, h0)
+        out[i] = _exposure_sorted(delays[i][order], are[i][order], aim[i][order], tau, s, step, ptab, y_end, m_g,
+                                  m_h, g0, h0)
 
 
 def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
@@ -351,7 +388,7 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
         args = (res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
                 corr.m_g, corr.m_h)
         if delay.shape[1] > PAIRS_ABOVE:
-            _exposure_kernel_sorted(*args)
+            _exposure_kernel_sorted(*args, pair_table(corr.table))
         else:
             _exposure_kernel(*args)
         res[inside] = np.nan
