@@ -271,14 +271,17 @@ def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("reso
 
     Memory: 512 B per point (points, results, maps, the copies made by the writers) plus the evaluator's
     observer-independent tables (two float64 tables of ``fine`` rows over the images' delay
-    spread plus the pulse, in steps of ``min(T, a/c) / samples``); output: the CSV (about 120 B
-    a point) and the VTK file (about 128 B a point).
+    spread plus the pulse, in steps of ``min(T, a/c) / samples``; over the pulse only past
+    :data:`acoustiviz.field.peaks.PULSE_TABLE_ABOVE` images); output: the CSV (about 120 B a
+    point) and the VTK file (about 128 B a point).
     """
-    from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES
+    from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES, PULSE_TABLE_ABOVE
     from .budget import Estimate
 
     pos = config.images().positions
-    spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
+    spread = 0.0
+    if pos.shape[0] <= PULSE_TABLE_ABOVE:
+        spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     step = min(float(pulse.duration), config.radius / medium.c) / DEFAULT_SAMPLES
     with np.errstate(all="ignore"):
         table = 16.0 * DEFAULT_FINE * ((2.0 * spread + float(pulse.duration)) / step + 64.0)

@@ -253,6 +253,9 @@ def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h
 #: Above this many sources (a room's images) the exposure sorts the arrivals and sums the pairs
 #: further apart than the pulse in closed form, as one running sum (:func:`_exposure_sorted`).
 PAIRS_ABOVE = 64
+#: The running sum of :func:`_exposure_sorted` keeps its reference time within this many decay
+#: times ``1/|Re s|`` of the latest arrival.
+EPOCH = 16.0
 #: Bytes of working memory per point and source of :func:`exposure` (delays, amplitudes, shape
 #: coefficients, distances and temporaries), for its chunk under the evaluator's memory cap.
 _BYTES_PER_SOURCE = 96
@@ -298,9 +301,24 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
     n = ds.size
     cg = y_end * m_g
     ch = np.conj(y_end) * m_h
-    last = ptab.shape[0] - 2
+    inv = 1.0 / step
+    last = ptab.shape[0] - 2  # lags below T = (rows - 1) step read a row and the next
+    # S_k = e_k B with e_k = e^{s (d_k - r)} for a reference r moved forward by whole epochs of
+    # EPOCH/|Re s| (so |e_k| >= e^{-EPOCH}) and B = Σ a_j e^{-sT} e^{s (r - d_j)}: one exponential
+    # per source, the rest products (|e^{s(r - d_j)}| <= e^{EPOCH} for the sources added)
+    span = EPOCH / -s.real
+    q_epoch = np.exp(s * span)
+    fall = np.exp(-s * tau)
+    qpow = np.empty(48, np.complex128)  # q_epoch^m (below 1e-300 past 43 epochs: zero)
+    qpow[0] = 1.0
+    for m in range(1, 48):
+        qpow[m] = qpow[m - 1] * q_epoch
+    eks = np.empty(n, np.complex128)
+    epochs = np.empty(n, np.int64)
     total = 0.0
-    acc = 0j  # S at the arrival of the previous source
+    ref = ds[0]
+    epoch = 0
+    bsum = 0j
     first = 0  # the earliest source not yet in S
     for k in range(n):
         dk = ds[k]
@@ -308,15 +326,23 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
         aki = ai[k]
         ak = complex(akr, aki)
         total += 0.5 * (ak * ak * g0 + (akr * akr + aki * aki) * h0).real
-        if k > 0:
-            acc *= np.exp(s * (dk - ds[k - 1]))
-        while first < k and ds[first] <= dk - tau:
-            acc += complex(ar[first], ai[first]) * np.exp(s * (dk - ds[first] - tau))
+        while dk - ref > span:  # a new epoch: B follows the reference
+            ref += span
+            epoch += 1
+            bsum *= q_epoch
+        ek = np.exp(s * (dk - ref))
+        eks[k] = ek
+        epochs[k] = epoch
+        while first < k and ds[first] <= dk - tau:  # e^{s (r - d_j)} = q_epoch^(epochs since j) / e_j
+            m = epoch - epochs[first]
+            if m < 48:
+                bsum += complex(ar[first], ai[first]) * fall * qpow[m] / eks[first]
             first += 1
+        acc = ek * bsum
         total += (ak * (cg * acc + ch * np.conj(acc))).real
         close = 0.0
-        for j in range(first, k):  # closer than the pulse: the table
-            x = (dk - ds[j]) / step
+        for j in range(first, k):  # closer than the pulse (lag < T): the table, row below the lag
+            x = (dk - ds[j]) * inv
             i = min(int(x), last)
             t = x - i
             u = 1.0 - t
@@ -324,10 +350,12 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
             h10 = t * u * u
             h01 = t * t * (3.0 - 2.0 * t)
             h11 = -t * t * u
-            va = h00 * ptab[i, 0] + h10 * ptab[i, 1] + h01 * ptab[i + 1, 0] + h11 * ptab[i + 1, 1]
-            vbm = h00 * ptab[i, 2] + h10 * ptab[i, 3] + h01 * ptab[i + 1, 2] + h11 * ptab[i + 1, 3]
-            vbp = h00 * ptab[i, 4] + h10 * ptab[i, 5] + h01 * ptab[i + 1, 4] + h11 * ptab[i + 1, 5]
-            vd = h00 * ptab[i, 6] + h10 * ptab[i, 7] + h01 * ptab[i + 1, 6] + h11 * ptab[i + 1, 7]
+            row = ptab[i]
+            nxt = ptab[i + 1]
+            va = h00 * row[0] + h10 * row[1] + h01 * nxt[0] + h11 * nxt[1]
+            vbm = h00 * row[2] + h10 * row[3] + h01 * nxt[2] + h11 * nxt[3]
+            vbp = h00 * row[4] + h10 * row[5] + h01 * nxt[4] + h11 * nxt[5]
+            vd = h00 * row[6] + h10 * row[7] + h01 * nxt[6] + h11 * nxt[7]
             close += akr * (ar[j] * va - ai[j] * vbm) - aki * (ai[j] * vd + ar[j] * vbp)
         total += close
     return total
