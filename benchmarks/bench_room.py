@@ -1,6 +1,7 @@
 """Speed of the shoebox room's image sources, and pyroomacoustics' impulse responses of the same room.
 
-Run ``python benchmarks/bench_room.py`` (``--quick``: orders to 10 and 1e3 receivers).
+Run ``python benchmarks/bench_room.py`` (``--quick``: orders to 10 and 1e3 receivers; ``--write``:
+also save the output in ``benchmarks/results/bench_room.txt``).
 
 1. Image construction (:func:`acoustiviz.core.room.image_sources`) by order 1..30 in a 6 x 4 x 3 m
    room with alpha = 0.1 on every surface: the number of images, the best of several runs, and the
@@ -31,7 +32,7 @@ import argparse
 import time
 
 import numpy as np
-from _timing import best_of
+from _timing import best_of, run_writing
 
 from acoustiviz.constants import ANALYSIS_RATE
 from acoustiviz.core.room import Shoebox, image_count, image_sources
@@ -233,4 +234,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_writing("bench_room", main))

@@ -42,7 +42,7 @@ def _closed_form(pulse, room, pts, when):
     return np.sum(p0 * (cc.real * y.real - cc.imag * y.imag), axis=1)
 
 
-@pytest.mark.parametrize("kind", ["half-sine", "hertz"])
+@pytest.mark.parametrize("kind", ["half-sine", "hertz", "impulse-matched"])
 def test_room_peaks_equal_the_refined_field_metrics_and_the_closed_form(kind, monkeypatch):
     """Order 4 (129 images): each peak is the pressure at its time (closed form, 1e-10 of the peak), never
     below field_metrics' refined peak by more than 1e-8 and nearly always equal to it."""
