@@ -75,9 +75,15 @@ class Scene:
             return None
         o = self.output_or_defaults("wav")
         try:
-            return room_sound(late_tail=o["late_tail"], seed=o["tail_seed"], decay=o["tail_decay"],
-                              transition=o["transition_s"], absorption_bands=o["absorption_bands"],
-                              names=ROOM_SOUND_SCENE_KEYS)
+            rs = room_sound(late_tail=o["late_tail"], seed=o["tail_seed"], decay=o["tail_decay"],
+                            transition=o["transition_s"], absorption_bands=o["absorption_bands"],
+                            names=ROOM_SOUND_SCENE_KEYS)
+            if rs is not None:
+                try:
+                    rs.check_room(self.data["configuration"]["absorption"] or 0.0)
+                except ParameterError as exc:
+                    raise ParameterError(ROOM_SOUND_SCENE_KEYS[exc.name], exc.detail) from None
+            return rs
         except SceneError:
             raise
         except ParameterError as exc:

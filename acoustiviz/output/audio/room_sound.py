@@ -125,6 +125,19 @@ class RoomSound:
             object.__setattr__(self, "band_centres", tuple(float(x) for x in c))
             object.__setattr__(self, "band_absorption", a)
 
+    def check_room(self, absorption) -> None:
+        """Refuse a tail in a room that does not decay: ``absorption`` (any shape, per surface first) all zero.
+
+        With bands their absorption is the room's; a ParameterError names ``late_tail``.
+        """
+        if not self.late_tail:
+            return
+        # the band that absorbs least, at its most absorbing surface: zero means no decay at all
+        worst = float(self.band_absorption.max(axis=0).min()) if self.banded else float(np.max(absorption))
+        if worst <= 0.0:
+            raise ParameterError("late_tail", "needs absorption > 0 on some surface (in every band): a rigid room "
+                                              "does not decay")
+
     def render_scene(self, sequence, scene, model, pts, fs: int, duration, oversampling):
         """:func:`render_room` with these settings (what :func:`acoustiviz.output.audio.render` calls)."""
         return render_room(sequence, scene, model, pts, fs, duration, oversampling, self)
