@@ -229,6 +229,7 @@ absorption_bands = "{bands}"
     (["--room", "6,4,3", "--absorption-bands", "5:0.1"], "--absorption-bands"),
     (["--room", "6,4,3", "--absorption", "0.1", "--absorption-bands", "125:0.1"], "--absorption-bands"),
     (["--room", "6,4,3", "--late-tail"], "--late-tail"),  # rigid: no decay
+    (["--room", "6,4,3", "--absorption", "0.1", "--late-tail", "--image-order", "2"], "--image-order"),
     (["--room", "6,4,3", "--late-tail", "--absorption-bands", "125:0,250:0.2"], "--late-tail"),
 ])
 def test_bad_room_sound_options_exit_2_naming_the_option(extra, option, tmp_path, capsys):

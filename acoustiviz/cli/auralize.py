@@ -497,8 +497,8 @@ def run(args) -> int:
         from ..app.names import user_terms
         from ..app.wav import ROOM_SOUND_OPTIONS
 
-        with user_terms(ROOM_SOUND_OPTIONS):
-            rs.check_room(scene.configuration.absorption)
+        with user_terms({**ROOM_SOUND_OPTIONS, "order": "--image-order"}):
+            rs.check_room(scene.configuration)
     model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
                        pulse=args.pulse)
     listeners = _listeners_of(args, scene, room)

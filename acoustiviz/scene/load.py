@@ -79,10 +79,13 @@ class Scene:
                             transition=o["transition_s"], absorption_bands=o["absorption_bands"],
                             names=ROOM_SOUND_SCENE_KEYS)
             if rs is not None:
+                settings = _geometry_settings(self.data["configuration"])
+                conf = geometry("room", self.data["sphere"]["radius_m"], **settings)
                 try:
-                    rs.check_room(self.data["configuration"]["absorption"] or 0.0)
+                    rs.check_room(conf)
                 except ParameterError as exc:
-                    raise ParameterError(ROOM_SOUND_SCENE_KEYS[exc.name], exc.detail) from None
+                    key = {**ROOM_SOUND_SCENE_KEYS, "order": "configuration.image_order"}[exc.name]
+                    raise ParameterError(key, exc.detail) from None
             return rs
         except SceneError:
             raise

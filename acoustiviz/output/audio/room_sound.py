@@ -125,18 +125,26 @@ class RoomSound:
             object.__setattr__(self, "band_centres", tuple(float(x) for x in c))
             object.__setattr__(self, "band_absorption", a)
 
-    def check_room(self, absorption) -> None:
-        """Refuse a tail in a room that does not decay: ``absorption`` (any shape, per surface first) all zero.
+    def check_room(self, room) -> None:
+        """Refuse what this room cannot give, before any work (a ParameterError naming the parameter).
 
-        With bands their absorption is the room's; a ParameterError names ``late_tail``.
+        ``room``: the :class:`~acoustiviz.core.room_geometry.Room`. A tail needs a room that decays
+        (absorption > 0 on some surface in every band; ``late_tail``), and a given image order must
+        be complete at some time after the start (``order`` >= 3) to hand over to it.
         """
+        from ...core.reverberation import complete_until
+
         if not self.late_tail:
             return
         # the band that absorbs least, at its most absorbing surface: zero means no decay at all
-        worst = float(self.band_absorption.max(axis=0).min()) if self.banded else float(np.max(absorption))
+        worst = float(self.band_absorption.max(axis=0).min()) if self.banded else float(np.max(room.absorption))
         if worst <= 0.0:
             raise ParameterError("late_tail", "needs absorption > 0 on some surface (in every band): a rigid room "
                                               "does not decay")
+        if self.transition is None and room.order is not None and \
+                complete_until(room.shoebox, room.order, radius=room.radius) <= 0.0:
+            raise ParameterError("order", f"with a late tail the exact images must be complete until some time: "
+                                          f"an order >= 3, got {room.order}")
 
     def render_scene(self, sequence, scene, model, pts, fs: int, duration, oversampling):
         """:func:`render_room` with these settings (what :func:`acoustiviz.output.audio.render` calls)."""
@@ -237,9 +245,13 @@ def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
     need = energy_order(box, tol, radius=a, medium=medium, duration=conf.duration, max_order=cap)
     if not rs.late_tail:
         return _Plan(need.order, None, None, need.neglected_db, box, "images to the tolerance")
-    t_x = rs.transition if rs.transition is not None else max(
-        mixing_time(box), echo_density_time(box, shortest_click, medium=medium))
-    n_x = 2 + math.ceil((medium.c * t_x + a) / box.lattice_spacing)  # complete_until(n_x) >= t_x
+    if rs.transition is None and conf.order is not None:  # the given order, complete until complete_until(N)
+        n_x = conf.order
+        t_x = complete_until(box, n_x, radius=a, medium=medium)
+    else:
+        t_x = rs.transition if rs.transition is not None else max(
+            mixing_time(box), echo_density_time(box, shortest_click, medium=medium))
+        n_x = 2 + math.ceil((medium.c * t_x + a) / box.lattice_spacing)  # complete_until(n_x) >= t_x
     n_budget = 0
     while image_count(n_budget + 1) <= rs.max_images:
         n_budget += 1
@@ -251,10 +263,13 @@ def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
         t_x = complete_until(box, n_x, radius=a, medium=medium)
         note = f"transition moved earlier to what max_images = {rs.max_images} exact images reach"
     else:
-        note = "transition: the given time" if rs.transition is not None else \
-            "transition: max(mixing time sqrt(V) ms, one reflection per contact duration)"
+        note = "transition: the given time" if rs.transition is not None else (
+            "transition: where the given image order is complete" if conf.order is not None else
+            "transition: max(mixing time sqrt(V) ms, one reflection per contact duration)")
     if t_x <= 0:
-        raise ParameterError("max_images", f"{rs.max_images} exact images reach no time in this room; allow more")
+        name = "order" if conf.order is not None and rs.transition is None and n_x == conf.order else "max_images"
+        raise ParameterError(name, f"the exact images to order {n_x} are complete at no time after the start in "
+                                   "this room; allow more (an order of 3 or more)")
     end, neg = tail_end(box, t_x, tol, decay=rs.decay, medium=medium)
     return _Plan(n_x, t_x, end, neg, box, note)
 
