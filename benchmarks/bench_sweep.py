@@ -12,7 +12,9 @@ process pool, and prints
   without and with the weighted levels of its run (``Settings.levels``: the click train rendered
   at 96 kHz, LAFmax, LCpeak and LAeq), and the extra cost of the levels per design.
 
-``--levels`` runs the sweep itself with the levels on.
+``--levels`` runs the sweep itself with the levels on; ``--write`` also keeps the output in
+``benchmarks/results/bench_sweep.txt`` (the levels' cost quoted in ``docs/guide/sweeps.md`` is read
+from it by ``docs/check_numbers.py``).
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ import os
 import statistics
 import tempfile
 import time
+
+from _timing import run_writing
 
 
 def main(argv=None) -> int:
@@ -79,4 +83,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_writing("bench_sweep", main))

@@ -559,6 +559,17 @@ SWEEP_CMD = "acoustiviz " + " ".join(SWEEP_ARGS)
 DESIGN_CMD = "acoustiviz " + " ".join(DESIGN_ARGS) + " --rank-by lafmax_db"
 AURALIZE_CMD = "acoustiviz auralize --wav damper.wav --levels"
 WAV_5S_CMD = "acoustiviz levels damper.wav --csv first5s.csv --start 0 --stop 5 --loudness"
+def produce_bench_sweep_levels() -> dict:
+    """The extra cost of a design's levels in a sweep, from ``bench_sweep.txt``.
+
+    Rounded to 10 ms and to a whole factor: the text says "about"; the file has the measured times.
+    """
+    text = _benchmark("bench_sweep")
+    m = re.search(r"one design alone, serial .*?: ([\d.]+) ms without levels, ([\d.]+) ms with", text)
+    base, lev = float(m.group(1)), float(m.group(2))
+    return {"ms": f"{10 * round((lev - base) / 10):d}", "times": f"{round(lev / base):d}"}
+
+
 def produce_bench_startup() -> dict:
     """The README main job's CPU time, cold (empty kernel cache) and warm, from ``bench_startup.txt``.
 
@@ -571,6 +582,9 @@ def produce_bench_startup() -> dict:
 
 
 REGISTRY = (
+    Figure("sweep-levels-cost", "docs/guide/sweeps.md",
+           r"It costs about (?P<ms>\d+) ms more per 20 s design, (?P<times>\d+) times the\s+motion alone",
+           produce_bench_sweep_levels, "python benchmarks/bench_sweep.py"),
     Figure("readme-startup", "README.md",
            r"on a 2-core machine about (?P<cold>\d+) s of CPU the first time, most of it\s+compiling the numba "
            r"kernels once per installation, then (?P<warm>\d+) s; measured by `benchmarks/bench_startup\.py`",

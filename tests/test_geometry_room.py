@@ -161,8 +161,8 @@ def test_normal_particle_velocity_vanishes_on_each_rigid_wall(wall):
 
 
 def test_room_exposure_over_near_pairs_equals_every_pair(monkeypatch):
-    """Past 64 images the exposure sums only pairs arriving within the pulse and 40 a/c of each other;
-    the dropped correlations are below exp(-40): the all-pairs sum agrees to 1e-12."""
+    """Past 64 images the exposure sorts the arrivals and sums the pairs further apart than the pulse
+    as one running sum of damped exponentials: the all-pairs sum agrees to 1e-12."""
     import sys
 
     import acoustiviz.field  # noqa: F401 - the module, not the function of the same name

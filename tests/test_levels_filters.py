@@ -16,8 +16,10 @@ from scipy.signal import sosfreqz
 
 from acoustiviz.levels._filters import (
     OctaveFilterBank,
+    WeightingFilter,
     band_frequencies,
     nominal_frequency,
+    sosfilt_normal,
     time_weighting,
     weighting_filter,
     weighting_poles_hz,
@@ -209,6 +211,35 @@ def test_bank_has_the_decimation_its_attributes_promise():
     assert np.all((bank.factor == 500) | (nyq * bank.factor / (bank.factor + 1) < 1.25 * bank.freq_u))
     assert all(s.shape == (6, 6) for s in bank.sos)
     assert "61672-1" in backend() and "61260-1" in backend()
+
+
+def _clicks_in_silence(fs=96000, seconds=2.0):
+    """Short clicks of 1 Pa every 80 ms: the long silences a rendered impact sequence is made of."""
+    x = np.zeros(int(fs * seconds))
+    n = np.arange(48)
+    for start in range(0, x.size - 48, int(0.08 * fs)):
+        x[start:start + 48] = np.sin(np.pi * n / 48) ** 2
+    return x
+
+
+@pytest.mark.parametrize("curve", ["A", "C"])
+def test_filtering_keeps_the_states_normal_and_moves_the_output_by_less_than_1e_148_of_the_peak(curve):
+    from scipy.signal import sosfilt
+
+    wf = WeightingFilter(96000, curve)
+    x = _clicks_in_silence()
+    exact = sosfilt(wf.sos, x)  # scipy's own filtering of the same sections, subnormal states and all
+    y = sosfilt_normal(wf.sos, x)
+    assert np.max(np.abs(y - exact)) <= 1e-148 * np.max(np.abs(x))
+    tiny = np.finfo(float).tiny
+
+    def subnormal(v):
+        return np.any((v != 0) & (np.abs(v) < tiny))
+
+    # the signal between the sections (what drives each section's state) after the first k sections
+    assert any(subnormal(sosfilt(wf.sos[:k], x)) for k in range(1, len(wf.sos) + 1))  # scipy's reaches it
+    assert not any(subnormal(sosfilt_normal(wf.sos[:k], x)) for k in range(1, len(wf.sos) + 1))
+    assert np.array_equal(sosfilt_normal(wf.sos, np.zeros(1000)), np.zeros(1000))  # silence stays exactly zero
 
 
 def test_bad_arguments_name_themselves():

@@ -170,16 +170,21 @@ def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=
     top = config.polar_limit_deg
     with np.errstate(all="ignore"):
         n = _count(_div(top, float(step_deg)) + 2.0)
-    per = _F8 * (3 + 12 + 9 * len(config.sources))
+    pos = np.asarray(config.images().positions, dtype=float)
+    per = _F8 * (3 + 12 + 9 * len(pos))
     est = Estimate(per * n, 60.0 * n, f"{n:.3g} angles", options)
     if pulse is None or medium is None:
         return est
     from ..field import default_sample_interval
 
-    pos = np.array([src.position for src in config.sources])
+    reach = getattr(config, "duration", None)  # a room: the window its images reach
     with np.errstate(all="ignore"):
-        spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
-        window = spread + float(pulse.duration) + 40.0 * config.radius / medium.c
+        if reach is not None:
+            window = float(reach)
+        else:  # the largest distance between two sources (bounded by twice the farthest from the real one)
+            spread = (float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) if len(pos) <= 64
+                      else 2.0 * float(np.max(np.linalg.norm(pos - pos[0], axis=1)))) / medium.c
+            window = spread + float(pulse.duration) + 40.0 * config.radius / medium.c
         m = _count(_div(window, default_sample_interval(pulse, config.radius, medium=medium)))
     if _F8 * m <= est.memory:
         return est

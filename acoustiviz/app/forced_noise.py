@@ -161,7 +161,7 @@ def _quiet_offset(arrivals: np.ndarray, window: float) -> float:
 
 
 def operating_noise(steady, *, listener=None, config: str = "plane", radius: float = PAPER_RADIUS,
-                    seconds: float = 1.0, sample_rate: int = NOISE_RATE) -> OperatingNoise:
+                    seconds: float = 1.0, sample_rate: int = NOISE_RATE, settings=None) -> OperatingNoise:
     """Render the steady-state impacts of ``steady`` at a listener and give their weighted levels.
 
     Parameters
@@ -169,9 +169,13 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     steady : acoustiviz.dynamics.forced.SteadyState
     listener : (3,) array_like, optional
         Position in m (default :func:`default_listener`, 0.7 m at 45° above the plane).
-    config : {"free", "plane", "wall-floor"}
+    config : {"free", "plane", "wall-floor", "room"}
     radius : float
         Sphere radius in m (default: the paper's 19.05 mm).
+    settings : dict, optional
+        The geometry's settings (:func:`acoustiviz.app.wav.cavity`: ``wall_distance``, ``strike``,
+        ``height``, or ``room``, the settings of a shoebox room), as a scene gives them
+        (:meth:`acoustiviz.scene.Scene.geometry_settings`).
     seconds : float
         Least length of the interval in s, (0, 60]; it spans whole periods of the motion.
     sample_rate : {44100, 48000, 96000}
@@ -195,7 +199,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         raise ParameterError("seconds", f"must lie in (0, 60] s, got {seconds:g}")
     model = steady.model
     period = steady.excitation.period
-    scene = cavity(config, radius, model.gap)
+    scene = cavity(config, radius, model.gap, **(settings or {}))
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
     keep = steady.impact_speeds > 0
@@ -208,7 +212,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         total = lead + reps + 1
         times = np.concatenate([base + k * window for k in range(total)]) if base.size else np.empty(0)
         walls, speeds = np.tile(walls, total), np.tile(speeds, total)
-        delay = float(np.linalg.norm(pts - np.array([0.0, 0.0, radius]))) / scene.medium.c
+        delay = float(np.linalg.norm(pts - np.asarray(scene.configuration.centre))) / scene.medium.c
         offset = _quiet_offset(base + delay, window)
         start, stop = lead * window + offset, (lead + reps) * window + offset
         cycles, end, settled = reps * steady.measured_cycles, total * window, True
@@ -242,13 +246,13 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
 
 
 def check_listener(model: DamperModel, listener=None, *, config: str = "plane", radius: float = PAPER_RADIUS,
-                   name: str = "--listener") -> np.ndarray:
+                   name: str = "--listener", settings=None) -> np.ndarray:
     """Check (before any run) that ``listener`` (m) lies outside the cavity's sphere and above its surfaces."""
     from ..output.audio import check_listeners
     from .wav import cavity
 
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
-    return check_listeners(pts, cavity(config, radius, model.gap), name=name)[0]
+    return check_listeners(pts, cavity(config, radius, model.gap, **(settings or {})), name=name)[0]
 
 
 def add_operating_noise(run, **kwargs) -> list:
@@ -372,7 +376,8 @@ def scene_noises(ctx, run) -> list:
         _, position = ctx.listeners[0]
         radius = ctx.scene.damper_sphere_radius()
         config = ctx.scene.section("configuration")["kind"]
-        noises = add_operating_noise(run, listener=position, config=config, radius=radius, seconds=opts["seconds"])
+        noises = add_operating_noise(run, listener=position, config=config, radius=radius, seconds=opts["seconds"],
+                                     settings=ctx.scene.geometry_settings())
         ctx._forced_noises = noises
     return noises
 

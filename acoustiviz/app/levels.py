@@ -317,11 +317,16 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     sphere, with the struck or the far wall's images) to the free sphere's, integrated at the
     quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
     ratio depends on the pulse only through its spectrum, which changes slowly with speed.
+
+    Not defined in a room (a geometry that is ``enclosed``): its walls close the fluid and return
+    the sound, so no surface around the sphere encloses an energy radiated away; refused with that
+    reason (a ParameterError naming ``config``).
     """
     from ..field.grids import spherical_grid_for
     from ..levels import radiated_energy_free, radiated_energy_grid, radiation_efficiency, sound_power
     from ..output.audio import wall_sources
 
+    cavity_scene.configuration.enclosure()  # a room refuses here, saying why, before any work
     a, medium = cavity_scene.radius, cavity_scene.medium
     v = np.abs(np.asarray(table.approach_velocity, dtype=float))
     walls = np.asarray(table.wall, dtype=float).astype(int)

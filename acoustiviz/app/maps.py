@@ -249,13 +249,16 @@ def _grid_spec(config, plane, height, extent, n):
     """Centre (m), edge vectors (m) and point counts of a map's grid, from checked settings."""
     c = np.asarray(config.centre, dtype=float)
     lo, hi = c - extent, c + extent
-    for p in config.planes:  # cut at the floor (z) and the wall (x)
+    for p in config.planes:  # cut at the floor (z) and the wall (x), and at a room's far walls and ceiling
         k = int(np.argmax(np.abs(p.normal)))
-        lo[k] = max(lo[k], float(p.point[k]))
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], float(p.point[k]))
+        else:
+            hi[k] = min(hi[k], float(p.point[k]))
     i, j = (0, 2) if plane == "vertical" else (0, 1)
     centre = 0.5 * (lo + hi)
     if plane == "vertical":
-        centre[1] = 0.0
+        centre[1] = c[1]
     else:
         centre[2] = height
     u, v = np.zeros(3), np.zeros(3)
@@ -271,14 +274,17 @@ def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("reso
 
     Memory: 512 B per point (points, results, maps, the copies made by the writers) plus the evaluator's
     observer-independent tables (two float64 tables of ``fine`` rows over the images' delay
-    spread plus the pulse, in steps of ``min(T, a/c) / samples``); output: the CSV (about 120 B
-    a point) and the VTK file (about 128 B a point).
+    spread plus the pulse, in steps of ``min(T, a/c) / samples``; over the pulse only past
+    :data:`acoustiviz.field.peaks.PULSE_TABLE_ABOVE` images); output: the CSV (about 120 B a
+    point) and the VTK file (about 128 B a point).
     """
-    from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES
+    from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES, PULSE_TABLE_ABOVE
     from .budget import Estimate
 
     pos = config.images().positions
-    spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
+    spread = 0.0
+    if pos.shape[0] <= PULSE_TABLE_ABOVE:
+        spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
     step = min(float(pulse.duration), config.radius / medium.c) / DEFAULT_SAMPLES
     with np.errstate(all="ignore"):
         table = 16.0 * DEFAULT_FINE * ((2.0 * spread + float(pulse.duration)) / step + 64.0)
@@ -403,7 +409,7 @@ def write_map_csv(level: LevelMap, path):
 
 def map_title(level: LevelMap, config, setup_text: str = "") -> str:
     """A one-line title: configuration, plane and the impact."""
-    where = ("vertical plane y = 0 through the centre" if level.plane == "vertical"
+    where = (f"vertical plane y = {level.grid.points[0, 1]:.4g} m through the centre" if level.plane == "vertical"
              else f"horizontal plane z = {level.grid.points[0, 2]:.4g} m")
     return f"{config.name}: {where}" + (f"; {setup_text}" if setup_text else "")
 

@@ -158,28 +158,34 @@ def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance (CSV + polar PNG)."""
     from ..field import directivity
     from ..output.plot.directivity import directivity_figure
-    from .views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, directivity_metric_figure
+    from .views import (
+        DIRECTIVITY_METRICS,
+        directivity_angles,
+        directivity_metric,
+        directivity_metric_figure,
+        write_directivity_csv,
+    )
 
     out = ctx.scene.output("directivity")
     step, metric = out["step_deg"], out.get("metric", "peak-spl")
     conf = ctx.configuration
     name, pos = ctx.listeners[0]
-    dist = float(np.linalg.norm(pos - conf.sources[0].position))
+    dist = float(np.linalg.norm(pos - conf.centre))
     top = conf.polar_limit_deg
     angles = directivity_angles(conf, step)
-    d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
-    names, columns = ["angle_deg", "peak_pa", "rms_pa", "spl_db"], [d.angle_deg, d.peak, d.rms, d.spl_db]
-    title = f"{conf.name}, r = {dist:g} m (paper Figure 3)"
-    figures = {}
+    with user_terms({"distance": f"listeners.{name}"}):
+        d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
+    title = f"{conf.caption()}, r = {dist:g} m (paper Figure 3)"
+    figures, values = {}, None
     if metric != "peak-spl":
         values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium)
-        names.append(DIRECTIVITY_METRICS[metric])
-        columns.append(values)
         figures[f"max_{DIRECTIVITY_METRICS[metric]}"] = f"{np.nanmax(values):.1f}"
         fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)
     else:
         fig = directivity_figure(d, half_space=top == 90.0, title=title)
-    csv = write_csv_atomic(ctx.path("directivity.csv"), names, columns, fmt="%.8g")
+    if hasattr(conf, "image_order"):  # a room: its image model
+        figures.update(image_order=str(conf.image_order), images=str(conf.image_count))
+    csv = write_directivity_csv(ctx.path("directivity.csv"), d, metric, values)
     png = _save(fig, ctx.path("directivity.png"))
     i = int(np.nanargmax(d.spl_db))
     return [Product("directivity", csv, {"max_spl_db": f"{d.spl_db[i]:.1f}", "at_deg": f"{d.angle_deg[i]:g}",

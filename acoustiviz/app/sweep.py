@@ -195,10 +195,10 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
         import numpy as np
 
         (_, pos), *_ = scene.listeners()
-        real = scene.configuration().sources[0]
-        rel = np.asarray(pos) - np.asarray(real.position)
+        geom = scene.configuration()
+        rel = np.asarray(pos) - np.asarray(geom.centre)
         distance = float(np.linalg.norm(rel))
-        angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(real.axis)) / distance))))
+        angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(geom.axis)) / distance))))
     if solver is None:
         from .products import damper_solver
 

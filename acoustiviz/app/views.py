@@ -22,7 +22,8 @@ from ..field import field_metrics, waveform_span, waveform_spans
 from ..levels import METRICS
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
-           "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL", "directivity_metric",
+           "write_directivity_csv", "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL",
+           "directivity_metric",
            "impact_signals", "impact_sound", "points_metric_levels", "reference_metric_levels", "metric_label",
            "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
@@ -126,8 +127,8 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
 
     Returns ``(points, t, L, h, K, n_sound, n_out)``: the ``(k, 3)`` points in m, the times in s at
     ``L × sample_rate`` from the earliest arrival (rounded down to the output grid) to the end of the
-    latest sound, the decimation filter ``h`` (``2KL + 1`` taps), the output samples of sound and
-    of the whole interval.
+    latest sound (in a room, at most to the end of its window ``duration``), the decimation filter
+    ``h`` (``2KL + 1`` taps), the output samples of sound and of the whole interval.
     """
     from ..output.audio import decimation_filter, oversampling_factor
 
@@ -138,7 +139,11 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
     K = (h.size - 1) // (2 * L)
     t0 = np.floor(spans[:, 0].min() * sample_rate) / sample_rate
     n_out = int(round(interval * sample_rate))
-    n_sound = int(np.ceil((spans[:, 1].max() - t0) * sample_rate)) + 1
+    end = float(spans[:, 1].max())
+    reach = getattr(config, "duration", None)  # a room: the sound within its window (every image arriving in it)
+    if reach is not None:
+        end = max(min(end, float(reach)), t0)
+    n_sound = int(np.ceil((end - t0) * sample_rate)) + 1
     if n_sound + K >= n_out:
         raise ParameterError("interval", f"must exceed the sound of one impact ({(n_sound + K) / sample_rate:g} s)")
     t = t0 + np.arange(n_sound * L) / (L * sample_rate)
@@ -331,6 +336,38 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
         with np.errstate(divide="ignore"):
             return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
     return points_metric_levels([metric], pulse, directivity.points, config, medium)[metric]
+
+
+def write_directivity_csv(path, directivity, metric: str = "peak-spl", values=None):
+    """Write ``angle_deg,peak_pa,rms_pa,spl_db`` (and the ``metric`` column) atomically.
+
+    The one file of the command (``acoustiviz directivity --csv``) and of the scene output.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.csv`` file.
+    directivity : acoustiviz.field.Directivity
+        Peaks and RMS on the circle.
+    metric : str
+        A key of :data:`DIRECTIVITY_METRICS`; another than ``"peak-spl"`` adds its column of ``values`` (dB).
+    values : (k,) array_like, optional
+        The level ``metric`` at each angle (:func:`directivity_metric`).
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    from ..output.writers import write_csv_atomic
+
+    extra = metric != "peak-spl"
+    d = directivity
+    return write_csv_atomic(
+        path,
+        ["angle_deg", "peak_pa", "rms_pa", "spl_db"] + ([DIRECTIVITY_METRICS[metric]] if extra else []),
+        [d.angle_deg, d.peak, d.rms, d.spl_db] + ([np.asarray(values, dtype=float)] if extra else []),
+        fmt=["%.6g", "%.10e", "%.10e", "%.6f"] + (["%.6f"] if extra else []),
+    )
 
 
 def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):

@@ -75,7 +75,7 @@ def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", tra
     late_tail : bool
         The statistical tail after the transition time.
     seed : int, optional
-        The tail's seed (default :data:`acoustiviz.output.audio.room_sound.TAIL_SEED`).
+        The tail's seed (default :data:`acoustiviz.constants.TAIL_SEED`).
     decay : {"eyring", "images"}
         The tail's decay law.
     transition : float, optional
@@ -90,8 +90,8 @@ def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", tra
     RoomSound or None
         None without ``late_tail`` and ``absorption_bands``: the exact render, unchanged.
     """
+    from ..constants import TAIL_SEED
     from ..output.audio import RoomSound, parse_absorption_bands
-    from ..output.audio.room_sound import TAIL_SEED
     from .names import user_terms
 
     if not late_tail and absorption_bands is None:

@@ -22,8 +22,8 @@ from ..constants import (
 )
 from ..core.geometry import CONFIGURATIONS
 
-__all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings", "impact_from_args",
-           "observer_point"]
+__all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings", "room_duration",
+           "impact_from_args", "observer_point"]
 
 
 def add_impact_options(parser, *, velocity: bool = True) -> None:
@@ -72,8 +72,12 @@ def add_room_options(parser, *, duration: bool = False) -> None:
 
     ``duration``: also add ``--duration`` (the window in s the images must reach).
     """
+    import re
+
     from ..core.room_geometry import ROOM_STRIKES
 
+    # let "--room -6,4,3" or "--source -1,0,0" reach the validation (argparse takes only plain negative numbers)
+    parser._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     g = parser.add_argument_group("room (a shoebox [0, LX] x [0, LY] x [0, LZ] m, floor z = 0)")
     g.add_argument("--room", default=None, metavar="LX,LY,LZ",
                    help="put the sphere in a rectangular room of these dimensions in m (image sources to the "
@@ -116,6 +120,19 @@ def room_settings(args, *, duration=None) -> dict | None:
            "strike": args.room_strike, "order": args.image_order, "tolerance_db": args.tolerance_db,
            "duration": duration}
     return {k: v for k, v in out.items() if v is not None}
+
+
+def room_duration(args):
+    """The ``--duration`` window in s of a command with ``--room`` (required there, refused without it)."""
+    from .._validate import ParameterError
+
+    if args.room is None:
+        if args.duration is not None:
+            raise ParameterError("--duration", "only applies with --room LX,LY,LZ")
+        return None
+    if args.duration is None:
+        raise ParameterError("--duration", "required with --room: the window in s from the start of contact")
+    return args.duration
 
 
 def add_observer_options(parser, *, angle: bool = True) -> None:

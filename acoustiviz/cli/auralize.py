@@ -116,7 +116,7 @@ def add_parser(subparsers) -> None:
 
 def _add_room_sound_options(parser) -> None:
     """The statistical tail and the absorption per octave band of a room's WAV (with ``--room``)."""
-    from ..output.audio.room_sound import TAIL_SEED
+    from ..constants import TAIL_SEED
 
     g = parser.add_argument_group("room sound (with --room)")
     g.add_argument("--late-tail", action="store_true",

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..app.maps import MAP_SETTINGS
-from ._impact import add_impact_options
+from ._impact import add_impact_options, add_room_options
 
 _TYPES = {"str": str, "float": float, "int": int}
 
@@ -16,9 +16,11 @@ def add_parser(subparsers) -> None:
         description="Peak sound pressure level (dB re 20 uPa) and sound exposure level (dB re (20 uPa)^2 s) "
         "of one impact at every point of a plane through the scene, from the continuous pressure in closed "
         "form (no time steps). Points inside the sphere are left blank; the map is cut at the floor and "
-        "the wall. Impact and configuration options are those of 'acoustiviz waveform'; lengths in m.",
+        "the wall. Impact, configuration and room options are those of 'acoustiviz waveform' (in a room "
+        "the levels hold every image that arrives within --duration); lengths in m.",
     )
     add_impact_options(p)
+    add_room_options(p, duration=True)
     g = p.add_argument_group("map plane")
     for s in MAP_SETTINGS:
         rng = f", in {'(' if s.low_open else '['}{s.low:g}, {s.high:g}] {s.unit}".rstrip() if s.kind != "str" else ""
@@ -47,7 +49,7 @@ def run(args) -> int:
 
     from ..app.maps import CLI_NAMES, level_map, map_title, write_map_outputs
     from ..app.outputs import check_distinct, check_output_file
-    from ._impact import impact_from_args
+    from ._impact import impact_from_args, room_duration
 
     kinds = {"--png": "figure", "--csv": "csv", "--vtk": "vtk"}
     paths = {opt: getattr(args, opt[2:]) for opt in kinds}
@@ -59,6 +61,7 @@ def run(args) -> int:
 
         paths["--vtk (geometry)"] = geometry_path(paths["--vtk"])
     check_distinct(paths)
+    room_duration(args)
     setup = impact_from_args(args)
     t0 = time.perf_counter()
     level = level_map(setup.pulse, setup.configuration, medium=setup.medium, plane=args.plane,

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..constants import BALLOON_METRICS
-from ._impact import add_impact_options
+from ._impact import add_impact_options, add_room_options
 
 #: Library parameter names -> the option that sets them, for error messages.
 _OPTION = {
@@ -26,6 +26,7 @@ _OPTION = {
 
 def _common(p, *, size: str) -> None:
     add_impact_options(p)
+    add_room_options(p, duration=True)
     g = p.add_argument_group("image")
     g.add_argument("--size", default=size, metavar="WxH",
                    help="image size in pixels, width x height, each 64..8192 (default %(default)s)")
@@ -64,8 +65,8 @@ def add_parser(subparsers) -> None:
         "render",
         help="3-D pictures rendered off-screen: directivity balloon, field snapshot, wavefront animation",
         description="Off-screen 3-D renders with pyvista (no display needed), the data behind them as VTK "
-        "files for ParaView (--vtk) and interactive self-contained HTML pages (--html). Impact and configuration "
-        "options are those of 'acoustiviz directivity'; lengths in m, times in s.",
+        "files for ParaView (--vtk) and interactive self-contained HTML pages (--html). Impact, configuration "
+        "and room options are those of 'acoustiviz directivity'; lengths in m, times in s.",
     )
     views = p.add_subparsers(dest="view", metavar="VIEW")
 
@@ -174,9 +175,11 @@ def _check_common(args):
 
     from .._validate import ParameterError, check_range
     from ..app.impacts import MAX_DISTANCE
+    from ._impact import room_duration
 
     size = parse_size(args.size)
     _check_outputs(args)
+    room_duration(args)
     if args.view == "balloon":
         check_range("--db-range", args.db_range, 0.0, 200.0, unit="dB", low_open=True)
         check_range("--opacity", args.opacity, 0.0, 1.0, low_open=True)
@@ -229,6 +232,7 @@ def run(args) -> int:
     size = _check_common(args)
     from ..app.budget import animation_estimate, balloon_estimate, check_budget, snapshot_estimate
     from ..app.outputs import check_distinct, check_output_file
+    from ..core.reach import check_view_radius
     from ._impact import impact_from_args
 
     outputs = {f"--{k}": getattr(args, k, None) for k in ("png", "gif", "mp4", "vtk", "html")}
@@ -237,8 +241,10 @@ def run(args) -> int:
             check_output_file(opt, path, opt[2:])
     check_distinct({k: v for k, v in outputs.items() if v})
     setup = impact_from_args(args)
-    n_src = len(setup.configuration.sources)
-    if args.view == "balloon":
+    n_src = len(setup.configuration.images())
+    if args.view == "balloon":  # the measuring sphere inside a room's walls, before any work
+        with user_terms({"distance": "--distance"}):
+            check_view_radius(setup.configuration, args.distance, 2.1 * setup.radius)
         est = balloon_estimate(args.resolution, size, n_src)
     elif args.view == "snapshot":
         est = snapshot_estimate(args.resolution, len(_sections(args.sections)), len(args.time), size, n_src)

@@ -105,8 +105,8 @@ def add_parser(subparsers):
                         "(default 4)")
     s.add_argument("--levels", action="store_true", default=None,
                    help="also render each run's click train at the listener at 96 kHz and report its LAFmax, "
-                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; about 0.3 s more "
-                        "per 20 s design, so off by default)")
+                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; many times the "
+                        "cost of the motion, so off by default)")
     o = p.add_argument_group("execution and outputs")
     o.add_argument("--out", required=True, metavar="DIR", help="output directory (resumed if it exists)")
     o.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",

@@ -13,10 +13,6 @@ def add_parser(subparsers) -> None:
         description="Pressure in Pa radiated by a sphere striking a surface, at one observer. "
         "Time runs from the start of contact. Defaults: the paper's Figure 2 scene.",
     )
-    import re
-
-    # let "--room -6,4,3" or "--source -1,0,0" reach the validation (argparse takes only plain negative numbers)
-    p._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     add_impact_options(p)
     add_observer_options(p)
     add_room_options(p, duration=True)
@@ -95,16 +91,15 @@ def _room_listener(args):
     """The ``--listener`` point in a room (m), its ``--duration`` and sidecar checked; None without ``--room``."""
     from .._validate import ParameterError
     from ..app.outputs import check_distinct, check_output_file
+    from ._impact import room_duration
 
+    room_duration(args)
     if args.room is None:
-        for opt, val in (("--listener", args.listener), ("--duration", args.duration)):
-            if val is not None:
-                raise ParameterError(opt, "only applies with --room LX,LY,LZ")
+        if args.listener is not None:
+            raise ParameterError("--listener", "only applies with --room LX,LY,LZ")
         return None
     from .auralize import parse_point
 
-    if args.duration is None:
-        raise ParameterError("--duration", "required with --room: the window in s from the start of contact")
     if args.listener is None:
         raise ParameterError("--listener", "required with --room: the observer's position X,Y,Z in m")
     listener = parse_point(args.listener)

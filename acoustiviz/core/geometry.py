@@ -92,6 +92,8 @@ class Geometry:
     #: Largest polar angle in degrees from the acceleration axis a listener may take in the
     #: paper's observer plane (the fluid above the struck surface: 90; all around: 180).
     polar_limit_deg: ClassVar[float] = 90.0
+    #: True when the surfaces close the fluid (a room): no radiated energy or sound power (:meth:`enclosure`).
+    enclosed: ClassVar[bool] = False
 
     def __post_init__(self):
         object.__setattr__(self, "radius", check_positive("radius", self.radius, "m"))

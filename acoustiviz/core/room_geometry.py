@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_choice, check_points, check_positive, check_range
 from .geometry import GEOMETRIES, Geometry
-from .images import ImageSet, ImageSource, Plane
+from .images import ImageSet, ImageSource, Plane, Region
 from .room import SURFACES, Shoebox, image_sources, max_order_for_memory
 
 __all__ = ["ROOM_STRIKES", "ROOM_TOLERANCE_DB", "Room"]
@@ -129,7 +129,7 @@ class Room(Geometry):
     SETTINGS: ClassVar[tuple] = ("dimensions", "absorption", "source", "strike", "order", "tolerance_db",
                                  "duration", "sound_speed")
     REQUIRED: ClassVar[tuple] = ("dimensions",)
-    polar_limit_deg: ClassVar[float] = 180.0
+    enclosed: ClassVar[bool] = True
 
     def __post_init__(self):
         super().__post_init__()
@@ -306,6 +306,37 @@ class Room(Geometry):
         return self.sources
 
     # -- regions and labels --------------------------------------------------------------
+    @property
+    def touches_struck_surface(self) -> bool:
+        """True when the sphere touches the surface it strikes (its centre one radius from it)."""
+        i = SURFACES.index(_ROOM_ALIASES.get(self.strike, self.strike))
+        ax = i // 2
+        gap = self.source[ax] if i % 2 == 0 else self.dimensions[ax] - self.source[ax]
+        return abs(gap - self.radius) <= 1e-9 * max(self.radius, 1.0)
+
+    @property
+    def polar_limit_deg(self) -> float:
+        """90 degrees for a sphere on the struck surface (the fluid in front of it), else 180."""
+        return 90.0 if self.touches_struck_surface else 180.0
+
+    def view_region(self):
+        """The balloon's directions: the half space in front of the struck surface, or the whole sphere.
+
+        The half space around the contact point for a sphere on the struck surface; the whole sphere
+        around its centre for a sphere away from it.
+        """
+        side = np.array([1.0, 0.0, 0.0]) if abs(self.axis[0]) < 0.5 else np.array([0.0, 0.0, 1.0])
+        if not self.touches_struck_surface:
+            return Region("sphere", self.centre, self.axis, side)
+        return Region("half", self.contact_point, self.axis, side)
+
+    def enclosure(self):
+        """Refused: the room's surfaces close the fluid, so no surface in it encloses a radiated energy."""
+        raise ParameterError("config", "the radiated energy is not defined in a room: its walls close the fluid "
+                                       "and return the sound, so no surface around the sphere encloses the "
+                                       "energy radiated away (defined in free field, above a plane and in a "
+                                       "wall-floor corner)")
+
     @property
     def feature_distance(self) -> float:
         """Distance in m from the sphere's centre to the farthest corner of the room (views frame the room)."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -9,11 +10,12 @@ import numpy as np
 from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry, observer_points
 from ..core.medium import AIR, Medium
+from ..core.reach import circle_limit
 from ._common import check_config, check_pulse
 from .metrics import FieldMetrics, field_metrics
 from .sources import source_geometry
 
-__all__ = ["Directivity", "circle_points", "directivity"]
+__all__ = ["Directivity", "circle_points", "directivity", "room_window"]
 
 
 @dataclass(frozen=True)
@@ -81,9 +83,37 @@ def circle_points(config: Geometry, distance: float, angles) -> np.ndarray:
     """
     check_config(config)
     r = check_positive("distance", distance, "m")
-    if r <= config.radius:
+    top = circle_limit(config)
+    if r <= config.radius and not math.isfinite(top):
         raise ParameterError("distance", f"must exceed the sphere radius {config.radius:g} m, got {r:g} m")
+    if r <= config.radius or r > top:
+        raise ParameterError("distance", f"must lie in ({config.radius:g}, {top:.6g}] m for the circle around the "
+                                         f"sphere's centre {_xyz(config.centre)} m to stay in the fluid "
+                                         f"({config.fluid_text()}), got {r:g} m")
     return observer_points(config, r, angles)
+
+
+def _xyz(p) -> str:
+    return "(" + ", ".join(f"{float(x):.6g}" for x in p) + ")"
+
+
+def room_window(config: Geometry, points, medium: Medium = AIR):
+    """The directivity's window length in s in a geometry with a window of its own (a room), else None.
+
+    A room's images are those that can arrive within its ``duration`` from the start of contact
+    (:class:`acoustiviz.core.room_geometry.Room`); each point's window starts at its first arrival
+    ``(r - a)/c`` and has the same length at every point, so it ends by ``duration`` at the point
+    reached last: ``duration - max (r - a)/c``. Refused (naming ``distance``) when the sound reaches
+    the circle only after the room's window.
+    """
+    reach = getattr(config, "duration", None)
+    if reach is None:
+        return None
+    first = float(np.max(np.linalg.norm(np.asarray(points) - config.centre, axis=1) - config.radius)) / medium.c
+    if first >= reach:
+        raise ParameterError("distance", f"the sound reaches the circle at {first:.6g} s, after the room's window "
+                                         f"of {reach:g} s: make the window longer or the circle smaller")
+    return reach - first
 
 
 def directivity(
@@ -116,7 +146,9 @@ def directivity(
         RMS window length in s. Default: the same length at every angle, starting at each
         angle's first arrival and holding the whole pulse from every image plus ten decay
         times: ``T + Δ + 10 a/c`` with ``Δ`` the largest spread of image arrival times on the
-        circle (the neglected tail carries < 3e-9 of the energy).
+        circle (the neglected tail carries < 3e-9 of the energy). In a room (a geometry with a
+        ``duration``): ``duration - max (r - a)/c`` (:func:`room_window`), so every point's window
+        ends within the room's and holds every image that arrives in it.
 
     Returns
     -------
@@ -145,6 +177,8 @@ def directivity(
     pts = circle_points(config, distance, angles)
     if not np.all(config.in_fluid(pts)):
         raise ParameterError("angles", "some observers on the circle lie outside the fluid")
+    if window is None:
+        window = room_window(config, pts, medium)
     if window is None:
         delay, _, _, _ = source_geometry(pts, config, medium=medium)
         spread = float(np.max(delay.max(axis=1) - delay.min(axis=1)))

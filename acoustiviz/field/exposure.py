@@ -14,6 +14,12 @@ exponentials in closed form; on ``[0, T]`` they are computed once per pulse by G
 quadrature of the exact ``Y`` (:func:`acoustiviz.core.radiation.pulse_response`) over the pieces
 where ``Y`` is smooth, and stored as piecewise Chebyshev series. A point then costs a few
 series evaluations per pair of images: no time grid, no sampling error.
+
+With many images (a room's) the pairs further apart than ``T`` are summed at once: their
+correlations are one damped exponential ``exp(s Δ)``, so that, the arrivals sorted, a running sum
+carried from one arrival to the next holds all of them (:func:`_exposure_sorted`); only the pairs
+arriving within ``T`` of each other read the table. The cost is ``O(n log n)`` plus those close
+pairs instead of ``O(n²)``, and the result the same sum.
 """
 
 from __future__ import annotations
@@ -27,7 +33,7 @@ from .._validate import check_points
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces
-from ._common import check_config, check_pulse, pulse_args
+from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
 from ._kernels import _fill, _njit
 from .sources import chunk_geometry
 
@@ -244,34 +250,125 @@ def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h
         out[i] = total
 
 
-#: Above this many sources (a room's images) the exposure sums only the pairs whose arrivals lie
-#: within the pulse plus :data:`PAIR_DECAY_TIMES` decay times a/c of each other (sorted delays).
+#: Above this many sources (a room's images) the exposure sorts the arrivals and sums the pairs
+#: further apart than the pulse in closed form, as one running sum (:func:`_exposure_sorted`).
 PAIRS_ABOVE = 64
-#: A pair further apart correlates by less than exp(-40) = 4e-18 of its product: dropped.
-PAIR_DECAY_TIMES = 40.0
+#: The running sum of :func:`_exposure_sorted` keeps its reference time within this many decay
+#: times ``1/|Re s|`` of the latest arrival.
+EPOCH = 16.0
+#: Bytes of working memory per point and source of :func:`exposure` (delays, amplitudes, shape
+#: coefficients, distances and temporaries), for its chunk under the evaluator's memory cap.
+_BYTES_PER_SOURCE = 96
+
+
+def pair_table(table: np.ndarray) -> np.ndarray:
+    """The correlation table recombined for real pair sums: ``Re G ± Re H`` and ``Im G ∓ Im H``.
+
+    Parameters
+    ----------
+    table : (nodes, 4) complex ndarray
+        ``G``, ``step G'``, ``H``, ``step H'`` at the lags (:attr:`PulseCorrelations.table`).
+
+    Returns
+    -------
+    (nodes, 8) ndarray
+        ``Re(G + H)``, ``Im(G - H)``, ``Im(G + H)``, ``Re(G - H)``, each followed by ``step``
+        times its derivative, in (m/s)²·s: for a pair ``j`` before ``k``,
+        ``Re[a_k a_j G + a_k ā_j H] = a_k' (a_j' A - a_j'' B₋) - a_k'' (a_j'' D + a_j' B₊)``
+        (``'`` and ``''`` the real and imaginary parts).
+    """
+    g, dg, hh, dh = table[:, 0], table[:, 1], table[:, 2], table[:, 3]
+    out = np.empty((table.shape[0], 8))
+    for col, (v, dv) in enumerate(((g.real + hh.real, dg.real + dh.real), (g.imag - hh.imag, dg.imag - dh.imag),
+                                   (g.imag + hh.imag, dg.imag + dh.imag), (g.real - hh.real, dg.real - dh.real))):
+        out[:, 2 * col] = v
+        out[:, 2 * col + 1] = dv
+    return out
 
 
 @_njit(cache=True)
-def _exposure_kernel_near(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, reach):  # pragma: no cover
-    """:func:`_exposure_kernel` over the pairs closer than ``reach`` s in delay (delays sorted per point)."""
-    n, nimg = delays.shape
+def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  # pragma: no cover - compiled
+    """``∫ p² dt`` of one point from its sources sorted by arrival (``ds`` ascending), in O(n + close pairs).
+
+    A pair ``j`` before ``k`` with lag ``Δ = d_k - d_j >= T`` correlates in closed form,
+    ``G(Δ) = Y(T) e^{s(Δ - T)} m_g`` and ``H(Δ) = conj(Y(T) e^{s(Δ - T)}) m_h``, so that all of them
+    together give ``Re[a_k (Y(T) m_g S_k + conj(Y(T)) m_h conj(S_k))]`` with
+    ``S_k = Σ_{d_j <= d_k - T} a_j e^{s (d_k - d_j - T)}``, carried from one arrival to the next
+    (every factor ``|e^{s x}| <= 1``, ``x >= 0``: no growth of round-off). The pairs closer than
+    ``T`` read the tabulated correlations (:func:`pair_table` of :attr:`PulseCorrelations.table`,
+    cubic Hermite as :func:`_correlation_at`).
+    """
+    n = ds.size
+    cg = y_end * m_g
+    ch = np.conj(y_end) * m_h
+    inv = 1.0 / step
+    last = ptab.shape[0] - 2  # lags below T = (rows - 1) step read a row and the next
+    # S_k = e_k B with e_k = e^{s (d_k - r)} for a reference r moved forward by whole epochs of
+    # EPOCH/|Re s| (so |e_k| >= e^{-EPOCH}) and B = Σ a_j e^{-sT} e^{s (r - d_j)}: one exponential
+    # per source, the rest products (|e^{s(r - d_j)}| <= e^{EPOCH} for the sources added)
+    span = EPOCH / -s.real
+    q_epoch = np.exp(s * span)
+    fall = np.exp(-s * tau)
+    qpow = np.empty(48, np.complex128)  # q_epoch^m (below 1e-300 past 43 epochs: zero)
+    qpow[0] = 1.0
+    for m in range(1, 48):
+        qpow[m] = qpow[m - 1] * q_epoch
+    eks = np.empty(n, np.complex128)
+    epochs = np.empty(n, np.int64)
+    total = 0.0
+    ref = ds[0]
+    epoch = 0
+    bsum = 0j
+    first = 0  # the earliest source not yet in S
+    for k in range(n):
+        dk = ds[k]
+        akr = ar[k]
+        aki = ai[k]
+        ak = complex(akr, aki)
+        total += 0.5 * (ak * ak * g0 + (akr * akr + aki * aki) * h0).real
+        while dk - ref > span:  # a new epoch: B follows the reference
+            ref += span
+            epoch += 1
+            bsum *= q_epoch
+        ek = np.exp(s * (dk - ref))
+        eks[k] = ek
+        epochs[k] = epoch
+        while first < k and ds[first] <= dk - tau:  # e^{s (r - d_j)} = q_epoch^(epochs since j) / e_j
+            m = epoch - epochs[first]
+            if m < 48:
+                bsum += complex(ar[first], ai[first]) * fall * qpow[m] / eks[first]
+            first += 1
+        acc = ek * bsum
+        total += (ak * (cg * acc + ch * np.conj(acc))).real
+        close = 0.0
+        for j in range(first, k):  # closer than the pulse (lag < T): the table, row below the lag
+            x = (dk - ds[j]) * inv
+            i = min(int(x), last)
+            t = x - i
+            u = 1.0 - t
+            h00 = (1.0 + 2.0 * t) * u * u
+            h10 = t * u * u
+            h01 = t * t * (3.0 - 2.0 * t)
+            h11 = -t * t * u
+            row = ptab[i]
+            nxt = ptab[i + 1]
+            va = h00 * row[0] + h10 * row[1] + h01 * nxt[0] + h11 * nxt[1]
+            vbm = h00 * row[2] + h10 * row[3] + h01 * nxt[2] + h11 * nxt[3]
+            vbp = h00 * row[4] + h10 * row[5] + h01 * nxt[4] + h11 * nxt[5]
+            vd = h00 * row[6] + h10 * row[7] + h01 * nxt[6] + h11 * nxt[7]
+            close += akr * (ar[j] * va - ai[j] * vbm) - aki * (ai[j] * vd + ar[j] * vbp)
+        total += close
+    return total
+
+
+@_njit(cache=True)
+def _exposure_kernel_sorted(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, ptab):  # pragma: no cover
+    """:func:`_exposure_kernel` by :func:`_exposure_sorted` at each point (delays sorted per point)."""
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
-    for i in range(n):
+    for i in range(delays.shape[0]):
         order = np.argsort(delays[i])
-        total = 0.0
-        for jj in range(nimg):
-            j = order[jj]
-            aj = complex(are[i, j], aim[i, j])
-            total += 0.5 * (aj * aj * g0 + (are[i, j] ** 2 + aim[i, j] ** 2) * h0).real
-            for kk in range(jj + 1, nimg):
-                k = order[kk]
-                lag = delays[i, k] - delays[i, j]  # >= 0: k arrives after j
-                if not lag <= reach:  # (NaN: a point inside the sphere, masked later)
-                    break
-                ak = complex(are[i, k], aim[i, k])
-                g, h = _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h)
-                total += (ak * aj * g + ak * np.conj(aj) * h).real
-        out[i] = total
+        out[i] = _exposure_sorted(delays[i][order], are[i][order], aim[i][order], tau, s, step, ptab, y_end, m_g,
+                                  m_h, g0, h0)
 
 
 def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
@@ -291,7 +388,8 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     correlations : PulseCorrelations, optional
         Those of ``pulse`` and the sphere (:func:`pulse_correlations`), to reuse between calls.
     chunk : int
-        Points per block (bounds the working memory).
+        Points per block, at most (fewer when the block's geometry would exceed the evaluator's
+        256 MiB working memory, :data:`acoustiviz.field._common.DEFAULT_MEMORY_LIMIT`).
 
     Returns
     -------
@@ -309,14 +407,16 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     pts = check_points("points", points)
     corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
     out = np.empty(pts.shape[0])
-    for lo in range(0, pts.shape[0], max(1, int(chunk))):
-        hi = min(lo + int(chunk), pts.shape[0])
+    # points per block: at most ``chunk``, and within the evaluator's memory cap
+    step = max(1, min(int(chunk), DEFAULT_MEMORY_LIMIT // (_BYTES_PER_SOURCE * len(config.images()))))
+    for lo in range(0, pts.shape[0], step):
+        hi = min(lo + step, pts.shape[0])
         delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
         res = np.empty(hi - lo)
         args = (res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
                 corr.m_g, corr.m_h)
         if delay.shape[1] > PAIRS_ABOVE:
-            _exposure_kernel_near(*args, corr.duration + PAIR_DECAY_TIMES * config.radius / medium.c)
+            _exposure_kernel_sorted(*args, pair_table(corr.table))
         else:
             _exposure_kernel(*args)
         res[inside] = np.nan

@@ -68,6 +68,7 @@ from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _fill
+from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
@@ -83,6 +84,9 @@ DEFAULT_SAMPLES = 12
 DEFAULT_FINE = 256
 #: Relative margin (of the largest coarse |p|) within which coarse local maxima are refined.
 DEFAULT_MARGIN = 0.002
+#: Above this many sources (a room's images) the tables cover the pulse only and the search runs
+#: over the sorted arrivals (:mod:`acoustiviz.field._peak_dense`).
+PULSE_TABLE_ABOVE = 64
 
 
 
@@ -104,7 +108,11 @@ class PeakTable:
     slope_bound : float
         ``max |Y'|`` in m/s², for the rounding bound.
     spread : float
-        Largest difference of two images' delays in s (source separation / c).
+        Delay span in s the tables cover besides the pulse: the largest difference of two images'
+        delays (source separation / c), 0 when the tables cover the pulse only.
+    pulse_only : bool
+        The tables cover the pulse only (more than :data:`PULSE_TABLE_ABOVE` sources): each
+        image's free decay past it is computed in closed form (:mod:`acoustiviz.field._peak_dense`).
     """
 
     coarse_step: float
@@ -114,6 +122,7 @@ class PeakTable:
     y_imag: np.ndarray
     slope_bound: float
     spread: float
+    pulse_only: bool = False
 
 
 @dataclass(frozen=True)
@@ -202,16 +211,23 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
     pos = config.images().positions
-    spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
-    pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
-    ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
+    bounded = pos.shape[0] > PULSE_TABLE_ABOVE
+    if bounded:  # the pulse only: each image's decay past it is computed in closed form
+        spread = 0.0
+        pad = 2 * fine
+        ncol = pad // fine + int(math.ceil(end / big_h)) + 4
+    else:
+        spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
+        pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
+        ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
     y = np.empty(u.shape, complex)
     _fill(y.ravel(), u.ravel(), kind, amp, tau, xi, acc, yk, tab, s)
     # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
     flat = np.abs(np.diff(y.T.ravel())) / h
     slope = float(flat.max()) * (1.0 + abs(s) * h) + 1e-300
-    return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread)
+    return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread,
+                     bounded)
 
 
 def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
@@ -273,9 +289,10 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         args = (res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm, float(config.radius),
                 float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
                 tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
+        kernel = _dense_kernel if tb.pulse_only else _peaks_kernel
         if lo == 0:  # say so once if the peak search's kernels are compiled now
-            compile_for(_peaks_kernel, args, "peak-search", PEAKS_COMPILE_S)
-        _peaks_kernel(*args)
+            compile_for(kernel, args, "peak-search", PEAKS_COMPILE_S)
+        kernel(*args)
     # the columns are views of the kernel's output (no second copy of the result)
     return PeakExposure(res[:, 0], res[:, 1], res[:, 2], res[:, 3], res[:, 4], res[:, 5].astype(np.int64))
 

@@ -10,7 +10,7 @@ from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
 
-from ..core.geometry import geometry, relevant_settings
+from ..core.geometry import CONFIGURATIONS, geometry, geometry_class, relevant_settings
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
 from .validate import SceneError, _unknown, _validate_table, parse_range
@@ -351,6 +351,10 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
             raise SceneError(source, "outputs.wav.stereo", "needs two [[listeners]] (left, right)")
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
+    if "sweep" in outputs and geometry_class(data["configuration"]["kind"]).REQUIRED:
+        raise SceneError(source, "outputs.sweep", f"sweeps build each design's geometry from a configuration name "
+                                                  f"({', '.join(CONFIGURATIONS)}) and the wall distance; a "
+                                                  f"{data['configuration']['kind']} is not swept")
     if {"frequency_response", "bifurcation", "operating_noise"} & set(outputs):
         from ..app.limits import check_forcing_frequencies
 
@@ -400,6 +404,7 @@ def _check_geometry(scene: Scene) -> None:
             raise SceneError(src, key, "listener inside the sphere, below the floor or behind the wall "
                                        f"(configuration {conf.name!r}; the fluid is {conf.fluid_text()})")
     grids = scene.data["grids"]
+    _check_circles(scene, conf)
     if scene.wants("level_map"):  # settings, memory and output size of the map, before any output is made
         from ..app.maps import SCENE_NAMES, plan_map
 
@@ -425,6 +430,35 @@ def _check_geometry(scene: Scene) -> None:
             raise SceneError(src, key, f"the grid needs {need / 2**20:.4g} MiB, more than "
                                        f"grids.memory_limit_mb = {grids['memory_limit_mb']:g} MiB; "
                                        "lower the resolution or frames, or raise the cap")
+
+
+def _check_circles(scene: Scene, conf) -> None:
+    """The directivity's circle (the first listener's distance) and the balloon's sphere fit in the fluid.
+
+    Checked at load time, before any output is made: in a room the circle and the balloon must stay
+    inside its walls, and the sound must reach the circle within the room's window.
+    """
+    import numpy as np
+
+    from ..core.reach import check_view_radius
+    from ..field.directivity import circle_points, room_window
+
+    src = scene.source
+    if scene.wants("directivity"):
+        lst = scene.data["listeners"][0]
+        key = "listeners[0]." + ("position_m" if lst["position_m"] is not None else "distance_m")
+        (_, pos), *_ = scene.listeners()
+        try:
+            pts = circle_points(conf, float(np.linalg.norm(np.asarray(pos) - conf.centre)), [0.0, math.pi / 2])
+            room_window(conf, pts, scene.medium())
+        except ParameterError as exc:
+            raise SceneError(src, key, f"the directivity's circle (its radius the first listener's distance "
+                                       f"from the sphere's centre): {exc.detail}") from None
+    if scene.wants("balloon"):
+        try:
+            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 0.0)
+        except ParameterError as exc:
+            raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 
 
 def scene_from_text(text: str, source: str = "<scene>") -> Scene:

@@ -14,9 +14,9 @@ form at >= 1.5 MHz and band-limited flat to 43.2 kHz), and evaluates with
 
 Every impact is heard as a strike on the configuration's struck surface (``walls="one"`` of
 :class:`acoustiviz.output.audio.CavityScene`), the view the maximum SPL takes, so the two describe
-the same sound. Levels in dB re 20 µPa. The render and the filters cost about 0.3 s per 20 s run
-(``benchmarks/bench_sweep.py``), about 17 times the rest of a design, so a sweep computes them
-only when :attr:`acoustiviz.sweep.Settings.levels` is set.
+the same sound. Levels in dB re 20 µPa. The render and the filters cost many times the rest of a
+design (``benchmarks/bench_sweep.py`` measures both), so a sweep computes them only when
+:attr:`acoustiviz.sweep.Settings.levels` is set.
 """
 
 from __future__ import annotations

@@ -264,9 +264,8 @@ class Settings:
         Settled once every later maximum stays below this fraction of the first (0.05).
     levels : bool
         Also render each run's click train at the listener and report its LAFmax, LCpeak and
-        LAeq over the run (:mod:`acoustiviz.sweep.levels`; about 0.3 s more per 20 s run, 17 times a
-        design without them, so off by
-        default: the columns are then empty).
+        LAeq over the run (:mod:`acoustiviz.sweep.levels`; many times the cost of the motion, measured
+        by ``benchmarks/bench_sweep.py``, so off by default: the columns are then empty).
     """
 
     M: float = TABLE1["M"]

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_range
+from ...constants import TAIL_SEED
 from .synthesis import (
     _SINC_HALF,
     _SINC_STEPS,
@@ -53,8 +54,6 @@ from .synthesis import (
 
 __all__ = ["RoomSound", "TAIL_SEED", "parse_absorption_bands", "render_room"]
 
-#: Default seed of the tail's random generator: the same WAV every run.
-TAIL_SEED = 20261126
 #: Default budget of exact images (the real sphere included) per wall before the tail takes over.
 MAX_EXACT_IMAGES = 100_000
 #: Band centres in Hz accepted for a per-band absorption.

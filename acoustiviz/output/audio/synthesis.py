@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -180,20 +181,28 @@ def decimation_filter(oversampling: int) -> np.ndarray:
     Returns
     -------
     ndarray
-        Filter taps (sum 1).
+        Filter taps (sum 1), read-only: the design (a long Kaiser window) is made once per factor
+        and shared by every render.
     """
-    from scipy.signal import firwin, kaiser_beta
-
     L = int(oversampling)
     if L < 2 or L != oversampling:
         raise ParameterError("oversampling", f"must be an integer >= 2, got {oversampling!r}")
+    return _decimation_taps(L)
+
+
+@functools.lru_cache(maxsize=8)
+def _decimation_taps(L: int) -> np.ndarray:
+    from scipy.signal import firwin, kaiser_beta
+
     width = (0.5 - PASSBAND_FRACTION) / L * 2.0  # transition width as a fraction of the internal Nyquist
     atten = STOPBAND_ATTENUATION_DB + 3.0  # Kaiser's formulas are approximate: design with a margin
     numtaps = math.ceil((atten - 7.95) / (2.285 * math.pi * width)) + 1
     k = math.ceil((numtaps - 1) / (2 * L))
     cutoff = (PASSBAND_FRACTION + 0.5) / 2.0 / L * 2.0  # mid-transition, fraction of the internal Nyquist
     h = firwin(2 * k * L + 1, cutoff, window=("kaiser", kaiser_beta(atten)))
-    return h / h.sum()
+    h /= h.sum()
+    h.flags.writeable = False
+    return h
 
 
 # --------------------------------------------------------------------------- synthesis

@@ -47,6 +47,9 @@ def _draw_geometry(ax, config, axes_names, offset: float, box) -> None:
         n = int(np.argmax(np.abs(p.normal)))
         at = float(p.point[n])
         up = 1 if p.normal[n] > 0 else -1  # the fluid lies above (+1) or below (-1) the plane on its axis
+        lo_, hi_ = (x0, x1) if n == i else (y0, y1)
+        if n in (i, j) and not lo_ - 1e-9 * (hi_ - lo_) <= at <= hi_ + 1e-9 * (hi_ - lo_):
+            continue  # a room's wall beyond the map
         if n == i:  # a plane across the horizontal axis: a vertical band on its solid side
             ax.add_patch(Rectangle((at - band if up > 0 else at, y0 - band), band, y1 - y0 + 2 * band, clip_on=False,
                                    **_WALL))

@@ -12,6 +12,7 @@ import numpy as np
 from ..._validate import ParameterError, check_choice, check_positive, check_range
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
+from ...core.reach import check_view_radius, view_limit
 from ...field import field_metrics
 from ...field.grids import SphericalGrid, spherical_grid
 from ._common import (
@@ -147,12 +148,16 @@ def balloon_data(
         Acceleration pulse of the sphere.
     config : Geometry
         ``"free"`` (whole sphere around the sphere's centre), ``"plane"`` (half space around
-        the contact point) or ``"wall-floor"`` (quarter space around the contact point,
-        bounded by the floor and the wall).
+        the contact point), ``"wall-floor"`` (quarter space around the contact point,
+        bounded by the floor and the wall) or ``"room"`` (the half space in front of the struck
+        surface around the contact point, or the whole sphere around the centre of a sphere away
+        from it; with every reflection of the room, :meth:`~acoustiviz.core.geometry.Geometry.view_region`).
     medium : Medium
         The fluid.
     distance : float
-        Radius in m of the measuring sphere; larger than the sphere's diameter.
+        Radius in m of the measuring sphere; larger than 1.05 times the sphere's diameter and, in a
+        room, at most the distance from the anchor to the walls the region faces
+        (:func:`acoustiviz.core.reach.view_limit`).
     metric : {"peak", "rms", "sel"}
         Peak SPL, level of the RMS pressure (same window length everywhere, see
         :func:`acoustiviz.field.field_metrics`), or sound exposure level.
@@ -178,6 +183,7 @@ def balloon_data(
                              f"got {r:g} m")
     if int(n_theta) != n_theta or not 4 <= n_theta <= 512:
         raise ParameterError("n_theta", f"must be an integer in [4, 512], got {n_theta!r}")
+    check_view_radius(config, r, 2.1 * config.radius)
     region, anchor, up, side = _region(config)
     grid = spherical_grid(r, region=region, centre=anchor, up=up, side=side, n_theta=int(n_theta))
     dirs = _closed_lattice(grid, up, side)
@@ -267,7 +273,8 @@ def render_balloon(
         Image width and height in pixels.
     balloon_size : float, optional
         Largest balloon radius in m (default six sphere radii, at least 1.5 × the wall
-        distance), i.e. the scale of the drawing, not of the field.
+        distance; in a room at most the distance to the walls the balloon faces), i.e. the scale of the
+        drawing, not of the field.
     title : str, optional
         Text at the top left (default: the metric and the distance).
     show_scalar_bar : bool
@@ -329,7 +336,7 @@ def render_balloon(
 def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, size, n_views, opacity):
     a = config.radius
     if balloon_size is None:
-        bsize = max(6.0 * a, 1.5 * config.feature_distance)
+        bsize = min(max(6.0 * a, 1.5 * config.feature_distance), view_limit(config))  # inside a room's walls
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     mesh = _balloon_mesh(data, bsize, top, rng)

@@ -1,0 +1,368 @@
+"""Peak search of :func:`acoustiviz.field.peaks.fast_peaks` for many sources (a room's images).
+
+The search is that of :mod:`acoustiviz.field._peak_kernels` over one window holding every
+arrival (coarse samples ``t_k = d_min + k H``, candidates within the margin, refinement on the
+closed form, the free decay after the last pulse in closed form), with three changes that make
+its cost ``O(n log n + n T/H + K)`` for ``n`` images and ``K`` coarse samples instead of
+``O(n K)``:
+
+1. **Pulse-only table.** Each image reads its pulse from a table over ``[-2 H, T + 3 H]`` only
+   (at its delay rounded to the fine step, as before); past the table its free decay
+   ``a_j Y(T) e^{s (t - d_j - T)}`` is the same for all images up to a factor, so the decays of
+   all images are one complex sum carried from block to block of :data:`DECAY_BLOCK` samples
+   (``e^{s H}`` per sample), added to the samples with the powers of ``e^{s H}``
+   (:func:`_dense_samples`).
+2. **Sorted arrivals.** The refinement evaluates ``p``, ``p'`` and ``p''`` from the images that
+   have arrived and whose decay is above ``exp(-DECAY_CUT)`` of their amplitude (1e-26), found by
+   bisection in the sorted delays, with the breakpoints (pulse starts and ends) near the bracket
+   only.
+3. **Local rounding bound.** The bound of the delays' rounding, ``h/2 max|Y'| Σ|a_j|``, sums the
+   images sampled within one pulse and decay cut of each other (the largest such sum), not all
+   images.
+
+The peaks are those of the windowed search to the refinement's accuracy (about 1e-11 relative).
+Times in s, pressures in Pa.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._kernels import _njit
+from ._peak_kernels import BLOCK, NEAR, TAIL_STEPS, XTOL, _coarse_stats, _decay_extremes, _scan
+from ._peak_refine import _refine_bracket
+from .exposure import _correlation_at, _exposure_sorted
+
+#: Coarse samples per block of the images' summed free decay.
+DECAY_BLOCK = 16
+#: An image whose free decay has fallen by ``exp(-DECAY_CUT)`` (1e-26) is left out of the refinement.
+DECAY_CUT = 60.0
+#: Coarse steps either side of a candidate within which its bracket (widened at breakpoints) lies.
+REACH = int(2 * NEAR) + 2
+
+
+@_njit(cache=True)
+def _dense_samples(kk, coarse, nq, ar, ai, fine, pad, ytr, yti, zpast, qpr, qpi):  # pragma: no cover - compiled
+    """Coarse samples ``0 .. kk`` of ``p`` (``coarse`` zeroed beyond, to whole blocks) from the sorted images.
+
+    Image ``q`` lies ``nq[q]`` fine steps after ``dmin``; it reads its pulse from the table row of
+    its fine residue and leaves it at sample ``kstar`` with value ``a_q zpast[residue]``, then
+    decays by ``e^{s H}`` a sample. ``qpr + i qpi`` are the powers ``e^{s H m}``, ``m = 0..DECAY_BLOCK``.
+    """
+    ncol = ytr.shape[1]
+    c_len = DECAY_BLOCK
+    nblk = kk // c_len + 1
+    for k in range(nblk * c_len):
+        coarse[k] = 0.0
+    qc = complex(qpr[c_len], qpi[c_len])
+    acc = 0j  # the decays of the images that left the table before the current block, at its start
+    nxt = 0j  # those that leave it within the current block, at the next block's start
+    blk = 0
+    for q in range(nq.size):
+        m = pad - nq[q]
+        qs = m // fine
+        rs = m - qs * fine
+        a_r = ar[q]
+        a_i = ai[q]
+        k_first = max(0, -qs)
+        k_past = ncol - qs
+        k_stop = min(kk + 1, k_past)
+        if k_first < k_stop:
+            rr = ytr[rs, qs + k_first:qs + k_stop]
+            ri = yti[rs, qs + k_first:qs + k_stop]
+            cc = coarse[k_first:k_stop]
+            for k in range(k_stop - k_first):
+                cc[k] += a_r * rr[k] - a_i * ri[k]
+        if k_past > kk:
+            continue
+        e = complex(a_r, a_i) * zpast[rs]
+        b = k_past // c_len
+        while blk < b:  # the sorted images leave the table in order: close the blocks before this one
+            base = blk * c_len
+            for ll in range(c_len):
+                coarse[base + ll] += acc.real * qpr[ll] - acc.imag * qpi[ll]
+            acc = acc * qc + nxt
+            nxt = 0j
+            blk += 1
+        off = k_past - b * c_len  # within the current block: from its own sample on
+        for ll in range(off, c_len):
+            coarse[b * c_len + ll] += e.real * qpr[ll - off] - e.imag * qpi[ll - off]
+        nxt += e * complex(qpr[c_len - off], qpi[c_len - off])
+    while blk < nblk:
+        base = blk * c_len
+        for ll in range(c_len):
+            coarse[base + ll] += acc.real * qpr[ll] - acc.imag * qpi[ll]
+        acc = acc * qc + nxt
+        nxt = 0j
+        blk += 1
+
+
+@_njit(cache=True)
+def _breakpoints_near(ds, end, lo, hi, bps):  # pragma: no cover - compiled
+    """The pulse starts and ends (sorted) of the sorted delays ``ds`` lying in ``[lo, hi]``, into ``bps``."""
+    n = ds.size
+    a = np.searchsorted(ds, lo)
+    b = np.searchsorted(ds, lo - end)
+    nb = 0
+    while True:
+        sa = ds[a] if a < n and ds[a] <= hi else np.inf
+        sb = ds[b] + end if b < n and ds[b] + end <= hi else np.inf
+        if sa == np.inf and sb == np.inf:
+            break
+        if sa <= sb:
+            bps[nb] = sa
+            a += 1
+        else:
+            bps[nb] = sb
+            b += 1
+        nb += 1
+    return nb
+
+
+@_njit(cache=True)
+def _rounding_scale(ds, mag, span):  # pragma: no cover - compiled
+    """Largest ``Σ |a_j|`` over the sorted delays within ``span`` s of each other (two pointers)."""
+    best = 0.0
+    run = 0.0
+    lo = 0
+    for q in range(ds.size):
+        run += mag[q]
+        while ds[q] - ds[lo] > span:
+            run -= mag[lo]
+            lo += 1
+        best = max(best, run)
+    return best * (1.0 + 1e-12)
+
+
+@_njit(cache=True)
+def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,  # noqa: C901 - one compiled kernel
+                 done_lo, done_hi):  # pragma: no cover - compiled
+    """Refine the candidates of one sign, best estimate first, while one can still beat the best value.
+
+    As the windowed search (:func:`acoustiviz.field._peak_kernels._peaks_kernel`), with the
+    images and breakpoints near each bracket only. Returns ``(best, tbest, refinements)``.
+    """
+    sign = 1.0 if side == 0 else -1.0
+    xtol = XTOL * big_h
+    dmin = ds[0]
+    ndone = 0
+    nref = 0
+    while nc > 0:
+        jb = 0
+        for q in range(1, nc):
+            if cand[side, 0, q] > cand[side, 0, jb]:
+                jb = q
+        est = cand[side, 0, jb]
+        if est + slack < best or est + slack < top - slack:
+            break
+        tk = cand[side, 2, jb]
+        kb = int(cand[side, 3, jb])
+        covered = False
+        if kb >= 0:
+            ta = t0 + kb * big_h - 1e-9 * big_h
+            tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
+            for q in range(ndone):
+                if done_lo[q] <= ta and tz <= done_hi[q]:
+                    covered = True
+                    break
+        if not covered:
+            nbp = _breakpoints_near(ds, end, tk - REACH * big_h, tk + REACH * big_h, bps)
+            bp = bps[:nbp]
+            lo_b = max(dmin, tk - big_h)
+            hi_b = tk + big_h
+            if kb >= 0:
+                lo_b = t0 + kb * big_h
+                hi_b = t0 + (kb + 1) * big_h
+            else:
+                for b in bp:
+                    if abs(b - tk) < (NEAR + 1.0) * big_h:
+                        lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
+                        hi_b = max(hi_b, b + NEAR * big_h)
+            j_lo = np.searchsorted(ds, lo_b - end - cut)
+            j_hi = np.searchsorted(ds, hi_b, side="right")
+            val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bp, xtol, j_hi - j_lo,
+                                      ds[j_lo:j_hi], ar[j_lo:j_hi], ai[j_lo:j_hi], tp)
+            done_lo[ndone] = lo_b
+            done_hi[ndone] = hi_b
+            ndone += 1
+            nref += 1
+            if val > best:
+                best = val
+                tbest = tv
+        nc -= 1
+        for f in range(4):
+            cand[side, f, jb] = cand[side, f, nc]
+    return best, tbest, nref
+
+
+@_njit(cache=True)
+def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cover - compiled
+    """Extremes of the free decay of every image after ``t_end``, where their bound can beat a peak found."""
+    end = tp[7]
+    yend = complex(tp[8], tp[9])
+    s = complex(tp[10], tp[11])
+    yabs = abs(yend)
+    bound = 0.0
+    q = ds.size - 1
+    while q >= 0:
+        x = s.real * (t_end - ds[q] - end)
+        if x < -DECAY_CUT:
+            break
+        bound += mag[q] * yabs * math.exp(x)
+        q -= 1
+    rest = 0.0
+    for j in range(q + 1):
+        rest += mag[j]
+    bound = (bound + rest * yabs * math.exp(-DECAY_CUT)) * (1.0 + 1e-9)
+    if bound <= min(best_s[0], best_s[1]):
+        return
+    j0 = q + 1
+    thi, tphi, tlo, tplo = _decay_extremes(t_end, np.inf, t_end, ds.size - j0, ds[j0:], ar[j0:], ai[j0:], yend,
+                                           end, s)
+    if thi > best_s[0]:
+        best_s[0] = thi
+        tbest_s[0] = tphi
+    if -tlo > best_s[1]:
+        best_s[1] = -tlo
+        tbest_s[1] = tplo
+
+
+@_njit(cache=True)
+def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,  # noqa: C901 - one compiled kernel
+                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
+    """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns."""
+    end = tp[7]
+    yend = complex(tp[8], tp[9])
+    s = complex(tp[10], tp[11])
+    n = pts.shape[0]
+    nimg = spos.shape[0]
+    h = big_h / fine
+    cut = DECAY_CUT / -s.real
+    ncol = ytr.shape[1]
+    delays = np.empty(nimg)
+    are = np.empty(nimg)
+    aim = np.empty(nimg)
+    ds = np.empty(nimg)
+    ar = np.empty(nimg)
+    ai = np.empty(nimg)
+    mag = np.empty(nimg)
+    nq = np.empty(nimg, np.int64)
+    bps = np.empty(2 * nimg + 2)
+    best_s = np.empty(2)
+    tbest_s = np.empty(2)
+    zpast = np.empty(fine, np.complex128)  # Y just past the table, by fine residue
+    for r in range(fine):
+        zpast[r] = yend * np.exp(s * ((ncol * fine + r - pad) * h - end))
+    qpr = np.empty(DECAY_BLOCK + 1)
+    qpi = np.empty(DECAY_BLOCK + 1)
+    for m in range(DECAY_BLOCK + 1):
+        z = np.exp(s * big_h * m)
+        qpr[m] = z.real
+        qpi[m] = z.imag
+    coarse = np.empty(0)
+    bmax = np.empty(0)
+    bmin = np.empty(0)
+    cand = np.empty((2, 4, 0))
+    done_lo = np.empty(0)
+    done_hi = np.empty(0)
+    tol = 1e-12 * radius
+    g0 = 0j
+    h0 = 0j
+    ptab = np.empty((ctable.shape[0], 8))  # pair_table(ctable)
+    for q in range(ctable.shape[0]):
+        g, dg, hh, dh = ctable[q, 0], ctable[q, 1], ctable[q, 2], ctable[q, 3]
+        ptab[q, 0] = g.real + hh.real
+        ptab[q, 1] = dg.real + dh.real
+        ptab[q, 2] = g.imag - hh.imag
+        ptab[q, 3] = dg.imag - dh.imag
+        ptab[q, 4] = g.imag + hh.imag
+        ptab[q, 5] = dg.imag + dh.imag
+        ptab[q, 6] = g.real - hh.real
+        ptab[q, 7] = dg.real - dh.real
+    if do_exp:
+        g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
+    for i in range(n):
+        x0 = pts[i, 0]
+        x1 = pts[i, 1]
+        x2 = pts[i, 2]
+        dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
+        ok = dc >= radius - tol
+        for q in range(ppt.shape[0]):
+            if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
+                ok = False
+        if not ok:
+            for col in range(5):
+                res[i, col] = np.nan
+            res[i, 5] = 0.0
+            continue
+        for j in range(nimg):
+            d0 = x0 - spos[j, 0]
+            d1 = x1 - spos[j, 1]
+            d2 = x2 - spos[j, 2]
+            r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
+            p0 = rho * c * radius * radius * ct / (r * r)
+            ra = r / radius
+            delays[j] = (r - radius) / c
+            are[j] = p0 * ra
+            aim[j] = -p0 * (1.0 - ra)
+        order = np.argsort(delays)
+        for q in range(nimg):
+            j = order[q]
+            ds[q] = delays[j]
+            ar[q] = are[j]
+            ai[q] = aim[j]
+            mag[q] = math.sqrt(are[j] ** 2 + aim[j] ** 2)
+        if do_exp:
+            res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
+        else:
+            res[i, 4] = np.nan
+        dmin = ds[0]
+        for q in range(nimg):
+            nq[q] = int(round((ds[q] - dmin) / h))
+        # one window from the first arrival to TAIL_STEPS after the last pulse (t_k = dmin + k H, k <= kk)
+        kk = int(math.ceil((ds[nimg - 1] - dmin + end) / big_h)) + 1 + TAIL_STEPS
+        need = kk + DECAY_BLOCK + BLOCK + 2
+        if coarse.size < need:
+            coarse = np.empty(need)
+            bmax = np.empty(need // BLOCK + 2)
+            bmin = np.empty(need // BLOCK + 2)
+            cand = np.empty((2, 4, need + 2 * nimg + 2))
+            done_lo = np.empty(need + 2 * nimg + 2)
+            done_hi = np.empty(need + 2 * nimg + 2)
+        _dense_samples(kk, coarse, nq, ar, ai, fine, pad, ytr, yti, zpast, qpr, qpi)
+        nb, cmax, cmin, jump = _coarse_stats(coarse, kk, bmax, bmin)
+        vmax = max(cmax, -cmin)
+        rounding = 0.5 * h * slope * _rounding_scale(ds, mag, end + cut + 4.0 * big_h)
+        slack = margin * vmax + rounding
+        nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
+                                     -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand)
+        nref = 0
+        for side in range(2):
+            sign = 1.0 if side == 0 else -1.0
+            nc, top = (nc0, top0) if side == 0 else (nc1, top1)
+            if cusps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
+                for q in range(2 * nimg):
+                    b = ds[q // 2] + (end if q % 2 else 0.0)
+                    k = int((b - dmin) / big_h)
+                    if 0 < k < kk:
+                        est = max(sign * coarse[k], sign * coarse[k + 1])
+                        if est > 0.0:
+                            cand[side, 0, nc] = est
+                            cand[side, 1, nc] = b
+                            cand[side, 2, nc] = b
+                            cand[side, 3, nc] = k
+                            nc += 1
+            reached = (cmax if side == 0 else -cmin) - rounding
+            best, tbest, nr = _refine_side(side, 0.0, dmin, nc, top, slack, reached, cand, dmin, big_h, ds, ar, ai,
+                                           end, cut, tp, bps, done_lo, done_hi)
+            best_s[side] = best  # p = 0 before the first arrival
+            tbest_s[side] = tbest
+            nref += nr
+        _after_last(dmin + (kk - 1) * big_h, best_s, tbest_s, ds, ar, ai, mag, tp)
+        for side in range(2):
+            res[i, side] = (1.0 if side == 0 else -1.0) * best_s[side]
+            res[i, 2 + side] = tbest_s[side]
+        res[i, 5] = nref

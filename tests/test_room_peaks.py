@@ -1,0 +1,100 @@
+"""Peaks and exposure of one impact in a room (many image sources), checked against independent references.
+
+Past :data:`acoustiviz.field.peaks.PULSE_TABLE_ABOVE` sources :func:`acoustiviz.field.fast_peaks`
+tabulates the pulse only and searches the sorted arrivals (the images' decays as one running sum),
+and past :data:`acoustiviz.field.exposure.PAIRS_ABOVE` the exposure sums the pairs further apart
+than the pulse as one running sum. References: the sampled and Brent-refined search of
+:func:`acoustiviz.field.field_metrics`, the closed form (:func:`acoustiviz.core.radiation.pulse_response`
+summed over the images) at the reported times, the windowed search over the whole delay spread,
+and the exposure summed over every pair of images.
+"""
+
+import sys
+
+import numpy as np
+import pytest
+
+import acoustiviz.field  # noqa: F401 - the package, for its modules below
+from acoustiviz.core.contact import Impact, acceleration_pulse
+from acoustiviz.core.radiation import pulse_response
+from acoustiviz.core.room_geometry import Room
+from acoustiviz.field import exposure, fast_peaks, field_metrics, peak_table, source_geometry
+
+A = 0.01905  # the paper's sphere, m
+DIMS = (6.0, 4.0, 3.0)
+PEAKS = sys.modules["acoustiviz.field.peaks"]
+EXPOSURE = sys.modules["acoustiviz.field.exposure"]
+
+
+def _pulse(kind="half-sine"):
+    mass = 7800 * 4 / 3 * np.pi * A**3
+    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=mass), kind)
+
+
+def _points(n, seed):
+    return np.random.default_rng(seed).uniform(0.05, 1.0, (n, 3)) * (np.array(DIMS) - 0.05)
+
+
+def _closed_form(pulse, room, pts, when):
+    """Pressure in Pa at each point at its time ``when``, summed over the images (vectorised closed form)."""
+    delay, p0, cc, _ = source_geometry(pts, room)
+    y = pulse_response(pulse, when[:, None] - delay, radius=A)
+    return np.sum(p0 * (cc.real * y.real - cc.imag * y.imag), axis=1)
+
+
+@pytest.mark.parametrize("kind", ["half-sine", "hertz", "impulse-matched"])
+def test_room_peaks_equal_the_refined_field_metrics_and_the_closed_form(kind, monkeypatch):
+    """Order 4 (129 images): each peak is the pressure at its time (closed form, 1e-10 of the peak), never
+    below field_metrics' refined peak by more than 1e-8 and nearly always equal to it."""
+    room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=4)
+    assert room.image_count > PEAKS.PULSE_TABLE_ABOVE
+    pulse = _pulse(kind)
+    pts = np.vstack([_points(10, 3), [[5.97, 3.96, 0.03], [0.04, 3.97, 2.96], [2.0, 1.5, 0.3]]])
+    fp = fast_peaks(pulse, pts, room)
+    fm = field_metrics(pulse, pts, room)
+    scale = fm.peak
+    for got, ref, when, sign in ((fp.peak_positive, fm.peak_positive, fp.time_positive, 1.0),
+                                 (fp.peak_negative, fm.peak_negative, fp.time_negative, -1.0)):
+        assert np.all(sign * (got - ref) >= -1e-8 * scale)
+        assert np.all(np.abs(got - _closed_form(pulse, room, pts, when)) <= 1e-10 * scale)
+        assert np.mean(np.abs(got - ref) <= 1e-8 * scale) > 0.9
+    # the exposure against the sum over every pair of images
+    monkeypatch.setattr(EXPOSURE, "PAIRS_ABOVE", 10**9)
+    np.testing.assert_allclose(fp.exposure, exposure(pulse, pts, room), rtol=1e-11)
+
+
+def test_room_peaks_equal_the_windowed_search(monkeypatch):
+    """The sorted-arrival search and the windowed search over the whole delay spread (tables over it)
+    find the same peaks to 1e-10 (both refine the closed form to ~1e-11), here at order 5."""
+    room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=5)
+    pulse = _pulse()
+    pts = _points(16, 11)
+    dense = fast_peaks(pulse, pts, room, exposure=False, table=peak_table(pulse, room))
+    assert peak_table(pulse, room).pulse_only
+    monkeypatch.setattr(PEAKS, "PULSE_TABLE_ABOVE", 10**9)
+    table = peak_table(pulse, room)
+    assert not table.pulse_only and table.spread > 0.0
+    windowed = fast_peaks(pulse, pts, room, exposure=False, table=table)
+    np.testing.assert_allclose(dense.peak_positive, windowed.peak_positive, rtol=1e-10)
+    np.testing.assert_allclose(dense.peak_negative, windowed.peak_negative, rtol=1e-10)
+
+
+def test_a_late_arrival_sets_the_peak_in_a_rigid_room():
+    """A rigid room, the listener level with the sphere's centre (the direct sound's and the floor image's
+    dipole null) in a far corner: the peak comes long after the first arrival and is found there
+    (closed form at its time; a dense 1 us scan of the closed form finds nothing higher)."""
+    room = Room(A, DIMS, 0.0, (2.0, 1.5, A), order=4)
+    pulse = _pulse()
+    pts = np.array([[5.9, 3.9, A], [0.1, 3.9, A]])
+    fp = fast_peaks(pulse, pts, room)
+    delay, _, _, _ = source_geometry(pts, room)
+    first = delay.min(axis=1)
+    assert np.all(fp.time_positive > first + 5 * pulse.duration)  # a late arrival: not the direct sound
+    for i, p in enumerate(pts):
+        t = np.arange(first[i], delay[i].max() + 3 * pulse.duration, 1e-6)
+        scan = np.concatenate([_closed_form(pulse, room, np.repeat(p[None], c.size, 0), c)
+                               for c in np.array_split(t, max(1, t.size // 4000))])
+        peak = fp.peak_positive[i]
+        assert scan.max() <= peak * (1 + 1e-9)
+        assert scan.max() >= peak * (1 - 1e-3)  # the scan's own sampling error near the maximum
+        assert -scan.min() <= -fp.peak_negative[i] * (1 + 1e-9)
