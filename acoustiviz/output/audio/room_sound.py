@@ -380,24 +380,30 @@ def _early_trains(pts, srcs, direct, ratio, plan, rs, radius, medium, fs):
 
 
 def _decimate_rows(rows, h, L: int) -> list:
-    """``convolve(x, h)[::L]`` of each row, as one matrix product per batch.
+    """``convolve(x, h)[::L]`` of each row, computed for the outputs kept only (polyphase, FFT).
 
-    Every row starts on an output sample (its first internal sample is ``n0 L``), so the
-    decimated convolution is ``z[q] = sum_m x[m] h[q L - m]``: the rows times one polyphase
-    matrix, computed for the outputs kept only (``1/L`` of the full convolution's work).
+    Every row starts on an output sample (its first internal sample is ``n0 L``), so
+    ``z[q] = sum_m x[m] h[q L - m] = sum_p (x_p * g_p)[q]`` with the phases
+    ``x_p[j] = x[j L + p]`` and ``g_p[i] = h[i L - p]``: L short convolutions at the output rate,
+    summed in the frequency domain (one batched real FFT per batch of rows; no BLAS threads).
     """
-    out = []
+    import scipy.fft as sfft
+
     lh = h.size
+    n_i = -(-(lh + L - 1) // L)
+    k = np.arange(n_i)[None, :] * L - np.arange(L)[:, None]  # (L, n_i): i L - p
+    g = np.where((k >= 0) & (k < lh), h[np.clip(k, 0, lh - 1)], 0.0)
+    out = []
     for b0 in range(0, len(rows), _BATCH):
         chunk = rows[b0:b0 + _BATCH]
-        n = max(x.size for x in chunk)
-        nq = -(-(n + lh - 1) // L)
-        k = np.arange(nq)[:, None] * L - np.arange(n)[None, :]
-        hm = np.where((k >= 0) & (k < lh), h[np.clip(k, 0, lh - 1)], 0.0)  # (nq, n)
-        x = np.zeros((len(chunk), n))
+        n_j = -(-max(x.size for x in chunk) // L)
+        m = sfft.next_fast_len(n_j + n_i - 1, real=True)
+        x = np.zeros((len(chunk), n_j * L))
         for j, r in enumerate(chunk):
             x[j, :r.size] = r
-        z = x @ hm.T
+        phases = x.reshape(len(chunk), n_j, L).transpose(0, 2, 1)  # (rows, L, n_j)
+        spec = np.einsum("rpf,pf->rf", sfft.rfft(phases, m, axis=-1), sfft.rfft(g, m, axis=-1))
+        z = sfft.irfft(spec, m, axis=-1)
         out += [z[j, :-(-(r.size + lh - 1) // L)] for j, r in enumerate(chunk)]
     return out
 
