@@ -322,7 +322,7 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
         sign = {w: float(np.sign(srcs[w].axes[0] @ srcs[scene.struck_wall].axes[0])) for w in (-1, 1)}
         shift = {w: np.rint(geom[w][0][:, 0] * fs).astype(int) for w in (-1, 1)}
         tail_info = _add_tail(out, dry, sign, shift, plan, rs, a, medium, fs)
-    info = _describe(plan, rs, conf2, tail_info, len(srcs[scene.struck_wall]))
+    info = _describe(plan, rs, tail_info, len(srcs[scene.struck_wall]))
     return Rendering(out, fs, f_int, pts, sequence, scene2, model, info)
 
 
@@ -532,7 +532,7 @@ def _overlap_add(x: np.ndarray, h: np.ndarray) -> np.ndarray:
     return out[:x.size + h.size - 1]
 
 
-def _describe(plan, rs, conf2, tail_info, images) -> dict:
+def _describe(plan, rs, tail_info, images) -> dict:
     """What the sidecar records of the room's sound: the exact order, the transition and the tail."""
     from ...core.reverberation import reverberation_time
 
