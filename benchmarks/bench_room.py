@@ -100,7 +100,8 @@ def pyroomacoustics_table(receivers: int, order: int, rate: int) -> None:
     t_ours, im = best_of(lambda: image_sources(Shoebox(DIMS, ALPHA), SOURCE, order, radius=RADIUS), 7)
     print()
     print(f"2. pyroomacoustics {pra.__version__}, same room and source, order {order} ({len(im)} images), "
-          f"{rate} Hz, {done} receivers in chunks of {CHUNK}{note}")
+          f"{rate} Hz, {done} receivers in chunks of {CHUNK}, fractional delays on "
+          f"{pra.constants.get('num_threads')} threads{note}")
     print(f"{'stage':<34} {'time s':>9} {'ms/receiver':>12}")
     print(f"{'image_source_model':<34} {total_ism:>9.3f} {1e3 * total_ism / done:>12.4f}")
     print(f"{'compute_rir (' + str(samples) + ' samples each)':<34} {total_rir:>9.3f} {1e3 * total_rir / done:>12.4f}")
@@ -164,6 +165,33 @@ def field_table(receivers: int, order: int, pra) -> None:
               f"{note}")
         print(f"goal (peak + SEL at 1e4 receivers at least 10x faster than pyroomacoustics' impulse responses): "
               f"{'met' if ratio >= 10.0 else 'not met'} ({ratio:.3g}x)")
+        _interleaved(pulse, room, table, corr, pts[:CHUNK])
+
+
+def _interleaved(pulse, room, table, corr, mics: np.ndarray, repeat: int = 3) -> None:
+    """Both sides on the same receivers, alternately, best of ``repeat`` (robust to a shared machine's load)."""
+    import pyroomacoustics as pra
+
+    from acoustiviz.field import fast_peaks
+
+    threads = int(pra.constants.get("num_threads"))
+    theirs, one, ours = [], [], []
+    for _ in range(repeat):
+        ism, rir, _ = _pra_chunk(pra, mics, 10, ANALYSIS_RATE)
+        theirs.append(ism + rir)
+        pra.constants.set("num_threads", 1)  # its fractional delays on one thread, as acoustiviz's kernels
+        try:
+            ism, rir, _ = _pra_chunk(pra, mics, 10, ANALYSIS_RATE)
+        finally:
+            pra.constants.set("num_threads", threads)
+        one.append(ism + rir)
+        t0 = time.perf_counter()
+        fast_peaks(pulse, mics, room, table=table, correlations=corr)
+        ours.append(time.perf_counter() - t0)
+    a, a1, b = (1e3 * min(x) / len(mics) for x in (theirs, one, ours))
+    print(f"alternately on the same {len(mics)} receivers, best of {repeat} (per receiver, tables apart):")
+    print(f"  pyroomacoustics ({threads} threads) {a:.4f} ms, on 1 thread {a1:.4f} ms; acoustiviz peak + SEL "
+          f"(1 thread) {b:.4f} ms; ratios {a / b:.3g} and {a1 / b:.3g}")
 
 
 BANDS = "125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,4000:0.35"

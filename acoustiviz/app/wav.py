@@ -194,8 +194,10 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
         u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
         if u.size == 0:
             continue
-        srcs = wall_sources(scene, wall)
-        conf = base.with_sources(srcs.sources() if hasattr(srcs, "sources") else srcs)
+        conf = _room_wall(scene, wall) if getattr(base, "name", None) == "room" else None
+        if conf is None:
+            srcs = wall_sources(scene, wall)
+            conf = base.with_sources(srcs.sources() if hasattr(srcs, "sources") else srcs)
 
         def peaks_of(speeds, conf=conf):
             return np.array([field_metrics(model.pulse_for(v), pts, conf, medium=scene.medium).peak for v in speeds])
@@ -206,6 +208,33 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
             rows = np.vstack([rows, peaks_of(u[k:])])
         peak = np.maximum(peak, np.max(rows, axis=0))
     return peak
+
+
+_OPPOSITE = {"x0": "x1", "x1": "x0", "y0": "y1", "y1": "y0", "z0": "z1", "z1": "z0", "floor": "ceiling",
+             "ceiling": "floor"}
+
+
+def _room_wall(scene, wall):
+    """The sources of an impact on ``wall`` in a room as a room value (images in closed form), or None.
+
+    The struck wall's are the room's own; the far wall's sphere, at the cavity's far centre with
+    the axis reversed, is the same room's sphere striking the opposite surface (its images are
+    those :func:`acoustiviz.output.audio.wall_sources` moves along their axes, to round-off). No
+    conversion of the images into single sources. None where that sphere would leave the room.
+    """
+    import dataclasses
+
+    from ..errors import ParameterError
+
+    room = scene.configuration
+    if wall == scene.struck_wall or scene.walls == "one":
+        return room
+    try:
+        far = dataclasses.replace(room, source=tuple(float(x) for x in scene.far_centre),
+                                  strike=_OPPOSITE[room.strike])
+    except ParameterError:
+        return None
+    return far if np.allclose(far.direction, -np.asarray(scene.axis), atol=1e-12) else None
 
 
 #: Keys of a rendering's description that are facts of the file written, taken from the file instead

@@ -471,6 +471,12 @@ def run(args) -> int:
         args.absorption = ",".join(f"{x:.17g}" for x in least_absorbing(rs.band_absorption))
     room = _room_of(args)
     scene = _cavity_of(args, radius, medium, room)
+    if rs is not None:
+        from ..app.names import user_terms
+        from ..app.wav import ROOM_SOUND_OPTIONS
+
+        with user_terms({**ROOM_SOUND_OPTIONS, "order": "--image-order"}):
+            rs.check_room(scene.configuration)
     model = ClickModel(k_hertz=args.k_hertz, mass=args.m, main_mass=args.M, mass_model=args.mass_model,
                        pulse=args.pulse)
     listeners = _listeners_of(args, scene, room)

@@ -362,13 +362,32 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
 
 
 @_njit(cache=True)
-def _exposure_kernel_sorted(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h, ptab):  # pragma: no cover
-    """:func:`_exposure_kernel` by :func:`_exposure_sorted` at each point (delays sorted per point)."""
+def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step, table, y_end, m_g, m_h,
+                     ptab):  # pragma: no cover - compiled
+    """:func:`_exposure_sorted` at each point, the geometry of every source computed there (no (n, k) arrays).
+
+    Points outside the fluid (``inside``: in the sphere or behind a wall) get NaN.
+    """
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
-    for i in range(delays.shape[0]):
-        order = np.argsort(delays[i])
-        out[i] = _exposure_sorted(delays[i][order], are[i][order], aim[i][order], tau, s, step, ptab, y_end, m_g,
-                                  m_h, g0, h0)
+    nimg = spos.shape[0]
+    delays = np.empty(nimg)
+    are = np.empty(nimg)
+    aim = np.empty(nimg)
+    for i in range(pts.shape[0]):
+        if inside[i]:
+            out[i] = np.nan
+            continue
+        for j in range(nimg):  # paper eqs 12-14, as acoustiviz.field.sources.image_geometry
+            d0 = pts[i, 0] - spos[j, 0]
+            d1 = pts[i, 1] - spos[j, 1]
+            d2 = pts[i, 2] - spos[j, 2]
+            r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            p0 = rho * c * radius * radius * (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / (r * r * r)
+            delays[j] = (r - radius) / c
+            are[j] = p0 * r / radius
+            aim[j] = -p0 * (1.0 - r / radius)
+        order = np.argsort(delays)
+        out[i] = _exposure_sorted(delays[order], are[order], aim[order], tau, s, step, ptab, y_end, m_g, m_h, g0, h0)
 
 
 def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
@@ -407,18 +426,27 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     pts = check_points("points", points)
     corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
     out = np.empty(pts.shape[0])
+    imgs = config.images()
+    if len(imgs) > PAIRS_ABOVE:  # many sources: the geometry in the kernel, the pairs over sorted arrivals
+        inside = ~config.in_fluid(pts)
+        spos = np.ascontiguousarray(imgs.positions, dtype=float)
+        saxis = np.ascontiguousarray(imgs.weighted_axes, dtype=float)
+        ptab = pair_table(corr.table)
+        for lo in range(0, pts.shape[0], max(1, int(chunk))):
+            hi = min(lo + max(1, int(chunk)), pts.shape[0])
+            _exposure_points(out[lo:hi], np.ascontiguousarray(pts[lo:hi]), inside[lo:hi], spos, saxis,
+                             float(config.radius),
+                             float(medium.rho), float(medium.c), corr.duration, corr.pole, corr.step, corr.table,
+                             corr.y_end, corr.m_g, corr.m_h, ptab)
+        return out
     # points per block: at most ``chunk``, and within the evaluator's memory cap
-    step = max(1, min(int(chunk), DEFAULT_MEMORY_LIMIT // (_BYTES_PER_SOURCE * len(config.images()))))
+    step = max(1, min(int(chunk), DEFAULT_MEMORY_LIMIT // (_BYTES_PER_SOURCE * len(imgs))))
     for lo in range(0, pts.shape[0], step):
         hi = min(lo + step, pts.shape[0])
         delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
         res = np.empty(hi - lo)
-        args = (res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
-                corr.m_g, corr.m_h)
-        if delay.shape[1] > PAIRS_ABOVE:
-            _exposure_kernel_sorted(*args, pair_table(corr.table))
-        else:
-            _exposure_kernel(*args)
+        _exposure_kernel(res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
+                         corr.m_g, corr.m_h)
         res[inside] = np.nan
         out[lo:hi] = res
     return out

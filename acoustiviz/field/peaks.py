@@ -42,6 +42,14 @@ a peak found. The
 exposure ``∫ p² dt`` comes from the pulse correlations of :mod:`acoustiviz.field.exposure` in the
 same pass, with the geometry computed once per point. Times in s, pressures in Pa.
 
+With many sources (a room's images, more than :data:`PULSE_TABLE_ABOVE`) the same search runs
+over one window of sorted arrivals (:mod:`acoustiviz.field._peak_dense`): the table covers the
+pulse only, the images' free decays past it are one running sum, a candidate is refined from the
+images near its bracket, and the exposure sums the pairs further apart than the pulse as one
+running sum (:func:`acoustiviz.field.exposure._exposure_sorted`): ``O(n log n + n T/H + K)`` per
+point for ``n`` images and ``K`` coarse samples instead of ``O(n K)``, the same peaks to the
+refinement's accuracy.
+
 Limits: the search is not a proof. It assumes that between the pulse starts and ends ``p`` has
 no two maxima within one coarse step (12 per ``min(T, a/c)`` by default) and ``p''`` changes sign
 at most once per piece of a bracket; two maxima closer than that arise at a pulse's start or end
@@ -211,8 +219,8 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
     pos = config.images().positions
-    bounded = pos.shape[0] > PULSE_TABLE_ABOVE
-    if bounded:  # the pulse only: each image's decay past it is computed in closed form
+    pulse_only = pos.shape[0] > PULSE_TABLE_ABOVE
+    if pulse_only:  # the pulse only: each image's decay past it is computed in closed form
         spread = 0.0
         pad = 2 * fine
         ncol = pad // fine + int(math.ceil(end / big_h)) + 4
@@ -227,7 +235,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     flat = np.abs(np.diff(y.T.ravel())) / h
     slope = float(flat.max()) * (1.0 + abs(s) * h) + 1e-300
     return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread,
-                     bounded)
+                     pulse_only)
 
 
 def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,

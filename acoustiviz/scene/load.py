@@ -75,9 +75,18 @@ class Scene:
             return None
         o = self.output_or_defaults("wav")
         try:
-            return room_sound(late_tail=o["late_tail"], seed=o["tail_seed"], decay=o["tail_decay"],
-                              transition=o["transition_s"], absorption_bands=o["absorption_bands"],
-                              names=ROOM_SOUND_SCENE_KEYS)
+            rs = room_sound(late_tail=o["late_tail"], seed=o["tail_seed"], decay=o["tail_decay"],
+                            transition=o["transition_s"], absorption_bands=o["absorption_bands"],
+                            names=ROOM_SOUND_SCENE_KEYS)
+            if rs is not None:
+                settings = _geometry_settings(self.data["configuration"])
+                conf = geometry("room", self.data["sphere"]["radius_m"], **settings)
+                try:
+                    rs.check_room(conf)
+                except ParameterError as exc:
+                    key = {**ROOM_SOUND_SCENE_KEYS, "order": "configuration.image_order"}[exc.name]
+                    raise ParameterError(key, exc.detail) from None
+            return rs
         except SceneError:
             raise
         except ParameterError as exc:

@@ -124,6 +124,27 @@ class RoomSound:
             object.__setattr__(self, "band_centres", tuple(float(x) for x in c))
             object.__setattr__(self, "band_absorption", a)
 
+    def check_room(self, room) -> None:
+        """Refuse what this room cannot give, before any work (a ParameterError naming the parameter).
+
+        ``room``: the :class:`~acoustiviz.core.room_geometry.Room`. A tail needs a room that decays
+        (absorption > 0 on some surface in every band; ``late_tail``), and a given image order must
+        be complete at some time after the start (``order`` >= 3) to hand over to it.
+        """
+        from ...core.reverberation import complete_until
+
+        if not self.late_tail:
+            return
+        # the band that absorbs least, at its most absorbing surface: zero means no decay at all
+        worst = float(self.band_absorption.max(axis=0).min()) if self.banded else float(np.max(room.absorption))
+        if worst <= 0.0:
+            raise ParameterError("late_tail", "needs absorption > 0 on some surface (in every band): a rigid room "
+                                              "does not decay")
+        if self.transition is None and room.order is not None and \
+                complete_until(room.shoebox, room.order, radius=room.radius) <= 0.0:
+            raise ParameterError("order", f"with a late tail the exact images must be complete until some time: "
+                                          f"an order >= 3, got {room.order}")
+
     def render_scene(self, sequence, scene, model, pts, fs: int, duration, oversampling):
         """:func:`render_room` with these settings (what :func:`acoustiviz.output.audio.render` calls)."""
         return render_room(sequence, scene, model, pts, fs, duration, oversampling, self)
@@ -223,9 +244,13 @@ def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
     need = energy_order(box, tol, radius=a, medium=medium, duration=conf.duration, max_order=cap)
     if not rs.late_tail:
         return _Plan(need.order, None, None, need.neglected_db, box, "images to the tolerance")
-    t_x = rs.transition if rs.transition is not None else max(
-        mixing_time(box), echo_density_time(box, shortest_click, medium=medium))
-    n_x = 2 + math.ceil((medium.c * t_x + a) / box.lattice_spacing)  # complete_until(n_x) >= t_x
+    if rs.transition is None and conf.order is not None:  # the given order, complete until complete_until(N)
+        n_x = conf.order
+        t_x = complete_until(box, n_x, radius=a, medium=medium)
+    else:
+        t_x = rs.transition if rs.transition is not None else max(
+            mixing_time(box), echo_density_time(box, shortest_click, medium=medium))
+        n_x = 2 + math.ceil((medium.c * t_x + a) / box.lattice_spacing)  # complete_until(n_x) >= t_x
     n_budget = 0
     while image_count(n_budget + 1) <= rs.max_images:
         n_budget += 1
@@ -237,10 +262,13 @@ def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
         t_x = complete_until(box, n_x, radius=a, medium=medium)
         note = f"transition moved earlier to what max_images = {rs.max_images} exact images reach"
     else:
-        note = "transition: the given time" if rs.transition is not None else \
-            "transition: max(mixing time sqrt(V) ms, one reflection per contact duration)"
+        note = "transition: the given time" if rs.transition is not None else (
+            "transition: where the given image order is complete" if conf.order is not None else
+            "transition: max(mixing time sqrt(V) ms, one reflection per contact duration)")
     if t_x <= 0:
-        raise ParameterError("max_images", f"{rs.max_images} exact images reach no time in this room; allow more")
+        name = "order" if conf.order is not None and rs.transition is None and n_x == conf.order else "max_images"
+        raise ParameterError(name, f"the exact images to order {n_x} are complete at no time after the start in "
+                                   "this room; allow more (an order of 3 or more)")
     end, neg = tail_end(box, t_x, tol, decay=rs.decay, medium=medium)
     return _Plan(n_x, t_x, end, neg, box, note)
 
@@ -294,7 +322,7 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
         sign = {w: float(np.sign(srcs[w].axes[0] @ srcs[scene.struck_wall].axes[0])) for w in (-1, 1)}
         shift = {w: np.rint(geom[w][0][:, 0] * fs).astype(int) for w in (-1, 1)}
         tail_info = _add_tail(out, dry, sign, shift, plan, rs, a, medium, fs)
-    info = _describe(plan, rs, conf2, tail_info, len(srcs[scene.struck_wall]))
+    info = _describe(plan, rs, tail_info, len(srcs[scene.struck_wall]))
     return Rendering(out, fs, f_int, pts, sequence, scene2, model, info)
 
 
@@ -352,24 +380,30 @@ def _early_trains(pts, srcs, direct, ratio, plan, rs, radius, medium, fs):
 
 
 def _decimate_rows(rows, h, L: int) -> list:
-    """``convolve(x, h)[::L]`` of each row, as one matrix product per batch.
+    """``convolve(x, h)[::L]`` of each row, computed for the outputs kept only (polyphase, FFT).
 
-    Every row starts on an output sample (its first internal sample is ``n0 L``), so the
-    decimated convolution is ``z[q] = sum_m x[m] h[q L - m]``: the rows times one polyphase
-    matrix, computed for the outputs kept only (``1/L`` of the full convolution's work).
+    Every row starts on an output sample (its first internal sample is ``n0 L``), so
+    ``z[q] = sum_m x[m] h[q L - m] = sum_p (x_p * g_p)[q]`` with the phases
+    ``x_p[j] = x[j L + p]`` and ``g_p[i] = h[i L - p]``: L short convolutions at the output rate,
+    summed in the frequency domain (one batched real FFT per batch of rows; no BLAS threads).
     """
-    out = []
+    import scipy.fft as sfft
+
     lh = h.size
+    n_i = -(-(lh + L - 1) // L)
+    k = np.arange(n_i)[None, :] * L - np.arange(L)[:, None]  # (L, n_i): i L - p
+    g = np.where((k >= 0) & (k < lh), h[np.clip(k, 0, lh - 1)], 0.0)
+    out = []
     for b0 in range(0, len(rows), _BATCH):
         chunk = rows[b0:b0 + _BATCH]
-        n = max(x.size for x in chunk)
-        nq = -(-(n + lh - 1) // L)
-        k = np.arange(nq)[:, None] * L - np.arange(n)[None, :]
-        hm = np.where((k >= 0) & (k < lh), h[np.clip(k, 0, lh - 1)], 0.0)  # (nq, n)
-        x = np.zeros((len(chunk), n))
+        n_j = -(-max(x.size for x in chunk) // L)
+        m = sfft.next_fast_len(n_j + n_i - 1, real=True)
+        x = np.zeros((len(chunk), n_j * L))
         for j, r in enumerate(chunk):
             x[j, :r.size] = r
-        z = x @ hm.T
+        phases = x.reshape(len(chunk), n_j, L).transpose(0, 2, 1)  # (rows, L, n_j)
+        spec = np.einsum("rpf,pf->rf", sfft.rfft(phases, m, axis=-1), sfft.rfft(g, m, axis=-1))
+        z = sfft.irfft(spec, m, axis=-1)
         out += [z[j, :-(-(r.size + lh - 1) // L)] for j, r in enumerate(chunk)]
     return out
 
@@ -498,7 +532,7 @@ def _overlap_add(x: np.ndarray, h: np.ndarray) -> np.ndarray:
     return out[:x.size + h.size - 1]
 
 
-def _describe(plan, rs, conf2, tail_info, images) -> dict:
+def _describe(plan, rs, tail_info, images) -> dict:
     """What the sidecar records of the room's sound: the exact order, the transition and the tail."""
     from ...core.reverberation import reverberation_time
 
