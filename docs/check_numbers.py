@@ -584,7 +584,8 @@ def bench_room_wav() -> dict:
     return {"order": exact.group(1), "mimages": f"{int(exact.group(2).replace(',', '')) / 1e6:.1f}",
             "transition": transition,
             "lo": f"{min(ratios['tail']):.1f}", "hi": f"{max(ratios['tail']):.1f}",
-            "ex_lo": f"{10 * round(min(ratios['exact']) / 10):d}", "ex_hi": f"{10 * round(max(ratios['exact']) / 10):d}"}
+            "ex_lo": f"{10 * round(min(ratios['exact']) / 10):d}",
+            "ex_hi": f"{10 * round(max(ratios['exact']) / 10):d}"}
 
 
 def produce_bench_startup() -> dict:
