@@ -570,6 +570,24 @@ def produce_bench_sweep_levels() -> dict:
     return {"ms": f"{10 * round((lev - base) / 10):d}", "times": f"{round(lev / base):d}"}
 
 
+@functools.cache
+def bench_room_wav() -> dict:
+    """Section 4 of ``benchmarks/results/bench_room.txt``: the room's WAV against free field."""
+    text = _benchmark("bench_room")
+    exact = re.search(r"exact images: order (\d+) \(([\d,]+) images\)", text)
+    ratios = {name: [float(x) for x in re.findall(pattern + r"\s+[\d.]+\s+([\d.]+)$", text, re.M)]
+              for name, pattern in (("exact", r"(?:exact images: order \d+ \([\d,]+ images\)|"
+                                             r"--room 6,4,3 --absorption 0\.1)"),
+                                    ("tail", r"(?:--late-tail(?: --absorption-bands \(6 bands\))?: order \d+ "
+                                             r"\(\d+ images\)|--late-tail)"))}
+    transition = re.search(r"tail: neglected energy [-\d.]+ dB, transition ([\d.]+) ms", text).group(1)
+    return {"order": exact.group(1), "mimages": f"{int(exact.group(2).replace(',', '')) / 1e6:.1f}",
+            "transition": transition,
+            "lo": f"{min(ratios['tail']):.1f}", "hi": f"{max(ratios['tail']):.1f}",
+            "ex_lo": f"{10 * round(min(ratios['exact']) / 10):d}",
+            "ex_hi": f"{10 * round(max(ratios['exact']) / 10):d}"}
+
+
 def produce_bench_startup() -> dict:
     """The README main job's CPU time, cold (empty kernel cache) and warm, from ``bench_startup.txt``.
 
@@ -582,6 +600,15 @@ def produce_bench_startup() -> dict:
 
 
 REGISTRY = (
+    Figure("rooms-wav-images", "docs/guide/rooms.md",
+           r"A reverberant room needs many images for -60 dB\s+\(order (?P<order>\d+), (?P<mimages>[\d.]+) million "
+           r"images, in the 6 x 4 x 3 m room", bench_room_wav, "python benchmarks/bench_room.py"),
+    Figure("rooms-wav-transition", "docs/guide/rooms.md",
+           r"once per contact duration of the shortest click \((?P<transition>[\d.]+) ms in",
+           bench_room_wav, "python benchmarks/bench_room.py"),
+    Figure("rooms-wav-speed", "docs/guide/rooms.md",
+           r"takes (?P<lo>[\d.]+) to (?P<hi>[\d.]+) times as long as\s+in free field .*?instead of about "
+           r"(?P<ex_lo>\d+) to (?P<ex_hi>\d+) times", bench_room_wav, "python benchmarks/bench_room.py"),
     Figure("sweep-levels-cost", "docs/guide/sweeps.md",
            r"It costs about (?P<ms>\d+) ms more per 20 s design, (?P<times>\d+) times the\s+motion alone",
            produce_bench_sweep_levels, "python benchmarks/bench_sweep.py"),
