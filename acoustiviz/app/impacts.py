@@ -32,7 +32,7 @@ from ..constants import (
     STRIKES,
 )
 from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
-from ..core.geometry import CONFIGURATIONS, Geometry, geometry, observer_points
+from ..core.geometry import CONFIGURATIONS, Geometry, geometry, geometry_class, observer_points
 from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
@@ -230,7 +230,7 @@ def room_settings(dimensions, *, absorption=None, source=None, strike="floor", o
         if strike != "floor":
             raise ParameterError(names["strike"], f"only applies with {room} LX,LY,LZ")
         return None
-    if config not in (None, "free", "room"):
+    if config is not None and geometry_class(config).reflecting and not geometry_class(config).enclosed:
         raise ParameterError(names.get("config", "--config"), f"give either {names.get('config', '--config')} or "
                                                               f"{room}, not both")
     out = {"dimensions": dimensions, "absorption": absorption, "source": source, "strike": strike, "order": order,

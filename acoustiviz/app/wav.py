@@ -29,7 +29,7 @@ import numpy as np
 
 from .. import __version__
 from ..constants import P_REF
-from ..core.geometry import geometry
+from ..core.geometry import GEOMETRIES, geometry
 from ..errors import ClippingWarning
 from ..output.audio import CavityScene, shared_scale, write_sidecar, write_wav
 
@@ -48,6 +48,12 @@ ROOM_SOUND_SCENE_KEYS = {"late_tail": "outputs.wav.late_tail", "seed": "outputs.
 
 #: Version of the sidecar schema; bumped whenever a key changes meaning (3: physical_peak_pa).
 SIDECAR_VERSION = 3
+
+
+def _enclosed(name) -> bool:
+    """Whether the geometry registered as ``name`` closes the fluid (a room); False for an unknown name."""
+    cls = GEOMETRIES.get(name)
+    return bool(cls is not None and cls.enclosed)
 
 
 def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
@@ -185,7 +191,7 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
     scene, model, seq = rendering.scene, rendering.model, rendering.sequence
     pts = np.asarray(rendering.listeners if points is None else points, dtype=float).reshape(-1, 3)
     base = scene.configuration
-    if getattr(base, "name", None) == "room":  # the images that arrive with the clicks, not the reverberation
+    if getattr(base, "enclosed", False):  # a room: the images that arrive with the clicks, not the reverberation
         scene = _early_room(scene, pts, model, seq)
         base = scene.configuration
     peak = np.zeros(pts.shape[0])
@@ -194,7 +200,7 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
         u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
         if u.size == 0:
             continue
-        conf = _room_wall(scene, wall) if getattr(base, "name", None) == "room" else None
+        conf = _room_wall(scene, wall) if getattr(base, "enclosed", False) else None
         if conf is None:
             srcs = wall_sources(scene, wall)
             conf = base.with_sources(srcs.sources() if hasattr(srcs, "sources") else srcs)
@@ -302,7 +308,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
                      "in closed form, not band-limited",
         **({"physical_peak_note": f"room: over the direct clicks and the images arriving within "
                                   f"{ROOM_PEAK_WINDOW:g} s of them"}
-           if rendering.get("scene", {}).get("config") == "room" else {}),
+           if _enclosed(rendering.get("scene", {}).get("config")) else {}),
         "physical_peak_pa": phys,
         "physical_peak_spl_db_re_20upa": phys_spl,
         "clipping": {"clipped_samples": info["clipped_samples"],

@@ -13,12 +13,13 @@ configuration's name:
 * the **solid-angle regions** of its closing grid (:meth:`Geometry.enclosure`) and of its
   directivity balloon (:meth:`Geometry.view_region`), and the size views should frame
   (:attr:`Geometry.feature_distance`);
-* its **labels** (:meth:`Geometry.caption`) and the settings a sidecar records (:meth:`Geometry.settings`).
+* its **labels** (:meth:`Geometry.caption`) and the settings a sidecar records (:meth:`Geometry.settings`);
+* what it is, for the layers above: :attr:`Geometry.enclosed` (a room), :attr:`Geometry.reflecting`.
 
-:data:`GEOMETRIES` maps the names of scenes and of the command line (``--config``,
-``[configuration] kind``) to the classes; :func:`geometry` builds one from a name and its
-settings with the front-ends' rules (defaults, settings that do not apply). A new geometry is
-one class here and one registry entry: nothing outside this module compares a geometry's name.
+:data:`GEOMETRIES` maps the names of scenes and of the command line (``--config``, ``[configuration]
+kind``) to the classes; :func:`geometry` builds one from a name and its settings with the front-ends'
+rules. A new geometry is one class here and one registry entry: nothing outside this module
+compares a geometry's name (``tests/test_architecture.py`` checks it).
 
 Frame (all lengths in m): the struck surface is the plane ``z = 0`` and the fluid is ``z > 0``;
 the sphere's centre is at ``(0, 0, a)`` and its acceleration (the rebound from the surface) points
@@ -94,16 +95,18 @@ class Geometry:
     polar_limit_deg: ClassVar[float] = 90.0
     #: True when the surfaces close the fluid (a room): no radiated energy or sound power (:meth:`enclosure`).
     enclosed: ClassVar[bool] = False
+    #: False for the free field alone: no surface of its own, so it may stand for "no surroundings".
+    reflecting: ClassVar[bool] = True
 
     def __post_init__(self):
         object.__setattr__(self, "radius", check_positive("radius", self.radius, "m"))
 
     # -- images --------------------------------------------------------------------------
     def image_sources(self, real: ImageSource) -> tuple:
-        """``real`` (an :class:`ImageSource` of order 0 anywhere in the fluid) and its images.
+        """``real`` (an :class:`ImageSource` of order 0 in the fluid) and its images (tuple of :class:`ImageSource`).
 
-        Returns a tuple of :class:`ImageSource`: ``real`` first, then its images in this
-        geometry's surfaces with their mirrored axes, reflection weights and orders.
+        ``real`` first, then its images in this geometry's surfaces with their mirrored axes,
+        reflection weights and orders.
         """
         return images_of(real, self.planes)
 
@@ -242,10 +245,7 @@ class Geometry:
     # -- construction --------------------------------------------------------------------
     @classmethod
     def from_settings(cls, radius: float, **settings) -> Geometry:
-        """Build from the settings of a front-end, refusing those that do not apply.
-
-        ``radius`` in m; ``settings`` as for :func:`geometry`.
-        """
+        """Build from a front-end's settings (as :func:`geometry`; ``radius`` in m), refusing any that do not apply."""
         cls._refuse(settings)
         return cls(radius)
 
@@ -285,6 +285,7 @@ class FreeField(Geometry):
 
     name: ClassVar[str] = "free"
     polar_limit_deg: ClassVar[float] = 180.0
+    reflecting: ClassVar[bool] = False
 
     @cached_property
     def planes(self) -> tuple:

@@ -65,13 +65,13 @@ class Scene:
         :func:`~acoustiviz.app.impacts.impact_setup` and :func:`~acoustiviz.app.wav.cavity`).
         """
         settings = _geometry_settings(self.data["configuration"])
-        return {"room": settings} if self.data["configuration"]["kind"] == "room" else settings
+        return {"room": settings} if _enclosed(self.data) else settings
 
     def room_sound(self):
         """The :class:`~acoustiviz.output.audio.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
         from ..app.wav import ROOM_SOUND_SCENE_KEYS, room_sound
 
-        if self.data["configuration"]["kind"] != "room":
+        if not _enclosed(self.data):
             return None
         o = self.output_or_defaults("wav")
         try:
@@ -328,7 +328,7 @@ def _band_absorption(raw: dict, data: dict, source: str) -> None:
     key = "outputs.wav.absorption_bands"
     if not isinstance(text, str):
         raise SceneError(source, key, f"expected a string 'F:A,F:A,...', got {text!r}")
-    if data["configuration"]["kind"] != "room":
+    if not _enclosed(data):
         raise SceneError(source, key, "only for a room ([geometry] kind = \"room\")")
     if data["configuration"]["absorption"] is not None:
         raise SceneError(source, key, "give either configuration.absorption or outputs.wav.absorption_bands, not both")
@@ -376,7 +376,7 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
     """What some outputs need of the rest of the scene: listeners, a sweep, forcing frequencies."""
     if "wav" in outputs:
         wav = outputs["wav"]
-        if (wav["late_tail"] or wav["absorption_bands"] is not None) and data["configuration"]["kind"] != "room":
+        if (wav["late_tail"] or wav["absorption_bands"] is not None) and not _enclosed(data):
             key = "late_tail" if wav["late_tail"] else "absorption_bands"
             raise SceneError(source, f"outputs.wav.{key}", "only for a room ([geometry] kind = \"room\")")
         if wav["struck_wall"] not in (-1, 1):
@@ -403,6 +403,13 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
 _GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m",
                   "dimensions": "room_m", "absorption": "absorption", "source": "source_m", "order": "image_order",
                   "tolerance_db": "tolerance_db", "duration": "window_s"}
+
+
+def _enclosed(data: dict) -> bool:
+    """Whether the scene's ``[configuration] kind`` is a geometry that closes the fluid (a room)."""
+    from ..core.geometry import geometry_class
+
+    return geometry_class(data["configuration"]["kind"]).enclosed
 
 
 def _geometry_settings(conf: dict) -> dict:

@@ -280,8 +280,9 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
     from .sources import wall_sources
 
     conf = scene.configuration
-    if getattr(conf, "name", None) != "room":
-        raise ParameterError("room_sound", f"only for a scene in a room (geometry 'room'), got {conf.name!r}")
+    if not getattr(conf, "enclosed", False):
+        raise ParameterError("room_sound", f"only for a scene in a room (a geometry that closes the fluid), "
+                                           f"got {conf.name!r}")
     if not isinstance(rs, RoomSound):
         raise ParameterError("room_sound", f"expected a RoomSound, got {type(rs).__name__}")
     a, medium = scene.radius, scene.medium
