@@ -128,7 +128,8 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
         Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``).
     """
     if s.kind == "bool":  # a flag
-        group.add_argument(s.option, action="store_true", help=s.doc.replace("%", "%%"), **kw)
+        group.add_argument(s.option, action="store_true", default=s.default if default == SAME else default,
+                           help=s.doc.replace("%", "%%"), **kw)
         return
     bounded = s.kind != "str" and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
     rng = f", in {s.range_text()}" if bounded else ""
