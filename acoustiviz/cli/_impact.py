@@ -7,6 +7,9 @@ Angles are in degrees on the command line only; everything else is SI.
 
 from __future__ import annotations
 
+from ..app.settings.impact import WAVEFORM
+from ..app.settings.room import ROOM
+from ..app.settings.table import add_option
 from ..constants import (
     DEFAULT_AIR_DENSITY,
     DEFAULT_SOUND_SPEED,
@@ -74,30 +77,12 @@ def add_room_options(parser, *, duration: bool = False) -> None:
     """
     import re
 
-    from ..core.room_geometry import ROOM_STRIKES
-
     # let "--room -6,4,3" or "--source -1,0,0" reach the validation (argparse takes only plain negative numbers)
     parser._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     g = parser.add_argument_group("room (a shoebox [0, LX] x [0, LY] x [0, LZ] m, floor z = 0)")
-    g.add_argument("--room", default=None, metavar="LX,LY,LZ",
-                   help="put the sphere in a rectangular room of these dimensions in m (image sources to the "
-                        "order the output needs; replaces --config)")
-    g.add_argument("--absorption", default=None, metavar="A|A1,...,A6",
-                   help="energy absorption coefficient alpha in [0, 1) of every surface, or of x0,x1,y0,y1,z0 "
-                        "(floor),z1 (default 0: rigid)")
-    g.add_argument("--source", default=None, metavar="X,Y,Z",
-                   help="centre of the sphere in m, at least its radius from every surface (default: the middle "
-                        "of the floor)")
-    g.add_argument("--room-strike", default="floor", choices=ROOM_STRIKES, metavar="SURFACE",
-                   help="the struck surface: floor (default), ceiling, or x0, x1, y0, y1, z0, z1")
-    g.add_argument("--image-order", type=int, default=None, metavar="N",
-                   help="image order (default: chosen from --tolerance-db and the window)")
-    g.add_argument("--tolerance-db", type=float, default=None, metavar="DB",
-                   help="largest neglected image energy relative to the total in dB, in [-200, 0) (default -60)")
+    for s in ROOM:
+        add_option(g, s)
     if duration:
-        from ..app.settings.impact import WAVEFORM
-        from ..app.settings.table import add_option
-
         add_option(g, WAVEFORM[1], metavar="S")
 
 

@@ -25,6 +25,7 @@ from ...constants import (
 )
 from ...core.geometry import CONFIGURATIONS
 from .base import Settings
+from .room import RoomOptions
 from .table import Setting
 
 __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER"]
@@ -156,18 +157,6 @@ class DamperSettings(Settings):
     solver: str = "event"
     dt: float | None = None
     rtol: float = DEFAULT_RTOL
-
-
-@dataclasses.dataclass(frozen=True)
-class RoomOptions(Settings):
-    """The shoebox room as given (text, checked by :class:`acoustiviz.core.geometry.Room`); no ``room``: none."""
-
-    room: str | None = None
-    absorption: str | None = None
-    source: str | None = None
-    room_strike: str = "floor"
-    image_order: int | None = None
-    tolerance_db: float | None = None
 
 
 @dataclasses.dataclass(frozen=True)

@@ -118,7 +118,7 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
     group : argparse parser or argument group
     s : Setting
     metavar : str, optional
-        Shown for the value (default: ``M`` for lengths, ``N`` for counts).
+        Shown for the value (default: the record's, else the choices, ``M`` for lengths, ``N`` otherwise).
     default : object, optional
         The option's default when it is not ``s.default`` (:data:`SAME`).
     parse_choices : bool
@@ -136,10 +136,10 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
     value = s.default if default == SAME else default
     shown = " (default %(default)s)" if value is not None else ""
     choices = s.choices if parse_choices else ()
+    metavar = metavar or s.metavar
     if metavar is None and not choices:
-        metavar = s.metavar or ("M" if s.unit == "m" else "N")
-    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=choices or None,
-                       metavar=None if choices else metavar,
+        metavar = "M" if s.unit == "m" else "N"
+    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=choices or None, metavar=metavar,
                        help=f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s"), **kw)
 
 
