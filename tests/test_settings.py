@@ -9,6 +9,8 @@ import math
 import pytest
 
 from acoustiviz.app.maps import MAP_SETTINGS
+from acoustiviz.app.settings.auralize import ALL as AURALIZE_ALL
+from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings
 from acoustiviz.app.settings.design import DESIGN, DesignSettings
 from acoustiviz.app.settings.forced import FORCED, ForcedSettings
 from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
@@ -36,6 +38,10 @@ TABLES = [
     (("design",), DESIGN, DesignSettings),
     (("sweep",), SWEEP, SweepSettings),
     (("map",), MAP_SETTINGS, None),
+    (("auralize",), AURALIZE, AuralizeSettings),
+    # the other auralize records with a range, choices or a scene key; their checks need the run's other settings
+    (("auralize",), tuple(s for s in AURALIZE_ALL if s not in AURALIZE and (
+        s.key or s.choices or math.isfinite(s.low) or math.isfinite(s.high))), None),
 ]
 RECORDS = [(cmd, s, cls) for cmd, table, cls in TABLES for s in table]
 
@@ -73,7 +79,7 @@ def test_option_takes_its_default_and_range_from_the_table(case, parser):
         assert all(c in action.help for c in s.choices)
     elif s.choices:
         assert tuple(action.choices) == tuple(s.choices)
-    else:
+    elif s.kind != "bool":  # a flag has no range
         assert _range(s) in action.help % {"default": action.default}
 
 

@@ -9,10 +9,13 @@ default or a file format.
 * :mod:`.names` -- errors in the user's words: API parameter names mapped to options or scene keys;
 * :mod:`.columns` -- the waveform and directivity tables and the peaks a waveform reports;
 * :mod:`.waveform` -- the waveform of one impact at one observer and its files;
+* :mod:`.directivity` -- the levels of one impact against angle on a circle, printed and written;
 * :mod:`.render` -- the 3-D views' memory estimate and files;
 * :mod:`.impacts` -- sphere, contact, pulse, medium, configuration and observers of one impact;
 * :mod:`.damper` -- build and run a damper model, and the figures reported about it;
 * :mod:`.wav` -- auralised WAV files and their one sidecar schema;
+* :mod:`.auralize` -- an auralised damper run: its checks, its rendering, its report and files;
+* :mod:`.forced` -- the damper in operation: frequency response, its report and files;
 * :mod:`.sweep` -- design sweeps from settings, and their output files;
 * :mod:`.pipeline` -- run a scene: exactly the outputs it names.
 """

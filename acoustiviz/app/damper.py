@@ -26,8 +26,8 @@ from ..dynamics import DamperModel, InitialState, cheapest_solver
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 from .limits import check_damper
 
-__all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "damper_description", "damping_figures",
-           "check_click_fits"]
+__all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "run_damper_settings", "damper_description",
+           "damping_figures", "check_click_fits"]
 
 
 def damper_model(*, M: float = TABLE1["M"], K: float = TABLE1["K"], C: float = TABLE1["C"], m: float = TABLE1["m"],
@@ -190,3 +190,25 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
                                      f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
                                      f"than the {duration:g} s sound; use a lighter mass, a stiffer contact or a "
                                      f"longer {n['duration']}")
+
+
+def run_damper_settings(settings, max_memory_mb=None) -> tuple:
+    """Build and run the damper of a :class:`~acoustiviz.app.settings.auralize.DamperSettings`, errors naming options.
+
+    The working memory is checked first (:func:`acoustiviz.app.budget.damper_estimate`, capped at
+    ``max_memory_mb`` MB). Returns ``(model, run)``: the :class:`~acoustiviz.dynamics.DamperModel`
+    and its :class:`DamperRun`.
+    """
+    from .budget import check_budget, damper_estimate
+    from .names import DAMPER_OPTIONS, user_terms
+
+    d = settings
+    with user_terms(DAMPER_OPTIONS):
+        model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
+                             clip_tensile=bool(d.clip_tensile))
+        duration = check_positive("duration", d.duration, "s")
+        if d.dt is not None:
+            check_positive("dt", d.dt, "s")
+        check_budget(damper_estimate(model, duration, solver=d.solver, dt=d.dt, options=("--duration",)), max_memory_mb)
+        run = run_damper(model, d.duration, solver=d.solver, v0=d.v0, rtol=d.rtol, dt=d.dt)
+    return model, run

@@ -41,7 +41,7 @@ from .forced_noise import (
 )
 from .names import DAMPER_OPTIONS, user_terms
 
-__all__ = ["forced_table", "operating_noise_report", "room_surroundings",
+__all__ = ["forced_workflow", "forced_table", "operating_noise_report", "room_surroundings",
            "FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun", "OperatingNoise",
            "add_operating_noise", "check_listener", "default_listener", "operating_noise", "parse_frequencies",
            "run_forced", "write_forced_csv", "write_forced_png", "write_operating_wav", "DesignMap", "design_map"]
@@ -409,3 +409,73 @@ def operating_noise_report(fr, listener, seconds: float, *, wav=None, settings=N
         rec = write_operating_wav(noises, wav, listener=listener)
         lines.append(f"wrote {wav} (sidecar {rec[0]['sidecar']})")
     return lines
+
+
+def _check_forced_outputs(job) -> None:
+    """Refuse unwritable or clashing output files (before any work)."""
+    from .outputs import check_distinct, check_output_file
+
+    outputs = {"--csv": job.csv and check_output_file("--csv", job.csv, "csv"),
+               "--png": job.png and check_output_file("--png", job.png, "figure")}
+    if job.wav is not None:
+        outputs["--wav"] = check_output_file("--wav", job.wav, "wav")
+        outputs["--wav (sidecar)"] = check_output_file("--wav", outputs["--wav"].with_suffix(".json"), "json")
+    check_distinct(outputs)
+    if job.wav is not None and not job.noise:
+        raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
+
+
+def _checked_job(job) -> tuple:
+    """Every check before any work: ``(frequencies in Hz, listener in m or None, room, damper model)``."""
+    from .budget import check_budget, forced_estimate
+    from .damper import damper_model
+    from .names import ROOM_OPTIONS, user_terms
+    from .settings.parse import parse_point
+
+    freqs = parse_frequencies(job.freq)
+    listener = None if job.listener is None else parse_point(job.listener, "--listener")
+    _check_forced_outputs(job)
+    st = job.settings
+    with user_terms({**ROOM_OPTIONS, "listener": "--listener"}):
+        room = room_surroundings(job.room, listener, room_name="--room")
+    with user_terms(FORCED_OPTIONS):
+        model = damper_model(**job.model)
+    check_budget(forced_estimate(len(freqs) * st.starts, st.max_cycles,
+                                 noise_seconds=st.noise_seconds if job.noise else 0.0,
+                                 wav=job.wav is not None), job.max_memory)
+    if job.noise or listener is not None:
+        with user_terms(ROOM_OPTIONS):  # a room's settings checked here, before any run
+            check_listener(model, listener, settings=room)
+    return freqs, listener, room, model
+
+
+def forced_workflow(job, *, echo=print, progress=None) -> int:
+    """Run a :class:`~acoustiviz.app.settings.forced.ForcedJob`: check it, run it, ``echo`` the report, write files.
+
+    Errors name the command-line options. ``progress`` receives a line per finished frequency.
+    Returns the exit status: 0, or 1 when a frequency's run failed (each one warned about).
+    """
+    freqs, listener, room, model = _checked_job(job)
+    st = job.settings
+    kind, amp = ("force", job.force) if job.force is not None else ("base", job.base)
+    fr = run_forced(model, freqs, amp, kind=kind, sweep=st.sweep, solver=st.solver, restitution=job.restitution,
+                    tolerance=st.tolerance, rtol=st.rtol, starts=st.starts, max_cycles=st.max_cycles,
+                    workers=job.workers, executor=job.executor, progress=progress)
+    unit = "N" if kind == "force" else "m"
+    echo(f"{kind} amplitude {amp:g} {unit}; sweep {st.sweep}; solver {st.solver}; {st.starts} starts; "
+         f"tolerance {st.tolerance:g} m, m/s; rtol {st.rtol:g}; max cycles {st.max_cycles}; "
+         f"{len(freqs)} frequencies, {len(fr.rows)} attractors in {fr.elapsed:.2f} s")
+    failed = [r for r in fr.steady_states if not r.success]
+    if not job.noise:
+        echo(forced_table(fr, None))
+    for r in failed:
+        echo(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
+    if job.noise:
+        for line in operating_noise_report(fr, listener, st.noise_seconds, wav=job.wav, settings=room):
+            echo(line)
+    if job.csv:
+        echo(f"wrote {write_forced_csv(fr, job.csv)}")
+    if job.png:
+        echo(f"wrote {write_forced_png(fr, job.png)}")
+    return 0 if not failed else 1
+

@@ -57,6 +57,7 @@ from ..sweep import (
 )
 from ..sweep.spec import sweepable
 from .settings.design import DEFAULT_TOLERANCE
+from .settings.sweep import sweep_radius
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
@@ -128,11 +129,8 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         raise ParameterError("m", "give either the impact mass or the mass ratio, not both")
     if k_hertz is not None and material is not None:
         raise ParameterError("k_hertz", "give either K_HZ or the sphere material, not both")
-    if isinstance(radius, str) and radius.strip().lower() == "mass":
-        radius_mode, radius = "from-mass", PAPER_RADIUS
-    else:
-        radius_mode = "fixed"
-        radius = check_positive("radius", _number("radius", radius, "a radius in m or 'mass'"), "m")
+    radius_mode, radius = sweep_radius(radius)
+    if radius_mode == "fixed":
         if density is not None:
             raise ParameterError("density", "sets the sphere's radius from the impact mass; it needs a radius "
                                             "from the mass (--radius mass)")
@@ -162,13 +160,6 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         config=configs,
         settings=settings,
     )
-
-
-def _number(name, value, what):
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, f"expected {what}, got {value!r}") from None
 
 
 #: :func:`sweep_spec` parameter -> the scene key it is read from (errors name the key).
@@ -512,6 +503,5 @@ def with_room(given: dict, room: dict | None) -> dict:
     from ..core.geometry import geometry
     from ..core.room_geometry import Room
 
-    radius = given.get("radius")
-    geometry(Room.name, PAPER_RADIUS if radius in (None, "mass") else float(radius), **room)
+    geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
     return {**given, "config": given.get("config") or Room.name, "room": room}

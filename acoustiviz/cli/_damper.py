@@ -49,25 +49,18 @@ def add_damper_options(parser, *, duration_help: str = "simulated time in s (def
 
 
 def damper_from_args(args):
-    """Build and run the damper of the shared options (:mod:`acoustiviz.app.damper`), errors naming options.
+    """Build and run the damper of the shared options (:func:`acoustiviz.app.damper.run_damper_settings`).
 
     Returns
     -------
     model : DamperModel
     run : acoustiviz.app.damper.DamperRun
     """
-    from .._validate import check_positive
-    from ..app.budget import check_budget, damper_estimate
-    from ..app.damper import damper_model, run_damper
-    from ..app.names import DAMPER_OPTIONS, user_terms
+    import dataclasses
 
-    with user_terms(DAMPER_OPTIONS):
-        model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
-                             c1=args.c1, clip_tensile=bool(args.clip_tensile))
-        duration = check_positive("duration", args.duration, "s")
-        if args.dt is not None:
-            check_positive("dt", args.dt, "s")
-        check_budget(damper_estimate(model, duration, solver=args.solver, dt=args.dt, options=("--duration",)),
-                     getattr(args, "max_memory", None))
-        run = run_damper(model, args.duration, solver=args.solver, v0=args.v0, rtol=args.rtol, dt=args.dt)
-    return model, run
+    from ..app.damper import run_damper_settings
+    from ..app.settings.auralize import DamperSettings
+
+    names = {f.name for f in dataclasses.fields(DamperSettings)}
+    settings = DamperSettings(**{k: v for k, v in vars(args).items() if k in names})
+    return run_damper_settings(settings, getattr(args, "max_memory", None))

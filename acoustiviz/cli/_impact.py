@@ -7,20 +7,10 @@ Angles are in degrees on the command line only; everything else is SI.
 
 from __future__ import annotations
 
-from ..constants import (
-    DEFAULT_AIR_DENSITY,
-    DEFAULT_SOUND_SPEED,
-    DEFAULT_WALL_DISTANCE,
-    PAPER_ANGLE_DEG,
-    PAPER_DENSITY,
-    PAPER_DISTANCE,
-    PAPER_K_HERTZ,
-    PAPER_RADIUS,
-    PAPER_VELOCITY,
-    PULSES,
-    STRIKES,
-)
-from ..core.geometry import CONFIGURATIONS
+from ..app.settings.impact import IMPACT_GROUPS, WAVEFORM
+from ..app.settings.room import ROOM
+from ..app.settings.table import add_option
+from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE
 
 __all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings", "room_duration",
            "impact_from_args", "observer_point"]
@@ -28,43 +18,11 @@ __all__ = ["add_impact_options", "add_observer_options", "add_room_options", "ro
 
 def add_impact_options(parser, *, velocity: bool = True) -> None:
     """Add the sphere, contact, pulse, medium and configuration options to ``parser``."""
-    g = parser.add_argument_group("impact (SI units)")
-    g.add_argument("--radius", type=float, default=PAPER_RADIUS, metavar="M",
-                   help="sphere radius in m (default %(default)s)")
-    if velocity:
-        g.add_argument("--velocity", type=float, default=PAPER_VELOCITY, metavar="M/S",
-                       help="impact (approach) speed in m/s (default %(default)s)")
-    g.add_argument("--k-hertz", type=float, default=None, metavar="N/M^1.5",
-                   help=f"Hertz contact stiffness in N/m^1.5 (default {PAPER_K_HERTZ:g}, or from "
-                        "--material/--surface when given)")
-    g.add_argument("--material", default=None, metavar="NAME",
-                   help="sphere material from the catalogue (sets density and, with --surface, K_HZ)")
-    g.add_argument("--surface", default=None, metavar="NAME",
-                   help="surface material from the catalogue (default: same as --material, else steel)")
-    g.add_argument("--density", type=float, default=None, metavar="KG/M^3",
-                   help=f"sphere density in kg/m^3 (default {PAPER_DENSITY:g} or the material's)")
-    g.add_argument("--mass", type=float, default=None, metavar="KG",
-                   help="sphere mass in kg (replaces --density)")
-    g.add_argument("--pulse", default="half-sine", choices=PULSES,
-                   help="acceleration pulse: the paper's peak-matched half-sine (default), an "
-                        "impulse-matched half-sine, or the exact Hertz pulse")
-    m = parser.add_argument_group("medium")
-    m.add_argument("--c", type=float, default=DEFAULT_SOUND_SPEED, metavar="M/S",
-                   help="speed of sound in m/s (default %(default)s, air at 20 degC)")
-    m.add_argument("--rho", type=float, default=DEFAULT_AIR_DENSITY, metavar="KG/M^3",
-                   help="density of the fluid in kg/m^3 (default %(default)s, air at 20 degC)")
-    c = parser.add_argument_group("configuration")
-    c.add_argument("--config", default="free", choices=CONFIGURATIONS,
-                   help="free field, a reflecting plane (floor), or a wall-floor corner (default free)")
-    c.add_argument("--wall-distance", type=float, default=None, metavar="M",
-                   help="wall-floor only: distance in m from the wall to the sphere's centre "
-                        f"(default {DEFAULT_WALL_DISTANCE:g})")
-    c.add_argument("--strike", default="floor", choices=STRIKES,
-                   help="wall-floor only: the struck surface; 'wall' puts the sphere against the wall, "
-                        "accelerating along +x (default floor)")
-    c.add_argument("--height", type=float, default=None, metavar="M",
-                   help="wall strike only: height in m of the sphere's centre above the floor "
-                        "(default: the radius, a ball in the corner)")
+    for title, records in IMPACT_GROUPS:
+        g = parser.add_argument_group(title)
+        for s in records:
+            if velocity or s.name != "velocity":
+                add_option(g, s)
 
 
 def add_room_options(parser, *, duration: bool = False) -> None:
@@ -74,30 +32,12 @@ def add_room_options(parser, *, duration: bool = False) -> None:
     """
     import re
 
-    from ..core.room_geometry import ROOM_STRIKES
-
     # let "--room -6,4,3" or "--source -1,0,0" reach the validation (argparse takes only plain negative numbers)
     parser._negative_number_matcher = re.compile(r"^-\d*\.?\d+([eE][-+]?\d+)?(,.*)?$")
     g = parser.add_argument_group("room (a shoebox [0, LX] x [0, LY] x [0, LZ] m, floor z = 0)")
-    g.add_argument("--room", default=None, metavar="LX,LY,LZ",
-                   help="put the sphere in a rectangular room of these dimensions in m (image sources to the "
-                        "order the output needs; replaces --config)")
-    g.add_argument("--absorption", default=None, metavar="A|A1,...,A6",
-                   help="energy absorption coefficient alpha in [0, 1) of every surface, or of x0,x1,y0,y1,z0 "
-                        "(floor),z1 (default 0: rigid)")
-    g.add_argument("--source", default=None, metavar="X,Y,Z",
-                   help="centre of the sphere in m, at least its radius from every surface (default: the middle "
-                        "of the floor)")
-    g.add_argument("--room-strike", default="floor", choices=ROOM_STRIKES, metavar="SURFACE",
-                   help="the struck surface: floor (default), ceiling, or x0, x1, y0, y1, z0, z1")
-    g.add_argument("--image-order", type=int, default=None, metavar="N",
-                   help="image order (default: chosen from --tolerance-db and the window)")
-    g.add_argument("--tolerance-db", type=float, default=None, metavar="DB",
-                   help="largest neglected image energy relative to the total in dB, in [-200, 0) (default -60)")
+    for s in ROOM:
+        add_option(g, s)
     if duration:
-        from ..app.settings.impact import WAVEFORM
-        from ..app.settings.table import add_option
-
         add_option(g, WAVEFORM[1], metavar="S")
 
 

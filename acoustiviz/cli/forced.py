@@ -13,6 +13,7 @@ import argparse
 from ..app.settings.forced import FORCED
 from ..app.settings.table import add_option
 from ._damper import add_model_options
+from ._impact import add_room_options
 
 _METAVARS = {"sweep": "{up,down,both,independent}", "solver": "{event,impact-map,newmark}", "starts": "N",
              "tolerance": "TOL", "rtol": "RTOL", "max_cycles": "N"}
@@ -64,8 +65,6 @@ def add_parser(subparsers):
     add_option(n, FORCED[6], metavar="S")
     n.add_argument("--wav", metavar="PATH", default=None,
                    help="write the damper in operation, each frequency's interval in turn, as a 48 kHz WAV")
-    from ._impact import add_room_options
-
     add_room_options(p, duration=True)  # --duration: how long each click's reflections are heard
     o = p.add_argument_group("outputs")
     o.add_argument("--csv", metavar="PATH", default=None, help="write one row per frequency and attractor as CSV")
@@ -75,84 +74,26 @@ def add_parser(subparsers):
     return p
 
 
-def _check_outputs(args) -> None:
-    """Refuse unwritable or clashing output files (before any work)."""
-    from ..app.outputs import check_distinct, check_output_file
-
-    outputs = {"--csv": args.csv and check_output_file("--csv", args.csv, "csv"),
-               "--png": args.png and check_output_file("--png", args.png, "figure")}
-    if args.wav is not None:
-        outputs["--wav"] = check_output_file("--wav", args.wav, "wav")
-        outputs["--wav (sidecar)"] = check_output_file("--wav", outputs["--wav"].with_suffix(".json"), "json")
-    check_distinct(outputs)
-
-
 def run(args) -> int:
-    """Run the ``forced`` subcommand; return the exit status."""
-    from ..app.budget import check_budget, forced_estimate
-    from ..app.damper import damper_model
-    from ..app.forced import FORCED_OPTIONS, forced_table, parse_frequencies, room_surroundings, run_forced
+    """Parse the options into a :class:`~acoustiviz.app.settings.forced.ForcedJob` and run it."""
+    import sys
+
+    from ..app.forced import forced_workflow
     from ..app.names import ROOM_OPTIONS, user_terms
-    from ..app.settings.forced import ForcedSettings
-    from ..errors import ParameterError
+    from ..app.settings.forced import ForcedJob, ForcedSettings
     from ._impact import room_duration, room_settings
 
-    freqs = parse_frequencies(args.freq)
-    listener = None
-    if args.listener is not None:
-        from ..app.settings.parse import parse_point
-
-        listener = parse_point(args.listener, "--listener")
-    _check_outputs(args)
-    if args.wav is not None and not args.noise:
-        raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
     with user_terms(ForcedSettings.cli_names()):
         st = ForcedSettings.from_values({s.name: getattr(args, s.name) for s in FORCED})
-    with user_terms({**ROOM_OPTIONS, "listener": "--listener"}):
-        room = room_surroundings(room_settings(args, duration=room_duration(args)), listener, room_name="--room")
-    with user_terms(FORCED_OPTIONS):
-        model = damper_model(M=args.M, K=args.K, C=args.C, m=args.m, gap=args.gap, k_hertz=args.k_hertz,
-                             c1=args.c1)
-    check_budget(forced_estimate(len(freqs) * st.starts, st.max_cycles,
-                                 noise_seconds=st.noise_seconds if args.noise else 0.0,
-                                 wav=args.wav is not None), getattr(args, "max_memory", None))
-    if args.noise or listener is not None:
-        from ..app.forced import check_listener
-
-        with user_terms(ROOM_OPTIONS):  # a room's settings checked here, before any run
-            check_listener(model, listener, settings=room)
-    kind, amp = ("force", args.force) if args.force is not None else ("base", args.base)
-    import sys
+    with user_terms(ROOM_OPTIONS):
+        room = room_settings(args, duration=room_duration(args))
+    model = {k: getattr(args, k) for k in ("M", "K", "C", "m", "gap", "k_hertz", "c1")}
+    job = ForcedJob(st, model, args.freq, force=args.force, base=args.base, restitution=args.restitution,
+                    workers=args.workers, executor=args.executor, noise=args.noise, listener=args.listener,
+                    wav=args.wav, csv=args.csv, png=args.png, room=room,
+                    max_memory=getattr(args, "max_memory", None))
 
     def progress(msg):  # to stderr: the table on stdout stays clean
         print(f"forced: {msg}", file=sys.stderr, flush=True)
 
-    fr = run_forced(model, freqs, amp, kind=kind, sweep=st.sweep, solver=st.solver, restitution=args.restitution,
-                    tolerance=st.tolerance, rtol=st.rtol, starts=st.starts, max_cycles=st.max_cycles,
-                    workers=args.workers, executor=args.executor, progress=progress)
-    unit = "N" if kind == "force" else "m"
-    print(f"{kind} amplitude {amp:g} {unit}; sweep {st.sweep}; solver {st.solver}; {st.starts} starts; "
-          f"tolerance {st.tolerance:g} m, m/s; rtol {st.rtol:g}; max cycles {st.max_cycles}; "
-          f"{len(freqs)} frequencies, {len(fr.rows)} attractors in {fr.elapsed:.2f} s")
-    failed = [r for r in fr.steady_states if not r.success]
-    if not args.noise:
-        print(forced_table(fr, None))
-    for r in failed:
-        print(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
-    _write_outputs(args, fr, listener, room)
-    return 0 if not failed else 1
-
-
-def _write_outputs(args, fr, listener, room=None) -> None:
-    """The noise in operation (table and WAV) when asked, then the CSV and the figure."""
-    from ..app.forced import write_forced_csv, write_forced_png
-
-    if args.noise:
-        from ..app.forced import operating_noise_report
-
-        for line in operating_noise_report(fr, listener, args.noise_seconds, wav=args.wav, settings=room):
-            print(line)
-    if args.csv:
-        print(f"wrote {write_forced_csv(fr, args.csv)}")
-    if args.png:
-        print(f"wrote {write_forced_png(fr, args.png)}")
+    return forced_workflow(job, progress=progress)

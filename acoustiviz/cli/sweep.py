@@ -16,30 +16,13 @@ options; :mod:`acoustiviz.app.sweep` does the rest, with the defaults of
 
 from __future__ import annotations
 
-from ..app.settings.sweep import SWEEP
+from ..app.settings.sweep import SWEEP_DAMPER, SWEEP_SOUND, SWEPT
 from ..app.settings.table import add_option
-from ..constants import (
-    DEFAULT_AIR_DENSITY,
-    DEFAULT_RTOL,
-    DEFAULT_SOUND_SPEED,
-    DEFAULT_WALL_DISTANCE,
-    PAPER_ANGLE_DEG,
-    PAPER_DISTANCE,
-    PAPER_GAP,
-    PAPER_RADIUS,
-    PAPER_V0,
-    PULSES,
-    SOLVERS,
-    TABLE1,
-)
+from ._impact import add_room_options
 
-#: option destination -> parameter of :func:`acoustiviz.app.sweep.sweep_spec`
-_SPEC = {"gap": "gap", "m": "m", "mass_ratio": "mass_ratio", "c1": "c1", "k_hertz": "k_hertz",
-         "material": "material", "v0": "v0", "distance": "distance", "angle": "angle_deg", "config": "config",
-         "M": "M", "K": "K", "C": "C", "clip_tensile": "clip_tensile", "duration": "duration", "solver": "solver",
-         "rtol": "rtol", "radius": "radius", "density": "density", "surface": "surface", "pulse": "pulse",
-         "pulse_mass": "pulse_mass", "c": "c", "rho": "rho", "wall_distance": "wall_distance",
-         "spl_fastest": "n_fastest", "levels": "levels"}
+#: ``--help`` group title -> its records; each option's destination is its sweep_spec parameter.
+_GROUPS = (("swept parameters (VALUE, START:STOP:COUNT or A,B,C; SI units)", SWEPT),
+           ("damper (SI units)", SWEEP_DAMPER), ("sound (SI units)", SWEEP_SOUND))
 
 
 def add_parser(subparsers):
@@ -55,61 +38,10 @@ def add_parser(subparsers):
             "interrupted sweep. A design that fails is a row with its reason in the error column."
         ),
     )
-    a = p.add_argument_group("swept parameters (VALUE, START:STOP:COUNT or A,B,C; SI units)")
-    a.add_argument("--gap", metavar="RANGE", help=f"total free travel d in m (default {PAPER_GAP:g})")
-    a.add_argument("--m", metavar="RANGE", help=f"impact mass in kg (default {TABLE1['m']:g})")
-    a.add_argument("--mass-ratio", metavar="RANGE", help="mass ratio m/M instead of --m")
-    a.add_argument("--c1", metavar="RANGE", help=f"contact damping in N s/m (default {TABLE1['c1']:g})")
-    a.add_argument("--k-hertz", metavar="RANGE",
-                   help=f"Hertz contact stiffness in N/m^1.5 (default {TABLE1['k_hertz']:g})")
-    a.add_argument("--material", metavar="NAMES",
-                   help="sphere material(s) from the catalogue instead of --k-hertz: K_HZ from the "
-                        "sphere radius and the materials (paper eq 2), density for --radius mass")
-    a.add_argument("--v0", metavar="RANGE", help=f"initial main-mass velocity in m/s (default {PAPER_V0:g})")
-    a.add_argument("--distance", metavar="RANGE",
-                   help=f"listener distance in m from the sphere's centre (default {PAPER_DISTANCE:g})")
-    a.add_argument("--angle", metavar="RANGE",
-                   help=f"listener angle in degrees from the surface normal (default {PAPER_ANGLE_DEG:g})")
-    a.add_argument("--config", metavar="NAMES",
-                   help="free, plane (reflecting plane, default) or wall-floor; a comma list sweeps them")
-    g = p.add_argument_group("damper (SI units)")
-    g.add_argument("--M", type=float, help=f"main mass in kg (default {TABLE1['M']:g})")
-    g.add_argument("--K", type=float, help=f"main spring in N/m (default {TABLE1['K']:g})")
-    g.add_argument("--C", type=float, help=f"main dashpot in N s/m (default {TABLE1['C']:g})")
-    g.add_argument("--clip-tensile", action="store_true", default=None,
-                   help="clip the contact force at zero (default: the paper's form, which may pull)")
-    add_option(g, SWEEP[0], metavar="DURATION")
-    g.add_argument("--solver", choices=SOLVERS, help="damper solver (default event)")
-    g.add_argument("--rtol", type=float,
-                   help=f"relative tolerance of the event solver's contacts (default {DEFAULT_RTOL:g})")
-    s = p.add_argument_group("sound (SI units)")
-    s.add_argument("--radius", metavar="M|mass",
-                   help=f"radius of the radiating sphere in m (default {PAPER_RADIUS:g}, the paper's Figure 2 "
-                        "sphere, whose levels match the paper's), or 'mass': from the impact mass "
-                        "and --density")
-    s.add_argument("--density", type=float, metavar="KG/M^3",
-                   help="sphere density for --radius mass (default 7800 or the material's)")
-    s.add_argument("--surface", metavar="NAME",
-                   help="surface material for K_HZ from --material (default: same as the sphere)")
-    s.add_argument("--pulse", choices=PULSES,
-                   help="acceleration pulse of each impact (default the paper's peak-matched half-sine)")
-    s.add_argument("--pulse-mass", choices=("impact", "effective"),
-                   help="mass in the pulse: the impact mass alone against a fixed wall (default, paper "
-                        "eq 3) or the effective mass m M/(m+M) of the two bodies")
-    s.add_argument("--c", type=float, metavar="M/S", help=f"speed of sound (default {DEFAULT_SOUND_SPEED:g})")
-    s.add_argument("--rho", type=float, metavar="KG/M^3", help=f"air density (default {DEFAULT_AIR_DENSITY:g})")
-    s.add_argument("--wall-distance", type=float, metavar="M",
-                   help=f"wall-floor: distance from the wall to the sphere's centre in m "
-                        f"(default {DEFAULT_WALL_DISTANCE:g})")
-    s.add_argument("--spl-fastest", type=int, metavar="N",
-                   help="evaluate the N fastest impacts exactly (the loudest is the fastest); 0: all "
-                        "(default 4)")
-    s.add_argument("--levels", action="store_true", default=None,
-                   help="also render each run's click train at the listener at 96 kHz and report its LAFmax, "
-                        "LCpeak and LAeq over the run (columns lafmax_db, lcpeak_db, laeq_db; many times the "
-                        "cost of the motion, so off by default)")
-    from ._impact import add_room_options
-
+    for title, records in _GROUPS:
+        g = p.add_argument_group(title)
+        for s in records:
+            add_option(g, s, dest=s.name, **({"metavar": "DURATION"} if s.option == "--duration" else {}))
     add_room_options(p)  # --config room with --room; the window its images reach is --room-window
     p.add_argument("--room-window", type=float, default=None, metavar="S",
                    help="with --room: the window in s from the start of each impact whose images the peak SPL "
@@ -138,13 +70,14 @@ def _given(args) -> dict:
     """The :func:`acoustiviz.app.sweep.sweep_spec` parameters the options give, ``--room``'s checked now."""
     from .._validate import ParameterError
     from ..app.names import ROOM_OPTIONS, user_terms
-    from ..app.sweep import with_room
+    from ..app.sweep import SWEEP_OPTIONS, with_room
     from ._impact import room_settings
 
     if args.room is None and args.room_window is not None:
         raise ParameterError("--room-window", "only applies with --room LX,LY,LZ")
-    given = {param: getattr(args, dest) for dest, param in _SPEC.items() if getattr(args, dest) is not None}
-    with user_terms({**ROOM_OPTIONS, "duration": "--room-window"}):
+    given = {s.name: getattr(args, s.name) for _, records in _GROUPS for s in records
+             if getattr(args, s.name) is not None}
+    with user_terms({**SWEEP_OPTIONS, **ROOM_OPTIONS, "duration": "--room-window"}):
         return with_room(given, room_settings(args, duration=args.room_window))
 
 

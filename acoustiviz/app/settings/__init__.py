@@ -1,16 +1,18 @@
 """Settings objects: one frozen dataclass per workflow, checked once against one table of ranges and defaults.
 
-=========== ==========================================================================================
-``table``   the :class:`Setting` record (API name, option, scene key, type, unit, range, default,
-            meaning) and :func:`add_option`, which builds a command-line option from it
-``base``    the :class:`Settings` base class that checks its fields against its table, and image sizes
-``parse``   a point X,Y,Z and an image size WxH typed as text
-``impact``  the waveform and the directivity of one impact
-``render``  the balloon, snapshot and animation views
-``forced``  the damper in operation: continuation, solver, tolerances and level interval
-``design``  the target damping inclination and its tolerance
-``sweep``   the simulated time per design of a sweep
-=========== ==========================================================================================
+============ ==========================================================================================
+``table``    the :class:`Setting` record (API name, option, scene key, type, unit, range, default,
+             meaning) and :func:`add_option`, which builds a command-line option from it
+``base``     the :class:`Settings` base class that checks its fields against its table, and image sizes
+``parse``    a point X,Y,Z and an image size WxH typed as text
+``impact``   the options of one impact, its waveform and its directivity
+``render``   the balloon, snapshot and animation views
+``forced``   the damper in operation: continuation, solver, tolerances, level interval, the job
+``design``   the target damping inclination and its tolerance
+``sweep``    the simulated time per design of a sweep, the sweep's options and its sphere radius
+``room``     the shoebox room's options
+``auralize`` the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
+============ ==========================================================================================
 
 The command line builds its options from the records, the scene schema its keys, and the
 settings objects check their values with them; ``acoustiviz --help``, ``acoustiviz run

@@ -60,3 +60,31 @@ class ForcedSettings(Settings):
     rtol: float = FORCED_RTOL
     max_cycles: int = FORCED_MAX_CYCLES
     noise_seconds: float = 1.0
+
+
+@dataclasses.dataclass(frozen=True)
+class ForcedJob:
+    """One run of the damper in operation as given: what to excite, where to listen, what to write.
+
+    ``model`` holds the damper's parameters (:func:`acoustiviz.app.damper.damper_model`); ``freq``
+    the frequencies in Hz as text (``START:STOP:COUNT`` or a comma list); ``force`` in N or
+    ``base`` in m (one of them); ``listener`` ``X,Y,Z`` in m as text; ``room`` the room's settings
+    (None: the free plane); ``max_memory`` the working-memory cap in MB.
+    """
+
+    settings: ForcedSettings
+    model: dict
+    freq: str
+    force: float | None = None
+    base: float | None = None
+    restitution: float | None = None
+    workers: int = 1
+    executor: str = "process"
+    noise: bool = True
+    listener: str | None = None
+    wav: str | None = None
+    csv: str | None = None
+    png: str | None = None
+    room: dict | None = None
+    max_memory: float | None = None
+

@@ -10,14 +10,69 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ...constants import DIRECTIVITY_METRICS
+from ...constants import (
+    DEFAULT_AIR_DENSITY,
+    DEFAULT_SOUND_SPEED,
+    DEFAULT_WALL_DISTANCE,
+    DIRECTIVITY_METRICS,
+    PAPER_DENSITY,
+    PAPER_K_HERTZ,
+    PAPER_RADIUS,
+    PAPER_VELOCITY,
+    PULSES,
+    STRIKES,
+)
+from ...core.geometry import CONFIGURATIONS
 from .base import Settings
 from .table import Setting
 
-__all__ = ["WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings", "MIN_SAMPLES_PER_DURATION"]
+__all__ = ["IMPACT_GROUPS", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
+           "MIN_SAMPLES_PER_DURATION"]
 
 #: Fewest time samples per contact duration a waveform is drawn or tabulated with.
 MIN_SAMPLES_PER_DURATION = 200
+
+#: The impact, its medium and its surroundings as the commands of one impact take them: ``(--help group, records)``.
+IMPACT_GROUPS = (
+    ("impact (SI units)", (
+        Setting("radius", "--radius", None, "float", PAPER_RADIUS, "sphere radius in m", "m"),
+        Setting("velocity", "--velocity", None, "float", PAPER_VELOCITY, "impact (approach) speed in m/s", "m/s",
+                metavar="M/S"),
+        Setting("k_hertz", "--k-hertz", None, "float", None,
+                f"Hertz contact stiffness in N/m^1.5 (default {PAPER_K_HERTZ:g}, or from --material/--surface when "
+                "given)", "N/m^1.5", metavar="N/M^1.5"),
+        Setting("material", "--material", None, "str", None,
+                "sphere material from the catalogue (sets density and, with --surface, K_HZ)", metavar="NAME"),
+        Setting("surface", "--surface", None, "str", None,
+                "surface material from the catalogue (default: same as --material, else steel)", metavar="NAME"),
+        Setting("density", "--density", None, "float", None,
+                f"sphere density in kg/m^3 (default {PAPER_DENSITY:g} or the material's)", "kg/m^3",
+                metavar="KG/M^3"),
+        Setting("mass", "--mass", None, "float", None, "sphere mass in kg (replaces --density)", "kg", metavar="KG"),
+        Setting("pulse", "--pulse", None, "str", "half-sine",
+                "acceleration pulse: the paper's peak-matched half-sine, an impulse-matched half-sine, or the exact "
+                "Hertz pulse", choices=PULSES),
+    )),
+    ("medium", (
+        Setting("c", "--c", None, "float", DEFAULT_SOUND_SPEED, "speed of sound in m/s, air at 20 degC", "m/s",
+                metavar="M/S"),
+        Setting("rho", "--rho", None, "float", DEFAULT_AIR_DENSITY, "density of the fluid in kg/m^3, air at 20 degC",
+                "kg/m^3", metavar="KG/M^3"),
+    )),
+    ("configuration", (
+        Setting("config", "--config", None, "str", "free",
+                "free field, a reflecting plane (floor), or a wall-floor corner", choices=CONFIGURATIONS),
+        Setting("wall_distance", "--wall-distance", None, "float", None,
+                f"wall-floor only: distance in m from the wall to the sphere's centre (default "
+                f"{DEFAULT_WALL_DISTANCE:g})", "m"),
+        Setting("strike", "--strike", None, "str", "floor",
+                "wall-floor only: the struck surface; 'wall' puts the sphere against the wall, accelerating along +x",
+                choices=STRIKES),
+        Setting("height", "--height", None, "float", None,
+                "wall strike only: height in m of the sphere's centre above the floor (default: the radius, a ball in "
+                "the corner)", "m"),
+    )),
+)
 
 WAVEFORM = (
     Setting("samples_per_duration", "--samples-per-duration", None, "int", 400,

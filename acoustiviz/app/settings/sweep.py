@@ -1,20 +1,124 @@
-"""Settings of a design sweep: ``acoustiviz sweep`` and a scene's ``[outputs.sweep]``."""
+"""Settings of a design sweep: ``acoustiviz sweep`` and a scene's ``[outputs.sweep]``.
+
+:data:`SWEEP` holds the settings object's records; :data:`SWEPT`, :data:`SWEEP_DAMPER` and
+:data:`SWEEP_SOUND` the options of the command, each given only when typed (the defaults named
+in their help are :func:`acoustiviz.app.sweep.sweep_spec`'s). :data:`RADIUS` is the sphere's
+radius in m, which a sweep also takes as ``"mass"`` (:func:`sweep_radius`).
+"""
 
 from __future__ import annotations
 
 import dataclasses
 
-from ...constants import DEFAULT_DURATION
+from ...constants import (
+    DEFAULT_AIR_DENSITY,
+    DEFAULT_DURATION,
+    DEFAULT_RTOL,
+    DEFAULT_SOUND_SPEED,
+    DEFAULT_WALL_DISTANCE,
+    PAPER_ANGLE_DEG,
+    PAPER_DISTANCE,
+    PAPER_GAP,
+    PAPER_RADIUS,
+    PAPER_V0,
+    PULSES,
+    SOLVERS,
+    TABLE1,
+)
+from ...errors import ParameterError
 from .base import Settings
 from .table import Setting
 
-__all__ = ["SWEEP", "SweepSettings"]
+__all__ = ["SWEEP", "SWEPT", "SWEEP_DAMPER", "SWEEP_SOUND", "RADIUS", "SweepSettings", "sweep_radius"]
 
 SWEEP = (
     # A scene's sweep is a quick look (5 s of motion per design); the command runs the paper's 20 s.
     Setting("duration", "--duration", "duration_s", "float", DEFAULT_DURATION, "simulated time per design", "s",
             low=0.0, high=1e4, low_open=True, scene_default=5.0, table="outputs.sweep"),
 )
+
+#: The radius of the radiating sphere (the scene's ``sphere.radius_m``).
+RADIUS = Setting("radius", "--radius", "radius_m", "float", PAPER_RADIUS, "sphere radius", "m", low=0.0, high=1.0,
+                 low_open=True, table="sphere")
+
+
+def _swept(name, option, doc):
+    return Setting(name, option, None, "str", None, doc, metavar="NAMES" if option in ("--material", "--config")
+                   else "RANGE")
+
+
+#: The swept options: one value, START:STOP:COUNT (both ends included) or a comma list A,B,C.
+SWEPT = (
+    _swept("gap", "--gap", f"total free travel d in m (default {PAPER_GAP:g})"),
+    _swept("m", "--m", f"impact mass in kg (default {TABLE1['m']:g})"),
+    _swept("mass_ratio", "--mass-ratio", "mass ratio m/M instead of --m"),
+    _swept("c1", "--c1", f"contact damping in N s/m (default {TABLE1['c1']:g})"),
+    _swept("k_hertz", "--k-hertz", f"Hertz contact stiffness in N/m^1.5 (default {TABLE1['k_hertz']:g})"),
+    _swept("material", "--material", "sphere material(s) from the catalogue instead of --k-hertz: K_HZ from the "
+           "sphere radius and the materials (paper eq 2), density for --radius mass"),
+    _swept("v0", "--v0", f"initial main-mass velocity in m/s (default {PAPER_V0:g})"),
+    _swept("distance", "--distance", f"listener distance in m from the sphere's centre (default {PAPER_DISTANCE:g})"),
+    _swept("angle_deg", "--angle", f"listener angle in degrees from the surface normal (default {PAPER_ANGLE_DEG:g})"),
+    _swept("config", "--config", "free, plane (reflecting plane, default) or wall-floor; a comma list sweeps them"),
+)
+
+#: The damper of every design (before the duration, :data:`SWEEP`) and its solver (after it).
+SWEEP_DAMPER = (
+    Setting("M", "--M", None, "float", None, f"main mass in kg (default {TABLE1['M']:g})", metavar="M"),
+    Setting("K", "--K", None, "float", None, f"main spring in N/m (default {TABLE1['K']:g})", metavar="K"),
+    Setting("C", "--C", None, "float", None, f"main dashpot in N s/m (default {TABLE1['C']:g})", metavar="C"),
+    Setting("clip_tensile", "--clip-tensile", None, "bool", None,
+            "clip the contact force at zero (default: the paper's form, which may pull)"),
+    SWEEP[0],
+    Setting("solver", "--solver", None, "str", None, "damper solver (default event)", choices=SOLVERS),
+    Setting("rtol", "--rtol", None, "float", None,
+            f"relative tolerance of the event solver's contacts (default {DEFAULT_RTOL:g})", metavar="RTOL"),
+)
+
+#: The sound of every impact at the listener.
+SWEEP_SOUND = (
+    Setting("radius", "--radius", None, "str", None,
+            f"radius of the radiating sphere in m (default {PAPER_RADIUS:g}, the paper's Figure 2 sphere, whose "
+            "levels match the paper's), or 'mass': from the impact mass and --density", metavar="M|mass"),
+    Setting("density", "--density", None, "float", None,
+            "sphere density for --radius mass (default 7800 or the material's)", metavar="KG/M^3"),
+    Setting("surface", "--surface", None, "str", None,
+            "surface material for K_HZ from --material (default: same as the sphere)", metavar="NAME"),
+    Setting("pulse", "--pulse", None, "str", None,
+            "acceleration pulse of each impact (default the paper's peak-matched half-sine)", choices=PULSES),
+    Setting("pulse_mass", "--pulse-mass", None, "str", None,
+            "mass in the pulse: the impact mass alone against a fixed wall (default, paper eq 3) or the effective "
+            "mass m M/(m+M) of the two bodies", choices=("impact", "effective")),
+    Setting("c", "--c", None, "float", None, f"speed of sound (default {DEFAULT_SOUND_SPEED:g})", metavar="M/S"),
+    Setting("rho", "--rho", None, "float", None, f"air density (default {DEFAULT_AIR_DENSITY:g})",
+            metavar="KG/M^3"),
+    Setting("wall_distance", "--wall-distance", None, "float", None,
+            f"wall-floor: distance from the wall to the sphere's centre in m (default {DEFAULT_WALL_DISTANCE:g})",
+            metavar="M"),
+    Setting("n_fastest", "--spl-fastest", None, "int", None,
+            "evaluate the N fastest impacts exactly (the loudest is the fastest); 0: all (default 4)", metavar="N"),
+    Setting("levels", "--levels", None, "bool", None,
+            "also render each run's click train at the listener at 96 kHz and report its LAFmax, LCpeak and LAeq "
+            "over the run (columns lafmax_db, lcpeak_db, laeq_db; many times the cost of the motion, so off by "
+            "default)"),
+)
+
+
+def sweep_radius(value, name: str = "radius") -> tuple:
+    """``("from-mass", PAPER_RADIUS)`` for ``"mass"``, else ``("fixed", radius in m)`` checked against :data:`RADIUS`.
+
+    Examples
+    --------
+    >>> sweep_radius("mass")[0], sweep_radius("0.01")
+    ('from-mass', ('fixed', 0.01))
+    """
+    if isinstance(value, str) and value.strip().lower() == "mass":
+        return "from-mass", PAPER_RADIUS
+    try:
+        radius = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, f"expected a radius in {RADIUS.range_text()} or 'mass', got {value!r}") from None
+    return "fixed", RADIUS.check(radius, name)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -52,6 +52,8 @@ class Setting:
         The default a scene gives it when it differs from the command line's (:data:`SAME`: the same).
     table : str
         The scene table holding ``key`` (``"outputs.level_map"``, ``"grids.plane"``).
+    metavar : str, optional
+        How ``--help`` shows the option's value (default: ``M`` for lengths, ``N`` otherwise).
     """
 
     name: str
@@ -67,6 +69,7 @@ class Setting:
     choices: tuple = ()
     scene_default: object = SAME
     table: str = ""
+    metavar: str | None = None
 
     @property
     def path(self) -> str | None:
@@ -115,7 +118,7 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
     group : argparse parser or argument group
     s : Setting
     metavar : str, optional
-        Shown for the value (default: ``M`` for lengths, ``N`` for counts).
+        Shown for the value (default: the record's, else the choices, ``M`` for lengths, ``N`` otherwise).
     default : object, optional
         The option's default when it is not ``s.default`` (:data:`SAME`).
     parse_choices : bool
@@ -124,14 +127,19 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
     **kw
         Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``).
     """
-    rng = f", in {s.range_text()}" if s.kind != "str" else ""
+    if s.kind == "bool":  # a flag
+        group.add_argument(s.option, action="store_true", default=s.default if default == SAME else default,
+                           help=s.doc.replace("%", "%%"), **kw)
+        return
+    bounded = s.kind != "str" and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
+    rng = f", in {s.range_text()}" if bounded else ""
     value = s.default if default == SAME else default
     shown = " (default %(default)s)" if value is not None else ""
     choices = s.choices if parse_choices else ()
+    metavar = metavar or s.metavar
     if metavar is None and not choices:
         metavar = "M" if s.unit == "m" else "N"
-    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=choices or None,
-                       metavar=None if choices else metavar,
+    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=choices or None, metavar=metavar,
                        help=f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s"), **kw)
 
 

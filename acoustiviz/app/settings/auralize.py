@@ -1,0 +1,216 @@
+"""Settings of an auralised damper run: ``acoustiviz auralize`` (the damper run is :class:`DamperSettings`).
+
+One :class:`~acoustiviz.app.settings.table.Setting` per option, grouped as ``--help`` shows them
+(:data:`AURALIZE_GROUPS`); :class:`AuralizeSettings` holds a run's values and checks the ranges
+of :data:`AURALIZE` once. The checks that need the other settings (the sphere's radius from
+``--density``, the room, the listeners, the files) are made by :mod:`acoustiviz.app.auralize`
+in the order a run meets them. Lengths in m, times in s, pressures in Pa.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ...constants import (
+    DEFAULT_DURATION,
+    DEFAULT_RTOL,
+    PAPER_GAP,
+    PAPER_RADIUS,
+    PAPER_V0,
+    PULSES,
+    SAMPLE_RATES,
+    STRIKES,
+    TABLE1,
+    TAIL_SEED,
+)
+from ...core.geometry import CONFIGURATIONS
+from .base import Settings
+from .room import RoomOptions
+from .table import Setting
+
+__all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER"]
+
+#: The default listener in m: 0.7 m at 45 degrees from the paper's sphere.
+DEFAULT_LISTENER = "0.495,0,0.514"
+
+_W = "outputs.wav"
+
+SOUND = (
+    Setting("config", "--config", None, "str", "plane",
+            "reflecting surfaces: none, the struck surface z = 0, or a wall-floor corner",
+            choices=CONFIGURATIONS),
+    Setting("wall_distance", "--wall-distance", None, "float", None,
+            "wall-floor only: distance in m from the side wall x = -D to the sphere's centre (default 0.05)", "m"),
+    Setting("strike", "--strike", None, "str", "floor",
+            "wall-floor only: the struck surface; 'wall' puts the damper against the wall, striking along +x",
+            choices=STRIKES),
+    Setting("height", "--height", None, "float", None,
+            "wall strike only: height in m of the sphere's centre above the floor (default: the radius)", "m"),
+    Setting("radius", "--radius", None, "float", None,
+            f"sphere radius in m (default {PAPER_RADIUS:g}, the paper's sphere, whose levels the paper reports "
+            "whatever the mass)", "m", low=1e-6, high=1.0),
+    Setting("density", "--density", None, "float", None,
+            "instead of --radius: a solid sphere of mass --m and this density (steel 7800: 10.7 mm for 40.5 g, "
+            "about 10 dB quieter)", "kg/m^3", low=1.0, high=1e5, metavar="KG/M^3"),
+    Setting("pulse", "--pulse", None, "str", "half-sine",
+            "acceleration pulse per impact: the paper's peak-matched half-sine, an impulse-matched "
+            "half-sine, or the exact Hertz pulse", choices=PULSES),
+    Setting("mass_model", "--mass-model", None, "str", "impact",
+            "mass in the Hertz pulse: the impact mass against a fixed wall (paper eq 3) or the "
+            "effective mass m M/(m + M) of the two bodies", choices=("impact", "effective")),
+    Setting("walls", "--walls", "walls", "str", "both",
+            "both: impacts on the far wall radiate from it, axis reversed; one: every impact is "
+            "heard as a strike on the struck surface (the paper's view)", choices=("both", "one"), table=_W),
+    Setting("struck_wall", "--struck-wall", None, "int", -1,
+            "the damper wall lying on the struck surface z = 0; the other wall is gap + 2a further along +z",
+            choices=(-1, 1)),
+    Setting("c", "--c", None, "float", 343.2, "speed of sound", "m/s", low=1.0, high=1e5, metavar="M/S"),
+    Setting("rho", "--rho", None, "float", 1.204, "density of air", "kg/m^3", low=1e-6, high=1e5, metavar="KG/M^3"),
+)
+
+ROOM_SOUND = (
+    Setting("late_tail", "--late-tail", "late_tail", "bool", False,
+            "images exactly only until the transition time (the mixing time, or when reflections arrive once "
+            "per click), then a seeded statistical tail (noise decaying per band at Eyring's T60, from the "
+            "images' level) until --tolerance-db of the energy: seconds instead of minutes for a reverberant "
+            "room; the direct click and the early images stay exact", table=_W),
+    Setting("tail_seed", "--tail-seed", None, "int", None,
+            f"seed of the tail's noise, an integer >= 0 (default {TAIL_SEED}: the same WAV every run)"),
+    Setting("tail_decay", "--tail-decay", None, "str", None,
+            "the tail's decay: Eyring's T60 per band (default) or the image sum's own expected decay",
+            choices=("eyring", "images")),
+    Setting("transition", "--transition", None, "float", None,
+            "with --late-tail: transition time from the start of contact (default: max(sqrt(V) ms, one "
+            "reflection per contact duration))", "s", low=0.0, high=10.0, low_open=True, metavar="S"),
+    Setting("absorption_bands", "--absorption-bands", None, "str", None,
+            "absorption per octave band for the WAV instead of --absorption: comma-separated F:A (band centre "
+            "F in Hz in [16, 20000], increasing; alpha A in [0, 1) on every surface) or F:A1/A2/A3/A4/A5/A6 (per "
+            "surface x0,x1,y0,y1,z0 floor,z1 ceiling), e.g. 125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,"
+            "4000:0.35; the images and the tail are filtered per band, the direct click stays broadband",
+            metavar="F:A,..."),
+)
+
+FILES = (
+    Setting("listener", "--listener", None, "str", None,
+            f"listener position in m (repeatable; default {DEFAULT_LISTENER}: 0.7 m at 45 degrees from the "
+            "paper's sphere). Several listeners give OUT-1.wav, OUT-2.wav, ...", metavar="X,Y,Z"),
+    Setting("stereo", "--stereo", "stereo", "bool", False,
+            "one stereo file: two --listener positions (left, right), or one head position and two ears "
+            "--ear-spacing apart facing the damper (no head shadow)", table=_W),
+    Setting("ear_spacing", "--ear-spacing", None, "float", 0.18,
+            "distance between the ears with --stereo and one listener", "m", low=0.0, low_open=True),
+    Setting("rate", "--rate", "rate_hz", "int", 48000, "output sample rate in Hz", "Hz",
+            low=min(SAMPLE_RATES), high=max(SAMPLE_RATES), choices=SAMPLE_RATES, table=_W),
+    Setting("subtype", "--subtype", "subtype", "str", "PCM_24",
+            "PCM_24: normalised 24-bit that plays without clipping, one scale (Pa per full scale) "
+            "shared by all files of the run and recorded in each sidecar; FLOAT: float32 in pascals "
+            "(1.0 = 1 Pa), for analysis", choices=("PCM_24", "FLOAT"), table=_W),
+    Setting("scale", "--scale", None, "float", None,
+            "Pa per full scale (default: the run's peak plus --headroom for PCM_24; 1 for FLOAT); a PCM_24 "
+            "scale that clips is reported", "Pa", low=0.0, low_open=True, metavar="PA"),
+    Setting("headroom", "--headroom", None, "float", 1.0,
+            "PCM_24: the run's peak sits this far below full scale", "dB", low=0.0, high=60.0, metavar="DB"),
+    Setting("wav", "--wav", None, "str", None, "output WAV (sidecar: same name, .json)", metavar="PATH"),
+    Setting("png", "--png", None, "str", None, "also draw the waveform and spectrogram", metavar="PATH"),
+)
+
+LEVELS = (
+    Setting("levels", "--levels", None, "bool", False,
+            "print LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) per listener and record them and "
+            "the 1/3-octave bands in the sidecars; evaluated on the signal computed at 96 kHz, not on the file"),
+    Setting("levels_csv", "--levels-csv", None, "str", None,
+            "also write the levels (one row per listener) and OUT_bands.csv (implies --levels)", metavar="OUT.csv"),
+    Setting("loudness", "--loudness", None, "bool", False,
+            "with the levels, ISO 532-1 loudness N5/Nmax (sone) and DIN 45692 sharpness (acum); needs mosqito "
+            "(pip install 'acoustiviz[hearing]')"),
+)
+
+#: ``(--help group title, its settings)`` in the order ``acoustiviz auralize --help`` shows them.
+AURALIZE_GROUPS = (("sound model", SOUND), ("room sound (with --room)", ROOM_SOUND),
+                   ("listeners and files", FILES), ("levels", LEVELS))
+
+#: Every option of ``acoustiviz auralize`` besides the damper's and the room's.
+ALL = SOUND + ROOM_SOUND + FILES + LEVELS
+
+#: The settings whose range :class:`AuralizeSettings` checks on its own, before any other check.
+AURALIZE = tuple(s for s in ALL if s.name in ("c", "rho", "headroom"))
+
+
+@dataclasses.dataclass(frozen=True)
+class DamperSettings(Settings):
+    """The impact damper and its run (paper eq 15; defaults Table 1 and Figure 5), shared with ``acoustiviz damper``.
+
+    Masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, the gap in m, speeds in m/s, times in s.
+    Checked by :func:`acoustiviz.app.damper.damper_model` and the solver's limits when the run is set up.
+    """
+
+    M: float = TABLE1["M"]
+    K: float = TABLE1["K"]
+    C: float = TABLE1["C"]
+    m: float = TABLE1["m"]
+    gap: float = PAPER_GAP
+    k_hertz: float = TABLE1["k_hertz"]
+    c1: float = TABLE1["c1"]
+    clip_tensile: bool = False
+    v0: float = PAPER_V0
+    duration: float = DEFAULT_DURATION
+    solver: str = "event"
+    dt: float | None = None
+    rtol: float = DEFAULT_RTOL
+
+
+@dataclasses.dataclass(frozen=True)
+class AuralizeSettings(Settings):
+    """An auralised run: the damper, the room, the sound model, the listeners and the files.
+
+    Field names are those of :data:`ALL` (the options' API names); ``impacts`` is a CSV of impacts
+    to render instead of simulating, ``max_memory`` the working-memory cap in MB.
+    """
+
+    TABLE = AURALIZE
+    wav: str = "out.wav"
+    damper: DamperSettings = dataclasses.field(default_factory=DamperSettings)
+    room: RoomOptions = dataclasses.field(default_factory=RoomOptions)
+    impacts: str | None = None
+    config: str = "plane"
+    wall_distance: float | None = None
+    strike: str = "floor"
+    height: float | None = None
+    radius: float | None = None
+    density: float | None = None
+    pulse: str = "half-sine"
+    mass_model: str = "impact"
+    walls: str = "both"
+    struck_wall: int = -1
+    c: float = 343.2
+    rho: float = 1.204
+    late_tail: bool = False
+    tail_seed: int | None = None
+    tail_decay: str | None = None
+    transition: float | None = None
+    absorption_bands: str | None = None
+    listener: tuple | None = None
+    stereo: bool = False
+    ear_spacing: float = 0.18
+    rate: int = 48000
+    subtype: str = "PCM_24"
+    scale: float | None = None
+    headroom: float = 1.0
+    png: str | None = None
+    levels: bool = False
+    levels_csv: str | None = None
+    loudness: bool = False
+    max_memory: float | None = None
+
+    @classmethod
+    def from_namespace(cls, ns: dict):
+        """The settings of a mapping of option destinations to values (``vars(args)``)."""
+        def pick(klass):
+            names = {f.name for f in dataclasses.fields(klass)}
+            return {k: v for k, v in ns.items() if k in names}
+
+        values = pick(cls)
+        values.pop("room", None)
+        if values.get("listener") is not None:
+            values["listener"] = tuple(values["listener"])
+        return cls(damper=DamperSettings(**pick(DamperSettings)), room=RoomOptions(**pick(RoomOptions)), **values)
