@@ -246,3 +246,31 @@ def test_import_is_light_and_side_effect_free():
             "'dask') if m in sys.modules]; print(heavy)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def _geometry_name_comparisons(path: Path) -> list[str]:
+    """``x == "room"``, ``x in ("free", "plane")`` and the like in one module: a registry name compared."""
+    from acoustiviz.core.geometry import GEOMETRIES
+
+    names = set(GEOMETRIES)
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if not isinstance(node, ast.Compare):
+            continue
+        consts = []
+        for operand in (node.left, *node.comparators):
+            if isinstance(operand, ast.Constant):
+                consts.append(operand.value)
+            elif isinstance(operand, (ast.Tuple, ast.List, ast.Set)):
+                consts += [e.value for e in operand.elts if isinstance(e, ast.Constant)]
+        hits = sorted({c for c in consts if isinstance(c, str) and c in names})
+        if hits:
+            found.append(f"{path.relative_to(PKG.parent)}:{node.lineno} compares {', '.join(hits)}")
+    return found
+
+
+def test_no_geometry_name_is_compared_outside_the_geometry_modules():
+    """A geometry is a value: what it is comes from its class (enclosed, reflecting, ...), not its name."""
+    home = {PKG / "core" / "geometry.py", PKG / "core" / "room_geometry.py"}
+    found = [hit for path in sorted(PKG.rglob("*.py")) if path not in home for hit in _geometry_name_comparisons(path)]
+    assert not found, "\n".join(found)

@@ -138,7 +138,7 @@ def _room_of(s: AuralizeSettings, absorption):
     from .impacts import room_settings
 
     r = s.room
-    if r.room is not None and s.config != "plane":
+    if r.room is not None and s.config != by_name(ALL)["config"].default:  # a --config besides the room
         raise ParameterError("--config", "give either --config or --room, not both")
     config = "free" if r.room is not None else s.config
     room = room_settings(r.room, absorption=absorption, source=r.source, strike=r.room_strike,
