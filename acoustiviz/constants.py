@@ -164,5 +164,7 @@ MAX_MEMORY_MB = 2048.0
 
 #: Output sample rates in Hz of rendered sound (WAV files, levels): the rule of every front-end.
 SAMPLE_RATES = (44100, 48000, 96000)
+#: Largest target damping inclination and tolerance in m/s of a design choice (both must be > 0).
+MAX_INCLINATION = 10.0
 #: Default seed of the random generator of a room WAV's statistical tail: the same WAV every run.
 TAIL_SEED = 20261126

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .._validate import check_positive, check_range
+from ..constants import MAX_INCLINATION
 from ..errors import ParameterError
 from .levels import LEVEL_COLUMNS
 from .store import ALL_COLUMNS, NUMERIC_COLUMNS, SweepTable, format_value
@@ -224,8 +225,6 @@ class DesignChoice:
         return "".join(f", {p}" for p in parts)
 
 
-#: Largest target damping inclination and tolerance in m/s (both must be > 0): the rule of every front-end.
-MAX_INCLINATION = 10.0
 
 
 def check_target(inclination: float, tolerance: float) -> tuple[float, float]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from ...sweep.query import MAX_INCLINATION
+from ...constants import MAX_INCLINATION
 from .base import Settings
 from .table import Setting
 
