@@ -26,7 +26,7 @@ from .wav import write_wav_files
 #: Every auralize setting by its API name: the ranges checked here are the table's.
 _TABLE = by_name(ALL)
 
-__all__ = ["auralize", "read_impacts_csv", "output_paths", "Sound"]
+__all__ = ["auralize", "write_sound", "read_impacts_csv", "output_paths", "Sound"]
 
 
 @dataclass(frozen=True)
@@ -279,7 +279,6 @@ def auralize(s: AuralizeSettings, echo=print) -> list:
     list of pathlib.Path
         The WAV files written (each with its ``.json`` sidecar beside it).
     """
-    from ..output.audio import render
     from .damper import check_click_fits
 
     sound, seq = check_sound(s)
@@ -291,30 +290,75 @@ def auralize(s: AuralizeSettings, echo=print) -> list:
         seq, run_desc = _simulate(s, echo)
     check_click_fits(seq, d.k_hertz, d.m, d.duration, names={"m": "--m", "k_hertz": "--k-hertz",
                                                                 "duration": "--duration"})
-    out = render(seq, sound.scene, sound.model, sound.listeners, sample_rate=s.rate, duration=d.duration,
-                 room_sound=sound.room_sound)
-    _print_sound(seq, sound, out, s.rate, echo)
-    files, channels = _files(s, out, sound.listeners)
-    per_file = _levels_per_file(s, seq, sound, files, out, echo)
-    written = write_wav_files(files, sample_rate=s.rate, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
-                              rendering=out, damper=run_desc, radius_source=sound.radius_source, levels=per_file)
-    _print_written(s, files, written, echo)
+    files, _ = write_sound(s, seq, sound, run_desc, duration=d.duration, echo=echo)
     if s.png:
-        _write_png(s, [f.path for f in files], channels, echo)
+        _write_png(s, [f.path for f in files], [f.pressure for f in files], echo)
     return [f.path for f in files]
 
 
-def _files(s: AuralizeSettings, out, listeners) -> tuple:
-    """The WAV files of a rendering (one per listener, or one stereo file) and their channels."""
+def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, duration: float, labels=None,
+                paths=None, scene_name=None, echo=print, quiet: bool = False) -> tuple:
+    """Render the impacts ``seq`` at the listeners of ``sound`` and write the files ``s`` asks for.
+
+    The one application step of ``acoustiviz auralize`` and a scene's ``[outputs.wav]``: the Hertz
+    pulse of each impact radiated by the rigid sphere with its image sources
+    (:func:`acoustiviz.output.audio.render`, ``duration`` in s), the levels when ``s`` asks for
+    them, and the WAV files and sidecars with one shared calibration
+    (:func:`acoustiviz.app.wav.write_wav_files`).
+
+    Parameters
+    ----------
+    s : AuralizeSettings
+        Rate, sample format, scale, headroom, stereo and levels of the files.
+    seq : acoustiviz.output.audio.ImpactSequence
+        The impacts (times in s, walls, approach speeds in m/s).
+    sound : Sound
+        The checked sphere, cavity, click model and listeners (m).
+    run_desc : dict
+        The damper run recorded in every sidecar.
+    labels : sequence of str, optional
+        Listener names (default: ``listener1`` or ``left``/``right``).
+    paths : sequence of path-like, optional
+        The files (default: :func:`output_paths` of ``s.wav``).
+    scene_name : str, optional
+        Recorded in every sidecar.
+    echo : callable
+        Called with each summary line (none with ``quiet``).
+
+    Returns
+    -------
+    tuple
+        ``(files, written)``: the :class:`~acoustiviz.app.wav.WavFile` list and, per file, what
+        :func:`~acoustiviz.app.wav.write_wav_files` returns (its record, sidecar and warnings).
+    """
+    from ..output.audio import render
+
+    say = (lambda msg: None) if quiet else echo
+    out = render(seq, sound.scene, sound.model, sound.listeners, sample_rate=s.rate, duration=duration,
+                 room_sound=sound.room_sound)
+    _print_sound(seq, sound, out, s.rate, say)
+    files = _files(s, out, sound.listeners, labels, paths)
+    per_file = _levels_per_file(s, seq, sound, files, out, duration, say)
+    written = write_wav_files(files, sample_rate=s.rate, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
+                              rendering=out, scene_name=scene_name, damper=run_desc,
+                              radius_source=sound.radius_source, levels=per_file)
+    _print_written(s, files, written, say)
+    return files, written
+
+
+def _files(s: AuralizeSettings, out, listeners, labels=None, paths=None) -> list:
+    """The WAV files of a rendering: one per listener, or one stereo file of the first two listeners."""
     from .wav import WavFile
 
     p = out.pressure
-    channels = [p] if s.stereo else [p[i:i + 1] for i in range(p.shape[0])]
-    chan_listeners = [listeners] if s.stereo else [listeners[i:i + 1] for i in range(listeners.shape[0])]
-    names = ["left", "right"] if s.stereo else ["mono"]
-    files = [WavFile(path, data, names if s.stereo else [f"listener{i + 1}" for i in range(len(pts))], pts, names)
-             for path, data, pts in zip(output_paths(s.wav, len(channels)), channels, chan_listeners, strict=True)]
-    return files, channels
+    if s.stereo:
+        groups = [(p[:2], listeners[:2], list(labels[:2]) if labels else ["left", "right"], ["left", "right"])]
+    else:  # without labels every mono file names its one channel listener1
+        groups = [(p[i:i + 1], listeners[i:i + 1], [labels[i] if labels else "listener1"], ["mono"])
+                  for i in range(p.shape[0])]
+    paths = output_paths(s.wav, len(groups)) if paths is None else paths
+    return [WavFile(path, data, names, pts, channels)
+            for path, (data, pts, names, channels) in zip(paths, groups, strict=True)]
 
 
 def _print_sound(seq, sound: Sound, out, rate, echo) -> None:
@@ -341,14 +385,14 @@ def _print_sound(seq, sound: Sound, out, rate, echo) -> None:
                                                                        if conf.order_capped else ""))
 
 
-def _levels_per_file(s: AuralizeSettings, seq, sound: Sound, files, out, echo):
+def _levels_per_file(s: AuralizeSettings, seq, sound: Sound, files, out, duration, echo):
     """The levels of each file when asked for (echoed, and written as ``levels_csv``), else None."""
     if not (s.levels or s.levels_csv is not None or s.loudness):
         return None
     from .levels import rendered_levels, summary_lines, write_levels_csv
 
     names_all = [n for f in files for n in (f.channel_names if s.stereo else f.listeners)]
-    report = rendered_levels(seq, sound.scene, sound.model, sound.listeners, duration=s.damper.duration,
+    report = rendered_levels(seq, sound.scene, sound.model, sound.listeners, duration=duration,
                              channels=names_all, with_loudness=s.loudness, rendering=out, room_sound=sound.room_sound)
     for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
         echo(line)

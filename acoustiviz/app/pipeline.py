@@ -238,29 +238,24 @@ def produce_restitution(ctx: RunContext):
 
 
 def produce_wav(ctx: RunContext):
-    """Calibrated WAV of the damper run at each listener (:func:`acoustiviz.app.wav.write_wav_files`)."""
-    from ..output.audio import render
-    from .scene_levels import damper_sound_setup
-    from .wav import WavFile, write_wav_files
+    """Calibrated WAV of the damper run at each listener, written by the command's own step.
 
-    opts = ctx.scene.output("wav")
+    The scene's :meth:`~acoustiviz.scene.Scene.auralize_settings` (the settings object of
+    ``acoustiviz auralize``) run by :func:`acoustiviz.app.auralize.write_sound`.
+    """
+    from .auralize import Sound, write_sound
+    from .scene_levels import damper_sound_setup
+
+    s = ctx.scene.auralize_settings()
     res = ctx.damper_run
     seq, room, model, names, points = damper_sound_setup(ctx)
-    named = list(zip(names, points, strict=True))
-    ctx.progress(f"auralising {len(seq)} impacts at {len(named)} listener(s), {opts['rate_hz']} Hz")
-    out = render(seq, room, model, points, sample_rate=opts["rate_hz"], duration=res.duration,
-                 room_sound=ctx.scene.room_sound())
-    if opts["stereo"]:
-        files = [WavFile(ctx.path("wav_stereo.wav"), out.pressure[:2], [named[0][0], named[1][0]], points[:2],
-                         ["left", "right"])]
-    else:
-        files = [WavFile(ctx.path(f"wav_{name}.wav"), out.pressure[i:i + 1], [name], points[i:i + 1], ["mono"])
-                 for i, (name, _) in enumerate(named)]
-    s = ctx.scene.section("sphere")
-    written = write_wav_files(files, sample_rate=opts["rate_hz"], subtype=opts["subtype"], rendering=out,
-                              scene_name=ctx.scene.name,
-                              damper=_damper.damper_description(ctx.damper_model, ctx.damper, res.duration),
-                              radius_source=f"scene: sphere.damper_radius = {s['damper_radius']!r}")
+    ctx.progress(f"auralising {len(seq)} impacts at {len(names)} listener(s), {s.rate} Hz")
+    source = f"scene: sphere.damper_radius = {ctx.scene.section('sphere')['damper_radius']!r}"
+    sound = Sound(s.radius, source, room, model, points, None, ctx.scene.room_sound())
+    paths = [ctx.path("wav_stereo.wav")] if s.stereo else [ctx.path(f"wav_{name}.wav") for name in names]
+    files, written = write_sound(s, seq, sound, _damper.damper_description(ctx.damper_model, ctx.damper, res.duration),
+                                 duration=res.duration, labels=names, paths=paths, scene_name=ctx.scene.name,
+                                 quiet=True)
     products = []
     for wav, w in zip(files, written, strict=True):
         for msg in w["warnings"]:
@@ -270,7 +265,7 @@ def produce_wav(ctx: RunContext):
         phys = max((v for v in rec["physical_peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
         products += [Product("wav", wav.path, {"impacts": str(len(seq)), "peak_spl_db": f"{lvl:.1f}",
                                                "physical_peak_spl_db": f"{phys:.1f}",
-                                               "subtype": rec["subtype"], "rate_hz": str(opts["rate_hz"])}),
+                                               "subtype": rec["subtype"], "rate_hz": str(s.rate)}),
                      Product("wav", w["sidecar"], {})]
     return products
 
