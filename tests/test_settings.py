@@ -14,6 +14,8 @@ from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings
 from acoustiviz.app.settings.design import DESIGN, DesignSettings
 from acoustiviz.app.settings.forced import FORCED, ForcedSettings
 from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
+from acoustiviz.app.settings.levels import ALL as LEVELS_ALL
+from acoustiviz.app.settings.levels import LEVELS, LevelsSettings
 from acoustiviz.app.settings.render import (
     ANIMATION,
     BALLOON,
@@ -38,6 +40,7 @@ TABLES = [
     (("design",), DESIGN, DesignSettings),
     (("sweep",), SWEEP, SweepSettings),
     (("map",), MAP_SETTINGS, None),
+    (("levels",), LEVELS, LevelsSettings),  # a scene's levels are of its own run, not of a file: no scene keys
     (("auralize",), AURALIZE, AuralizeSettings),
     # the other auralize records with a range, choices or a scene key; their checks need the run's other settings
     (("auralize",), tuple(s for s in AURALIZE_ALL if s not in AURALIZE and (
@@ -113,6 +116,15 @@ def test_settings_object_checks_the_tables_range(case):
     with pytest.raises(ParameterError) as err:
         cls(**{s.name: bad})
     assert err.value.name == s.name
+
+
+def test_levels_command_options_are_its_records(parser):
+    """Every option of ``acoustiviz levels`` (but the positional file and the global memory cap) is a record."""
+    sub = _subparser(parser, ("levels",))
+    options = {o for a in sub._actions for o in a.option_strings if o.startswith("--")} - {"--help", "--max-memory"}
+    assert options == {s.option for s in LEVELS_ALL}
+    fields = {f.name for f in dataclasses.fields(LevelsSettings)}
+    assert {s.name for s in LEVELS_ALL} <= fields
 
 
 def test_settings_are_frozen():

@@ -21,7 +21,7 @@ from .._validate import ParameterError, check_positive
 from ..constants import ANALYSIS_RATE
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, sound_levels, third_octave_levels
 
-__all__ = ["ANALYSIS_RATE", "CalibratedSignal", "LevelReport", "RunEnergy", "read_calibrated_wav", "analyse",
+__all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "RunEnergy", "read_calibrated_wav", "analyse",
            "bands_path", "write_levels_csv", "summary_lines", "rendered_levels", "run_energy"]
 
 
@@ -155,6 +155,72 @@ def analyse(pressure, sample_rate, *, start=None, stop=None, channels=None, with
     n = lv.lzpeak_db.size
     names = list(channels) if channels is not None else [str(i + 1) for i in range(n)]
     return LevelReport(lv, bl, ld, names)
+
+
+def _check_inputs(s) -> None:
+    """The file to read, the CSV to write, the memory the analysis needs and the loudness library."""
+    from ..levels import loudness_available
+    from .budget import Estimate, check_budget
+    from .outputs import check_output_file
+
+    if not Path(s.signal).is_file():
+        raise ParameterError("SIGNAL.wav", f"no such file: {s.signal}")
+    check_output_file("--csv", s.csv, "csv")
+    import soundfile as sf
+
+    try:
+        info = sf.info(s.signal)
+    except RuntimeError as exc:
+        raise ParameterError("SIGNAL.wav", f"cannot read {s.signal} as a sound file: {exc}") from None
+    # the signal in float64 and about ten filtered copies of one channel (weightings, bands, envelopes)
+    samples = float(info.frames) * max(1, info.channels)
+    check_budget(Estimate(8.0 * (samples + 10.0 * info.frames), 2e4, f"{samples:.3g} samples of {s.signal}",
+                          ("SIGNAL.wav", "--start", "--stop")), s.max_memory)
+    if s.loudness and not loudness_available():
+        raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+
+
+def levels(s, echo=print) -> tuple:
+    """Read a calibrated WAV file, compute its levels, ``echo`` them and write the two CSV files.
+
+    The application step of ``acoustiviz levels``: the file and its calibration in Pa per full
+    scale (:func:`read_calibrated_wav`), the levels, bands and optional loudness of the interval
+    ``[start, stop)`` in s (:func:`analyse`), written by :func:`write_levels_csv`. Errors name the
+    command-line options.
+
+    Parameters
+    ----------
+    s : acoustiviz.app.settings.levels.LevelsSettings
+        The file, the CSV, the calibration and the interval.
+    echo : callable
+        Called with each summary line.
+
+    Returns
+    -------
+    tuple of pathlib.Path
+        The levels CSV and its bands CSV.
+    """
+    from .names import user_terms
+
+    _check_inputs(s)
+    terms = {"pa_per_fs": "--pa-per-fs", "start": "--start", "stop": "--stop", "signal": "SIGNAL.wav"}
+    with user_terms(terms):
+        sig = read_calibrated_wav(s.signal, pa_per_fs=s.pa_per_fs)
+        if sig.source != "given" and s.pa_per_fs is not None and s.pa_per_fs != sig.pa_per_full_scale:
+            echo(f"note: --pa-per-fs {s.pa_per_fs:g} ignored: the {sig.source} records "
+                 f"{sig.pa_per_full_scale:g} Pa per full scale")
+        if s.start is not None and s.stop is not None and s.stop <= s.start:
+            raise ParameterError("--stop", f"must be later than --start ({s.start:g} s), got {s.stop:g} s")
+        report = analyse(sig.pressure, sig.sample_rate, start=s.start, stop=s.stop, channels=sig.channels,
+                         with_loudness=s.loudness)
+    echo(f"{s.signal}: {sig.pressure.shape[0]} channel(s), {sig.pressure.shape[1] / sig.sample_rate:g} s at "
+         f"{sig.sample_rate} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
+    for line in summary_lines(report, rate_note=" (the file's rate)"):
+        echo(line)
+    paths = write_levels_csv(s.csv, report)
+    for path in paths:
+        echo(f"wrote {path}")
+    return paths
 
 
 def bands_path(csv_path) -> Path:

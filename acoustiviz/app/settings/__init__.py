@@ -12,6 +12,7 @@
 ``sweep``    the simulated time per design of a sweep, the sweep's options and its sphere radius
 ``room``     the shoebox room's options
 ``auralize`` the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
+``levels``   the WAV file, its calibration, the interval and the CSV of ``acoustiviz levels``
 ============ ==========================================================================================
 
 The command line builds its options from the records, the scene schema its keys, and the
@@ -23,6 +24,7 @@ from .base import Settings, check_size
 from .design import DesignSettings
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
+from .levels import LevelsSettings
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .sweep import SweepSettings
@@ -30,4 +32,4 @@ from .table import SAME, Setting, add_option
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings", "DesignSettings", "SweepSettings"]
+           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings"]
