@@ -10,7 +10,8 @@ import pytest
 
 from acoustiviz.app.maps import MAP_SETTINGS
 from acoustiviz.app.settings.auralize import ALL as AURALIZE_ALL
-from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings
+from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings, DamperSettings
+from acoustiviz.app.settings.damper import DAMPER, MODEL
 from acoustiviz.app.settings.design import DESIGN, DesignSettings
 from acoustiviz.app.settings.forced import FORCED, ForcedSettings
 from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
@@ -40,6 +41,9 @@ TABLES = [
     (("design",), DESIGN, DesignSettings),
     (("sweep",), SWEEP, SweepSettings),
     (("map",), MAP_SETTINGS, None),
+    (("damper",), DAMPER, DamperSettings),
+    (("auralize",), DAMPER, DamperSettings),
+    (("forced",), MODEL, None),
     (("levels",), LEVELS, LevelsSettings),  # a scene's levels are of its own run, not of a file: no scene keys
     (("auralize",), AURALIZE, AuralizeSettings),
     # the other auralize records with a range, choices or a scene key; their checks need the run's other settings

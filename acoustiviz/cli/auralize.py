@@ -30,8 +30,7 @@ def add_parser(subparsers) -> None:
         "WAV peaking 1 dB below full scale, with OUT.json beside OUT.wav recording the calibration in Pa per full "
         "scale (float32 in pascals with --subtype FLOAT). Lengths in m, times in s.",
     )
-    add_damper_options(p, duration_help="simulated time in s; the WAV lasts this long, or to the end of the "
-                                        "last click (default %(default)s)")
+    add_damper_options(p, duration_help="simulated time; the WAV lasts this long, or to the end of the last click")
     g = p.add_argument_group("impacts from a file")
     g.add_argument("--impacts", default=None, metavar="CSV",
                    help="render the impacts of this CSV (columns time_s,wall,approach_velocity_m_s, as written "
@@ -50,9 +49,9 @@ def run(args) -> int:
     """Parse the options into :class:`~acoustiviz.app.settings.auralize.AuralizeSettings` and run them."""
     from ..app.auralize import auralize
     from ..app.names import user_terms
-    from ..app.settings.auralize import AuralizeSettings
+    from ..app.settings.auralize import AuralizeSettings, DamperSettings
 
-    with user_terms(AuralizeSettings.cli_names()):
+    with user_terms({**AuralizeSettings.cli_names(), **DamperSettings.cli_names()}):
         settings = AuralizeSettings.from_namespace(vars(args))
     auralize(settings)
     return 0

@@ -80,6 +80,7 @@ def run(args) -> int:
 
     from ..app.forced import forced_workflow
     from ..app.names import ROOM_OPTIONS, user_terms
+    from ..app.settings.damper import MODEL, check_values
     from ..app.settings.forced import ForcedJob, ForcedSettings
     from ._impact import room_duration, room_settings
 
@@ -87,7 +88,8 @@ def run(args) -> int:
         st = ForcedSettings.from_values({s.name: getattr(args, s.name) for s in FORCED})
     with user_terms(ROOM_OPTIONS):
         room = room_settings(args, duration=room_duration(args))
-    model = {k: getattr(args, k) for k in ("M", "K", "C", "m", "gap", "k_hertz", "c1")}
+    with user_terms({s.name: s.option for s in MODEL}):
+        model = check_values({s.name: getattr(args, s.name) for s in MODEL})
     job = ForcedJob(st, model, args.freq, force=args.force, base=args.base, restitution=args.restitution,
                     workers=args.workers, executor=args.executor, noise=args.noise, listener=args.listener,
                     wav=args.wav, csv=args.csv, png=args.png, room=room,

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.base import SIZE_RANGE
+from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import FORCED
 from ..app.settings.impact import DIRECTIVITY, WAVEFORM
@@ -14,20 +15,15 @@ from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..app.settings.sweep import SWEEP
 from ..constants import (
     DEFAULT_AIR_DENSITY,
-    DEFAULT_DURATION,
-    DEFAULT_RTOL,
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
     EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
-    PAPER_GAP,
     PAPER_RADIUS,
-    PAPER_V0,
     PAPER_VELOCITY,
     PULSES,
     SAMPLE_RATES,
-    TABLE1,
 )
 from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import GEOMETRIES
@@ -98,8 +94,7 @@ _SPHERE = {
 }
 
 _CONTACT = {
-    "k_hertz_n_m1_5": _pos("Hertz stiffness K_HZ (default 5.6e8, or from sphere.material and surface)",
-                           "N/m^1.5", None, high=1e14),
+    **_from_table(DAMPER, "contact"),
     "surface": Key("str", "surface material from the catalogue (K_HZ from sphere and surface materials)", None),
     "pulse": Key("str", "acceleration pulse", "half-sine", choices=PULSES),
     "pulse_mass": Key("str", "mass in the pulse: the impact mass alone or the effective mass of the two bodies",
@@ -133,21 +128,17 @@ _CONFIGURATION = {
     **_from_table(WAVEFORM, "configuration"),
 }
 
+_DAMPER_RECORDS = _from_table(DAMPER, "damper")
 _DAMPER = {
-    "main_mass_kg": _pos("main mass M", "kg", TABLE1["M"], high=1e6),
-    "stiffness_n_m": _pos("spring stiffness K", "N/m", TABLE1["K"], high=1e12),
-    "damping_n_s_m": Key("float", "viscous damping C", TABLE1["C"], "N s/m", low=0.0, high=1e9),
-    "impact_mass_kg": _pos("impact mass m", "kg", TABLE1["m"], high=1e5),
-    "gap_m": _pos("total free travel d of the impact mass", "m", PAPER_GAP, high=10.0),
-    "contact_damping_n_s_m": Key("float", "contact damping c1", TABLE1["c1"], "N s/m", low=0.0, high=1e9),
+    **{k: _DAMPER_RECORDS[k] for k in ("main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m",
+                                       "contact_damping_n_s_m")},
     "clip_tensile": Key("bool", "clip the contact force at zero (no pull as the bodies part)", False),
-    "initial_velocity_m_s": Key("float", "initial velocity of the main mass", PAPER_V0, "m/s", low=-1e3, high=1e3),
+    "initial_velocity_m_s": _DAMPER_RECORDS["initial_velocity_m_s"],
     "initial_displacement_m": Key("float", "initial displacement of the main mass", 0.0, "m", low=-10, high=10),
-    "duration_s": _pos("simulated time", "s", DEFAULT_DURATION, high=1e4),
+    "duration_s": _DAMPER_RECORDS["duration_s"],
     "solver": Key("str", "damper solver; 'auto' takes the cheapest whose error suits the tolerance "
                   "(acoustiviz.dynamics.cheapest_solver)", "auto", choices=SOLVERS),
-    "tolerance": _pos("relative accuracy wanted on impact times and speeds (the event solver's rtol)", "", DEFAULT_RTOL,
-                      high=0.5),
+    "tolerance": _DAMPER_RECORDS["tolerance"],
 }
 
 _EXCITATION = {

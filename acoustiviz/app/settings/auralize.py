@@ -25,6 +25,7 @@ from ...constants import (
 )
 from ...core.geometry import CONFIGURATIONS
 from .base import Settings
+from .damper import DAMPER
 from .room import RoomOptions
 from .table import Setting
 
@@ -141,8 +142,11 @@ class DamperSettings(Settings):
     """The impact damper and its run (paper eq 15; defaults Table 1 and Figure 5), shared with ``acoustiviz damper``.
 
     Masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, the gap in m, speeds in m/s, times in s.
-    Checked by :func:`acoustiviz.app.damper.damper_model` and the solver's limits when the run is set up.
+    The ranges of :data:`~acoustiviz.app.settings.damper.DAMPER` are checked when the settings are made;
+    the physics' limits (:func:`acoustiviz.app.limits.check_damper`) when the run is set up.
     """
+
+    TABLE = DAMPER
 
     M: float = TABLE1["M"]
     K: float = TABLE1["K"]

@@ -1,0 +1,59 @@
+"""The impact damper's records (paper eq 15; defaults Table 1 with d = 4 cm, started as in Figure 5).
+
+One :class:`~acoustiviz.app.settings.table.Setting` per value of the damper model and its run, with
+its command-line option (``acoustiviz damper``, ``auralize`` and ``forced``) and its scene key
+(``[damper]``, and ``contact.k_hertz_n_m1_5``): the fixed ranges both front-ends check first. The
+limits that follow from the physics (a contact that can be computed, a run long enough to measure
+the damping) are checked afterwards by :func:`acoustiviz.app.limits.check_damper`, naming the same
+option or key. Masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, lengths in m,
+speeds in m/s, times in s.
+"""
+
+from __future__ import annotations
+
+from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, TABLE1
+from .table import Setting
+
+__all__ = ["MODEL", "RUN", "DAMPER", "check_values"]
+
+_D = "damper"
+
+#: The damper model (paper eq 15).
+MODEL = (
+    Setting("M", "--M", "main_mass_kg", "float", TABLE1["M"], "main mass M", "kg", low=0.0, high=1e6,
+            low_open=True, table=_D, metavar="KG"),
+    Setting("K", "--K", "stiffness_n_m", "float", TABLE1["K"], "main spring stiffness K", "N/m", low=0.0,
+            high=1e12, low_open=True, table=_D, metavar="N/M"),
+    Setting("C", "--C", "damping_n_s_m", "float", TABLE1["C"], "main viscous dashpot C", "N s/m", low=0.0,
+            high=1e9, table=_D, metavar="N*S/M"),
+    Setting("m", "--m", "impact_mass_kg", "float", TABLE1["m"], "impact mass m", "kg", low=0.0, high=1e5,
+            low_open=True, table=_D, metavar="KG"),
+    Setting("gap", "--gap", "gap_m", "float", PAPER_GAP, "total free travel d of the impact mass", "m", low=0.0,
+            high=10.0, low_open=True, table=_D, metavar="M"),
+    Setting("k_hertz", "--k-hertz", "k_hertz_n_m1_5", "float", TABLE1["k_hertz"],
+            "Hertz contact stiffness K_HZ (a scene's default: from sphere.material and contact.surface, else "
+            "5.6e8)", "N/m^1.5", low=0.0, high=1e14, low_open=True, scene_default=None, table="contact",
+            metavar="N/M^1.5"),
+    Setting("c1", "--c1", "contact_damping_n_s_m", "float", TABLE1["c1"], "contact damping c1", "N s/m", low=0.0,
+            high=1e9, table=_D, metavar="N*S/M"),
+)
+
+#: The run: the initial velocity of the main mass, the simulated time and the event solver's tolerance.
+RUN = (
+    Setting("v0", "--v0", "initial_velocity_m_s", "float", PAPER_V0, "initial velocity of the main mass", "m/s",
+            low=-1e3, high=1e3, table=_D, metavar="M/S"),
+    Setting("duration", "--duration", "duration_s", "float", DEFAULT_DURATION, "simulated time", "s", low=0.0,
+            high=1e4, low_open=True, table=_D, metavar="S"),
+    Setting("rtol", "--rtol", "tolerance", "float", DEFAULT_RTOL,
+            "relative accuracy of impact times and speeds (the event solver's contact tolerance)", low=0.0,
+            high=0.5, low_open=True, table=_D, metavar="RTOL"),
+)
+
+#: Every damper record.
+DAMPER = MODEL + RUN
+
+
+def check_values(values: dict, records=DAMPER) -> dict:
+    """``values`` (``{name: value}``) with each named record's range checked; errors name the API parameter."""
+    table = {s.name: s for s in records}
+    return {k: table[k].check(v) if k in table else v for k, v in values.items()}
