@@ -14,7 +14,7 @@ from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings, DamperS
 from acoustiviz.app.settings.damper import DAMPER, MODEL
 from acoustiviz.app.settings.design import DESIGN, DesignSettings
 from acoustiviz.app.settings.forced import FORCED, ForcedSettings
-from acoustiviz.app.settings.impact import DIRECTIVITY, WAVEFORM, DirectivitySettings, WaveformSettings
+from acoustiviz.app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM, DirectivitySettings, WaveformSettings
 from acoustiviz.app.settings.levels import ALL as LEVELS_ALL
 from acoustiviz.app.settings.levels import LEVELS, LevelsSettings
 from acoustiviz.app.settings.render import (
@@ -42,6 +42,7 @@ TABLES = [
     (("sweep",), SWEEP, SweepSettings),
     (("map",), MAP_SETTINGS, None),
     (("damper",), DAMPER, DamperSettings),
+    (("waveform",), tuple(s for s in IMPACT if s.choices or math.isfinite(s.low) or math.isfinite(s.high)), None),
     (("auralize",), DAMPER, DamperSettings),
     (("forced",), MODEL, None),
     (("levels",), LEVELS, LevelsSettings),  # a scene's levels are of its own run, not of a file: no scene keys

@@ -90,7 +90,11 @@ def impact_from_args(args, *, velocity: float | None = None):
     """
     from ..app.impacts import impact_setup
     from ..app.names import IMPACT_OPTIONS, ROOM_OPTIONS, user_terms
+    from ..app.settings.impact import IMPACT
+    from ..app.settings.table import check_values
 
+    with user_terms({s.name: s.option for s in IMPACT}):  # the records' fixed ranges, then the physics' limits
+        check_values({s.name: getattr(args, s.name) for s in IMPACT if hasattr(args, s.name)}, IMPACT)
     room = room_settings(args, duration=getattr(args, "duration", None)) if hasattr(args, "room") else None
     terms = {**IMPACT_OPTIONS, **ROOM_OPTIONS} if room is not None else IMPACT_OPTIONS
     with user_terms(terms):

@@ -89,7 +89,7 @@ def run(args) -> int:
     with user_terms(ROOM_OPTIONS):
         room = room_settings(args, duration=room_duration(args))
     with user_terms({s.name: s.option for s in MODEL}):
-        model = check_values({s.name: getattr(args, s.name) for s in MODEL})
+        model = check_values({s.name: getattr(args, s.name) for s in MODEL}, MODEL)
     job = ForcedJob(st, model, args.freq, force=args.force, base=args.base, restitution=args.restitution,
                     workers=args.workers, executor=args.executor, noise=args.noise, listener=args.listener,
                     wav=args.wav, csv=args.csv, png=args.png, room=room,

@@ -10,18 +10,13 @@ from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import FORCED
-from ..app.settings.impact import DIRECTIVITY, WAVEFORM
+from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..app.settings.sweep import SWEEP
 from ..constants import (
-    DEFAULT_AIR_DENSITY,
-    DEFAULT_SOUND_SPEED,
-    DEFAULT_WALL_DISTANCE,
     EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
-    PAPER_RADIUS,
-    PAPER_VELOCITY,
     PULSES,
     SAMPLE_RATES,
 )
@@ -79,15 +74,14 @@ def _from_table(settings, table: str) -> dict:
 
 
 _MEDIUM = {
-    "c_m_s": Key("float", "speed of sound", DEFAULT_SOUND_SPEED, "m/s", low=1.0, high=1e5),
-    "rho_kg_m3": Key("float", "fluid density", DEFAULT_AIR_DENSITY, "kg/m^3", low=1e-3, high=1e5),
+    **_from_table(IMPACT, "medium"),
 }
 
 _SPHERE = {
-    "radius_m": _pos("sphere radius", "m", PAPER_RADIUS, high=1.0),
+    "radius_m": _from_table(IMPACT, "sphere")["radius_m"],
     "material": Key("str", "sphere material from the catalogue (sets density; with contact.surface, K_HZ)", None),
-    "density_kg_m3": _pos("sphere density (default 7800, or the material's)", "kg/m^3", None, high=1e5),
-    "mass_kg": _pos("sphere mass; replaces the density", "kg", None, high=1e4),
+    "density_kg_m3": _from_table(IMPACT, "sphere")["density_kg_m3"],
+    "mass_kg": _from_table(IMPACT, "sphere")["mass_kg"],
     "damper_radius": Key("str", "sphere radius for damper impacts: 'given' keeps radius_m (the paper's choice), "
                          "'from-mass' derives it from the impact mass and the density", "given",
                          choices=("given", "from-mass")),
@@ -102,20 +96,17 @@ _CONTACT = {
 }
 
 _IMPACT = {
-    "velocity_m_s": _pos("approach speed of the single impact used by waveform, directivity and renders",
-                         "m/s", PAPER_VELOCITY, high=1e3),
+    **_from_table(IMPACT, "impact"),
 }
 
 _CONFIGURATION = {
     "kind": Key("str", "free field, reflecting plane (floor z = 0), wall-floor corner, or a shoebox room "
                 "(also written [geometry])", "plane", choices=tuple(GEOMETRIES)),
-    "wall_distance_m": _pos("wall-floor: distance from the wall (x = -wall_distance) to the sphere's centre",
-                            "m", DEFAULT_WALL_DISTANCE, high=100.0),
+    "wall_distance_m": _from_table(IMPACT, "configuration")["wall_distance_m"],
     "strike": Key("str", "wall-floor: struck surface (a wall strike puts the sphere against the wall, "
                   "accelerating along +x); room: floor, ceiling or x0, x1, y0, y1, z0, z1", "floor",
                   choices=("floor", "wall") + ROOM_STRIKES[1:]),
-    "height_m": _pos("wall strike: height of the sphere's centre above the floor (default: the radius)", "m",
-                     None, high=100.0),
+    "height_m": _from_table(IMPACT, "configuration")["height_m"],
     "room_m": Key("floats", "room: dimensions [Lx, Ly, Lz] of the room [0, Lx] x [0, Ly] x [0, Lz], floor z = 0",
                   None, "m", length=3),
     "absorption": Key("floats", "room: energy absorption coefficient alpha in [0, 1), one value or six "

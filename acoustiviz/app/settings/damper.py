@@ -12,7 +12,7 @@ speeds in m/s, times in s.
 from __future__ import annotations
 
 from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, TABLE1
-from .table import Setting
+from .table import Setting, check_values
 
 __all__ = ["MODEL", "RUN", "DAMPER", "check_values"]
 
@@ -51,9 +51,3 @@ RUN = (
 
 #: Every damper record.
 DAMPER = MODEL + RUN
-
-
-def check_values(values: dict, records=DAMPER) -> dict:
-    """``values`` (``{name: value}``) with each named record's range checked; errors name the API parameter."""
-    table = {s.name: s for s in records}
-    return {k: table[k].check(v) if k in table else v for k, v in values.items()}

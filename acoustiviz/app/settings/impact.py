@@ -26,7 +26,7 @@ from ...core.geometry import CONFIGURATIONS
 from .base import Settings
 from .table import Setting
 
-__all__ = ["IMPACT_GROUPS", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
+__all__ = ["IMPACT_GROUPS", "IMPACT", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
            "MIN_SAMPLES_PER_DURATION"]
 
 #: Fewest time samples per contact duration a waveform is drawn or tabulated with.
@@ -35,44 +35,52 @@ MIN_SAMPLES_PER_DURATION = 200
 #: The impact, its medium and its surroundings as the commands of one impact take them: ``(--help group, records)``.
 IMPACT_GROUPS = (
     ("impact (SI units)", (
-        Setting("radius", "--radius", None, "float", PAPER_RADIUS, "sphere radius in m", "m"),
-        Setting("velocity", "--velocity", None, "float", PAPER_VELOCITY, "impact (approach) speed in m/s", "m/s",
-                metavar="M/S"),
+        Setting("radius", "--radius", "radius_m", "float", PAPER_RADIUS, "sphere radius", "m", low=0.0, high=1.0,
+                low_open=True, table="sphere"),
+        Setting("velocity", "--velocity", "velocity_m_s", "float", PAPER_VELOCITY,
+                "impact (approach) speed of the single impact", "m/s", low=0.0, high=1e3, low_open=True,
+                table="impact", metavar="M/S"),
         Setting("k_hertz", "--k-hertz", None, "float", None,
                 f"Hertz contact stiffness in N/m^1.5 (default {PAPER_K_HERTZ:g}, or from --material/--surface when "
-                "given)", "N/m^1.5", metavar="N/M^1.5"),
+                "given)", "N/m^1.5", low=0.0, high=1e14, low_open=True, metavar="N/M^1.5"),
         Setting("material", "--material", None, "str", None,
                 "sphere material from the catalogue (sets density and, with --surface, K_HZ)", metavar="NAME"),
         Setting("surface", "--surface", None, "str", None,
                 "surface material from the catalogue (default: same as --material, else steel)", metavar="NAME"),
-        Setting("density", "--density", None, "float", None,
-                f"sphere density in kg/m^3 (default {PAPER_DENSITY:g} or the material's)", "kg/m^3",
-                metavar="KG/M^3"),
-        Setting("mass", "--mass", None, "float", None, "sphere mass in kg (replaces --density)", "kg", metavar="KG"),
+        Setting("density", "--density", "density_kg_m3", "float", None,
+                f"sphere density (default {PAPER_DENSITY:g} or the material's)", "kg/m^3", low=0.0, high=1e5,
+                low_open=True, table="sphere", metavar="KG/M^3"),
+        Setting("mass", "--mass", "mass_kg", "float", None, "sphere mass; replaces the density", "kg", low=0.0,
+                high=1e4, low_open=True, table="sphere", metavar="KG"),
         Setting("pulse", "--pulse", None, "str", "half-sine",
                 "acceleration pulse: the paper's peak-matched half-sine, an impulse-matched half-sine, or the exact "
                 "Hertz pulse", choices=PULSES),
     )),
     ("medium", (
-        Setting("c", "--c", None, "float", DEFAULT_SOUND_SPEED, "speed of sound in m/s, air at 20 degC", "m/s",
-                metavar="M/S"),
-        Setting("rho", "--rho", None, "float", DEFAULT_AIR_DENSITY, "density of the fluid in kg/m^3, air at 20 degC",
-                "kg/m^3", metavar="KG/M^3"),
+        Setting("c", "--c", "c_m_s", "float", DEFAULT_SOUND_SPEED, "speed of sound in the fluid",
+                "m/s", low=1.0, high=1e5, table="medium", metavar="M/S"),
+        Setting("rho", "--rho", "rho_kg_m3", "float", DEFAULT_AIR_DENSITY,
+                "density of the fluid", "kg/m^3", low=1e-3, high=1e5, table="medium",
+                metavar="KG/M^3"),
     )),
     ("configuration", (
         Setting("config", "--config", None, "str", "free",
                 "free field, a reflecting plane (floor), or a wall-floor corner", choices=CONFIGURATIONS),
-        Setting("wall_distance", "--wall-distance", None, "float", None,
+        Setting("wall_distance", "--wall-distance", "wall_distance_m", "float", None,
                 f"wall-floor only: distance in m from the wall to the sphere's centre (default "
-                f"{DEFAULT_WALL_DISTANCE:g})", "m"),
+                f"{DEFAULT_WALL_DISTANCE:g})", "m", low=0.0, high=100.0, low_open=True,
+                scene_default=DEFAULT_WALL_DISTANCE, table="configuration"),
         Setting("strike", "--strike", None, "str", "floor",
                 "wall-floor only: the struck surface; 'wall' puts the sphere against the wall, accelerating along +x",
                 choices=STRIKES),
-        Setting("height", "--height", None, "float", None,
+        Setting("height", "--height", "height_m", "float", None,
                 "wall strike only: height in m of the sphere's centre above the floor (default: the radius, a ball in "
-                "the corner)", "m"),
+                "the corner)", "m", low=0.0, high=100.0, low_open=True, table="configuration"),
     )),
 )
+
+#: Every record of :data:`IMPACT_GROUPS`.
+IMPACT = tuple(s for _, records in IMPACT_GROUPS for s in records)
 
 WAVEFORM = (
     Setting("samples_per_duration", "--samples-per-duration", None, "int", 400,

@@ -18,7 +18,7 @@ import numpy as np
 from ..._validate import check_choice, check_range
 from ...errors import ParameterError
 
-__all__ = ["Setting", "SAME", "add_option", "by_name"]
+__all__ = ["Setting", "SAME", "add_option", "by_name", "check_values"]
 
 #: ``scene_default`` of a setting whose default is the same in a scene as on the command line.
 SAME = "same"
@@ -146,3 +146,9 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
 def by_name(settings) -> dict:
     """``{name: Setting}`` of a sequence of settings."""
     return {s.name: s for s in settings}
+
+
+def check_values(values: dict, records) -> dict:
+    """``values`` (``{name: value}``) with the range of each named record checked; errors name the API parameter."""
+    table = by_name(records)
+    return {k: table[k].check(v) if k in table else v for k, v in values.items()}
