@@ -26,8 +26,9 @@ from ...constants import (
 from ...core.geometry import CONFIGURATIONS
 from .base import Settings
 from .damper import DAMPER
+from .impact import IMPACT
 from .room import RoomOptions
-from .table import Setting
+from .table import Setting, by_name
 
 __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER"]
 
@@ -35,6 +36,7 @@ __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeSettings", "DamperSettings", 
 DEFAULT_LISTENER = "0.495,0,0.514"
 
 _W = "outputs.wav"
+_MEDIUM = by_name(IMPACT)
 
 SOUND = (
     Setting("config", "--config", None, "str", "plane",
@@ -65,8 +67,8 @@ SOUND = (
     Setting("struck_wall", "--struck-wall", None, "int", -1,
             "the damper wall lying on the struck surface z = 0; the other wall is gap + 2a further along +z",
             choices=(-1, 1)),
-    Setting("c", "--c", None, "float", 343.2, "speed of sound", "m/s", low=1.0, high=1e5, metavar="M/S"),
-    Setting("rho", "--rho", None, "float", 1.204, "density of air", "kg/m^3", low=1e-6, high=1e5, metavar="KG/M^3"),
+    _MEDIUM["c"],  # the fluid's records: the ranges of a scene's [medium] and of the commands of one impact
+    _MEDIUM["rho"],
 )
 
 ROOM_SOUND = (
