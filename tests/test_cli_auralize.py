@@ -129,6 +129,7 @@ def test_several_listeners_share_one_pcm_scale(tmp_path, capsys):
         assert sf.info(str(tmp_path / f"run-{i}.wav")).subtype == "PCM_24" and rec["subtype"] == "PCM_24"
         assert np.max(np.abs(data)) * scale == pytest.approx(rec["peak_pa"][0], rel=1e-5)
         assert rec["impact_count"] == 2 and rec["impact_count_by_wall"] == {"-1": 1, "+1": 1}
+        assert rec["listeners"] == [f"listener{i}"]  # each file names the --listener it was rendered at
         peaks.append(rec["peak_pa"][0])
     assert scale == pytest.approx(max(peaks) * 10 ** (1 / 20))  # 1 dB headroom on the run's peak
 

@@ -317,7 +317,7 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
     run_desc : dict
         The damper run recorded in every sidecar.
     labels : sequence of str, optional
-        Listener names (default: ``listener1`` or ``left``/``right``).
+        Listener names (default: ``listener1``, ``listener2``, ... in the order given, or ``left``/``right``).
     paths : sequence of path-like, optional
         The files (default: :func:`output_paths` of ``s.wav``).
     scene_name : str, optional
@@ -353,8 +353,8 @@ def _files(s: AuralizeSettings, out, listeners, labels=None, paths=None) -> list
     p = out.pressure
     if s.stereo:
         groups = [(p[:2], listeners[:2], list(labels[:2]) if labels else ["left", "right"], ["left", "right"])]
-    else:  # without labels every mono file names its one channel listener1
-        groups = [(p[i:i + 1], listeners[i:i + 1], [labels[i] if labels else "listener1"], ["mono"])
+    else:  # without labels the mono file of the i-th --listener names its channel listener<i>
+        groups = [(p[i:i + 1], listeners[i:i + 1], [labels[i] if labels else f"listener{i + 1}"], ["mono"])
                   for i in range(p.shape[0])]
     paths = output_paths(s.wav, len(groups)) if paths is None else paths
     return [WavFile(path, data, names, pts, channels)
