@@ -40,7 +40,8 @@ def taylor_pulse(pulse, radius: float, medium) -> tuple:
         in m/s, the piece holding the start of each of :data:`LUT_BUCKETS` equal buckets of
         ``[0, end]``, buckets per s, the pulse's end in s, ``Y(end)`` in m/s and the pole in 1/s.
     """
-    _, _, _, knots, inv, yk, tab, s = pulse_args(pulse, radius, medium, taylor=True)
+    pa = pulse_args(pulse, radius, medium, taylor=True)
+    knots, inv, yk, tab, s = pa.xi, pa.acc, pa.yk, pa.tab, pa.s
     end = float(knots[-1])
     lut = np.searchsorted(knots, np.linspace(0.0, end, LUT_BUCKETS + 1), side="right") - 1
     lut = np.clip(lut, 0, knots.size - 2).astype(np.int64)
@@ -179,9 +180,40 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
 
 
 @_njit(cache=True)
-def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim,  # noqa: C901 - one compiled kernel
+def _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
+    """Zero of ``p''`` in ``[lo, hi]`` (s) by the Illinois method, ``p''`` being ``cl`` and ``cr`` at the ends.
+
+    Returns ``(m, p'(m), best, tbest)``: the zero in s, ``p'`` there in Pa/s, and the largest
+    ``sign · p`` in Pa met on the way (``best``, at ``tbest``) or the one passed in.
+    """
+    a, fa, b, fb = lo, cl, hi, cr
+    side = 0
+    m = 0.5 * (lo + hi)
+    gm = 0.0
+    for _ in range(60):
+        m = b - fb * (b - a) / (fb - fa)
+        if not (a < m < b) and not (b < m < a):
+            m = 0.5 * (a + b)
+        pm, gm, cm = _p_d2(m, nimg, delays, are, aim, tp)
+        if sign * pm > best:
+            best = sign * pm
+            tbest = m
+        if cm * fb < 0.0:
+            a, fa = b, fb
+            side = 0
+        else:
+            fa = 0.5 * fa if side == 1 else fa
+            side = 1
+        b, fb = m, cm
+        if abs(b - a) < xtol or cm == 0.0:
+            break
+    return m, gm, best, tbest
+
+
+@_njit(cache=True)
+def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim,
                   tp):  # pragma: no cover - compiled
-    """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
+    """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value in Pa, time in s).
 
     ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
     sign at most once on the interval (its zero is found by the Illinois method and splits it), so
@@ -198,27 +230,7 @@ def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delay
         if fa + ga * (fb - fa - gb * (hi - lo)) / (ga - gb) < floor:
             return best, tbest
     if cl * cr < 0.0 and gl * gr > 0.0:  # p' may cross zero twice: split at the zero of p'' (Illinois)
-        a, fa, b, fb = lo, cl, hi, cr
-        side = 0
-        m = 0.5 * (lo + hi)
-        gm = 0.0
-        for _ in range(60):
-            m = b - fb * (b - a) / (fb - fa)
-            if not (a < m < b) and not (b < m < a):
-                m = 0.5 * (a + b)
-            pm, gm, cm = _p_d2(m, nimg, delays, are, aim, tp)
-            if sign * pm > best:
-                best = sign * pm
-                tbest = m
-            if cm * fb < 0.0:
-                a, fa = b, fb
-                side = 0
-            else:
-                fa = 0.5 * fa if side == 1 else fa
-                side = 1
-            b, fb = m, cm
-            if abs(b - a) < xtol or cm == 0.0:
-                break
+        m, gm, best, tbest = _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim, tp)
         if sign * gl > 0.0 and sign * gm < 0.0:
             best, tbest = _newton_segment(sign, lo, m, sign * gl, sign * gm, best, tbest, xtol, nimg, delays, are,
                                           aim, tp)

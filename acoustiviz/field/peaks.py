@@ -214,8 +214,8 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     if int(fine) != fine or fine < 1:
         raise ParameterError("fine", f"must be an integer >= 1, got {fine}")
     samples, fine = int(samples), int(fine)
-    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium)
-    end = float(pulse.duration) if kind == 0 else float(xi[-1])
+    pa = pulse_args(pulse, config.radius, medium)
+    end = float(pulse.duration) if pa.kind == 0 else float(pa.xi[-1])
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
     pos = config.images().positions
@@ -230,10 +230,10 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
         ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
     y = np.empty(u.shape, complex)
-    _fill(y.ravel(), u.ravel(), kind, amp, tau, xi, acc, yk, tab, s)
+    _fill(y.ravel(), u.ravel(), pa)
     # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
     flat = np.abs(np.diff(y.T.ravel())) / h
-    slope = float(flat.max()) * (1.0 + abs(s) * h) + 1e-300
+    slope = float(flat.max()) * (1.0 + abs(pa.s) * h) + 1e-300
     return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread,
                      pulse_only)
 
