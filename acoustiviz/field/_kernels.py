@@ -61,87 +61,50 @@ def _y_sampled(tr, xi, acc, yk, s):  # pragma: no cover - compiled
     return np.exp(s * delta) * yk[k] + delta * (acc[k] * p1 + slope * delta * p2)
 
 
-@_njit(cache=True)
-def _acc_half_sine(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa, dF):  # pragma: no cover - compiled
-    """Add the half-sine's pressure in Pa on samples ``k0 <= k < kt``; return ``Y(T)`` in m/s.
-
-    ``exp(i ω t')`` and ``exp(s t')`` advance by one complex multiply per sample (``dF = exp(s dt)``).
-    """
-    s = pa.s
-    tau = pa.tau
-    w = math.pi / tau
-    coef = pa.amp / (s * s + w * w)
-    if kt > k0:
-        tr = t0 + k0 * dt - delay
-        e = np.exp(1j * w * tr)
-        de = np.exp(1j * w * dt)
-        f = np.exp(s * tr)
-        for k in range(k0, kt):
-            y = coef * (-s * e.imag - w * e.real + w * f)
-            buf[k] += p0 * (cre * y.real - cim * y.imag)
-            e *= de
-            f *= dF
-    return coef * w * (1.0 + np.exp(s * tau))
-
-
-@_njit(cache=True)
-def _acc_sampled(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa):  # pragma: no cover - compiled
-    """Add a piecewise-linear pulse's pressure in Pa on samples ``k0 <= k < kt``; return ``Y(T)`` in m/s."""
-    for k in range(k0, kt):
-        y = _y_sampled(t0 + k * dt - delay, pa.xi, pa.acc, pa.yk, pa.s)
-        buf[k] += p0 * (cre * y.real - cim * y.imag)
-    return pa.yk[pa.yk.size - 1]
-
-
-@_njit(cache=True)
-def _acc_piece(buf, kk, kend, base, dt, inv, nt, tq, p0, cre, cim):  # pragma: no cover - compiled
-    """Add ``p0 Re[(cre + i cim) Y]`` in Pa on samples ``kk <= k < kend`` of one Taylor piece.
-
-    ``tq`` is the piece's row of coefficients (m/s) in ``u = (base + k dt) inv``, ``nt`` of them.
-    """
-    while kk + 1 < kend:  # two samples at a time: four independent Horner chains
-        u = (base + kk * dt) * inv  # u may leave [0, 1] by rounding: the polynomial is smooth there
-        v = u + dt * inv
-        ar = br = tq[nt - 1].real
-        ai = bi = tq[nt - 1].imag
-        for j in range(nt - 2, -1, -1):
-            cr = tq[j].real
-            ci = tq[j].imag
-            ar = ar * u + cr
-            ai = ai * u + ci
-            br = br * v + cr
-            bi = bi * v + ci
-        buf[kk] += p0 * (cre * ar - cim * ai)
-        buf[kk + 1] += p0 * (cre * br - cim * bi)
-        kk += 2
-    if kk < kend:
-        u = (base + kk * dt) * inv
-        ar = tq[nt - 1].real
-        ai = tq[nt - 1].imag
-        for j in range(nt - 2, -1, -1):
-            ar = ar * u + tq[j].real
-            ai = ai * u + tq[j].imag
-        buf[kk] += p0 * (cre * ar - cim * ai)
-
-
-@_njit(cache=True)
+@_njit(cache=True, inline="always")
 def _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa):  # pragma: no cover - compiled
-    """Add the Taylor-table pulse's pressure in Pa on samples ``k0 <= k < kt``; return ``Y(T)`` in m/s.
+    """Add a kind-2 pulse's pressure ``p0 Re[(cre + i cim) Y]`` in Pa on samples ``k0 <= k < kt``.
 
     ``Y`` is a Taylor polynomial on each piece between the knots ``xi`` (``yk[1 + q]`` terms).
     """
+    if kt <= k0:
+        return
     xi = pa.xi
-    if kt > k0:
-        q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
-        q = min(max(q, 0), xi.size - 2)
-        k = k0
-        while k < kt:
-            kend = kt if q == xi.size - 2 else min(kt, int(math.ceil((delay + xi[q + 1] - t0) / dt)))
-            _acc_piece(buf, k, kend, t0 - delay - xi[q], dt, pa.acc[q], int(pa.yk[1 + q].real), pa.tab[q], p0, cre,
-                       cim)
-            k = max(k, kend)
-            q += 1
-    return pa.yk[0]
+    tab = pa.tab
+    q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
+    q = min(max(q, 0), xi.size - 2)
+    k = k0
+    while k < kt:
+        kend = kt if q == xi.size - 2 else min(kt, int(math.ceil((delay + xi[q + 1] - t0) / dt)))
+        nt = int(pa.yk[1 + q].real)
+        base = t0 - delay - xi[q]
+        inv = pa.acc[q]
+        kk = k
+        while kk + 1 < kend:  # two samples at a time: four independent Horner chains
+            u = (base + kk * dt) * inv  # u may leave [0, 1] by rounding: the polynomial is smooth there
+            v = u + dt * inv
+            ar = br = tab[q, nt - 1].real
+            ai = bi = tab[q, nt - 1].imag
+            for j in range(nt - 2, -1, -1):
+                cr = tab[q, j].real
+                ci = tab[q, j].imag
+                ar = ar * u + cr
+                ai = ai * u + ci
+                br = br * v + cr
+                bi = bi * v + ci
+            buf[kk] += p0 * (cre * ar - cim * ai)
+            buf[kk + 1] += p0 * (cre * br - cim * bi)
+            kk += 2
+        if kk < kend:
+            u = (base + kk * dt) * inv
+            ar = tab[q, nt - 1].real
+            ai = tab[q, nt - 1].imag
+            for j in range(nt - 2, -1, -1):
+                ar = ar * u + tab[q, j].real
+                ai = ai * u + tab[q, j].imag
+            buf[kk] += p0 * (cre * ar - cim * ai)
+        k = max(k, kend)
+        q += 1
 
 
 @_njit(cache=True)
@@ -154,6 +117,7 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, pa, tail):  # pragma: no cover
     ``tail`` s. Returns ``(k0, ke)``: samples ``k0 <= k < ke`` were touched.
     """
     m = buf.size
+    s = pa.s
     end = pa.tau if pa.kind == 0 else pa.xi[pa.xi.size - 1]
     k0 = max(int(math.ceil((delay - t0) / dt)), 0)
     if k0 >= m:
@@ -162,15 +126,31 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, pa, tail):  # pragma: no cover
     kt = min(max(kt, k0), m)
     ke = int(math.ceil((delay + end + tail - t0) / dt))
     ke = min(max(ke, kt), m)
-    dF = np.exp(pa.s * dt)
-    if pa.kind == 0:
-        yend = _acc_half_sine(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa, dF)
+    dF = np.exp(s * dt)
+    if pa.kind == 0:  # half-sine: exp(i w t') and exp(s t') advance by one complex multiply per sample
+        w = math.pi / pa.tau
+        coef = pa.amp / (s * s + w * w)
+        if kt > k0:
+            tr = t0 + k0 * dt - delay
+            e = np.exp(1j * w * tr)
+            de = np.exp(1j * w * dt)
+            f = np.exp(s * tr)
+            for k in range(k0, kt):
+                y = coef * (-s * e.imag - w * e.real + w * f)
+                buf[k] += p0 * (cre * y.real - cim * y.imag)
+                e *= de
+                f *= dF
+        yend = coef * w * (1.0 + np.exp(s * pa.tau))
     elif pa.kind == 1:
-        yend = _acc_sampled(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa)
-    else:
-        yend = _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa)
+        for k in range(k0, kt):
+            y = _y_sampled(t0 + k * dt - delay, pa.xi, pa.acc, pa.yk, s)
+            buf[k] += p0 * (cre * y.real - cim * y.imag)
+        yend = pa.yk[pa.yk.size - 1]
+    else:  # exact Hertz pulse: Taylor polynomial of Y on each piece between the knots
+        _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa)
+        yend = pa.yk[0]
     if ke > kt:
-        g = yend * np.exp(pa.s * (t0 + kt * dt - delay - end))
+        g = yend * np.exp(s * (t0 + kt * dt - delay - end))
         for k in range(kt, ke):
             buf[k] += p0 * (cre * g.real - cim * g.imag)
             g *= dF
@@ -190,8 +170,20 @@ def _series_kernel(out, t0, dt, delays, p0s, cres, cims, pa, tail):  # pragma: n
 
 
 @_njit(cache=True)
-def _y_taylor(tr, pa):  # pragma: no cover - compiled
-    """``Y`` in m/s at ``tr >= 0`` s from the Taylor table of a kind-2 pulse."""
+def _y_at(tr, pa):  # pragma: no cover - compiled
+    """Exact pulse response ``Y`` in m/s at one retarded time ``tr`` in s (``pa``: :class:`PulseArrays`)."""
+    if tr < 0.0:
+        return 0j
+    if pa.kind == 0:
+        s = pa.s
+        tau = pa.tau
+        w = math.pi / tau
+        coef = pa.amp / (s * s + w * w)
+        if tr < tau:
+            return coef * (-s * math.sin(w * tr) - w * math.cos(w * tr) + w * np.exp(s * tr))
+        return coef * w * (np.exp(s * (tr - tau)) + np.exp(s * tr))
+    if pa.kind == 1:
+        return _y_sampled(tr, pa.xi, pa.acc, pa.yk, pa.s)
     xi = pa.xi
     end = xi[xi.size - 1]
     if tr >= end:
@@ -207,24 +199,6 @@ def _y_taylor(tr, pa):  # pragma: no cover - compiled
 
 
 @_njit(cache=True)
-def _y_at(tr, pa):  # pragma: no cover - compiled
-    """Exact pulse response ``Y`` in m/s at one retarded time ``tr`` in s (``pa``: :class:`PulseArrays`)."""
-    if tr < 0.0:
-        return 0j
-    if pa.kind == 0:
-        s = pa.s
-        tau = pa.tau
-        w = math.pi / tau
-        coef = pa.amp / (s * s + w * w)
-        if tr < tau:
-            return coef * (-s * math.sin(w * tr) - w * math.cos(w * tr) + w * np.exp(s * tr))
-        return coef * w * (np.exp(s * (tr - tau)) + np.exp(s * tr))
-    if pa.kind == 1:
-        return _y_sampled(tr, pa.xi, pa.acc, pa.yk, pa.s)
-    return _y_taylor(tr, pa)
-
-
-@_njit(cache=True)
 def _p_at(t, delays, p0s, cres, cims, pa):  # pragma: no cover - compiled
     """Pressure in Pa at time ``t`` in s of all images of one point (no tail cut)."""
     total = 0.0
@@ -235,7 +209,7 @@ def _p_at(t, delays, p0s, cres, cims, pa):  # pragma: no cover - compiled
     return total
 
 
-@_njit(cache=True)
+@_njit(cache=True, inline="always")
 def _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2):  # pragma: no cover - compiled
     """One step choice of Brent's minimiser (SciPy's ``fminbound``): parabolic if acceptable, else golden.
 

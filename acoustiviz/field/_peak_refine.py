@@ -179,7 +179,7 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
     return best, tbest
 
 
-@_njit(cache=True)
+@_njit(cache=True, inline="always")
 def _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Zero of ``p''`` in ``[lo, hi]`` (s) by the Illinois method, ``p''`` being ``cl`` and ``cr`` at the ends.
 
