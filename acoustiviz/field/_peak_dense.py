@@ -200,9 +200,9 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
 @_njit(cache=True)
 def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cover - compiled
     """Extremes of the free decay of every image after ``t_end``, where their bound can beat a peak found."""
-    end = tp[7]
-    yend = complex(tp[8], tp[9])
-    s = complex(tp[10], tp[11])
+    end = tp.end
+    yend = complex(tp.y0r, tp.y0i)
+    s = complex(tp.sr, tp.si)
     yabs = abs(yend)
     bound = 0.0
     q = ds.size - 1
@@ -233,9 +233,9 @@ def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cove
 def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,  # noqa: C901 - one compiled kernel
                   margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns."""
-    end = tp[7]
-    yend = complex(tp[8], tp[9])
-    s = complex(tp[10], tp[11])
+    end = tp.end
+    yend = complex(tp.y0r, tp.y0i)
+    s = complex(tp.sr, tp.si)
     n = pts.shape[0]
     nimg = spos.shape[0]
     h = big_h / fine

@@ -10,6 +10,7 @@ pressures in Pa.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -20,7 +21,46 @@ from ._kernels import _njit
 LUT_BUCKETS = 4096
 
 
-def taylor_pulse(pulse, radius: float, medium) -> tuple:
+class TaylorPulse(NamedTuple):
+    """The pulse response ``Y`` as Taylor polynomials per piece, as :func:`_p_d2` reads it (by attribute).
+
+    Attributes
+    ----------
+    knots : (k,) ndarray
+        Piece starts in s (the last: the pulse's end).
+    inv : (k - 1,) ndarray
+        Inverse piece lengths in 1/s.
+    nts : (k - 1,) ndarray of int64
+        Terms per piece.
+    tab_r, tab_i : (k - 1, terms) ndarray
+        Real and imaginary Taylor coefficients in m/s, in ``u = (t' - knots[q]) inv[q]``.
+    lut : (LUT_BUCKETS + 1,) ndarray of int64
+        The piece holding the start of each of :data:`LUT_BUCKETS` equal buckets of ``[0, end]``.
+    lscale : float
+        Buckets per s.
+    end : float
+        The pulse's end in s.
+    y0r, y0i : float
+        ``Y(end)`` in m/s, real and imaginary parts.
+    sr, si : float
+        The sphere's pole ``s`` in 1/s, real and imaginary parts.
+    """
+
+    knots: np.ndarray
+    inv: np.ndarray
+    nts: np.ndarray
+    tab_r: np.ndarray
+    tab_i: np.ndarray
+    lut: np.ndarray
+    lscale: float
+    end: float
+    y0r: float
+    y0i: float
+    sr: float
+    si: float
+
+
+def taylor_pulse(pulse, radius: float, medium) -> TaylorPulse:
     """The pulse response ``Y`` as :func:`_p_d2` reads it: its Taylor table and a piece look-up table.
 
     Parameters
@@ -34,11 +74,10 @@ def taylor_pulse(pulse, radius: float, medium) -> tuple:
 
     Returns
     -------
-    tuple
-        ``(knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si)``: piece starts in s,
-        their inverse lengths in 1/s, terms per piece, the real and imaginary Taylor coefficients
-        in m/s, the piece holding the start of each of :data:`LUT_BUCKETS` equal buckets of
-        ``[0, end]``, buckets per s, the pulse's end in s, ``Y(end)`` in m/s and the pole in 1/s.
+    TaylorPulse
+        Its piece starts in s, their inverse lengths in 1/s, terms per piece, the real and
+        imaginary Taylor coefficients in m/s, the piece look-up table over ``[0, end]`` with its
+        buckets per s, the pulse's end in s, ``Y(end)`` in m/s and the pole in 1/s.
     """
     pa = pulse_args(pulse, radius, medium, taylor=True)
     knots, inv, yk, tab, s = pa.xi, pa.acc, pa.yk, pa.tab, pa.s
@@ -47,24 +86,25 @@ def taylor_pulse(pulse, radius: float, medium) -> tuple:
     lut = np.clip(lut, 0, knots.size - 2).astype(np.int64)
     nts = yk[1:].real.astype(np.int64)
     y_end = complex(yk[0])
-    return (np.ascontiguousarray(knots, dtype=float), np.ascontiguousarray(inv, dtype=float), nts,
-            np.ascontiguousarray(tab.real), np.ascontiguousarray(tab.imag), lut, LUT_BUCKETS / end, end,
-            y_end.real, y_end.imag, float(s.real), float(s.imag))
+    return TaylorPulse(np.ascontiguousarray(knots, dtype=float), np.ascontiguousarray(inv, dtype=float), nts,
+                       np.ascontiguousarray(tab.real), np.ascontiguousarray(tab.imag), lut, LUT_BUCKETS / end, end,
+                       y_end.real, y_end.imag, float(s.real), float(s.imag))
 
 
 @_njit(cache=True)
 def _p_d2(t, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image.
 
-    ``tp = (knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si)`` (:func:`taylor_pulse`)
-    holds ``Y`` as the Taylor table of :func:`acoustiviz.field._common.pulse_args` with ``taylor=True``:
+    ``tp`` (:class:`TaylorPulse`, from :func:`taylor_pulse`) holds ``Y`` as the Taylor table of
+    :func:`acoustiviz.field._common.pulse_args` with ``taylor=True``:
     on piece ``q`` (``knots[q] <= t' < knots[q + 1]``, ``inv[q] = 1/(knots[q + 1] - knots[q])``),
     ``Y = Σ_m (tab_r + i tab_i)[q, m] u^m`` with ``u = (t' - knots[q]) inv[q]`` and ``nts[q]`` terms;
     ``lut[b]`` is the piece holding the start of bucket ``b`` of ``lscale`` buckets per second of
     ``[0, end]``; after ``end`` the free decay ``Y(end) exp(s (t' - end))``, ``Y(end) = y0r + i y0i``
     and ``s = sr + i si``.
     """
-    knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si = tp
+    knots, inv, nts, tab_r, tab_i, lut = tp.knots, tp.inv, tp.nts, tp.tab_r, tp.tab_i, tp.lut
+    lscale, end, y0r, y0i, sr, si = tp.lscale, tp.end, tp.y0r, tp.y0i, tp.sr, tp.si
     p = 0.0
     p1 = 0.0
     p2 = 0.0

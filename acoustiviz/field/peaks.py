@@ -310,12 +310,12 @@ def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table
     tb = peak_table(pulse, config, medium=medium) if table is None else table
     # the refinement evaluates Y, Y' and Y'' of every pulse from its Taylor table
     tp = taylor_pulse(pulse, config.radius, medium)
-    end = tp[7]
+    end = tp.end
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
         cargs = (corr.duration, corr.pole, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
     else:
-        cargs = (1.0, complex(tp[10], tp[11]), 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
+        cargs = (1.0, complex(tp.sr, tp.si), 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
     # p' jumps at an image's pulse start or end only where A does not vanish there: only then can a
     # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
     a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
