@@ -83,6 +83,28 @@ class PulseArrays(NamedTuple):
     s: complex
 
 
+class ImageArrays(NamedTuple):
+    """Every image source seen from a block of points, for the field kernels (read by attribute).
+
+    Row ``i`` is a point, column ``j`` an image (:func:`acoustiviz.field.sources.chunk_geometry`);
+    image ``j`` adds ``p0[i, j] Re[(cre + i cim)[i, j] Y(t - delay[i, j])]`` to the pressure in Pa.
+
+    Attributes
+    ----------
+    delay : (n, nimg) ndarray
+        Retardation ``(r - a)/c`` in s.
+    p0 : (n, nimg) ndarray
+        Scale in Pa·s/m (0 for a point outside the fluid).
+    cre, cim : (n, nimg) ndarray
+        Real and imaginary parts of the radiation coefficient (dimensionless).
+    """
+
+    delay: np.ndarray
+    p0: np.ndarray
+    cre: np.ndarray
+    cim: np.ndarray
+
+
 def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False) -> PulseArrays:
     """Flatten a pulse into the kernels' :class:`PulseArrays` (``taylor``: every pulse as a Taylor table, kind 2)."""
     s = sphere_pole(radius, medium)

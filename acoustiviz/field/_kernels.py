@@ -158,15 +158,16 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, pa, tail):  # pragma: no cover
 
 
 @_njit(cache=True)
-def _series_kernel(out, t0, dt, delays, p0s, cres, cims, pa, tail):  # pragma: no cover - compiled
-    """Add into ``out[i, k]`` the pressure in Pa at point ``i`` and time ``t0[i] + k dt`` (s), every image ``j``.
+def _series_kernel(out, t0, dt, img, pa, tail):  # pragma: no cover - compiled
+    """Add into ``out[i, k]`` the pressure in Pa at point ``i`` and time ``t0[i] + k dt`` (s).
 
-    ``delays``, ``p0s``, ``cres``, ``cims`` are (n, nimg) (:func:`_accumulate`); ``pa`` the pulse.
+    ``img`` holds every image seen from each point (:class:`acoustiviz.field._common.ImageArrays`),
+    ``pa`` the pulse (:class:`acoustiviz.field._common.PulseArrays`), ``tail`` the kept decay in s.
     """
-    n, nimg = delays.shape
+    n, nimg = img.delay.shape
     for i in range(n):
         for j in range(nimg):
-            _accumulate(out[i], t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], pa, tail)
+            _accumulate(out[i], t0[i], dt, img.delay[i, j], img.p0[i, j], img.cre[i, j], img.cim[i, j], pa, tail)
 
 
 @_njit(cache=True)
@@ -199,13 +200,13 @@ def _y_at(tr, pa):  # pragma: no cover - compiled
 
 
 @_njit(cache=True)
-def _p_at(t, delays, p0s, cres, cims, pa):  # pragma: no cover - compiled
-    """Pressure in Pa at time ``t`` in s of all images of one point (no tail cut)."""
+def _p_at(t, img, i, pa):  # pragma: no cover - compiled
+    """Pressure in Pa at time ``t`` in s of all images of point ``i`` of ``img`` (no tail cut)."""
     total = 0.0
-    for j in range(delays.size):
-        if p0s[j] != 0.0:
-            y = _y_at(t - delays[j], pa)
-            total += p0s[j] * (cres[j] * y.real - cims[j] * y.imag)
+    for j in range(img.delay.shape[1]):
+        if img.p0[i, j] != 0.0:
+            y = _y_at(t - img.delay[i, j], pa)
+            total += img.p0[i, j] * (img.cre[i, j] * y.real - img.cim[i, j] * y.imag)
     return total
 
 
@@ -241,16 +242,16 @@ def _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2):  
 
 
 @_njit(cache=True)
-def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, pa):  # pragma: no cover - compiled
-    """Largest ``sign · p`` in Pa on ``[max(lo, tk - dt), min(hi, tk + dt)]`` (times in s) by Brent's method.
+def _refine(sign, tk, dt, lo, hi, img, i, pa):  # pragma: no cover - compiled
+    """Largest ``sign · p`` in Pa at point ``i`` of ``img`` on ``[max(lo, tk - dt), min(hi, tk + dt)]`` (s).
 
-    A bounded Brent search (golden section with parabolic steps, the algorithm of SciPy's
+    By Brent's method: a bounded Brent search (golden section with parabolic steps, the algorithm of SciPy's
     ``fminbound``) in the local variable ``x = (t - tk)/dt`` to ``|Δx| < 1e-9``; returns the
     refined value, never below the sample ``sign · p(tk)``.
     """
     a = max(lo - tk, -dt) / dt
     b = min(hi - tk, dt) / dt
-    best = sign * _p_at(tk, delays, p0s, cres, cims, pa)
+    best = sign * _p_at(tk, img, i, pa)
     if not b > a:
         return best
     sqrt_eps = 1.4901161193847656e-08
@@ -261,7 +262,7 @@ def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, pa):  # pragma: no co
     rat = 0.0
     e = 0.0
     x = xf
-    fx = -sign * _p_at(tk + x * dt, delays, p0s, cres, cims, pa)
+    fx = -sign * _p_at(tk + x * dt, img, i, pa)
     ffulc = fx
     fnfc = fx
     xm = 0.5 * (a + b)
@@ -273,7 +274,7 @@ def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, pa):  # pragma: no co
         e, rat = _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2)
         step = max(abs(rat), tol1)
         x = xf + (step if rat >= 0.0 else -step)
-        fu = -sign * _p_at(tk + x * dt, delays, p0s, cres, cims, pa)
+        fu = -sign * _p_at(tk + x * dt, img, i, pa)
         if fu <= fx:
             if x >= xf:
                 a = xf
@@ -299,20 +300,20 @@ def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, pa):  # pragma: no co
 
 
 @_njit(cache=True)
-def _metrics_kernel(res, buf, t0, dt, delays, p0s, cres, cims, pa, tail, refine):  # pragma: no cover - compiled
+def _metrics_kernel(res, buf, t0, dt, img, pa, tail, refine):  # pragma: no cover - compiled
     """Per point ``i``: ``res[i] = (max p, min p, Σ p²)`` (Pa, Pa, Pa²) over its grid ``t0[i] + k dt``, k < buf.size.
 
     ``buf`` is a zeroed scratch row, left zeroed; the other arguments as :func:`_series_kernel`.
     With ``refine`` the extremes are refined between the samples (:func:`_refine`) inside
     ``[t0[i], t0[i] + (m - 1) dt]``.
     """
-    n, nimg = delays.shape
+    n, nimg = img.delay.shape
     m = buf.size
     for i in range(n):
         lo = m
         hi = 0
         for j in range(nimg):
-            a, b = _accumulate(buf, t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], pa, tail)
+            a, b = _accumulate(buf, t0[i], dt, img.delay[i, j], img.p0[i, j], img.cre[i, j], img.cim[i, j], pa, tail)
             if b > a:
                 lo = min(lo, a)
                 hi = max(hi, b)
@@ -335,9 +336,9 @@ def _metrics_kernel(res, buf, t0, dt, delays, p0s, cres, cims, pa, tail, refine)
             wlo = t0[i]
             whi = t0[i] + (m - 1) * dt
             if kmax >= 0:
-                pmax = _refine(1.0, t0[i] + kmax * dt, dt, wlo, whi, delays[i], p0s[i], cres[i], cims[i], pa)
+                pmax = _refine(1.0, t0[i] + kmax * dt, dt, wlo, whi, img, i, pa)
             if kmin >= 0:
-                pmin = -_refine(-1.0, t0[i] + kmin * dt, dt, wlo, whi, delays[i], p0s[i], cres[i], cims[i], pa)
+                pmin = -_refine(-1.0, t0[i] + kmin * dt, dt, wlo, whi, img, i, pa)
         res[i, 0] = pmax
         res[i, 1] = pmin
         res[i, 2] = ssq

@@ -21,6 +21,7 @@ from ..core.radiation import pulse_response
 from ._common import (
     DEFAULT_CUTOFF,
     DEFAULT_MEMORY_LIMIT,
+    ImageArrays,
     check_config,
     check_pulse,
     chunk_size,
@@ -99,7 +100,7 @@ def _series_chunk(out, pulse, tt, dt, sub, config, medium, pa, tail):
     delay, p0, cre, cim, inside = chunk_geometry(sub, config, medium)
     if dt is not None:
         t0 = np.full(sub.shape[0], tt[0])
-        _series_kernel(out, t0, dt, delay, p0, cre, cim, pa, tail)
+        _series_kernel(out, t0, dt, ImageArrays(delay, p0, cre, cim), pa, tail)
     else:
         for j in range(delay.shape[1]):
             y = pulse_response(pulse, tt[None, :] - delay[:, j : j + 1], radius=config.radius, medium=medium)
