@@ -136,8 +136,24 @@ def _rounding_scale(ds, mag, span):  # pragma: no cover - compiled
     return best * (1.0 + 1e-12)
 
 
+@_njit(cache=True, inline="always")
+def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - compiled
+    """Whether coarse step ``kb`` (``[t0 + kb H, t0 + (kb + 1) H]``, s) lies in a bracket already searched.
+
+    ``done_lo[:ndone]``, ``done_hi[:ndone]`` are those brackets in s; ``kb < 0`` (no step) is never covered.
+    """
+    if kb < 0:
+        return False
+    ta = t0 + kb * big_h - 1e-9 * big_h
+    tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
+    for q in range(ndone):
+        if done_lo[q] <= ta and tz <= done_hi[q]:
+            return True
+    return False
+
+
 @_njit(cache=True)
-def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,  # noqa: C901 - one compiled kernel
+def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,
                  done_lo, done_hi):  # pragma: no cover - compiled
     """Refine the candidates of one sign, best estimate first, while one can still beat the best value.
 
@@ -159,15 +175,7 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
             break
         tk = cand[side, 2, jb]
         kb = int(cand[side, 3, jb])
-        covered = False
-        if kb >= 0:
-            ta = t0 + kb * big_h - 1e-9 * big_h
-            tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
-            for q in range(ndone):
-                if done_lo[q] <= ta and tz <= done_hi[q]:
-                    covered = True
-                    break
-        if not covered:
+        if not _covered(kb, t0, big_h, done_lo, done_hi, ndone):
             nbp = _breakpoints_near(ds, end, tk - REACH * big_h, tk + REACH * big_h, bps)
             bp = bps[:nbp]
             lo_b = max(dmin, tk - big_h)
