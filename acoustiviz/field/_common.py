@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -47,8 +48,65 @@ def check_config(config):
     return config
 
 
-def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False):
-    """Flatten a pulse into the kernel's arguments (``taylor``: every pulse as a Taylor table of ``Y``, kind 2)."""
+class PulseArrays(NamedTuple):
+    """A pulse flattened for the field kernels (a record the JIT reads by attribute).
+
+    Attributes
+    ----------
+    kind : int
+        0: the half-sine in closed form; 1: a piecewise-linear pulse with its exact knot states;
+        2: ``Y`` as Taylor polynomials per piece (the exact Hertz pulse, or any pulse with ``taylor``).
+    amp : float
+        Half-sine amplitude in m/s² (kind 0; 0 otherwise).
+    tau : float
+        Pulse duration in s.
+    xi : (k,) ndarray
+        Knot times in s (kind 1 and 2; unused by kind 0).
+    acc : (k,) or (k - 1,) ndarray
+        Kind 1: acceleration at the knots in m/s²; kind 2: inverse piece lengths in 1/s.
+    yk : ndarray of complex
+        Kind 1: ``Y`` at the knots in m/s; kind 2: ``Y`` at the pulse's end in m/s, then the terms
+        per piece (as the real part).
+    tab : (k - 1, terms) ndarray of complex
+        Kind 2: Taylor coefficients of ``Y`` in m/s per piece, in ``u = (t' - xi[q]) acc[q]``.
+    s : complex
+        The sphere's pole ``(c/a)(-1 + i)`` in 1/s.
+    """
+
+    kind: int
+    amp: float
+    tau: float
+    xi: np.ndarray
+    acc: np.ndarray
+    yk: np.ndarray
+    tab: np.ndarray
+    s: complex
+
+
+class ImageArrays(NamedTuple):
+    """Every image source seen from a block of points, for the field kernels (read by attribute).
+
+    Row ``i`` is a point, column ``j`` an image (:func:`acoustiviz.field.sources.chunk_geometry`);
+    image ``j`` adds ``p0[i, j] Re[(cre + i cim)[i, j] Y(t - delay[i, j])]`` to the pressure in Pa.
+
+    Attributes
+    ----------
+    delay : (n, nimg) ndarray
+        Retardation ``(r - a)/c`` in s.
+    p0 : (n, nimg) ndarray
+        Scale in Pa·s/m (0 for a point outside the fluid).
+    cre, cim : (n, nimg) ndarray
+        Real and imaginary parts of the radiation coefficient (dimensionless).
+    """
+
+    delay: np.ndarray
+    p0: np.ndarray
+    cre: np.ndarray
+    cim: np.ndarray
+
+
+def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False) -> PulseArrays:
+    """Flatten a pulse into the kernels' :class:`PulseArrays` (``taylor``: every pulse as a Taylor table, kind 2)."""
     s = sphere_pole(radius, medium)
     notab = np.zeros((1, 1), complex)
     if isinstance(pulse, HertzPulse):
@@ -59,13 +117,16 @@ def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False):
         table = None
     if table is not None:  # knots, 1/piece length, Y at the end and terms per piece, Taylor table
         knots, tab, terms = table(pulse, s, split=_HERTZ_SPLIT, rtol=_HERTZ_RTOL)
-        return 2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), np.array([tab[-1].sum(), *terms]), tab, s
+        return PulseArrays(
+            2, 0.0, float(knots[-1]), knots, 1.0 / np.diff(knots), np.array([tab[-1].sum(), *terms]), tab, s
+        )
     if isinstance(pulse, HalfSinePulse):
         empty = np.zeros(2)
-        return 0, float(pulse.amplitude), float(pulse.duration), empty, empty, np.zeros(2, complex), notab, s
+        amp, tau = float(pulse.amplitude), float(pulse.duration)
+        return PulseArrays(0, amp, tau, empty, empty, np.zeros(2, complex), notab, s)
     xi = np.ascontiguousarray(pulse.times, dtype=float)
     acc = np.ascontiguousarray(pulse.acceleration_samples, dtype=float)
-    return 1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), notab, s
+    return PulseArrays(1, 0.0, float(xi[-1]), xi, acc, _knot_states(xi, acc, s), notab, s)
 
 
 def decay_time(radius: float, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF) -> float:
@@ -135,6 +196,7 @@ def geometry_bytes(nimg: int) -> int:
 
 
 def prepare(pulse, config, medium, cutoff):
+    """Check the arguments; return the kernels' :class:`PulseArrays` and the kept tail in s."""
     check_pulse(pulse)
     check_config(config)
     if not isinstance(medium, Medium):

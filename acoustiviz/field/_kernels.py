@@ -1,6 +1,7 @@
 """Numba kernels of the field evaluator: one sphere's pressure added onto a uniform time grid.
 
-The kernels take a pulse flattened by :func:`acoustiviz.field._common.pulse_args` (``kind`` 0: the
+The kernels take a pulse flattened by :func:`acoustiviz.field._common.pulse_args` into one
+:class:`~acoustiviz.field._common.PulseArrays` record, read by attribute (``kind`` 0: the
 half-sine in closed form; 1: a piecewise-linear pulse with its exact knot states; 2: the exact
 Hertz pulse as Taylor polynomials of ``Y`` per piece, from
 :func:`acoustiviz.core.radiation.hertz_response_table`) and the geometry of
@@ -60,14 +61,65 @@ def _y_sampled(tr, xi, acc, yk, s):  # pragma: no cover - compiled
     return np.exp(s * delta) * yk[k] + delta * (acc[k] * p1 + slope * delta * p2)
 
 
+@_njit(cache=True, inline="always")
+def _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa):  # pragma: no cover - compiled
+    """Add a kind-2 pulse's pressure ``p0 Re[(cre + i cim) Y]`` in Pa on samples ``k0 <= k < kt``.
+
+    ``Y`` is a Taylor polynomial on each piece between the knots ``xi`` (``yk[1 + q]`` terms).
+    """
+    if kt <= k0:
+        return
+    xi = pa.xi
+    tab = pa.tab
+    q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
+    q = min(max(q, 0), xi.size - 2)
+    k = k0
+    while k < kt:
+        kend = kt if q == xi.size - 2 else min(kt, int(math.ceil((delay + xi[q + 1] - t0) / dt)))
+        nt = int(pa.yk[1 + q].real)
+        base = t0 - delay - xi[q]
+        inv = pa.acc[q]
+        kk = k
+        while kk + 1 < kend:  # two samples at a time: four independent Horner chains
+            u = (base + kk * dt) * inv  # u may leave [0, 1] by rounding: the polynomial is smooth there
+            v = u + dt * inv
+            ar = br = tab[q, nt - 1].real
+            ai = bi = tab[q, nt - 1].imag
+            for j in range(nt - 2, -1, -1):
+                cr = tab[q, j].real
+                ci = tab[q, j].imag
+                ar = ar * u + cr
+                ai = ai * u + ci
+                br = br * v + cr
+                bi = bi * v + ci
+            buf[kk] += p0 * (cre * ar - cim * ai)
+            buf[kk + 1] += p0 * (cre * br - cim * bi)
+            kk += 2
+        if kk < kend:
+            u = (base + kk * dt) * inv
+            ar = tab[q, nt - 1].real
+            ai = tab[q, nt - 1].imag
+            for j in range(nt - 2, -1, -1):
+                ar = ar * u + tab[q, j].real
+                ai = ai * u + tab[q, j].imag
+            buf[kk] += p0 * (cre * ar - cim * ai)
+        k = max(k, kend)
+        q += 1
+
+
 @_njit(cache=True)
-def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail):  # noqa: C901 - one compiled kernel  # pragma: no cover
-    """Add one sphere's pressure to ``buf[k]`` at ``t0 + k dt``; return the touched index range."""
+def _accumulate(buf, t0, dt, delay, p0, cre, cim, pa, tail):  # pragma: no cover - compiled
+    """Add one sphere's pressure in Pa to ``buf[k]`` at ``t0 + k dt`` (s); return the touched index range.
+
+    ``delay`` (s), ``p0`` (Pa·s/m) and ``cre + i cim`` are one image's retardation, scale and
+    radiation coefficient (:func:`acoustiviz.field.sources.chunk_geometry`); ``pa`` the pulse
+    (:class:`acoustiviz.field._common.PulseArrays`); after the pulse the free decay is kept for
+    ``tail`` s. Returns ``(k0, ke)``: samples ``k0 <= k < ke`` were touched.
+    """
     m = buf.size
-    end = tau if kind == 0 else xi[xi.size - 1]
-    k0 = int(math.ceil((delay - t0) / dt))
-    if k0 < 0:
-        k0 = 0
+    s = pa.s
+    end = pa.tau if pa.kind == 0 else pa.xi[pa.xi.size - 1]
+    k0 = max(int(math.ceil((delay - t0) / dt)), 0)
     if k0 >= m:
         return m, m
     kt = int(math.ceil((delay + end - t0) / dt))
@@ -75,9 +127,9 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, t
     ke = int(math.ceil((delay + end + tail - t0) / dt))
     ke = min(max(ke, kt), m)
     dF = np.exp(s * dt)
-    if kind == 0:
-        w = math.pi / tau
-        coef = amp / (s * s + w * w)
+    if pa.kind == 0:  # half-sine: exp(i w t') and exp(s t') advance by one complex multiply per sample
+        w = math.pi / pa.tau
+        coef = pa.amp / (s * s + w * w)
         if kt > k0:
             tr = t0 + k0 * dt - delay
             e = np.exp(1j * w * tr)
@@ -88,49 +140,15 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, t
                 buf[k] += p0 * (cre * y.real - cim * y.imag)
                 e *= de
                 f *= dF
-        yend = coef * w * (1.0 + np.exp(s * tau))
-    elif kind == 1:
+        yend = coef * w * (1.0 + np.exp(s * pa.tau))
+    elif pa.kind == 1:
         for k in range(k0, kt):
-            y = _y_sampled(t0 + k * dt - delay, xi, acc, yk, s)
+            y = _y_sampled(t0 + k * dt - delay, pa.xi, pa.acc, pa.yk, s)
             buf[k] += p0 * (cre * y.real - cim * y.imag)
-        yend = yk[yk.size - 1]
-    else:  # exact Hertz pulse: Taylor polynomial of Y on each piece between the knots xi (yk[1 + q] terms)
-        if kt > k0:
-            q = np.searchsorted(xi, t0 + k0 * dt - delay, side="right") - 1
-            q = min(max(q, 0), xi.size - 2)
-            k = k0
-            while k < kt:
-                kend = kt if q == xi.size - 2 else min(kt, int(math.ceil((delay + xi[q + 1] - t0) / dt)))
-                nt = int(yk[1 + q].real)
-                base = t0 - delay - xi[q]
-                inv = acc[q]
-                kk = k
-                while kk + 1 < kend:  # two samples at a time: four independent Horner chains
-                    u = (base + kk * dt) * inv  # u may leave [0, 1] by rounding: the polynomial is smooth there
-                    v = u + dt * inv
-                    ar = br = tab[q, nt - 1].real
-                    ai = bi = tab[q, nt - 1].imag
-                    for j in range(nt - 2, -1, -1):
-                        cr = tab[q, j].real
-                        ci = tab[q, j].imag
-                        ar = ar * u + cr
-                        ai = ai * u + ci
-                        br = br * v + cr
-                        bi = bi * v + ci
-                    buf[kk] += p0 * (cre * ar - cim * ai)
-                    buf[kk + 1] += p0 * (cre * br - cim * bi)
-                    kk += 2
-                if kk < kend:
-                    u = (base + kk * dt) * inv
-                    ar = tab[q, nt - 1].real
-                    ai = tab[q, nt - 1].imag
-                    for j in range(nt - 2, -1, -1):
-                        ar = ar * u + tab[q, j].real
-                        ai = ai * u + tab[q, j].imag
-                    buf[kk] += p0 * (cre * ar - cim * ai)
-                k = max(k, kend)
-                q += 1
-        yend = yk[0]
+        yend = pa.yk[pa.yk.size - 1]
+    else:  # exact Hertz pulse: Taylor polynomial of Y on each piece between the knots
+        _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa)
+        yend = pa.yk[0]
     if ke > kt:
         g = yend * np.exp(s * (t0 + kt * dt - delay - end))
         for k in range(kt, ke):
@@ -140,76 +158,111 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, t
 
 
 @_njit(cache=True)
-def _series_kernel(out, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s, tail):  # pragma: no cover
-    n, nimg = delays.shape
+def _series_kernel(out, t0, dt, img, pa, tail):  # pragma: no cover - compiled
+    """Add into ``out[i, k]`` the pressure in Pa at point ``i`` and time ``t0[i] + k dt`` (s).
+
+    ``img`` holds every image seen from each point (:class:`acoustiviz.field._common.ImageArrays`),
+    ``pa`` the pulse (:class:`acoustiviz.field._common.PulseArrays`), ``tail`` the kept decay in s.
+    """
+    n, nimg = img.delay.shape
     for i in range(n):
         for j in range(nimg):
-            _accumulate(
-                out[i], t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], kind, amp, tau, xi, acc, yk, tab,
-                s, tail,
-            )
+            _accumulate(out[i], t0[i], dt, img.delay[i, j], img.p0[i, j], img.cre[i, j], img.cim[i, j], pa, tail)
 
 
 @_njit(cache=True)
-def _y_at(tr, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
-    """Exact pulse response ``Y`` in m/s at one retarded time ``tr`` in s."""
+def _y_at(tr, pa):  # pragma: no cover - compiled
+    """Exact pulse response ``Y`` in m/s at one retarded time ``tr`` in s (``pa``: :class:`PulseArrays`)."""
     if tr < 0.0:
         return 0j
-    if kind == 0:
+    if pa.kind == 0:
+        s = pa.s
+        tau = pa.tau
         w = math.pi / tau
-        coef = amp / (s * s + w * w)
+        coef = pa.amp / (s * s + w * w)
         if tr < tau:
             return coef * (-s * math.sin(w * tr) - w * math.cos(w * tr) + w * np.exp(s * tr))
         return coef * w * (np.exp(s * (tr - tau)) + np.exp(s * tr))
-    if kind == 1:
-        return _y_sampled(tr, xi, acc, yk, s)
+    if pa.kind == 1:
+        return _y_sampled(tr, pa.xi, pa.acc, pa.yk, pa.s)
+    xi = pa.xi
     end = xi[xi.size - 1]
     if tr >= end:
-        return np.exp(s * (tr - end)) * yk[0]
+        return np.exp(pa.s * (tr - end)) * pa.yk[0]
     q = np.searchsorted(xi, tr, side="right") - 1
     q = min(max(q, 0), xi.size - 2)
-    u = (tr - xi[q]) * acc[q]
-    nt = int(yk[1 + q].real)
-    y = tab[q, nt - 1]
+    u = (tr - xi[q]) * pa.acc[q]
+    nt = int(pa.yk[1 + q].real)
+    y = pa.tab[q, nt - 1]
     for j in range(nt - 2, -1, -1):
-        y = y * u + tab[q, j]
+        y = y * u + pa.tab[q, j]
     return y
 
 
 @_njit(cache=True)
-def _p_at(t, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
-    """Pressure in Pa at time ``t`` in s of all images of one point (no tail cut)."""
+def _p_at(t, img, i, pa):  # pragma: no cover - compiled
+    """Pressure in Pa at time ``t`` in s of all images of point ``i`` of ``img`` (no tail cut)."""
     total = 0.0
-    for j in range(delays.size):
-        if p0s[j] != 0.0:
-            y = _y_at(t - delays[j], kind, amp, tau, xi, acc, yk, tab, s)
-            total += p0s[j] * (cres[j] * y.real - cims[j] * y.imag)
+    for j in range(img.delay.shape[1]):
+        if img.p0[i, j] != 0.0:
+            y = _y_at(t - img.delay[i, j], pa)
+            total += img.p0[i, j] * (img.cre[i, j] * y.real - img.cim[i, j] * y.imag)
     return total
 
 
-@_njit(cache=True)
-def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s):  # noqa: C901 - one compiled kernel  # pragma: no cover
-    """Largest ``sign · p`` in Pa on ``[max(lo, tk - dt), min(hi, tk + dt)]`` by Brent's method.
+@_njit(cache=True, inline="always")
+def _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2):  # pragma: no cover - compiled
+    """One step choice of Brent's minimiser (SciPy's ``fminbound``): parabolic if acceptable, else golden.
 
-    A bounded Brent search (golden section with parabolic steps, the algorithm of SciPy's
+    Returns the updated ``(e, rat)``: the step before last and the step to take.
+    """
+    golden = True
+    if abs(e) > tol1:
+        golden = False
+        r = (xf - nfc) * (fx - ffulc)
+        q = (xf - fulc) * (fx - fnfc)
+        p = (xf - fulc) * q - (xf - nfc) * r
+        q = 2.0 * (q - r)
+        if q > 0.0:
+            p = -p
+        q = abs(q)
+        r = e
+        e = rat
+        if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
+            rat = p / q
+            x = xf + rat
+            if (x - a) < tol2 or (b - x) < tol2:
+                rat = tol1 if xm >= xf else -tol1
+        else:
+            golden = True
+    if golden:
+        e = (a - xf) if xf >= xm else (b - xf)
+        rat = 0.5 * (3.0 - math.sqrt(5.0)) * e
+    return e, rat
+
+
+@_njit(cache=True)
+def _refine(sign, tk, dt, lo, hi, img, i, pa):  # pragma: no cover - compiled
+    """Largest ``sign · p`` in Pa at point ``i`` of ``img`` on ``[max(lo, tk - dt), min(hi, tk + dt)]`` (s).
+
+    By Brent's method: a bounded Brent search (golden section with parabolic steps, the algorithm of SciPy's
     ``fminbound``) in the local variable ``x = (t - tk)/dt`` to ``|Δx| < 1e-9``; returns the
     refined value, never below the sample ``sign · p(tk)``.
     """
     a = max(lo - tk, -dt) / dt
     b = min(hi - tk, dt) / dt
-    best = sign * _p_at(tk, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s)
+    best = sign * _p_at(tk, img, i, pa)
     if not b > a:
         return best
     sqrt_eps = 1.4901161193847656e-08
-    gm = 0.5 * (3.0 - math.sqrt(5.0))
     xatol = 1e-9
-    fulc = a + gm * (b - a)
+    fulc = a + 0.5 * (3.0 - math.sqrt(5.0)) * (b - a)
     nfc = fulc
     xf = fulc
     rat = 0.0
     e = 0.0
     x = xf
-    fx = -sign * _p_at(tk + x * dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s)
+    fx = -sign * _p_at(tk + x * dt, img, i, pa)
     ffulc = fx
     fnfc = fx
     xm = 0.5 * (a + b)
@@ -218,31 +271,10 @@ def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, kind, amp, tau, xi, a
     for _ in range(200):
         if abs(xf - xm) <= tol2 - 0.5 * (b - a):
             break
-        golden = True
-        if abs(e) > tol1:
-            golden = False
-            r = (xf - nfc) * (fx - ffulc)
-            q = (xf - fulc) * (fx - fnfc)
-            p = (xf - fulc) * q - (xf - nfc) * r
-            q = 2.0 * (q - r)
-            if q > 0.0:
-                p = -p
-            q = abs(q)
-            r = e
-            e = rat
-            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
-                rat = p / q
-                x = xf + rat
-                if (x - a) < tol2 or (b - x) < tol2:
-                    rat = tol1 if xm >= xf else -tol1
-            else:
-                golden = True
-        if golden:
-            e = (a - xf) if xf >= xm else (b - xf)
-            rat = gm * e
+        e, rat = _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2)
         step = max(abs(rat), tol1)
         x = xf + (step if rat >= 0.0 else -step)
-        fu = -sign * _p_at(tk + x * dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s)
+        fu = -sign * _p_at(tk + x * dt, img, i, pa)
         if fu <= fx:
             if x >= xf:
                 a = xf
@@ -268,24 +300,20 @@ def _refine(sign, tk, dt, lo, hi, delays, p0s, cres, cims, kind, amp, tau, xi, a
 
 
 @_njit(cache=True)
-def _metrics_kernel(
-    res, buf, t0, dt, delays, p0s, cres, cims, kind, amp, tau, xi, acc, yk, tab, s, tail, refine
-):  # pragma: no cover
-    """Per point: max p, min p, sum p² over the point's grid ``t0[i] + k dt``, k < buf.size.
+def _metrics_kernel(res, buf, t0, dt, img, pa, tail, refine):  # pragma: no cover - compiled
+    """Per point ``i``: ``res[i] = (max p, min p, Σ p²)`` (Pa, Pa, Pa²) over its grid ``t0[i] + k dt``, k < buf.size.
 
+    ``buf`` is a zeroed scratch row, left zeroed; the other arguments as :func:`_series_kernel`.
     With ``refine`` the extremes are refined between the samples (:func:`_refine`) inside
     ``[t0[i], t0[i] + (m - 1) dt]``.
     """
-    n, nimg = delays.shape
+    n, nimg = img.delay.shape
     m = buf.size
     for i in range(n):
         lo = m
         hi = 0
         for j in range(nimg):
-            a, b = _accumulate(
-                buf, t0[i], dt, delays[i, j], p0s[i, j], cres[i, j], cims[i, j], kind, amp, tau, xi, acc, yk, tab,
-                s, tail,
-            )
+            a, b = _accumulate(buf, t0[i], dt, img.delay[i, j], img.p0[i, j], img.cre[i, j], img.cim[i, j], pa, tail)
             if b > a:
                 lo = min(lo, a)
                 hi = max(hi, b)
@@ -308,18 +336,16 @@ def _metrics_kernel(
             wlo = t0[i]
             whi = t0[i] + (m - 1) * dt
             if kmax >= 0:
-                pmax = _refine(1.0, t0[i] + kmax * dt, dt, wlo, whi, delays[i], p0s[i], cres[i], cims[i], kind, amp,
-                               tau, xi, acc, yk, tab, s)
+                pmax = _refine(1.0, t0[i] + kmax * dt, dt, wlo, whi, img, i, pa)
             if kmin >= 0:
-                pmin = -_refine(-1.0, t0[i] + kmin * dt, dt, wlo, whi, delays[i], p0s[i], cres[i], cims[i], kind,
-                                amp, tau, xi, acc, yk, tab, s)
+                pmin = -_refine(-1.0, t0[i] + kmin * dt, dt, wlo, whi, img, i, pa)
         res[i, 0] = pmax
         res[i, 1] = pmin
         res[i, 2] = ssq
 
 
 @_njit(cache=True)
-def _fill(out, u, kind, amp, tau, xi, acc, yk, tab, s):  # pragma: no cover - compiled
-    """``out[i] = Y(u[i])`` (complex m/s) for the flattened pulse of :func:`._common.pulse_args`."""
+def _fill(out, u, pa):  # pragma: no cover - compiled
+    """``out[i] = Y(u[i])`` (complex m/s, ``u`` in s) for the pulse ``pa`` of :func:`._common.pulse_args`."""
     for i in range(u.size):
-        out[i] = _y_at(u[i], kind, amp, tau, xi, acc, yk, tab, s)
+        out[i] = _y_at(u[i], pa)

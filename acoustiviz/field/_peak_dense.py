@@ -136,8 +136,24 @@ def _rounding_scale(ds, mag, span):  # pragma: no cover - compiled
     return best * (1.0 + 1e-12)
 
 
+@_njit(cache=True, inline="always")
+def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - compiled
+    """Whether coarse step ``kb`` (``[t0 + kb H, t0 + (kb + 1) H]``, s) lies in a bracket already searched.
+
+    ``done_lo[:ndone]``, ``done_hi[:ndone]`` are those brackets in s; ``kb < 0`` (no step) is never covered.
+    """
+    if kb < 0:
+        return False
+    ta = t0 + kb * big_h - 1e-9 * big_h
+    tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
+    for q in range(ndone):
+        if done_lo[q] <= ta and tz <= done_hi[q]:
+            return True
+    return False
+
+
 @_njit(cache=True)
-def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,  # noqa: C901 - one compiled kernel
+def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,
                  done_lo, done_hi):  # pragma: no cover - compiled
     """Refine the candidates of one sign, best estimate first, while one can still beat the best value.
 
@@ -159,15 +175,7 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
             break
         tk = cand[side, 2, jb]
         kb = int(cand[side, 3, jb])
-        covered = False
-        if kb >= 0:
-            ta = t0 + kb * big_h - 1e-9 * big_h
-            tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
-            for q in range(ndone):
-                if done_lo[q] <= ta and tz <= done_hi[q]:
-                    covered = True
-                    break
-        if not covered:
+        if not _covered(kb, t0, big_h, done_lo, done_hi, ndone):
             nbp = _breakpoints_near(ds, end, tk - REACH * big_h, tk + REACH * big_h, bps)
             bp = bps[:nbp]
             lo_b = max(dmin, tk - big_h)
@@ -200,9 +208,9 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
 @_njit(cache=True)
 def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cover - compiled
     """Extremes of the free decay of every image after ``t_end``, where their bound can beat a peak found."""
-    end = tp[7]
-    yend = complex(tp[8], tp[9])
-    s = complex(tp[10], tp[11])
+    end = tp.end
+    yend = complex(tp.y0r, tp.y0i)
+    s = complex(tp.sr, tp.si)
     yabs = abs(yend)
     bound = 0.0
     q = ds.size - 1
@@ -229,13 +237,106 @@ def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cove
         tbest_s[1] = tplo
 
 
+@_njit(cache=True, inline="always")
+def _pair_table(ctable):  # pragma: no cover - compiled
+    """The correlation table's ``G ± H`` sums by column, (rows, 8), as :func:`_exposure_sorted` reads them."""
+    ptab = np.empty((ctable.shape[0], 8))
+    for q in range(ctable.shape[0]):
+        g, dg, hh, dh = ctable[q, 0], ctable[q, 1], ctable[q, 2], ctable[q, 3]
+        ptab[q, 0] = g.real + hh.real
+        ptab[q, 1] = dg.real + dh.real
+        ptab[q, 2] = g.imag - hh.imag
+        ptab[q, 3] = dg.imag - dh.imag
+        ptab[q, 4] = g.imag + hh.imag
+        ptab[q, 5] = dg.imag + dh.imag
+        ptab[q, 6] = g.real - hh.real
+        ptab[q, 7] = dg.real - dh.real
+    return ptab
+
+
+@_njit(cache=True, inline="always")
+def _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):  # pragma: no cover - compiled
+    """Whether the point ``(x0, x1, x2)`` (m) is outside the sphere and in front of every plane ``(ppt, pnm)``."""
+    dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
+    ok = dc >= radius - tol
+    for q in range(ppt.shape[0]):
+        if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
+            ok = False
+    return ok
+
+
+@_njit(cache=True, inline="always")
+def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, ds, ar, ai,
+                    mag):  # pragma: no cover - compiled
+    """Every image seen from ``(x0, x1, x2)`` (m), sorted by arrival.
+
+    Into ``ds`` the delays in s, ``ar + i ai`` the weights and ``mag`` their moduli in Pa·s/m;
+    ``delays``, ``are``, ``aim`` are scratch arrays of the image count.
+    """
+    nimg = spos.shape[0]
+    for j in range(nimg):
+        d0 = x0 - spos[j, 0]
+        d1 = x1 - spos[j, 1]
+        d2 = x2 - spos[j, 2]
+        r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
+        p0 = rho * c * radius * radius * ct / (r * r)
+        ra = r / radius
+        delays[j] = (r - radius) / c
+        are[j] = p0 * ra
+        aim[j] = -p0 * (1.0 - ra)
+    order = np.argsort(delays)
+    for q in range(nimg):
+        j = order[q]
+        ds[q] = delays[j]
+        ar[q] = are[j]
+        ai[q] = aim[j]
+        mag[q] = math.sqrt(are[j] ** 2 + aim[j] ** 2)
+
+
+@_njit(cache=True, inline="always")
+def _cusp_candidates(side, nc, ds, end, dmin, big_h, kk, coarse, cand):  # pragma: no cover - compiled
+    """Add the pulse starts and ends (s) of every image as candidates of one sign; return the new count.
+
+    A feature narrower than ``H`` may sit at such a breakpoint: its coarse neighbours bound it.
+    """
+    sign = 1.0 if side == 0 else -1.0
+    for q in range(2 * ds.size):
+        b = ds[q // 2] + (end if q % 2 else 0.0)
+        k = int((b - dmin) / big_h)
+        if 0 < k < kk:
+            est = max(sign * coarse[k], sign * coarse[k + 1])
+            if est > 0.0:
+                cand[side, 0, nc] = est
+                cand[side, 1, nc] = b
+                cand[side, 2, nc] = b
+                cand[side, 3, nc] = k
+                nc += 1
+    return nc
+
+
+@_njit(cache=True, inline="always")
+def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover - compiled
+    """``Y`` in m/s just past the table by fine residue, and ``exp(s H m)`` for ``m <= DECAY_BLOCK`` (re, im)."""
+    zpast = np.empty(fine, np.complex128)
+    for r in range(fine):
+        zpast[r] = yend * np.exp(s * ((ncol * fine + r - pad) * h - end))
+    qpr = np.empty(DECAY_BLOCK + 1)
+    qpi = np.empty(DECAY_BLOCK + 1)
+    for m in range(DECAY_BLOCK + 1):
+        z = np.exp(s * big_h * m)
+        qpr[m] = z.real
+        qpi[m] = z.imag
+    return zpast, qpr, qpi
+
+
 @_njit(cache=True)
-def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,  # noqa: C901 - one compiled kernel
+def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
                   margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns."""
-    end = tp[7]
-    yend = complex(tp[8], tp[9])
-    s = complex(tp[10], tp[11])
+    end = tp.end
+    yend = complex(tp.y0r, tp.y0i)
+    s = complex(tp.sr, tp.si)
     n = pts.shape[0]
     nimg = spos.shape[0]
     h = big_h / fine
@@ -252,15 +353,7 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     bps = np.empty(2 * nimg + 2)
     best_s = np.empty(2)
     tbest_s = np.empty(2)
-    zpast = np.empty(fine, np.complex128)  # Y just past the table, by fine residue
-    for r in range(fine):
-        zpast[r] = yend * np.exp(s * ((ncol * fine + r - pad) * h - end))
-    qpr = np.empty(DECAY_BLOCK + 1)
-    qpi = np.empty(DECAY_BLOCK + 1)
-    for m in range(DECAY_BLOCK + 1):
-        z = np.exp(s * big_h * m)
-        qpr[m] = z.real
-        qpi[m] = z.imag
+    zpast, qpr, qpi = _decay_factors(yend, s, ncol, fine, pad, h, big_h, end)
     coarse = np.empty(0)
     bmax = np.empty(0)
     bmin = np.empty(0)
@@ -270,51 +363,19 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     tol = 1e-12 * radius
     g0 = 0j
     h0 = 0j
-    ptab = np.empty((ctable.shape[0], 8))  # pair_table(ctable)
-    for q in range(ctable.shape[0]):
-        g, dg, hh, dh = ctable[q, 0], ctable[q, 1], ctable[q, 2], ctable[q, 3]
-        ptab[q, 0] = g.real + hh.real
-        ptab[q, 1] = dg.real + dh.real
-        ptab[q, 2] = g.imag - hh.imag
-        ptab[q, 3] = dg.imag - dh.imag
-        ptab[q, 4] = g.imag + hh.imag
-        ptab[q, 5] = dg.imag + dh.imag
-        ptab[q, 6] = g.real - hh.real
-        ptab[q, 7] = dg.real - dh.real
+    ptab = _pair_table(ctable)
     if do_exp:
         g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
     for i in range(n):
         x0 = pts[i, 0]
         x1 = pts[i, 1]
         x2 = pts[i, 2]
-        dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
-        ok = dc >= radius - tol
-        for q in range(ppt.shape[0]):
-            if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
-                ok = False
-        if not ok:
+        if not _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):
             for col in range(5):
                 res[i, col] = np.nan
             res[i, 5] = 0.0
             continue
-        for j in range(nimg):
-            d0 = x0 - spos[j, 0]
-            d1 = x1 - spos[j, 1]
-            d2 = x2 - spos[j, 2]
-            r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-            ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
-            p0 = rho * c * radius * radius * ct / (r * r)
-            ra = r / radius
-            delays[j] = (r - radius) / c
-            are[j] = p0 * ra
-            aim[j] = -p0 * (1.0 - ra)
-        order = np.argsort(delays)
-        for q in range(nimg):
-            j = order[q]
-            ds[q] = delays[j]
-            ar[q] = are[j]
-            ai[q] = aim[j]
-            mag[q] = math.sqrt(are[j] ** 2 + aim[j] ** 2)
+        _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, ds, ar, ai, mag)
         if do_exp:
             res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
         else:
@@ -341,20 +402,9 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                                      -cmin - 2.0 * slack - 0.125 * jump, dmin, big_h, cand)
         nref = 0
         for side in range(2):
-            sign = 1.0 if side == 0 else -1.0
             nc, top = (nc0, top0) if side == 0 else (nc1, top1)
             if cusps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
-                for q in range(2 * nimg):
-                    b = ds[q // 2] + (end if q % 2 else 0.0)
-                    k = int((b - dmin) / big_h)
-                    if 0 < k < kk:
-                        est = max(sign * coarse[k], sign * coarse[k + 1])
-                        if est > 0.0:
-                            cand[side, 0, nc] = est
-                            cand[side, 1, nc] = b
-                            cand[side, 2, nc] = b
-                            cand[side, 3, nc] = k
-                            nc += 1
+                nc = _cusp_candidates(side, nc, ds, end, dmin, big_h, kk, coarse, cand)
             reached = (cmax if side == 0 else -cmin) - rounding
             best, tbest, nr = _refine_side(side, 0.0, dmin, nc, top, slack, reached, cand, dmin, big_h, ds, ar, ai,
                                            end, cut, tp, bps, done_lo, done_hi)

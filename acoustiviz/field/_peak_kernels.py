@@ -225,9 +225,9 @@ def _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b):  # pragma: no
 @_njit(cache=True)
 def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,  # noqa: C901 - one compiled kernel
                   margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
-    end = tp[7]
-    yend = complex(tp[8], tp[9])
-    s = complex(tp[10], tp[11])
+    end = tp.end
+    yend = complex(tp.y0r, tp.y0i)
+    s = complex(tp.sr, tp.si)
     n = pts.shape[0]
     nimg = spos.shape[0]
     ncol = ytr.shape[1]

@@ -10,6 +10,7 @@ pressures in Pa.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -20,7 +21,46 @@ from ._kernels import _njit
 LUT_BUCKETS = 4096
 
 
-def taylor_pulse(pulse, radius: float, medium) -> tuple:
+class TaylorPulse(NamedTuple):
+    """The pulse response ``Y`` as Taylor polynomials per piece, as :func:`_p_d2` reads it (by attribute).
+
+    Attributes
+    ----------
+    knots : (k,) ndarray
+        Piece starts in s (the last: the pulse's end).
+    inv : (k - 1,) ndarray
+        Inverse piece lengths in 1/s.
+    nts : (k - 1,) ndarray of int64
+        Terms per piece.
+    tab_r, tab_i : (k - 1, terms) ndarray
+        Real and imaginary Taylor coefficients in m/s, in ``u = (t' - knots[q]) inv[q]``.
+    lut : (LUT_BUCKETS + 1,) ndarray of int64
+        The piece holding the start of each of :data:`LUT_BUCKETS` equal buckets of ``[0, end]``.
+    lscale : float
+        Buckets per s.
+    end : float
+        The pulse's end in s.
+    y0r, y0i : float
+        ``Y(end)`` in m/s, real and imaginary parts.
+    sr, si : float
+        The sphere's pole ``s`` in 1/s, real and imaginary parts.
+    """
+
+    knots: np.ndarray
+    inv: np.ndarray
+    nts: np.ndarray
+    tab_r: np.ndarray
+    tab_i: np.ndarray
+    lut: np.ndarray
+    lscale: float
+    end: float
+    y0r: float
+    y0i: float
+    sr: float
+    si: float
+
+
+def taylor_pulse(pulse, radius: float, medium) -> TaylorPulse:
     """The pulse response ``Y`` as :func:`_p_d2` reads it: its Taylor table and a piece look-up table.
 
     Parameters
@@ -34,36 +74,37 @@ def taylor_pulse(pulse, radius: float, medium) -> tuple:
 
     Returns
     -------
-    tuple
-        ``(knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si)``: piece starts in s,
-        their inverse lengths in 1/s, terms per piece, the real and imaginary Taylor coefficients
-        in m/s, the piece holding the start of each of :data:`LUT_BUCKETS` equal buckets of
-        ``[0, end]``, buckets per s, the pulse's end in s, ``Y(end)`` in m/s and the pole in 1/s.
+    TaylorPulse
+        Its piece starts in s, their inverse lengths in 1/s, terms per piece, the real and
+        imaginary Taylor coefficients in m/s, the piece look-up table over ``[0, end]`` with its
+        buckets per s, the pulse's end in s, ``Y(end)`` in m/s and the pole in 1/s.
     """
-    _, _, _, knots, inv, yk, tab, s = pulse_args(pulse, radius, medium, taylor=True)
+    pa = pulse_args(pulse, radius, medium, taylor=True)
+    knots, inv, yk, tab, s = pa.xi, pa.acc, pa.yk, pa.tab, pa.s
     end = float(knots[-1])
     lut = np.searchsorted(knots, np.linspace(0.0, end, LUT_BUCKETS + 1), side="right") - 1
     lut = np.clip(lut, 0, knots.size - 2).astype(np.int64)
     nts = yk[1:].real.astype(np.int64)
     y_end = complex(yk[0])
-    return (np.ascontiguousarray(knots, dtype=float), np.ascontiguousarray(inv, dtype=float), nts,
-            np.ascontiguousarray(tab.real), np.ascontiguousarray(tab.imag), lut, LUT_BUCKETS / end, end,
-            y_end.real, y_end.imag, float(s.real), float(s.imag))
+    return TaylorPulse(np.ascontiguousarray(knots, dtype=float), np.ascontiguousarray(inv, dtype=float), nts,
+                       np.ascontiguousarray(tab.real), np.ascontiguousarray(tab.imag), lut, LUT_BUCKETS / end, end,
+                       y_end.real, y_end.imag, float(s.real), float(s.imag))
 
 
 @_njit(cache=True)
 def _p_d2(t, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image.
 
-    ``tp = (knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si)`` (:func:`taylor_pulse`)
-    holds ``Y`` as the Taylor table of :func:`acoustiviz.field._common.pulse_args` with ``taylor=True``:
+    ``tp`` (:class:`TaylorPulse`, from :func:`taylor_pulse`) holds ``Y`` as the Taylor table of
+    :func:`acoustiviz.field._common.pulse_args` with ``taylor=True``:
     on piece ``q`` (``knots[q] <= t' < knots[q + 1]``, ``inv[q] = 1/(knots[q + 1] - knots[q])``),
     ``Y = Σ_m (tab_r + i tab_i)[q, m] u^m`` with ``u = (t' - knots[q]) inv[q]`` and ``nts[q]`` terms;
     ``lut[b]`` is the piece holding the start of bucket ``b`` of ``lscale`` buckets per second of
     ``[0, end]``; after ``end`` the free decay ``Y(end) exp(s (t' - end))``, ``Y(end) = y0r + i y0i``
     and ``s = sr + i si``.
     """
-    knots, inv, nts, tab_r, tab_i, lut, lscale, end, y0r, y0i, sr, si = tp
+    knots, inv, nts, tab_r, tab_i, lut = tp.knots, tp.inv, tp.nts, tp.tab_r, tp.tab_i, tp.lut
+    lscale, end, y0r, y0i, sr, si = tp.lscale, tp.end, tp.y0r, tp.y0i, tp.sr, tp.si
     p = 0.0
     p1 = 0.0
     p2 = 0.0
@@ -178,10 +219,41 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
     return best, tbest
 
 
+@_njit(cache=True, inline="always")
+def _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
+    """Zero of ``p''`` in ``[lo, hi]`` (s) by the Illinois method, ``p''`` being ``cl`` and ``cr`` at the ends.
+
+    Returns ``(m, p'(m), best, tbest)``: the zero in s, ``p'`` there in Pa/s, and the largest
+    ``sign · p`` in Pa met on the way (``best``, at ``tbest``) or the one passed in.
+    """
+    a, fa, b, fb = lo, cl, hi, cr
+    side = 0
+    m = 0.5 * (lo + hi)
+    gm = 0.0
+    for _ in range(60):
+        m = b - fb * (b - a) / (fb - fa)
+        if not (a < m < b) and not (b < m < a):
+            m = 0.5 * (a + b)
+        pm, gm, cm = _p_d2(m, nimg, delays, are, aim, tp)
+        if sign * pm > best:
+            best = sign * pm
+            tbest = m
+        if cm * fb < 0.0:
+            a, fa = b, fb
+            side = 0
+        else:
+            fa = 0.5 * fa if side == 1 else fa
+            side = 1
+        b, fb = m, cm
+        if abs(b - a) < xtol or cm == 0.0:
+            break
+    return m, gm, best, tbest
+
+
 @_njit(cache=True)
-def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim,  # noqa: C901 - one compiled kernel
+def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim,
                   tp):  # pragma: no cover - compiled
-    """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value, time).
+    """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value in Pa, time in s).
 
     ``pl, gl, cl`` and ``pr, gr, cr`` are ``p, p', p''`` at the ends. ``p''`` is assumed to change
     sign at most once on the interval (its zero is found by the Illinois method and splits it), so
@@ -198,27 +270,7 @@ def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delay
         if fa + ga * (fb - fa - gb * (hi - lo)) / (ga - gb) < floor:
             return best, tbest
     if cl * cr < 0.0 and gl * gr > 0.0:  # p' may cross zero twice: split at the zero of p'' (Illinois)
-        a, fa, b, fb = lo, cl, hi, cr
-        side = 0
-        m = 0.5 * (lo + hi)
-        gm = 0.0
-        for _ in range(60):
-            m = b - fb * (b - a) / (fb - fa)
-            if not (a < m < b) and not (b < m < a):
-                m = 0.5 * (a + b)
-            pm, gm, cm = _p_d2(m, nimg, delays, are, aim, tp)
-            if sign * pm > best:
-                best = sign * pm
-                tbest = m
-            if cm * fb < 0.0:
-                a, fa = b, fb
-                side = 0
-            else:
-                fa = 0.5 * fa if side == 1 else fa
-                side = 1
-            b, fb = m, cm
-            if abs(b - a) < xtol or cm == 0.0:
-                break
+        m, gm, best, tbest = _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim, tp)
         if sign * gl > 0.0 and sign * gm < 0.0:
             best, tbest = _newton_segment(sign, lo, m, sign * gl, sign * gm, best, tbest, xtol, nimg, delays, are,
                                           aim, tp)

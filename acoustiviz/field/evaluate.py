@@ -21,6 +21,7 @@ from ..core.radiation import pulse_response
 from ._common import (
     DEFAULT_CUTOFF,
     DEFAULT_MEMORY_LIMIT,
+    ImageArrays,
     check_config,
     check_pulse,
     chunk_size,
@@ -72,7 +73,7 @@ def iter_time_series(
     block : (stop - start, m) ndarray
         Pressure in Pa.
     """
-    (kind, amp, tau, xi, acc, yk, tab, s), tail = prepare(pulse, config, medium, cutoff)
+    pa, tail = prepare(pulse, config, medium, cutoff)
     pts = check_points("points", points)
     tt = np.atleast_1d(np.asarray(t, dtype=float))
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
@@ -87,17 +88,19 @@ def iter_time_series(
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
         out = np.zeros((stop - start, tt.size))
-        _series_chunk(out, pulse, tt, dt, pts[start:stop], config, medium, (kind, amp, tau, xi, acc, yk, tab, s), tail)
+        _series_chunk(out, pulse, tt, dt, pts[start:stop], config, medium, pa, tail)
         yield start, stop, out
 
 
-def _series_chunk(out, pulse, tt, dt, sub, config, medium, pargs, tail):
-    """Fill the zeroed ``out`` (len(sub), m) with the pressure in Pa at ``sub`` and times ``tt``."""
-    kind, amp, tau, xi, acc, yk, tab, s = pargs
+def _series_chunk(out, pulse, tt, dt, sub, config, medium, pa, tail):
+    """Fill the zeroed ``out`` (len(sub), m) with the pressure in Pa at ``sub`` and times ``tt``.
+
+    ``pa`` and ``tail`` (s) are those of :func:`._common.prepare`; ``dt`` the grid's step in s or None.
+    """
     delay, p0, cre, cim, inside = chunk_geometry(sub, config, medium)
     if dt is not None:
         t0 = np.full(sub.shape[0], tt[0])
-        _series_kernel(out, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail)
+        _series_kernel(out, t0, dt, ImageArrays(delay, p0, cre, cim), pa, tail)
     else:
         for j in range(delay.shape[1]):
             y = pulse_response(pulse, tt[None, :] - delay[:, j : j + 1], radius=config.radius, medium=medium)
@@ -163,7 +166,7 @@ def time_series(
             "memory_limit",
             f"the result alone needs {need:.4g} B > {limit:.4g} B; use iter_time_series or field_metrics",
         )
-    pargs, tail = prepare(pulse, config, medium, cutoff)
+    pa, tail = prepare(pulse, config, medium, cutoff)
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     dt = uniform_step(tt)
@@ -172,7 +175,7 @@ def time_series(
     out = np.zeros((pts.shape[0], tt.size))
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
-        _series_chunk(out[start:stop], pulse, tt, dt, pts[start:stop], config, medium, pargs, tail)
+        _series_chunk(out[start:stop], pulse, tt, dt, pts[start:stop], config, medium, pa, tail)
     return out
 
 

@@ -156,13 +156,13 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     derivatives of the series for cubic Hermite interpolation (nodes ``0.01/|s|`` apart).
     """
     check_pulse(pulse)
-    args = pulse_args(pulse, radius, medium)
-    kind, xi, s = args[0], args[3], args[-1]
+    pa = pulse_args(pulse, radius, medium)
+    kind, xi, s = pa.kind, pa.xi, pa.s
     tau = float(pulse.duration)
 
     def y_at(u):
         out = np.empty(u.size, complex)
-        _fill(out, np.ascontiguousarray(u, dtype=float).ravel(), *args)
+        _fill(out, np.ascontiguousarray(u, dtype=float).ravel(), pa)
         return out
 
     if kind == 0:

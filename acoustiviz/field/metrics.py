@@ -15,6 +15,7 @@ from ._common import (
     DEFAULT_CUTOFF,
     DEFAULT_MEMORY_LIMIT,
     MODEL_NAMES,
+    ImageArrays,
     chunk_size,
     default_sample_interval,
     geometry_bytes,
@@ -208,7 +209,7 @@ def field_metrics(
     >>> round(float(m.peak_spl_db[0]), 1)  # dB re 20 µPa
     88.8
     """
-    (kind, amp, tau, xi, acc, yk, tab, s), tail = prepare(pulse, config, medium, cutoff)
+    pa, tail = prepare(pulse, config, medium, cutoff)
     pts = check_points("points", points)
     limit = check_positive("memory_limit", memory_limit, "B")
     n = pts.shape[0]
@@ -258,13 +259,12 @@ def field_metrics(
                 )  # fmt: skip
                 models[lo:hi][sel] = code
         if np.all(exact):
-            _metrics_kernel(res, buf, t0, dt, delay, p0, cre, cim, kind, amp, tau, xi, acc, yk, tab, s, tail, refine)
+            _metrics_kernel(res, buf, t0, dt, ImageArrays(delay, p0, cre, cim), pa, tail, refine)
         elif np.any(exact):
             sub = np.empty((int(exact.sum()), 3))
             _metrics_kernel(
-                sub, buf, np.ascontiguousarray(t0[exact]), dt, np.ascontiguousarray(delay[exact]),
-                np.ascontiguousarray(p0[exact]), np.ascontiguousarray(cre[exact]),
-                np.ascontiguousarray(cim[exact]), kind, amp, tau, xi, acc, yk, tab, s, tail, refine,
+                sub, buf, np.ascontiguousarray(t0[exact]), dt,
+                ImageArrays(*(np.ascontiguousarray(x[exact]) for x in (delay, p0, cre, cim))), pa, tail, refine,
             )  # fmt: skip
             res[exact] = sub
         res[inside] = np.nan

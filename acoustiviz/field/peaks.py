@@ -214,8 +214,8 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     if int(fine) != fine or fine < 1:
         raise ParameterError("fine", f"must be an integer >= 1, got {fine}")
     samples, fine = int(samples), int(fine)
-    kind, amp, tau, xi, acc, yk, tab, s = pulse_args(pulse, config.radius, medium)
-    end = float(pulse.duration) if kind == 0 else float(xi[-1])
+    pa = pulse_args(pulse, config.radius, medium)
+    end = float(pulse.duration) if pa.kind == 0 else float(pa.xi[-1])
     big_h = min(float(pulse.duration), config.radius / medium.c) / samples
     h = big_h / fine
     pos = config.images().positions
@@ -230,10 +230,10 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
         ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
     y = np.empty(u.shape, complex)
-    _fill(y.ravel(), u.ravel(), kind, amp, tau, xi, acc, yk, tab, s)
+    _fill(y.ravel(), u.ravel(), pa)
     # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
     flat = np.abs(np.diff(y.T.ravel())) / h
-    slope = float(flat.max()) * (1.0 + abs(s) * h) + 1e-300
+    slope = float(flat.max()) * (1.0 + abs(pa.s) * h) + 1e-300
     return PeakTable(big_h, fine, pad, np.ascontiguousarray(y.real), np.ascontiguousarray(y.imag), slope, spread,
                      pulse_only)
 
@@ -310,12 +310,12 @@ def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table
     tb = peak_table(pulse, config, medium=medium) if table is None else table
     # the refinement evaluates Y, Y' and Y'' of every pulse from its Taylor table
     tp = taylor_pulse(pulse, config.radius, medium)
-    end = tp[7]
+    end = tp.end
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
         cargs = (corr.duration, corr.pole, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
     else:
-        cargs = (1.0, complex(tp[10], tp[11]), 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
+        cargs = (1.0, complex(tp.sr, tp.si), 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
     # p' jumps at an image's pulse start or end only where A does not vanish there: only then can a
     # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
     a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
