@@ -47,6 +47,7 @@ from ._flight import (
     flight_state,
     scan_forced,
 )
+from ._records import ContactStart, as_params
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 
@@ -124,7 +125,8 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
     ``st[4] = 2`` marks the impact mass stuck on wall ``st[5]`` (impact map, module docstring).
     Returns ``(n, status)``.
     """
-    M, K, C, m, hg = p[0], p[1], p[2], p[3], p[4]
+    prm = as_params(p)
+    M, K, C, m, hg = prm.M, prm.K, prm.C, prm.m, prm.half_gap
     meff = m * M / (m + M)
     a = C / (2.0 * M)
     wd = math.sqrt(K / M - a * a)
@@ -173,8 +175,9 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             continue
         if st[4] > 0.5:  # inside a contact: integrate it
             sw = st[5]
-            ended, stc, _, _, peak, yc = contact(p, fc, sw, st[0], st[1], st[6], st[7], t, t1, rtol, None, np.int64(0),
-                                                 None, 0.0, 0.0, work, kst, None, None)
+            r = contact(prm, fc, ContactStart(t, sw, st[0], st[1], st[6], st[7]), t1, rtol, None, np.int64(0), None,
+                        0.0, 0.0, work, kst, None, None)
+            yc, peak, stc, ended = r.y, r.peak, r.status, r.ended
             acc[0] += yc[8]
             acc[1] += yc[7]
             acc[2] += yc[6]
@@ -236,7 +239,7 @@ def advance(p, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, 
             peak = 0.0
             if restitution < 0.0:  # the compliant contact's restitution at this speed
                 e, dur, peak = free_restitution(p, u0, rtol)
-            st[1], st[3], lost = instant_impact(p, sw, u0, e, v, st[3], dur, peak, impacts[n])
+            st[1], st[3], lost = instant_impact(prm, sw, u0, e, v, st[3], dur, peak, impacts[n])
             st[2] = st[0] + sw * hg
             acc[2] += lost
             n += 1

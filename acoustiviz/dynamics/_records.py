@@ -13,7 +13,7 @@ from collections import namedtuple
 
 from numba import njit
 
-__all__ = ["Params", "Advanced", "as_params", "params_record"]
+__all__ = ["Params", "Advanced", "ContactStart", "ContactEnd", "as_params", "params_record", "without_main"]
 
 #: The model as the kernels see it (paper eq 15): main mass ``M`` (kg), main spring ``K`` (N/m),
 #: main dashpot ``C`` (N s/m), damper mass ``m`` (kg), half the gap ``half_gap`` (m), Hertz
@@ -35,3 +35,21 @@ def as_params(p):
 def params_record(p) -> Params:
     """:class:`Params` of the parameter vector ``p`` in Python (the same float64 values)."""
     return Params(*(float(v) for v in p[:7]), bool(p[7] > 0.5))
+
+
+#: Where a contact starts (or resumes): time ``tc`` (s), wall ``sw`` (±1), main-mass displacement
+#: ``x`` (m) and velocity ``v`` (m/s), ``xi`` the square root of the penetration (m^0.5) and ``u``
+#: the penetration rate (m/s).
+ContactStart = namedtuple("ContactStart", ["tc", "sw", "x", "v", "xi", "u"])
+
+#: What :func:`~acoustiviz.dynamics._contact.contact` returns: ``ended`` (the bodies parted before
+#: the end time), ``status`` (a ``STATUS_*`` code), ``ie`` (the next dense-output time due),
+#: ``duration`` (s integrated), ``peak`` (the largest contact force, N) and ``y`` (the contact
+#: state at the end, t counted from the start; a view of the caller's work buffer).
+ContactEnd = namedtuple("ContactEnd", ["ended", "status", "ie", "duration", "peak", "y"])
+
+
+@njit(cache=True, inline="always")
+def without_main(prm):
+    """The two masses alone: ``prm`` with the main spring and dashpot (``K``, ``C``) set to zero."""
+    return Params(prm.M, 0.0, 0.0, prm.m, prm.half_gap, prm.k_hertz, prm.c1, prm.clip)
