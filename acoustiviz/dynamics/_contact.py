@@ -462,10 +462,20 @@ def free_contact(pfree, u0, rtol, work, kst):
 def free_restitution(p, u0, rtol):
     """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
 
-    The main spring and dashpot of ``p`` are left out (the impact map's contact, see
+    :func:`free_restitution_of` of the parameter vector ``p``.
+    Returns ``(restitution, duration in s, peak force in N)``.
+    """
+    return free_restitution_of(as_params(p), u0, rtol)
+
+
+@njit(cache=True, inline="always")
+def free_restitution_of(prm, u0, rtol):
+    """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
+
+    The main spring and dashpot of ``prm`` are left out (the impact map's contact, see
     :func:`free_contact`). Returns ``(restitution, duration in s, peak force in N)``.
     """
-    pfree = without_main(as_params(p))
+    pfree = without_main(prm)
     work = np.zeros((N_WORK_ROWS, NY))
     kst = np.zeros((N_STAGE_ROWS, NY))
     _, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)

@@ -410,7 +410,7 @@ class _Runner:
                                 extrema, None, 0, None, None, None)
             out = (r.n, r.status)
         else:
-            args = (self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
+            args = (self.prm, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
                     extrema)
             if not self._compiled:  # say so once if the forced solver's kernels are compiled now
                 compile_for(fd.advance, args, "forced-response", FORCED_COMPILE_S)

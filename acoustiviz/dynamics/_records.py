@@ -13,7 +13,7 @@ from collections import namedtuple
 
 from numba import njit
 
-__all__ = ["Params", "Advanced", "ContactStart", "ContactEnd", "as_params", "params_record", "without_main"]
+__all__ = ["Params", "Advanced", "Progress", "ContactStart", "ContactEnd", "as_params", "params_record", "without_main"]
 
 #: The model as the kernels see it (paper eq 15): main mass ``M`` (kg), main spring ``K`` (N/m),
 #: main dashpot ``C`` (N s/m), damper mass ``m`` (kg), half the gap ``half_gap`` (m), Hertz
@@ -36,6 +36,9 @@ def params_record(p) -> Params:
     """:class:`Params` of the parameter vector ``p`` in Python (the same float64 values)."""
     return Params(*(float(v) for v in p[:7]), bool(p[7] > 0.5))
 
+
+#: What the forced driver returns: ``n`` the next free impact row and ``status`` a ``STATUS_*`` code.
+Progress = namedtuple("Progress", ["n", "status"])
 
 #: Where a contact starts (or resumes): time ``tc`` (s), wall ``sw`` (±1), main-mass displacement
 #: ``x`` (m) and velocity ``v`` (m/s), ``xi`` the square root of the penetration (m^0.5) and ``u``
