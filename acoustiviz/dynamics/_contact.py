@@ -261,43 +261,36 @@ def _step_size(err, h, rejected):
 
 
 @njit(cache=True, inline="always")
-def _peak_of_step(prm, fc, start, work, kst, hstep, peak):
-    """The largest contact force (N) so far, with the step of length ``hstep`` from ``work[0]`` to ``work[3]``.
+def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
+    """The largest contact force (N) so far, with the maximum inside the step of ``hstep`` from ``work[0]``.
 
-    A maximum of the force inside the step (dF/dσ from positive to not) is located by
+    The maximum (dF/dσ from ``g0 > 0`` at the start to ``g1 <= 0`` at the end) is located by
     :func:`_peak_in_step`; the step end is kept in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    kh, c1, clip = prm.k_hertz, prm.c1, prm.clip
-    g0 = _dfds(y, f0, prm)
-    g1 = _dfds(ynew, fnew, prm)
-    if g0 > 0.0 and g1 <= 0.0:
-        _copy(ynew, yd)
-        _copy(fnew, fd)
-        _peak_in_step(y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
-        fpk, _ = _force(ynew[3] * ynew[3], ynew[4], kh, c1, clip)
-        peak = max(peak, fpk)
-        _copy(yd, ynew)
-        _copy(fd, fnew)
-    fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
-    return max(peak, fend)
+    _copy(ynew, yd)
+    _copy(fnew, fd)
+    _peak_in_step(y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    fpk, _ = _force(ynew[3] * ynew[3], ynew[4], prm.k_hertz, prm.c1, prm.clip)
+    _copy(yd, ynew)
+    _copy(fd, fnew)
+    return max(peak, fpk)
 
 
 @njit(cache=True, inline="always")
 def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     """Record a zero of the main-mass velocity inside the step (Newton, full steps) in ``ext``.
 
-    Rows: time (s), x (m), +1 for a maximum or -1 for a minimum; the step end is kept in
-    ``work[3:5]``; an empty ``ext`` skips the search.
+    Rows: time (s), x (m), +1 for a maximum or -1 for a minimum; the caller has seen the velocity
+    change sign between ``work[0]`` and ``work[3]``. The step end is kept in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
-        _copy(ynew, yd)
-        _copy(fnew, fd)
-        _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
-        record_extremum(ext, n_ext, start.tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
-        _copy(yd, ynew)
-        _copy(fd, fnew)
+    _copy(ynew, yd)
+    _copy(fnew, fd)
+    _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    record_extremum(ext, n_ext, start.tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
+    _copy(yd, ynew)
+    _copy(fd, fnew)
 
 
 @njit(cache=True, inline="always")
@@ -404,10 +397,18 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         if stopping:
             exiting = False
             hstep = _newton_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        peak = _peak_of_step(prm, fc, start, work, kst, hstep, peak)
-        if ext is not None:  # removed at compile time when no turning points are wanted
+        # the helpers are handed the buffers only in the steps that need them (no reference counting
+        # in the others)
+        g0 = _dfds(y, f0, prm)
+        g1 = _dfds(ynew, fnew, prm)
+        if g0 > 0.0 and g1 <= 0.0:
+            peak = _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak)
+        fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], prm.k_hertz, prm.c1, prm.clip)
+        peak = max(peak, fend)
+        # ext=None, t_eval=None: compiled out
+        if ext is not None and ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns
             _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext)
-        if t_eval is not None:  # removed at compile time without dense output
+        if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
             ie = _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0)
         _copy(ynew, y)
         _copy(fnew, f0)
