@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from acoustiviz.dynamics._contact import free_restitution
+from acoustiviz.dynamics._records import params_record
 from acoustiviz.dynamics.forced import (
     Excitation,
     _params,
@@ -273,8 +274,8 @@ def test_sticking_phase_and_release_match_an_ode_solution():
     st = np.array([x0, v0, x0 + 0.5 * model.gap, v0, 2.0, 1.0, 0.0, 0.0])
     imp = np.zeros((4, 8))
     acc = np.zeros(5)
-    n, status = fd.advance(_params(model), ex.vector(model), _together(model, ex, "impact-map"), st, 0.0, t1,
-                           0.6, 1e-10, imp, 0, 4, acc, False)
+    n, status = fd.advance(params_record(_params(model)), ex.vector(model), _together(model, ex, "impact-map"), st,
+                           0.0, t1, 0.6, 1e-10, imp, 0, 4, acc, False)
     assert status == 0 and n == 0 and st[4] == 0.0  # released, no new impact yet
     assert st[0] == pytest.approx(free.y[0, -1], abs=1e-10)
     assert st[1] == pytest.approx(free.y[1, -1], abs=1e-9)

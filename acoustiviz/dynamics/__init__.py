@@ -5,8 +5,9 @@ solvers), ``forced`` (harmonic excitation, steady states, frequency response), `
 (impact table, energy balance, turning points), ``maxima`` (positive maxima, exact from a run),
 ``metrics`` (damping inclination, eq 16, and settling time). The compiled kernels serve free
 decay and forced operation alike: ``_flight`` (closed-form flight, contact detection),
-``_contact`` (DOP853 contact, tableau vendored in ``_dop853``), ``_newmark``, ``_status``, and
-the drivers ``_kernels`` (free decay) and ``_forced_driver`` (forced operation).
+``_contact`` (DOP853 contact, tableau vendored in ``_dop853``), ``_newmark``, ``_status``,
+``_records`` (the named records the kernels take and return), and the drivers ``_kernels``
+(free decay) and ``_forced_driver`` (forced operation).
 Files are written by :mod:`acoustiviz.output.tables`, never here.
 
 Wall convention: ``wall = +1`` is struck when ``z = y - x`` reaches ``+d/2`` (the impact mass

@@ -16,7 +16,8 @@ State (``NY`` components, ``NY + 1`` with forcing): t (s, from onset), x (m), v 
 of F on the main mass (J). Without forcing (``fc`` None) numba compiles a specialisation in which
 the ninth component and the evaluation of F do not exist: zero forcing costs nothing.
 
-Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``.
+Model: :class:`~acoustiviz.dynamics._records.Params` (``free_restitution``, called from Python,
+takes the parameter vector ``p``).
 Forcing vector ``fc``: None, or ``[ω rad/s, P N, Q N, ...]``.
 """
 
@@ -31,6 +32,7 @@ from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
 from ._dop853 import error_norm as _dop_error
 from ._flight import record_extremum
+from ._records import ContactEnd, ContactStart, as_params, without_main
 from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 
 # Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner, Solving ODEs I, II.10), vendored.
@@ -62,7 +64,7 @@ def _force(d, u, kh, c1, clip):
 
 
 @njit(cache=True, inline="always")
-def _rhs_into(y, p, fc, tc, sw, out, row):
+def _rhs_into(y, prm, fc, tc, sw, out, row):
     """Derivatives with respect to σ of the contact state into ``out[row]`` (module docstring).
 
     ``dt/dσ = ξ``, ``dx/dσ = ξ v``, ``dv/dσ = ξ (s F_c - K x - C v + F) / M``, ``dξ/dσ = u / 2``,
@@ -70,8 +72,7 @@ def _rhs_into(y, p, fc, tc, sw, out, row):
     K_HZ δ^{3/2}) u, ξ C v² and (forced) ξ F v. ``F`` is evaluated at the physical time
     ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time).
     """
-    M, K, C, m, kh, c1 = p[0], p[1], p[2], p[3], p[5], p[6]
-    clip = p[7] > 0.5
+    M, K, C, m, kh, c1, clip = prm.M, prm.K, prm.C, prm.m, prm.k_hertz, prm.c1, prm.clip
     x, v, xi, u = y[1], y[2], y[3], y[4]
     fe = kh * xi * xi * xi
     f = fe + c1 * u
@@ -94,13 +95,13 @@ def _rhs_into(y, p, fc, tc, sw, out, row):
 
 
 @njit(cache=True)
-def _rhs(y, p, fc, tc, sw, out):
+def _rhs(y, prm, fc, tc, sw, out):
     """Derivatives with respect to σ of the contact state into the 1-D array ``out``."""
-    _rhs_into(y, p, fc, tc, sw, out.reshape((1, out.shape[0])), 0)
+    _rhs_into(y, prm, fc, tc, sw, out.reshape((1, out.shape[0])), 0)
 
 
 @njit(cache=True)
-def _dop_step(y, f0, h, p, fc, tc, sw, kst, ytmp, ynew, fnew):
+def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
     ny = NY if fc is None else NY + 1  # a compile-time constant
     for i in range(ny):
@@ -111,22 +112,22 @@ def _dop_step(y, f0, h, p, fc, tc, sw, kst, ytmp, ynew, fnew):
             for j in range(st):
                 acc += _A[st, j] * kst[j, i]
             ytmp[i] = y[i] + h * acc
-        _rhs_into(ytmp, p, fc, tc, sw, kst, st)
+        _rhs_into(ytmp, prm, fc, tc, sw, kst, st)
     for i in range(ny):
         acc = 0.0
         for j in range(_NS):
             acc += _B[j] * kst[j, i]
         ynew[i] = y[i] + h * acc
-    _rhs_into(ynew, p, fc, tc, sw, kst, _NS)
+    _rhs_into(ynew, prm, fc, tc, sw, kst, _NS)
     for i in range(ny):
         fnew[i] = kst[_NS, i]
 
 
 @njit(cache=True)
-def _dfds(y, f, p):
+def _dfds(y, f, prm):
     """Rate of change of the contact force with σ (same sign as dF/dt while ξ > 0)."""
     xi = y[3]
-    return 3.0 * p[5] * xi * xi * f[3] + p[6] * f[4]
+    return 3.0 * prm.k_hertz * xi * xi * f[3] + prm.c1 * f[4]
 
 
 @njit(cache=True, inline="always")
@@ -140,7 +141,7 @@ def _newton_g(kind, target, y, f):
 
 
 @njit(cache=True)
-def _newton_in_step(kind, target, y, f0, h, glo, p, fc, tc, sw, kst, ytmp, ynew, fnew):
+def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in [0, h] where ξ (kind 0), v (kind 1) or t - target (kind 2) vanishes.
 
     Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
@@ -155,7 +156,7 @@ def _newton_in_step(kind, target, y, f0, h, glo, p, fc, tc, sw, kst, ytmp, ynew,
         hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < hn < hi):
             hn = 0.5 * (lo + hi)
-        _dop_step(y, f0, hn, p, fc, tc, sw, kst, ytmp, ynew, fnew)
+        _dop_step(y, f0, hn, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         g, dg = _newton_g(kind, target, ynew, fnew)
         if (g > 0.0) == (glo > 0.0):
             lo = hn
@@ -169,7 +170,7 @@ def _newton_in_step(kind, target, y, f0, h, glo, p, fc, tc, sw, kst, ytmp, ynew,
 
 
 @njit(cache=True)
-def _peak_in_step(y, f0, h, g0, g1, p, fc, tc, sw, kst, ytmp, ynew, fnew):
+def _peak_in_step(y, f0, h, g0, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
     lo, hi = 0.0, h
     glo, ghi = g0, g1
@@ -179,8 +180,8 @@ def _peak_in_step(y, f0, h, g0, g1, p, fc, tc, sw, kst, ytmp, ynew, fnew):
         hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
         if not (lo < hm < hi):
             hm = 0.5 * (lo + hi)
-        _dop_step(y, f0, hm, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-        gm = _dfds(ynew, fnew, p)
+        _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        gm = _dfds(ynew, fnew, prm)
         if gm == 0.0:
             break
         if (gm > 0.0) == (glo > 0.0):
@@ -205,74 +206,21 @@ def _copy(src, dst):
         dst[i] = src[i]
 
 
-@njit(cache=True)
-def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):  # noqa: C901 - one compiled kernel
-    """Integrate one contact from ``tc`` s until the bodies part or ``t_end`` s (module docstring).
+@njit(cache=True, inline="always")
+def _contact_begin(prm, start, rtol, y, atol):
+    """Fill the contact state ``y`` at the start and the absolute tolerances ``atol``; return the first σ step.
 
-    The contact starts (or resumes, for a run continued mid-contact) on wall ``sw`` with the
-    main mass at ``x`` m, ``v`` m/s, ``ξ = xi0`` m^0.5 and ``u = u0`` m/s. Tolerances scale with
-    the Hertz contact (Johnson, *Contact Mechanics*, 1985, §11.4) at the approach speed of the
-    same energy, ``U = sqrt(u0² + 4 K_HZ ξ0⁵ / (5 m_eff))``: ``α_max = (5 m_eff U² / 4 K_HZ)^{2/5}``
-    and duration ``2.943 α_max / U`` (``HERTZ_DURATION_CONSTANT``).
-
-    The peak force is located as the zero of dF_c/dσ inside a step (Illinois); every zero of the
-    main-mass velocity inside the contact is located by Newton's method on full Runge-Kutta
-    steps from the step start (as accurate as the integration) and recorded in ``ext``
-    (:func:`~acoustiviz.dynamics._flight.record_extremum`; an empty ``ext`` skips that search,
-    ``ext=None`` compiles it out); x, v, y, w and the dissipated energies (plus ``ec0``, ``en0``
-    J) are written to ``dense[ie:]`` at the times ``t_eval`` (``t_eval=None``: no dense output,
-    compiled out).
-
-    Parameters
-    ----------
-    p : ndarray
-        ``[M kg, K N/m, C N s/m, m kg, d/2 m, K_HZ N/m^1.5, c1 N s/m, clip]``.
-    fc : ndarray or None
-        Forcing ``[ω rad/s, P N, Q N, ...]``; None for free decay (8 state components).
-    sw : float
-        Wall, +1 or -1.
-    x, v, xi0, u0 : float
-        Main-mass displacement (m) and velocity (m/s), sqrt of the penetration (m^0.5) and
-        penetration rate (m/s) at ``tc``.
-    tc, t_end, rtol : float
-        Start and latest end of the integration (s); relative tolerance.
-    t_eval, ie, dense : ndarray, int, ndarray, or None, 0, None
-        Output times (s), the next one due, and the (n, 6) dense rows.
-    ec0, en0 : float
-        Energy dissipated by C and in contacts before ``tc`` (J), added to the dense rows.
-    work, kst : ndarray
-        Buffers ``(N_WORK_ROWS, n)`` and ``(N_STAGE_ROWS, n)``, ``n = NY`` or ``NY + 1`` with
-        forcing.
-    ext, n_ext : ndarray or None
-        Turning points of x (rows: time s, x m, ±1) and their count.
-
-    Returns
-    -------
-    ended : bool
-        True when the bodies parted before ``t_end``.
-    status : int
-        ``STATUS_OK`` or ``STATUS_STEP_UNDERFLOW``.
-    ie : int
-        The next output time due.
-    duration, peak_force : float
-        Time integrated (s) and largest contact force (N).
-    yout : ndarray
-        The state at the end (module docstring; t counted from ``tc``), a view of ``work[0]``.
+    Tolerances scale with the Hertz contact (Johnson, *Contact Mechanics*, 1985, §11.4) at the
+    approach speed of the same energy, ``U = sqrt(u0² + 4 K_HZ ξ0⁵ / (5 m_eff))`` (m/s):
+    ``α_max = (5 m_eff U² / 4 K_HZ)^{2/5}`` (m) and duration ``τ = 2.943 α_max / U`` (s,
+    ``HERTZ_DURATION_CONSTANT``); the first step is ``0.02 τ / sqrt(α_max)`` (σ in s m^-0.5).
     """
-    M, m, kh, hg, c1 = p[0], p[3], p[5], p[4], p[6]
+    M, m, kh, hg = prm.M, prm.m, prm.k_hertz, prm.half_gap
     meff = m * M / (m + M)
-    clip = p[7] > 0.5
-    y = work[0]
-    f0 = work[1]
-    ytmp = work[2]
-    ynew = work[3]
-    fnew = work[4]
-    yd = work[5]
-    fd = work[6]
-    atol = work[7]
+    xi0, u0 = start.xi, start.u
     y[0] = 0.0
-    y[1] = x
-    y[2] = v
+    y[1] = start.x
+    y[2] = start.v
     y[3] = xi0
     y[4] = u0
     for i in range(5, y.shape[0]):
@@ -283,30 +231,158 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
     tau_h = _HERTZ_T * amax / uref
     atol[0] = rtol * tau_h
     atol[1] = rtol * hg
-    atol[2] = rtol * max(abs(v), uref)
+    atol[2] = rtol * max(abs(start.v), uref)
     atol[3] = rtol * math.sqrt(amax)
     atol[4] = rtol * uref
     atol[5] = rtol * meff * uref
     atol[6] = rtol * 0.5 * meff * uref * uref
     for i in range(7, y.shape[0]):
         atol[i] = atol[6]
-    _rhs(y, p, fc, tc, sw, f0)
-    peak, _ = _force(xi0 * xi0, u0, kh, c1, clip)
-    h = 0.02 * tau_h / math.sqrt(amax)  # σ has units of s / sqrt(m)
+    return 0.02 * tau_h / math.sqrt(amax)
+
+
+@njit(cache=True, inline="always")
+def _step_size(err, h, rejected):
+    """The next σ step after a step of ``h`` with error norm ``err``.
+
+    A rejected step (``err > 1`` or not finite) shrinks by ``max(0.2, 0.9 err^(-1/8))``. An
+    accepted one grows by at most 10, with no growth right after a rejection (Hairer, Norsett,
+    Wanner, II.4), and a safety factor of 0.8 on growth (it cuts rejections from ~20 % to ~5 %
+    of the steps and the total by ~7 %).
+    """
+    if not (err <= 1.0):
+        if not math.isfinite(err):
+            err = 1e10
+        return h * max(0.2, 0.9 * err ** (-1.0 / 8.0))
+    grow = 1.0 if rejected else 10.0
+    if err == 0.0:
+        return h * grow
+    return h * min(grow, 0.8 * err ** (-1.0 / 8.0))
+
+
+@njit(cache=True, inline="always")
+def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
+    """The largest contact force (N) so far, with the maximum inside the step of ``hstep`` from ``work[0]``.
+
+    The maximum (dF/dσ from ``g0 > 0`` at the start to ``g1 <= 0`` at the end) is located by
+    :func:`_peak_in_step`; the step end is kept in ``work[3:5]``.
+    """
+    y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
+    _copy(ynew, yd)
+    _copy(fnew, fd)
+    _peak_in_step(y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    fpk, _ = _force(ynew[3] * ynew[3], ynew[4], prm.k_hertz, prm.c1, prm.clip)
+    _copy(yd, ynew)
+    _copy(fd, fnew)
+    return max(peak, fpk)
+
+
+@njit(cache=True, inline="always")
+def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
+    """Record a zero of the main-mass velocity inside the step (Newton, full steps) in ``ext``.
+
+    Rows: time (s), x (m), +1 for a maximum or -1 for a minimum; the caller has seen the velocity
+    change sign between ``work[0]`` and ``work[3]``. The step end is kept in ``work[3:5]``.
+    """
+    y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
+    _copy(ynew, yd)
+    _copy(fnew, fd)
+    _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    record_extremum(ext, n_ext, start.tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
+    _copy(yd, ynew)
+    _copy(fd, fnew)
+
+
+@njit(cache=True, inline="always")
+def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0):
+    """Dense rows (``DENSE_COLUMNS``) at the output times ``t_eval`` (s) inside the step; return the next due.
+
+    Newton on t(σ) with full steps from the step start; ``ec0``, ``en0`` (J) are the energies
+    dissipated by C and in contacts before the contact. The step end is kept in ``work[3:5]``.
+    """
+    y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
+    tc, sw, hg = start.tc, start.sw, prm.half_gap
+    while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+        _copy(ynew, yd)
+        _copy(fnew, fd)
+        target = t_eval[ie] - tc
+        if target > y[0]:
+            _newton_in_step(np.int64(2), target, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        else:
+            _copy(y, ynew)
+        xi = max(ynew[3], 0.0)
+        dense[ie, 0] = ynew[1]
+        dense[ie, 1] = ynew[2]
+        dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
+        dense[ie, 3] = ynew[2] + sw * ynew[4]
+        dense[ie, 4] = ec0 + ynew[7]
+        dense[ie, 5] = en0 + ynew[6]
+        _copy(yd, ynew)
+        _copy(fd, fnew)
+        ie += 1
+    return ie
+
+
+@njit(cache=True)
+def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
+    """Integrate one contact from ``start.tc`` s until the bodies part or ``t_end`` s (module docstring).
+
+    The contact starts (or resumes, for a run continued mid-contact) as ``start`` says. Step
+    sizes and tolerances: :func:`_contact_begin`, :func:`_step_size`. The peak force is located
+    as the zero of dF_c/dσ inside a step (:func:`_peak_of_step`); every zero of the main-mass
+    velocity inside the contact is located by Newton's method on full Runge-Kutta steps from the
+    step start (as accurate as the integration) and recorded in ``ext`` (:func:`_turn_in_step`;
+    ``ext=None`` compiles it out); x, v, y, w and the dissipated energies (plus ``ec0``, ``en0``
+    J) are written to ``dense[ie:]`` at the times ``t_eval`` (:func:`_dense_in_step`;
+    ``t_eval=None``: no dense output, compiled out).
+
+    Parameters
+    ----------
+    prm : Params
+        The model (:class:`~acoustiviz.dynamics._records.Params`, SI).
+    fc : ndarray or None
+        Forcing ``[ω rad/s, P N, Q N, ...]``; None for free decay (8 state components).
+    start : ContactStart
+        Time (s), wall (±1), main-mass displacement (m) and velocity (m/s), sqrt of the
+        penetration (m^0.5) and penetration rate (m/s) at the start
+        (:class:`~acoustiviz.dynamics._records.ContactStart`).
+    t_end, rtol : float
+        Latest end of the integration (s); relative tolerance.
+    t_eval, ie, dense : ndarray, int, ndarray, or None, 0, None
+        Output times (s), the next one due, and the (n, 6) dense rows.
+    ec0, en0 : float
+        Energy dissipated by C and in contacts before ``start.tc`` (J), added to the dense rows.
+    work, kst : ndarray
+        Buffers ``(N_WORK_ROWS, n)`` and ``(N_STAGE_ROWS, n)``, ``n = NY`` or ``NY + 1`` with
+        forcing.
+    ext, n_ext : ndarray or None
+        Turning points of x (rows: time s, x m, ±1) and their count.
+
+    Returns
+    -------
+    ContactEnd
+        ``ended`` (True when the bodies parted before ``t_end``), ``status`` (``STATUS_OK`` or
+        ``STATUS_STEP_UNDERFLOW``), ``ie`` (the next output time due), ``duration`` (time
+        integrated, s), ``peak`` (largest contact force, N) and ``y`` (the state at the end,
+        module docstring, t counted from ``start.tc``; a view of ``work[0]``).
+    """
+    tc, sw = start.tc, start.sw
+    y, f0, ytmp, ynew, fnew = work[0], work[1], work[2], work[3], work[4]
+    h = _contact_begin(prm, start, rtol, y, work[7])
+    _rhs(y, prm, fc, tc, sw, f0)
+    peak, _ = _force(start.xi * start.xi, start.u, prm.k_hertz, prm.c1, prm.clip)
     status = STATUS_OK
     ended = False
     nrej = 0
     rejected = False
     t_stop = t_end - tc
     if t_stop <= 0.0:
-        return False, status, ie, 0.0, peak, y
+        return ContactEnd(False, status, ie, 0.0, peak, y)
     while True:
-        _dop_step(y, f0, h, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-        err = _dop_error(y, ynew, h, kst, rtol, atol)
+        _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        err = _dop_error(y, ynew, h, kst, rtol, work[7])
         if not (err <= 1.0):
-            if not math.isfinite(err):
-                err = 1e10
-            h = h * max(0.2, 0.9 * err ** (-1.0 / 8.0))
+            h = _step_size(err, h, rejected)
             nrej += 1
             rejected = True
             if nrej > 100000:
@@ -316,50 +392,24 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _newton_in_step(np.int64(0), 0.0, y, f0, h, y[3], p, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _newton_in_step(np.int64(0), 0.0, y, f0, h, y[3], prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _newton_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-        g0 = _dfds(y, f0, p)
-        g1 = _dfds(ynew, fnew, p)
+            hstep = _newton_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        # the helpers are handed the buffers only in the steps that need them (no reference counting
+        # in the others)
+        g0 = _dfds(y, f0, prm)
+        g1 = _dfds(ynew, fnew, prm)
         if g0 > 0.0 and g1 <= 0.0:
-            _copy(ynew, yd)
-            _copy(fnew, fd)
-            _peak_in_step(y, f0, hstep, g0, g1, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-            fpk, _ = _force(ynew[3] * ynew[3], ynew[4], kh, c1, clip)
-            peak = max(peak, fpk)
-            _copy(yd, ynew)
-            _copy(fd, fnew)
-        fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], kh, c1, clip)
+            peak = _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak)
+        fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], prm.k_hertz, prm.c1, prm.clip)
         peak = max(peak, fend)
-        if ext is not None:  # removed at compile time when no turning points are wanted
-            if ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns in this step
-                _copy(ynew, yd)
-                _copy(fnew, fd)
-                _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], p, fc, tc, sw, kst, ytmp, ynew, fnew)
-                record_extremum(ext, n_ext, tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
-                _copy(yd, ynew)
-                _copy(fd, fnew)
-        if t_eval is not None:  # dense output inside the step: Newton on t(σ), full steps from the step start
-            while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
-                _copy(ynew, yd)
-                _copy(fnew, fd)
-                target = t_eval[ie] - tc
-                if target > y[0]:
-                    _newton_in_step(np.int64(2), target, y, f0, hstep, -1.0, p, fc, tc, sw, kst, ytmp, ynew, fnew)
-                else:
-                    _copy(y, ynew)
-                xi = max(ynew[3], 0.0)
-                dense[ie, 0] = ynew[1]
-                dense[ie, 1] = ynew[2]
-                dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
-                dense[ie, 3] = ynew[2] + sw * ynew[4]
-                dense[ie, 4] = ec0 + ynew[7]
-                dense[ie, 5] = en0 + ynew[6]
-                _copy(yd, ynew)
-                _copy(fd, fnew)
-                ie += 1
+        # ext=None, t_eval=None: compiled out
+        if ext is not None and ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns
+            _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext)
+        if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
+            ie = _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0)
         _copy(ynew, y)
         _copy(fnew, f0)
         if exiting:
@@ -367,19 +417,13 @@ def contact(p, fc, sw, x, v, xi0, u0, tc, t_end, rtol, t_eval, ie, dense, ec0, e
             break
         if stopping:
             break
-        # no growth right after a rejection (Hairer, Norsett, Wanner, II.4); a safety factor of
-        # 0.8 on growth cuts rejections from ~20 % to ~5 % of the steps and the total by ~7 %
-        grow = 1.0 if rejected else 10.0
+        h = _step_size(err, h, rejected)
         rejected = False
-        if err == 0.0:
-            h = h * grow
-        else:
-            h = h * min(grow, 0.8 * err ** (-1.0 / 8.0))
-    return ended, status, ie, y[0], peak, y
+    return ContactEnd(ended, status, ie, y[0], peak, y)
 
 
 @njit(cache=True)
-def instant_impact(p, sw, u0, e, v, w, dur, peak, row):
+def instant_impact(prm, sw, u0, e, v, w, dur, peak, row):
     """Instantaneous impact on wall ``sw`` at approach speed ``u0`` m/s with restitution ``e``.
 
     The rigid-body limit of the contact (impact map): momentum is conserved and the relative
@@ -390,7 +434,7 @@ def instant_impact(p, sw, u0, e, v, w, dur, peak, row):
 
     Returns ``(v⁺, w⁺, energy lost)``.
     """
-    M, m = p[0], p[3]
+    M, m = prm.M, prm.m
     meff = m * M / (m + M)
     jimp = (1.0 + e) * meff * u0
     lost = 0.5 * meff * u0 * u0 * (1.0 - e * e)
@@ -404,29 +448,35 @@ def instant_impact(p, sw, u0, e, v, w, dur, peak, row):
 
 @njit(cache=True)
 def free_contact(pfree, u0, rtol, work, kst):
-    """Compliant contact of the two masses alone (``pfree`` with K = C = 0) at approach speed ``u0`` m/s.
+    """Compliant contact of the two masses alone (``pfree``: Params with K = C = 0) at approach speed ``u0`` m/s.
 
     No forcing, 8-component buffers ``work`` and ``kst``.
     Returns ``(status, restitution, duration in s, peak force in N)``.
     """
-    ended, st, _, dur, peak, yc = contact(
-        pfree, None, 1.0, 0.0, 0.0, 0.0, u0, 0.0, math.inf, rtol, np.empty(0), np.int64(0), np.empty((0, 6)),
-        0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64)
-    )
-    e = max(-yc[4], 0.0) / u0 if u0 > 0.0 else 0.0
-    return st, e, dur, peak
+    r = contact(pfree, None, ContactStart(0.0, 1.0, 0.0, 0.0, 0.0, u0), math.inf, rtol, np.empty(0), np.int64(0),
+                np.empty((0, 6)), 0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64))
+    e = max(-r.y[4], 0.0) / u0 if u0 > 0.0 else 0.0
+    return r.status, e, r.duration, r.peak
 
 
 @njit(cache=True)
 def free_restitution(p, u0, rtol):
     """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
 
-    The main spring and dashpot of ``p`` are left out (the impact map's contact, see
+    :func:`free_restitution_of` of the parameter vector ``p``.
+    Returns ``(restitution, duration in s, peak force in N)``.
+    """
+    return free_restitution_of(as_params(p), u0, rtol)
+
+
+@njit(cache=True, inline="always")
+def free_restitution_of(prm, u0, rtol):
+    """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
+
+    The main spring and dashpot of ``prm`` are left out (the impact map's contact, see
     :func:`free_contact`). Returns ``(restitution, duration in s, peak force in N)``.
     """
-    pfree = p.copy()
-    pfree[1] = 0.0
-    pfree[2] = 0.0
+    pfree = without_main(prm)
     work = np.zeros((N_WORK_ROWS, NY))
     kst = np.zeros((N_STAGE_ROWS, NY))
     _, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)

@@ -49,6 +49,7 @@ from ..constants import (
 )
 from . import _forced_driver as fd
 from ._newmark import newmark_advance
+from ._records import params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
@@ -367,6 +368,7 @@ class _Runner:
 
     def __init__(self, model, excitation, settings, state, rows=None):
         self.p = _params(model)
+        self.prm = params_record(self.p)
         self.fc = excitation.vector(model)
         self.fcs = _together(model, excitation, settings.solver)
         self.T = excitation.period
@@ -404,11 +406,11 @@ class _Runner:
         cap = min(n0 + self.cap, self.imp.shape[0] - 1)
         if self.solver == "newmark":
             # no dense output, no turning points (None: compiled out)
-            n, status, _, _ = newmark_advance(self.p, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0,
-                                              cap, acc, extrema, None, 0, None, None, None)
-            out = (n, status)
+            r = newmark_advance(self.prm, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0, cap, acc,
+                                extrema, None, 0, None, None, None)
+            out = (r.n, r.status)
         else:
-            args = (self.p, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
+            args = (self.prm, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
                     extrema)
             if not self._compiled:  # say so once if the forced solver's kernels are compiled now
                 compile_for(fd.advance, args, "forced-response", FORCED_COMPILE_S)

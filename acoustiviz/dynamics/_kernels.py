@@ -29,6 +29,7 @@ from numba import njit
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact, instant_impact
 from ._flight import _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
 from ._newmark import central_difference, newmark
+from ._records import ContactStart, as_params, without_main
 from ._status import (
     DENSE_COLUMNS,
     IMPACT_COLUMNS,
@@ -59,9 +60,7 @@ def restitution_table(p, lnu, rtol, table):
     The compliant contact of the two masses alone (no main spring or dashpot), as used by the
     impact map; ``lnu`` must be uniformly spaced. Returns the worst status.
     """
-    pfree = p.copy()
-    pfree[1] = 0.0
-    pfree[2] = 0.0
+    pfree = without_main(as_params(p))
     work = np.zeros((N_WORK_ROWS, NY))
     kst = np.zeros((N_STAGE_ROWS, NY))
     status = STATUS_OK
@@ -102,14 +101,13 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
     (:func:`~acoustiviz.dynamics._flight.free_extrema`), inside contacts by root finding on the
     contact integration. Returns ``(n_impacts, status, t_reached)``.
     """
-    M, K, C, hg = p[0], p[1], p[2], p[4]
+    prm = as_params(p)
+    M, K, C, hg = prm.M, prm.K, prm.C, prm.half_gap
     a = C / (2.0 * M)
     wd = math.sqrt(K / M - a * a)
     work = np.zeros((N_WORK_ROWS, NY))
     kst = np.zeros((N_STAGE_ROWS, NY))
-    pfree = p.copy()
-    pfree[1] = 0.0
-    pfree[2] = 0.0
+    pfree = without_main(prm)
     x0, v0, y0, w0 = state0[0], state0[1], state0[2], state0[3]
     t0 = 0.0
     ec = 0.0
@@ -161,7 +159,7 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
             else:
                 st, e, dur, peak = free_contact(pfree, u0, rtol, work, kst)
             x0 = xx
-            v0, w0, lost = instant_impact(p, sw, u0, e, vv, w0, dur, peak, impacts[n])
+            v0, w0, lost = instant_impact(prm, sw, u0, e, vv, w0, dur, peak, impacts[n])
             if (vv > 0.0) != (v0 > 0.0):  # the impulse turns the main mass: a kink extremum
                 record_extremum(ext, n_ext, tc, xx, 1.0 if vv > 0.0 else -1.0)
             y0 = x0 + sw * hg
@@ -172,14 +170,14 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
                 status = st
                 break
             continue
-        ended, st, ie, dur, peak, yc = contact(
-            p, None, sw, xx, vv, math.sqrt(d0), u0, tc, t_end, rtol, t_eval, ie, dense, ec, en, work, kst, ext, n_ext
-        )
+        r = contact(prm, None, ContactStart(tc, sw, xx, vv, math.sqrt(d0), u0), t_end, rtol, t_eval, ie, dense, ec, en,
+                    work, kst, ext, n_ext)
+        yc, dur, ie = r.y, r.duration, r.ie
         ec += yc[7]
         en += yc[6]
         impacts[n, 3] = -yc[4]
         impacts[n, 4] = dur
-        impacts[n, 5] = peak
+        impacts[n, 5] = r.peak
         impacts[n, 6] = yc[5]
         impacts[n, 7] = yc[6]
         n += 1
@@ -188,11 +186,11 @@ def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, fi
         y0 = x0 + sw * (hg + dlt)
         w0 = v0 + sw * yc[4]
         t0 = tc + dur
-        if st != STATUS_OK:
-            status = st
+        if r.status != STATUS_OK:
+            status = r.status
             t_end = t0
             break
-        if not ended:
+        if not r.ended:
             dfinal = dlt
             impacts[n - 1, 3] = math.nan
             break

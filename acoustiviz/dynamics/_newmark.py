@@ -8,23 +8,31 @@ Equations (paper eq 15 with forcing), wall ``s = ±1``, penetration ``δ = s (y 
 
     M x'' + C x' + K x = s F_c + F(t),   m y'' = -s F_c,   F_c = K_HZ δ^{3/2} + c1 dδ/dt (δ > 0).
 
-Parameter vector ``p`` (floats): ``[M, K, C, m, half_gap, k_hertz, c1, clip]``; forcing vector
-``fc``: None (free decay, compiled without the forcing terms) or ``[ω rad/s, P N, Q N, ...]``.
-State ``st`` (in/out, 8 floats): ``x, v, y, w`` (m, m/s), in-contact flag, wall; impact rows as ``IMPACT_COLUMNS`` of
-:mod:`._status` (a row is opened at contact onset with a NaN separation speed and closed at the
-end of the contact). Accumulators ``acc`` (added to): work of F, dissipated by C, dissipated in
-contacts (J), largest and smallest x (m).
+Model: :class:`~acoustiviz.dynamics._records.Params` (the drivers called from Python take the
+parameter vector ``p`` and turn it into one); forcing vector ``fc``: None (free decay, compiled
+without the forcing terms) or ``[ω rad/s, P N, Q N, ...]``. State ``st`` (in/out, 8 floats):
+``x, v, y, w`` (m, m/s), in-contact flag, wall; impact rows as ``IMPACT_COLUMNS`` of :mod:`._status`
+(a row is opened at contact onset with a NaN separation speed and closed at the end of the contact).
+Accumulators ``acc`` (added to): work of F, dissipated by C, dissipated in contacts (J), largest and
+smallest x (m).
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
 from ._flight import record_extremum
+from ._records import Advanced, as_params
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
+
+#: One end of a Newmark step: displacements ``x, y`` (m), velocities ``v, w`` (m/s), accelerations
+#: ``ax, ay`` (m/s²), the wall in contact ``sw`` (±1, 0 apart), penetration ``d`` (m), contact force
+#: ``f`` (N) and the power of the contact damping force ``pw`` (W).
+NmPoint = namedtuple("NmPoint", ["x", "v", "y", "w", "ax", "ay", "sw", "d", "f", "pw"])
 
 
 @njit(cache=True)
@@ -78,28 +86,139 @@ def _hermite_turn(x, v, x1, v1, h):
     return s, h00 * x + h10 * h * v + h01 * x1 + h11 * h * v1
 
 
+@njit(cache=True, inline="always")
+def _nm_step(prm, a, h, fx1, escale):
+    """The end (:data:`NmPoint`) of one Newmark step of ``h`` s from the point ``a``.
+
+    The step-end accelerations come from Newton iterations on ``M a_x + C v + K x - s F_c - F = 0``,
+    ``m a_y + s F_c = 0`` at the step end (force ``fx1`` N there), the predictor being the unchanged
+    accelerations; they stop when the correction moves the displacements by at most ``escale`` m
+    (or after 30 iterations).
+    """
+    M, K, C, m, hg, kh, c1, clip = prm.M, prm.K, prm.C, prm.m, prm.half_gap, prm.k_hertz, prm.c1, prm.clip
+    hh = 0.25 * h * h
+    h2 = 0.5 * h
+    bx = a.ax
+    by = a.ay
+    for _ in range(30):
+        x1 = a.x + h * a.v + hh * (a.ax + bx)
+        y1 = a.y + h * a.w + hh * (a.ay + by)
+        v1 = a.v + h2 * (a.ax + bx)
+        w1 = a.w + h2 * (a.ay + by)
+        sw1, d1, u1, f1, fe1, kt1 = _nm_force(x1, y1, v1, w1, hg, kh, c1, clip)
+        r1 = M * bx + K * x1 + C * v1 - sw1 * f1 - fx1
+        r2 = m * by + sw1 * f1
+        if kt1 < 0.0:  # clipped: no contact stiffness or damping
+            kc = 0.0
+            cc = 0.0
+        else:
+            kc = kt1
+            cc = c1 if sw1 != 0.0 else 0.0
+        j11 = M + h2 * (C + cc) + hh * (K + kc)
+        j12 = -h2 * cc - hh * kc
+        j22 = m + h2 * cc + hh * kc
+        det = j11 * j22 - j12 * j12
+        dbx = (j22 * r1 - j12 * r2) / det
+        dby = (j11 * r2 - j12 * r1) / det
+        bx -= dbx
+        by -= dby
+        if abs(dbx) * h + abs(dby) * h <= escale:
+            break
+    x1 = a.x + h * a.v + hh * (a.ax + bx)
+    y1 = a.y + h * a.w + hh * (a.ay + by)
+    v1 = a.v + h2 * (a.ax + bx)
+    w1 = a.w + h2 * (a.ay + by)
+    sw1, d1, u1, f1, fe1, _ = _nm_force(x1, y1, v1, w1, hg, kh, c1, clip)
+    return NmPoint(x1, v1, y1, w1, bx, by, sw1, d1, f1, (f1 - fe1) * u1)
+
+
+@njit(cache=True, inline="always")
+def _nm_impacts(hg, a, b, t, h, in_contact, impacts, n, max_impacts):
+    """Book the contact of one step from ``a`` to ``b`` (starting at ``t`` s) into the impact rows.
+
+    A row opens at contact onset (time and wall; the approach speed extrapolated from the free
+    side, because the paper's damping force jumps at first touch; a NaN separation speed), gathers
+    the peak force (N), impulse (N s, trapezoidal) and energy lost (J) while the contact lasts, and
+    closes at its end (separation speed m/s and duration s). Onset and end are located by linear
+    interpolation of the penetration ``hg`` m past contact. Returns the next free row, or -1 when
+    an onset finds no free row (nothing written).
+    """
+    h2 = 0.5 * h
+    now = b.sw != 0.0
+    if now and not in_contact:
+        if n >= max_impacts:
+            return -1
+        z0 = b.sw * (a.y - a.x) - hg
+        fr = -z0 / (b.d - z0) if b.d != z0 else 1.0
+        impacts[n, 0] = t + fr * h
+        impacts[n, 1] = b.sw
+        impacts[n, 2] = b.sw * (a.w - a.v) + fr * h * b.sw * (a.ay - a.ax)
+        impacts[n, 3] = math.nan
+        for j in range(4, 8):
+            impacts[n, j] = 0.0
+        n += 1
+    if now:
+        r = n - 1
+        impacts[r, 5] = max(impacts[r, 5], b.f)
+        impacts[r, 6] += h2 * (a.f + b.f) if in_contact else h2 * b.f
+        impacts[r, 7] += h2 * (a.pw + b.pw)
+    if in_contact and not now:
+        r = n - 1
+        z1 = a.sw * (b.y - b.x) - hg
+        fr = a.d / (a.d - z1) if a.d != z1 else 1.0
+        impacts[r, 3] = -(a.sw * (b.w - b.v) - (1.0 - fr) * h * a.sw * (b.ay - b.ax))
+        impacts[r, 4] = t + fr * h - impacts[r, 0]
+        impacts[r, 6] += h2 * a.f
+    return n
+
+
+@njit(cache=True, inline="always")
+def _nm_dense(a, b, t, t1, h, c_main, ec, en, t_eval, ie, dense):
+    """Dense rows (``DENSE_COLUMNS``) at the output times ``t_eval`` (s) of the step ``a`` -> ``b``, ``t`` -> ``t1`` s.
+
+    ``h`` is the step (s) as the caller holds it (``t1 - t`` may differ from it in the last bit).
+
+    Cubic Hermite in displacement, linear acceleration in velocity; the dissipation by the main
+    dashpot ``c_main`` (N s/m) and in contacts (J) taken back from the step-end totals ``ec`` and
+    ``en`` along the trapezoid. Returns the next output time due.
+    """
+    h2 = 0.5 * h
+    while ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
+        s = min((t_eval[ie] - t) / h, 1.0)
+        h00 = 2 * s**3 - 3 * s**2 + 1
+        h10 = s**3 - 2 * s**2 + s
+        h01 = -2 * s**3 + 3 * s**2
+        h11 = s**3 - s**2
+        dense[ie, 0] = h00 * a.x + h10 * h * a.v + h01 * b.x + h11 * h * b.v
+        dense[ie, 1] = h00 * a.v + h10 * h * a.ax + h01 * b.v + h11 * h * b.ax
+        dense[ie, 2] = h00 * a.y + h10 * h * a.w + h01 * b.y + h11 * h * b.w
+        dense[ie, 3] = h00 * a.w + h10 * h * a.ay + h01 * b.w + h11 * h * b.ay
+        dense[ie, 4] = ec - (1.0 - s) * h2 * c_main * (a.v * a.v + b.v * b.v)
+        dense[ie, 5] = en - (1.0 - s) * h2 * (a.pw + b.pw)
+        ie += 1
+    return ie
+
+
 @njit(cache=True)
-def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,  # noqa: C901 - one compiled kernel
+def newmark_advance(prm, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,
                     ext, n_ext):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4), ``nsteps`` steps of ``h`` s from ``t0`` s.
 
     Each step solves ``M a_x + C v + K x - s F_c - F = 0``, ``m a_y + s F_c = 0`` at the new
     time with ``x1 = x + h v + h²/4 (a + a1)``, ``v1 = v + h/2 (a + a1)`` by Newton iterations on
-    the accelerations (the paper's scheme; Clough and Penzien). Contact onset and end are located
-    by linear interpolation of the penetration between steps; the approach (separation) speed is
-    extrapolated from the free side of the step, because the paper's damping force jumps at first
-    touch. Work and dissipation by the trapezoidal rule into ``acc[0:3]``; with ``minmax`` the
-    step-end extremes of x into ``acc[3:5]``.
+    the accelerations (:func:`_nm_step`; the paper's scheme, Clough and Penzien). Contacts are
+    booked by :func:`_nm_impacts`. Work and dissipation by the trapezoidal rule into
+    ``acc[0:3]``; with ``minmax`` the step-end extremes of x into ``acc[3:5]``.
 
     Extrema of x (into ``ext``, ``n_ext`` counting) are the turning points of the cubic Hermite
     interpolant of each step whose end velocities differ in sign (:func:`_hermite_turn`), the
-    interpolant of the dense output (x, v, y, w, dissipated by C and in contacts at ``t_eval``
-    into ``dense`` from row ``ie``); ``ext=None`` and ``t_eval=None`` compile them out.
+    interpolant of the dense output (:func:`_nm_dense`); ``ext=None`` and ``t_eval=None`` compile
+    them out.
 
     Parameters
     ----------
-    p : ndarray
-        ``[M kg, K N/m, C N s/m, m kg, d/2 m, K_HZ N/m^1.5, c1 N s/m, clip]``.
+    prm : Params
+        The model (:class:`~acoustiviz.dynamics._records.Params`, SI).
     fc : ndarray or None
         Forcing ``[ω rad/s, P N, Q N, ...]``; None for free decay (compiled without it).
     st : ndarray
@@ -121,17 +240,12 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
 
     Returns
     -------
-    n : int
-        The next free impact row.
-    status : int
-        ``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or ``STATUS_DIVERGED``.
-    t : float
-        Time reached (s); ``st`` holds the state there.
-    ie : int
-        The next output time due.
+    Advanced
+        ``n`` the next free impact row, ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or
+        ``STATUS_DIVERGED``), ``t`` the time reached (s; ``st`` holds the state there) and ``ie``
+        the next output time due.
     """
-    M, K, C, m, hg, kh, c1 = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
-    clip = p[7] > 0.5
+    M, K, C, m = prm.M, prm.K, prm.C, prm.m
     om = 0.0
     pc = 0.0
     ps = 0.0
@@ -140,130 +254,59 @@ def newmark_advance(p, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minm
         om, pc, ps = fc[0], fc[1], fc[2]
         forced = True
     x, v, y, w = st[0], st[1], st[2], st[3]
-    sw, d, u, f, fe, kt = _nm_force(x, y, v, w, hg, kh, c1, clip)
+    sw, d, u, f, fe, _ = _nm_force(x, y, v, w, prm.half_gap, prm.k_hertz, prm.c1, prm.clip)
     fx = pc * math.cos(om * t0) + ps * math.sin(om * t0) if forced else 0.0
-    ax = (sw * f - K * x - C * v + fx) / M
-    ay = -sw * f / m
+    a = NmPoint(x, v, y, w, (sw * f - K * x - C * v + fx) / M, -sw * f / m, sw, d, f, (f - fe) * u)
     in_contact = sw != 0.0 and st[4] > 0.5
     wk, ec, en, xmax, xmin = acc[0], acc[1], acc[2], acc[3], acc[4]
     status = STATUS_OK
-    pw_prev = (f - fe) * u
-    hh = 0.25 * h * h
     h2 = 0.5 * h
     escale = 1e-13 * (abs(v) + abs(w) + 1.0)
     t = t0
     for k in range(nsteps):
         t1 = t0 + (k + 1) * h
         fx1 = pc * math.cos(om * t1) + ps * math.sin(om * t1) if forced else 0.0
-        # predictor: unchanged acceleration
-        bx = ax
-        by = ay
-        for _ in range(30):
-            x1 = x + h * v + hh * (ax + bx)
-            y1 = y + h * w + hh * (ay + by)
-            v1 = v + h2 * (ax + bx)
-            w1 = w + h2 * (ay + by)
-            sw1, d1, u1, f1, fe1, kt1 = _nm_force(x1, y1, v1, w1, hg, kh, c1, clip)
-            r1 = M * bx + K * x1 + C * v1 - sw1 * f1 - fx1
-            r2 = m * by + sw1 * f1
-            if kt1 < 0.0:  # clipped: no contact stiffness or damping
-                kc = 0.0
-                cc = 0.0
-            else:
-                kc = kt1
-                cc = c1 if sw1 != 0.0 else 0.0
-            j11 = M + h2 * (C + cc) + hh * (K + kc)
-            j12 = -h2 * cc - hh * kc
-            j22 = m + h2 * cc + hh * kc
-            det = j11 * j22 - j12 * j12
-            dbx = (j22 * r1 - j12 * r2) / det
-            dby = (j11 * r2 - j12 * r1) / det
-            bx -= dbx
-            by -= dby
-            if abs(dbx) * h + abs(dby) * h <= escale:
-                break
-        x1 = x + h * v + hh * (ax + bx)
-        y1 = y + h * w + hh * (ay + by)
-        v1 = v + h2 * (ax + bx)
-        w1 = w + h2 * (ay + by)
-        sw1, d1, u1, f1, fe1, kt1 = _nm_force(x1, y1, v1, w1, hg, kh, c1, clip)
-        if not (math.isfinite(x1) and math.isfinite(y1)):
+        b = _nm_step(prm, a, h, fx1, escale)
+        if not (math.isfinite(b.x) and math.isfinite(b.y)):
             status = STATUS_DIVERGED
             break
         if forced:
-            wk += h2 * (fx * v + fx1 * v1)
-        ec += h2 * C * (v * v + v1 * v1)
-        pw = (f1 - fe1) * u1
-        en += h2 * (pw_prev + pw)
+            wk += h2 * (fx * a.v + fx1 * b.v)
+        ec += h2 * C * (a.v * a.v + b.v * b.v)
+        en += h2 * (a.pw + b.pw)
         if minmax:
-            xmax = max(xmax, x1)
-            xmin = min(xmin, x1)
-        # impacts: a row opens at onset and closes when the contact ends
-        now = sw1 != 0.0
-        if now and not in_contact:
-            if n >= max_impacts:
+            xmax = max(xmax, b.x)
+            xmin = min(xmin, b.x)
+        if in_contact or b.sw != 0.0:  # nothing to book in free flight (the impact rows handed over only here)
+            n1 = _nm_impacts(prm.half_gap, a, b, t, h, in_contact, impacts, n, max_impacts)
+            if n1 < 0:  # no free row for a new contact: stop at the step end, the contact not opened
                 status = STATUS_MAX_IMPACTS
                 t = t1
-                x, v, y, w = x1, v1, y1, w1
+                a = NmPoint(b.x, b.v, b.y, b.w, a.ax, a.ay, a.sw, a.d, a.f, a.pw)
                 break
-            z0 = sw1 * (y - x) - hg
-            fr = -z0 / (d1 - z0) if d1 != z0 else 1.0
-            impacts[n, 0] = t + fr * h
-            impacts[n, 1] = sw1
-            # extrapolate from the free side: the damping force jumps at first touch
-            impacts[n, 2] = sw1 * (w - v) + fr * h * sw1 * (ay - ax)
-            impacts[n, 3] = math.nan
-            for j in range(4, 8):
-                impacts[n, j] = 0.0
-            n += 1
-        if now:
-            r = n - 1
-            impacts[r, 5] = max(impacts[r, 5], f1)
-            impacts[r, 6] += h2 * (f + f1) if in_contact else h2 * f1
-            impacts[r, 7] += h2 * (pw_prev + pw)
-        if in_contact and not now:
-            r = n - 1
-            z1 = sw * (y1 - x1) - hg
-            fr = d / (d - z1) if d != z1 else 1.0
-            impacts[r, 3] = -(sw * (w1 - v1) - (1.0 - fr) * h * sw * (by - bx))
-            impacts[r, 4] = t + fr * h - impacts[r, 0]
-            impacts[r, 6] += h2 * f
-        if ext is not None and (v > 0.0) != (v1 > 0.0):  # ext=None: compiled out
-            s_turn, x_turn = _hermite_turn(x, v, x1, v1, h)
-            record_extremum(ext, n_ext, t + s_turn * h, x_turn, 1.0 if v > 0.0 else -1.0)
-        # dense output: cubic Hermite in displacement, linear acceleration in velocity
-        if t_eval is not None:  # t_eval=None: compiled out
-            while ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
-                s = min((t_eval[ie] - t) / h, 1.0)
-                h00 = 2 * s**3 - 3 * s**2 + 1
-                h10 = s**3 - 2 * s**2 + s
-                h01 = -2 * s**3 + 3 * s**2
-                h11 = s**3 - s**2
-                dense[ie, 0] = h00 * x + h10 * h * v + h01 * x1 + h11 * h * v1
-                dense[ie, 1] = h00 * v + h10 * h * ax + h01 * v1 + h11 * h * bx
-                dense[ie, 2] = h00 * y + h10 * h * w + h01 * y1 + h11 * h * w1
-                dense[ie, 3] = h00 * w + h10 * h * ay + h01 * w1 + h11 * h * by
-                dense[ie, 4] = ec - (1.0 - s) * h2 * C * (v * v + v1 * v1)
-                dense[ie, 5] = en - (1.0 - s) * h2 * (pw_prev + pw)
-                ie += 1
-        x, v, y, w = x1, v1, y1, w1
-        ax, ay = bx, by
-        sw, d, f, fe, fx = sw1, d1, f1, fe1, fx1
-        pw_prev = pw
-        in_contact = now
+            n = n1
+        if ext is not None and (a.v > 0.0) != (b.v > 0.0):  # ext=None: compiled out
+            s_turn, x_turn = _hermite_turn(a.x, a.v, b.x, b.v, h)
+            record_extremum(ext, n_ext, t + s_turn * h, x_turn, 1.0 if a.v > 0.0 else -1.0)
+        # t_eval=None: compiled out; the arrays are handed over only in the steps that have output
+        if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
+            ie = _nm_dense(a, b, t, t1, h, C, ec, en, t_eval, ie, dense)
+        a = b
+        fx = fx1
+        in_contact = b.sw != 0.0
         t = t1
-    st[0] = x
-    st[1] = v
-    st[2] = y
-    st[3] = w
+    st[0] = a.x
+    st[1] = a.v
+    st[2] = a.y
+    st[3] = a.w
     st[4] = 1.0 if in_contact else 0.0
-    st[5] = sw
+    st[5] = a.sw
     acc[0] = wk
     acc[1] = ec
     acc[2] = en
     acc[3] = xmax
     acc[4] = xmin
-    return n, status, t, ie
+    return Advanced(n, status, t, ie)
 
 
 @njit(cache=True)
@@ -276,7 +319,8 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ex
     ``(n_impacts, status, t_reached)``; arrays as in
     :func:`~acoustiviz.dynamics._kernels.event_solver`.
     """
-    hg = p[4]
+    prm = as_params(p)
+    hg = prm.half_gap
     st = np.zeros(8)
     for i in range(4):
         st[i] = state0[i]
@@ -294,8 +338,9 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ex
             impacts[0, j] = 0.0
         n = 1
     acc = np.zeros(5)
-    n, status, t, _ = newmark_advance(p, None, st, 0.0, h, nsteps, impacts, n, max_impacts, acc, False,
-                                      t_eval, 0, dense, ext, n_ext)
+    r = newmark_advance(prm, None, st, 0.0, h, nsteps, impacts, n, max_impacts, acc, False, t_eval, 0, dense,
+                        ext, n_ext)
+    n, status, t = r.n, r.status, r.t
     delta = 0.0
     if st[4] > 0.5:
         impacts[n - 1, 4] = t - impacts[n - 1, 0]
@@ -315,8 +360,8 @@ def central_difference(p, state0, h, nsteps):
     Used only to show where an explicit scheme fails: it is stable for ``h < 2 / ω_contact``.
     Damping forces use the previous half-step velocity (explicit).
     """
-    M, K, C, m, hg, kh, c1 = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
-    clip = p[7] > 0.5
+    prm = as_params(p)
+    M, K, C, m, hg, kh, c1, clip = prm.M, prm.K, prm.C, prm.m, prm.half_gap, prm.k_hertz, prm.c1, prm.clip
     x, v, y, w = state0[0], state0[1], state0[2], state0[3]
     vh = v
     wh = w
