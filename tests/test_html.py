@@ -83,6 +83,7 @@ def test_balloon_page_levels(pages):
     assert "dB re 20 µPa" in scene["colorbar"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "colour"), [("balloon.html", "viridis"), ("snapshot.html", "diverging")])
 def test_page_renders_in_headless_chromium(pages, tmp_path, name, colour):
     shots = _browser()

@@ -63,6 +63,7 @@ def test_room_peaks_equal_the_refined_field_metrics_and_the_closed_form(kind, mo
     np.testing.assert_allclose(fp.exposure, exposure(pulse, pts, room), rtol=1e-11)
 
 
+@pytest.mark.slow
 def test_room_peaks_equal_the_windowed_search(monkeypatch):
     """The sorted-arrival search and the windowed search over the whole delay spread (tables over it)
     find the same peaks to 1e-10 (both refine the closed form to ~1e-11), here at order 5."""
@@ -79,6 +80,7 @@ def test_room_peaks_equal_the_windowed_search(monkeypatch):
     np.testing.assert_allclose(dense.peak_negative, windowed.peak_negative, rtol=1e-10)
 
 
+@pytest.mark.slow
 def test_a_late_arrival_sets_the_peak_in_a_rigid_room():
     """A rigid room, the listener level with the sphere's centre (the direct sound's and the floor image's
     dipole null) in a far corner: the peak comes long after the first arrival and is found there
