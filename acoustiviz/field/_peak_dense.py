@@ -31,7 +31,17 @@ import math
 import numpy as np
 
 from ._kernels import _njit
-from ._peak_kernels import BLOCK, NEAR, TAIL_STEPS, XTOL, _coarse_stats, _decay_extremes, _scan
+from ._peak_kernels import (
+    BLOCK,
+    NEAR,
+    TAIL_STEPS,
+    XTOL,
+    _coarse_stats,
+    _decay_extremes,
+    _image_terms,
+    _in_fluid,
+    _scan,
+)
 from ._peak_refine import _refine_bracket
 from .exposure import _correlation_at, _exposure_sorted
 
@@ -255,17 +265,6 @@ def _pair_table(ctable):  # pragma: no cover - compiled
 
 
 @_njit(cache=True, inline="always")
-def _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):  # pragma: no cover - compiled
-    """Whether the point ``(x0, x1, x2)`` (m) is outside the sphere and in front of every plane ``(ppt, pnm)``."""
-    dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
-    ok = dc >= radius - tol
-    for q in range(ppt.shape[0]):
-        if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
-            ok = False
-    return ok
-
-
-@_njit(cache=True, inline="always")
 def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, ds, ar, ai,
                     mag):  # pragma: no cover - compiled
     """Every image seen from ``(x0, x1, x2)`` (m), sorted by arrival.
@@ -274,17 +273,7 @@ def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, d
     ``delays``, ``are``, ``aim`` are scratch arrays of the image count.
     """
     nimg = spos.shape[0]
-    for j in range(nimg):
-        d0 = x0 - spos[j, 0]
-        d1 = x1 - spos[j, 1]
-        d2 = x2 - spos[j, 2]
-        r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
-        p0 = rho * c * radius * radius * ct / (r * r)
-        ra = r / radius
-        delays[j] = (r - radius) / c
-        are[j] = p0 * ra
-        aim[j] = -p0 * (1.0 - ra)
+    _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim)
     order = np.argsort(delays)
     for q in range(nimg):
         j = order[q]

@@ -222,6 +222,37 @@ def _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b):  # pragma: no
     return nseg
 
 
+@_njit(cache=True, inline="always")
+def _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):  # pragma: no cover - compiled
+    """Whether the point ``(x0, x1, x2)`` (m) is outside the sphere and in front of every plane ``(ppt, pnm)``."""
+    dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
+    ok = dc >= radius - tol
+    for q in range(ppt.shape[0]):
+        if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
+            ok = False
+    return ok
+
+
+@_njit(cache=True, inline="always")
+def _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim):  # pragma: no cover - compiled
+    """Each image seen from ``(x0, x1, x2)`` (m), in image order (paper eqs 12-14).
+
+    Into ``delays`` its delay ``(r - a)/c`` in s, into ``are + i aim`` its weight
+    ``P0 (r/a) - i P0 (1 - r/a)`` in Pa·s/m.
+    """
+    for j in range(spos.shape[0]):
+        d0 = x0 - spos[j, 0]
+        d1 = x1 - spos[j, 1]
+        d2 = x2 - spos[j, 2]
+        r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
+        p0 = rho * c * radius * radius * ct / (r * r)
+        ra = r / radius
+        delays[j] = (r - radius) / c
+        are[j] = p0 * ra
+        aim[j] = -p0 * (1.0 - ra)
+
+
 @_njit(cache=True)
 def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,  # noqa: C901 - one compiled kernel
                   margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
@@ -260,28 +291,14 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         x0 = pts[i, 0]
         x1 = pts[i, 1]
         x2 = pts[i, 2]
-        dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
-        ok = dc >= radius - tol
-        for q in range(ppt.shape[0]):
-            if (x0 - ppt[q, 0]) * pnm[q, 0] + (x1 - ppt[q, 1]) * pnm[q, 1] + (x2 - ppt[q, 2]) * pnm[q, 2] < -tol:
-                ok = False
-        if not ok:
+        if not _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):
             for col in range(5):
                 res[i, col] = np.nan
             res[i, 5] = 0.0
             continue
+        _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim)
         scale = 0.0
         for j in range(nimg):
-            d0 = x0 - spos[j, 0]
-            d1 = x1 - spos[j, 1]
-            d2 = x2 - spos[j, 2]
-            r = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-            ct = (d0 * saxis[j, 0] + d1 * saxis[j, 1] + d2 * saxis[j, 2]) / r
-            p0 = rho * c * radius * radius * ct / (r * r)
-            ra = r / radius
-            delays[j] = (r - radius) / c
-            are[j] = p0 * ra
-            aim[j] = -p0 * (1.0 - ra)
             scale += math.sqrt(are[j] ** 2 + aim[j] ** 2)
         # exposure: pairs of images and the pulse correlations (module exposure)
         if do_exp:
