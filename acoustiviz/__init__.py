@@ -16,30 +16,37 @@ The package is laid out in layers, each importing only from those below it:
     the application layer that both front-ends call: ``scene`` files and the ``cli``.
 
 ``constants`` and ``errors`` are the one home of the package's facts and exceptions. Importing
-the package imports only the light core and has no side effect.
+the package imports nothing else and has no side effect: each name is imported on first use.
 """
-
-from .core.contact import (
-    HERTZ_DURATION_CONSTANT,
-    HalfSinePulse,
-    Impact,
-    SampledPulse,
-    acceleration_pulse,
-    contact_duration,
-    hertz_stiffness,
-    max_approach,
-    peak_acceleration,
-    restitution,
-)
-from .core.materials import Material, catalogue, material
-from .core.medium import AIR, Medium, air_at
-from .core.radiation import impulse_response, pressure, pulse_response, sphere_pressure
-from .errors import AccuracyWarning, ClippingWarning, ParameterError
 
 __version__ = "0.1.0"
 
-#: Names importable from ``acoustiviz`` that live in heavier modules, imported on first use.
+#: Every name importable from ``acoustiviz`` and its module, imported on first use (so that importing
+#: the package, and ``acoustiviz --help``, loads no numpy).
 _LAZY = {
+    "HERTZ_DURATION_CONSTANT": "core.contact",
+    "HalfSinePulse": "core.contact",
+    "Impact": "core.contact",
+    "SampledPulse": "core.contact",
+    "acceleration_pulse": "core.contact",
+    "contact_duration": "core.contact",
+    "hertz_stiffness": "core.contact",
+    "max_approach": "core.contact",
+    "peak_acceleration": "core.contact",
+    "restitution": "core.contact",
+    "Material": "core.materials",
+    "catalogue": "core.materials",
+    "material": "core.materials",
+    "AIR": "core.medium",
+    "Medium": "core.medium",
+    "air_at": "core.medium",
+    "impulse_response": "core.radiation",
+    "pressure": "core.radiation",
+    "pulse_response": "core.radiation",
+    "sphere_pressure": "core.radiation",
+    "AccuracyWarning": "errors",
+    "ClippingWarning": "errors",
+    "ParameterError": "errors",
     "configuration": "core.geometry",
     "images_free": "core.geometry",
     "images_plane": "core.geometry",
@@ -69,29 +76,11 @@ def __getattr__(name):
         return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module 'acoustiviz' has no attribute {name!r}")
 
-__all__ = [
-    "AIR",
-    "AccuracyWarning",
-    "ClippingWarning",
-    "ParameterError",
-    "HERTZ_DURATION_CONSTANT",
-    "HalfSinePulse",
-    "Impact",
-    "Material",
-    "Medium",
-    "SampledPulse",
-    "acceleration_pulse",
-    "air_at",
-    "catalogue",
-    "contact_duration",
-    "hertz_stiffness",
-    "impulse_response",
-    "material",
-    "max_approach",
-    "peak_acceleration",
-    "pressure",
-    "pulse_response",
-    "restitution",
-    "sphere_pressure",
-    *_LAZY,
-]
+
+__all__ = list(_LAZY)
+
+
+def __dir__():
+    """The package's public names (:data:`__all__`), for ``dir()`` and tab completion."""
+    return sorted(__all__)
+

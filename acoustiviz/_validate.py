@@ -9,10 +9,12 @@ turns these into a one-line message and exit status 2.
 from __future__ import annotations
 
 import math
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from .errors import ParameterError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = [
     "ParameterError",
@@ -91,6 +93,8 @@ def check_choice(name: str, value, choices) -> str:
 
 def check_points(name: str, points) -> np.ndarray:
     """Return ``points`` as a float ``(n, 3)`` array (a single point becomes ``(1, 3)``)."""
+    import numpy as np  # here, so that the command line's parsers and --help load no numpy
+
     try:
         p = np.asarray(points, dtype=float)
     except (TypeError, ValueError):

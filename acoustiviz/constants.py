@@ -25,6 +25,9 @@ __all__ = [
     "SOLVERS",
     "SCENE_SOLVERS",
     "STRIKES",
+    "CONFIGURATIONS",
+    "ROOM_SURFACES",
+    "ROOM_STRIKES",
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "FREQUENCY_SWEEPS",
@@ -78,6 +81,13 @@ SOLVERS = ("event", "newmark", "impact-map")
 SCENE_SOLVERS = ("auto", *SOLVERS)
 #: Which surface of a wall-floor corner the sphere strikes.
 STRIKES = ("floor", "wall")
+#: Geometries built from a sphere radius alone, with default settings: the ``--config`` choices
+#: (the registry :data:`acoustiviz.core.geometry.GEOMETRIES` adds the room, which needs its dimensions).
+CONFIGURATIONS = ("free", "plane", "wall-floor")
+#: The six surfaces of a shoebox room, by the coordinate plane each lies in (x = 0, x = Lx, ...).
+ROOM_SURFACES = ("x0", "x1", "y0", "y1", "z0", "z1")
+#: Names of the surface a sphere in a room strikes: the floor, the ceiling, or one of the six by name.
+ROOM_STRIKES = ("floor", "ceiling", *ROOM_SURFACES)
 #: Harmonic excitations of the damper: a force on the main mass, or a base displacement.
 EXCITATIONS = ("force", "base")
 #: Solvers of the forced damper (acoustiviz.dynamics.forced).

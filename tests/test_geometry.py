@@ -254,3 +254,25 @@ def test_auralisation_images_the_far_wall_in_a_new_geometry():
     for s_far, s_near in zip(far, g.sources, strict=True):  # mirrored like the struck sphere's images
         assert (s_far.order, s_far.weight) == (s_near.order, s_near.weight)
         np.testing.assert_allclose(s_far.axis, -s_near.axis)
+
+
+def test_registry_names_match_the_constants():
+    # the --config choices and the room's surfaces are facts the light parsers read from constants;
+    # the registry's classes and the room's per-surface arrays must agree with them
+    from acoustiviz import constants
+    from acoustiviz.core.geometry import GEOMETRIES
+    from acoustiviz.core.room import SURFACES
+    from acoustiviz.core.room_geometry import Room
+
+    assert constants.CONFIGURATIONS == tuple(n for n, c in GEOMETRIES.items() if not c.REQUIRED)
+    assert GEOMETRIES[Room.name] is Room and Room.REQUIRED
+    assert SURFACES == constants.ROOM_SURFACES
+    assert set(constants.ROOM_STRIKES) == {"floor", "ceiling", *SURFACES}
+
+
+def test_the_package_exports_every_name_lazily():
+    import acoustiviz
+
+    for name in acoustiviz.__all__:
+        assert getattr(acoustiviz, name) is not None, name
+    assert sorted(acoustiviz.__all__) == dir(acoustiviz)

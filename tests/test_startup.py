@@ -1,4 +1,4 @@
-"""Importing the package and asking for help stay light: no compiler, no plotting, no 3-D, no filters.
+"""Importing the package and asking for help stay light: no numpy, no compiler, no plotting, no 3-D, no filters.
 
 Each check runs in a fresh interpreter (a subprocess) and inspects ``sys.modules`` afterwards, so
 what another test imported does not count. No timing is asserted (``benchmarks/bench_startup.py``
@@ -16,8 +16,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-#: modules a light start must not load: the kernel compiler, plotting, 3-D rendering and filters
-HEAVY = ("numba", "matplotlib", "pyvista", "vtk", "vtkmodules", "scipy.signal")
+#: modules a light start must not load: numpy (the package's names and the parsers are imported
+#: without it), the kernel compiler, plotting, 3-D rendering and filters
+HEAVY = ("numpy", "numba", "matplotlib", "pyvista", "vtk", "vtkmodules", "scipy.signal")
 
 
 def _loaded_after(code: str) -> list[str]:

@@ -44,7 +44,7 @@ import numpy as np
 from .._validate import check_choice, check_range
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
-from .settings.table import Setting
+from .settings.map import MAP_SETTINGS, PLANES
 
 __all__ = [
     "PLANES",
@@ -66,28 +66,6 @@ __all__ = [
     "produce_level_map",
 ]
 
-#: The planes a map can lie in (see the module notes).
-PLANES = ("vertical", "horizontal")
-
-
-#: Settings of a level map, shared by ``acoustiviz map`` and the scene output ``[outputs.level_map]``.
-#: The scene table of a map's settings.
-_TABLE = "outputs.level_map"
-MAP_SETTINGS = (
-    Setting("plane", "--plane", "plane", "str", "vertical",
-            "plane of the map: 'vertical', the plane y = 0 through the sphere's centre holding the "
-            "acceleration axis (normal to the wall in the wall-floor corner); 'horizontal', the plane "
-            "z = height parallel to the floor", choices=PLANES, table=_TABLE),
-    Setting("height", "--plane-height", "height_m", "float", None,
-            "horizontal plane only: its height z above the floor (default: the sphere's centre); in the free "
-            "field any height, else >= 0", "m", low=-1e3, high=1e3, table=_TABLE),
-    Setting("extent", "--extent", "extent_m", "float", 0.5,
-            "distance from the sphere's centre to the far edges of the map (more than the sphere's diameter); "
-            "the map is cut at the floor and the wall", "m", low=0.0, high=1e3, low_open=True, table=_TABLE),
-    Setting("resolution", "--resolution", "resolution", "int", 317,
-            "grid points along the longer side of the map (square spacing; the default gives about 1e5 points "
-            "on a square map)", low=8, high=20000, table=_TABLE),
-)
 _BY_NAME = {s.name: s for s in MAP_SETTINGS}
 #: Most points of one map (160 times the default's 1e5): the work is bounded, not only its memory.
 MAX_MAP_POINTS = 4000 * 4000

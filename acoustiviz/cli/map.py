@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..app.maps import MAP_SETTINGS
+from ..app.settings.map import MAP_SETTINGS
 from ..app.settings.table import add_option
 from ._impact import add_impact_options, add_room_options
 

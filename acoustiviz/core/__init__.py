@@ -3,6 +3,3 @@
 It also holds the near- and far-field approximations. It knows nothing of grids, plots or files,
 and writes none.
 """
-
-# the shoebox room registers itself as the geometry "room"
-from . import room_geometry  # noqa: E402, F401

@@ -45,6 +45,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive
 from ..constants import MAX_MEMORY_MB
+from ..constants import ROOM_SURFACES as SURFACES  # the order of every per-surface array
 
 __all__ = [
     "SURFACES",
@@ -54,9 +55,6 @@ __all__ = [
     "image_sources",
     "max_order_for_memory",
 ]
-
-#: The six surfaces of a shoebox room, in the order of every per-surface array.
-SURFACES = ("x0", "x1", "y0", "y1", "z0", "z1")
 
 #: Bytes held per image at the peak of :func:`image_sources` with broadband weights: positions
 #: and directions (3 x 8 B each), lattice indices (3 x 4 B), order and weight (8 B each), and the

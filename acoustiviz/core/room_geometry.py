@@ -1,8 +1,7 @@
 """The shoebox room as a geometry value: the sphere in a rectangular room with absorbing walls.
 
-:class:`Room` is one more :class:`~acoustiviz.core.geometry.Geometry`, registered in
-:data:`~acoustiviz.core.geometry.GEOMETRIES` as ``"room"`` when this module is imported (the
-package :mod:`acoustiviz.core` imports it). Its images are the closed-form lattice of
+:class:`Room` is one more :class:`~acoustiviz.core.geometry_base.Geometry`, registered in
+:data:`~acoustiviz.core.geometry.GEOMETRIES` as ``"room"``. Its images are the closed-form lattice of
 :mod:`acoustiviz.core.room` to the order the outputs need
 (:func:`acoustiviz.core.reverberation.energy_order`, :func:`~acoustiviz.core.reverberation.order_for_time`),
 so the field evaluator, the renders and the auralisation sum them like any geometry's images.
@@ -19,14 +18,13 @@ from typing import ClassVar
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_points, check_positive, check_range
-from .geometry import GEOMETRIES, Geometry
+from ..constants import ROOM_STRIKES
+from .geometry_base import Geometry
 from .images import ImageSet, ImageSource, Plane, Region
 from .room import SURFACES, Shoebox, image_sources, max_order_for_memory
 
 __all__ = ["ROOM_STRIKES", "ROOM_TOLERANCE_DB", "Room"]
 
-#: Names of the surface a sphere in a room strikes: the floor, or one of the six by name.
-ROOM_STRIKES = ("floor", "ceiling") + SURFACES
 _ROOM_ALIASES = {"floor": "z0", "ceiling": "z1"}
 #: Default neglected-energy tolerance in dB of the room's image order.
 ROOM_TOLERANCE_DB = -60.0
@@ -395,6 +393,3 @@ class Room(Geometry):
                                            f"{tuple(round(x, 6) for x in self.source)} m)")
             raise ParameterError(name, f"{where} is outside the room [0, {lx:g}] x [0, {ly:g}] x [0, {lz:g}] m")
         return pts
-
-
-GEOMETRIES[Room.name] = Room

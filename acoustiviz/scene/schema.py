@@ -5,12 +5,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..app.maps import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import FORCED
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
+from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..app.settings.sweep import SWEEP
 from ..constants import (
@@ -18,11 +18,11 @@ from ..constants import (
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
     PULSES,
+    ROOM_STRIKES,
     SAMPLE_RATES,
 )
 from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import GEOMETRIES
-from ..core.room_geometry import ROOM_STRIKES
 
 __all__ = [
     "SCHEMA",

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 
 from ...constants import (
+    CONFIGURATIONS,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
     PAPER_GAP,
@@ -23,7 +24,6 @@ from ...constants import (
     TABLE1,
     TAIL_SEED,
 )
-from ...core.geometry import CONFIGURATIONS
 from .base import Settings
 from .damper import DAMPER
 from .impact import IMPACT

@@ -11,6 +11,7 @@ import dataclasses
 import math
 
 from ...constants import (
+    CONFIGURATIONS,
     DEFAULT_AIR_DENSITY,
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
@@ -22,7 +23,6 @@ from ...constants import (
     PULSES,
     STRIKES,
 )
-from ...core.geometry import CONFIGURATIONS
 from .base import Settings
 from .table import Setting
 

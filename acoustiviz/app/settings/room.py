@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from ...core.room_geometry import ROOM_STRIKES
+from ...constants import ROOM_STRIKES
 from .base import Settings
 from .table import Setting
 

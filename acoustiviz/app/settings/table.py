@@ -11,9 +11,8 @@ never disagree.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
-
-import numpy as np
 
 from ..._validate import check_choice, check_range
 from ...errors import ParameterError
@@ -99,7 +98,7 @@ class Setting:
         if self.kind == "str":
             return check_choice(name, value, self.choices) if self.choices else str(value)
         if self.kind == "int":
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
                     or not self.low <= value <= self.high:
                 raise ParameterError(name, f"must be an integer in [{self.low:g}, {self.high:g}], got {value!r}")
             return int(value)
