@@ -10,6 +10,9 @@ The baseline is the commit ``--baseline`` (default 4a6bf44, the start-up cost be
 fixed to one signature and imports made lazy), extracted with ``git archive`` into a temporary
 directory and imported through ``PYTHONPATH``, with the same interpreter and the same packages.
 
+Both trees' bytecode is written first (``compileall``, as ``pip install`` does). Each measure runs the two
+trees in alternation; ``--help`` and ``import`` are the median of ``--repeats`` (5) alternated runs.
+
 Measures: ``acoustiviz --help`` and each subcommand's ``--help``; ``import acoustiviz``; the README's
 main job ``acoustiviz run --out DIR`` cold and warm; the default damper run (``acoustiviz damper``,
 20 s, event solver) cold and warm; and (full run only) the wall time of one warm
@@ -34,6 +37,7 @@ import json
 import os
 import resource
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -140,34 +144,62 @@ def subcommands(tree: Path) -> list[str]:
     return out.stdout.split()
 
 
-def measure(tree: Path, work: Path, quick: bool, subs: list[str]) -> tuple[dict, dict]:
-    """Every measure of one tree: ({measure: CPU s}, {kernel: (signatures, compile s)})."""
-    cache = work / "cache"
-    res, kernels = {}, {}
+def _precompile(tree: Path) -> None:
+    """Write the tree's bytecode (``.pyc``), as ``pip install`` does, so no measure pays for it."""
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(tree / "acoustiviz")], check=True,
+                   capture_output=True)
 
-    def fresh():
-        shutil.rmtree(cache, ignore_errors=True)
-        cache.mkdir()
-        return cache
 
-    res["--help"] = cpu_run(tree, ["--help"], fresh(), work)
-    for sub in subs if not quick else subs[:1]:
-        res[f"{sub} --help"] = cpu_run(tree, [sub, "--help"], fresh(), work)
-    res["import acoustiviz"] = cpu_run(tree, ["import"], fresh(), work)
-    kfile = work / "kernels_damper.json"
-    res["damper cold"] = cpu_run(tree, ["damper"], fresh(), work, kernels=kfile)
-    res["damper warm"] = cpu_run(tree, ["damper"], cache, work)
+def _fresh(cache: Path) -> Path:
+    """An empty numba cache directory at ``cache``."""
+    shutil.rmtree(cache, ignore_errors=True)
+    cache.mkdir()
+    return cache
+
+
+def _short(trees: dict, works: dict, argv: list[str], repeats: int) -> dict:
+    """{tree: median CPU s} of ``repeats`` runs of ``argv``, the trees in alternation."""
+    samples = {t: [] for t in trees}
+    for _ in range(repeats):
+        for t, tree in trees.items():
+            samples[t].append(cpu_run(tree, argv, _fresh(works[t] / "cache"), works[t]))
+    return {t: statistics.median(v) for t, v in samples.items()}
+
+
+def _job(trees: dict, works: dict, job: str, argv: list[str], res: dict, kernels: dict) -> None:
+    """``job`` cold (empty cache; its kernels recorded) then warm, for each tree in turn."""
+    for warm in (False, True):
+        for t, tree in trees.items():
+            out, cache = works[t] / "out", works[t] / "cache"
+            args = [str(out) if a == "OUT" else a for a in argv]
+            kfile = None if warm else works[t] / f"kernels_{job}.json"
+            res[t][f"{job} {'warm' if warm else 'cold'}"] = cpu_run(
+                tree, args, cache if warm else _fresh(cache), works[t], kernels=kfile)
+            if kfile is not None:
+                kernels[t] = json.loads(kfile.read_text())
+            shutil.rmtree(out, ignore_errors=True)
+
+
+def measure(trees: dict, works: dict, quick: bool, subs: list[str], repeats: int = 5) -> tuple[dict, dict]:
+    """Every measure of the trees, side by side: ({tree: {measure: CPU s}}, {tree: {kernel: (sigs, s)}}).
+
+    Each measure runs the trees in alternation, so a change in the machine's load falls on both. The
+    short measures (``--help``, ``import``) are the median of ``repeats`` alternated runs; the damper
+    and the README job run once per tree, cold then warm.
+    """
+    res = {t: {} for t in trees}
+    kernels = {t: {} for t in trees}
+    shorts = [("--help", ["--help"])] + [(f"{sub} --help", [sub, "--help"]) for sub in (subs[:1] if quick else subs)]
+    for key, argv in [*shorts, ("import acoustiviz", ["import"])]:
+        for t, v in _short(trees, works, argv, repeats).items():
+            res[t][key] = v
+    _job(trees, works, "damper", ["damper"], res, kernels)
     if not quick:
-        kfile = work / "kernels_run.json"
-        out = work / "out"
-        res["run cold"] = cpu_run(tree, ["run", "--out", str(out)], fresh(), work, kernels=kfile)
-        shutil.rmtree(out, ignore_errors=True)
-        res["run warm"] = cpu_run(tree, ["run", "--out", str(out)], cache, work)
-        shutil.rmtree(out, ignore_errors=True)
-        text = []
-        cpu_run(tree, ["fast_peaks"], cache, work, stdout=text)
-        res["fast_peaks 1e3 pts (wall)"] = float(text[0].split("FAST_PEAKS_MS")[1].split()[0]) / 1e3
-    kernels = json.loads(kfile.read_text())
+        _job(trees, works, "run", ["run", "--out", "OUT"], res, kernels)
+        for t, tree in trees.items():
+            text = []
+            cpu_run(tree, ["fast_peaks"], works[t] / "cache", works[t], stdout=text)
+            res[t]["fast_peaks 1e3 pts (wall)"] = float(text[0].split("FAST_PEAKS_MS")[1].split()[0]) / 1e3
     return res, kernels
 
 
@@ -216,15 +248,19 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="--help, import and the damper run only")
     ap.add_argument("--baseline", default=BASELINE, help=f"commit to compare with (default {BASELINE})")
+    ap.add_argument("--repeats", type=int, default=5, help="alternated runs of each short measure (median)")
     args = ap.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="bench_startup_") as tmp:
         tmp = Path(tmp)
         base_tree = baseline_tree(args.baseline, tmp / "baseline")
         subs = subcommands(ROOT)
-        (tmp / "wb").mkdir()
-        (tmp / "wn").mkdir()
-        base, kb = measure(base_tree, tmp / "wb", args.quick, subs)
-        now, kn = measure(ROOT, tmp / "wn", args.quick, subs)
+        trees = {"baseline": base_tree, "now": ROOT}
+        works = {t: tmp / f"work_{t}" for t in trees}
+        for t, tree in trees.items():
+            works[t].mkdir()
+            _precompile(tree)
+        res, kern = measure(trees, works, args.quick, subs, args.repeats)
+        base, now, kb, kn = res["baseline"], res["now"], kern["baseline"], kern["now"]
     text = table(base, now, kb, kn, args.baseline, args.quick)
     print(text, end="")
     out = ROOT / "benchmarks" / "results" / f"bench_startup{'_quick' if args.quick else ''}.txt"
