@@ -75,3 +75,12 @@ def test_bad_input_is_refused_by_name(kwargs, name):
     with pytest.raises(ParameterError) as err:
         train_levels(**args)
     assert err.value.name == name
+
+
+def test_trains_of_one_rate_and_length_share_the_filter_tables():
+    from acoustiviz.levels.train import _free_rows, _tables
+
+    train_levels([100], _clicks(1, 300, 4), FS, 3 * FS, ["laeq", "lafmax", "lcpeak"])
+    before = _tables.cache_info().misses, _free_rows.cache_info().misses
+    train_levels([900, 70000], _clicks(2, 300, 5), FS, 3 * FS, ["laeq", "lafmax", "lcpeak"])
+    assert (_tables.cache_info().misses, _free_rows.cache_info().misses) == before
