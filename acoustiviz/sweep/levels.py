@@ -148,12 +148,26 @@ def click_windows(impacts, *, scene, model, point, sample_rate: int = ANALYSIS_R
     from scipy.fft import irfft, next_fast_len
 
     from ..core.radiation import sphere_pole
+    from ..errors import ParameterError
     from ..field.sources import image_geometry
-    from ..output.audio import ImpactSequence, oversampling_factor, wall_sources
-    from ..output.audio.synthesis import TRAIN_ABOVE, _check_render_args
+    from ..output.audio import (
+        SAMPLE_RATES,
+        CavityScene,
+        ClickModel,
+        ImpactSequence,
+        check_listeners,
+        oversampling_factor,
+        wall_sources,
+    )
+    from ..output.audio.synthesis import TRAIN_ABOVE
 
     seq = impacts if isinstance(impacts, ImpactSequence) else ImpactSequence.from_table(impacts)
-    pts, fs, _ = _check_render_args(seq, scene, model, np.reshape(point, (-1, 3)), sample_rate, None)
+    for name, value, kind in (("scene", scene, CavityScene), ("model", model, ClickModel)):
+        if not isinstance(value, kind):
+            raise ParameterError(name, f"expected a {kind.__name__}, got {type(value).__name__}")
+    if sample_rate not in SAMPLE_RATES:
+        raise ParameterError("sample_rate", f"must be one of {SAMPLE_RATES} Hz, got {sample_rate!r}")
+    fs, pts = int(sample_rate), check_listeners(point, scene, name="point")
     a, medium = scene.radius, scene.medium
     walls = sorted({int(w) for w in seq.walls})
     sources = {w: wall_sources(scene, w) for w in walls}
