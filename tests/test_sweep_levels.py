@@ -200,3 +200,18 @@ def test_design_levels_checks_its_method_and_hears_silence():
         design_levels(run.impacts, method="fast", **kw)
     assert err.value.name == "method"
     assert design_levels(ImpactSequence([], [], []), **kw) == dict.fromkeys(LEVEL_COLUMNS, -math.inf)
+
+
+@pytest.mark.parametrize(("pulse", "mass_model"), [("half-sine", "impact"), ("impulse-matched", "effective"),
+                                                   ("hertz", "impact")])
+def test_pulse_spectra_of_a_run_are_each_pulses_transform(pulse, mass_model):
+    from acoustiviz.levels.energy import pulse_spectrum
+    from acoustiviz.sweep.levels import _pulse_spectra, _pulses
+
+    clicks = ClickModel(mass=0.02, mass_model=mass_model, pulse=pulse)
+    v = np.array([0.05, 0.3, 1.0, 2.5])
+    amp, tau = _pulses(clicks, v)
+    omega = 2 * np.pi * ANALYSIS_RATE / 360 * np.arange(181)
+    ref = np.stack([pulse_spectrum(clicks.pulse_for(x), omega) for x in v])
+    got = _pulse_spectra(clicks, v, amp, tau, omega)
+    assert np.max(np.abs(got - ref)) <= 1e-12 * np.max(np.abs(ref))
