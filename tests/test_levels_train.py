@@ -58,6 +58,11 @@ def test_a_low_tone_whose_ring_down_outlasts_the_blocks():
     _assert_same(starts, np.stack([low, 0.5 * low, -low]), FS)
 
 
+def test_more_window_samples_than_signal():
+    starts = np.arange(0, 20000, 90)
+    _assert_same(starts, _clicks(starts.size, 300, 6), 20000)
+
+
 def test_silence_and_a_lower_rate():
     assert all(v == -np.inf for v in train_levels([10], np.zeros((1, 50)), FS, FS, ALL).values())
     # at 48 kHz the weighting is not a cascade of sections at the rate: the whole signal is filtered

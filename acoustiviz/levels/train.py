@@ -27,8 +27,9 @@ powers of two built once per rate, weighting and time weighting (``G_{2a} = G_a 
   where one is not, the blocks after that sound are filtered too (1, 2, 4, ... of them) until it is.
 
 Everything equals the levels of the whole signal up to round-off (1e-12 relative). Where the
-library's weighting is not a cascade of sections at the rate (below 96 kHz) the levels are those of
-:func:`~acoustiviz.levels.sound_levels` on the whole signal (:func:`train_signal`).
+library's weighting is not a cascade of sections at the rate (below 96 kHz), or the windows hold
+more samples than the signal, the levels are those of :func:`~acoustiviz.levels.sound_levels` on the
+whole signal (:func:`train_signal`).
 """
 
 from __future__ import annotations
@@ -237,7 +238,8 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics) -
     modes = tuple(sorted({_TIME_MODES[m] for m in names if m in _TIME_MODES}))
     curves = ({"A"} if {"lafmax", "lasmax", "laeq", "sel-a"} & set(names) else set()) | \
         ({"C"} if "lcpeak" in names else set())
-    if any(_system(fs, c) is None for c in curves) or any(_alpha(fs, m) is None for m in modes):
+    dense = any(_system(fs, c) is None for c in curves) or any(_alpha(fs, m) is None for m in modes)
+    if dense or win.size >= n:  # below 96 kHz, or more window samples than signal: filter the signal
         full = sound_levels(train_signal(st, win, n), fs)
         return {m: float(getattr(full, METRICS[m])[0]) for m in names}
     keep = (st + win.shape[1] > 0) & (st < n)  # windows with a sample in [0, n)

@@ -62,6 +62,8 @@ NO_LEVELS = dict.fromkeys(LEVEL_COLUMNS, math.nan)
 #: How :func:`design_levels` computes: from the clicks alone, or rendering and filtering every sample.
 METHODS = ("sparse", "dense")
 
+#: Clicks whose spectra are worked on at once (bounds the work arrays to a few MB).
+_CHUNK = 1024
 #: The clicks' windows hold their tail to ``exp(-c t / a)`` below this (25 sphere time constants).
 _TAIL = math.exp(-25.0)
 
@@ -183,14 +185,18 @@ def click_windows(impacts, *, scene, model, point, sample_rate: int = ANALYSIS_R
     n_win = next_fast_len(math.ceil(span), real=True)
     omega = 2.0 * math.pi * fs / n_win * np.arange(n_win // 2 + 1)
     starts = np.floor((seq.times + d_lo) * fs).astype(np.int64) - half - 1
-    spec = _pulse_spectra(model, seq.velocities, amp, tau, omega)
-    spec *= _phases(seq.times - starts / fs, omega)
     s = sphere_pole(a, medium)
-    for w in walls:
-        delay, p0, c_shape = (np.asarray(g[0]) for g in geom[w])
-        spec[seq.walls == w] *= _radiation(omega, delay, p0 * c_shape, p0 * np.conj(c_shape), s)
-    spec *= fs * _lowpass(fs, L, n_win)
-    return starts, irfft(spec, n=n_win, axis=-1)
+    gain = {w: fs * _lowpass(fs, L, n_win) * _radiation(omega, g[0][0], (g[1] * g[2])[0], (g[1] * np.conj(g[2]))[0], s)
+            for w, g in geom.items()}
+    windows = np.empty((len(seq), n_win))
+    for lo in range(0, len(seq), _CHUNK):  # bounded work arrays, whatever the number of impacts
+        k = slice(lo, lo + _CHUNK)
+        spec = _pulse_spectra(model, seq.velocities[k], amp[k], tau[k], omega)
+        spec *= _phases(seq.times[k] - starts[k] / fs, omega)
+        for w in walls:
+            spec[seq.walls[k] == w] *= gain[w]
+        windows[k] = irfft(spec, n=n_win, axis=-1)
+    return starts, windows
 
 
 def _phases(delay, omega) -> np.ndarray:
