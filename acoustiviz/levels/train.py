@@ -85,7 +85,7 @@ def _flush(a: np.ndarray, scale: float = 1.0) -> np.ndarray:
 
 @functools.lru_cache(maxsize=32)
 def _free_rows(fs: int, curve: str, length: int) -> np.ndarray:
-    """``(length, d)``: row ``n`` is ``c Φ^n``, the output ``n`` samples on from each basis state."""
+    """``(d, length)``: column ``n`` is ``c Φ^n``, the output ``n`` samples on from each basis state."""
     from scipy.signal import sosfilt
 
     sos = _system(fs, curve)[0]
@@ -93,7 +93,12 @@ def _free_rows(fs: int, curve: str, length: int) -> np.ndarray:
     d = 2 * n_sec
     zi = np.eye(d).reshape(d, n_sec, 2).transpose(1, 0, 2)
     y, _ = sosfilt(sos, np.zeros((d, length)), axis=-1, zi=zi)
-    return np.ascontiguousarray(y.T)
+    return y
+
+
+def _rows(x: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """``x_k m`` for every row ``x_k`` of ``x`` (a stack of small products: no multi-threaded BLAS call)."""
+    return (x[:, None, :] @ m[None])[:, 0]
 
 
 def _powers(p: np.ndarray, gaps: np.ndarray) -> np.ndarray:
@@ -103,7 +108,7 @@ def _powers(p: np.ndarray, gaps: np.ndarray) -> np.ndarray:
     for k in range(p.shape[0]):
         sel = np.flatnonzero((gaps >> k) & 1)
         if sel.size:
-            out[sel] = np.einsum("ij,kjl->kil", p[k], out[sel])
+            out[sel] = p[k] @ out[sel]
     return out
 
 
@@ -112,8 +117,8 @@ def _affine_scan(a: np.ndarray, u: np.ndarray, scale: float) -> np.ndarray:
     a, u = a.copy(), u.copy()
     shift = 1
     while shift < a.shape[0]:  # after the step, (a_k, u_k) maps x_{k+1-2 shift} to x_{k+1}
-        u[shift:] = _flush(np.einsum("kij,kj->ki", a[shift:], u[:-shift]) + u[shift:], scale)
-        a[shift:] = _flush(np.einsum("kij,kjl->kil", a[shift:], a[:-shift]))
+        u[shift:] = _flush((a[shift:] @ u[:-shift, :, None])[:, :, 0] + u[shift:], scale)
+        a[shift:] = _flush(a[shift:] @ a[:-shift])
         shift *= 2
     return u
 
@@ -129,10 +134,10 @@ def _silences(tables, x: np.ndarray, gaps: np.ndarray):
         if not sel.size:
             continue
         xs = x[sel]
-        energy[sel] += np.einsum("ki,ij,kj->k", xs, g[k], xs)
+        energy[sel] += np.sum(_rows(xs, g[k]) * xs, axis=1)
         for m in w:
-            disc[m][sel] = bpow[m][k] * disc[m][sel] + np.einsum("ki,ij,kj->k", xs, w[m][k], xs)
-        x[sel] = np.einsum("ij,kj->ki", p[k], xs)
+            disc[m][sel] = bpow[m][k] * disc[m][sel] + np.sum(_rows(xs, w[m][k]) * xs, axis=1)
+        x[sel] = _rows(xs, p[k].T)
     return np.maximum(energy, 0.0), {m: np.maximum(v, 0.0) for m, v in disc.items()}
 
 
@@ -150,10 +155,9 @@ def _weighted_blocks(fs: int, curve: str, xb: np.ndarray, gaps: np.ndarray, mode
     m = _powers(tables[0], gaps[:-1])  # across each silence between blocks
     scale = float(np.max(np.abs(xb))) if xb.size else 0.0
     s = np.zeros((nb, d))
-    s[1:] = _affine_scan(_flush(np.einsum("kij,jl->kil", m, pb)), _flush(np.einsum("kij,kj->ki", m, z[:-1]), scale),
-                         scale)
-    y = y0 + np.einsum("ki,ni->kn", s, _free_rows(fs, curve, blk))
-    energy, disc = _silences(tables, np.einsum("ij,kj->ki", pb, s) + z, gaps)
+    s[1:] = _affine_scan(_flush(m @ pb), _flush((m @ z[:-1, :, None])[:, :, 0], scale), scale)
+    y = y0 + _rows(s, _free_rows(fs, curve, blk))
+    energy, disc = _silences(tables, _rows(s, pb.T) + z, gaps)
     return y, energy, disc
 
 
