@@ -7,6 +7,8 @@ of a directivity alike. Nothing here writes files.
 * :mod:`.weighted` -- LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) (IEC 61672-1);
 * :mod:`.transient` -- the same levels of a signal silent after its first samples, from those
   samples and the filters' exact free response (one click over 1 s);
+* :mod:`.train` -- the same levels of a train of short sounds in a long silence, from the sounds
+  alone and the filters' states carried exactly across the silences (a damper run's clicks);
 * :mod:`.bands` -- 1/3-octave band Leq and LFmax (IEC 61260-1 filters);
 * :mod:`.hearing` -- ISO 532-1 loudness (N5, Nmax) and DIN 45692 sharpness (optional mosqito);
 * :mod:`.energy` -- sound energy of one impact (closed form and spherical-grid intensity),
@@ -30,6 +32,7 @@ from .energy import (
     surface_work_free,
 )
 from .hearing import Loudness, loudness, loudness_available
+from .train import train_levels
 from .transient import transient_levels
 from .weighted import LEVEL_COLUMNS, METRICS, SoundLevels, level_db, metric_levels, sound_levels, weighted
 
@@ -54,6 +57,7 @@ __all__ = [
     "sound_power",
     "surface_work_free",
     "third_octave_levels",
+    "train_levels",
     "transient_levels",
     "weighted",
 ]

@@ -19,8 +19,8 @@ material, initial velocity of the main mass, listener distance and angle, config
   (:func:`acoustiviz.core.pulses.acceleration_pulse`), radiated by the sphere and its images
   (:func:`acoustiviz.field.field_metrics`);
 * optionally (``Settings.levels``), the weighted levels of the whole run at the listener: LAFmax,
-  LCpeak and LAeq over the simulated duration, from the click train rendered at 96 kHz
-  (:mod:`acoustiviz.sweep.levels`).
+  LCpeak and LAeq over the simulated duration, of the click train at 96 kHz computed from the
+  clicks alone (:mod:`acoustiviz.sweep.levels`).
 
 Two modelling choices the paper leaves open
 -------------------------------------------

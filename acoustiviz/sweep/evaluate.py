@@ -214,7 +214,7 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
     levels = dict(NO_LEVELS)
     if s.levels:
         scene, model = sound_setup(design, s, medium)
-        levels, _ = design_levels(res.impacts, scene=scene, model=model, point=point, duration=s.duration)
+        levels = design_levels(res.impacts, scene=scene, model=model, point=point, duration=s.duration)
     return DesignResult(
         design=design,
         inclination_two_maxima=float(two.value),

@@ -263,9 +263,9 @@ class Settings:
     settling_fraction : float
         Settled once every later maximum stays below this fraction of the first (0.05).
     levels : bool
-        Also render each run's click train at the listener and report its LAFmax, LCpeak and
-        LAeq over the run (:mod:`acoustiviz.sweep.levels`; many times the cost of the motion, measured
-        by ``benchmarks/bench_sweep.py``, so off by default: the columns are then empty).
+        Also report the LAFmax, LCpeak and LAeq of each run's click train at the listener over the
+        run (:mod:`acoustiviz.sweep.levels`; about as costly as the motion, measured by
+        ``benchmarks/bench_sweep.py``, so off by default: the columns are then empty).
     room : mapping or sequence of (key, value), optional
         The settings of a geometry that needs more than a radius (a shoebox room,
         :class:`acoustiviz.core.room_geometry.Room`: ``dimensions``, ``absorption``, ``source``,

@@ -98,8 +98,8 @@ SWEEP_SOUND = (
     Setting("n_fastest", "--spl-fastest", None, "int", None,
             "evaluate the N fastest impacts exactly (the loudest is the fastest); 0: all (default 4)", metavar="N"),
     Setting("levels", "--levels", None, "bool", None,
-            "also render each run's click train at the listener at 96 kHz and report its LAFmax, LCpeak and LAeq "
-            "over the run (columns lafmax_db, lcpeak_db, laeq_db; many times the cost of the motion, so off by "
+            "also report the LAFmax, LCpeak and LAeq of each run's click train at the listener at 96 kHz "
+            "over the run (columns lafmax_db, lcpeak_db, laeq_db; about as costly as the motion, so off by "
             "default)"),
 )
 
