@@ -33,6 +33,7 @@ from .._validate import check_points
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces
+from ._arrivals import _arrival_order
 from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
 from ._kernels import _fill, _njit
 from .sources import chunk_geometry
@@ -373,6 +374,9 @@ def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step
     delays = np.empty(nimg)
     are = np.empty(nimg)
     aim = np.empty(nimg)
+    count = np.empty(nimg + 1, np.int64)
+    key = np.empty(nimg, np.int64)
+    order = np.empty(nimg, np.int64)
     for i in range(pts.shape[0]):
         if inside[i]:
             out[i] = np.nan
@@ -386,7 +390,7 @@ def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step
             delays[j] = (r - radius) / c
             are[j] = p0 * r / radius
             aim[j] = -p0 * (1.0 - r / radius)
-        order = np.argsort(delays)
+        _arrival_order(delays, count, key, order)
         out[i] = _exposure_sorted(delays[order], are[order], aim[order], tau, s, step, ptab, y_end, m_g, m_h, g0, h0)
 
 
