@@ -100,3 +100,40 @@ def test_a_late_arrival_sets_the_peak_in_a_rigid_room():
         assert scan.max() <= peak * (1 + 1e-9)
         assert scan.max() >= peak * (1 - 1e-3)  # the scan's own sampling error near the maximum
         assert -scan.min() <= -fp.peak_negative[i] * (1 + 1e-9)
+
+
+def test_half_sine_correlations_in_closed_form_equal_the_quadrature():
+    """The half-sine's G and H on [0, T] as sums of exponentials in the lag equal the Gauss-Legendre
+    quadrature's Chebyshev series of pulse_correlations (an independent computation) to 1e-13."""
+    corr = EXPOSURE.pulse_correlations(_pulse(), A)
+    t = corr.lag_terms
+    assert t.size == 12
+    tau, s = corr.duration, corr.pole
+    w = np.pi / tau
+    lag = np.linspace(0.0, tau, 301)
+    g = (t[0] * np.exp(s * lag) + t[2] * np.exp(s * (tau - lag)) + (t[4] + t[5] * lag) * np.exp(1j * w * lag)
+         + (t[6] + t[7] * lag) * np.exp(-1j * w * lag))
+    h = (t[1] * np.exp(np.conj(s) * lag) + t[3] * np.exp(s * (tau - lag)) + (t[8] + t[9] * lag) * np.exp(1j * w * lag)
+         + (t[10] + t[11] * lag) * np.exp(-1j * w * lag))
+    g_ref, h_ref = corr.series(lag)
+    assert np.max(np.abs(g - g_ref)) <= 1e-13 * np.max(np.abs(g_ref))
+    assert np.max(np.abs(h - h_ref)) <= 1e-13 * np.max(np.abs(h_ref))
+    assert EXPOSURE.pulse_correlations(_pulse("hertz"), A).lag_terms.size == 0  # the table for other pulses
+
+
+def test_room_exposure_of_the_half_sine_in_closed_form_equals_every_pair(monkeypatch):
+    """Order 6 (377 images): the close pairs summed in closed form equal the sum over every pair of
+    images of the tabulated correlations (1e-11), and the table's running-sum path."""
+    room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=6)
+    pulse = _pulse()
+    pts = np.vstack([_points(12, 5), [[5.97, 3.96, 0.03], [2.0, 1.5, 0.3]]])
+    corr = EXPOSURE.pulse_correlations(pulse, A)
+    closed = exposure(pulse, pts, room, correlations=corr)
+    fp = fast_peaks(pulse, pts, room, correlations=corr)
+    tabled = exposure(pulse, pts, room, correlations=EXPOSURE.PulseCorrelations(
+        *(getattr(corr, f) for f in ("duration", "pole", "g_coef", "h_coef", "y_end", "m_g", "m_h", "step", "table"))))
+    np.testing.assert_allclose(closed, tabled, rtol=1e-11)
+    np.testing.assert_allclose(fp.exposure, closed, rtol=1e-12)
+    monkeypatch.setattr(EXPOSURE, "PAIRS_ABOVE", 10**9)
+    every = exposure(pulse, pts, room, correlations=corr)
+    np.testing.assert_allclose(closed, every, rtol=1e-11)

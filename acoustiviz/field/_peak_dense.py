@@ -49,7 +49,7 @@ from ._peak_kernels import (
     _scan,
 )
 from ._peak_refine import _refine_bracket
-from .exposure import _correlation_at, _exposure_sorted
+from .exposure import _correlation_at, _exposure_closed, _exposure_sorted
 
 #: Coarse samples per block of the images' summed free decay.
 DECAY_BLOCK = 16
@@ -328,8 +328,13 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
 
 @_njit(cache=True)
 def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
-    """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns."""
+                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
+                  lag_terms):  # pragma: no cover - compiled
+    """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
+
+    The exposure of the half-sine pulse (``lag_terms`` not empty) sums its close pairs in closed
+    form (:func:`acoustiviz.field.exposure._exposure_closed`), of other pulses from the table.
+    """
     end = tp.end
     yend = complex(tp.y0r, tp.y0i)
     s = complex(tp.sr, tp.si)
@@ -377,7 +382,10 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
         _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, count, key, order, ds, ar, ai,
                         mag)
         if do_exp:
-            res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
+            if lag_terms.size:
+                res[i, 4] = _exposure_closed(ds, ar, ai, ctau, cs, lag_terms, cyend, m_g, m_h)
+            else:
+                res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
         else:
             res[i, 4] = np.nan
         dmin = ds[0]
@@ -424,7 +432,8 @@ POINTS_PER_TASK = 32
 
 @_njit(cache=True, parallel=True)
 def _dense_parallel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                    margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
+                    margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
+                    lag_terms):  # pragma: no cover - compiled
     """:func:`_dense_kernel` on blocks of :data:`POINTS_PER_TASK` points spread over numba's threads.
 
     Each point is computed alone, by the same operations in the same order as on one thread: the
@@ -436,4 +445,4 @@ def _dense_parallel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big
         lo = b * POINTS_PER_TASK
         hi = min(lo + POINTS_PER_TASK, n)
         _dense_kernel(res[lo:hi], pts[lo:hi], spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr,
-                      yti, slope, margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h)
+                      yti, slope, margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h, lag_terms)
