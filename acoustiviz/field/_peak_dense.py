@@ -49,7 +49,7 @@ from ._peak_kernels import (
     _scan,
 )
 from ._peak_refine import _refine_bracket
-from .exposure import _correlation_at, _exposure_closed, _exposure_sorted
+from .exposure import _correlation_at, _exposure_closed, _exposure_sorted, closed_tables
 
 #: Coarse samples per block of the images' summed free decay.
 DECAY_BLOCK = 16
@@ -368,6 +368,7 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     g0 = 0j
     h0 = 0j
     ptab = _pair_table(ctable)
+    ts, tw = closed_tables(ctau, cs)
     if do_exp:
         g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
     for i in range(n):
@@ -383,7 +384,7 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                         mag)
         if do_exp:
             if lag_terms.size:
-                res[i, 4] = _exposure_closed(ds, ar, ai, ctau, cs, lag_terms, cyend, m_g, m_h)
+                res[i, 4] = _exposure_closed(ds, ar, ai, ctau, cs, lag_terms, cyend, m_g, m_h, ts, tw)
             else:
                 res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
         else:
@@ -427,7 +428,7 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
 
 
 #: Points per task of :func:`_dense_parallel` (each task its own work space).
-POINTS_PER_TASK = 32
+POINTS_PER_TASK = 64
 
 
 @_njit(cache=True, parallel=True)

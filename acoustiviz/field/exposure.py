@@ -444,6 +444,51 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
     return total
 
 
+#: Steps per epoch (and per period ``2T`` of ``e^{-iwΔ}``) of the exponential tables of
+#: :func:`_exposure_closed`; within a step ``e^{z}`` is a Taylor polynomial of degree :data:`EXP_DEGREE`
+#: (``|z| <= 2π/EXP_STEPS``, 0.0031, and ``16/EXP_STEPS`` times ``√2``, 0.011: the next term below 1e-17).
+EXP_STEPS = 2048
+EXP_DEGREE = 6
+
+
+@_njit(cache=True)
+def closed_tables(tau, s):  # pragma: no cover - compiled
+    """The tables of :func:`_exp_step`, once per pulse and sphere (complex, ``EXP_STEPS + 1`` each).
+
+    ``e^{s m δ}`` (``δ``: the epoch ``EPOCH/|Re s|`` over :data:`EXP_STEPS`) and ``e^{-iw m δ'}``
+    (``δ' = 2T/EXP_STEPS``, ``w = π/T``).
+    """
+    span = EPOCH / -s.real
+    w = math.pi / tau
+    ts = np.empty(EXP_STEPS + 1, np.complex128)
+    tw = np.empty(EXP_STEPS + 1, np.complex128)
+    for m in range(EXP_STEPS + 1):
+        ts[m] = np.exp(s * (m * (span / EXP_STEPS)))
+        tw[m] = np.exp(-1j * w * (m * (2.0 * tau / EXP_STEPS)))
+    return ts, tw
+
+
+@_njit(cache=True, inline="always")
+def _exp_step(x, step, table, rate):  # pragma: no cover - compiled
+    """``e^{rate x}`` for ``0 <= x <= EXP_STEPS step`` from ``table[m] = e^{rate m step}`` and a Taylor polynomial.
+
+    In real arithmetic (Horner, degree :data:`EXP_DEGREE`).
+    """
+    m = min(int(x / step), EXP_STEPS)
+    r = x - m * step
+    zr = rate.real * r
+    zi = rate.imag * r
+    pr = 1.0
+    pi = 0.0
+    for q in range(EXP_DEGREE, 0, -1):
+        c = 1.0 / q
+        nr = 1.0 + (zr * pr - zi * pi) * c
+        pi = (zr * pi + zi * pr) * c
+        pr = nr
+    e = table[m]
+    return complex(e.real * pr - e.imag * pi, e.real * pi + e.imag * pr)
+
+
 #: :func:`_exposure_closed` recomputes its window sums from their terms after this many arrivals
 #: (or when the latest is more than :data:`REBASE_PULSES` pulse lengths past their reference time).
 REBUILD = 32
@@ -469,7 +514,7 @@ def _late_pairs(j, m, ar, ai, eks, invs, epochs, upto, fall_t, q_back, g_m, h_m)
 
 
 @_njit(cache=True)
-def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h):  # pragma: no cover - compiled
+def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h, ts, tw):  # pragma: no cover - compiled
     """``∫ p² dt`` of one point from its sources sorted by arrival, the half-sine pulse: ``O(n)``, no table.
 
     As :func:`_exposure_sorted`, the pairs further apart than ``T`` by one running sum; the pairs
@@ -488,8 +533,9 @@ def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h):  # pragma: no 
       recomputed from their terms every :data:`REBUILD` arrivals, with the reference time ``r``
       moved to the latest arrival then.
 
-    Each arrival costs two complex exponentials and a few dozen multiplications, however many
-    arrivals lie within ``T`` of it.
+    Each arrival costs a few dozen multiplications, however many arrivals lie within ``T`` of it:
+    its two exponentials are read from ``ts`` and ``tw`` (:func:`closed_tables`) and a short
+    Taylor polynomial (:func:`_exp_step`).
     """
     n = ds.size
     w = math.pi / tau
@@ -510,6 +556,9 @@ def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h):  # pragma: no 
     qpow[0] = 1.0
     for m in range(1, 48):
         qpow[m] = qpow[m - 1] * q_epoch
+    step_s = span / EXP_STEPS
+    period = 2.0 * tau
+    step_w = period / EXP_STEPS
     eks = np.empty(n, np.complex128)  # e^{s (d_k - ref_k)}
     invs = np.empty(n, np.complex128)  # its inverse
     epochs = np.empty(n, np.int64)
@@ -539,12 +588,13 @@ def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h):  # pragma: no 
             epoch += 1
             bsum *= q_epoch
             asum *= q_epoch
-        ek = np.exp(s * (dk - ref))
+        ek = _exp_step(dk - ref, step_s, ts, s)
         inv = 1.0 / ek
         eks[k] = ek
         invs[k] = inv
         epochs[k] = epoch
-        ok = complex(math.cos(w * (dk - ds[0])), -math.sin(w * (dk - ds[0])))
+        x = dk - ds[0]
+        ok = _exp_step(x - period * math.floor(x / period), step_w, tw, -1j * w)  # e^{-iwx}, period 2T
         osc[k] = ok
         while first < k and ds[first] <= dk - tau:  # leaves the window: far from here on
             j = first
@@ -615,6 +665,7 @@ def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step
     Points outside the fluid (``inside``: in the sphere or behind a wall) get NaN.
     """
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
+    ts, tw = closed_tables(tau, s)
     nimg = spos.shape[0]
     delays = np.empty(nimg)
     are = np.empty(nimg)
@@ -637,7 +688,8 @@ def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step
             aim[j] = -p0 * (1.0 - r / radius)
         _arrival_order(delays, count, key, order)
         if lag_terms.size:  # the half-sine: close pairs in closed form
-            out[i] = _exposure_closed(delays[order], are[order], aim[order], tau, s, lag_terms, y_end, m_g, m_h)
+            out[i] = _exposure_closed(delays[order], are[order], aim[order], tau, s, lag_terms, y_end, m_g, m_h, ts,
+                                      tw)
         else:
             out[i] = _exposure_sorted(delays[order], are[order], aim[order], tau, s, step, ptab, y_end, m_g, m_h, g0,
                                       h0)
