@@ -36,6 +36,7 @@ except ImportError:  # pragma: no cover - numba is a hard dependency in practice
     prange = range
 
 from ._arrivals import _arrival_order
+from ._exposure_closed import _exposure_closed
 from ._kernels import _njit
 from ._peak_kernels import (
     BLOCK,
@@ -49,7 +50,7 @@ from ._peak_kernels import (
     _scan,
 )
 from ._peak_refine import _refine_bracket
-from .exposure import _correlation_at, _exposure_closed, _exposure_sorted, closed_tables
+from .exposure import _correlation_at, _exposure_sorted
 
 #: Coarse samples per block of the images' summed free decay.
 DECAY_BLOCK = 16
@@ -329,11 +330,12 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
 @_njit(cache=True)
 def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
                   margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
-                  lag_terms):  # pragma: no cover - compiled
+                  lag_terms, ts, tw):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
 
     The exposure of the half-sine pulse (``lag_terms`` not empty) sums its close pairs in closed
-    form (:func:`acoustiviz.field.exposure._exposure_closed`), of other pulses from the table.
+    form (:func:`acoustiviz.field.exposure._exposure_closed`, with the tables ``ts`` and ``tw`` of
+    :func:`acoustiviz.field.exposure.closed_tables`), of other pulses from the correlation table.
     """
     end = tp.end
     yend = complex(tp.y0r, tp.y0i)
@@ -368,7 +370,6 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     g0 = 0j
     h0 = 0j
     ptab = _pair_table(ctable)
-    ts, tw = closed_tables(ctau, cs)
     if do_exp:
         g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
     for i in range(n):
@@ -434,7 +435,7 @@ POINTS_PER_TASK = 64
 @_njit(cache=True, parallel=True)
 def _dense_parallel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
                     margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
-                    lag_terms):  # pragma: no cover - compiled
+                    lag_terms, ts, tw):  # pragma: no cover - compiled
     """:func:`_dense_kernel` on blocks of :data:`POINTS_PER_TASK` points spread over numba's threads.
 
     Each point is computed alone, by the same operations in the same order as on one thread: the
@@ -446,4 +447,5 @@ def _dense_parallel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big
         lo = b * POINTS_PER_TASK
         hi = min(lo + POINTS_PER_TASK, n)
         _dense_kernel(res[lo:hi], pts[lo:hi], spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr,
-                      yti, slope, margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h, lag_terms)
+                      yti, slope, margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h, lag_terms, ts,
+                      tw)

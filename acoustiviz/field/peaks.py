@@ -75,6 +75,7 @@ from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
+from ._exposure_closed import closed_tables
 from ._kernels import _fill
 from ._peak_dense import _dense_parallel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
@@ -291,6 +292,10 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
                                                                  correlations)
     spos, saxis, centre, ppt, pnm = sources
     n = pts.shape[0]
+    if tb.pulse_only and lag_terms.size:  # the exponentials of the half-sine's closed-form exposure
+        exp_tables = closed_tables(float(cargs[0]), complex(cargs[1]))
+    else:
+        exp_tables = (np.zeros(1, complex), np.zeros(1, complex))
     res = np.empty((n, 6))
     step = max(1, int(chunk))
     for lo in range(0, n, step):
@@ -300,7 +305,7 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
                 tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
         if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
             kernel = _dense_parallel
-            args = (*args, lag_terms)
+            args = (*args, lag_terms, *exp_tables)
         else:
             kernel = _peaks_kernel
         if lo == 0:  # say so once if the peak search's kernels are compiled now
