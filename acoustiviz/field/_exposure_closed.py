@@ -253,7 +253,7 @@ def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h, ts, tw):  # pra
             m = epoch - epochs[j]
             aj = complex(ar[j], ai[j])
             if m < 48:
-                bsum += aj * fall * qpow[m] / eks[j]
+                bsum += aj * fall * qpow[m] * invs[j]
             # its e^{s(T - Δ)} pairs with the arrivals j < q <= k - 1 (all within T after it)
             total += _late_pairs(j, k - 1, ar, ai, eks, invs, epochs, upto, fall_t, q_back, g_m, h_m)
             xp = aj * osc[j]
