@@ -144,11 +144,8 @@ def field_table(receivers: int, order: int, pra) -> None:
     setup = (ta - t0) + (t2 - ta)
     per = 1e3 * (t4 - t3) / receivers
     print()
-    import numba
-
     print(f"3. acoustiviz peak and SEL of one impact, room order {order} ({room.image_count} images), "
-          f"{receivers} receivers (wall time, as 2., on {numba.get_num_threads()} threads; kernels compiled "
-          f"before the timing)")
+          f"{receivers} receivers (wall time, as 2.; kernels compiled before the timing)")
     print(f"{'stage':<40} {'time s':>9} {'ms/receiver':>12}")
     print(f"{'Room value and its images':<40} {ta - t0:>9.3f} {'-':>12}")
     print(f"{'peak_table (once)':<40} {t1 - ta:>9.3f} {'-':>12}")
@@ -172,23 +169,17 @@ def field_table(receivers: int, order: int, pra) -> None:
 
 
 def _interleaved(pulse, room, table, corr, mics: np.ndarray, repeat: int = 3) -> None:
-    """Both sides on the same receivers, alternately, best of ``repeat`` (robust to a shared machine's load).
-
-    Each side on its default threads and on one thread (pyroomacoustics' ``num_threads``,
-    numba's ``set_num_threads``).
-    """
-    import numba
+    """Both sides on the same receivers, alternately, best of ``repeat`` (robust to a shared machine's load)."""
     import pyroomacoustics as pra
 
     from acoustiviz.field import fast_peaks
 
     threads = int(pra.constants.get("num_threads"))
-    ours_threads = numba.get_num_threads()
-    theirs, one, ours, ours1 = [], [], [], []
+    theirs, one, ours = [], [], []
     for _ in range(repeat):
         ism, rir, _ = _pra_chunk(pra, mics, 10, ANALYSIS_RATE)
         theirs.append(ism + rir)
-        pra.constants.set("num_threads", 1)  # its fractional delays on one thread
+        pra.constants.set("num_threads", 1)  # its fractional delays on one thread, as acoustiviz's kernels
         try:
             ism, rir, _ = _pra_chunk(pra, mics, 10, ANALYSIS_RATE)
         finally:
@@ -197,17 +188,10 @@ def _interleaved(pulse, room, table, corr, mics: np.ndarray, repeat: int = 3) ->
         t0 = time.perf_counter()
         fast_peaks(pulse, mics, room, table=table, correlations=corr)
         ours.append(time.perf_counter() - t0)
-        numba.set_num_threads(1)
-        try:
-            t0 = time.perf_counter()
-            fast_peaks(pulse, mics, room, table=table, correlations=corr)
-            ours1.append(time.perf_counter() - t0)
-        finally:
-            numba.set_num_threads(ours_threads)
-    a, a1, b, b1 = (1e3 * min(x) / len(mics) for x in (theirs, one, ours, ours1))
+    a, a1, b = (1e3 * min(x) / len(mics) for x in (theirs, one, ours))
     print(f"alternately on the same {len(mics)} receivers, best of {repeat} (per receiver, tables apart):")
     print(f"  pyroomacoustics ({threads} threads) {a:.4f} ms, on 1 thread {a1:.4f} ms; acoustiviz peak + SEL "
-          f"({ours_threads} threads) {b:.4f} ms, on 1 thread {b1:.4f} ms; ratios {a / b:.3g} and {a1 / b1:.3g}")
+          f"(1 thread) {b:.4f} ms; ratios {a / b:.3g} and {a1 / b:.3g}")
 
 
 BANDS = "125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,4000:0.35"

@@ -30,11 +30,6 @@ import math
 
 import numpy as np
 
-try:
-    from numba import prange
-except ImportError:  # pragma: no cover - numba is a hard dependency in practice
-    prange = range
-
 from ._arrivals import _arrival_order
 from ._exposure_closed import _exposure_closed
 from ._kernels import _njit
@@ -427,25 +422,3 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             res[i, 2 + side] = tbest_s[side]
         res[i, 5] = nref
 
-
-#: Points per task of :func:`_dense_parallel` (each task its own work space).
-POINTS_PER_TASK = 64
-
-
-@_njit(cache=True, parallel=True)
-def _dense_parallel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                    margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
-                    lag_terms, ts, tw):  # pragma: no cover - compiled
-    """:func:`_dense_kernel` on blocks of :data:`POINTS_PER_TASK` points spread over numba's threads.
-
-    Each point is computed alone, by the same operations in the same order as on one thread: the
-    results do not depend on the number of threads.
-    """
-    n = pts.shape[0]
-    tasks = (n + POINTS_PER_TASK - 1) // POINTS_PER_TASK
-    for b in prange(tasks):
-        lo = b * POINTS_PER_TASK
-        hi = min(lo + POINTS_PER_TASK, n)
-        _dense_kernel(res[lo:hi], pts[lo:hi], spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr,
-                      yti, slope, margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h, lag_terms, ts,
-                      tw)

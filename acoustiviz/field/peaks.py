@@ -77,7 +77,7 @@ from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._exposure_closed import closed_tables
 from ._kernels import _fill
-from ._peak_dense import _dense_parallel
+from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
@@ -304,7 +304,7 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
                 float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
                 tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
         if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
-            kernel = _dense_parallel
+            kernel = _dense_kernel
             args = (*args, lag_terms, *exp_tables)
         else:
             kernel = _peaks_kernel
