@@ -9,6 +9,7 @@ summed over the images) at the reported times, the windowed search over the whol
 and the exposure summed over every pair of images.
 """
 
+import dataclasses
 import sys
 
 import numpy as np
@@ -100,3 +101,63 @@ def test_a_late_arrival_sets_the_peak_in_a_rigid_room():
         assert scan.max() <= peak * (1 + 1e-9)
         assert scan.max() >= peak * (1 - 1e-3)  # the scan's own sampling error near the maximum
         assert -scan.min() <= -fp.peak_negative[i] * (1 + 1e-9)
+
+
+def test_half_sine_correlations_in_closed_form_equal_the_quadrature():
+    """The half-sine's G and H on [0, T] as sums of exponentials in the lag equal the Gauss-Legendre
+    quadrature's Chebyshev series of pulse_correlations (an independent computation) to 1e-13."""
+    corr = EXPOSURE.pulse_correlations(_pulse(), A)
+    t = corr.lag_terms
+    assert t.size == 12
+    tau, s = corr.duration, corr.pole
+    w = np.pi / tau
+    lag = np.linspace(0.0, tau, 301)
+    g = (t[0] * np.exp(s * lag) + t[2] * np.exp(s * (tau - lag)) + (t[4] + t[5] * lag) * np.exp(1j * w * lag)
+         + (t[6] + t[7] * lag) * np.exp(-1j * w * lag))
+    h = (t[1] * np.exp(np.conj(s) * lag) + t[3] * np.exp(s * (tau - lag)) + (t[8] + t[9] * lag) * np.exp(1j * w * lag)
+         + (t[10] + t[11] * lag) * np.exp(-1j * w * lag))
+    g_ref, h_ref = corr.series(lag)
+    assert np.max(np.abs(g - g_ref)) <= 1e-13 * np.max(np.abs(g_ref))
+    assert np.max(np.abs(h - h_ref)) <= 1e-13 * np.max(np.abs(h_ref))
+    assert EXPOSURE.pulse_correlations(_pulse("hertz"), A).lag_terms.size == 0  # the table for other pulses
+
+
+def _exact_exposure(pulse, room, pt, corr):
+    """``∫ p² dt`` at one point summed over every pair of images, ``G`` and ``H`` from the Chebyshev series
+    of the Gauss-Legendre quadrature on ``[0, T]`` and their closed-form exponentials past ``T``."""
+    delay, p0, cc, _ = source_geometry(pt[None, :], room)
+    d, a = delay[0], p0[0] * cc[0]
+    lag = d[None, :] - d[:, None]  # d_k - d_j
+    j, k = np.nonzero(lag >= 0.0)
+    keep = j != k
+    j, k = j[keep], k[keep]
+    x = lag[j, k]
+    g = np.empty(x.size, complex)
+    h = np.empty(x.size, complex)
+    close = x < corr.duration
+    g[close], h[close] = corr.series(x[close])
+    e = corr.y_end * np.exp(corr.pole * (x[~close] - corr.duration))
+    g[~close], h[~close] = e * corr.m_g, np.conj(e) * corr.m_h
+    g0, h0 = corr.series(np.zeros(1))
+    pairs = (a[k] * a[j] * g + a[k] * np.conj(a[j]) * h).real
+    ties = lag[j, k] == 0.0  # equal delays: each pair counted from both sides
+    own = 0.5 * np.sum((a * a * g0[0] + np.abs(a) ** 2 * h0[0]).real)
+    return np.sum(pairs[~ties]) + 0.5 * np.sum(pairs[ties]) + own
+
+
+def test_room_exposure_of_the_half_sine_in_closed_form_equals_every_pair(monkeypatch):
+    """Order 6 (377 images): the close pairs summed in closed form equal the exact sum over every pair
+    of images (1e-12; the correlations from the quadrature's series), and the table's paths (1e-11)."""
+    room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=6)
+    pulse = _pulse()
+    pts = np.vstack([_points(6, 5), [[5.97, 3.96, 0.03], [2.0, 1.5, 0.3]]])
+    corr = EXPOSURE.pulse_correlations(pulse, A)
+    closed = exposure(pulse, pts, room, correlations=corr)
+    fp = fast_peaks(pulse, pts, room, correlations=corr)
+    exact = np.array([_exact_exposure(pulse, room, p, corr) for p in pts])
+    np.testing.assert_allclose(closed, exact, rtol=1e-12)
+    np.testing.assert_allclose(fp.exposure, exact, rtol=1e-12)
+    tabled = dataclasses.replace(corr, lag_terms=np.zeros(0, complex))
+    np.testing.assert_allclose(exposure(pulse, pts, room, correlations=tabled), exact, rtol=1e-11)
+    monkeypatch.setattr(EXPOSURE, "PAIRS_ABOVE", 10**9)
+    np.testing.assert_allclose(exposure(pulse, pts, room, correlations=corr), exact, rtol=1e-11)

@@ -30,6 +30,8 @@ import math
 
 import numpy as np
 
+from ._arrivals import _arrival_order
+from ._exposure_closed import _exposure_closed
 from ._kernels import _njit
 from ._peak_kernels import (
     BLOCK,
@@ -265,16 +267,17 @@ def _pair_table(ctable):  # pragma: no cover - compiled
 
 
 @_njit(cache=True, inline="always")
-def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, ds, ar, ai,
+def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, count, key, order, ds, ar, ai,
                     mag):  # pragma: no cover - compiled
-    """Every image seen from ``(x0, x1, x2)`` (m), sorted by arrival.
+    """Every image seen from ``(x0, x1, x2)`` (m), sorted by arrival (a bucket sort, :mod:`._arrivals`).
 
     Into ``ds`` the delays in s, ``ar + i ai`` the weights and ``mag`` their moduli in Pa·s/m;
-    ``delays``, ``are``, ``aim`` are scratch arrays of the image count.
+    ``delays``, ``are``, ``aim``, ``key``, ``order`` (the image count) and ``count`` (one more)
+    are work space.
     """
     nimg = spos.shape[0]
     _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim)
-    order = np.argsort(delays)
+    _arrival_order(delays, count, key, order)
     for q in range(nimg):
         j = order[q]
         ds[q] = delays[j]
@@ -321,8 +324,14 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
 
 @_njit(cache=True)
 def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
-    """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns."""
+                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
+                  lag_terms, ts, tw):  # pragma: no cover - compiled
+    """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
+
+    The exposure of the half-sine pulse (``lag_terms`` not empty) sums its close pairs in closed
+    form (:func:`acoustiviz.field.exposure._exposure_closed`, with the tables ``ts`` and ``tw`` of
+    :func:`acoustiviz.field.exposure.closed_tables`), of other pulses from the correlation table.
+    """
     end = tp.end
     yend = complex(tp.y0r, tp.y0i)
     s = complex(tp.sr, tp.si)
@@ -338,6 +347,9 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     ar = np.empty(nimg)
     ai = np.empty(nimg)
     mag = np.empty(nimg)
+    count = np.empty(nimg + 1, np.int64)
+    key = np.empty(nimg, np.int64)
+    order = np.empty(nimg, np.int64)
     nq = np.empty(nimg, np.int64)
     bps = np.empty(2 * nimg + 2)
     best_s = np.empty(2)
@@ -364,9 +376,13 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
                 res[i, col] = np.nan
             res[i, 5] = 0.0
             continue
-        _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, ds, ar, ai, mag)
+        _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, count, key, order, ds, ar, ai,
+                        mag)
         if do_exp:
-            res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
+            if lag_terms.size:
+                res[i, 4] = _exposure_closed(ds, ar, ai, ctau, cs, lag_terms, cyend, m_g, m_h, ts, tw)
+            else:
+                res[i, 4] = _exposure_sorted(ds, ar, ai, ctau, cs, cstep, ptab, cyend, m_g, m_h, g0, h0)
         else:
             res[i, 4] = np.nan
         dmin = ds[0]
@@ -405,3 +421,4 @@ def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             res[i, side] = (1.0 if side == 0 else -1.0) * best_s[side]
             res[i, 2 + side] = tbest_s[side]
         res[i, 5] = nref
+

@@ -18,22 +18,28 @@ series evaluations per pair of images: no time grid, no sampling error.
 With many images (a room's) the pairs further apart than ``T`` are summed at once: their
 correlations are one damped exponential ``exp(s Δ)``, so that, the arrivals sorted, a running sum
 carried from one arrival to the next holds all of them (:func:`_exposure_sorted`); only the pairs
-arriving within ``T`` of each other read the table. The cost is ``O(n log n)`` plus those close
-pairs instead of ``O(n²)``, and the result the same sum.
+arriving within ``T`` of each other read the table. The cost is ``O(n)`` (the arrivals are sorted
+by buckets, :mod:`acoustiviz.field._arrivals`) plus those close pairs instead of ``O(n²)``, and
+the result the same sum. For the half-sine pulse the close pairs are running sums too
+(:mod:`acoustiviz.field._exposure_closed`: ``G`` and ``H`` on ``[0, T]`` are sums of
+exponentials in the lag there), and a point costs ``O(n)``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._validate import check_points
+from ..core.contact import HalfSinePulse
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces
+from ._arrivals import _arrival_order
 from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
+from ._exposure_closed import EPOCH, _exposure_closed, closed_tables, half_sine_lag_terms
 from ._kernels import _fill, _njit
 from .sources import chunk_geometry
 
@@ -71,6 +77,12 @@ class PulseCorrelations:
     table : (nodes, 4) complex ndarray
         ``G``, ``step · G'``, ``H`` and ``step · H'`` at those lags, from the Chebyshev series, for
         cubic Hermite interpolation (what the kernels evaluate; a few multiply-adds per lag).
+    lag_terms : (12,) or (0,) complex ndarray
+        The half-sine pulse only (kind 0, ``Y`` a sum of three exponentials on ``[0, T]``): ``G``
+        and ``H`` on ``[0, T]`` as sums of exponentials in the lag
+        (:func:`acoustiviz.field._exposure_closed.half_sine_lag_terms`),
+        with which a room's exposure sums its close pairs as running sums
+        (:func:`acoustiviz.field._exposure_closed._exposure_closed`); empty for other pulses.
     """
 
     duration: float
@@ -82,6 +94,7 @@ class PulseCorrelations:
     m_h: complex
     step: float
     table: np.ndarray
+    lag_terms: np.ndarray = field(default_factory=lambda: np.zeros(0, complex))
 
     def __call__(self, lag):
         """``G`` and ``H`` at lags ``lag >= 0`` in s, in (m/s)²·s."""
@@ -207,7 +220,9 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     table[:, 1] = step * _chebyshev_at(g_coef, tau, lag, derivative=True)
     table[:, 2] = _chebyshev_at(h_coef, tau, lag)
     table[:, 3] = step * _chebyshev_at(h_coef, tau, lag, derivative=True)
-    return PulseCorrelations(tau, s, g_coef, h_coef, y_end, m_g, m_h, step, table)
+    closed = kind == 0 and isinstance(pulse, HalfSinePulse)
+    terms = half_sine_lag_terms(pa.amp, tau, s) if closed else np.zeros(0, complex)
+    return PulseCorrelations(tau, s, g_coef, h_coef, y_end, m_g, m_h, step, table, terms)
 
 
 @_njit(cache=True)
@@ -253,9 +268,6 @@ def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h
 #: Above this many sources (a room's images) the exposure sorts the arrivals and sums the pairs
 #: further apart than the pulse in closed form, as one running sum (:func:`_exposure_sorted`).
 PAIRS_ABOVE = 64
-#: The running sum of :func:`_exposure_sorted` keeps its reference time within this many decay
-#: times ``1/|Re s|`` of the latest arrival.
-EPOCH = 16.0
 #: Bytes of working memory per point and source of :func:`exposure` (delays, amplitudes, shape
 #: coefficients, distances and temporaries), for its chunk under the evaluator's memory cap.
 _BYTES_PER_SOURCE = 96
@@ -363,16 +375,20 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
 
 @_njit(cache=True)
 def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step, table, y_end, m_g, m_h,
-                     ptab):  # pragma: no cover - compiled
+                     ptab, lag_terms):  # pragma: no cover - compiled
     """:func:`_exposure_sorted` at each point, the geometry of every source computed there (no (n, k) arrays).
 
     Points outside the fluid (``inside``: in the sphere or behind a wall) get NaN.
     """
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
+    ts, tw = closed_tables(tau, s)
     nimg = spos.shape[0]
     delays = np.empty(nimg)
     are = np.empty(nimg)
     aim = np.empty(nimg)
+    count = np.empty(nimg + 1, np.int64)
+    key = np.empty(nimg, np.int64)
+    order = np.empty(nimg, np.int64)
     for i in range(pts.shape[0]):
         if inside[i]:
             out[i] = np.nan
@@ -386,8 +402,13 @@ def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step
             delays[j] = (r - radius) / c
             are[j] = p0 * r / radius
             aim[j] = -p0 * (1.0 - r / radius)
-        order = np.argsort(delays)
-        out[i] = _exposure_sorted(delays[order], are[order], aim[order], tau, s, step, ptab, y_end, m_g, m_h, g0, h0)
+        _arrival_order(delays, count, key, order)
+        if lag_terms.size:  # the half-sine: close pairs in closed form
+            out[i] = _exposure_closed(delays[order], are[order], aim[order], tau, s, lag_terms, y_end, m_g, m_h, ts,
+                                      tw)
+        else:
+            out[i] = _exposure_sorted(delays[order], are[order], aim[order], tau, s, step, ptab, y_end, m_g, m_h, g0,
+                                      h0)
 
 
 def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
@@ -437,7 +458,8 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
             _exposure_points(out[lo:hi], np.ascontiguousarray(pts[lo:hi]), inside[lo:hi], spos, saxis,
                              float(config.radius),
                              float(medium.rho), float(medium.c), corr.duration, corr.pole, corr.step, corr.table,
-                             corr.y_end, corr.m_g, corr.m_h, ptab)
+                             corr.y_end, corr.m_g, corr.m_h, ptab,
+                             np.ascontiguousarray(corr.lag_terms, dtype=complex))
         return out
     # points per block: at most ``chunk``, and within the evaluator's memory cap
     step = max(1, min(int(chunk), DEFAULT_MEMORY_LIMIT // (_BYTES_PER_SOURCE * len(imgs))))

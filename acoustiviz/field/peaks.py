@@ -75,6 +75,7 @@ from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
+from ._exposure_closed import closed_tables
 from ._kernels import _fill
 from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
@@ -284,12 +285,17 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
     if table is None and correlations is None:
         # the observer-independent tables, built once per pulse, configuration and medium
-        tb, tp, cargs, cusps, sources = _observer_tables(_Keyed(pulse), _Keyed(config), _Keyed(medium),
+        tb, tp, cargs, lag_terms, cusps, sources = _observer_tables(_Keyed(pulse), _Keyed(config), _Keyed(medium),
                                                          bool(exposure))
     else:
-        tb, tp, cargs, cusps, sources = _build_tables(pulse, config, medium, bool(exposure), table, correlations)
+        tb, tp, cargs, lag_terms, cusps, sources = _build_tables(pulse, config, medium, bool(exposure), table,
+                                                                 correlations)
     spos, saxis, centre, ppt, pnm = sources
     n = pts.shape[0]
+    if tb.pulse_only and lag_terms.size:  # the exponentials of the half-sine's closed-form exposure
+        exp_tables = closed_tables(float(cargs[0]), complex(cargs[1]))
+    else:
+        exp_tables = (np.zeros(1, complex), np.zeros(1, complex))
     res = np.empty((n, 6))
     step = max(1, int(chunk))
     for lo in range(0, n, step):
@@ -297,7 +303,11 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         args = (res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm, float(config.radius),
                 float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
                 tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
-        kernel = _dense_kernel if tb.pulse_only else _peaks_kernel
+        if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
+            kernel = _dense_kernel
+            args = (*args, lag_terms, *exp_tables)
+        else:
+            kernel = _peaks_kernel
         if lo == 0:  # say so once if the peak search's kernels are compiled now
             compile_for(kernel, args, "peak-search", PEAKS_COMPILE_S)
         kernel(*args)
@@ -314,13 +324,15 @@ def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table
     if exposure:
         corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
         cargs = (corr.duration, corr.pole, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
+        lag_terms = np.ascontiguousarray(corr.lag_terms, dtype=complex)
     else:
         cargs = (1.0, complex(tp.sr, tp.si), 1.0, np.zeros((2, 4), complex), 0j, 0j, 0j)
+        lag_terms = np.zeros(0, complex)
     # p' jumps at an image's pulse start or end only where A does not vanish there: only then can a
     # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
     a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
     cusps = bool(np.max(np.abs(pulse.acceleration(np.array([0.0, end])))) > 1e-9 * a_scale)
-    return tb, tp, cargs, cusps, _source_arrays(config)
+    return tb, tp, cargs, lag_terms, cusps, _source_arrays(config)
 
 
 def _value_key(obj):
