@@ -5,7 +5,7 @@ import pytest
 
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import METRICS, sound_levels
-from acoustiviz.levels.train import train_levels, train_signal
+from acoustiviz.levels.train import signal_levels, train_levels, train_signal
 
 FS = 96000
 ALL = list(METRICS)
@@ -89,3 +89,33 @@ def test_trains_of_one_rate_and_length_share_the_filter_tables():
     before = _tables.cache_info().misses, _free_rows.cache_info().misses
     train_levels([900, 70000], _clicks(2, 300, 5), FS, 3 * FS, ["laeq", "lafmax", "lcpeak"])
     assert (_tables.cache_info().misses, _free_rows.cache_info().misses) == before
+
+
+@pytest.mark.parametrize("stop", [None, 1.5])
+def test_levels_of_a_mostly_silent_signal_equal_those_of_every_sample(stop):
+    # two channels of clicks (one silent), against sound_levels over every sample of the signal
+    rng = np.random.default_rng(11)
+    n = 2 * FS
+    p = np.zeros((3, n))
+    for ch in (0, 2):
+        for s in np.sort(rng.choice(n - 300, 25, replace=False)):
+            p[ch, s:s + 300] += _clicks(1, 300, int(s))[0]
+    fast = signal_levels(p, FS, stop=stop)
+    full = sound_levels(p, FS, stop=stop)
+    assert (fast.start, fast.stop, fast.sample_rate, fast.library) == (full.start, full.stop, full.sample_rate,
+                                                                         full.library)
+    for m, field in METRICS.items():
+        np.testing.assert_allclose(getattr(fast, field)[[0, 2]], getattr(full, field)[[0, 2]], rtol=0, atol=TOL_DB[m])
+        # the silent channel: silence, where filtering it beside the others leaves the 1e-150 floor tone
+        assert getattr(fast, field)[1] == -np.inf and getattr(full, field)[1] < -2000.0
+
+
+def test_dense_signals_later_intervals_and_low_rates_are_filtered_whole():
+    rng = np.random.default_rng(12)
+    noise = rng.normal(size=(1, FS // 2))
+    click = np.zeros((1, 48000))
+    click[0, 1000:1300] = _clicks(1, 300, 1)[0]
+    for p, fs, start in ((noise, FS, None), (click, FS, 0.1), (click, 48000, None)):
+        fast, full = signal_levels(p, fs, start=start), sound_levels(p, fs, start=start)
+        for field in METRICS.values():
+            np.testing.assert_array_equal(getattr(fast, field), getattr(full, field))
