@@ -163,3 +163,26 @@ def test_half_sine_energy_is_the_integral_of_its_complex_transform():
     total = sum(quad(integrand, lo, hi, epsabs=0, epsrel=1e-11, limit=200)[0]
                 for lo, hi in zip(edges[:-1], edges[1:], strict=True))
     assert radiated_energy_free(pulse, radius=A) == pytest.approx(total / math.pi, rel=1e-7)
+
+
+@pytest.mark.parametrize("name", ["plane", "wall-floor"])
+def test_grid_energy_is_the_sum_of_every_directions_own_far_field(name):
+    # directions on a ring about the image axis share one response; each direction evaluated on its own
+    from acoustiviz.core.images import ImageSet
+    from acoustiviz.core.radiation import pulse_response
+    from acoustiviz.levels.energy import _time_grid
+
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    cfg = configuration(name, A, wall_distance=0.05)
+    grid = spherical_grid_for(cfg, 1.0, n_theta=4)
+    imgs = ImageSet.of(cfg.sources)
+    pos = imgs.positions - np.asarray(grid.centre, dtype=float)
+    reach = float(np.max(np.linalg.norm(pos, axis=1))) / AIR.c
+    t = _time_grid(pulse, A, AIR, -reach, reach, per=100)
+    ref = 0.0
+    for n, wt in zip(np.asarray(grid.directions), np.asarray(grid.weights), strict=True):
+        q = sum(float(n @ ax) * np.real((1 + 1j) * pulse_response(pulse, t + float(n @ x) / AIR.c, radius=A))
+                for x, ax in zip(pos, imgs.weighted_axes, strict=True))
+        ref += wt * trapezoid((AIR.rho * AIR.c * A * q) ** 2, t)
+    got = radiated_energy_grid(pulse, cfg.sources, grid, radius=A)
+    assert got == pytest.approx(ref / (AIR.rho * AIR.c), rel=1e-12)

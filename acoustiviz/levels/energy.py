@@ -288,8 +288,10 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
         cos = n @ axes.T
         q = np.zeros((n.shape[0], t.size))
         for j in range(pos.shape[0]):  # loop over the few sources, vectorised over directions and times
-            y = pulse_response(pulse, t[None, :] - delay[:, j:j + 1], radius=a, medium=medium)
-            q += cos[:, j:j + 1] * np.real((1 + 1j) * y)
+            # directions at the same delay (a ring about an axis through the source) share its response
+            lag, ring = np.unique(delay[:, j], return_inverse=True)
+            y = np.real((1 + 1j) * pulse_response(pulse, t[None, :] - lag[:, None], radius=a, medium=medium))
+            q += cos[:, j:j + 1] * y[ring.reshape(-1)]
         q *= medium.rho * medium.c * a
         total += float(weights[i0:i0 + chunk] @ trapezoid(q * q, t, axis=1))
     return total / (medium.rho * medium.c)
