@@ -15,9 +15,9 @@ ALL = list(METRICS)
 TOL_DB = {m: (5e-6 if m in ("lafmax", "lasmax") else 1e-9) for m in ALL}
 
 
-def _assert_same(starts, windows, n, fs=FS):
-    fast = train_levels(starts, windows, fs, n, ALL)
-    full = sound_levels(train_signal(starts, windows, n), fs)
+def _assert_same(starts, windows, n, fs=FS, first=0):
+    fast = train_levels(starts, windows, fs, n, ALL, first_sample=first)
+    full = sound_levels(train_signal(starts, windows, n), fs, start=first / fs)
     for m, field in METRICS.items():
         ref = float(getattr(full, field)[0])
         assert fast[m] == pytest.approx(ref, abs=TOL_DB[m]), m
@@ -115,7 +115,33 @@ def test_dense_signals_later_intervals_and_low_rates_are_filtered_whole():
     noise = rng.normal(size=(1, FS // 2))
     click = np.zeros((1, 48000))
     click[0, 1000:1300] = _clicks(1, 300, 1)[0]
-    for p, fs, start in ((noise, FS, None), (click, FS, 0.1), (click, 48000, None)):
+    for p, fs, start in ((noise, FS, None), (click, 48000, 0.01)):
         fast, full = signal_levels(p, fs, start=start), sound_levels(p, fs, start=start)
         for field in METRICS.values():
             np.testing.assert_array_equal(getattr(fast, field), getattr(full, field))
+
+
+@pytest.mark.parametrize("first", [1, 999, 1100, 30000, 47000, 60100, 2 * FS - 2000])
+def test_an_interval_that_starts_later_hears_the_sound_before_it_through_the_filters(first):
+    # first: before the clicks, inside one, in a silence, just after a loud one, inside the last
+    rng = np.random.default_rng(6)
+    starts = np.r_[1000, 46000, 60000, np.sort(rng.choice(np.arange(61000, 2 * FS - 400), 20, replace=False))]
+    w = _clicks(starts.size, 300, 7)
+    w[2] *= 30.0  # a loud click whose ring-down and S average outlast the next blocks
+    _assert_same(starts, w, 2 * FS, first=first)
+
+
+def test_levels_over_a_later_interval_of_a_mostly_silent_signal():
+    rng = np.random.default_rng(13)
+    p = np.zeros(FS)
+    for s in np.sort(rng.choice(FS - 300, 12, replace=False)):
+        p[s:s + 300] += _clicks(1, 300, int(s))[0]
+    fast, full = signal_levels(p, FS, start=0.3, stop=0.9), sound_levels(p, FS, start=0.3, stop=0.9)
+    assert (fast.start, fast.stop) == (full.start, full.stop)
+    for m, field in METRICS.items():
+        np.testing.assert_allclose(getattr(fast, field), getattr(full, field), rtol=0, atol=TOL_DB[m])
+
+
+def test_a_bad_first_sample_is_refused():
+    with pytest.raises(ParameterError, match="first_sample"):
+        train_levels([0], np.ones((1, 4)), FS, 100, ["laeq"], first_sample=99)
