@@ -124,3 +124,14 @@ def test_design_map_gives_laeq():
     assert d.laeq_db[0, 1] == -np.inf
     assert np.isfinite(d.laeq_db[0, 0]) and d.laeq_db[0, 0] > 40
     assert d.lcpeak_db[0, 0] > d.lafmax_db[0, 0] >= d.laeq_db[0, 0]
+
+
+def test_levels_from_the_clicks_alone_equal_those_of_every_sample(noise):
+    # the train's levels are computed from its clicks (the filters' states carried across the
+    # silences); filtering every sample of the same rendering gives them to round-off
+    lv = sound_levels(noise.pressure, noise.sample_rate, start=noise.start, stop=noise.stop)
+    assert noise.laeq_db == pytest.approx(float(lv.laeq_db[0]), abs=1e-9)
+    assert noise.lzeq_db == pytest.approx(float(lv.lzeq_db[0]), abs=1e-9)
+    assert noise.lcpeak_db == pytest.approx(float(lv.lcpeak_db[0]), abs=1e-9)
+    assert noise.lzpeak_db == pytest.approx(float(lv.lzpeak_db[0]), abs=1e-9)
+    assert noise.lafmax_db == pytest.approx(float(lv.lafmax_db[0]), abs=5e-6)  # within MAX_RELATIVE_GAP

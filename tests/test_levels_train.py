@@ -5,7 +5,7 @@ import pytest
 
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import METRICS, sound_levels
-from acoustiviz.levels.train import train_levels, train_signal
+from acoustiviz.levels.train import signal_levels, train_levels, train_signal
 
 FS = 96000
 ALL = list(METRICS)
@@ -15,9 +15,9 @@ ALL = list(METRICS)
 TOL_DB = {m: (5e-6 if m in ("lafmax", "lasmax") else 1e-9) for m in ALL}
 
 
-def _assert_same(starts, windows, n, fs=FS):
-    fast = train_levels(starts, windows, fs, n, ALL)
-    full = sound_levels(train_signal(starts, windows, n), fs)
+def _assert_same(starts, windows, n, fs=FS, first=0):
+    fast = train_levels(starts, windows, fs, n, ALL, first_sample=first)
+    full = sound_levels(train_signal(starts, windows, n), fs, start=first / fs)
     for m, field in METRICS.items():
         ref = float(getattr(full, field)[0])
         assert fast[m] == pytest.approx(ref, abs=TOL_DB[m]), m
@@ -89,3 +89,59 @@ def test_trains_of_one_rate_and_length_share_the_filter_tables():
     before = _tables.cache_info().misses, _free_rows.cache_info().misses
     train_levels([900, 70000], _clicks(2, 300, 5), FS, 3 * FS, ["laeq", "lafmax", "lcpeak"])
     assert (_tables.cache_info().misses, _free_rows.cache_info().misses) == before
+
+
+@pytest.mark.parametrize("stop", [None, 1.5])
+def test_levels_of_a_mostly_silent_signal_equal_those_of_every_sample(stop):
+    # two channels of clicks (one silent), against sound_levels over every sample of the signal
+    rng = np.random.default_rng(11)
+    n = 2 * FS
+    p = np.zeros((3, n))
+    for ch in (0, 2):
+        for s in np.sort(rng.choice(n - 300, 25, replace=False)):
+            p[ch, s:s + 300] += _clicks(1, 300, int(s))[0]
+    fast = signal_levels(p, FS, stop=stop)
+    full = sound_levels(p, FS, stop=stop)
+    assert (fast.start, fast.stop, fast.sample_rate, fast.library) == (full.start, full.stop, full.sample_rate,
+                                                                         full.library)
+    for m, field in METRICS.items():
+        np.testing.assert_allclose(getattr(fast, field)[[0, 2]], getattr(full, field)[[0, 2]], rtol=0, atol=TOL_DB[m])
+        # the silent channel: silence, where filtering it beside the others leaves the 1e-150 floor tone
+        assert getattr(fast, field)[1] == -np.inf and getattr(full, field)[1] < -2000.0
+
+
+def test_dense_signals_later_intervals_and_low_rates_are_filtered_whole():
+    rng = np.random.default_rng(12)
+    noise = rng.normal(size=(1, FS // 2))
+    click = np.zeros((1, 48000))
+    click[0, 1000:1300] = _clicks(1, 300, 1)[0]
+    for p, fs, start in ((noise, FS, None), (click, 48000, 0.01)):
+        fast, full = signal_levels(p, fs, start=start), sound_levels(p, fs, start=start)
+        for field in METRICS.values():
+            np.testing.assert_array_equal(getattr(fast, field), getattr(full, field))
+
+
+@pytest.mark.parametrize("first", [1, 999, 1100, 30000, 47000, 60100, 2 * FS - 2000])
+def test_an_interval_that_starts_later_hears_the_sound_before_it_through_the_filters(first):
+    # first: before the clicks, inside one, in a silence, just after a loud one, inside the last
+    rng = np.random.default_rng(6)
+    starts = np.r_[1000, 46000, 60000, np.sort(rng.choice(np.arange(61000, 2 * FS - 400), 20, replace=False))]
+    w = _clicks(starts.size, 300, 7)
+    w[2] *= 30.0  # a loud click whose ring-down and S average outlast the next blocks
+    _assert_same(starts, w, 2 * FS, first=first)
+
+
+def test_levels_over_a_later_interval_of_a_mostly_silent_signal():
+    rng = np.random.default_rng(13)
+    p = np.zeros(FS)
+    for s in np.sort(rng.choice(FS - 300, 12, replace=False)):
+        p[s:s + 300] += _clicks(1, 300, int(s))[0]
+    fast, full = signal_levels(p, FS, start=0.3, stop=0.9), sound_levels(p, FS, start=0.3, stop=0.9)
+    assert (fast.start, fast.stop) == (full.start, full.stop)
+    for m, field in METRICS.items():
+        np.testing.assert_allclose(getattr(fast, field), getattr(full, field), rtol=0, atol=TOL_DB[m])
+
+
+def test_a_bad_first_sample_is_refused():
+    with pytest.raises(ParameterError, match="first_sample"):
+        train_levels([0], np.ones((1, 4)), FS, 100, ["laeq"], first_sample=99)

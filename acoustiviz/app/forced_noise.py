@@ -190,7 +190,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     LAeq is exactly the energy average of the periodic train (eq: LAeq = 10 lg(Σ_k E_A,k / (W p_ref²))
     over the impacts k of one window) and LAFmax its periodic maximum.
     """
-    from ..levels import sound_levels
+    from ..levels.train import signal_levels
     from ..output.audio import ClickModel, ImpactSequence, render
     from .wav import cavity
 
@@ -224,7 +224,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     seq = ImpactSequence(times, walls, speeds)
     out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
     p = out.pressure[0]
-    lv = sound_levels(p, out.sample_rate, start=start, stop=stop)
+    lv = signal_levels(p, out.sample_rate, start=start, stop=stop)  # sound_levels, from the clicks alone
     start, stop = lv.start, lv.stop  # on the sample grid
 
     def one(x):

@@ -19,7 +19,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive
 from ..constants import ANALYSIS_RATE
-from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, sound_levels, third_octave_levels
+from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, third_octave_levels
 
 __all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "RunEnergy", "read_calibrated_wav", "analyse",
            "bands_path", "write_levels_csv", "summary_lines", "rendered_levels", "run_energy"]
@@ -148,8 +148,16 @@ class LevelReport:
 
 
 def analyse(pressure, sample_rate, *, start=None, stop=None, channels=None, with_loudness: bool = False) -> LevelReport:
-    """Weighted levels, 1/3-octave bands and (optionally) loudness of pressure signals in Pa."""
-    lv = sound_levels(pressure, sample_rate, start=start, stop=stop)
+    """Weighted levels, 1/3-octave bands and (optionally) loudness of pressure signals in Pa.
+
+    The weighted levels are those of :func:`acoustiviz.levels.sound_levels`, computed from the
+    signal's sound alone where it is mostly exact silence (a damper run's click train:
+    :func:`acoustiviz.levels.train.signal_levels`, equal up to round-off); the bands' decimation
+    likewise works on the sound alone (:func:`acoustiviz.levels.bands.decimate`).
+    """
+    from ..levels.train import signal_levels
+
+    lv = signal_levels(pressure, sample_rate, start=start, stop=stop)  # sound_levels, from the sound alone
     bl = third_octave_levels(pressure, sample_rate, start=start, stop=stop)
     ld = loudness(pressure, sample_rate, start=start, stop=stop) if with_loudness else None
     n = lv.lzpeak_db.size

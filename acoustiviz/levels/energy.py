@@ -194,11 +194,26 @@ def radiated_energy_free(pulse, *, radius: float, medium: Medium = AIR) -> float
     from scipy.integrate import simpson
 
     a = check_positive("radius", radius, "m")
-    w = _frequency_grid(pulse, a, medium)[1:]
-    spec = np.abs(pulse_spectrum(pulse, w)) ** 2
+    grid = _frequency_grid(pulse, a, medium)
+    w = grid[1:]
+    spec = _half_sine_power(pulse, w) if isinstance(pulse, HalfSinePulse) else np.abs(pulse_spectrum(pulse, w)) ** 2
     integrand = radiation_resistance(w, radius=a, medium=medium) * spec / (w * w)
-    # the integrand vanishes like ω² at 0: prepend that point exactly
-    return float(simpson(np.concatenate([[0.0], integrand]), x=np.concatenate([[0.0], w])) / math.pi)
+    # the integrand vanishes like ω² at 0: prepend that point exactly; the grid is uniform
+    return float(simpson(np.concatenate([[0.0], integrand]), dx=float(grid[-1]) / (grid.size - 1)) / math.pi)
+
+
+def _half_sine_power(pulse: HalfSinePulse, w: np.ndarray) -> np.ndarray:
+    """``|A(ω)|²`` of a half-sine pulse: ``4 A0² w0² cos²(ωτ/2) / (w0² - ω²)²``, ``w0 = π/τ`` (:func:`pulse_spectrum`).
+
+    ``|1 + e^{-iωτ}|² = 4 cos²(ωτ/2)``; at ``ω = w0`` the limit ``(A0 τ / 2)²``.
+    """
+    a0, tau = pulse.amplitude, pulse.duration
+    w0 = math.pi / tau
+    den = w0 * w0 - w * w
+    near = np.abs(den) < 1e-9 * w0 * w0
+    safe = np.where(near, 1.0, den)
+    out = (2.0 * a0 * w0 * np.cos(0.5 * w * tau) / safe) ** 2
+    return np.where(near, 0.25 * (a0 * tau) ** 2, out)
 
 
 def _time_grid(pulse, radius: float, medium: Medium, t_min: float = 0.0, t_max: float = 0.0, per: int = 400):
@@ -273,8 +288,10 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
         cos = n @ axes.T
         q = np.zeros((n.shape[0], t.size))
         for j in range(pos.shape[0]):  # loop over the few sources, vectorised over directions and times
-            y = pulse_response(pulse, t[None, :] - delay[:, j:j + 1], radius=a, medium=medium)
-            q += cos[:, j:j + 1] * np.real((1 + 1j) * y)
+            # directions at the same delay (a ring about an axis through the source) share its response
+            lag, ring = np.unique(delay[:, j], return_inverse=True)
+            y = np.real((1 + 1j) * pulse_response(pulse, t[None, :] - lag[:, None], radius=a, medium=medium))
+            q += cos[:, j:j + 1] * y[ring.reshape(-1)]
         q *= medium.rho * medium.c * a
         total += float(weights[i0:i0 + chunk] @ trapezoid(q * q, t, axis=1))
     return total / (medium.rho * medium.c)

@@ -40,9 +40,12 @@ import numpy as np
 
 from .._validate import ParameterError
 from .transient import MAX_RELATIVE_GAP, _alpha, _system
-from .weighted import METRICS, _integer_rate, level_db, sound_levels
+from .weighted import METRICS, SoundLevels, _integer_rate, as_channels, interval_slice, level_db, sound_levels
 
-__all__ = ["train_levels", "train_signal", "MIN_BLOCK"]
+__all__ = ["train_levels", "train_signal", "signal_levels", "MIN_BLOCK", "SPARSE_ABOVE"]
+
+#: Largest fraction of samples holding sound for which :func:`signal_levels` works on the sound alone.
+SPARSE_ABOVE = 0.25
 
 #: Shortest block in samples (a window shorter than this is filtered in blocks of this length).
 MIN_BLOCK = 256
@@ -196,8 +199,8 @@ def _check_train(starts, windows):
     return st.astype(np.int64), win
 
 
-def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics) -> dict:
-    """Levels over ``[0, n_samples)`` of a train of windows in silence, as :func:`sound_levels` gives them.
+def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics, *, first_sample: int = 0) -> dict:
+    """Levels over ``[first_sample, n_samples)`` of a train of windows in silence, as :func:`sound_levels` gives them.
 
     Parameters
     ----------
@@ -212,6 +215,10 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics) -
         Length of the signal in samples (>= 2): the interval is ``n_samples / sample_rate`` s from sample 0.
     metrics : sequence of str
         Keys of :data:`METRICS`.
+    first_sample : int
+        First sample of the interval, ``0 <= first_sample <= n_samples - 2``: the filters run from
+        sample 0 (the sound before it is heard through their memory), the peaks, maxima and
+        energies are taken from it on (``sound_levels(..., start=first_sample / sample_rate)``).
 
     Returns
     -------
@@ -235,6 +242,9 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics) -
     n = int(n_samples)
     if n != n_samples or n < 2:
         raise ParameterError("n_samples", f"must be a whole number of samples >= 2, got {n_samples!r}")
+    first = int(first_sample)
+    if first != first_sample or not 0 <= first <= n - 2:
+        raise ParameterError("first_sample", f"must be a whole sample in [0, {n - 2}], got {first_sample!r}")
     names = list(metrics)
     for m in names:
         if m not in METRICS:
@@ -244,22 +254,72 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics) -
         ({"C"} if "lcpeak" in names else set())
     dense = any(_system(fs, c) is None for c in curves) or any(_alpha(fs, m) is None for m in modes)
     if dense or win.size >= n:  # below 96 kHz, or more window samples than signal: filter the signal
-        full = sound_levels(train_signal(st, win, n), fs)
+        full = sound_levels(train_signal(st, win, n), fs, start=first / fs)
         return {m: float(getattr(full, METRICS[m])[0]) for m in names}
     keep = (st + win.shape[1] > 0) & (st < n)  # windows with a sample in [0, n)
     st, win = st[keep], win[keep]
     blk = max(win.shape[1], MIN_BLOCK)
-    extra = np.zeros(0, dtype=np.int64)
+    extra = np.array([first] if first else [], dtype=np.int64)  # a block starts at the interval, or holds it
     reach = 1
     while True:
         starts, xb = _blocks(np.r_[st, extra], np.r_[win, np.zeros((extra.size, win.shape[1]))], n, blk)
-        out, flagged = _levels_of_blocks(xb, starts, fs, n, names, curves, modes)
+        out, flagged = _levels_of_blocks(xb, starts, fs, n, names, curves, modes, first)
         if not flagged.size:
             return out
         ends = starts[flagged] + blk
         extra = np.union1d(extra, (ends[:, None] + blk * np.arange(reach)[None, :]).ravel())
         extra = extra[extra < n]
         reach *= 2
+
+
+def signal_levels(pressure, sample_rate: float, *, start=None, stop=None) -> SoundLevels:
+    """:func:`~acoustiviz.levels.sound_levels` of signals that are mostly exact silence, from their sound alone.
+
+    A damper run rendered at 96 kHz is a few hundred clicks among two million zero samples. Each
+    channel's samples up to ``stop`` are cut into windows of :data:`MIN_BLOCK` samples, those
+    holding a nonzero sample are kept, and :func:`train_levels` gives the levels of the train they
+    make (the filters' states carried across the silences in closed form). The filters are causal
+    and start from rest at sample 0, so the levels over ``[start, stop)`` do not depend on the
+    samples after ``stop``. Where the rate is below 96 kHz or more than :data:`SPARSE_ABOVE` of a
+    channel's samples are nonzero, the levels are those of :func:`~acoustiviz.levels.sound_levels`
+    on the whole signal.
+
+    Parameters
+    ----------
+    pressure : (n_samples,) or (n_channels, n_samples) array_like
+        Sound pressure in Pa.
+    sample_rate : float
+        Sample rate in Hz (whole Hz).
+    start, stop : float, optional
+        The interval in s, as for :func:`~acoustiviz.levels.sound_levels`.
+
+    Returns
+    -------
+    SoundLevels
+        Equal to ``sound_levels(pressure, sample_rate, start=start, stop=stop)`` up to round-off
+        (time-weighted maxima: within :data:`~.transient.MAX_RELATIVE_GAP`, 4.3e-6 dB).
+    """
+    from ._library import library
+
+    p = as_channels(pressure)
+    fs = _integer_rate(sample_rate)
+    win = interval_slice(p.shape[1], fs, start, stop)
+    n = win.stop
+    blk = MIN_BLOCK
+    held = [np.unique(np.flatnonzero(row[:n]) // blk) for row in p]
+    if _system(fs, "A") is None or _system(fs, "C") is None \
+            or any(h.size * blk > SPARSE_ABOVE * n for h in held):
+        return sound_levels(p, fs, start=start, stop=stop)
+    padded = np.concatenate([p[:, :n], np.zeros((p.shape[0], blk))], axis=1)
+    names = list(METRICS)
+    rows = []
+    for row, h in zip(padded, held, strict=True):
+        starts = h * blk
+        rows.append(train_levels(starts, row[starts[:, None] + np.arange(blk)[None, :]], fs, n, names,
+                                 first_sample=win.start)
+                    if h.size else dict.fromkeys(names, -np.inf))
+    cols = {METRICS[m]: np.array([r[m] for r in rows]) for m in names}
+    return SoundLevels(**cols, sample_rate=float(fs), start=win.start / fs, stop=n / fs, library=library().name)
 
 
 def _blocks(st, win, n, blk):
@@ -297,44 +357,47 @@ def _blocks(st, win, n, blk):
     return starts, flat[:starts.size * blk].reshape(starts.size, blk)
 
 
-def _levels_of_blocks(xb, starts, fs, n, names, curves, modes):
+def _levels_of_blocks(xb, starts, fs, n, names, curves, modes, first=0):
     """The levels from the blocks (and the silences between), and the blocks whose silence bound fails."""
     if starts.size == 0:
         return {m: -np.inf for m in names}, np.zeros(0, dtype=np.int64)
     nb, blk = xb.shape
-    inside = (nb - 1) * blk + min(blk, n - int(starts[-1]))  # the samples before n: a prefix of the blocks
+    idx = starts[:, None] + np.arange(blk)[None, :]
+    inside = ((idx >= first) & (idx < n)).reshape(-1)  # the blocks' samples in [first, n)
     gaps = np.maximum(np.r_[starts[1:], n] - (starts + blk), 0)
+    # the silence after each block, from the interval on (a block starts at first or holds it)
+    gaps_in = np.where(starts + blk >= first, gaps, 0)
     nbits = max(1, int(n).bit_length())
-    seconds = n / fs
+    seconds = (n - first) / fs
     out, bad = {}, np.zeros(nb, dtype=bool)
     weighted = {c: _weighted_blocks(fs, c, xb, gaps, modes if c == "A" else (), nbits) for c in curves}
     for m in names:
         if m == "lzpeak":
-            out[m] = float(level_db(np.max(np.abs(xb.reshape(-1)[:inside])) ** 2))
+            out[m] = float(level_db(np.max(np.abs(xb.reshape(-1)[inside])) ** 2))
         elif m in ("sel", "lzeq"):
-            x = xb.reshape(-1)[:inside]
+            x = xb.reshape(-1)[inside]
             e = float(np.einsum("i,i->", x, x)) / fs
             out[m] = float(level_db(e if m == "sel" else e / seconds))
         elif m in ("sel-a", "laeq"):
             y, energy, _ = weighted["A"]
-            y = y.reshape(-1)[:inside]
-            e = (float(np.einsum("i,i->", y, y)) + float(np.sum(energy))) / fs
+            y = y.reshape(-1)[inside]
+            e = (float(np.einsum("i,i->", y, y)) + float(np.sum(energy[gaps_in > 0]))) / fs
             out[m] = float(level_db(e if m == "sel-a" else e / seconds))
         elif m == "lcpeak":
             y, energy, _ = weighted["C"]
-            top = float(np.max(np.abs(y.reshape(-1)[:inside])))
-            bad |= (gaps > 0) & (energy > top * top)
+            top = float(np.max(np.abs(y.reshape(-1)[inside])))
+            bad |= (gaps_in > 0) & (energy > top * top)
             out[m] = float(level_db(top * top))
         else:
             mode = _TIME_MODES[m]
             top, v_end = _time_weighted(fs, mode, weighted["A"], gaps, inside)
-            bad |= (gaps > 0) & (v_end + _alpha(fs, mode) * weighted["A"][1] > top * (1.0 + MAX_RELATIVE_GAP))
+            bad |= (gaps_in > 0) & (v_end + _alpha(fs, mode) * weighted["A"][1] > top * (1.0 + MAX_RELATIVE_GAP))
             out[m] = float(level_db(top))
     return out, np.flatnonzero(bad)
 
 
 def _time_weighted(fs, mode, weighted_a, gaps, inside):
-    """Largest ``mode``-time-weighted mean square (Pa²) over the first ``inside`` samples, and each block's last."""
+    """Largest ``mode``-time-weighted mean square (Pa²) over the blocks' samples ``inside``, and each block's last."""
     from scipy.signal import lfilter
 
     y, _, disc = weighted_a
@@ -348,4 +411,4 @@ def _time_weighted(fs, mode, weighted_a, gaps, inside):
     v_in = _affine_scan((across[:-1] * decay[-1])[:, None, None],
                         (across[:-1] * v0[:-1, -1] + a * disc[mode][:-1])[:, None], 0.0)[:, 0]
     v = v0 + np.r_[0.0, v_in][:, None] * decay[None, :]
-    return float(np.max(v.reshape(-1)[:inside])), v[:, -1]
+    return float(np.max(v.reshape(-1)[inside])), v[:, -1]
