@@ -32,6 +32,7 @@ from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
 from ._dop853 import error_norm as _dop_error
 from ._flight import record_extremum
+from ._njit import helper, kernel
 from ._records import ContactEnd, ContactStart, as_params, without_main
 from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 
@@ -51,7 +52,7 @@ _EPS = 2.220446049250313e-16
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
 
-@njit(cache=True)
+@helper
 def _force(d, u, kh, c1, clip):
     """Contact force in N and its elastic part in N at penetration d (m), rate u (m/s)."""
     if d <= 0.0:
@@ -94,13 +95,7 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
     out[row, 7] = xi * C * v * v
 
 
-@njit(cache=True)
-def _rhs(y, prm, fc, tc, sw, out):
-    """Derivatives with respect to σ of the contact state into the 1-D array ``out``."""
-    _rhs_into(y, prm, fc, tc, sw, out.reshape((1, out.shape[0])), 0)
-
-
-@njit(cache=True)
+@helper
 def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
     ny = NY if fc is None else NY + 1  # a compile-time constant
@@ -123,7 +118,7 @@ def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
         fnew[i] = kst[_NS, i]
 
 
-@njit(cache=True)
+@helper
 def _dfds(y, f, prm):
     """Rate of change of the contact force with σ (same sign as dF/dt while ξ > 0)."""
     xi = y[3]
@@ -140,7 +135,7 @@ def _newton_g(kind, target, y, f):
     return y[0] - target, f[0]
 
 
-@njit(cache=True)
+@helper
 def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in [0, h] where ξ (kind 0), v (kind 1) or t - target (kind 2) vanishes.
 
@@ -169,7 +164,7 @@ def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, yne
     return hm
 
 
-@njit(cache=True)
+@helper
 def _peak_in_step(y, f0, h, g0, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
     lo, hi = 0.0, h
@@ -199,7 +194,7 @@ def _peak_in_step(y, f0, h, g0, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     return hm
 
 
-@njit(cache=True)
+@helper
 def _copy(src, dst):
     """Copy the 1-D array ``src`` into ``dst``."""
     for i in range(src.shape[0]):
@@ -323,7 +318,7 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
     return ie
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
     """Integrate one contact from ``start.tc`` s until the bodies part or ``t_end`` s (module docstring).
 
@@ -365,11 +360,16 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         ``STATUS_STEP_UNDERFLOW``), ``ie`` (the next output time due), ``duration`` (time
         integrated, s), ``peak`` (largest contact force, N) and ``y`` (the state at the end,
         module docstring, t counted from ``start.tc``; a view of ``work[0]``).
+
+    Notes
+    -----
+    Inlined into each driver (one call site each): compiled apart, its code would be optimised and
+    compiled twice, in its own module and again in the driver's that links it.
     """
     tc, sw = start.tc, start.sw
     y, f0, ytmp, ynew, fnew = work[0], work[1], work[2], work[3], work[4]
     h = _contact_begin(prm, start, rtol, y, work[7])
-    _rhs(y, prm, fc, tc, sw, f0)
+    _rhs_into(y, prm, fc, tc, sw, work, 1)  # f0 is work[1]
     peak, _ = _force(start.xi * start.xi, start.u, prm.k_hertz, prm.c1, prm.clip)
     status = STATUS_OK
     ended = False
@@ -422,7 +422,7 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
     return ContactEnd(ended, status, ie, y[0], peak, y)
 
 
-@njit(cache=True)
+@helper
 def instant_impact(prm, sw, u0, e, v, w, dur, peak, row):
     """Instantaneous impact on wall ``sw`` at approach speed ``u0`` m/s with restitution ``e``.
 
@@ -446,7 +446,7 @@ def instant_impact(prm, sw, u0, e, v, w, dur, peak, row):
     return v + sw * jimp / M, w - sw * jimp / m, lost
 
 
-@njit(cache=True)
+@helper
 def free_contact(pfree, u0, rtol, work, kst):
     """Compliant contact of the two masses alone (``pfree``: Params with K = C = 0) at approach speed ``u0`` m/s.
 
@@ -459,7 +459,7 @@ def free_contact(pfree, u0, rtol, work, kst):
     return r.status, e, r.duration, r.peak
 
 
-@njit(cache=True)
+@kernel
 def free_restitution(p, u0, rtol):
     """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
 

@@ -1,0 +1,24 @@
+"""How the impact-damper kernels are compiled (numba): entry kernels and inner helpers.
+
+``@kernel`` marks what Python calls (the drivers); ``@helper`` what only other kernels call.
+numba builds, for every compiled function, a CPython entry point (argument unboxing, error
+return) and a C entry point: for a helper both are dead code that is lowered, optimised and
+turned into machine code for nothing, about a third of a small helper's compile time. A helper
+called from Python raises ``TypeError``. Both are cached on disk (``cache=True``).
+
+``inline="always"`` (numba inlining, each call site typed and lowered again) is kept for the
+pieces of one caller, where it spares the callee a module of its own: every module that links a
+compiled callee optimises and compiles that callee's code again (numba links callees as LLVM IR).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+__all__ = ["kernel", "helper"]
+
+#: Kernels called from Python.
+kernel = njit(cache=True)
+
+#: Functions called only from other kernels: no CPython or C entry point.
+helper = njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
