@@ -4,7 +4,11 @@
 numba builds, for every compiled function, a CPython entry point (argument unboxing, error
 return) and a C entry point: for a helper both are dead code that is lowered, optimised and
 turned into machine code for nothing, about a third of a small helper's compile time. A helper
-called from Python raises ``TypeError``. Both are cached on disk (``cache=True``).
+called from Python raises ``TypeError``. Both are cached on disk (``cache=True``) and use
+numpy's error model: a float division by zero gives ±inf or nan as in numpy instead of a branch
+to a ``ZeroDivisionError`` after every division (code to compile for nothing: the solvers divide
+only by quantities they have checked or bounded away from zero; the results are the same IEEE
+operations, bit for bit).
 
 ``inline="always"`` (numba inlining, each call site typed and lowered again) is kept for the
 pieces of one caller, where it spares the callee a module of its own: every module that links a
@@ -18,7 +22,7 @@ from numba import njit
 __all__ = ["kernel", "helper"]
 
 #: Kernels called from Python.
-kernel = njit(cache=True)
+kernel = njit(cache=True, error_model="numpy")
 
 #: Functions called only from other kernels: no CPython or C entry point.
-helper = njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+helper = njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True, error_model="numpy")
