@@ -127,7 +127,7 @@ def _dfds(y, f, prm):
 
 @njit(cache=True, inline="always")
 def _newton_g(kind, target, y, f):
-    """The function whose root :func:`_newton_in_step` seeks, and its σ-derivative."""
+    """The function whose root :func:`_root_in_step` seeks (kinds 0-2), and its σ-derivative."""
     if kind == 0:
         return y[3], f[3]
     if kind == 1:
@@ -136,15 +136,43 @@ def _newton_g(kind, target, y, f):
 
 
 @helper
-def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """Step length in [0, h] where ξ (kind 0), v (kind 1) or t - target (kind 2) vanishes.
+def _root_in_step(kind, target, y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):  # noqa: C901 - two searches, one copy of the step
+    """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
 
-    Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
-    inside the bracket; every trial is a full Dormand-Prince step from the step start, so the
-    root is as accurate as the integration. ``ynew``/``fnew`` hold the state at the root and
-    ``glo`` is the sign-carrying value at the step start. The first trial reuses ``ynew``.
+    Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
+    state) kept inside the bracket; ``glo`` is the sign-carrying value at the step start and the
+    first trial reuses ``ynew``. Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step
+    start to ``g1`` (<= 0) at its end, loose (the peak value is flat). Every trial is a full
+    Dormand-Prince step from the step start, so the root is as accurate as the integration;
+    ``ynew``/``fnew`` hold the state at the root. One function for both searches: each compiled
+    function that calls :func:`_dop_step` carries its own copy of the step's code.
     """
     lo, hi = 0.0, h
+    if kind == 3:
+        ghi = g1
+        side = 0
+        hm = hi
+        for _ in range(60):
+            hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+            if not (lo < hm < hi):
+                hm = 0.5 * (lo + hi)
+            _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            gm = _dfds(ynew, fnew, prm)
+            if gm == 0.0:
+                break
+            if (gm > 0.0) == (glo > 0.0):
+                lo, glo = hm, gm
+                if side == -1:
+                    ghi *= 0.5
+                side = -1
+            else:
+                hi, ghi = hm, gm
+                if side == 1:
+                    glo *= 0.5
+                side = 1
+            if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
+                break
+        return hm
     hm = h
     g, dg = _newton_g(kind, target, ynew, fnew)
     for _ in range(40):
@@ -160,36 +188,6 @@ def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, yne
         done = abs(hn - hm) <= 8.0 * _EPS * hn or g == 0.0
         hm = hn
         if done or hi - lo <= 4.0 * _EPS * hi:
-            break
-    return hm
-
-
-@helper
-def _peak_in_step(y, f0, h, g0, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
-    lo, hi = 0.0, h
-    glo, ghi = g0, g1
-    side = 0
-    hm = hi
-    for _ in range(60):
-        hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
-        if not (lo < hm < hi):
-            hm = 0.5 * (lo + hi)
-        _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        gm = _dfds(ynew, fnew, prm)
-        if gm == 0.0:
-            break
-        if (gm > 0.0) == (glo > 0.0):
-            lo, glo = hm, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-        else:
-            hi, ghi = hm, gm
-            if side == 1:
-                glo *= 0.5
-            side = 1
-        if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
             break
     return hm
 
@@ -260,12 +258,12 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
     """The largest contact force (N) so far, with the maximum inside the step of ``hstep`` from ``work[0]``.
 
     The maximum (dF/dσ from ``g0 > 0`` at the start to ``g1 <= 0`` at the end) is located by
-    :func:`_peak_in_step`; the step end is kept in ``work[3:5]``.
+    :func:`_root_in_step`; the step end is kept in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     _copy(ynew, yd)
     _copy(fnew, fd)
-    _peak_in_step(y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
     fpk, _ = _force(ynew[3] * ynew[3], ynew[4], prm.k_hertz, prm.c1, prm.clip)
     _copy(yd, ynew)
     _copy(fd, fnew)
@@ -282,7 +280,7 @@ def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     _copy(ynew, yd)
     _copy(fnew, fd)
-    _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    _root_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], 0.0, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
     record_extremum(ext, n_ext, start.tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
     _copy(yd, ynew)
     _copy(fd, fnew)
@@ -302,7 +300,7 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
         _copy(fnew, fd)
         target = t_eval[ie] - tc
         if target > y[0]:
-            _newton_in_step(np.int64(2), target, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            _root_in_step(np.int64(2), target, y, f0, hstep, -1.0, 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         else:
             _copy(y, ynew)
         xi = max(ynew[3], 0.0)
@@ -392,11 +390,11 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _newton_in_step(np.int64(0), 0.0, y, f0, h, y[3], prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _root_in_step(np.int64(0), 0.0, y, f0, h, y[3], 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _newton_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         # the helpers are handed the buffers only in the steps that need them (no reference counting
         # in the others)
         g0 = _dfds(y, f0, prm)
