@@ -199,7 +199,7 @@ def _copy(src, dst):
         dst[i] = src[i]
 
 
-@njit(cache=True, inline="always")
+@helper
 def _contact_begin(prm, start, rtol, y, atol):
     """Fill the contact state ``y`` at the start and the absolute tolerances ``atol``; return the first σ step.
 
@@ -234,7 +234,7 @@ def _contact_begin(prm, start, rtol, y, atol):
     return 0.02 * tau_h / math.sqrt(amax)
 
 
-@njit(cache=True, inline="always")
+@helper
 def _step_size(err, h, rejected):
     """The next σ step after a step of ``h`` with error norm ``err``.
 
@@ -448,11 +448,11 @@ def instant_impact(prm, sw, u0, e, v, w, dur, peak, row):
 def free_contact(pfree, u0, rtol, work, kst):
     """Compliant contact of the two masses alone (``pfree``: Params with K = C = 0) at approach speed ``u0`` m/s.
 
-    No forcing, 8-component buffers ``work`` and ``kst``.
-    Returns ``(status, restitution, duration in s, peak force in N)``.
+    No forcing, 8-component buffers ``work`` and ``kst``; no dense output and no turning points
+    (compiled out). Returns ``(status, restitution, duration in s, peak force in N)``.
     """
-    r = contact(pfree, None, ContactStart(0.0, 1.0, 0.0, 0.0, 0.0, u0), math.inf, rtol, np.empty(0), np.int64(0),
-                np.empty((0, 6)), 0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64))
+    r = contact(pfree, None, ContactStart(0.0, 1.0, 0.0, 0.0, 0.0, u0), math.inf, rtol, None, np.int64(0), None,
+                0.0, 0.0, work, kst, None, None)
     e = max(-r.y[4], 0.0) / u0 if u0 > 0.0 else 0.0
     return r.status, e, r.duration, r.peak
 
