@@ -64,7 +64,7 @@ def _force(d, u, kh, c1, clip):
     return f, fe
 
 
-@njit(cache=True, inline="always")
+@helper
 def _rhs_into(y, prm, fc, tc, sw, out, row):
     """Derivatives with respect to σ of the contact state into ``out[row]`` (module docstring).
 
@@ -113,7 +113,7 @@ def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
         for j in range(_NS):
             acc += _B[j] * kst[j, i]
         ynew[i] = y[i] + h * acc
-    _rhs_into(ynew, prm, fc, tc, sw, kst, _NS)
+    _rhs_into(ynew, prm, fc, tc, sw, kst, np.int64(_NS))
     for i in range(ny):
         fnew[i] = kst[_NS, i]
 
@@ -367,7 +367,7 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
     tc, sw = start.tc, start.sw
     y, f0, ytmp, ynew, fnew = work[0], work[1], work[2], work[3], work[4]
     h = _contact_begin(prm, start, rtol, y, work[7])
-    _rhs_into(y, prm, fc, tc, sw, work, 1)  # f0 is work[1]
+    _rhs_into(y, prm, fc, tc, sw, work, np.int64(1))  # f0 is work[1]
     peak, _ = _force(start.xi * start.xi, start.u, prm.k_hertz, prm.c1, prm.clip)
     status = STATUS_OK
     ended = False

@@ -10,6 +10,10 @@ to a ``ZeroDivisionError`` after every division (code to compile for nothing: th
 only by quantities they have checked or bounded away from zero; the results are the same IEEE
 operations, bit for bit).
 
+A helper is compiled once per distinct argument types: a constant integer argument is typed as
+its literal value (``Literal[int](12)``), one more compilation per constant, so call sites pass
+``np.int64(k)``.
+
 ``inline="always"`` (numba inlining, each call site typed and lowered again) is kept for the
 pieces of one caller, where it spares the callee a module of its own: every module that links a
 compiled callee optimises and compiles that callee's code again (numba links callees as LLVM IR).
