@@ -256,23 +256,19 @@ def scan_unforced(c, tau_end):
     half = math.pi / c[6]
     tz = _first_acc_zero(c)
     ta = 0.0
-    pieces = np.empty(3)
     while ta < tau_end:
         tb = min(tz, tau_end)
         if tb > ta:
             da = _fval(np.int64(4), ta, c)
             db = _fval(np.int64(4), tb, c)
             npc = 2
-            pieces[0] = ta
+            pmid = tb  # the monotone pieces [ta, pmid] and, if z' changes sign, [pmid, tb]
             if (da < 0.0) != (db < 0.0) and da != 0.0 and db != 0.0:
-                pieces[1] = brent(np.int64(4), ta, tb, da, db, c)
-                pieces[2] = tb
+                pmid = brent(np.int64(4), ta, tb, da, db, c)
                 npc = 3
-            else:
-                pieces[1] = tb
             for i in range(npc - 1):
-                p = pieces[i]
-                q = pieces[i + 1]
+                p = ta if i == 0 else pmid
+                q = pmid if i == 0 else tb
                 hup = _fval(np.int64(1), p, c)
                 huq = _fval(np.int64(1), q, c)
                 if huq < hup:  # z increasing: only wall +1 can be reached
