@@ -32,6 +32,7 @@ from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
 from ._dop853 import error_norm as _dop_error
 from ._flight import record_extremum
+from ._njit import helper, kernel
 from ._records import ContactEnd, ContactStart, as_params, without_main
 from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 
@@ -51,7 +52,7 @@ _EPS = 2.220446049250313e-16
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
 
-@njit(cache=True)
+@helper
 def _force(d, u, kh, c1, clip):
     """Contact force in N and its elastic part in N at penetration d (m), rate u (m/s)."""
     if d <= 0.0:
@@ -63,7 +64,7 @@ def _force(d, u, kh, c1, clip):
     return f, fe
 
 
-@njit(cache=True, inline="always")
+@helper
 def _rhs_into(y, prm, fc, tc, sw, out, row):
     """Derivatives with respect to σ of the contact state into ``out[row]`` (module docstring).
 
@@ -94,13 +95,7 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
     out[row, 7] = xi * C * v * v
 
 
-@njit(cache=True)
-def _rhs(y, prm, fc, tc, sw, out):
-    """Derivatives with respect to σ of the contact state into the 1-D array ``out``."""
-    _rhs_into(y, prm, fc, tc, sw, out.reshape((1, out.shape[0])), 0)
-
-
-@njit(cache=True)
+@helper
 def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
     ny = NY if fc is None else NY + 1  # a compile-time constant
@@ -118,12 +113,12 @@ def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
         for j in range(_NS):
             acc += _B[j] * kst[j, i]
         ynew[i] = y[i] + h * acc
-    _rhs_into(ynew, prm, fc, tc, sw, kst, _NS)
+    _rhs_into(ynew, prm, fc, tc, sw, kst, np.int64(_NS))
     for i in range(ny):
         fnew[i] = kst[_NS, i]
 
 
-@njit(cache=True)
+@helper
 def _dfds(y, f, prm):
     """Rate of change of the contact force with σ (same sign as dF/dt while ξ > 0)."""
     xi = y[3]
@@ -132,7 +127,7 @@ def _dfds(y, f, prm):
 
 @njit(cache=True, inline="always")
 def _newton_g(kind, target, y, f):
-    """The function whose root :func:`_newton_in_step` seeks, and its σ-derivative."""
+    """The function whose root :func:`_root_in_step` seeks (kinds 0-2), and its σ-derivative."""
     if kind == 0:
         return y[3], f[3]
     if kind == 1:
@@ -140,16 +135,44 @@ def _newton_g(kind, target, y, f):
     return y[0] - target, f[0]
 
 
-@njit(cache=True)
-def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """Step length in [0, h] where ξ (kind 0), v (kind 1) or t - target (kind 2) vanishes.
+@helper
+def _root_in_step(kind, target, y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):  # noqa: C901 - two searches, one copy of the step
+    """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
 
-    Newton's method on the step length (the derivative, u/2 or ξ, is part of the state) kept
-    inside the bracket; every trial is a full Dormand-Prince step from the step start, so the
-    root is as accurate as the integration. ``ynew``/``fnew`` hold the state at the root and
-    ``glo`` is the sign-carrying value at the step start. The first trial reuses ``ynew``.
+    Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
+    state) kept inside the bracket; ``glo`` is the sign-carrying value at the step start and the
+    first trial reuses ``ynew``. Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step
+    start to ``g1`` (<= 0) at its end, loose (the peak value is flat). Every trial is a full
+    Dormand-Prince step from the step start, so the root is as accurate as the integration;
+    ``ynew``/``fnew`` hold the state at the root. One function for both searches: each compiled
+    function that calls :func:`_dop_step` carries its own copy of the step's code.
     """
     lo, hi = 0.0, h
+    if kind == 3:
+        ghi = g1
+        side = 0
+        hm = hi
+        for _ in range(60):
+            hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+            if not (lo < hm < hi):
+                hm = 0.5 * (lo + hi)
+            _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            gm = _dfds(ynew, fnew, prm)
+            if gm == 0.0:
+                break
+            if (gm > 0.0) == (glo > 0.0):
+                lo, glo = hm, gm
+                if side == -1:
+                    ghi *= 0.5
+                side = -1
+            else:
+                hi, ghi = hm, gm
+                if side == 1:
+                    glo *= 0.5
+                side = 1
+            if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
+                break
+        return hm
     hm = h
     g, dg = _newton_g(kind, target, ynew, fnew)
     for _ in range(40):
@@ -169,44 +192,14 @@ def _newton_in_step(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, yne
     return hm
 
 
-@njit(cache=True)
-def _peak_in_step(y, f0, h, g0, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """Step length in (0, h] where dF/dσ vanishes (Illinois; loose, the peak value is flat)."""
-    lo, hi = 0.0, h
-    glo, ghi = g0, g1
-    side = 0
-    hm = hi
-    for _ in range(60):
-        hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
-        if not (lo < hm < hi):
-            hm = 0.5 * (lo + hi)
-        _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        gm = _dfds(ynew, fnew, prm)
-        if gm == 0.0:
-            break
-        if (gm > 0.0) == (glo > 0.0):
-            lo, glo = hm, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-        else:
-            hi, ghi = hm, gm
-            if side == 1:
-                glo *= 0.5
-            side = 1
-        if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
-            break
-    return hm
-
-
-@njit(cache=True)
+@helper
 def _copy(src, dst):
     """Copy the 1-D array ``src`` into ``dst``."""
     for i in range(src.shape[0]):
         dst[i] = src[i]
 
 
-@njit(cache=True, inline="always")
+@helper
 def _contact_begin(prm, start, rtol, y, atol):
     """Fill the contact state ``y`` at the start and the absolute tolerances ``atol``; return the first σ step.
 
@@ -241,7 +234,7 @@ def _contact_begin(prm, start, rtol, y, atol):
     return 0.02 * tau_h / math.sqrt(amax)
 
 
-@njit(cache=True, inline="always")
+@helper
 def _step_size(err, h, rejected):
     """The next σ step after a step of ``h`` with error norm ``err``.
 
@@ -265,12 +258,12 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
     """The largest contact force (N) so far, with the maximum inside the step of ``hstep`` from ``work[0]``.
 
     The maximum (dF/dσ from ``g0 > 0`` at the start to ``g1 <= 0`` at the end) is located by
-    :func:`_peak_in_step`; the step end is kept in ``work[3:5]``.
+    :func:`_root_in_step`; the step end is kept in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     _copy(ynew, yd)
     _copy(fnew, fd)
-    _peak_in_step(y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
     fpk, _ = _force(ynew[3] * ynew[3], ynew[4], prm.k_hertz, prm.c1, prm.clip)
     _copy(yd, ynew)
     _copy(fd, fnew)
@@ -287,7 +280,7 @@ def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     _copy(ynew, yd)
     _copy(fnew, fd)
-    _newton_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
+    _root_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], 0.0, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
     record_extremum(ext, n_ext, start.tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
     _copy(yd, ynew)
     _copy(fd, fnew)
@@ -307,7 +300,7 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
         _copy(fnew, fd)
         target = t_eval[ie] - tc
         if target > y[0]:
-            _newton_in_step(np.int64(2), target, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            _root_in_step(np.int64(2), target, y, f0, hstep, -1.0, 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         else:
             _copy(y, ynew)
         xi = max(ynew[3], 0.0)
@@ -323,7 +316,7 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
     return ie
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
     """Integrate one contact from ``start.tc`` s until the bodies part or ``t_end`` s (module docstring).
 
@@ -365,11 +358,16 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         ``STATUS_STEP_UNDERFLOW``), ``ie`` (the next output time due), ``duration`` (time
         integrated, s), ``peak`` (largest contact force, N) and ``y`` (the state at the end,
         module docstring, t counted from ``start.tc``; a view of ``work[0]``).
+
+    Notes
+    -----
+    Inlined into each driver (one call site each): compiled apart, its code would be optimised and
+    compiled twice, in its own module and again in the driver's that links it.
     """
     tc, sw = start.tc, start.sw
     y, f0, ytmp, ynew, fnew = work[0], work[1], work[2], work[3], work[4]
     h = _contact_begin(prm, start, rtol, y, work[7])
-    _rhs(y, prm, fc, tc, sw, f0)
+    _rhs_into(y, prm, fc, tc, sw, work, np.int64(1))  # f0 is work[1]
     peak, _ = _force(start.xi * start.xi, start.u, prm.k_hertz, prm.c1, prm.clip)
     status = STATUS_OK
     ended = False
@@ -392,11 +390,11 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _newton_in_step(np.int64(0), 0.0, y, f0, h, y[3], prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _root_in_step(np.int64(0), 0.0, y, f0, h, y[3], 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _newton_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
         # the helpers are handed the buffers only in the steps that need them (no reference counting
         # in the others)
         g0 = _dfds(y, f0, prm)
@@ -422,7 +420,7 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
     return ContactEnd(ended, status, ie, y[0], peak, y)
 
 
-@njit(cache=True)
+@helper
 def instant_impact(prm, sw, u0, e, v, w, dur, peak, row):
     """Instantaneous impact on wall ``sw`` at approach speed ``u0`` m/s with restitution ``e``.
 
@@ -446,20 +444,20 @@ def instant_impact(prm, sw, u0, e, v, w, dur, peak, row):
     return v + sw * jimp / M, w - sw * jimp / m, lost
 
 
-@njit(cache=True)
+@helper
 def free_contact(pfree, u0, rtol, work, kst):
     """Compliant contact of the two masses alone (``pfree``: Params with K = C = 0) at approach speed ``u0`` m/s.
 
-    No forcing, 8-component buffers ``work`` and ``kst``.
-    Returns ``(status, restitution, duration in s, peak force in N)``.
+    No forcing, 8-component buffers ``work`` and ``kst``; no dense output and no turning points
+    (compiled out). Returns ``(status, restitution, duration in s, peak force in N)``.
     """
-    r = contact(pfree, None, ContactStart(0.0, 1.0, 0.0, 0.0, 0.0, u0), math.inf, rtol, np.empty(0), np.int64(0),
-                np.empty((0, 6)), 0.0, 0.0, work, kst, np.empty((0, 3)), np.zeros(1, np.int64))
+    r = contact(pfree, None, ContactStart(0.0, 1.0, 0.0, 0.0, 0.0, u0), math.inf, rtol, None, np.int64(0), None,
+                0.0, 0.0, work, kst, None, None)
     e = max(-r.y[4], 0.0) / u0 if u0 > 0.0 else 0.0
     return r.status, e, r.duration, r.peak
 
 
-@njit(cache=True)
+@kernel
 def free_restitution(p, u0, rtol):
     """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
 

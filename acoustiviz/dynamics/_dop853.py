@@ -40,7 +40,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from ._njit import helper
 
 __all__ = ["N_STAGES", "C", "A", "B", "E3", "E5", "error_norm"]
 
@@ -195,7 +196,7 @@ def _tableau():
 C, A, B, E3, E5 = _tableau()
 
 
-@njit(cache=True)
+@helper
 def error_norm(y, ynew, h, kst, rtol, atol):  # pragma: no cover - compiled
     """Hairer's DOP853 error norm of one step over all components of ``y`` (1 = at tolerance).
 

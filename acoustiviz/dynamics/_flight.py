@@ -31,13 +31,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from ._njit import helper
 
 _EPS = 2.220446049250313e-16
 _GX, _GW = (np.ascontiguousarray(q) for q in np.polynomial.legendre.leggauss(12))
 
 
-@njit(cache=True)
+@helper
 def _osc(x0, v0, tau, a, wd):
     """Free damped oscillator after ``tau`` s: displacement (m) and velocity (m/s).
 
@@ -52,7 +53,7 @@ def _osc(x0, v0, tau, a, wd):
     return x, v
 
 
-@njit(cache=True)
+@helper
 def flight_coeffs(t0, x, v, y, w, a, wd, fc, hg):
     """The flight coefficients ``c`` (module docstring) of a flight from ``t0`` s, as a tuple.
 
@@ -69,7 +70,7 @@ def flight_coeffs(t0, x, v, y, w, a, wd, fc, hg):
     return (t0, x - (ac * cs + as_ * sn), v - om * (as_ * cs - ac * sn), y, w, a, wd, om, ac, as_, hg)
 
 
-@njit(cache=True)
+@helper
 def flight_state(tau, c):
     """Main-mass displacement (m), velocity (m/s) and acceleration (m/s²) at ``t0 + tau``.
 
@@ -91,7 +92,7 @@ def flight_state(tau, c):
     return xh + xp, vh + vp, ah - om * om * xp
 
 
-@njit(cache=True)
+@helper
 def _fval(kind, tau, c):
     """Flight functions of ``tau`` (s) whose roots are sought.
 
@@ -111,7 +112,7 @@ def _fval(kind, tau, c):
     return z + c[10]
 
 
-@njit(cache=True)
+@helper
 def brent(kind, xa, xb, fa, fb, c):
     """Brent's root in s of the flight function ``kind`` (:func:`_fval`) bracketed by ``[xa, xb]``.
 
@@ -171,7 +172,7 @@ def brent(kind, xa, xb, fa, fb, c):
 
 
 # ------------------------------------------------------------------ free decay (no forcing)
-@njit(cache=True)
+@helper
 def _first_acc_zero(c):
     """First time > 0 in s where the acceleration of the unforced flight ``c`` vanishes.
 
@@ -193,7 +194,7 @@ def _first_acc_zero(c):
     return th / wd
 
 
-@njit(cache=True)
+@helper
 def record_extremum(ext, n_ext, t, x, kind):
     """Append an extremum of the main-mass displacement (time s, x m, +1 max / -1 min) to ``ext``.
 
@@ -208,7 +209,7 @@ def record_extremum(ext, n_ext, t, x, kind):
     n_ext[0] = k + 1
 
 
-@njit(cache=True)
+@helper
 def free_extrema(c, tau_end, ext, n_ext):
     """Record the extrema of the unforced main mass ``c`` in ``(0, tau_end]`` (times from ``t0``).
 
@@ -243,7 +244,7 @@ def free_extrema(c, tau_end, ext, n_ext):
         th += math.pi
 
 
-@njit(cache=True)
+@helper
 def scan_unforced(c, tau_end):
     """First contact of an unforced flight ``c`` within ``(0, tau_end]``: (found, tau s, wall ±1).
 
@@ -255,23 +256,19 @@ def scan_unforced(c, tau_end):
     half = math.pi / c[6]
     tz = _first_acc_zero(c)
     ta = 0.0
-    pieces = np.empty(3)
     while ta < tau_end:
         tb = min(tz, tau_end)
         if tb > ta:
             da = _fval(np.int64(4), ta, c)
             db = _fval(np.int64(4), tb, c)
             npc = 2
-            pieces[0] = ta
+            pmid = tb  # the monotone pieces [ta, pmid] and, if z' changes sign, [pmid, tb]
             if (da < 0.0) != (db < 0.0) and da != 0.0 and db != 0.0:
-                pieces[1] = brent(np.int64(4), ta, tb, da, db, c)
-                pieces[2] = tb
+                pmid = brent(np.int64(4), ta, tb, da, db, c)
                 npc = 3
-            else:
-                pieces[1] = tb
             for i in range(npc - 1):
-                p = pieces[i]
-                q = pieces[i + 1]
+                p = ta if i == 0 else pmid
+                q = pmid if i == 0 else tb
                 hup = _fval(np.int64(1), p, c)
                 huq = _fval(np.int64(1), q, c)
                 if huq < hup:  # z increasing: only wall +1 can be reached
@@ -293,7 +290,7 @@ def scan_unforced(c, tau_end):
 
 
 # ------------------------------------------------------------------ forced flight
-@njit(cache=True)
+@helper
 def scan_forced(c, tau_end):
     """First contact of a forced flight ``c`` within ``[0, tau_end]``: (found, tau in s, wall ±1).
 
@@ -355,7 +352,7 @@ def scan_forced(c, tau_end):
     return False, tau_end, 0.0
 
 
-@njit(cache=True)
+@helper
 def flight_energy(c, tau, fc, cdamp):
     """Work of F on the main mass and energy dissipated by C (J) over ``[0, tau]`` of a flight.
 
@@ -381,7 +378,7 @@ def flight_energy(c, tau, fc, cdamp):
     return work, diss
 
 
-@njit(cache=True)
+@helper
 def flight_minmax(c, tau, acc):
     """Update ``acc[3]``/``acc[4]`` with the largest/smallest x (m) of a flight over ``[0, tau]``.
 

@@ -48,11 +48,12 @@ from ._flight import (
     flight_state,
     scan_forced,
 )
+from ._njit import helper, kernel
 from ._records import ContactStart, Progress
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 
-@njit(cache=True)
+@helper
 def _jerk(tau, c):
     """Acceleration (m/s²) and its rate (m/s³) of the closed-form motion ``c`` at ``tau`` s.
 
@@ -69,7 +70,7 @@ def _jerk(tau, c):
     return acc, jh - om * om * vp
 
 
-@njit(cache=True)
+@helper
 def _bound4(c, tau):
     """Bound on ``|x''''|`` (m/s⁴) of the motion ``c`` from ``tau`` on."""
     a, wd, om = c[5], c[6], c[7]
@@ -79,7 +80,7 @@ def _bound4(c, tau):
     return r * math.exp(-a * tau) * wn2 * wn2 + om ** 4 * math.sqrt(c[8] * c[8] + c[9] * c[9])
 
 
-@njit(cache=True)
+@helper
 def _release(c, tau_end, sw):
     """First ``tau`` in (0, tau_end] where ``sw x''`` turns >= 0 (the wall stops pushing): (found, tau)."""
     hmax = 0.25 * 2.0 * math.pi / max(c[6], c[7])
@@ -291,7 +292,7 @@ def _open_contact(prm, st, sw, u0, impacts, n):
     return n + 1
 
 
-@njit(cache=True)
+@kernel
 def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
     """Advance the forced damper from ``t0`` to ``t1`` s (state ``st`` updated in place).
 

@@ -54,9 +54,9 @@ from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
 
-#: CPU time in s of the forced event solver's first compilation with its callees (about 12 s on a
-#: 2-core machine, ``benchmarks/bench_startup.py``); quoted when it happens.
-FORCED_COMPILE_S = 12.0
+#: CPU time in s of the forced event solver's first compilation with its callees (about 8 s on a
+#: 2-core machine; 9 s for a first forced run on a loaded one); quoted when it happens.
+FORCED_COMPILE_S = 8.0
 
 __all__ = [
     "EXCITATIONS",

@@ -24,11 +24,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact, instant_impact
 from ._flight import _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
 from ._newmark import central_difference, newmark
+from ._njit import helper, kernel
 from ._records import ContactStart, as_params, without_main
 from ._status import (
     DENSE_COLUMNS,
@@ -53,7 +53,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True)
+@kernel
 def restitution_table(p, lnu, rtol, table):
     """Fill ``table`` (n, 3) with restitution, ln(duration/s), ln(peak force/N) at speeds exp(lnu).
 
@@ -73,7 +73,7 @@ def restitution_table(p, lnu, rtol, table):
     return status
 
 
-@njit(cache=True)
+@helper
 def _table_lookup(lnu, table, x, col):
     """Cubic (Catmull-Rom) interpolation of ``table[:, col]`` on the uniform grid ``lnu``."""
     n = lnu.shape[0]
@@ -85,7 +85,7 @@ def _table_lookup(lnu, table, x, col):
     return p1 + 0.5 * t * (p2 - p0 + t * (2 * p0 - 5 * p1 + 4 * p2 - p3 + t * (3 * (p1 - p2) + p3 - p0)))
 
 
-@njit(cache=True)
+@kernel
 def event_solver(p, state0, t_end, rtol, t_eval, max_impacts, impacts, dense, final, lnu, table, ext, n_ext):
     """Event-driven (``lnu`` and ``table`` None) or impact-map (both arrays) integration from t = 0.
 

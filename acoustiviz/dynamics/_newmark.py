@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from ._flight import record_extremum
+from ._njit import helper, kernel
 from ._records import Advanced, as_params
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
@@ -35,7 +36,7 @@ from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 NmPoint = namedtuple("NmPoint", ["x", "v", "y", "w", "ax", "ay", "sw", "d", "f", "pw"])
 
 
-@njit(cache=True)
+@helper
 def _nm_force(x, y, v, w, hg, kh, c1, clip):
     """Contact state for Newmark: (wall, δ m, rate m/s, force N, elastic force N, stiffness N/m).
 
@@ -60,7 +61,7 @@ def _nm_force(x, y, v, w, hg, kh, c1, clip):
     return sw, d, u, f, fe, kt
 
 
-@njit(cache=True)
+@helper
 def _hermite_turn(x, v, x1, v1, h):
     """Where the cubic Hermite interpolant of a step turns: (fraction s in [0, 1], x in m).
 
@@ -199,7 +200,7 @@ def _nm_dense(a, b, t, t1, h, c_main, ec, en, t_eval, ie, dense):
     return ie
 
 
-@njit(cache=True)
+@kernel
 def newmark_advance(prm, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,
                     ext, n_ext):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4), ``nsteps`` steps of ``h`` s from ``t0`` s.
@@ -309,7 +310,7 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, mi
     return Advanced(n, status, t, ie)
 
 
-@njit(cache=True)
+@kernel
 def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ext, n_ext):
     """Free decay by :func:`newmark_advance` from t = 0 (no forcing), ``nsteps`` steps of ``h`` s.
 
@@ -353,7 +354,7 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ex
     return n, status, t
 
 
-@njit(cache=True)
+@kernel
 def central_difference(p, state0, h, nsteps):
     """Explicit central-difference integration; returns the largest |y - x| in m reached.
 

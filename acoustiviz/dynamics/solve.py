@@ -67,7 +67,7 @@ NEWMARK_DEFAULT_FRACTION = 1.0 / 50.0
 IMPACT_MAP_NODES = 40
 #: CPU time in s of the event solver's first compilation with its callees, on a 2-core machine
 #: (``benchmarks/bench_startup.py``, "damper cold" less "damper warm"); quoted when it happens.
-EVENT_SOLVER_COMPILE_S = 9.0
+EVENT_SOLVER_COMPILE_S = 5.0
 #: The impact map warns when (shortest contact × main angular frequency) exceeds this.
 IMPACT_MAP_WARN_PRODUCT = 0.05
 
