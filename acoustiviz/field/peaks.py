@@ -77,7 +77,7 @@ from ..core.medium import AIR, Medium
 from ._common import check_config, check_pulse, pulse_args
 from ._kernels import _fill
 from ._peak_dense import _dense_kernel
-from ._peak_kernels import TAIL_STEPS, _peaks_kernel
+from ._peak_kernels import TAIL_STEPS, PeakCorrelations, PeakSampling, PeakSources, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
 
@@ -294,10 +294,20 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     step = max(1, int(chunk))
     for lo in range(0, n, step):
         hi = min(lo + step, n)
-        args = (res[lo:hi], np.ascontiguousarray(pts[lo:hi]), spos, saxis, centre, ppt, pnm, float(config.radius),
-                float(medium.rho), float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag,
-                tb.slope_bound, float(margin), tp, bool(exposure), cusps, *cargs)
-        kernel = _dense_kernel if tb.pulse_only else _peaks_kernel
+        block = np.ascontiguousarray(pts[lo:hi])
+        if tb.pulse_only:
+            kernel = _dense_kernel
+            args = (res[lo:hi], block, spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho),
+                    float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound,
+                    float(margin), tp, bool(exposure), cusps, *cargs)
+        else:
+            kernel = _peaks_kernel
+            args = (res[lo:hi], block,
+                    PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho),
+                                float(medium.c)),
+                    PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin),
+                                 cusps),
+                    tp, PeakCorrelations(bool(exposure), *cargs))
         if lo == 0:  # say so once if the peak search's kernels are compiled now
             compile_for(kernel, args, "peak-search", PEAKS_COMPILE_S)
         kernel(*args)
