@@ -36,8 +36,8 @@ class Setting:
         The command-line option (None: none).
     key : str or None
         The scene key within its table (None: none).
-    kind : {"str", "float", "int"}
-        The type of one value.
+    kind : {"str", "float", "int", "bool"}
+        The type of one value (``"bool"``: a flag on the command line).
     default : object
         The default (None: computed from other settings, or absent).
     doc : str
@@ -98,6 +98,10 @@ class Setting:
             return None
         if self.kind == "str":
             return check_choice(name, value, self.choices) if self.choices else str(value)
+        if self.kind == "bool":
+            if not isinstance(value, (bool, np.bool_)):
+                raise ParameterError(name, f"must be true or false, got {value!r}")
+            return bool(value)
         if self.kind == "int":
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
                     or not self.low <= value <= self.high:
