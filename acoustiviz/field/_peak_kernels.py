@@ -7,7 +7,6 @@ s, pressures in Pa.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -254,99 +253,6 @@ def _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim):  # 
         aim[j] = -p0 * (1.0 - ra)
 
 
-class PeakSources(NamedTuple):
-    """The sphere, its images and the fluid, as :func:`_peaks_kernel` reads them (by attribute).
-
-    Attributes
-    ----------
-    spos : (nimg, 3) ndarray
-        Image centres in m.
-    saxis : (nimg, 3) ndarray
-        Image acceleration axes with the reflection weight folded in (dimensionless).
-    centre : (3,) ndarray
-        The sphere's centre in m.
-    ppt, pnm : (planes, 3) ndarray
-        A point (m) and the unit normal into the fluid of each reflecting plane.
-    radius : float
-        Sphere radius in m.
-    rho : float
-        Fluid density in kg/m³.
-    c : float
-        Speed of sound in m/s.
-    """
-
-    spos: np.ndarray
-    saxis: np.ndarray
-    centre: np.ndarray
-    ppt: np.ndarray
-    pnm: np.ndarray
-    radius: float
-    rho: float
-    c: float
-
-
-class PeakSampling(NamedTuple):
-    """The tabulated pulse and the search's tolerances, as :func:`_peaks_kernel` reads them (by attribute).
-
-    Attributes
-    ----------
-    big_h : float
-        Coarse time step H in s.
-    fine : int
-        Fine steps per coarse step.
-    pad : int
-        Fine steps of zeros before ``Y``'s start.
-    ytr, yti : (fine, K) ndarray
-        ``Y`` in m/s by fine residue (row) and coarse step (column), real and imaginary parts.
-    slope : float
-        ``max |Y'|`` in m/s², for the bound of the delays' rounding to the fine step.
-    margin : float
-        Relative margin (of the largest coarse ``|p|``) within which candidates are refined.
-    cusps : bool
-        Whether ``p'`` may jump at a pulse's start or end (the pulse's acceleration is not zero there).
-    """
-
-    big_h: float
-    fine: int
-    pad: int
-    ytr: np.ndarray
-    yti: np.ndarray
-    slope: float
-    margin: float
-    cusps: bool
-
-
-class PeakCorrelations(NamedTuple):
-    """The pulse correlations of the exposure (:class:`acoustiviz.field.exposure.PulseCorrelations`), by attribute.
-
-    Attributes
-    ----------
-    on : bool
-        Whether the exposure is computed (else its column is NaN and the rest unused).
-    tau : float
-        Pulse length in s.
-    s : complex
-        The sphere's pole in 1/s.
-    step : float
-        Lag spacing of ``table`` in s.
-    table : (nodes, 4) complex ndarray
-        ``G``, ``step G'``, ``H``, ``step H'`` at the lags, in (m/s)²·s.
-    y_end : complex
-        ``Y(T)`` in m/s.
-    m_g, m_h : complex
-        ``∫ Y(u) exp(s u) du`` and ``∫ Y(u) exp(s̄ u) du`` in m.
-    """
-
-    on: bool
-    tau: float
-    s: complex
-    step: float
-    table: np.ndarray
-    y_end: complex
-    m_g: complex
-    m_h: complex
-
-
 @_njit(cache=True, inline="always")
 def _exposure(delays, are, aim, corr, g0, h0):  # pragma: no cover - compiled
     """``∫ p² dt`` in Pa²·s from the pairs of images and the pulse correlations (module ``exposure``)."""
@@ -589,13 +495,13 @@ def _peaks_kernel(res, pts, src, smp, tp, corr):  # pragma: no cover - compiled
         (and 0 refinements) for a point outside the fluid.
     pts : (n, 3) ndarray
         Observer positions in m.
-    src : PeakSources
+    src : acoustiviz.field._common.PeakSources
         The sphere, its images and the fluid.
-    smp : PeakSampling
+    smp : acoustiviz.field._common.PeakSampling
         The tabulated pulse (:class:`acoustiviz.field.peaks.PeakTable`) and the margin.
     tp : TaylorPulse
         ``Y`` for the refinement (:func:`acoustiviz.field._peak_refine.taylor_pulse`).
-    corr : PeakCorrelations
+    corr : acoustiviz.field._common.PeakCorrelations
         The pulse correlations of the exposure.
     """
     spos, saxis, centre, ppt, pnm, radius, rho, c = src

@@ -74,10 +74,10 @@ from .._validate import ParameterError, check_points
 from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ._common import check_config, check_pulse, pulse_args
+from ._common import PeakCorrelations, PeakSampling, PeakSources, check_config, check_pulse, pulse_args
 from ._kernels import _fill
 from ._peak_dense import _dense_kernel
-from ._peak_kernels import TAIL_STEPS, PeakCorrelations, PeakSampling, PeakSources, _peaks_kernel
+from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
 
