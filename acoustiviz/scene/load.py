@@ -101,9 +101,8 @@ class Scene:
         files = {s.name: o[s.key] for s in ALL if s.table == "outputs.wav"}
         damper = DamperSettings(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
                                 gap=d["gap_m"], k_hertz=self.k_hertz(radius), c1=d["contact_damping_n_s_m"],
-                                clip_tensile=d["clip_tensile"], x0=d["initial_displacement_m"],
-                                v0=d["initial_velocity_m_s"], duration=d["duration_s"], solver=d["solver"],
-                                rtol=d["tolerance"])
+                                clip_tensile=d["clip_tensile"], x0=d["initial_displacement_m"], solver=d["solver"],
+                                v0=d["initial_velocity_m_s"], duration=d["duration_s"], rtol=d["tolerance"])
         return AuralizeSettings(damper=damper, config=self.data["configuration"]["kind"], radius=radius,
                                 pulse=c["pulse"], mass_model=c["pulse_mass"], struck_wall=o["struck_wall"],
                                 c=m["c_m_s"], rho=m["rho_kg_m3"], tail_seed=o["tail_seed"],
