@@ -13,7 +13,7 @@ from types import MappingProxyType
 from ..core.geometry import geometry, relevant_settings
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
-from .validate import SceneError, _unknown, _validate_table, parse_range
+from .validate import SceneError, _unknown, _validate_table, check_damper_physics, parse_range
 
 __all__ = [
     "Scene",
@@ -299,9 +299,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             _unknown(source, "", key, SCHEMA)
     data = {}
     for name, table in SCHEMA.items():
-        if name == "listeners":
-            continue
-        if name == "outputs":
+        if name in ("listeners", "outputs"):
             continue
         data[name] = _validate_table(raw.get(name, {}), table, source, name)
     radius = data["sphere"]["radius_m"]
@@ -314,6 +312,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
     _check_geometry(scene)
+    check_damper_physics(scene)  # the damper's limits at load, not at its first simulation
     if "wav" in outputs:
         scene.room_sound()  # the tail's and the bands' settings, refused here rather than mid-run
     return scene
