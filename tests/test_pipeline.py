@@ -298,13 +298,11 @@ def test_scene_directivity_refuses_an_unknown_metric():
 
 
 def test_a_damper_scene_beyond_the_computable_range_names_its_key(tmp_path):
-    """The damper's limits are checked in one place (app.damper.run_damper) and reported in scene keys."""
-    scene = scene_from_dict({"damper": {"duration_s": 0.001},
-                             "outputs": {"damper_history": {}}}, "t.toml")
+    """The damper's limits (app.limits.check_damper) are checked when the scene is loaded, in scene keys."""
     with pytest.raises(ParameterError) as err:
-        run_scene(scene, tmp_path / "out")
+        scene_from_dict({"damper": {"duration_s": 0.001}, "outputs": {"damper_history": {}}}, "t.toml")
     assert err.value.name == "damper.duration_s" and "period" in err.value.detail
-    assert not (tmp_path / "out" / "damper_history.csv").exists()
+    assert not (tmp_path / "out").exists()
 
 
 def test_a_sidecar_states_the_rate_and_length_of_its_file_not_of_the_rendering_it_describes(tmp_path):

@@ -142,3 +142,37 @@ def test_both_plane_resolutions_share_one_scene_key():
     a, b = (next(s for s in t if s.name == "n_u") for t in (SNAPSHOT, ANIMATION))
     assert (a.path, a.low, a.high, a.in_scene) == (b.path, b.low, b.high, b.in_scene) == \
         ("grids.plane.resolution", 8, 20000, 200)
+
+
+def test_user_names_are_the_records_options_and_keys():
+    from acoustiviz.app import names
+    from acoustiviz.app.settings.impact import OBSERVER
+    from acoustiviz.app.settings.room import ROOM
+
+    options = {s.option for s in (*DAMPER, *IMPACT, *OBSERVER, *ROOM, *WAVEFORM)}
+    for table in (names.DAMPER_OPTIONS, names.IMPACT_OPTIONS, names.ROOM_OPTIONS):
+        assert set(table.values()) <= options
+    keys = {s.path for s in (*DAMPER, *IMPACT)}
+    assert set(names.SCENE_DAMPER_KEYS.values()) <= keys
+    # the API's spellings that differ from the records' (simulate's v, the room's dimensions and window)
+    assert names.DAMPER_OPTIONS["v"] == "--v0"
+    assert names.SCENE_DAMPER_KEYS["v"] == "damper.initial_velocity_m_s"
+    assert names.SCENE_DAMPER_KEYS["x0"] == "damper.initial_displacement_m"
+    assert names.ROOM_OPTIONS["dimensions"] == "--room"
+    assert names.ROOM_OPTIONS["duration"] == "--duration"
+    assert names.ROOM_OPTIONS["strike"] == "--room-strike"
+    assert names.IMPACT_OPTIONS["strike"] == "--strike"
+    assert names.IMPACT_OPTIONS["angle_deg"] == "--angle"
+    assert names.SCENE_IMPACT_KEYS["k_hertz"] == "contact.k_hertz_n_m1_5"
+
+
+def test_damper_command_solver_options_are_records(parser):
+    sub = _subparser(parser, ("damper",))
+    dests = {a.dest for a in sub._actions}
+    assert {"solver", "dt", "clip_tensile"} <= dests
+    for bad in ("0", "-1e-3"):
+        with pytest.raises(ParameterError) as err:
+            DamperSettings(dt=float(bad))
+        assert err.value.name == "dt" and "(0, 10000] s" in err.value.detail
+    with pytest.raises(ParameterError):
+        DamperSettings(clip_tensile="yes")

@@ -88,22 +88,15 @@ def _check_sphere_and_medium(s: AuralizeSettings):
     from ..core.medium import Medium
     from ..output.audio import sphere_radius
 
+    # the damper's ranges were checked when its DamperSettings were made (app.settings.damper)
     d, table = s.damper, _TABLE
-    for opt, val, unit in (("--M", d.M, "kg"), ("--K", d.K, "N/m"), ("--m", d.m, "kg"), ("--gap", d.gap, "m"),
-                           ("--k-hertz", d.k_hertz, "N/m^1.5"), ("--duration", d.duration, "s")):
-        check_positive(opt, val, unit)
-    check_range("--C", d.C, 0.0, unit="N s/m")
-    check_range("--c1", d.c1, 0.0, unit="N s/m")
-    check_range("--v0", d.v0, unit="m/s")
     if Path(s.wav).suffix.lower() != ".wav":
         raise ParameterError("--wav", f"must end in .wav, got {s.wav!r}")
-    # ranges in which the rendering stays finite: a damper's sphere, a real fluid, a bounded cavity
-    check_range("--gap", d.gap, 0.0, 1e3, unit="m", low_open=True)
     if s.radius is not None and s.density is not None:
         raise ParameterError("--radius", "give either --radius or --density, not both")
     if s.density is not None:
         radius = sphere_radius(d.m, table["density"].check(s.density, "--density"))
-        check_range("--m", radius, table["radius"].low, table["radius"].high,
+        check_range("--m", radius, table["radius"].low, table["radius"].high, low_open=table["radius"].low_open,
                     unit="m (the radius of a sphere of this mass and --density)")
         radius_source = f"solid sphere of {d.m:g} kg at {s.density:g} kg/m^3"
     else:

@@ -206,9 +206,7 @@ def run_damper_settings(settings, max_memory_mb=None) -> tuple:
     with user_terms(DAMPER_OPTIONS):
         model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
                              clip_tensile=bool(d.clip_tensile))
-        duration = check_positive("duration", d.duration, "s")
-        if d.dt is not None:
-            check_positive("dt", d.dt, "s")
-        check_budget(damper_estimate(model, duration, solver=d.solver, dt=d.dt, options=("--duration",)), max_memory_mb)
-        run = run_damper(model, d.duration, solver=d.solver, v0=d.v0, rtol=d.rtol, dt=d.dt)
+        check_budget(damper_estimate(model, d.duration, solver=d.solver, dt=d.dt, options=("--duration",)),
+                     max_memory_mb)
+        run = run_damper(model, d.duration, solver=d.solver, x0=d.x0, v0=d.v0, rtol=d.rtol, dt=d.dt)
     return model, run

@@ -1,4 +1,4 @@
-"""Errors in the user's own words.
+"""Errors in the user's own words: API parameter names mapped to the options and scene keys of the settings table.
 
 The library names its parameters as the API spells them (``radius``, ``v``, ``k_hertz``); a
 front-end's user gave them as options (``--radius``) or scene keys (``sphere.radius_m``). Inside
@@ -22,81 +22,50 @@ import contextlib
 from collections.abc import Mapping
 
 from ..errors import ParameterError
+from .settings.damper import DAMPER
+from .settings.impact import IMPACT, OBSERVER, WAVEFORM
+from .settings.room import ROOM
+from .settings.table import by_name
 
 __all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS"]
 
+
+def _names(attr: str, records, aliases: Mapping[str, str] = {}, lookup=()) -> dict:  # noqa: B006 - read only
+    """API parameter -> ``attr`` (``"option"`` or ``"path"``, the scene key) of each record that has one.
+
+    ``aliases`` adds API parameters spelled otherwise than their record (``{"v": "v0"}``), the record
+    found in ``lookup``, else among ``records``.
+    """
+    table = {**by_name(records), **by_name(lookup)}
+    names = {s.name: getattr(s, attr) for s in records if getattr(s, attr)}
+    names.update({api: getattr(table[name], attr) for api, name in aliases.items()})
+    return names
+
+
 #: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
-DAMPER_OPTIONS = {
-    "M": "--M",
-    "K": "--K",
-    "C": "--C",
-    "m": "--m",
-    "gap": "--gap",
-    "k_hertz": "--k-hertz",
-    "c1": "--c1",
-    "v": "--v0",
-    "duration": "--duration",
-    "solver": "--solver",
-    "dt": "--dt",
-    "rtol": "--rtol",
-}
+DAMPER_OPTIONS = _names("option", DAMPER, {"v": "v0"})
 
-#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> option.
-IMPACT_OPTIONS = {
-    "radius": "--radius",
-    "velocity": "--velocity",
-    "k_hertz": "--k-hertz",
-    "sphere_material": "--material",
-    "surface_material": "--surface",
-    "density": "--density",
-    "mass": "--mass",
-    "pulse": "--pulse",
-    "c": "--c",
-    "rho": "--rho",
-    "config": "--config",
-    "wall_distance": "--wall-distance",
-    "strike": "--strike",
-    "height": "--height",
-    "distance": "--distance",
-    "angle_deg": "--angle",
-}
+#: :func:`acoustiviz.app.impacts.impact_setup` parameter (and the observer's) -> option.
+_IMPACT_ALIASES = {"sphere_material": "material", "surface_material": "surface"}
+IMPACT_OPTIONS = _names("option", IMPACT + OBSERVER, _IMPACT_ALIASES)
 
-#: :class:`acoustiviz.core.geometry.Room` setting -> option.
-ROOM_OPTIONS = {
-    "dimensions": "--room",
-    "absorption": "--absorption",
-    "source": "--source",
-    "strike": "--room-strike",
-    "order": "--image-order",
-    "tolerance_db": "--tolerance-db",
-    "duration": "--duration",
-    "sound_speed": "--c",
-}
-
+#: :class:`acoustiviz.core.geometry.Room` setting -> option (the window is the waveform's ``--duration``, the
+#: sound speed the medium's ``--c``).
+ROOM_OPTIONS = _names("option", ROOM, {"dimensions": "room", "strike": "room_strike", "order": "image_order",
+                                       "duration": "window", "sound_speed": "c"}, lookup=WAVEFORM + IMPACT)
 
 #: :func:`acoustiviz.app.damper.run_damper` / :class:`~acoustiviz.dynamics.DamperModel` parameter -> scene key.
-SCENE_DAMPER_KEYS = {
-    "M": "damper.main_mass_kg", "K": "damper.stiffness_n_m", "C": "damper.damping_n_s_m", "m": "damper.impact_mass_kg",
-    "gap": "damper.gap_m", "k_hertz": "contact.k_hertz_n_m1_5", "c1": "damper.contact_damping_n_s_m",
-    "v": "damper.initial_velocity_m_s", "duration": "damper.duration_s", "rtol": "damper.tolerance",
-    "solver": "damper.solver",
-}
-#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key.
+SCENE_DAMPER_KEYS = _names("path", DAMPER, {"v": "v0"})
+
+#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key: the records' keys, and the keys the scene
+#: schema still spells itself (material, surface, pulse, configuration kind and strike).
 SCENE_IMPACT_KEYS = {
-    "radius": "sphere.radius_m",
-    "velocity": "impact.velocity_m_s",
-    "k_hertz": "contact.k_hertz_n_m1_5",
+    **_names("path", IMPACT, {"k_hertz": "k_hertz"}, lookup=DAMPER),
     "sphere_material": "sphere.material",
     "surface_material": "contact.surface",
-    "density": "sphere.density_kg_m3",
-    "mass": "sphere.mass_kg",
     "pulse": "contact.pulse",
-    "c": "medium.c_m_s",
-    "rho": "medium.rho_kg_m3",
     "config": "configuration.kind",
-    "wall_distance": "configuration.wall_distance_m",
     "strike": "configuration.strike",
-    "height": "configuration.height_m",
 }
 
 

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from ..app.settings.damper import MODEL, RUN
-from ..app.settings.table import add_option
+from ..app.settings.damper import CONTACT_LAW, MODEL, RUN, SOLVER
+from ..app.settings.table import add_option, by_name
 from ..constants import DEFAULT_RTOL
 from ..constants import SOLVERS as SOLVER_NAMES
 
@@ -24,20 +24,17 @@ def add_model_options(group) -> None:
 
 def add_damper_options(parser, *, duration_help: str = "simulated time") -> None:
     """Add the damper model, initial velocity and solver options to ``parser``; their ranges are the records'."""
-    v0, duration, rtol = RUN
+    (clip,) = CONTACT_LAW
+    run = by_name(RUN)
     g = parser.add_argument_group("damper (paper eq 15; defaults: Table 1, Figure 5)")
     add_model_options(g)
-    g.add_argument("--clip-tensile", action="store_true",
-                   help="clip the contact force at zero (default: the paper's form, which may pull)")
-    add_option(g, v0)
+    add_option(g, clip)
+    add_option(g, run["v0"])
     s = parser.add_argument_group("solver")
-    add_option(s, dataclasses.replace(duration, doc=duration_help))
-    s.add_argument("--solver", choices=SOLVER_NAMES, default="event",
-                   help="event (default; exact free flight, adaptive contacts), newmark (the paper's "
-                        "fixed-step scheme) or impact-map (instantaneous impacts)")
-    s.add_argument("--dt", type=float, default=None, metavar="S",
-                   help="Newmark step in s (default: 1/50 of the shortest possible contact)")
-    add_option(s, rtol)
+    add_option(s, dataclasses.replace(run["duration"], doc=duration_help))
+    for record in SOLVER:
+        add_option(s, record)
+    add_option(s, run["rtol"])
 
 
 def damper_from_args(args):

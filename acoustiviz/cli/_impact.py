@@ -7,10 +7,9 @@ Angles are in degrees on the command line only; everything else is SI.
 
 from __future__ import annotations
 
-from ..app.settings.impact import IMPACT_GROUPS, WAVEFORM
+from ..app.settings.impact import IMPACT_GROUPS, OBSERVER, WAVEFORM
 from ..app.settings.room import ROOM
 from ..app.settings.table import add_option
-from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE
 
 __all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings", "room_duration",
            "impact_from_args", "observer_point"]
@@ -66,12 +65,10 @@ def room_duration(args):
 def add_observer_options(parser, *, angle: bool = True) -> None:
     """Add ``--distance`` (m) and ``--angle`` (degrees) for one observer."""
     g = parser.add_argument_group("observer")
-    g.add_argument("--distance", type=float, default=PAPER_DISTANCE, metavar="M",
-                   help="observer distance in m from the sphere's centre (default %(default)s)")
+    distance, angle_deg = OBSERVER
+    add_option(g, distance)
     if angle:
-        g.add_argument("--angle", type=float, default=PAPER_ANGLE_DEG, metavar="DEG",
-                       help="observer angle in degrees from the acceleration axis (the surface "
-                            "normal) (default %(default)s)")
+        add_option(g, angle_deg)
 
 
 def impact_from_args(args, *, velocity: float | None = None):

@@ -49,7 +49,7 @@ from ..constants import (
 )
 from . import _forced_driver as fd
 from ._newmark import newmark_advance
-from ._records import params_record
+from ._records import NmBooks, params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
@@ -406,8 +406,8 @@ class _Runner:
         cap = min(n0 + self.cap, self.imp.shape[0] - 1)
         if self.solver == "newmark":
             # no dense output, no turning points (None: compiled out)
-            r = newmark_advance(self.prm, self.fc, self.st, t0, self.h, self.nsteps, self.imp, n0, cap, acc,
-                                extrema, None, 0, None, None, None)
+            r = newmark_advance(self.prm, self.fc, self.st, t0, self.h, self.nsteps, n0,
+                                NmBooks(self.imp, cap, acc, extrema), None, None)
             out = (r.n, r.status)
         else:
             args = (self.prm, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,

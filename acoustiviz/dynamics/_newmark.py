@@ -27,7 +27,7 @@ from numba import njit
 
 from ._flight import record_extremum
 from ._njit import helper, kernel
-from ._records import Advanced, as_params
+from ._records import Advanced, DenseOutput, NmBooks, Turns, as_params
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 #: One end of a Newmark step: displacements ``x, y`` (m), velocities ``v, w`` (m/s), accelerations
@@ -201,20 +201,18 @@ def _nm_dense(a, b, t, t1, h, c_main, ec, en, t_eval, ie, dense):
 
 
 @kernel
-def newmark_advance(prm, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, minmax, t_eval, ie, dense,
-                    ext, n_ext):
+def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4), ``nsteps`` steps of ``h`` s from ``t0`` s.
 
     Each step solves ``M a_x + C v + K x - s F_c - F = 0``, ``m a_y + s F_c = 0`` at the new
     time with ``x1 = x + h v + h²/4 (a + a1)``, ``v1 = v + h/2 (a + a1)`` by Newton iterations on
     the accelerations (:func:`_nm_step`; the paper's scheme, Clough and Penzien). Contacts are
     booked by :func:`_nm_impacts`. Work and dissipation by the trapezoidal rule into
-    ``acc[0:3]``; with ``minmax`` the step-end extremes of x into ``acc[3:5]``.
+    ``books.acc[0:3]``; with ``books.minmax`` the step-end extremes of x into ``books.acc[3:5]``.
 
-    Extrema of x (into ``ext``, ``n_ext`` counting) are the turning points of the cubic Hermite
-    interpolant of each step whose end velocities differ in sign (:func:`_hermite_turn`), the
-    interpolant of the dense output (:func:`_nm_dense`); ``ext=None`` and ``t_eval=None`` compile
-    them out.
+    Extrema of x (into ``turns``) are the turning points of the cubic Hermite interpolant of each
+    step whose end velocities differ in sign (:func:`_hermite_turn`), the interpolant of the dense
+    output (:func:`_nm_dense`); ``turns=None`` and ``dense=None`` compile them out.
 
     Parameters
     ----------
@@ -228,25 +226,30 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, mi
         Start time and step (s).
     nsteps : int
         Steps to take.
-    impacts, n, max_impacts : ndarray, int, int
-        Impact rows, the first free row and the row limit.
-    acc : ndarray
-        Accumulators (module docstring), added to.
-    minmax : bool
-        Track the step-end extremes of x in ``acc[3:5]``.
-    t_eval, ie, dense : ndarray, int, ndarray, or None, 0, None
-        Output times (s), the next one due, and the (n, 6) dense rows.
-    ext, n_ext : ndarray or None
-        Turning points of x (rows: time s, x m, ±1) and their count.
+    n : int
+        The first free impact row of ``books.impacts``.
+    books : NmBooks
+        Impact rows and their limit, accumulators (module docstring; added to) and whether the
+        step-end extremes of x are tracked (:class:`~acoustiviz.dynamics._records.NmBooks`).
+    dense : DenseOutput or None
+        Output times (s), the next one due and the (n, 6) dense rows
+        (:class:`~acoustiviz.dynamics._records.DenseOutput`); None: no dense output.
+    turns : Turns or None
+        Turning points of x (rows: time s, x m, ±1) and their count
+        (:class:`~acoustiviz.dynamics._records.Turns`); None: not located.
 
     Returns
     -------
     Advanced
         ``n`` the next free impact row, ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or
         ``STATUS_DIVERGED``), ``t`` the time reached (s; ``st`` holds the state there) and ``ie``
-        the next output time due.
+        the next output time due (``dense.ie``, or 0 without dense output).
     """
     M, K, C, m = prm.M, prm.K, prm.C, prm.m
+    impacts, max_impacts, acc, minmax = books
+    ie = 0
+    if dense is not None:  # removed at compile time without dense output
+        ie = dense.ie
     om = 0.0
     pc = 0.0
     ps = 0.0
@@ -286,12 +289,12 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, impacts, n, max_impacts, acc, mi
                 a = NmPoint(b.x, b.v, b.y, b.w, a.ax, a.ay, a.sw, a.d, a.f, a.pw)
                 break
             n = n1
-        if ext is not None and (a.v > 0.0) != (b.v > 0.0):  # ext=None: compiled out
+        if turns is not None and (a.v > 0.0) != (b.v > 0.0):  # turns=None: compiled out
             s_turn, x_turn = _hermite_turn(a.x, a.v, b.x, b.v, h)
-            record_extremum(ext, n_ext, t + s_turn * h, x_turn, 1.0 if a.v > 0.0 else -1.0)
-        # t_eval=None: compiled out; the arrays are handed over only in the steps that have output
-        if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] <= t1 + 1e-9 * h:
-            ie = _nm_dense(a, b, t, t1, h, C, ec, en, t_eval, ie, dense)
+            record_extremum(turns.rows, turns.count, t + s_turn * h, x_turn, 1.0 if a.v > 0.0 else -1.0)
+        # dense=None: compiled out; the arrays are handed over only in the steps that have output
+        if dense is not None and ie < dense.t_eval.shape[0] and dense.t_eval[ie] <= t1 + 1e-9 * h:
+            ie = _nm_dense(a, b, t, t1, h, C, ec, en, dense.t_eval, ie, dense.rows)
         a = b
         fx = fx1
         in_contact = b.sw != 0.0
@@ -339,8 +342,10 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ex
             impacts[0, j] = 0.0
         n = 1
     acc = np.zeros(5)
-    r = newmark_advance(prm, None, st, 0.0, h, nsteps, impacts, n, max_impacts, acc, False, t_eval, 0, dense,
-                        ext, n_ext)
+    books = NmBooks(impacts, max_impacts, acc, False)
+    out = None if t_eval is None else DenseOutput(t_eval, 0, dense)
+    turns = None if ext is None else Turns(ext, n_ext)
+    r = newmark_advance(prm, None, st, 0.0, h, nsteps, n, books, out, turns)
     n, status, t = r.n, r.status, r.t
     delta = 0.0
     if st[4] > 0.5:

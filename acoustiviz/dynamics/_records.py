@@ -13,7 +13,8 @@ from collections import namedtuple
 
 from numba import njit
 
-__all__ = ["Params", "Advanced", "Progress", "ContactStart", "ContactEnd", "as_params", "params_record", "without_main"]
+__all__ = ["Params", "Advanced", "Progress", "ContactStart", "ContactEnd", "NmBooks", "DenseOutput", "Turns",
+           "as_params", "params_record", "without_main"]
 
 #: The model as the kernels see it (paper eq 15): main mass ``M`` (kg), main spring ``K`` (N/m),
 #: main dashpot ``C`` (N s/m), damper mass ``m`` (kg), half the gap ``half_gap`` (m), Hertz
@@ -24,6 +25,22 @@ Params = namedtuple("Params", ["M", "K", "C", "m", "half_gap", "k_hertz", "c1", 
 #: What a stepping kernel returns: ``n`` the next free impact row, ``status`` a ``STATUS_*`` code
 #: of :mod:`._status`, ``t`` the time reached (s) and ``ie`` the next dense-output time due.
 Advanced = namedtuple("Advanced", ["n", "status", "t", "ie"])
+
+
+#: What :func:`~acoustiviz.dynamics._newmark.newmark_advance` books: impact rows ``impacts``
+#: (``IMPACT_COLUMNS`` of :mod:`._status`) up to the row limit ``max_impacts``, accumulators ``acc``
+#: (added to: work of the forcing, dissipated by the dashpot, dissipated in contacts, J; with
+#: ``minmax`` True also the largest and smallest main-mass displacement in m, ``acc[3:5]``).
+NmBooks = namedtuple("NmBooks", ["impacts", "max_impacts", "acc", "minmax"])
+
+#: Dense output of a stepping kernel: output times ``t_eval`` (s), the index ``ie`` of the next one
+#: due, and ``rows`` (n, 6): x, v, y, w (m, m/s) and the energies dissipated by the dashpot and in
+#: contacts (J) at those times. A kernel given None instead compiles without dense output.
+DenseOutput = namedtuple("DenseOutput", ["t_eval", "ie", "rows"])
+
+#: Turning points of the main-mass displacement: ``rows`` (time s, x m, +1 maximum / -1 minimum)
+#: and ``count`` (a one-element int array, the rows filled). None: compiled without them.
+Turns = namedtuple("Turns", ["rows", "count"])
 
 
 @njit(cache=True, inline="always")

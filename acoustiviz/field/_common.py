@@ -105,6 +105,99 @@ class ImageArrays(NamedTuple):
     cim: np.ndarray
 
 
+class PeakSources(NamedTuple):
+    """The sphere, its images and the fluid, as :func:`~acoustiviz.field._peak_kernels._peaks_kernel` reads them.
+
+    Attributes
+    ----------
+    spos : (nimg, 3) ndarray
+        Image centres in m.
+    saxis : (nimg, 3) ndarray
+        Image acceleration axes with the reflection weight folded in (dimensionless).
+    centre : (3,) ndarray
+        The sphere's centre in m.
+    ppt, pnm : (planes, 3) ndarray
+        A point (m) and the unit normal into the fluid of each reflecting plane.
+    radius : float
+        Sphere radius in m.
+    rho : float
+        Fluid density in kg/m³.
+    c : float
+        Speed of sound in m/s.
+    """
+
+    spos: np.ndarray
+    saxis: np.ndarray
+    centre: np.ndarray
+    ppt: np.ndarray
+    pnm: np.ndarray
+    radius: float
+    rho: float
+    c: float
+
+
+class PeakSampling(NamedTuple):
+    """The tabulated pulse and the margins, as :func:`~acoustiviz.field._peak_kernels._peaks_kernel` reads them.
+
+    Attributes
+    ----------
+    big_h : float
+        Coarse time step H in s.
+    fine : int
+        Fine steps per coarse step.
+    pad : int
+        Fine steps of zeros before ``Y``'s start.
+    ytr, yti : (fine, K) ndarray
+        ``Y`` in m/s by fine residue (row) and coarse step (column), real and imaginary parts.
+    slope : float
+        ``max |Y'|`` in m/s², for the bound of the delays' rounding to the fine step.
+    margin : float
+        Relative margin (of the largest coarse ``|p|``) within which candidates are refined.
+    cusps : bool
+        Whether ``p'`` may jump at a pulse's start or end (the pulse's acceleration is not zero there).
+    """
+
+    big_h: float
+    fine: int
+    pad: int
+    ytr: np.ndarray
+    yti: np.ndarray
+    slope: float
+    margin: float
+    cusps: bool
+
+
+class PeakCorrelations(NamedTuple):
+    """The pulse correlations of the exposure (:class:`acoustiviz.field.exposure.PulseCorrelations`), by attribute.
+
+    Attributes
+    ----------
+    on : bool
+        Whether the exposure is computed (else its column is NaN and the rest unused).
+    tau : float
+        Pulse length in s.
+    s : complex
+        The sphere's pole in 1/s.
+    step : float
+        Lag spacing of ``table`` in s.
+    table : (nodes, 4) complex ndarray
+        ``G``, ``step G'``, ``H``, ``step H'`` at the lags, in (m/s)²·s.
+    y_end : complex
+        ``Y(T)`` in m/s.
+    m_g, m_h : complex
+        ``∫ Y(u) exp(s u) du`` and ``∫ Y(u) exp(s̄ u) du`` in m.
+    """
+
+    on: bool
+    tau: float
+    s: complex
+    step: float
+    table: np.ndarray
+    y_end: complex
+    m_g: complex
+    m_h: complex
+
+
 def pulse_args(pulse, radius: float, medium: Medium, *, taylor: bool = False) -> PulseArrays:
     """Flatten a pulse into the kernels' :class:`PulseArrays` (``taylor``: every pulse as a Taylor table, kind 2)."""
     s = sphere_pole(radius, medium)

@@ -253,15 +253,261 @@ def _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim):  # 
         aim[j] = -p0 * (1.0 - ra)
 
 
+@_njit(cache=True, inline="always")
+def _exposure(delays, are, aim, corr, g0, h0):  # pragma: no cover - compiled
+    """``∫ p² dt`` in Pa²·s from the pairs of images and the pulse correlations (module ``exposure``)."""
+    _, tau, cs, step, table, yend, m_g, m_h = corr
+    nimg = delays.size
+    total = 0.0
+    for j in range(nimg):
+        aj = complex(are[j], aim[j])
+        total += 0.5 * (aj * aj * g0 + (are[j] ** 2 + aim[j] ** 2) * h0).real
+        for k in range(j + 1, nimg):
+            ak = complex(are[k], aim[k])
+            lag = delays[j] - delays[k]
+            if lag >= 0.0:
+                g, hh = _correlation_at(lag, tau, cs, step, table, yend, m_g, m_h)
+                total += (aj * ak * g + aj * np.conj(ak) * hh).real
+            else:
+                g, hh = _correlation_at(-lag, tau, cs, step, table, yend, m_g, m_h)
+                total += (aj * ak * g + ak * np.conj(aj) * hh).real
+    return total
+
+
+@_njit(cache=True, inline="always")
+def _window_samples(ka, kk, t0, smp, delays, are, aim, qs, rs, coarse):  # pragma: no cover - compiled
+    """Coarse samples ``0 .. kk`` of ``p`` (Pa) over the window from coarse step ``ka`` (``t0`` s) into ``coarse``.
+
+    Each image that has arrived by the window's end adds its weight ``are + i aim`` (Pa·s/m) times
+    a contiguous run of its residue table row ``rs`` from column ``qs + ka``.
+    """
+    ytr, yti, t_last = smp.ytr, smp.yti, t0 + kk * smp.big_h
+    for k in range(kk + 1):
+        coarse[k] = 0.0
+    for j in range(delays.size):  # contiguous runs of one residue table per image
+        if delays[j] > t_last:
+            continue  # silent in this window
+        seg_r = ytr[rs[j], qs[j] + ka : qs[j] + ka + kk + 1]
+        seg_i = yti[rs[j], qs[j] + ka : qs[j] + ka + kk + 1]
+        ar = are[j]
+        ai = aim[j]
+        for k in range(kk + 1):
+            coarse[k] += ar * seg_r[k] - ai * seg_i[k]
+
+
+@_njit(cache=True, inline="always")
+def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - compiled
+    """Whether coarse step ``kb`` (``[t0 + kb H, t0 + (kb + 1) H]``, s) lies in a bracket already searched.
+
+    A breakpoint's feature lies between the coarse samples ``kb`` and ``kb + 1``; ``done_lo[:ndone]``,
+    ``done_hi[:ndone]`` are the brackets searched (split at the breakpoints), s; ``kb < 0`` is never covered.
+    """
+    if kb < 0:
+        return False
+    ta = t0 + kb * big_h - 1e-9 * big_h
+    tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
+    for q in range(ndone):
+        if done_lo[q] <= ta and tz <= done_hi[q]:
+            return True
+    return False
+
+
+# allocates nothing: compiled without reference counts (with them, the counts of its array arguments at each
+# call made fast_peaks about 1.5 times slower)
+@_njit(cache=True, _nrt=False)
+def _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are, aim, bps, cand, done,
+                 found):  # pragma: no cover - compiled
+    """Refine the candidates of one sign, best estimate first, while one can still beat the best value.
+
+    ``top`` is the largest coarse estimate and ``slack`` (Pa) the margin within which an estimate
+    may still beat it or the best value; ``reached`` (Pa) a value ``p`` surely reaches (pieces
+    that cannot beat it are not searched). ``done`` (2, m) is work space for the brackets
+    searched (s); ``found`` (2, 2) holds the best value of each sign (Pa) and its time (s),
+    updated. Returns the number of brackets refined.
+    """
+    sign = 1.0 if side == 0 else -1.0
+    best = found[0, side]
+    tbest = found[1, side]
+    xtol = XTOL * big_h
+    ndone = 0
+    nref = 0
+    while nc > 0:
+        jb = 0
+        for q in range(1, nc):
+            if cand[side, 0, q] > cand[side, 0, jb]:
+                jb = q
+        est = cand[side, 0, jb]
+        if est + slack < best or est + slack < top - slack:
+            break
+        kb = int(cand[side, 3, jb])
+        if not _covered(kb, t0, big_h, done[0], done[1], ndone):
+            # one coarse step either side, or a breakpoint's coarse neighbours; p is only C¹ at a pulse's
+            # start or end: maxima on either side of one may be closer than a coarse step (the samples then
+            # show one hump), so near a breakpoint both sides are searched out to NEAR coarse steps from it
+            tk = cand[side, 2, jb]
+            lo_b = max(dmin, tk - big_h)
+            hi_b = tk + big_h
+            if kb >= 0:
+                lo_b = t0 + kb * big_h
+                hi_b = t0 + (kb + 1) * big_h
+            else:
+                for b in bps:
+                    if abs(b - tk) < (NEAR + 1.0) * big_h:
+                        lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
+                        hi_b = max(hi_b, b + NEAR * big_h)
+            val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps, xtol,
+                                      delays.size, delays, are, aim, tp)
+            done[0, ndone] = lo_b
+            done[1, ndone] = hi_b
+            ndone += 1
+            nref += 1
+            if val > best:
+                best = val
+                tbest = tv
+        nc -= 1
+        for f in range(4):
+            cand[side, f, jb] = cand[side, f, nc]
+    found[0, side] = best
+    found[1, side] = tbest
+    return nref
+
+
+@_njit(cache=True, inline="always")
+def _after_window(t_end, t_next, dmin, scale, tp, delays, are, aim, found):  # pragma: no cover - compiled
+    """The free decay's extremes between ``t_end`` and ``t_next`` s (or for ever), where they can beat a peak found.
+
+    ``scale`` is ``Σ|a_j|`` in Pa·s/m; ``found`` (2, 2) the best value of each sign (Pa) and its
+    time (s), updated.
+    """
+    # the bound Σ|a_j| |Y(T)| e^{Re(s)(t_end - d_j - T)}, first from the latest arrival (which decays least)
+    floor = min(found[0, 0], found[0, 1])
+    end, sr, yend = tp.end, tp.sr, complex(tp.y0r, tp.y0i)
+    yabs = abs(yend)
+    last = dmin
+    for j in range(delays.size):
+        if delays[j] <= t_end:
+            last = max(last, delays[j])
+    if not scale * yabs * math.exp(sr * (t_end - last - end)) > floor:
+        return
+    bound = 0.0
+    for j in range(delays.size):
+        if delays[j] <= t_end:
+            bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * yabs * math.exp(sr * (t_end - delays[j] - end))
+    if not bound > floor:
+        return
+    thi, tphi, tlo, tplo = _decay_extremes(t_end, t_next, t_end, delays.size, delays, are, aim,
+                                           yend, end, complex(sr, tp.si))
+    if thi > found[0, 0]:
+        found[0, 0] = thi
+        found[1, 0] = tphi
+    if -tlo > found[0, 1]:
+        found[0, 1] = -tlo
+        found[1, 1] = tplo
+
+
+# allocates nothing: compiled without reference counts, as _refine_side
+@_njit(cache=True, _nrt=False)
+def _search_window(ka, kk, dmin, scale, smp, tp, delays, are, aim, qs, rs, bps, coarse, bmax, bmin, cand, done,
+                   found):  # pragma: no cover - compiled
+    """Coarse pass, candidates and refinement of both signs over one window of arrivals; returns the refinements.
+
+    The window holds the coarse samples ``t_k = dmin + (ka + k) H``, ``k = 0 .. kk``; the best
+    values found (``found``) are updated.
+    """
+    big_h, fine, slope, margin, cusps = smp.big_h, smp.fine, smp.slope, smp.margin, smp.cusps
+    h = big_h / fine
+    t0 = dmin + ka * big_h
+    _window_samples(ka, kk, t0, smp, delays, are, aim, qs, rs, coarse)
+    nb, cmax, cmin, jump = _coarse_stats(coarse, kk, bmax, bmin)
+    vmax = max(cmax, -cmin)
+    slack = margin * vmax + 0.5 * h * slope * scale
+    # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
+    # so samples below these floors cannot come within the slack of the best estimate
+    nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
+                                 -cmin - 2.0 * slack - 0.125 * jump, t0, big_h, cand)
+    nref = 0
+    for side in range(2):
+        nc, top = (nc0, top0) if side == 0 else (nc1, top1)
+        sign = 1.0 if side == 0 else -1.0
+        for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
+            k = int((b - t0) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
+            if 0 < k < kk:
+                est = max(sign * coarse[k], sign * coarse[k + 1])
+                if est > 0.0:
+                    cand[side, 0, nc] = est
+                    cand[side, 1, nc] = b
+                    cand[side, 2, nc] = b
+                    cand[side, 3, nc] = k
+                    nc += 1
+        # pieces that cannot beat the largest coarse sample less the rounding bound (a value that p
+        # reaches) are not searched
+        reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
+        nref += _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are, aim, bps, cand, done,
+                             found)
+    return nref
+
+
+@_njit(cache=True, inline="always")
+def _arrivals(smp, tp, delays, qs, rs, bps, order, seg_a, seg_b):  # pragma: no cover - compiled
+    """First arrival ``dmin`` in s and the number of windows of arrivals (``seg_a``, ``seg_b``).
+
+    Sorts the breakpoints into ``bps`` and sets each image's table column and residue row
+    (``qs``, ``rs``) from its delay rounded to the fine step.
+    """
+    big_h, fine, pad, end = smp.big_h, smp.fine, smp.pad, tp.end
+    nimg = delays.size
+    h = big_h / fine
+    dmin = delays[0]
+    dmax = delays[0]
+    for j in range(1, nimg):
+        dmin = min(dmin, delays[j])
+        dmax = max(dmax, delays[j])
+    for j in range(nimg):  # where p'' may jump or have a cusp: the start and end of each pulse
+        bps[2 * j] = delays[j]
+        bps[2 * j + 1] = delays[j] + end
+    for j in range(1, 2 * nimg):  # insertion sort of the few breakpoints
+        b = bps[j]
+        q = j - 1
+        while q >= 0 and bps[q] > b:
+            bps[q + 1] = bps[q]
+            q -= 1
+        bps[q + 1] = b
+    for j in range(nimg):
+        m = pad - int(round((delays[j] - dmin) / h))
+        qs[j] = m // fine
+        rs[j] = m - qs[j] * fine
+    return dmin, _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b)
+
+
 @_njit(cache=True)
-def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,  # noqa: C901 - one compiled kernel
-                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h):  # pragma: no cover - compiled
-    end = tp.end
-    yend = complex(tp.y0r, tp.y0i)
-    s = complex(tp.sr, tp.si)
-    n = pts.shape[0]
+def _peaks_kernel(res, pts, src, smp, tp, corr):  # pragma: no cover - compiled
+    """Peaks, their times and the exposure of the pressure at each point, into ``res`` (module notes).
+
+    At each point the coarse pass runs over each window of arrivals (``t_k = dmin + k H``);
+    between windows and after the last, every image that has arrived decays freely: extremes in
+    closed form.
+
+    Parameters
+    ----------
+    res : (n, 6) ndarray
+        Output rows: largest ``p`` (Pa), smallest ``p`` (Pa, <= 0), their times (s), exposure
+        ``∫ p² dt`` (Pa²·s; NaN without ``corr.on``) and the number of brackets refined; NaN
+        (and 0 refinements) for a point outside the fluid.
+    pts : (n, 3) ndarray
+        Observer positions in m.
+    src : acoustiviz.field._common.PeakSources
+        The sphere, its images and the fluid.
+    smp : acoustiviz.field._common.PeakSampling
+        The tabulated pulse (:class:`acoustiviz.field.peaks.PeakTable`) and the margin.
+    tp : TaylorPulse
+        ``Y`` for the refinement (:func:`acoustiviz.field._peak_refine.taylor_pulse`).
+    corr : acoustiviz.field._common.PeakCorrelations
+        The pulse correlations of the exposure.
+    """
+    spos, saxis, centre, ppt, pnm, radius, rho, c = src
+    big_h = smp.big_h
     nimg = spos.shape[0]
-    ncol = ytr.shape[1]
+    ncol = smp.ytr.shape[1]
     delays = np.empty(nimg)
     are = np.empty(nimg)
     aim = np.empty(nimg)
@@ -272,22 +518,18 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
     bmin = np.empty((ncol + 2 + BLOCK) // BLOCK + 1)
     # candidates of each sign: estimate, Newton start, time, breakpoint's coarse index (or -1)
     cand = np.empty((2, 4, ncol + 2 + 2 * nimg))
-    done_lo = np.empty(ncol + 2 + 2 * nimg)
-    done_hi = np.empty(ncol + 2 + 2 * nimg)
+    done = np.empty((2, ncol + 2 + 2 * nimg))
     bps = np.empty(2 * nimg)
     order = np.empty(nimg, np.int64)
     seg_a = np.empty(nimg, np.int64)
     seg_b = np.empty(nimg, np.int64)
-    best_s = np.empty(2)
-    tbest_s = np.empty(2)
-    h = big_h / fine
+    found = np.empty((2, 2))
     tol = 1e-12 * radius
     g0 = 0j
     h0 = 0j
-    if do_exp:
-        g0, h0 = _correlation_at(0.0, ctau, cs, cstep, ctable, cyend, m_g, m_h)
-    xtol = XTOL * big_h
-    for i in range(n):
+    if corr.on:
+        g0, h0 = _correlation_at(0.0, corr.tau, corr.s, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
+    for i in range(pts.shape[0]):
         x0 = pts[i, 0]
         x1 = pts[i, 1]
         x2 = pts[i, 2]
@@ -297,167 +539,24 @@ def _peaks_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h
             res[i, 5] = 0.0
             continue
         _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim)
+        res[i, 4] = _exposure(delays, are, aim, corr, g0, h0) if corr.on else np.nan
         scale = 0.0
         for j in range(nimg):
             scale += math.sqrt(are[j] ** 2 + aim[j] ** 2)
-        # exposure: pairs of images and the pulse correlations (module exposure)
-        if do_exp:
-            total = 0.0
-            for j in range(nimg):
-                aj = complex(are[j], aim[j])
-                total += 0.5 * (aj * aj * g0 + (are[j] ** 2 + aim[j] ** 2) * h0).real
-                for k in range(j + 1, nimg):
-                    ak = complex(are[k], aim[k])
-                    lag = delays[j] - delays[k]
-                    if lag >= 0.0:
-                        g, hh = _correlation_at(lag, ctau, cs, cstep, ctable, cyend, m_g, m_h)
-                        total += (aj * ak * g + aj * np.conj(ak) * hh).real
-                    else:
-                        g, hh = _correlation_at(-lag, ctau, cs, cstep, ctable, cyend, m_g, m_h)
-                        total += (aj * ak * g + ak * np.conj(aj) * hh).real
-            res[i, 4] = total
-        else:
-            res[i, 4] = np.nan
-        dmin = delays[0]
-        dmax = delays[0]
-        for j in range(1, nimg):
-            dmin = min(dmin, delays[j])
-            dmax = max(dmax, delays[j])
-        for j in range(nimg):  # where p'' may jump or have a cusp: the start and end of each pulse
-            bps[2 * j] = delays[j]
-            bps[2 * j + 1] = delays[j] + end
-        for j in range(1, 2 * nimg):  # insertion sort of the few breakpoints
-            b = bps[j]
-            q = j - 1
-            while q >= 0 and bps[q] > b:
-                bps[q + 1] = bps[q]
-                q -= 1
-            bps[q + 1] = b
-        for j in range(nimg):
-            m = pad - int(round((delays[j] - dmin) / h))
-            qs[j] = m // fine
-            rs[j] = m - qs[j] * fine
-        # the coarse pass runs over each window of arrivals (t_k = dmin + k H); between windows and
-        # after the last, every image that has arrived decays freely: extremes in closed form
-        nseg = _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b)
-        best_s[0] = best_s[1] = 0.0  # p = 0 before the first arrival
-        tbest_s[0] = tbest_s[1] = dmin
+        dmin, nseg = _arrivals(smp, tp, delays, qs, rs, bps, order, seg_a, seg_b)
+        found[0, :] = 0.0  # p = 0 before the first arrival
+        found[1, :] = dmin
         nref = 0
         for sg in range(nseg):
-            ka = seg_a[sg]
-            kk = seg_b[sg] - ka
-            t0 = dmin + ka * big_h
-            for k in range(kk + 1):
-                coarse[k] = 0.0
-            for j in range(nimg):  # contiguous runs of one residue table per image
-                if delays[j] > t0 + kk * big_h:
-                    continue  # silent in this window
-                seg_r = ytr[rs[j], qs[j] + ka : qs[j] + ka + kk + 1]
-                seg_i = yti[rs[j], qs[j] + ka : qs[j] + ka + kk + 1]
-                ar = are[j]
-                ai = aim[j]
-                for k in range(kk + 1):
-                    coarse[k] += ar * seg_r[k] - ai * seg_i[k]
-            nb, cmax, cmin, jump = _coarse_stats(coarse, kk, bmax, bmin)
-            vmax = max(cmax, -cmin)
-            t_end = t0 + (kk - 1) * big_h  # the samples cover [t0, t_end]; the closed-form decay beyond
-            slack = margin * vmax + 0.5 * h * slope * scale
-            # a coarse local maximum's parabolic estimate exceeds it by at most 1/8 of its larger step,
-            # so samples below these floors cannot come within the slack of the best estimate
-            nc0, top0, nc1, top1 = _scan(coarse, kk, nb, bmax, bmin, cmax - 2.0 * slack - 0.125 * jump,
-                                         -cmin - 2.0 * slack - 0.125 * jump, t0, big_h, cand)
-            for side in range(2):
-                sign = 1.0 if side == 0 else -1.0
-                best = best_s[side]
-                tbest = tbest_s[side]
-                ndone = 0
-                nc, top = (nc0, top0) if side == 0 else (nc1, top1)
-                for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
-                    k = int((b - t0) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
-                    if 0 < k < kk:
-                        est = max(sign * coarse[k], sign * coarse[k + 1])
-                        if est > 0.0:
-                            cand[side, 0, nc] = est
-                            cand[side, 1, nc] = b
-                            cand[side, 2, nc] = b
-                            cand[side, 3, nc] = k
-                            nc += 1
-                # refine, best estimate first, while an estimate can still beat the best refined value
-                while nc > 0:
-                    jb = 0
-                    for q in range(1, nc):
-                        if cand[side, 0, q] > cand[side, 0, jb]:
-                            jb = q
-                    est = cand[side, 0, jb]
-                    if est + slack < best or est + slack < top - slack:
-                        break
-                    tk = cand[side, 2, jb]
-                    kb = int(cand[side, 3, jb])
-                    covered = False
-                    if kb >= 0:
-                        # a breakpoint's feature lies between the coarse samples kb and kb + 1: skip it when
-                        # a bracket already searched (split at the breakpoint) holds that whole interval
-                        ta = t0 + kb * big_h - 1e-9 * big_h
-                        tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
-                        for q in range(ndone):
-                            if done_lo[q] <= ta and tz <= done_hi[q]:
-                                covered = True
-                                break
-                    if not covered:
-                        lo_b = max(dmin, tk - big_h)
-                        hi_b = tk + big_h
-                        if kb >= 0:  # a breakpoint's feature: between its coarse neighbours
-                            lo_b = t0 + kb * big_h
-                            hi_b = t0 + (kb + 1) * big_h
-                        else:
-                            # p is only C¹ at a pulse's start or end: maxima on either side of one may be
-                            # closer than a coarse step (the samples then show one hump): near a
-                            # breakpoint, both sides are searched out to NEAR coarse steps from it
-                            for b in bps:
-                                if abs(b - tk) < (NEAR + 1.0) * big_h:
-                                    lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
-                                    hi_b = max(hi_b, b + NEAR * big_h)
-                        # pieces that cannot beat the largest coarse sample less the rounding bound (a
-                        # value that p reaches) are not searched
-                        reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
-                        val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps,
-                                                  xtol, nimg, delays, are, aim, tp)
-                        done_lo[ndone] = lo_b
-                        done_hi[ndone] = hi_b
-                        ndone += 1
-                        nref += 1
-                        if val > best:
-                            best = val
-                            tbest = tv
-                    nc -= 1
-                    for f in range(4):
-                        cand[side, f, jb] = cand[side, f, nc]
-                best_s[side] = best
-                tbest_s[side] = tbest
+            nref += _search_window(seg_a[sg], seg_b[sg] - seg_a[sg], dmin, scale, smp, tp, delays, are, aim, qs, rs,
+                                   bps, coarse, bmax, bmin, cand, done, found)
             # after the window: the free decay of every image arrived so far, up to the next window (or
-            # for ever), in closed form where its bound (Σ|a_j| |Y(T)| e^{Re(s)(t_end - d_j - T)}) can
-            # beat a peak found
+            # for ever), in closed form where its bound can beat a peak found
+            t_end = dmin + seg_a[sg] * big_h + (seg_b[sg] - seg_a[sg] - 1) * big_h
             t_next = dmin + seg_a[sg + 1] * big_h if sg + 1 < nseg else np.inf
-            last = dmin
-            for j in range(nimg):
-                if delays[j] <= t_end:
-                    last = max(last, delays[j])
-            bound = scale * abs(yend) * math.exp(s.real * (t_end - last - end))  # the latest decays least
-            if bound > min(best_s[0], best_s[1]):
-                bound = 0.0
-                for j in range(nimg):
-                    if delays[j] <= t_end:
-                        bound += math.sqrt(are[j] ** 2 + aim[j] ** 2) * abs(yend) * math.exp(
-                            s.real * (t_end - delays[j] - end))
-            if bound > min(best_s[0], best_s[1]):
-                thi, tphi, tlo, tplo = _decay_extremes(t_end, t_next, t_end, nimg, delays, are, aim, yend, end, s)
-                if thi > best_s[0]:
-                    best_s[0] = thi
-                    tbest_s[0] = tphi
-                if -tlo > best_s[1]:
-                    best_s[1] = -tlo
-                    tbest_s[1] = tplo
-        for side in range(2):
-            res[i, side] = (1.0 if side == 0 else -1.0) * best_s[side]
-            res[i, 2 + side] = tbest_s[side]
+            _after_window(t_end, t_next, dmin, scale, tp, delays, are, aim, found)
+        res[i, 0] = found[0, 0]
+        res[i, 1] = -found[0, 1]
+        res[i, 2] = found[1, 0]
+        res[i, 3] = found[1, 1]
         res[i, 5] = nref

@@ -13,7 +13,7 @@ from types import MappingProxyType
 from ..core.geometry import geometry, relevant_settings
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
-from .validate import SceneError, _unknown, _validate_table, parse_range
+from .validate import SceneError, _unknown, _validate_table, check_damper_physics, parse_range
 
 __all__ = [
     "Scene",
@@ -101,8 +101,8 @@ class Scene:
         files = {s.name: o[s.key] for s in ALL if s.table == "outputs.wav"}
         damper = DamperSettings(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
                                 gap=d["gap_m"], k_hertz=self.k_hertz(radius), c1=d["contact_damping_n_s_m"],
-                                clip_tensile=d["clip_tensile"], v0=d["initial_velocity_m_s"], duration=d["duration_s"],
-                                solver=d["solver"], rtol=d["tolerance"])
+                                clip_tensile=d["clip_tensile"], x0=d["initial_displacement_m"], solver=d["solver"],
+                                v0=d["initial_velocity_m_s"], duration=d["duration_s"], rtol=d["tolerance"])
         return AuralizeSettings(damper=damper, config=self.data["configuration"]["kind"], radius=radius,
                                 pulse=c["pulse"], mass_model=c["pulse_mass"], struck_wall=o["struck_wall"],
                                 c=m["c_m_s"], rho=m["rho_kg_m3"], tail_seed=o["tail_seed"],
@@ -299,9 +299,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
             _unknown(source, "", key, SCHEMA)
     data = {}
     for name, table in SCHEMA.items():
-        if name == "listeners":
-            continue
-        if name == "outputs":
+        if name in ("listeners", "outputs"):
             continue
         data[name] = _validate_table(raw.get(name, {}), table, source, name)
     radius = data["sphere"]["radius_m"]
@@ -314,6 +312,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     order = tuple(k for k in OUTPUT_KINDS if k in outputs)
     scene = Scene(MappingProxyType(data), source, order)
     _check_geometry(scene)
+    check_damper_physics(scene)  # the damper's limits at load, not at its first simulation
     if "wav" in outputs:
         scene.room_sound()  # the tail's and the bands' settings, refused here rather than mid-run
     return scene

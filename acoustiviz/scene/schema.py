@@ -21,7 +21,6 @@ from ..constants import (
     ROOM_STRIKES,
     SAMPLE_RATES,
 )
-from ..constants import SCENE_SOLVERS as SOLVERS
 from ..core.geometry import GEOMETRIES
 
 __all__ = [
@@ -120,17 +119,9 @@ _CONFIGURATION = {
 }
 
 _DAMPER_RECORDS = _from_table(DAMPER, "damper")
-_DAMPER = {
-    **{k: _DAMPER_RECORDS[k] for k in ("main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m",
-                                       "contact_damping_n_s_m")},
-    "clip_tensile": Key("bool", "clip the contact force at zero (no pull as the bodies part)", False),
-    "initial_velocity_m_s": _DAMPER_RECORDS["initial_velocity_m_s"],
-    "initial_displacement_m": Key("float", "initial displacement of the main mass", 0.0, "m", low=-10, high=10),
-    "duration_s": _DAMPER_RECORDS["duration_s"],
-    "solver": Key("str", "damper solver; 'auto' takes the cheapest whose error suits the tolerance "
-                  "(acoustiviz.dynamics.cheapest_solver)", "auto", choices=SOLVERS),
-    "tolerance": _DAMPER_RECORDS["tolerance"],
-}
+_DAMPER = {k: _DAMPER_RECORDS[k] for k in (
+    "main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m", "contact_damping_n_s_m",
+    "clip_tensile", "initial_velocity_m_s", "initial_displacement_m", "duration_s", "solver", "tolerance")}
 
 _EXCITATION = {
     "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "

@@ -36,6 +36,7 @@ __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeSettings", "DamperSettings", 
 DEFAULT_LISTENER = "0.495,0,0.514"
 
 _W = "outputs.wav"
+#: The records of one impact, its medium and its sphere.
 _MEDIUM = by_name(IMPACT)
 
 SOUND = (
@@ -49,12 +50,14 @@ SOUND = (
             choices=STRIKES),
     Setting("height", "--height", None, "float", None,
             "wall strike only: height in m of the sphere's centre above the floor (default: the radius)", "m"),
-    Setting("radius", "--radius", None, "float", None,
-            f"sphere radius in m (default {PAPER_RADIUS:g}, the paper's sphere, whose levels the paper reports "
-            "whatever the mass)", "m", low=1e-6, high=1.0),
-    Setting("density", "--density", None, "float", None,
-            "instead of --radius: a solid sphere of mass --m and this density (steel 7800: 10.7 mm for 40.5 g, "
-            "about 10 dB quieter)", "kg/m^3", low=1.0, high=1e5, metavar="KG/M^3"),
+    # the sphere's records of the commands of one impact and of a scene's [sphere] (their ranges), with the
+    # damper's defaults: the paper's sphere, or a solid sphere of the impact mass
+    dataclasses.replace(_MEDIUM["radius"], key=None, table="", default=None,
+                        doc=f"sphere radius in m (default {PAPER_RADIUS:g}, the paper's sphere, whose levels the "
+                            "paper reports whatever the mass)"),
+    dataclasses.replace(_MEDIUM["density"], key=None, table="", default=None,
+                        doc="instead of --radius: a solid sphere of mass --m and this density (steel 7800: 10.7 mm "
+                            "for 40.5 g, about 10 dB quieter)"),
     Setting("pulse", "--pulse", None, "str", "half-sine",
             "acceleration pulse per impact: the paper's peak-matched half-sine, an impulse-matched "
             "half-sine, or the exact Hertz pulse", choices=PULSES),
@@ -158,6 +161,7 @@ class DamperSettings(Settings):
     k_hertz: float = TABLE1["k_hertz"]
     c1: float = TABLE1["c1"]
     clip_tensile: bool = False
+    x0: float = 0.0
     v0: float = PAPER_V0
     duration: float = DEFAULT_DURATION
     solver: str = "event"

@@ -11,10 +11,10 @@ speeds in m/s, times in s.
 
 from __future__ import annotations
 
-from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, TABLE1
+from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
 from .table import Setting, check_values
 
-__all__ = ["MODEL", "RUN", "DAMPER", "check_values"]
+__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "check_values"]
 
 _D = "damper"
 
@@ -38,8 +38,17 @@ MODEL = (
             high=1e9, table=_D, metavar="N*S/M"),
 )
 
-#: The run: the initial velocity of the main mass, the simulated time and the event solver's tolerance.
+#: How the contact force behaves as the bodies part (``acoustiviz damper`` and ``auralize``, a scene's [damper]).
+CONTACT_LAW = (
+    Setting("clip_tensile", "--clip-tensile", "clip_tensile", "bool", False,
+            "clip the contact force at zero: no pull as the bodies part (default: the paper's form, which may pull)",
+            table=_D),
+)
+
+#: The run: the initial state of the main mass, the simulated time and the event solver's tolerance.
 RUN = (
+    Setting("x0", None, "initial_displacement_m", "float", 0.0, "initial displacement of the main mass", "m",
+            low=-10.0, high=10.0, table=_D),
     Setting("v0", "--v0", "initial_velocity_m_s", "float", PAPER_V0, "initial velocity of the main mass", "m/s",
             low=-1e3, high=1e3, table=_D, metavar="M/S"),
     Setting("duration", "--duration", "duration_s", "float", DEFAULT_DURATION, "simulated time", "s", low=0.0,
@@ -49,5 +58,15 @@ RUN = (
             high=0.5, low_open=True, table=_D, metavar="RTOL"),
 )
 
+#: The solver and its fixed step.
+SOLVER = (
+    Setting("solver", "--solver", "solver", "str", "event",
+            "damper solver: event (exact free flight, adaptive contacts), newmark (the paper's fixed-step "
+            "scheme), impact-map (instantaneous impacts) or auto (the cheapest whose error suits the tolerance, "
+            "acoustiviz.dynamics.cheapest_solver)", choices=SCENE_SOLVERS, scene_default="auto", table=_D),
+    Setting("dt", "--dt", None, "float", None, "Newmark step (default: 1/50 of the shortest possible contact)",
+            "s", low=0.0, high=1e4, low_open=True, metavar="S"),
+)
+
 #: Every damper record.
-DAMPER = MODEL + RUN
+DAMPER = MODEL + CONTACT_LAW + RUN + SOLVER

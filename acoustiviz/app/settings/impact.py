@@ -16,7 +16,9 @@ from ...constants import (
     DEFAULT_SOUND_SPEED,
     DEFAULT_WALL_DISTANCE,
     DIRECTIVITY_METRICS,
+    PAPER_ANGLE_DEG,
     PAPER_DENSITY,
+    PAPER_DISTANCE,
     PAPER_K_HERTZ,
     PAPER_RADIUS,
     PAPER_VELOCITY,
@@ -26,7 +28,7 @@ from ...constants import (
 from .base import Settings
 from .table import Setting
 
-__all__ = ["IMPACT_GROUPS", "IMPACT", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
+__all__ = ["IMPACT_GROUPS", "IMPACT", "OBSERVER", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
            "MIN_SAMPLES_PER_DURATION"]
 
 #: Fewest time samples per contact duration a waveform is drawn or tabulated with.
@@ -81,6 +83,15 @@ IMPACT_GROUPS = (
 
 #: Every record of :data:`IMPACT_GROUPS`.
 IMPACT = tuple(s for _, records in IMPACT_GROUPS for s in records)
+
+#: The one observer of ``acoustiviz waveform`` (and the distance of ``directivity``): no range of their own, the
+#: observer must lie in the fluid (:func:`acoustiviz.app.impacts.observer_point`).
+OBSERVER = (
+    Setting("distance", "--distance", None, "float", PAPER_DISTANCE, "observer distance in m from the sphere's centre",
+            "m"),
+    Setting("angle_deg", "--angle", None, "float", PAPER_ANGLE_DEG,
+            "observer angle in degrees from the acceleration axis (the surface normal)", "deg", metavar="DEG"),
+)
 
 WAVEFORM = (
     Setting("samples_per_duration", "--samples-per-duration", None, "int", 400,

@@ -35,8 +35,8 @@ class Setting:
         The command-line option (None: none).
     key : str or None
         The scene key within its table (None: none).
-    kind : {"str", "float", "int"}
-        The type of one value.
+    kind : {"str", "float", "int", "bool"}
+        The type of one value (``"bool"``: a flag on the command line).
     default : object
         The default (None: computed from other settings, or absent).
     doc : str
@@ -97,6 +97,10 @@ class Setting:
             return None
         if self.kind == "str":
             return check_choice(name, value, self.choices) if self.choices else str(value)
+        if self.kind == "bool":
+            if not _is_bool(value):
+                raise ParameterError(name, f"must be true or false, got {value!r}")
+            return bool(value)
         if self.kind == "int":
             if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
                     or not self.low <= value <= self.high:
@@ -151,3 +155,8 @@ def check_values(values: dict, records) -> dict:
     """``values`` (``{name: value}``) with the range of each named record checked; errors name the API parameter."""
     table = by_name(records)
     return {k: table[k].check(v) if k in table else v for k, v in values.items()}
+
+
+def _is_bool(value) -> bool:
+    """True for ``True``/``False`` and numpy's booleans (tested by type name: no numpy import here)."""
+    return isinstance(value, bool) or (type(value).__module__ == "numpy" and type(value).__name__ in ("bool_", "bool"))
