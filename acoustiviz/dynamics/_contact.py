@@ -135,44 +135,40 @@ def _newton_g(kind, target, y, f):
     return y[0] - target, f[0]
 
 
-@helper
-def _root_in_step(kind, target, y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):  # noqa: C901 - two searches, one copy of the step
-    """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
-
-    Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
-    state) kept inside the bracket; ``glo`` is the sign-carrying value at the step start and the
-    first trial reuses ``ynew``. Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step
-    start to ``g1`` (<= 0) at its end, loose (the peak value is flat). Every trial is a full
-    Dormand-Prince step from the step start, so the root is as accurate as the integration;
-    ``ynew``/``fnew`` hold the state at the root. One function for both searches: each compiled
-    function that calls :func:`_dop_step` carries its own copy of the step's code.
-    """
+@njit(cache=True, inline="always")
+def _illinois_root(y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
+    """The peak force's step length (kind 3 of :func:`_root_in_step`): Illinois on dF/dσ."""
     lo, hi = 0.0, h
-    if kind == 3:
-        ghi = g1
-        side = 0
-        hm = hi
-        for _ in range(60):
-            hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
-            if not (lo < hm < hi):
-                hm = 0.5 * (lo + hi)
-            _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-            gm = _dfds(ynew, fnew, prm)
-            if gm == 0.0:
-                break
-            if (gm > 0.0) == (glo > 0.0):
-                lo, glo = hm, gm
-                if side == -1:
-                    ghi *= 0.5
-                side = -1
-            else:
-                hi, ghi = hm, gm
-                if side == 1:
-                    glo *= 0.5
-                side = 1
-            if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
-                break
-        return hm
+    ghi = g1
+    side = 0
+    hm = hi
+    for _ in range(60):
+        hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+        if not (lo < hm < hi):
+            hm = 0.5 * (lo + hi)
+        _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        gm = _dfds(ynew, fnew, prm)
+        if gm == 0.0:
+            break
+        if (gm > 0.0) == (glo > 0.0):
+            lo, glo = hm, gm
+            if side == -1:
+                ghi *= 0.5
+            side = -1
+        else:
+            hi, ghi = hm, gm
+            if side == 1:
+                glo *= 0.5
+            side = 1
+        if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
+            break
+    return hm
+
+
+@njit(cache=True, inline="always")
+def _newton_root(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
+    """The step length where ξ, v or t - target vanishes (kinds 0-2 of :func:`_root_in_step`): Newton."""
+    lo, hi = 0.0, h
     hm = h
     g, dg = _newton_g(kind, target, ynew, fnew)
     for _ in range(40):
@@ -190,6 +186,24 @@ def _root_in_step(kind, target, y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, y
         if done or hi - lo <= 4.0 * _EPS * hi:
             break
     return hm
+
+
+@helper
+def _root_in_step(kind, target, y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
+    """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
+
+    Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
+    state) kept inside the bracket; ``glo`` is the sign-carrying value at the step start and the
+    first trial reuses ``ynew``. Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step
+    start to ``g1`` (<= 0) at its end, loose (the peak value is flat). Every trial is a full
+    Dormand-Prince step from the step start, so the root is as accurate as the integration;
+    ``ynew``/``fnew`` hold the state at the root. One compiled function for both searches (the two
+    loops are inlined into it): each compiled function that calls :func:`_dop_step` carries its
+    own copy of the step's code.
+    """
+    if kind == 3:
+        return _illinois_root(y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+    return _newton_root(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
 
 
 @helper
