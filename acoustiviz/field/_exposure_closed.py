@@ -13,6 +13,7 @@ arrival), with no table and no interpolation (1e-14 of the exact pair sum). Time
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -101,6 +102,24 @@ def half_sine_lag_terms(amp: float, tau: float, s: complex) -> np.ndarray:
 #: (``|z| <= 2π/EXP_STEPS``, 0.0031, and ``16/EXP_STEPS`` times ``√2``, 0.011: the next term below 1e-17).
 EXP_STEPS = 2048
 EXP_DEGREE = 6
+
+
+class ClosedPairs(NamedTuple):
+    """The half-sine's closed-form close pairs, as :func:`acoustiviz.field._peak_dense._dense_kernel` reads them.
+
+    Attributes
+    ----------
+    lag_terms : (k,) complex ndarray
+        The exponential terms of the pulse correlations in the lag on ``[0, T]``
+        (:attr:`acoustiviz.field.exposure.PulseCorrelations.lag_terms`); empty for other pulses,
+        whose close pairs read the correlation table.
+    ts, tw : (EXP_STEPS + 1,) complex ndarray
+        The tables of :func:`closed_tables` (unused when ``lag_terms`` is empty).
+    """
+
+    lag_terms: np.ndarray
+    ts: np.ndarray
+    tw: np.ndarray
 
 
 @_njit(cache=True)

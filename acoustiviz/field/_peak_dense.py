@@ -323,15 +323,19 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
 
 
 @_njit(cache=True)
-def _dense_kernel(res, pts, spos, saxis, centre, ppt, pnm, radius, rho, c, big_h, fine, pad, ytr, yti, slope,
-                  margin, tp, do_exp, cusps, ctau, cs, cstep, ctable, cyend, m_g, m_h,
-                  lag_terms, ts, tw):  # pragma: no cover - compiled
+def _dense_kernel(res, pts, src, smp, tp, corr, closed):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
 
-    The exposure of the half-sine pulse (``lag_terms`` not empty) sums its close pairs in closed
-    form (:func:`acoustiviz.field.exposure._exposure_closed`, with the tables ``ts`` and ``tw`` of
-    :func:`acoustiviz.field.exposure.closed_tables`), of other pulses from the correlation table.
+    ``src``, ``smp``, ``tp`` and ``corr`` are the records :func:`~._peak_kernels._peaks_kernel` takes
+    (:class:`~._common.PeakSources`, :class:`~._common.PeakSampling`, :class:`~._common.TaylorPulse`,
+    :class:`~._common.PeakCorrelations`). The exposure of the half-sine pulse (``closed.lag_terms``
+    not empty) sums its close pairs in closed form (:func:`._exposure_closed._exposure_closed`, with
+    the tables of :class:`._exposure_closed.ClosedPairs`), of other pulses from the correlation table.
     """
+    spos, saxis, centre, ppt, pnm, radius, rho, c = src
+    big_h, fine, pad, ytr, yti, slope, margin, cusps = smp
+    do_exp, ctau, cs, cstep, ctable, cyend, m_g, m_h = corr
+    lag_terms, ts, tw = closed
     end = tp.end
     yend = complex(tp.y0r, tp.y0i)
     s = complex(tp.sr, tp.si)

@@ -75,7 +75,7 @@ from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ._common import PeakCorrelations, PeakSampling, PeakSources, check_config, check_pulse, pulse_args
-from ._exposure_closed import closed_tables
+from ._exposure_closed import ClosedPairs, closed_tables
 from ._kernels import _fill
 from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
@@ -301,19 +301,15 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     for lo in range(0, n, step):
         hi = min(lo + step, n)
         block = np.ascontiguousarray(pts[lo:hi])
+        src = PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho), float(medium.c))
+        smp = PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin), cusps)
+        corr = PeakCorrelations(bool(exposure), *cargs)
         if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
             kernel = _dense_kernel
-            args = (res[lo:hi], block, spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho),
-                    float(medium.c), tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound,
-                    float(margin), tp, bool(exposure), cusps, *cargs, lag_terms, *exp_tables)
+            args = (res[lo:hi], block, src, smp, tp, corr, ClosedPairs(lag_terms, *exp_tables))
         else:
             kernel = _peaks_kernel
-            args = (res[lo:hi], block,
-                    PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho),
-                                float(medium.c)),
-                    PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin),
-                                 cusps),
-                    tp, PeakCorrelations(bool(exposure), *cargs))
+            args = (res[lo:hi], block, src, smp, tp, corr)
         if lo == 0:  # say so once if the peak search's kernels are compiled now
             compile_for(kernel, args, "peak-search", PEAKS_COMPILE_S)
         kernel(*args)
