@@ -84,9 +84,26 @@ def _leaf_parsers(subparsers_action):
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``acoustiviz`` console script; returns the exit status."""
+    """Entry point of the ``acoustiviz`` console script; returns the exit status.
+
+    Called without ``argv`` (as the console script and ``python -m acoustiviz`` call it, the
+    process then ending), the objects alive when it returns are frozen out of the garbage
+    collector (:func:`gc.freeze`): the interpreter's exit then skips traversing them again in
+    its final collections, about 0.6 s of CPU after a scene run. Every output file is closed
+    by then and exit handlers still run.
+    """
+    if argv is None:
+        try:
+            return _main(sys.argv[1:])
+        finally:
+            import gc
+
+            gc.freeze()
+    return _main(list(argv))
+
+
+def _main(argv: list) -> int:
     parser = build_parser()
-    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
     # the options typed (not defaulted): errors about work too large name one of these first
     args.given_options = frozenset(str(tok).split("=", 1)[0] for tok in argv if str(tok).startswith("--"))

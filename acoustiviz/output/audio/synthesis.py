@@ -404,10 +404,38 @@ def _wall_geometry(sequence, scene, pts, fs):
     return geom, trains
 
 
+def _filter_decimate(x: np.ndarray, L: int) -> np.ndarray:
+    """``x`` filtered by :func:`decimation_filter` ``(L)`` and decimated by ``L``: ``fftconvolve(x, h)[::L]``.
+
+    The same real FFTs as :func:`scipy.signal.fftconvolve` (length ``next_fast_len(x.size + h.size - 1)``),
+    so the samples are the same to the last bit, but the filter's spectrum at each FFT length is
+    computed once (:func:`_filter_spectrum`) rather than once per click.
+    """
+    h = _decimation_taps(L)
+    n = x.size + h.size - 1
+    if x.ndim != 1 or x.size < 2:
+        from scipy.signal import fftconvolve
+
+        return fftconvolve(x, h)[::L]
+    import scipy.fft as sfft
+
+    nfft = [sfft.next_fast_len(n, True)]
+    y = sfft.irfftn(sfft.rfftn(x, nfft, axes=[0]) * _filter_spectrum(L, nfft[0]), nfft, axes=[0])
+    return y[:n][::L]
+
+
+@functools.lru_cache(maxsize=64)
+def _filter_spectrum(L: int, nfft: int) -> np.ndarray:
+    """Real FFT of length ``nfft`` of the decimation filter for ``L`` (read-only)."""
+    import scipy.fft as sfft
+
+    sp = sfft.rfftn(_decimation_taps(L), [nfft], axes=[0])
+    sp.flags.writeable = False
+    return sp
+
+
 def _add_exact_clicks(out, sequence, pulses, geom, grid, a, medium) -> None:
     """Add each impact's click from the exactly rendered sources, in closed form, band-limited."""
-    from scipy.signal import fftconvolve
-
     fs, L, f_int, h, half, tail = grid
     n_out = out.shape[1]
     for k, pulse in enumerate(pulses):  # loop over impacts ...
@@ -421,7 +449,7 @@ def _add_exact_clicks(out, sequence, pulses, geom, grid, a, medium) -> None:
             t_loc = (idx - tk * f_int) / f_int  # time since contact start, s
             y = pulse_response(pulse, t_loc[None, :] - delay[:, None], radius=a, medium=medium)
             x = np.real(weight[:, None] * y).sum(axis=0)
-            z = fftconvolve(x, h)[::L]  # = upfirdn(h, x, down=L); FFT is faster for these lengths
+            z = _filter_decimate(x, L)  # = upfirdn(h, x, down=L); FFT is faster for these lengths
             lo = n0 - half
             s0, s1 = max(lo, 0), min(lo + z.size, n_out)
             if s1 > s0:
@@ -444,7 +472,7 @@ def _add_trains(out, sequence, pulses, trains, grid, a, medium) -> None:
             y = pulse_response(pulse, (idx - tk * f_int) / f_int, radius=a, medium=medium)
             lo = n0 - half
             for part, x in ((0, y.real), (1, y.imag)):
-                z = fftconvolve(x, h)[::L]
+                z = _filter_decimate(x, L)
                 s0, s1 = max(lo, 0), min(lo + z.size, n_out)
                 if s1 > s0:
                     dry[part, s0:s1] += z[s0 - lo:s1 - lo]
