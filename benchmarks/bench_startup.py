@@ -49,7 +49,8 @@ BASELINE = "4a6bf44"
 #: ratio targets of the measures that have one (issue 24), as "<= x"
 TARGETS = {"run cold": 0.4, "run warm": 0.6, "damper cold": 0.25, "--help": 0.5, "fast_peaks 1e3 pts (wall)": 0.1}
 
-# The probe run inside each child: runs the command line (argv in ACV_ARGV, JSON) in-process, and with
+# The probe run inside each child: runs the command line (argv in ACV_ARGV, JSON) in-process as the console
+# script does (sys.argv, main() without arguments), and with
 # ACV_KERNELS set records numba's compile events and lists the dispatchers with their signatures.
 PROBE = r"""
 import json, os, sys, time
@@ -96,8 +97,9 @@ elif argv == ["fast_peaks"]:  # wall ms of one warm fast_peaks call at 1e3 point
     status = 0
 else:
     from acoustiviz.cli import main
+    sys.argv = ['acoustiviz', *argv]  # as the console script calls it
     try:
-        status = main(argv)
+        status = main()
     except SystemExit as exc:  # --help
         status = exc.code or 0
 if record:
