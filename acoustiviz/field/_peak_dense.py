@@ -38,8 +38,12 @@ from ._peak_kernels import (
     NEAR,
     TAIL_STEPS,
     XTOL,
+    _best_candidate,
+    _bracket,
     _coarse_stats,
+    _covered,
     _decay_extremes,
+    _drop_candidate,
     _image_terms,
     _in_fluid,
     _scan,
@@ -148,22 +152,6 @@ def _rounding_scale(ds, mag, span):  # pragma: no cover - compiled
     return best * (1.0 + 1e-12)
 
 
-@_njit(cache=True, inline="always")
-def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - compiled
-    """Whether coarse step ``kb`` (``[t0 + kb H, t0 + (kb + 1) H]``, s) lies in a bracket already searched.
-
-    ``done_lo[:ndone]``, ``done_hi[:ndone]`` are those brackets in s; ``kb < 0`` (no step) is never covered.
-    """
-    if kb < 0:
-        return False
-    ta = t0 + kb * big_h - 1e-9 * big_h
-    tz = t0 + (kb + 1) * big_h + 1e-9 * big_h
-    for q in range(ndone):
-        if done_lo[q] <= ta and tz <= done_hi[q]:
-            return True
-    return False
-
-
 @_njit(cache=True)
 def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,
                  done_lo, done_hi):  # pragma: no cover - compiled
@@ -178,10 +166,7 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
     ndone = 0
     nref = 0
     while nc > 0:
-        jb = 0
-        for q in range(1, nc):
-            if cand[side, 0, q] > cand[side, 0, jb]:
-                jb = q
+        jb = _best_candidate(cand, side, nc)
         est = cand[side, 0, jb]
         if est + slack < best or est + slack < top - slack:
             break
@@ -190,16 +175,7 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
         if not _covered(kb, t0, big_h, done_lo, done_hi, ndone):
             nbp = _breakpoints_near(ds, end, tk - REACH * big_h, tk + REACH * big_h, bps)
             bp = bps[:nbp]
-            lo_b = max(dmin, tk - big_h)
-            hi_b = tk + big_h
-            if kb >= 0:
-                lo_b = t0 + kb * big_h
-                hi_b = t0 + (kb + 1) * big_h
-            else:
-                for b in bp:
-                    if abs(b - tk) < (NEAR + 1.0) * big_h:
-                        lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
-                        hi_b = max(hi_b, b + NEAR * big_h)
+            lo_b, hi_b = _bracket(kb, tk, t0, dmin, big_h, bp)
             j_lo = np.searchsorted(ds, lo_b - end - cut)
             j_hi = np.searchsorted(ds, hi_b, side="right")
             val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bp, xtol, j_hi - j_lo,
@@ -211,9 +187,7 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
             if val > best:
                 best = val
                 tbest = tv
-        nc -= 1
-        for f in range(4):
-            cand[side, f, jb] = cand[side, f, nc]
+        nc = _drop_candidate(cand, side, jb, nc)
     return best, tbest, nref
 
 

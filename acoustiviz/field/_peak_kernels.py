@@ -312,6 +312,47 @@ def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - comp
     return False
 
 
+@_njit(cache=True, inline="always")
+def _best_candidate(cand, side, nc):  # pragma: no cover - compiled
+    """Index of the candidate of sign ``side`` with the largest estimate among the first ``nc``."""
+    jb = 0
+    for q in range(1, nc):
+        if cand[side, 0, q] > cand[side, 0, jb]:
+            jb = q
+    return jb
+
+
+@_njit(cache=True, inline="always")
+def _bracket(kb, tk, t0, dmin, big_h, bps):  # pragma: no cover - compiled
+    """The bracket ``(lo, hi)`` in s refined for a candidate at ``tk`` s (coarse step ``kb``, or -1).
+
+    One coarse step either side, or a breakpoint's coarse neighbours; p is only C¹ at a pulse's
+    start or end: maxima on either side of one may be closer than a coarse step (the samples then
+    show one hump), so near a breakpoint of ``bps`` (s) both sides are searched out to
+    :data:`NEAR` coarse steps from it. Never before ``dmin``, the first arrival.
+    """
+    lo_b = max(dmin, tk - big_h)
+    hi_b = tk + big_h
+    if kb >= 0:
+        lo_b = t0 + kb * big_h
+        hi_b = t0 + (kb + 1) * big_h
+    else:
+        for b in bps:
+            if abs(b - tk) < (NEAR + 1.0) * big_h:
+                lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
+                hi_b = max(hi_b, b + NEAR * big_h)
+    return lo_b, hi_b
+
+
+@_njit(cache=True, inline="always")
+def _drop_candidate(cand, side, jb, nc):  # pragma: no cover - compiled
+    """Remove candidate ``jb`` of sign ``side`` (the last of ``nc`` takes its place); return the new count."""
+    nc -= 1
+    for f in range(4):
+        cand[side, f, jb] = cand[side, f, nc]
+    return nc
+
+
 # allocates nothing: compiled without reference counts (with them, the counts of its array arguments at each
 # call made fast_peaks about 1.5 times slower)
 @_njit(cache=True, _nrt=False)
@@ -332,29 +373,13 @@ def _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are
     ndone = 0
     nref = 0
     while nc > 0:
-        jb = 0
-        for q in range(1, nc):
-            if cand[side, 0, q] > cand[side, 0, jb]:
-                jb = q
+        jb = _best_candidate(cand, side, nc)
         est = cand[side, 0, jb]
         if est + slack < best or est + slack < top - slack:
             break
         kb = int(cand[side, 3, jb])
         if not _covered(kb, t0, big_h, done[0], done[1], ndone):
-            # one coarse step either side, or a breakpoint's coarse neighbours; p is only C¹ at a pulse's
-            # start or end: maxima on either side of one may be closer than a coarse step (the samples then
-            # show one hump), so near a breakpoint both sides are searched out to NEAR coarse steps from it
-            tk = cand[side, 2, jb]
-            lo_b = max(dmin, tk - big_h)
-            hi_b = tk + big_h
-            if kb >= 0:
-                lo_b = t0 + kb * big_h
-                hi_b = t0 + (kb + 1) * big_h
-            else:
-                for b in bps:
-                    if abs(b - tk) < (NEAR + 1.0) * big_h:
-                        lo_b = max(dmin, min(lo_b, b - NEAR * big_h))
-                        hi_b = max(hi_b, b + NEAR * big_h)
+            lo_b, hi_b = _bracket(kb, cand[side, 2, jb], t0, dmin, big_h, bps)
             val, tv = _refine_bracket(sign, max(best, reached), cand[side, 1, jb], lo_b, hi_b, bps, xtol,
                                       delays.size, delays, are, aim, tp)
             done[0, ndone] = lo_b
@@ -364,9 +389,7 @@ def _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are
             if val > best:
                 best = val
                 tbest = tv
-        nc -= 1
-        for f in range(4):
-            cand[side, f, jb] = cand[side, f, nc]
+        nc = _drop_candidate(cand, side, jb, nc)
     found[0, side] = best
     found[1, side] = tbest
     return nref
