@@ -40,6 +40,7 @@ from ._peak_kernels import (
     XTOL,
     _best_candidate,
     _bracket,
+    _breakpoint_candidate,
     _coarse_stats,
     _covered,
     _decay_extremes,
@@ -266,18 +267,9 @@ def _cusp_candidates(side, nc, ds, end, dmin, big_h, kk, coarse, cand):  # pragm
 
     A feature narrower than ``H`` may sit at such a breakpoint: its coarse neighbours bound it.
     """
-    sign = 1.0 if side == 0 else -1.0
     for q in range(2 * ds.size):
         b = ds[q // 2] + (end if q % 2 else 0.0)
-        k = int((b - dmin) / big_h)
-        if 0 < k < kk:
-            est = max(sign * coarse[k], sign * coarse[k + 1])
-            if est > 0.0:
-                cand[side, 0, nc] = est
-                cand[side, 1, nc] = b
-                cand[side, 2, nc] = b
-                cand[side, 3, nc] = k
-                nc += 1
+        nc = _breakpoint_candidate(side, nc, b, int((b - dmin) / big_h), kk, coarse, cand)
     return nc
 
 

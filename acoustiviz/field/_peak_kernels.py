@@ -313,6 +313,26 @@ def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - comp
 
 
 @_njit(cache=True, inline="always")
+def _breakpoint_candidate(side, nc, b, k, kk, coarse, cand):  # pragma: no cover - compiled
+    """Add a candidate of sign ``side`` at breakpoint ``b`` s between coarse samples ``k`` and ``k + 1``.
+
+    A feature narrower than the coarse step may sit at a pulse's start or end: the larger of its two
+    coarse neighbours (Pa, signed by ``side``) bounds it. Added only for ``0 < k < kk`` and a positive
+    estimate; returns the new number of candidates.
+    """
+    sign = 1.0 if side == 0 else -1.0
+    if 0 < k < kk:
+        est = max(sign * coarse[k], sign * coarse[k + 1])
+        if est > 0.0:
+            cand[side, 0, nc] = est
+            cand[side, 1, nc] = b
+            cand[side, 2, nc] = b
+            cand[side, 3, nc] = k
+            nc += 1
+    return nc
+
+
+@_njit(cache=True, inline="always")
 def _best_candidate(cand, side, nc):  # pragma: no cover - compiled
     """Index of the candidate of sign ``side`` with the largest estimate among the first ``nc``."""
     jb = 0
@@ -451,17 +471,9 @@ def _search_window(ka, kk, dmin, scale, smp, tp, delays, are, aim, qs, rs, bps, 
     nref = 0
     for side in range(2):
         nc, top = (nc0, top0) if side == 0 else (nc1, top1)
-        sign = 1.0 if side == 0 else -1.0
         for b in bps:  # a feature narrower than H may sit at a breakpoint: its coarse neighbours bound it
             k = int((b - t0) / big_h) if cusps else -1  # none where the pulse starts and ends at A = 0
-            if 0 < k < kk:
-                est = max(sign * coarse[k], sign * coarse[k + 1])
-                if est > 0.0:
-                    cand[side, 0, nc] = est
-                    cand[side, 1, nc] = b
-                    cand[side, 2, nc] = b
-                    cand[side, 3, nc] = k
-                    nc += 1
+            nc = _breakpoint_candidate(side, nc, b, k, kk, coarse, cand)
         # pieces that cannot beat the largest coarse sample less the rounding bound (a value that p
         # reaches) are not searched
         reached = (cmax if side == 0 else -cmin) - 0.5 * h * slope * scale
