@@ -12,7 +12,7 @@ import numpy as np
 
 from ._kernels import _njit
 from ._peak_refine import _refine_bracket
-from .exposure import _correlation_at
+from .exposure import _correlation_at, _exposure_pairs
 
 #: Newton stops when its step is below this fraction of the coarse step; the value is then that of
 #: the quadratic model, O(step³ p''') from the maximum (about 1e-11 relative at 12 samples per a/c).
@@ -257,21 +257,7 @@ def _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim):  # 
 def _exposure(delays, are, aim, corr, g0, h0):  # pragma: no cover - compiled
     """``∫ p² dt`` in Pa²·s from the pairs of images and the pulse correlations (module ``exposure``)."""
     _, tau, cs, step, table, yend, m_g, m_h = corr
-    nimg = delays.size
-    total = 0.0
-    for j in range(nimg):
-        aj = complex(are[j], aim[j])
-        total += 0.5 * (aj * aj * g0 + (are[j] ** 2 + aim[j] ** 2) * h0).real
-        for k in range(j + 1, nimg):
-            ak = complex(are[k], aim[k])
-            lag = delays[j] - delays[k]
-            if lag >= 0.0:
-                g, hh = _correlation_at(lag, tau, cs, step, table, yend, m_g, m_h)
-                total += (aj * ak * g + aj * np.conj(ak) * hh).real
-            else:
-                g, hh = _correlation_at(-lag, tau, cs, step, table, yend, m_g, m_h)
-                total += (aj * ak * g + ak * np.conj(aj) * hh).real
-    return total
+    return _exposure_pairs(delays, are, aim, tau, cs, step, table, yend, m_g, m_h, g0, h0)
 
 
 @_njit(cache=True, inline="always")

@@ -244,25 +244,35 @@ def _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h):  # pragma: no co
     return g, h
 
 
+@_njit(cache=True, inline="always")
+def _exposure_pairs(delays, are, aim, tau, s, step, table, y_end, m_g, m_h, g0, h0):  # pragma: no cover
+    """``∫ p² dt`` in Pa²·s at one point from every pair of its images (the module notes' sum).
+
+    ``delays`` (s) and ``are``, ``aim`` (Pa·s/m) are one point's images; ``g0``, ``h0`` the
+    correlations at lag 0 (:func:`_correlation_at`), the rest the pulse correlations'.
+    """
+    nimg = delays.size
+    total = 0.0
+    for j in range(nimg):
+        aj = complex(are[j], aim[j])
+        total += 0.5 * (aj * aj * g0 + (are[j] ** 2 + aim[j] ** 2) * h0).real
+        for k in range(j + 1, nimg):
+            ak = complex(are[k], aim[k])
+            lag = delays[j] - delays[k]
+            if lag >= 0.0:
+                g, h = _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h)
+                total += (aj * ak * g + aj * np.conj(ak) * h).real
+            else:
+                g, h = _correlation_at(-lag, tau, s, step, table, y_end, m_g, m_h)
+                total += (aj * ak * g + ak * np.conj(aj) * h).real
+    return total
+
+
 @_njit(cache=True)
 def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover
-    n, nimg = delays.shape
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
-    for i in range(n):
-        total = 0.0
-        for j in range(nimg):
-            aj = complex(are[i, j], aim[i, j])
-            total += 0.5 * (aj * aj * g0 + (are[i, j] ** 2 + aim[i, j] ** 2) * h0).real
-            for k in range(j + 1, nimg):
-                ak = complex(are[i, k], aim[i, k])
-                lag = delays[i, j] - delays[i, k]
-                if lag >= 0.0:
-                    g, h = _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h)
-                    total += (aj * ak * g + aj * np.conj(ak) * h).real
-                else:
-                    g, h = _correlation_at(-lag, tau, s, step, table, y_end, m_g, m_h)
-                    total += (aj * ak * g + ak * np.conj(aj) * h).real
-        out[i] = total
+    for i in range(delays.shape[0]):
+        out[i] = _exposure_pairs(delays[i], are[i], aim[i], tau, s, step, table, y_end, m_g, m_h, g0, h0)
 
 
 #: Above this many sources (a room's images) the exposure sorts the arrivals and sums the pairs
