@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 
 from .._validate import check_positive, check_range
+from ..constants import DEFAULT_AIR_DENSITY, DEFAULT_SOUND_SPEED
 
 __all__ = ["Medium", "AIR", "air_at"]
 
@@ -28,8 +29,8 @@ class Medium:
     1478038
     """
 
-    c: float = 343.2
-    rho: float = 1.204
+    c: float = DEFAULT_SOUND_SPEED
+    rho: float = DEFAULT_AIR_DENSITY
 
     def __post_init__(self):
         check_positive("c", self.c, "m/s")
@@ -80,4 +81,4 @@ def air_at(temperature: float = 20.0, pressure: float = 101325.0) -> Medium:
 
 
 #: Dry air at 20 °C and 101.325 kPa: c = 343.2 m/s, rho = 1.204 kg/m³.
-AIR = Medium(c=343.2, rho=1.204)
+AIR = Medium(c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY)

@@ -13,8 +13,10 @@ import dataclasses
 
 from ...constants import (
     CONFIGURATIONS,
+    DEFAULT_AIR_DENSITY,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
+    DEFAULT_SOUND_SPEED,
     PAPER_GAP,
     PAPER_RADIUS,
     PAPER_V0,
@@ -192,8 +194,8 @@ class AuralizeSettings(Settings):
     mass_model: str = "impact"
     walls: str = "both"
     struck_wall: int = -1
-    c: float = 343.2
-    rho: float = 1.204
+    c: float = DEFAULT_SOUND_SPEED
+    rho: float = DEFAULT_AIR_DENSITY
     late_tail: bool = False
     tail_seed: int | None = None
     tail_decay: str | None = None
