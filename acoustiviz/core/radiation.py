@@ -169,8 +169,8 @@ def _half_sine_response(pulse: HalfSinePulse, s: complex, tr: np.ndarray) -> np.
     after = tr >= tau
     td = tr[during]
     y[during] = (-s * np.sin(w * td) - w * np.cos(w * td) + w * np.exp(s * td)) / den
-    ta = tr[after]
-    y[after] = w * (np.exp(s * (ta - tau)) + np.exp(s * ta)) / den
+    # after the contact both terms decay alike, e^{s t} = e^{s τ} e^{s (t - τ)}: one complex exp per sample
+    y[after] = (w * (1.0 + np.exp(s * tau)) / den) * np.exp(s * (tr[after] - tau))
     return pulse.amplitude * y
 
 
