@@ -40,12 +40,50 @@ def new_axes(ax=None, *, polar: bool = False, figsize=(6.4, 4.0)):
 
 
 def save_figure(fig, path):
-    """Save ``fig`` to ``path`` atomically (write a temporary file, then rename); return the path."""
+    """Save ``fig`` to ``path`` atomically (write a temporary file, then rename); return the path.
+
+    A PNG of a figure with a layout engine (constrained layout) is drawn once: the layout is
+    computed at the saving resolution first, then the figure is drawn with the layout held
+    (:func:`_layout_at`). ``Figure.savefig`` would draw it twice, once without rendering only to
+    run the layout, and the second draw would place every artist where the first one did.
+    """
     from pathlib import Path
 
     from ..writers import atomic_path
 
     path = Path(path)
+    fmt = path.suffix.lstrip(".").lower() or "png"
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png")
+        if fmt == "png" and fig.get_layout_engine() is not None:
+            with _layout_at(fig) as dpi:
+                fig.savefig(tmp, format=fmt, dpi=dpi)
+        else:
+            fig.savefig(tmp, format=fmt)
     return path
+
+
+@contextlib.contextmanager
+def _layout_at(fig):
+    """Run ``fig``'s layout engine at ``savefig.dpi`` on an Agg canvas and hold it; yield that dpi.
+
+    The same renderer (Agg at the saving dpi) and the same layout call as the first draw of
+    ``Figure.savefig``; inside, the figure has no layout engine, so ``savefig`` draws only once.
+    The figure's dpi and layout engine are restored on exit.
+    """
+    import matplotlib as mpl
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    engine, dpi0, canvas0 = fig.get_layout_engine(), fig.dpi, fig.canvas
+    dpi = mpl.rcParams["savefig.dpi"]
+    dpi = dpi0 if dpi == "figure" else dpi
+    FigureCanvasAgg(fig)  # the canvas savefig would switch to for a PNG
+    try:
+        fig.dpi = dpi
+        engine.execute(fig)
+        with mpl.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)  # no engine at all: "none" would leave a place-holder engine
+        yield dpi
+    finally:
+        fig.set_layout_engine(engine)
+        fig.dpi = dpi0
+        fig.set_canvas(canvas0)
