@@ -107,8 +107,9 @@ class _Outcome:
 def _period_guess(pts, k):
     """Return distances ``d_n`` (scaled) of point k to point k - n, n = 1..8 (inf where k < n)."""
     d = np.full(MAX_PERIOD + 1, np.inf)
-    for n in range(1, min(MAX_PERIOD, k) + 1):
-        d[n] = float(np.max(np.abs(pts[k] - pts[k - n])))
+    m = min(MAX_PERIOD, k)
+    if m > 0:  # rows k - 1, ..., k - m at once
+        d[1:m + 1] = np.max(np.abs(pts[k] - pts[k - m:k][::-1]), axis=1)
     return d
 
 
