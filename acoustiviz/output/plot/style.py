@@ -79,7 +79,9 @@ def _layout_at(fig):
     FigureCanvasAgg(fig)  # the canvas savefig would switch to for a PNG
     try:
         fig.dpi = dpi
-        engine.execute(fig)
+        if fig.axes:  # as Figure.draw: no layout without axes, and a failed one leaves the figure as it is
+            with contextlib.suppress(ValueError):
+                engine.execute(fig)
         with mpl.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
             fig.set_layout_engine(None)  # no engine at all: "none" would leave a place-holder engine
         yield dpi
