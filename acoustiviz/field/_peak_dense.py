@@ -288,7 +288,7 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
     return zpast, qpr, qpi
 
 
-@_njit(cache=True)
+@_njit(cache=True, nogil=True)
 def _dense_kernel(res, pts, src, smp, tp, corr, closed):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
 
