@@ -323,9 +323,12 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     if blocks:  # say so once if the peak search's kernels are compiled now
         compile_for(kernel, blocks[0], "peak-search", PEAKS_COMPILE_S)
     if threads > 1 and len(blocks) > 1:
-        with ThreadPoolExecutor(max_workers=threads) as pool:
-            for _ in pool.map(lambda args: kernel(*args), blocks):
-                pass
+        pool = ThreadPoolExecutor(max_workers=threads)
+        try:
+            for done in [pool.submit(kernel, *args) for args in blocks]:
+                done.result()
+        finally:  # interrupted: the blocks not started are dropped, the running ones finish
+            pool.shutdown(wait=True, cancel_futures=True)
     else:
         for args in blocks:
             kernel(*args)
