@@ -381,6 +381,29 @@ def test_fast_peaks_outside_the_fluid_and_bad_options():
     with pytest.raises(ParameterError) as err:
         field.peak_table(pulse, cfg, samples=1)
     assert err.value.name == "samples"
+    for bad in (0, -2, 1.5, True, "2"):
+        with pytest.raises(ParameterError, match=">= 1") as err:
+            field.fast_peaks(pulse, [[0.3, 0.0, 0.3]], cfg, workers=bad)
+        assert err.value.name == "workers"
+
+
+@pytest.mark.parametrize("name", ["corner", "room"])
+def test_fast_peaks_gives_the_same_numbers_on_any_number_of_threads(name):
+    # each point's search depends on that point alone: blocks shared among threads change nothing,
+    # bit for bit (the room: 129 images, the search over sorted arrivals)
+    from acoustiviz.core.room_geometry import Room
+
+    cfg = Room(A, (6.0, 4.0, 3.0), 0.1, (2.0, 1.5, A), order=4) if name == "room" else CONFIGS[name]
+    pulse = acceleration_pulse(IMPACT, "half-sine")
+    centre = np.array([2.0, 1.5, A]) if name == "room" else np.array([0.0, 0.0, A])
+    pts = np.random.default_rng(7).uniform([0.05, 0.05, 0.05], [1.5, 1.5, 1.5], (203, 3))
+    pts[:3] = centre + [[0.0, 0.0, 0.0], [0.3, 0.0, 0.3], [0.2, 0.1, 0.05]]  # the first inside the sphere
+    one = field.fast_peaks(pulse, pts, cfg, workers=1)
+    assert np.isnan(one.peak_positive[0]) and np.all(one.exposure[1:] > 0)
+    for workers, chunk in ((2, 65536), (3, 17), (2, 1)):
+        many = field.fast_peaks(pulse, pts, cfg, workers=workers, chunk=chunk)
+        for col in ("peak_positive", "peak_negative", "time_positive", "time_negative", "exposure", "refinements"):
+            np.testing.assert_array_equal(getattr(many, col), getattr(one, col))
 
 
 def test_fast_peaks_a_pulse_that_ends_abruptly():

@@ -140,12 +140,13 @@ def closed_tables(tau, s):  # pragma: no cover - compiled
 
 
 @_njit(cache=True, inline="always")
-def _exp_step(x, step, table, rate):  # pragma: no cover - compiled
+def _exp_step(x, step, inv_step, table, rate):  # pragma: no cover - compiled
     """``e^{rate x}`` for ``0 <= x <= EXP_STEPS step`` from ``table[m] = e^{rate m step}`` and a Taylor polynomial.
 
-    In real arithmetic (Horner, degree :data:`EXP_DEGREE`).
+    In real arithmetic (Horner, degree :data:`EXP_DEGREE`); ``inv_step = 1/step`` (a product is
+    cheaper than a quotient; ``x`` then lies within a rounding of the step ``m`` it is read from).
     """
-    m = min(int(x / step), EXP_STEPS)
+    m = min(int(x * inv_step), EXP_STEPS)
     r = x - m * step
     zr = rate.real * r
     zi = rate.imag * r
@@ -184,7 +185,7 @@ def _late_pairs(j, m, ar, ai, eks, invs, epochs, upto, fall_t, q_back, g_m, h_m)
     return ((g_m * aj + h_m * np.conj(aj)) * inner).real
 
 
-@_njit(cache=True)
+@_njit(cache=True, fastmath={"contract", "arcp"})
 def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h, ts, tw):  # pragma: no cover - compiled
     """``∫ p² dt`` of one point from its sources sorted by arrival, the half-sine pulse: ``O(n)``, no table.
 
@@ -230,6 +231,9 @@ def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h, ts, tw):  # pra
     step_s = span / EXP_STEPS
     period = 2.0 * tau
     step_w = period / EXP_STEPS
+    inv_s = 1.0 / step_s
+    inv_w = 1.0 / step_w
+    inv_period = 1.0 / period
     eks = np.empty(n, np.complex128)  # e^{s (d_k - ref_k)}
     invs = np.empty(n, np.complex128)  # its inverse
     epochs = np.empty(n, np.int64)
@@ -259,13 +263,13 @@ def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h, ts, tw):  # pra
             epoch += 1
             bsum *= q_epoch
             asum *= q_epoch
-        ek = _exp_step(dk - ref, step_s, ts, s)
-        inv = 1.0 / ek
+        ek = _exp_step(dk - ref, step_s, inv_s, ts, s)
+        inv = complex(ek.real, -ek.imag) * (1.0 / (ek.real * ek.real + ek.imag * ek.imag))  # |ek| >= e^-16
         eks[k] = ek
         invs[k] = inv
         epochs[k] = epoch
         x = dk - ds[0]
-        ok = _exp_step(x - period * math.floor(x / period), step_w, tw, -1j * w)  # e^{-iwx}, period 2T
+        ok = _exp_step(x - period * math.floor(x * inv_period), step_w, inv_w, tw, -1j * w)  # e^{-iwx}, period 2T
         osc[k] = ok
         while first < k and ds[first] <= dk - tau:  # leaves the window: far from here on
             j = first

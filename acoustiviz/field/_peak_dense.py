@@ -69,6 +69,8 @@ def _dense_samples(kk, coarse, nq, ar, ai, fine, pad, ytr, yti, zpast, qpr, qpi)
     decays by ``e^{s H}`` a sample. ``qpr + i qpi`` are the powers ``e^{s H m}``, ``m = 0..DECAY_BLOCK``.
     """
     ncol = ytr.shape[1]
+    ytf = ytr.reshape(ytr.size)  # the tables' rows end to end; unsigned indices below: no wraparound test
+    yif = yti.reshape(yti.size)
     c_len = DECAY_BLOCK
     nblk = kk // c_len + 1
     for k in range(nblk * c_len):
@@ -87,33 +89,36 @@ def _dense_samples(kk, coarse, nq, ar, ai, fine, pad, ytr, yti, zpast, qpr, qpi)
         k_past = ncol - qs
         k_stop = min(kk + 1, k_past)
         if k_first < k_stop:
-            rr = ytr[rs, qs + k_first:qs + k_stop]
-            ri = yti[rs, qs + k_first:qs + k_stop]
-            cc = coarse[k_first:k_stop]
+            row = np.uint64(rs * ncol + qs + k_first)
+            col = np.uint64(k_first)
             for k in range(k_stop - k_first):
-                cc[k] += a_r * rr[k] - a_i * ri[k]
+                u = np.uint64(k)
+                coarse[col + u] += a_r * ytf[row + u] - a_i * yif[row + u]
         if k_past > kk:
             continue
         e = complex(a_r, a_i) * zpast[rs]
         b = k_past // c_len
         while blk < b:  # the sorted images leave the table in order: close the blocks before this one
-            base = blk * c_len
-            for ll in range(c_len):
-                coarse[base + ll] += acc.real * qpr[ll] - acc.imag * qpi[ll]
+            _add_decay(coarse, np.uint64(blk * c_len), c_len, acc.real, acc.imag, qpr, qpi)
             acc = acc * qc + nxt
             nxt = 0j
             blk += 1
         off = k_past - b * c_len  # within the current block: from its own sample on
-        for ll in range(off, c_len):
-            coarse[b * c_len + ll] += e.real * qpr[ll - off] - e.imag * qpi[ll - off]
+        _add_decay(coarse, np.uint64(k_past), c_len - off, e.real, e.imag, qpr, qpi)
         nxt += e * complex(qpr[c_len - off], qpi[c_len - off])
     while blk < nblk:
-        base = blk * c_len
-        for ll in range(c_len):
-            coarse[base + ll] += acc.real * qpr[ll] - acc.imag * qpi[ll]
+        _add_decay(coarse, np.uint64(blk * c_len), c_len, acc.real, acc.imag, qpr, qpi)
         acc = acc * qc + nxt
         nxt = 0j
         blk += 1
+
+
+@_njit(cache=True, inline="always")
+def _add_decay(coarse, start, count, er, ei, qpr, qpi):  # pragma: no cover - compiled
+    """``coarse[start + l] += Re((er + i ei) exp(s H l))`` for ``l < count`` (unsigned indices)."""
+    for ll in range(count):
+        u = np.uint64(ll)
+        coarse[start + u] += er * qpr[u] - ei * qpi[u]
 
 
 @_njit(cache=True)
@@ -288,7 +293,7 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
     return zpast, qpr, qpi
 
 
-@_njit(cache=True)
+@_njit(cache=True, nogil=True)
 def _dense_kernel(res, pts, src, smp, tp, corr, closed):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
 

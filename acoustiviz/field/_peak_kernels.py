@@ -500,7 +500,7 @@ def _arrivals(smp, tp, delays, qs, rs, bps, order, seg_a, seg_b):  # pragma: no 
     return dmin, _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b)
 
 
-@_njit(cache=True)
+@_njit(cache=True, nogil=True)
 def _peaks_kernel(res, pts, src, smp, tp, corr):  # pragma: no cover - compiled
     """Peaks, their times and the exposure of the pressure at each point, into ``res`` (module notes).
 

@@ -65,6 +65,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,6 +98,8 @@ DEFAULT_MARGIN = 0.002
 #: Above this many sources (a room's images) the tables cover the pulse only and the search runs
 #: over the sorted arrivals (:mod:`acoustiviz.field._peak_dense`).
 PULSE_TABLE_ABOVE = 64
+#: Fewest points per thread when :func:`fast_peaks` chooses its number of threads.
+POINTS_PER_THREAD = 1024
 
 
 
@@ -241,7 +245,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
 
 def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
                table: PeakTable | None = None, correlations: PulseCorrelations | None = None,
-               margin: float = DEFAULT_MARGIN, chunk: int = 65536) -> PeakExposure:
+               margin: float = DEFAULT_MARGIN, chunk: int = 65536, workers: int | None = None) -> PeakExposure:
     """Positive and negative peak pressure (and exposure) of the continuous pressure, without a time loop.
 
     Parameters
@@ -265,6 +269,10 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         ``|p|`` (plus the rounding bound) of the best are refined on the closed form.
     chunk : int
         Points per block.
+    workers : int, optional
+        Threads sharing the points (the kernels run without Python's lock); each point's result is
+        the same whatever the number. Default: one per CPU this process may use, at most one per
+        :data:`POINTS_PER_THREAD` points.
 
     Returns
     -------
@@ -283,6 +291,7 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     pts = check_points("points", points)
     if not (margin >= 0.0 and math.isfinite(margin)):
         raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
+    threads = _threads(workers, pts.shape[0])
     if table is None and correlations is None:
         # the observer-independent tables, built once per pulse, configuration and medium
         tb, tp, cargs, lag_terms, cusps, sources = _observer_tables(_Keyed(pulse), _Keyed(config), _Keyed(medium),
@@ -298,23 +307,46 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         exp_tables = (np.zeros(1, complex), np.zeros(1, complex))
     res = np.empty((n, 6))
     step = max(1, int(chunk))
-    for lo in range(0, n, step):
-        hi = min(lo + step, n)
-        block = np.ascontiguousarray(pts[lo:hi])
-        src = PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho), float(medium.c))
-        smp = PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin), cusps)
-        corr = PeakCorrelations(bool(exposure), *cargs)
-        if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
-            kernel = _dense_kernel
-            args = (res[lo:hi], block, src, smp, tp, corr, ClosedPairs(lag_terms, *exp_tables))
-        else:
-            kernel = _peaks_kernel
-            args = (res[lo:hi], block, src, smp, tp, corr)
-        if lo == 0:  # say so once if the peak search's kernels are compiled now
-            compile_for(kernel, args, "peak-search", PEAKS_COMPILE_S)
-        kernel(*args)
+    if threads > 1:  # a few blocks per thread: the points' costs differ (inside the sphere: none)
+        step = min(step, max(1, -(-n // (4 * threads))))
+    src = PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho), float(medium.c))
+    smp = PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin), cusps)
+    corr = PeakCorrelations(bool(exposure), *cargs)
+    if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
+        kernel = _dense_kernel
+        tail = (src, smp, tp, corr, ClosedPairs(lag_terms, *exp_tables))
+    else:
+        kernel = _peaks_kernel
+        tail = (src, smp, tp, corr)
+    blocks = [(res[lo:min(lo + step, n)], np.ascontiguousarray(pts[lo:min(lo + step, n)])) + tail
+              for lo in range(0, n, step)]
+    if blocks:  # say so once if the peak search's kernels are compiled now
+        compile_for(kernel, blocks[0], "peak-search", PEAKS_COMPILE_S)
+    if threads > 1 and len(blocks) > 1:
+        pool = ThreadPoolExecutor(max_workers=threads)
+        try:
+            for done in [pool.submit(kernel, *args) for args in blocks]:
+                done.result()
+        finally:  # interrupted: the blocks not started are dropped, the running ones finish
+            pool.shutdown(wait=True, cancel_futures=True)
+    else:
+        for args in blocks:
+            kernel(*args)
     # the columns are views of the kernel's output (no second copy of the result)
     return PeakExposure(res[:, 0], res[:, 1], res[:, 2], res[:, 3], res[:, 4], res[:, 5].astype(np.int64))
+
+
+def _threads(workers, n: int) -> int:
+    """The number of threads of :func:`fast_peaks` for ``n`` points (``workers``: asked for, or None)."""
+    if workers is None:
+        try:
+            cpus = len(os.sched_getaffinity(0))
+        except (AttributeError, OSError):  # not on every platform
+            cpus = os.cpu_count() or 1
+        return max(1, min(cpus, n // POINTS_PER_THREAD))
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ParameterError("workers", f"must be an integer >= 1 or None, got {workers!r}")
+    return workers
 
 
 def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table=None, correlations=None):
