@@ -13,15 +13,15 @@ also save the output in ``benchmarks/results/bench_room.txt``).
    whole would take over a minute, 1e3 receivers instead, and the table says so. This is the
    pyroomacoustics side of the issue's goal (peak and SEL of one impact at 1e4 receivers at order
    10 at least 10x faster than pyroomacoustics' impulse responses).
-3. The field evaluator's side, in the same run: the peak and the SEL of one impact of the
-   Figure 2 sphere in the same room at order 10 (:class:`acoustiviz.core.room_geometry.Room`) at
-   receivers drawn as in 2 (``--receivers``, default 1e4), by :func:`acoustiviz.field.fast_peaks`
-   (both in one pass, on its default threads: one per CPU) after the pulse's tables (:func:`acoustiviz.field.peaks.peak_table` and
-   :func:`acoustiviz.field.pulse_correlations`, once); the peak alone and the SEL alone
-   (:func:`acoustiviz.field.exposure`) on 1000 of them; the all-in time at 1e4 receivers (tables
-   once plus the per-receiver cost) and its ratio to pyroomacoustics' at 1e4, with whether the
-   issue's 10x is met. Then both sides alternately on the same 1000 receivers, each on its
-   default threads and on one thread.
+3. The field evaluator's side, in the same run: the peak and the SEL of one impact of the Figure 2
+   sphere in the same room at order 10 (:class:`acoustiviz.core.room_geometry.Room`) at receivers
+   drawn as in 2 (``--receivers``, default 1e4), by :func:`acoustiviz.field.fast_peaks` (both in
+   one pass, on its default threads: one per CPU) after the pulse's tables
+   (:func:`acoustiviz.field.peaks.peak_table` and :func:`acoustiviz.field.pulse_correlations`,
+   once); the peak alone and the SEL alone (:func:`acoustiviz.field.exposure`) on 1000 of them; the
+   all-in time at 1e4 receivers (tables once plus the per-receiver cost) and its ratio to
+   pyroomacoustics' at 1e4, with whether the issue's 10x is met. Then both sides alternately on the
+   same 1000 receivers, each on its default threads and on one thread.
 4. A 20 s WAV of the Table 1 damper (the ``acoustiviz auralize`` defaults, simulated once) at the
    listener (3, 2, 1.5) m: rendered in free field, then in the 6 x 4 x 3 m room with alpha = 0.1
    (images to -60 dB, built inside the timing), then in the same room with the statistical late
