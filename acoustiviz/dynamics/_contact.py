@@ -186,13 +186,6 @@ def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, yt
 
 
 @helper
-def _copy(src, dst):
-    """Copy the 1-D array ``src`` into ``dst``."""
-    for i in range(src.shape[0]):
-        dst[i] = src[i]
-
-
-@helper
 def _contact_begin(prm, start, rtol, y, atol):
     """Fill the contact state ``y`` at the start and the absolute tolerances ``atol``; return the first σ step.
 
@@ -249,15 +242,18 @@ def _step_size(err, h, rejected):
 
 @njit(cache=True, inline="always")
 def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
-    """The largest contact force (N) so far, with the maximum inside the step of ``hstep`` from ``work[0]``.
+    """The largest contact force (N) so far, with a maximum inside the step of ``hstep`` from ``work[0]``.
 
-    The maximum (dF/dσ from ``g0 > 0`` at the start to ``g1 <= 0`` at the end) is located by
-    :func:`_root_in_step` into ``work[5:7]``; the step end stays in ``work[3:5]``.
+    dF/dσ is ``g0`` at the step start and ``g1`` at its end; when it turns from > 0 to <= 0 the
+    maximum is located by :func:`_root_in_step` into ``work[5:7]``, the buffers taken only then (no
+    reference counting in the other steps); the step end stays in ``work[3:5]``.
     """
-    y, f0, ytmp, yd, fd = work[0], work[1], work[2], work[5], work[6]
-    _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
-    fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
-    return max(peak, fpk)
+    if g0 > 0.0 and g1 <= 0.0:
+        y, f0, ytmp, yd, fd = work[0], work[1], work[2], work[5], work[6]
+        _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
+        fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
+        peak = max(peak, fpk)
+    return peak
 
 
 @njit(cache=True, inline="always")
@@ -383,22 +379,19 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
             exiting = False
             hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, ynew[0] - t_stop, fnew[0], prm, fc, tc, sw,
                                   kst, ytmp, ynew, fnew)
-        # the helpers are handed the buffers only in the steps that need them (no reference counting
-        # in the others)
-        g0 = _dfds(y, f0, prm)
-        g1 = _dfds(ynew, fnew, prm)
-        if g0 > 0.0 and g1 <= 0.0:
-            peak = _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak)
+        # the pieces take the other buffers only in the steps that need them (no reference counting
+        # in the others); ext=None, t_eval=None: compiled out
+        peak = _peak_of_step(prm, fc, start, work, kst, hstep, _dfds(y, f0, prm), _dfds(ynew, fnew, prm), peak)
         xi1 = max(ynew[3], 0.0)
         fend, _ = _force(xi1 * xi1, ynew[4], prm.k_hertz, prm.c1, prm.clip)
         peak = max(peak, fend)
-        # ext=None, t_eval=None: compiled out
         if ext is not None and ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns
             _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext)
         if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
             ie = _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0)
-        _copy(ynew, y)
-        _copy(fnew, f0)
+        for i in range(y.shape[0]):  # the step end becomes the step start
+            y[i] = ynew[i]
+            f0[i] = fnew[i]
         if exiting:
             ended = True
             break
