@@ -125,58 +125,55 @@ def _dfds(y, f, prm):
     return 3.0 * prm.k_hertz * xi * xi * f[3] + prm.c1 * f[4]
 
 
-@njit(cache=True, inline="always")
-def _newton_g(kind, target, y, f):
-    """The function whose root :func:`_root_in_step` seeks (kinds 0-2), and its σ-derivative."""
-    if kind == 0:
-        return y[3], f[3]
-    if kind == 1:
-        return y[2], f[2]
-    return y[0] - target, f[0]
+@helper
+def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
+    """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
 
-
-@njit(cache=True, inline="always")
-def _illinois_root(y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """The peak force's step length (kind 3 of :func:`_root_in_step`): Illinois on dF/dσ."""
+    ``glo`` is the sign-carrying value at the step start, ``g1`` the value at the full step's end.
+    Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
+    state) kept inside the bracket, the first trial from the step end (value ``g1``, σ-derivative
+    ``dg1``). Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step start to ``g1``
+    (<= 0) at its end, loose (the peak value is flat; ``dg1`` unused). Every trial is a full
+    Dormand-Prince step from the step start, so the root is as accurate as the integration;
+    ``ynew``/``fnew`` receive the state at the root (the step end's own buffers, or others that
+    keep it). One compiled function for both searches: each compiled function that calls
+    :func:`_dop_step` carries its own copy of the step's code.
+    """
     lo, hi = 0.0, h
-    ghi = g1
-    side = 0
-    hm = hi
-    for _ in range(60):
-        hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
-        if not (lo < hm < hi):
-            hm = 0.5 * (lo + hi)
-        _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        gm = _dfds(ynew, fnew, prm)
-        if gm == 0.0:
-            break
-        if (gm > 0.0) == (glo > 0.0):
-            lo, glo = hm, gm
-            if side == -1:
-                ghi *= 0.5
-            side = -1
-        else:
-            hi, ghi = hm, gm
-            if side == 1:
-                glo *= 0.5
-            side = 1
-        if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
-            break
-    return hm
-
-
-@njit(cache=True, inline="always")
-def _newton_root(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """The step length where ξ, v or t - target vanishes (kinds 0-2 of :func:`_root_in_step`): Newton."""
-    lo, hi = 0.0, h
+    if kind == 3:  # Illinois on dF/dσ
+        ghi = g1
+        side = 0
+        hm = hi
+        for _ in range(60):
+            hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+            if not (lo < hm < hi):
+                hm = 0.5 * (lo + hi)
+            _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            gm = _dfds(ynew, fnew, prm)
+            if gm == 0.0:
+                break
+            if (gm > 0.0) == (glo > 0.0):  # Illinois: halve the end kept twice in a row (x 1.0 is exact)
+                lo, glo = hm, gm
+                ghi *= 0.5 if side == -1 else 1.0
+                side = -1
+            else:
+                hi, ghi = hm, gm
+                glo *= 0.5 if side == 1 else 1.0
+                side = 1
+            if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
+                break
+        return hm
+    # Newton on state component ci less target: ξ (kind 0), v (kind 1) or t (kind 2, the only
+    # one with a target; x - 0.0 is x exactly)
+    ci = 3 if kind == 0 else (2 if kind == 1 else 0)
     hm = h
-    g, dg = _newton_g(kind, target, ynew, fnew)
+    g, dg = g1, dg1
     for _ in range(40):
         hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < hn < hi):
             hn = 0.5 * (lo + hi)
         _dop_step(y, f0, hn, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        g, dg = _newton_g(kind, target, ynew, fnew)
+        g, dg = ynew[ci] - target, fnew[ci]
         if (g > 0.0) == (glo > 0.0):
             lo = hn
         else:
@@ -186,31 +183,6 @@ def _newton_root(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, 
         if done or hi - lo <= 4.0 * _EPS * hi:
             break
     return hm
-
-
-@helper
-def _root_in_step(kind, target, y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
-
-    Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
-    state) kept inside the bracket; ``glo`` is the sign-carrying value at the step start and the
-    first trial reuses ``ynew``. Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step
-    start to ``g1`` (<= 0) at its end, loose (the peak value is flat). Every trial is a full
-    Dormand-Prince step from the step start, so the root is as accurate as the integration;
-    ``ynew``/``fnew`` hold the state at the root. One compiled function for both searches (the two
-    loops are inlined into it): each compiled function that calls :func:`_dop_step` carries its
-    own copy of the step's code.
-    """
-    if kind == 3:
-        return _illinois_root(y, f0, h, glo, g1, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-    return _newton_root(kind, target, y, f0, h, glo, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-
-
-@helper
-def _copy(src, dst):
-    """Copy the 1-D array ``src`` into ``dst``."""
-    for i in range(src.shape[0]):
-        dst[i] = src[i]
 
 
 @helper
@@ -233,7 +205,8 @@ def _contact_begin(prm, start, rtol, y, atol):
     for i in range(5, y.shape[0]):
         y[i] = 0.0
     # the approach speed with the same energy (a contact resumed mid-way has u0 < U)
-    uref = max(math.sqrt(u0 * u0 + 0.8 * kh * xi0 ** 5 / meff), 1e-9)
+    xi2 = xi0 * xi0
+    uref = max(math.sqrt(u0 * u0 + 0.8 * kh * (xi0 * (xi2 * xi2)) / meff), 1e-9)
     amax = (1.25 * meff * uref * uref / kh) ** 0.4
     tau_h = _HERTZ_T * amax / uref
     atol[0] = rtol * tau_h
@@ -269,19 +242,18 @@ def _step_size(err, h, rejected):
 
 @njit(cache=True, inline="always")
 def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
-    """The largest contact force (N) so far, with the maximum inside the step of ``hstep`` from ``work[0]``.
+    """The largest contact force (N) so far, with a maximum inside the step of ``hstep`` from ``work[0]``.
 
-    The maximum (dF/dσ from ``g0 > 0`` at the start to ``g1 <= 0`` at the end) is located by
-    :func:`_root_in_step`; the step end is kept in ``work[3:5]``.
+    dF/dσ is ``g0`` at the step start and ``g1`` at its end; when it turns from > 0 to <= 0 the
+    maximum is located by :func:`_root_in_step` into ``work[5:7]``, the buffers taken only then (no
+    reference counting in the other steps); the step end stays in ``work[3:5]``.
     """
-    y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    _copy(ynew, yd)
-    _copy(fnew, fd)
-    _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
-    fpk, _ = _force(ynew[3] * ynew[3], ynew[4], prm.k_hertz, prm.c1, prm.clip)
-    _copy(yd, ynew)
-    _copy(fd, fnew)
-    return max(peak, fpk)
+    if g0 > 0.0 and g1 <= 0.0:
+        y, f0, ytmp, yd, fd = work[0], work[1], work[2], work[5], work[6]
+        _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
+        fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
+        peak = max(peak, fpk)
+    return peak
 
 
 @njit(cache=True, inline="always")
@@ -289,15 +261,13 @@ def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     """Record a zero of the main-mass velocity inside the step (Newton, full steps) in ``ext``.
 
     Rows: time (s), x (m), +1 for a maximum or -1 for a minimum; the caller has seen the velocity
-    change sign between ``work[0]`` and ``work[3]``. The step end is kept in ``work[3:5]``.
+    change sign between ``work[0]`` and ``work[3]``. The root goes to ``work[5:7]``; the step end
+    stays in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    _copy(ynew, yd)
-    _copy(fnew, fd)
-    _root_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], 0.0, prm, fc, start.tc, start.sw, kst, ytmp, ynew, fnew)
-    record_extremum(ext, n_ext, start.tc + ynew[0], ynew[1], 1.0 if y[2] > 0.0 else -1.0)
-    _copy(yd, ynew)
-    _copy(fd, fnew)
+    _root_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], ynew[2], fnew[2], prm, fc, start.tc, start.sw, kst, ytmp,
+                  yd, fd)
+    record_extremum(ext, n_ext, start.tc + yd[0], yd[1], 1.0 if y[2] > 0.0 else -1.0)
 
 
 @njit(cache=True, inline="always")
@@ -305,27 +275,25 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
     """Dense rows (``DENSE_COLUMNS``) at the output times ``t_eval`` (s) inside the step; return the next due.
 
     Newton on t(σ) with full steps from the step start; ``ec0``, ``en0`` (J) are the energies
-    dissipated by C and in contacts before the contact. The step end is kept in ``work[3:5]``.
+    dissipated by C and in contacts before the contact. The states at those times go to
+    ``work[5:7]``; the step end stays in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     tc, sw, hg = start.tc, start.sw, prm.half_gap
     while ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
-        _copy(ynew, yd)
-        _copy(fnew, fd)
         target = t_eval[ie] - tc
+        yt = y
         if target > y[0]:
-            _root_in_step(np.int64(2), target, y, f0, hstep, -1.0, 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        else:
-            _copy(y, ynew)
-        xi = max(ynew[3], 0.0)
-        dense[ie, 0] = ynew[1]
-        dense[ie, 1] = ynew[2]
-        dense[ie, 2] = ynew[1] + sw * (hg + xi * xi)
-        dense[ie, 3] = ynew[2] + sw * ynew[4]
-        dense[ie, 4] = ec0 + ynew[7]
-        dense[ie, 5] = en0 + ynew[6]
-        _copy(yd, ynew)
-        _copy(fd, fnew)
+            _root_in_step(np.int64(2), target, y, f0, hstep, -1.0, ynew[0] - target, fnew[0], prm, fc, tc, sw, kst,
+                          ytmp, yd, fd)
+            yt = yd
+        xi = max(yt[3], 0.0)
+        dense[ie, 0] = yt[1]
+        dense[ie, 1] = yt[2]
+        dense[ie, 2] = yt[1] + sw * (hg + xi * xi)
+        dense[ie, 3] = yt[2] + sw * yt[4]
+        dense[ie, 4] = ec0 + yt[7]
+        dense[ie, 5] = en0 + yt[6]
         ie += 1
     return ie
 
@@ -404,26 +372,26 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _root_in_step(np.int64(0), 0.0, y, f0, h, y[3], 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            hstep = _root_in_step(np.int64(0), 0.0, y, f0, h, y[3], ynew[3], fnew[3], prm, fc, tc, sw, kst, ytmp,
+                                  ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, 0.0, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
-        # the helpers are handed the buffers only in the steps that need them (no reference counting
-        # in the others)
-        g0 = _dfds(y, f0, prm)
-        g1 = _dfds(ynew, fnew, prm)
-        if g0 > 0.0 and g1 <= 0.0:
-            peak = _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak)
-        fend, _ = _force(max(ynew[3], 0.0) ** 2, ynew[4], prm.k_hertz, prm.c1, prm.clip)
+            hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, ynew[0] - t_stop, fnew[0], prm, fc, tc, sw,
+                                  kst, ytmp, ynew, fnew)
+        # the pieces take the other buffers only in the steps that need them (no reference counting
+        # in the others); ext=None, t_eval=None: compiled out
+        peak = _peak_of_step(prm, fc, start, work, kst, hstep, _dfds(y, f0, prm), _dfds(ynew, fnew, prm), peak)
+        xi1 = max(ynew[3], 0.0)
+        fend, _ = _force(xi1 * xi1, ynew[4], prm.k_hertz, prm.c1, prm.clip)
         peak = max(peak, fend)
-        # ext=None, t_eval=None: compiled out
         if ext is not None and ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns
             _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext)
         if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
             ie = _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0)
-        _copy(ynew, y)
-        _copy(fnew, f0)
+        for i in range(y.shape[0]):  # the step end becomes the step start
+            y[i] = ynew[i]
+            f0[i] = fnew[i]
         if exiting:
             ended = True
             break

@@ -215,8 +215,10 @@ def error_norm(y, ynew, h, kst, rtol, atol):  # pragma: no cover - compiled
         for j in range(N_STAGES + 1):
             a5 += E5[j] * kst[j, i]
             a3 += E3[j] * kst[j, i]
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
+        q5 = a5 / sc
+        q3 = a3 / sc
+        e5 += q5 * q5
+        e3 += q3 * q3
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)

@@ -304,7 +304,8 @@ def scan_forced(c, tau_end):
     """
     a, wd, om, hg = c[5], c[6], c[7], c[10]
     x0, v0 = c[1], c[2]
-    r = math.sqrt(x0 * x0 + ((v0 + a * x0) / wd) ** 2)
+    b = (v0 + a * x0) / wd
+    r = math.sqrt(x0 * x0 + b * b)
     wn2 = a * a + wd * wd
     lp = om * om * math.sqrt(c[8] * c[8] + c[9] * c[9])
     hmax = 0.25 * 2.0 * math.pi / max(wd, om)

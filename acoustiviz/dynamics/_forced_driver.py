@@ -75,9 +75,11 @@ def _bound4(c, tau):
     """Bound on ``|x''''|`` (m/s⁴) of the motion ``c`` from ``tau`` on."""
     a, wd, om = c[5], c[6], c[7]
     x0, v0 = c[1], c[2]
-    r = math.sqrt(x0 * x0 + ((v0 + a * x0) / wd) ** 2)
+    b = (v0 + a * x0) / wd
+    r = math.sqrt(x0 * x0 + b * b)
     wn2 = a * a + wd * wd
-    return r * math.exp(-a * tau) * wn2 * wn2 + om ** 4 * math.sqrt(c[8] * c[8] + c[9] * c[9])
+    om2 = om * om
+    return r * math.exp(-a * tau) * wn2 * wn2 + om2 * om2 * math.sqrt(c[8] * c[8] + c[9] * c[9])
 
 
 @helper
@@ -267,7 +269,8 @@ def _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc):
     press = sw * (fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t) - K * st[0] - C * st[1]) / M
     if e * u0 < fl.u_stick and press <= 0.0:
         vc = (M * st[1] + m * st[3]) / (M + m)
-        extra = 0.5 * fl.meff * (e * u0) ** 2  # the last rebound made plastic
+        eu = e * u0
+        extra = 0.5 * fl.meff * (eu * eu)  # the last rebound made plastic
         acc[2] += extra
         impacts[n - 1, 3] = 0.0
         impacts[n - 1, 6] = fl.meff * u0
