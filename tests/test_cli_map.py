@@ -107,3 +107,21 @@ def test_scene_map_over_the_memory_cap_is_refused_at_load(tmp_path):
     with pytest.raises(SceneError) as err:
         load_scene(scene)
     assert err.value.key == "outputs.level_map.resolution" and "grids.memory_limit_mb" in str(err.value)
+
+
+def test_map_progress_bar_only_on_a_terminal():
+    # a map (command line and scene) reports its points done to a tqdm bar on a terminal (cleared when it
+    # ends), to nothing elsewhere
+    import io
+
+    from acoustiviz.app.maps import points_bar
+
+    with points_bar(io.StringIO()) as bar:
+        assert bar is None
+    term = io.StringIO()
+    term.isatty = lambda: True
+    with points_bar(term) as bar:
+        for done in (100, 200, 300):
+            bar(done, 300)
+    text = term.getvalue()
+    assert "map:" in text and "point" in text and text.endswith("\r")

@@ -1,5 +1,6 @@
 """Field evaluator: against direct sums of sphere_pressure, chunking, memory cap, metrics."""
 
+import threading
 import tracemalloc
 
 import numpy as np
@@ -404,6 +405,17 @@ def test_fast_peaks_gives_the_same_numbers_on_any_number_of_threads(name):
         many = field.fast_peaks(pulse, pts, cfg, workers=workers, chunk=chunk)
         for col in ("peak_positive", "peak_negative", "time_positive", "time_negative", "exposure", "refinements"):
             np.testing.assert_array_equal(getattr(many, col), getattr(one, col))
+    for workers in (1, 2):  # progress: points done after each block, in the calling thread, up to all of them
+        calls = []
+
+        def report(done, total, calls=calls):
+            calls.append((done, total, threading.get_ident()))
+
+        told = field.fast_peaks(pulse, pts, cfg, workers=workers, progress=report)
+        np.testing.assert_array_equal(told.exposure, one.exposure)
+        done = [c[0] for c in calls]
+        assert len(calls) >= 3 and done[-1] == len(pts) and np.all(np.diff(done) > 0)
+        assert {c[1] for c in calls} == {len(pts)} and {c[2] for c in calls} == {threading.get_ident()}
 
 
 def test_fast_peaks_a_pulse_that_ends_abruptly():

@@ -36,6 +36,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass
 
@@ -63,6 +64,7 @@ __all__ = [
     "map_title",
     "summary_figures",
     "write_map_outputs",
+    "points_bar",
     "produce_level_map",
 ]
 
@@ -258,7 +260,7 @@ def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("reso
                     f"a map of {n:.3g} points", tuple(options))
 
 
-def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vertical") -> LevelMap:
+def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vertical", progress=None) -> LevelMap:
     """Peak SPL, SEL and time of the peak of one impact at the points of any planar grid.
 
     Parameters
@@ -273,6 +275,8 @@ def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vert
         The fluid.
     plane : str
         The plane's name kept on the result (labels of the plot).
+    progress : callable, optional
+        ``progress(done, total)`` in points, as :func:`acoustiviz.field.fast_peaks` calls it.
 
     Returns
     -------
@@ -285,13 +289,14 @@ def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vert
     """
     from ..field import fast_peaks
 
-    r = fast_peaks(pulse, np.asarray(grid.points, dtype=float), config, medium=medium)  # NaN outside the fluid
+    r = fast_peaks(pulse, np.asarray(grid.points, dtype=float), config, medium=medium,  # NaN outside the fluid
+                   progress=progress)
     time = np.where(r.peak_positive >= -r.peak_negative, r.time_positive, r.time_negative)
     return LevelMap(grid, plane, r.peak, r.peak_spl_db, r.sel_db, time, r.exposure)
 
 
 def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
-              max_memory_mb=None, names=None) -> LevelMap:
+              max_memory_mb=None, names=None, progress=None) -> LevelMap:
     """Peak SPL and SEL of one impact over a plane through the scene.
 
     Parameters
@@ -317,6 +322,8 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
     names : mapping of str to str, optional
         API parameter -> the user's option or scene key (:data:`CLI_NAMES`, :data:`SCENE_NAMES`):
         every error is raised under the user's name.
+    progress : callable, optional
+        ``progress(done, total)`` in points, as :func:`acoustiviz.field.fast_peaks` calls it.
 
     Returns
     -------
@@ -331,7 +338,7 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
     grid = plan_map(pulse, config, medium=medium, plane=plane, height=height, extent=extent, resolution=resolution,
                     max_memory_mb=max_memory_mb, names=names)
     plane = _BY_NAME["plane"].default if plane is None else plane
-    return map_on_grid(pulse, config, grid, medium=medium, plane=plane)
+    return map_on_grid(pulse, config, grid, medium=medium, plane=plane, progress=progress)
 
 
 def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
@@ -417,15 +424,42 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
     return out
 
 
+@contextlib.contextmanager
+def points_bar(stream):
+    """A ``progress(done, total)`` drawing a tqdm bar of points on ``stream`` if it is a terminal, else None."""
+    from ..sweep.progress import is_terminal
+
+    if not is_terminal(stream):
+        yield None
+        return
+    from tqdm import tqdm
+
+    bars = []
+
+    def progress(done, total):
+        if not bars:  # the total is known at the first report
+            bars.append(tqdm(total=total, file=stream, desc="map", unit="point", unit_scale=True, mininterval=0.25,
+                             dynamic_ncols=True, leave=False))
+        bars[0].update(done - bars[0].n)
+
+    try:
+        yield progress
+    finally:
+        for bar in bars:
+            bar.close()
+
+
 def produce_level_map(ctx):
     """Scene output ``level_map``: ``level_map.csv``, ``level_map.png`` and, with ``vtk``, ``level_map.vtu``."""
     from .products import Product
 
     opts = ctx.scene.output("level_map")
     pulse, conf = ctx.pulse(), ctx.configuration
-    level = level_map(pulse, conf, medium=ctx.medium, plane=opts["plane"], height=opts["height_m"],
-                      extent=opts["extent_m"], resolution=opts["resolution"],
-                      max_memory_mb=ctx.scene.section("grids")["memory_limit_mb"], names=SCENE_NAMES)
+    with points_bar(ctx.stream) as bar:
+        level = level_map(pulse, conf, medium=ctx.medium, plane=opts["plane"], height=opts["height_m"],
+                          extent=opts["extent_m"], resolution=opts["resolution"],
+                          max_memory_mb=ctx.scene.section("grids")["memory_limit_mb"], names=SCENE_NAMES,
+                          progress=bar)
     imp = ctx.scene.impact()
     title = map_title(level, conf, f"U0 = {imp.velocity:g} m/s, a = {conf.radius * 1e3:g} mm, {pulse.kind} pulse")
     paths = write_map_outputs(level, conf, png=ctx.path("level_map.png"), csv=ctx.path("level_map.csv"),

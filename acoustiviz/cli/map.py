@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ..app.settings.map import MAP_SETTINGS
 from ..app.settings.table import add_option
 from ._impact import add_impact_options, add_room_options
@@ -42,7 +44,7 @@ def run(args) -> int:
 
     import numpy as np
 
-    from ..app.maps import CLI_NAMES, level_map, map_title, write_map_outputs
+    from ..app.maps import CLI_NAMES, level_map, map_title, points_bar, write_map_outputs
     from ..app.outputs import check_distinct, check_output_file
     from ._impact import impact_from_args, room_duration
 
@@ -59,9 +61,10 @@ def run(args) -> int:
     room_duration(args)
     setup = impact_from_args(args)
     t0 = time.perf_counter()
-    level = level_map(setup.pulse, setup.configuration, medium=setup.medium, plane=args.plane,
-                      height=args.plane_height, extent=args.extent, resolution=args.resolution,
-                      max_memory_mb=getattr(args, "max_memory", None), names=CLI_NAMES)
+    with points_bar(sys.stderr) as bar:
+        level = level_map(setup.pulse, setup.configuration, medium=setup.medium, plane=args.plane,
+                          height=args.plane_height, extent=args.extent, resolution=args.resolution,
+                          max_memory_mb=getattr(args, "max_memory", None), names=CLI_NAMES, progress=bar)
     seconds = time.perf_counter() - t0
     imp = setup.impact
     print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "

@@ -100,6 +100,8 @@ DEFAULT_MARGIN = 0.002
 PULSE_TABLE_ABOVE = 64
 #: Fewest points per thread when :func:`fast_peaks` chooses its number of threads.
 POINTS_PER_THREAD = 1024
+#: Fewest points per block when :func:`fast_peaks` reports its progress.
+PROGRESS_BLOCK = 64
 
 
 
@@ -245,7 +247,8 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
 
 def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
                table: PeakTable | None = None, correlations: PulseCorrelations | None = None,
-               margin: float = DEFAULT_MARGIN, chunk: int = 65536, workers: int | None = None) -> PeakExposure:
+               margin: float = DEFAULT_MARGIN, chunk: int = 65536, workers: int | None = None,
+               progress=None) -> PeakExposure:
     """Positive and negative peak pressure (and exposure) of the continuous pressure, without a time loop.
 
     Parameters
@@ -273,6 +276,10 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         Threads sharing the points (the kernels run without Python's lock); each point's result is
         the same whatever the number. Default: one per CPU this process may use, at most one per
         :data:`POINTS_PER_THREAD` points.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in the calling thread each time a block of points is
+        finished (the points done so far and all points); the blocks are then at most about 1 % of
+        the points.
 
     Returns
     -------
@@ -309,6 +316,8 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     step = max(1, int(chunk))
     if threads > 1:  # a few blocks per thread: the points' costs differ (inside the sphere: none)
         step = min(step, max(1, -(-n // (4 * threads))))
+    if progress is not None:  # about a hundred reports
+        step = min(step, max(PROGRESS_BLOCK, -(-n // 100)))
     src = PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho), float(medium.c))
     smp = PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin), cusps)
     corr = PeakCorrelations(bool(exposure), *cargs)
@@ -322,18 +331,34 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
               for lo in range(0, n, step)]
     if blocks:  # say so once if the peak search's kernels are compiled now
         compile_for(kernel, blocks[0], "peak-search", PEAKS_COMPILE_S)
+    _run_blocks(kernel, blocks, threads, progress, n)
+    # the columns are views of the kernel's output (no second copy of the result)
+    return PeakExposure(res[:, 0], res[:, 1], res[:, 2], res[:, 3], res[:, 4], res[:, 5].astype(np.int64))
+
+
+def _run_blocks(kernel, blocks: list, threads: int, progress, n: int) -> None:
+    """Run ``kernel`` on each block of arguments (its first: the block's rows of the result), on ``threads``.
+
+    ``progress(done, n)`` after each block, in the calling thread; interrupted, the blocks not
+    started are dropped and the running ones finish.
+    """
+    done = 0
     if threads > 1 and len(blocks) > 1:
         pool = ThreadPoolExecutor(max_workers=threads)
         try:
-            for done in [pool.submit(kernel, *args) for args in blocks]:
-                done.result()
-        finally:  # interrupted: the blocks not started are dropped, the running ones finish
+            for args, job in [(args, pool.submit(kernel, *args)) for args in blocks]:
+                job.result()
+                done += args[0].shape[0]
+                if progress is not None:
+                    progress(done, n)
+        finally:
             pool.shutdown(wait=True, cancel_futures=True)
-    else:
-        for args in blocks:
-            kernel(*args)
-    # the columns are views of the kernel's output (no second copy of the result)
-    return PeakExposure(res[:, 0], res[:, 1], res[:, 2], res[:, 3], res[:, 4], res[:, 5].astype(np.int64))
+        return
+    for args in blocks:
+        kernel(*args)
+        done += args[0].shape[0]
+        if progress is not None:
+            progress(done, n)
 
 
 def _threads(workers, n: int) -> int:
