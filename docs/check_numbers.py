@@ -588,6 +588,14 @@ def bench_room_wav() -> dict:
             "ex_hi": f"{10 * round(max(ratios['exact']) / 10):d}"}
 
 
+def bench_room_field() -> dict:
+    """Section 3 of ``benchmarks/results/bench_room.txt``: a room point's peak and SEL, per receiver, on all cores."""
+    text = _benchmark("bench_room")
+    per = float(re.search(r"^fast_peaks, peak \+ SEL in one pass\s+[\d.]+\s+([\d.]+)$", text, re.M).group(1))
+    threads = re.search(r"receivers on (\d+) threads?", text).group(1)
+    return {"ms": f"{per:.1g}", "cores": {"1": "one core", "2": "two cores"}.get(threads, f"{threads} cores")}
+
+
 def produce_bench_startup() -> dict:
     """The README main job's CPU time, cold (empty kernel cache) and warm, from ``bench_startup.txt``.
 
@@ -614,6 +622,9 @@ REGISTRY = (
     Figure("rooms-wav-speed", "docs/guide/rooms.md",
            r"takes (?P<lo>[\d.]+) to (?P<hi>[\d.]+) times as long as\s+in free field .*?instead of about "
            r"(?P<ex_lo>\d+) to (?P<ex_hi>\d+) times", bench_room_wav, "python benchmarks/bench_room.py"),
+    Figure("rooms-map-cost", "docs/guide/rooms.md",
+           r"about (?P<ms>[\d.]+) ms per point on (?P<cores>one core|two cores|\d+ cores) at order 10",
+           bench_room_field, "python benchmarks/bench_room.py"),
     Figure("sweep-levels-cost", "docs/guide/sweeps.md",
            r"It costs about (?P<ms>\d+) ms more per 20 s design, (?P<times>\d+) times the\s+motion alone",
            produce_bench_sweep_levels, "python benchmarks/bench_sweep.py"),
