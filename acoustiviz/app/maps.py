@@ -426,21 +426,21 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
 
 @contextlib.contextmanager
 def points_bar(stream):
-    """A ``progress(done, total)`` drawing a tqdm bar of points on ``stream`` if it is a terminal, else None."""
-    from ..sweep.progress import is_terminal
+    """A ``progress(done, total)`` drawing a bar of points on ``stream`` if it is a terminal, else None.
+
+    The bar is that of a sweep (:class:`acoustiviz.sweep.progress.Progress`), cleared when the map ends.
+    """
+    from ..sweep.progress import Progress, is_terminal
 
     if not is_terminal(stream):
         yield None
         return
-    from tqdm import tqdm
-
     bars = []
 
     def progress(done, total):
         if not bars:  # the total is known at the first report
-            bars.append(tqdm(total=total, file=stream, desc="map", unit="point", unit_scale=True, mininterval=0.25,
-                             dynamic_ncols=True, leave=False))
-        bars[0].update(done - bars[0].n)
+            bars.append(Progress(total, stream=stream, desc="map", unit="point", leave=False))
+        bars[0].update(done - bars[0].count)
 
     try:
         yield progress

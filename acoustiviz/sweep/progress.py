@@ -1,4 +1,4 @@
-"""What a sweep tells the user while it runs: a tqdm bar on a terminal, and the resume count.
+"""What a sweep (or a map) tells the user while it runs: a tqdm bar on a terminal, and the resume count.
 
 The bar (count, rate and ETA, timed from the first design of this run) is drawn only when its
 stream is a terminal and the user did not ask for quiet; the line saying how many designs an
@@ -32,9 +32,14 @@ class Progress:
         Where to write (e.g. ``sys.stderr``); None writes nothing.
     bar : bool, optional
         Draw the tqdm bar; None (default): only when ``stream`` is a terminal.
+    desc, unit : str
+        The bar's label and what it counts.
+    leave : bool
+        Keep the bar on the terminal when it ends (else it is cleared).
     """
 
-    def __init__(self, total: int, done_before: int = 0, stream=None, bar: bool | None = None):
+    def __init__(self, total: int, done_before: int = 0, stream=None, bar: bool | None = None, *,
+                 desc: str = "sweep", unit: str = "design", leave: bool = True):
         self.total = int(total)
         self.done_before = int(done_before)
         self.count = 0
@@ -44,8 +49,8 @@ class Progress:
         if self.bar:
             from tqdm import tqdm
 
-            self._tqdm = tqdm(total=self.total, initial=self.done_before, file=stream, desc="sweep",
-                              unit="design", mininterval=0.25, dynamic_ncols=True, leave=True)
+            self._tqdm = tqdm(total=self.total, initial=self.done_before, file=stream, desc=desc,
+                              unit=unit, mininterval=0.25, dynamic_ncols=True, leave=leave)
 
     def say(self, text: str) -> None:
         """Write one line (above the bar when it is drawn)."""
