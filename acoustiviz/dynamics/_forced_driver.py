@@ -299,12 +299,16 @@ def _open_contact(prm, st, sw, u0, impacts, n):
 def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
     """Advance the forced damper from ``t0`` to ``t1`` s (state ``st`` updated in place).
 
-    ``restitution = -1`` integrates compliant contacts (event solver); ``restitution >= 0``
+    ``restitution = None`` integrates compliant contacts (event solver); ``restitution >= 0``
     applies instantaneous impacts with that coefficient (impact map; ``restitution`` > 1 is
     refused upstream); ``restitution = -2`` applies instantaneous impacts with the restitution
     of the compliant contact of the two masses alone at each approach speed. New impact rows are
     written from row ``n``. ``extrema`` tracks the largest and smallest x in ``acc[3:5]``.
     ``st[4] = 2`` marks the impact mass stuck on wall ``st[5]`` (impact map, module docstring).
+
+    numba compiles one version per type of ``restitution``: with None the instantaneous impacts,
+    the sticking phase and the compliant contact of the masses alone (the impact map's pieces)
+    are left out, about 3 s of CPU less to compile for the event solver.
 
     Parameters
     ----------
@@ -316,8 +320,10 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
         State (module docstring), updated in place.
     t0, t1 : float
         Start and end (s).
-    restitution, rtol : float
-        As above; relative tolerance of the compliant contacts.
+    restitution : float or None
+        As above.
+    rtol : float
+        Relative tolerance of the compliant contacts.
     impacts, n, max_impacts : ndarray, int, int
         Impact rows, the first free row and the row limit.
     acc : ndarray
@@ -337,7 +343,8 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
     t = t0
     status = STATUS_OK
     while t < t1:
-        if st[4] > 1.5:  # stuck on wall st[5]: one oscillator of mass M + m until the wall stops pushing
+        if restitution is not None and st[4] > 1.5:  # stuck on wall st[5] (impact map): one oscillator
+            # of mass M + m until the wall stops pushing
             t, released = _stuck(prm, fl, fc, fcs, st, t, t1, acc, extrema)
             if not released:
                 break
@@ -355,13 +362,13 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
         if n >= max_impacts:
             return Progress(n, STATUS_MAX_IMPACTS)
         u0 = sw * (st[3] - st[1])
-        if u0 <= 0.0 and restitution != -1.0:  # resting on a wall: instantaneous impacts cannot follow
+        if restitution is not None and u0 <= 0.0:  # resting on a wall: instantaneous impacts cannot follow
             return Progress(n, STATUS_MAX_IMPACTS)
         impacts[n, 0] = t
         impacts[n, 1] = sw
         impacts[n, 2] = u0
-        if restitution >= 0.0 or restitution < -1.5:  # instantaneous impact
-            n = _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc)
-        else:
+        if restitution is None:  # compliant contact
             n = _open_contact(prm, st, sw, u0, impacts, n)
+        else:  # instantaneous impact
+            n = _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc)
     return Progress(n, status)
