@@ -343,9 +343,3 @@ def _metrics_kernel(res, buf, t0, dt, img, pa, tail, refine):  # pragma: no cove
         res[i, 1] = pmin
         res[i, 2] = ssq
 
-
-@_njit(cache=True)
-def _fill(out, u, pa):  # pragma: no cover - compiled
-    """``out[i] = Y(u[i])`` (complex m/s, ``u`` in s) for the pulse ``pa`` of :func:`._common.pulse_args`."""
-    for i in range(u.size):
-        out[i] = _y_at(u[i], pa)

@@ -36,11 +36,11 @@ from .._validate import check_points
 from ..core.contact import HalfSinePulse
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..core.radiation import hertz_shape_pieces
+from ..core.radiation import hertz_shape_pieces, pulse_response
 from ._arrivals import _arrival_order
 from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
 from ._exposure_closed import EPOCH, _exposure_closed, closed_tables, half_sine_lag_terms
-from ._kernels import _fill, _njit
+from ._kernels import _njit
 from .sources import chunk_geometry
 
 __all__ = ["PulseCorrelations", "pulse_correlations", "exposure"]
@@ -163,10 +163,10 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     On ``[0, T]``: ``G(Δ) = ∫_0^T Y(u) Y(u + Δ) du + Y(T)² exp(s Δ)/(-2 s)`` (and likewise ``H``
     with ``Ȳ`` and ``-(s + s̄)``), the integral by Gauss-Legendre (16 nodes) on the pieces between
     the pulse's own knots, their shifts by ``-Δ`` and a grid of ``|s| T`` steps, with the exact
-    ``Y`` of :func:`acoustiviz.field._kernels._y_at` (that of
-    :func:`acoustiviz.core.radiation.pulse_response`), evaluated at the Chebyshev points of 24
-    panels (more for pulses longer than ``48/|s|``) of degree 16; then tabulated with the
-    derivatives of the series for cubic Hermite interpolation (nodes ``0.01/|s|`` apart).
+    ``Y`` of :func:`acoustiviz.core.radiation.pulse_response` (vectorised, nothing to compile),
+    evaluated at the Chebyshev points of 24 panels (more for pulses longer than ``48/|s|``) of
+    degree 16; then tabulated with the derivatives of the series for cubic Hermite interpolation
+    (nodes ``0.01/|s|`` apart).
     """
     check_pulse(pulse)
     pa = pulse_args(pulse, radius, medium)
@@ -174,9 +174,7 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     tau = float(pulse.duration)
 
     def y_at(u):
-        out = np.empty(u.size, complex)
-        _fill(out, np.ascontiguousarray(u, dtype=float).ravel(), pa)
-        return out
+        return pulse_response(pulse, np.asarray(u, dtype=float).ravel(), radius=radius, medium=medium)
 
     if kind == 0:
         knots = np.array([0.0, tau])

@@ -76,9 +76,9 @@ from .._validate import ParameterError, check_points
 from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
+from ..core.radiation import pulse_response
 from ._common import PeakCorrelations, PeakSampling, PeakSources, check_config, check_pulse, pulse_args
 from ._exposure_closed import ClosedPairs, closed_tables
-from ._kernels import _fill
 from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
@@ -236,8 +236,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
         pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
         ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
-    y = np.empty(u.shape, complex)
-    _fill(y.ravel(), u.ravel(), pa)
+    y = pulse_response(pulse, u, radius=config.radius, medium=medium)
     # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
     flat = np.abs(np.diff(y.T.ravel())) / h
     slope = float(flat.max()) * (1.0 + abs(pa.s) * h) + 1e-300
