@@ -73,6 +73,8 @@ def compile_for(dispatcher, args, name: str | None = None, seconds: float = 0.0,
     announce : bool, optional
         Whether that line may be printed; default: when stderr is a terminal.
     """
+    if not hasattr(dispatcher, "overloads"):  # numba's NUMBA_DISABLE_JIT: a plain function, nothing to compile
+        return 0.0
     sig = _signature(args)
     if dispatcher.overloads.get(sig) is not None:
         return 0.0

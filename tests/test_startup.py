@@ -92,6 +92,16 @@ def test_compile_for_compiles_without_running_and_once():
     assert len(twice.signatures) == 1  # the call found the compiled signature
 
 
+def test_compile_for_accepts_a_plain_function():
+    # numba's NUMBA_DISABLE_JIT=1 (its debugging switch) turns every @njit into the Python function itself
+    from acoustiviz._jit import compile_for
+
+    def twice(x):
+        return 2.0 * x
+
+    assert compile_for(twice, (1.5,), "twice", 10.0, announce=True) == 0.0
+
+
 def test_no_compiling_line_where_stderr_is_not_a_terminal(capsys):
     from numba import njit
 
