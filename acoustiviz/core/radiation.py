@@ -41,6 +41,7 @@ __all__ = [
     "radiation_coefficients",
     "impulse_response",
     "pulse_response",
+    "pulse_response_function",
     "pressure",
     "sphere_pressure",
     "arrival_time",
@@ -190,16 +191,16 @@ def _knot_states(times: np.ndarray, acc: np.ndarray, s: complex) -> np.ndarray:
     return y
 
 
-def _sampled_response(pulse: SampledPulse, s: complex, tr: np.ndarray) -> np.ndarray:
+def _sampled_response(pulse: SampledPulse, s: complex, yk: np.ndarray, tr: np.ndarray) -> np.ndarray:
+    """``Y`` of a piecewise-linear pulse at ``tr`` (s), given its knot states ``yk`` (:func:`_knot_states`)."""
     xi = pulse.times
     acc = pulse.acceleration_samples
-    yk = _knot_states(xi, acc, s)
     y = np.zeros(tr.shape, dtype=complex)
     end = xi[-1]
     during = (tr >= 0) & (tr < end)
     after = tr >= end
     td = tr[during]
-    k = np.clip(np.searchsorted(xi, td, side="right") - 1, 0, xi.size - 2)
+    k = np.minimum(np.maximum(np.searchsorted(xi, td, side="right") - 1, 0), xi.size - 2)  # np.clip, cheaper
     delta = td - xi[k]
     hk = xi[k + 1] - xi[k]
     slope = (acc[k + 1] - acc[k]) / hk
@@ -415,14 +416,14 @@ def _response_table(breaks, coef, amp: float, tau: float, s: complex, split: int
     return knots, np.ascontiguousarray(table[:, :keep]), terms.astype(np.int64)
 
 
-def _hertz_response(pulse: HertzPulse, s: complex, tr: np.ndarray) -> np.ndarray:
-    knots, table, _ = hertz_response_table(pulse, s)
+def _hertz_response(knots: np.ndarray, table: np.ndarray, s: complex, tr: np.ndarray) -> np.ndarray:
+    """``Y`` at ``tr`` (s) from a Taylor table of :func:`hertz_response_table` (``knots``, ``table``)."""
     end = knots[-1]
     y = np.zeros(tr.shape, dtype=complex)
     during = (tr >= 0) & (tr < end)
     after = tr >= end
     td = tr[during]
-    k = np.clip(np.searchsorted(knots, td, side="right") - 1, 0, knots.size - 2)
+    k = np.minimum(np.maximum(np.searchsorted(knots, td, side="right") - 1, 0), knots.size - 2)  # np.clip, cheaper
     u = (td - knots[k]) / (knots[k + 1] - knots[k])
     acc = table[k, -1]
     for j in range(table.shape[1] - 2, -1, -1):
@@ -476,15 +477,32 @@ def pulse_response(pulse, t_ret, *, radius: float, medium: Medium = AIR):
     >>> round(9800.0 / (math.sqrt(2.0) * 343.2 / a), 4)
     0.3847
     """
+    return pulse_response_function(pulse, radius=radius, medium=medium)(t_ret)
+
+
+def pulse_response_function(pulse, *, radius: float, medium: Medium = AIR):
+    """:func:`pulse_response` as a function ``f(t_ret)`` of the retarded time in s, the pulse's tables built once.
+
+    For evaluating ``Y`` (m/s) of one pulse and sphere (radius in m) many times, e.g. in a search for
+    an extreme: a sampled pulse's knot states and the Hertz pulse's Taylor table are computed once.
+
+    >>> from acoustiviz.core.contact import HalfSinePulse
+    >>> pulse = HalfSinePulse(9800.0, 525.6e-6)
+    >>> bool(pulse_response_function(pulse, radius=0.01905)(3e-4) == pulse_response(pulse, 3e-4, radius=0.01905))
+    True
+    """
     s = sphere_pole(radius, medium)
-    tr = np.asarray(t_ret, dtype=float)
     if isinstance(pulse, HalfSinePulse):
-        return _half_sine_response(pulse, s, tr)
-    if isinstance(pulse, HertzPulse):
-        return _hertz_response(pulse, s, tr)
-    if isinstance(pulse, SampledPulse):
-        return _sampled_response(pulse, s, tr)
-    raise ParameterError("pulse", f"expected a HalfSinePulse or SampledPulse, got {type(pulse).__name__}")
+        evaluate = functools.partial(_half_sine_response, pulse, s)
+    elif isinstance(pulse, HertzPulse):
+        knots, table, _ = hertz_response_table(pulse, s)
+        evaluate = functools.partial(_hertz_response, knots, table, s)
+    elif isinstance(pulse, SampledPulse):
+        yk = _knot_states(pulse.times, pulse.acceleration_samples, s)
+        evaluate = functools.partial(_sampled_response, pulse, s, yk)
+    else:
+        raise ParameterError("pulse", f"expected a HalfSinePulse or SampledPulse, got {type(pulse).__name__}")
+    return lambda t_ret: evaluate(np.asarray(t_ret, dtype=float))
 
 
 def pressure(pulse, t, distance, cos_theta, *, radius: float, medium: Medium = AIR):
