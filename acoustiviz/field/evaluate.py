@@ -5,9 +5,11 @@ The evaluator computes each point only inside its own retarded window: ``Y(t') =
 ``exp(-c (t' - T)/a)``; it is dropped once that factor is below ``cutoff`` (default 1e-10, i.e.
 ``23 a/c`` after the pulse). On a uniform time grid a numba kernel advances ``exp(i ω t')`` and
 ``exp(s t')`` by one complex multiply per sample (the exact Hertz pulse: a short Taylor polynomial
-per sample); other grids use the vectorised closed form of
-:func:`acoustiviz.core.radiation.pulse_response`. Points are processed in chunks within
-``memory_limit`` bytes. Times in s from the start of contact, points in m, pressures in Pa.
+per sample); other grids, and requests of at most :data:`acoustiviz.field._closed.SMALL_WORK`
+points x samples x images (where compiling the kernel would cost more than the work), use the
+vectorised closed form of :func:`acoustiviz.core.radiation.pulse_response` on the same samples with
+the same tail cut. Points are processed in chunks within ``memory_limit`` bytes. Times in s from
+the start of contact, points in m, pressures in Pa.
 """
 
 from __future__ import annotations
@@ -17,7 +19,8 @@ import numpy as np
 from .._validate import ParameterError, check_points, check_positive
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..core.radiation import pulse_response
+from ..core.radiation import pulse_response, pulse_response_function
+from . import _closed
 from ._common import (
     DEFAULT_CUTOFF,
     DEFAULT_MEMORY_LIMIT,
@@ -52,8 +55,8 @@ def iter_time_series(
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     t : (m,) array_like
-        Times in s. A uniform grid uses the numba kernel; any other grid the vectorised
-        closed form.
+        Times in s. A uniform grid uses the numba kernel (small blocks excepted); any other
+        grid the vectorised closed form.
     points : (n, 3) array_like
         Observer positions in m. Points outside the fluid (inside the sphere or behind a
         plane) get NaN.
@@ -80,32 +83,44 @@ def iter_time_series(
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
     nimg = len(config.images())
-    dt = uniform_step(tt)
-    per_point = 8 * tt.size + geometry_bytes(nimg)
-    if dt is None:
-        per_point += 8 * tt.size * 6  # retarded times, complex Y, masks of the vectorised path
-    chunk = chunk_size(per_point, 8 * tt.size * 2, limit)
+    dt, closed, chunk = _series_plan(tt, pts.shape[0], nimg, 8 * tt.size + geometry_bytes(nimg), 8 * tt.size * 2, limit)
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
         out = np.zeros((stop - start, tt.size))
-        _series_chunk(out, pulse, tt, dt, pts[start:stop], config, medium, pa, tail)
+        _series_chunk(out, pulse, tt, dt, closed, pts[start:stop], config, medium, pa, tail)
         yield start, stop, out
 
 
-def _series_chunk(out, pulse, tt, dt, sub, config, medium, pa, tail):
+def _series_plan(tt, n: int, nimg: int, per_point: float, fixed: float, limit: float):
+    """How to sum ``n`` points over the grid ``tt``: ``(dt, closed, chunk)``.
+
+    ``dt``: the grid's step in s (None if not uniform); ``closed``: sum in numpy (a non-uniform grid,
+    or a small request, :func:`._closed.is_small`, where compiling the kernel would cost more than
+    the work, if its scratch fits in ``limit``) rather than by the compiled kernel; ``chunk``: points
+    per block, from the bytes ``per_point`` and ``fixed`` (numpy's scratch added).
+    """
+    dt = uniform_step(tt)
+    scratch = 8 * tt.size * 6  # retarded times, complex Y, masks of the vectorised sum
+    fits = limit - fixed >= per_point + scratch
+    closed = dt is None or (_closed.is_small(n, tt.size, nimg) and fits)
+    return dt, closed, chunk_size(per_point + (scratch if closed else 0), fixed, limit)
+
+
+def _series_chunk(out, pulse, tt, dt, closed, sub, config, medium, pa, tail):
     """Fill the zeroed ``out`` (len(sub), m) with the pressure in Pa at ``sub`` and times ``tt``.
 
-    ``pa`` and ``tail`` (s) are those of :func:`._common.prepare`; ``dt`` the grid's step in s or None.
+    ``pa`` and ``tail`` (s) are those of :func:`._common.prepare`; ``dt`` the grid's step in s or None;
+    ``closed``: sum in numpy (:func:`._closed.add_images`, the kernel's samples and tail) rather than
+    by the compiled kernel.
     """
     delay, p0, cre, cim, inside = chunk_geometry(sub, config, medium)
-    if dt is not None:
-        t0 = np.full(sub.shape[0], tt[0])
-        _series_kernel(out, t0, dt, ImageArrays(delay, p0, cre, cim), pa, tail)
-    else:
-        for j in range(delay.shape[1]):
-            y = pulse_response(pulse, tt[None, :] - delay[:, j : j + 1], radius=config.radius, medium=medium)
-            out += p0[:, j : j + 1] * (cre[:, j : j + 1] * y.real - cim[:, j : j + 1] * y.imag)
-            del y
+    img = ImageArrays(delay, p0, cre, cim)
+    t0 = np.full(sub.shape[0], tt[0])
+    if not closed:
+        _series_kernel(out, t0, dt, img, pa, tail)
+    else:  # a small block or a non-uniform grid: the vectorised closed form, the same samples and tail
+        y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)
+        _closed.add_images(out, y_of, img, pa.tau, tail, t0=t0, dt=dt, t=tt)
     out[inside] = np.nan
 
 
@@ -169,13 +184,12 @@ def time_series(
     pa, tail = prepare(pulse, config, medium, cutoff)
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
-    dt = uniform_step(tt)
-    per_point = geometry_bytes(len(config.images())) + (0 if dt is not None else 8 * tt.size * 6)
-    chunk = chunk_size(per_point, need, limit)
+    dt, closed, chunk = _series_plan(tt, pts.shape[0], len(config.images()), geometry_bytes(len(config.images())),
+                                     need, limit)
     out = np.zeros((pts.shape[0], tt.size))
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
-        _series_chunk(out[start:stop], pulse, tt, dt, pts[start:stop], config, medium, pa, tail)
+        _series_chunk(out[start:stop], pulse, tt, dt, closed, pts[start:stop], config, medium, pa, tail)
     return out
 
 

@@ -11,6 +11,8 @@ from .._validate import ParameterError, check_points, check_positive
 from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
+from ..core.radiation import pulse_response_function
+from . import _closed
 from ._common import (
     DEFAULT_CUTOFF,
     DEFAULT_MEMORY_LIMIT,
@@ -130,6 +132,31 @@ def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff,
     return win / m, m, win
 
 
+def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, dt: float, refine: bool, per_point, fixed, limit):
+    """The exact model's metrics of blocks of points, and the points per block.
+
+    Returns ``(run, chunk)``: ``run(res, t0, img)`` fills ``res[i] = (max p, min p, Σ p²)`` of the
+    points of ``img`` (:class:`._common.ImageArrays`) on their grids ``t0[i] + k dt``, k < m; by the
+    compiled ``_metrics_kernel``, or for a small request (:func:`._closed.is_small`, where compiling
+    would cost more than the work) whose scratch fits in ``limit``, by its numpy twin
+    :func:`._closed.window_metrics`. ``chunk`` from the bytes ``per_point`` and ``fixed``, the scratch added.
+    """
+    scratch = 8 * m * 7  # the samples, retarded times, complex Y and masks of the vectorised sum
+    if _closed.is_small(n, m, len(config.images()), refine=refine) and limit - fixed >= per_point + scratch:
+        y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)
+
+        def run(res, t0, img):
+            _closed.window_metrics(res, y_of, img, pa.tau, tail, t0, dt, m, refine)
+
+        return run, chunk_size(per_point + scratch, fixed, limit)
+    buf = np.zeros(m)
+
+    def run(res, t0, img):
+        _metrics_kernel(res, buf, t0, dt, img, pa, tail, refine)
+
+    return run, chunk_size(per_point, fixed, limit)
+
+
 def field_metrics(
     pulse,
     points,
@@ -191,7 +218,12 @@ def field_metrics(
 
     Notes
     -----
-    Paper eqs 12-14; the SPL of paper Figure 3 is ``peak_spl_db``.
+    Paper eqs 12-14; the SPL of paper Figure 3 is ``peak_spl_db``. The exact model runs a compiled
+    kernel, except on small requests (:func:`acoustiviz.field._closed.is_small`: a few tens of points
+    of a default window), where compiling would cost more than the work: there the samples are summed
+    in numpy from the closed form (:func:`acoustiviz.core.radiation.pulse_response`) on the same grid
+    with the same tail cut, and the extremes refined by the same bounded Brent search (SciPy's
+    ``fminbound`` algorithm), so both give the same numbers to round-off.
 
     Examples
     --------
@@ -228,13 +260,14 @@ def field_metrics(
         raise ParameterError("memory_limit", f"the results and the window of {m} samples need "
                                              f"{out_bytes + 8 * m:.4g} B > {limit:.4g} B")
     fixed = out_bytes + 8 * m + (limit / 2 if tolerance is not None else 0)  # half for cheap models
-    chunk = chunk_size(geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit)
+    exact_metrics, chunk = _exact_metrics(
+        pulse, config, medium, pa, tail, n, m, dt, refine, geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit
+    )
     pmax = np.empty(n)
     pmin = np.empty(n)
     ssq = np.empty(n)
     wstart = np.empty(n)
     models = np.zeros(n, dtype=np.uint8)
-    buf = np.zeros(m)
     if tolerance is not None:
         from ..core import approximations as _approx
 
@@ -259,12 +292,12 @@ def field_metrics(
                 )  # fmt: skip
                 models[lo:hi][sel] = code
         if np.all(exact):
-            _metrics_kernel(res, buf, t0, dt, ImageArrays(delay, p0, cre, cim), pa, tail, refine)
+            exact_metrics(res, t0, ImageArrays(delay, p0, cre, cim))
         elif np.any(exact):
             sub = np.empty((int(exact.sum()), 3))
-            _metrics_kernel(
-                sub, buf, np.ascontiguousarray(t0[exact]), dt,
-                ImageArrays(*(np.ascontiguousarray(x[exact]) for x in (delay, p0, cre, cim))), pa, tail, refine,
+            exact_metrics(
+                sub, np.ascontiguousarray(t0[exact]),
+                ImageArrays(*(np.ascontiguousarray(x[exact]) for x in (delay, p0, cre, cim))),
             )  # fmt: skip
             res[exact] = sub
         res[inside] = np.nan
