@@ -416,8 +416,8 @@ def _response_table(breaks, coef, amp: float, tau: float, s: complex, split: int
     return knots, np.ascontiguousarray(table[:, :keep]), terms.astype(np.int64)
 
 
-def _hertz_response(knots: np.ndarray, table: np.ndarray, s: complex, tr: np.ndarray) -> np.ndarray:
-    """``Y`` at ``tr`` (s) from a Taylor table of :func:`hertz_response_table` (``knots``, ``table``)."""
+def _hertz_response(knots: np.ndarray, terms: np.ndarray, yend: complex, s: complex, tr: np.ndarray) -> np.ndarray:
+    """``Y`` at ``tr`` (s) from :func:`hertz_response_table`: ``knots``, the table transposed, ``Y`` at the end."""
     end = knots[-1]
     y = np.zeros(tr.shape, dtype=complex)
     during = (tr >= 0) & (tr < end)
@@ -425,11 +425,11 @@ def _hertz_response(knots: np.ndarray, table: np.ndarray, s: complex, tr: np.nda
     td = tr[during]
     k = np.minimum(np.maximum(np.searchsorted(knots, td, side="right") - 1, 0), knots.size - 2)  # np.clip, cheaper
     u = (td - knots[k]) / (knots[k + 1] - knots[k])
-    acc = table[k, -1]
-    for j in range(table.shape[1] - 2, -1, -1):
-        acc = acc * u + table[k, j]
+    acc = terms[-1].take(k)
+    for j in range(terms.shape[0] - 2, -1, -1):  # Horner, one coefficient row gathered per term
+        acc *= u
+        acc += terms[j].take(k)
     y[during] = acc
-    yend = table[-1].sum()
     y[after] = np.exp(s * (tr[after] - end)) * yend
     return y
 
@@ -496,7 +496,7 @@ def pulse_response_function(pulse, *, radius: float, medium: Medium = AIR):
         evaluate = functools.partial(_half_sine_response, pulse, s)
     elif isinstance(pulse, HertzPulse):
         knots, table, _ = hertz_response_table(pulse, s)
-        evaluate = functools.partial(_hertz_response, knots, table, s)
+        evaluate = functools.partial(_hertz_response, knots, np.ascontiguousarray(table.T), table[-1].sum(), s)
     elif isinstance(pulse, SampledPulse):
         yk = _knot_states(pulse.times, pulse.acceleration_samples, s)
         evaluate = functools.partial(_sampled_response, pulse, s, yk)
