@@ -16,15 +16,16 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 #: Largest work (points x samples x images) of a request summed in numpy instead of by the
-#: compiled kernels. Measured on one core of the development machine: numpy takes ~50 ns per unit
-#: of work with the exact Hertz pulse (~30 ns with the half-sine), so ~50 ms at this size, against
-#: ~2 s of CPU to compile a kernel on an empty numba cache; a 2-image point of 3662 samples takes
-#: ~1.4 ms (the warm kernel ~0.7 ms).
-SMALL_WORK = 1_000_000
+#: compiled kernels. Measured on one core of the development machine: numpy takes 30-80 ns per unit
+#: of work (the half-sine's closed form to the exact Hertz pulse's Taylor table; the most where
+#: most samples fall during the contact), so ~25-50 ms at this size, against ~2 s of CPU to
+#: compile a kernel on an empty numba cache; a 2-image point of 3662 samples takes ~1-2 ms.
+SMALL_WORK = 500_000
 #: Work (in units of :data:`SMALL_WORK`) of refining one point's two extremes in numpy: two bounded
-#: Brent searches of ~20 evaluations of ``p`` each, ~2 ms per point measured; so 20 points of a
-#: default window (2208 samples, 2 images) are refined in numpy, ~45 ms.
-REFINE_WORK = 40_000
+#: Brent searches of ~20 evaluations of ``p`` each, ~1.7 ms per point measured (exact Hertz pulse,
+#: 2 images); so up to 20 points of a default window (2208 samples, 2 images: a directivity) are
+#: refined in numpy, ~40 ms.
+REFINE_WORK = 20_000
 
 
 def is_small(points: int, samples: int, images: int, *, refine: bool = False) -> bool:
