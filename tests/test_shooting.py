@@ -116,14 +116,27 @@ def test_a_multiplier_crosses_minus_one_at_a_period_doubling():
 
 @pytest.mark.slow
 def test_two_contact_tolerances_find_the_same_attractors_at_5_hz():
-    """Table 1 at 5 Hz, 5 N: rtol 1e-10 and 1e-12 give the same attractor set, non-periodic
-    statistics within their stated errors."""
+    """Table 1 at 5 Hz, 5 N: rtol 1e-10 and 1e-12 give the same attractors, non-periodic
+    statistics within their stated errors.
+
+    Compared: the attractors reached from at least two of the six starts at either tolerance. An
+    attractor reached from one start only has a basin small enough that whether a start's chaotic
+    transient falls into it depends on round-off: at 5 Hz a period-1 orbit is reached from one
+    start of six at rtol 1.1e-10 and 1.1e-12 and from none at 1e-10, 0.9e-10, 1e-12 and 0.9e-12
+    (the sampling of the starts, not the tolerance, decides it).
+    """
     model, ex = DamperModel(), Excitation(5.0, 5.0)
     sets = [attractors_at(model, ex, check_settings(model, ex, rtol=rtol, starts=6)) for rtol in (1e-10, 1e-12)]
-    a, b = sets
-    assert [x.regime for x in a.attractors] == [x.regime for x in b.attractors]
-    assert a.counts == b.counts
-    for p, q in zip(a.attractors, b.attractors, strict=True):
+
+    def common(s):
+        kept = [x for x, c in zip(s.attractors, s.counts, strict=True) if c >= 2]
+        assert len({x.regime for x in kept}) == len(kept)  # one of each regime here: matched by regime
+        return {x.regime: x for x in kept}
+
+    a, b = (common(s) for s in sets)
+    assert a and set(a) == set(b)
+    for regime, p in a.items():
+        q = b[regime]
         if p.period:
             assert p.amplitude == pytest.approx(q.amplitude, rel=1e-8)
         else:
