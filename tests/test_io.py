@@ -99,3 +99,41 @@ def test_labels_that_become_file_names(label, ok):
     from acoustiviz.output.writers import label_problem
 
     assert (label_problem(label) is None) == ok
+
+
+# --------------------------------------------------------------------------- CSV columns
+@pytest.mark.parametrize("rows", [0, 1, 3, 8192, 8193, 20000])
+def test_csv_columns_are_numpys_savetxt_text(tmp_path, rows):
+    # the block formatting writes the text numpy.savetxt writes for the same columns and formats
+    import io
+
+    import numpy as np
+
+    from acoustiviz.output.writers import write_csv_atomic
+
+    rng = np.random.default_rng(rows)
+    cols = [rng.normal(size=rows) * 10.0 ** rng.integers(-30, 30, size=rows) for _ in range(4)]
+    cols.append(np.arange(rows))  # an integer column
+    if rows >= 3:
+        cols[0][:3] = [np.nan, np.inf, -0.0]
+        cols[1][:3] = [-np.inf, 0.0, 1e-300]
+    fmts = ["%.9e", "%.6f", "%.10g", "%.10e", "%d"]
+    header = ["x_m", "level_db", "p_pa", "t_s", "index"]
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack(cols), delimiter=",", header=",".join(header), comments="", fmt=fmts)
+    path = write_csv_atomic(tmp_path / "a.csv", header, cols, fmt=fmts)
+    assert path.read_bytes() == buf.getvalue().encode()
+    one = write_csv_atomic(tmp_path / "b.csv", header[:2], cols[:2], fmt="%.8g")  # one format for all columns
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack(cols[:2]), delimiter=",", header=",".join(header[:2]), comments="", fmt="%.8g")
+    assert one.read_bytes() == buf.getvalue().encode()
+
+
+def test_csv_columns_refuse_a_format_count_that_does_not_match(tmp_path):
+    import numpy as np
+
+    from acoustiviz.output.writers import write_csv_atomic
+
+    with pytest.raises(ValueError, match="2 formats for 3 columns"):
+        write_csv_atomic(tmp_path / "a.csv", ["a", "b", "c"], [np.ones(2)] * 3, fmt=["%g", "%g"])
+    assert not (tmp_path / "a.csv").exists()
