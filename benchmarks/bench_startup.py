@@ -15,7 +15,8 @@ trees in alternation; ``--help`` and ``import`` are the median of ``--repeats`` 
 
 Measures: ``acoustiviz --help`` and each subcommand's ``--help``; ``import acoustiviz``; the README's
 main job ``acoustiviz run --out DIR`` cold and warm; the default damper run (``acoustiviz damper``,
-20 s, event solver) cold and warm; and (full run only) the wall time of one warm
+20 s, event solver) cold and warm; (full run only) ``acoustiviz waveform`` and ``acoustiviz
+directivity`` with their defaults cold (median of 3 alternated runs), and the wall time of one warm
 ``fast_peaks`` call at 1e3 points, best of 5. After the cold README job, every numba dispatcher found in the
 ``acoustiviz`` modules is listed with its number of compiled signatures and its compile time, taken
 from numba's ``numba:compile`` events: "self" is the time of the kernel's own compilations less the
@@ -182,6 +183,25 @@ def _job(trees: dict, works: dict, job: str, argv: list[str], res: dict, kernels
             shutil.rmtree(out, ignore_errors=True)
 
 
+#: Small commands measured cold (full run only): each evaluates the field at one point or a few tens.
+SMALL_COMMANDS = {"waveform cold": ["waveform", "--csv", "OUT.csv"],
+                  "directivity cold": ["directivity", "--csv", "OUT.csv"]}
+
+
+def _cold(trees: dict, works: dict, key: str, argv: list[str], res: dict, repeats: int) -> None:
+    """``argv`` on an empty cache, the median of ``repeats`` runs with the trees in alternation."""
+    samples = {t: [] for t in trees}
+    for _ in range(repeats):
+        for t, tree in trees.items():
+            out = works[t] / "out"
+            out.mkdir(exist_ok=True)
+            args = [str(out / "x.csv") if a == "OUT.csv" else a for a in argv]
+            samples[t].append(cpu_run(tree, args, _fresh(works[t] / "cache"), works[t]))
+            shutil.rmtree(out, ignore_errors=True)
+    for t, v in samples.items():
+        res[t][key] = statistics.median(v)
+
+
 def measure(trees: dict, works: dict, quick: bool, subs: list[str], repeats: int = 5) -> tuple[dict, dict]:
     """Every measure of the trees, side by side: ({tree: {measure: CPU s}}, {tree: {kernel: (sigs, s)}}).
 
@@ -197,6 +217,8 @@ def measure(trees: dict, works: dict, quick: bool, subs: list[str], repeats: int
             res[t][key] = v
     _job(trees, works, "damper", ["damper"], res, kernels)
     if not quick:
+        for key, argv in SMALL_COMMANDS.items():
+            _cold(trees, works, key, argv, res, 3)
         _job(trees, works, "run", ["run", "--out", "OUT"], res, kernels)
         for t, tree in trees.items():
             text = []
