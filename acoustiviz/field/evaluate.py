@@ -19,7 +19,7 @@ import numpy as np
 from .._validate import ParameterError, check_points, check_positive
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..core.radiation import pulse_response, pulse_response_function
+from ..core.radiation import pulse_response_function
 from . import _closed
 from ._common import (
     DEFAULT_CUTOFF,
@@ -251,13 +251,14 @@ def snapshots(
     per_point = geometry_bytes(len(config.images())) + 8 * 6
     chunk = chunk_size(per_point, need, limit)
     out = np.empty((tt.size, pts.shape[0]))
+    y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)  # the pulse's tables once
     for lo in range(0, pts.shape[0], chunk):
         hi = min(lo + chunk, pts.shape[0])
         delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
         for q, tq in enumerate(tt):
             acc = np.zeros(hi - lo)
             for j in range(delay.shape[1]):
-                y = pulse_response(pulse, tq - delay[:, j], radius=config.radius, medium=medium)
+                y = y_of(tq - delay[:, j])
                 acc += p0[:, j] * (cre[:, j] * y.real - cim[:, j] * y.imag)
             acc[inside] = np.nan
             out[q, lo:hi] = acc

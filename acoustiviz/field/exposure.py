@@ -36,7 +36,7 @@ from .._validate import check_points
 from ..core.contact import HalfSinePulse
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..core.radiation import hertz_shape_pieces, pulse_response
+from ..core.radiation import hertz_shape_pieces, pulse_response_function
 from ._arrivals import _arrival_order
 from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
 from ._exposure_closed import EPOCH, _exposure_closed, closed_tables, half_sine_lag_terms
@@ -173,8 +173,10 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     kind, xi, s = pa.kind, pa.xi, pa.s
     tau = float(pulse.duration)
 
+    y_of = pulse_response_function(pulse, radius=radius, medium=medium)  # the pulse's tables once
+
     def y_at(u):
-        return pulse_response(pulse, np.asarray(u, dtype=float).ravel(), radius=radius, medium=medium)
+        return y_of(np.asarray(u, dtype=float).ravel())
 
     if kind == 0:
         knots = np.array([0.0, tau])

@@ -34,7 +34,7 @@ from .._validate import ParameterError, check_positive
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
-from ..core.radiation import hertz_shape_pieces, pulse_response
+from ..core.radiation import hertz_shape_pieces, pulse_response, pulse_response_function
 
 __all__ = [
     "radiation_resistance",
@@ -282,6 +282,7 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
     reach = float(np.max(np.linalg.norm(pos, axis=1))) / medium.c
     t = _time_grid(pulse, a, medium, -reach, reach, per=100)
     total = 0.0
+    y_of = pulse_response_function(pulse, radius=a, medium=medium)  # the pulse's tables once
     for i0 in range(0, dirs.shape[0], int(chunk)):
         n = dirs[i0:i0 + chunk]
         delay = -(n @ pos.T) / medium.c  # (n_dir, n_src)
@@ -290,7 +291,7 @@ def radiated_energy_grid(pulse, sources, grid, *, radius: float, medium: Medium 
         for j in range(pos.shape[0]):  # loop over the few sources, vectorised over directions and times
             # directions at the same delay (a ring about an axis through the source) share its response
             lag, ring = np.unique(delay[:, j], return_inverse=True)
-            y = np.real((1 + 1j) * pulse_response(pulse, t[None, :] - lag[:, None], radius=a, medium=medium))
+            y = np.real((1 + 1j) * y_of(t[None, :] - lag[:, None]))
             q += cos[:, j:j + 1] * y[ring.reshape(-1)]
         q *= medium.rho * medium.c * a
         total += float(weights[i0:i0 + chunk] @ trapezoid(q * q, t, axis=1))
