@@ -145,16 +145,10 @@ def test_run_energy_interpolates_the_configuration_ratio_faithfully():
 
 
 def test_half_sine_energy_is_the_integral_of_its_complex_transform():
-    # the closed form's |A|² in real arithmetic against |pulse_spectrum|² (complex), pointwise and
-    # integrated by adaptive quadrature over the same band
-    from acoustiviz.levels.energy import _frequency_grid, _half_sine_power
-
+    # the residue closed form against adaptive quadrature of R |A|² / ω² with the complex transform
+    # |pulse_spectrum|², over 400 bands up to 400π / min(τ, a/c) (the rest falls off as ω⁻⁶)
     pulse = acceleration_pulse(IMPACT, "half-sine")
-    w0 = math.pi / pulse.duration
-    w = np.concatenate([np.linspace(1.0, 40 * w0, 4001), [w0, 3 * w0, 0.5 * w0]])
-    ref = np.abs(pulse_spectrum(pulse, w)) ** 2
-    np.testing.assert_allclose(_half_sine_power(pulse, w), ref, rtol=1e-12, atol=1e-12 * ref.max())
-    wmax = float(_frequency_grid(pulse, A, AIR)[-1])
+    wmax = 400 * math.pi / min(pulse.duration, A / AIR.c)
 
     def integrand(x):
         return float(radiation_resistance(np.array([x]), radius=A)[0] * abs(pulse_spectrum(pulse, x)) ** 2 / (x * x))
@@ -163,6 +157,28 @@ def test_half_sine_energy_is_the_integral_of_its_complex_transform():
     total = sum(quad(integrand, lo, hi, epsabs=0, epsrel=1e-11, limit=200)[0]
                 for lo, hi in zip(edges[:-1], edges[1:], strict=True))
     assert radiated_energy_free(pulse, radius=A) == pytest.approx(total / math.pi, rel=1e-7)
+
+
+@pytest.mark.parametrize("ratio", [0.02, 0.1, 0.3, 1.0, 10.0, 100.0])
+def test_half_sine_energy_equals_the_surface_work_from_short_to_long_contacts(ratio):
+    # contact durations from 1/50 to 100 times a/c: the closed form against the work in time, whose
+    # trapezoidal error (2000 samples per min(τ, a/c)) is about 1e-9
+    pulse = HalfSinePulse(9800.0, ratio * A / AIR.c)
+    assert radiated_energy_free(pulse, radius=A) == pytest.approx(surface_work_free(pulse, radius=A), rel=1e-7)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("k_hertz", [5e11, 5e13])
+@pytest.mark.parametrize("sampled", [False, True])
+def test_contacts_shorter_than_a_over_c_resolve_the_radiation_corner(k_hertz, sampled):
+    # contacts of 0.31 and 0.05 a/c spread |A|² far beyond c/a, where R(ω) turns from ω⁴ to flat: a
+    # step per period of |A|² alone missed that corner (6.5e-3 and 0.11 high for the Hertz pulse)
+    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=k_hertz, mass=0.0405), "hertz")
+    assert pulse.duration < 0.35 * A / AIR.c
+    if sampled:
+        t = np.linspace(0.0, pulse.duration, 257)
+        pulse = SampledPulse(t, pulse.acceleration(t))
+    assert radiated_energy_free(pulse, radius=A) == pytest.approx(surface_work_free(pulse, radius=A), rel=1e-7)
 
 
 @pytest.mark.parametrize("name", ["plane", "wall-floor"])

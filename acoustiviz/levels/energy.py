@@ -157,12 +157,67 @@ def _hertz_spectrum(pulse: HertzPulse, w: np.ndarray) -> np.ndarray:
     return pulse.amplitude * out.reshape(w.shape)
 
 
-def _frequency_grid(pulse, radius: float, medium: Medium, n_per_period: int = 64):
-    """Angular frequencies (rad/s) fine enough to resolve ``|A(ω)|²`` and far enough to hold its energy."""
+#: Frequency steps per period ``2π/τ`` of ``|A(ω)|²`` and per radiation corner ``c/a`` of ``R(ω)``.
+_PER_PERIOD = 64
+_PER_CORNER = 16
+#: Above this many corners ``c/a`` the resistance is flat to ``4 (c/(ωa))⁴ < 1e-6``: only ``|A|²`` needs steps.
+_CORNERS = 64
+
+
+def _frequency_grid(pulse, radius: float, medium: Medium, n_per_period: int = _PER_PERIOD):
+    """Angular frequencies (rad/s) fine enough to resolve ``|A(ω)|²`` and far enough to hold its energy.
+
+    ``n_per_period`` steps per period ``2π/τ`` of ``|A|²`` up to ``ω_max = 400π / min(τ, a/c)``,
+    beyond which the integrand falls off at least as ``ω⁻⁶``. One uniform grid; it also resolves the
+    corner of ``R(ω)`` at ``c/a`` when :func:`_frequency_segments` keeps it whole.
+    """
     tau = float(pulse.duration)
     wmax = 400.0 * math.pi / min(tau, radius / medium.c)
     n = int(n_per_period * wmax * tau / (2 * math.pi)) + 2001
     return np.linspace(0.0, wmax, n | 1)
+
+
+def _frequency_segments(pulse, radius: float, medium: Medium) -> list:
+    """Uniform grids (rad/s, odd sizes, end to end) on which Simpson's rule resolves ``R |A|² / ω²``.
+
+    :func:`_frequency_grid` when its step is at most ``(c/a) / 16``, i.e. when the contact lasts
+    longer than about ``1.4 a/c``. A shorter contact spreads ``|A|²`` so far that a step per period
+    of it is too coarse for the resistance's corner ``ω = c/a`` (``R ∝ ω⁴`` below it, flat above):
+    the band up to ``64 c/a`` is then stepped by ``(c/a)/16``, and only the rest by the period of
+    ``|A|²``.
+    """
+    grid = _frequency_grid(pulse, radius, medium)
+    corner = medium.c / radius
+    if grid[1] <= corner / _PER_CORNER:
+        return [grid]
+    tau = float(pulse.duration)
+    split = min(_CORNERS * corner, float(grid[-1]))
+    low = np.linspace(0.0, split, int(split / min(corner / _PER_CORNER, 2 * math.pi / (_PER_PERIOD * tau))) + 3 | 1)
+    if split == grid[-1]:
+        return [low]
+    n = int(_PER_PERIOD * (grid[-1] - split) * tau / (2 * math.pi)) + 3
+    return [low, np.linspace(split, float(grid[-1]), n | 1)]
+
+
+def _half_sine_energy(pulse: HalfSinePulse, radius: float, medium: Medium) -> float:
+    """:func:`radiated_energy_free` of a half-sine pulse in closed form (J), by residues.
+
+    With ``b = c/a``, ``ω0 = π/τ``, ``K = (4π a²/3) ρ c`` and ``N(ω) = 2 K A0² ω0² ω²``, the
+    integrand is ``g(ω) (1 + cos ωτ)`` with ``g = N / ((ω⁴ + 4 b⁴)(ω0² - ω²)²)`` (even in ω), so
+    ``E = (1/2π) Re PV∫ g(ω)(1 + e^{iωτ}) dω`` over the real line. Closing in the upper half plane,
+    the poles ``ω_k = b(±1 + i)`` give ``2πi N(ω_k)(1 + e^{iω_kτ}) / (4 ω_k³ (ω0² - ω_k²)²)``, and the
+    simple poles left at ``±ω0`` (``1 + e^{iωτ}`` has a simple zero there) ``πi`` times their residues,
+    ``2πτ N(ω0) / (4 ω0² (ω0⁴ + 4 b⁴))`` together.
+    """
+    a0, tau = float(pulse.amplitude), float(pulse.duration)
+    w0 = math.pi / tau
+    b = medium.c / radius
+    c2 = 2.0 * (4.0 * math.pi * radius * radius / 3.0) * medium.rho * medium.c * a0 * a0 * w0 * w0  # N(ω) = c2 ω²
+    upper = 0j
+    for wk in (complex(b, b), complex(-b, b)):
+        upper += c2 * (1.0 + np.exp(1j * wk * tau)) / (4.0 * wk * (w0 * w0 - wk * wk) ** 2)
+    axis = tau * c2 / (4.0 * (w0**4 + 4.0 * b**4))  # (1/2π) πi Σ Res at ±ω0
+    return float(-upper.imag + axis)  # (1/2π) Re(2πi Σ Res) = -Im Σ Res
 
 
 def radiated_energy_free(pulse, *, radius: float, medium: Medium = AIR) -> float:
@@ -170,7 +225,7 @@ def radiated_energy_free(pulse, *, radius: float, medium: Medium = AIR) -> float
 
     Parameters
     ----------
-    pulse : HalfSinePulse or SampledPulse
+    pulse : HalfSinePulse, HertzPulse or SampledPulse
         The sphere's acceleration in m/s² along its axis (:func:`acoustiviz.core.pulses.acceleration_pulse`).
     radius : float
         Sphere radius a in m.
@@ -181,8 +236,10 @@ def radiated_energy_free(pulse, *, radius: float, medium: Medium = AIR) -> float
     -------
     float
         ``E = (1/π) ∫_0^∞ R(ω) |A(ω)|² / ω² dω`` in J (:func:`radiation_resistance`,
-        :func:`pulse_spectrum`), by Simpson's rule over a grid resolving ``|A(ω)|²``; the
-        neglected tail beyond ``ω = 400π / min(τ, a/c)`` falls off as ``ω⁻⁶``.
+        :func:`pulse_spectrum`). A half-sine pulse's in closed form, by residues
+        (:func:`_half_sine_energy`); another pulse's by Simpson's rule on grids resolving both
+        ``|A(ω)|²`` and the resistance's corner at ``c/a`` (:func:`_frequency_segments`), the
+        neglected tail beyond ``ω = 400π / min(τ, a/c)`` falling off at least as ``ω⁻⁶``.
 
     Examples
     --------
@@ -194,26 +251,16 @@ def radiated_energy_free(pulse, *, radius: float, medium: Medium = AIR) -> float
     from scipy.integrate import simpson
 
     a = check_positive("radius", radius, "m")
-    grid = _frequency_grid(pulse, a, medium)
-    w = grid[1:]
-    spec = _half_sine_power(pulse, w) if isinstance(pulse, HalfSinePulse) else np.abs(pulse_spectrum(pulse, w)) ** 2
-    integrand = radiation_resistance(w, radius=a, medium=medium) * spec / (w * w)
-    # the integrand vanishes like ω² at 0: prepend that point exactly; the grid is uniform
-    return float(simpson(np.concatenate([[0.0], integrand]), dx=float(grid[-1]) / (grid.size - 1)) / math.pi)
-
-
-def _half_sine_power(pulse: HalfSinePulse, w: np.ndarray) -> np.ndarray:
-    """``|A(ω)|²`` of a half-sine pulse: ``4 A0² w0² cos²(ωτ/2) / (w0² - ω²)²``, ``w0 = π/τ`` (:func:`pulse_spectrum`).
-
-    ``|1 + e^{-iωτ}|² = 4 cos²(ωτ/2)``; at ``ω = w0`` the limit ``(A0 τ / 2)²``.
-    """
-    a0, tau = pulse.amplitude, pulse.duration
-    w0 = math.pi / tau
-    den = w0 * w0 - w * w
-    near = np.abs(den) < 1e-9 * w0 * w0
-    safe = np.where(near, 1.0, den)
-    out = (2.0 * a0 * w0 * np.cos(0.5 * w * tau) / safe) ** 2
-    return np.where(near, 0.25 * (a0 * tau) ** 2, out)
+    if isinstance(pulse, HalfSinePulse):
+        return _half_sine_energy(pulse, a, medium)
+    total = 0.0
+    for grid in _frequency_segments(pulse, a, medium):
+        w = grid[1:] if grid[0] == 0.0 else grid
+        integrand = radiation_resistance(w, radius=a, medium=medium) * np.abs(pulse_spectrum(pulse, w)) ** 2 / (w * w)
+        if grid[0] == 0.0:  # the integrand vanishes like ω² at 0: prepend that point exactly
+            integrand = np.concatenate([[0.0], integrand])
+        total += float(simpson(integrand, dx=float(grid[-1] - grid[0]) / (grid.size - 1)))
+    return total / math.pi
 
 
 def _time_grid(pulse, radius: float, medium: Medium, t_min: float = 0.0, t_max: float = 0.0, per: int = 400):
