@@ -88,7 +88,7 @@ def part_energy(seq, repeat: int, quick: bool) -> None:
     print(f"\n2. energy of the fastest impact ({seq.velocities[k]:.3g} m/s, half-sine, a = {RADIUS * 1e3:g} mm)")
     t_cf, e_cf = cpu_best_of(lambda: radiated_energy_free(pulse, radius=RADIUS), repeat)
     t_sw, e_sw = cpu_best_of(lambda: surface_work_free(pulse, radius=RADIUS), repeat)
-    print(f"closed form {e_cf:.6e} J in {t_cf * 1e3:.1f} ms CPU; surface work {e_sw:.6e} J "
+    print(f"closed form {e_cf:.6e} J in {t_cf * 1e3:.3f} ms CPU; surface work {e_sw:.6e} J "
           f"(rel. diff. {abs(e_sw / e_cf - 1):.1e}) in {t_sw * 1e3:.1f} ms CPU")
     hdr = f"{'config':>10} {'n_theta':>7} {'directions':>10} {'energy (J)':>13} {'rel. change':>12} {'CPU (s)':>9}"
     print(hdr)
