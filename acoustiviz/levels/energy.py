@@ -191,10 +191,8 @@ def _frequency_segments(pulse, radius: float, medium: Medium) -> list:
     if grid[1] <= corner / _PER_CORNER:
         return [grid]
     tau = float(pulse.duration)
-    split = min(_CORNERS * corner, float(grid[-1]))
+    split = _CORNERS * corner  # below ω_max = 400π / min(τ, a/c), which is at least 400π c/a
     low = np.linspace(0.0, split, int(split / min(corner / _PER_CORNER, 2 * math.pi / (_PER_PERIOD * tau))) + 3 | 1)
-    if split == grid[-1]:
-        return [low]
     n = int(_PER_PERIOD * (grid[-1] - split) * tau / (2 * math.pi)) + 3
     return [low, np.linspace(split, float(grid[-1]), n | 1)]
 
