@@ -12,6 +12,8 @@ kept free decay after it), so both agree to round-off. Times in s, pressures in 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.optimize import minimize_scalar
 
@@ -30,12 +32,15 @@ SMALL_WORK = 1_000_000
 REFINE_WORK = 20_000
 
 
-def is_small(points: int, samples: int, images: int, *, refine: bool = False) -> bool:
+def is_small(points: int, samples: int, images: int, *, refine: bool = False, need: float = 0.0,
+             room: float = math.inf) -> bool:
     """Whether a request of ``points x samples x images`` (each point's extremes refined or not) is summed in numpy.
 
-    The work ``points (samples images + REFINE_WORK [refine])`` against :data:`SMALL_WORK`.
+    The work ``points (samples images + REFINE_WORK [refine])`` against :data:`SMALL_WORK`, and the
+    bytes ``need`` of one point in numpy (its samples and scratch) against the ``room`` left in the
+    memory budget: a request that does not fit goes to the compiled kernel, which needs less.
     """
-    return points * (samples * images + (REFINE_WORK if refine else 0)) <= SMALL_WORK
+    return points * (samples * images + (REFINE_WORK if refine else 0)) <= SMALL_WORK and need <= room
 
 
 def add_images(out, y_of, img, end: float, tail: float, *, t0=None, dt=None, t=None):

@@ -101,8 +101,7 @@ def _series_plan(tt, n: int, nimg: int, per_point: float, fixed: float, limit: f
     """
     dt = uniform_step(tt)
     scratch = 8 * tt.size * 6  # retarded times, complex Y, masks of the vectorised sum
-    fits = limit - fixed >= per_point + scratch
-    closed = dt is None or (_closed.is_small(n, tt.size, nimg) and fits)
+    closed = dt is None or _closed.is_small(n, tt.size, nimg, need=per_point + scratch, room=limit - fixed)
     return dt, closed, chunk_size(per_point + (scratch if closed else 0), fixed, limit)
 
 
@@ -184,8 +183,8 @@ def time_series(
     pa, tail = prepare(pulse, config, medium, cutoff)
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
-    dt, closed, chunk = _series_plan(tt, pts.shape[0], len(config.images()), geometry_bytes(len(config.images())),
-                                     need, limit)
+    nimg = len(config.images())
+    dt, closed, chunk = _series_plan(tt, pts.shape[0], nimg, geometry_bytes(nimg), need, limit)
     out = np.zeros((pts.shape[0], tt.size))
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])

@@ -132,7 +132,8 @@ def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff,
     return win / m, m, win
 
 
-def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, dt: float, refine: bool, per_point, fixed, limit):
+def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, nimg: int, dt: float, refine: bool, per_point,
+                   fixed, limit):
     """The exact model's metrics of blocks of points, and the points per block.
 
     Returns ``(run, chunk)``: ``run(res, t0, img)`` fills ``res[i] = (max p, min p, Σ p²)`` of the
@@ -142,7 +143,7 @@ def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, dt: float, r
     :func:`._closed.window_metrics`. ``chunk`` from the bytes ``per_point`` and ``fixed``, the scratch added.
     """
     scratch = 8 * m * 7  # the samples, retarded times, complex Y and masks of the vectorised sum
-    if _closed.is_small(n, m, len(config.images()), refine=refine) and limit - fixed >= per_point + scratch:
+    if _closed.is_small(n, m, nimg, refine=refine, need=per_point + scratch, room=limit - fixed):
         y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)
 
         def run(res, t0, img):
@@ -261,7 +262,7 @@ def field_metrics(
                                              f"{out_bytes + 8 * m:.4g} B > {limit:.4g} B")
     fixed = out_bytes + 8 * m + (limit / 2 if tolerance is not None else 0)  # half for cheap models
     exact_metrics, chunk = _exact_metrics(
-        pulse, config, medium, pa, tail, n, m, dt, refine, geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit
+        pulse, config, medium, pa, tail, n, m, nimg, dt, refine, geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit
     )
     pmax = np.empty(n)
     pmin = np.empty(n)
