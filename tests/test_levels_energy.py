@@ -115,10 +115,10 @@ def test_efficiency_and_power_arithmetic_and_errors():
 
 @pytest.mark.slow
 def test_run_energy_interpolates_the_configuration_ratio_faithfully():
-    from acoustiviz.app.levels import run_energy
     from acoustiviz.app.wav import cavity
     from acoustiviz.dynamics.result import ImpactTable
-    from acoustiviz.output.audio import ClickModel, wall_sources
+    from acoustiviz.levels.energy import run_energy
+    from acoustiviz.sound import ClickModel, wall_sources
 
     speeds = np.array([0.2, 0.5, 0.9, 1.4, 2.0])
     n = speeds.size

@@ -150,7 +150,7 @@ class DamperSettings(Settings):
 
     Masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, the gap in m, speeds in m/s, times in s.
     The ranges of :data:`~acoustiviz.app.settings.damper.DAMPER` are checked when the settings are made;
-    the physics' limits (:func:`acoustiviz.app.limits.check_damper`) when the run is set up.
+    the physics' limits (:func:`acoustiviz.core.limits.check_damper`) when the run is set up.
     """
 
     TABLE = DAMPER

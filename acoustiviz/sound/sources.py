@@ -7,16 +7,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validate import ParameterError, check_choice, check_points, check_positive
-from ...constants import P_REF, PAPER_RADIUS
-from ...core.geometry import Geometry, geometry
-from ...core.images import ImageSet, ImageSource
-from ...core.medium import AIR, Medium
+from .._validate import ParameterError, check_choice, check_points, check_positive
+from ..constants import P_REF, PAPER_RADIUS
+from ..core.geometry import Geometry, geometry
+from ..core.images import ImageSet, ImageSource
+from ..core.medium import AIR, Medium
 
 __all__ = [
     "MASS_MODELS",
     "WALL_MODELS",
     "ImpactSequence",
+    "periodic_train",
     "CavityScene",
     "sphere_radius",
     "spl",
@@ -130,6 +131,38 @@ class ImpactSequence:
         v = get("approach_velocities", "approach_velocity", "approach_velocity_m_s", "approach_speed",
                 "velocity_in")
         return cls(t, w, np.abs(np.asarray(v, dtype=float)))
+
+
+def periodic_train(times, walls, velocities, period: float, repeats: int) -> ImpactSequence:
+    """The impacts of one period repeated ``repeats`` times, each copy ``period`` s after the last.
+
+    Parameters
+    ----------
+    times : (n,) array_like
+        Contact start times in s of the impacts of one period (>= 0).
+    walls : (n,) array_like of int
+        The wall each strikes, -1 or +1.
+    velocities : (n,) array_like
+        Their approach speeds in m/s (> 0).
+    period : float
+        Period of the train in s (a forcing period, or a whole number of them).
+    repeats : int
+        Number of copies.
+
+    Returns
+    -------
+    ImpactSequence
+        ``repeats * n`` impacts: the ``k``-th copy at ``times + k period``.
+
+    Examples
+    --------
+    >>> seq = periodic_train([0.01], [-1], [1.2], 0.1, 3)
+    >>> [round(float(t), 2) for t in seq.times]
+    [0.01, 0.11, 0.21]
+    """
+    base = np.asarray(times, dtype=float)
+    t = np.concatenate([base + k * period for k in range(repeats)]) if base.size else np.empty(0)
+    return ImpactSequence(t, np.tile(walls, repeats), np.tile(velocities, repeats))
 
 
 @dataclass(frozen=True)
