@@ -85,8 +85,8 @@ def output_paths(wav, n: int) -> list:
 def _check_sphere_and_medium(s: AuralizeSettings):
     """Validate the damper, sphere and fluid settings; return ``(radius, radius_source, medium)``."""
     from ..constants import PAPER_RADIUS
+    from ..core.materials import sphere_radius
     from ..core.medium import Medium
-    from ..sound import sphere_radius
 
     # the damper's ranges were checked when its DamperSettings were made (app.settings.damper)
     d, table = s.damper, _TABLE

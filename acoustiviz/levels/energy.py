@@ -35,7 +35,7 @@ from .._validate import ParameterError, check_positive
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
-from ..core.radiation import hertz_shape_pieces, pulse_response, pulse_response_function
+from ..core.radiation import _phi12, hertz_shape_pieces, pulse_response, pulse_response_function
 
 __all__ = [
     "radiation_resistance",
@@ -71,16 +71,6 @@ def radiation_resistance(omega, *, radius: float, medium: Medium = AIR) -> np.nd
     a = check_positive("radius", radius, "m")
     x4 = (np.asarray(omega, dtype=float) * a / medium.c) ** 4
     return (4.0 * math.pi * a * a / 3.0) * medium.rho * medium.c * x4 / (4.0 + x4)
-
-
-def _phi12(z: np.ndarray):
-    """``φ1 = (e^z - 1)/z`` and ``φ2 = (e^z - 1 - z)/z²`` without cancellation near 0."""
-    small = np.abs(z) < 1e-3
-    zs = np.where(small, 1.0, z)
-    ez = np.exp(zs)
-    p1 = np.where(small, 1 + z / 2 + z * z / 6 + z**3 / 24, (ez - 1) / zs)
-    p2 = np.where(small, 0.5 + z / 6 + z * z / 24 + z**3 / 120, (ez - 1 - zs) / (zs * zs))
-    return p1, p2
 
 
 def pulse_spectrum(pulse, omega) -> np.ndarray:

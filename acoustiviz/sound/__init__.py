@@ -61,7 +61,6 @@ from .sources import (
     check_listeners,
     ear_positions,
     periodic_train,
-    sphere_radius,
     spl,
     wall_sources,
 )
@@ -87,7 +86,6 @@ __all__ = [
     "CavityScene",
     "ClickModel",
     "Rendering",
-    "sphere_radius",
     "spl",
     "oversampling_factor",
     "decimation_filter",

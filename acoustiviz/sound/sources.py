@@ -19,7 +19,6 @@ __all__ = [
     "ImpactSequence",
     "periodic_train",
     "CavityScene",
-    "sphere_radius",
     "spl",
     "wall_sources",
     "check_listeners",
@@ -36,19 +35,6 @@ WALL_MODELS = ("both", "one")
 
 
 # --------------------------------------------------------------------------- small helpers
-def sphere_radius(mass: float, density: float) -> float:
-    """Radius in m of a solid sphere of ``mass`` kg and ``density`` kg/m³: ``(3 m / (4 π ρ))^{1/3}``.
-
-    Examples
-    --------
-    >>> round(sphere_radius(0.0405, 7800.0) * 1e3, 2)  # the paper's 40.5 g impact mass in steel, mm
-    10.74
-    """
-    m = check_positive("mass", mass, "kg")
-    rho = check_positive("density", density, "kg/m^3")
-    return (3.0 * m / (4.0 * math.pi * rho)) ** (1.0 / 3.0)
-
-
 def spl(pressure) -> float:
     """Peak sound pressure level ``20 log10(max|p| / 20 µPa)`` in dB of a signal in Pa (-inf if silent)."""
     peak = float(np.max(np.abs(np.asarray(pressure, dtype=float)), initial=0.0))
