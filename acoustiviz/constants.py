@@ -18,6 +18,7 @@ import math
 
 __all__ = [
     "P_REF",
+    "W_REF",
     "ANALYSIS_RATE",
     "HERTZ_DURATION_CONSTANT",
     "PAPER_DURATION_CONSTANT",
@@ -59,7 +60,10 @@ __all__ = [
 # --- physical constants -------------------------------------------------------------------
 
 #: Reference sound pressure for levels in air, Pa (ISO 1683): 0 dB = 20 µPa.
+#: Every sound pressure level of the package is taken against it (:func:`acoustiviz.field.metrics.spl_db`).
 P_REF = 20e-6
+#: Reference sound power, W (ISO 1683): a sound power level of 0 dB is 1 pW.
+W_REF = 1e-12
 #: Hertz contact duration in units of α_max/U0: (4/5)·B(2/5, 1/2) = 2.9432751843...
 #: (Johnson, *Contact Mechanics*, 1985, eq 11.24; the paper rounds it to 2.9432).
 HERTZ_DURATION_CONSTANT = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)

@@ -28,7 +28,6 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..constants import P_REF
 from ..core.geometry import GEOMETRIES, geometry
 from ..errors import ClippingWarning
 from ..output.audio import shared_scale, write_sidecar, write_wav
@@ -281,11 +280,13 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         Peak in Pa of the sound itself at each channel's listener (:func:`physical_peaks`), recorded
         as ``physical_peak_pa`` (None when not given).
     """
+    from ..field.metrics import spl_db
+
     peaks = np.max(np.abs(wav.pressure), axis=1)
     dbfs = [20 * math.log10(pk / scale) if pk > 0 else None for pk in peaks]
-    spls = [20 * math.log10(pk / P_REF) if pk > 0 else None for pk in peaks]
+    spls = [spl_db(pk) if pk > 0 else None for pk in peaks]
     phys = None if physical_peak is None else [float(v) for v in np.ravel(physical_peak)]
-    phys_spl = None if phys is None else [20 * math.log10(v / P_REF) if v > 0 else None for v in phys]
+    phys_spl = None if phys is None else [spl_db(v) if v > 0 else None for v in phys]
     return {
         "sidecar_version": SIDECAR_VERSION,
         "acoustiviz_version": __version__,

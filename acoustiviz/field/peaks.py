@@ -83,6 +83,7 @@ from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
+from .metrics import spl_db
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
 
@@ -171,8 +172,7 @@ class PeakExposure:
     @property
     def peak_spl_db(self) -> np.ndarray:
         """Peak sound pressure level in dB re 20 µPa."""
-        with np.errstate(divide="ignore"):
-            return 20.0 * np.log10(self.peak / P_REF)
+        return spl_db(self.peak)
 
     @property
     def sel_db(self) -> np.ndarray:

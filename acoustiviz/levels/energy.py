@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_positive
+from ..constants import W_REF
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
@@ -393,8 +394,8 @@ class RunEnergy:
 
     @property
     def sound_power_level_db(self) -> float:
-        """Sound power level in dB re 1 pW."""
-        return 10.0 * math.log10(self.sound_power_w / 1e-12) if self.sound_power_w > 0 else -math.inf
+        """Sound power level in dB re 1 pW (:data:`~acoustiviz.constants.W_REF`)."""
+        return 10.0 * math.log10(self.sound_power_w / W_REF) if self.sound_power_w > 0 else -math.inf
 
 
 def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8) -> RunEnergy:

@@ -2,16 +2,16 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_points, check_positive
-from ..constants import P_REF, PAPER_RADIUS
+from ..constants import PAPER_RADIUS
 from ..core.geometry import Geometry, geometry
 from ..core.images import ImageSet, ImageSource
 from ..core.medium import AIR, Medium
+from ..field.metrics import spl_db
 
 __all__ = [
     "MASS_MODELS",
@@ -37,8 +37,7 @@ WALL_MODELS = ("both", "one")
 # --------------------------------------------------------------------------- small helpers
 def spl(pressure) -> float:
     """Peak sound pressure level ``20 log10(max|p| / 20 µPa)`` in dB of a signal in Pa (-inf if silent)."""
-    peak = float(np.max(np.abs(np.asarray(pressure, dtype=float)), initial=0.0))
-    return 20.0 * math.log10(peak / P_REF) if peak > 0 else -math.inf
+    return spl_db(float(np.max(np.abs(np.asarray(pressure, dtype=float)), initial=0.0)))
 
 
 # --------------------------------------------------------------------------- inputs
