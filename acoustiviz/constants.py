@@ -18,6 +18,11 @@ import math
 
 __all__ = [
     "P_REF",
+    "MAX_SNAPSHOT_TIMES",
+    "BALLOON_MIN_RADII",
+    "STILL_SIZE",
+    "ANIMATION_SIZE",
+    "WAV_RATE",
     "W_REF",
     "ANALYSIS_RATE",
     "HERTZ_DURATION_CONSTANT",
@@ -170,6 +175,18 @@ DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **LEVEL_METRICS}
 #: :data:`LEVEL_METRICS` (its unweighted ``sel`` is the closed form's).
 BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in LEVEL_METRICS if m != "sel"))
 
+# --- views ---------------------------------------------------------------------------------
+
+#: Most snapshot times drawn side by side, in a render, its VTK files and its HTML page.
+MAX_SNAPSHOT_TIMES = 12
+#: Smallest radius of a directivity balloon's sphere, in sphere radii: 1.05 times the sphere's
+#: diameter, so the grid clears the sphere and the surfaces it touches.
+BALLOON_MIN_RADII = 2.1
+#: Default size in pixels (width, height) of a still render (balloon, snapshot).
+STILL_SIZE = (1200, 900)
+#: Default size in pixels (width, height) of an animation's frames.
+ANIMATION_SIZE = (800, 600)
+
 # --- limits on work -----------------------------------------------------------------------
 
 #: Cap in MB on a command's estimated working memory and, separately, on the bytes it writes
@@ -182,3 +199,5 @@ SAMPLE_RATES = (44100, 48000, 96000)
 MAX_INCLINATION = 10.0
 #: Default seed of the random generator of a room WAV's statistical tail: the same WAV every run.
 TAIL_SEED = 20261126
+#: Default sample rate in Hz of rendered sound and its WAV files (one of :data:`SAMPLE_RATES`).
+WAV_RATE = 48000

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS
+from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS, WAV_RATE
 from ..dynamics import DamperModel
 from ..errors import ParameterError
 from .levels import ANALYSIS_RATE
@@ -271,7 +271,7 @@ def add_operating_noise(run, **kwargs) -> list:
     return noises
 
 
-def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None, radius: float = PAPER_RADIUS):
+def write_operating_wav(noises, path, *, sample_rate: int = WAV_RATE, listener=None, radius: float = PAPER_RADIUS):
     """One WAV (and JSON sidecar) of the damper in operation: each frequency's interval in turn.
 
     Each train is rendered again at ``sample_rate`` Hz when its levels were taken at another rate.

@@ -510,6 +510,7 @@ def _check_circles(scene: Scene, conf) -> None:
     """
     import numpy as np
 
+    from ..constants import BALLOON_MIN_RADII
     from ..core.reach import check_view_radius
     from ..field.directivity import circle_points, room_window
 
@@ -526,7 +527,7 @@ def _check_circles(scene: Scene, conf) -> None:
                                        f"from the sphere's centre): {exc.detail}") from None
     if scene.wants("balloon"):
         try:
-            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 2.1 * conf.radius)
+            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], BALLOON_MIN_RADII * conf.radius)
         except ParameterError as exc:
             raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive
-from ..constants import SAMPLE_RATES
+from ..constants import SAMPLE_RATES, WAV_RATE
 from ..core.contact import PULSE_KINDS, Impact, acceleration_pulse
 from ..core.images import ImageSet
 from ..core.radiation import pulse_response
@@ -283,7 +283,7 @@ class Rendering:
 
 
 def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, listeners, *,
-           sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None,
+           sample_rate: int = WAV_RATE, duration: float | None = None, oversampling: int | None = None,
            room_sound=None) -> Rendering:
     """Render an impact sequence into band-limited pressure signals at the listeners.
 
