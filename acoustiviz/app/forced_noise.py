@@ -363,7 +363,9 @@ def _cell(v) -> str:
     if v is None:
         return ""
     if isinstance(v, (float, np.floating)):
-        return "" if math.isnan(v) else (("inf" if v > 0 else "-inf") if math.isinf(v) else f"{float(v):.10g}")
+        from ..output.tables import csv_number
+
+        return csv_number(v, ".10g")
     return str(v)
 
 

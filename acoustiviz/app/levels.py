@@ -240,7 +240,9 @@ def bands_path(csv_path) -> Path:
 def _fmt(v) -> str:
     if isinstance(v, str):
         return v
-    return "" if not math.isfinite(v) else f"{v:.4f}"
+    from ..output.tables import csv_number
+
+    return csv_number(v, ".4f")
 
 
 def write_levels_csv(csv_path, report: LevelReport) -> tuple:
