@@ -208,9 +208,9 @@ def weighting_filter(x, fs: float, curve: str = "A") -> np.ndarray:
 @functools.lru_cache(maxsize=1)
 def _impulse_kernel():
     """The I time weighting's recursion over rows of squares, compiled on first use."""
-    from numba import njit
+    from .._jit import njit
 
-    @njit(cache=False)
+    @njit(cache=False)  # a closure: numba cannot cache it on disk
     def run(x2, a_rise, a_fall):  # pragma: no cover - compiled
         out = np.empty_like(x2)
         for i in range(x2.shape[0]):

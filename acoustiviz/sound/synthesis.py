@@ -8,12 +8,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._jit import njit as _njit
 from .._validate import ParameterError, check_choice, check_positive
 from ..constants import SAMPLE_RATES, WAV_RATE
 from ..core.contact import PULSE_KINDS, Impact, acceleration_pulse
 from ..core.images import ImageSet
 from ..core.radiation import pulse_response
-from ..field._kernels import _njit
 from ..field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
 
