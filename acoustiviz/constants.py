@@ -155,8 +155,8 @@ PAPER_V0 = 2.0
 DEFAULT_DURATION = 20.0
 #: The event solver's relative tolerance on each contact, used by every front-end and by
 #: :func:`acoustiviz.dynamics.simulate`. At 1e-13 the first 40 impact times of the Table 1 run
-#: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12) for about
-#: 20 % more solver time (``benchmarks/bench_dynamics.py``).
+#: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12), measured by
+#: ``benchmarks/bench_dynamics.py``; its cost over 1e-12: ``benchmarks/results/design_timings.md``.
 DEFAULT_RTOL = 1e-13
 
 # --- levels ---------------------------------------------------------------------------------

@@ -427,8 +427,8 @@ def _collect_per_output():
     """Yield a function that collects the garbage of the output just made and sets what survives aside.
 
     A run imports most of numpy, scipy, numba, matplotlib and VTK: several hundred thousand
-    long-lived objects that each of Python's full collections would traverse again (about 0.1 s
-    of CPU each, several per run). Before the first output and after each one the garbage
+    long-lived objects that each of Python's full collections would traverse again, several times
+    per run (``benchmarks/results/design_timings.md``). Before the first output and after each one the garbage
     (figures, plotters, signals) is collected, which then costs only the objects made since the
     previous output, and what survives is frozen out of later collections (:func:`gc.freeze`),
     so no output's garbage outlives it and none of the files changes; on leaving, the frozen

@@ -359,8 +359,8 @@ def _drop_candidate(cand, side, jb, nc):  # pragma: no cover - compiled
     return nc
 
 
-# allocates nothing: compiled without reference counts (with them, the counts of its array arguments at each
-# call made fast_peaks about 1.5 times slower)
+# allocates nothing: compiled without reference counts, which would otherwise be updated for each of its
+# array arguments at every call of this inner loop (figures: benchmarks/results/design_timings.md)
 @_njit(_nrt=False)
 def _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are, aim, bps, cand, done,
                  found):  # pragma: no cover - compiled

@@ -87,8 +87,9 @@ from .metrics import spl_db
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
 
-#: CPU time in s of the peak search's first compilation with its callees (about 9 s on a 2-core
-#: machine, ``benchmarks/bench_startup.py``); quoted when it happens.
+#: CPU time in s of the peak search's first compilation with its callees, quoted to the user when
+#: it happens (:func:`acoustiviz._jit.compile_for`); measured by ``benchmarks/bench_startup.py``
+#: (figures: ``benchmarks/results/design_timings.md``).
 PEAKS_COMPILE_S = 9.0
 
 #: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
