@@ -8,10 +8,12 @@ The package is laid out in layers, each importing only from those below it:
     the impact damper (paper eq 15) and its solvers;
 ``field``
     pressure over points and grids; ``levels``: weighted levels, spectra and loudness;
+``sound``
+    sound synthesis: impact trains rendered as calibrated pressure signals at listeners;
+``output``
+    sinks only: plots, pyvista renders, WAV files and other writers;
 ``sweep``
     design sweeps and the design table;
-``output``
-    plots, pyvista renders, WAV files and other writers;
 ``app``
     the application layer that both front-ends call: ``scene`` files and the ``cli``.
 

@@ -9,6 +9,27 @@ prints one line to stderr saying so, where someone is watching (stderr a termina
 pipe the line would only add to what a program reading stderr has to parse, and whether it came
 would depend on the state of the cache.
 
+It is also the package's one numba policy: every compiled function is made by :func:`njit`
+(:data:`JIT_OPTIONS`, the options all share), :func:`kernel` or :func:`helper` (the impact
+damper's entry kernels and inner helpers).
+
+``@kernel`` marks what Python calls (the drivers); ``@helper`` what only other kernels call.
+numba builds, for every compiled function, a CPython entry point (argument unboxing, error
+return) and a C entry point: for a helper both are dead code that is lowered, optimised and
+turned into machine code for nothing. A helper called from Python raises ``TypeError``. Both use
+numpy's error model: a float division by zero gives ±inf or nan as in numpy instead of a branch
+to a ``ZeroDivisionError`` after every division (code to compile for nothing: the solvers divide
+only by quantities they have checked or bounded away from zero; the results are the same IEEE
+operations, bit for bit).
+
+A helper is compiled once per distinct argument types: a constant integer argument is typed as
+its literal value (``Literal[int](12)``), one more compilation per constant, so call sites pass
+``np.int64(k)``.
+
+``inline="always"`` (numba inlining, each call site typed and lowered again) is kept for the
+pieces of one caller, where it spares the callee a module of its own: every module that links a
+compiled callee optimises and compiles that callee's code again (numba links callees as LLVM IR).
+
 Imports numba only when called.
 """
 
@@ -17,7 +38,35 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["compile_for", "in_cache"]
+__all__ = ["JIT_OPTIONS", "njit", "kernel", "helper", "compile_for", "in_cache"]
+
+#: Options every compiled function of the package shares: its machine code cached on disk beside
+#: its source, so only the first run on an installation compiles it. A caller's option overrides.
+JIT_OPTIONS = {"cache": True}
+#: Options of the impact damper's kernels and helpers on top of :data:`JIT_OPTIONS` (module notes).
+_DAMPER_OPTIONS = {"error_model": "numpy"}
+
+def njit(*args, **options):
+    """``numba.njit`` with :data:`JIT_OPTIONS` and ``options``; without numba, the plain function.
+
+    Used as ``@njit`` or ``@njit(inline="always")``.
+    """
+    try:
+        from numba import njit as numba_njit
+    except ImportError:  # pragma: no cover - numba is a hard dependency in practice
+        return args[0] if args and callable(args[0]) else (lambda f: f)
+    return numba_njit(*args, **{**JIT_OPTIONS, **options})
+
+
+def kernel(func):
+    """Compile ``func``, an impact-damper kernel called from Python (module notes)."""
+    return njit(**_DAMPER_OPTIONS)(func)
+
+
+def helper(func):
+    """Compile ``func``, called only from other kernels: no CPython or C entry point (module notes)."""
+    return njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **_DAMPER_OPTIONS)(func)
+
 
 #: kernels whose "compiling ..." line was printed in this process
 _ANNOUNCED: set[str] = set()

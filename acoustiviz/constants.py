@@ -18,6 +18,12 @@ import math
 
 __all__ = [
     "P_REF",
+    "MAX_SNAPSHOT_TIMES",
+    "BALLOON_MIN_RADII",
+    "STILL_SIZE",
+    "ANIMATION_SIZE",
+    "WAV_RATE",
+    "W_REF",
     "ANALYSIS_RATE",
     "HERTZ_DURATION_CONSTANT",
     "PAPER_DURATION_CONSTANT",
@@ -59,7 +65,10 @@ __all__ = [
 # --- physical constants -------------------------------------------------------------------
 
 #: Reference sound pressure for levels in air, Pa (ISO 1683): 0 dB = 20 µPa.
+#: Every sound pressure level of the package is taken against it (:func:`acoustiviz.field.metrics.spl_db`).
 P_REF = 20e-6
+#: Reference sound power, W (ISO 1683): a sound power level of 0 dB is 1 pW.
+W_REF = 1e-12
 #: Hertz contact duration in units of α_max/U0: (4/5)·B(2/5, 1/2) = 2.9432751843...
 #: (Johnson, *Contact Mechanics*, 1985, eq 11.24; the paper rounds it to 2.9432).
 HERTZ_DURATION_CONSTANT = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
@@ -146,8 +155,8 @@ PAPER_V0 = 2.0
 DEFAULT_DURATION = 20.0
 #: The event solver's relative tolerance on each contact, used by every front-end and by
 #: :func:`acoustiviz.dynamics.simulate`. At 1e-13 the first 40 impact times of the Table 1 run
-#: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12) for about
-#: 20 % more solver time (``benchmarks/bench_dynamics.py``).
+#: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12), measured by
+#: ``benchmarks/bench_dynamics.py``; its cost over 1e-12: ``benchmarks/results/design_timings.md``.
 DEFAULT_RTOL = 1e-13
 
 # --- levels ---------------------------------------------------------------------------------
@@ -166,6 +175,18 @@ DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **LEVEL_METRICS}
 #: :data:`LEVEL_METRICS` (its unweighted ``sel`` is the closed form's).
 BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in LEVEL_METRICS if m != "sel"))
 
+# --- views ---------------------------------------------------------------------------------
+
+#: Most snapshot times drawn side by side, in a render, its VTK files and its HTML page.
+MAX_SNAPSHOT_TIMES = 12
+#: Smallest radius of a directivity balloon's sphere, in sphere radii: 1.05 times the sphere's
+#: diameter, so the grid clears the sphere and the surfaces it touches.
+BALLOON_MIN_RADII = 2.1
+#: Default size in pixels (width, height) of a still render (balloon, snapshot).
+STILL_SIZE = (1200, 900)
+#: Default size in pixels (width, height) of an animation's frames.
+ANIMATION_SIZE = (800, 600)
+
 # --- limits on work -----------------------------------------------------------------------
 
 #: Cap in MB on a command's estimated working memory and, separately, on the bytes it writes
@@ -178,3 +199,5 @@ SAMPLE_RATES = (44100, 48000, 96000)
 MAX_INCLINATION = 10.0
 #: Default seed of the random generator of a room WAV's statistical tail: the same WAV every run.
 TAIL_SEED = 20261126
+#: Default sample rate in Hz of rendered sound and its WAV files (one of :data:`SAMPLE_RATES`).
+WAV_RATE = 48000

@@ -18,8 +18,8 @@ import time
 import numpy as np
 from _timing import cpu_best_of, run_writing
 
+from acoustiviz import sound
 from acoustiviz.dynamics import TABLE1, simulate
-from acoustiviz.output import audio
 
 LISTENER = [0.495, 0.0, 0.514]
 GOAL_S = 2.0
@@ -37,12 +37,12 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     run = simulate(TABLE1, 20.0, solver="event")
     t_dyn = time.perf_counter() - t0
-    seq = audio.ImpactSequence.from_table(run.impacts)
-    scene = audio.CavityScene("plane", radius=0.01905, gap=TABLE1.gap)
+    seq = sound.ImpactSequence.from_table(run.impacts)
+    scene = sound.CavityScene("plane", radius=0.01905, gap=TABLE1.gap)
     print(f"damper: Table 1, 20 s, {len(seq)} impacts ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
           f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s; "
           f"solved in {t_dyn:.2f} s (not counted below)")
-    ears = audio.ear_positions(LISTENER, scene)
+    ears = sound.ear_positions(LISTENER, scene)
     cases = []
     rates = (48000,) if args.quick else (44100, 48000, 96000)
     for fs in rates:
@@ -51,7 +51,7 @@ def main(argv=None) -> int:
     cases.append((48000, "hertz", "mono", [LISTENER]))
     if not args.quick:
         cases.append((48000, "impulse-matched", "mono", [LISTENER]))
-    audio.render(seq, scene, audio.ClickModel(), LISTENER, duration=20.0)  # warm-up (imports, FFT plans)
+    sound.render(seq, scene, sound.ClickModel(), LISTENER, duration=20.0)  # warm-up (imports, FFT plans)
 
     hdr = (f"{'rate (Hz)':>9} {'pulse':>15} {'chan':>6} {'internal (kHz)':>14} {'synthesis CPU s':>16} "
            f"{'x real time':>11} {'peak SPL (dB)':>13} {'rel. diff. at 2x internal':>25} {'goal < 2 s':>10}")
@@ -59,12 +59,12 @@ def main(argv=None) -> int:
     print("-" * len(hdr))
     worst = 0.0
     for fs, kind, chan, lis in cases:
-        model = audio.ClickModel(pulse=kind)
-        secs, out = cpu_best_of(lambda fs=fs, model=model, lis=lis: audio.render(
+        model = sound.ClickModel(pulse=kind)
+        secs, out = cpu_best_of(lambda fs=fs, model=model, lis=lis: sound.render(
             seq, scene, model, lis, sample_rate=fs, duration=20.0), repeat)
         worst = max(worst, secs) if fs == 48000 else worst
         L = round(out.internal_rate / fs)
-        fine = audio.render(seq, scene, model, lis, sample_rate=fs, duration=20.0, oversampling=2 * L)
+        fine = sound.render(seq, scene, model, lis, sample_rate=fs, duration=20.0, oversampling=2 * L)
         n = min(out.n_samples, fine.n_samples)
         diff = np.max(np.abs(out.pressure[:, :n] - fine.pressure[:, :n])) / np.max(np.abs(fine.pressure))
         print(f"{fs:>9} {kind:>15} {chan:>6} {out.internal_rate / 1e3:>14.1f} {secs:>16.3f} "

@@ -21,7 +21,8 @@ import time
 import numpy as np
 from _timing import cpu_best_of, run_writing
 
-from acoustiviz.app.levels import ANALYSIS_RATE, run_energy
+from acoustiviz import sound
+from acoustiviz.app.levels import ANALYSIS_RATE
 from acoustiviz.core.geometry import configuration
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.field.grids import spherical_grid_for
@@ -36,16 +37,16 @@ from acoustiviz.levels import (
     surface_work_free,
     third_octave_levels,
 )
+from acoustiviz.levels.energy import run_energy
 from acoustiviz.levels.train import signal_levels
-from acoustiviz.output import audio
 
 LISTENER = [0.495, 0.0, 0.514]
 RADIUS = 0.01905
 
 
 def part_levels(seq, scene, repeat: int, quick: bool) -> None:
-    model = audio.ClickModel()
-    t_render, hi = cpu_best_of(lambda: audio.render(seq, scene, model, LISTENER, sample_rate=ANALYSIS_RATE,
+    model = sound.ClickModel()
+    t_render, hi = cpu_best_of(lambda: sound.render(seq, scene, model, LISTENER, sample_rate=ANALYSIS_RATE,
                                                 duration=20.0), repeat)
     p = hi.pressure
     print(f"\n1. levels of 20 s at {ANALYSIS_RATE / 1e3:g} kHz ({p.shape[1]} samples); rendering {t_render:.2f} s CPU")
@@ -74,7 +75,7 @@ def part_levels(seq, scene, repeat: int, quick: bool) -> None:
     hdr = f"{'level':>10} {ANALYSIS_RATE / 1e3:>8g} kHz" + "".join(f" {f'{fs / 1e3:g} kHz':>10}" for fs in rates)
     print(hdr)
     print("-" * len(hdr))
-    lows = {fs: sound_levels(audio.render(seq, scene, model, LISTENER, sample_rate=fs, duration=20.0).pressure, fs)
+    lows = {fs: sound_levels(sound.render(seq, scene, model, LISTENER, sample_rate=fs, duration=20.0).pressure, fs)
             for fs in rates}
     for c in LEVEL_COLUMNS:
         ref = float(getattr(lv, c)[0])
@@ -82,7 +83,7 @@ def part_levels(seq, scene, repeat: int, quick: bool) -> None:
 
 
 def part_energy(seq, repeat: int, quick: bool) -> None:
-    model = audio.ClickModel()
+    model = sound.ClickModel()
     k = int(np.argmax(seq.velocities))
     pulse = model.pulse_for(seq.velocities[k])
     print(f"\n2. energy of the fastest impact ({seq.velocities[k]:.3g} m/s, half-sine, a = {RADIUS * 1e3:g} mm)")
@@ -117,12 +118,12 @@ def main(argv=None) -> int:
     repeat = 1 if args.quick else max(1, args.repeat)
     t0 = time.perf_counter()
     run = simulate(TABLE1, 20.0, solver="event")
-    seq = audio.ImpactSequence.from_table(run.impacts)
-    scene = audio.CavityScene("plane", radius=RADIUS, gap=TABLE1.gap)
+    seq = sound.ImpactSequence.from_table(run.impacts)
+    scene = sound.CavityScene("plane", radius=RADIUS, gap=TABLE1.gap)
     print(f"damper: Table 1, 20 s, {len(seq)} impacts, solved in {time.perf_counter() - t0:.2f} s (not counted)")
     part_levels(seq, scene, repeat, args.quick)
     part_energy(seq, repeat, args.quick)
-    t, en = cpu_best_of(lambda: run_energy(run.impacts, scene, audio.ClickModel(), 20.0), 1)
+    t, en = cpu_best_of(lambda: run_energy(run.impacts, scene, sound.ClickModel(), 20.0), 1)
     k = en.loudest
     print(f"\n3. run energy: {len(seq)} impacts in {t:.2f} s CPU; sound power {en.sound_power_w:.3e} W "
           f"({en.sound_power_level_db:.1f} dB re 1 pW); loudest impact {en.energy_j[k]:.3e} J of "

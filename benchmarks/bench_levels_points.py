@@ -68,7 +68,7 @@ def part_stages(pulse: str, repeat: int) -> None:
 
     from acoustiviz.levels._library import library
     from acoustiviz.levels.weighted import weighted
-    from acoustiviz.output.audio import decimation_filter, oversampling_factor
+    from acoustiviz.sound import decimation_filter, oversampling_factor
 
     s = _setup("plane", pulse)
     pts = balloon_points(s, 32)[:64]

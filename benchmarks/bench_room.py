@@ -213,7 +213,7 @@ BANDS = "125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,4000:0.35"
 
 def _wav_cases():
     """Name, room settings and RoomSound of each way of hearing the room in section 4."""
-    from acoustiviz.output.audio import RoomSound, parse_absorption_bands
+    from acoustiviz.sound import RoomSound, parse_absorption_bands
 
     room = {"dimensions": DIMS, "absorption": ALPHA, "source": SOURCE}
     centres, alpha = parse_absorption_bands(BANDS)
@@ -227,7 +227,7 @@ def wav_table(repeat: int) -> None:
     from acoustiviz.app.wav import cavity
     from acoustiviz.constants import DEFAULT_DURATION
     from acoustiviz.dynamics import DamperModel
-    from acoustiviz.output.audio import ClickModel, ImpactSequence, render
+    from acoustiviz.sound import ClickModel, ImpactSequence, render
 
     model = DamperModel()
     run = run_damper(model, DEFAULT_DURATION)

@@ -28,11 +28,12 @@ import numpy as np
 from _gallery import fast_mode, output_dir
 from matplotlib.figure import Figure
 
-from acoustiviz.app.levels import rendered_levels, run_energy
+from acoustiviz import sound
+from acoustiviz.app.levels import rendered_levels
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.metrics import envelope_inclination, positive_maxima, sample_times
 from acoustiviz.levels import loudness_available
-from acoustiviz.output import audio
+from acoustiviz.levels.energy import run_energy
 from acoustiviz.output.plot.levels import plot_band_levels, plot_weighted_levels
 from acoustiviz.output.plot.style import save_figure, style
 
@@ -49,9 +50,9 @@ for name, (m, gap) in DESIGNS.items():
     model = replace(TABLE1, m=m, gap=gap)
     run = simulate(model, DURATION, t_eval=sample_times(DURATION, model))
     incl = envelope_inclination(positive_maxima(run.t, run.x)).value
-    room = audio.CavityScene("plane", radius=RADIUS, gap=gap)
-    clicks = audio.ClickModel(k_hertz=model.k_hertz, mass=m, main_mass=model.M)
-    seq = audio.ImpactSequence.from_table(run.impacts)
+    room = sound.CavityScene("plane", radius=RADIUS, gap=gap)
+    clicks = sound.ClickModel(k_hertz=model.k_hertz, mass=m, main_mass=model.M)
+    seq = sound.ImpactSequence.from_table(run.impacts)
     report = rendered_levels(seq, room, clicks, LISTENER, duration=DURATION, channels=[name],
                              with_loudness=with_loudness)
     energy = run_energy(run.impacts, room, clicks, DURATION)

@@ -11,13 +11,14 @@ import numpy as np
 import pytest
 import soundfile as sf
 
+from acoustiviz import sound
 from acoustiviz.core.geometry import images_plane, images_wall_floor
 from acoustiviz.core.images import ImageSource
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
 from acoustiviz.errors import ParameterError
 from acoustiviz.output import audio
-from acoustiviz.output.audio import CavityScene, ClickModel, ImpactSequence, render
+from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
 
 try:  # the field evaluator is the reference for levels; a plain radiation sum if it is absent
     from acoustiviz import field
@@ -63,12 +64,12 @@ def test_spectrum_below_nyquist_matches_a_much_finer_computation():
     tf = np.arange(int(t_len * fine)) / fine
     ref = np.zeros_like(tf)
     for tk, w, u in zip(times, walls, speeds, strict=True):
-        ref += _direct(model.pulse_for(u), tf - tk, point, audio.wall_sources(scene, w), scene.radius)
+        ref += _direct(model.pulse_for(u), tf - tk, point, sound.wall_sources(scene, w), scene.radius)
     assert abs(ref[-1]) < 1e-9 * np.abs(ref).max()  # every click has died out inside the window
     spec_ref = np.fft.rfft(ref)[: y.size // 2 + 1] / 256  # the same bins k / t_len
     spec = np.fft.rfft(y)
     f = np.fft.rfftfreq(y.size, 1 / fs)
-    band = f <= audio.PASSBAND_FRACTION * fs
+    band = f <= sound.PASSBAND_FRACTION * fs
     err = np.max(np.abs(spec[band] - spec_ref[band])) / np.max(np.abs(spec_ref))
     # the filter's passband ripple is 3e-6; the fine reference's own aliasing is ~1e-5
     assert err < 1e-4, err
@@ -85,11 +86,11 @@ def test_filter_meets_its_specification():
     from scipy.signal import freqz
 
     for L in (16, 37):
-        h = audio.decimation_filter(L)
+        h = sound.decimation_filter(L)
         assert h.size % (2 * L) == 1 and np.allclose(h, h[::-1])
         f, H = freqz(h, worN=2**16, fs=L)  # frequency in units of the output rate
-        assert np.max(np.abs(np.abs(H[f <= audio.PASSBAND_FRACTION]) - 1)) < 1e-5
-        assert 20 * np.log10(np.max(np.abs(H[f >= 0.5]))) < -audio.STOPBAND_ATTENUATION_DB
+        assert np.max(np.abs(np.abs(H[f <= sound.PASSBAND_FRACTION]) - 1)) < 1e-5
+        assert 20 * np.log10(np.max(np.abs(H[f >= 0.5]))) < -sound.STOPBAND_ATTENUATION_DB
 
 
 @pytest.mark.parametrize("frac", [0.0, 0.37, 0.91])
@@ -140,7 +141,7 @@ def test_one_click_peak_and_rms_match_the_field_evaluator():
     L = round(out.internal_rate / fs)
     spec = np.fft.rfft(fine)
     freqs = np.fft.rfftfreq(fine.size, 1 / (ff * fs))
-    _, H = freqz(audio.decimation_filter(L), worN=freqs, fs=L * fs)
+    _, H = freqz(sound.decimation_filter(L), worN=freqs, fs=L * fs)
     bl = np.fft.irfft(spec * np.abs(H), fine.size)[::ff]
     assert np.max(np.abs(seg - bl)) < 2e-4 * np.max(np.abs(bl))
 
@@ -171,7 +172,7 @@ def test_far_wall_radiates_reversed_from_the_far_wall():
 
 def test_corner_sources_have_images_in_both_planes():
     scene = CavityScene(images_wall_floor(A, 0.05), gap=0.04)
-    far = audio.wall_sources(scene, 1)
+    far = sound.wall_sources(scene, 1)
     assert len(far) == 4
     ref_cfg = images_wall_floor(A, 0.05)
     # the far sphere and its images are mirrored exactly like the struck sphere's
@@ -199,7 +200,7 @@ def test_level_rises_with_speed_like_the_hertz_scaling():
 )
 def test_bad_listeners_are_refused(point, words):
     with pytest.raises(ParameterError, match=words) as exc:
-        audio.check_listeners(point, CavityScene("plane", radius=A), name="--listener")
+        sound.check_listeners(point, CavityScene("plane", radius=A), name="--listener")
     assert exc.value.name == "--listener"
 
 
@@ -248,7 +249,7 @@ def test_effective_mass_shortens_and_weakens_the_pulse():
 
 def test_ears_are_symmetric_about_the_listener():
     scene = CavityScene("plane", radius=A)
-    ears = audio.ear_positions(LISTENER, scene, spacing=0.18)
+    ears = sound.ear_positions(LISTENER, scene, spacing=0.18)
     assert np.linalg.norm(ears[0] - ears[1]) == pytest.approx(0.18)
     np.testing.assert_allclose(ears.mean(axis=0), LISTENER)
     look = scene.configuration.contact_point - LISTENER

@@ -116,3 +116,16 @@ def test_a_file_that_is_not_sound_exits_2(tmp_path, capsys):
     bad.write_text("not a sound file\n")
     assert main(["levels", str(bad), "--csv", str(tmp_path / "x.csv"), "--pa-per-fs", "1"]) == 2
     assert "SIGNAL.wav" in capsys.readouterr().err
+
+
+def test_a_silent_channel_writes_minus_inf_levels(tmp_path):
+    """Silence has a level of -inf dB, written as ``-inf`` (as the operating-noise CSV writes it), not left empty."""
+    wav = tmp_path / "SIGNAL.wav"
+    stereo = np.stack([_tone(), np.zeros(2 * FS)], axis=1)
+    sf.write(wav, stereo / 4.0, FS, subtype="FLOAT")
+    out = tmp_path / "OUT.csv"
+    assert main(["levels", str(wav), "--csv", str(out), "--pa-per-fs", "4"]) == 0
+    loud, silent = _rows(out)
+    assert float(loud["laeq_db"]) == pytest.approx(L_1PA, abs=0.1)
+    assert [silent[c] for c in ("lzpeak_db", "lzeq_db", "sel_db")] == ["-inf"] * 3  # unweighted: exactly zero
+    assert float(silent["lzeq_db"]) == -math.inf

@@ -182,7 +182,7 @@ def test_a_click_longer_than_the_sound_is_refused_by_both():
     """The one check (app.damper.check_click_fits) names the option on the command line and the key in a scene."""
     from acoustiviz.app.damper import check_click_fits
     from acoustiviz.core.contact import contact_duration
-    from acoustiviz.output.audio import ImpactSequence
+    from acoustiviz.sound import ImpactSequence
 
     seq = ImpactSequence(times=np.array([0.001, 0.002]), walls=np.array([-1, 1]), velocities=np.array([1e-3, 2.0]))
     tau = float(contact_duration(1e-3, 5.6e8, 0.0405))  # the slowest impact's contact time, eqs 1-4

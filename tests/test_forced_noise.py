@@ -19,7 +19,7 @@ from acoustiviz.constants import P_REF, PAPER_RADIUS
 from acoustiviz.dynamics import DamperModel
 from acoustiviz.dynamics.forced import Excitation, steady_state
 from acoustiviz.levels import sound_levels
-from acoustiviz.output.audio import ClickModel, ImpactSequence, render
+from acoustiviz.sound import ClickModel, ImpactSequence, render
 
 TAU_F = 0.125  # s, IEC 61672-1 F time constant
 

@@ -245,7 +245,7 @@ def test_reflection_weights_reach_the_field_and_the_peak_kernel():
 
 
 def test_auralisation_images_the_far_wall_in_a_new_geometry():
-    from acoustiviz.output.audio import CavityScene, wall_sources
+    from acoustiviz.sound import CavityScene, wall_sources
 
     g = _RoomCorner(A, floor_reflection=0.5)
     far = wall_sources(CavityScene(g, gap=0.04), +1)

@@ -186,10 +186,10 @@ def test_wav_trains_equal_the_closed_form_render(monkeypatch):
     the same band-limited signal to 1e-4 of its peak (the windowed-sinc interpolator's accuracy)."""
     import sys
 
-    import acoustiviz.output.audio  # noqa: F401
-    from acoustiviz.output.audio import CavityScene, ClickModel, ImpactSequence, render
+    import acoustiviz.sound  # noqa: F401
+    from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
 
-    syn = sys.modules["acoustiviz.output.audio.synthesis"]
+    syn = sys.modules["acoustiviz.sound.synthesis"]
     room = Room(A, (6.0, 4.0, 3.0), 0.1, (2.0, 1.5, A), order=3)
     scene = CavityScene(room, gap=0.04)
     seq = ImpactSequence([0.001, 0.0123], [-1, 1], [1.4, 0.8])

@@ -298,7 +298,7 @@ def test_scene_directivity_refuses_an_unknown_metric():
 
 
 def test_a_damper_scene_beyond_the_computable_range_names_its_key(tmp_path):
-    """The damper's limits (app.limits.check_damper) are checked when the scene is loaded, in scene keys."""
+    """The damper's limits (core.limits.check_damper) are checked when the scene is loaded, in scene keys."""
     with pytest.raises(ParameterError) as err:
         scene_from_dict({"damper": {"duration_s": 0.001}, "outputs": {"damper_history": {}}}, "t.toml")
     assert err.value.name == "damper.duration_s" and "period" in err.value.detail

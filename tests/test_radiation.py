@@ -311,3 +311,24 @@ def test_sampled_response_table_matches_the_exact_piecewise_linear_response():
     y = np.array([np.polynomial.polynomial.polyval(ui, table[ki]) for ui, ki in zip(u, k, strict=True)])
     ref = pulse_response(pulse, tt, radius=0.0127)
     assert np.max(np.abs(y - ref)) < 1e-13 * np.max(np.abs(ref))
+
+
+def _phi12_series(z, terms: int = 60):
+    """φ1 and φ2 by their Taylor series ``Σ z^j / (j + k)!``: no cancellation for ``|z| <= 2``, Re z <= 0."""
+    p1 = sum(z**j / math.factorial(j + 1) for j in range(terms))
+    p2 = sum(z**j / math.factorial(j + 2) for j in range(terms))
+    return p1, p2
+
+
+def test_phi12_is_accurate_on_both_sides_of_its_small_argument_switch():
+    """The one home of φ1, φ2 (used by the pulse responses and by the sampled pulse's spectrum)."""
+    from acoustiviz.core.radiation import _phi12
+
+    mags = np.array([1e-9, 1e-6, 9e-4, 1e-3, 1.1e-3, 0.01, 0.2499, 0.25, 0.2501, 0.5, 1.0, 2.0])
+    z = np.concatenate([mags * np.exp(1j * a) for a in (math.pi / 2, 3 * math.pi / 4, math.pi, -math.pi / 2)])
+    got1, got2 = _phi12(z)
+    ref1, ref2 = _phi12_series(z)
+    tol = 1e-14  # relative, a few ulps of the series' own rounding
+    assert np.all(np.abs(got1 - ref1) <= tol * np.abs(ref1))
+    assert np.all(np.abs(got2 - ref2) <= tol * np.abs(ref2))
+

@@ -18,8 +18,8 @@ from acoustiviz.cli import main
 from acoustiviz.core.reverberation import reverberation_time
 from acoustiviz.core.room import Shoebox
 from acoustiviz.errors import ParameterError, SceneError
-from acoustiviz.output.audio import ClickModel, ImpactSequence, RoomSound, parse_absorption_bands, render
 from acoustiviz.scene.load import scene_from_text
+from acoustiviz.sound import ClickModel, ImpactSequence, RoomSound, parse_absorption_bands, render
 
 A = 0.01905
 DIMS = (6.0, 4.0, 3.0)

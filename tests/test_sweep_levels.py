@@ -12,7 +12,7 @@ from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import metric_levels
 from acoustiviz.levels.train import train_signal
-from acoustiviz.output.audio import CavityScene, ClickModel, ImpactSequence, render
+from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
 from acoustiviz.sweep import (
     PAPER_RADIUS,
     RANK_COLUMNS,

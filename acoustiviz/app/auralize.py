@@ -4,7 +4,7 @@
 every setting before any work (the sphere and the fluid, the room and its sound, the listeners, the
 files, the memory), simulates the damper (paper eq 15) or reads its impacts from a CSV, renders the
 Hertz pulse of each impact with rigid-sphere radiation and image sources
-(:func:`acoustiviz.output.audio.render`), and writes the files and their sidecars through
+(:func:`acoustiviz.sound.render`), and writes the files and their sidecars through
 :func:`acoustiviz.app.wav.write_wav_files`, the writer a scene's ``[outputs.wav]`` shares. Errors
 name the command-line options. Lengths in m, times in s, pressures in Pa.
 """
@@ -34,7 +34,7 @@ class Sound:
     """What a run renders, all checked: the sphere, the scene, the click model, listeners and room sound.
 
     ``radius`` in m with ``radius_source`` saying where it came from; ``room`` the room's settings
-    (None: no room); ``room_sound`` the :class:`~acoustiviz.output.audio.RoomSound` (None: none).
+    (None: no room); ``room_sound`` the :class:`~acoustiviz.sound.RoomSound` (None: none).
     """
 
     radius: float
@@ -50,7 +50,7 @@ def read_impacts_csv(path):
     """Impact times (s), walls (-1/+1) and approach speeds (m/s) from a damper impact CSV."""
     import warnings
 
-    from ..output.audio import ImpactSequence
+    from ..sound import ImpactSequence
 
     try:
         with warnings.catch_warnings():  # an empty file: refused below, not warned about
@@ -85,8 +85,8 @@ def output_paths(wav, n: int) -> list:
 def _check_sphere_and_medium(s: AuralizeSettings):
     """Validate the damper, sphere and fluid settings; return ``(radius, radius_source, medium)``."""
     from ..constants import PAPER_RADIUS
+    from ..core.materials import sphere_radius
     from ..core.medium import Medium
-    from ..output.audio import sphere_radius
 
     # the damper's ranges were checked when its DamperSettings were made (app.settings.damper)
     d, table = s.damper, _TABLE
@@ -169,7 +169,7 @@ def _scene_of(s: AuralizeSettings, radius, medium):
 
 def _listeners_of(s: AuralizeSettings, scene, room):
     """The listener positions (m): the given ones, or two ears around one head with ``--stereo``."""
-    from ..output.audio import check_listeners, ear_positions
+    from ..sound import check_listeners, ear_positions
 
     points = [parse_point(p, "--listener") for p in (s.listener or [DEFAULT_LISTENER])]
     if s.stereo:
@@ -217,7 +217,7 @@ def _check_run_and_levels(s: AuralizeSettings) -> None:
     """The damper to simulate (when no impacts are given), the file's scale and the levels asked for."""
     d = s.damper
     if not s.impacts:
-        from .limits import check_damper
+        from ..core.limits import check_damper
         from .names import DAMPER_OPTIONS, user_terms
 
         with user_terms(DAMPER_OPTIONS):
@@ -238,7 +238,7 @@ def check_sound(s: AuralizeSettings):
 
     The impacts are those of ``s.impacts`` (None: to be simulated).
     """
-    from ..output.audio import ClickModel
+    from ..sound import ClickModel
 
     radius, radius_source, medium = _check_sphere_and_medium(s)
     scene, room, rs = _scene_of(s, radius, medium)
@@ -253,7 +253,7 @@ def check_sound(s: AuralizeSettings):
 
 def _simulate(s: AuralizeSettings, echo):
     """Run the damper as ``acoustiviz damper`` would; return the impact sequence and a description."""
-    from ..output.audio import ImpactSequence
+    from ..sound import ImpactSequence
     from .damper import damper_description, run_damper_settings
 
     model, run = run_damper_settings(s.damper, s.max_memory)
@@ -295,7 +295,7 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
 
     The one application step of ``acoustiviz auralize`` and a scene's ``[outputs.wav]``: the Hertz
     pulse of each impact radiated by the rigid sphere with its image sources
-    (:func:`acoustiviz.output.audio.render`, ``duration`` in s), the levels when ``s`` asks for
+    (:func:`acoustiviz.sound.render`, ``duration`` in s), the levels when ``s`` asks for
     them, and the WAV files and sidecars with one shared calibration
     (:func:`acoustiviz.app.wav.write_wav_files`).
 
@@ -303,7 +303,7 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
     ----------
     s : AuralizeSettings
         Rate, sample format, scale, headroom, stereo and levels of the files.
-    seq : acoustiviz.output.audio.ImpactSequence
+    seq : acoustiviz.sound.ImpactSequence
         The impacts (times in s, walls, approach speeds in m/s).
     sound : Sound
         The checked sphere, cavity, click model and listeners (m).
@@ -324,7 +324,7 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
         ``(files, written)``: the :class:`~acoustiviz.app.wav.WavFile` list and, per file, what
         :func:`~acoustiviz.app.wav.write_wav_files` returns (its record, sidecar and warnings).
     """
-    from ..output.audio import render
+    from ..sound import render
 
     say = (lambda msg: None) if quiet else echo
     out = render(seq, sound.scene, sound.model, sound.listeners, sample_rate=s.rate, duration=duration,

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import check_positive
-from ..constants import MAX_MEMORY_MB
+from ..constants import MAX_MEMORY_MB, WAV_RATE
 from ..errors import ParameterError
 
 __all__ = [
@@ -220,7 +220,7 @@ def wav_estimate(duration: float, sample_rate: float, channels: int, options=("-
 
 
 def forced_estimate(n_frequencies: int, max_cycles: int, *, noise_seconds: float = 0.0,
-                    analysis_rate: float = 96000.0, wav_rate: float = 48000.0, wav: bool = False) -> Estimate:
+                    analysis_rate: float = 96000.0, wav_rate: float = float(WAV_RATE), wav: bool = False) -> Estimate:
     """A frequency response, and the noise in operation when ``noise_seconds`` > 0.
 
     The Poincare section and extrema of each run (a few floats per cycle, ``max_cycles`` at

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 from .. import dynamics
 from .._validate import check_choice, check_finite, check_positive
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
+from ..core.limits import check_damper
 from ..dynamics import DamperModel, InitialState, cheapest_solver
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
-from .limits import check_damper
 
 __all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "run_damper_settings", "damper_description",
            "damping_figures", "check_click_fits"]
@@ -108,7 +108,7 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
     ------
     ParameterError
         Before any work, for settings whose run cannot be computed or measured
-        (:func:`acoustiviz.app.limits.check_damper`).
+        (:func:`acoustiviz.core.limits.check_damper`).
     """
     initial = InitialState(x=x0, v=v0)
     check_positive("duration", duration, "s")
@@ -160,7 +160,7 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
 
     Parameters
     ----------
-    seq : acoustiviz.output.audio.ImpactSequence
+    seq : acoustiviz.sound.ImpactSequence
         The impacts heard.
     k_hertz : float
         Hertz contact stiffness in N/m^1.5.

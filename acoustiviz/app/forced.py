@@ -162,7 +162,7 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             raise ParameterError("solver", f"must be one of {', '.join(FORCED_SOLVERS)}, got {solver!r}")
         if int(workers) < 1:
             raise ParameterError("workers", f"must be >= 1, got {workers}")
-        from .limits import check_forcing_frequencies
+        from ..core.limits import check_forcing_frequencies
 
         check_forcing_frequencies(frequencies, M=model.M, K=model.K)
         kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "rtol": rtol,

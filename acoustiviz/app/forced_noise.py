@@ -1,7 +1,7 @@
 """The noise the damper makes in operation: weighted levels of its steady click train at a listener.
 
 Each impact of the steady state is a Hertz click of its own approach speed radiated by the rigid
-sphere with image sources (:func:`acoustiviz.output.audio.render`, paper eqs 12-14). The train is
+sphere with image sources (:func:`acoustiviz.sound.render`, paper eqs 12-14). The train is
 rendered at :data:`NOISE_RATE` (96 kHz: flat to 43.2 kHz, so neither the weightings nor the peaks
 are limited by a 48 kHz file) and its levels are those of :func:`acoustiviz.levels.sound_levels`
 (IEC 61672-1 A/C weighting and F time weighting of the conformance-tested filter library):
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS
+from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS, WAV_RATE
 from ..dynamics import DamperModel
 from ..errors import ParameterError
 from .levels import ANALYSIS_RATE
@@ -103,7 +103,7 @@ class OperatingNoise:
         Largest A-weighted F-time-weighted level within the interval, dB re 20 µPa.
     sel_per_cycle_db, sel_a_per_cycle_db : float
         Z- and A-weighted sound exposure of one forcing cycle, dB re (20 µPa)² s.
-    sequence : acoustiviz.output.audio.ImpactSequence
+    sequence : acoustiviz.sound.ImpactSequence
         The impacts rendered (times in s from the start of ``pressure``).
     rendering : dict
         How the sound and the levels were computed (JSON-ready).
@@ -143,7 +143,7 @@ class OperatingNoise:
         fs = self.sample_rate if sample_rate is None else int(sample_rate)
         p = self.pressure
         if fs != self.sample_rate:
-            from ..output.audio import render
+            from ..sound import render
 
             p = render(self.sequence, self.scene, self.clicks, self.listener, sample_rate=fs,
                        duration=self.pressure.size / self.sample_rate).pressure[0]
@@ -191,7 +191,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     over the impacts k of one window) and LAFmax its periodic maximum.
     """
     from ..levels.train import signal_levels
-    from ..output.audio import ClickModel, ImpactSequence, render
+    from ..sound import ClickModel, ImpactSequence, periodic_train, render
     from .wav import cavity
 
     seconds = float(seconds)
@@ -210,8 +210,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         lead = math.ceil(F_SETTLE / window - 1e-9)
         reps = max(1, math.ceil(seconds / window - 1e-9))
         total = lead + reps + 1
-        times = np.concatenate([base + k * window for k in range(total)]) if base.size else np.empty(0)
-        walls, speeds = np.tile(walls, total), np.tile(speeds, total)
+        seq = periodic_train(base, walls, speeds, window, total)
         delay = float(np.linalg.norm(pts - np.asarray(scene.configuration.centre))) / scene.medium.c
         offset = _quiet_offset(base + delay, window)
         start, stop = lead * window + offset, (lead + reps) * window + offset
@@ -219,9 +218,9 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     else:
         n = steady.measured_cycles
         lead = min(math.ceil(F_SETTLE / period - 1e-9), n // 2)
-        times, start, stop, end = base, lead * period, n * period, n * period
+        start, stop, end = lead * period, n * period, n * period
         cycles, settled = n - lead, lead * period >= F_SETTLE * (1 - 1e-9)
-    seq = ImpactSequence(times, walls, speeds)
+        seq = ImpactSequence(base, walls, speeds)
     out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
     p = out.pressure[0]
     lv = signal_levels(p, out.sample_rate, start=start, stop=stop)  # sound_levels, from the clicks alone
@@ -248,7 +247,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
 def check_listener(model: DamperModel, listener=None, *, config: str = "plane", radius: float = PAPER_RADIUS,
                    name: str = "--listener", settings=None) -> np.ndarray:
     """Check (before any run) that ``listener`` (m) lies outside the cavity's sphere and above its surfaces."""
-    from ..output.audio import check_listeners
+    from ..sound import check_listeners
     from .wav import cavity
 
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
@@ -272,7 +271,7 @@ def add_operating_noise(run, **kwargs) -> list:
     return noises
 
 
-def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None, radius: float = PAPER_RADIUS):
+def write_operating_wav(noises, path, *, sample_rate: int = WAV_RATE, listener=None, radius: float = PAPER_RADIUS):
     """One WAV (and JSON sidecar) of the damper in operation: each frequency's interval in turn.
 
     Each train is rendered again at ``sample_rate`` Hz when its levels were taken at another rate.
@@ -285,7 +284,7 @@ def write_operating_wav(noises, path, *, sample_rate: int = 48000, listener=None
     pressure = np.concatenate(parts) if parts else np.zeros(1)
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     wav = WavFile(path, pressure[None, :], ["listener1"], pts[None, :], ["mono"])
-    from ..output.audio.synthesis import band_limit
+    from ..sound.synthesis import band_limit
 
     # the levels' rendering (at its own rate) re-rendered at the file's rate: its band limit is the file's
     rendering = {k: v for k, v in ok[0].rendering.items() if k not in ("levels", "internal_rate_hz")} if ok else {}
@@ -364,7 +363,9 @@ def _cell(v) -> str:
     if v is None:
         return ""
     if isinstance(v, (float, np.floating)):
-        return "" if math.isnan(v) else (("inf" if v > 0 else "-inf") if math.isinf(v) else f"{float(v):.10g}")
+        from ..output.tables import csv_number
+
+        return csv_number(v, ".10g")
     return str(v)
 
 

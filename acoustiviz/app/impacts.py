@@ -33,12 +33,12 @@ from ..constants import (
 )
 from ..core.contact import Impact, acceleration_pulse, hertz_stiffness
 from ..core.geometry import CONFIGURATIONS, Geometry, geometry, geometry_class, observer_points
+from ..core.limits import check_impact, check_sphere_mass
 from ..core.materials import material
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
-from .limits import check_impact, check_sphere_mass
 
-#: Farthest observer in m: squared distances stay finite (:data:`acoustiviz.app.limits.LOG_LIMIT`).
+#: Farthest observer in m: squared distances stay finite (:data:`acoustiviz.core.limits.LOG_LIMIT`).
 MAX_DISTANCE = 1e145
 
 __all__ = ["ImpactSetup", "impact_setup", "observer_point", "sphere_mass", "k_hertz_from"]

@@ -21,8 +21,8 @@ from .._validate import ParameterError, check_positive
 from ..constants import ANALYSIS_RATE
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, third_octave_levels
 
-__all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "RunEnergy", "read_calibrated_wav", "analyse",
-           "bands_path", "write_levels_csv", "summary_lines", "rendered_levels", "run_energy"]
+__all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse",
+           "bands_path", "write_levels_csv", "summary_lines", "rendered_levels"]
 
 
 
@@ -240,7 +240,9 @@ def bands_path(csv_path) -> Path:
 def _fmt(v) -> str:
     if isinstance(v, str):
         return v
-    return "" if not math.isfinite(v) else f"{v:.4f}"
+    from ..output.tables import csv_number
+
+    return csv_number(v, ".4f")
 
 
 def write_levels_csv(csv_path, report: LevelReport) -> tuple:
@@ -303,7 +305,7 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
     Parameters
     ----------
     sequence, scene, model, listeners
-        As for :func:`acoustiviz.output.audio.render`.
+        As for :func:`acoustiviz.sound.render`.
     duration : float, optional
         Minimum signal length in s.
     start, stop : float, optional
@@ -312,10 +314,10 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
         Names of the listeners.
     with_loudness : bool
         Also loudness and sharpness (needs mosqito).
-    rendering : acoustiviz.output.audio.Rendering, optional
+    rendering : acoustiviz.sound.Rendering, optional
         A rendering already at :data:`ANALYSIS_RATE` to reuse.
-    room_sound : acoustiviz.output.audio.RoomSound, optional
-        In a room: the late tail and the absorption bands of the rendering (:func:`~acoustiviz.output.audio.render`).
+    room_sound : acoustiviz.sound.RoomSound, optional
+        In a room: the late tail and the absorption bands of the rendering (:func:`~acoustiviz.sound.render`).
 
     Notes
     -----
@@ -323,104 +325,10 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
     band-limited flat to 43.2 kHz, so neither the weightings, the 20 kHz band nor the peaks are
     limited by a 44.1 or 48 kHz file.
     """
-    from ..output.audio import render
+    from ..sound import render
 
     if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
         rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration,
                            room_sound=room_sound)
     return analyse(rendering.pressure, ANALYSIS_RATE, start=start, stop=stop, channels=channels,
                    with_loudness=with_loudness)
-
-
-@dataclass(frozen=True)
-class RunEnergy:
-    """Acoustic energy of every impact of a damper run, its sound power and radiation efficiency.
-
-    Attributes
-    ----------
-    energy_j : (n_impacts,) ndarray
-        Energy radiated by each impact in J (into the configuration's half or quarter space).
-    energy_lost_j : (n_impacts,) ndarray
-        Kinetic energy lost in each impact in J (the dynamics' impact table).
-    efficiency : (n_impacts,) ndarray
-        ``energy_j / energy_lost_j``.
-    sound_power_w : float
-        Mean sound power over the run in W.
-    loudest : int
-        Index of the impact that radiates most.
-    ratio_speeds_m_s, ratios : dict
-        Per wall (-1, +1): the approach speeds in m/s at which the configuration's energy was
-        integrated over the spherical grid, and its ratio to the free sphere's closed form there.
-    """
-
-    energy_j: np.ndarray
-    energy_lost_j: np.ndarray
-    efficiency: np.ndarray
-    sound_power_w: float
-    loudest: int
-    ratio_speeds_m_s: dict
-    ratios: dict
-
-    @property
-    def sound_power_level_db(self) -> float:
-        """Sound power level in dB re 1 pW."""
-        return 10.0 * math.log10(self.sound_power_w / 1e-12) if self.sound_power_w > 0 else -math.inf
-
-
-def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8) -> RunEnergy:
-    """Radiated energy, sound power and radiation efficiency of a damper run.
-
-    Parameters
-    ----------
-    table : acoustiviz.dynamics.ImpactTable
-        The run's impacts (approach speeds, walls, energy lost).
-    cavity_scene : acoustiviz.output.audio.CavityScene
-        Where the cavity sits (configuration, walls, radius, medium).
-    model : acoustiviz.output.audio.ClickModel
-        How an approach speed becomes an acceleration pulse.
-    duration : float
-        The run's duration in s (for the mean power).
-    n_theta : int
-        Polar nodes of the spherical grid (see :func:`acoustiviz.field.grids.spherical_grid_for`).
-
-    Notes
-    -----
-    Each impact's energy is the free sphere's closed form for its own pulse
-    (:func:`acoustiviz.levels.radiated_energy_free`) times the ratio of the configuration's energy
-    (:func:`acoustiviz.levels.radiated_energy_grid`, far-field intensity over the half or quarter
-    sphere, with the struck or the far wall's images) to the free sphere's, integrated at the
-    quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
-    ratio depends on the pulse only through its spectrum, which changes slowly with speed.
-
-    Not defined in a room (a geometry that is ``enclosed``): its walls close the fluid and return
-    the sound, so no surface around the sphere encloses an energy radiated away; refused with that
-    reason (a ParameterError naming ``config``).
-    """
-    from ..field.grids import spherical_grid_for
-    from ..levels import radiated_energy_free, radiated_energy_grid, radiation_efficiency, sound_power
-    from ..output.audio import wall_sources
-
-    cavity_scene.configuration.enclosure()  # a room refuses here, saying why, before any work
-    a, medium = cavity_scene.radius, cavity_scene.medium
-    v = np.abs(np.asarray(table.approach_velocity, dtype=float))
-    walls = np.asarray(table.wall, dtype=float).astype(int)
-    free = np.array([radiated_energy_free(model.pulse_for(vk), radius=a, medium=medium) for vk in v])
-    grid = spherical_grid_for(cavity_scene.configuration, 1.0, n_theta=n_theta)
-    energy = free.copy()
-    speeds, ratios = {}, {}
-    for w in (-1, 1):
-        sel = walls == w
-        if not np.any(sel):
-            continue
-        ref = np.unique(np.percentile(v[sel], [0, 25, 50, 75, 100]))
-        srcs = wall_sources(cavity_scene, w)
-        r = np.array([radiated_energy_grid(model.pulse_for(s), srcs, grid, radius=a, medium=medium)
-                      / radiated_energy_free(model.pulse_for(s), radius=a, medium=medium) for s in ref])
-        energy[sel] = free[sel] * (np.interp(np.log(v[sel]), np.log(ref), r) if ref.size > 1 else r[0])
-        speeds[w], ratios[w] = ref.tolist(), r.tolist()
-    lost = np.asarray(table.energy_lost, dtype=float)
-    ok = lost > 0
-    eff = np.full(energy.shape, np.nan)
-    eff[ok] = radiation_efficiency(energy[ok], lost[ok])
-    k = int(np.argmax(energy)) if energy.size else -1
-    return RunEnergy(energy, lost, eff, sound_power(energy, duration), k, speeds, ratios)

@@ -80,9 +80,9 @@ SCENE_NAMES = {**{s.name: s.path for s in MAP_SETTINGS},
 CSV_COLUMNS = ("x_m", "y_m", "z_m", "peak_pa", "peak_spl_db", "sel_db", "time_of_peak_s")
 _CSV_FORMATS = ("%.9e", "%.9e", "%.9e", "%.10e", "%.6f", "%.6f", "%.10e")
 #: Bytes per grid point: points, grid, the evaluator's six results, the maps, masks, and the copies
-#: made while writing the CSV, the figure and the VTK file (about 330 B measured with tracemalloc
-#: for a 3.4e5-point map; VTK's own copies are not traced, hence the margin); and the bytes per
-#: point of the CSV (7 columns) and VTK (points, quads, 5 arrays) files (about 170 B together).
+#: made while writing the CSV, the figure and the VTK file, with a margin for VTK's own copies; and
+#: the bytes per point of the CSV (7 columns) and VTK (points, quads, 5 arrays) files (the
+#: measurements: ``benchmarks/results/design_timings.md``).
 _MEMORY_PER_POINT = 8.0 * 64
 _CSV_PER_POINT = 120.0
 _VTK_PER_POINT = 8.0 * 16

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import math
 import time
 from pathlib import Path
 
@@ -120,6 +119,7 @@ class RunContext:
 def produce_waveform(ctx: RunContext):
     """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
     from ..field import time_series
+    from ..field.metrics import spl_db
     from ..output.plot.style import style
     from ..output.plot.waveform import plot_waveform
     from .columns import waveform_extremes, write_waveform_csv
@@ -146,7 +146,7 @@ def produce_waveform(ctx: RunContext):
             png = _save(fig, ctx.path(f"waveform_{name}.png"))
         pmax, pmin = waveform_extremes(pulses[kinds[0]], series[kinds[0]], pos, conf, medium)
         figs = {"pulse": kinds[0], "max_pa": f"{pmax:.4g}", "min_pa": f"{pmin:.4g}",
-                "peak_spl_db": f"{20 * math.log10(max(pmax, -pmin) / 20e-6):.1f}"}
+                "peak_spl_db": f"{spl_db(max(pmax, -pmin)):.1f}"}
         if hasattr(conf, "image_order"):  # a room: its image model
             figs.update(image_order=str(conf.image_order), images=str(conf.image_count),
                         neglected_energy_db=f"{conf.neglected_energy_db:.1f}")
@@ -427,8 +427,8 @@ def _collect_per_output():
     """Yield a function that collects the garbage of the output just made and sets what survives aside.
 
     A run imports most of numpy, scipy, numba, matplotlib and VTK: several hundred thousand
-    long-lived objects that each of Python's full collections would traverse again (about 0.1 s
-    of CPU each, several per run). Before the first output and after each one the garbage
+    long-lived objects that each of Python's full collections would traverse again, several times
+    per run (``benchmarks/results/design_timings.md``). Before the first output and after each one the garbage
     (figures, plotters, signals) is collected, which then costs only the objects made since the
     previous output, and what survives is frozen out of later collections (:func:`gc.freeze`),
     so no output's garbage outlives it and none of the files changes; on leaving, the frozen

@@ -44,9 +44,10 @@ def check_view_fits(view: str, settings, setup) -> None:
     no check.
     """
     if view == "balloon":
+        from ..constants import BALLOON_MIN_RADII
         from ..core.reach import check_view_radius
 
-        check_view_radius(setup.configuration, settings.distance, 2.1 * setup.radius)
+        check_view_radius(setup.configuration, settings.distance, BALLOON_MIN_RADII * setup.radius)
 
 
 def render_estimate(view: str, settings, n_sources: int, *, n_files: int = 1, options: dict | None = None):

@@ -7,7 +7,7 @@ walls that radiate) are those of ``[outputs.wav]`` when the scene has one, else 
 
 * ``levels`` writes ``levels.csv`` (one row per listener: LZpeak ... SEL(A), optionally N5, Nmax
   and sharpness) and reports the figures in the summary, with the run's sound power and the
-  radiation efficiency of its loudest impact (:func:`acoustiviz.app.levels.run_energy`);
+  radiation efficiency of its loudest impact (:func:`acoustiviz.levels.energy.run_energy`);
 * ``spectrum`` writes ``spectrum.csv`` (``channel,band_hz,leq_db,lmax_db``) and ``spectrum.png``.
 """
 
@@ -17,7 +17,8 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..levels import loudness_available
-from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
+from ..levels.energy import run_energy
+from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, summary_lines, write_levels_csv
 
 __all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
 
@@ -32,7 +33,7 @@ def damper_sound_setup(ctx):
     (``[outputs.wav]`` surroundings, or their defaults), clicks and listeners. A click longer
     than the run is refused as on the command line (:func:`acoustiviz.app.damper.check_click_fits`).
     """
-    from ..output.audio import ClickModel, ImpactSequence
+    from ..sound import ClickModel, ImpactSequence
     from .damper import check_click_fits
     from .wav import cavity
 

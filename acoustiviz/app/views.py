@@ -128,7 +128,7 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
     latest sound (in a room, at most to the end of its window ``duration``), the decimation filter
     ``h`` (``2KL + 1`` taps), the output samples of sound and of the whole interval.
     """
-    from ..output.audio import decimation_filter, oversampling_factor
+    from ..sound import decimation_filter, oversampling_factor
 
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     spans = waveform_spans(pulse, pts, config, medium=medium)
@@ -154,10 +154,10 @@ def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS
 
     The closed-form pressure (:func:`acoustiviz.field.time_series`) is evaluated at
     ``L × sample_rate`` (``L`` >= 16 and >= 200 samples per contact,
-    :func:`acoustiviz.output.audio.oversampling_factor`), from the earliest arrival at any point to
+    :func:`acoustiviz.sound.oversampling_factor`), from the earliest arrival at any point to
     the end of the latest sound (:func:`acoustiviz.field.waveform_span`), low-passed flat to
     0.45 × ``sample_rate`` by the auraliser's zero-delay decimation filter
-    (:func:`acoustiviz.output.audio.decimation_filter`) and decimated, so nothing aliases.
+    (:func:`acoustiviz.sound.decimation_filter`) and decimated, so nothing aliases.
 
     Parameters
     ----------

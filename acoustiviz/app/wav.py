@@ -28,19 +28,19 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..constants import P_REF
 from ..core.geometry import GEOMETRIES, geometry
 from ..errors import ClippingWarning
-from ..output.audio import CavityScene, shared_scale, write_sidecar, write_wav
+from ..output.audio import shared_scale, write_sidecar, write_wav
+from ..sound import CavityScene
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
            "physical_peaks", "room_sound", "least_absorbing", "ROOM_SOUND_OPTIONS", "ROOM_SOUND_SCENE_KEYS"]
 
-#: :class:`~acoustiviz.output.audio.RoomSound` parameter -> ``acoustiviz auralize`` option.
+#: :class:`~acoustiviz.sound.RoomSound` parameter -> ``acoustiviz auralize`` option.
 ROOM_SOUND_OPTIONS = {"late_tail": "--late-tail", "seed": "--tail-seed", "decay": "--tail-decay",
                       "transition": "--transition", "band_centres": "--absorption-bands",
                       "band_absorption": "--absorption-bands"}
-#: :class:`~acoustiviz.output.audio.RoomSound` parameter -> scene key.
+#: :class:`~acoustiviz.sound.RoomSound` parameter -> scene key.
 ROOM_SOUND_SCENE_KEYS = {"late_tail": "outputs.wav.late_tail", "seed": "outputs.wav.tail_seed",
                          "decay": "outputs.wav.tail_decay", "transition": "outputs.wav.transition_s",
                          "band_centres": "outputs.wav.absorption_bands",
@@ -74,7 +74,7 @@ def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, wal
 
 def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", transition=None,
                absorption_bands=None, names=ROOM_SOUND_OPTIONS):
-    """The :class:`~acoustiviz.output.audio.RoomSound` of a front-end's settings, or None when neither is asked for.
+    """The :class:`~acoustiviz.sound.RoomSound` of a front-end's settings, or None when neither is asked for.
 
     Parameters
     ----------
@@ -87,7 +87,7 @@ def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", tra
     transition : float, optional
         Transition time in s.
     absorption_bands : str, optional
-        ``"F:A,F:A,..."`` or ``"F:A1/.../A6,..."`` (:func:`acoustiviz.output.audio.parse_absorption_bands`).
+        ``"F:A,F:A,..."`` or ``"F:A1/.../A6,..."`` (:func:`acoustiviz.sound.parse_absorption_bands`).
     names : mapping
         Parameter -> the user's option or key, named in errors.
 
@@ -97,7 +97,7 @@ def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", tra
         None without ``late_tail`` and ``absorption_bands``: the exact render, unchanged.
     """
     from ..constants import TAIL_SEED
-    from ..output.audio import RoomSound, parse_absorption_bands
+    from ..sound import RoomSound, parse_absorption_bands
     from .names import user_terms
 
     if not late_tail and absorption_bands is None:
@@ -164,8 +164,8 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
 
     Each click is evaluated in closed form by the field evaluator
     (:func:`acoustiviz.field.field_metrics`, paper eqs 12-14) for the sources of the wall it strikes
-    (:func:`acoustiviz.output.audio.wall_sources`) and the pulse the renderer used
-    (:meth:`acoustiviz.output.audio.ClickModel.pulse_for`). At a fixed point the peak of a click grows
+    (:func:`acoustiviz.sound.wall_sources`) and the pulse the renderer used
+    (:meth:`acoustiviz.sound.ClickModel.pulse_for`). At a fixed point the peak of a click grows
     with its approach speed (:mod:`acoustiviz.sweep`), so per wall the ``n_fastest`` fastest distinct
     speeds are evaluated; if their peaks are not ordered like their speeds, every impact of the wall
     is. Clicks are taken one at a time: a click's sound lasts a few milliseconds (its arrivals, its
@@ -173,7 +173,7 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
 
     Parameters
     ----------
-    rendering : acoustiviz.output.audio.Rendering
+    rendering : acoustiviz.sound.Rendering
         The rendered sequence (its impacts, cavity, click model and listeners).
     points : (n, 3) array_like, optional
         Where, in m (default the rendering's listeners).
@@ -186,7 +186,7 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
         Peak pressure in Pa (0 without impacts).
     """
     from ..field import field_metrics
-    from ..output.audio import wall_sources
+    from ..sound import wall_sources
 
     scene, model, seq = rendering.scene, rendering.model, rendering.sequence
     pts = np.asarray(rendering.listeners if points is None else points, dtype=float).reshape(-1, 3)
@@ -225,7 +225,7 @@ def _room_wall(scene, wall):
 
     The struck wall's are the room's own; the far wall's sphere, at the cavity's far centre with
     the axis reversed, is the same room's sphere striking the opposite surface (its images are
-    those :func:`acoustiviz.output.audio.wall_sources` moves along their axes, to round-off). No
+    those :func:`acoustiviz.sound.wall_sources` moves along their axes, to round-off). No
     conversion of the images into single sources. None where that sphere would leave the room.
     """
     import dataclasses
@@ -266,7 +266,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
     scale_source : str
         Where the scale came from.
     rendering : dict
-        :meth:`acoustiviz.output.audio.Rendering.describe` (sources, pulse, internal rate, ...).
+        :meth:`acoustiviz.sound.Rendering.describe` (sources, pulse, internal rate, ...).
     scene_name : str, optional
         The scene that asked for the file (None from the command line).
     damper : dict, optional
@@ -280,11 +280,13 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         Peak in Pa of the sound itself at each channel's listener (:func:`physical_peaks`), recorded
         as ``physical_peak_pa`` (None when not given).
     """
+    from ..field.metrics import spl_db
+
     peaks = np.max(np.abs(wav.pressure), axis=1)
     dbfs = [20 * math.log10(pk / scale) if pk > 0 else None for pk in peaks]
-    spls = [20 * math.log10(pk / P_REF) if pk > 0 else None for pk in peaks]
+    spls = [spl_db(pk) if pk > 0 else None for pk in peaks]
     phys = None if physical_peak is None else [float(v) for v in np.ravel(physical_peak)]
-    phys_spl = None if phys is None else [20 * math.log10(v / P_REF) if v > 0 else None for v in phys]
+    phys_spl = None if phys is None else [spl_db(v) if v > 0 else None for v in phys]
     return {
         "sidecar_version": SIDECAR_VERSION,
         "acoustiviz_version": __version__,
@@ -362,7 +364,7 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
         Pa per full scale (default: :func:`calibration`).
     headroom_db : float
         ``PCM_24`` without ``scale``: the run's peak sits this far below full scale, in dB.
-    rendering : acoustiviz.output.audio.Rendering or dict
+    rendering : acoustiviz.sound.Rendering or dict
         The rendering the files come from: its description is recorded in every sidecar, and
         (given the Rendering itself) the physical peak at each channel's listener
         (:func:`physical_peaks`); a description alone records ``physical_peak_pa`` as null.

@@ -7,7 +7,6 @@ table's format and the rule for the reported peaks (:mod:`acoustiviz.app.columns
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -40,7 +39,9 @@ class Waveform:
     @property
     def peak_spl_db(self) -> float:
         """Peak SPL ``20 log10(max|p| / 20 µPa)`` in dB."""
-        return 20 * math.log10(max(self.peak_positive, -self.peak_negative) / 20e-6)
+        from ..field.metrics import spl_db
+
+        return spl_db(max(self.peak_positive, -self.peak_negative))
 
 
 def waveform_at(setup, point, settings, *, max_memory_mb=None, size_options=("samples_per_duration",)) -> Waveform:

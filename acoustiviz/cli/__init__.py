@@ -89,7 +89,7 @@ def main(argv=None) -> int:
     Called without ``argv`` (as the console script and ``python -m acoustiviz`` call it, the
     process then ending), the objects alive when it returns are frozen out of the garbage
     collector (:func:`gc.freeze`): the interpreter's exit then skips traversing them again in
-    its final collections, about 0.6 s of CPU after a scene run. Every output file is closed
+    its final collections (figures: ``benchmarks/results/design_timings.md``). Every output file is closed
     by then and exit handlers still run.
     """
     if argv is None:

@@ -3,7 +3,7 @@
 The damper options are those of ``acoustiviz damper`` (paper eq 15, Table 1 defaults); the run's
 impact table (or a CSV of impacts given with ``--impacts``) is rendered at each ``--listener``.
 Positions are in m in the frame where the struck surface is ``z = 0`` and the sphere's centre is
-``(0, 0, a)``; see :mod:`acoustiviz.output.audio` for how the two walls map to sources. The options
+``(0, 0, a)``; see :mod:`acoustiviz.sound` for how the two walls map to sources. The options
 are the records of :mod:`acoustiviz.app.settings.auralize`; :func:`acoustiviz.app.auralize.auralize`
 runs them.
 """

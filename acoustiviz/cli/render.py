@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..app.settings.render import ANIMATION, BALLOON, SNAPSHOT
 from ..app.settings.table import add_option
+from ..constants import ANIMATION_SIZE, MAX_SNAPSHOT_TIMES, STILL_SIZE
 from ._impact import add_impact_options, add_room_options
 
 #: Output options of the views.
@@ -12,6 +13,9 @@ _OUTPUTS = ("png", "gif", "mp4", "vtk", "html")
 _MORE_NAMES = {"size": "--size", "times": "--time", "time": "--time", "sections": "--sections"}
 _METAVARS = {"distance": "M", "db_range": "DB", "opacity": "X", "extent": "M", "clim": "PA", "fps": "F"}
 
+
+#: ``--size`` default of the still views, as typed.
+_STILL = "{}x{}".format(*STILL_SIZE)
 
 def _options(p, table, *, size: str) -> None:
     add_impact_options(p)
@@ -58,22 +62,23 @@ def add_parser(subparsers) -> None:
         description="A surface around the contact point whose radius grows with the level measured on a "
         "sphere of radius --distance (whole sphere in free field, half space above the plane, quarter space "
         "in the wall-floor corner), coloured by the same level; the sphere, floor and wall drawn in.")
-    _options(b, BALLOON, size="1200x900")
+    _options(b, BALLOON, size=_STILL)
     _outputs(b, png=True, html=True)
     s = views.add_parser(
         "snapshot", help="pressure p(x, t) on planes through the sphere at given times (PNG, VTK, HTML)",
         description="The pressure field on planes through the sphere at one or more times after the start of "
         "contact, diverging colours centred on zero; several times go side by side with one colour scale.")
-    _options(s, SNAPSHOT, size="1200x900")
+    _options(s, SNAPSHOT, size=_STILL)
     s.add_argument("--time", type=float, nargs="+", default=[0.001], metavar="S",
-                   help="snapshot time(s) in s from the start of contact, at most 12, each in [0, 10] (default 0.001)")
+                   help=f"snapshot time(s) in s from the start of contact, at most {MAX_SNAPSHOT_TIMES}, "
+                   "each in [0, 10] (default 0.001)")
     _outputs(s, png=True, html=True)
     a = views.add_parser(
         "animation", help="the wavefront leaving the impact and reflecting (GIF, MP4 with imageio-ffmpeg, VTK)",
         description="Frames of the pressure on planes through the sphere, from the impact until the last "
         "wavefront (image sources included) has crossed the planes, with a fixed colour range. Each frame "
         "evaluates the field only where it is non-zero.")
-    _options(a, ANIMATION, size="800x600")
+    _options(a, ANIMATION, size="{}x{}".format(*ANIMATION_SIZE))
     _outputs(a, png=False, html=False, movie=True)
     for q in (p, b, s, a):
         q.set_defaults(func=run)

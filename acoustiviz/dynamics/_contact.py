@@ -28,11 +28,11 @@ import math
 import numpy as np
 from numba import njit
 
+from .._jit import helper, kernel
 from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
 from ._dop853 import error_norm as _dop_error
 from ._flight import record_extremum
-from ._njit import helper, kernel
 from ._records import ContactEnd, ContactStart, as_params, without_main
 from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 

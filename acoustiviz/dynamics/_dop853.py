@@ -41,7 +41,7 @@ import math
 
 import numpy as np
 
-from ._njit import helper
+from .._jit import helper
 
 __all__ = ["N_STAGES", "C", "A", "B", "E3", "E5", "error_norm"]
 

@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from ._njit import helper
+from .._jit import helper
 
 _EPS = 2.220446049250313e-16
 _GX, _GW = (np.ascontiguousarray(q) for q in np.polynomial.legendre.leggauss(12))

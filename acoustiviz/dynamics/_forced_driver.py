@@ -38,6 +38,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from .._jit import helper, kernel
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_restitution_of, instant_impact
 from ._flight import (
     _osc,
@@ -48,7 +49,6 @@ from ._flight import (
     flight_state,
     scan_forced,
 )
-from ._njit import helper, kernel
 from ._records import ContactStart, Progress
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
@@ -308,7 +308,7 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
 
     numba compiles one version per type of ``restitution``: with None the instantaneous impacts,
     the sticking phase and the compliant contact of the masses alone (the impact map's pieces)
-    are left out, about 3 s of CPU less to compile for the event solver.
+    are left out, so the event solver does not compile code it never runs.
 
     Parameters
     ----------

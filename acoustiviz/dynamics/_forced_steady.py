@@ -54,10 +54,10 @@ from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
 
-#: CPU time in s of the forced driver's first compilation with its callees on a 2-core machine, by
-#: solver: the event solver's (compliant contacts only) about 5 s, the impact map's (instantaneous
-#: impacts, sticking, and the compliant contact for a run resumed inside one) about 8 s; quoted
-#: when it happens.
+#: CPU time in s of the forced driver's first compilation with its callees, by solver (the impact
+#: map's compiles more: instantaneous impacts, sticking, and the compliant contact for a run resumed
+#: inside one), quoted to the user when it happens; measured by ``benchmarks/bench_startup.py``
+#: (figures: ``benchmarks/results/design_timings.md``).
 FORCED_COMPILE_S = {"event": 5.0, "impact-map": 8.0}
 
 __all__ = [

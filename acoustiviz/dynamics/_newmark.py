@@ -25,8 +25,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from .._jit import helper, kernel
 from ._flight import record_extremum
-from ._njit import helper, kernel
 from ._records import Advanced, DenseOutput, NmBooks, Turns, as_params
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 

@@ -65,8 +65,9 @@ NEWMARK_WARN_FRACTION = 1.0 / 20.0
 NEWMARK_DEFAULT_FRACTION = 1.0 / 50.0
 #: Nodes of the impact map's restitution table (uniform in ln(speed) over four decades).
 IMPACT_MAP_NODES = 40
-#: CPU time in s of the event solver's first compilation with its callees, on a 2-core machine
-#: (``benchmarks/bench_startup.py``, "damper cold" less "damper warm"); quoted when it happens.
+#: CPU time in s of the event solver's first compilation with its callees, quoted to the user when
+#: it happens (:func:`acoustiviz._jit.compile_for`); measured by ``benchmarks/bench_startup.py``
+#: (figures: ``benchmarks/results/design_timings.md``).
 EVENT_SOLVER_COMPILE_S = 5.0
 #: The impact map warns when (shortest contact × main angular frequency) exceeds this.
 IMPACT_MAP_WARN_PRODUCT = 0.05
@@ -283,8 +284,7 @@ def simulate(
         Relative tolerance of the contact integration (event solver; the impact map's
         restitution integration), in [1e-15, 1e-3]. The default
         :data:`~acoustiviz.constants.DEFAULT_RTOL` (1e-13) keeps the first 40 impact times of the
-        chaotic Table 1 run within 1e-8 s of the converged reference (measured 1.9e-9 s; 4.8e-8 s
-        at 1e-12, which costs about 16 % less time).
+        chaotic Table 1 run within 1e-8 s of the converged reference (1e-12 does not).
     dt : float, optional
         Newmark step in s (default :func:`default_step`). Refused if longer than the shortest
         possible contact; warns (:class:`AccuracyWarning`) above 1/20 of it.

@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import _njit
+from .._jit import njit as _njit
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _arrival_order(delays, count, key, order):  # pragma: no cover - compiled
     """Indices of ``delays`` in ascending order (stable) into ``order``.
 

@@ -18,17 +18,14 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 #: Largest work (points x samples x images) of a request summed in numpy instead of by the
-#: compiled kernels. Measured on one core of a 2-core machine: numpy takes 30-80 ns per unit of
-#: work (the half-sine's closed form to the exact Hertz pulse's Taylor table; the most where most
-#: samples fall during the contact), so at most ~0.05-0.1 s at this size, against 2-4 s of CPU to
-#: compile a kernel on an empty numba cache; a 2-image point of 3662 samples takes ~1-2 ms. The
-#: command line's default directivity (37 angles of the free field, refined) is under it: 0.9 s
-#: of CPU for the whole command on an empty cache, against 5.0 s when it compiled its kernel.
+#: compiled kernels: below it numpy takes a small fraction of the time a kernel needs to compile on
+#: an empty numba cache, so a small request (a waveform, the command line's default directivity)
+#: never waits for a compilation. Figures: ``benchmarks/results/design_timings.md``.
 SMALL_WORK = 1_000_000
-#: Work (in units of :data:`SMALL_WORK`) of refining one point's two extremes in numpy: two bounded
-#: Brent searches of ~20 evaluations of ``p`` each, ~1.7 ms per point measured (exact Hertz pulse,
-#: 2 images); so up to about 40 points of a default window (2208 samples, 2 images: a directivity)
-#: are refined in numpy, ~0.07 s.
+#: Work (in units of :data:`SMALL_WORK`) of refining one point's two extremes in numpy (two bounded
+#: Brent searches of about 20 evaluations of ``p`` each), so that the few tens of points of a
+#: directivity are refined in numpy while a map's thousands go to the kernels.
+#: Figures: ``benchmarks/results/design_timings.md``.
 REFINE_WORK = 20_000
 
 

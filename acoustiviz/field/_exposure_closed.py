@@ -17,7 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._kernels import _njit
+from .._jit import njit as _njit
 
 #: The running sums keep their reference time within this many decay times ``1/|Re s|`` of the
 #: latest arrival (:func:`acoustiviz.field.exposure._exposure_sorted` and :func:`_exposure_closed`).
@@ -122,7 +122,7 @@ class ClosedPairs(NamedTuple):
     tw: np.ndarray
 
 
-@_njit(cache=True)
+@_njit
 def closed_tables(tau, s):  # pragma: no cover - compiled
     """The tables of :func:`_exp_step`, once per pulse and sphere (complex, ``EXP_STEPS + 1`` each).
 
@@ -139,7 +139,7 @@ def closed_tables(tau, s):  # pragma: no cover - compiled
     return ts, tw
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _exp_step(x, step, inv_step, table, rate):  # pragma: no cover - compiled
     """``e^{rate x}`` for ``0 <= x <= EXP_STEPS step`` from ``table[m] = e^{rate m step}`` and a Taylor polynomial.
 
@@ -167,7 +167,7 @@ REBUILD = 32
 REBASE_PULSES = 2.0
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _late_pairs(j, m, ar, ai, eks, invs, epochs, upto, fall_t, q_back, g_m, h_m):  # pragma: no cover - compiled
     """The ``e^{s(T - Δ)}`` terms of the pairs of arrival ``j`` with the later ``j < q <= m`` (all within T).
 
@@ -185,7 +185,7 @@ def _late_pairs(j, m, ar, ai, eks, invs, epochs, upto, fall_t, q_back, g_m, h_m)
     return ((g_m * aj + h_m * np.conj(aj)) * inner).real
 
 
-@_njit(cache=True, fastmath={"contract", "arcp"})
+@_njit(fastmath={"contract", "arcp"})
 def _exposure_closed(ds, ar, ai, tau, s, terms, y_end, m_g, m_h, ts, tw):  # pragma: no cover - compiled
     """``∫ p² dt`` of one point from its sources sorted by arrival, the half-sine pulse: ``O(n)``, no table.
 

@@ -14,20 +14,13 @@ import math
 
 import numpy as np
 
-
-def _njit(*args, **kwargs):
-    try:
-        from numba import njit
-    except ImportError:  # pragma: no cover - numba is a hard dependency in practice
-        return lambda f: f
-    return njit(*args, **kwargs)
-
+from .._jit import njit as _njit
 
 #: 1/k! for k = 0..17, for the Taylor series of the φ-functions
 _INV_FACT = np.array([1.0 / math.factorial(k) for k in range(18)])
 
 
-@_njit(cache=True)
+@_njit
 def _phi12_scalar(z):  # pragma: no cover - compiled
     """φ1(z) = (e^z - 1)/z and φ2(z) = (e^z - 1 - z)/z² for one complex z with Re z <= 0."""
     if abs(z) < 0.25:
@@ -41,7 +34,7 @@ def _phi12_scalar(z):  # pragma: no cover - compiled
     return (ez - 1.0) / z, (ez - 1.0 - z) / (z * z)
 
 
-@_njit(cache=True)
+@_njit
 def _y_sampled(tr, xi, acc, yk, s):  # pragma: no cover - compiled
     """Exact pulse response of a piecewise-linear pulse at one retarded time (complex m/s)."""
     if tr < 0.0:
@@ -61,7 +54,7 @@ def _y_sampled(tr, xi, acc, yk, s):  # pragma: no cover - compiled
     return np.exp(s * delta) * yk[k] + delta * (acc[k] * p1 + slope * delta * p2)
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa):  # pragma: no cover - compiled
     """Add a kind-2 pulse's pressure ``p0 Re[(cre + i cim) Y]`` in Pa on samples ``k0 <= k < kt``.
 
@@ -107,7 +100,7 @@ def _acc_taylor(buf, k0, kt, t0, dt, delay, p0, cre, cim, pa):  # pragma: no cov
         q += 1
 
 
-@_njit(cache=True)
+@_njit
 def _accumulate(buf, t0, dt, delay, p0, cre, cim, pa, tail):  # pragma: no cover - compiled
     """Add one sphere's pressure in Pa to ``buf[k]`` at ``t0 + k dt`` (s); return the touched index range.
 
@@ -157,7 +150,7 @@ def _accumulate(buf, t0, dt, delay, p0, cre, cim, pa, tail):  # pragma: no cover
     return k0, ke
 
 
-@_njit(cache=True)
+@_njit
 def _series_kernel(out, t0, dt, img, pa, tail):  # pragma: no cover - compiled
     """Add into ``out[i, k]`` the pressure in Pa at point ``i`` and time ``t0[i] + k dt`` (s).
 
@@ -170,7 +163,7 @@ def _series_kernel(out, t0, dt, img, pa, tail):  # pragma: no cover - compiled
             _accumulate(out[i], t0[i], dt, img.delay[i, j], img.p0[i, j], img.cre[i, j], img.cim[i, j], pa, tail)
 
 
-@_njit(cache=True)
+@_njit
 def _y_at(tr, pa):  # pragma: no cover - compiled
     """Exact pulse response ``Y`` in m/s at one retarded time ``tr`` in s (``pa``: :class:`PulseArrays`)."""
     if tr < 0.0:
@@ -199,7 +192,7 @@ def _y_at(tr, pa):  # pragma: no cover - compiled
     return y
 
 
-@_njit(cache=True)
+@_njit
 def _p_at(t, img, i, pa):  # pragma: no cover - compiled
     """Pressure in Pa at time ``t`` in s of all images of point ``i`` of ``img`` (no tail cut)."""
     total = 0.0
@@ -210,7 +203,7 @@ def _p_at(t, img, i, pa):  # pragma: no cover - compiled
     return total
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2):  # pragma: no cover - compiled
     """One step choice of Brent's minimiser (SciPy's ``fminbound``): parabolic if acceptable, else golden.
 
@@ -241,7 +234,7 @@ def _brent_step(xf, nfc, fulc, fx, fnfc, ffulc, e, rat, a, b, xm, tol1, tol2):  
     return e, rat
 
 
-@_njit(cache=True)
+@_njit
 def _refine(sign, tk, dt, lo, hi, img, i, pa):  # pragma: no cover - compiled
     """Largest ``sign · p`` in Pa at point ``i`` of ``img`` on ``[max(lo, tk - dt), min(hi, tk + dt)]`` (s).
 
@@ -299,7 +292,7 @@ def _refine(sign, tk, dt, lo, hi, img, i, pa):  # pragma: no cover - compiled
     return max(best, -fx)
 
 
-@_njit(cache=True)
+@_njit
 def _metrics_kernel(res, buf, t0, dt, img, pa, tail, refine):  # pragma: no cover - compiled
     """Per point ``i``: ``res[i] = (max p, min p, Σ p²)`` (Pa, Pa, Pa²) over its grid ``t0[i] + k dt``, k < buf.size.
 

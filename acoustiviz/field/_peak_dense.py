@@ -30,9 +30,9 @@ import math
 
 import numpy as np
 
+from .._jit import njit as _njit
 from ._arrivals import _arrival_order
 from ._exposure_closed import _exposure_closed
-from ._kernels import _njit
 from ._peak_kernels import (
     BLOCK,
     NEAR,
@@ -60,7 +60,7 @@ DECAY_CUT = 60.0
 REACH = int(2 * NEAR) + 2
 
 
-@_njit(cache=True)
+@_njit
 def _dense_samples(kk, coarse, nq, ar, ai, fine, pad, ytr, yti, zpast, qpr, qpi):  # pragma: no cover - compiled
     """Coarse samples ``0 .. kk`` of ``p`` (``coarse`` zeroed beyond, to whole blocks) from the sorted images.
 
@@ -113,7 +113,7 @@ def _dense_samples(kk, coarse, nq, ar, ai, fine, pad, ytr, yti, zpast, qpr, qpi)
         blk += 1
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _add_decay(coarse, start, count, er, ei, qpr, qpi):  # pragma: no cover - compiled
     """``coarse[start + l] += Re((er + i ei) exp(s H l))`` for ``l < count`` (unsigned indices)."""
     for ll in range(count):
@@ -121,7 +121,7 @@ def _add_decay(coarse, start, count, er, ei, qpr, qpi):  # pragma: no cover - co
         coarse[start + u] += er * qpr[u] - ei * qpi[u]
 
 
-@_njit(cache=True)
+@_njit
 def _breakpoints_near(ds, end, lo, hi, bps):  # pragma: no cover - compiled
     """The pulse starts and ends (sorted) of the sorted delays ``ds`` lying in ``[lo, hi]``, into ``bps``."""
     n = ds.size
@@ -143,7 +143,7 @@ def _breakpoints_near(ds, end, lo, hi, bps):  # pragma: no cover - compiled
     return nb
 
 
-@_njit(cache=True)
+@_njit
 def _rounding_scale(ds, mag, span):  # pragma: no cover - compiled
     """Largest ``Σ |a_j|`` over the sorted delays within ``span`` s of each other (two pointers)."""
     best = 0.0
@@ -158,7 +158,7 @@ def _rounding_scale(ds, mag, span):  # pragma: no cover - compiled
     return best * (1.0 + 1e-12)
 
 
-@_njit(cache=True)
+@_njit
 def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds, ar, ai, end, cut, tp, bps,
                  done_lo, done_hi):  # pragma: no cover - compiled
     """Refine the candidates of one sign, best estimate first, while one can still beat the best value.
@@ -197,7 +197,7 @@ def _refine_side(side, best, tbest, nc, top, slack, reached, cand, t0, big_h, ds
     return best, tbest, nref
 
 
-@_njit(cache=True)
+@_njit
 def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cover - compiled
     """Extremes of the free decay of every image after ``t_end``, where their bound can beat a peak found."""
     end = tp.end
@@ -229,7 +229,7 @@ def _after_last(t_end, best_s, tbest_s, ds, ar, ai, mag, tp):  # pragma: no cove
         tbest_s[1] = tplo
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _pair_table(ctable):  # pragma: no cover - compiled
     """The correlation table's ``G ± H`` sums by column, (rows, 8), as :func:`_exposure_sorted` reads them."""
     ptab = np.empty((ctable.shape[0], 8))
@@ -246,7 +246,7 @@ def _pair_table(ctable):  # pragma: no cover - compiled
     return ptab
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, count, key, order, ds, ar, ai,
                     mag):  # pragma: no cover - compiled
     """Every image seen from ``(x0, x1, x2)`` (m), sorted by arrival (a bucket sort, :mod:`._arrivals`).
@@ -266,7 +266,7 @@ def _sorted_sources(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim, c
         mag[q] = math.sqrt(are[j] ** 2 + aim[j] ** 2)
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _cusp_candidates(side, nc, ds, end, dmin, big_h, kk, coarse, cand):  # pragma: no cover - compiled
     """Add the pulse starts and ends (s) of every image as candidates of one sign; return the new count.
 
@@ -278,7 +278,7 @@ def _cusp_candidates(side, nc, ds, end, dmin, big_h, kk, coarse, cand):  # pragm
     return nc
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover - compiled
     """``Y`` in m/s just past the table by fine residue, and ``exp(s H m)`` for ``m <= DECAY_BLOCK`` (re, im)."""
     zpast = np.empty(fine, np.complex128)
@@ -293,7 +293,7 @@ def _decay_factors(yend, s, ncol, fine, pad, h, big_h, end):  # pragma: no cover
     return zpast, qpr, qpi
 
 
-@_njit(cache=True, nogil=True)
+@_njit(nogil=True)
 def _dense_kernel(res, pts, src, smp, tp, corr, closed):  # pragma: no cover - compiled
     """:func:`acoustiviz.field._peak_kernels._peaks_kernel` over one window (module notes); same columns.
 

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ._kernels import _njit
+from .._jit import njit as _njit
 from ._peak_refine import _refine_bracket
 from .exposure import _correlation_at, _exposure_pairs
 
@@ -29,7 +29,7 @@ GAP_STEPS = 8
 BLOCK = 8
 
 
-@_njit(cache=True)
+@_njit
 def _cubic_start(coarse, k, kk, xs):  # pragma: no cover - compiled
     """Offset (in coarse steps, within ±1) of the maximum of the cubic through 4 coarse samples near ``k``.
 
@@ -60,7 +60,7 @@ def _cubic_start(coarse, k, kk, xs):  # pragma: no cover - compiled
     return x
 
 
-@_njit(cache=True)
+@_njit
 def _coarse_stats(coarse, kk, bmax, bmin):  # pragma: no cover - compiled
     """Largest and smallest of ``coarse[0..kk]``, the largest step between neighbours, and block extremes.
 
@@ -99,7 +99,7 @@ def _coarse_stats(coarse, kk, bmax, bmin):  # pragma: no cover - compiled
     return nb, cmax, cmin, jump
 
 
-@_njit(cache=True)
+@_njit
 def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, cand):  # pragma: no cover - compiled
     """Coarse local maxima of ``p`` (above ``floor_p``) and of ``-p`` (above ``floor_n``), in one pass.
 
@@ -144,7 +144,7 @@ def _scan(coarse, kk, nb, bmax, bmin, floor_p, floor_n, dmin, big_h, cand):  # p
     return n0, top0, n1, top1
 
 
-@_njit(cache=True)
+@_njit
 def _decay_extremes(t_a, t_b, arrived, nimg, delays, are, aim, yend, end, s):  # pragma: no cover - compiled
     """Largest and smallest ``p`` on ``[t_a, t_b]`` where the images that arrived by ``arrived`` decay freely.
 
@@ -186,7 +186,7 @@ def _decay_extremes(t_a, t_b, arrived, nimg, delays, are, aim, yend, end, s):  #
     return hi, thi, lo, tlo
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b):  # pragma: no cover - compiled
     """Coarse-step ranges holding each image's pulse and TAIL_STEPS after it, merged where they meet.
 
@@ -222,7 +222,7 @@ def _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b):  # pragma: no
     return nseg
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):  # pragma: no cover - compiled
     """Whether the point ``(x0, x1, x2)`` (m) is outside the sphere and in front of every plane ``(ppt, pnm)``."""
     dc = math.sqrt((x0 - centre[0]) ** 2 + (x1 - centre[1]) ** 2 + (x2 - centre[2]) ** 2)
@@ -233,7 +233,7 @@ def _in_fluid(x0, x1, x2, centre, radius, tol, ppt, pnm):  # pragma: no cover - 
     return ok
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim):  # pragma: no cover - compiled
     """Each image seen from ``(x0, x1, x2)`` (m), in image order (paper eqs 12-14).
 
@@ -253,14 +253,14 @@ def _image_terms(x0, x1, x2, spos, saxis, rho, c, radius, delays, are, aim):  # 
         aim[j] = -p0 * (1.0 - ra)
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _exposure(delays, are, aim, corr, g0, h0):  # pragma: no cover - compiled
     """``∫ p² dt`` in Pa²·s from the pairs of images and the pulse correlations (module ``exposure``)."""
     _, tau, cs, step, table, yend, m_g, m_h = corr
     return _exposure_pairs(delays, are, aim, tau, cs, step, table, yend, m_g, m_h, g0, h0)
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _window_samples(ka, kk, t0, smp, delays, are, aim, qs, rs, coarse):  # pragma: no cover - compiled
     """Coarse samples ``0 .. kk`` of ``p`` (Pa) over the window from coarse step ``ka`` (``t0`` s) into ``coarse``.
 
@@ -281,7 +281,7 @@ def _window_samples(ka, kk, t0, smp, delays, are, aim, qs, rs, coarse):  # pragm
             coarse[k] += ar * seg_r[k] - ai * seg_i[k]
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - compiled
     """Whether coarse step ``kb`` (``[t0 + kb H, t0 + (kb + 1) H]``, s) lies in a bracket already searched.
 
@@ -298,7 +298,7 @@ def _covered(kb, t0, big_h, done_lo, done_hi, ndone):  # pragma: no cover - comp
     return False
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _breakpoint_candidate(side, nc, b, k, kk, coarse, cand):  # pragma: no cover - compiled
     """Add a candidate of sign ``side`` at breakpoint ``b`` s between coarse samples ``k`` and ``k + 1``.
 
@@ -318,7 +318,7 @@ def _breakpoint_candidate(side, nc, b, k, kk, coarse, cand):  # pragma: no cover
     return nc
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _best_candidate(cand, side, nc):  # pragma: no cover - compiled
     """Index of the candidate of sign ``side`` with the largest estimate among the first ``nc``."""
     jb = 0
@@ -328,7 +328,7 @@ def _best_candidate(cand, side, nc):  # pragma: no cover - compiled
     return jb
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _bracket(kb, tk, t0, dmin, big_h, bps):  # pragma: no cover - compiled
     """The bracket ``(lo, hi)`` in s refined for a candidate at ``tk`` s (coarse step ``kb``, or -1).
 
@@ -350,7 +350,7 @@ def _bracket(kb, tk, t0, dmin, big_h, bps):  # pragma: no cover - compiled
     return lo_b, hi_b
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _drop_candidate(cand, side, jb, nc):  # pragma: no cover - compiled
     """Remove candidate ``jb`` of sign ``side`` (the last of ``nc`` takes its place); return the new count."""
     nc -= 1
@@ -359,9 +359,9 @@ def _drop_candidate(cand, side, jb, nc):  # pragma: no cover - compiled
     return nc
 
 
-# allocates nothing: compiled without reference counts (with them, the counts of its array arguments at each
-# call made fast_peaks about 1.5 times slower)
-@_njit(cache=True, _nrt=False)
+# allocates nothing: compiled without reference counts, which would otherwise be updated for each of its
+# array arguments at every call of this inner loop (figures: benchmarks/results/design_timings.md)
+@_njit(_nrt=False)
 def _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are, aim, bps, cand, done,
                  found):  # pragma: no cover - compiled
     """Refine the candidates of one sign, best estimate first, while one can still beat the best value.
@@ -401,7 +401,7 @@ def _refine_side(side, nc, top, slack, reached, t0, dmin, big_h, tp, delays, are
     return nref
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _after_window(t_end, t_next, dmin, scale, tp, delays, are, aim, found):  # pragma: no cover - compiled
     """The free decay's extremes between ``t_end`` and ``t_next`` s (or for ever), where they can beat a peak found.
 
@@ -435,7 +435,7 @@ def _after_window(t_end, t_next, dmin, scale, tp, delays, are, aim, found):  # p
 
 
 # allocates nothing: compiled without reference counts, as _refine_side
-@_njit(cache=True, _nrt=False)
+@_njit(_nrt=False)
 def _search_window(ka, kk, dmin, scale, smp, tp, delays, are, aim, qs, rs, bps, coarse, bmax, bmin, cand, done,
                    found):  # pragma: no cover - compiled
     """Coarse pass, candidates and refinement of both signs over one window of arrivals; returns the refinements.
@@ -468,7 +468,7 @@ def _search_window(ka, kk, dmin, scale, smp, tp, delays, are, aim, qs, rs, bps, 
     return nref
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _arrivals(smp, tp, delays, qs, rs, bps, order, seg_a, seg_b):  # pragma: no cover - compiled
     """First arrival ``dmin`` in s and the number of windows of arrivals (``seg_a``, ``seg_b``).
 
@@ -500,7 +500,7 @@ def _arrivals(smp, tp, delays, qs, rs, bps, order, seg_a, seg_b):  # pragma: no 
     return dmin, _windows(delays, order, dmin, dmax, end, big_h, seg_a, seg_b)
 
 
-@_njit(cache=True, nogil=True)
+@_njit(nogil=True)
 def _peaks_kernel(res, pts, src, smp, tp, corr):  # pragma: no cover - compiled
     """Peaks, their times and the exposure of the pressure at each point, into ``res`` (module notes).
 

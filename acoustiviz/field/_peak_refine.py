@@ -14,8 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._jit import njit as _njit
 from ._common import pulse_args
-from ._kernels import _njit
 
 #: Buckets of the piece look-up table over the pulse.
 LUT_BUCKETS = 4096
@@ -91,7 +91,7 @@ def taylor_pulse(pulse, radius: float, medium) -> TaylorPulse:
                        y_end.real, y_end.imag, float(s.real), float(s.imag))
 
 
-@_njit(cache=True)
+@_njit
 def _p_d2(t, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """``p``, ``p'`` and ``p''`` (Pa, Pa/s, Pa/s²) at time ``t`` in s from the exact ``Y`` of every image.
 
@@ -151,7 +151,7 @@ def _p_d2(t, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     return p, p1, p2
 
 
-@_njit(cache=True, inline="always")  # inlined into its caller: as a call it made fast_peaks ~10 % slower
+@_njit(inline="always")  # inlined: called per candidate, a call costs more than the body
 def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Largest ``sign · p`` near ``t0`` in ``[lo, hi]``: safeguarded Newton on ``p' = 0``; (value, time)."""
     x = t0
@@ -189,7 +189,7 @@ def _newton_max(sign, t0, lo, hi, xtol, nimg, delays, are, aim, tp):  # pragma: 
     return best, tbest
 
 
-@_njit(cache=True)
+@_njit
 def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Maximum of ``sign · p`` on ``[a, b]`` where ``sign · p'`` decreases from ``ga > 0`` to ``gb < 0``."""
     x = a + ga * (b - a) / (ga - gb)  # Newton from the secant root, kept inside [a, b]
@@ -219,7 +219,7 @@ def _newton_segment(sign, a, b, ga, gb, best, tbest, xtol, nimg, delays, are, ai
     return best, tbest
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Zero of ``p''`` in ``[lo, hi]`` (s) by the Illinois method, ``p''`` being ``cl`` and ``cr`` at the ends.
 
@@ -250,7 +250,7 @@ def _inflection(sign, best, tbest, lo, hi, cl, cr, xtol, nimg, delays, are, aim,
     return m, gm, best, tbest
 
 
-@_njit(cache=True)
+@_njit
 def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delays, are, aim,
                   tp):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]``, an interval on which ``p`` is smooth: (value in Pa, time in s).
@@ -282,7 +282,7 @@ def _refine_piece(sign, floor, lo, hi, pl, gl, cl, pr, gr, cr, xtol, nimg, delay
     return best, tbest
 
 
-@_njit(cache=True, inline="always")  # inlined into its caller: as a call it made fast_peaks ~10 % slower
+@_njit(inline="always")  # inlined: called per candidate, a call costs more than the body
 def _refine_bracket(sign, floor, t0, lo, hi, bps, xtol, nimg, delays, are, aim, tp):  # pragma: no cover - compiled
     """Largest ``sign · p`` on ``[lo, hi]`` near ``t0``, split at the breakpoints ``bps`` inside (sorted).
 

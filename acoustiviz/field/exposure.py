@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._jit import njit as _njit
 from .._validate import check_points
 from ..core.contact import HalfSinePulse
 from ..core.geometry import Geometry
@@ -40,7 +41,6 @@ from ..core.radiation import hertz_shape_pieces, pulse_response_function
 from ._arrivals import _arrival_order
 from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
 from ._exposure_closed import EPOCH, _exposure_closed, closed_tables, half_sine_lag_terms
-from ._kernels import _njit
 from .sources import chunk_geometry
 
 __all__ = ["PulseCorrelations", "pulse_correlations", "exposure"]
@@ -225,7 +225,7 @@ def pulse_correlations(pulse, radius: float, *, medium: Medium = AIR) -> PulseCo
     return PulseCorrelations(tau, s, g_coef, h_coef, y_end, m_g, m_h, step, table, terms)
 
 
-@_njit(cache=True)
+@_njit
 def _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover - compiled
     """``G(lag)`` and ``H(lag)`` for one lag >= 0 in s (cubic Hermite on the table, closed form after T)."""
     if lag >= tau:
@@ -244,7 +244,7 @@ def _correlation_at(lag, tau, s, step, table, y_end, m_g, m_h):  # pragma: no co
     return g, h
 
 
-@_njit(cache=True, inline="always")
+@_njit(inline="always")
 def _exposure_pairs(delays, are, aim, tau, s, step, table, y_end, m_g, m_h, g0, h0):  # pragma: no cover
     """``∫ p² dt`` in Pa²·s at one point from every pair of its images (the module notes' sum).
 
@@ -268,7 +268,7 @@ def _exposure_pairs(delays, are, aim, tau, s, step, table, y_end, m_g, m_h, g0, 
     return total
 
 
-@_njit(cache=True)
+@_njit
 def _exposure_kernel(out, delays, are, aim, tau, s, step, table, y_end, m_g, m_h):  # pragma: no cover
     g0, h0 = _correlation_at(0.0, tau, s, step, table, y_end, m_g, m_h)
     for i in range(delays.shape[0]):
@@ -308,7 +308,7 @@ def pair_table(table: np.ndarray) -> np.ndarray:
     return out
 
 
-@_njit(cache=True)
+@_njit
 def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  # pragma: no cover - compiled
     """``∫ p² dt`` of one point from its sources sorted by arrival (``ds`` ascending), in O(n + close pairs).
 
@@ -383,7 +383,7 @@ def _exposure_sorted(ds, ar, ai, tau, s, step, ptab, y_end, m_g, m_h, g0, h0):  
     return total
 
 
-@_njit(cache=True)
+@_njit
 def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step, table, y_end, m_g, m_h,
                      ptab, lag_terms):  # pragma: no cover - compiled
     """:func:`_exposure_sorted` at each point, the geometry of every source computed there (no (n, k) arrays).

@@ -31,8 +31,24 @@ __all__ = ["FieldMetrics", "field_metrics", "spl_db"]
 
 
 def spl_db(pressure_pa):
-    """Sound pressure level ``20 log10(|p| / 20 µPa)`` in dB (``-inf`` for zero)."""
+    """Sound pressure level ``20 log10(|p| / p_ref)`` in dB re :data:`~acoustiviz.constants.P_REF` (``-inf`` for zero).
+
+    The one home of the formula. A scalar gives a float (``math.log10``), an array an array of
+    the same shape (``numpy.log10``).
+
+    Parameters
+    ----------
+    pressure_pa : float or array_like
+        Pressure (a peak or an RMS value) in Pa.
+
+    Examples
+    --------
+    >>> spl_db(1.0)  # 1 Pa
+    93.97940008672037
+    """
     p = np.abs(np.asarray(pressure_pa, dtype=float))
+    if p.ndim == 0:
+        return 20.0 * math.log10(float(p) / P_REF) if p > 0 else -math.inf
     with np.errstate(divide="ignore"):
         return 20.0 * np.log10(p / P_REF)
 

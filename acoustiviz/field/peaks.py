@@ -83,11 +83,13 @@ from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
 from ._peak_refine import taylor_pulse
 from .exposure import PulseCorrelations, pulse_correlations
+from .metrics import spl_db
 
 __all__ = ["PeakTable", "PeakExposure", "peak_table", "fast_peaks"]
 
-#: CPU time in s of the peak search's first compilation with its callees (about 9 s on a 2-core
-#: machine, ``benchmarks/bench_startup.py``); quoted when it happens.
+#: CPU time in s of the peak search's first compilation with its callees, quoted to the user when
+#: it happens (:func:`acoustiviz._jit.compile_for`); measured by ``benchmarks/bench_startup.py``
+#: (figures: ``benchmarks/results/design_timings.md``).
 PEAKS_COMPILE_S = 9.0
 
 #: Coarse samples per ``min(T, a/c)`` and fine steps per coarse step (defaults of :func:`peak_table`).
@@ -171,8 +173,7 @@ class PeakExposure:
     @property
     def peak_spl_db(self) -> np.ndarray:
         """Peak sound pressure level in dB re 20 µPa."""
-        with np.errstate(divide="ignore"):
-            return 20.0 * np.log10(self.peak / P_REF)
+        return spl_db(self.peak)
 
     @property
     def sel_db(self) -> np.ndarray:

@@ -12,7 +12,7 @@ of a directivity alike. Nothing here writes files.
 * :mod:`.bands` -- 1/3-octave band Leq and LFmax (IEC 61260-1 filters);
 * :mod:`.hearing` -- ISO 532-1 loudness (N5, Nmax) and DIN 45692 sharpness (optional mosqito);
 * :mod:`.energy` -- sound energy of one impact (closed form and spherical-grid intensity),
-  radiation efficiency and the sound power of a run.
+  radiation efficiency, and the energy and sound power of a damper run.
 
 The weighting and band filters are written from IEC 61672-1 and IEC 61260-1 (:mod:`._filters`,
 named in one place by :mod:`._library`) and tested against the standards' tables and acceptance
@@ -23,11 +23,13 @@ from __future__ import annotations
 
 from .bands import BAND_LIMITS, BandLevels, band_energy_sum, third_octave_levels
 from .energy import (
+    RunEnergy,
     pulse_spectrum,
     radiated_energy_free,
     radiated_energy_grid,
     radiation_efficiency,
     radiation_resistance,
+    run_energy,
     sound_power,
     surface_work_free,
 )
@@ -42,6 +44,7 @@ __all__ = [
     "METRICS",
     "BandLevels",
     "Loudness",
+    "RunEnergy",
     "SoundLevels",
     "band_energy_sum",
     "level_db",
@@ -53,6 +56,7 @@ __all__ = [
     "radiated_energy_grid",
     "radiation_efficiency",
     "radiation_resistance",
+    "run_energy",
     "sound_levels",
     "sound_power",
     "surface_work_free",

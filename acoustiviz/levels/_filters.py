@@ -27,6 +27,8 @@ import math
 
 import numpy as np
 
+from ..constants import P_REF
+
 __all__ = ["NAME", "weighting_poles_hz", "weighting_zpk", "WeightingFilter", "weighting_filter", "time_weighting",
            "TIME_CONSTANTS", "band_frequencies", "nominal_frequency", "OctaveFilterBank", "sosfilt_normal"]
 
@@ -206,9 +208,9 @@ def weighting_filter(x, fs: float, curve: str = "A") -> np.ndarray:
 @functools.lru_cache(maxsize=1)
 def _impulse_kernel():
     """The I time weighting's recursion over rows of squares, compiled on first use."""
-    from numba import njit
+    from .._jit import njit
 
-    @njit(cache=False)
+    @njit(cache=False)  # a closure: numba cannot cache it on disk
     def run(x2, a_rise, a_fall):  # pragma: no cover - compiled
         out = np.empty_like(x2)
         for i in range(x2.shape[0]):
@@ -387,5 +389,5 @@ class OctaveFilterBank:
         if detrend:
             x = x - np.mean(x, axis=-1, keepdims=True)
         levels = np.stack([10.0 * np.log10(np.maximum(np.mean(self.band_signal(x, k) ** 2, axis=-1), 1e-300)
-                                           / 20e-6**2) for k in range(len(self.freq))], axis=-1)
+                                           / P_REF**2) for k in range(len(self.freq))], axis=-1)
         return levels, [float(f) for f in self.freq]

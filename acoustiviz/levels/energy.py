@@ -27,14 +27,16 @@ sound power of a damper run is the radiated energy of all its impacts over the r
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from .._validate import ParameterError, check_positive
+from ..constants import W_REF
 from ..core.contact import HalfSinePulse, HertzPulse, SampledPulse
 from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
-from ..core.radiation import hertz_shape_pieces, pulse_response, pulse_response_function
+from ..core.radiation import _phi12, hertz_shape_pieces, pulse_response, pulse_response_function
 
 __all__ = [
     "radiation_resistance",
@@ -44,6 +46,8 @@ __all__ = [
     "radiated_energy_grid",
     "radiation_efficiency",
     "sound_power",
+    "RunEnergy",
+    "run_energy",
 ]
 
 #: response tails are integrated until exp(-c t / a) < exp(-40)
@@ -68,16 +72,6 @@ def radiation_resistance(omega, *, radius: float, medium: Medium = AIR) -> np.nd
     a = check_positive("radius", radius, "m")
     x4 = (np.asarray(omega, dtype=float) * a / medium.c) ** 4
     return (4.0 * math.pi * a * a / 3.0) * medium.rho * medium.c * x4 / (4.0 + x4)
-
-
-def _phi12(z: np.ndarray):
-    """``φ1 = (e^z - 1)/z`` and ``φ2 = (e^z - 1 - z)/z²`` without cancellation near 0."""
-    small = np.abs(z) < 1e-3
-    zs = np.where(small, 1.0, z)
-    ez = np.exp(zs)
-    p1 = np.where(small, 1 + z / 2 + z * z / 6 + z**3 / 24, (ez - 1) / zs)
-    p2 = np.where(small, 0.5 + z / 6 + z * z / 24 + z**3 / 120, (ez - 1 - zs) / (zs * zs))
-    return p1, p2
 
 
 def pulse_spectrum(pulse, omega) -> np.ndarray:
@@ -367,3 +361,96 @@ def sound_power(energies, duration: float) -> float:
     if np.any(~np.isfinite(e)) or np.any(e < 0):
         raise ParameterError("energies", "must be finite and >= 0 J")
     return float(e.sum() / d)
+
+
+@dataclass(frozen=True)
+class RunEnergy:
+    """Acoustic energy of every impact of a damper run, its sound power and radiation efficiency.
+
+    Attributes
+    ----------
+    energy_j : (n_impacts,) ndarray
+        Energy radiated by each impact in J (into the configuration's half or quarter space).
+    energy_lost_j : (n_impacts,) ndarray
+        Kinetic energy lost in each impact in J (the dynamics' impact table).
+    efficiency : (n_impacts,) ndarray
+        ``energy_j / energy_lost_j``.
+    sound_power_w : float
+        Mean sound power over the run in W.
+    loudest : int
+        Index of the impact that radiates most.
+    ratio_speeds_m_s, ratios : dict
+        Per wall (-1, +1): the approach speeds in m/s at which the configuration's energy was
+        integrated over the spherical grid, and its ratio to the free sphere's closed form there.
+    """
+
+    energy_j: np.ndarray
+    energy_lost_j: np.ndarray
+    efficiency: np.ndarray
+    sound_power_w: float
+    loudest: int
+    ratio_speeds_m_s: dict
+    ratios: dict
+
+    @property
+    def sound_power_level_db(self) -> float:
+        """Sound power level in dB re 1 pW (:data:`~acoustiviz.constants.W_REF`)."""
+        return 10.0 * math.log10(self.sound_power_w / W_REF) if self.sound_power_w > 0 else -math.inf
+
+
+def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8) -> RunEnergy:
+    """Radiated energy, sound power and radiation efficiency of a damper run.
+
+    Parameters
+    ----------
+    table : acoustiviz.dynamics.ImpactTable
+        The run's impacts (approach speeds, walls, energy lost).
+    cavity_scene : acoustiviz.sound.CavityScene
+        Where the cavity sits (configuration, walls, radius, medium); its ``sources(wall)`` gives
+        the image sources of an impact on each wall.
+    model : acoustiviz.sound.ClickModel
+        How an approach speed becomes an acceleration pulse.
+    duration : float
+        The run's duration in s (for the mean power).
+    n_theta : int
+        Polar nodes of the spherical grid (see :func:`acoustiviz.field.grids.spherical_grid_for`).
+
+    Notes
+    -----
+    Each impact's energy is the free sphere's closed form for its own pulse
+    (:func:`radiated_energy_free`) times the ratio of the configuration's energy
+    (:func:`radiated_energy_grid`, far-field intensity over the half or quarter
+    sphere, with the struck or the far wall's images) to the free sphere's, integrated at the
+    quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
+    ratio depends on the pulse only through its spectrum, which changes slowly with speed.
+
+    Not defined in a room (a geometry that is ``enclosed``): its walls close the fluid and return
+    the sound, so no surface around the sphere encloses an energy radiated away; refused with that
+    reason (a ParameterError naming ``config``).
+    """
+    from ..field.grids import spherical_grid_for
+
+    cavity_scene.configuration.enclosure()  # a room refuses here, saying why, before any work
+    a, medium = cavity_scene.radius, cavity_scene.medium
+    v = np.abs(np.asarray(table.approach_velocity, dtype=float))
+    walls = np.asarray(table.wall, dtype=float).astype(int)
+    free = np.array([radiated_energy_free(model.pulse_for(vk), radius=a, medium=medium) for vk in v])
+    grid = spherical_grid_for(cavity_scene.configuration, 1.0, n_theta=n_theta)
+    energy = free.copy()
+    speeds, ratios = {}, {}
+    for w in (-1, 1):
+        sel = walls == w
+        if not np.any(sel):
+            continue
+        ref = np.unique(np.percentile(v[sel], [0, 25, 50, 75, 100]))
+        srcs = cavity_scene.sources(w)  # the wall's image sources (acoustiviz.sound.wall_sources)
+        r = np.array([radiated_energy_grid(model.pulse_for(s), srcs, grid, radius=a, medium=medium)
+                      / radiated_energy_free(model.pulse_for(s), radius=a, medium=medium) for s in ref])
+        energy[sel] = free[sel] * (np.interp(np.log(v[sel]), np.log(ref), r) if ref.size > 1 else r[0])
+        speeds[w], ratios[w] = ref.tolist(), r.tolist()
+    lost = np.asarray(table.energy_lost, dtype=float)
+    ok = lost > 0
+    eff = np.full(energy.shape, np.nan)
+    eff[ok] = radiation_efficiency(energy[ok], lost[ok])
+    k = int(np.argmax(energy)) if energy.size else -1
+    return RunEnergy(energy, lost, eff, sound_power(energy, duration), k, speeds, ratios)

@@ -256,7 +256,7 @@ def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium =
     config : Geometry
         The scene.
     time : float or sequence of float
-        Times in s from the start of contact (1 to 12, each >= 0).
+        Times in s from the start of contact (1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES`, each >= 0).
     path : path-like
         Output ``.html`` file (written atomically).
     medium : Medium
@@ -276,13 +276,11 @@ def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium =
         ``path``.
     """
     from .render._common import _scene_label
-    from .render.snapshot import _planes, _symmetric_limit
+    from .render.snapshot import _check_times, _planes, _symmetric_limit
     from .vtk import _bounds, _quads
 
     path = _check_html_path(path)
-    times = np.atleast_1d(np.asarray(time, dtype=float))
-    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
-        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
+    times = _check_times(time)
     grids = _planes(config, planes, extent, times, medium, n_u, sections)
     fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")

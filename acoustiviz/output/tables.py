@@ -16,11 +16,12 @@ True
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from .writers import write_csv_atomic
 
-__all__ = ["IMPACT_COLUMNS", "EXTRA_IMPACT_COLUMNS", "write_impact_table"]
+__all__ = ["IMPACT_COLUMNS", "EXTRA_IMPACT_COLUMNS", "write_impact_table", "csv_number"]
 
 #: Columns of an impact table file, in order (``acoustiviz damper --impacts-csv`` promises these):
 #: contact start time (s), wall struck (+1 or -1), approach and separation speeds (m/s),
@@ -91,3 +92,24 @@ def write_impact_table(path, impacts, *, extra: bool = False) -> Path:
     cols = [getattr(impacts, _FIELDS[name]) for name in header]
     fmt = ["%.17g", "%d"] + ["%.17g"] * (len(header) - 2)
     return write_csv_atomic(path, header, cols, fmt=fmt)
+
+
+def csv_number(value, spec: str) -> str:
+    """A number as a cell of the CSV files: ``format(value, spec)``, ``inf``/``-inf``, or empty for NaN.
+
+    The one rule of every CSV file: an infinite level is written out (``-inf``, the level of
+    silence, which numpy and pandas read back as a float), a value that was not computed (NaN)
+    is an empty cell.
+
+    Examples
+    --------
+    >>> [csv_number(v, ".4f") for v in (93.97940008, float("-inf"), float("nan"))]
+    ['93.9794', '-inf', '']
+    """
+    v = float(value)
+    if math.isnan(v):
+        return ""
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    return format(v, spec)
+

@@ -312,7 +312,7 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
     config : Geometry
         The scene.
     time : float or sequence of float
-        Times in s from the start of contact (1 to 12, each >= 0).
+        Times in s from the start of contact (1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES`, each >= 0).
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
     medium : Medium
@@ -332,12 +332,10 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
     >>> write_snapshot_vtk(pulse, configuration("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
-    from .render.snapshot import _planes
+    from .render.snapshot import _check_times, _planes
 
     path = _check_vtk_path(path)
-    times = np.atleast_1d(np.asarray(time, dtype=float))
-    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
-        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
+    times = _check_times(time)
     grids = _planes(config, planes, extent, times, medium, n_u, sections)
     fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)

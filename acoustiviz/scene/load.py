@@ -68,7 +68,7 @@ class Scene:
         return {"room": settings} if _enclosed(self.data) else settings
 
     def room_sound(self):
-        """The :class:`~acoustiviz.output.audio.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
+        """The :class:`~acoustiviz.sound.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
         from ..app.wav import ROOM_SOUND_SCENE_KEYS, room_sound
 
         if not _enclosed(self.data):
@@ -349,7 +349,7 @@ def _band_absorption(raw: dict, data: dict, source: str) -> None:
     if data["configuration"]["absorption"] is not None:
         raise SceneError(source, key, "give either configuration.absorption or outputs.wav.absorption_bands, not both")
     from ..app.wav import least_absorbing
-    from ..output.audio import parse_absorption_bands
+    from ..sound import parse_absorption_bands
 
     try:
         _, alpha = parse_absorption_bands(text, key)
@@ -403,7 +403,7 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
     if "design_table" in outputs and "sweep" not in outputs:
         raise SceneError(source, "outputs.design_table", "needs [outputs.sweep] in the same scene")
     if {"frequency_response", "bifurcation", "operating_noise"} & set(outputs):
-        from ..app.limits import check_forcing_frequencies
+        from ..core.limits import check_forcing_frequencies
 
         key = "excitation.frequencies_hz"
         try:
@@ -510,6 +510,7 @@ def _check_circles(scene: Scene, conf) -> None:
     """
     import numpy as np
 
+    from ..constants import BALLOON_MIN_RADII
     from ..core.reach import check_view_radius
     from ..field.directivity import circle_points, room_window
 
@@ -526,7 +527,7 @@ def _check_circles(scene: Scene, conf) -> None:
                                        f"from the sphere's centre): {exc.detail}") from None
     if scene.wants("balloon"):
         try:
-            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], 2.1 * conf.radius)
+            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], BALLOON_MIN_RADII * conf.radius)
         except ParameterError as exc:
             raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 

@@ -14,12 +14,15 @@ from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..app.settings.sweep import SWEEP
 from ..constants import (
+    ANIMATION_SIZE,
     EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
     PULSES,
     ROOM_STRIKES,
     SAMPLE_RATES,
+    STILL_SIZE,
+    WAV_RATE,
 )
 from ..core.geometry import GEOMETRIES
 
@@ -174,9 +177,10 @@ _OUT = {
                        "size_px": _size([1400, 600]),
                        "vtk": _VTK},
                       "pressure field on the planar sections at given times (pyvista)"),
-    "balloon": Table({**_from_table(BALLOON, "outputs.balloon"), "size_px": _size([1200, 900]), "vtk": _VTK},
+    "balloon": Table({**_from_table(BALLOON, "outputs.balloon"), "size_px": _size(list(STILL_SIZE)), "vtk": _VTK},
                      "3-D directivity balloon on the spherical grid (pyvista)"),
-    "animation": Table({**_from_table(ANIMATION, "outputs.animation"), "size_px": _size([800, 600]), "vtk": _VTK},
+    "animation": Table({**_from_table(ANIMATION, "outputs.animation"), "size_px": _size(list(ANIMATION_SIZE)),
+                        "vtk": _VTK},
                        "GIF of the wavefront on the planar sections (pyvista)"),
     "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),
@@ -195,7 +199,7 @@ _OUT = {
         "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
-    "wav": Table({"rate_hz": Key("int", "sample rate", 48000, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),
+    "wav": Table({"rate_hz": Key("int", "sample rate", WAV_RATE, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),
                                  choices=SAMPLE_RATES),
                   "stereo": Key("bool", "one stereo file from the first two listeners", False),
                   "subtype": Key("str", "PCM_24: normalised to peak 1 dB below full scale, one shared scale "

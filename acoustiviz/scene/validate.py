@@ -172,13 +172,13 @@ def _validate_table(data, table: Table, src: str, path: str, fill_defaults: bool
 
 
 def check_damper_physics(scene) -> None:
-    """Refuse, at load, a ``[damper]`` whose run cannot be computed or measured (``app.limits.check_damper``).
+    """Refuse, at load, a ``[damper]`` whose run cannot be computed or measured (``core.limits.check_damper``).
 
     The same limits the run checks, with the K_HZ of the damper's sphere, raised as a
     :class:`SceneError` naming the key (``damper.impact_mass_kg``) and what is allowed.
     """
-    from ..app.limits import check_damper
     from ..app.names import SCENE_DAMPER_KEYS, user_terms
+    from ..core.limits import check_damper
 
     d = scene.data["damper"]
     try:

@@ -242,7 +242,7 @@ def sound_setup(design: Design, settings: Settings, medium=None):
     mass are the sweep's (``pulse``, ``pulse_mass``).
     """
     from ..core.medium import Medium
-    from ..output.audio import CavityScene, ClickModel
+    from ..sound import CavityScene, ClickModel
 
     s = settings
     medium = Medium(c=s.c, rho=s.rho) if medium is None else medium

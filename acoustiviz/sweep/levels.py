@@ -2,7 +2,7 @@
 
 A design's maximum SPL (:func:`acoustiviz.sweep.max_spl_db`) is the peak of its loudest impact. How
 loud the run sounds to people and to standards is asked of the whole click train, the signal
-:func:`acoustiviz.output.audio.render` makes of every impact at the listener at
+:func:`acoustiviz.sound.render` makes of every impact at the listener at
 :data:`acoustiviz.constants.ANALYSIS_RATE` (96 kHz: each click evaluated in closed form at >= 1.5 MHz
 and band-limited flat to 43.2 kHz), evaluated with the IEC 61672-1 weightings of the
 conformance-tested library (:func:`acoustiviz.levels.sound_levels`):
@@ -13,7 +13,7 @@ conformance-tested library (:func:`acoustiviz.levels.sound_levels`):
   duration (from t = 0, the start of the run, to ``duration``).
 
 Every impact is heard as a strike on the configuration's struck surface (``walls="one"`` of
-:class:`acoustiviz.output.audio.CavityScene`), the view the maximum SPL takes, so the two describe
+:class:`acoustiviz.sound.CavityScene`), the view the maximum SPL takes, so the two describe
 the same sound. Levels in dB re 20 µPa.
 
 A run of 20 s is 1.9 million samples at 96 kHz and a few hundred clicks of a few milliseconds, so
@@ -37,7 +37,7 @@ agree with rendering and filtering every sample (``method="dense"``) to about 1e
 within 1e-5 dB at several designs and configurations in ``tests/test_sweep_levels.py``.
 ``H(ω)``, ``R(ω)`` and the filters' tables are made once per process and reused by every design
 of the same rate, sphere, listener and medium. A room (a wall with more than
-:data:`acoustiviz.output.audio.synthesis.TRAIN_ABOVE` sources, whose reflections fill the
+:data:`acoustiviz.sound.synthesis.TRAIN_ABOVE` sources, whose reflections fill the
 silences) is rendered densely. ``benchmarks/bench_sweep.py`` measures the levels' cost beside the
 motion's.
 """
@@ -76,9 +76,9 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
     ----------
     impacts : acoustiviz.dynamics.ImpactTable
         The run's impacts (contact start times in s, walls, approach speeds in m/s).
-    scene : acoustiviz.output.audio.CavityScene
+    scene : acoustiviz.sound.CavityScene
         The cavity and its surroundings (the sweep uses ``walls="one"``).
-    model : acoustiviz.output.audio.ClickModel
+    model : acoustiviz.sound.ClickModel
         How an approach speed becomes an acceleration pulse.
     point : (3,) or (1, 3) array_like
         Listener position in m.
@@ -90,7 +90,7 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
     method : {"sparse", "dense"}
         ``"sparse"``: from the clicks alone (:func:`click_windows`,
         :func:`acoustiviz.levels.train.train_levels`); ``"dense"``: render every sample
-        (:func:`acoustiviz.output.audio.render`) and filter it (:func:`acoustiviz.levels.sound_levels`).
+        (:func:`acoustiviz.sound.render`) and filter it (:func:`acoustiviz.levels.sound_levels`).
 
     Returns
     -------
@@ -112,7 +112,7 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
                            sample_rate=sample_rate) if method == "sparse" else None
     if clicks is None:
         from ..levels import sound_levels
-        from ..output.audio import ImpactSequence, render
+        from ..sound import ImpactSequence, render
 
         out = render(ImpactSequence.from_table(impacts), scene, model, np.reshape(point, (1, 3)),
                      sample_rate=sample_rate, duration=duration)
@@ -125,15 +125,15 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
 
 
 def click_windows(impacts, *, scene, model, point, sample_rate: int = ANALYSIS_RATE):
-    """Each impact's band-limited click at a listener, as :func:`~acoustiviz.output.audio.render` adds it.
+    """Each impact's band-limited click at a listener, as :func:`~acoustiviz.sound.render` adds it.
 
     Parameters
     ----------
-    impacts : acoustiviz.dynamics.ImpactTable or acoustiviz.output.audio.ImpactSequence
+    impacts : acoustiviz.dynamics.ImpactTable or acoustiviz.sound.ImpactSequence
         Contact start times in s, walls, approach speeds in m/s.
     scene, model
-        The :class:`~acoustiviz.output.audio.CavityScene` and
-        :class:`~acoustiviz.output.audio.ClickModel` of the render.
+        The :class:`~acoustiviz.sound.CavityScene` and
+        :class:`~acoustiviz.sound.ClickModel` of the render.
     point : (3,) or (1, 3) array_like
         Listener position in m.
     sample_rate : {44100, 48000, 96000}
@@ -144,7 +144,7 @@ def click_windows(impacts, *, scene, model, point, sample_rate: int = ANALYSIS_R
     (starts, windows) or None
         ``starts`` (k,) the first sample of each click's window, ``windows`` (k, N) its samples in
         Pa (:func:`acoustiviz.levels.train.train_signal` sums them into the rendered signal); None
-        in a room (a wall with more than :data:`~acoustiviz.output.audio.synthesis.TRAIN_ABOVE`
+        in a room (a wall with more than :data:`~acoustiviz.sound.synthesis.TRAIN_ABOVE`
         sources), which the render builds from delay trains.
     """
     from scipy.fft import irfft, next_fast_len
@@ -152,7 +152,7 @@ def click_windows(impacts, *, scene, model, point, sample_rate: int = ANALYSIS_R
     from ..core.radiation import sphere_pole
     from ..errors import ParameterError
     from ..field.sources import image_geometry
-    from ..output.audio import (
+    from ..sound import (
         SAMPLE_RATES,
         CavityScene,
         ClickModel,
@@ -161,7 +161,7 @@ def click_windows(impacts, *, scene, model, point, sample_rate: int = ANALYSIS_R
         oversampling_factor,
         wall_sources,
     )
-    from ..output.audio.synthesis import TRAIN_ABOVE
+    from ..sound.synthesis import TRAIN_ABOVE
 
     seq = impacts if isinstance(impacts, ImpactSequence) else ImpactSequence.from_table(impacts)
     for name, value, kind in (("scene", scene, CavityScene), ("model", model, ClickModel)):
@@ -280,7 +280,7 @@ def _radiation_cached(key) -> np.ndarray:
 
 def _half_length(L: int) -> int:
     """Half-length in output samples of the render's decimation filter for factor ``L``."""
-    from ..output.audio import decimation_filter
+    from ..sound import decimation_filter
 
     return (decimation_filter(L).size - 1) // (2 * L)
 
@@ -288,7 +288,7 @@ def _half_length(L: int) -> int:
 @functools.lru_cache(maxsize=16)
 def _lowpass(fs: int, L: int, n_win: int) -> np.ndarray:
     """The render's zero-phase decimation filter at the window's DFT frequencies (real, gain 1 at 0 Hz)."""
-    from ..output.audio import decimation_filter
+    from ..sound import decimation_filter
 
     h = decimation_filter(L)
     half = (h.size - 1) // (2 * L)

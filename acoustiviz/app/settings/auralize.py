@@ -25,6 +25,7 @@ from ...constants import (
     STRIKES,
     TABLE1,
     TAIL_SEED,
+    WAV_RATE,
 )
 from .base import Settings
 from .damper import DAMPER
@@ -107,7 +108,7 @@ FILES = (
             "--ear-spacing apart facing the damper (no head shadow)", table=_W),
     Setting("ear_spacing", "--ear-spacing", None, "float", 0.18,
             "distance between the ears with --stereo and one listener", "m", low=0.0, low_open=True),
-    Setting("rate", "--rate", "rate_hz", "int", 48000, "output sample rate in Hz", "Hz",
+    Setting("rate", "--rate", "rate_hz", "int", WAV_RATE, "output sample rate in Hz", "Hz",
             low=min(SAMPLE_RATES), high=max(SAMPLE_RATES), choices=SAMPLE_RATES, table=_W),
     Setting("subtype", "--subtype", "subtype", "str", "PCM_24",
             "PCM_24: normalised 24-bit that plays without clipping, one scale (Pa per full scale) "
@@ -150,7 +151,7 @@ class DamperSettings(Settings):
 
     Masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, the gap in m, speeds in m/s, times in s.
     The ranges of :data:`~acoustiviz.app.settings.damper.DAMPER` are checked when the settings are made;
-    the physics' limits (:func:`acoustiviz.app.limits.check_damper`) when the run is set up.
+    the physics' limits (:func:`acoustiviz.core.limits.check_damper`) when the run is set up.
     """
 
     TABLE = DAMPER
@@ -204,7 +205,7 @@ class AuralizeSettings(Settings):
     listener: tuple | None = None
     stereo: bool = False
     ear_spacing: float = 0.18
-    rate: int = 48000
+    rate: int = WAV_RATE
     subtype: str = "PCM_24"
     scale: float | None = None
     headroom: float = 1.0

@@ -4,7 +4,7 @@ One :class:`~acoustiviz.app.settings.table.Setting` per value of the damper mode
 its command-line option (``acoustiviz damper``, ``auralize`` and ``forced``) and its scene key
 (``[damper]``, and ``contact.k_hertz_n_m1_5``): the fixed ranges both front-ends check first. The
 limits that follow from the physics (a contact that can be computed, a run long enough to measure
-the damping) are checked afterwards by :func:`acoustiviz.app.limits.check_damper`, naming the same
+the damping) are checked afterwards by :func:`acoustiviz.core.limits.check_damper`, naming the same
 option or key. Masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, lengths in m,
 speeds in m/s, times in s.
 """

@@ -11,7 +11,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ...constants import BALLOON_METRICS
+from ...constants import ANIMATION_SIZE, BALLOON_METRICS, STILL_SIZE
+from ...constants import MAX_SNAPSHOT_TIMES as MAX_TIMES
 from ...errors import ParameterError
 from .base import Settings, check_size
 from .table import Setting
@@ -21,8 +22,6 @@ __all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "SECTIONS", "MAX_TIMES", "Balloon
 
 #: Planes through the sphere's centre a field view may show.
 SECTIONS = ("xz", "yz", "xy")
-#: Most snapshot times drawn side by side.
-MAX_TIMES = 12
 #: Farthest edge of a field plane and largest balloon radius in m (a render of a field kilometres
 #: across shows nothing of an impact).
 MAX_EXTENT, MAX_BALLOON_DISTANCE = 1e3, 1e4
@@ -88,7 +87,7 @@ class BalloonSettings(Settings):
     db_range: float = 30.0
     n_theta: int = 32
     opacity: float = 0.7
-    size: tuple = (1200, 900)
+    size: tuple = STILL_SIZE
 
     def validate(self) -> None:  # noqa: D102
         object.__setattr__(self, "size", check_size(self.size))
@@ -104,7 +103,7 @@ class SnapshotSettings(Settings):
     extent: float | None = None
     n_u: int = 241
     clim: float | None = None
-    size: tuple = (1200, 900)
+    size: tuple = STILL_SIZE
 
     def validate(self) -> None:  # noqa: D102
         times = tuple(self.times)
@@ -128,7 +127,7 @@ class AnimationSettings(Settings):
     extent: float | None = None
     n_u: int = 201
     clim: float | None = None
-    size: tuple = (800, 600)
+    size: tuple = ANIMATION_SIZE
 
     def validate(self) -> None:  # noqa: D102
         object.__setattr__(self, "sections", _check_sections(self.sections))

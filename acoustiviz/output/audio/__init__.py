@@ -1,47 +1,7 @@
-"""Auralisation: impact sequences rendered into band-limited, calibrated WAV files.
+"""Audio sinks: calibrated WAV files and their JSON sidecars, written atomically.
 
-Each impact of a sequence (a time, the wall it strikes and its approach speed) becomes a Hertz
-acceleration pulse of the impact mass (:mod:`acoustiviz.core.contact`); the rigid-sphere radiation
-model (:mod:`acoustiviz.core.radiation`) and the image sources of the scene (:mod:`acoustiviz.core.geometry`)
-give its pressure at each listener; the clicks are placed at their exact (sub-sample) times and
-summed. The result is in pascals.
-
-Band-limiting
--------------
-A click has energy far above audio rates (contact times of a few hundred microseconds,
-``l = c/a`` of tens of kilohertz, and a kink at the start and the end of the half-sine pulse).
-Point-sampling it at 48 kHz would alias. Each click is therefore evaluated exactly (closed form)
-on an internal grid ``L`` times finer than the output, aligned with the output samples, and
-decimated with one linear-phase Kaiser-window FIR low-pass filter: passband flat to
-``0.45 fs`` (ripple < 1e-5), at least 110 dB of attenuation from ``fs/2`` up, so nothing above
-the output Nyquist frequency folds back. ``L`` is chosen so the internal rate is at least
-16 times the output rate and 200 samples per shortest contact. The filter has zero delay (its
-centre tap is aligned), so a click's timing is exact to the internal step's rounding -- and
-no rounding happens at all: the internal samples are the closed form at the exact retarded
-times ``t - t_k - (r - a)/c``.
-
-How impacts map to sources
---------------------------
-The damper's axis of motion (``x`` in :mod:`acoustiviz.dynamics`) is the axis ``n`` of the
-configuration's real sphere (the normal of the struck surface, ``+z`` for ``"free"`` and
-``"plane"``). The cavity's two walls are perpendicular to it:
-
-* the **struck wall** (``struck_wall``, default ``-1``) lies on the configuration's struck
-  surface (``z = 0`` for ``"plane"``). Its impacts are exactly the configuration: the sphere at
-  ``(0, 0, a)`` accelerating along ``+n`` and its images in the configuration's planes (paper
-  eq 14 for ``"plane"``).
-* the **far wall** (the other one) lies ``gap + 2a`` further along ``n``: its impacts put the
-  sphere's centre at ``(0, 0, a + gap)`` accelerating along ``-n`` (it rebounds back towards the
-  struck wall). The far wall is taken as acoustically small (a lid, smaller than the
-  wavelengths of the click) and does not reflect; the configuration's planes still do, so the
-  far-wall sphere has its own images in them (its image in ``z = 0`` sits at ``(0, 0, -a - gap)``
-  with axis ``+n``).
-
-With ``walls="one"`` every impact is heard as a strike on the struck wall (the paper's own
-view, in which every impact is a sphere hitting the reflecting plane; an upper bound).
-Wall ``-1`` is struck when the impact mass reaches ``y - x = -gap/2``, so with ``struck_wall=-1``
-the damper's ``+x`` is ``+n``; with ``struck_wall=+1`` it is ``-n``. The cavity is at rest in
-this frame: the main mass's displacement (a few cm) is neglected, as in the paper.
+The signals come from :mod:`acoustiviz.sound` (impact trains rendered at listeners, in Pa);
+this package only writes them.
 
 Calibration
 -----------
@@ -58,55 +18,12 @@ All quantities are SI (s, m, kg, m/s, Pa, Hz) unless a name says otherwise (``_d
 
 from __future__ import annotations
 
-from ...constants import P_REF
 from ...errors import ClippingWarning
-from .room_sound import RoomSound, parse_absorption_bands
-from .sources import (
-    MASS_MODELS,
-    WALL_MODELS,
-    CavityScene,
-    ImpactSequence,
-    check_listeners,
-    ear_positions,
-    sphere_radius,
-    spl,
-    wall_sources,
-)
-from .synthesis import (
-    PASSBAND_FRACTION,
-    SAMPLE_RATES,
-    STOPBAND_ATTENUATION_DB,
-    ClickModel,
-    Rendering,
-    decimation_filter,
-    oversampling_factor,
-    render,
-)
 from .wav import SUBTYPES, shared_scale, sidecar_path, write_sidecar, write_wav
 
 __all__ = [
-    "P_REF",
-    "SAMPLE_RATES",
     "SUBTYPES",
-    "PASSBAND_FRACTION",
-    "STOPBAND_ATTENUATION_DB",
-    "MASS_MODELS",
-    "WALL_MODELS",
     "ClippingWarning",
-    "ImpactSequence",
-    "CavityScene",
-    "ClickModel",
-    "Rendering",
-    "sphere_radius",
-    "spl",
-    "oversampling_factor",
-    "decimation_filter",
-    "wall_sources",
-    "check_listeners",
-    "ear_positions",
-    "render",
-    "RoomSound",
-    "parse_absorption_bands",
     "shared_scale",
     "write_wav",
     "write_sidecar",

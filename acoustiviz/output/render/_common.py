@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError
+from ...constants import STILL_SIZE as DEFAULT_SIZE
 from ...core.geometry import Geometry
 from ...core.medium import Medium
 from ..writers import atomic_path
@@ -27,8 +28,6 @@ __all__ = [
 #: the sphere's centre (``"xy"``).
 SECTIONS = ("xz", "yz", "xy")
 
-#: Default image size in pixels (width, height).
-DEFAULT_SIZE = (1200, 900)
 
 #: Largest image side in pixels accepted by the renders.
 MAX_SIDE = 8192

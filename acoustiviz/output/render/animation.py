@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_positive, check_range
+from ...constants import ANIMATION_SIZE
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import arrival_windows, snapshots, source_geometry
@@ -104,7 +105,7 @@ def render_animation(
     extent=None,
     sections=("xz",),
     n_u: int = 201,
-    size=(800, 600),
+    size=ANIMATION_SIZE,
     clim=None,
     title=None,
     cmap: str = "RdBu_r",

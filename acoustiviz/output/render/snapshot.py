@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
+from ...constants import MAX_SNAPSHOT_TIMES
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import snapshots
@@ -189,6 +190,15 @@ def _time_label(t: float) -> str:
     return f"t = {t * 1e3:.3f} ms"
 
 
+def _check_times(time) -> np.ndarray:
+    """Snapshot times in s as a 1-D array: 1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES` finite times >= 0."""
+    times = np.atleast_1d(np.asarray(time, dtype=float))
+    if times.ndim != 1 or times.size == 0 or times.size > MAX_SNAPSHOT_TIMES or not np.all(np.isfinite(times)) \
+            or np.any(times < 0):
+        raise ParameterError("time", f"expected 1 to {MAX_SNAPSHOT_TIMES} finite times >= 0 s, got {time!r}")
+    return times
+
+
 def render_snapshot(
     pulse,
     config: Geometry,
@@ -255,9 +265,7 @@ def render_snapshot(
     path = _check_path(path, (".png",))
     size = _check_size(size)
     _check_inputs(pulse, config, medium)
-    times = np.atleast_1d(np.asarray(time, dtype=float))
-    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
-        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
+    times = _check_times(time)
     grids = _planes(config, planes, extent, times, medium, n_u, sections)
     fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]  # each (k, n)
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")

@@ -8,13 +8,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validate import ParameterError, check_choice, check_positive
-from ...constants import SAMPLE_RATES
-from ...core.contact import PULSE_KINDS, Impact, acceleration_pulse
-from ...core.images import ImageSet
-from ...core.radiation import pulse_response
-from ...field._kernels import _njit
-from ...field.sources import image_geometry
+from .._jit import njit as _njit
+from .._validate import ParameterError, check_choice, check_positive
+from ..constants import SAMPLE_RATES, WAV_RATE
+from ..core.contact import PULSE_KINDS, Impact, acceleration_pulse
+from ..core.images import ImageSet
+from ..core.radiation import pulse_response
+from ..field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
 
 __all__ = [
@@ -227,7 +227,7 @@ class Rendering:
     model : ClickModel
         Contact and pulse model.
     room : dict, optional
-        In a room rendered with a :class:`~acoustiviz.output.audio.room_sound.RoomSound`: the
+        In a room rendered with a :class:`~acoustiviz.sound.room_sound.RoomSound`: the
         exact image order, the transition time, the tail and the bands (JSON-ready).
     """
 
@@ -283,7 +283,7 @@ class Rendering:
 
 
 def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, listeners, *,
-           sample_rate: int = 48000, duration: float | None = None, oversampling: int | None = None,
+           sample_rate: int = WAV_RATE, duration: float | None = None, oversampling: int | None = None,
            room_sound=None) -> Rendering:
     """Render an impact sequence into band-limited pressure signals at the listeners.
 
@@ -306,7 +306,7 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
         Internal rate over output rate; default :func:`oversampling_factor`.
     room_sound : RoomSound, optional
         In a room: a statistical late tail after the exact early images, and the absorption per
-        octave band (:mod:`acoustiviz.output.audio.room_sound`); without it every image to the
+        octave band (:mod:`acoustiviz.sound.room_sound`); without it every image to the
         room's energy tolerance is summed exactly.
 
     Returns

@@ -1,6 +1,6 @@
 """A damper's sound in a shoebox room: exact early images, per-band absorption and a statistical tail.
 
-:func:`acoustiviz.output.audio.render` sums every image of a room to the order its energy
+:func:`acoustiviz.sound.render` sums every image of a room to the order its energy
 tolerance needs (order 154, 4.9 million images, for a 6 x 4 x 3 m room with alpha = 0.1 at
 -60 dB). Given a :class:`RoomSound` it renders the room differently:
 
@@ -39,8 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validate import ParameterError, check_choice, check_range
-from ...constants import TAIL_SEED
+from .._validate import ParameterError, check_choice, check_range
+from ..constants import TAIL_SEED
 from .synthesis import (
     _SINC_HALF,
     _SINC_STEPS,
@@ -131,7 +131,7 @@ class RoomSound:
         (absorption > 0 on some surface in every band; ``late_tail``), and a given image order must
         be complete at some time after the start (``order`` >= 3) to hand over to it.
         """
-        from ...core.reverberation import complete_until
+        from ..core.reverberation import complete_until
 
         if not self.late_tail:
             return
@@ -146,7 +146,7 @@ class RoomSound:
                                           f"an order >= 3, got {room.order}")
 
     def render_scene(self, sequence, scene, model, pts, fs: int, duration, oversampling):
-        """:func:`render_room` with these settings (what :func:`acoustiviz.output.audio.render` calls)."""
+        """:func:`render_room` with these settings (what :func:`acoustiviz.sound.render` calls)."""
         return render_room(sequence, scene, model, pts, fs, duration, oversampling, self)
 
     @property
@@ -231,9 +231,9 @@ class _Plan:
 
 def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
     """The exact image order, the transition time and the tail's end."""
-    from ...core.reverberation import complete_until, echo_density_time, energy_order, mixing_time
-    from ...core.room import Shoebox, image_count, max_order_for_memory
-    from ...core.tail import tail_end
+    from ..core.reverberation import complete_until, echo_density_time, energy_order, mixing_time
+    from ..core.room import Shoebox, image_count, max_order_for_memory
+    from ..core.tail import tail_end
 
     a = conf.radius
     box = Shoebox(conf.dimensions, rs.band_absorption) if rs.banded else conf.shoebox
@@ -275,8 +275,8 @@ def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
 
 # --------------------------------------------------------------------------- rendering
 def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs: RoomSound):
-    """:func:`acoustiviz.output.audio.render` of a scene in a room with a :class:`RoomSound` (arguments checked)."""
-    from ...field.sources import image_geometry
+    """:func:`acoustiviz.sound.render` of a scene in a room with a :class:`RoomSound` (arguments checked)."""
+    from ..field.sources import image_geometry
     from .sources import wall_sources
 
     conf = scene.configuration
@@ -337,15 +337,15 @@ def _band_ratios(conf, box) -> np.ndarray:
 def _early_trains(pts, srcs, direct, ratio, plan, rs, radius, medium, fs):
     """The images after the direct sound arriving before the transition, as fractional-delay trains.
 
-    As :func:`acoustiviz.output.audio.synthesis._trains`, the images cut at the transition time,
+    As :func:`acoustiviz.sound.synthesis._trains`, the images cut at the transition time,
     each placed at its delay after the direct sound's (``direct``, s, per listener): the trains
     drive the click evaluated at the direct sound's exact arrival. Per band (weights times
     ``ratio``) and split by :func:`~acoustiviz.core.tail.band_masks` when the absorption
     is banded. Returns ``(q0, trains (n_listeners, 2, size), last delay after the direct sound s)``.
     """
-    from ...core.images import ImageSet
-    from ...core.tail import band_masks
-    from ...field.sources import image_geometry
+    from ..core.images import ImageSet
+    from ..core.tail import band_masks
+    from ..field.sources import image_geometry
 
     rest = ImageSet(srcs.positions[1:], srcs.axes[1:], srcs.weights[1:], srcs.orders[1:], srcs.labels[1:])
     delay, p0, c_shape, _ = image_geometry(pts, rest, radius, medium=medium)
@@ -420,7 +420,7 @@ def _clicks(out, sequence, pulses, geom, grid, radius, medium) -> list:
     Returns ``[(wall, listener, lo, z (2, m))]``, sample ``lo + j`` holding ``z[:, j]``, cut to
     the signal.
     """
-    from ...core.radiation import pulse_response
+    from ..core.radiation import pulse_response
 
     fs, L, f_int, h, half, tail = grid
     n_out = out.shape[1]
@@ -487,7 +487,7 @@ def _add_tail(out, dry, sign, shift, plan, rs, radius, medium, fs) -> dict:
     (``shift``, whole samples) so that it starts at the impact; the tail's sample m lies at
     ``t_k + m_x / fs + m / fs``.
     """
-    from ...core.tail import late_tail
+    from ..core.tail import late_tail
 
     n_out = out.shape[1]
     m_x = math.ceil(plan.transition * fs)
@@ -535,7 +535,7 @@ def _overlap_add(x: np.ndarray, h: np.ndarray) -> np.ndarray:
 
 def _describe(plan, rs, tail_info, images) -> dict:
     """What the sidecar records of the room's sound: the exact order, the transition and the tail."""
-    from ...core.reverberation import reverberation_time
+    from ..core.reverberation import reverberation_time
 
     neg = plan.neglected_db
     t60 = reverberation_time(plan.box, "eyring")

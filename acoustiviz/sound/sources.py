@@ -2,23 +2,23 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validate import ParameterError, check_choice, check_points, check_positive
-from ...constants import P_REF, PAPER_RADIUS
-from ...core.geometry import Geometry, geometry
-from ...core.images import ImageSet, ImageSource
-from ...core.medium import AIR, Medium
+from .._validate import ParameterError, check_choice, check_points, check_positive
+from ..constants import PAPER_RADIUS
+from ..core.geometry import Geometry, geometry
+from ..core.images import ImageSet, ImageSource
+from ..core.medium import AIR, Medium
+from ..field.metrics import spl_db
 
 __all__ = [
     "MASS_MODELS",
     "WALL_MODELS",
     "ImpactSequence",
+    "periodic_train",
     "CavityScene",
-    "sphere_radius",
     "spl",
     "wall_sources",
     "check_listeners",
@@ -35,23 +35,9 @@ WALL_MODELS = ("both", "one")
 
 
 # --------------------------------------------------------------------------- small helpers
-def sphere_radius(mass: float, density: float) -> float:
-    """Radius in m of a solid sphere of ``mass`` kg and ``density`` kg/m³: ``(3 m / (4 π ρ))^{1/3}``.
-
-    Examples
-    --------
-    >>> round(sphere_radius(0.0405, 7800.0) * 1e3, 2)  # the paper's 40.5 g impact mass in steel, mm
-    10.74
-    """
-    m = check_positive("mass", mass, "kg")
-    rho = check_positive("density", density, "kg/m^3")
-    return (3.0 * m / (4.0 * math.pi * rho)) ** (1.0 / 3.0)
-
-
 def spl(pressure) -> float:
     """Peak sound pressure level ``20 log10(max|p| / 20 µPa)`` in dB of a signal in Pa (-inf if silent)."""
-    peak = float(np.max(np.abs(np.asarray(pressure, dtype=float)), initial=0.0))
-    return 20.0 * math.log10(peak / P_REF) if peak > 0 else -math.inf
+    return spl_db(float(np.max(np.abs(np.asarray(pressure, dtype=float)), initial=0.0)))
 
 
 # --------------------------------------------------------------------------- inputs
@@ -130,6 +116,38 @@ class ImpactSequence:
         v = get("approach_velocities", "approach_velocity", "approach_velocity_m_s", "approach_speed",
                 "velocity_in")
         return cls(t, w, np.abs(np.asarray(v, dtype=float)))
+
+
+def periodic_train(times, walls, velocities, period: float, repeats: int) -> ImpactSequence:
+    """The impacts of one period repeated ``repeats`` times, each copy ``period`` s after the last.
+
+    Parameters
+    ----------
+    times : (n,) array_like
+        Contact start times in s of the impacts of one period (>= 0).
+    walls : (n,) array_like of int
+        The wall each strikes, -1 or +1.
+    velocities : (n,) array_like
+        Their approach speeds in m/s (> 0).
+    period : float
+        Period of the train in s (a forcing period, or a whole number of them).
+    repeats : int
+        Number of copies.
+
+    Returns
+    -------
+    ImpactSequence
+        ``repeats * n`` impacts: the ``k``-th copy at ``times + k period``.
+
+    Examples
+    --------
+    >>> seq = periodic_train([0.01], [-1], [1.2], 0.1, 3)
+    >>> [round(float(t), 2) for t in seq.times]
+    [0.01, 0.11, 0.21]
+    """
+    base = np.asarray(times, dtype=float)
+    t = np.concatenate([base + k * period for k in range(repeats)]) if base.size else np.empty(0)
+    return ImpactSequence(t, np.tile(walls, repeats), np.tile(velocities, repeats))
 
 
 @dataclass(frozen=True)
