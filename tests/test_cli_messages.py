@@ -1,0 +1,86 @@
+"""Messages a user can act on, and no output that silently holds inf, nan or only zeros.
+
+Each refusal is one line naming the user's option or scene key (never a Python parameter) and the
+allowed range or what it would take; the fixtures and helpers are those of ``test_cli_fuzz``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+import soundfile as sf
+from test_cli_fuzz import assert_user_error, call, here, left_over  # noqa: F401 - here: a fixture
+
+RATE = 48000
+
+
+def _sine_wav(path, *, amplitude=0.5, seconds=0.5, channels=1, sidecar=None):
+    """A 1 kHz sine of ``amplitude`` full scale as 24-bit PCM, and optionally its JSON sidecar."""
+    t = np.arange(int(seconds * RATE)) / RATE
+    data = np.tile(amplitude * np.sin(2 * np.pi * 1000.0 * t)[:, None], (1, channels))
+    sf.write(str(path), data, RATE, subtype="PCM_24")
+    if sidecar is not None:
+        path.with_suffix(".json").write_text(json.dumps(sidecar))
+    return path
+
+
+def _levels_row(path):
+    with open(path, newline="") as fh:
+        return next(csv.DictReader(fh))
+
+
+# --- levels: a calibration whose levels overflow is refused, one that does not gives finite levels
+@pytest.mark.parametrize("scale", ["1e308", "1e200", "1e-300"])
+def test_levels_refuses_a_calibration_whose_levels_overflow(here, capsys, scale):  # noqa: F811
+    _sine_wav(here / "s.wav")
+    rc = call(["levels", "s.wav", "--pa-per-fs", scale, "--csv", "l.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--pa-per-fs")
+    assert "must lie in [" in err and "Pa" in err
+    assert "pa_per_fs" not in err
+    assert left_over(here) == ["s.wav"]
+
+
+def test_levels_of_a_huge_calibration_within_range_are_finite_and_linear(here, capsys):  # noqa: F811
+    _sine_wav(here / "s.wav")
+    assert call(["levels", "s.wav", "--pa-per-fs", "1", "--csv", "one.csv"]) == 0
+    assert call(["levels", "s.wav", "--pa-per-fs", "1e100", "--csv", "big.csv"]) == 0
+    one, big = _levels_row(here / "one.csv"), _levels_row(here / "big.csv")
+    for col in ("lzpeak_db", "lzeq_db", "laeq_db", "sel_db"):
+        assert big[col] != "" and one[col] != "", col
+        assert float(big[col]) - float(one[col]) == pytest.approx(2000.0, abs=1e-3), col  # 20 log10(1e100)
+    with open(here / "big_bands.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows and all(math.isfinite(float(r["leq_db"])) for r in rows if r["band_hz"] == "1000")
+
+
+def test_levels_refuses_a_sidecar_calibration_whose_levels_overflow(here, capsys):  # noqa: F811
+    _sine_wav(here / "s.wav", sidecar={"scale_pa_per_full_scale": 1e308})
+    rc = call(["levels", "s.wav", "--csv", "l.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "s.json")
+    assert "scale_pa_per_full_scale" in err and "must lie in [" in err
+
+
+# --- levels: a sidecar that contradicts its file
+@pytest.mark.parametrize("field, value", [("sample_rate_hz", 44100), ("channels", 2), ("frames", 1000)])
+def test_levels_refuses_a_sidecar_that_contradicts_its_file(here, capsys, field, value):  # noqa: F811
+    good = {"scale_pa_per_full_scale": 1.0, "sample_rate_hz": RATE, "channels": 1, "frames": RATE // 2}
+    _sine_wav(here / "s.wav", sidecar={**good, field: value})
+    rc = call(["levels", "s.wav", "--csv", "l.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "s.json")
+    assert field in err and str(value) in err
+    assert left_over(here) == ["s.json", "s.wav"]
+
+
+def test_levels_trusts_a_sidecar_that_agrees_with_its_file(here, capsys):  # noqa: F811
+    side = {"scale_pa_per_full_scale": 2.0, "sample_rate_hz": RATE, "channels": 2, "frames": RATE // 2}
+    _sine_wav(here / "s.wav", channels=2, sidecar=side)
+    assert call(["levels", "s.wav", "--csv", "l.csv"]) == 0
+    # a 1 kHz sine of 0.5 x 2 Pa: its peak is 1 Pa, 93.98 dB re 20 uPa
+    assert float(_levels_row(here / "l.csv")["lzpeak_db"]) == pytest.approx(20 * math.log10(1.0 / 20e-6), abs=0.05)
