@@ -84,3 +84,24 @@ def test_levels_trusts_a_sidecar_that_agrees_with_its_file(here, capsys):  # noq
     assert call(["levels", "s.wav", "--csv", "l.csv"]) == 0
     # a 1 kHz sine of 0.5 x 2 Pa: its peak is 1 Pa, 93.98 dB re 20 uPa
     assert float(_levels_row(here / "l.csv")["lzpeak_db"]) == pytest.approx(20 * math.log10(1.0 / 20e-6), abs=0.05)
+
+
+# --- auralize: a given scale that leaves the file all zeros (or infinite) is refused before any file
+@pytest.mark.parametrize("scale, subtype, words", [("1e308", "PCM_24", "only zeros"), ("1e308", "FLOAT", "only zeros"),
+                                                   ("1e-300", "FLOAT", "infinities")])
+def test_auralize_refuses_a_scale_the_file_cannot_hold(here, capsys, scale, subtype, words):  # noqa: F811
+    rc = call(["auralize", "--duration", "1", "--wav", "a.wav", "--scale", scale, "--subtype", subtype])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--scale")
+    assert words in err and "must lie in (" in err
+    assert left_over(here) == []
+
+
+def test_auralize_with_a_scale_in_range_writes_the_sound(here, capsys):  # noqa: F811
+    assert call(["auralize", "--duration", "1", "--wav", "a.wav", "--scale", "1000"]) == 0
+    data, _ = sf.read(str(here / "a.wav"))
+    record = json.loads((here / "a.json").read_text())
+    peak = max(record["peak_pa"])
+    # 24-bit samples of p / 1000 Pa: the file's peak is the sound's, to half a step
+    assert np.max(np.abs(data)) == pytest.approx(peak / 1000.0, abs=2.0**-24)
+    assert np.count_nonzero(data) > 0
