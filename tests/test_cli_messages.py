@@ -105,3 +105,70 @@ def test_auralize_with_a_scale_in_range_writes_the_sound(here, capsys):  # noqa:
     # 24-bit samples of p / 1000 Pa: the file's peak is the sound's, to half a step
     assert np.max(np.abs(data)) == pytest.approx(peak / 1000.0, abs=2.0**-24)
     assert np.count_nonzero(data) > 0
+
+
+# --- memory: named after the user's option or scene key and the cap's, in MB, before the work
+def _no_field_work(monkeypatch):
+    """Make any evaluation of the field fail the test: a refusal must come before the work."""
+    import acoustiviz.field as field
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("the field was evaluated before the refusal")
+
+    for name in ("time_series", "directivity", "field_metrics"):
+        monkeypatch.setattr(field, name, forbidden)
+
+
+def test_directivity_of_a_weighted_level_names_max_memory_before_the_work(here, capsys, monkeypatch):  # noqa: F811
+    _no_field_work(monkeypatch)
+    rc = call(["directivity", "--metric", "laeq", "--step", "0.01", "--csv", "d.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--step")
+    assert "--max-memory" in err and " MB of memory" in err and "2048 MB" in err
+    assert "memory_limit" not in err and "iter_time_series" not in err
+    assert left_over(here) == []
+
+
+def test_directivity_of_a_weighted_level_within_a_raised_cap_runs(here, capsys):  # noqa: F811
+    argv = ["directivity", "--metric", "laeq", "--step", "15", "--csv", "d.csv"]
+    rc = call([*argv, "--max-memory", "0.5"])
+    assert_user_error(rc, capsys.readouterr().err, "--step")
+    assert call([*argv, "--max-memory", "64"]) == 0
+    with open(here / "d.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 13  # 0 to 180 degrees by 15
+    assert all(math.isfinite(float(v)) for r in rows for v in r.values())
+
+
+ROOM_NO_WINDOW = """
+[configuration]
+kind = "room"
+room_m = [6.0, 4.0, 3.0]
+absorption = 0.1
+source_m = [2.0, 1.5, 0.01905]
+{window}
+[[listeners]]
+name = "middle"
+position_m = [3.0, 2.0, 1.5]
+
+[outputs.waveform]
+"""
+
+
+def test_a_room_scene_without_a_window_is_refused_at_load_naming_its_keys(here, capsys, monkeypatch):  # noqa: F811
+    _no_field_work(monkeypatch)
+    (here / "room.toml").write_text(ROOM_NO_WINDOW.format(window=""))
+    rc = call(["run", "room.toml", "--out", "out", "--quiet"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "configuration.window_s")
+    assert "grids.memory_limit_mb" in err and " MB of memory" in err and "room.toml" in err
+    assert "memory_limit:" not in err and "B is too small" not in err
+    assert left_over(here) == ["room.toml"]
+
+
+def test_the_same_room_with_a_window_runs(here, capsys):  # noqa: F811
+    (here / "room.toml").write_text(ROOM_NO_WINDOW.format(window="window_s = 0.02"))
+    assert call(["run", "room.toml", "--out", "out", "--quiet"]) == 0
+    with open(here / "out" / "waveform_middle.csv", newline="") as fh:
+        p = np.array([float(r["pressure_pa"]) for r in csv.DictReader(fh)])
+    assert np.all(np.isfinite(p)) and np.max(np.abs(p)) > 0
