@@ -172,3 +172,36 @@ def test_the_same_room_with_a_window_runs(here, capsys):  # noqa: F811
     with open(here / "out" / "waveform_middle.csv", newline="") as fh:
         p = np.array([float(r["pressure_pa"]) for r in csv.DictReader(fh)])
     assert np.all(np.isfinite(p)) and np.max(np.abs(p)) > 0
+
+
+# --- a room whose image order the memory cap cut before its tolerance was met
+LONG_RIGID_ROOM = ["waveform", "--room", "6,4,3", "--duration", "2", "--listener", "3,2,1.5"]
+
+
+def test_a_room_that_leaves_out_more_than_its_tolerance_is_refused(here, capsys, monkeypatch):  # noqa: F811
+    import re
+
+    from acoustiviz.core.geometry import geometry
+
+    _no_field_work(monkeypatch)
+    rc = call([*LONG_RIGID_ROOM, "--csv", "w.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--max-memory")
+    assert "--duration" in err and "-60 dB" in err and "image order" in err
+    assert left_over(here) == []
+    # what it would take, taken at its word: that cap meets the tolerance, one MB less does not
+    need = int(re.search(r"raise --max-memory to (\d+)", err).group(1))
+    room = dict(dimensions=(6.0, 4.0, 3.0), duration=2.0)
+    enough = geometry("room", 0.01905, max_memory_mb=need, **room)
+    assert not enough.order_capped and enough.neglected_energy_db <= -60.0
+    assert geometry("room", 0.01905, max_memory_mb=need - 1, **room).order_capped
+
+
+def test_the_room_cap_follows_max_memory(here, capsys, monkeypatch):  # noqa: F811
+    _no_field_work(monkeypatch)
+    short = ["waveform", "--room", "6,4,3", "--duration", "0.05", "--listener", "3,2,1.5", "--absorption", "0.1"]
+    rc = call([*short, "--max-memory", "0.001"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--max-memory")
+    assert err.startswith("acoustiviz waveform: error: --max-memory: ") and "image order" in err
+    assert "cap of 0.001 MB" in err and "inf" not in err

@@ -36,6 +36,7 @@ __all__ = [
     "waveform_estimate",
     "directivity_estimate",
     "metric_estimate",
+    "check_room_order",
     "scene_waveform_estimate",
     "damper_estimate",
     "wav_estimate",
@@ -263,6 +264,41 @@ def metric_estimate(pulse, points, config, medium, metric: str, options=("--step
     nimg = _image_count(config)
     return Estimate(5.0 * _F8 * k * m + geometry_bytes(nimg) + 6.0 * _F8 * m, 0.0,
                     f"{k} angles x {m:.3g} oversampled samples of the sound each ({metric})", options)
+
+
+#: A budget in MB no machine has: the order a room's tolerance alone asks for.
+_UNCAPPED_MB = 1e9
+
+
+def check_room_order(config, max_memory_mb=None, *, window_option: str = "--duration",
+                     cap_name: str = "--max-memory") -> None:
+    """Refuse a room whose image order the memory budget cut before its tolerance was met.
+
+    Such a room leaves out more of the energy than its ``tolerance_db`` allows (a rigid room over a
+    long window: more than it keeps). The error is named after ``cap_name`` and says what the
+    tolerance would take: the order, the images and the budget in MB that builds them
+    (:func:`acoustiviz.core.room.max_order_for_memory`), and the settings that shrink the need. A
+    room whose order was given (``--image-order``) is the user's choice and passes.
+    """
+    if not getattr(config, "order_capped", False):
+        return
+    from dataclasses import replace
+
+    from ..core.room import _image_bytes
+
+    full = replace(config, max_memory_mb=_UNCAPPED_MB)  # the same room, its order set by the tolerance alone
+    need = _image_bytes(full.image_order, None) / 1e6  # MB as the order's cap counts them
+    cap = MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)
+    lost = config.neglected_energy_db
+    lost = f"{lost:+.1f} dB" if math.isfinite(lost) else "an unbounded part of it"
+    where = "this room" if config.duration is None else f"a {config.duration:g} s window ({window_option}) in this room"
+    raise ParameterError(
+        cap_name, f"{where} needs image order {full.image_order} "
+                  f"({full.image_count:.3g} images, {math.ceil(need):,d} MB) to leave out at most "
+                  f"{config.tolerance_db:g} dB of its energy; the cap of {cap:g} MB allows order "
+                  f"{config.image_order}, which leaves out {lost}: raise {cap_name} "
+                  f"to {math.ceil(need)}, or shorten {window_option}, raise --absorption or --tolerance-db, or "
+                  "give --image-order to accept the loss")
 
 
 def damper_estimate(model, duration: float, *, solver: str = "event", dt=None, per_period: int = 200,
