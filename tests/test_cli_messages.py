@@ -205,3 +205,12 @@ def test_the_room_cap_follows_max_memory(here, capsys, monkeypatch):  # noqa: F8
     assert_user_error(rc, err, "--max-memory")
     assert err.startswith("acoustiviz waveform: error: --max-memory: ") and "image order" in err
     assert "cap of 0.001 MB" in err and "inf" not in err
+
+
+def test_a_directivity_in_a_room_short_of_its_tolerance_is_refused(here, capsys, monkeypatch):  # noqa: F811
+    _no_field_work(monkeypatch)
+    rc = call(["directivity", "--room", "6,4,3", "--duration", "2", "--distance", "0.5", "--csv", "d.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--max-memory")
+    assert err.startswith("acoustiviz directivity: error: --max-memory: ") and "--duration" in err
+    assert left_over(here) == []

@@ -51,11 +51,12 @@ def directivity_at(setup, distance: float, settings, *, max_memory_mb=None) -> D
     :class:`~acoustiviz.app.settings.impact.DirectivitySettings` (step in degrees, further level).
     """
     from ..field import circle_points, directivity
-    from .budget import check_budget, directivity_estimate, memory_cap, metric_estimate
+    from .budget import check_budget, check_room_order, directivity_estimate, memory_cap, metric_estimate
     from .impacts import observer_point
     from .names import IMPACT_OPTIONS, user_terms
     from .views import directivity_angles, directivity_metric
 
+    check_room_order(setup.configuration, max_memory_mb)  # a room short of its tolerance: refused
     with user_terms({"distance": "--distance"}):  # the circle's radius fits in the fluid (a room's walls)
         circle_points(setup.configuration, distance, [0.0])
     with user_terms(IMPACT_OPTIONS):
