@@ -214,3 +214,10 @@ def test_a_directivity_in_a_room_short_of_its_tolerance_is_refused(here, capsys,
     assert_user_error(rc, err, "--max-memory")
     assert err.startswith("acoustiviz directivity: error: --max-memory: ") and "--duration" in err
     assert left_over(here) == []
+
+
+def test_levels_of_a_silent_file_say_so(here, capsys):  # noqa: F811
+    _sine_wav(here / "s.wav", amplitude=0.0)
+    assert call(["levels", "s.wav", "--pa-per-fs", "1", "--csv", "l.csv"]) == 0
+    assert "channel 1 is silent" in capsys.readouterr().out
+    assert _levels_row(here / "l.csv")["lzeq_db"] == ""

@@ -278,6 +278,7 @@ def levels(s, echo=print) -> tuple:
             raise ParameterError("--stop", f"must be later than --start ({s.start:g} s), got {s.stop:g} s")
         report = analyse(sig.pressure, sig.sample_rate, start=s.start, stop=s.stop, channels=sig.channels,
                          with_loudness=s.loudness)
+    _check_levels(report, sig, s.signal, echo)
     echo(f"{s.signal}: {sig.pressure.shape[0]} channel(s), {sig.pressure.shape[1] / sig.sample_rate:g} s at "
          f"{sig.sample_rate} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
     for line in summary_lines(report, rate_note=" (the file's rate)"):
@@ -286,6 +287,24 @@ def levels(s, echo=print) -> tuple:
     for path in paths:
         echo(f"wrote {path}")
     return paths
+
+
+def _check_levels(report: LevelReport, sig: CalibratedSignal, signal, echo) -> None:
+    """No level that is not a number or infinitely loud is written; a silent channel is said to be one.
+
+    The calibration's range (:func:`calibration_range`) keeps the levels finite; should one still
+    be NaN or +inf, nothing is written. A channel with no sound at all has levels of -inf dB, written
+    as empty cells, and a note says which.
+    """
+    lv = report.levels
+    values = np.array([[row[c] for c in LEVEL_COLUMNS] for row in lv.rows(report.channels)], dtype=float)
+    if np.any(np.isnan(values)) or np.any(values == np.inf):
+        name = "--pa-per-fs" if sig.source == "given" else "SIGNAL.wav"
+        raise ParameterError(name, f"the levels of {signal} are not finite numbers with the calibration of "
+                                   f"{sig.pa_per_full_scale:g} Pa per full scale ({sig.source}); give a smaller one")
+    for i, name in enumerate(report.channels):
+        if np.all(values[i] == -np.inf):
+            echo(f"note: channel {name} is silent over {lv.start:g}-{lv.stop:g} s: its levels are empty cells")
 
 
 def bands_path(csv_path) -> Path:
