@@ -110,6 +110,7 @@ def test_auralize_with_a_scale_in_range_writes_the_sound(here, capsys):  # noqa:
 # --- memory: named after the user's option or scene key and the cap's, in MB, before the work
 def _no_field_work(monkeypatch):
     """Make any evaluation of the field fail the test: a refusal must come before the work."""
+    import acoustiviz.app.views as views  # imported first: it binds field_metrics when it is imported
     import acoustiviz.field as field
 
     def forbidden(*args, **kwargs):
@@ -117,6 +118,7 @@ def _no_field_work(monkeypatch):
 
     for name in ("time_series", "directivity", "field_metrics"):
         monkeypatch.setattr(field, name, forbidden)
+    monkeypatch.setattr(views, "field_metrics", forbidden)
 
 
 def test_directivity_of_a_weighted_level_names_max_memory_before_the_work(here, capsys, monkeypatch):  # noqa: F811
@@ -221,3 +223,32 @@ def test_levels_of_a_silent_file_say_so(here, capsys):  # noqa: F811
     assert call(["levels", "s.wav", "--pa-per-fs", "1", "--csv", "l.csv"]) == 0
     assert "channel 1 is silent" in capsys.readouterr().out
     assert _levels_row(here / "l.csv")["lzeq_db"] == ""
+
+
+WEIGHTED_DIRECTIVITY_SCENE = """
+[[listeners]]
+name = "front"
+distance_m = 0.7
+angle_deg = 45.0
+[outputs.directivity]
+step_deg = {step}
+metric = "laeq"
+"""
+
+
+def test_a_scene_directivity_of_a_weighted_level_is_refused_at_load(here, capsys, monkeypatch):  # noqa: F811
+    _no_field_work(monkeypatch)
+    (here / "d.toml").write_text(WEIGHTED_DIRECTIVITY_SCENE.format(step="0.01"))
+    rc = call(["run", "d.toml", "--out", "out", "--quiet"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "outputs.directivity.step_deg")
+    assert "grids.memory_limit_mb" in err and " MB of memory" in err and "memory_limit:" not in err
+    assert left_over(here) == ["d.toml"]
+
+
+def test_a_scene_directivity_of_a_weighted_level_within_the_cap_runs(here, capsys):  # noqa: F811
+    (here / "d.toml").write_text(WEIGHTED_DIRECTIVITY_SCENE.format(step="30.0"))
+    assert call(["run", "d.toml", "--out", "out", "--quiet"]) == 0
+    with open(here / "out" / "directivity.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 4 and all(math.isfinite(float(r["laeq_db"])) for r in rows)  # 0 to 90 degrees

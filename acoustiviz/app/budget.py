@@ -38,6 +38,7 @@ __all__ = [
     "metric_estimate",
     "check_room_order",
     "scene_waveform_estimate",
+    "scene_estimates",
     "damper_estimate",
     "wav_estimate",
     "balloon_estimate",
@@ -245,6 +246,30 @@ def scene_waveform_estimate(scene, conf):
 
         worst = replace(worst, what=f"{worst.what}, to the end of the sound of every image (no window_s set)")
     return worst
+
+
+def scene_estimates(scene, conf) -> list:
+    """What a scene's waveform and weighted directivity hold, as callables checked in turn at its load.
+
+    The waveform's tables (:func:`scene_waveform_estimate`) and, for a directivity of a weighted
+    level (``outputs.directivity.metric``), the sound at every angle (:func:`metric_estimate`), on the
+    circle through the first listener, as the run computes it. They follow the angles' estimate,
+    which bounds the number of points first.
+    """
+    out = [lambda: scene_waveform_estimate(scene, conf)] if scene.wants("waveform") else []
+    metric = scene.data["outputs"]["directivity"].get("metric", "peak-spl") if scene.wants("directivity") else None
+    if metric not in (None, "peak-spl", "rms"):
+        def directivity_metric():
+            from ..field import circle_points
+            from .views import directivity_angles
+
+            (_, pos), *_ = scene.listeners()
+            angles = directivity_angles(conf, scene.data["outputs"]["directivity"]["step_deg"])
+            points = circle_points(conf, float(np.linalg.norm(np.asarray(pos) - conf.centre)), angles)
+            return metric_estimate(scene.pulse(), points, conf, scene.medium(), metric,
+                                   options=("outputs.directivity.step_deg", "outputs.directivity.metric"))
+        out.append(directivity_metric)
+    return out
 
 
 def metric_estimate(pulse, points, config, medium, metric: str, options=("--step", "--distance")) -> Estimate:

@@ -61,7 +61,8 @@ def directivity_at(setup, distance: float, settings, *, max_memory_mb=None) -> D
         circle_points(setup.configuration, distance, [0.0])
     with user_terms(IMPACT_OPTIONS):
         observer_point(setup, distance, 0.0)  # the circle's radius checked as --distance
-    with user_terms({"step_deg": "--step", "distance": "--distance", "angles": "--step"}):
+    names = {"step_deg": "--step", "distance": "--distance", "angles": "--step", "memory_limit": "--max-memory"}
+    with user_terms(names):
         check_budget(directivity_estimate(setup.configuration, settings.step_deg, pulse=setup.pulse,
                                           medium=setup.medium, window_options=("--wall-distance", "--distance")),
                      max_memory_mb)

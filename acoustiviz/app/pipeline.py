@@ -161,6 +161,7 @@ def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance (CSV + polar PNG)."""
     from ..field import directivity
     from ..output.plot.directivity import directivity_figure
+    from .budget import memory_cap
     from .columns import write_directivity_csv
     from .views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, directivity_metric_figure
 
@@ -176,7 +177,8 @@ def produce_directivity(ctx: RunContext):
     title = f"{conf.caption()}, r = {dist:g} m (paper Figure 3)"
     figures, column, values = {}, None, None
     if metric != "peak-spl":
-        values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium)
+        values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium,  # within the cap it was checked against
+                                    memory_limit=memory_cap(ctx.scene.section("grids")["memory_limit_mb"]))
         column = DIRECTIVITY_METRICS[metric]
         figures[f"max_{column}"] = f"{np.nanmax(values):.1f}"
         fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)
