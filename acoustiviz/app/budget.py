@@ -318,7 +318,7 @@ def check_room_order(config, max_memory_mb=None, *, window_option: str = "--dura
     lost = f"{lost:+.1f} dB" if math.isfinite(lost) else "an unbounded part of it"
     where = "this room" if config.duration is None else f"a {config.duration:g} s window ({window_option}) in this room"
     raise ParameterError(
-        cap_name, f"{where} needs image order {full.image_order} "
+        cap_name, f"{where} needs image order {'above ' if full.order_capped else ''}{full.image_order} "
                   f"({full.image_count:.3g} images, {math.ceil(need):,d} MB) to leave out at most "
                   f"{config.tolerance_db:g} dB of its energy; the cap of {cap:g} MB allows order "
                   f"{config.image_order}, which leaves out {lost}: raise {cap_name} "
