@@ -252,3 +252,14 @@ def test_a_scene_directivity_of_a_weighted_level_within_the_cap_runs(here, capsy
     with open(here / "out" / "directivity.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 4 and all(math.isfinite(float(r["laeq_db"])) for r in rows)  # 0 to 90 degrees
+
+
+def test_levels_refuses_a_float_file_holding_nan(here, capsys):  # noqa: F811
+    data = np.full(RATE // 10, 0.1)
+    data[100] = np.nan
+    sf.write(str(here / "n.wav"), data, RATE, subtype="FLOAT")
+    rc = call(["levels", "n.wav", "--pa-per-fs", "1", "--csv", "l.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "SIGNAL.wav")
+    assert "1 sample(s) that are not finite" in err
+    assert left_over(here) == ["n.wav"]
