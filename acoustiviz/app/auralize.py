@@ -18,10 +18,11 @@ import numpy as np
 
 from .._validate import check_positive, check_range
 from ..errors import ParameterError
+from .names import user_terms
 from .settings.auralize import ALL, DEFAULT_LISTENER, AuralizeSettings
 from .settings.parse import parse_point
 from .settings.table import by_name
-from .wav import write_wav_files
+from .wav import check_scale_fits, write_wav_files
 
 #: Every auralize setting by its API name: the ranges checked here are the table's.
 _TABLE = by_name(ALL)
@@ -331,6 +332,8 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
                  room_sound=sound.room_sound)
     _print_sound(seq, sound, out, s.rate, say)
     files = _files(s, out, sound.listeners, labels, paths)
+    with user_terms({"scale": "--scale"}):  # refused before the levels and the files, not after
+        check_scale_fits(files, s.subtype, s.scale)
     per_file = _levels_per_file(s, seq, sound, files, out, duration, say)
     written = write_wav_files(files, sample_rate=s.rate, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
                               rendering=out, scene_name=scene_name, damper=run_desc,

@@ -35,6 +35,10 @@ __all__ = [
     "memory_cap",
     "waveform_estimate",
     "directivity_estimate",
+    "metric_estimate",
+    "check_room_order",
+    "scene_waveform_estimate",
+    "scene_estimates",
     "damper_estimate",
     "wav_estimate",
     "balloon_estimate",
@@ -137,25 +141,51 @@ def _count(x: float) -> float:
     return x if math.isfinite(x) and x >= 0 else math.inf
 
 
+def _image_count(config) -> int:
+    """The sources of ``config``: a room counts its images without building them."""
+    n = getattr(config, "image_count", None)
+    return int(n) if n is not None else len(config.images())
+
+
+def _room_end(pulses, config, medium):
+    """A bound in s on the end of a room's sound without its window, from its order alone; None elsewhere.
+
+    The farthest image of the room's order (:func:`acoustiviz.core.reverberation._shell_upper_distance`,
+    the bound its order is chosen with) plus the longest pulse and 40 decay times a/c, as
+    :func:`acoustiviz.field.waveform_span` ends the sound, without building its millions of images.
+    """
+    if getattr(config, "image_order", None) is None:
+        return None
+    from ..core.reverberation import _shell_upper_distance
+
+    reach = float(_shell_upper_distance(config.shoebox, np.float64(config.image_order)))
+    return reach / medium.c + max(p.duration for p in pulses) + 40.0 * config.radius / medium.c
+
+
 def waveform_estimate(pulses, point, config, medium, samples_per_duration,
                       options=("--samples-per-duration", "--distance"), *, window=None) -> Estimate:
     """Time samples of :func:`acoustiviz.app.views.waveform_times` and the CSV of them.
 
     Memory: times, pressure and per-image temporaries (8 B each per sample) of up to four images
-    (beyond them, the compiled uniform-grid kernel holds none: a room's images add their delays and
-    weights, 48 B each); CSV: about 38 B a row (two ``%.12e`` numbers). ``window``: the end in s of
-    the times (a room's window) instead of the end of the sound.
+    (beyond them, the compiled uniform-grid kernel holds none), and the geometry the evaluator holds
+    per image of the observer (:func:`acoustiviz.field._common.geometry_bytes`: delays, weights,
+    distances, 72 B each, which a room's millions of images make the larger part); CSV: about 38 B a
+    row (two ``%.12e`` numbers). ``window``: the end in s of the times (a room's window) instead of
+    the end of the sound.
     """
     from ..field import waveform_span
+    from ..field._common import geometry_bytes
 
     with np.errstate(all="ignore"):
-        end = window if window is not None else max(waveform_span(p, point, config, medium=medium)[1]
-                                                    for p in pulses)
+        end = window if window is not None else _room_end(pulses, config, medium)
+        if end is None:
+            end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
         dt = min(p.duration for p in pulses) / float(samples_per_duration)
         n = _count(_div(end, dt) + 2.0)
-    nimg = len(config.images())
-    per_image = _F8 * n * (4 + min(nimg, 4)) + 48.0 * max(nimg - 4, 0)
-    return Estimate(per_image * len(pulses), 38.0 * n * len(pulses), f"{n:.3g} time samples", options)
+    nimg = _image_count(config)
+    memory = _F8 * n * (4 + min(nimg, 4)) * len(pulses) + geometry_bytes(nimg)
+    what = f"{n:.3g} time samples" + (f" of {nimg:.3g} images" if nimg > 4 else "")
+    return Estimate(memory, 38.0 * n * len(pulses), what, options)
 
 
 def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=None, medium=None,
@@ -190,6 +220,110 @@ def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=
         return est
     return Estimate(est.memory + _F8 * m, est.output, f"{n:.3g} angles and a window of {m:.3g} samples",
                     tuple(window_options) + tuple(options))
+
+
+def scene_waveform_estimate(scene, conf):
+    """The memory of a scene's ``[outputs.waveform]``: the largest listener's table, as the run samples it.
+
+    Each listener's times run to the room's window (``configuration.window_s``) or, without one, to
+    the end of its sound, at the default samples per contact duration
+    (:func:`waveform_estimate`); an error names the window's key in a room,
+    else the listener.
+    """
+    from .settings.impact import WAVEFORM
+
+    kinds = scene.output("waveform")["pulses"] or [scene.section("contact")["pulse"]]
+    pulses = [scene.pulse(kind=k) for k in kinds]
+    window = getattr(conf, "duration", None)
+    room = getattr(conf, "image_order", None) is not None
+    estimates = [waveform_estimate(pulses, np.asarray(pos, dtype=float), conf, scene.medium(), WAVEFORM[0].default,
+                                   options=("configuration.window_s",) if room else (f"listeners[{i}]",),
+                                   window=window)
+                 for i, (_, pos) in enumerate(scene.listeners())]
+    worst = max(estimates, key=lambda e: e.memory)
+    if room and window is None:
+        from dataclasses import replace
+
+        worst = replace(worst, what=f"{worst.what}, to the end of the sound of every image (no window_s set)")
+    return worst
+
+
+def scene_estimates(scene, conf) -> list:
+    """What a scene's waveform and weighted directivity hold, as callables checked in turn at its load.
+
+    The waveform's tables (:func:`scene_waveform_estimate`) and, for a directivity of a weighted
+    level (``outputs.directivity.metric``), the sound at every angle (:func:`metric_estimate`), on the
+    circle through the first listener, as the run computes it. They follow the angles' estimate,
+    which bounds the number of points first.
+    """
+    out = [lambda: scene_waveform_estimate(scene, conf)] if scene.wants("waveform") else []
+    metric = scene.data["outputs"]["directivity"].get("metric", "peak-spl") if scene.wants("directivity") else None
+    if metric not in (None, "peak-spl", "rms"):
+        def directivity_metric():
+            from ..field import circle_points
+            from .views import directivity_angles
+
+            (_, pos), *_ = scene.listeners()
+            angles = directivity_angles(conf, scene.data["outputs"]["directivity"]["step_deg"])
+            points = circle_points(conf, float(np.linalg.norm(np.asarray(pos) - conf.centre)), angles)
+            return metric_estimate(scene.pulse(), points, conf, scene.medium(), metric,
+                                   options=("outputs.directivity.step_deg", "outputs.directivity.metric"))
+        out.append(directivity_metric)
+    return out
+
+
+def metric_estimate(pulse, points, config, medium, metric: str, options=("--step", "--distance")) -> Estimate:
+    """A weighted level (``metric``) at ``points``: :func:`acoustiviz.app.views.points_metric_levels`, all at once.
+
+    Every point's sound is evaluated in closed form at the oversampled times of
+    :func:`acoustiviz.app.views.sound_samples` (8 B each) and decimated by an FFT convolution,
+    which holds about four more arrays of that size (its padded input, spectrum, product and
+    output); the evaluator adds its geometry for one point (72 B per image). The points must be
+    few enough to list (the angles' estimate is checked first).
+    """
+    from ..field._common import geometry_bytes
+    from .views import sound_samples
+
+    k = int(np.asarray(points).reshape(-1, 3).shape[0])
+    m = float(sound_samples(pulse, points, config, medium))
+    nimg = _image_count(config)
+    return Estimate(5.0 * _F8 * k * m + geometry_bytes(nimg) + 6.0 * _F8 * m, 0.0,
+                    f"{k} angles x {m:.3g} oversampled samples of the sound each ({metric})", options)
+
+
+#: A budget in MB no machine has: the order a room's tolerance alone asks for.
+_UNCAPPED_MB = 1e9
+
+
+def check_room_order(config, max_memory_mb=None, *, window_option: str = "--duration",
+                     cap_name: str = "--max-memory") -> None:
+    """Refuse a room whose image order the memory budget cut before its tolerance was met.
+
+    Such a room leaves out more of the energy than its ``tolerance_db`` allows (a rigid room over a
+    long window: more than it keeps). The error is named after ``cap_name`` and says what the
+    tolerance would take: the order, the images and the budget in MB that builds them
+    (:func:`acoustiviz.core.room.max_order_for_memory`), and the settings that shrink the need. A
+    room whose order was given (``--image-order``) is the user's choice and passes.
+    """
+    if not getattr(config, "order_capped", False):
+        return
+    from dataclasses import replace
+
+    from ..core.room import _image_bytes
+
+    full = replace(config, max_memory_mb=_UNCAPPED_MB)  # the same room, its order set by the tolerance alone
+    need = _image_bytes(full.image_order, None) / 1e6  # MB as the order's cap counts them
+    cap = MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)
+    lost = config.neglected_energy_db
+    lost = f"{lost:+.1f} dB" if math.isfinite(lost) else "an unbounded part of it"
+    where = "this room" if config.duration is None else f"a {config.duration:g} s window ({window_option}) in this room"
+    raise ParameterError(
+        cap_name, f"{where} needs image order {'above ' if full.order_capped else ''}{full.image_order} "
+                  f"({full.image_count:.3g} images, {math.ceil(need):,d} MB) to leave out at most "
+                  f"{config.tolerance_db:g} dB of its energy; the cap of {cap:g} MB allows order "
+                  f"{config.image_order}, which leaves out {lost}: raise {cap_name} "
+                  f"to {math.ceil(need)}, or shorten {window_option}, raise --absorption or --tolerance-db, or "
+                  "give --image-order to accept the loss")
 
 
 def damper_estimate(model, duration: float, *, solver: str = "event", dt=None, per_period: int = 200,

@@ -51,23 +51,30 @@ def directivity_at(setup, distance: float, settings, *, max_memory_mb=None) -> D
     :class:`~acoustiviz.app.settings.impact.DirectivitySettings` (step in degrees, further level).
     """
     from ..field import circle_points, directivity
-    from .budget import check_budget, directivity_estimate
+    from .budget import check_budget, check_room_order, directivity_estimate, memory_cap, metric_estimate
     from .impacts import observer_point
     from .names import IMPACT_OPTIONS, user_terms
     from .views import directivity_angles, directivity_metric
 
+    check_room_order(setup.configuration, max_memory_mb)  # a room short of its tolerance: refused
     with user_terms({"distance": "--distance"}):  # the circle's radius fits in the fluid (a room's walls)
         circle_points(setup.configuration, distance, [0.0])
     with user_terms(IMPACT_OPTIONS):
         observer_point(setup, distance, 0.0)  # the circle's radius checked as --distance
-    with user_terms({"step_deg": "--step", "distance": "--distance", "angles": "--step"}):
+    names = {"step_deg": "--step", "distance": "--distance", "angles": "--step", "memory_limit": "--max-memory"}
+    with user_terms(names):
         check_budget(directivity_estimate(setup.configuration, settings.step_deg, pulse=setup.pulse,
                                           medium=setup.medium, window_options=("--wall-distance", "--distance")),
                      max_memory_mb)
         angles = directivity_angles(setup.configuration, settings.step_deg)
+        weighted = settings.metric not in ("peak-spl", "rms")
+        if weighted:  # the sound at every angle, held together: its memory checked before any work
+            check_budget(metric_estimate(setup.pulse, circle_points(setup.configuration, distance, angles),
+                                         setup.configuration, setup.medium, settings.metric), max_memory_mb)
         d = directivity(setup.pulse, setup.configuration, distance, angles, medium=setup.medium)
         values = None if settings.metric == "peak-spl" else directivity_metric(
-            d, settings.metric, setup.pulse, setup.configuration, setup.medium)
+            d, settings.metric, setup.pulse, setup.configuration, setup.medium,
+            memory_limit=memory_cap(max_memory_mb) if weighted else None)
     return DirectivityResult(angles, d, settings.metric, values)
 
 

@@ -201,7 +201,7 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
 
 
 def room_settings(dimensions, *, absorption=None, source=None, strike="floor", order=None, tolerance_db=None,
-                  duration=None, config=None, names=None) -> dict | None:
+                  duration=None, config=None, names=None, max_memory_mb=None) -> dict | None:
     """The settings of a room as given (text or numbers, for :class:`acoustiviz.core.geometry.Room` to check).
 
     Without ``dimensions`` there is no room (None), and a room setting given anyway is refused,
@@ -217,6 +217,8 @@ def room_settings(dimensions, *, absorption=None, source=None, strike="floor", o
         The configuration asked for besides the room.
     names : dict, optional
         Setting -> the option named in errors (default :data:`acoustiviz.app.names.ROOM_OPTIONS`).
+    max_memory_mb : float, optional
+        The memory budget in MB that caps the image order (default the room's).
     """
     from .names import ROOM_OPTIONS
 
@@ -234,5 +236,5 @@ def room_settings(dimensions, *, absorption=None, source=None, strike="floor", o
         raise ParameterError(names.get("config", "--config"), f"give either {names.get('config', '--config')} or "
                                                               f"{room}, not both")
     out = {"dimensions": dimensions, "absorption": absorption, "source": source, "strike": strike, "order": order,
-           "tolerance_db": tolerance_db, "duration": duration}
+           "tolerance_db": tolerance_db, "duration": duration, "max_memory_mb": max_memory_mb}
     return {k: v for k, v in out.items() if v is not None}

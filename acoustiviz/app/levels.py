@@ -68,6 +68,55 @@ def _sidecar_scale(wav: Path):
     return scale, record
 
 
+#: Margin on the squared pressure's sums (samples x the filters' gains) kept from float64's range.
+_ENERGY_MARGIN = 1e4
+#: The facts a sidecar records about its file, checked against the file: key -> (soundfile attribute, unit).
+_FILE_FACTS = {"sample_rate_hz": ("samplerate", " Hz"), "channels": ("channels", ""), "frames": ("frames", "")}
+
+
+def calibration_range(data) -> tuple:
+    """The calibrations in Pa per full scale whose levels of ``data`` stay finite: ``(low, high)``.
+
+    The levels square the pressure and sum it over the samples (through filters of modest gain):
+    ``(peak × scale)² × samples`` must stay within float64's range, with :data:`_ENERGY_MARGIN`
+    to spare, and the peak's square must not underflow. ``data``: ``(n_samples, n_channels)``
+    sample values; a silent file takes any calibration.
+    """
+    peak = float(np.max(np.abs(data), initial=0.0))
+    if not (peak > 0 and math.isfinite(peak)):
+        return 0.0, math.inf
+    fi = np.finfo(float)
+    high = math.sqrt(fi.max / (max(1, data.shape[0]) * _ENERGY_MARGIN)) / peak
+    low = math.sqrt(fi.tiny * _ENERGY_MARGIN) / peak
+    return low, high
+
+
+def _check_sidecar(side: Path, record: dict, wav: Path, info) -> None:
+    """Refuse a sidecar whose rate, channels or frames contradict the file it describes."""
+    for key, (attr, unit) in _FILE_FACTS.items():
+        if key not in record:
+            continue
+        said, found = record[key], getattr(info, attr)
+        if isinstance(said, bool) or not isinstance(said, (int, float)) or said != found:
+            raise ParameterError("signal", f"the sidecar {side} records {key} = {said!r}, but {wav.name} has "
+                                           f"{found}{unit}: it describes another file; remove or correct it")
+
+
+def _check_scale(scale: float, data, wav: Path, source: str) -> None:
+    """Refuse a calibration for which the levels of ``data`` would overflow or underflow."""
+    low, high = calibration_range(data)
+    if low <= scale <= high:
+        return
+    what = "overflow" if scale > high else "underflow to silence"
+    peak = float(np.max(np.abs(data)))
+    if source == "given":
+        raise ParameterError("pa_per_fs", f"{scale:g} Pa per full scale makes the levels of {wav.name} {what} "
+                                          f"(peak {peak:.3g} of full scale, {data.shape[0]} frames): it must "
+                                          f"lie in [{low:.3g}, {high:.3g}] Pa for this file")
+    raise ParameterError("signal", f"the {source} records scale_pa_per_full_scale = {scale:g}, which makes the "
+                                   f"levels of {wav.name} {what}: it must lie in [{low:.3g}, {high:.3g}] Pa")
+
+
 def read_calibrated_wav(path, *, pa_per_fs=None) -> CalibratedSignal:
     """Read a WAV file as pressure in Pa.
 
@@ -82,8 +131,10 @@ def read_calibrated_wav(path, *, pa_per_fs=None) -> CalibratedSignal:
     Raises
     ------
     ParameterError
-        ``signal`` if the file cannot be read; ``pa_per_fs`` if there is neither a sidecar nor
-        a calibration.
+        ``signal`` if the file cannot be read or its sidecar's ``sample_rate_hz``, ``channels``
+        or ``frames`` contradict it; ``pa_per_fs`` if there is neither a sidecar nor a
+        calibration, or if the calibration lies outside :func:`calibration_range` (the levels
+        would overflow or underflow).
     """
     import soundfile as sf
 
@@ -99,9 +150,15 @@ def read_calibrated_wav(path, *, pa_per_fs=None) -> CalibratedSignal:
         raise ParameterError("pa_per_fs", f"{wav.name} has no sidecar {wav.with_suffix('.json').name}: give the "
                                           "calibration in Pa per full scale (> 0)")
     try:
+        if record is not None:
+            _check_sidecar(wav.with_suffix(".json"), record, wav, sf.info(str(wav)))
         data, fs = sf.read(str(wav), dtype="float64", always_2d=True)
     except (OSError, RuntimeError, sf.LibsndfileError) as exc:
         raise ParameterError("signal", f"cannot read {wav}: {exc}") from None
+    bad = int(np.size(data) - np.count_nonzero(np.isfinite(data)))
+    if bad:
+        raise ParameterError("signal", f"{wav.name} holds {bad} sample(s) that are not finite numbers (inf or nan)")
+    _check_scale(scale, data, wav, source)
     names = None
     if record is not None and isinstance(record.get("channel_names"), list) \
             and len(record["channel_names"]) == data.shape[1]:
@@ -221,6 +278,7 @@ def levels(s, echo=print) -> tuple:
             raise ParameterError("--stop", f"must be later than --start ({s.start:g} s), got {s.stop:g} s")
         report = analyse(sig.pressure, sig.sample_rate, start=s.start, stop=s.stop, channels=sig.channels,
                          with_loudness=s.loudness)
+    _check_levels(report, sig, s.signal, echo)
     echo(f"{s.signal}: {sig.pressure.shape[0]} channel(s), {sig.pressure.shape[1] / sig.sample_rate:g} s at "
          f"{sig.sample_rate} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
     for line in summary_lines(report, rate_note=" (the file's rate)"):
@@ -229,6 +287,24 @@ def levels(s, echo=print) -> tuple:
     for path in paths:
         echo(f"wrote {path}")
     return paths
+
+
+def _check_levels(report: LevelReport, sig: CalibratedSignal, signal, echo) -> None:
+    """No level that is not a number or infinitely loud is written; a silent channel is said to be one.
+
+    The calibration's range (:func:`calibration_range`) keeps the levels finite; should one still
+    be NaN or +inf, nothing is written. A channel with no sound at all has levels of -inf dB, written
+    as empty cells, and a note says which.
+    """
+    lv = report.levels
+    values = np.array([[row[c] for c in LEVEL_COLUMNS] for row in lv.rows(report.channels)], dtype=float)
+    if np.any(np.isnan(values)) or np.any(values == np.inf):
+        name = "--pa-per-fs" if sig.source == "given" else "SIGNAL.wav"
+        raise ParameterError(name, f"the levels of {signal} are not finite numbers with the calibration of "
+                                   f"{sig.pa_per_full_scale:g} Pa per full scale ({sig.source}); give a smaller one")
+    for i, name in enumerate(report.channels):
+        if np.all(values[i] == -np.inf):
+            echo(f"note: channel {name} is silent over {lv.start:g}-{lv.stop:g} s: its levels are empty cells")
 
 
 def bands_path(csv_path) -> Path:

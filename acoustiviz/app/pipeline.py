@@ -122,6 +122,7 @@ def produce_waveform(ctx: RunContext):
     from ..field.metrics import spl_db
     from ..output.plot.style import style
     from ..output.plot.waveform import plot_waveform
+    from .budget import memory_cap
     from .columns import waveform_extremes, write_waveform_csv
     from .views import waveform_times
 
@@ -129,11 +130,13 @@ def produce_waveform(ctx: RunContext):
     kinds = opts["pulses"] or [ctx.scene.section("contact")["pulse"]]
     conf, medium = ctx.configuration, ctx.medium
     pulses = {k: ctx.pulse(k) for k in kinds}
+    cap = memory_cap(ctx.scene.section("grids")["memory_limit_mb"])  # the cap its estimate was checked against
     products = []
     for name, pos in ctx.listeners:
         # a room's window (its reverberation outlasts any span), else the whole sound
         t = waveform_times(list(pulses.values()), pos, conf, medium, window=getattr(conf, "duration", None))
-        series = {k: time_series(p, t, pos[None, :], conf, medium=medium)[0] for k, p in pulses.items()}
+        series = {k: time_series(p, t, pos[None, :], conf, medium=medium, memory_limit=cap)[0]
+                  for k, p in pulses.items()}
         header = ["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds]
         csv = write_waveform_csv(ctx.path(f"waveform_{name}.csv"), t, list(series.values()), header)
         with style():
@@ -144,7 +147,7 @@ def produce_waveform(ctx: RunContext):
             ax.set_title(f"listener {name!r}, {conf.name}, U0 = {ctx.scene.impact().velocity:g} m/s")
             ax.legend(fontsize=8)
             png = _save(fig, ctx.path(f"waveform_{name}.png"))
-        pmax, pmin = waveform_extremes(pulses[kinds[0]], series[kinds[0]], pos, conf, medium)
+        pmax, pmin = waveform_extremes(pulses[kinds[0]], series[kinds[0]], pos, conf, medium, memory_limit=cap)
         figs = {"pulse": kinds[0], "max_pa": f"{pmax:.4g}", "min_pa": f"{pmin:.4g}",
                 "peak_spl_db": f"{spl_db(max(pmax, -pmin)):.1f}"}
         if hasattr(conf, "image_order"):  # a room: its image model
@@ -158,6 +161,7 @@ def produce_directivity(ctx: RunContext):
     """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance (CSV + polar PNG)."""
     from ..field import directivity
     from ..output.plot.directivity import directivity_figure
+    from .budget import memory_cap
     from .columns import write_directivity_csv
     from .views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, directivity_metric_figure
 
@@ -173,7 +177,8 @@ def produce_directivity(ctx: RunContext):
     title = f"{conf.caption()}, r = {dist:g} m (paper Figure 3)"
     figures, column, values = {}, None, None
     if metric != "peak-spl":
-        values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium)
+        values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium,  # within the cap it was checked against
+                                    memory_limit=memory_cap(ctx.scene.section("grids")["memory_limit_mb"]))
         column = DIRECTIVITY_METRICS[metric]
         figures[f"max_{column}"] = f"{np.nanmax(values):.1f}"
         fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)

@@ -24,7 +24,7 @@ from .settings.impact import MIN_SAMPLES_PER_DURATION
 
 __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samples_per_duration",
            "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "LEVEL_INTERVAL",
-           "directivity_metric",
+           "directivity_metric", "sound_samples",
            "impact_signals", "impact_sound", "points_metric_levels", "reference_metric_levels", "metric_label",
            "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
@@ -191,8 +191,17 @@ def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS
     return out
 
 
+def sound_samples(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
+                  interval: float = LEVEL_INTERVAL) -> int:
+    """Oversampled times per point at which :func:`impact_sound` evaluates the closed form (no pressure computed).
+
+    :func:`acoustiviz.app.budget.metric_estimate` counts its memory from them before the work.
+    """
+    return int(_signal_grid(pulse, points, config, medium, sample_rate, interval)[1].size)
+
+
 def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
-                 interval: float = LEVEL_INTERVAL) -> tuple[np.ndarray, int]:
+                 interval: float = LEVEL_INTERVAL, memory_limit=None) -> tuple[np.ndarray, int]:
     """The samples of :func:`impact_signals` up to the end of the sound, and the interval's length.
 
     The same oversampled closed form and decimation filter, the filter applied by FFT convolution
@@ -203,6 +212,8 @@ def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_R
     ----------
     pulse, points, config, medium, sample_rate, interval
         As for :func:`impact_signals`.
+    memory_limit : float, optional
+        Cap in bytes on the closed form's samples (:func:`acoustiviz.field.time_series`; default its own).
 
     Returns
     -------
@@ -216,7 +227,8 @@ def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_R
     from ..field import time_series
 
     pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, config, medium, sample_rate, interval)
-    hi = time_series(pulse, t, pts, config, medium=medium)
+    kw = {} if memory_limit is None else {"memory_limit": memory_limit}
+    hi = time_series(pulse, t, pts, config, medium=medium, **kw)
     full = fftconvolve(hi, h[None, :], axes=1)  # output j of the decimation is full[:, j L]
     return np.ascontiguousarray(full[:, K * L:(2 * K + n_sound) * L:L]), n_out
 
@@ -227,7 +239,7 @@ def _groups(n: int, chunk):
     return [slice(lo, lo + step) for lo in range(0, n, max(step, 1))]
 
 
-def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None) -> dict:
+def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None, memory_limit=None) -> dict:
     """Weighted levels of one impact at each point: :func:`reference_metric_levels` from the sound alone.
 
     The points are taken ``chunk`` at a time, as by the reference (sample 0 of a chunk is its
@@ -247,6 +259,8 @@ def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None) 
         Observers in m.
     chunk : int, optional
         Points whose signals share one time grid (default: all).
+    memory_limit : float, optional
+        Cap in bytes on each chunk's closed-form samples (:func:`impact_sound`).
 
     Returns
     -------
@@ -259,7 +273,7 @@ def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None) 
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     out = {m: np.empty(pts.shape[0]) for m in names}
     for g in _groups(pts.shape[0], chunk):
-        sound, n_out = impact_sound(pulse, pts[g], config, medium)
+        sound, n_out = impact_sound(pulse, pts[g], config, medium, memory_limit=memory_limit)
         for m, v in transient_levels(sound, ANALYSIS_RATE, n_out, names).items():
             out[m][g] = v
     return out
@@ -303,7 +317,7 @@ def _check_metrics(metrics) -> list:
     return names
 
 
-def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.ndarray:
+def directivity_metric(directivity, metric: str, pulse, config, medium, *, memory_limit=None) -> np.ndarray:
     """The level ``metric`` in dB at each angle of a directivity.
 
     Parameters
@@ -320,6 +334,8 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
         :func:`points_metric_levels` from the sound alone.
     pulse, config, medium
         The impact, sphere and fluid of the directivity.
+    memory_limit : float, optional
+        Cap in bytes on the weighted level's closed-form samples (:func:`points_metric_levels`).
 
     Returns
     -------
@@ -333,7 +349,8 @@ def directivity_metric(directivity, metric: str, pulse, config, medium) -> np.nd
     if metric == "rms":
         with np.errstate(divide="ignore"):
             return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
-    return points_metric_levels([metric], pulse, directivity.points, config, medium)[metric]
+    return points_metric_levels([metric], pulse, directivity.points, config, medium,
+                                memory_limit=memory_limit)[metric]
 
 
 def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):

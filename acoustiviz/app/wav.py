@@ -29,12 +29,13 @@ import numpy as np
 
 from .. import __version__
 from ..core.geometry import GEOMETRIES, geometry
-from ..errors import ClippingWarning
+from ..errors import ClippingWarning, ParameterError
 from ..output.audio import shared_scale, write_sidecar, write_wav
 from ..sound import CavityScene
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
-           "physical_peaks", "room_sound", "least_absorbing", "ROOM_SOUND_OPTIONS", "ROOM_SOUND_SCENE_KEYS"]
+           "check_scale_fits", "physical_peaks", "room_sound", "least_absorbing", "ROOM_SOUND_OPTIONS",
+           "ROOM_SOUND_SCENE_KEYS"]
 
 #: :class:`~acoustiviz.sound.RoomSound` parameter -> ``acoustiviz auralize`` option.
 ROOM_SOUND_OPTIONS = {"late_tail": "--late-tail", "seed": "--tail-seed", "decay": "--tail-decay",
@@ -157,6 +158,42 @@ def calibration(files, subtype: str, *, scale=None, headroom_db: float = 1.0) ->
         return shared_scale([f.pressure for f in files], headroom_db=headroom_db), (
             f"shared by the {len(files)} file(s) of this run: their peak + {headroom_db:g} dB headroom")
     return 1.0, "pascals (1.0 = 1 Pa)"
+
+
+def check_scale_fits(files, subtype: str, scale) -> None:
+    """Refuse a given ``scale`` (Pa per full scale) that leaves the files silent or, in float32, infinite.
+
+    The run's largest |p| over ``scale`` must reach one step of the format (2^-23 of full scale
+    in 24-bit PCM, the smallest normal float32 in FLOAT), or the file holds only zeros; in FLOAT it
+    must stay below float32's largest value, or the file holds infinities. (A PCM scale that clips
+    is written and reported: its file still holds the sound, flattened.) A silent run, or no
+    ``scale`` (the run's own peak sets it), passes.
+
+    Raises
+    ------
+    ParameterError
+        Named ``scale``, with the range of scales that fits this run.
+    """
+    if scale is None:
+        return
+    peak = max((float(np.max(np.abs(f.pressure), initial=0.0)) for f in files), default=0.0)
+    if not peak > 0:
+        return
+    f32 = np.finfo(np.float32)
+    step = 2.0**-23 if subtype == "PCM_24" else float(f32.tiny)
+    high = peak / step
+    low = 0.0 if subtype == "PCM_24" else peak / float(f32.max)
+    ratio = peak / float(scale)
+    if low < float(scale) <= high:
+        return
+    fmt = "24-bit PCM" if subtype == "PCM_24" else "float32"
+    smallest = "smallest step" if subtype == "PCM_24" else "smallest normal number"
+    what = (f"below the {fmt} file's {smallest}: the file would hold only zeros" if ratio < step
+            else f"beyond the {fmt} file's largest value: the file would hold infinities")
+    lo = "(0" if low == 0.0 else f"({low:.3g}"
+    raise ParameterError("scale", f"{float(scale):g} Pa per full scale puts the run's peak of {peak:.4g} Pa "
+                                  f"{ratio:.3g} of full scale, {what}; for this run it must lie in "
+                                  f"{lo}, {high:.3g}] Pa, or be left out to normalise the file to its peak")
 
 
 def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
@@ -378,6 +415,7 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
     list of dict
         Per file: its ``record`` (the sidecar), the ``sidecar`` path and any ``warnings`` (str).
     """
+    check_scale_fits(files, subtype, scale)
     scale, source = calibration(files, subtype, scale=scale, headroom_db=headroom_db)
     physical = [None] * len(files)
     if not isinstance(rendering, dict):

@@ -61,10 +61,11 @@ def waveform_at(setup, point, settings, *, max_memory_mb=None, size_options=("sa
         The settings that set the number of samples, named by an error about it (the first first).
     """
     from ..field import time_series
-    from .budget import check_budget, memory_cap, waveform_estimate
+    from .budget import check_budget, check_room_order, memory_cap, waveform_estimate
     from .views import waveform_times
 
     conf, medium, pulse = setup.configuration, setup.medium, setup.pulse
+    check_room_order(conf, max_memory_mb)  # a room that leaves out more energy than its tolerance: refused
     check_budget(waveform_estimate([pulse], point, conf, medium, settings.samples_per_duration,
                                    options=size_options, window=settings.window), max_memory_mb)
     t = waveform_times([pulse], point, conf, medium, settings.samples_per_duration, window=settings.window)

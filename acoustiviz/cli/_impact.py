@@ -40,13 +40,13 @@ def add_room_options(parser, *, duration: bool = False) -> None:
         add_option(g, WAVEFORM[1], metavar="S")
 
 
-def room_settings(args, *, duration=None) -> dict | None:
+def room_settings(args, *, duration=None, max_memory_mb=None) -> dict | None:
     """The room settings of the options (:func:`acoustiviz.app.impacts.room_settings`); None without ``--room``."""
     from ..app.impacts import room_settings as _room_settings
 
     return _room_settings(args.room, absorption=args.absorption, source=args.source, strike=args.room_strike,
                           order=args.image_order, tolerance_db=args.tolerance_db, duration=duration,
-                          config=getattr(args, "config", None))
+                          config=getattr(args, "config", None), max_memory_mb=max_memory_mb)
 
 
 def room_duration(args):
@@ -92,8 +92,10 @@ def impact_from_args(args, *, velocity: float | None = None):
 
     with user_terms({s.name: s.option for s in IMPACT}):  # the records' fixed ranges, then the physics' limits
         check_values({s.name: getattr(args, s.name) for s in IMPACT if hasattr(args, s.name)}, IMPACT)
-    room = room_settings(args, duration=getattr(args, "duration", None)) if hasattr(args, "room") else None
-    terms = {**IMPACT_OPTIONS, **ROOM_OPTIONS} if room is not None else IMPACT_OPTIONS
+    cap = getattr(args, "max_memory", None)  # also caps a room's image order
+    room = room_settings(args, duration=getattr(args, "duration", None), max_memory_mb=cap) \
+        if hasattr(args, "room") else None
+    terms = {**IMPACT_OPTIONS, **ROOM_OPTIONS, "max_memory_mb": "--max-memory"} if room is not None else IMPACT_OPTIONS
     with user_terms(terms):
         return impact_setup(radius=args.radius, velocity=args.velocity if velocity is None else velocity,
                             k_hertz=args.k_hertz, sphere_material=args.material, surface_material=args.surface,

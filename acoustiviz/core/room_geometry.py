@@ -94,6 +94,9 @@ class Room(Geometry):
         Required when a surface is rigid and ``order`` is not given.
     sound_speed : float, optional
         Speed of sound in m/s that sets the arrival times (default the air's, 343.2 m/s).
+    max_memory_mb : float, optional
+        Memory budget in MB that caps the image order (default
+        :data:`acoustiviz.constants.MAX_MEMORY_MB`; :func:`acoustiviz.core.room.max_order_for_memory`).
 
     Notes
     -----
@@ -120,6 +123,7 @@ class Room(Geometry):
     tolerance_db: float = ROOM_TOLERANCE_DB
     duration: float | None = None
     sound_speed: float | None = None
+    max_memory_mb: float | None = None
 
     name: ClassVar[str] = "room"
     SETTINGS: ClassVar[tuple] = ("dimensions", "absorption", "source", "strike", "order", "tolerance_db",
@@ -215,7 +219,7 @@ class Room(Geometry):
 
         room, a = self.shoebox, self.radius
         medium = Medium(c=self.c, rho=1.204)
-        cap = max_order_for_memory()
+        cap = max_order_for_memory() if self.max_memory_mb is None else max_order_for_memory(self.max_memory_mb)
         if self.order is not None:
             if self.order > cap:
                 raise ParameterError("order", f"must lie in [0, {cap}] (the memory budget), got {self.order}")
@@ -362,7 +366,8 @@ class Room(Geometry):
 
     @classmethod
     def from_settings(cls, radius: float, *, dimensions=None, absorption=None, source=None, strike="floor",
-                      order=None, tolerance_db=None, duration=None, sound_speed=None, **others) -> Room:
+                      order=None, tolerance_db=None, duration=None, sound_speed=None, max_memory_mb=None,
+                      **others) -> Room:
         """Build from a front-end's settings (the one validation of the command line and the scenes).
 
         ``dimensions`` is required; ``absorption`` defaults to 0 (rigid), ``tolerance_db`` to -60.
@@ -373,7 +378,7 @@ class Room(Geometry):
             raise ParameterError("dimensions", "required for a room: three lengths Lx,Ly,Lz in m")
         return cls(a, dimensions, 0.0 if absorption is None else absorption, source,
                    "floor" if strike is None else strike, order,
-                   ROOM_TOLERANCE_DB if tolerance_db is None else tolerance_db, duration, sound_speed)
+                   ROOM_TOLERANCE_DB if tolerance_db is None else tolerance_db, duration, sound_speed, max_memory_mb)
 
     @classmethod
     def relevant(cls, settings) -> dict:

@@ -485,7 +485,7 @@ def _check_views(scene: Scene, conf) -> None:
 
     The estimates are the command line's (:mod:`acoustiviz.app.budget`).
     """
-    from ..app.budget import check_budget, directivity_estimate
+    from ..app.budget import check_budget, directivity_estimate, scene_estimates
     from ..app.render import render_estimate
 
     cap = scene.data["grids"]["memory_limit_mb"]
@@ -495,6 +495,7 @@ def _check_views(scene: Scene, conf) -> None:
     if scene.wants("directivity"):  # the angles of the step, as the command counts them
         step = scene.data["outputs"]["directivity"]["step_deg"]
         estimates.append(lambda: directivity_estimate(conf, step, ("outputs.directivity.step_deg",)))
+    estimates += scene_estimates(scene, conf)  # the waveform's tables, a weighted directivity's sound
     for estimate in estimates:
         try:
             check_budget(estimate(), cap, cap_name="grids.memory_limit_mb")
