@@ -37,6 +37,7 @@ from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..field import field_metrics, snapshots
+from ..field.grids import fluid_box
 from .writers import atomic_path, write_bytes_atomic
 
 __all__ = [
@@ -177,13 +178,7 @@ def _bounds(config: Geometry, points) -> np.ndarray:
         if hi[k] - lo[k] < 0.2 * span:
             lo[k] -= 0.3 * span
             hi[k] += 0.3 * span
-    for p in config.planes:
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], p.point[k])
-        else:
-            hi[k] = min(hi[k], p.point[k])
-    return np.array([lo, hi])
+    return np.array(fluid_box(config, lo, hi))
 
 
 def geometry_dataset(config: Geometry, bounds):

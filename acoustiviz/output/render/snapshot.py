@@ -11,7 +11,7 @@ from ..._validate import ParameterError, check_choice, check_positive
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import snapshots
-from ...field.grids import PlanarGrid, planar_grid
+from ...field.grids import PlanarGrid, fluid_box, section_grid
 from ._common import (
     _SPHERE_COLOUR,
     DEFAULT_SIZE,
@@ -49,7 +49,8 @@ def section_planes(config: Geometry, extent: float, *, sections=("xz",), n_u: in
     sections : sequence of {"xz", "yz", "xy"}
         ``"xz"``: the vertical plane ``y = 0`` (normal to the wall, holding the acceleration
         axis); ``"yz"``: the vertical plane through the centre parallel to the wall; ``"xy"``:
-        the horizontal plane through the centre. Each is bounded by the floor and the wall.
+        the horizontal plane through the centre. Each is bounded by the floor and the wall
+        (:func:`acoustiviz.field.grids.section_grid`).
     n_u : int
         Points along the longer side (>= 8).
 
@@ -64,30 +65,10 @@ def section_planes(config: Geometry, extent: float, *, sections=("xz",), n_u: in
         sections = (sections,)
     if int(n_u) != n_u or n_u < 8:
         raise ParameterError("n_u", f"must be an integer >= 8, got {n_u!r}")
-    c = config.centre
-    lo = c - e
-    hi = c + e
-    for p in config.planes:  # clip at each plane (the floor's z, a wall's x or y)
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], p.point[k])
-        else:
-            hi[k] = min(hi[k], p.point[k])
     out = []
     for s in sections:
         check_choice("sections", s, SECTIONS)
-        i, j = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[s]
-        u = np.zeros(3)
-        v = np.zeros(3)
-        u[i] = hi[i] - lo[i]
-        v[j] = hi[j] - lo[j]
-        centre = c.copy()
-        centre[i] = 0.5 * (lo[i] + hi[i])
-        centre[j] = 0.5 * (lo[j] + hi[j])
-        long = max(u[i], v[j])
-        nu = max(2, int(round((n_u - 1) * u[i] / long)) + 1)
-        nv = max(2, int(round((n_u - 1) * v[j] / long)) + 1)
-        out.append(planar_grid(centre, u, v, n_u=nu, n_v=nv))
+        out.append(section_grid(config, s, e, n_u))
     return out
 
 
@@ -135,12 +116,7 @@ def _snapshot_bounds(planes, config: Geometry):
         if hi[k] - lo[k] < 1e-9 * span:
             lo[k] -= 0.3 * span
             hi[k] += 0.3 * span
-    for p in config.planes:
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], p.point[k])
-        else:
-            hi[k] = min(hi[k], p.point[k])
+    lo, hi = fluid_box(config, lo, hi)
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
