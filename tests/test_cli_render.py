@@ -133,3 +133,31 @@ def test_balloon_of_a_weighted_level(tmp_path, capsys):
     assert np.all(np.isfinite(lc))
     assert np.all(lc <= peak + 0.1) and np.all(lc >= peak - 2.0)
     assert not np.allclose(lc, peak)
+
+
+def _count_snapshot_evaluations(monkeypatch):
+    """Wrap the field evaluator wherever a loaded module holds it; return the list of its calls (points each)."""
+    import sys
+
+    import acoustiviz.field.evaluate as evaluate
+
+    original = evaluate.snapshots
+    calls = []
+
+    def counted(pulse, times, points, *args, **kwargs):
+        calls.append(np.asarray(points).shape[0])
+        return original(pulse, times, points, *args, **kwargs)
+
+    for name, module in list(sys.modules.items()):
+        if name.startswith("acoustiviz") and getattr(module, "snapshots", None) is original:
+            monkeypatch.setattr(module, "snapshots", counted)
+    return calls
+
+
+def test_snapshot_png_vtk_and_html_evaluate_the_field_once(tmp_path, monkeypatch):
+    calls = _count_snapshot_evaluations(monkeypatch)
+    paths = [tmp_path / "s.png", tmp_path / "s.vtu", tmp_path / "s.html"]
+    assert main(["render", "snapshot", "--config", "plane", "--time", "0.0005", *SMALL, "--resolution", "21",
+                 "--png", str(paths[0]), "--vtk", str(paths[1]), "--html", str(paths[2])]) == 0
+    assert all(p.stat().st_size > 0 for p in paths)
+    assert len(calls) == 1  # one section, one evaluation for the three files

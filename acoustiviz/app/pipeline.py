@@ -277,20 +277,21 @@ def _plane_options(ctx: RunContext, s) -> dict:
 
 def produce_snapshot(ctx: RunContext):
     """Pressure p(x, t) on the planar sections at the requested times (one PNG, side by side)."""
+    from ..field.sections import section_field
     from ..output.render import render_snapshot
 
     s = ctx.scene.view_settings("snapshot")
     times = list(s.times)
     ctx.progress(f"rendering {len(times)} snapshot(s)")
+    field = section_field(ctx.pulse(), ctx.configuration, times, **_plane_options(ctx, s))  # once for every file
     path = render_snapshot(ctx.pulse(), ctx.configuration, times if len(times) > 1 else times[0],
-                           ctx.path("snapshot.png"), size=s.size, **_plane_options(ctx, s))
+                           ctx.path("snapshot.png"), size=s.size, field=field)
     products = [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
     if ctx.scene.output("snapshot")["vtk"]:
         from ..output.vtk import write_snapshot_vtk
 
         products += [Product("vtk", p) for p in write_snapshot_vtk(ctx.pulse(), ctx.configuration, times,
-                                                                    ctx.path("snapshot.vtu"),
-                                                                    **_plane_options(ctx, s))]
+                                                                    ctx.path("snapshot.vtu"), field=field)]
     return products
 
 

@@ -115,24 +115,24 @@ def _balloon(s, setup, paths, title) -> list:
 
 
 def _snapshot(s, setup, paths, title) -> list:
+    from ..field.sections import section_field
     from ..output import render
 
     pulse, conf, medium = setup.pulse, setup.configuration, setup.medium
-    planes = dict(extent=s.extent, sections=s.sections, n_u=s.n_u)
     times = s.times[0] if len(s.times) == 1 else list(s.times)
+    field = section_field(pulse, conf, times, medium=medium, extent=s.extent, sections=s.sections, n_u=s.n_u)
     outs = []
     if paths.get("png"):
         outs.append(render.render_snapshot(pulse, conf, times, paths["png"], clim=s.clim,
-                                           title=title or annotation(setup), medium=medium, size=s.size, **planes))
+                                           title=title or annotation(setup), size=s.size, field=field))
     if paths.get("vtk"):
         from ..output.vtk import write_snapshot_vtk
 
-        outs += write_snapshot_vtk(pulse, conf, times, paths["vtk"], medium=medium, **planes)
+        outs += write_snapshot_vtk(pulse, conf, times, paths["vtk"], field=field)
     if paths.get("html"):
         from ..output.html import write_snapshot_html
 
-        outs.append(write_snapshot_html(pulse, conf, times, paths["html"], medium=medium, clim=s.clim, title=title,
-                                        **planes))
+        outs.append(write_snapshot_html(pulse, conf, times, paths["html"], clim=s.clim, title=title, field=field))
     return outs
 
 

@@ -1,7 +1,8 @@
 """Fields for other tools: the data behind each render as VTK files (ParaView, pyvista, meshio).
 
-Each writer evaluates the same field as the matching render of :mod:`acoustiviz.output.render`
-on the same points and writes it, atomically, as an unstructured grid of quadrilaterals:
+Each writer writes the same field as the matching render of :mod:`acoustiviz.output.render`
+on the same points (given, or evaluated there as the render would), atomically, as an
+unstructured grid of quadrilaterals:
 
 * :func:`write_snapshot_vtk` and :func:`write_animation_vtk` -- the planar sections, with the
   pressure at every requested time as point arrays ``pressure_pa_t0000``, ``pressure_pa_t0001``,
@@ -36,7 +37,7 @@ import numpy as np
 from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..field import field_metrics, snapshots
+from ..field import field_metrics
 from ..field.grids import fluid_box
 from .writers import atomic_path, write_bytes_atomic
 
@@ -294,11 +295,11 @@ def _write_with_geometry(mesh, config, path: Path, geometry: bool) -> tuple:
 
 
 def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
-                       sections=("xz",), n_u: int = 241, geometry: bool = True) -> tuple:
+                       sections=("xz",), n_u: int = 241, geometry: bool = True, field=None) -> tuple:
     """Write the pressure of a field snapshot on its planar sections to a VTK file.
 
     The points are those of :func:`acoustiviz.output.render.render_snapshot` called with the
-    same arguments, and the values those of :func:`acoustiviz.field.snapshots` there.
+    same arguments, and the values those of :func:`acoustiviz.field.sections.section_field` there.
 
     Parameters
     ----------
@@ -316,6 +317,9 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
         Where the field is evaluated, as for :func:`acoustiviz.output.render.render_snapshot`.
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
+    field : acoustiviz.field.sections.SectionField, optional
+        The field already evaluated (``time``, ``medium``, ``planes``, ``extent``, ``sections``
+        and ``n_u`` are then taken from it); by default it is evaluated here.
 
     Returns
     -------
@@ -327,14 +331,12 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
     >>> write_snapshot_vtk(pulse, configuration("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
-    from .render.snapshot import _planes
+    from .render.snapshot import _field
 
     path = _check_vtk_path(path)
-    times = np.atleast_1d(np.asarray(time, dtype=float))
-    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
-        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
-    grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
+    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
+                   n_u=n_u)
+    grids, times, fields = field.grids, field.times, field.pressures
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 
 
@@ -371,18 +373,18 @@ def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, 
     (pathlib.Path, pathlib.Path or None)
         The data file and the geometry file.
     """
+    from ..field.sections import section_grids
     from .render.animation import _reach_time, animation_times, frame_fields
-    from .render.snapshot import _planes
 
     path = _check_vtk_path(path)
     if times is None:
-        grids = _planes(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
+        grids = section_grids(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
         times = animation_times(pulse, config, np.vstack([g.points for g in grids]), medium=medium, frames=frames)
     else:
         times = np.atleast_1d(np.asarray(times, dtype=float))
         if times.ndim != 1 or times.size < 1 or not np.all(np.isfinite(times)):
             raise ParameterError("times", "expected finite frame times in s")
-        grids = _planes(config, planes, extent, times, medium, n_u, sections)
+        grids = section_grids(config, planes, extent, times, medium, n_u, sections)
     fields = [frame_fields(pulse, config, times, g.points, medium=medium) for g in grids]
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 

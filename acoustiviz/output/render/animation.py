@@ -10,9 +10,10 @@ from ..._validate import ParameterError, check_positive, check_range
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import arrival_windows, snapshots, source_geometry
+from ...field.sections import section_grids
 from ..writers import atomic_path
 from ._common import _check_inputs, _check_path, _check_size, _grab, _plotter, _scene_label, mp4_available
-from .snapshot import _draw_snapshot, _planes, _symmetric_limit, _time_label
+from .snapshot import _draw_snapshot, _symmetric_limit, _time_label
 
 __all__ = [
     "animation_times",
@@ -160,14 +161,14 @@ def render_animation(
                                          "write a .gif instead")
         size = (size[0] + size[0] % 2, size[1] + size[1] % 2)
     if times is None:
-        probe = _planes(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
+        probe = section_grids(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
         times = animation_times(pulse, config, np.vstack([g.points for g in probe]), medium=medium, frames=frames)
         grids = probe
     else:
         times = np.atleast_1d(np.asarray(times, dtype=float))
         if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
             raise ParameterError("times", "expected at least two finite frame times in s")
-        grids = _planes(config, planes, extent, times, medium, n_u, sections)
+        grids = section_grids(config, planes, extent, times, medium, n_u, sections)
     fields = [frame_fields(pulse, config, times, g.points, medium=medium) for g in grids]
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     label = _scene_label(pulse, config) if title is None else title

@@ -7,15 +7,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..._validate import ParameterError, check_choice, check_positive
+from ..._validate import ParameterError, check_positive
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
-from ...field import snapshots
-from ...field.grids import PlanarGrid, fluid_box, section_grid
+from ...field.grids import PlanarGrid, fluid_box
+from ...field.sections import SectionField, section_field, section_planes
 from ._common import (
     _SPHERE_COLOUR,
     DEFAULT_SIZE,
-    SECTIONS,
     _add_bar,
     _add_geometry,
     _check_inputs,
@@ -33,57 +32,10 @@ from ._common import (
 __all__ = [
     "section_planes",
     "render_snapshot",
-]
+]  # section_planes: :func:`acoustiviz.field.sections.section_planes`, kept importable here
 
 
 # --------------------------------------------------------------------------- snapshots
-def section_planes(config: Geometry, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
-    """Planar grids through the sphere for field snapshots, clipped to the fluid's bounding box.
-
-    Parameters
-    ----------
-    config : Geometry
-        The scene.
-    extent : float
-        Distance in m from the sphere's centre to the far edges of each section.
-    sections : sequence of {"xz", "yz", "xy"}
-        ``"xz"``: the vertical plane ``y = 0`` (normal to the wall, holding the acceleration
-        axis); ``"yz"``: the vertical plane through the centre parallel to the wall; ``"xy"``:
-        the horizontal plane through the centre. Each is bounded by the floor and the wall
-        (:func:`acoustiviz.field.grids.section_grid`).
-    n_u : int
-        Points along the longer side (>= 8).
-
-    Returns
-    -------
-    list of PlanarGrid
-    """
-    e = check_positive("extent", extent, "m")
-    if e <= 2.0 * config.radius:
-        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * config.radius:g} m, got {e:g} m")
-    if isinstance(sections, str):
-        sections = (sections,)
-    if int(n_u) != n_u or n_u < 8:
-        raise ParameterError("n_u", f"must be an integer >= 8, got {n_u!r}")
-    out = []
-    for s in sections:
-        check_choice("sections", s, SECTIONS)
-        out.append(section_grid(config, s, e, n_u))
-    return out
-
-
-def _planes(config, planes, extent, times, medium, n_u, sections=("xz",)):
-    if planes is not None:
-        ps = [planes] if isinstance(planes, PlanarGrid) else list(planes)
-        if not ps or not all(isinstance(p, PlanarGrid) for p in ps):
-            raise ParameterError("planes", "expected a PlanarGrid or a non-empty sequence of them")
-        return ps
-    if extent is None:
-        reach = medium.c * float(np.max(times)) + config.radius
-        extent = max(8.0 * config.radius, 1.25 * reach)
-    return section_planes(config, extent, sections=sections, n_u=n_u)
-
-
 def _plane_mesh(grid: PlanarGrid, values):
     mesh = grid.to_pyvista()
     mesh.point_data["p"] = np.asarray(values, dtype=float)
@@ -161,6 +113,15 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
     return meshes, clock
 
 
+def _field(pulse, config, time, field, **where) -> SectionField:
+    """``field`` if given (checked), else the field of ``time`` evaluated by :func:`section_field` at ``where``."""
+    if field is None:
+        return section_field(pulse, config, time, **where)
+    if not isinstance(field, SectionField):
+        raise ParameterError("field", f"expected a SectionField, got {type(field).__name__}")
+    return field
+
+
 def _time_label(t: float) -> str:
     return f"t = {t * 1e3:.3f} ms"
 
@@ -181,6 +142,7 @@ def render_snapshot(
     title=None,
     show_scalar_bar: bool = True,
     cmap: str = "RdBu_r",
+    field=None,
 ) -> Path:
     """Render the pressure p(x, t) on planar grids at one or more times into a PNG file.
 
@@ -217,6 +179,10 @@ def render_snapshot(
         Draw the labelled colour bar.
     cmap : str
         A diverging matplotlib colour map; it is centred on zero.
+    field : SectionField, optional
+        The field already evaluated by :func:`acoustiviz.field.sections.section_field` (``time``,
+        ``medium``, ``planes``, ``extent``, ``sections`` and ``n_u`` are then taken from it); by
+        default it is evaluated here.
 
     Returns
     -------
@@ -231,11 +197,9 @@ def render_snapshot(
     path = _check_path(path, (".png",))
     size = _check_size(size)
     _check_inputs(pulse, config, medium)
-    times = np.atleast_1d(np.asarray(time, dtype=float))
-    if times.ndim != 1 or times.size == 0 or times.size > 12 or not np.all(np.isfinite(times)) or np.any(times < 0):
-        raise ParameterError("time", f"expected 1 to 12 finite times >= 0 s, got {time!r}")
-    grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]  # each (k, n)
+    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
+                   n_u=n_u)
+    grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     cols = times.size if times.size <= 3 else int(math.ceil(math.sqrt(times.size)))
     rows = int(math.ceil(times.size / cols))
