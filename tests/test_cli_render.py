@@ -161,3 +161,49 @@ def test_snapshot_png_vtk_and_html_evaluate_the_field_once(tmp_path, monkeypatch
                  "--png", str(paths[0]), "--vtk", str(paths[1]), "--html", str(paths[2])]) == 0
     assert all(p.stat().st_size > 0 for p in paths)
     assert len(calls) == 1  # one section, one evaluation for the three files
+
+
+def test_balloon_png_vtk_and_html_evaluate_the_metrics_once(tmp_path, monkeypatch):
+    import sys
+
+    import acoustiviz.field.metrics as metrics
+
+    original = metrics.field_metrics
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    for name, module in list(sys.modules.items()):
+        if name.startswith("acoustiviz") and getattr(module, "field_metrics", None) is original:
+            monkeypatch.setattr(module, "field_metrics", counted)
+    paths = [tmp_path / "b.png", tmp_path / "b.vtu", tmp_path / "b.html"]
+    assert main(["render", "balloon", "--config", "plane", *SMALL, "--resolution", "8", "--png", str(paths[0]),
+                 "--vtk", str(paths[1]), "--html", str(paths[2])]) == 0
+    assert all(p.stat().st_size > 0 for p in paths)
+    assert len(calls) == 1
+
+
+def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path):
+    import math
+
+    import pyvista as pv
+
+    from acoustiviz.core.contact import Impact, acceleration_pulse
+    from acoustiviz.core.room_geometry import Room
+    from acoustiviz.field.directivity import room_window
+    from acoustiviz.output.render import balloon_data
+    from acoustiviz.output.vtk import write_balloon_vtk
+
+    a = 0.01905
+    pulse = acceleration_pulse(Impact(1.4, 5.6e8, 7800.0 * 4.0 / 3.0 * math.pi * a**3))
+    room = Room(a, (3.0, 2.5, 2.0), 0.1, (1.0, 1.0, a), duration=0.02)
+    data = balloon_data(pulse, room, distance=0.5, metric="peak", n_theta=6)
+    path, _ = write_balloon_vtk(pulse, room, tmp_path / "b.vtu", data=data, geometry=False)
+    mesh = pv.read(path)
+    pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
+    # the file's window is the room's (ending by its duration), and its peak SPL the balloon's level
+    assert mesh.field_data["window_s"][0] == pytest.approx(room_window(room, np.vstack([pts, data.grid.points])),
+                                                           rel=1e-12)
+    np.testing.assert_allclose(mesh.point_data["peak_spl_db"], data.level.reshape(-1), rtol=0, atol=1e-9)

@@ -396,7 +396,8 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
     The points are the closed lattice of :func:`acoustiviz.output.render.balloon_data` at
     ``distance`` from the contact point (the whole sphere, the half space above the plane or
     the quarter space of the corner), the values those of
-    :func:`acoustiviz.field.field_metrics` there (see ``BALLOON_ARRAYS`` for the names).
+    :func:`acoustiviz.field.field_metrics` there (see ``BALLOON_ARRAYS`` for the names), with
+    the balloon's window (in a room :func:`acoustiviz.field.directivity.room_window`).
 
     Parameters
     ----------
@@ -414,7 +415,7 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
         Polar resolution of the measuring grid (4..512).
     data : BalloonData, optional
         The lattice already computed by ``balloon_data`` (``distance`` and ``n_theta`` are
-        then taken from it).
+        then taken from it), and its metrics when it holds them (``data.metrics``).
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
@@ -431,8 +432,10 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
         data = balloon_data(pulse, config, medium=medium, distance=distance, n_theta=n_theta)
     elif not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
-    pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
-    metrics = field_metrics(pulse, pts, config, medium=medium)
+    metrics = data.metrics
+    if metrics is None:  # a level of its own: the metrics are evaluated here
+        pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
+        metrics = field_metrics(pulse, pts, config, medium=medium)
     return _write_with_geometry(balloon_dataset(data, metrics), config, path, geometry)
 
 
