@@ -98,10 +98,10 @@ def test_bad_configuration_names_parameter(kwargs, name):
     assert err.value.name == name
 
 
-def test_eq14_identity(paper_pulse):
+def test_eq14_identity(paper_pulse, plane_geometry):
     """Sum with mirrored axes == paper eq 14 (minus sign, both angles from the real axis)."""
     pulse = paper_pulse()
-    cfg = images_plane(A)
+    cfg = plane_geometry
     pts = RNG.uniform([-1, -1, 0], [1, 1, 1], (50, 3))
     t = np.linspace(0, 4e-3, 400)
     ours = _field(pulse, t, pts, cfg)
