@@ -28,8 +28,8 @@ def _one_impact_csv(path, t=0.01, wall=-1, speed=1.4):
     return path
 
 
-def test_interface_writes_wav_and_sidecar(tmp_path, capsys):
-    from acoustiviz.dynamics import DamperModel, InitialState, simulate
+def test_interface_writes_wav_and_sidecar(tmp_path, capsys, table1_model):
+    from acoustiviz.dynamics import InitialState, simulate
 
     wav = tmp_path / "OUT.wav"
     assert main(["auralize", "--M", "0.5", "--K", "500", "--C", "0.05", "--m", "0.0405", "--gap", "0.04",
@@ -39,7 +39,7 @@ def test_interface_writes_wav_and_sidecar(tmp_path, capsys):
     data, fs = sf.read(wav, dtype="float64")
     info = sf.info(str(wav))
     rec = json.loads((tmp_path / "OUT.json").read_text())
-    n_ref = len(simulate(DamperModel(), 2.0, initial=InitialState(v=2.0)).impacts)
+    n_ref = len(simulate(table1_model, 2.0, initial=InitialState(v=2.0)).impacts)
     assert fs == 48000 and info.subtype == "PCM_24" and info.channels == 1 and data.size >= 2 * 48000
     assert rec["impact_count"] == n_ref > 10
     # a file that plays: every sample within [-1, 1], the peak 1 dB below full scale, the calibration recorded
