@@ -185,19 +185,16 @@ def test_balloon_png_vtk_and_html_evaluate_the_metrics_once(tmp_path, monkeypatc
     assert len(calls) == 1
 
 
-def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path):
-    import math
-
+def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path, half_sine_pulse):
     import pyvista as pv
 
-    from acoustiviz.core.contact import Impact, acceleration_pulse
     from acoustiviz.core.room_geometry import Room
     from acoustiviz.field.directivity import room_window
     from acoustiviz.output.render import balloon_data
     from acoustiviz.output.vtk import write_balloon_vtk
 
     a = 0.01905
-    pulse = acceleration_pulse(Impact(1.4, 5.6e8, 7800.0 * 4.0 / 3.0 * math.pi * a**3))
+    pulse = half_sine_pulse
     room = Room(a, (3.0, 2.5, 2.0), 0.1, (1.0, 1.0, a), duration=0.02)
     data = balloon_data(pulse, room, distance=0.5, metric="peak", n_theta=6)
     path, _ = write_balloon_vtk(pulse, room, tmp_path / "b.vtu", data=data, geometry=False)
