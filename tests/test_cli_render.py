@@ -204,3 +204,40 @@ def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path, half_sine_pulse)
     assert mesh.field_data["window_s"][0] == pytest.approx(room_window(room, np.vstack([pts, data.grid.points])),
                                                            rel=1e-12)
     np.testing.assert_allclose(mesh.point_data["peak_spl_db"], data.level.reshape(-1), rtol=0, atol=1e-9)
+
+
+def test_animation_gif_and_vtk_evaluate_the_frames_once(tmp_path, monkeypatch):
+    import acoustiviz.output.render.animation as animation
+
+    original = animation.frame_fields
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(animation, "frame_fields", counted)
+    paths = [tmp_path / "a.gif", tmp_path / "a.vtu"]
+    assert main(["render", "animation", "--config", "plane", "--frames", "3", "--fps", "8", "--size", "160x120",
+                 "--resolution", "21", "--gif", str(paths[0]), "--vtk", str(paths[1])]) == 0
+    assert all(p.stat().st_size > 0 for p in paths)
+    assert len(calls) == 1  # one section, its frames evaluated once for both files
+
+
+def test_a_shared_animation_field_is_left_as_computed(tmp_path, half_sine_pulse, plane_geometry):
+    import pyvista as pv
+
+    from acoustiviz.output.render import render_animation
+    from acoustiviz.output.render.animation import animation_field
+    from acoustiviz.output.vtk import write_animation_vtk
+
+    field = animation_field(half_sine_pulse, plane_geometry, frames=4, n_u=21)
+    before = [p.copy() for p in field.pressures]
+    assert not any(p.flags.writeable for p in field.pressures)
+    render_animation(half_sine_pulse, plane_geometry, tmp_path / "a.gif", size=(160, 120), field=field)
+    write_animation_vtk(half_sine_pulse, plane_geometry, tmp_path / "a.vtu", field=field, geometry=False)
+    for now, then in zip(field.pressures, before, strict=True):
+        np.testing.assert_array_equal(now, then)  # the GIF drew every frame without writing into the field
+    data = pv.read(tmp_path / "a.vtu")
+    for k in range(4):
+        np.testing.assert_array_equal(data.point_data[f"pressure_pa_t{k:04d}"], before[0][k])

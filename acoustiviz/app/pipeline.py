@@ -319,18 +319,19 @@ def produce_balloon(ctx: RunContext):
 def produce_animation(ctx: RunContext):
     """GIF of the wavefront leaving the impact and reflecting, on the planar sections."""
     from ..output.render import render_animation
+    from ..output.render.animation import animation_field
 
     s = ctx.scene.view_settings("animation")
     ctx.progress(f"rendering {s.frames} animation frames")
-    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), frames=s.frames, fps=s.fps,
-                            size=s.size, **_plane_options(ctx, s))
+    field = animation_field(ctx.pulse(), ctx.configuration, frames=s.frames, **_plane_options(ctx, s))  # once
+    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), fps=s.fps, size=s.size,
+                            field=field)
     products = [Product("animation", path, {"frames": str(s.frames), "fps": f"{s.fps:g}"})]
     if ctx.scene.output("animation")["vtk"]:
         from ..output.vtk import write_animation_vtk
 
         products += [Product("vtk", p) for p in write_animation_vtk(ctx.pulse(), ctx.configuration,
-                                                                     ctx.path("animation.vtu"), frames=s.frames,
-                                                                     **_plane_options(ctx, s))]
+                                                                     ctx.path("animation.vtu"), field=field)]
     return products
 
 

@@ -138,19 +138,20 @@ def _snapshot(s, setup, paths, title) -> list:
 
 def _animation(s, setup, paths, title) -> list:
     from ..output import render
+    from ..output.render.animation import animation_field
 
     pulse, conf, medium = setup.pulse, setup.configuration, setup.medium
-    planes = dict(extent=s.extent, sections=s.sections, n_u=s.n_u)
+    field = animation_field(pulse, conf, medium=medium, frames=s.frames, extent=s.extent, sections=s.sections,
+                            n_u=s.n_u)  # once for the GIF, the MP4 and the VTK file
     outs = []
     for key in ("gif", "mp4"):
         if paths.get(key):
-            outs.append(render.render_animation(pulse, conf, paths[key], frames=s.frames, fps=s.fps, clim=s.clim,
-                                                title=title or annotation(setup), medium=medium, size=s.size,
-                                                **planes))
+            outs.append(render.render_animation(pulse, conf, paths[key], fps=s.fps, clim=s.clim,
+                                                title=title or annotation(setup), size=s.size, field=field))
     if paths.get("vtk"):
         from ..output.vtk import write_animation_vtk
 
-        outs += write_animation_vtk(pulse, conf, paths["vtk"], medium=medium, frames=s.frames, **planes)
+        outs += write_animation_vtk(pulse, conf, paths["vtk"], field=field)
     return outs
 
 

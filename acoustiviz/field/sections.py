@@ -36,11 +36,27 @@ class SectionField:
         Times in s from the start of contact.
     pressures : tuple of (k, n_i) ndarray
         Pressure in Pa at each time on the ``n_i`` points of each section (NaN inside the sphere).
+
+    Built by :meth:`of` (from :func:`section_field` or an animation's frames), its arrays are
+    read-only: a sink that wrote into them would change what the next sink draws.
     """
 
     grids: tuple
     times: np.ndarray
     pressures: tuple
+
+    @classmethod
+    def of(cls, grids, times, pressures) -> SectionField:
+        """A field of ``grids``, a copy of ``times`` and the ``pressures`` themselves, all made read-only.
+
+        Every sink shares the field and none may write it; the pressure arrays are taken over, not
+        copied (they are large), so the caller passes arrays of its own.
+        """
+        tt = np.array(times, dtype=float)
+        ps = tuple(np.asarray(p, dtype=float) for p in pressures)
+        for a in (tt, *ps):
+            a.setflags(write=False)
+        return cls(tuple(grids), tt, ps)
 
     @property
     def points(self) -> np.ndarray:
@@ -145,5 +161,5 @@ def section_field(pulse, config, time, *, medium: Medium = AIR, planes=None, ext
     """
     times = check_times(time)
     grids = section_grids(config, planes, extent, times, medium, n_u, sections)
-    fields = tuple(evaluate.snapshots(pulse, times, g.points, config, medium=medium) for g in grids)
-    return SectionField(tuple(grids), times, fields)
+    fields = [evaluate.snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
+    return SectionField.of(grids, times, fields)

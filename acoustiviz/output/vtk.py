@@ -341,7 +341,8 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
 
 
 def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, times=None, frames: int = 48,
-                        planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True) -> tuple:
+                        planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True,
+                        field=None) -> tuple:
     """Write every frame of a wavefront animation to one VTK file (one pressure array per frame).
 
     The frame times and points are those of :func:`acoustiviz.output.render.render_animation`
@@ -367,25 +368,25 @@ def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, 
         Where the field is evaluated, as for the render.
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
+    field : acoustiviz.field.sections.SectionField, optional
+        The frames already evaluated by :func:`acoustiviz.output.render.animation.animation_field`
+        (the arguments saying where and when are then taken from it); by default they are
+        evaluated here.
 
     Returns
     -------
     (pathlib.Path, pathlib.Path or None)
         The data file and the geometry file.
     """
-    from ..field.sections import section_grids
-    from .render.animation import _reach_time, animation_times, frame_fields
+    from .render.animation import animation_field
+    from .render.snapshot import _field
 
     path = _check_vtk_path(path)
-    if times is None:
-        grids = section_grids(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
-        times = animation_times(pulse, config, np.vstack([g.points for g in grids]), medium=medium, frames=frames)
-    else:
-        times = np.atleast_1d(np.asarray(times, dtype=float))
-        if times.ndim != 1 or times.size < 1 or not np.all(np.isfinite(times)):
-            raise ParameterError("times", "expected finite frame times in s")
-        grids = section_grids(config, planes, extent, times, medium, n_u, sections)
-    fields = [frame_fields(pulse, config, times, g.points, medium=medium) for g in grids]
+    if field is None:
+        field = animation_field(pulse, config, medium=medium, times=times, frames=frames, planes=planes, extent=extent,
+                                sections=sections, n_u=n_u, min_times=1)
+    field = _field(pulse, config, None, field)
+    grids, times, fields = field.grids, field.times, field.pressures
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 
 
