@@ -31,6 +31,8 @@ __all__ = [
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "FREQUENCY_SWEEPS",
+    "SECTION_PLANES",
+    "MAX_SNAPSHOT_TIMES",
     "FORCED_TOLERANCE",
     "FORCED_TOLERANCE_RANGE",
     "FORCED_RTOL",
@@ -94,6 +96,12 @@ EXCITATIONS = ("force", "base")
 FORCED_SOLVERS = ("event", "impact-map", "newmark")
 #: Frequency sweeps: continuation up, down or both, or independent runs.
 FREQUENCY_SWEEPS = ("up", "down", "both", "independent")
+#: Planes through the sphere's centre a field view (snapshot, animation) may show, named by the two
+#: axes each holds: the vertical plane normal to the wall, the vertical plane parallel to it, the
+#: horizontal plane.
+SECTION_PLANES = ("xz", "yz", "xy")
+#: Most snapshot times of one field view (drawn side by side).
+MAX_SNAPSHOT_TIMES = 12
 
 # --- settings of the forced damper's steady states (API, CLI and scenes share these) -------
 

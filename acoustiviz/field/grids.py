@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive
+from ..constants import SECTION_PLANES
 
 __all__ = [
     "REGIONS",
@@ -43,7 +44,7 @@ SOLID_ANGLE = {"sphere": 4 * math.pi, "half": 2 * math.pi, "quarter": math.pi}
 #: Sections through the sphere, named by the two axes they hold -> the indices of those axes:
 #: ``"xz"`` the vertical plane normal to the wall (holding the acceleration axis), ``"yz"`` the
 #: vertical plane parallel to the wall, ``"xy"`` a horizontal plane.
-SECTIONS = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}
+SECTIONS = {name: ("xyz".index(name[0]), "xyz".index(name[1])) for name in SECTION_PLANES}
 
 
 def _unit(name, v):

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive
+from ..constants import MAX_SNAPSHOT_TIMES
 from ..core.medium import AIR, Medium
 from . import evaluate
 from .grids import SECTIONS, PlanarGrid, section_grid
@@ -21,7 +22,7 @@ from .grids import SECTIONS, PlanarGrid, section_grid
 __all__ = ["MAX_TIMES", "SectionField", "check_times", "section_planes", "section_grids", "section_field"]
 
 #: Most snapshot times of one field (they are drawn side by side).
-MAX_TIMES = 12
+MAX_TIMES = MAX_SNAPSHOT_TIMES
 
 
 @dataclass(frozen=True)

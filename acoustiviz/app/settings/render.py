@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ...constants import BALLOON_METRICS
+from ...constants import BALLOON_METRICS, MAX_SNAPSHOT_TIMES, SECTION_PLANES
 from ...errors import ParameterError
 from .base import Settings, check_size
 from .table import Setting
@@ -20,9 +20,9 @@ __all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "SECTIONS", "MAX_TIMES", "Balloon
            "AnimationSettings", "SETTINGS_OF_VIEW"]
 
 #: Planes through the sphere's centre a field view may show.
-SECTIONS = ("xz", "yz", "xy")
+SECTIONS = SECTION_PLANES
 #: Most snapshot times drawn side by side.
-MAX_TIMES = 12
+MAX_TIMES = MAX_SNAPSHOT_TIMES
 #: Farthest edge of a field plane and largest balloon radius in m (a render of a field kilometres
 #: across shows nothing of an impact).
 MAX_EXTENT, MAX_BALLOON_DISTANCE = 1e3, 1e4

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError
+from ...constants import SECTION_PLANES
 from ...core.geometry import Geometry
 from ...core.medium import Medium
-from ...field.grids import SECTIONS as _GRID_SECTIONS
 from ..writers import atomic_path
 
 __all__ = [
@@ -25,8 +25,8 @@ __all__ = [
 
 #: Section planes of :func:`section_planes`: the vertical plane normal to the wall (``"xz"``),
 #: the vertical plane parallel to it through the sphere (``"yz"``), the horizontal plane through
-#: the sphere's centre (``"xy"``); those of :data:`acoustiviz.field.grids.SECTIONS`.
-SECTIONS = tuple(_GRID_SECTIONS)
+#: the sphere's centre (``"xy"``): :data:`acoustiviz.constants.SECTION_PLANES`.
+SECTIONS = SECTION_PLANES
 
 #: Default image size in pixels (width, height).
 DEFAULT_SIZE = (1200, 900)
