@@ -18,7 +18,6 @@ import math
 
 __all__ = [
     "P_REF",
-    "MAX_SNAPSHOT_TIMES",
     "BALLOON_MIN_RADII",
     "STILL_SIZE",
     "ANIMATION_SIZE",
@@ -37,6 +36,8 @@ __all__ = [
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "FREQUENCY_SWEEPS",
+    "SECTION_PLANES",
+    "MAX_SNAPSHOT_TIMES",
     "FORCED_TOLERANCE",
     "FORCED_TOLERANCE_RANGE",
     "FORCED_RTOL",
@@ -103,6 +104,12 @@ EXCITATIONS = ("force", "base")
 FORCED_SOLVERS = ("event", "impact-map", "newmark")
 #: Frequency sweeps: continuation up, down or both, or independent runs.
 FREQUENCY_SWEEPS = ("up", "down", "both", "independent")
+#: Planes through the sphere's centre a field view (snapshot, animation) may show, named by the two
+#: axes each holds: the vertical plane normal to the wall, the vertical plane parallel to it, the
+#: horizontal plane.
+SECTION_PLANES = ("xz", "yz", "xy")
+#: Most snapshot times of one field view, drawn side by side in a render, its VTK files and its HTML page.
+MAX_SNAPSHOT_TIMES = 12
 
 # --- settings of the forced damper's steady states (API, CLI and scenes share these) -------
 
@@ -177,8 +184,6 @@ BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in LEVEL_METRICS if m != "sel
 
 # --- views ---------------------------------------------------------------------------------
 
-#: Most snapshot times drawn side by side, in a render, its VTK files and its HTML page.
-MAX_SNAPSHOT_TIMES = 12
 #: Smallest radius of a directivity balloon's sphere, in sphere radii: 1.05 times the sphere's
 #: diameter, so the grid clears the sphere and the surfaces it touches.
 BALLOON_MIN_RADII = 2.1

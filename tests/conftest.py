@@ -19,3 +19,78 @@ def pytest_report_header(config):
 
     script = Path(__file__).resolve().parents[1] / ".ci" / "versions.py"
     return runpy.run_path(str(script))["version_line"]() if script.is_file() else None
+
+
+# --------------------------------------------------------------------------- shared fixtures
+# The paper's values, built once per session: each is an immutable value (frozen dataclasses;
+# a test never writes into their arrays), so sharing them cannot couple two tests.
+import math  # noqa: E402
+
+import pytest  # noqa: E402
+
+from acoustiviz.constants import PAPER_DENSITY, PAPER_K_HERTZ, PAPER_RADIUS, PAPER_VELOCITY  # noqa: E402
+
+#: Radius in m of the paper's Figure 2 sphere.
+PAPER_A = PAPER_RADIUS
+
+
+@pytest.fixture(scope="session")
+def paper_impact():
+    """The paper's Figure 2 impact: a steel sphere of radius 19.05 mm (mass ρ 4/3 π a³, ρ = 7800 kg/m³,
+    about 226 g) at 1.4 m/s on a surface of Hertz stiffness 5.6e8 N/m^1.5."""
+    from acoustiviz.core.contact import Impact
+
+    mass = PAPER_DENSITY * 4 / 3 * math.pi * PAPER_A**3
+    return Impact(velocity=PAPER_VELOCITY, k_hertz=PAPER_K_HERTZ, mass=mass)
+
+
+@pytest.fixture(scope="session")
+def paper_pulse(paper_impact):
+    """``paper_pulse(kind)``: the acceleration pulse of :func:`paper_impact` of that kind ("half-sine",
+    "impulse-matched" or "hertz"), each built once per session."""
+    from acoustiviz.core.contact import acceleration_pulse
+
+    built = {}
+
+    def pulse(kind="half-sine"):
+        if kind not in built:
+            built[kind] = acceleration_pulse(paper_impact, kind)
+        return built[kind]
+
+    return pulse
+
+
+@pytest.fixture(scope="session")
+def half_sine_pulse(paper_pulse):
+    """The paper's peak-matched half-sine pulse of the Figure 2 impact (m/s² over its contact time)."""
+    return paper_pulse("half-sine")
+
+
+@pytest.fixture(scope="session")
+def hertz_pulse(paper_pulse):
+    """The exact Hertz pulse of the Figure 2 impact."""
+    return paper_pulse("hertz")
+
+
+@pytest.fixture(scope="session")
+def plane_geometry():
+    """The Figure 2 sphere resting on a rigid floor z = 0 (one image)."""
+    from acoustiviz.core.geometry import images_plane
+
+    return images_plane(PAPER_A)
+
+
+@pytest.fixture(scope="session")
+def wall_floor_geometry():
+    """The Figure 2 sphere on the floor in a wall-floor corner, its centre 5 cm from the wall (four sources)."""
+    from acoustiviz.core.geometry import images_wall_floor
+
+    return images_wall_floor(PAPER_A, 0.05)
+
+
+@pytest.fixture(scope="session")
+def table1_model():
+    """The paper's Table 1 damper (M = 0.5 kg, K = 500 N/m, C = 0.05 N s/m, m = 40.5 g, gap 4 cm)."""
+    from acoustiviz.dynamics import TABLE1
+
+    return TABLE1

@@ -13,14 +13,10 @@ from acoustiviz.core.radiation import pressure, radiation_coefficients
 A = 0.01905
 
 
-def _pulses():
-    yield acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3), "hertz")
-    for l_tau in (0.5, 5.0, 50.0, 500.0):  # pulse length in units of a/c
-        yield HalfSinePulse(amplitude=1e4, duration=l_tau * A / AIR.c)
-
-
-@pytest.mark.parametrize("pulse", list(_pulses()), ids=["hertz", "ltau0.5", "ltau5", "ltau50", "ltau500"])
-def test_bounds_hold(pulse):
+@pytest.mark.parametrize("l_tau", [None, 0.5, 5.0, 50.0, 500.0], ids=["hertz", "ltau0.5", "ltau5", "ltau50", "ltau500"])
+def test_bounds_hold(l_tau, hertz_pulse):
+    # the paper's Hertz pulse, and half-sines of length l_tau in units of a/c
+    pulse = hertz_pulse if l_tau is None else HalfSinePulse(amplitude=1e4, duration=l_tau * A / AIR.c)
     for r in (A, 2 * A, 0.1, 0.7, 10.0):
         for ct in (1.0, -0.3):
             t = np.linspace(0, (r - A) / AIR.c + pulse.duration + 30 * A / AIR.c, 30001)

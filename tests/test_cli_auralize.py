@@ -11,7 +11,6 @@ import soundfile as sf
 
 from acoustiviz.cli import main
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.geometry import images_plane
 
 try:
     from acoustiviz.field import time_series
@@ -28,8 +27,8 @@ def _one_impact_csv(path, t=0.01, wall=-1, speed=1.4):
     return path
 
 
-def test_interface_writes_wav_and_sidecar(tmp_path, capsys):
-    from acoustiviz.dynamics import DamperModel, InitialState, simulate
+def test_interface_writes_wav_and_sidecar(tmp_path, capsys, table1_model):
+    from acoustiviz.dynamics import InitialState, simulate
 
     wav = tmp_path / "OUT.wav"
     assert main(["auralize", "--M", "0.5", "--K", "500", "--C", "0.05", "--m", "0.0405", "--gap", "0.04",
@@ -39,7 +38,7 @@ def test_interface_writes_wav_and_sidecar(tmp_path, capsys):
     data, fs = sf.read(wav, dtype="float64")
     info = sf.info(str(wav))
     rec = json.loads((tmp_path / "OUT.json").read_text())
-    n_ref = len(simulate(DamperModel(), 2.0, initial=InitialState(v=2.0)).impacts)
+    n_ref = len(simulate(table1_model, 2.0, initial=InitialState(v=2.0)).impacts)
     assert fs == 48000 and info.subtype == "PCM_24" and info.channels == 1 and data.size >= 2 * 48000
     assert rec["impact_count"] == n_ref > 10
     # a file that plays: every sample within [-1, 1], the peak 1 dB below full scale, the calibration recorded
@@ -55,7 +54,7 @@ def test_interface_writes_wav_and_sidecar(tmp_path, capsys):
     assert str(wav) in out and str(tmp_path / "OUT.json") in out
 
 
-def test_one_click_level_matches_the_field_evaluator(tmp_path):
+def test_one_click_level_matches_the_field_evaluator(tmp_path, plane_geometry):
     """A single impact read from CSV, at 96 kHz: peak within 0.5 % and RMS within 1e-4 of the evaluator.
 
     (Half a sample at 96 kHz moves the sampled peak by < 0.5 %; the energy above 43 kHz is < 1e-7.)
@@ -70,17 +69,17 @@ def test_one_click_level_matches_the_field_evaluator(tmp_path):
     t = np.arange(0, 0.01, 1 / (64 * fs))
     pt = np.array([[0.495, 0.0, 0.514]])
     if time_series is not None:
-        ref = time_series(pulse, t, pt, images_plane(A))[0]
+        ref = time_series(pulse, t, pt, plane_geometry)[0]
     else:  # pragma: no cover
         from acoustiviz.core.radiation import sphere_pressure
 
         ref = sum(sphere_pressure(pulse, t, pt, radius=A, centre=s.position, axis=s.axis)[0]
-                  for s in images_plane(A).sources)
+                  for s in plane_geometry.sources)
     assert np.max(np.abs(data)) == pytest.approx(np.max(np.abs(ref)), rel=5e-3)
     assert math.sqrt(np.sum(data**2) / fs) == pytest.approx(math.sqrt(np.sum(ref**2) / (64 * fs)), rel=1e-4)
 
 
-def test_levels_of_one_click_are_its_exposure_and_read_back_from_the_file(tmp_path, capsys):
+def test_levels_of_one_click_are_its_exposure_and_read_back_from_the_file(tmp_path, capsys, plane_geometry):
     """SEL of one click against the field evaluator's integral of p²; `acoustiviz levels` on the PCM file agrees."""
     csv = _one_impact_csv(tmp_path / "one.csv")
     wav = tmp_path / "lv.wav"
@@ -98,7 +97,7 @@ def test_levels_of_one_click_are_its_exposure_and_read_back_from_the_file(tmp_pa
     from acoustiviz.core.radiation import sphere_pressure
 
     ref = sum(sphere_pressure(pulse, t, pt, radius=A, centre=s.position, axis=s.axis)[0]
-              for s in images_plane(A).sources)
+              for s in plane_geometry.sources)
     assert row["sel_db"] == pytest.approx(10 * math.log10(np.sum(ref**2) / fine / 20e-6**2), abs=0.01)
     assert row["lzpeak_db"] == pytest.approx(20 * math.log10(np.max(np.abs(ref)) / 20e-6), abs=0.05)
     assert row["lcpeak_db"] < row["lzpeak_db"] and row["lafmax_db"] < row["lcpeak_db"]

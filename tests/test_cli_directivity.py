@@ -6,8 +6,6 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
-from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.geometry import images_plane
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
 
@@ -34,7 +32,7 @@ def _read(path):
 
 
 @pytest.mark.slow
-def test_plane_directivity_csv_and_png(tmp_path):
+def test_plane_directivity_csv_and_png(tmp_path, plane_geometry, paper_pulse):
     out, png = tmp_path / "d.csv", tmp_path / "d.png"
     assert main([*ARGS, "--config", "plane", "--step", "5", "--csv", str(out), "--png", str(png)]) == 0
     header, data = _read(out)
@@ -43,8 +41,8 @@ def test_plane_directivity_csv_and_png(tmp_path):
     np.testing.assert_allclose(data[:, 3], 20 * np.log10(data[:, 1] / 20e-6), atol=1e-5)
     assert png.stat().st_size > 10_000
     # independent reference at 45 deg: a fine direct sum of the two spheres of eq 14
-    cfg = images_plane(A)
-    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3))
+    cfg = plane_geometry
+    pulse = paper_pulse()
     th = np.pi / 4
     obs = cfg.centre + 0.7 * np.array([np.sin(th), 0, np.cos(th)])
     t1 = (0.7 - A) / AIR.c
@@ -93,7 +91,7 @@ def test_bad_options_exit_2_naming_the_option(extra, option, capsys):
     assert option in err and len(err.strip().splitlines()) == 1
 
 
-def test_weighted_metric_columns_lcpeak_near_peak_and_one_angle_checked_directly(tmp_path):
+def test_weighted_metric_columns_lcpeak_near_peak_and_one_angle_checked_directly(tmp_path, plane_geometry, paper_pulse):
     """``--metric lcpeak`` and ``laeq``: C-peak within the C-weighting effect of the peak SPL; one
     angle recomputed from an independent fine direct sum, band-limited by another filter."""
     from scipy.signal import resample_poly
@@ -110,8 +108,8 @@ def test_weighted_metric_columns_lcpeak_near_peak_and_one_angle_checked_directly
     assert np.all(diff < 0.1) and np.all(diff > -2.0)
     # independent reference at 45 deg: both spheres of eq 14 summed directly at 1/(16 x 96 kHz),
     # decimated by scipy's polyphase filter, then the levels called directly
-    cfg = images_plane(A)
-    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3))
+    cfg = plane_geometry
+    pulse = paper_pulse()
     th = np.pi / 4
     obs = cfg.centre + 0.7 * np.array([np.sin(th), 0, np.cos(th)])
     fs, up = 96000, 16

@@ -133,3 +133,111 @@ def test_balloon_of_a_weighted_level(tmp_path, capsys):
     assert np.all(np.isfinite(lc))
     assert np.all(lc <= peak + 0.1) and np.all(lc >= peak - 2.0)
     assert not np.allclose(lc, peak)
+
+
+def _count_snapshot_evaluations(monkeypatch):
+    """Wrap the field evaluator wherever a loaded module holds it; return the list of its calls (points each)."""
+    import sys
+
+    import acoustiviz.field.evaluate as evaluate
+
+    original = evaluate.snapshots
+    calls = []
+
+    def counted(pulse, times, points, *args, **kwargs):
+        calls.append(np.asarray(points).shape[0])
+        return original(pulse, times, points, *args, **kwargs)
+
+    for name, module in list(sys.modules.items()):
+        if name.startswith("acoustiviz") and getattr(module, "snapshots", None) is original:
+            monkeypatch.setattr(module, "snapshots", counted)
+    return calls
+
+
+def test_snapshot_png_vtk_and_html_evaluate_the_field_once(tmp_path, monkeypatch):
+    calls = _count_snapshot_evaluations(monkeypatch)
+    paths = [tmp_path / "s.png", tmp_path / "s.vtu", tmp_path / "s.html"]
+    assert main(["render", "snapshot", "--config", "plane", "--time", "0.0005", *SMALL, "--resolution", "21",
+                 "--png", str(paths[0]), "--vtk", str(paths[1]), "--html", str(paths[2])]) == 0
+    assert all(p.stat().st_size > 0 for p in paths)
+    assert len(calls) == 1  # one section, one evaluation for the three files
+
+
+def test_balloon_png_vtk_and_html_evaluate_the_metrics_once(tmp_path, monkeypatch):
+    import sys
+
+    import acoustiviz.field.metrics as metrics
+
+    original = metrics.field_metrics
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    for name, module in list(sys.modules.items()):
+        if name.startswith("acoustiviz") and getattr(module, "field_metrics", None) is original:
+            monkeypatch.setattr(module, "field_metrics", counted)
+    paths = [tmp_path / "b.png", tmp_path / "b.vtu", tmp_path / "b.html"]
+    assert main(["render", "balloon", "--config", "plane", *SMALL, "--resolution", "8", "--png", str(paths[0]),
+                 "--vtk", str(paths[1]), "--html", str(paths[2])]) == 0
+    assert all(p.stat().st_size > 0 for p in paths)
+    assert len(calls) == 1
+
+
+def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path, half_sine_pulse):
+    import pyvista as pv
+
+    from acoustiviz.core.room_geometry import Room
+    from acoustiviz.field.directivity import room_window
+    from acoustiviz.output.render import balloon_data
+    from acoustiviz.output.vtk import write_balloon_vtk
+
+    a = 0.01905
+    pulse = half_sine_pulse
+    room = Room(a, (3.0, 2.5, 2.0), 0.1, (1.0, 1.0, a), duration=0.02)
+    data = balloon_data(pulse, room, distance=0.5, metric="peak", n_theta=6)
+    path, _ = write_balloon_vtk(pulse, room, tmp_path / "b.vtu", data=data, geometry=False)
+    mesh = pv.read(path)
+    pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
+    # the file's window is the room's (ending by its duration), and its peak SPL the balloon's level
+    assert mesh.field_data["window_s"][0] == pytest.approx(room_window(room, np.vstack([pts, data.grid.points])),
+                                                           rel=1e-12)
+    np.testing.assert_allclose(mesh.point_data["peak_spl_db"], data.level.reshape(-1), rtol=0, atol=1e-9)
+
+
+def test_animation_gif_and_vtk_evaluate_the_frames_once(tmp_path, monkeypatch):
+    import acoustiviz.output.render.animation as animation
+
+    original = animation.frame_fields
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(animation, "frame_fields", counted)
+    paths = [tmp_path / "a.gif", tmp_path / "a.vtu"]
+    assert main(["render", "animation", "--config", "plane", "--frames", "3", "--fps", "8", "--size", "160x120",
+                 "--resolution", "21", "--gif", str(paths[0]), "--vtk", str(paths[1])]) == 0
+    assert all(p.stat().st_size > 0 for p in paths)
+    assert len(calls) == 1  # one section, its frames evaluated once for both files
+
+
+def test_a_shared_animation_field_is_left_as_computed(tmp_path, half_sine_pulse, plane_geometry):
+    import pyvista as pv
+
+    from acoustiviz.output.render import render_animation
+    from acoustiviz.output.render.animation import animation_field
+    from acoustiviz.output.vtk import write_animation_vtk
+
+    field = animation_field(half_sine_pulse, plane_geometry, frames=4, n_u=21)
+    before = [p.copy() for p in field.pressures]
+    assert not any(p.flags.writeable for p in field.pressures)
+    render_animation(half_sine_pulse, plane_geometry, tmp_path / "a.gif", size=(160, 120), field=field)
+    write_animation_vtk(half_sine_pulse, plane_geometry, tmp_path / "a.vtu", field=field, geometry=False)
+    for now, then in zip(field.pressures, before, strict=True):
+        np.testing.assert_array_equal(now, then)  # the GIF drew every frame without writing into the field
+    data = pv.read(tmp_path / "a.vtu")
+    for k in range(4):
+        np.testing.assert_array_equal(data.point_data[f"pressure_pa_t{k:04d}"], before[0][k])

@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import pressure
 from acoustiviz.core.reverberation import order_for_time
@@ -26,7 +25,7 @@ ROOM = ["--room", "6,4,3", "--absorption", "0.1", "--source", "2,1.5,0.01905"]
 
 
 @pytest.mark.slow
-def test_issue_waveform_command_writes_the_columns_and_the_image_fields(tmp_path, capsys):
+def test_issue_waveform_command_writes_the_columns_and_the_image_fields(tmp_path, capsys, half_sine_pulse):
     out = tmp_path / "OUT.csv"
     assert main([*ISSUE_WAVEFORM, "--csv", str(out)]) == 0
     with open(out, newline="") as f:
@@ -41,8 +40,7 @@ def test_issue_waveform_command_writes_the_columns_and_the_image_fields(tmp_path
     text = capsys.readouterr().out
     assert f"image_order {want}" in text and f"images {image_count(want)}" in text
     # the samples: the closed-form pressure summed over the images, in a few short stretches
-    mass = 7800 * 4 / 3 * np.pi * 0.01905**3
-    pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=mass), "half-sine")
+    pulse = half_sine_pulse
     im = image_sources(Shoebox((6, 4, 3), 0.1), (2, 1.5, 0.01905), want, radius=0.01905)
     d = np.array([3.0, 2.0, 1.5]) - im.positions
     r = np.linalg.norm(d, axis=1)

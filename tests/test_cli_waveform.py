@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from acoustiviz.cli import main
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.radiation import pressure
 
 FIG2 = ["--radius", "0.01905", "--velocity", "1.4", "--k-hertz", "5.6e8", "--density", "7800",
@@ -21,7 +20,7 @@ def _read(path):
     return header, np.loadtxt(path, delimiter=",", skiprows=1)
 
 
-def test_free_field_csv_matches_radiation_and_sampling(tmp_path):
+def test_free_field_csv_matches_radiation_and_sampling(tmp_path, paper_impact, half_sine_pulse):
     out = tmp_path / "w.csv"
     png = tmp_path / "w.png"
     assert main(["waveform", *FIG2, "--config", "free", "--pulse", "half-sine", "--csv", str(out),
@@ -31,11 +30,11 @@ def test_free_field_csv_matches_radiation_and_sampling(tmp_path):
     t, p = data[:, 0], data[:, 1]
     assert t[0] == 0.0 and np.all(np.diff(t) > 0)
     a = 0.01905
-    imp = Impact(1.4, 5.6e8, 7800 * 4 / 3 * math.pi * a**3)
+    imp = paper_impact
     # at least 200 samples per contact duration
     assert imp.duration / np.diff(t).max() >= 200
     # the listener is 0.7 m from the centre at 45 deg: compare with the radiation core directly
-    ref = pressure(acceleration_pulse(imp, "half-sine"), t, 0.7, math.cos(math.pi / 4), radius=a)
+    ref = pressure(half_sine_pulse, t, 0.7, math.cos(math.pi / 4), radius=a)
     np.testing.assert_allclose(p, ref, rtol=1e-7, atol=1e-8 * np.abs(ref).max())
     # zero before arrival, and the whole click is inside the window
     assert np.all(p[t < (0.7 - a) / 343.2] == 0)

@@ -26,10 +26,9 @@ from acoustiviz.core.contact import (
 )
 from acoustiviz.core.materials import Material, material
 
-# the paper's Figure 2 impact: steel sphere of radius 19.05 mm at 1.4 m/s, K = 5.6e8 N/m^1.5
+# the paper's Figure 2 sphere (steel, radius 19.05 mm): its mass in kg; its impact is the fixture paper_impact
 RADIUS = 0.01905
 MASS = 7800 * 4 / 3 * math.pi * RADIUS**3
-FIG2 = Impact(velocity=1.4, k_hertz=5.6e8, mass=MASS)
 TIGHT = 1e-10
 
 
@@ -58,25 +57,25 @@ def test_duration_constant_is_four_fifths_beta():
     assert abs(PAPER_DURATION_CONSTANT / HERTZ_DURATION_CONSTANT - 1) < 3e-5
 
 
-def test_duration_and_peaks_match_direct_integration():
+def test_duration_and_peaks_match_direct_integration(paper_impact):
     sol = _undamped_ode(MASS, 5.6e8, 1.4)
     t_end = sol.t_events[0][0]
-    assert FIG2.duration == pytest.approx(t_end, rel=1e-9)
+    assert paper_impact.duration == pytest.approx(t_end, rel=1e-9)
     tt = np.linspace(0, t_end, 20001)
     alpha = sol.sol(tt)[0]
-    assert FIG2.max_approach == pytest.approx(alpha.max(), rel=1e-8)
-    assert FIG2.peak_force == pytest.approx(5.6e8 * alpha.max() ** 1.5, rel=1e-8)
+    assert paper_impact.max_approach == pytest.approx(alpha.max(), rel=1e-8)
+    assert paper_impact.peak_force == pytest.approx(5.6e8 * alpha.max() ** 1.5, rel=1e-8)
     # energy: (2/5) K alpha_max^2.5 = 1/2 m U0^2
-    assert 0.4 * 5.6e8 * FIG2.max_approach**2.5 == pytest.approx(0.5 * MASS * 1.4**2, rel=1e-12)
+    assert 0.4 * 5.6e8 * paper_impact.max_approach**2.5 == pytest.approx(0.5 * MASS * 1.4**2, rel=1e-12)
 
 
-def test_paper_eq3_peak_acceleration():
+def test_paper_eq3_peak_acceleration(paper_impact):
     k, u0 = 5.6e8, 1.4
     kstar = 1 / MASS
     eq3 = k / MASS * (5 * u0**2 / (4 * kstar * k)) ** 0.6
     assert peak_acceleration(u0, k, MASS) == pytest.approx(eq3, rel=1e-13)
     # eq 13's amplitude (125 K^2 U0^6 / (64 m^2))^(1/5) is the same number
-    assert FIG2.peak_acceleration == pytest.approx((125 * k**2 * u0**6 / (64 * MASS**2)) ** 0.2, rel=1e-13)
+    assert paper_impact.peak_acceleration == pytest.approx((125 * k**2 * u0**6 / (64 * MASS**2)) ** 0.2, rel=1e-13)
 
 
 def test_stiffness_matches_paper_eq2_literally():
@@ -120,18 +119,18 @@ def test_exact_pulse_impulse_and_rebound(partner):
     assert sp.velocity_change * imp.mass == pytest.approx(imp.impulse, rel=2e-6)
 
 
-def test_half_sine_pulses_and_their_impulse():
-    hs = acceleration_pulse(FIG2, "half-sine")
-    im = acceleration_pulse(FIG2, "impulse-matched")
+def test_half_sine_pulses_and_their_impulse(paper_impact):
+    hs = acceleration_pulse(paper_impact, "half-sine")
+    im = acceleration_pulse(paper_impact, "impulse-matched")
     assert isinstance(hs, HalfSinePulse) and hs.kind == "half-sine"
     assert im.kind == "impulse-matched"
-    assert hs.duration == im.duration == pytest.approx(FIG2.duration)
-    assert hs.peak == pytest.approx(FIG2.peak_acceleration)
+    assert hs.duration == im.duration == pytest.approx(paper_impact.duration)
+    assert hs.peak == pytest.approx(paper_impact.peak_acceleration)
     # peak-matched half-sine: area 2 A tau / pi = (5/2) C U0 / pi against the true 2 U0
-    ratio = hs.velocity_change * MASS / FIG2.impulse
+    ratio = hs.velocity_change * MASS / paper_impact.impulse
     assert ratio == pytest.approx(1.25 * HERTZ_DURATION_CONSTANT / math.pi, rel=1e-12)
     assert ratio == pytest.approx(1.1711, abs=1e-4)
-    assert im.velocity_change * MASS == pytest.approx(FIG2.impulse, rel=1e-12)
+    assert im.velocity_change * MASS == pytest.approx(paper_impact.impulse, rel=1e-12)
     # numerically integrated area agrees with the closed form
     area, _ = quad(hs.acceleration, 0, hs.duration, epsabs=0, epsrel=1e-12)
     assert area == pytest.approx(hs.velocity_change, rel=1e-10)
@@ -197,9 +196,9 @@ def test_bad_impacts_name_the_field(kwargs, name):
         Impact(**kwargs)
 
 
-def test_unknown_pulse_and_material_are_clear_errors():
+def test_unknown_pulse_and_material_are_clear_errors(paper_impact):
     with pytest.raises(ParameterError, match="pulse.*half-sine"):
-        acceleration_pulse(FIG2, "square")
+        acceleration_pulse(paper_impact, "square")
     with pytest.raises(ParameterError, match="did you mean 'steel'"):
         material("steal")
     with pytest.raises(ParameterError, match="nu"):

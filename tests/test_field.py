@@ -14,8 +14,6 @@ from acoustiviz.core.geometry import images_free, images_plane, images_wall_floo
 from acoustiviz.core.radiation import sphere_pressure
 
 A = 0.01905
-MASS = 7800 * 4 / 3 * np.pi * A**3
-IMPACT = Impact(velocity=1.4, k_hertz=5.6e8, mass=MASS)
 #: the evaluator drops tails below DEFAULT_CUTOFF = 1e-10 of each sphere's scale
 RTOL = 1e-8
 CONFIGS = {
@@ -39,9 +37,9 @@ def _points(cfg, n=60, seed=1):
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
 @pytest.mark.parametrize("name", list(CONFIGS))
-def test_time_series_matches_direct_sum(kind, name):
+def test_time_series_matches_direct_sum(kind, name, paper_pulse):
     cfg = CONFIGS[name]
-    pulse = acceleration_pulse(IMPACT, kind)
+    pulse = paper_pulse(kind)
     pts = _points(cfg)
     t = np.linspace(-1e-4, 5e-3, 1700)
     ref = _direct(pulse, t, pts, cfg)
@@ -53,9 +51,9 @@ def test_time_series_matches_direct_sum(kind, name):
     np.testing.assert_allclose(got, _direct(pulse, tn, pts, cfg), rtol=0, atol=RTOL * np.max(np.abs(ref)))
 
 
-def test_chunked_equals_unchunked():
+def test_chunked_equals_unchunked(paper_pulse):
     cfg = CONFIGS["corner"]
-    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pulse = paper_pulse("half-sine")
     pts = _points(cfg, 300)
     t = np.linspace(0, 4e-3, 500)
     big = field.time_series(pulse, t, pts, cfg)
@@ -75,9 +73,9 @@ def test_chunked_equals_unchunked():
 
 
 @pytest.mark.slow
-def test_memory_cap_is_respected():
+def test_memory_cap_is_respected(paper_pulse):
     cfg = CONFIGS["plane"]
-    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pulse = paper_pulse("half-sine")
     rng = np.random.default_rng(5)
     pts = rng.uniform([-1, -1, 0.05], [1, 1, 1], (200_000, 3))
     cap = 16 * 2**20
@@ -96,9 +94,9 @@ def test_memory_cap_is_respected():
     assert err.value.name == "memory_limit"
 
 
-def test_metrics_match_a_full_series():
+def test_metrics_match_a_full_series(paper_pulse):
     cfg = CONFIGS["corner"]
-    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pulse = paper_pulse("half-sine")
     pts = _points(cfg, 40)
     dt = 5e-7
     t = np.arange(0, 6e-3, dt)
@@ -123,10 +121,10 @@ def test_metrics_match_a_full_series():
 
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
-def test_figure2_m_shape(kind):
+def test_figure2_m_shape(kind, paper_pulse, plane_geometry):
     """Paper Figure 2 (r = 0.7 m, θ = 45°): three lobes, positive, negative, positive."""
-    cfg = images_plane(A)
-    pulse = acceleration_pulse(IMPACT, kind)
+    cfg = plane_geometry
+    pulse = paper_pulse(kind)
     th = np.pi / 4
     obs = cfg.centre + 0.7 * np.array([np.sin(th), 0.0, np.cos(th)])
     t = np.arange(1.5e-3, 3.5e-3, 2e-7)
@@ -140,9 +138,9 @@ def test_figure2_m_shape(kind):
         assert -p.min() > p.max()
 
 
-def test_snapshots_match_direct_sum_and_mask_outside():
+def test_snapshots_match_direct_sum_and_mask_outside(paper_pulse):
     cfg = CONFIGS["corner"]
-    pulse = acceleration_pulse(IMPACT, "hertz")
+    pulse = paper_pulse("hertz")
     pts = np.vstack([_points(cfg, 50), [[-0.2, 0, 0.1], [0, 0, -0.1]]])
     times = np.array([0.5e-3, 1.2e-3, 2.0e-3])
     snap = field.snapshots(pulse, times, pts, cfg, memory_limit=20_000)
@@ -153,9 +151,9 @@ def test_snapshots_match_direct_sum_and_mask_outside():
     assert np.all(np.isnan(fm.peak[-2:])) and np.all(np.isfinite(fm.peak[:-2]))
 
 
-def test_windows_and_decay_time():
+def test_windows_and_decay_time(paper_pulse):
     cfg = CONFIGS["plane"]
-    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pulse = paper_pulse("half-sine")
     obs = np.array([[0.0, 0.0, 1.0 + A]])
     start, stop = field.arrival_windows(pulse, obs, cfg)
     c = field.AIR.c
@@ -177,23 +175,23 @@ def test_windows_and_decay_time():
         (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, t=[0, 1e-4, 3e-4]), "t"),
     ],
 )
-def test_bad_inputs_name_the_parameter(call, name):
+def test_bad_inputs_name_the_parameter(call, name, paper_pulse):
     with pytest.raises(ParameterError) as err:
-        call(acceleration_pulse(IMPACT, "half-sine"), CONFIGS["plane"])
+        call(paper_pulse("half-sine"), CONFIGS["plane"])
     assert err.value.name == name
 
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
 @pytest.mark.parametrize("name", ["plane", "corner"])
 @pytest.mark.slow
-def test_peaks_are_refined_to_the_continuous_maximum(kind, name):
+def test_peaks_are_refined_to_the_continuous_maximum(kind, name, paper_pulse):
     # an independent reference: the direct sum of sphere_pressure sampled every 10 ns, then SciPy's
     # bounded Brent search on that sum around the densest sample; the refined peaks agree to 1e-8
     # (the samples of the default grid, 64 per min(tau, a/c), are off by up to ~1e-4)
     from scipy.optimize import minimize_scalar
 
     cfg = CONFIGS[name]
-    pulse = acceleration_pulse(IMPACT, kind)
+    pulse = paper_pulse(kind)
     pts = _points(cfg, 4, seed=5)
     fm = field.field_metrics(pulse, pts, cfg)
     raw = field.field_metrics(pulse, pts, cfg, refine=False)
@@ -211,10 +209,10 @@ def test_peaks_are_refined_to_the_continuous_maximum(kind, name):
             assert abs(got) >= abs(sampled) * (1 - 1e-15)  # never below the samples
 
 
-def test_directivity_peaks_are_refined():
+def test_directivity_peaks_are_refined(paper_pulse):
     # Figure 3 setting: the peak on the circle against the dense reference at one angle
     cfg = CONFIGS["plane"]
-    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pulse = paper_pulse("half-sine")
     d = field.directivity(pulse, cfg, 0.7, np.radians([40.0]))
     x = d.points[0]
     tt = d.metrics.window_start[0] + np.arange(0.0, d.metrics.window, 2e-9)
@@ -224,20 +222,20 @@ def test_directivity_peaks_are_refined():
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
 @pytest.mark.slow
-def test_exposure_without_a_time_grid_matches_quadrature(kind):
+def test_exposure_without_a_time_grid_matches_quadrature(kind, paper_pulse, paper_impact):
     # the exposure from correlations of Y at the image delays against adaptive quadrature of p(t)^2,
     # p from the direct sum of free-field spheres; and the Riemann sum of field_metrics converges to it
     from scipy.integrate import quad
 
     cfg = CONFIGS["corner"]
-    pulse = acceleration_pulse(IMPACT, kind)
+    pulse = paper_pulse(kind)
     pts = np.array([[0.3, 0.1, 0.2], [0.02, -0.01, 0.03]])
     got = field.exposure(pulse, pts, cfg)
     fine = field.field_metrics(pulse, pts, cfg, sample_interval=A / field.AIR.c / 256)
     for i, x in enumerate(pts):
         d = field.source_geometry(x[None, :], cfg)[0][0]
-        cuts = np.unique(np.concatenate([np.linspace(d.min(), d.max() + IMPACT.duration + 50 * A / field.AIR.c, 60),
-                                         d, d + IMPACT.duration]))
+        tau = paper_impact.duration
+        cuts = np.unique(np.concatenate([np.linspace(d.min(), d.max() + tau + 50 * A / field.AIR.c, 60), d, d + tau]))
         ref = sum(quad(lambda t, x=x: _direct(pulse, [t], x[None, :], cfg)[0, 0] ** 2, a, b, epsabs=0,
                        epsrel=1e-12, limit=200)[0] for a, b in zip(cuts[:-1], cuts[1:], strict=True))
         assert abs(got[i] / ref - 1) < 1e-10
@@ -246,10 +244,10 @@ def test_exposure_without_a_time_grid_matches_quadrature(kind):
 
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz"])
-def test_exposure_table_interpolates_its_series(kind):
+def test_exposure_table_interpolates_its_series(kind, paper_pulse):
     # the kernels read G and H by cubic Hermite from a table of the Chebyshev series and its
     # derivative; between the nodes they agree with the series to 1e-11 of G(0)
-    pulse = acceleration_pulse(IMPACT, kind)
+    pulse = paper_pulse(kind)
     corr = field.pulse_correlations(pulse, A)
     lag = np.random.default_rng(3).uniform(0.0, pulse.duration, 400)
     g, h = corr(lag)
@@ -302,7 +300,7 @@ def _fast_peak_points(cfg, n, seed):
 @pytest.mark.parametrize("kind", ["hertz", "half-sine"])
 @pytest.mark.parametrize("name", ["free", "plane", "corner"])
 @pytest.mark.slow
-def test_fast_peaks_match_the_refined_field_metrics(kind, name):
+def test_fast_peaks_match_the_refined_field_metrics(kind, name, paper_pulse):
     # against field_metrics (64 samples per min(T, a/c), then Brent on the closed form): never below
     # it by more than 1e-8 of the peak; and each peak is the pressure at its reported time, evaluated
     # independently by the vectorised closed form (radiation.pulse_response summed over the images),
@@ -310,7 +308,7 @@ def test_fast_peaks_match_the_refined_field_metrics(kind, name):
     from acoustiviz.core.radiation import pulse_response
 
     cfg = CONFIGS[name]
-    pulse = acceleration_pulse(IMPACT, kind)
+    pulse = paper_pulse(kind)
     pts = _fast_peak_points(cfg, 240, seed=7)
     fp = field.fast_peaks(pulse, pts, cfg)
     fm = field.field_metrics(pulse, pts, cfg)
@@ -329,12 +327,12 @@ def test_fast_peaks_match_the_refined_field_metrics(kind, name):
     np.testing.assert_allclose(fp.exposure, field.exposure(pulse, pts, cfg), rtol=1e-11)
 
 
-def test_fast_peaks_a_close_pair_of_maxima_across_a_pulse_end():
+def test_fast_peaks_a_close_pair_of_maxima_across_a_pulse_end(paper_pulse):
     # on the corner (wall at 0.1 m) this point's largest pressure has two maxima 20 us apart, 2e-3
     # apart in height, on either side of the end of the direct sphere's pulse (closer than the coarse
     # step can separate): the higher one is found, as by a 10 ns scan of the direct sum
     cfg = images_wall_floor(A, 0.1)
-    pulse = acceleration_pulse(IMPACT, "hertz")
+    pulse = paper_pulse("hertz")
     x = np.array([[0.39843532, -0.24594647, 0.06678298]])
     fp = field.fast_peaks(pulse, x, cfg, exposure=False)
     t = np.arange(1.80e-3, 1.88e-3, 1e-8)
@@ -349,7 +347,7 @@ def test_fast_peaks_a_close_pair_of_maxima_across_a_pulse_end():
                                (0.3135862306698611, -0.17956052216627472, 0.060130762082192035),
                                (0.5430742671773279, 0.48626835580640837, 0.11677409838035327)])
 @pytest.mark.slow
-def test_fast_peaks_two_maxima_either_side_of_a_pulse_end(x):
+def test_fast_peaks_two_maxima_either_side_of_a_pulse_end(x, paper_pulse, paper_impact):
     # corner, wall at 0.1 m: at these points the largest pressure has two maxima 1.3-1.5 coarse steps
     # apart, 1e-7 to 2e-5 apart in height, on either side of the end of one image's pulse, so that
     # the coarse samples show one hump (found among 1e6 random points: the search once took the
@@ -357,11 +355,11 @@ def test_fast_peaks_two_maxima_either_side_of_a_pulse_end(x):
     from scipy.optimize import minimize_scalar
 
     cfg = images_wall_floor(A, 0.1)
-    pulse = acceleration_pulse(IMPACT, "hertz")
+    pulse = paper_pulse("hertz")
     pts = np.array([x])
     fp = field.fast_peaks(pulse, pts, cfg, exposure=False)
     delay = field.source_geometry(pts, cfg)[0][0]
-    t = np.arange(delay.min(), delay.max() + IMPACT.duration + 10 * A / field.AIR.c, 1e-9)
+    t = np.arange(delay.min(), delay.max() + paper_impact.duration + 10 * A / field.AIR.c, 1e-9)
     dense = _direct(pulse, t, pts, cfg)[0]
     k = int(np.argmax(dense))
     res = minimize_scalar(lambda u: -_direct(pulse, [u], pts, cfg)[0, 0], bounds=(t[k - 1], t[k + 1]),
@@ -370,9 +368,9 @@ def test_fast_peaks_two_maxima_either_side_of_a_pulse_end(x):
     assert abs(fp.time_positive[0] - res.x) < 2e-8
 
 
-def test_fast_peaks_outside_the_fluid_and_bad_options():
+def test_fast_peaks_outside_the_fluid_and_bad_options(paper_pulse):
     cfg = CONFIGS["corner"]
-    pulse = acceleration_pulse(IMPACT, "hertz")
+    pulse = paper_pulse("hertz")
     fp = field.fast_peaks(pulse, [[0.0, 0.0, A], [0.3, 0.0, -0.01], [0.3, 0.0, 0.3]], cfg)
     assert np.all(np.isnan(fp.peak_positive[:2])) and np.all(np.isnan(fp.exposure[:2]))
     assert fp.peak_positive[2] > 0 > fp.peak_negative[2] and fp.exposure[2] > 0
@@ -389,13 +387,13 @@ def test_fast_peaks_outside_the_fluid_and_bad_options():
 
 
 @pytest.mark.parametrize("name", ["corner", "room"])
-def test_fast_peaks_gives_the_same_numbers_on_any_number_of_threads(name):
+def test_fast_peaks_gives_the_same_numbers_on_any_number_of_threads(name, paper_pulse):
     # each point's search depends on that point alone: blocks shared among threads change nothing,
     # bit for bit (the room: 129 images, the search over sorted arrivals)
     from acoustiviz.core.room_geometry import Room
 
     cfg = Room(A, (6.0, 4.0, 3.0), 0.1, (2.0, 1.5, A), order=4) if name == "room" else CONFIGS[name]
-    pulse = acceleration_pulse(IMPACT, "half-sine")
+    pulse = paper_pulse("half-sine")
     centre = np.array([2.0, 1.5, A]) if name == "room" else np.array([0.0, 0.0, A])
     pts = np.random.default_rng(7).uniform([0.05, 0.05, 0.05], [1.5, 1.5, 1.5], (203, 3))
     pts[:3] = centre + [[0.0, 0.0, 0.0], [0.3, 0.0, 0.3], [0.2, 0.1, 0.05]]  # the first inside the sphere
@@ -418,14 +416,14 @@ def test_fast_peaks_gives_the_same_numbers_on_any_number_of_threads(name):
         assert {c[1] for c in calls} == {len(pts)} and {c[2] for c in calls} == {threading.get_ident()}
 
 
-def test_fast_peaks_a_pulse_that_ends_abruptly():
+def test_fast_peaks_a_pulse_that_ends_abruptly(paper_pulse):
     # a sampled pulse cut off at 0.81 of its height: A jumps to zero at each image's pulse end, so p'
     # jumps there and a maximum may sit on that cusp (the breakpoint candidates are searched); the
     # peaks agree with field_metrics' sampled search refined on the closed form to 1e-8 of the peak
     from acoustiviz.core.contact import SampledPulse
 
     cfg = CONFIGS["corner"]
-    tau = acceleration_pulse(IMPACT, "half-sine").duration
+    tau = paper_pulse("half-sine").duration
     t = np.linspace(0.0, 0.7 * tau, 200)
     pulse = SampledPulse(t, 9800.0 * np.sin(np.pi * t / tau))
     pts = _fast_peak_points(cfg, 120, seed=3)
@@ -439,9 +437,9 @@ def test_fast_peaks_a_pulse_that_ends_abruptly():
     assert agree.mean() > 0.95
 
 
-def test_waveform_spans_are_the_spans_of_each_point():
+def test_waveform_spans_are_the_spans_of_each_point(paper_pulse):
     cfg = CONFIGS["corner"]
-    pulse = acceleration_pulse(IMPACT, "hertz")
+    pulse = paper_pulse("hertz")
     pts = _points(cfg, n=12, seed=4)
     spans = field.waveform_spans(pulse, pts, cfg)
     assert spans.shape == (pts.shape[0], 2)
@@ -453,13 +451,13 @@ def test_waveform_spans_are_the_spans_of_each_point():
 
 
 @pytest.mark.slow
-def test_fast_peaks_far_from_a_wall_sample_only_the_arrivals():
+def test_fast_peaks_far_from_a_wall_sample_only_the_arrivals(paper_pulse):
     # a wall 3 m away: the arrivals come 17 ms apart and the coarse pass samples only each arrival
     # and its decay (the free decay between them is taken in closed form); the peaks agree with
     # field_metrics' sampled search refined on the closed form, which samples the whole response
     cfg = images_wall_floor(A, 3.0)
     for kind in ("hertz", "half-sine"):
-        pulse = acceleration_pulse(IMPACT, kind)
+        pulse = paper_pulse(kind)
         pts = np.random.default_rng(8).uniform([-2.9, -1.0, 0.0], [1.0, 1.0, 1.5], (60, 3))
         pts = pts[cfg.in_fluid(pts)]
         fp = field.fast_peaks(pulse, pts, cfg)
@@ -510,7 +508,7 @@ def test_rms_is_over_the_exact_window_not_one_rounded_to_whole_samples(kind, con
 
 @pytest.mark.parametrize("kind", ["hertz", "half-sine"])
 @pytest.mark.slow
-def test_fast_peaks_reuses_its_tables_across_calls(kind):
+def test_fast_peaks_reuses_its_tables_across_calls(kind, paper_impact):
     # the observer-independent tables are built once per pulse, configuration and medium: a second
     # call with equal (not identical) arguments hits the cache and gives the same numbers as the
     # tables passed explicitly; the result's columns share one buffer (no second copy)
@@ -519,17 +517,18 @@ def test_fast_peaks_reuses_its_tables_across_calls(kind):
     cfg = CONFIGS["corner"]
     pts = _fast_peak_points(cfg, 40, seed=3)
     peaks._observer_tables.cache_clear()
-    first = field.fast_peaks(acceleration_pulse(IMPACT, kind), pts, cfg)
-    again = field.fast_peaks(acceleration_pulse(IMPACT, kind), pts, cfg)
+    first = field.fast_peaks(acceleration_pulse(paper_impact, kind), pts, cfg)
+    again = field.fast_peaks(acceleration_pulse(paper_impact, kind), pts, cfg)
     info = peaks._observer_tables.cache_info()
     assert (info.hits, info.misses) == (1, 1)
-    pulse = acceleration_pulse(IMPACT, kind)
+    pulse = acceleration_pulse(paper_impact, kind)
     explicit = field.fast_peaks(pulse, pts, cfg, table=field.peak_table(pulse, cfg),
                                 correlations=field.pulse_correlations(pulse, A))
     for name in ("peak_positive", "peak_negative", "time_positive", "time_negative", "exposure", "refinements"):
         np.testing.assert_array_equal(getattr(again, name), getattr(first, name))
         np.testing.assert_array_equal(getattr(explicit, name), getattr(first, name))
     assert first.peak_positive.base is not None and first.peak_positive.base is first.exposure.base
-    other = field.fast_peaks(acceleration_pulse(Impact(velocity=0.7, k_hertz=5.6e8, mass=MASS), kind), pts, cfg)
+    slower = Impact(velocity=0.7, k_hertz=5.6e8, mass=paper_impact.mass)
+    other = field.fast_peaks(acceleration_pulse(slower, kind), pts, cfg)
     assert peaks._observer_tables.cache_info().misses == 2  # another pulse builds its own tables
     assert np.all(other.peak < first.peak)

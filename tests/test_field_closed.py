@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 from acoustiviz import field
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.geometry import images_free, images_plane, images_wall_floor
 from acoustiviz.core.pulses import SampledPulse
 from acoustiviz.core.radiation import sphere_pressure
@@ -26,17 +25,16 @@ from acoustiviz.field import _closed
 
 ROOT = Path(__file__).resolve().parents[1]
 A = 0.01905
-IMPACT = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3)
 CONFIGS = {"free": images_free(A), "plane": images_plane(A), "corner": images_wall_floor(A, 0.05)}
 #: both paths sum the same closed form: they must agree far below any modelling error
 RTOL = 1e-12
 
 
-def _pulse(kind):
+def _pulse(paper_pulse, kind):
     if kind == "sampled":  # a piecewise-linear pulse: 129 of the Hertz pulse's exact samples
-        hertz = acceleration_pulse(IMPACT, "hertz")
+        hertz = paper_pulse("hertz")
         return SampledPulse(hertz.times[::8].copy(), hertz.acceleration_samples[::8].copy())
-    return acceleration_pulse(IMPACT, kind)
+    return paper_pulse(kind)
 
 
 def _points(cfg):
@@ -69,8 +67,8 @@ KINDS = ["half-sine", "hertz", "sampled"]
 
 @pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("name", list(CONFIGS))
-def test_small_time_series_equal_the_kernel(monkeypatch, kind, name):
-    cfg, pulse = CONFIGS[name], _pulse(kind)
+def test_small_time_series_equal_the_kernel(monkeypatch, kind, name, paper_pulse):
+    cfg, pulse = CONFIGS[name], _pulse(paper_pulse, kind)
     pts = _points(cfg)
     # 8 ms: each image's kept tail ends inside the grid, where the cut drops ~1e-10 of Y(T)
     t = np.linspace(-1e-4, 8e-3, 4001)
@@ -87,8 +85,8 @@ def test_small_time_series_equal_the_kernel(monkeypatch, kind, name):
     [{}, {"refine": False}, {"window": 1.2e-3}, {"t": np.linspace(1e-3, 7e-3, 3001)}],
     ids=["default-window", "samples-only", "short-window", "long-grid"],
 )
-def test_small_field_metrics_equal_the_kernel(monkeypatch, kind, name, options):
-    cfg, pulse = CONFIGS[name], _pulse(kind)
+def test_small_field_metrics_equal_the_kernel(monkeypatch, kind, name, options, paper_pulse):
+    cfg, pulse = CONFIGS[name], _pulse(paper_pulse, kind)
     pts = _points(cfg)
     compiled, numpy_sum = _both(monkeypatch, lambda: field.field_metrics(pulse, pts, cfg, **options))
     for q in ("peak_positive", "peak_negative", "rms", "exposure", "window_start"):
@@ -96,9 +94,9 @@ def test_small_field_metrics_equal_the_kernel(monkeypatch, kind, name, options):
     assert numpy_sum.window == compiled.window and numpy_sum.sample_interval == compiled.sample_interval
 
 
-def test_the_numpy_sum_cuts_each_tail_where_the_kernel_does(monkeypatch):
+def test_the_numpy_sum_cuts_each_tail_where_the_kernel_does(monkeypatch, paper_pulse):
     """The cut is seen: both differ from the uncut direct sum by ~1e-11 of the peak (the half-sine's Y(T) is large)."""
-    cfg, pulse = CONFIGS["plane"], _pulse("half-sine")
+    cfg, pulse = CONFIGS["plane"], _pulse(paper_pulse, "half-sine")
     pts = _points(cfg)[:4]
     t = np.linspace(-1e-4, 8e-3, 4001)
     compiled, numpy_sum = _both(monkeypatch, lambda: field.time_series(pulse, t, pts, cfg))

@@ -140,7 +140,6 @@ from dataclasses import dataclass  # noqa: E402
 from functools import cached_property  # noqa: E402
 from typing import ClassVar  # noqa: E402
 
-from acoustiviz.core.contact import Impact, acceleration_pulse  # noqa: E402
 from acoustiviz.core.geometry import Geometry  # noqa: E402
 from acoustiviz.core.images import mirror_point, mirror_vector  # noqa: E402
 
@@ -176,10 +175,6 @@ class _RoomCorner(Geometry):
         return tuple(out)
 
 
-def _pulse(kind="hertz"):
-    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3), kind)
-
-
 def test_a_new_geometry_is_one_class_and_one_registry_entry(monkeypatch):
     monkeypatch.setitem(GEOMETRIES, "room-corner", _RoomCorner)
     g = geometry("room-corner", A)
@@ -188,7 +183,7 @@ def test_a_new_geometry_is_one_class_and_one_registry_entry(monkeypatch):
         geometry("room-corner", A, wall_distance=0.1)  # settings it does not take are refused
 
 
-def test_field_of_a_new_geometry_meets_every_rigid_plane():
+def test_field_of_a_new_geometry_meets_every_rigid_plane(paper_pulse):
     """∂p/∂n = 0 on the floor and both walls (finite differences of the evaluator's pressure).
 
     The stencil straddles the kinks of the pulse's start and end where the images' wavefronts meet
@@ -198,7 +193,7 @@ def test_field_of_a_new_geometry_meets_every_rigid_plane():
     from acoustiviz import field
 
     g = _RoomCorner(A)
-    pulse = _pulse("hertz")
+    pulse = paper_pulse("hertz")
     t = np.linspace(0.0, 2e-3, 400)
     rng = np.random.default_rng(5)
     wrong = _RoomCorner(A, floor_reflection=-1.0)  # the floor's images with the wrong sign
@@ -221,14 +216,14 @@ def test_field_of_a_new_geometry_meets_every_rigid_plane():
             assert np.max(np.abs(grad(wrong))) > 1e-2 * np.max(np.abs(free))
 
 
-def test_reflection_weights_reach_the_field_and_the_peak_kernel():
+def test_reflection_weights_reach_the_field_and_the_peak_kernel(paper_pulse):
     """An absorbing floor (pressure reflection 0.5): the evaluator equals the weighted sum of spheres."""
     from acoustiviz import field
     from acoustiviz.core.radiation import sphere_pressure
 
     g = _RoomCorner(A, floor_reflection=0.5)
     assert sorted(np.round(g.images().weights, 12)) == [0.5] * 4 + [1.0] * 4
-    pulse = _pulse()
+    pulse = paper_pulse("hertz")
     rng = np.random.default_rng(11)
     pts = rng.uniform([-0.04, -0.07, 0.0], [0.5, 0.5, 0.5], (40, 3))
     pts = pts[g.in_fluid(pts) & (g.sphere_distance(pts) > 2 * A)]

@@ -11,7 +11,6 @@ import math
 import numpy as np
 import pytest
 
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.geometry import GEOMETRIES, FreeField, WallFloorCorner, geometry
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.reverberation import energy_order, order_for_time
@@ -21,11 +20,6 @@ from acoustiviz.errors import ParameterError
 from acoustiviz.field import time_series
 
 A = 0.01905  # the paper's sphere, m
-
-
-def _pulse():
-    mass = 7800 * 4 / 3 * np.pi * A**3
-    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=mass), "half-sine")
 
 
 def test_room_is_registered_and_built_by_name():
@@ -83,7 +77,7 @@ def test_listener_region_is_inside_the_room_outside_the_sphere():
         g.in_room("--listener", [[3, 5, 1]])
 
 
-def test_rigid_room_equals_the_wall_floor_corner_until_the_third_image_arrives():
+def test_rigid_room_equals_the_wall_floor_corner_until_the_third_image_arrives(paper_pulse):
     """Through the geometry value and the field evaluator: the corner's four sources, nothing else, until
     the first room image beyond them (the third surface's) can arrive."""
     wall = 0.05
@@ -91,7 +85,7 @@ def test_rigid_room_equals_the_wall_floor_corner_until_the_third_image_arrives()
     dims = (4.0, 5.0, 3.5)
     shift = np.array([wall, 2.2, 0.0])  # the corner's wall x = -wall is the room's x0, its floor the room's
     room = Room(A, dims, 0.0, tuple(shift + corner.centre), duration=0.03)
-    pulse = _pulse()
+    pulse = paper_pulse()
     rng = np.random.default_rng(25)
     pts = np.column_stack([rng.uniform(0.3, 1.2, 6), rng.uniform(-0.8, 0.8, 6), rng.uniform(0.1, 0.9, 6)])
     t = np.arange(0.0, 0.03, pulse.duration / 200)
@@ -116,8 +110,8 @@ def _corner_rows(positions, corner_positions):
     return rows
 
 
-def test_a_room_larger_than_every_arrival_in_the_window_is_the_free_field():
-    pulse = _pulse()
+def test_a_room_larger_than_every_arrival_in_the_window_is_the_free_field(paper_pulse):
+    pulse = paper_pulse()
     window = 0.006
     room = Room(A, (40.0, 30.0, 20.0), 0.2, (20.0, 15.0, 10.0), strike="floor", duration=window)
     assert room.image_count > 1  # the images are there, they just cannot arrive in time
@@ -135,12 +129,12 @@ def test_a_room_larger_than_every_arrival_in_the_window_is_the_free_field():
 
 
 @pytest.mark.parametrize("wall", range(6))
-def test_normal_particle_velocity_vanishes_on_each_rigid_wall(wall):
+def test_normal_particle_velocity_vanishes_on_each_rigid_wall(wall, paper_pulse):
     """One-sided second-order differences of p normal to each rigid wall at 8 points vanish (p is even there),
     while the same difference of the direct sound alone does not."""
     dims = np.array([3.0, 2.5, 2.0])
     room = Room(A, tuple(dims), 0.0, (1.1, 0.9, 0.7), strike="x1", duration=0.012)
-    pulse = _pulse()
+    pulse = paper_pulse()
     rng = np.random.default_rng(100 + wall)
     ax, far = wall // 2, wall % 2
     pts = rng.uniform(0.2, 1.0, (8, 3)) * dims
@@ -160,7 +154,7 @@ def test_normal_particle_velocity_vanishes_on_each_rigid_wall(wall):
     assert np.abs(dpdn).max() < 1e-3 * np.abs(dqdn).max()
 
 
-def test_room_exposure_over_near_pairs_equals_every_pair(monkeypatch):
+def test_room_exposure_over_near_pairs_equals_every_pair(monkeypatch, paper_pulse):
     """Past 64 images the exposure sorts the arrivals and sums the pairs further apart than the pulse
     as one running sum of damped exponentials: the all-pairs sum agrees to 1e-12, both reading the
     same table of the correlations (the half-sine's closed-form close pairs, which need no table,
@@ -173,11 +167,11 @@ def test_room_exposure_over_near_pairs_equals_every_pair(monkeypatch):
     ex = sys.modules["acoustiviz.field.exposure"]
     room = Room(A, (6.0, 4.0, 3.0), 0.1, (2.0, 1.5, A), order=6)
     pts = np.random.default_rng(7).uniform(0.05, 1.0, (12, 3)) * np.array([6.0, 4.0, 3.0])
-    corr = ex.pulse_correlations(_pulse(), A)
+    corr = ex.pulse_correlations(paper_pulse(), A)
     tabled = dataclasses.replace(corr, lag_terms=np.zeros(0, complex))  # the close pairs from the table
-    near = ex.exposure(_pulse(), pts, room, correlations=tabled)
+    near = ex.exposure(paper_pulse(), pts, room, correlations=tabled)
     monkeypatch.setattr(ex, "PAIRS_ABOVE", 10**9)
-    every = ex.exposure(_pulse(), pts, room, correlations=tabled)
+    every = ex.exposure(paper_pulse(), pts, room, correlations=tabled)
     np.testing.assert_allclose(near, every, rtol=1e-12)
 
 

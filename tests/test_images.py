@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.geometry import configuration, images_free, images_plane, images_wall_floor
 from acoustiviz.core.images import ImageSource, mirror_point
 from acoustiviz.core.medium import AIR
@@ -14,11 +13,6 @@ A = 0.01905
 RNG = np.random.default_rng(3)
 #: the normal gradient on a plane vanishes to round-off relative to one sphere's own gradient
 BC_RTOL = 1e-10
-
-
-def _pulse():
-    mass = 7800 * 4 / 3 * np.pi * A**3
-    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=mass), "half-sine")
 
 
 def _grad_one(pulse, t, pts, src, radius, medium=AIR):
@@ -104,10 +98,10 @@ def test_bad_configuration_names_parameter(kwargs, name):
     assert err.value.name == name
 
 
-def test_eq14_identity():
+def test_eq14_identity(paper_pulse, plane_geometry):
     """Sum with mirrored axes == paper eq 14 (minus sign, both angles from the real axis)."""
-    pulse = _pulse()
-    cfg = images_plane(A)
+    pulse = paper_pulse()
+    cfg = plane_geometry
     pts = RNG.uniform([-1, -1, 0], [1, 1, 1], (50, 3))
     t = np.linspace(0, 4e-3, 400)
     ours = _field(pulse, t, pts, cfg)
@@ -132,9 +126,9 @@ def test_eq14_identity():
     ],
     ids=["plane", "corner-near", "corner-far", "corner-wall-strike"],
 )
-def test_boundary_condition_on_every_plane(cfg):
+def test_boundary_condition_on_every_plane(cfg, paper_pulse):
     """Normal particle velocity ∝ ∫ ∂p/∂n dt vanishes: ∂p/∂n = 0 at all times on each plane."""
-    pulse = _pulse()
+    pulse = paper_pulse()
     t = np.linspace(0, 3e-3, 150)
     for plane in cfg.planes:
         pts = _points_on(plane, cfg)
@@ -168,8 +162,8 @@ def test_boundary_condition_on_every_plane(cfg):
 @pytest.mark.parametrize(
     "cfg", [images_plane(A), images_wall_floor(A, 0.07)], ids=["plane", "corner"]
 )
-def test_mirror_symmetry_of_pressure(cfg):
-    pulse = _pulse()
+def test_mirror_symmetry_of_pressure(cfg, paper_pulse):
+    pulse = paper_pulse()
     t = np.linspace(0, 3e-3, 120)
     for plane in cfg.planes:
         pts = RNG.uniform([-0.05, -0.5, 0.0], [0.6, 0.5, 0.6], (200, 3))

@@ -24,7 +24,7 @@ def test_every_output_kind_has_a_producer():
     assert set(PRODUCERS) == set(OUTPUT_KINDS)
 
 
-def test_waveform_scene_matches_the_radiation_core(tmp_path):
+def test_waveform_scene_matches_the_radiation_core(tmp_path, half_sine_pulse):
     scene = _fig2(tmp_path)
     products = run_scene(scene, tmp_path / "out")
     names = sorted(p.path.name for p in products)
@@ -32,11 +32,10 @@ def test_waveform_scene_matches_the_radiation_core(tmp_path):
     data = np.loadtxt(tmp_path / "out" / "waveform_fig2.csv", delimiter=",", skiprows=1)
     t = data[:, 0]
     # column 1 is the paper's half-sine: the sphere and its image summed by hand
-    from acoustiviz.core.contact import Impact, acceleration_pulse
     from acoustiviz.core.radiation import pressure
 
     a = 0.01905
-    pulse = acceleration_pulse(Impact(1.4, 5.6e8, 7800 * 4 / 3 * math.pi * a**3), "half-sine")
+    pulse = half_sine_pulse
     listener = np.array([0.7 * math.sin(math.pi / 4), 0.0, a + 0.7 * math.cos(math.pi / 4)])
     ref = np.zeros_like(t)
     for centre, sign in (((0, 0, a), 1.0), ((0, 0, -a), -1.0)):  # eq 14: p(r1, th1) - p(r2, th2)

@@ -1,11 +1,8 @@
 """Off-screen renders: real pixels of the requested size, colour bars, geometry, animations, no leaks."""
 
-import math
-
 import numpy as np
 import pytest
 
-from acoustiviz import Impact, acceleration_pulse
 from acoustiviz.core.geometry import configuration
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import snapshots
@@ -19,19 +16,18 @@ SIZE = (200, 150)
 
 
 @pytest.fixture(scope="module")
-def pulse():
-    imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * math.pi * A**3)
-    return acceleration_pulse(imp, "half-sine")
+def pulse(half_sine_pulse):
+    return half_sine_pulse
 
 
 @pytest.fixture(scope="module")
-def plane():
-    return configuration("plane", A)
+def plane(plane_geometry):
+    return plane_geometry
 
 
 @pytest.fixture(scope="module")
-def corner():
-    return configuration("wall-floor", A, wall_distance=0.05)
+def corner(wall_floor_geometry):
+    return wall_floor_geometry
 
 
 def _img(path):

@@ -12,7 +12,6 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.geometry import images_wall_floor
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import pressure
@@ -29,11 +28,6 @@ SYM_RTOL = 1e-11
 CORNER_RTOL = 1e-12
 
 PRA_WALLS = ("west", "east", "south", "north", "floor", "ceiling")  # x0, x1, y0, y1, z0, z1
-
-
-def _pulse(kind="half-sine"):
-    mass = 7800 * 4 / 3 * np.pi * A**3
-    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=mass), kind)
 
 
 def _room_pressure(pulse, t, pts, im, medium=AIR, chunk=128):
@@ -212,7 +206,7 @@ def _asymmetry(im, dims, pulse, h, t):
 
 
 @pytest.mark.slow
-def test_normal_velocity_vanishes_on_every_rigid_wall():
+def test_normal_velocity_vanishes_on_every_rigid_wall(paper_pulse):
     """Central differences of p across each rigid wall vanish (Euler: dp/dn = -rho du_n/dt = 0).
 
     At finite order the image set is closed under the mirror of a wall only up to its outermost
@@ -222,7 +216,7 @@ def test_normal_velocity_vanishes_on_every_rigid_wall():
     """
     dims = np.array([0.5, 0.4, 0.3])
     order = 10
-    pulse = _pulse()
+    pulse = paper_pulse()
     im = image_sources(Shoebox(dims), (0.2, 0.15, A), order, radius=A)
     h = 1e-3
     # an image of order > N is at least (N - 2) H from the room, so at least (N - 2) H - h from the points
@@ -238,7 +232,7 @@ def test_normal_velocity_vanishes_on_every_rigid_wall():
     assert _asymmetry(bad, dims, pulse, h, t) > 1e-2
 
 
-def test_rigid_room_equals_wall_floor_corner_until_the_next_image():
+def test_rigid_room_equals_wall_floor_corner_until_the_next_image(paper_pulse):
     """In a rigid room, until the first image beyond the corner's four arrives, p equals the corner's."""
     wall_distance = 0.05
     dims = (3.0, 2.5, 2.0)
@@ -252,7 +246,7 @@ def test_rigid_room_equals_wall_floor_corner_until_the_next_image():
         & (im.lattice[:, 2] >= -1) & (im.lattice[:, 2] <= 0)
     assert in_corner.sum() == 4
     pts = np.array([[0.3, 1.5, 0.2], [0.1, 1.2, 0.05], [0.6, 0.9, 0.4], [0.02, 1.3, 0.3]])
-    pulse = _pulse("hertz")
+    pulse = paper_pulse("hertz")
     t = np.linspace(0.0, t_end, 600)
     p_room = _room_pressure(pulse, t, pts, im)
     corner_sources = [shift + s.position for s in corner.sources]

@@ -13,7 +13,6 @@ import pytest
 from scipy.optimize import minimize_scalar
 
 from acoustiviz.cli import main
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.geometry import FreeField, ReflectingPlane, WallFloorCorner
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
@@ -25,13 +24,9 @@ from acoustiviz.field import directivity
 A = 0.01905  # the paper's sphere, m
 
 
-def _pulse():
-    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3), "half-sine")
-
-
-def test_room_larger_than_any_arrival_equals_the_free_field():
+def test_room_larger_than_any_arrival_equals_the_free_field(paper_pulse):
     """A sphere in the middle of a 1 km room: no wall's image arrives within 5 ms."""
-    pulse = _pulse()
+    pulse = paper_pulse()
     room = Room(A, (1000.0, 1000.0, 1000.0), 0.0, (500.0, 500.0, 500.0), duration=0.005)
     assert room.polar_limit_deg == 180.0 and room.view_region().kind == "sphere"
     ang = np.radians(np.arange(0.0, 181.0, 30.0))
@@ -52,9 +47,9 @@ def test_room_larger_than_any_arrival_equals_the_free_field():
 
 
 @pytest.mark.parametrize("wall", [None, 0.05])
-def test_large_room_with_the_sphere_on_its_floor_equals_the_plane_and_the_corner(wall):
+def test_large_room_with_the_sphere_on_its_floor_equals_the_plane_and_the_corner(wall, paper_pulse):
     """On the floor (and 5 cm from wall x0) of a 20 m room, within 4 ms: the plane's (corner's) images only."""
-    pulse = _pulse()
+    pulse = paper_pulse()
     x = 10.0 if wall is None else wall
     room = Room(A, (20.0, 20.0, 20.0), 0.0, (x, 10.0, A), duration=0.004)
     assert room.polar_limit_deg == 90.0 and room.view_region().kind == "half"
@@ -77,8 +72,8 @@ def _image_sum(pulse, room, point, t):
 
 
 @pytest.mark.slow
-def test_rigid_room_directivity_near_the_source_is_the_sum_of_its_image_spheres():
-    pulse = _pulse()
+def test_rigid_room_directivity_near_the_source_is_the_sum_of_its_image_spheres(paper_pulse):
+    pulse = paper_pulse()
     room = Room(A, (1.2, 1.0, 0.8), 0.0, (0.4, 0.45, A), duration=0.004)
     ang = np.radians([0.0, 30.0, 60.0, 90.0])
     d = directivity(pulse, room, 0.15, ang)
@@ -102,8 +97,8 @@ def test_rigid_room_directivity_near_the_source_is_the_sum_of_its_image_spheres(
     assert np.max(np.abs(d.rms / plane.rms - 1.0)) > 5e-4
 
 
-def test_a_circle_or_balloon_that_leaves_the_room_is_refused_with_its_range():
-    pulse = _pulse()
+def test_a_circle_or_balloon_that_leaves_the_room_is_refused_with_its_range(paper_pulse):
+    pulse = paper_pulse()
     room = Room(A, (3.0, 2.5, 2.0), 0.3, (1.0, 1.0, A), duration=0.01)
     assert circle_limit(room) == pytest.approx(2.0 - A, rel=1e-12)  # the ceiling, straight up
     assert view_limit(room) == pytest.approx(1.0, rel=1e-12)  # walls x0 and y0 from the contact point
@@ -304,10 +299,10 @@ def test_map_command_in_a_room_lies_on_the_plane_through_the_sphere_inside_the_w
 
 
 @pytest.mark.parametrize("metric", ["peak", "sel"])
-def test_balloon_in_a_room_beyond_every_arrival_equals_the_plane(metric):
+def test_balloon_in_a_room_beyond_every_arrival_equals_the_plane(metric, paper_pulse):
     from acoustiviz.output.render import balloon_data
 
-    pulse = _pulse()
+    pulse = paper_pulse()
     room = Room(A, (1000.0, 1000.0, 1000.0), 0.0, (500.0, 500.0, A), duration=0.004)
     b_room = balloon_data(pulse, room, distance=0.5, metric=metric, n_theta=6)
     assert b_room.grid.region == "half"

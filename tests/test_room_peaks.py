@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 import acoustiviz.field  # noqa: F401 - the package, for its modules below
-from acoustiviz.core.contact import Impact, acceleration_pulse
 from acoustiviz.core.radiation import pulse_response
 from acoustiviz.core.room_geometry import Room
 from acoustiviz.field import exposure, fast_peaks, field_metrics, peak_table, source_geometry
@@ -25,11 +24,6 @@ A = 0.01905  # the paper's sphere, m
 DIMS = (6.0, 4.0, 3.0)
 PEAKS = sys.modules["acoustiviz.field.peaks"]
 EXPOSURE = sys.modules["acoustiviz.field.exposure"]
-
-
-def _pulse(kind="half-sine"):
-    mass = 7800 * 4 / 3 * np.pi * A**3
-    return acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=mass), kind)
 
 
 def _points(n, seed):
@@ -44,12 +38,12 @@ def _closed_form(pulse, room, pts, when):
 
 
 @pytest.mark.parametrize("kind", ["half-sine", "hertz", "impulse-matched"])
-def test_room_peaks_equal_the_refined_field_metrics_and_the_closed_form(kind, monkeypatch):
+def test_room_peaks_equal_the_refined_field_metrics_and_the_closed_form(kind, monkeypatch, paper_pulse):
     """Order 4 (129 images): each peak is the pressure at its time (closed form, 1e-10 of the peak), never
     below field_metrics' refined peak by more than 1e-8 and nearly always equal to it."""
     room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=4)
     assert room.image_count > PEAKS.PULSE_TABLE_ABOVE
-    pulse = _pulse(kind)
+    pulse = paper_pulse(kind)
     pts = np.vstack([_points(10, 3), [[5.97, 3.96, 0.03], [0.04, 3.97, 2.96], [2.0, 1.5, 0.3]]])
     fp = fast_peaks(pulse, pts, room)
     fm = field_metrics(pulse, pts, room)
@@ -65,11 +59,11 @@ def test_room_peaks_equal_the_refined_field_metrics_and_the_closed_form(kind, mo
 
 
 @pytest.mark.slow
-def test_room_peaks_equal_the_windowed_search(monkeypatch):
+def test_room_peaks_equal_the_windowed_search(monkeypatch, paper_pulse):
     """The sorted-arrival search and the windowed search over the whole delay spread (tables over it)
     find the same peaks to 1e-10 (both refine the closed form to ~1e-11), here at order 5."""
     room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=5)
-    pulse = _pulse()
+    pulse = paper_pulse()
     pts = _points(16, 11)
     dense = fast_peaks(pulse, pts, room, exposure=False, table=peak_table(pulse, room))
     assert peak_table(pulse, room).pulse_only
@@ -82,12 +76,12 @@ def test_room_peaks_equal_the_windowed_search(monkeypatch):
 
 
 @pytest.mark.slow
-def test_a_late_arrival_sets_the_peak_in_a_rigid_room():
+def test_a_late_arrival_sets_the_peak_in_a_rigid_room(paper_pulse):
     """A rigid room, the listener level with the sphere's centre (the direct sound's and the floor image's
     dipole null) in a far corner: the peak comes long after the first arrival and is found there
     (closed form at its time; a dense 1 us scan of the closed form finds nothing higher)."""
     room = Room(A, DIMS, 0.0, (2.0, 1.5, A), order=4)
-    pulse = _pulse()
+    pulse = paper_pulse()
     pts = np.array([[5.9, 3.9, A], [0.1, 3.9, A]])
     fp = fast_peaks(pulse, pts, room)
     delay, _, _, _ = source_geometry(pts, room)
@@ -103,10 +97,10 @@ def test_a_late_arrival_sets_the_peak_in_a_rigid_room():
         assert -scan.min() <= -fp.peak_negative[i] * (1 + 1e-9)
 
 
-def test_half_sine_correlations_in_closed_form_equal_the_quadrature():
+def test_half_sine_correlations_in_closed_form_equal_the_quadrature(paper_pulse):
     """The half-sine's G and H on [0, T] as sums of exponentials in the lag equal the Gauss-Legendre
     quadrature's Chebyshev series of pulse_correlations (an independent computation) to 1e-13."""
-    corr = EXPOSURE.pulse_correlations(_pulse(), A)
+    corr = EXPOSURE.pulse_correlations(paper_pulse(), A)
     t = corr.lag_terms
     assert t.size == 12
     tau, s = corr.duration, corr.pole
@@ -119,7 +113,7 @@ def test_half_sine_correlations_in_closed_form_equal_the_quadrature():
     g_ref, h_ref = corr.series(lag)
     assert np.max(np.abs(g - g_ref)) <= 1e-13 * np.max(np.abs(g_ref))
     assert np.max(np.abs(h - h_ref)) <= 1e-13 * np.max(np.abs(h_ref))
-    assert EXPOSURE.pulse_correlations(_pulse("hertz"), A).lag_terms.size == 0  # the table for other pulses
+    assert EXPOSURE.pulse_correlations(paper_pulse("hertz"), A).lag_terms.size == 0  # the table for other pulses
 
 
 def _exact_exposure(pulse, room, pt, corr):
@@ -145,11 +139,11 @@ def _exact_exposure(pulse, room, pt, corr):
     return np.sum(pairs[~ties]) + 0.5 * np.sum(pairs[ties]) + own
 
 
-def test_room_exposure_of_the_half_sine_in_closed_form_equals_every_pair(monkeypatch):
+def test_room_exposure_of_the_half_sine_in_closed_form_equals_every_pair(monkeypatch, paper_pulse):
     """Order 6 (377 images): the close pairs summed in closed form equal the exact sum over every pair
     of images (1e-12; the correlations from the quadrature's series), and the table's paths (1e-11)."""
     room = Room(A, DIMS, 0.1, (2.0, 1.5, A), order=6)
-    pulse = _pulse()
+    pulse = paper_pulse()
     pts = np.vstack([_points(6, 5), [[5.97, 3.96, 0.03], [2.0, 1.5, 0.3]]])
     corr = EXPOSURE.pulse_correlations(pulse, A)
     closed = exposure(pulse, pts, room, correlations=corr)

@@ -125,7 +125,7 @@ class LevelMap:
 
     def in_plane(self) -> tuple:
         """Names of the in-plane axes: ``("x", "z")`` (vertical) or ``("x", "y")`` (horizontal)."""
-        return ("x", "z") if self.plane == "vertical" else ("x", "y")
+        return tuple(SECTION_OF_PLANE[self.plane])
 
 
 def _defaults(plane, height, extent, resolution):
@@ -190,6 +190,10 @@ def check_map_settings(config, *, plane=None, height=None, extent=None, resoluti
     return plane, height, extent, resolution
 
 
+#: The planes of a map (:data:`PLANES`) as sections of :func:`acoustiviz.field.grids.section_grid`.
+SECTION_OF_PLANE = {"vertical": "xz", "horizontal": "xy"}
+
+
 def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
     """The planar grid of a map, cut at the floor and the wall (see the module notes).
 
@@ -214,26 +218,9 @@ def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
 
 def _grid_spec(config, plane, height, extent, n):
     """Centre (m), edge vectors (m) and point counts of a map's grid, from checked settings."""
-    c = np.asarray(config.centre, dtype=float)
-    lo, hi = c - extent, c + extent
-    for p in config.planes:  # cut at the floor (z) and the wall (x), and at a room's far walls and ceiling
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], float(p.point[k]))
-        else:
-            hi[k] = min(hi[k], float(p.point[k]))
-    i, j = (0, 2) if plane == "vertical" else (0, 1)
-    centre = 0.5 * (lo + hi)
-    if plane == "vertical":
-        centre[1] = c[1]
-    else:
-        centre[2] = height
-    u, v = np.zeros(3), np.zeros(3)
-    u[i], v[j] = hi[i] - lo[i], hi[j] - lo[j]
-    long = max(u[i], v[j])
-    nu = max(2, int(round((n - 1) * u[i] / long)) + 1)
-    nv = max(2, int(round((n - 1) * v[j] / long)) + 1)
-    return centre, u, v, nu, nv
+    from ..field.grids import section_rectangle
+
+    return section_rectangle(config, SECTION_OF_PLANE[plane], extent, n, level=height)
 
 
 def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("resolution",)):

@@ -282,20 +282,21 @@ def _plane_options(ctx: RunContext, s) -> dict:
 
 def produce_snapshot(ctx: RunContext):
     """Pressure p(x, t) on the planar sections at the requested times (one PNG, side by side)."""
+    from ..field.sections import section_field
     from ..output.render import render_snapshot
 
     s = ctx.scene.view_settings("snapshot")
     times = list(s.times)
     ctx.progress(f"rendering {len(times)} snapshot(s)")
+    field = section_field(ctx.pulse(), ctx.configuration, times, **_plane_options(ctx, s))  # once for every file
     path = render_snapshot(ctx.pulse(), ctx.configuration, times if len(times) > 1 else times[0],
-                           ctx.path("snapshot.png"), size=s.size, **_plane_options(ctx, s))
+                           ctx.path("snapshot.png"), size=s.size, field=field)
     products = [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
     if ctx.scene.output("snapshot")["vtk"]:
         from ..output.vtk import write_snapshot_vtk
 
         products += [Product("vtk", p) for p in write_snapshot_vtk(ctx.pulse(), ctx.configuration, times,
-                                                                    ctx.path("snapshot.vtu"),
-                                                                    **_plane_options(ctx, s))]
+                                                                    ctx.path("snapshot.vtu"), field=field)]
     return products
 
 
@@ -323,18 +324,19 @@ def produce_balloon(ctx: RunContext):
 def produce_animation(ctx: RunContext):
     """GIF of the wavefront leaving the impact and reflecting, on the planar sections."""
     from ..output.render import render_animation
+    from ..output.render.animation import animation_field
 
     s = ctx.scene.view_settings("animation")
     ctx.progress(f"rendering {s.frames} animation frames")
-    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), frames=s.frames, fps=s.fps,
-                            size=s.size, **_plane_options(ctx, s))
+    field = animation_field(ctx.pulse(), ctx.configuration, frames=s.frames, **_plane_options(ctx, s))  # once
+    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), fps=s.fps, size=s.size,
+                            field=field)
     products = [Product("animation", path, {"frames": str(s.frames), "fps": f"{s.fps:g}"})]
     if ctx.scene.output("animation")["vtk"]:
         from ..output.vtk import write_animation_vtk
 
         products += [Product("vtk", p) for p in write_animation_vtk(ctx.pulse(), ctx.configuration,
-                                                                     ctx.path("animation.vtu"), frames=s.frames,
-                                                                     **_plane_options(ctx, s))]
+                                                                     ctx.path("animation.vtu"), field=field)]
     return products
 
 

@@ -116,42 +116,43 @@ def _balloon(s, setup, paths, title) -> list:
 
 
 def _snapshot(s, setup, paths, title) -> list:
+    from ..field.sections import section_field
     from ..output import render
 
     pulse, conf, medium = setup.pulse, setup.configuration, setup.medium
-    planes = dict(extent=s.extent, sections=s.sections, n_u=s.n_u)
     times = s.times[0] if len(s.times) == 1 else list(s.times)
+    field = section_field(pulse, conf, times, medium=medium, extent=s.extent, sections=s.sections, n_u=s.n_u)
     outs = []
     if paths.get("png"):
         outs.append(render.render_snapshot(pulse, conf, times, paths["png"], clim=s.clim,
-                                           title=title or annotation(setup), medium=medium, size=s.size, **planes))
+                                           title=title or annotation(setup), size=s.size, field=field))
     if paths.get("vtk"):
         from ..output.vtk import write_snapshot_vtk
 
-        outs += write_snapshot_vtk(pulse, conf, times, paths["vtk"], medium=medium, **planes)
+        outs += write_snapshot_vtk(pulse, conf, times, paths["vtk"], field=field)
     if paths.get("html"):
         from ..output.html import write_snapshot_html
 
-        outs.append(write_snapshot_html(pulse, conf, times, paths["html"], medium=medium, clim=s.clim, title=title,
-                                        **planes))
+        outs.append(write_snapshot_html(pulse, conf, times, paths["html"], clim=s.clim, title=title, field=field))
     return outs
 
 
 def _animation(s, setup, paths, title) -> list:
     from ..output import render
+    from ..output.render.animation import animation_field
 
     pulse, conf, medium = setup.pulse, setup.configuration, setup.medium
-    planes = dict(extent=s.extent, sections=s.sections, n_u=s.n_u)
+    field = animation_field(pulse, conf, medium=medium, frames=s.frames, extent=s.extent, sections=s.sections,
+                            n_u=s.n_u)  # once for the GIF, the MP4 and the VTK file
     outs = []
     for key in ("gif", "mp4"):
         if paths.get(key):
-            outs.append(render.render_animation(pulse, conf, paths[key], frames=s.frames, fps=s.fps, clim=s.clim,
-                                                title=title or annotation(setup), medium=medium, size=s.size,
-                                                **planes))
+            outs.append(render.render_animation(pulse, conf, paths[key], fps=s.fps, clim=s.clim,
+                                                title=title or annotation(setup), size=s.size, field=field))
     if paths.get("vtk"):
         from ..output.vtk import write_animation_vtk
 
-        outs += write_animation_vtk(pulse, conf, paths["vtk"], medium=medium, frames=s.frames, **planes)
+        outs += write_animation_vtk(pulse, conf, paths["vtk"], field=field)
     return outs
 
 

@@ -8,8 +8,9 @@ the solid angle (4π, 2π, π) and integrate polynomials in the direction cosine
 degree set by the resolution, so spherical averages and radiated energies come out right.
 
 Planar grids are regular ``n_u × n_v`` lattices on a rectangle of any position and
-orientation. Both kinds convert to a :class:`pyvista.StructuredGrid` (pyvista is imported only
-then). Points are ``(n, 3)`` arrays in m.
+orientation; :func:`section_grid` lays one through the sphere along two axes of the scene, cut
+at the floor and the walls so that no point lies behind a reflecting plane. Both kinds convert
+to a :class:`pyvista.StructuredGrid` (pyvista is imported only then). Points are ``(n, 3)`` arrays in m.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive
+from ..constants import SECTION_PLANES
 
 __all__ = [
     "REGIONS",
@@ -29,12 +31,20 @@ __all__ = [
     "spherical_grid",
     "spherical_grid_for",
     "planar_grid",
+    "SECTIONS",
+    "fluid_box",
+    "section_rectangle",
+    "section_grid",
 ]
 
 #: Regions of a spherical grid.
 REGIONS = ("sphere", "half", "quarter")
 #: Solid angle in sr of each region.
 SOLID_ANGLE = {"sphere": 4 * math.pi, "half": 2 * math.pi, "quarter": math.pi}
+#: Sections through the sphere, named by the two axes they hold -> the indices of those axes:
+#: ``"xz"`` the vertical plane normal to the wall (holding the acceleration axis), ``"yz"`` the
+#: vertical plane parallel to the wall, ``"xy"`` a horizontal plane.
+SECTIONS = {name: ("xyz".index(name[0]), "xyz".index(name[1])) for name in SECTION_PLANES}
 
 
 def _unit(name, v):
@@ -317,3 +327,94 @@ def planar_grid(centre, u, v, n_u: int = 101, n_v=None) -> PlanarGrid:
     b = np.linspace(0.0, 1.0, nv)
     pts = origin + (b[:, None, None] * vv + a[None, :, None] * uu).reshape(-1, 3)
     return PlanarGrid(pts, origin, uu, vv, nu, nv)
+
+
+def fluid_box(config, lo, hi) -> tuple:
+    """The box ``[lo, hi]`` cut at each plane of ``config`` on the side away from the fluid.
+
+    Parameters
+    ----------
+    config : Geometry
+        The scene; each of its planes is normal to an axis (the floor's z, a wall's x or y).
+    lo, hi : (3,) array_like
+        Lower and upper corners in m.
+
+    Returns
+    -------
+    (lo, hi) : two (3,) ndarray
+        The corners in m, raised to a plane facing up its axis and lowered to one facing down it.
+    """
+    lo = np.array(lo, dtype=float)
+    hi = np.array(hi, dtype=float)
+    for p in config.planes:
+        k = int(np.argmax(np.abs(p.normal)))
+        if p.normal[k] > 0:
+            lo[k] = max(lo[k], float(p.point[k]))
+        else:
+            hi[k] = min(hi[k], float(p.point[k]))
+    return lo, hi
+
+
+def section_rectangle(config, section: str, extent: float, n_long: int, *, level=None) -> tuple:
+    """The rectangle and point counts of :func:`section_grid`, without building its points.
+
+    Parameters and notes as for :func:`section_grid` (a caller checks the size of a grid from
+    the counts before it builds it).
+
+    Returns
+    -------
+    (centre, u, v, n_u, n_v)
+        Centre and edge vectors in m (the arguments of :func:`planar_grid`) and the counts.
+    """
+    check_choice("section", section, tuple(SECTIONS))
+    c = np.asarray(config.centre, dtype=float)
+    lo, hi = fluid_box(config, c - extent, c + extent)
+    i, j = SECTIONS[section]
+    centre = c.copy()
+    centre[i] = 0.5 * (lo[i] + hi[i])
+    centre[j] = 0.5 * (lo[j] + hi[j])
+    if level is not None:
+        centre[3 - i - j] = float(level)
+    u, v = np.zeros(3), np.zeros(3)
+    u[i], v[j] = hi[i] - lo[i], hi[j] - lo[j]
+    long = max(u[i], v[j])
+    nu = max(2, int(round((n_long - 1) * u[i] / long)) + 1)
+    nv = max(2, int(round((n_long - 1) * v[j] / long)) + 1)
+    return centre, u, v, nu, nv
+
+
+def section_grid(config, section: str, extent: float, n_long: int, *, level=None) -> PlanarGrid:
+    """A planar grid through the sphere along two axes, reaching ``extent`` from its centre, cut at the planes.
+
+    The square of half-side ``extent`` around the sphere's centre in the plane of ``section`` is
+    cut by :func:`fluid_box`, so every point lies on the fluid's side of every plane (points
+    inside the sphere are kept: the field there is NaN).
+
+    Parameters
+    ----------
+    config : Geometry
+        The sphere and its planes.
+    section : {"xz", "yz", "xy"}
+        The two axes the grid spans (see :data:`SECTIONS`).
+    extent : float
+        Distance in m from the sphere's centre to the far edges (checked by the caller).
+    n_long : int
+        Points along the longer side (>= 2, checked by the caller); the other side keeps the
+        spacing as near square as whole counts allow.
+    level : float, optional
+        Coordinate in m of the plane along its normal axis (default: the sphere centre's).
+
+    Returns
+    -------
+    PlanarGrid
+        Edge ``u`` along the first axis of ``section``, ``v`` along the second.
+
+    Examples
+    --------
+    >>> from acoustiviz.core.geometry import configuration
+    >>> g = section_grid(configuration("plane", 0.01905), "xz", 0.2, 21)
+    >>> g.shape, round(float(g.points[:, 2].min()), 6)  # cut at the floor z = 0
+    ((12, 21), 0.0)
+    """
+    centre, u, v, nu, nv = section_rectangle(config, section, extent, n_long, level=level)
+    return planar_grid(centre, u, v, n_u=nu, n_v=nv)

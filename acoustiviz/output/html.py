@@ -25,7 +25,6 @@ import numpy as np
 from .._validate import ParameterError, check_positive, check_range
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..field import snapshots
 from .writers import write_text_atomic
 
 __all__ = ["page", "write_balloon_html", "write_snapshot_html"]
@@ -243,7 +242,8 @@ def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, d
 
 
 def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
-                        sections=("xz",), n_u: int = 241, clim=None, title=None, cmap: str = "RdBu_r") -> Path:
+                        sections=("xz",), n_u: int = 241, clim=None, title=None, cmap: str = "RdBu_r",
+                        field=None) -> Path:
     """Write an interactive page of the pressure on planar sections at one or more times.
 
     The points and values are those of :func:`acoustiviz.output.render.render_snapshot` with
@@ -269,6 +269,9 @@ def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium =
         Heading of the page.
     cmap : str
         A diverging colour map, centred on zero.
+    field : acoustiviz.field.sections.SectionField, optional
+        The field already evaluated (``time``, ``medium``, ``planes``, ``extent``, ``sections``
+        and ``n_u`` are then taken from it); by default it is evaluated here.
 
     Returns
     -------
@@ -276,13 +279,13 @@ def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium =
         ``path``.
     """
     from .render._common import _scene_label
-    from .render.snapshot import _check_times, _planes, _symmetric_limit
+    from .render.snapshot import _field, _symmetric_limit
     from .vtk import _bounds, _quads
 
     path = _check_html_path(path)
-    times = _check_times(time)
-    grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
+    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
+                   n_u=n_u)
+    grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     layers = []
     for g, f in zip(grids, fields, strict=True):

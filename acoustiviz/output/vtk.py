@@ -1,7 +1,8 @@
 """Fields for other tools: the data behind each render as VTK files (ParaView, pyvista, meshio).
 
-Each writer evaluates the same field as the matching render of :mod:`acoustiviz.output.render`
-on the same points and writes it, atomically, as an unstructured grid of quadrilaterals:
+Each writer writes the same field as the matching render of :mod:`acoustiviz.output.render`
+on the same points (given, or evaluated there as the render would), atomically, as an
+unstructured grid of quadrilaterals:
 
 * :func:`write_snapshot_vtk` and :func:`write_animation_vtk` -- the planar sections, with the
   pressure at every requested time as point arrays ``pressure_pa_t0000``, ``pressure_pa_t0001``,
@@ -36,7 +37,8 @@ import numpy as np
 from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from ..field import field_metrics, snapshots
+from ..field import field_metrics
+from ..field.grids import fluid_box
 from .writers import atomic_path, write_bytes_atomic
 
 __all__ = [
@@ -177,13 +179,7 @@ def _bounds(config: Geometry, points) -> np.ndarray:
         if hi[k] - lo[k] < 0.2 * span:
             lo[k] -= 0.3 * span
             hi[k] += 0.3 * span
-    for p in config.planes:
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], p.point[k])
-        else:
-            hi[k] = min(hi[k], p.point[k])
-    return np.array([lo, hi])
+    return np.array(fluid_box(config, lo, hi))
 
 
 def geometry_dataset(config: Geometry, bounds):
@@ -299,11 +295,11 @@ def _write_with_geometry(mesh, config, path: Path, geometry: bool) -> tuple:
 
 
 def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
-                       sections=("xz",), n_u: int = 241, geometry: bool = True) -> tuple:
+                       sections=("xz",), n_u: int = 241, geometry: bool = True, field=None) -> tuple:
     """Write the pressure of a field snapshot on its planar sections to a VTK file.
 
     The points are those of :func:`acoustiviz.output.render.render_snapshot` called with the
-    same arguments, and the values those of :func:`acoustiviz.field.snapshots` there.
+    same arguments, and the values those of :func:`acoustiviz.field.sections.section_field` there.
 
     Parameters
     ----------
@@ -321,6 +317,9 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
         Where the field is evaluated, as for :func:`acoustiviz.output.render.render_snapshot`.
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
+    field : acoustiviz.field.sections.SectionField, optional
+        The field already evaluated (``time``, ``medium``, ``planes``, ``extent``, ``sections``
+        and ``n_u`` are then taken from it); by default it is evaluated here.
 
     Returns
     -------
@@ -332,17 +331,18 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
     >>> write_snapshot_vtk(pulse, configuration("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
-    from .render.snapshot import _check_times, _planes
+    from .render.snapshot import _field
 
     path = _check_vtk_path(path)
-    times = _check_times(time)
-    grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
+    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
+                   n_u=n_u)
+    grids, times, fields = field.grids, field.times, field.pressures
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 
 
 def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, times=None, frames: int = 48,
-                        planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True) -> tuple:
+                        planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True,
+                        field=None) -> tuple:
     """Write every frame of a wavefront animation to one VTK file (one pressure array per frame).
 
     The frame times and points are those of :func:`acoustiviz.output.render.render_animation`
@@ -368,25 +368,25 @@ def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, 
         Where the field is evaluated, as for the render.
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
+    field : acoustiviz.field.sections.SectionField, optional
+        The frames already evaluated by :func:`acoustiviz.output.render.animation.animation_field`
+        (the arguments saying where and when are then taken from it); by default they are
+        evaluated here.
 
     Returns
     -------
     (pathlib.Path, pathlib.Path or None)
         The data file and the geometry file.
     """
-    from .render.animation import _reach_time, animation_times, frame_fields
-    from .render.snapshot import _planes
+    from .render.animation import animation_field
+    from .render.snapshot import _field
 
     path = _check_vtk_path(path)
-    if times is None:
-        grids = _planes(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
-        times = animation_times(pulse, config, np.vstack([g.points for g in grids]), medium=medium, frames=frames)
-    else:
-        times = np.atleast_1d(np.asarray(times, dtype=float))
-        if times.ndim != 1 or times.size < 1 or not np.all(np.isfinite(times)):
-            raise ParameterError("times", "expected finite frame times in s")
-        grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [frame_fields(pulse, config, times, g.points, medium=medium) for g in grids]
+    if field is None:
+        field = animation_field(pulse, config, medium=medium, times=times, frames=frames, planes=planes, extent=extent,
+                                sections=sections, n_u=n_u, min_times=1)
+    field = _field(pulse, config, None, field)
+    grids, times, fields = field.grids, field.times, field.pressures
     return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
 
 
@@ -397,7 +397,8 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
     The points are the closed lattice of :func:`acoustiviz.output.render.balloon_data` at
     ``distance`` from the contact point (the whole sphere, the half space above the plane or
     the quarter space of the corner), the values those of
-    :func:`acoustiviz.field.field_metrics` there (see ``BALLOON_ARRAYS`` for the names).
+    :func:`acoustiviz.field.field_metrics` there (see ``BALLOON_ARRAYS`` for the names), with
+    the balloon's window (in a room :func:`acoustiviz.field.directivity.room_window`).
 
     Parameters
     ----------
@@ -415,7 +416,7 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
         Polar resolution of the measuring grid (4..512).
     data : BalloonData, optional
         The lattice already computed by ``balloon_data`` (``distance`` and ``n_theta`` are
-        then taken from it).
+        then taken from it), and its metrics when it holds them (``data.metrics``).
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
@@ -432,8 +433,10 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
         data = balloon_data(pulse, config, medium=medium, distance=distance, n_theta=n_theta)
     elif not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
-    pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
-    metrics = field_metrics(pulse, pts, config, medium=medium)
+    metrics = data.metrics
+    if metrics is None:  # a level of its own: the metrics are evaluated here
+        pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
+        metrics = field_metrics(pulse, pts, config, medium=medium)
     return _write_with_geometry(balloon_dataset(data, metrics), config, path, geometry)
 
 

@@ -11,8 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ...constants import ANIMATION_SIZE, BALLOON_METRICS, STILL_SIZE
-from ...constants import MAX_SNAPSHOT_TIMES as MAX_TIMES
+from ...constants import ANIMATION_SIZE, BALLOON_METRICS, MAX_SNAPSHOT_TIMES, SECTION_PLANES, STILL_SIZE
 from ...errors import ParameterError
 from .base import Settings, check_size
 from .table import Setting
@@ -21,7 +20,9 @@ __all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "SECTIONS", "MAX_TIMES", "Balloon
            "AnimationSettings", "SETTINGS_OF_VIEW"]
 
 #: Planes through the sphere's centre a field view may show.
-SECTIONS = ("xz", "yz", "xy")
+SECTIONS = SECTION_PLANES
+#: Most snapshot times drawn side by side.
+MAX_TIMES = MAX_SNAPSHOT_TIMES
 #: Farthest edge of a field plane and largest balloon radius in m (a render of a field kilometres
 #: across shows nothing of an impact).
 MAX_EXTENT, MAX_BALLOON_DISTANCE = 1e3, 1e4

@@ -11,13 +11,15 @@ from ...constants import ANIMATION_SIZE
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import arrival_windows, snapshots, source_geometry
+from ...field.sections import SectionField, section_grids
 from ..writers import atomic_path
 from ._common import _check_inputs, _check_path, _check_size, _grab, _plotter, _scene_label, mp4_available
-from .snapshot import _draw_snapshot, _planes, _symmetric_limit, _time_label
+from .snapshot import _draw_snapshot, _symmetric_limit, _time_label
 
 __all__ = [
     "animation_times",
     "frame_fields",
+    "animation_field",
     "render_animation",
 ]
 
@@ -72,6 +74,46 @@ def frame_fields(pulse, config: Geometry, times, points, *, medium: Medium = AIR
     return out
 
 
+def animation_field(pulse, config: Geometry, *, medium: Medium = AIR, times=None, frames: int = 48, planes=None,
+                    extent=None, sections=("xz",), n_u: int = 201, min_times: int = 2) -> SectionField:
+    """Every frame of a wavefront animation: its grids, frame times and pressures, evaluated once.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    config : Geometry
+        The scene.
+    medium : Medium
+        The fluid.
+    times : (k,) array_like, optional
+        Frame times in s (default :func:`animation_times` over the planes, ``frames`` of them).
+    frames : int
+        Number of frames when ``times`` is not given.
+    planes, extent, sections, n_u
+        Where the field is evaluated, as for :func:`render_snapshot`.
+    min_times : int
+        Fewest frame times accepted in ``times`` (an animation needs two; a data file one).
+
+    Returns
+    -------
+    acoustiviz.field.sections.SectionField
+        Pressures in Pa by :func:`frame_fields` (zero where no wave has arrived or all have
+        passed, NaN inside the sphere).
+    """
+    if times is None:
+        grids = section_grids(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
+        times = animation_times(pulse, config, np.vstack([g.points for g in grids]), medium=medium, frames=frames)
+    else:
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        if times.ndim != 1 or times.size < min_times or not np.all(np.isfinite(times)):
+            least = "at least two " if min_times == 2 else ""
+            raise ParameterError("times", f"expected {least}finite frame times in s")
+        grids = section_grids(config, planes, extent, times, medium, n_u, sections)
+    fields = tuple(frame_fields(pulse, config, times, g.points, medium=medium) for g in grids)
+    return SectionField.of(grids, times, fields)
+
+
 def _write_frames(frames, path: Path, fps: float):
     if path.suffix.lower() == ".gif":
         from PIL import Image
@@ -109,6 +151,7 @@ def render_animation(
     clim=None,
     title=None,
     cmap: str = "RdBu_r",
+    field=None,
 ) -> Path:
     """Render the wavefront leaving the impact and reflecting as a GIF or MP4 animation.
 
@@ -140,6 +183,10 @@ def render_animation(
         Text at the lower left of every frame.
     cmap : str
         A diverging colour map, centred on zero.
+    field : SectionField, optional
+        The frames already evaluated by :func:`animation_field` (``times``, ``frames``,
+        ``medium``, ``planes``, ``extent``, ``sections`` and ``n_u`` are then taken from it); by
+        default they are evaluated here.
 
     Returns
     -------
@@ -160,22 +207,19 @@ def render_animation(
             raise ParameterError("path", "writing MP4 needs imageio and imageio-ffmpeg ('pip install imageio-ffmpeg'); "
                                          "write a .gif instead")
         size = (size[0] + size[0] % 2, size[1] + size[1] % 2)
-    if times is None:
-        probe = _planes(config, planes, extent, [_reach_time(config, medium, extent)], medium, n_u, sections)
-        times = animation_times(pulse, config, np.vstack([g.points for g in probe]), medium=medium, frames=frames)
-        grids = probe
-    else:
-        times = np.atleast_1d(np.asarray(times, dtype=float))
-        if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
-            raise ParameterError("times", "expected at least two finite frame times in s")
-        grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [frame_fields(pulse, config, times, g.points, medium=medium) for g in grids]
+    if field is None:
+        field = animation_field(pulse, config, medium=medium, times=times, frames=frames, planes=planes, extent=extent,
+                                sections=sections, n_u=n_u)
+    elif not isinstance(field, SectionField):
+        raise ParameterError("field", f"expected a SectionField, got {type(field).__name__}")
+    grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     label = _scene_label(pulse, config) if title is None else title
     images = []
     with _plotter(size) as pl:
-        meshes, clock = _draw_snapshot(pl, config, grids, [f[0] for f in fields], times[0], lim, cmap, size, label,
-                                       True, 1)
+        # the meshes own their values (frames are copied into them): the field is never written
+        meshes, clock = _draw_snapshot(pl, config, grids, [np.array(f[0]) for f in fields], times[0], lim, cmap, size,
+                                       label, True, 1)
         for q, tq in enumerate(times):
             for m, f in zip(meshes, fields, strict=True):
                 m.point_data["p"][:] = f[q]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 import math
 from dataclasses import dataclass
@@ -77,6 +78,10 @@ class BalloonData:
         Name and unit of the level, e.g. ``"peak SPL (dB re 20 µPa)"``.
     config_name : str
         Name of the configuration.
+    metrics : FieldMetrics or None
+        Every metric of :func:`acoustiviz.field.field_metrics` at the lattice's points, in lattice
+        order, when the level is one of them (``"peak"``, ``"rms"``, ``"sel"``); None for a level
+        computed by a function of its own.
     """
 
     anchor: np.ndarray
@@ -88,6 +93,7 @@ class BalloonData:
     metric: str
     label: str
     config_name: str
+    metrics: object = None
 
     @property
     def max_level(self) -> float:
@@ -202,9 +208,16 @@ def balloon_data(
     else:
         function, label = levels
         lev = np.asarray(function(np.vstack([pts, grid.points])), dtype=float)
+        fm = None
     n = pts.shape[0]
     return BalloonData(np.asarray(anchor, float), dirs, lev[:n].reshape(dirs.shape[:2]), grid, lev[n:], r,
-                       metric, label, config.name)
+                       metric, label, config.name, None if fm is None else _first_points(fm, n))
+
+
+def _first_points(fm, n: int):
+    """The metrics ``fm`` of the first ``n`` points only (their per-point arrays cut, the rest kept)."""
+    per_point = ("peak_positive", "peak_negative", "rms", "exposure", "window_start", "model")
+    return dataclasses.replace(fm, **{k: getattr(fm, k)[:n] for k in per_point})
 
 
 def _balloon_mesh(data: BalloonData, size: float, top: float, db_range: float):

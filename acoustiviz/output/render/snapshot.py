@@ -7,16 +7,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..._validate import ParameterError, check_choice, check_positive
-from ...constants import MAX_SNAPSHOT_TIMES
+from ..._validate import ParameterError, check_positive
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
-from ...field import snapshots
-from ...field.grids import PlanarGrid, planar_grid
+from ...field.grids import PlanarGrid, fluid_box
+from ...field.sections import SectionField, section_field, section_planes
 from ._common import (
     _SPHERE_COLOUR,
     DEFAULT_SIZE,
-    SECTIONS,
     _add_bar,
     _add_geometry,
     _check_inputs,
@@ -34,76 +32,10 @@ from ._common import (
 __all__ = [
     "section_planes",
     "render_snapshot",
-]
+]  # section_planes: :func:`acoustiviz.field.sections.section_planes`, kept importable here
 
 
 # --------------------------------------------------------------------------- snapshots
-def section_planes(config: Geometry, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
-    """Planar grids through the sphere for field snapshots, clipped to the fluid's bounding box.
-
-    Parameters
-    ----------
-    config : Geometry
-        The scene.
-    extent : float
-        Distance in m from the sphere's centre to the far edges of each section.
-    sections : sequence of {"xz", "yz", "xy"}
-        ``"xz"``: the vertical plane ``y = 0`` (normal to the wall, holding the acceleration
-        axis); ``"yz"``: the vertical plane through the centre parallel to the wall; ``"xy"``:
-        the horizontal plane through the centre. Each is bounded by the floor and the wall.
-    n_u : int
-        Points along the longer side (>= 8).
-
-    Returns
-    -------
-    list of PlanarGrid
-    """
-    e = check_positive("extent", extent, "m")
-    if e <= 2.0 * config.radius:
-        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * config.radius:g} m, got {e:g} m")
-    if isinstance(sections, str):
-        sections = (sections,)
-    if int(n_u) != n_u or n_u < 8:
-        raise ParameterError("n_u", f"must be an integer >= 8, got {n_u!r}")
-    c = config.centre
-    lo = c - e
-    hi = c + e
-    for p in config.planes:  # clip at each plane (the floor's z, a wall's x or y)
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], p.point[k])
-        else:
-            hi[k] = min(hi[k], p.point[k])
-    out = []
-    for s in sections:
-        check_choice("sections", s, SECTIONS)
-        i, j = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[s]
-        u = np.zeros(3)
-        v = np.zeros(3)
-        u[i] = hi[i] - lo[i]
-        v[j] = hi[j] - lo[j]
-        centre = c.copy()
-        centre[i] = 0.5 * (lo[i] + hi[i])
-        centre[j] = 0.5 * (lo[j] + hi[j])
-        long = max(u[i], v[j])
-        nu = max(2, int(round((n_u - 1) * u[i] / long)) + 1)
-        nv = max(2, int(round((n_u - 1) * v[j] / long)) + 1)
-        out.append(planar_grid(centre, u, v, n_u=nu, n_v=nv))
-    return out
-
-
-def _planes(config, planes, extent, times, medium, n_u, sections=("xz",)):
-    if planes is not None:
-        ps = [planes] if isinstance(planes, PlanarGrid) else list(planes)
-        if not ps or not all(isinstance(p, PlanarGrid) for p in ps):
-            raise ParameterError("planes", "expected a PlanarGrid or a non-empty sequence of them")
-        return ps
-    if extent is None:
-        reach = medium.c * float(np.max(times)) + config.radius
-        extent = max(8.0 * config.radius, 1.25 * reach)
-    return section_planes(config, extent, sections=sections, n_u=n_u)
-
-
 def _plane_mesh(grid: PlanarGrid, values):
     mesh = grid.to_pyvista()
     mesh.point_data["p"] = np.asarray(values, dtype=float)
@@ -136,12 +68,7 @@ def _snapshot_bounds(planes, config: Geometry):
         if hi[k] - lo[k] < 1e-9 * span:
             lo[k] -= 0.3 * span
             hi[k] += 0.3 * span
-    for p in config.planes:
-        k = int(np.argmax(np.abs(p.normal)))
-        if p.normal[k] > 0:
-            lo[k] = max(lo[k], p.point[k])
-        else:
-            hi[k] = min(hi[k], p.point[k])
+    lo, hi = fluid_box(config, lo, hi)
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
@@ -186,17 +113,18 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
     return meshes, clock
 
 
+def _field(pulse, config, time, field, **where) -> SectionField:
+    """``field`` if given (checked), else the field of ``time`` evaluated by :func:`section_field` at ``where``."""
+    if field is None:
+        return section_field(pulse, config, time, **where)
+    if not isinstance(field, SectionField):
+        raise ParameterError("field", f"expected a SectionField, got {type(field).__name__}")
+    return field
+
+
 def _time_label(t: float) -> str:
     return f"t = {t * 1e3:.3f} ms"
 
-
-def _check_times(time) -> np.ndarray:
-    """Snapshot times in s as a 1-D array: 1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES` finite times >= 0."""
-    times = np.atleast_1d(np.asarray(time, dtype=float))
-    if times.ndim != 1 or times.size == 0 or times.size > MAX_SNAPSHOT_TIMES or not np.all(np.isfinite(times)) \
-            or np.any(times < 0):
-        raise ParameterError("time", f"expected 1 to {MAX_SNAPSHOT_TIMES} finite times >= 0 s, got {time!r}")
-    return times
 
 
 def render_snapshot(
@@ -215,6 +143,7 @@ def render_snapshot(
     title=None,
     show_scalar_bar: bool = True,
     cmap: str = "RdBu_r",
+    field=None,
 ) -> Path:
     """Render the pressure p(x, t) on planar grids at one or more times into a PNG file.
 
@@ -251,6 +180,10 @@ def render_snapshot(
         Draw the labelled colour bar.
     cmap : str
         A diverging matplotlib colour map; it is centred on zero.
+    field : SectionField, optional
+        The field already evaluated by :func:`acoustiviz.field.sections.section_field` (``time``,
+        ``medium``, ``planes``, ``extent``, ``sections`` and ``n_u`` are then taken from it); by
+        default it is evaluated here.
 
     Returns
     -------
@@ -265,9 +198,9 @@ def render_snapshot(
     path = _check_path(path, (".png",))
     size = _check_size(size)
     _check_inputs(pulse, config, medium)
-    times = _check_times(time)
-    grids = _planes(config, planes, extent, times, medium, n_u, sections)
-    fields = [snapshots(pulse, times, g.points, config, medium=medium) for g in grids]  # each (k, n)
+    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
+                   n_u=n_u)
+    grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     cols = times.size if times.size <= 3 else int(math.ceil(math.sqrt(times.size)))
     rows = int(math.ceil(times.size / cols))
