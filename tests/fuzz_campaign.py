@@ -95,6 +95,7 @@ WORKERS = ["0", "-1", "nan", "inf", "text", "", "1.5", "2", "1e308"]
 PLAUSIBLE = ["1e-6", "1e-3", "0.01", "0.5", "1", "2", "10", "1000", "1e6", "0.1,0.2,0.3", "3:7:3", "1,0,0.5"]
 SCENE_VALUES = ["0", "-1", "1e-308", "1e308", "nan", "inf", "-inf", '"text"', '""', "[]", "true", "{}",
                 "[nan, inf]", '"0.7"', "-0.0", "99999999999999999999"]
+COORDINATES = ("x_m", "y_m", "z_m")
 SENTINEL = b"precious user data: must survive any run that does not succeed\n"
 
 
@@ -160,7 +161,7 @@ def _set(argv: list, option: str, values: list) -> list:
 def _value(rng: random.Random, choices) -> str:
     if choices and rng.random() < 0.6:
         return str(rng.choice(choices))
-    if rng.random() < 0.3:  # plausible but extreme: past the bad-value check, into the work
+    if rng.random() < 0.4:  # plausible but extreme: past the bad-value check, into the work
         return rng.choice(PLAUSIBLE)
     return rng.choice(NUMBERS + ["Plane", "none", "both,one"])
 
@@ -178,7 +179,8 @@ def _hostile_name(rng: random.Random, inv: Invocation, option: str) -> str:
 
 
 def _mutate_options(rng: random.Random, inv: Invocation, opts: dict) -> None:
-    for option in rng.sample(sorted(opts), k=min(len(opts), rng.randint(1, 3))):
+    k = rng.choices([1, 2, 3], weights=[6, 3, 1])[0]  # mostly one change: past the first refusal, into the work
+    for option in rng.sample(sorted(opts), k=min(len(opts), k)):
         nargs, choices = opts[option]
         if nargs == 0:
             inv.argv = [*inv.argv, option]
@@ -369,21 +371,35 @@ def _changed_inputs(inv: Invocation, folder: Path, before: dict) -> list:
     return [n for n in protected if after.get(n) != before[n]]
 
 
+def _masked(header: list, row: list) -> bool:
+    """A grid point inside the sphere: every value but its coordinates is nan (documented for maps)."""
+    if not all(c in header for c in COORDINATES):
+        return False
+    values = [v.strip().lower() for h, v in zip(header, row, strict=False) if h not in COORDINATES]
+    return bool(values) and all(v == "nan" for v in values)
+
+
 def _bad_cells(path: Path) -> str:
-    """The first inf, nan or empty cell of a numeric column of a CSV file, or ''."""
+    """The first inf, nan or empty cell of a numeric column of a CSV file, or ''.
+
+    Not counted: the rows of grid points inside the sphere (all nan, as documented) and ``-inf``
+    in a level column (``*_db``: no sound at all, as the forced response reports a motion
+    without impacts). A header without rows is a table of nothing, not a bad cell.
+    """
     try:
         rows = list(csv.reader(path.read_text(encoding="utf-8", errors="replace").splitlines()))
     except csv.Error as exc:
         return f"{path.name}: unreadable CSV ({exc})"
-    if len(rows) < 2:
-        return f"{path.name}: no data rows" if rows else f"{path.name}: empty"
-    header, data = rows[0], rows[1:]
+    if not rows:
+        return f"{path.name}: empty"
+    header, data = rows[0], [r for r in rows[1:] if not _masked(rows[0], r)]
     for j, name in enumerate(header):
         cells = [r[j].strip() if j < len(r) else "" for r in data]
         if not any(_finite(c) for c in cells):
             continue  # a text column
         for i, c in enumerate(cells):
-            if not _finite(c) and (c == "" or c.lower().lstrip("+-") in ("nan", "inf", "infinity")):
+            silence = c.lower() == "-inf" and name.endswith("_db")
+            if not silence and not _finite(c) and (c == "" or c.lower().lstrip("+-") in ("nan", "inf", "infinity")):
                 return f"{path.name}: row {i + 1} column {name!r} holds {c!r}"
     return ""
 
@@ -457,7 +473,7 @@ def _by_status(inv: Invocation, folder: Path, lines: list) -> tuple:
         missing = [o for o in inv.outputs if not (folder / o).exists()]
         return ("worked", "") if not missing else ("other", f"exit 0 but missing {missing}")
     if status is not None and status < 0:
-        return "other", "killed by the SIGINT it was sent (no exit 130)"
+        return "other", f"killed by the SIGINT it was sent (signal {-status}, not exit 130)"
     return "other", f"exit {status}"
 
 
