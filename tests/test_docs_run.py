@@ -92,7 +92,7 @@ def blocks(document: Path) -> list[Block]:
 
 def commands(block: Block) -> list[str]:
     """The commands of a shell block: continuation lines joined, comments dropped, ``&&`` split."""
-    joined = re.sub(r"\\\n\s*", " ", block.text)
+    joined = re.sub(r"\s*\\\n\s*", " ", block.text)
     out = []
     for line in joined.splitlines():
         line = re.split(r"(?:^|\s)#", line, maxsplit=1)[0].strip()
@@ -230,3 +230,19 @@ def test_every_block_runs(document, tmp_path):
             _run_python(block, tmp_path)
         elif kind == "scene":
             _run_scene(block, tmp_path)
+
+
+def test_every_fence_opens_or_closes_a_block():
+    for doc in DOCUMENTS:
+        fences = len(re.findall(r"^ *```", doc.read_text(encoding="utf-8"), flags=re.M))
+        assert fences == 2 * len(blocks(doc)), f"{doc.name}: a fence opens no block the runner sees"
+
+
+def test_commands_join_lines_drop_comments_and_split_chains():
+    text = ("# a comment\nacoustiviz waveform --radius 0.01 \\\n    --csv a.csv   # trailing comment\n\n"
+            "python3 -m venv .venv && .venv/bin/acoustiviz run --out o\n")
+    block = Block(ROOT / "README.md", 1, "bash", text)
+    assert commands(block) == ["acoustiviz waveform --radius 0.01 --csv a.csv", "python3 -m venv .venv",
+                               ".venv/bin/acoustiviz run --out o"]
+    assert _argv(commands(block)[2]) == [sys.executable, "-m", "acoustiviz", "run", "--out", "o"]
+    assert _argv("ls -l") is None
