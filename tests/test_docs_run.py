@@ -21,8 +21,8 @@ What runs, by the block's info string (the word after the opening fence):
 The blocks of one document run in document order in one scratch folder, so a block can read a
 file an earlier block wrote. The folder holds a copy of the checkout's ``assets/`` (the commands
 are written to be run from the checkout). Nothing is shortened: a document whose blocks take more
-than a few seconds is marked slow. ``tests/test_readme.py`` keeps the fast check that every README
-command parses.
+than a few seconds is marked slow. ``tests/test_readme.py`` keeps the fast check that every
+``acoustiviz`` command of the README and of the guide parses.
 """
 
 from __future__ import annotations
