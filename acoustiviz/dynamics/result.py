@@ -26,7 +26,9 @@ def _frozen(a) -> np.ndarray:
 class ImpactTable:
     """One row per contact, in time order; all arrays have the same length.
 
-    Written to CSV by :func:`acoustiviz.output.tables.write_impact_table`.
+    Written to CSV, one row per contact with the unit in each column's name, by
+    :func:`acoustiviz.output.tables.write_impact_table` (``av.write_impact_table(path, run.impacts)``):
+    the physics layers write no files, so the table has no ``to_csv`` of its own.
 
     Attributes
     ----------
