@@ -165,6 +165,8 @@ DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **LEVEL_METRICS}
 #: What a balloon may show: the closed form's peak SPL, RMS level and SEL, or a weighted level of
 #: :data:`LEVEL_METRICS` (its unweighted ``sel`` is the closed form's).
 BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in LEVEL_METRICS if m != "sel"))
+#: Smallest and largest polar node count of a balloon's measuring grid (the azimuth gets twice as many).
+BALLOON_N_THETA_RANGE = (4, 512)
 
 # --- limits on work -----------------------------------------------------------------------
 

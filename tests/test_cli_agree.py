@@ -1,0 +1,92 @@
+"""The command line, a scene and the ``--help`` texts state and enforce the same range for one setting.
+
+Each case reads the range a front-end announces (``--help``, ``run --help-scene``), then gives a
+value just outside it to every front-end: each must refuse it before any work, in one line naming
+its own option or key and the same range, and leave no file behind.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from acoustiviz.cli import main
+
+
+def call(argv):
+    """Run the command line in-process; return its exit status."""
+    try:
+        return int(main(argv) or 0)
+    except SystemExit as exc:  # argparse refusals and --help
+        return int(exc.code or 0)
+
+
+@pytest.fixture
+def here(tmp_path, monkeypatch):
+    """A fresh, empty working folder."""
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def refused(argv, capsys, name):
+    """Run ``argv``; assert one line on stderr naming ``name`` and exit status 2; return that line."""
+    rc = call(argv)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err, err
+    assert rc == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert ": error:" in lines[0] and name in lines[0], err
+    return lines[0]
+
+
+def help_text(argv, capsys) -> str:
+    """The ``--help`` (or ``--help-scene``) text of ``argv``, on one line."""
+    call(argv)
+    return " ".join(capsys.readouterr().out.split())
+
+
+#: An interval as the help texts write it: ``[4, 512]``, ``(0, 0.5]``.
+_INTERVAL = r"([\[(][-+0-9.eE]+, [-+0-9.eEinf]+\])"
+
+
+def option_range(text: str, option: str) -> str:
+    """The interval ``[a, b]`` or ``(a, b]`` that ``--help`` gives after ``option``."""
+    m = re.search(re.escape(option) + r" [^\s\]]+ (?![\[-]).*?" + _INTERVAL, text)
+    assert m, f"{option} states no range in its help"
+    return m.group(1)
+
+
+def scene_range(text: str, key: str) -> str:
+    """The interval ``run --help-scene`` gives for ``key`` (its last component)."""
+    m = re.search(r"\b" + re.escape(key) + r" = [a-z ]+ in " + _INTERVAL, text)
+    assert m, f"{key} states no range in --help-scene"
+    return m.group(1)
+
+
+def run_scene(here, text, capsys, key):
+    """Write ``text`` as a scene, run it and assert it is refused naming ``key`` with no output folder made."""
+    (here / "s.toml").write_text(text)
+    line = refused(["run", "s.toml", "--out", "o"], capsys, key)
+    assert not (here / "o").exists(), sorted(p.name for p in (here / "o").rglob("*"))
+    return line
+
+
+def above(interval: str) -> str:
+    """A number just above the upper end of ``interval`` (as text)."""
+    hi = float(interval.split(",")[1].strip(" ]"))
+    return repr(int(hi) + 1) if hi == int(hi) and hi >= 1 else repr(2 * hi)
+
+
+# --------------------------------------------------------------------------- the balloon's resolution
+def test_balloon_resolution_one_range_in_help_scene_and_errors(here, capsys):
+    interval = option_range(help_text(["render", "balloon", "--help"], capsys), "--resolution")
+    assert scene_range(help_text(["run", "--help-scene"], capsys), "n_theta") == interval
+    bad = above(interval)
+    line = refused(["render", "balloon", "--resolution", bad, "--png", "b.png"], capsys, "--resolution")
+    assert interval in line
+    line = run_scene(here, f"[grids.sphere]\nn_theta = {bad}\n[outputs.waveform]\n[outputs.balloon]\n", capsys,
+                     "grids.sphere.n_theta")
+    assert interval in line
+    assert not (here / "b.png").exists()
