@@ -90,3 +90,30 @@ def test_balloon_resolution_one_range_in_help_scene_and_errors(here, capsys):
                      "grids.sphere.n_theta")
     assert interval in line
     assert not (here / "b.png").exists()
+
+
+# --------------------------------------------------------------------------- a room's settings without a room
+ROOM_KEYS = [("room_m", "[3.0, 2.0, 2.0]", None), ("source_m", "[1.0, 1.0, 0.02]", ("--source", "1,1,0.02")),
+             ("absorption", "0.3", ("--absorption", "0.3")), ("image_order", "2", ("--image-order", "2")),
+             ("tolerance_db", "-40.0", ("--tolerance-db", "-40")), ("window_s", "0.01", ("--duration", "0.01"))]
+
+
+@pytest.mark.parametrize("kind", ["plane", "free", "wall-floor"])
+@pytest.mark.parametrize("key, value, argv", ROOM_KEYS, ids=[k[0] for k in ROOM_KEYS])
+def test_a_room_setting_without_a_room_is_refused_by_scene_and_command(here, capsys, kind, key, value, argv):
+    line = run_scene(here, f'[configuration]\nkind = "{kind}"\n{key} = {value}\n[outputs.waveform]\n', capsys,
+                     f"configuration.{key}")
+    assert "room" in line.split(key, 1)[1]
+    if argv is not None:
+        line = refused(["waveform", "--config", kind, *argv, "--csv", "w.csv"], capsys, argv[0])
+        assert "--room" in line
+        assert not (here / "w.csv").exists()
+
+
+def test_a_room_scene_still_takes_its_settings(here):
+    (here / "s.toml").write_text('[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = 0.4\n'
+                                 'source_m = [1.0, 1.0, 0.01905]\nwindow_s = 0.005\n')
+    from acoustiviz.scene import load_scene
+
+    conf = load_scene(here / "s.toml").configuration()
+    assert conf.name == "room" and tuple(conf.dimensions) == (3.0, 2.5, 2.0)

@@ -171,6 +171,53 @@ def _validate_table(data, table: Table, src: str, path: str, fill_defaults: bool
     return out
 
 
+#: Geometry settings -> their keys in ``[configuration]``.
+_GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m",
+                  "dimensions": "room_m", "absorption": "absorption", "source": "source_m", "order": "image_order",
+                  "tolerance_db": "tolerance_db", "duration": "window_s"}
+
+
+def _geometry_settings(conf: dict) -> dict:
+    """The settings of a ``[configuration]`` table that apply to its ``kind``."""
+    from ..core.geometry import relevant_settings
+
+    return relevant_settings(conf["kind"], **{k: conf[v] for k, v in _GEOMETRY_KEYS.items()})
+
+
+def check_configuration(data: dict, source: str) -> None:
+    """The sphere above the floor, no room key without a room, and the geometry's settings valid for its kind."""
+    from ..core.geometry import geometry
+
+    radius = data["sphere"]["radius_m"]
+    conf = data["configuration"]
+    _check_room_keys(conf, source)
+    if conf["height_m"] is not None and conf["height_m"] < radius:
+        raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
+                                                           f"{radius:g} m, got {conf['height_m']:g} m")
+    try:
+        geometry(conf["kind"], radius, **_geometry_settings(conf))
+    except ParameterError as exc:
+        raise SceneError(source, f"configuration.{_GEOMETRY_KEYS.get(exc.name, exc.name)}", exc.detail) from None
+
+
+def _check_room_keys(conf: dict, source: str) -> None:
+    """Refuse a room's own key (``room_m``, ``source_m``, ``absorption``, ...) in a configuration that is no room.
+
+    The command line refuses the same settings without ``--room`` (:func:`acoustiviz.app.impacts.room_settings`);
+    a scene would otherwise ignore them without a word. The strike is shared with the wall-floor corner.
+    """
+    from ..core.geometry import GEOMETRIES, geometry_class
+
+    if geometry_class(conf["kind"]).enclosed:
+        return
+    rooms = [name for name, cls in GEOMETRIES.items() if cls.enclosed]
+    for setting in GEOMETRIES[rooms[0]].SETTINGS:
+        key = _GEOMETRY_KEYS.get(setting)
+        if setting != "strike" and key is not None and conf[key] is not None:
+            raise SceneError(source, f"configuration.{key}", f'only applies with kind = "{rooms[0]}" (a shoebox '
+                                                             f'room); kind "{conf["kind"]}" would ignore it')
+
+
 def check_damper_physics(scene) -> None:
     """Refuse, at load, a ``[damper]`` whose run cannot be computed or measured (``app.limits.check_damper``).
 
