@@ -60,7 +60,7 @@ def option_range(text: str, option: str) -> str:
 
 def scene_range(text: str, key: str) -> str:
     """The interval ``run --help-scene`` gives for ``key`` (its last component)."""
-    m = re.search(r"\b" + re.escape(key) + r" = [a-z ]+ in " + _INTERVAL, text)
+    m = re.search(r"\b" + re.escape(key) + r" = [^;]*? in " + _INTERVAL, text)
     assert m, f"{key} states no range in --help-scene"
     return m.group(1)
 
@@ -117,3 +117,35 @@ def test_a_room_scene_still_takes_its_settings(here):
 
     conf = load_scene(here / "s.toml").configuration()
     assert conf.name == "room" and tuple(conf.dimensions) == (3.0, 2.5, 2.0)
+
+
+# --------------------------------------------------------------------------- the forcing frequencies
+FORCED_SCENE = '[excitation]\namplitude = 5.0\nfrequencies_hz = "{}"\nstarts = 1\n[outputs.frequency_response]\n'
+
+
+@pytest.mark.parametrize("text, expected", [("5,6", [5.0, 6.0]), ("4.5, 5.5", [4.5, 5.5]), ("6,5", [5.0, 6.0]),
+                                            ("3:7:5", [3.0, 4.0, 5.0, 6.0, 7.0]), ("6", [6.0])])
+def test_a_frequency_list_reads_the_same_in_scene_and_command(text, expected):
+    from acoustiviz.app.settings.parse import parse_frequencies
+    from acoustiviz.scene import scene_from_text
+    from acoustiviz.scene.validate import parse_frequencies as scene_frequencies
+
+    scene = scene_from_text(FORCED_SCENE.format(text))
+    assert parse_frequencies(text).tolist() == pytest.approx(expected)
+    assert scene_frequencies(scene.data["excitation"]["frequencies_hz"]).tolist() == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("text", ["5,5", "0,5", "-1", "a,b", "5,,6", "7:3:9", "nan"])
+def test_a_bad_frequency_list_is_refused_alike(here, capsys, text):
+    cli = refused(["forced", "--force", "5", "--freq", text, "--csv", "f.csv"], capsys, "--freq")
+    scene = run_scene(here, FORCED_SCENE.format(text), capsys, "excitation.frequencies_hz")
+    assert cli.split("--freq", 1)[1] == scene.split("excitation.frequencies_hz", 1)[1]
+    assert not (here / "f.csv").exists()
+
+
+def test_the_frequency_range_is_one_in_help_scene_and_errors(here, capsys):
+    interval = option_range(help_text(["forced", "--help"], capsys), "--freq")
+    assert scene_range(help_text(["run", "--help-scene"], capsys), "frequencies_hz") == interval
+    bad = above(interval)
+    assert interval in refused(["forced", "--force", "5", "--freq", f"5,{bad}"], capsys, "--freq")
+    assert interval in run_scene(here, FORCED_SCENE.format(f"5,{bad}"), capsys, "excitation.frequencies_hz")

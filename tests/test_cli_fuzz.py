@@ -728,8 +728,8 @@ def test_design_targets_are_refused_with_exit_2_like_the_scene(here, capsys, fin
 def test_frequency_messages_say_the_range(here, capsys):
     rc, err = run_cli(["forced", "--force", "5", "--freq", "0"], capsys)
     assert_user_error(rc, err, "--freq")
-    assert "> 0 Hz" in err and "at most" not in err
-    rc, err = run_cli(["forced", "--force", "5", "--freq", "1e9"], capsys)
+    assert "in (0, " in err and "Hz" in err and "at most" not in err
+    rc, err = run_cli(["forced", "--force", "5", "--freq", "9000"], capsys)
     assert_user_error(rc, err, "--freq")
     assert "natural frequency" in err and "5.033 Hz" in err
     (here / "f.toml").write_text(FAILING_SCENE.replace('"5:6:2"', '"6000"'))

@@ -20,7 +20,7 @@ from .validate import (
     _validate_table,
     check_configuration,
     check_damper_physics,
-    parse_range,
+    parse_frequencies,
 )
 
 __all__ = [
@@ -402,7 +402,7 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
 
         key = "excitation.frequencies_hz"
         try:
-            check_forcing_frequencies(parse_range(data["excitation"]["frequencies_hz"], key, source),
+            check_forcing_frequencies(parse_frequencies(data["excitation"]["frequencies_hz"], key, source),
                                       M=data["damper"]["main_mass_kg"], K=data["damper"]["stiffness_n_m"])
         except SceneError:
             raise

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
-from ..app.settings.forced import FORCED
+from ..app.settings.forced import FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
@@ -127,8 +127,8 @@ _EXCITATION = {
     "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
                 "through K and C", "force", choices=EXCITATIONS),
     "amplitude": Key("float", "F0 in N (kind force) or B in m (kind base)", 5.0, "N or m", low=0.0, high=1e9),
-    "frequencies_hz": Key("range", "forcing frequencies start:stop:count", "3:7:9", "Hz", low=0.0, low_open=True,
-                          high=1e4),
+    "frequencies_hz": Key("frequencies", FREQUENCIES.doc, FREQUENCIES.in_scene, FREQUENCIES.unit, low=FREQUENCIES.low,
+                          high=FREQUENCIES.high, low_open=FREQUENCIES.low_open),
     **_from_table(FORCED, "excitation"),
 }
 
@@ -268,7 +268,8 @@ def schema_help() -> str:
                 lines.append(f"{'  ' * depth}{head}  {spec.doc}")
                 walk(spec, sub, depth + 1)
             else:
-                rng = f" in {_fmt_range(spec)}" if spec.kind in ("float", "int", "floats", "range") else ""
+                numbers = ("float", "int", "floats", "range", "frequencies")
+                rng = f" in {_fmt_range(spec)}" if spec.kind in numbers else ""
                 ch = f" one of {', '.join(map(str, spec.choices))}" if spec.choices else ""
                 lines.append(f"{'  ' * depth}{key} = {_type_name(spec.kind)}{rng}{ch}; default {spec.default!r}: "
                              f"{spec.doc}")
@@ -289,4 +290,5 @@ def _type_name(kind: str) -> str:
     return {"float": "a number", "int": "an integer", "bool": "true or false", "str": "a string",
             "floats": "a list of numbers", "strs": "a list of strings", "point": "a list of 3 numbers",
             "ints": "a list of integers",
-            "range": "a 'start:stop:count' string"}[kind]
+            "range": "a 'start:stop:count' string, 'a,b,c' or one number",
+            "frequencies": "a 'start:stop:count' string, 'f1,f2,...' or one number"}[kind]

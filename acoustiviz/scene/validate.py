@@ -13,27 +13,35 @@ from .schema import Key, Table, _fmt_range, _type_name
 __all__ = [
     "SceneError",
     "parse_range",
+    "parse_frequencies",
 ]
 
 
 # --------------------------------------------------------------------------- helpers
-def parse_range(text: str, key: str = "range", source: str = "<range>"):
-    """Parse ``start:stop:count`` (inclusive) into a list of floats; one number is a single value.
+def parse_range(text, key: str = "range", source: str = "<range>"):
+    """Parse ``start:stop:count`` (inclusive), a comma list ``a,b,c`` or one number into a list of floats.
 
-    The values follow the one range rule of every front-end, :func:`acoustiviz.sweep.spec.value_range`,
-    so a scene's sweep grid is the grid of the same ``acoustiviz sweep`` options.
+    The values follow the one rule of every front-end, :func:`acoustiviz.sweep.spec.parse_values`
+    (whose ranges are :func:`~acoustiviz.sweep.spec.value_range`), so a scene's sweep grid is the
+    grid of the same ``acoustiviz sweep`` options.
     """
-    from ..sweep.spec import parse_range as range_values
+    from ..sweep.spec import parse_values
 
-    text = str(text)
-    if ":" not in text:
-        try:
-            return [float(text)]
-        except ValueError:
-            raise SceneError(source, key, f"expected 'start:stop:count' (inclusive) or one number, got {text!r}") \
-                from None
     try:
-        return list(range_values(key, text))
+        return list(parse_values(key, str(text)))
+    except ParameterError as exc:
+        raise SceneError(source, key, exc.detail) from None
+
+
+def parse_frequencies(text, key: str = "excitation.frequencies_hz", source: str = "<scene>"):
+    """Forcing frequencies in Hz, read as ``acoustiviz forced --freq`` reads them, or a SceneError naming ``key``.
+
+    The one reading is :func:`acoustiviz.app.settings.parse.parse_frequencies`.
+    """
+    from ..app.settings.parse import parse_frequencies as frequencies
+
+    try:
+        return frequencies(text, key)
     except ParameterError as exc:
         raise SceneError(source, key, exc.detail) from None
 
@@ -130,10 +138,19 @@ def _check_range(value, k: Key, src: str, path: str):
     return value
 
 
+def _check_frequencies(value, k: Key, src: str, path: str):
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        value = str(value)
+    if not isinstance(value, str):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)}, got {value!r}")
+    parse_frequencies(value, path, src)
+    return value
+
+
 #: The check of each kind of key: it returns the value as the scene holds it, or raises SceneError.
 _CHECKS = {"float": _check_float, "int": _check_int, "bool": _check_bool, "str": _check_str,
            "ints": _check_ints, "floats": _check_floats, "point": _check_floats, "strs": _check_strs,
-           "range": _check_range}
+           "range": _check_range, "frequencies": _check_frequencies}
 
 
 def _check_key(value, k: Key, src: str, path: str):
