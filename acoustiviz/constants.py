@@ -149,6 +149,12 @@ DEFAULT_DURATION = 20.0
 #: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12) for about
 #: 20 % more solver time (``benchmarks/bench_dynamics.py``).
 DEFAULT_RTOL = 1e-13
+#: Relative tolerance the event solver (and the impact map's restitution table) integrates a contact at:
+#: below 1e-15 double precision cannot follow, above 1e-3 the restitution is no longer converged.
+SOLVER_RTOL_RANGE = (1e-15, 1e-3)
+#: The accuracy (relative, on impact times and speeds) that solver ``"auto"`` may be asked for; it picks the
+#: cheapest solver that suits it and runs it at ``min(tolerance, SOLVER_RTOL_RANGE[1])``.
+AUTO_TOLERANCE_RANGE = (1e-15, 0.5)
 
 # --- levels ---------------------------------------------------------------------------------
 

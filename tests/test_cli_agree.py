@@ -149,3 +149,56 @@ def test_the_frequency_range_is_one_in_help_scene_and_errors(here, capsys):
     bad = above(interval)
     assert interval in refused(["forced", "--force", "5", "--freq", f"5,{bad}"], capsys, "--freq")
     assert interval in run_scene(here, FORCED_SCENE.format(f"5,{bad}"), capsys, "excitation.frequencies_hz")
+
+
+# --------------------------------------------------------------------------- the damper's tolerance, per solver
+def solver_ranges(capsys) -> tuple:
+    """The ranges ``damper --help`` states for --rtol: the event and impact-map solvers', and the whole option's."""
+    text = help_text(["damper", "--help"], capsys)
+    m = re.search(r"--rtol RTOL .*?event and impact-map: .*?in " + _INTERVAL, text)
+    assert m, "--rtol states no range of the event solver"
+    whole = re.search(r"--rtol RTOL .*?" + _INTERVAL + r" \(default", text)
+    assert whole, "--rtol states no range"
+    return m.group(1), whole.group(1)
+
+
+def test_the_rtol_ranges_agree_between_help_scene_and_command(capsys):
+    event, whole = solver_ranges(capsys)
+    assert scene_range(help_text(["run", "--help-scene"], capsys), "tolerance") == whole
+    assert event in help_text(["run", "--help-scene"], capsys)
+    assert event != whole
+
+
+@pytest.mark.parametrize("solver", ["event", "impact-map"])
+def test_a_tolerance_beyond_the_solver_is_refused_before_any_output(here, capsys, solver):
+    event, _ = solver_ranges(capsys)
+    bad = above(event)
+    line = refused(["damper", "--solver", solver, "--rtol", bad, "--duration", "1", "--impacts-csv", "i.csv"],
+                   capsys, "--rtol")
+    assert event in line and solver in line
+    line = run_scene(here, f'[damper]\nsolver = "{solver}"\ntolerance = {bad}\nduration_s = 1.0\n'
+                           '[outputs.waveform]\n[outputs.impact_table]\n', capsys, "damper.tolerance")
+    assert event in line and solver in line
+    assert not (here / "i.csv").exists()
+
+
+def test_the_sweep_states_and_enforces_the_solver_range(here, capsys):
+    event, _ = solver_ranges(capsys)
+    assert option_range(help_text(["sweep", "--help"], capsys), "--rtol") == event
+    line = refused(["sweep", "--rtol", above(event), "--duration", "1", "--out", "sw"], capsys, "--rtol")
+    assert event in line
+    assert not (here / "sw").exists()
+
+
+def test_auto_reads_a_coarse_tolerance_and_runs_within_the_solver_range(here, capsys):
+    from acoustiviz.scene import scene_from_text
+
+    event, whole = solver_ranges(capsys)
+    coarse = above(event)
+    assert float(coarse) <= float(whole.split(",")[1].strip(" ]"))
+    scene_from_text(f'[damper]\nsolver = "auto"\ntolerance = {coarse}\n')  # loads
+    assert call(["damper", "--solver", "auto", "--rtol", coarse, "--duration", "1"]) == 0
+    ran = float(re.search(r"\(rtol (\S+)\)", capsys.readouterr().out).group(1))
+    lo, hi = (float(v) for v in event.strip("[]").split(","))
+    assert lo <= ran <= hi
+    assert refused(["damper", "--solver", "auto", "--rtol", above(whole)], capsys, "--rtol")

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from .. import dynamics
 from .._validate import check_choice, check_finite, check_positive
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
-from ..dynamics import DamperModel, InitialState, cheapest_solver
+from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 from .limits import check_damper
 
@@ -96,7 +96,9 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
     v0, x0 : float
         Initial velocity (m/s) and displacement (m) of the main mass.
     rtol : float
-        Relative tolerance of the event solver and of the impact map's restitution table.
+        Relative tolerance of the event solver and of the impact map's restitution table; for
+        ``"auto"`` the accuracy wanted. Each solver checks its own range
+        (:data:`acoustiviz.dynamics.METHODS`).
     dt : float, optional
         Newmark step in s.
 
@@ -111,12 +113,13 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
         (:func:`acoustiviz.app.limits.check_damper`).
     """
     initial = InitialState(x=x0, v=v0)
+    method = solver_method(solver)
+    rtol = method.check_rtol(rtol)
     check_positive("duration", duration, "s")
     check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=check_finite("v", v0),
                  duration=duration, c1=model.c1)
     name, reason = choose_solver(solver, model, initial, rtol)
-    # "auto" reads rtol as the accuracy wanted, which may be coarser than any solver's rtol
-    kwargs = {"dt": dt} if name == "newmark" else {"rtol": min(rtol, 1e-3) if solver == "auto" else rtol}
+    kwargs = {"dt": dt} if name == "newmark" else {"rtol": method.run_rtol(rtol)}
     start = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -180,6 +180,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
     so a scene and the command with the same settings make the same sweep. The listener is the
     scene's first; ``solver`` is the damper solver the scene resolved (its ``"auto"`` choice).
     """
+    from ..dynamics import solver_method
     from ..errors import SceneError
     from .names import user_terms
 
@@ -212,7 +213,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
             gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
             distance=distance, angle_deg=angle_deg, config=conf["kind"], M=d["main_mass_kg"], K=d["stiffness_n_m"],
             C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"], duration=opts["duration_s"],
-            solver=solver, rtol=min(d["tolerance"], 1e-3),
+            solver=solver, rtol=solver_method(d["solver"]).run_rtol(d["tolerance"]),
             radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
             surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
             wall_distance=conf["wall_distance_m"], levels=opts["levels"],

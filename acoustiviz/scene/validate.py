@@ -238,15 +238,19 @@ def _check_room_keys(conf: dict, source: str) -> None:
 def check_damper_physics(scene) -> None:
     """Refuse, at load, a ``[damper]`` whose run cannot be computed or measured (``app.limits.check_damper``).
 
+    The tolerance is checked first, in the range of the solver named (:data:`acoustiviz.dynamics.METHODS`).
+
     The same limits the run checks, with the K_HZ of the damper's sphere, raised as a
     :class:`SceneError` naming the key (``damper.impact_mass_kg``) and what is allowed.
     """
     from ..app.limits import check_damper
     from ..app.names import SCENE_DAMPER_KEYS, user_terms
+    from ..dynamics import solver_method
 
     d = scene.data["damper"]
     try:
         with user_terms(SCENE_DAMPER_KEYS):
+            solver_method(d["solver"]).check_rtol(d["tolerance"])
             check_damper(M=d["main_mass_kg"], K=d["stiffness_n_m"], m=d["impact_mass_kg"], gap=d["gap_m"],
                          k_hertz=scene.k_hertz(scene.damper_sphere_radius()), v=d["initial_velocity_m_s"],
                          duration=d["duration_s"], c1=d["contact_damping_n_s_m"])

@@ -22,6 +22,7 @@ from ...constants import (
     PAPER_RADIUS,
     PAPER_V0,
     PULSES,
+    SOLVER_RTOL_RANGE,
     SOLVERS,
     TABLE1,
 )
@@ -72,7 +73,8 @@ SWEEP_DAMPER = (
     SWEEP[0],
     Setting("solver", "--solver", None, "str", None, "damper solver (default event)", choices=SOLVERS),
     Setting("rtol", "--rtol", None, "float", None,
-            f"relative tolerance of the event solver's contacts (default {DEFAULT_RTOL:g})", metavar="RTOL"),
+            f"relative tolerance of the event and impact-map solvers' contacts (default {DEFAULT_RTOL:g})",
+            low=SOLVER_RTOL_RANGE[0], high=SOLVER_RTOL_RANGE[1], metavar="RTOL"),
 )
 
 #: The sound of every impact at the listener.
