@@ -202,3 +202,37 @@ def test_auto_reads_a_coarse_tolerance_and_runs_within_the_solver_range(here, ca
     lo, hi = (float(v) for v in event.strip("[]").split(","))
     assert lo <= ran <= hi
     assert refused(["damper", "--solver", "auto", "--rtol", above(whole)], capsys, "--rtol")
+
+
+# --------------------------------------------------------------------------- a sweep's values, the damper's ranges
+SWEPT = ["--m", "--gap", "--c1", "--k-hertz", "--v0", "--M", "--K", "--C"]
+
+
+@pytest.mark.parametrize("option", SWEPT)
+def test_a_sweep_states_and_enforces_the_damper_range(here, capsys, option):
+    interval = option_range(help_text(["damper", "--help"], capsys), option)
+    assert option_range(help_text(["sweep", "--help"], capsys), option) == interval
+    bad = above(interval)
+    assert interval in refused(["damper", option, bad, "--duration", "1"], capsys, option)
+    line = refused(["sweep", option, bad, "--duration", "1", "--out", "sw"], capsys, option)
+    assert interval in line
+    assert not (here / "sw").exists()
+
+
+def test_a_mass_ratio_giving_a_mass_out_of_range_is_refused(here, capsys):
+    interval = option_range(help_text(["damper", "--help"], capsys), "--m")
+    hi = float(interval.split(",")[1].strip(" ]"))
+    main_mass = 0.5
+    line = refused(["sweep", "--M", str(main_mass), "--mass-ratio", repr(4 * hi / main_mass), "--duration", "1",
+                    "--out", "sw"], capsys, "--mass-ratio")
+    assert interval in line
+    assert not (here / "sw").exists()
+
+
+def test_a_scene_sweep_states_and_enforces_the_damper_mass_range(here, capsys):
+    interval = option_range(help_text(["damper", "--help"], capsys), "--m")
+    text = help_text(["run", "--help-scene"], capsys)
+    assert re.search(r"mass_kg = a 'start:stop:count' string[^;]*? in " + re.escape(interval), text)
+    bad = above(interval)
+    line = run_scene(here, f'[outputs.sweep]\nmass_kg = "0.02,{bad}"\n', capsys, "outputs.sweep.mass_kg")
+    assert interval in line

@@ -140,6 +140,12 @@ _LISTENER = {
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
 
+def _swept(name: str, doc: str, default: str) -> Key:
+    """A swept damper value of ``[outputs.sweep]``: each value in the range of the damper's record ``name``."""
+    r = next(s for s in DAMPER if s.name == name)
+    return Key("range", doc, default, r.unit, low=r.low, high=r.high, low_open=r.low_open)
+
+
 def _size(default) -> Key:
     return Key("ints", "image width and height", default, "px", low=SIZE_RANGE[0], high=SIZE_RANGE[1], length=2)
 
@@ -185,9 +191,8 @@ _OUT = {
         "velocities_m_s": Key("floats", "approach speeds", [0.5, 1.0, 2.0], "m/s", low=1e-4, high=1e3)},
         "coefficient of restitution against impact mass (paper Figure 7)"),
     "sweep": Table({
-        "gap_m": Key("range", "gap range start:stop:count", "0.02:0.06:5", "m", low=0.0, low_open=True, high=10),
-        "mass_kg": Key("range", "impact-mass range start:stop:count", "0.02:0.08:4", "kg", low=0.0, low_open=True,
-                       high=1e4),
+        "gap_m": _swept("gap", "gap range start:stop:count", "0.02:0.06:5"),
+        "mass_kg": _swept("m", "impact-mass range start:stop:count", "0.02:0.08:4"),
         **_from_table(SWEEP, "outputs.sweep"),
         "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024),
         "levels": Key("bool", "also LAFmax, LCpeak and LAeq of each design's run at the listener, rendered at "
