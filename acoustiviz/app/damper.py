@@ -172,8 +172,9 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
     duration : float
         Length of the sound in s.
     names : dict, optional
-        ``m``, ``k_hertz`` and ``duration`` -> the option or scene key named in the error (default
-        the API names).
+        ``m``, ``k_hertz``, ``duration`` and ``velocities`` (the impacts' speeds) -> the option or
+        scene key named in the error (default the API names). A speed whose contact cannot be
+        computed (:func:`acoustiviz.app.limits.contact_speeds`) is refused naming ``velocities``.
     """
     import math
 
@@ -184,8 +185,17 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
 
     if not len(seq):
         return
-    n = {"m": "m", "k_hertz": "k_hertz", "duration": "duration", **(names or {})}
-    slowest = float(seq.velocities.min())
+    from .limits import contact_speeds
+
+    n = {"m": "m", "k_hertz": "k_hertz", "duration": "duration", "velocities": "velocities", **(names or {})}
+    slowest, fastest = float(seq.velocities.min()), float(seq.velocities.max())
+    lo, hi = contact_speeds(k_hertz, mass)
+    for v in (slowest, fastest):
+        if not lo <= v <= hi:
+            raise ParameterError(n["velocities"], f"an approach speed of {v:g} m/s makes the contact of the "
+                                                  f"{mass:g} kg impact mass with {n['k_hertz']} {k_hertz:g} overflow "
+                                                  f"or vanish; with these the speeds must lie in [{lo:.3g}, {hi:.3g}] "
+                                                  "m/s")
     with np.errstate(all="ignore"):
         tau = float(contact_duration(slowest, k_hertz, mass)) if slowest > 0 else math.inf
     if not tau <= duration:
