@@ -312,3 +312,12 @@ def test_an_impact_file_speed_out_of_range_names_the_file(here, capsys, speed):
     line = refused(["auralize", "--impacts", "imp.csv", "--wav", "a.wav"], capsys, "--impacts")
     assert "--m:" not in line
     assert not (here / "a.wav").exists()
+
+
+def test_auto_with_a_coarse_tolerance_runs_alike_from_scene_and_command(here, capsys):
+    """The tolerance auto runs at is one rule: the command and a scene asking the same make the same impacts."""
+    assert call(["damper", "--solver", "auto", "--rtol", "0.01", "--duration", "1", "--impacts-csv", "i.csv"]) == 0
+    (here / "s.toml").write_text('[damper]\nsolver = "auto"\ntolerance = 0.01\nduration_s = 1.0\n'
+                                 '[outputs.impact_table]\n')
+    assert call(["run", "s.toml", "--out", "o", "--quiet"]) == 0
+    assert (here / "i.csv").read_bytes() == (here / "o" / "impacts.csv").read_bytes()
