@@ -165,6 +165,12 @@ DEFAULT_DURATION = 20.0
 #: (Figure 5 start) are within 2e-9 s of the converged reference (4.8e-8 s at 1e-12), measured by
 #: ``benchmarks/bench_dynamics.py``; its cost over 1e-12: ``benchmarks/results/design_timings.md``.
 DEFAULT_RTOL = 1e-13
+#: Relative tolerance the event solver (and the impact map's restitution table) integrates a contact at:
+#: below 1e-15 double precision cannot follow, above 1e-3 the restitution is no longer converged.
+SOLVER_RTOL_RANGE = (1e-15, 1e-3)
+#: The accuracy (relative, on impact times and speeds) that solver ``"auto"`` may be asked for; it picks the
+#: cheapest solver that suits it and runs it at ``min(tolerance, SOLVER_RTOL_RANGE[1])``.
+AUTO_TOLERANCE_RANGE = (1e-15, 0.5)
 
 # --- levels ---------------------------------------------------------------------------------
 
@@ -181,6 +187,8 @@ DIRECTIVITY_METRICS = {"peak-spl": "spl_db", "rms": "rms_db", **LEVEL_METRICS}
 #: What a balloon may show: the closed form's peak SPL, RMS level and SEL, or a weighted level of
 #: :data:`LEVEL_METRICS` (its unweighted ``sel`` is the closed form's).
 BALLOON_METRICS = ("peak", "rms", "sel", *(m for m in LEVEL_METRICS if m != "sel"))
+#: Smallest and largest polar node count of a balloon's measuring grid (the azimuth gets twice as many).
+BALLOON_N_THETA_RANGE = (4, 512)
 
 # --- views ---------------------------------------------------------------------------------
 

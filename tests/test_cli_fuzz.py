@@ -72,7 +72,7 @@ CASES = [
     (["waveform", "--radius", "1e-300"], "--radius"),
     (["waveform", "--radius", "1e200"], "--radius"),
     (["waveform", "--density", "1e300"], "--density"),
-    (["waveform", "--k-hertz", "1e-300"], "--velocity"),
+    (["waveform", "--k-hertz", "1e-300"], "--k-hertz"),  # the input at fault, not the speed left at its default
     # outside the medium's records' ranges, as a scene's [medium]: refused naming the option before the physics
     (["waveform", "--c", "1e200"], "--c"),
     (["waveform", "--rho", "1e300"], "--rho"),
@@ -108,7 +108,7 @@ CASES = [
     (["damper", "--m", "1e-9", *FAST_DAMPER], "--m"),
     (["damper", "--K", "1e308", *FAST_DAMPER], "--K"),
     (["damper", "--K", "1e-3", *FAST_DAMPER], "--duration"),
-    (["damper", "--gap", "1e-300", *FAST_DAMPER], "--v0"),
+    (["damper", "--gap", "1e-300", *FAST_DAMPER], "--gap"),
     (["damper", "--solver", "newmark", "--dt", "1e-300", *FAST_DAMPER], "--dt"),
     (["damper", "--solver", "impact-map", "--v0", "1e200", *FAST_DAMPER], "--v0"),
     (["damper", "--impacts-csv", "afile/i.csv", *FAST_DAMPER], "--impacts-csv"),
@@ -728,8 +728,8 @@ def test_design_targets_are_refused_with_exit_2_like_the_scene(here, capsys, fin
 def test_frequency_messages_say_the_range(here, capsys):
     rc, err = run_cli(["forced", "--force", "5", "--freq", "0"], capsys)
     assert_user_error(rc, err, "--freq")
-    assert "> 0 Hz" in err and "at most" not in err
-    rc, err = run_cli(["forced", "--force", "5", "--freq", "1e9"], capsys)
+    assert "in (0, " in err and "Hz" in err and "at most" not in err
+    rc, err = run_cli(["forced", "--force", "5", "--freq", "9000"], capsys)
     assert_user_error(rc, err, "--freq")
     assert "natural frequency" in err and "5.033 Hz" in err
     (here / "f.toml").write_text(FAILING_SCENE.replace('"5:6:2"', '"6000"'))

@@ -283,7 +283,7 @@ def auralize(s: AuralizeSettings, echo=print) -> list:
     else:
         seq, run_desc = _simulate(s, echo)
     check_click_fits(seq, d.k_hertz, d.m, d.duration, names={"m": "--m", "k_hertz": "--k-hertz",
-                                                                "duration": "--duration"})
+                                                                "duration": "--duration", "velocities": "--impacts"})
     files, _ = write_sound(s, seq, sound, run_desc, duration=d.duration, echo=echo)
     if s.png:
         _write_png(s, [f.path for f in files], [f.pressure for f in files], echo)

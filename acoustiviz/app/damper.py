@@ -23,7 +23,7 @@ from .. import dynamics
 from .._validate import check_choice, check_finite, check_positive
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
 from ..core.limits import check_damper
-from ..dynamics import DamperModel, InitialState, cheapest_solver
+from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 
 __all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "run_damper_settings", "damper_description",
@@ -96,7 +96,9 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
     v0, x0 : float
         Initial velocity (m/s) and displacement (m) of the main mass.
     rtol : float
-        Relative tolerance of the event solver and of the impact map's restitution table.
+        Relative tolerance of the event solver and of the impact map's restitution table; for
+        ``"auto"`` the accuracy wanted. Each solver checks its own range
+        (:data:`acoustiviz.dynamics.METHODS`).
     dt : float, optional
         Newmark step in s.
 
@@ -111,12 +113,13 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
         (:func:`acoustiviz.core.limits.check_damper`).
     """
     initial = InitialState(x=x0, v=v0)
+    method = solver_method(solver)
+    rtol = method.check_rtol(rtol)
     check_positive("duration", duration, "s")
     check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=check_finite("v", v0),
                  duration=duration, c1=model.c1)
     name, reason = choose_solver(solver, model, initial, rtol)
-    # "auto" reads rtol as the accuracy wanted, which may be coarser than any solver's rtol
-    kwargs = {"dt": dt} if name == "newmark" else {"rtol": min(rtol, 1e-3) if solver == "auto" else rtol}
+    kwargs = {"dt": dt} if name == "newmark" else {"rtol": method.run_rtol(rtol)}
     start = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -169,8 +172,9 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
     duration : float
         Length of the sound in s.
     names : dict, optional
-        ``m``, ``k_hertz`` and ``duration`` -> the option or scene key named in the error (default
-        the API names).
+        ``m``, ``k_hertz``, ``duration`` and ``velocities`` (the impacts' speeds) -> the option or
+        scene key named in the error (default the API names). A speed whose contact cannot be
+        computed (:func:`acoustiviz.core.limits.contact_speeds`) is refused naming ``velocities``.
     """
     import math
 
@@ -181,8 +185,17 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
 
     if not len(seq):
         return
-    n = {"m": "m", "k_hertz": "k_hertz", "duration": "duration", **(names or {})}
-    slowest = float(seq.velocities.min())
+    from .limits import contact_speeds
+
+    n = {"m": "m", "k_hertz": "k_hertz", "duration": "duration", "velocities": "velocities", **(names or {})}
+    slowest, fastest = float(seq.velocities.min()), float(seq.velocities.max())
+    lo, hi = contact_speeds(k_hertz, mass)
+    for v in (slowest, fastest):
+        if not lo <= v <= hi:
+            raise ParameterError(n["velocities"], f"an approach speed of {v:g} m/s makes the contact of the "
+                                                  f"{mass:g} kg impact mass with {n['k_hertz']} {k_hertz:g} overflow "
+                                                  f"or vanish; with these the speeds must lie in [{lo:.3g}, {hi:.3g}] "
+                                                  "m/s")
     with np.errstate(all="ignore"):
         tau = float(contact_duration(slowest, k_hertz, mass)) if slowest > 0 else math.inf
     if not tau <= duration:

@@ -40,6 +40,7 @@ from .forced_noise import (
     write_operating_wav,
 )
 from .names import DAMPER_OPTIONS, user_terms
+from .settings.parse import parse_frequencies
 
 __all__ = ["forced_workflow", "forced_table", "operating_noise_report", "room_surroundings",
            "FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun", "OperatingNoise",
@@ -72,39 +73,6 @@ FORCED_OPTIONS = {
     "workers": "--workers",
     "executor": "--executor",
 }
-#: Largest number of frequencies of one run.
-MAX_FREQUENCIES = 10_000
-
-
-def parse_frequencies(text: str, name: str = "--freq") -> np.ndarray:
-    """Frequencies in Hz from ``"start:stop:count"`` (inclusive, evenly spaced) or ``"f1,f2,..."``.
-
-    Ranges follow the one range rule of every front-end (:func:`acoustiviz.sweep.spec.value_range`).
-    """
-    from ..sweep.spec import value_range
-
-    s = str(text).strip()
-    try:
-        if ":" in s:
-            parts = s.split(":")
-            if len(parts) != 3:
-                raise ValueError
-            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-            f = np.array(value_range(a, b, n))
-        else:
-            f = np.array([float(p) for p in s.split(",")])
-    except ParameterError as exc:
-        raise ParameterError(name, f"{exc.detail} (in {s!r})") from None
-    except ValueError:
-        raise ParameterError(name, f"expected START:STOP:COUNT or a comma list of frequencies in Hz, "
-                                   f"got {text!r}") from None
-    if f.size == 0 or f.size > MAX_FREQUENCIES:
-        raise ParameterError(name, f"expected 1 to {MAX_FREQUENCIES} frequencies, got {f.size}")
-    if not np.all(np.isfinite(f)) or np.any(f <= 0):
-        raise ParameterError(name, f"frequencies must be finite and > 0 Hz, got {text!r}")
-    if np.unique(f).size != f.size:
-        raise ParameterError(name, f"duplicate frequencies in {text!r}")
-    return np.sort(f)
 
 
 @dataclass(frozen=True)
@@ -261,11 +229,10 @@ def _scene_forced_run(ctx) -> ForcedRun:
     """The [excitation] frequency response of a scene run, computed once and kept on ``ctx``."""
     run = getattr(ctx, "_forced_run", None)
     if run is None:
-        from ..sweep.spec import parse_values
         from .settings.forced import ForcedSettings
 
         ex, st = ctx.scene.section("excitation"), ctx.scene.forced_settings()
-        freqs = np.asarray(parse_values("excitation.frequencies_hz", ex["frequencies_hz"]), dtype=float)
+        freqs = parse_frequencies(ex["frequencies_hz"], "excitation.frequencies_hz")
         ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {st.sweep} ({st.solver} solver)")
         with user_terms({"frequencies": "excitation.frequencies_hz", "frequency": "excitation.frequencies_hz",
                          "amplitude": "excitation.amplitude", **ForcedSettings.scene_names()}):

@@ -104,7 +104,9 @@ class RunContext:
         d = self.scene.section("damper")
         solver = self.damper_solver
         self.progress(f"simulating the damper for {d['duration_s']:g} s ({solver} solver)")
-        rtol = d["tolerance"] if d["solver"] != "auto" else min(d["tolerance"], 1e-3)
+        from ..dynamics import solver_method
+
+        rtol = solver_method(d["solver"]).run_rtol(d["tolerance"])  # "auto": the accuracy wanted, capped
         with user_terms(SCENE_DAMPER_KEYS):
             return _damper.run_damper(self.damper_model, d["duration_s"], solver=solver, v0=self.damper_initial.v,
                                       x0=self.damper_initial.x, rtol=rtol)

@@ -56,12 +56,14 @@ from ..sweep import (
     write_design_table,
 )
 from ..sweep.spec import sweepable
+from .settings.damper import MODEL, RUN
 from .settings.design import DEFAULT_TOLERANCE
 from .settings.sweep import sweep_radius
+from .settings.table import by_name
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
-           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow", "with_room"]
+           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow", "with_room", "check_ranges"]
 
 #: Parameters of :func:`sweep_spec` a sweep runs over (each ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``).
 SWEPT = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
@@ -146,7 +148,7 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
     limits = [lim for c in configs if isinstance(lim := geometry_class(c).polar_limit_deg, float)]
     for a in angles:
         check_range("angle_deg", a, 0.0, min(limits, default=180.0), unit="deg")
-    return SweepSpec(
+    spec = SweepSpec(
         gap=parse_values("gap", gap),
         m=None if mass_ratio is not None else parse_values("m", TABLE1["m"] if m is None else m),
         mass_ratio=None if mass_ratio is None else parse_values("mass_ratio", mass_ratio),
@@ -160,6 +162,31 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         config=configs,
         settings=settings,
     )
+    check_ranges(spec)
+    return spec
+
+
+def check_ranges(spec: SweepSpec) -> None:
+    """Refuse a value of ``spec`` outside the range of its damper record, naming its axis (or setting).
+
+    The records of :mod:`acoustiviz.app.settings.damper` hold the ranges ``acoustiviz damper`` and a
+    scene's ``[damper]`` check, so a sweep refuses what they refuse: the swept gap, impact mass,
+    contact damping, Hertz stiffness and initial velocity, and the fixed M, K and C. Impact masses
+    given as mass ratios are checked as masses, the error naming ``mass_ratio``.
+    """
+    records = by_name(MODEL + RUN)
+    for name in ("M", "K", "C"):
+        records[name].check(getattr(spec.settings, name), name)
+    if spec.mass_ratio is not None:
+        for ratio, mass in zip(spec.mass_ratio, spec.masses, strict=True):
+            try:
+                records["m"].check(mass, "m")
+            except ParameterError as exc:
+                raise ParameterError("mass_ratio", f"{ratio:g} gives an impact mass m = ratio x M = {mass:g} kg, "
+                                                   f"but the impact mass {exc.detail}") from None
+    for name in ("gap", "m", "c1", "k_hertz", "v0"):
+        for value in getattr(spec, name) or ():
+            records[name].check(value, name)
 
 
 #: :func:`sweep_spec` parameter -> the scene key it is read from (errors name the key).
@@ -180,6 +207,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
     so a scene and the command with the same settings make the same sweep. The listener is the
     scene's first; ``solver`` is the damper solver the scene resolved (its ``"auto"`` choice).
     """
+    from ..dynamics import solver_method
     from ..errors import SceneError
     from .names import user_terms
 
@@ -212,7 +240,7 @@ def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
             gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
             distance=distance, angle_deg=angle_deg, config=conf["kind"], M=d["main_mass_kg"], K=d["stiffness_n_m"],
             C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"], duration=opts["duration_s"],
-            solver=solver, rtol=min(d["tolerance"], 1e-3),
+            solver=solver, rtol=solver_method(d["solver"]).run_rtol(d["tolerance"]),
             radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
             surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
             wall_distance=conf["wall_distance_m"], levels=opts["levels"],
@@ -435,8 +463,9 @@ def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=Non
 
     with user_terms({"duration": names.get("duration", "duration")}):
         duration = SweepSettings(given.get("duration", DEFAULT_DURATION)).duration
+    records = by_name(MODEL)  # the damper's ranges first, as check_ranges does for the sweep
     try:
-        model = DamperModel(**{k: given.get(k, TABLE1[k]) for k in ("M", "K", "C")})
+        model = DamperModel(**{k: records[k].check(given.get(k, TABLE1[k])) for k in ("M", "K", "C")})
     except ParameterError as exc:
         raise exc.renamed(names.get(exc.name, exc.name)) from None
     check_budget(sweep_estimate(swept, model, duration, workers or 2, options=(names.get("duration", "duration"),)),

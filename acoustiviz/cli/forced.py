@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..app.settings.forced import FORCED
+from ..app.settings.forced import FORCED, FREQUENCIES
 from ..app.settings.table import add_option
 from ._damper import add_model_options
 from ._impact import add_room_options
@@ -38,8 +38,8 @@ def add_parser(subparsers):
     x = e.add_mutually_exclusive_group(required=True)
     x.add_argument("--force", type=float, metavar="N", help="force amplitude F0 on the main mass in N")
     x.add_argument("--base", type=float, metavar="M", help="base displacement amplitude B in m (instead of --force)")
-    e.add_argument("--freq", required=True, metavar="START:STOP:COUNT|F1,F2,...",
-                   help="forcing frequencies in Hz: START:STOP:COUNT (inclusive) or a comma list")
+    e.add_argument(FREQUENCIES.option, required=True, metavar=FREQUENCIES.metavar,
+                   help=f"{FREQUENCIES.doc}, each in {FREQUENCIES.range_text()}")
     s = p.add_argument_group("solver")
     for st in FORCED[:6]:
         add_option(s, st, metavar=_METAVARS.get(st.name), parse_choices=False)

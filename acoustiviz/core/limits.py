@@ -8,8 +8,11 @@ written as a power law of the impact speed, ``log10 Q = c0 + s log10 v`` (paper 
 compression ``alpha = (5 m v^2 / 4 K_HZ)^(2/5)``, the contact time ``T = 2.943 alpha / v``, the
 peak force ``K_HZ alpha^(3/2)``), so the speeds for which every quantity stays inside
 ``[1e-290, 1e290]`` (in SI units) form one interval, found without evaluating anything that
-could overflow. A speed outside it is refused naming the speed (``velocity``; ``v`` for the
-damper) with the interval, so the message says which inputs matter and what range works.
+could overflow. A speed outside it is refused naming the input at fault: of the speed and the
+settings that alone could make it work (the sphere's mass, K_HZ, the free travel, ...), the one
+farthest, in decades, outside the range that works for it with the others as given. The error
+gives that range: the speeds that work (``velocity``; ``v`` for the damper), or the bound the
+setting must meet.
 
 For the damper two physical bounds join the numerical ones: the contact must not compress by
 more than the whole free travel ``d`` (a Hertz contact that deep is meaningless), and it must
@@ -23,11 +26,11 @@ from __future__ import annotations
 
 import math
 
-from ..constants import HERTZ_DURATION_CONSTANT
+from ..constants import HERTZ_DURATION_CONSTANT, PAPER_DENSITY, PAPER_GAP, PAPER_K_HERTZ, PAPER_RADIUS, TABLE1
 from ..errors import ParameterError
 
 __all__ = ["LOG_LIMIT", "FORCING_DECADES", "check_sphere_mass", "check_impact", "check_damper",
-           "check_forcing_frequencies"]
+           "check_forcing_frequencies", "contact_speeds"]
 
 #: Derived quantities must lie within 10**±LOG_LIMIT in SI units (double precision holds ±308;
 #: the margin leaves room for the products formed downstream).
@@ -44,8 +47,45 @@ MAX_DECAY_TIMES_LOG = 100.0
 FORCING_DECADES = 3.0
 
 
+#: The paper's values (Figure 2 sphere, Table 1 damper) an input is put back to when looking for the one at fault.
+_ORDINARY = {"k_hertz": PAPER_K_HERTZ, "mass": PAPER_DENSITY * 4.0 / 3.0 * math.pi * PAPER_RADIUS**3,
+             "M": TABLE1["M"], "K": TABLE1["K"], "m": TABLE1["m"], "gap": PAPER_GAP}
+#: Units of the inputs that may be at fault.
+_UNITS = {"k_hertz": "N/m^1.5", "mass": "kg", "M": "kg", "K": "N/m", "m": "kg", "gap": "m"}
+
+
 def _lg(x: float) -> float:
     return math.log10(x)
+
+
+def _lg0(x: float) -> float:
+    """log10 of ``x`` >= 0, with -inf at 0 and inf at inf."""
+    return -math.inf if x == 0 else math.inf if math.isinf(x) else _lg(x)
+
+
+def _at_fault(works, given: dict, speed: float, lo: float, hi: float):
+    """The input at fault: the one of ``given`` (or None: the speed) farthest outside the range that works for it.
+
+    ``works(**{name: value})`` says whether the speed works with one input changed; an input whose
+    ordinary value (:data:`_ORDINARY`) does not make it work cannot alone be at fault. Its range
+    ends at the bound found by bisection in log10 between its value and the ordinary one; the
+    speed's is ``[lo, hi]`` m/s (empty: not the speed). Distances are in decades. Returns
+    ``(name, bound)`` (``"kg >= 3.2e-150"``), or None when the speed is farthest out.
+    """
+    far = max(_lg0(lo) - _lg(speed), _lg(speed) - _lg0(hi)) if lo <= hi else -math.inf
+    best = None
+    for name, value in given.items():
+        ref = _ORDINARY[name]
+        if not 0 < value < math.inf or value == ref or not works(**{name: ref}):
+            continue
+        bad, good = _lg(value), _lg(ref)
+        for _ in range(64):
+            mid = 0.5 * (bad + good)
+            bad, good = (bad, mid) if works(**{name: 10.0**mid}) else (mid, good)
+        if abs(good - _lg(value)) > far:
+            far = abs(good - _lg(value))
+            best = name, f"{'>=' if good > bad else '<='} {10.0**good:.3g} {_UNITS[name]}"
+    return best
 
 
 def _speed_interval(constraints) -> tuple:
@@ -78,6 +118,15 @@ def _contact_constraints(k_hertz: float, mu: float, mass: float) -> list:
         (_lg(k_hertz) + 0.6 * q0, 1.2, -L, L),  # peak force
         (_lg(k_hertz) + 0.6 * q0 - _lg(mass), 1.2, -L, L),  # peak acceleration
     ]
+
+
+def contact_speeds(k_hertz: float, mass: float) -> tuple:
+    """The interval ``(lo, hi)`` in m/s of approach speeds whose Hertz contact of ``mass`` (kg) stays finite.
+
+    With ``k_hertz`` in N/m^1.5: the compression, contact time, peak force and acceleration within
+    ``10**±LOG_LIMIT`` (empty, ``lo > hi``, when no speed works).
+    """
+    return _speed_interval(_contact_constraints(k_hertz, mass, mass))
 
 
 def _fmt_range(lo: float, hi: float, unit: str) -> str:
@@ -123,8 +172,37 @@ def check_impact(velocity: float, k_hertz: float, mass: float, partner_mass: flo
     Raises
     ------
     ParameterError
-        Named ``velocity``, giving the speeds that work with the other settings.
+        Named ``mass`` or ``k_hertz`` when that one alone is at fault (with its bound), else
+        ``velocity``, giving the speeds that work with the other settings.
     """
+    lo, hi = _impact_speeds(k_hertz, mass, partner_mass, radius, c, rho)
+    if lo <= velocity <= hi:
+        return
+    inputs = (f"a sphere of {radius:g} m and {mass:.4g} kg, K_HZ {k_hertz:.4g} N/m^1.5, sound speed {c:g} m/s "
+              f"and fluid density {rho:g} kg/m^3")
+
+    def works(**change):
+        kw = {"k_hertz": k_hertz, "mass": mass, **change}
+        a, b = _impact_speeds(kw["k_hertz"], kw["mass"], partner_mass, radius, c, rho)
+        return a <= velocity <= b
+
+    given = {"mass": mass, "k_hertz": k_hertz}
+    fault = _at_fault(works, given, velocity, lo, hi)
+    if fault is not None:
+        name, bound = fault
+        raise ParameterError(name, f"{given[name]:g} {_UNITS[name]} makes the contact at {velocity:g} m/s or its "
+                                   f"sound overflow or vanish (with {inputs}); with the other settings it must be "
+                                   f"{bound}")
+    if lo > hi:
+        raise ParameterError("velocity", f"no impact speed gives a finite contact and sound with {inputs}; bring "
+                                         "these settings towards ordinary values")
+    raise ParameterError("velocity", f"{velocity:g} m/s makes the contact time, compression, peak acceleration or "
+                                     f"radiated pressure overflow or vanish; with {inputs} the speed must lie in "
+                                     f"{_fmt_range(lo, hi, 'm/s')}")
+
+
+def _impact_speeds(k_hertz, mass, partner_mass, radius, c, rho) -> tuple:
+    """The interval of impact speeds (m/s) whose contact and radiated sound stay finite (maybe empty)."""
     mu = mass if math.isinf(partner_mass) else mass * partner_mass / (mass + partner_mass)
     cons = _contact_constraints(k_hertz, mu, mass)
     q0 = _lg(1.25) + _lg(mu) - _lg(k_hertz)
@@ -132,17 +210,7 @@ def check_impact(velocity: float, k_hertz: float, mass: float, partner_mass: flo
     cons.append((_lg(rho) + _lg(radius) + _lg(k_hertz) + 0.6 * q0 - _lg(mass), 1.2, -L, L))  # pressure ~ rho a A
     cons.append((_lg(c / radius) + _lg(HERTZ_DURATION_CONSTANT) + 0.4 * q0, -0.2, -math.inf,
                  MAX_DECAY_TIMES_LOG))  # contact time in decay times
-    lo, hi = _speed_interval(cons)
-    if lo <= velocity <= hi:
-        return
-    inputs = (f"a sphere of {radius:g} m and {mass:.4g} kg, K_HZ {k_hertz:.4g} N/m^1.5, sound speed {c:g} m/s "
-              f"and fluid density {rho:g} kg/m^3")
-    if lo > hi:
-        raise ParameterError("velocity", f"no impact speed gives a finite contact and sound with {inputs}; bring "
-                                         "these settings towards ordinary values")
-    raise ParameterError("velocity", f"{velocity:g} m/s makes the contact time, compression, peak acceleration or "
-                                     f"radiated pressure overflow or vanish; with {inputs} the speed must lie in "
-                                     f"{_fmt_range(lo, hi, 'm/s')}")
+    return _speed_interval(cons)
 
 
 def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v: float, duration: float,
@@ -164,8 +232,9 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
     Raises
     ------
     ParameterError
-        Named ``duration`` (shorter than the damping measures need) or ``v`` (with the range of
-        initial speeds that works).
+        Named ``duration`` (shorter than the damping measures need), ``m``, ``gap`` or ``k_hertz``
+        when that one alone is at fault (with its bound), else ``v`` (with the range of initial
+        speeds that works).
     """
     L = LOG_LIMIT
     lperiod = _lg(2.0 * math.pi) + 0.5 * (_lg(M) - _lg(K))
@@ -183,15 +252,7 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
                                   f">= {MIN_MASS_RATIO * M:.3g} kg")
     if v == 0:
         return
-    mu = m * M / (m + M) if math.isfinite(m * M) and m + M > 0 else min(m, M)
-    q0 = _lg(1.25) + _lg(mu) - _lg(k_hertz)
-    ltau0 = _lg(HERTZ_DURATION_CONSTANT) + 0.4 * q0
-    cons = _contact_constraints(k_hertz, mu, m)
-    cons += [
-        (0.4 * q0, 0.8, -math.inf, _lg(gap)),  # compression within the free travel
-        (ltau0, -0.2, _lg(duration) - 12.0, lperiod),  # contact time: resolvable, shorter than a period
-    ]
-    lo, hi = _speed_interval(cons)
+    lo, hi, mu, ltau0 = _damper_speeds(M, m, gap, k_hertz, duration, lperiod)
     speed = abs(v)
     if lo <= speed <= hi:
         tau = _pow10(ltau0 - 0.2 * _lg(speed))
@@ -206,10 +267,36 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
               f"{gap:g} m and a run of {duration:g} s")
     why = ("the contact must compress by less than the free travel, last less than a main period "
            f"({period:.4g} s) and more than 1e-12 of the run, and stay finite")
+    given = {"m": m, "gap": gap, "k_hertz": k_hertz}
+
+    def works(**change):
+        kw = {**given, **change}
+        a, b = _damper_speeds(M, kw["m"], kw["gap"], kw["k_hertz"], duration, lperiod)[:2]
+        return a <= speed <= b
+
+    fault = _at_fault(works, given, speed, lo, hi)
+    if fault is not None:
+        name, bound = fault
+        raise ParameterError(name, f"{given[name]:g} {_UNITS[name]} leaves no contact that can be computed at "
+                                   f"{speed:g} m/s with {inputs} ({why}); with the other settings it must be {bound}")
     if lo > hi:
         raise ParameterError("v", f"no initial speed gives a contact that can be computed with {inputs}: {why}")
     raise ParameterError("v", f"{v:g} m/s is outside the range that can be simulated with {inputs}: the speed "
                               f"(either sign) must lie in {_fmt_range(lo, hi, 'm/s')} ({why})")
+
+
+def _damper_speeds(M, m, gap, k_hertz, duration, lperiod) -> tuple:
+    """``(lo, hi, mu, log10 of the contact time at 1 m/s)``: the initial speeds (m/s) whose contacts can be computed."""
+    mu = m * M / (m + M) if math.isfinite(m * M) and m + M > 0 else min(m, M)
+    q0 = _lg(1.25) + _lg(mu) - _lg(k_hertz)
+    ltau0 = _lg(HERTZ_DURATION_CONSTANT) + 0.4 * q0
+    cons = _contact_constraints(k_hertz, mu, m)
+    cons += [
+        (0.4 * q0, 0.8, -math.inf, _lg(gap)),  # compression within the free travel
+        (ltau0, -0.2, _lg(duration) - 12.0, lperiod),  # contact time: resolvable, shorter than a period
+    ]
+    lo, hi = _speed_interval(cons)
+    return lo, hi, mu, ltau0
 
 
 def check_forcing_frequencies(frequencies, *, M: float, K: float) -> None:

@@ -20,6 +20,7 @@ from .maxima import Maxima, exact_maxima
 from .model import TABLE1, DamperModel, InitialState
 from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
 from .solve import (
+    METHODS,
     SOLVERS,
     AccuracyWarning,
     central_difference_excursion,
@@ -28,6 +29,7 @@ from .solve import (
     explicit_step_limit,
     shortest_contact,
     simulate,
+    solver_method,
 )
 
 __all__ = [
@@ -48,4 +50,6 @@ __all__ = [
     "explicit_step_limit",
     "shortest_contact",
     "simulate",
+    "METHODS",
+    "solver_method",
 ]

@@ -27,6 +27,10 @@ Solvers (chosen by name):
 
 Requesting a Newmark step longer than the shortest possible contact raises
 :class:`~acoustiviz.errors.ParameterError`; a step coarser than 1/20 of it warns.
+
+Each solver is a :class:`Solver` in the registry :data:`METHODS` (``"auto"`` too, which only
+picks one of the others, :func:`cheapest_solver`): it checks its own settings and says at which
+tolerance it runs, so every front-end states and enforces the same range for the same solver.
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ import numpy as np
 
 from .._jit import compile_for
 from .._validate import ParameterError, check_choice, check_positive, check_range
-from ..constants import DEFAULT_RTOL, SOLVERS
+from ..constants import AUTO_TOLERANCE_RANGE, DEFAULT_RTOL, SOLVER_RTOL_RANGE, SOLVERS
 from ..errors import AccuracyWarning
 from . import _kernels as kern
 from ._status import kernel_params as _params
@@ -57,6 +61,9 @@ __all__ = [
     "explicit_step_limit",
     "central_difference_excursion",
     "cheapest_solver",
+    "METHODS",
+    "Solver",
+    "solver_method",
 ]
 
 #: Newmark steps coarser than this fraction of the shortest contact trigger an AccuracyWarning.
@@ -71,6 +78,134 @@ IMPACT_MAP_NODES = 40
 EVENT_SOLVER_COMPILE_S = 5.0
 #: The impact map warns when (shortest contact × main angular frequency) exceeds this.
 IMPACT_MAP_WARN_PRODUCT = 0.05
+
+
+class Solver:
+    """A damper solver of :func:`simulate`: its name, the tolerance it takes and the settings it checks.
+
+    Subclasses set :attr:`name` and :attr:`rtol_range` and override :meth:`settings`; the registry
+    :data:`METHODS` holds one of each.
+    """
+
+    #: The name :func:`simulate` and the front-ends know it by.
+    name = ""
+    #: Closed interval of the relative tolerance it takes (None: it takes none).
+    rtol_range = SOLVER_RTOL_RANGE
+    #: What the tolerance means to it when not the relative tolerance of each contact (for messages).
+    rtol_meaning = ""
+
+    def check_rtol(self, rtol, name: str = "rtol") -> float:
+        """``rtol`` as a float if this solver takes it, else a :class:`ParameterError` naming ``name`` and the range.
+
+        A solver that takes no tolerance (:attr:`rtol_range` None) lets any value pass unchanged.
+        """
+        if self.rtol_range is None:
+            return rtol
+        lo, hi = self.rtol_range
+        try:
+            return check_range(name, rtol, lo, hi)
+        except ParameterError:
+            meaning = f" ({self.rtol_meaning})" if self.rtol_meaning else ""
+            raise ParameterError(name, f"must lie in [{lo:g}, {hi:g}] with the {self.name} solver{meaning}, "
+                                       f"got {rtol!r}") from None
+
+    def run_rtol(self, rtol: float) -> float:
+        """The tolerance the solver runs at when asked for ``rtol``."""
+        return rtol
+
+    def settings(self, model, initial, duration: float, rtol: float, dt) -> dict:
+        """The solver's settings for :func:`simulate` (refused or warned about); subclasses."""
+        raise NotImplementedError
+
+
+class EventSolver(Solver):
+    """The event-driven solver: exact free flight, adaptive contacts (needs an underdamped main oscillator)."""
+
+    name = "event"
+
+    def settings(self, model, initial, duration, rtol, dt) -> dict:  # noqa: D102
+        if not model.underdamped:
+            raise ParameterError(
+                "C",
+                f"the {self.name} solver needs an underdamped main oscillator, C < 2 sqrt(K M) = "
+                f"{2 * math.sqrt(model.K * model.M):g} N s/m, got {model.C:g} N s/m; use solver='newmark'",
+            )
+        return {"rtol": rtol}
+
+
+class ImpactMapSolver(EventSolver):
+    """Instantaneous impacts with the compliant contact's restitution; warns when contacts are long."""
+
+    name = "impact-map"
+
+    def settings(self, model, initial, duration, rtol, dt) -> dict:  # noqa: D102
+        out = super().settings(model, initial, duration, rtol, dt)
+        tau_min = shortest_contact(model, initial)
+        prod = tau_min * model.main_frequency
+        if prod > IMPACT_MAP_WARN_PRODUCT:
+            warnings.warn(
+                f"contacts last up to {tau_min:.3g} s, {prod:.2g} rad of the main oscillation: "
+                "the instantaneous impact map will be inaccurate; use solver='event'",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+        return out
+
+
+class NewmarkSolver(Solver):
+    """The paper's fixed-step Newmark scheme: it takes a step ``dt`` in s, no tolerance."""
+
+    name = "newmark"
+    rtol_range = None
+
+    def settings(self, model, initial, duration, rtol, dt) -> dict:
+        """``{"dt": step in s, "steps": count}``: a step longer than the shortest contact is refused."""
+        tau_min = shortest_contact(model, initial)
+        if dt is None:
+            dt = default_step(model, initial)
+        dt = check_positive("dt", dt, "s")
+        if dt > tau_min:
+            raise ParameterError(
+                "dt",
+                f"a step of {dt:g} s is longer than the shortest possible contact ({tau_min:.3g} s);"
+                f" use dt <= {NEWMARK_WARN_FRACTION * tau_min:.3g} s",
+            )
+        if dt > NEWMARK_WARN_FRACTION * tau_min:
+            warnings.warn(
+                f"Newmark step {dt:g} s is coarser than 1/20 of the shortest contact "
+                f"({tau_min:.3g} s): restitution and impact times will be inaccurate",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+        nsteps = max(int(round(duration / dt)), 1)
+        return {"dt": duration / nsteps, "steps": nsteps}  # land exactly on the duration
+
+
+class AutoSolver(Solver):
+    """No solver of its own: the cheapest whose error suits the accuracy wanted (:func:`cheapest_solver`).
+
+    Its tolerance is the accuracy wanted, which may be coarser than any solver's; the solver it
+    picks runs at that accuracy capped at the top of :data:`~acoustiviz.constants.SOLVER_RTOL_RANGE`.
+    """
+
+    name = "auto"
+    rtol_range = AUTO_TOLERANCE_RANGE
+    rtol_meaning = (f"the accuracy wanted; the solver it picks runs at min(rtol, {SOLVER_RTOL_RANGE[1]:g})")
+
+    def run_rtol(self, rtol: float) -> float:  # noqa: D102
+        return min(rtol, SOLVER_RTOL_RANGE[1])
+
+    def settings(self, model, initial, duration, rtol, dt) -> dict:  # noqa: D102
+        raise ParameterError("solver", "'auto' only picks a solver (cheapest_solver); simulate takes the one picked")
+
+
+#: The registry: solver name -> its :class:`Solver` (``"auto"`` included, :func:`simulate` runs the others).
+METHODS = MappingProxyType({s.name: s for s in (EventSolver(), NewmarkSolver(), ImpactMapSolver(), AutoSolver())})
+
+
+def solver_method(name: str) -> Solver:
+    """The :class:`Solver` registered as ``name``, or a :class:`ParameterError` naming ``solver``."""
+    return METHODS[check_choice("solver", name, tuple(METHODS))]
 
 
 def cheapest_solver(model: DamperModel = TABLE1, initial: InitialState | None = None,
@@ -91,7 +226,8 @@ def cheapest_solver(model: DamperModel = TABLE1, initial: InitialState | None = 
     initial : InitialState, optional
         The start (default: the paper's Figure 5).
     tolerance : float
-        Relative accuracy wanted on impact times and speeds, in (0, 1).
+        Relative accuracy wanted on impact times and speeds, in
+        :data:`~acoustiviz.constants.AUTO_TOLERANCE_RANGE`.
 
     Returns
     -------
@@ -100,7 +236,7 @@ def cheapest_solver(model: DamperModel = TABLE1, initial: InitialState | None = 
     reason : str
         One sentence for logs and summaries.
     """
-    tol = check_range("tolerance", tolerance, 0.0, 1.0, low_open=True, high_open=True)
+    tol = METHODS["auto"].check_rtol(tolerance, "tolerance")
     prod = shortest_contact(model, initial) * model.main_frequency
     if tol >= max(prod, 1e-2):
         return "impact-map", (f"tolerance {tol:g} >= contact time x main frequency = {prod:.2g}: "
@@ -212,51 +348,6 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
     return n, status, t_end, elapsed, compiled, impacts, dense, final, ext, int(n_ext[0])
 
 
-def _solver_settings(model, initial, solver, duration, rtol, dt) -> dict:
-    """The solver's settings (``rtol``, or the Newmark ``dt`` in s and ``steps``), refused or warned about.
-
-    The event solver and the impact map need an underdamped main oscillator; a Newmark step longer
-    than the shortest contact is refused and one above 1/20 of it warns, as does an impact map whose
-    contacts last a noticeable part of the main oscillation (:class:`AccuracyWarning`).
-    """
-    tau_min = shortest_contact(model, initial)
-    if solver in ("event", "impact-map") and not model.underdamped:
-        raise ParameterError(
-            "C",
-            f"the {solver} solver needs an underdamped main oscillator, C < 2 sqrt(K M) = "
-            f"{2 * math.sqrt(model.K * model.M):g} N s/m, got {model.C:g} N s/m; use solver='newmark'",
-        )
-    if solver == "newmark":
-        if dt is None:
-            dt = default_step(model, initial)
-        dt = check_positive("dt", dt, "s")
-        if dt > tau_min:
-            raise ParameterError(
-                "dt",
-                f"a step of {dt:g} s is longer than the shortest possible contact ({tau_min:.3g} s);"
-                f" use dt <= {NEWMARK_WARN_FRACTION * tau_min:.3g} s",
-            )
-        if dt > NEWMARK_WARN_FRACTION * tau_min:
-            warnings.warn(
-                f"Newmark step {dt:g} s is coarser than 1/20 of the shortest contact "
-                f"({tau_min:.3g} s): restitution and impact times will be inaccurate",
-                AccuracyWarning,
-                stacklevel=3,
-            )
-        nsteps = max(int(round(duration / dt)), 1)
-        return {"dt": duration / nsteps, "steps": nsteps}  # land exactly on the duration
-    if solver == "impact-map":
-        prod = tau_min * model.main_frequency
-        if prod > IMPACT_MAP_WARN_PRODUCT:
-            warnings.warn(
-                f"contacts last up to {tau_min:.3g} s, {prod:.2g} rad of the main oscillation: "
-                "the instantaneous impact map will be inaccurate; use solver='event'",
-                AccuracyWarning,
-                stacklevel=3,
-            )
-    return {"rtol": rtol}
-
-
 def simulate(
     model: DamperModel = TABLE1,
     duration: float = 20.0,
@@ -282,7 +373,8 @@ def simulate(
         Start (default: the paper's Figure 5, x = 0, dx/dt = 2 m/s, impact mass centred at rest).
     rtol : float, optional
         Relative tolerance of the contact integration (event solver; the impact map's
-        restitution integration), in [1e-15, 1e-3]. The default
+        restitution integration), in :data:`~acoustiviz.constants.SOLVER_RTOL_RANGE`
+        (Newmark takes none: ``dt``). The default
         :data:`~acoustiviz.constants.DEFAULT_RTOL` (1e-13) keeps the first 40 impact times of the
         chaotic Table 1 run within 1e-8 s of the converged reference (1e-12 does not).
     dt : float, optional
@@ -309,15 +401,15 @@ def simulate(
     initial = InitialState() if initial is None else initial
     if not isinstance(initial, InitialState):
         raise ParameterError("initial", f"expected an InitialState, got {type(initial).__name__}")
-    check_choice("solver", solver, SOLVERS)
+    method = METHODS[check_choice("solver", solver, SOLVERS)]
     duration = check_positive("duration", duration, "s")
-    rtol = check_range("rtol", rtol, 1e-15, 1e-3)
+    rtol = method.check_rtol(rtol)
     if int(max_impacts) < 1:
         raise ParameterError("max_impacts", f"must be >= 1, got {max_impacts}")
     state0 = np.array(initial.as_tuple(model))
     t_eval = _check_t_eval(t_eval, duration)
     p = _params(model)
-    settings = _solver_settings(model, initial, solver, duration, rtol, dt)
+    settings = method.settings(model, initial, duration, rtol, dt)
     dt, nsteps = settings.get("dt", dt), settings.get("steps", 0)
 
     n_max = int(max_impacts)

@@ -413,7 +413,7 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
     distance : float
         Radius in m of the measuring sphere.
     n_theta : int
-        Polar resolution of the measuring grid (4..512).
+        Polar resolution of the measuring grid (:data:`~acoustiviz.constants.BALLOON_N_THETA_RANGE`).
     data : BalloonData, optional
         The lattice already computed by ``balloon_data`` (``distance`` and ``n_theta`` are
         then taken from it), and its metrics when it holds them (``data.metrics``).

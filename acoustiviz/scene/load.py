@@ -10,10 +10,18 @@ from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
 
-from ..core.geometry import geometry, relevant_settings
+from ..core.geometry import geometry
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
-from .validate import SceneError, _unknown, _validate_table, check_damper_physics, parse_range
+from .validate import (
+    SceneError,
+    _geometry_settings,
+    _unknown,
+    _validate_table,
+    check_configuration,
+    check_damper_physics,
+    scene_frequencies,
+)
 
 __all__ = [
     "Scene",
@@ -305,7 +313,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     radius = data["sphere"]["radius_m"]
     _check_materials(data, source)
     _band_absorption(raw, data, source)
-    _check_configuration(data, source)
+    check_configuration(data, source)
     data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
     outputs = _validate_outputs(raw.get("outputs", {}), data, source)
     data["outputs"] = outputs
@@ -358,19 +366,6 @@ def _band_absorption(raw: dict, data: dict, source: str) -> None:
     data["configuration"]["absorption"] = least_absorbing(alpha)
 
 
-def _check_configuration(data: dict, source: str) -> None:
-    """The sphere above the floor and the geometry's settings valid for its kind."""
-    radius = data["sphere"]["radius_m"]
-    conf = data["configuration"]
-    if conf["height_m"] is not None and conf["height_m"] < radius:
-        raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
-                                                           f"{radius:g} m, got {conf['height_m']:g} m")
-    try:
-        geometry(conf["kind"], radius, **_geometry_settings(conf))
-    except ParameterError as exc:
-        raise SceneError(source, f"configuration.{_GEOMETRY_KEYS.get(exc.name, exc.name)}", exc.detail) from None
-
-
 def _validate_outputs(outs_raw, data: dict, source: str) -> dict:
     """The ``[outputs]`` tables, validated, with the checks that need the rest of the scene."""
     if not isinstance(outs_raw, dict):
@@ -407,7 +402,7 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
 
         key = "excitation.frequencies_hz"
         try:
-            check_forcing_frequencies(parse_range(data["excitation"]["frequencies_hz"], key, source),
+            check_forcing_frequencies(scene_frequencies(data["excitation"]["frequencies_hz"], key, source),
                                       M=data["damper"]["main_mass_kg"], K=data["damper"]["stiffness_n_m"])
         except SceneError:
             raise
@@ -415,22 +410,11 @@ def _check_output_needs(outputs: dict, data: dict, source: str) -> None:
             raise SceneError(source, key, exc.detail) from None
 
 
-#: Geometry settings -> their keys in ``[configuration]``.
-_GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m",
-                  "dimensions": "room_m", "absorption": "absorption", "source": "source_m", "order": "image_order",
-                  "tolerance_db": "tolerance_db", "duration": "window_s"}
-
-
 def _enclosed(data: dict) -> bool:
     """Whether the scene's ``[configuration] kind`` is a geometry that closes the fluid (a room)."""
     from ..core.geometry import geometry_class
 
     return geometry_class(data["configuration"]["kind"]).enclosed
-
-
-def _geometry_settings(conf: dict) -> dict:
-    """The settings of a ``[configuration]`` table that apply to its ``kind``."""
-    return relevant_settings(conf["kind"], **{k: conf[v] for k, v in _GEOMETRY_KEYS.items()})
 
 
 #: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key.

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
-from ..app.settings.forced import FORCED
+from ..app.settings.forced import FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
@@ -130,8 +130,8 @@ _EXCITATION = {
     "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
                 "through K and C", "force", choices=EXCITATIONS),
     "amplitude": Key("float", "F0 in N (kind force) or B in m (kind base)", 5.0, "N or m", low=0.0, high=1e9),
-    "frequencies_hz": Key("range", "forcing frequencies start:stop:count", "3:7:9", "Hz", low=0.0, low_open=True,
-                          high=1e4),
+    "frequencies_hz": Key("frequencies", FREQUENCIES.doc, FREQUENCIES.in_scene, FREQUENCIES.unit, low=FREQUENCIES.low,
+                          high=FREQUENCIES.high, low_open=FREQUENCIES.low_open),
     **_from_table(FORCED, "excitation"),
 }
 
@@ -142,6 +142,12 @@ _LISTENER = {
     "angle_deg": Key("float", "angle from the acceleration axis (with distance_m)", None, "deg", low=0.0, high=180.0),
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
+
+def _swept(name: str, doc: str, default: str) -> Key:
+    """A swept damper value of ``[outputs.sweep]``: each value in the range of the damper's record ``name``."""
+    r = next(s for s in DAMPER if s.name == name)
+    return Key("range", doc, default, r.unit, low=r.low, high=r.high, low_open=r.low_open)
+
 
 def _size(default) -> Key:
     return Key("ints", "image width and height", default, "px", low=SIZE_RANGE[0], high=SIZE_RANGE[1], length=2)
@@ -189,9 +195,8 @@ _OUT = {
         "velocities_m_s": Key("floats", "approach speeds", [0.5, 1.0, 2.0], "m/s", low=1e-4, high=1e3)},
         "coefficient of restitution against impact mass (paper Figure 7)"),
     "sweep": Table({
-        "gap_m": Key("range", "gap range start:stop:count", "0.02:0.06:5", "m", low=0.0, low_open=True, high=10),
-        "mass_kg": Key("range", "impact-mass range start:stop:count", "0.02:0.08:4", "kg", low=0.0, low_open=True,
-                       high=1e4),
+        "gap_m": _swept("gap", "gap range start:stop:count", "0.02:0.06:5"),
+        "mass_kg": _swept("m", "impact-mass range start:stop:count", "0.02:0.08:4"),
         **_from_table(SWEEP, "outputs.sweep"),
         "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024),
         "levels": Key("bool", "also LAFmax, LCpeak and LAeq of each design's run at the listener, rendered at "
@@ -272,7 +277,8 @@ def schema_help() -> str:
                 lines.append(f"{'  ' * depth}{head}  {spec.doc}")
                 walk(spec, sub, depth + 1)
             else:
-                rng = f" in {_fmt_range(spec)}" if spec.kind in ("float", "int", "floats", "range") else ""
+                numbers = ("float", "int", "floats", "range", "frequencies")
+                rng = f" in {_fmt_range(spec)}" if spec.kind in numbers else ""
                 ch = f" one of {', '.join(map(str, spec.choices))}" if spec.choices else ""
                 lines.append(f"{'  ' * depth}{key} = {_type_name(spec.kind)}{rng}{ch}; default {spec.default!r}: "
                              f"{spec.doc}")
@@ -293,4 +299,5 @@ def _type_name(kind: str) -> str:
     return {"float": "a number", "int": "an integer", "bool": "true or false", "str": "a string",
             "floats": "a list of numbers", "strs": "a list of strings", "point": "a list of 3 numbers",
             "ints": "a list of integers",
-            "range": "a 'start:stop:count' string"}[kind]
+            "range": "a 'start:stop:count' string, 'a,b,c' or one number",
+            "frequencies": "a 'start:stop:count' string, 'f1,f2,...' or one number"}[kind]

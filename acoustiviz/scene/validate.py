@@ -13,27 +13,35 @@ from .schema import Key, Table, _fmt_range, _type_name
 __all__ = [
     "SceneError",
     "parse_range",
+    "scene_frequencies",
 ]
 
 
 # --------------------------------------------------------------------------- helpers
-def parse_range(text: str, key: str = "range", source: str = "<range>"):
-    """Parse ``start:stop:count`` (inclusive) into a list of floats; one number is a single value.
+def parse_range(text, key: str = "range", source: str = "<range>"):
+    """Parse ``start:stop:count`` (inclusive), a comma list ``a,b,c`` or one number into a list of floats.
 
-    The values follow the one range rule of every front-end, :func:`acoustiviz.sweep.spec.value_range`,
-    so a scene's sweep grid is the grid of the same ``acoustiviz sweep`` options.
+    The values follow the one rule of every front-end, :func:`acoustiviz.sweep.spec.parse_values`
+    (whose ranges are :func:`~acoustiviz.sweep.spec.value_range`), so a scene's sweep grid is the
+    grid of the same ``acoustiviz sweep`` options.
     """
-    from ..sweep.spec import parse_range as range_values
+    from ..sweep.spec import parse_values
 
-    text = str(text)
-    if ":" not in text:
-        try:
-            return [float(text)]
-        except ValueError:
-            raise SceneError(source, key, f"expected 'start:stop:count' (inclusive) or one number, got {text!r}") \
-                from None
     try:
-        return list(range_values(key, text))
+        return list(parse_values(key, str(text)))
+    except ParameterError as exc:
+        raise SceneError(source, key, exc.detail) from None
+
+
+def scene_frequencies(text, key: str = "excitation.frequencies_hz", source: str = "<scene>"):
+    """Forcing frequencies in Hz, read as ``acoustiviz forced --freq`` reads them, or a SceneError naming ``key``.
+
+    The one reading is :func:`acoustiviz.app.settings.parse.parse_frequencies`.
+    """
+    from ..app.settings.parse import parse_frequencies as frequencies
+
+    try:
+        return frequencies(text, key)
     except ParameterError as exc:
         raise SceneError(source, key, exc.detail) from None
 
@@ -130,10 +138,19 @@ def _check_range(value, k: Key, src: str, path: str):
     return value
 
 
+def _check_frequencies(value, k: Key, src: str, path: str):
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        value = str(value)
+    if not isinstance(value, str):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)}, got {value!r}")
+    scene_frequencies(value, path, src)
+    return value
+
+
 #: The check of each kind of key: it returns the value as the scene holds it, or raises SceneError.
 _CHECKS = {"float": _check_float, "int": _check_int, "bool": _check_bool, "str": _check_str,
            "ints": _check_ints, "floats": _check_floats, "point": _check_floats, "strs": _check_strs,
-           "range": _check_range}
+           "range": _check_range, "frequencies": _check_frequencies}
 
 
 def _check_key(value, k: Key, src: str, path: str):
@@ -171,18 +188,69 @@ def _validate_table(data, table: Table, src: str, path: str, fill_defaults: bool
     return out
 
 
+#: Geometry settings -> their keys in ``[configuration]``.
+_GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "height": "height_m",
+                  "dimensions": "room_m", "absorption": "absorption", "source": "source_m", "order": "image_order",
+                  "tolerance_db": "tolerance_db", "duration": "window_s"}
+
+
+def _geometry_settings(conf: dict) -> dict:
+    """The settings of a ``[configuration]`` table that apply to its ``kind``."""
+    from ..core.geometry import relevant_settings
+
+    return relevant_settings(conf["kind"], **{k: conf[v] for k, v in _GEOMETRY_KEYS.items()})
+
+
+def check_configuration(data: dict, source: str) -> None:
+    """The sphere above the floor, no room key without a room, and the geometry's settings valid for its kind."""
+    from ..core.geometry import geometry
+
+    radius = data["sphere"]["radius_m"]
+    conf = data["configuration"]
+    _check_room_keys(conf, source)
+    if conf["height_m"] is not None and conf["height_m"] < radius:
+        raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
+                                                           f"{radius:g} m, got {conf['height_m']:g} m")
+    try:
+        geometry(conf["kind"], radius, **_geometry_settings(conf))
+    except ParameterError as exc:
+        raise SceneError(source, f"configuration.{_GEOMETRY_KEYS.get(exc.name, exc.name)}", exc.detail) from None
+
+
+def _check_room_keys(conf: dict, source: str) -> None:
+    """Refuse a room's own key (``room_m``, ``source_m``, ``absorption``, ...) in a configuration that is no room.
+
+    The command line refuses the same settings without ``--room`` (:func:`acoustiviz.app.impacts.room_settings`);
+    a scene would otherwise ignore them without a word. The strike is shared with the wall-floor corner.
+    """
+    from ..core.geometry import GEOMETRIES, geometry_class
+
+    if geometry_class(conf["kind"]).enclosed:
+        return
+    rooms = [name for name, cls in GEOMETRIES.items() if cls.enclosed]
+    for setting in GEOMETRIES[rooms[0]].SETTINGS:
+        key = _GEOMETRY_KEYS.get(setting)
+        if setting != "strike" and key is not None and conf[key] is not None:
+            raise SceneError(source, f"configuration.{key}", f'only applies with kind = "{rooms[0]}" (a shoebox '
+                                                             f'room); kind "{conf["kind"]}" would ignore it')
+
+
 def check_damper_physics(scene) -> None:
     """Refuse, at load, a ``[damper]`` whose run cannot be computed or measured (``core.limits.check_damper``).
+
+    The tolerance is checked first, in the range of the solver named (:data:`acoustiviz.dynamics.METHODS`).
 
     The same limits the run checks, with the K_HZ of the damper's sphere, raised as a
     :class:`SceneError` naming the key (``damper.impact_mass_kg``) and what is allowed.
     """
     from ..app.names import SCENE_DAMPER_KEYS, user_terms
     from ..core.limits import check_damper
+    from ..dynamics import solver_method
 
     d = scene.data["damper"]
     try:
         with user_terms(SCENE_DAMPER_KEYS):
+            solver_method(d["solver"]).check_rtol(d["tolerance"])
             check_damper(M=d["main_mass_kg"], K=d["stiffness_n_m"], m=d["impact_mass_kg"], gap=d["gap_m"],
                          k_hertz=scene.k_hertz(scene.damper_sphere_radius()), v=d["initial_velocity_m_s"],
                          duration=d["duration_s"], c1=d["contact_damping_n_s_m"])

@@ -51,7 +51,7 @@ import numpy as np
 
 from ..constants import ANALYSIS_RATE
 
-__all__ = ["LEVEL_COLUMNS", "LEVEL_METRICS", "METHODS", "design_levels", "click_windows", "NO_LEVELS"]
+__all__ = ["LEVEL_COLUMNS", "LEVEL_METRICS", "LEVEL_METHODS", "design_levels", "click_windows", "NO_LEVELS"]
 
 #: The level columns of ``sweep.csv``, in order.
 LEVEL_COLUMNS = ("lafmax_db", "lcpeak_db", "laeq_db")
@@ -60,7 +60,7 @@ LEVEL_METRICS = {"lafmax_db": "lafmax", "lcpeak_db": "lcpeak", "laeq_db": "laeq"
 #: The level columns of a design whose levels were not computed.
 NO_LEVELS = dict.fromkeys(LEVEL_COLUMNS, math.nan)
 #: How :func:`design_levels` computes: from the clicks alone, or rendering and filtering every sample.
-METHODS = ("sparse", "dense")
+LEVEL_METHODS = ("sparse", "dense")
 
 #: Clicks whose spectra are worked on at once (bounds the work arrays to a few MB).
 _CHUNK = 1024
@@ -104,7 +104,7 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
     """
     from .._validate import check_choice
 
-    check_choice("method", method, METHODS)
+    check_choice("method", method, LEVEL_METHODS)
     n = int(round(duration * sample_rate))
     if len(impacts) == 0:
         return dict.fromkeys(LEVEL_COLUMNS, -math.inf)

@@ -302,8 +302,9 @@ class Settings:
         if not isinstance(self.clip_tensile, bool):
             raise ParameterError("clip_tensile", f"must be True or False, got {self.clip_tensile!r}")
         check_positive("duration", self.duration, "s")
-        check_choice("solver", self.solver, SOLVERS)
-        check_range("rtol", self.rtol, 1e-15, 1e-3)
+        from ..dynamics import METHODS
+
+        METHODS[check_choice("solver", self.solver, SOLVERS)].check_rtol(self.rtol)
         check_choice("radius_mode", self.radius_mode, RADIUS_MODES)
         check_positive("radius", self.radius, "m")
         if self.density is not None:

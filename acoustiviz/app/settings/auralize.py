@@ -171,6 +171,12 @@ class DamperSettings(Settings):
     dt: float | None = None
     rtol: float = DEFAULT_RTOL
 
+    def validate(self) -> None:
+        """The tolerance in the range of the solver asked for (:data:`acoustiviz.dynamics.METHODS`)."""
+        from ...dynamics import solver_method
+
+        solver_method(self.solver).check_rtol(self.rtol)
+
 
 @dataclasses.dataclass(frozen=True)
 class AuralizeSettings(Settings):

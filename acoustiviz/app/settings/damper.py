@@ -11,7 +11,16 @@ speeds in m/s, times in s.
 
 from __future__ import annotations
 
-from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
+from ...constants import (
+    AUTO_TOLERANCE_RANGE,
+    DEFAULT_DURATION,
+    DEFAULT_RTOL,
+    PAPER_GAP,
+    PAPER_V0,
+    SCENE_SOLVERS,
+    SOLVER_RTOL_RANGE,
+    TABLE1,
+)
 from .table import Setting, check_values
 
 __all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "check_values"]
@@ -54,8 +63,11 @@ RUN = (
     Setting("duration", "--duration", "duration_s", "float", DEFAULT_DURATION, "simulated time", "s", low=0.0,
             high=1e4, low_open=True, table=_D, metavar="S"),
     Setting("rtol", "--rtol", "tolerance", "float", DEFAULT_RTOL,
-            "relative accuracy of impact times and speeds (the event solver's contact tolerance)", low=0.0,
-            high=0.5, low_open=True, table=_D, metavar="RTOL"),
+            "relative accuracy of impact times and speeds (event and impact-map: their contact tolerance, in "
+            f"[{SOLVER_RTOL_RANGE[0]:g}, {SOLVER_RTOL_RANGE[1]:g}]; auto: the accuracy wanted, the solver it picks "
+            f"running at min(rtol, {SOLVER_RTOL_RANGE[1]:g}); newmark: none, it takes a step)",
+            low=min(SOLVER_RTOL_RANGE[0], AUTO_TOLERANCE_RANGE[0]),
+            high=max(SOLVER_RTOL_RANGE[1], AUTO_TOLERANCE_RANGE[1]), table=_D, metavar="RTOL"),
 )
 
 #: The solver and its fixed step.

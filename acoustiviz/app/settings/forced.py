@@ -19,10 +19,19 @@ from ...constants import (
 from .base import Settings
 from .table import Setting
 
-__all__ = ["FORCED", "ForcedSettings", "MAX_FORCED_CYCLES"]
+__all__ = ["FORCED", "FREQUENCIES", "ForcedSettings", "MAX_FORCED_CYCLES", "MAX_FREQUENCIES"]
 
 #: Most cycles one start runs before its motion is measured (a bound on the work of each start).
 MAX_FORCED_CYCLES = 1_000_000
+#: Largest number of frequencies of one run.
+MAX_FREQUENCIES = 10_000
+
+#: The forcing frequencies, each in its range; written as text, START:STOP:COUNT (both ends included), a comma
+#: list F1,F2,... or one value, and read by :func:`acoustiviz.app.settings.parse.parse_frequencies` alone.
+FREQUENCIES = Setting("frequencies", "--freq", "frequencies_hz", "float", "3:7:9",
+                      "forcing frequencies: START:STOP:COUNT (both ends included), a comma list F1,F2,... or one "
+                      f"value; at most {MAX_FREQUENCIES}, none repeated", "Hz", low=0.0, high=1e4, low_open=True,
+                      table="excitation", metavar="START:STOP:COUNT|F1,F2,...")
 
 FORCED = (
     Setting("sweep", "--sweep", "sweep", "str", "up",

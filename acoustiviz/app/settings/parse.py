@@ -1,11 +1,11 @@
-"""Values typed as text on the command line: a point ``X,Y,Z`` and an image size ``WxH``."""
+"""Values typed as text on the command line or in a scene: a point ``X,Y,Z``, an image size ``WxH``, frequencies."""
 
 from __future__ import annotations
 
 from ...errors import ParameterError
 from .base import check_size
 
-__all__ = ["parse_point", "parse_size"]
+__all__ = ["parse_point", "parse_size", "parse_frequencies"]
 
 
 def parse_point(text: str, name: str = "--listener"):
@@ -43,3 +43,32 @@ def parse_size(text: str, name: str = "size") -> tuple:
     except ValueError:
         raise ParameterError(name, f"expected WIDTHxHEIGHT in pixels, e.g. 1200x900, got {text!r}") from None
     return check_size((w, h), name)
+
+
+def parse_frequencies(text, name: str = "--freq"):
+    """Forcing frequencies in Hz, sorted: the one reading of ``--freq`` and of ``excitation.frequencies_hz``.
+
+    ``text`` is ``START:STOP:COUNT`` (both ends included, the one range rule of
+    :func:`acoustiviz.sweep.spec.parse_values`), a comma list ``F1,F2,...`` or one value; each value
+    must lie in the range of :data:`~acoustiviz.app.settings.forced.FREQUENCIES`, and none may repeat.
+    Errors are :class:`ParameterError` naming ``name``.
+
+    Examples
+    --------
+    >>> parse_frequencies("3:7:5").tolist()
+    [3.0, 4.0, 5.0, 6.0, 7.0]
+    >>> parse_frequencies("5.5, 4.5").tolist()
+    [4.5, 5.5]
+    """
+    import numpy as np
+
+    from ...sweep.spec import parse_values
+    from .forced import FREQUENCIES, MAX_FREQUENCIES
+
+    values = parse_values(name, text)
+    if len(values) > MAX_FREQUENCIES:
+        raise ParameterError(name, f"expected 1 to {MAX_FREQUENCIES} frequencies, got {len(values)}")
+    f = np.array([FREQUENCIES.check(v, name) for v in values], dtype=float)
+    if np.unique(f).size != f.size:
+        raise ParameterError(name, f"duplicate frequencies in {text!r}")
+    return np.sort(f)

@@ -11,7 +11,14 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ...constants import ANIMATION_SIZE, BALLOON_METRICS, MAX_SNAPSHOT_TIMES, SECTION_PLANES, STILL_SIZE
+from ...constants import (
+    ANIMATION_SIZE,
+    BALLOON_METRICS,
+    BALLOON_N_THETA_RANGE,
+    MAX_SNAPSHOT_TIMES,
+    SECTION_PLANES,
+    STILL_SIZE,
+)
 from ...errors import ParameterError
 from .base import Settings, check_size
 from .table import Setting
@@ -39,7 +46,8 @@ BALLOON = (
             "level range from the balloon's centre to its largest radius", "dB", low=0.0, high=200.0,
             low_open=True, table="outputs.balloon"),
     Setting("n_theta", "--resolution", "n_theta", "int", 32,
-            "polar nodes of the measuring grid (the azimuth gets twice as many)", low=4, high=2000,
+            "polar nodes of the measuring grid (the azimuth gets twice as many)", low=BALLOON_N_THETA_RANGE[0],
+            high=BALLOON_N_THETA_RANGE[1],
             table="grids.sphere"),
     Setting("opacity", "--opacity", None, "float", 0.7, "balloon opacity; below 1 the sphere shows through",
             low=0.0, high=1.0, low_open=True),

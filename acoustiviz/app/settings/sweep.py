@@ -22,12 +22,14 @@ from ...constants import (
     PAPER_RADIUS,
     PAPER_V0,
     PULSES,
+    SOLVER_RTOL_RANGE,
     SOLVERS,
     TABLE1,
 )
 from ...errors import ParameterError
 from .base import Settings
-from .table import Setting
+from .damper import MODEL, RUN
+from .table import Setting, by_name
 
 __all__ = ["SWEEP", "SWEPT", "SWEEP_DAMPER", "SWEEP_SOUND", "RADIUS", "SweepSettings", "sweep_radius"]
 
@@ -42,16 +44,30 @@ RADIUS = Setting("radius", "--radius", "radius_m", "float", PAPER_RADIUS, "spher
                  low_open=True, table="sphere")
 
 
+#: The damper's records, whose ranges the swept values and the fixed M, K and C obey
+#: (:func:`acoustiviz.app.sweep.check_ranges`).
+_DAMPER = by_name(MODEL + RUN)
+
+
 def _swept(name, option, doc):
+    if name in _DAMPER:  # each value in the damper record's range
+        doc = doc.replace(" (default", f", each in {_DAMPER[name].range_text()} (default")
     return Setting(name, option, None, "str", None, doc, metavar="NAMES" if option in ("--material", "--config")
                    else "RANGE")
+
+
+def _fixed(name, doc):
+    r = _DAMPER[name]
+    return Setting(name, r.option, None, "float", None, doc, r.unit, low=r.low, high=r.high, low_open=r.low_open,
+                   metavar=name)
 
 
 #: The swept options: one value, START:STOP:COUNT (both ends included) or a comma list A,B,C.
 SWEPT = (
     _swept("gap", "--gap", f"total free travel d in m (default {PAPER_GAP:g})"),
     _swept("m", "--m", f"impact mass in kg (default {TABLE1['m']:g})"),
-    _swept("mass_ratio", "--mass-ratio", "mass ratio m/M instead of --m"),
+    _swept("mass_ratio", "--mass-ratio", f"mass ratio m/M instead of --m (m = ratio x M within "
+           f"{by_name(MODEL)['m'].range_text()})"),
     _swept("c1", "--c1", f"contact damping in N s/m (default {TABLE1['c1']:g})"),
     _swept("k_hertz", "--k-hertz", f"Hertz contact stiffness in N/m^1.5 (default {TABLE1['k_hertz']:g})"),
     _swept("material", "--material", "sphere material(s) from the catalogue instead of --k-hertz: K_HZ from the "
@@ -64,15 +80,16 @@ SWEPT = (
 
 #: The damper of every design (before the duration, :data:`SWEEP`) and its solver (after it).
 SWEEP_DAMPER = (
-    Setting("M", "--M", None, "float", None, f"main mass in kg (default {TABLE1['M']:g})", metavar="M"),
-    Setting("K", "--K", None, "float", None, f"main spring in N/m (default {TABLE1['K']:g})", metavar="K"),
-    Setting("C", "--C", None, "float", None, f"main dashpot in N s/m (default {TABLE1['C']:g})", metavar="C"),
+    _fixed("M", f"main mass in kg (default {TABLE1['M']:g})"),
+    _fixed("K", f"main spring in N/m (default {TABLE1['K']:g})"),
+    _fixed("C", f"main dashpot in N s/m (default {TABLE1['C']:g})"),
     Setting("clip_tensile", "--clip-tensile", None, "bool", None,
             "clip the contact force at zero (default: the paper's form, which may pull)"),
     SWEEP[0],
     Setting("solver", "--solver", None, "str", None, "damper solver (default event)", choices=SOLVERS),
     Setting("rtol", "--rtol", None, "float", None,
-            f"relative tolerance of the event solver's contacts (default {DEFAULT_RTOL:g})", metavar="RTOL"),
+            f"relative tolerance of the event and impact-map solvers' contacts (default {DEFAULT_RTOL:g})",
+            low=SOLVER_RTOL_RANGE[0], high=SOLVER_RTOL_RANGE[1], metavar="RTOL"),
 )
 
 #: The sound of every impact at the listener.

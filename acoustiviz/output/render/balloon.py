@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive, check_range
-from ...constants import BALLOON_MIN_RADII
+from ...constants import BALLOON_MIN_RADII, BALLOON_N_THETA_RANGE
 from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...core.reach import check_view_radius, view_limit
@@ -190,8 +190,9 @@ def balloon_data(
     if r <= BALLOON_MIN_RADII * config.radius:
         raise ParameterError("distance", f"must exceed 1.05 × the sphere's diameter "
                              f"({BALLOON_MIN_RADII * config.radius:g} m), got {r:g} m")
-    if int(n_theta) != n_theta or not 4 <= n_theta <= 512:
-        raise ParameterError("n_theta", f"must be an integer in [4, 512], got {n_theta!r}")
+    lo, hi = BALLOON_N_THETA_RANGE
+    if int(n_theta) != n_theta or not lo <= n_theta <= hi:
+        raise ParameterError("n_theta", f"must be an integer in [{lo}, {hi}], got {n_theta!r}")
     check_view_radius(config, r, BALLOON_MIN_RADII * config.radius)
     region, anchor, up, side = _region(config)
     grid = spherical_grid(r, region=region, centre=anchor, up=up, side=side, n_theta=int(n_theta))
