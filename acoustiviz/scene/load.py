@@ -444,7 +444,7 @@ def _check_geometry(scene: Scene) -> None:
     try:
         conf = scene.configuration()
     except ParameterError as exc:
-        key = _SETUP_KEYS.get(exc.name)
+        key = {**{k: f"configuration.{v}" for k, v in _GEOMETRY_KEYS.items()}, **_SETUP_KEYS}.get(exc.name)
         if key is None:
             raise
         raise SceneError(src, key, exc.detail) from None

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
-from ..app.settings.forced import FORCED
+from ..app.settings.forced import AMPLITUDE, FORCED
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
@@ -126,7 +126,7 @@ _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
 _EXCITATION = {
     "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
                 "through K and C", "force", choices=EXCITATIONS),
-    "amplitude": Key("float", "F0 in N (kind force) or B in m (kind base)", 5.0, "N or m", low=0.0, high=1e9),
+    **_from_table((AMPLITUDE,), "excitation"),
     "frequencies_hz": Key("range", "forcing frequencies start:stop:count", "3:7:9", "Hz", low=0.0, low_open=True,
                           high=1e4),
     **_from_table(FORCED, "excitation"),
