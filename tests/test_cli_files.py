@@ -75,3 +75,86 @@ def test_forced_amplitude_has_the_scene_range(here, capsys, option, value, unit)
     assert f"[{key.low:g}, {key.high:g}] {unit}" in err and key.high < 1e308
     assert not (here / "f.csv").exists()
 
+
+# --- 1. a command that reads a file never writes it
+SWEEP_ARGS = ["--gap", "0.03,0.04", "--m", "0.04", "--duration", "0.5", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def two_designs(tmp_path_factory):
+    """A finished two-design sweep folder (copied by each test before damaging it)."""
+    folder = tmp_path_factory.mktemp("sweep") / "sw"
+    assert call(["sweep", *SWEEP_ARGS, "--out", str(folder)]) == 0
+    return folder
+
+
+def _digest(path):
+    import hashlib
+
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _copy(src, folder):
+    import shutil
+
+    shutil.copytree(src, folder / "sw")
+    return folder / "sw"
+
+
+def test_design_reads_a_journal_cut_mid_row_without_writing_it(here, capsys, two_designs):
+    sw = _copy(two_designs, here)
+    whole = (sw / "sweep.csv").read_bytes()
+    (sw / "sweep.csv").write_bytes(whole[:-20])  # a kill in the middle of the last row
+    before = _digest(sw / "sweep.csv")
+    assert call(["design", "--sweep", "sw", "--inclination", "0.008"]) == 0, capsys.readouterr().err
+    assert _digest(sw / "sweep.csv") == before
+
+
+def test_resuming_a_journal_cut_mid_row_recomputes_that_row_on_a_line_of_its_own(here, capsys, two_designs):
+    from acoustiviz.sweep import load_sweep
+
+    sw = _copy(two_designs, here)
+    whole = (sw / "sweep.csv").read_bytes()
+    (sw / "sweep.csv").write_bytes(whole[:-20])
+    assert call(["sweep", *SWEEP_ARGS, "--out", "sw"]) == 0, capsys.readouterr().err
+    table = load_sweep(sw)
+    assert table.complete and len(table) == 2
+    assert (sw / "sweep.csv").read_bytes().count(b"\n") == whole.count(b"\n")
+
+
+GARBAGE = {"binary": b"\x00\xff\xfe\x80 binary", "text without a newline": b"hello world",
+           "text lines": b"hello\nworld\n", "header then garbage": None}
+
+
+@pytest.mark.parametrize("kind", list(GARBAGE))
+@pytest.mark.parametrize("command", ["design", "sweep"])
+def test_a_garbage_journal_is_refused_as_damaged_and_left_byte_identical(here, capsys, two_designs, kind, command):
+    sw = _copy(two_designs, here)
+    content = GARBAGE[kind]
+    if content is None:
+        content = (sw / "sweep.csv").read_bytes().split(b"\n")[0] + b"\n1,2,three\x00\xff"
+    (sw / "sweep.csv").write_bytes(content)
+    before = {p.name: _digest(p) for p in sw.iterdir()}
+    argv = (["design", "--sweep", "sw", "--inclination", "0.008"] if command == "design"
+            else ["sweep", *SWEEP_ARGS, "--out", "sw"])
+    rc = call(argv)
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--sweep" if command == "design" else "--out")
+    assert "sweep.csv" in err and "damaged" in err
+    assert {p.name: _digest(p) for p in sw.iterdir()} == before
+
+
+@pytest.mark.parametrize("content", [b"[1, 2, 3]\n", b"\xff\xfe\x00{", b"{\"format\": \"acoustiviz-sweep\"",
+                                     b"{\"format\": \"acoustiviz-sweep\", \"spec\": [1]}\n", b"{}\n"])
+@pytest.mark.parametrize("command", ["design", "sweep"])
+def test_a_damaged_settings_file_is_reported_as_damaged(here, capsys, two_designs, content, command):
+    sw = _copy(two_designs, here)
+    (sw / "sweep.json").write_bytes(content)
+    before = {p.name: _digest(p) for p in sw.iterdir()}
+    argv = (["design", "--sweep", "sw", "--inclination", "0.008"] if command == "design"
+            else ["sweep", *SWEEP_ARGS, "--out", "sw"])
+    rc = call(argv)
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--sweep" if command == "design" else "--out")
+    assert "sweep.json is damaged" in err and "different settings" not in err
+    assert {p.name: _digest(p) for p in sw.iterdir()} == before
