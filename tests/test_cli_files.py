@@ -158,3 +158,101 @@ def test_a_damaged_settings_file_is_reported_as_damaged(here, capsys, two_design
     assert_user_error(rc, err, "--sweep" if command == "design" else "--out")
     assert "sweep.json is damaged" in err and "different settings" not in err
     assert {p.name: _digest(p) for p in sw.iterdir()} == before
+
+
+# --- 2. one rule: an existing output, named or derived, is replaced only with --force
+def _wav(path, seconds=0.5, rate=48000):
+    import numpy as np
+    import soundfile as sf
+
+    t = np.arange(int(seconds * rate)) / rate
+    sf.write(path, 0.1 * np.sin(2 * np.pi * 440 * t), rate)
+
+
+# (the command, the file it is asked to write, a file derived from it) on a fresh folder
+DERIVED = {
+    "auralize": (["auralize", "--duration", "0.2", "--wav", "o.wav"], "o.wav", "o.json"),
+    "map": (["map", "--resolution", "8", "--vtk", "o.vtu"], "o.vtu", "o_geometry.vtu"),
+    "levels": (["levels", "s.wav", "--pa-per-fs", "1", "--csv", "o.csv"], "o.csv", "o_bands.csv"),
+    "room waveform": (["waveform", "--room", "6,4,3", "--source", "2,1.5,0.01905", "--listener", "3,2,1.5",
+                       "--duration", "0.01", "--csv", "o.csv"], "o.csv", "o.json"),
+    "render": (["render", "balloon", "--resolution", "8", "--vtk", "o.vtu"], "o.vtu", "o_geometry.vtu"),
+}
+
+
+@pytest.mark.parametrize("which", ["named", "derived"])
+@pytest.mark.parametrize("case", list(DERIVED))
+def test_an_existing_output_is_replaced_only_with_force(here, capsys, case, which):
+    argv, named, derived = DERIVED[case]
+    _wav(here / "s.wav")
+    target = here / (named if which == "named" else derived)
+    target.write_bytes(b"the user's own file\n")
+    rc = call(argv)
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, str(target.name))
+    assert "pass --force" in err and "exists" in err
+    assert target.read_bytes() == b"the user's own file\n"
+    assert sorted(p.name for p in here.iterdir()) == sorted({"adir", "afile", "s.wav", target.name})
+    assert call([*argv, "--force"]) == 0, capsys.readouterr().err
+    assert (here / named).exists() and (here / derived).exists()
+    assert target.read_bytes() != b"the user's own file\n"
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["waveform", "--csv", "o.csv"], "o.csv"),
+    (["directivity", "--png", "o.png"], "o.png"),
+    (["damper", *["--duration", "1"], "--impacts-csv", "o.csv"], "o.csv"),
+    (["forced", "--force", "5", "--freq", "5", "--starts", "1", "--no-noise", "--csv", "o.csv"], "o.csv"),
+])
+def test_every_command_refuses_to_replace_without_its_flag(here, capsys, argv, name):
+    (here / name).write_text("mine\n")
+    rc = call(argv)
+    err = capsys.readouterr().err
+    flag = "--replace" if argv[0] == "forced" else "--force"
+    assert_user_error(rc, err, name)
+    assert f"pass {flag}" in err
+    assert (here / name).read_text() == "mine\n"
+
+
+def test_forced_takes_replace_since_its_force_is_the_amplitude(capsys):
+    from acoustiviz.cli import build_parser
+
+    parser = build_parser()
+    args = parser.parse_args(["forced", "--force", "5", "--freq", "5", "--replace"])
+    assert args.force == 5.0 and args.replace and args.replace_option == "--replace"
+    args = parser.parse_args(["waveform", "--force"])
+    assert args.replace and args.replace_option == "--force"
+
+
+def test_run_refuses_a_non_empty_folder_without_force(here, capsys):
+    (here / "out").mkdir()
+    (here / "out" / "mine.txt").write_text("mine\n")
+    rc = call(["run", "--out", "out", "--quiet"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--out")
+    assert "pass --force" in err
+    assert sorted(p.name for p in (here / "out").iterdir()) == ["mine.txt"]
+
+
+# --- 3. every output path, derived ones included, checked before any work
+@pytest.mark.parametrize("case", list(DERIVED))
+def test_a_folder_in_a_derived_outputs_place_is_refused_before_any_work(here, capsys, case):
+    argv, named, derived = DERIVED[case]
+    _wav(here / "s.wav")
+    (here / derived).mkdir()
+    rc = call([*argv, "--force"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, derived)
+    assert not (here / named).exists()
+
+
+def test_a_new_sweep_does_not_replace_a_design_table_it_did_not_write(here, capsys):
+    (here / "sw").mkdir()
+    (here / "sw" / "design_table.csv").write_text("mine\n")
+    rc = call(["sweep", *SWEEP_ARGS, "--out", "sw"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "design_table.csv")
+    assert "pass --force" in err
+    assert sorted(p.name for p in (here / "sw").iterdir()) == ["design_table.csv"]
+    assert call(["sweep", *SWEEP_ARGS, "--out", "sw", "--force"]) == 0, capsys.readouterr().err
+    assert (here / "sw" / "design_table.csv").read_text() != "mine\n"
