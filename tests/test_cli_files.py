@@ -256,3 +256,48 @@ def test_a_new_sweep_does_not_replace_a_design_table_it_did_not_write(here, caps
     assert sorted(p.name for p in (here / "sw").iterdir()) == ["design_table.csv"]
     assert call(["sweep", *SWEEP_ARGS, "--out", "sw", "--force"]) == 0, capsys.readouterr().err
     assert (here / "sw" / "design_table.csv").read_text() != "mine\n"
+
+
+# --- 4. a scene checks every output before the first is computed
+THREE_OUTPUTS = """
+[damper]
+duration_s = 1.0
+
+[outputs.waveform]
+[outputs.directivity]
+[outputs.damper_history]
+"""
+
+
+@pytest.mark.parametrize("blocker", ["folder", "read-only file"])
+def test_a_scene_whose_third_output_cannot_be_written_writes_nothing(here, capsys, blocker):
+    import os
+
+    from acoustiviz.app.scene_outputs import output_files
+    from acoustiviz.scene.load import load_scene
+
+    (here / "s.toml").write_text(THREE_OUTPUTS)
+    third = [name for name, _ in output_files(load_scene(here / "s.toml"))["damper_history"]][-1]
+    out = here / "out"
+    out.mkdir()
+    if blocker == "folder":
+        (out / third).mkdir()
+    else:
+        (out / third).write_text("mine\n")
+        os.chmod(out / third, 0o444)
+    rc = call(["run", "s.toml", "--out", "out", "--force", "--quiet"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, third)
+    assert "outputs.damper_history" in err
+    assert [p.name for p in out.iterdir()] == [third]  # the waveform and the directivity were not made
+
+
+def test_every_file_a_scene_writes_was_checked_before_the_run(here, capsys):
+    from acoustiviz.app.scene_outputs import SUMMARY, output_files
+    from acoustiviz.scene.load import load_scene
+
+    (here / "s.toml").write_text(THREE_OUTPUTS)
+    assert call(["run", "s.toml", "--out", "out", "--quiet"]) == 0, capsys.readouterr().err
+    planned = {name for files in output_files(load_scene(here / "s.toml")).values() for name, _ in files}
+    written = {p.name for p in (here / "out").iterdir()}
+    assert written == planned | {SUMMARY}
