@@ -224,6 +224,19 @@ def test_forced_takes_replace_since_its_force_is_the_amplitude(capsys):
     assert args.replace and args.replace_option == "--force"
 
 
+def test_every_command_has_the_flag(capsys):
+    from acoustiviz.cli import _leaf_parsers, build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.choices and "run" in a.choices)
+    leaves = list(_leaf_parsers(sub))
+    assert len(leaves) >= 11
+    for leaf in leaves:
+        flags = [a for a in leaf._actions if a.dest == "replace"]
+        assert len(flags) == 1 and flags[0].option_strings in (["--force"], ["--replace"]), leaf.prog
+        assert (flags[0].option_strings == ["--replace"]) == (leaf.prog == "acoustiviz forced"), leaf.prog
+
+
 def test_run_refuses_a_non_empty_folder_without_force(here, capsys):
     (here / "out").mkdir()
     (here / "out" / "mine.txt").write_text("mine\n")

@@ -56,7 +56,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="See and hear the noise of impact dampers. SI units unless an option says otherwise.",
         epilog=f"Every command estimates its memory and output size before starting and refuses work over "
                f"{MAX_MEMORY_MB:g} MB (change the cap with --max-memory MB). Bad input: one line naming the "
-               "option, exit status 2.",
+               "option, exit status 2. An existing output file, or one written beside it, is replaced only with "
+               "--force (--replace on forced).",
     )
     from .. import __version__
 
