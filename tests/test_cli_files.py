@@ -314,3 +314,14 @@ def test_every_file_a_scene_writes_was_checked_before_the_run(here, capsys):
     planned = {name for files in output_files(load_scene(here / "s.toml")).values() for name, _ in files}
     written = {p.name for p in (here / "out").iterdir()}
     assert written == planned | {SUMMARY}
+
+
+def test_a_scene_whose_later_output_has_settings_it_cannot_honour_writes_nothing(here, capsys, monkeypatch):
+    import acoustiviz.app.scene_levels as scene_levels
+
+    monkeypatch.setattr(scene_levels, "loudness_available", lambda: False)  # as without mosqito
+    (here / "s.toml").write_text(THREE_OUTPUTS + "[outputs.levels]\nloudness = true\n")
+    rc = call(["run", "s.toml", "--out", "out", "--quiet"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "outputs.levels.loudness")
+    assert not (here / "out").exists() or not any((here / "out").iterdir())

@@ -30,7 +30,7 @@ from .names import SCENE_DAMPER_KEYS, user_terms
 from .products import Product, damper_initial, damper_model, damper_solver
 from .products import new_figure as _fig
 from .products import save as _save
-from .scene_levels import produce_levels, produce_spectrum
+from .scene_levels import check_levels_settings, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
@@ -414,6 +414,7 @@ _SETTINGS = {
     "sweep": sweep_spec,
     "design_table": sweep_spec,
     "wav": lambda scene: scene.auralize_settings(),
+    "levels": check_levels_settings,
     **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},
     **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation",
                                                                   "operating_noise")},

@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from ..levels import loudness_available
 from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
 
-__all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
+__all__ = ["check_levels_settings", "damper_sound_setup", "produce_levels", "produce_spectrum"]
 
 _CACHE = "_levels_report"
 
@@ -53,12 +53,18 @@ def damper_sound_setup(ctx):
     return seq, room, model, [n for n, _ in named], np.array([p for _, p in named])
 
 
+def check_levels_settings(scene) -> None:
+    """Refuse, before any output is made, levels the run cannot compute: loudness needs mosqito."""
+    opts = scene.output("levels") if "levels" in scene.outputs else {}
+    if opts.get("loudness") and not loudness_available():
+        raise ParameterError("outputs.levels.loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+
+
 def _report(ctx) -> LevelReport:
     """The run's level report, computed once per run and kept on the context."""
     if _CACHE not in ctx.__dict__:
         opts = ctx.scene.output("levels") if "levels" in ctx.scene.outputs else {}
-        if opts.get("loudness") and not loudness_available():
-            raise ParameterError("outputs.levels.loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+        check_levels_settings(ctx.scene)
         seq, room, model, names, points = damper_sound_setup(ctx)
         ctx.progress(f"levels of {len(seq)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")
