@@ -28,7 +28,9 @@ def _vtk(stem: str) -> list:
 
 
 def _wav(stem: str) -> list:
-    return [(f"{stem}.wav", "wav"), (f"{stem}.json", "json")]  # the WAV and its JSON sidecar
+    from ..output.audio.wav import sidecar_path
+
+    return [(f"{stem}.wav", "wav"), (sidecar_path(f"{stem}.wav").name, "json")]  # the WAV and its JSON sidecar
 
 
 def _levels(scene, names) -> list:
