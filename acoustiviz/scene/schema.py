@@ -110,7 +110,8 @@ _CONFIGURATION = {
                   None, "m", length=3),
     "absorption": Key("floats", "room: energy absorption coefficient alpha in [0, 1), one value or six "
                       "(x0, x1, y0, y1, z0 floor, z1 ceiling); default 0, rigid", None, length=6),
-    "source_m": Key("point", "room: centre of the sphere (default: the middle of the floor)", None, "m"),
+    "source_m": Key("point", "room: centre of the sphere, touching the surface it strikes (default: the middle of "
+                             "the floor)", None, "m"),
     "image_order": Key("int", "room: image order (default: from tolerance_db and window_s)", None, low=0,
                        high=10000),
     "tolerance_db": Key("float", "room: largest neglected image energy relative to the total (default -60)",
