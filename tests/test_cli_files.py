@@ -325,3 +325,31 @@ def test_a_scene_whose_later_output_has_settings_it_cannot_honour_writes_nothing
     err = capsys.readouterr().err
     assert_user_error(rc, err, "outputs.levels.loudness")
     assert not (here / "out").exists() or not any((here / "out").iterdir())
+
+
+LISTENER_IN_THE_CAVITY = """
+[damper]
+duration_s = 1.0
+
+[excitation]
+frequencies_hz = "5:5:1"
+starts = 1
+
+[[listeners]]
+name = "top"
+position_m = [0.0, 0.0, 0.05]
+
+[outputs.waveform]
+[outputs.{later}]
+"""
+
+
+@pytest.mark.parametrize("later", ["wav", "levels", "operating_noise"])
+def test_a_listener_in_the_dampers_cavity_is_refused_before_the_waveform_is_made(here, capsys, later):
+    # in the fluid of the struck plane (the waveform could be made), but within the damper's cavity
+    (here / "s.toml").write_text(LISTENER_IN_THE_CAVITY.format(later=later))
+    rc = call(["run", "s.toml", "--out", "out", "--quiet"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "listeners")
+    assert "inside the cavity" in err
+    assert not (here / "out").exists() or not any((here / "out").iterdir())

@@ -30,7 +30,7 @@ from .names import SCENE_DAMPER_KEYS, user_terms
 from .products import Product, damper_initial, damper_model, damper_solver
 from .products import new_figure as _fig
 from .products import save as _save
-from .scene_levels import check_levels_settings, produce_levels, produce_spectrum
+from .scene_levels import check_levels_settings, check_sound_listeners, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
@@ -413,12 +413,21 @@ PRODUCERS = {
 _SETTINGS = {
     "sweep": sweep_spec,
     "design_table": sweep_spec,
-    "wav": lambda scene: scene.auralize_settings(),
-    "levels": check_levels_settings,
+    "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
+    "levels": lambda scene: (check_levels_settings(scene), check_sound_listeners(scene)),
+    "spectrum": check_sound_listeners,
     **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},
-    **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation",
-                                                                  "operating_noise")},
+    **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation")},
+    "operating_noise": lambda scene: (scene.forced_settings(), _operating_listener(scene)),
 }
+
+
+def _operating_listener(scene) -> None:
+    """The first listener, which hears the damper in operation, outside its cavity."""
+    from .forced_noise import check_listener
+
+    check_listener(damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
+                   radius=scene.damper_sphere_radius(), name="listeners", settings=scene.geometry_settings())
 
 
 def _check_out(out: Path, force: bool) -> None:

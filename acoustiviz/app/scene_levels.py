@@ -19,9 +19,27 @@ from ..errors import ParameterError
 from ..levels import loudness_available
 from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, run_energy, summary_lines, write_levels_csv
 
-__all__ = ["check_levels_settings", "damper_sound_setup", "produce_levels", "produce_spectrum"]
+__all__ = ["check_levels_settings", "check_sound_listeners", "damper_sound_setup", "produce_levels", "produce_spectrum"]
 
 _CACHE = "_levels_report"
+
+
+def _cavity(scene, model, medium):
+    """The cavity a scene's damper sounds in (``[outputs.wav]`` surroundings, or their defaults)."""
+    from .wav import cavity
+
+    opts = scene.output_or_defaults("wav")
+    return cavity(scene.section("configuration")["kind"], scene.damper_sphere_radius(), model.gap,
+                  struck_wall=opts["struck_wall"], walls=opts["walls"], medium=medium, **scene.geometry_settings())
+
+
+def check_sound_listeners(scene) -> None:
+    """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
+    from ..output.audio import check_listeners
+    from .products import damper_model
+
+    room = _cavity(scene, damper_model(scene), scene.medium())
+    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
 def damper_sound_setup(ctx):
@@ -34,13 +52,9 @@ def damper_sound_setup(ctx):
     """
     from ..output.audio import ClickModel, ImpactSequence
     from .damper import check_click_fits
-    from .wav import cavity
 
-    opts = ctx.scene.output_or_defaults("wav")
-    conf = ctx.scene.section("configuration")
     radius = ctx.scene.damper_sphere_radius()
-    room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
-                  walls=opts["walls"], medium=ctx.medium, **ctx.scene.geometry_settings())
+    room = _cavity(ctx.scene, ctx.damper_model, ctx.medium)
     contact = ctx.scene.section("contact")
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
