@@ -353,3 +353,27 @@ def test_a_listener_in_the_dampers_cavity_is_refused_before_the_waveform_is_made
     assert_user_error(rc, err, "listeners")
     assert "inside the cavity" in err
     assert not (here / "out").exists() or not any((here / "out").iterdir())
+
+
+SWEEP_SCENE = """
+[outputs.waveform]
+[outputs.sweep]
+gap_m = "0.03:0.03:1"
+mass_kg = "0.04:0.04:1"
+duration_s = 0.5
+workers = 1
+"""
+
+
+@pytest.mark.parametrize("damage", ["settings", "journal"])
+def test_a_scene_onto_a_damaged_sweep_folder_is_refused_before_any_output(here, capsys, damage):
+    (here / "s.toml").write_text(SWEEP_SCENE)
+    assert call(["run", "s.toml", "--out", "out", "--quiet"]) == 0, capsys.readouterr().err
+    victim = here / "out" / "sweep" / ("sweep.json" if damage == "settings" else "sweep.csv")
+    victim.write_bytes(b"\\x00\\xff damaged")
+    before = {p.relative_to(here): _digest(p) for p in (here / "out").rglob("*") if p.is_file()}
+    rc = call(["run", "s.toml", "--out", "out", "--quiet", "--force"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "outputs.sweep")
+    assert "damaged" in err and victim.name in err
+    assert {p.relative_to(here): _digest(p) for p in (here / "out").rglob("*") if p.is_file()} == before

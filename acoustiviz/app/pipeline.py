@@ -521,6 +521,11 @@ def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
     if missing:
         raise ParameterError("outputs", f"this build cannot produce {', '.join(missing)}")
     planned = preflight(scene, out, _SETTINGS)  # every output's settings and files, before the first
+    if scene.wants("sweep"):  # a sweep folder of an earlier run: resumed only when it is the same, undamaged sweep
+        from ..sweep.store import check_dir
+
+        with user_terms({"out": "outputs.sweep"}):
+            check_dir(sweep_spec(scene), out / "sweep")
     out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
     ctx = RunContext(scene, out, say, stream, planned)

@@ -54,6 +54,7 @@ __all__ = [
     "spec_document",
     "read_spec",
     "prepare_dir",
+    "check_dir",
     "previous_sweeps",
     "read_rows",
     "load_sweep",
@@ -289,6 +290,44 @@ def _differences(a: dict, b: dict, prefix="") -> list[str]:
     return out
 
 
+def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool) -> str:
+    """What :func:`prepare_dir` will do with ``out``, without writing: ``"resume"``, ``"aside"`` or ``"new"``.
+
+    Raises what :func:`prepare_dir` refuses (:class:`SweepMismatch`, a damaged ``sweep.json``).
+    """
+    path = out / SWEEP_JSON
+    if path.is_file():
+        try:
+            have = _read_document(path, "out")
+        except _Damaged as exc:
+            if not overwrite:
+                raise _Damaged("out", f"{exc.detail}; use another directory, or --overwrite to move it aside "
+                                      "and start afresh") from None
+            have = {"spec": {}}
+        diffs = _differences(have["spec"], spec_document(spec)["spec"])
+        if have.get("format_version") != _FORMAT_VERSION:
+            diffs = diffs or [f"format_version: {have.get('format_version')!r} there, {_FORMAT_VERSION} now"]
+        if diffs and not overwrite:
+            shown = "; ".join(diffs[:4]) + (f"; and {len(diffs) - 4} more" if len(diffs) > 4 else "")
+            raise SweepMismatch(
+                "out",
+                f"{out} holds a sweep made with different settings ({shown}); use another directory, "
+                "or overwrite it (--overwrite) to start afresh",
+            )
+        return "aside" if diffs else "resume"
+    if (out / SWEEP_CSV).exists() and not overwrite:
+        raise SweepMismatch("out", f"{out} has a {SWEEP_CSV} but no {SWEEP_JSON}; use another directory or "
+                                   "--overwrite")
+    return "aside" if (out / SWEEP_CSV).exists() else "new"
+
+
+def check_dir(spec: SweepSpec, out, overwrite: bool = False) -> None:
+    """Refuse, writing nothing, a folder :func:`prepare_dir` would refuse or a journal :func:`read_rows` would."""
+    out = Path(out)
+    if out.is_dir() and _dir_plan(spec, out, overwrite) == "resume":
+        read_rows(out / SWEEP_CSV, spec, "out")
+
+
 def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
     """Create ``out`` with ``sweep.json``, or check that it holds the same settings.
 
@@ -301,35 +340,12 @@ def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    path = out / SWEEP_JSON
-    want = spec_document(spec)
-    if path.is_file():
-        try:
-            have = _read_document(path, "out")
-        except _Damaged as exc:
-            if not overwrite:
-                raise _Damaged("out", f"{exc.detail}; use another directory, or --overwrite to move it aside "
-                                      "and start afresh") from None
-            have = {"spec": {}}
-        diffs = _differences(have["spec"], want["spec"])
-        if have.get("format_version") != _FORMAT_VERSION:
-            diffs = diffs or [f"format_version: {have.get('format_version')!r} there, {_FORMAT_VERSION} now"]
-        if diffs and not overwrite:
-            shown = "; ".join(diffs[:4]) + (f"; and {len(diffs) - 4} more" if len(diffs) > 4 else "")
-            raise SweepMismatch(
-                "out",
-                f"{out} holds a sweep made with different settings ({shown}); use another directory, "
-                "or overwrite it (--overwrite) to start afresh",
-            )
-        if not diffs:
-            return
+    plan = _dir_plan(spec, out, overwrite)
+    if plan == "resume":
+        return
+    if plan == "aside":
         _move_aside(out)
-    elif (out / SWEEP_CSV).exists() and not overwrite:
-        raise SweepMismatch("out", f"{out} has a {SWEEP_CSV} but no {SWEEP_JSON}; use another directory or "
-                                   "--overwrite")
-    elif (out / SWEEP_CSV).exists():
-        _move_aside(out)
-    write_text_atomic(path, spec_text(spec))
+    write_text_atomic(out / SWEEP_JSON, spec_text(spec))
 
 
 def previous_sweeps(out) -> list[Path]:
