@@ -124,9 +124,12 @@ def test_settings_object_checks_the_tables_range(case):
 
 
 def test_levels_command_options_are_its_records(parser):
-    """Every option of ``acoustiviz levels`` (but the positional file and the global memory cap) is a record."""
+    """Every option of ``acoustiviz levels`` (but the positional file and the global flags) is a record."""
+    from acoustiviz.app.outputs import REPLACE
+
     sub = _subparser(parser, ("levels",))
-    options = {o for a in sub._actions for o in a.option_strings if o.startswith("--")} - {"--help", "--max-memory"}
+    options = {o for a in sub._actions for o in a.option_strings if o.startswith("--")} - {"--help", "--max-memory",
+                                                                                           REPLACE.option}
     assert options == {s.option for s in LEVELS_ALL}
     fields = {f.name for f in dataclasses.fields(LevelsSettings)}
     assert {s.name for s in LEVELS_ALL} <= fields

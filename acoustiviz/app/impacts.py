@@ -172,10 +172,22 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     check_impact(velocity, k, m, partner_mass, radius=radius, c=medium.c, rho=medium.rho)
     if room is not None:  # the room's own settings (Room.from_settings validates them all)
         conf = geometry("room", radius, **{"sound_speed": medium.c, **room})
+        _check_struck(conf)
     else:
         conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
     return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
+
+
+def _check_struck(room) -> None:
+    """Refuse a room's sphere away from the surface it strikes: an impact needs the two in contact."""
+    if room.touches_struck_surface:
+        return
+    ax, value = room.contact_coordinate
+    name = "xyz"[ax]
+    raise ParameterError("source", f"the sphere must touch the {room.strike} it strikes: {name} = {value:g} m "
+                                   f"(its radius {room.radius:g} m from that surface), got {name} = "
+                                   f"{room.source[ax]:g} m")
 
 
 def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.ndarray:

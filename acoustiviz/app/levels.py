@@ -231,6 +231,7 @@ def _check_inputs(s) -> None:
     if not Path(s.signal).is_file():
         raise ParameterError("SIGNAL.wav", f"no such file: {s.signal}")
     check_output_file("--csv", s.csv, "csv")
+    check_output_file("--csv", bands_path(s.csv), "csv")  # OUT_bands.csv, written beside it
     import soundfile as sf
 
     try:

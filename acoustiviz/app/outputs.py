@@ -8,6 +8,13 @@ use, so a read-only file system, a folder without write permission or a name too
 file system are all caught). Output folders (``--out``) may be created, provided the nearest
 existing ancestor is a folder that takes new entries.
 
+An existing file is replaced only when the user asked for it: every command takes ``--force``
+(:data:`REPLACE`; ``forced``, whose ``--force`` is the force amplitude, takes ``--replace``), and
+while a command runs without it (:func:`replacing`), :func:`check_output_file` refuses any output
+that exists, the files derived beside a named one (a WAV's JSON sidecar, a VTK file's geometry,
+a level table's band table) included, naming the file and the option to pass. Called from
+Python outside a command, the checks replace files as before.
+
 Examples
 --------
 >>> from acoustiviz.errors import ParameterError
@@ -21,12 +28,40 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import os
 from pathlib import Path
 
 from ..errors import ParameterError
+from .settings.table import Setting
 
-__all__ = ["FORMATS", "suffixes", "check_output_file", "check_output_dir", "check_input_file", "check_distinct"]
+__all__ = ["FORMATS", "REPLACE", "suffixes", "replacing", "check_output_file", "check_output_dir",
+           "check_input_file", "check_distinct"]
+
+#: The flag every command takes to replace existing output files (its record; ``--replace`` on ``forced``).
+REPLACE = Setting("replace", "--force", None, "bool", False,
+                  "replace existing output files, those derived beside a named one included (without it an "
+                  "existing file is refused before any work)")
+
+#: ``(allowed, option)`` while a command runs: may an existing output be replaced, and the option allowing it.
+_REPLACING = contextvars.ContextVar("acoustiviz_replacing", default=(True, REPLACE.option))
+
+
+@contextlib.contextmanager
+def replacing(allowed: bool, option: str = REPLACE.option):
+    """Within the block, :func:`check_output_file` refuses an existing file unless ``allowed``, naming ``option``."""
+    token = _REPLACING.set((bool(allowed), option))
+    try:
+        yield
+    finally:
+        _REPLACING.reset(token)
+
+
+def _refuse_existing(option: str, target: Path) -> None:
+    """An existing file (or link) in the target's place is refused unless replacing is allowed."""
+    allowed, flag = _REPLACING.get()
+    if not allowed and (target.exists() or target.is_symlink()):
+        raise ParameterError(option, f"{target} exists; pass {flag} to replace it")
 
 #: Output kind -> the file-name endings its writer knows ("figure": matplotlib's formats, read
 #: from matplotlib at check time; "png": the off-screen renders).
@@ -105,7 +140,8 @@ def check_output_file(option: str, path, kind: str) -> Path:
     ------
     ParameterError
         Empty name, an ending the writer does not know, a target that is a folder, a parent
-        that is missing or not a folder, or a folder that takes no new files.
+        that is missing or not a folder, a folder that takes no new files, or an existing file
+        while replacing is not allowed (:func:`replacing`).
     """
     p = _as_path(option, path, "file name")
     known = suffixes(kind)
@@ -120,7 +156,8 @@ def check_output_file(option: str, path, kind: str) -> Path:
         raise ParameterError(option, f"folder {parent} does not exist")
     if not parent.is_dir():
         raise ParameterError(option, f"{parent} is a file, not a folder")
-    _refuse_replacing(option, p)
+    _refuse_replacing(option, p)  # a link or a read-only file: never replaced, even with --force
+    _refuse_existing(option, p)
     _probe(option, p)
     return p
 

@@ -29,7 +29,8 @@ from .names import SCENE_DAMPER_KEYS, user_terms
 from .products import Product, damper_initial, damper_model, damper_solver
 from .products import new_figure as _fig
 from .products import save as _save
-from .scene_levels import produce_levels, produce_spectrum
+from .scene_levels import check_levels_settings, check_sound_listeners, produce_levels, produce_spectrum
+from .scene_outputs import SUMMARY, preflight
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
 
@@ -46,11 +47,12 @@ def incomplete(products) -> list:
 class RunContext:
     """The scene, the output folder and the lazily computed shared results of one run."""
 
-    def __init__(self, scene, out: Path, progress=None, stream=None):
+    def __init__(self, scene, out: Path, progress=None, stream=None, planned=None):
         self.scene = scene
         self.out = Path(out)
         self.progress = progress or (lambda msg: None)
         self.stream = stream  # where long steps draw their progress bars (None: silent)
+        self.planned = planned  # the file names checked before the run (None: any)
 
     def path(self, name: str) -> Path:
         """Path of an output file (or folder) directly inside the run folder.
@@ -61,6 +63,8 @@ class RunContext:
         """
         if not name or name in (".", "..") or "/" in name or "\\" in name or "\x00" in name:
             raise ParameterError("--out", f"refusing to write {name!r}: not a file name inside {self.out}")
+        if self.planned is not None and name not in self.planned:  # scene_outputs.output_files must name it
+            raise RuntimeError(f"{name} was not checked before the run (acoustiviz.app.scene_outputs)")
         return self.out / name
 
     # -- physics objects shared by several outputs
@@ -414,6 +418,27 @@ PRODUCERS = {
 
 
 # --------------------------------------------------------------------------- the run
+#: Output kind -> the settings object its producer builds, built before any output is computed.
+_SETTINGS = {
+    "sweep": sweep_spec,
+    "design_table": sweep_spec,
+    "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
+    "levels": lambda scene: (check_levels_settings(scene), check_sound_listeners(scene)),
+    "spectrum": check_sound_listeners,
+    **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},
+    **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation")},
+    "operating_noise": lambda scene: (scene.forced_settings(), _operating_listener(scene)),
+}
+
+
+def _operating_listener(scene) -> None:
+    """The first listener, which hears the damper in operation, outside its cavity."""
+    from .forced_noise import check_listener
+
+    check_listener(damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
+                   radius=scene.damper_sphere_radius(), name="listeners", settings=scene.geometry_settings())
+
+
 def _check_out(out: Path, force: bool) -> None:
     if out.exists() and not out.is_dir():
         raise ParameterError("--out", f"{out} exists and is not a folder")
@@ -504,9 +529,15 @@ def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
     missing = [k for k in scene.outputs if k not in PRODUCERS]
     if missing:
         raise ParameterError("outputs", f"this build cannot produce {', '.join(missing)}")
+    planned = preflight(scene, out, _SETTINGS)  # every output's settings and files, before the first
+    if scene.wants("sweep"):  # a sweep folder of an earlier run: resumed only when it is the same, undamaged sweep
+        from ..sweep.store import check_dir
+
+        with user_terms({"out": "outputs.sweep"}):
+            check_dir(sweep_spec(scene), out / "sweep")
     out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
-    ctx = RunContext(scene, out, say, stream)
+    ctx = RunContext(scene, out, say, stream, planned)
     start = time.perf_counter()
     products = []
     with _collect_per_output() as collect:
@@ -516,7 +547,7 @@ def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
             products += PRODUCERS[kind](ctx)
             collect()
             say(f"[{i}/{len(scene.outputs)}] {kind} done in {time.perf_counter() - t0:.1f} s")
-    summary = write_text_atomic(out / "summary.md", _summary(scene, products, time.perf_counter() - start))
+    summary = write_text_atomic(out / SUMMARY, _summary(scene, products, time.perf_counter() - start))
     products.append(Product("summary", summary, {}))
     return products
 

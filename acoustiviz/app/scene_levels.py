@@ -20,9 +20,27 @@ from ..levels import loudness_available
 from ..levels.energy import run_energy
 from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, summary_lines, write_levels_csv
 
-__all__ = ["damper_sound_setup", "produce_levels", "produce_spectrum"]
+__all__ = ["check_levels_settings", "check_sound_listeners", "damper_sound_setup", "produce_levels", "produce_spectrum"]
 
 _CACHE = "_levels_report"
+
+
+def _cavity(scene, model, medium):
+    """The cavity a scene's damper sounds in (``[outputs.wav]`` surroundings, or their defaults)."""
+    from .wav import cavity
+
+    opts = scene.output_or_defaults("wav")
+    return cavity(scene.section("configuration")["kind"], scene.damper_sphere_radius(), model.gap,
+                  struck_wall=opts["struck_wall"], walls=opts["walls"], medium=medium, **scene.geometry_settings())
+
+
+def check_sound_listeners(scene) -> None:
+    """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
+    from ..output.audio import check_listeners
+    from .products import damper_model
+
+    room = _cavity(scene, damper_model(scene), scene.medium())
+    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
 def damper_sound_setup(ctx):
@@ -35,13 +53,9 @@ def damper_sound_setup(ctx):
     """
     from ..sound import ClickModel, ImpactSequence
     from .damper import check_click_fits
-    from .wav import cavity
 
-    opts = ctx.scene.output_or_defaults("wav")
-    conf = ctx.scene.section("configuration")
     radius = ctx.scene.damper_sphere_radius()
-    room = cavity(conf["kind"], radius, ctx.damper_model.gap, struck_wall=opts["struck_wall"],
-                  walls=opts["walls"], medium=ctx.medium, **ctx.scene.geometry_settings())
+    room = _cavity(ctx.scene, ctx.damper_model, ctx.medium)
     contact = ctx.scene.section("contact")
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
@@ -54,12 +68,18 @@ def damper_sound_setup(ctx):
     return seq, room, model, [n for n, _ in named], np.array([p for _, p in named])
 
 
+def check_levels_settings(scene) -> None:
+    """Refuse, before any output is made, levels the run cannot compute: loudness needs mosqito."""
+    opts = scene.output("levels") if "levels" in scene.outputs else {}
+    if opts.get("loudness") and not loudness_available():
+        raise ParameterError("outputs.levels.loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+
+
 def _report(ctx) -> LevelReport:
     """The run's level report, computed once per run and kept on the context."""
     if _CACHE not in ctx.__dict__:
         opts = ctx.scene.output("levels") if "levels" in ctx.scene.outputs else {}
-        if opts.get("loudness") and not loudness_available():
-            raise ParameterError("outputs.levels.loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+        check_levels_settings(ctx.scene)
         seq, room, model, names, points = damper_sound_setup(ctx)
         ctx.progress(f"levels of {len(seq)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")

@@ -46,6 +46,7 @@ from ..sweep import (
     PAPER_TABLE2,
     RANK_COLUMNS,
     SWEEP_CSV,
+    SWEEP_JSON,
     Settings,
     SweepSpec,
     design,
@@ -496,10 +497,14 @@ def sweep_workflow(given: dict, out, *, executor: str = "process", workers=None,
         ``definition``, ``band_width``).
     """
     from .names import user_terms
-    from .outputs import check_output_dir
+    from .outputs import check_output_dir, check_output_file
 
     names = SWEEP_OPTIONS if names is None else names
     check_output_dir(names["out"], out)
+    if not (Path(out) / SWEEP_JSON).exists():  # a new sweep: its files must not replace others' unasked
+        for name, kind in ((DESIGN_TABLE_CSV, "csv"), (INCLINATION_MAP, "png"), (SPL_MAP, "png")):
+            if (Path(out) / name).exists() or (Path(out) / name).is_symlink():
+                check_output_file(names["out"], Path(out) / name, kind)
     check_sweep_work(given, workers=workers, max_memory_mb=max_memory_mb, names=names)
     with user_terms(names):
         spec = sweep_spec(**given)

@@ -7,6 +7,10 @@ answers at once. Any :class:`acoustiviz._validate.ParameterError` raised while a
 subcommand runs becomes a one-line message on stderr and exit status 2; so does a file that
 cannot be written or read (an :class:`OSError`, named by its file) and memory running out.
 
+Every command takes ``--force`` (``--replace`` on ``forced``, whose ``--force`` is the force
+amplitude): without it an existing output file, named or derived, is refused before any work
+(:mod:`acoustiviz.app.outputs`).
+
 Every command takes ``--max-memory MB``: it estimates the memory and the output size of its work
 before starting (:mod:`acoustiviz.app.budget`) and refuses work over the cap (default
 :data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB), naming the option to change.
@@ -15,6 +19,7 @@ before starting (:mod:`acoustiviz.app.budget`) and refuses work over the cap (de
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib
 import sys
 
@@ -51,7 +56,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="See and hear the noise of impact dampers. SI units unless an option says otherwise.",
         epilog=f"Every command estimates its memory and output size before starting and refuses work over "
                f"{MAX_MEMORY_MB:g} MB (change the cap with --max-memory MB). Bad input: one line naming the "
-               "option, exit status 2.",
+               "option, exit status 2. An existing output file, or one written beside it, is replaced only with "
+               "--force (--replace on forced).",
     )
     from .. import __version__
 
@@ -65,7 +71,13 @@ def build_parser() -> argparse.ArgumentParser:
                 continue
             raise
         mod.add_parser(sub)
+    from ..app.outputs import REPLACE
+    from ..app.settings.table import add_option
+
     for leaf in _leaf_parsers(sub):
+        flag = REPLACE.option if REPLACE.option not in leaf._option_string_actions else "--replace"
+        add_option(leaf, dataclasses.replace(REPLACE, option=flag), dest=REPLACE.name)
+        leaf.set_defaults(replace_option=flag)
         leaf.add_argument("--max-memory", type=float, default=None, metavar="MB",
                           help=f"refuse work whose estimated memory or output size exceeds MB megabytes "
                                f"(default {MAX_MEMORY_MB:g})")
@@ -120,7 +132,10 @@ def _main(argv: list) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = one_line
-            return int(args.func(args) or 0)
+            from ..app.outputs import replacing
+
+            with replacing(getattr(args, "replace", False), getattr(args, "replace_option", "--force")):
+                return int(args.func(args) or 0)
     except ParameterError as exc:
         print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
         return 2

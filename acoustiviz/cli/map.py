@@ -56,7 +56,7 @@ def run(args) -> int:
     if paths["--vtk"] is not None:
         from ..output.vtk import geometry_path
 
-        paths["--vtk (geometry)"] = geometry_path(paths["--vtk"])
+        paths["--vtk (geometry)"] = check_output_file("--vtk", geometry_path(paths["--vtk"]), "vtk")
     check_distinct(paths)
     room_duration(args)
     setup = impact_from_args(args)

@@ -126,7 +126,12 @@ def run(args) -> int:
                                           "imageio-ffmpeg'); use --gif instead")
     for k, path in paths.items():
         check_output_file(f"--{k}", path, k)
-    check_distinct({f"--{k}": v for k, v in paths.items()})
+    files = {f"--{k}": v for k, v in paths.items()}
+    if paths.get("vtk"):  # the sphere and planes beside the data (OUT_geometry.vtu)
+        from ..output.vtk import geometry_path
+
+        files["--vtk (geometry)"] = check_output_file("--vtk", geometry_path(paths["vtk"]), "vtk")
+    check_distinct(files)
     setup = impact_from_args(args)
     n_files = bool(paths.get("gif")) + bool(paths.get("mp4"))
     names = {**type(settings).cli_names(), **_MORE_NAMES}

@@ -14,7 +14,6 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument("scene", nargs="?", default=None, metavar="SCENE", help="scene file (TOML)")
     p.add_argument("--out", required=False, default=None, metavar="DIR", help="output folder")
-    p.add_argument("--force", action="store_true", help="write into an existing, non-empty output folder")
     p.add_argument("--quiet", action="store_true", help="no progress messages")
     p.add_argument("--help-scene", action="store_true", help="print every scene key with unit, range and default")
     p.set_defaults(func=run)
@@ -47,7 +46,7 @@ def run(args) -> int:
         if not args.quiet:
             print(msg, file=sys.stderr, flush=True)
 
-    products = run_scene(scene, args.out, force=args.force, progress=progress,
+    products = run_scene(scene, args.out, force=args.replace, progress=progress,
                          stream=None if args.quiet else sys.stderr)
     for p in products:
         figs = ", ".join(f"{k}={v}" for k, v in p.figures.items())

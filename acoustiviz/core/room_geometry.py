@@ -308,12 +308,20 @@ class Room(Geometry):
 
     # -- regions and labels --------------------------------------------------------------
     @property
-    def touches_struck_surface(self) -> bool:
-        """True when the sphere touches the surface it strikes (its centre one radius from it)."""
+    def contact_coordinate(self) -> tuple:
+        """``(axis, value)``: the coordinate (0, 1, 2 for x, y, z) and its value in m touching the struck surface.
+
+        The sphere's centre is then one radius from that surface (``(2, a)`` for the floor).
+        """
         i = SURFACES.index(_ROOM_ALIASES.get(self.strike, self.strike))
         ax = i // 2
-        gap = self.source[ax] if i % 2 == 0 else self.dimensions[ax] - self.source[ax]
-        return abs(gap - self.radius) <= 1e-9 * max(self.radius, 1.0)
+        return ax, (self.radius if i % 2 == 0 else self.dimensions[ax] - self.radius)
+
+    @property
+    def touches_struck_surface(self) -> bool:
+        """True when the sphere touches the surface it strikes (its centre one radius from it)."""
+        ax, value = self.contact_coordinate
+        return abs(self.source[ax] - value) <= 1e-9 * max(self.radius, 1.0)
 
     @property
     def polar_limit_deg(self) -> float:

@@ -14,6 +14,7 @@ from ..core.geometry import geometry
 from ..errors import ParameterError
 from .schema import _OUT, DEFAULT_LISTENER, OUTPUT_KINDS, SCHEMA
 from .validate import (
+    _GEOMETRY_KEYS,
     SceneError,
     _geometry_settings,
     _unknown,
@@ -428,7 +429,7 @@ def _check_geometry(scene: Scene) -> None:
     try:
         conf = scene.configuration()
     except ParameterError as exc:
-        key = _SETUP_KEYS.get(exc.name)
+        key = {**{k: f"configuration.{v}" for k, v in _GEOMETRY_KEYS.items()}, **_SETUP_KEYS}.get(exc.name)
         if key is None:
             raise
         raise SceneError(src, key, exc.detail) from None

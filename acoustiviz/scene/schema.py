@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
-from ..app.settings.forced import FORCED, FREQUENCIES
+from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
@@ -113,7 +113,8 @@ _CONFIGURATION = {
                   None, "m", length=3),
     "absorption": Key("floats", "room: energy absorption coefficient alpha in [0, 1), one value or six "
                       "(x0, x1, y0, y1, z0 floor, z1 ceiling); default 0, rigid", None, length=6),
-    "source_m": Key("point", "room: centre of the sphere (default: the middle of the floor)", None, "m"),
+    "source_m": Key("point", "room: centre of the sphere, touching the surface it strikes (default: the middle of "
+                             "the floor)", None, "m"),
     "image_order": Key("int", "room: image order (default: from tolerance_db and window_s)", None, low=0,
                        high=10000),
     "tolerance_db": Key("float", "room: largest neglected image energy relative to the total (default -60)",
@@ -129,7 +130,7 @@ _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
 _EXCITATION = {
     "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
                 "through K and C", "force", choices=EXCITATIONS),
-    "amplitude": Key("float", "F0 in N (kind force) or B in m (kind base)", 5.0, "N or m", low=0.0, high=1e9),
+    **_from_table((AMPLITUDE,), "excitation"),
     "frequencies_hz": Key("frequencies", FREQUENCIES.doc, FREQUENCIES.in_scene, FREQUENCIES.unit, low=FREQUENCIES.low,
                           high=FREQUENCIES.high, low_open=FREQUENCIES.low_open),
     **_from_table(FORCED, "excitation"),

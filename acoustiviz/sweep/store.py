@@ -17,7 +17,9 @@
 
 A damaged directory (a binary or non-UTF-8 file, a word where a number belongs, a
 ``sweep.json`` that is not an object) is refused with a one-line :class:`ParameterError` naming
-the file, the line and the column.
+the file, the line and the column and saying it is damaged. Reading never writes: a file read
+back is left byte for byte as it was, damaged or not; only a resumed sweep's :class:`Journal`
+cuts a torn last line off before appending to it.
 """
 
 from __future__ import annotations
@@ -52,6 +54,7 @@ __all__ = [
     "spec_document",
     "read_spec",
     "prepare_dir",
+    "check_dir",
     "previous_sweeps",
     "read_rows",
     "load_sweep",
@@ -241,14 +244,26 @@ def spec_text(spec: SweepSpec) -> str:
     return json.dumps(spec_document(spec), indent=2) + "\n"
 
 
+class _Damaged(ParameterError):
+    """A sweep's file read back is damaged (not what a sweep writes); the message says so."""
+
+
 def _read_document(path: Path, name: str):
-    """``sweep.json`` parsed, or :class:`ParameterError` ``name`` naming the file (not JSON, not an object)."""
+    """``sweep.json`` parsed, or :class:`ParameterError` ``name`` naming the file (unreadable, damaged)."""
     try:
-        doc = json.loads(path.read_bytes().decode("utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise ParameterError(name, f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}") from None
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ParameterError(name, f"cannot read {path}: {exc.strerror or exc}") from None
+    try:
+        doc = json.loads(raw.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise _Damaged(name, f"{path} is damaged: not JSON text ({exc})") from None
     if not isinstance(doc, dict):
-        raise ParameterError(name, f"cannot read {path}: expected a JSON object, got a {type(doc).__name__}")
+        raise _Damaged(name, f"{path} is damaged: expected a JSON object, got a {type(doc).__name__}")
+    if doc.get("format") != _FORMAT:
+        raise _Damaged(name, f"{path} is damaged: not an acoustiviz sweep's settings (no format {_FORMAT!r})")
+    if not isinstance(doc.get("spec"), dict):
+        raise _Damaged(name, f"{path} is damaged: its 'spec' is {'missing' if 'spec' not in doc else 'not a table'}")
     return doc
 
 
@@ -259,13 +274,9 @@ def read_spec(out_dir, name: str = "sweep") -> SweepSpec:
         raise ParameterError(name, f"{out_dir} holds no {SWEEP_JSON}: not a sweep directory")
     doc = _read_document(path, name)
     try:
-        if doc.get("format") != _FORMAT:
-            raise ValueError("not an acoustiviz sweep")
-        if "spec" not in doc:
-            raise ValueError("it has no 'spec'")
         return SweepSpec.from_dict(doc["spec"])
     except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise ParameterError(name, f"cannot read {path}: {exc}") from None
+        raise _Damaged(name, f"{path} is damaged: {exc}") from None
 
 
 def _differences(a: dict, b: dict, prefix="") -> list[str]:
@@ -279,30 +290,22 @@ def _differences(a: dict, b: dict, prefix="") -> list[str]:
     return out
 
 
-def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
-    """Create ``out`` with ``sweep.json``, or check that it holds the same settings.
+def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool) -> str:
+    """What :func:`prepare_dir` will do with ``out``, without writing: ``"resume"``, ``"aside"`` or ``"new"``.
 
-    With ``overwrite``, a directory made with other settings has its ``sweep.csv`` and
-    ``sweep.json`` moved aside to the next free ``sweep.previous-N.csv`` and ``.json`` and starts
-    afresh; without, it is refused (:class:`SweepMismatch`). A ``sweep.json`` that cannot be read
-    counts as other settings.
+    Raises what :func:`prepare_dir` refuses (:class:`SweepMismatch`, a damaged ``sweep.json``).
     """
-    from ..output.writers import write_text_atomic
-
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     path = out / SWEEP_JSON
-    want = spec_document(spec)
     if path.is_file():
         try:
             have = _read_document(path, "out")
-        except ParameterError:
-            have = {}
-        spec_there = have.get("spec", {})
-        diffs = _differences(spec_there if isinstance(spec_there, dict) else {}, want["spec"])
-        if have.get("format") != _FORMAT:
-            diffs = diffs or ["not an acoustiviz sweep.json"]
-        elif have.get("format_version") != _FORMAT_VERSION:
+        except _Damaged as exc:
+            if not overwrite:
+                raise _Damaged("out", f"{exc.detail}; use another directory, or --overwrite to move it aside "
+                                      "and start afresh") from None
+            have = {"spec": {}}
+        diffs = _differences(have["spec"], spec_document(spec)["spec"])
+        if have.get("format_version") != _FORMAT_VERSION:
             diffs = diffs or [f"format_version: {have.get('format_version')!r} there, {_FORMAT_VERSION} now"]
         if diffs and not overwrite:
             shown = "; ".join(diffs[:4]) + (f"; and {len(diffs) - 4} more" if len(diffs) > 4 else "")
@@ -311,15 +314,38 @@ def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
                 f"{out} holds a sweep made with different settings ({shown}); use another directory, "
                 "or overwrite it (--overwrite) to start afresh",
             )
-        if not diffs:
-            return
-        _move_aside(out)
-    elif (out / SWEEP_CSV).exists() and not overwrite:
+        return "aside" if diffs else "resume"
+    if (out / SWEEP_CSV).exists() and not overwrite:
         raise SweepMismatch("out", f"{out} has a {SWEEP_CSV} but no {SWEEP_JSON}; use another directory or "
                                    "--overwrite")
-    elif (out / SWEEP_CSV).exists():
+    return "aside" if (out / SWEEP_CSV).exists() else "new"
+
+
+def check_dir(spec: SweepSpec, out, overwrite: bool = False) -> None:
+    """Refuse, writing nothing, a folder :func:`prepare_dir` would refuse or a journal :func:`read_rows` would."""
+    out = Path(out)
+    if out.is_dir() and _dir_plan(spec, out, overwrite) == "resume":
+        read_rows(out / SWEEP_CSV, spec, "out")
+
+
+def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
+    """Create ``out`` with ``sweep.json``, or check that it holds the same settings.
+
+    With ``overwrite``, a directory made with other settings has its ``sweep.csv`` and
+    ``sweep.json`` moved aside to the next free ``sweep.previous-N.csv`` and ``.json`` and starts
+    afresh; without, it is refused (:class:`SweepMismatch`). A damaged ``sweep.json`` is refused
+    as damaged, and left as it is, unless ``overwrite`` moves it aside.
+    """
+    from ..output.writers import write_text_atomic
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    plan = _dir_plan(spec, out, overwrite)
+    if plan == "resume":
+        return
+    if plan == "aside":
         _move_aside(out)
-    write_text_atomic(path, spec_text(spec))
+    write_text_atomic(out / SWEEP_JSON, spec_text(spec))
 
 
 def previous_sweeps(out) -> list[Path]:
@@ -356,20 +382,17 @@ def _move_aside(out: Path) -> None:
 
 # --------------------------------------------------------------------------- sweep.csv
 def _journal_lines(path: Path, name: str) -> list:
-    """The text lines of the journal ``path``; a torn last line is cut off the file first."""
+    """The complete text lines of the journal ``path`` (a torn last line left out); the file is only read."""
     raw = path.read_bytes()
-    if raw and not raw.endswith(b"\n"):  # killed in the middle of a row: drop the partial line
-        cut = raw.rfind(b"\n") + 1
-        with open(path, "r+b") as f:
-            f.truncate(cut)
-            f.flush()
-            os.fsync(f.fileno())
-        raw = raw[:cut]
     try:
-        return raw.decode("utf-8").splitlines()
+        text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise ParameterError(name, f"{path} is not a sweep journal: not UTF-8 text ({exc.reason} at byte "
-                                   f"{exc.start})") from None
+        raise ParameterError(name, f"{path} is damaged: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    lines = text.split("\n")
+    torn = lines.pop()  # "" after a final newline; a kill in the middle of a row leaves a part of it
+    if torn and not lines and not (",".join(ALL_COLUMNS)).startswith(torn):
+        raise ParameterError(name, f"{path} is damaged: no complete line and not the start of a sweep journal")
+    return lines
 
 
 def _matches_design(row: dict, designs) -> bool:
@@ -384,7 +407,7 @@ def _matches_design(row: dict, designs) -> bool:
 
 
 def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]:
-    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is cut off the file.
+    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is left out (the file is only read).
 
     A damaged file (not UTF-8 text, other columns, a row with another number of fields or that
     matches no design) raises :class:`ParameterError` named ``name``.
@@ -400,7 +423,8 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
     except csv.Error as exc:
         raise ParameterError(name, f"{path} line 1 is damaged: {exc}") from None
     if tuple(header) != ALL_COLUMNS:
-        raise SweepMismatch(name, f"{path} has other columns than this version writes; use another directory")
+        raise SweepMismatch(name, f"{path} is damaged or from another version: its columns are not those this "
+                                  "version writes; use another directory")
     designs = spec.designs()
     rows: dict[int, dict] = {}
     for k, line in enumerate(lines[1:], start=2):
@@ -415,7 +439,7 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
         for c in NUMERIC_COLUMNS:  # damage found on reading, naming the line, before any work
             _number(int if c in _INT_COLUMNS else float, row[c], c, f"{path} line {k}", name)
         if not same:
-            raise ParameterError(name, f"{path} line {k} does not match a design of {SWEEP_JSON}")
+            raise ParameterError(name, f"{path} line {k} is damaged: it matches no design of {SWEEP_JSON}")
         rows.setdefault(int(row["design_id"]), row)
     return rows
 
@@ -451,14 +475,34 @@ def _fsync_dir(path: Path) -> None:
         os.close(fd)
 
 
+def _cut_torn_line(path: Path) -> None:
+    """Cut a partial last line (no final newline) off the journal ``path``, synced."""
+    with open(path, "r+b") as f:
+        size = f.seek(0, os.SEEK_END)
+        if size == 0:
+            return
+        f.seek(size - 1)
+        if f.read(1) == b"\n":
+            return
+        f.seek(0)
+        cut = f.read().rfind(b"\n") + 1
+        f.truncate(cut)
+        f.flush()
+        os.fsync(f.fileno())
+
+
 class Journal:
     """``sweep.csv`` opened for appending: each row written, flushed and synced on its own.
 
-    Use as a context manager; the header is written when the file is new or empty.
+    Use as a context manager; the header is written when the file is new or empty. A torn last
+    line (a kill in the middle of a row) is cut off first, so the next row starts a line of its
+    own: open it only after :func:`read_rows` has accepted the rest of the file.
     """
 
     def __init__(self, path):
         self.path = Path(path)
+        if self.path.exists():
+            _cut_torn_line(self.path)
         new = not self.path.exists() or self.path.stat().st_size == 0
         self._f = open(self.path, "a", encoding="utf-8", newline="")  # noqa: SIM115 - closed by close()
         if new:

@@ -19,7 +19,7 @@ from ...constants import (
 from .base import Settings
 from .table import Setting
 
-__all__ = ["FORCED", "FREQUENCIES", "ForcedSettings", "MAX_FORCED_CYCLES", "MAX_FREQUENCIES"]
+__all__ = ["AMPLITUDE", "FORCED", "FREQUENCIES", "ForcedSettings", "MAX_FORCED_CYCLES", "MAX_FREQUENCIES"]
 
 #: Most cycles one start runs before its motion is measured (a bound on the work of each start).
 MAX_FORCED_CYCLES = 1_000_000
@@ -55,6 +55,12 @@ FORCED = (
             "least length of the level interval per frequency; it spans whole periods", "s", low=0.0, high=60.0,
             low_open=True, table="outputs.operating_noise"),
 )
+
+
+#: The excitation's amplitude: F0 in N (``--force``, a force) or B in m (``--base``, a base motion); the
+#: cap keeps the response within floating point.
+AMPLITUDE = Setting("amplitude", None, "amplitude", "float", 5.0, "F0 in N (kind force) or B in m (kind base)",
+                    "N or m", low=0.0, high=1e9, table="excitation")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -96,4 +102,11 @@ class ForcedJob:
     png: str | None = None
     room: dict | None = None
     max_memory: float | None = None
+
+    def __post_init__(self):
+        for option, kind in (("--force", "force"), ("--base", "base")):
+            value = getattr(self, kind)
+            if value is not None:  # the scene key's range (:data:`AMPLITUDE`), in this option's unit
+                unit = "N" if kind == "force" else "m"
+                object.__setattr__(self, kind, dataclasses.replace(AMPLITUDE, unit=unit).check(value, option))
 

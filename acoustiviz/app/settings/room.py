@@ -23,7 +23,8 @@ ROOM = (
             "energy absorption coefficient alpha in [0, 1) of every surface, or of x0,x1,y0,y1,z0 (floor),z1 "
             "(default 0: rigid)", metavar="A|A1,...,A6"),
     Setting("source", "--source", None, "str", None,
-            "centre of the sphere in m, at least its radius from every surface (default: the middle of the floor)",
+            "centre of the sphere in m, touching the surface it strikes (one radius from it, z = a for the floor) "
+            "and at least its radius from every other (default: the middle of the floor)",
             metavar="X,Y,Z"),
     Setting("room_strike", "--room-strike", None, "str", "floor",
             "the struck surface: floor, ceiling, or x0, x1, y0, y1, z0, z1", choices=ROOM_STRIKES, metavar="SURFACE"),
