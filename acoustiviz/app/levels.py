@@ -295,7 +295,7 @@ def _check_levels(report: LevelReport, sig: CalibratedSignal, signal, echo) -> N
 
     The calibration's range (:func:`calibration_range`) keeps the levels finite; should one still
     be NaN or +inf, nothing is written. A channel with no sound at all has levels of -inf dB, written
-    as empty cells, and a note says which.
+    as ``-inf`` (:func:`acoustiviz.output.tables.csv_number`), and a note says which.
     """
     lv = report.levels
     values = np.array([[row[c] for c in LEVEL_COLUMNS] for row in lv.rows(report.channels)], dtype=float)
@@ -305,7 +305,7 @@ def _check_levels(report: LevelReport, sig: CalibratedSignal, signal, echo) -> N
                                    f"{sig.pa_per_full_scale:g} Pa per full scale ({sig.source}); give a smaller one")
     for i, name in enumerate(report.channels):
         if np.all(values[i] == -np.inf):
-            echo(f"note: channel {name} is silent over {lv.start:g}-{lv.stop:g} s: its levels are empty cells")
+            echo(f"note: channel {name} is silent over {lv.start:g}-{lv.stop:g} s: its levels are -inf dB")
 
 
 def bands_path(csv_path) -> Path:
