@@ -233,8 +233,17 @@ def test_every_command_has_the_flag(capsys):
     assert len(leaves) >= 11
     for leaf in leaves:
         flags = [a for a in leaf._actions if a.dest == "replace"]
-        assert len(flags) == 1 and flags[0].option_strings in (["--force"], ["--replace"]), leaf.prog
+        assert len(flags) == 1 and flags[0].option_strings in (["--force", "--replace"], ["--replace"]), leaf.prog
         assert (flags[0].option_strings == ["--replace"]) == (leaf.prog == "acoustiviz forced"), leaf.prog
+
+
+def test_replace_is_one_spelling_of_force_on_every_command(here, capsys):
+    """``--replace`` replaces as ``--force`` does, so one flag works on every command, ``forced`` included."""
+    (here / "w.csv").write_text("mine\n")
+    assert call(["waveform", "--csv", "w.csv"]) == 2
+    assert "w.csv" in capsys.readouterr().err and (here / "w.csv").read_text() == "mine\n"
+    assert call(["waveform", "--csv", "w.csv", "--replace"]) == 0
+    assert (here / "w.csv").read_text().startswith("time_s")
 
 
 def test_run_refuses_a_non_empty_folder_without_force(here, capsys):

@@ -129,7 +129,8 @@ def test_levels_command_options_are_its_records(parser):
 
     sub = _subparser(parser, ("levels",))
     options = {o for a in sub._actions for o in a.option_strings if o.startswith("--")} - {"--help", "--max-memory",
-                                                                                           REPLACE.option}
+                                                                                           REPLACE.option,
+                                                                                           *REPLACE.aliases}
     assert options == {s.option for s in LEVELS_ALL}
     fields = {f.name for f in dataclasses.fields(LevelsSettings)}
     assert {s.name for s in LEVELS_ALL} <= fields

@@ -38,10 +38,11 @@ from .settings.table import Setting
 __all__ = ["FORMATS", "REPLACE", "suffixes", "replacing", "check_output_file", "check_output_dir",
            "check_input_file", "check_distinct"]
 
-#: The flag every command takes to replace existing output files (its record; ``--replace`` on ``forced``).
+#: The flag every command takes to replace existing output files: ``--force``, also spelled ``--replace``
+#: (the one spelling on ``forced``, whose ``--force`` is the force amplitude).
 REPLACE = Setting("replace", "--force", None, "bool", False,
                   "replace existing output files, those derived beside a named one included (without it an "
-                  "existing file is refused before any work)")
+                  "existing file is refused before any work)", aliases=("--replace",))
 
 #: ``(allowed, option)`` while a command runs: may an existing output be replaced, and the option allowing it.
 _REPLACING = contextvars.ContextVar("acoustiviz_replacing", default=(True, REPLACE.option))

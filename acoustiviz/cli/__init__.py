@@ -7,8 +7,8 @@ answers at once. Any :class:`acoustiviz._validate.ParameterError` raised while a
 subcommand runs becomes a one-line message on stderr and exit status 2; so does a file that
 cannot be written or read (an :class:`OSError`, named by its file) and memory running out.
 
-Every command takes ``--force`` (``--replace`` on ``forced``, whose ``--force`` is the force
-amplitude): without it an existing output file, named or derived, is refused before any work
+Every command takes ``--force``, also spelled ``--replace`` (the one spelling on ``forced``, whose
+``--force`` is the force amplitude): without it an existing output file, named or derived, is refused before any work
 (:mod:`acoustiviz.app.outputs`).
 
 Every command takes ``--max-memory MB``: it estimates the memory and the output size of its work
@@ -57,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=f"Every command estimates its memory and output size before starting and refuses work over "
                f"{MAX_MEMORY_MB:g} MB (change the cap with --max-memory MB). Bad input: one line naming the "
                "option, exit status 2. An existing output file, or one written beside it, is replaced only with "
-               "--force (--replace on forced).",
+               "--force or --replace (only --replace on forced, whose --force is the force amplitude).",
     )
     from .. import __version__
 
@@ -75,9 +75,11 @@ def build_parser() -> argparse.ArgumentParser:
     from ..app.settings.table import add_option
 
     for leaf in _leaf_parsers(sub):
-        flag = REPLACE.option if REPLACE.option not in leaf._option_string_actions else "--replace"
-        add_option(leaf, dataclasses.replace(REPLACE, option=flag), dest=REPLACE.name)
-        leaf.set_defaults(replace_option=flag)
+        # --force and --replace on every command; --replace alone where --force is an amplitude
+        record = REPLACE if REPLACE.option not in leaf._option_string_actions else \
+            dataclasses.replace(REPLACE, option=REPLACE.aliases[0], aliases=())
+        add_option(leaf, record, dest=REPLACE.name)
+        leaf.set_defaults(replace_option=record.option)
         leaf.add_argument("--max-memory", type=float, default=None, metavar="MB",
                           help=f"refuse work whose estimated memory or output size exceeds MB megabytes "
                                f"(default {MAX_MEMORY_MB:g})")

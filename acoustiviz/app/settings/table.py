@@ -53,6 +53,8 @@ class Setting:
         The scene table holding ``key`` (``"outputs.level_map"``, ``"grids.plane"``).
     metavar : str, optional
         How ``--help`` shows the option's value (default: ``M`` for lengths, ``N`` otherwise).
+    aliases : tuple of str
+        Further command-line spellings of the option (``--replace`` beside ``--force``).
     """
 
     name: str
@@ -69,6 +71,7 @@ class Setting:
     scene_default: object = SAME
     table: str = ""
     metavar: str | None = None
+    aliases: tuple = ()
 
     @property
     def path(self) -> str | None:
@@ -131,7 +134,7 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
         Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``).
     """
     if s.kind == "bool":  # a flag
-        group.add_argument(s.option, action="store_true", default=s.default if default == SAME else default,
+        group.add_argument(s.option, *s.aliases, action="store_true", default=s.default if default == SAME else default,
                            help=s.doc.replace("%", "%%"), **kw)
         return
     bounded = s.kind != "str" and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
@@ -142,8 +145,9 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
     metavar = metavar or s.metavar
     if metavar is None and not choices:
         metavar = "M" if s.unit == "m" else "N"
-    group.add_argument(s.option, type=_TYPES[s.kind], default=value, choices=choices or None, metavar=metavar,
-                       help=f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s"), **kw)
+    text = f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s")
+    group.add_argument(s.option, *s.aliases, type=_TYPES[s.kind], default=value, choices=choices or None,
+                       metavar=metavar, help=text, **kw)
 
 
 def by_name(settings) -> dict:
