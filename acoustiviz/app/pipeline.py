@@ -136,7 +136,8 @@ def waveform_settings(scene, out=None):
     room = getattr(setup.configuration, "image_order", None) is not None
     files = {} if out is None else {k: str(Path(out) / f"waveform_{PLACEHOLDER}.{k}") for k in ("csv", "png")}
     names = {"csv": "outputs.waveform", "png": "outputs.waveform", "listeners": "listeners",
-             "pulses": "outputs.waveform.pulses", "max_memory_mb": "grids.memory_limit_mb"}
+             "pulses": "outputs.waveform.pulses", "max_memory_mb": "grids.memory_limit_mb",
+             "memory_limit": "grids.memory_limit_mb"}
     return WaveformJob(setup.impact, tuple(scene.pulse(kind=k) for k in kinds), setup.medium, setup.configuration,
                        tuple(Listener(n, p) for n, p in scene.listeners()),
                        max_memory_mb=scene.section("grids")["memory_limit_mb"],

@@ -47,8 +47,11 @@ def _view(kind: str, ending: str):
 
 
 def _waveform(scene, name: str) -> list:
-    """A listener's table, in a room its JSON sidecar, and its figure."""
-    room = [(f"waveform_{name}.json", "json")] if scene.section("configuration")["kind"] == "room" else []
+    """A listener's table, in a room (an enclosed geometry) its JSON sidecar, and its figure."""
+    from ..core.geometry import geometry_class
+
+    enclosed = geometry_class(scene.section("configuration")["kind"]).enclosed
+    room = [(f"waveform_{name}.json", "json")] if enclosed else []
     return [(f"waveform_{name}.csv", "csv"), *room, (f"waveform_{name}.png", "figure")]
 
 

@@ -159,11 +159,17 @@ def run(settings: WaveformJob) -> WaveformResult:
     -------
     WaveformResult
     """
+    from .names import user_terms
+
+    with user_terms(settings.names):  # an error of the physics (its memory cap) in the front end's words
+        return _run(settings)
+
+
+def _run(s: WaveformJob) -> WaveformResult:
     from ..field import time_series
     from .budget import memory_cap
     from .views import waveform_times
 
-    s = settings
     conf, medium, pulses = s.configuration, s.medium, list(s.pulses)
     cap = memory_cap(s.max_memory_mb)  # the cap its estimate was checked against
     times, pressures, highs, lows = [], [], [], []

@@ -49,7 +49,7 @@ def settings_from_args(args):
         point = setup.configuration.in_room("--listener", listener[None, :])[0]
     else:
         point = observer_point(setup, args.distance, args.angle)
-    names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory",
+    names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory",
              "listeners": "--listener" if listener is not None else "--distance"}
     return WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,
                        (Listener(LISTENER_NAME, point),), samples_per_duration=args.samples_per_duration,
