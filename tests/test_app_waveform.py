@@ -104,6 +104,8 @@ def test_several_listeners_need_the_placeholder_in_each_file_name(tmp_path):
     with pytest.raises(ParameterError, match=r"^--csv: .*\{listener\}"):
         _plane_job(csv=str(tmp_path / "w.csv"), names={"csv": "--csv"})
     job = _plane_job(csv=str(tmp_path / "w_{listener}.csv"))
+    assert _plane_job(listeners=[(lst.name, np.array(lst.position)) for lst in job.listeners]) \
+        == dataclasses.replace(job, csv=None)  # (name, position) pairs are listeners too
     assert [job.files(lst)["csv"] for lst in job.listeners] == [str(tmp_path / "w_a.csv"), str(tmp_path / "w_b.csv")]
 
 

@@ -69,7 +69,7 @@ class WaveformJob(Settings):
     configuration : acoustiviz.core.geometry.Geometry
         The sphere and its image sources (in a room, its window in s is the waveform's).
     listeners : tuple of Listener
-        Where the pressure is computed (m), each in the fluid.
+        Where the pressure is computed (m), each in the fluid (``(name, position)`` pairs are taken too).
     samples_per_duration : int
         Time samples per contact duration of the shortest pulse.
     max_memory_mb : float, optional
@@ -133,7 +133,8 @@ class WaveformJob(Settings):
     def validate(self) -> None:
         """The pulses, the listeners in the fluid, the memory budget and the files, in that order."""
         object.__setattr__(self, "pulses", tuple(self.pulses))
-        object.__setattr__(self, "listeners", tuple(self.listeners))
+        object.__setattr__(self, "listeners", tuple(lst if isinstance(lst, Listener) else Listener(*lst)
+                                                    for lst in self.listeners))  # or (name, position) pairs
         if not self.pulses:
             raise ParameterError("pulses", "expected at least one pulse")
         if not self.listeners:
