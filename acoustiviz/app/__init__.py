@@ -8,7 +8,8 @@ default or a file format.
   defaults and units from which the options and the scene keys are built;
 * :mod:`.names` -- errors in the user's words: API parameter names mapped to options or scene keys;
 * :mod:`.columns` -- the waveform and directivity tables and the peaks a waveform reports;
-* :mod:`.waveform` -- the waveform of one impact at one observer and its files;
+* :mod:`.waveform` -- the waveform job: :class:`~.waveform.WaveformJob` (its settings), :func:`~.waveform.run`
+  and :class:`~.waveform.WaveformResult` with its files (``docs/guide/layout.md``: the pattern);
 * :mod:`.directivity` -- the levels of one impact against angle on a circle, printed and written;
 * :mod:`.render` -- the 3-D views' memory estimate and files;
 * :mod:`.impacts` -- sphere, contact, pulse, medium, configuration and observers of one impact;

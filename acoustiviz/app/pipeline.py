@@ -122,44 +122,50 @@ class RunContext:
 
 
 # --------------------------------------------------------------------------- producers
-def produce_waveform(ctx: RunContext):
-    """Pressure waveform at each listener for each requested pulse (CSV + PNG)."""
-    from ..field import time_series
-    from ..field.metrics import spl_db
-    from ..output.plot.style import style
-    from ..output.plot.waveform import plot_waveform
-    from .budget import memory_cap
-    from .columns import waveform_extremes, write_waveform_csv
-    from .views import waveform_times
+def waveform_settings(scene, out=None):
+    """The scene's ``[outputs.waveform]`` as a :class:`~acoustiviz.app.settings.waveform.WaveformJob`.
 
-    opts = ctx.scene.output("waveform")
-    kinds = opts["pulses"] or [ctx.scene.section("contact")["pulse"]]
-    conf, medium = ctx.configuration, ctx.medium
-    pulses = {k: ctx.pulse(k) for k in kinds}
-    cap = memory_cap(ctx.scene.section("grids")["memory_limit_mb"])  # the cap its estimate was checked against
+    Every listener and every pulse of ``outputs.waveform.pulses`` (default ``contact.pulse``), the
+    files ``waveform_NAME.csv`` and ``.png`` in folder ``out`` (None: no files, the checks of the
+    scene's settings alone, made before the run folder exists); errors name scene keys.
+    """
+    from .settings.waveform import PLACEHOLDER, Listener, WaveformJob
+
+    kinds = scene.output("waveform")["pulses"] or [scene.section("contact")["pulse"]]
+    setup = scene.setup()
+    room = getattr(setup.configuration, "image_order", None) is not None
+    files = {} if out is None else {k: str(Path(out) / f"waveform_{PLACEHOLDER}.{k}") for k in ("csv", "png")}
+    names = {"csv": "outputs.waveform", "png": "outputs.waveform", "listeners": "listeners",
+             "pulses": "outputs.waveform.pulses", "max_memory_mb": "grids.memory_limit_mb",
+             "memory_limit": "grids.memory_limit_mb"}
+    return WaveformJob(setup.impact, tuple(scene.pulse(kind=k) for k in kinds), setup.medium, setup.configuration,
+                       tuple(Listener(n, p) for n, p in scene.listeners()),
+                       max_memory_mb=scene.section("grids")["memory_limit_mb"],
+                       k_hertz_source=setup.k_hertz_source, names=names,
+                       size_options=("configuration.window_s",) if room else ("listeners",), **files)
+
+
+def produce_waveform(ctx: RunContext):
+    """Pressure waveform at each listener for each requested pulse: :func:`acoustiviz.app.waveform.run`."""
+    from .waveform import run
+
+    settings = waveform_settings(ctx.scene, ctx.out)
+    for lst in settings.listeners:  # only the files checked before the run
+        for path in settings.files(lst).values():
+            ctx.path(Path(path).name)
+    result = run(settings)
+    result.write()
     products = []
-    for name, pos in ctx.listeners:
-        # a room's window (its reverberation outlasts any span), else the whole sound
-        t = waveform_times(list(pulses.values()), pos, conf, medium, window=getattr(conf, "duration", None))
-        series = {k: time_series(p, t, pos[None, :], conf, medium=medium, memory_limit=cap)[0]
-                  for k, p in pulses.items()}
-        header = ["pressure_pa"] if len(kinds) == 1 else [f"pressure_{k}_pa" for k in kinds]
-        csv = write_waveform_csv(ctx.path(f"waveform_{name}.csv"), t, list(series.values()), header)
-        with style():
-            fig = _fig()
-            ax = fig.add_subplot()
-            for k, p in series.items():
-                plot_waveform(t, p, ax=ax, label=f"{k}: max {p.max():.3g} Pa, min {p.min():.3g} Pa")
-            ax.set_title(f"listener {name!r}, {conf.name}, U0 = {ctx.scene.impact().velocity:g} m/s")
-            ax.legend(fontsize=8)
-            png = _save(fig, ctx.path(f"waveform_{name}.png"))
-        pmax, pmin = waveform_extremes(pulses[kinds[0]], series[kinds[0]], pos, conf, medium, memory_limit=cap)
-        figs = {"pulse": kinds[0], "max_pa": f"{pmax:.4g}", "min_pa": f"{pmin:.4g}",
-                "peak_spl_db": f"{spl_db(max(pmax, -pmin)):.1f}"}
-        if hasattr(conf, "image_order"):  # a room: its image model
-            figs.update(image_order=str(conf.image_order), images=str(conf.image_count),
-                        neglected_energy_db=f"{conf.neglected_energy_db:.1f}")
-        products += [Product("waveform", csv, figs), Product("waveform", png, {})]
+    for i, lst in enumerate(settings.listeners):
+        high, low = result.peak_positive[i], result.peak_negative[i]
+        figs = {"pulse": settings.pulses[0].kind, "max_pa": f"{high:.4g}", "min_pa": f"{low:.4g}",
+                "peak_spl_db": f"{result.peak_spl_db[i]:.1f}"}
+        if result.images:  # a room: its image model
+            figs.update(image_order=str(result.images["image_order"]), images=str(result.images["images"]),
+                        neglected_energy_db=f"{result.images['neglected_energy_db']:.1f}")
+        files = settings.files(lst)
+        products += [Product("waveform", Path(files[k]), figs if k == "csv" else {}) for k in ("csv", "json", "png")
+                     if k in files]
     return products
 
 
@@ -420,6 +426,7 @@ PRODUCERS = {
 # --------------------------------------------------------------------------- the run
 #: Output kind -> the settings object its producer builds, built before any output is computed.
 _SETTINGS = {
+    "waveform": waveform_settings,
     "sweep": sweep_spec,
     "design_table": sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),

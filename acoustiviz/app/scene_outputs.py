@@ -46,6 +46,15 @@ def _view(kind: str, ending: str):
     return files
 
 
+def _waveform(scene, name: str) -> list:
+    """A listener's table, in a room (an enclosed geometry) its JSON sidecar, and its figure."""
+    from ..core.geometry import geometry_class
+
+    enclosed = geometry_class(scene.section("configuration")["kind"]).enclosed
+    room = [(f"waveform_{name}.json", "json")] if enclosed else []
+    return [(f"waveform_{name}.csv", "csv"), *room, (f"waveform_{name}.png", "figure")]
+
+
 def _pair(stem: str):
     def files(scene, names):
         return [(f"{stem}.csv", "csv"), (f"{stem}.png", "figure")]
@@ -56,7 +65,7 @@ def _pair(stem: str):
 #: Output kind -> ``files(scene, listener names)``: ``[(file name, format)]`` written in the run folder
 #: (format ``"folder"``: a folder of its own).
 _FILES = {
-    "waveform": lambda scene, names: [f for n in names for f in _pair(f"waveform_{n}")(scene, names)],
+    "waveform": lambda scene, names: [f for n in names for f in _waveform(scene, n)],
     "directivity": _pair("directivity"),
     "level_map": lambda scene, names: _pair("level_map")(scene, names)
     + (_vtk("level_map") if scene.output("level_map")["vtk"] else []),

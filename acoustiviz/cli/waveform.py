@@ -1,14 +1,22 @@
-"""``acoustiviz waveform``: the pressure waveform of one impact at one observer."""
+"""``acoustiviz waveform``: the pressure waveform of one impact at one observer.
+
+argv -> :class:`~acoustiviz.app.settings.waveform.WaveformJob` (:func:`settings_from_args`) ->
+:func:`acoustiviz.app.waveform.run` -> :meth:`~acoustiviz.app.waveform.WaveformResult.write` -> the summary.
+"""
 
 from __future__ import annotations
 
 from ..app.settings.impact import WAVEFORM
 from ..app.settings.table import add_option
+from ..app.settings.waveform import LISTENER, WAVEFORM_OUTPUTS
 from ._impact import add_impact_options, add_observer_options, add_room_options
 
 #: What the number of samples grows with: an error about it names the first of these the user typed.
 _SIZE_OPTIONS = ("--samples-per-duration", "--distance", "--radius", "--velocity", "--k-hertz", "--density",
                  "--material", "--surface", "--c")
+
+#: The name of the command line's one listener.
+LISTENER_NAME = "listener"
 
 
 def add_parser(subparsers) -> None:
@@ -22,68 +30,44 @@ def add_parser(subparsers) -> None:
     add_impact_options(p)
     add_observer_options(p)
     add_room_options(p, duration=True)
-    p.add_argument("--listener", default=None, metavar="X,Y,Z",
-                   help="with --room: the observer's position in m, in the room outside the sphere "
-                        "(replaces --distance and --angle)")
-    add_option(p, WAVEFORM[0])
-    p.add_argument("--csv", default=None, metavar="PATH",
-                   help="write columns time_s,pressure_pa (with --room also PATH.json: the image order, the "
-                        "number of images and the neglected-energy bound)")
-    p.add_argument("--png", default=None, metavar="PATH", help="draw the waveform")
+    for s in (LISTENER, WAVEFORM[0], *WAVEFORM_OUTPUTS):
+        add_option(p, s)
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
-    """Compute, print a summary, and write the requested files."""
+def settings_from_args(args):
+    """The :class:`~acoustiviz.app.settings.waveform.WaveformJob` of the options; errors name the options."""
     from ..app.budget import given_first
-    from ..app.names import user_terms
-    from ..app.settings.impact import WaveformSettings
-    from ..app.waveform import waveform_at, write_waveform_outputs
+    from ..app.settings.waveform import Listener, WaveformJob
     from ._impact import impact_from_args, observer_point
 
-    names = {**WaveformSettings.cli_names(), "memory_limit": "--max-memory"}
-    with user_terms(names):
-        settings = WaveformSettings(args.samples_per_duration, args.duration)
-    _check_outputs(args)
+    WAVEFORM[0].check(args.samples_per_duration, WAVEFORM[0].option)
+    WAVEFORM[1].check(args.duration, WAVEFORM[1].option)
     listener = _room_listener(args)
     setup = impact_from_args(args)
     if listener is not None:
         point = setup.configuration.in_room("--listener", listener[None, :])[0]
     else:
         point = observer_point(setup, args.distance, args.angle)
-    with user_terms(names):
-        wf = waveform_at(setup, point, settings, max_memory_mb=getattr(args, "max_memory", None),
-                         size_options=given_first(_SIZE_OPTIONS, args.given_options))
-    imp = setup.impact
-    print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
-          f"({setup.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, peak acceleration "
-          f"{imp.peak_acceleration:.4g} m/s^2, pulse {setup.pulse.kind}")
-    _print_observer(args, setup, point)
-    how = "largest samples in the window" if listener is not None else "peaks of the continuous waveform"
-    print(f"pressure: max {wf.peak_positive:.10g} Pa, min {wf.peak_negative:.10g} Pa ({how}), peak SPL "
-          f"{wf.peak_spl_db:.1f} dB re 20 uPa")
-    title = (f"r = {args.distance:g} m, θ = {args.angle:g}°, a = {setup.radius * 1e3:g} mm, "
-             f"U0 = {imp.velocity:g} m/s")
-    for path in write_waveform_outputs(setup, point, wf, settings, csv=args.csv, png=args.png, title=title):
+    names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory",
+             "listeners": "--listener" if listener is not None else "--distance"}
+    return WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,
+                       (Listener(LISTENER_NAME, point),), samples_per_duration=args.samples_per_duration,
+                       max_memory_mb=getattr(args, "max_memory", None), csv=args.csv, png=args.png,
+                       k_hertz_source=setup.k_hertz_source, size_options=given_first(_SIZE_OPTIONS, args.given_options),
+                       names=names)
+
+
+def run(args) -> int:
+    """Compute, print a summary, and write the requested files."""
+    from ..app.waveform import run as run_job
+
+    settings = settings_from_args(args)
+    result = run_job(settings)
+    _print_summary(args, result)
+    for path in result.write():
         print(f"wrote {path}")
     return 0
-
-
-def _check_outputs(args) -> None:
-    """The files asked for: each writable, none twice (a room's table has its JSON sidecar beside it)."""
-    from pathlib import Path
-
-    from ..app.outputs import check_distinct, check_output_file
-
-    if args.csv is not None:
-        check_output_file("--csv", args.csv, "csv")
-    if args.png is not None:
-        check_output_file("--png", args.png, "figure")
-    check_distinct({"--csv": args.csv, "--png": args.png})
-    if args.room is not None and args.csv is not None:
-        side = str(Path(args.csv).with_suffix(".json"))
-        check_output_file("--csv", side, "json")
-        check_distinct({"--csv": args.csv, "--csv (sidecar)": side, "--png": args.png})
 
 
 def _room_listener(args):
@@ -103,21 +87,29 @@ def _room_listener(args):
     return parse_point(args.listener)
 
 
-def _print_observer(args, setup, point) -> None:
-    """Where the observer is (and, in a room, the images that reach it)."""
+def _print_summary(args, result) -> None:
+    """The impact, where the observer is (in a room, the images that reach it) and the reported peaks."""
     import math
 
     import numpy as np
 
-    conf = setup.configuration
-    if args.room is None:
+    s = result.settings
+    imp, conf, pulse = s.impact, s.configuration, s.pulses[0]
+    point = np.asarray(s.listeners[0].position)
+    print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
+          f"({s.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, peak acceleration "
+          f"{imp.peak_acceleration:.4g} m/s^2, pulse {pulse.kind}")
+    if not s.in_room:
         print(f"observer: {args.distance:g} m at {args.angle:g} deg, configuration {conf.name}, "
               f"point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m")
-        return
-    print(f"observer: point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m, {conf.caption()}, "
-          f"{np.linalg.norm(point - conf.centre):.4g} m from the sphere's centre")
-    neg = conf.neglected_energy_db
-    print(f"images: image_order {conf.image_order}, images {conf.image_count}, neglected_energy_db {neg:.1f} "
-          f"(every image that can arrive within the {args.duration:g} s window"
-          + (")" if neg == -math.inf else f"; tolerance {conf.tolerance_db:g} dB)")
-          + (" [capped by the memory budget]" if conf.order_capped else ""))
+    else:
+        print(f"observer: point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m, {conf.caption()}, "
+              f"{np.linalg.norm(point - conf.centre):.4g} m from the sphere's centre")
+        neg = conf.neglected_energy_db
+        print(f"images: image_order {conf.image_order}, images {conf.image_count}, neglected_energy_db {neg:.1f} "
+              f"(every image that can arrive within the {s.window:g} s window"
+              + (")" if neg == -math.inf else f"; tolerance {conf.tolerance_db:g} dB)")
+              + (" [capped by the memory budget]" if conf.order_capped else ""))
+    how = "largest samples in the window" if s.in_room else "peaks of the continuous waveform"
+    print(f"pressure: max {result.peak_positive[0]:.10g} Pa, min {result.peak_negative[0]:.10g} Pa ({how}), "
+          f"peak SPL {result.peak_spl_db[0]:.1f} dB re 20 uPa")

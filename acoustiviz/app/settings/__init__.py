@@ -6,6 +6,7 @@
 ``base``     the :class:`Settings` base class that checks its fields against its table, and image sizes
 ``parse``    a point X,Y,Z and an image size WxH typed as text
 ``impact``   the options of one impact, its waveform and its directivity
+``waveform`` the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
 ``render``   the balloon, snapshot and animation views
 ``forced``   the damper in operation: continuation, solver, tolerances, level interval, the job
 ``design``   the target damping inclination and its tolerance
@@ -29,7 +30,8 @@ from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .sweep import SweepSettings
 from .table import SAME, Setting, add_option
+from .waveform import Listener, WaveformJob
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings"]
+           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob", "Listener"]

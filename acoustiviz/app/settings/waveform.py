@@ -1,0 +1,186 @@
+"""The settings of the waveform job: one impact, its surroundings, its listeners, its sampling and its files.
+
+:class:`WaveformJob` is the whole of what :func:`acoustiviz.app.waveform.run` needs, checked once when
+it is made (the table's ranges, the listeners in the fluid, the memory budget, the files to write), so
+``acoustiviz waveform``, a scene's ``[outputs.waveform]`` and a Python caller build the same object and
+hand it to the same run. The records of its command-line options (``--listener``, ``--csv``, ``--png``)
+live here beside :data:`~acoustiviz.app.settings.impact.WAVEFORM`'s sampling.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ...errors import ParameterError
+from .base import Settings
+from .impact import WAVEFORM
+from .table import Setting
+
+__all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "Listener", "WaveformJob"]
+
+#: In a file name of a job with several listeners: replaced by each listener's name.
+PLACEHOLDER = "{listener}"
+
+#: The observer of ``acoustiviz waveform`` in a room, typed as text.
+LISTENER = Setting("listener", "--listener", None, "str", None,
+                   "with --room: the observer's position in m, in the room outside the sphere "
+                   "(replaces --distance and --angle)", metavar="X,Y,Z")
+
+#: The files of the job (a scene names them itself: ``waveform_NAME.csv`` and ``.png`` in its folder).
+WAVEFORM_OUTPUTS = (
+    Setting("csv", "--csv", None, "str", None,
+            "write columns time_s,pressure_pa (with --room also PATH.json: the image order, the number of "
+            "images and the neglected-energy bound)", metavar="PATH"),
+    Setting("png", "--png", None, "str", None, "draw the waveform", metavar="PATH"),
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class Listener:
+    """A named listener.
+
+    Attributes
+    ----------
+    name : str
+        Its name (part of file names with several listeners).
+    position : tuple of 3 float
+        Its position in m.
+    """
+
+    name: str
+    position: tuple
+
+    def __post_init__(self):
+        object.__setattr__(self, "position", tuple(float(v) for v in self.position))
+
+
+@dataclasses.dataclass(frozen=True)
+class WaveformJob(Settings):
+    """The pressure waveform of one impact at one or more listeners, and the files wanted of it.
+
+    Attributes
+    ----------
+    impact : acoustiviz.core.contact.Impact
+        Speed (m/s), K_HZ (N/m^1.5) and masses (kg) of the impact.
+    pulses : tuple of pulse
+        The acceleration pulses compared (m/s² against s), the first one reported.
+    medium : acoustiviz.core.medium.Medium
+        The fluid.
+    configuration : acoustiviz.core.geometry.Geometry
+        The sphere and its image sources (in a room, its window in s is the waveform's).
+    listeners : tuple of Listener
+        Where the pressure is computed (m), each in the fluid (``(name, position)`` pairs are taken too).
+    samples_per_duration : int
+        Time samples per contact duration of the shortest pulse.
+    max_memory_mb : float, optional
+        Cap in MB on the working memory (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
+    csv, png : str, optional
+        The table (``time_s`` and a pressure column per pulse in Pa; in a room also its JSON sidecar
+        beside it) and the figure; relative to the folder :meth:`WaveformResult.write` is given.
+        With several listeners each must hold ``{listener}``, replaced by the listener's name.
+    k_hertz_source : str
+        Where K_HZ came from (reported; not compared).
+    size_options : tuple of str
+        The settings an error about the number of samples names, the first first (not compared).
+    names : dict
+        The front end's vocabulary: API parameter -> the option or scene key its errors name
+        (not compared; default: the API names).
+    """
+
+    TABLE = (WAVEFORM[0], *WAVEFORM_OUTPUTS)
+    impact: object
+    pulses: tuple
+    medium: object
+    configuration: object
+    listeners: tuple
+    samples_per_duration: int = WAVEFORM[0].default
+    max_memory_mb: float | None = None
+    csv: str | None = None
+    png: str | None = None
+    k_hertz_source: str = dataclasses.field(default="given", compare=False)
+    size_options: tuple = dataclasses.field(default=("samples_per_duration",), compare=False, repr=False)
+    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self):
+        from ..names import user_terms
+
+        with user_terms(self.names):  # the table's ranges and every check of validate, in the user's words
+            super().__post_init__()
+
+    @property
+    def window(self) -> float | None:
+        """In a room, the window in s from the start of contact the waveform covers; None elsewhere."""
+        return getattr(self.configuration, "duration", None)
+
+    @property
+    def in_room(self) -> bool:
+        """True when the configuration is a room (its peaks are the largest samples of the window)."""
+        return getattr(self.configuration, "image_order", None) is not None
+
+    def files(self, listener: Listener) -> dict:
+        """``{"csv": path, "json": path, "png": path}`` of one listener, those asked for (paths as strings)."""
+        out = {}
+        for key in ("csv", "png"):
+            name = getattr(self, key)
+            if name is not None:
+                out[key] = name.replace(PLACEHOLDER, listener.name)
+        if self.in_room and "csv" in out:
+            from pathlib import Path
+
+            out["json"] = str(Path(out["csv"]).with_suffix(".json"))
+        return out
+
+    def validate(self) -> None:
+        """The pulses, the listeners in the fluid, the memory budget and the files, in that order."""
+        object.__setattr__(self, "pulses", tuple(self.pulses))
+        object.__setattr__(self, "listeners", tuple(lst if isinstance(lst, Listener) else Listener(*lst)
+                                                    for lst in self.listeners))  # or (name, position) pairs
+        if not self.pulses:
+            raise ParameterError("pulses", "expected at least one pulse")
+        if not self.listeners:
+            raise ParameterError("listeners", "expected at least one listener")
+        names = [lst.name for lst in self.listeners]
+        if len(set(names)) != len(names):
+            raise ParameterError("listeners", f"listener names must differ, got {names}")
+        self._check_listeners()
+        self._check_budget()
+        self._check_files()
+
+    def _check_listeners(self) -> None:
+        import numpy as np
+
+        conf = self.configuration
+        for lst in self.listeners:
+            p = np.asarray(lst.position, dtype=float)
+            if not np.all(np.isfinite(p)) or np.linalg.norm(p - conf.centre) <= conf.radius \
+                    or not bool(conf.in_fluid(p[None, :])[0]):
+                raise ParameterError("listeners", f"listener {lst.name!r} at {lst.position} m is not in the fluid "
+                                                  "(inside the sphere, a wall or below the floor)")
+
+    def _check_budget(self) -> None:
+        import numpy as np
+
+        from ..budget import check_budget, check_room_order, waveform_estimate
+
+        check_room_order(self.configuration, self.max_memory_mb)  # a room that leaves out more than its tolerance
+        for lst in self.listeners:
+            check_budget(waveform_estimate(list(self.pulses), np.asarray(lst.position), self.configuration,
+                                           self.medium, self.samples_per_duration, options=self.size_options,
+                                           window=self.window), self.max_memory_mb)
+
+    def _check_files(self) -> None:
+        from ..outputs import check_distinct, check_output_file
+
+        several = len(self.listeners) > 1
+        for key in ("csv", "png"):
+            name = getattr(self, key)
+            if several and name is not None and PLACEHOLDER not in name:
+                raise ParameterError(key, f"with several listeners the file name must hold {PLACEHOLDER}, "
+                                          f"got {name!r}")
+        paths = {}
+        for lst in self.listeners:
+            for kind, path in self.files(lst).items():
+                key = "csv" if kind == "json" else kind
+                check_output_file(key, path, "figure" if kind == "png" else kind)
+                paths[f"{self.names.get(key, key)} ({lst.name}, {kind})"] = path
+        check_distinct(paths)
