@@ -27,7 +27,7 @@ from numba import njit
 
 from ._flight import record_extremum
 from ._njit import helper, kernel
-from ._records import Advanced, DenseOutput, NmBooks, Turns, as_params
+from ._records import DenseOutput, NmBooks, Turns, as_params
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 #: One end of a Newmark step: displacements ``x, y`` (m), velocities ``v, w`` (m/s), accelerations
@@ -240,8 +240,8 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
 
     Returns
     -------
-    Advanced
-        ``n`` the next free impact row, ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or
+    tuple
+        ``(n, status, t, ie)``: ``n`` the next free impact row, ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or
         ``STATUS_DIVERGED``), ``t`` the time reached (s; ``st`` holds the state there) and ``ie``
         the next output time due (``dense.ie``, or 0 without dense output).
     """
@@ -310,7 +310,7 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
     acc[2] = en
     acc[3] = xmax
     acc[4] = xmin
-    return Advanced(n, status, t, ie)
+    return n, status, t, ie
 
 
 @kernel
@@ -345,8 +345,7 @@ def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ex
     books = NmBooks(impacts, max_impacts, acc, False)
     out = None if t_eval is None else DenseOutput(t_eval, 0, dense)
     turns = None if ext is None else Turns(ext, n_ext)
-    r = newmark_advance(prm, None, st, 0.0, h, nsteps, n, books, out, turns)
-    n, status, t = r.n, r.status, r.t
+    n, status, t, _ = newmark_advance(prm, None, st, 0.0, h, nsteps, n, books, out, turns)
     delta = 0.0
     if st[4] > 0.5:
         impacts[n - 1, 4] = t - impacts[n - 1, 0]
