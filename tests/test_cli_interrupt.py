@@ -1,13 +1,16 @@
 """Ctrl-C on long commands: exit status 130 with one line, promptly, finished outputs kept, never a crash.
 
-Each command runs in a subprocess (``python -m acoustiviz``) from a fresh folder. SIGINT is sent
-once the command has shown it is working (a line on stderr matching a marker), never after a fixed
+Each command runs in a subprocess (``python -m acoustiviz``) from a fresh folder, in a process group
+of its own; SIGINT goes to that whole group, as Ctrl-C at a terminal does (worker processes
+included). It is sent once the command has shown it is working (a line on stderr matching a marker), never after a fixed
 sleep; the time-outs are hang detectors only. The time from the signal to the exit is bounded
 generously (:data:`EXIT_WITHIN_S`) so that a loaded machine does not make a test fail.
 """
 
 from __future__ import annotations
 
+import contextlib
+import csv
 import os
 import re
 import signal
@@ -42,7 +45,7 @@ class Run:
     def __init__(self, argv, folder: Path):
         self.proc = subprocess.Popen([sys.executable, "-m", "acoustiviz", *argv], cwd=folder, env=_env(),
                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                     text=True)
+                                     text=True, start_new_session=True)
         self.lines: list[str] = []
         self._cond = threading.Condition()
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -72,7 +75,7 @@ class Run:
     def interrupt(self, timeout: float = 120.0) -> float:
         """Send SIGINT; return the seconds until the process exited (killed and failed if it hangs)."""
         t0 = time.monotonic()
-        self.proc.send_signal(signal.SIGINT)
+        os.killpg(self.proc.pid, signal.SIGINT)
         try:
             self.proc.wait(timeout)
         except subprocess.TimeoutExpired:
@@ -82,8 +85,18 @@ class Run:
         self._reader.join(30)
         return elapsed
 
+    def wait_until(self, ready, what: str, timeout: float = READY_WITHIN_S) -> None:
+        """Poll ``ready()`` (a file written, ...) until it is true; a hang detector bounds the wait."""
+        deadline = time.monotonic() + timeout
+        while not ready():
+            if self.proc.poll() is not None or time.monotonic() > deadline:
+                self.kill()
+                pytest.fail(f"never {what}: {self.stderr()}")
+            time.sleep(0.05)
+
     def kill(self):
-        self.proc.kill()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.proc.pid, signal.SIGKILL)
         self.proc.wait()
 
     def stderr(self) -> str:
@@ -172,3 +185,43 @@ def test_keyboard_interrupt_is_one_line_and_130(capsys, monkeypatch):
     assert main(["waveform"]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and INTERRUPTED.match(err[0]), err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("freq, marker", [("3:7:40", r"^forced: .*\(\d+/40\)"),
+                                          ("5.3:5.9:8", r"^forced: .*\(7/8\)"),
+                                          ("5.3:5.9:8", r"^forced: 8 frequencies"),
+                                          ("5.3:5.9:8", r"^forced: continuation round 1")],
+                         ids=["first frequencies", "last frequencies", "first round done", "continuation"])
+def test_forced_with_workers_cancels_them_and_exits(tmp_path, freq, marker):
+    """The workers ignore the Ctrl-C the terminal sends them too (a worker waiting for a task would
+    die of it and break the pool under cancelled tasks: InvalidStateError and a hang); the parent
+    cancels what is pending, stops them and exits, at any stage of the continuation."""
+    argv = ["forced", "--force", "5", "--freq", freq, "--workers", "2", "--csv", "o.csv", "--png", "o.png"]
+    run = interrupt_after(argv, tmp_path, marker)
+    assert not (tmp_path / "o.csv").exists() and not (tmp_path / "o.png").exists()
+    with pytest.raises(ProcessLookupError):  # the whole group is gone: the workers were stopped
+        os.killpg(run.proc.pid, 0)
+
+
+def _rows(path: Path) -> list[dict]:
+    if not path.is_file():
+        return []
+    with path.open(newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("attempt", range(2))
+def test_sweep_with_workers_keeps_finished_rows(tmp_path, attempt):
+    """Ctrl-C once a design is journalled: exit 130, the rows written stay, each one whole."""
+    table = tmp_path / "s" / "sweep.csv"
+    run = Run(["sweep", "--out", "s", "--gap", "0.01:0.05:60", "--workers", "2"], tmp_path)
+    run.wait_until(lambda: len(_rows(table)) >= 1, "wrote a row")
+    assert_interrupted(run, run.interrupt())
+    rows = _rows(table)
+    assert 1 <= len(rows) < 60
+    assert all(r["design_id"] not in ("", None) and None not in r.values() for r in rows)
+    assert "sweep: stopped;" in run.stderr()
+    with pytest.raises(ProcessLookupError):
+        os.killpg(run.proc.pid, 0)

@@ -178,11 +178,21 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             finally:
                 close()
         elif int(workers) > 1:
-            from concurrent.futures import ProcessPoolExecutor
+            from ..sweep.execute import local_pool, shutdown_now
 
-            with ProcessPoolExecutor(max_workers=min(int(workers), len(frequencies))) as ex:
+            # workers that leave Ctrl-C to this process: on an interrupt the pending frequencies are
+            # cancelled and the workers stopped at once
+            ex = local_pool(min(int(workers), len(frequencies)))
+            finished = False
+            try:
                 resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
                                           progress=progress, **kwargs)
+                finished = True
+            finally:
+                if finished:
+                    ex.shutdown(wait=True)
+                else:
+                    shutdown_now(ex)
         else:
             resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, progress=progress,
                                       **kwargs)

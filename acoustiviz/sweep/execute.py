@@ -26,15 +26,16 @@ from .progress import Progress
 from .spec import Settings, SweepSpec
 from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
 
-__all__ = ["run_sweep", "make_executor"]
+__all__ = ["run_sweep", "make_executor", "dask_executor", "local_pool", "shutdown_now"]
 
 
-def _worker_init(settings: Settings) -> None:
-    """Process-pool initializer: leave Ctrl-C to the parent and load the compiled kernels once."""
+def _worker_init(initializer, initargs) -> None:
+    """Process-pool initializer: leave Ctrl-C to the parent, then run ``initializer(*initargs)``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-    warm_up(settings)
+    if initializer is not None:
+        initializer(*initargs)
 
 
 @contextlib.contextmanager
@@ -72,12 +73,57 @@ def _interruptible():
             signal.signal(signal.SIGINT, old)
 
 
-def _shutdown_now(ex: Executor) -> None:
-    """Shut ``ex`` down without waiting, cancelling what has not started."""
+def local_pool(n: int, initializer=None, initargs=()):
+    """A local process pool of ``n`` workers that leave Ctrl-C to the parent.
+
+    The workers ignore SIGINT (it is held pending while they are forked, then set to ignored
+    before ``initializer(*initargs)`` runs), so a Ctrl-C at the terminal, which reaches every
+    process of the foreground group, stops the parent alone; :func:`shutdown_now` then stops
+    the workers. The workers are forked at once, not at the first submission.
+    """
+    from concurrent.futures import ProcessPoolExecutor
+
+    ex = ProcessPoolExecutor(max_workers=int(n), initializer=_worker_init, initargs=(initializer, initargs))
+    with _sigint_blocked():  # the first submission forks the workers (every one of them with "fork")
+        ex.submit(int)
+    return ex
+
+
+#: Seconds :func:`shutdown_now` lets a process pool's manager thread drop the cancelled tasks
+#: before the workers are stopped (it does so at once when woken; a hang detector only).
+_CANCEL_WAIT_S = 5.0
+
+
+def shutdown_now(ex: Executor) -> None:
+    """Shut ``ex`` down without waiting: cancel what has not started and stop a local pool's workers.
+
+    A process pool's running tasks are compiled code that a signal cannot stop, and the
+    interpreter's exit would wait for them: its worker processes are terminated, after its
+    manager thread has dropped the cancelled tasks (a pool broken with cancelled tasks still
+    pending fails them again, ``InvalidStateError``, and its manager thread dies without
+    cleaning up, which hangs the exit).
+    """
+    procs = list((getattr(ex, "_processes", None) or {}).values())
     try:
         ex.shutdown(wait=False, cancel_futures=True)
     except TypeError:  # executors without cancel_futures (e.g. Dask's ClientExecutor)
         ex.shutdown(wait=False)
+    if not procs:
+        return
+    import time
+
+    manager = getattr(ex, "_executor_manager_thread", None)
+    deadline = time.monotonic() + _CANCEL_WAIT_S
+    while (getattr(ex, "_cancel_pending_futures", False) and manager is not None and manager.is_alive()
+           and time.monotonic() < deadline):
+        time.sleep(0.005)
+    for p in procs:
+        with contextlib.suppress(OSError, ValueError):  # already gone
+            p.terminate()
+    for p in procs:
+        p.join(_CANCEL_WAIT_S)
+    if manager is not None:
+        manager.join(_CANCEL_WAIT_S)
 
 
 def make_executor(executor, workers, settings: Settings, n_tasks: int):
@@ -131,9 +177,8 @@ def dask_executor(url: str):
 
 
 def _local_pool(n: int, settings: Settings):
-    from concurrent.futures import ProcessPoolExecutor
-
-    return ProcessPoolExecutor(max_workers=n, initializer=_worker_init, initargs=(settings,))
+    """A local pool whose workers load the compiled kernels of ``settings`` once."""
+    return local_pool(n, warm_up, (settings,))
 
 
 def _is_broken_pool(exc: BaseException) -> bool:
@@ -198,7 +243,7 @@ class _Runner:
                         else:
                             yield res
                     running.clear()
-                    _shutdown_now(self.ex)
+                    shutdown_now(self.ex)
                     yield from self._isolate(sorted(suspects, key=lambda d: d.design_id))
                     self.ex = _local_pool(self.n, self.settings)
         finally:
@@ -233,13 +278,13 @@ class _Runner:
                     res = self._failed(d, exc)
                 yield res
             finally:
-                _shutdown_now(ex)
+                shutdown_now(ex)
 
     def close(self, *, interrupted: bool) -> None:
         """Shut down what this runner owns (at once when interrupted)."""
         if self.kind != "given":
             if interrupted:
-                _shutdown_now(self.ex)
+                shutdown_now(self.ex)
             else:
                 self.ex.shutdown(wait=True)
         if self.cleanup is not None:
