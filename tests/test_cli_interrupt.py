@@ -225,3 +225,41 @@ def test_sweep_with_workers_keeps_finished_rows(tmp_path, attempt):
     assert "sweep: stopped;" in run.stderr()
     with pytest.raises(ProcessLookupError):
         os.killpg(run.proc.pid, 0)
+
+
+# ------------------------------------------------------------------ executor addresses
+BAD_EXECUTORS = ["dask://host:abc", "dask://:", "dask://[::1:8786", "dask://host:0", "dask://host:65536",
+                 "dask://host", "dask://", "dask:/host:8786", "dask://a b:8786"]
+
+
+@pytest.fixture
+def here(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def _one_line_naming_executor(rc, err):
+    lines = err.strip().splitlines()
+    assert rc == 2 and len(lines) == 1 and "Traceback" not in err, err
+    assert ": error: --executor" in lines[0] and "dask://HOST:PORT" in lines[0], err
+
+
+@pytest.mark.parametrize("address", BAD_EXECUTORS)
+def test_malformed_dask_address_is_refused_before_any_file(here, capsys, address):
+    assert main(["sweep", "--out", "s", "--executor", address, "--quiet"]) == 2
+    _one_line_naming_executor(2, capsys.readouterr().err)
+    assert list(here.iterdir()) == []  # no sweep.json, no folder
+    assert main(["forced", "--force", "5", "--freq", "4", "--executor", address, "--csv", "o.csv"]) == 2
+    _one_line_naming_executor(2, capsys.readouterr().err)
+    assert list(here.iterdir()) == []
+
+
+@pytest.mark.parametrize("url, address", [("dask://localhost:8786", "tcp://localhost:8786"),
+                                          ("dask://10.1.2.3:1", "tcp://10.1.2.3:1"),
+                                          ("dask://[::1]:65535", "tcp://[::1]:65535"),
+                                          ("dask://tls://sched.example.org:8786", "tls://sched.example.org:8786")])
+def test_well_formed_dask_address_is_parsed_without_connecting(url, address):
+    from acoustiviz.sweep.execute import check_executor_form, dask_address
+
+    assert dask_address(url) == address
+    check_executor_form(url)

@@ -437,6 +437,7 @@ def _check_forced_outputs(job) -> None:
 
 def _checked_job(job) -> tuple:
     """Every check before any work: ``(frequencies in Hz, listener in m or None, room, damper model)``."""
+    from ..sweep.execute import check_executor_form
     from .budget import check_budget, forced_estimate
     from .damper import damper_model
     from .names import ROOM_OPTIONS, user_terms
@@ -450,6 +451,7 @@ def _checked_job(job) -> tuple:
         room = room_surroundings(job.room, listener, room_name="--room")
     with user_terms(FORCED_OPTIONS):
         model = damper_model(**job.model)
+        check_executor_form(job.executor)
     check_budget(forced_estimate(len(freqs) * st.starts, st.max_cycles,
                                  noise_seconds=st.noise_seconds if job.noise else 0.0,
                                  wav=job.wav is not None), job.max_memory)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import signal
 import threading
 from concurrent.futures import FIRST_COMPLETED, Executor, wait
@@ -26,7 +27,8 @@ from .progress import Progress
 from .spec import Settings, SweepSpec
 from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
 
-__all__ = ["run_sweep", "make_executor", "dask_executor", "local_pool", "shutdown_now"]
+__all__ = ["run_sweep", "make_executor", "check_executor_form", "dask_address", "dask_executor", "local_pool",
+           "shutdown_now", "DASK_FORM"]
 
 
 def _worker_init(initializer, initargs) -> None:
@@ -145,7 +147,45 @@ def make_executor(executor, workers, settings: Settings, n_tasks: int):
     if isinstance(executor, str) and executor.startswith("dask://"):
         ex, close = dask_executor(executor)
         return ex, "dask", close, None
-    raise ParameterError("executor", f"expected 'process', 'dask://HOST:PORT' or an Executor, got {executor!r}")
+    raise ParameterError("executor", f"expected 'process', {DASK_FORM} or an Executor, got {executor!r}")
+
+
+#: The form of a Dask scheduler's address, as error messages state it.
+DASK_FORM = "dask://HOST:PORT (PORT an integer in 1..65535; an IPv6 HOST in brackets, dask://[::1]:8786)"
+_DASK_ADDRESS = re.compile(r"(?:(?P<scheme>[a-z][a-z0-9+.-]*)://)?"
+                           r"(?P<host>\[[0-9A-Fa-f:.]*:[0-9A-Fa-f:.]*\]|[A-Za-z0-9_.-]+):(?P<port>[0-9]{1,5})")
+
+
+def dask_address(url) -> str:
+    """The scheduler address (``tcp://HOST:PORT``) of ``dask://HOST:PORT``, checked without connecting.
+
+    ``dask://SCHEME://HOST:PORT`` keeps its scheme (``tls``, ...). One home of the form of an
+    executor address, for the settings checks (before any file is written) and the connection.
+
+    Raises
+    ------
+    ParameterError
+        Named ``executor``, stating the allowed form, for anything else (a port that is not an
+        integer in 1..65535, a missing host, unbalanced IPv6 brackets, ...).
+    """
+    text = url if isinstance(url, str) else ""
+    m = _DASK_ADDRESS.fullmatch(text[len("dask://"):]) if text.startswith("dask://") else None
+    if m is None or not 1 <= int(m["port"]) <= 65535:
+        raise ParameterError("executor", f"expected {DASK_FORM}, got {url!r}")
+    return f"{m['scheme'] or 'tcp'}://{m['host']}:{int(m['port'])}"
+
+
+def check_executor_form(executor) -> None:
+    """Refuse, naming ``executor``, what is not None, ``"process"``, an Executor or ``dask://HOST:PORT``.
+
+    A Dask address is checked by :func:`dask_address`, without connecting.
+    """
+    if executor is None or executor == "process" or isinstance(executor, Executor):
+        return
+    if isinstance(executor, str) and executor.startswith("dask://"):
+        dask_address(executor)
+        return
+    raise ParameterError("executor", f"expected 'process' or {DASK_FORM}, got {executor!r}")
 
 
 def dask_executor(url: str):
@@ -156,22 +196,18 @@ def dask_executor(url: str):
     Raises
     ------
     ParameterError
-        Named ``executor``: a malformed address, the ``distributed`` extra missing, or a
-        scheduler that cannot be reached.
+        Named ``executor``: a malformed address (:func:`dask_address`), the ``distributed``
+        extra missing, or a scheduler that cannot be reached.
     """
-    if not isinstance(url, str) or not url.startswith("dask://"):
-        raise ParameterError("executor", f"expected dask://HOST:PORT, got {url!r}")
-    address = url[len("dask://"):]
-    if not address:
-        raise ParameterError("executor", "expected dask://HOST:PORT")
+    address = dask_address(url)
     try:
         from distributed import Client
     except ImportError:
         raise ParameterError(
             "executor", "dask:// needs the optional dependency: pip install 'acoustiviz[distributed]'") from None
     try:
-        client = Client(address if "://" in address else f"tcp://{address}", timeout=20)
-    except OSError as exc:
+        client = Client(address, timeout=20)
+    except (OSError, ValueError) as exc:
         raise ParameterError("executor", f"cannot reach the Dask scheduler at {address}: {exc}") from None
     return client.get_executor(), client.close
 
@@ -335,6 +371,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         raise ParameterError("spec", f"expected a SweepSpec, got {type(spec).__name__}")
     if workers is not None and (int(workers) != workers or workers < 1):
         raise ParameterError("workers", f"must be an integer >= 1, got {workers!r}")
+    check_executor_form(executor)  # before sweep.json is written
     out = Path(out_dir)
     prepare_dir(spec, out, overwrite)
     path = out / SWEEP_CSV
