@@ -20,6 +20,7 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from acoustiviz.cli import main
@@ -263,3 +264,48 @@ def test_well_formed_dask_address_is_parsed_without_connecting(url, address):
 
     assert dask_address(url) == address
     check_executor_form(url)
+
+
+# ------------------------------------------------------------------ long compiled runs in batches
+def _newmark_run(monkeypatch, chunk, initial=None):
+    import acoustiviz.dynamics._newmark as nm
+    from acoustiviz.dynamics import DamperModel, simulate
+
+    monkeypatch.setattr(nm, "NEWMARK_CHUNK_STEPS", chunk)
+    return simulate(DamperModel(), 1.0, solver="newmark", initial=initial, t_eval=np.linspace(0.0, 1.0, 501))
+
+
+def _newmark_arrays(r) -> dict:
+    imp, ext = r.impacts, r.extrema
+    out = {k: np.asarray(getattr(r, k)) for k in ("t", "x", "v", "y", "w", "dissipated_main", "dissipated_contact",
+                                                    "final_state")}
+    out.update({f"impacts.{k}": np.asarray(getattr(imp, k)) for k in ("time", "wall", "approach_velocity",
+                                                                       "separation_velocity", "duration",
+                                                                       "peak_force", "impulse", "energy_lost")})
+    out.update({f"extrema.{k}": np.asarray(v) for k, v in vars(ext).items() if isinstance(v, np.ndarray)})
+    out["t_end"] = np.asarray(r.t_end)
+    return out
+
+
+@pytest.mark.parametrize("moving_start", [False, True])
+def test_newmark_in_batches_is_one_run_bit_for_bit(monkeypatch, moving_start):
+    """The free-decay Newmark run is cut into batches of steps (so Ctrl-C is handled between them);
+    with a prime batch length, whose cuts fall inside contacts too, every array is the one of a
+    single call, bit for bit."""
+    from acoustiviz.dynamics import DamperModel, InitialState
+
+    gap = DamperModel().gap
+    initial = InitialState(x=0.001, v=1.0, y=0.001 + 0.49 * gap, w=-0.5) if moving_start else None
+    whole = _newmark_arrays(_newmark_run(monkeypatch, 1 << 40, initial))
+    cut = _newmark_arrays(_newmark_run(monkeypatch, 9973, initial))
+    assert whole["impacts.time"].size > 10
+    for key, ref in whole.items():
+        assert np.array_equal(cut[key], ref, equal_nan=True), key
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("attempt", range(2))
+def test_long_newmark_run_says_so_and_stops_at_ctrl_c(tmp_path, attempt):
+    interrupt_after(["damper", "--solver", "newmark", "--duration", "10000", "--impacts-csv", "i.csv"],
+                    tmp_path, r"^newmark: .* steps .* a long run")
+    assert not (tmp_path / "i.csv").exists()
