@@ -309,3 +309,25 @@ def test_long_newmark_run_says_so_and_stops_at_ctrl_c(tmp_path, attempt):
     interrupt_after(["damper", "--solver", "newmark", "--duration", "10000", "--impacts-csv", "i.csv"],
                     tmp_path, r"^newmark: .* steps .* a long run")
     assert not (tmp_path / "i.csv").exists()
+
+
+LONG_COMMANDS = {
+    "render balloon": (["render", "balloon", "--resolution", "512", "--metric", "lafmax", "--png", "b.png"],
+                       r"^balloon: .* a long computation"),
+    "map": (["map", "--resolution", "2000", "--csv", "m.csv", "--png", "m.png"], r"^map: .* a long computation"),
+    "auralize": (["auralize", "--solver", "newmark", "--duration", "1000", "--wav", "a.wav"],
+                 r"^newmark: .* a long run"),
+    "run": (["run", str(ROOT / "assets" / "scenes" / "default.toml"), "--out", "r"], r"^\[3/\d+\] "),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("attempt", range(2))
+@pytest.mark.parametrize("command", list(LONG_COMMANDS))
+def test_long_command_stops_at_ctrl_c(tmp_path, command, attempt):
+    argv, marker = LONG_COMMANDS[command]
+    interrupt_after(argv, tmp_path, marker)
+    for name in ("b.png", "m.csv", "m.png", "a.wav"):
+        assert not (tmp_path / name).exists(), name  # nothing half-written
+    if command == "run":  # the steps finished before the interrupt keep their files
+        assert {"waveform_paper.csv", "directivity.csv"} <= {p.name for p in (tmp_path / "r").iterdir()}
