@@ -331,3 +331,38 @@ def test_long_command_stops_at_ctrl_c(tmp_path, command, attempt):
         assert not (tmp_path / name).exists(), name  # nothing half-written
     if command == "run":  # the steps finished before the interrupt keep their files
         assert {"waveform_paper.csv", "directivity.csv"} <= {p.name for p in (tmp_path / "r").iterdir()}
+
+
+# ------------------------------------------------------------------ a long signal in a room
+def test_long_shell_convolution_is_the_direct_one(monkeypatch):
+    """The image orders' shell weights of a long signal: past the direct limit the far orders are
+    convolved by FFT, the orders that may be chosen exactly; both match the direct convolution."""
+    import acoustiviz.core.reverberation as rv
+
+    rng = np.random.default_rng(7)
+    a = np.concatenate([rng.uniform(0.5, 2.0, 2500), np.zeros(500)])  # trailing zeros: underflowed powers
+    b = 2.0 ** -np.arange(3000.0) * rng.uniform(0.5, 2.0, 3000)
+    ref = np.convolve(a, b)[:3000]
+    assert np.array_equal(rv._convolve_head(a, b, 3000), ref)  # below the limit: np.convolve itself
+    monkeypatch.setattr(rv, "_DIRECT_PRODUCTS", 2500 * 1100)  # the trailing zeros left out: direct
+    np.testing.assert_allclose(rv._convolve_head(a, b, 3000), ref, rtol=1e-14, atol=0.0)
+    monkeypatch.setattr(rv, "_DIRECT_PRODUCTS", 1000)  # by FFT beyond the exact orders
+    monkeypatch.setattr(rv, "_EXACT_ORDERS", 300)
+    fast = rv._convolve_head(a, b, 3000)
+    np.testing.assert_allclose(fast[:300], ref[:300], rtol=1e-14, atol=0.0)
+    np.testing.assert_allclose(fast, ref, rtol=1e-9, atol=1e-12 * ref.max())
+    assert np.all(fast >= 0.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("absorption", [[], ["--absorption", "0.3"]], ids=["rigid", "absorbing"])
+def test_long_waveform_in_a_room_answers_at_once(tmp_path, absorption):
+    """10000 s in a room asked image orders in the millions, convolved directly (hours, deaf to Ctrl-C):
+    the command now answers (here: refused by the memory budget, naming an option) well within the
+    hang detector, leaving no file."""
+    proc = subprocess.run([sys.executable, "-m", "acoustiviz", "waveform", "--room", "6,4,3", *absorption,
+                           "--duration", "10000", "--listener", "3,2,1.5", "--csv", "o.csv"], cwd=tmp_path, env=_env(),
+                          capture_output=True, text=True, timeout=240)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2 and len(lines) == 1 and ": error: --" in lines[0], proc.stderr
+    assert list(tmp_path.iterdir()) == []
