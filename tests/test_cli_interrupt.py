@@ -77,6 +77,10 @@ class Run:
         """Send SIGINT; return the seconds until the process exited (killed and failed if it hangs)."""
         t0 = time.monotonic()
         os.killpg(self.proc.pid, signal.SIGINT)
+        return self.interrupt_wait(t0, timeout)
+
+    def interrupt_wait(self, t0: float, timeout: float = 120.0) -> float:
+        """Wait for the exit after SIGINT sent at ``t0`` (monotonic s); return the seconds it took."""
         try:
             self.proc.wait(timeout)
         except subprocess.TimeoutExpired:
@@ -202,6 +206,22 @@ def test_forced_with_workers_cancels_them_and_exits(tmp_path, freq, marker):
     run = interrupt_after(argv, tmp_path, marker)
     assert not (tmp_path / "o.csv").exists() and not (tmp_path / "o.png").exists()
     with pytest.raises(ProcessLookupError):  # the whole group is gone: the workers were stopped
+        os.killpg(run.proc.pid, 0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("attempt", range(3))
+def test_a_second_ctrl_c_changes_nothing(tmp_path, attempt):
+    """Ctrl-C pressed twice: the second lands in the cleanup or the message, or after the exit;
+    whichever, one line, status 130, the workers stopped."""
+    run = Run(["forced", "--force", "5", "--freq", "3:7:40", "--workers", "2", "--csv", "o.csv"], tmp_path)
+    run.wait_for(r"^forced: .*\(\d+/40\)")
+    t0 = time.monotonic()
+    os.killpg(run.proc.pid, signal.SIGINT)
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(run.proc.pid, signal.SIGINT)
+    assert_interrupted(run, run.interrupt_wait(t0))
+    with pytest.raises(ProcessLookupError):
         os.killpg(run.proc.pid, 0)
 
 

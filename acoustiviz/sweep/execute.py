@@ -105,6 +105,11 @@ def shutdown_now(ex: Executor) -> None:
     pending fails them again, ``InvalidStateError``, and its manager thread dies without
     cleaning up, which hangs the exit).
     """
+    with _sigint_blocked():  # a second Ctrl-C waits until the workers are stopped
+        _shutdown_now(ex)
+
+
+def _shutdown_now(ex: Executor) -> None:
     procs = list((getattr(ex, "_processes", None) or {}).values())
     try:
         ex.shutdown(wait=False, cancel_futures=True)
