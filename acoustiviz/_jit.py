@@ -38,7 +38,7 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["JIT_OPTIONS", "njit", "kernel", "helper", "compile_for", "in_cache"]
+__all__ = ["JIT_OPTIONS", "njit", "kernel", "helper", "compile_for", "in_cache", "announce_long_work"]
 
 #: Options every compiled function of the package shares: its machine code cached on disk beside
 #: its source, so only the first run on an installation compiles it. A caller's option overrides.
@@ -136,3 +136,13 @@ def compile_for(dispatcher, args, name: str | None = None, seconds: float = 0.0,
     t0 = time.perf_counter()
     dispatcher.compile(sig)
     return time.perf_counter() - t0
+
+
+def announce_long_work(line: str) -> None:
+    """Print ``line`` to stderr at once: a long computation, judged by its size, is about to start.
+
+    Said whether or not stderr is a terminal: it depends on the work asked for alone (not on
+    a cache or the machine), and it is what a person or a program watching stderr sees before
+    minutes of compiled code, which Ctrl-C can stop (the kernels run in batches).
+    """
+    print(line, file=sys.stderr, flush=True)

@@ -146,11 +146,21 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             finally:
                 close()
         elif int(workers) > 1:
-            from concurrent.futures import ProcessPoolExecutor
+            from ..sweep.execute import local_pool, shutdown_now
 
-            with ProcessPoolExecutor(max_workers=min(int(workers), len(frequencies))) as ex:
+            # workers that leave Ctrl-C to this process: on an interrupt the pending frequencies are
+            # cancelled and the workers stopped at once
+            ex = local_pool(min(int(workers), len(frequencies)))
+            finished = False
+            try:
                 resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
                                           progress=progress, **kwargs)
+                finished = True
+            finally:
+                if finished:
+                    ex.shutdown(wait=True)
+                else:
+                    shutdown_now(ex)
         else:
             resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, progress=progress,
                                       **kwargs)
@@ -394,6 +404,7 @@ def _check_forced_outputs(job) -> None:
 
 def _checked_job(job) -> tuple:
     """Every check before any work: ``(frequencies in Hz, listener in m or None, room, damper model)``."""
+    from ..sweep.execute import check_executor_form
     from .budget import check_budget, forced_estimate
     from .damper import damper_model
     from .names import ROOM_OPTIONS, user_terms
@@ -407,6 +418,7 @@ def _checked_job(job) -> tuple:
         room = room_surroundings(job.room, listener, room_name="--room")
     with user_terms(FORCED_OPTIONS):
         model = damper_model(**job.model)
+        check_executor_form(job.executor)
     check_budget(forced_estimate(len(freqs) * st.starts, st.max_cycles,
                                  noise_seconds=st.noise_seconds if job.noise else 0.0,
                                  wav=job.wav is not None), job.max_memory)

@@ -282,6 +282,10 @@ def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vert
     return LevelMap(grid, plane, r.peak, r.peak_spl_db, r.sel_db, time, r.exposure)
 
 
+#: A map of more points than this (ten times the default's) is announced on stderr before it starts.
+MAP_LONG_POINTS = 1_000_000
+
+
 def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
               max_memory_mb=None, names=None, progress=None) -> LevelMap:
     """Peak SPL and SEL of one impact over a plane through the scene.
@@ -325,6 +329,11 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
     grid = plan_map(pulse, config, medium=medium, plane=plane, height=height, extent=extent, resolution=resolution,
                     max_memory_mb=max_memory_mb, names=names)
     plane = _BY_NAME["plane"].default if plane is None else plane
+    n = np.asarray(grid.points).shape[0]
+    if n > MAP_LONG_POINTS:
+        from .._jit import announce_long_work
+
+        announce_long_work(f"map: {n:.3g} points, a long computation (Ctrl-C stops it)")
     return map_on_grid(pulse, config, grid, medium=medium, plane=plane, progress=progress)
 
 

@@ -87,7 +87,13 @@ def annotation(setup) -> str:
             f"K_HZ = {imp.k_hertz:.3g} N/m^1.5, contact {imp.duration * 1e6:.0f} µs, {setup.pulse.kind} pulse")
 
 
+#: A balloon of a weighted level (a signal rendered per point) at more measuring points than this
+#: is announced on stderr before it starts.
+BALLOON_LONG_POINTS = 100_000
+
+
 def _balloon(s, setup, paths, title) -> list:
+    from .._jit import announce_long_work
     from ..output import render
     from .views import balloon_levels
 
@@ -97,6 +103,10 @@ def _balloon(s, setup, paths, title) -> list:
     imp = setup.impact
     head = title or (f"{name.split(' (')[0]} at {s.distance:g} m, {s.db_range:g} dB from centre to rim; "
                      f"U0 = {imp.velocity:g} m/s, m = {imp.mass * 1e3:.4g} g, K_HZ = {imp.k_hertz:.3g} N/m^1.5")
+    points = 2 * s.n_theta**2  # about, the measuring sphere's nodes (budget.balloon_estimate)
+    if levels is not None and points > BALLOON_LONG_POINTS:
+        announce_long_work(f"balloon: {name.split(' (')[0]} rendered at about {points:.3g} points, a long "
+                           "computation (Ctrl-C stops it)")
     data = render.balloon_data(pulse, conf, medium=medium, distance=s.distance, metric=s.metric, n_theta=s.n_theta,
                                levels=levels)
     outs = []

@@ -252,8 +252,9 @@ def check_executor(executor, workers=None):
     """Check the ``executor`` text (``"process"`` or ``"dask://HOST:PORT"``) and ``workers`` before any work."""
     if workers is not None and (int(workers) != workers or workers < 1):
         raise ParameterError("workers", f"must be an integer >= 1, got {workers}")
-    if executor is not None and executor != "process" and not str(executor).startswith("dask://"):
-        raise ParameterError("executor", f"expected 'process' or 'dask://HOST:PORT', got {executor!r}")
+    from ..sweep.execute import check_executor_form
+
+    check_executor_form(executor)
 
 
 def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_width: float = 0.001):

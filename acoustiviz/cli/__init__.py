@@ -108,7 +108,7 @@ def main(argv=None) -> int:
     """
     if argv is None:
         try:
-            return _main(sys.argv[1:])
+            return _main(sys.argv[1:], standalone=True)
         finally:
             import gc
 
@@ -116,7 +116,7 @@ def main(argv=None) -> int:
     return _main(list(argv))
 
 
-def _main(argv: list) -> int:
+def _main(argv: list, standalone: bool = False) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     # the options typed (not defaulted): errors about work too large name one of these first
@@ -155,6 +155,10 @@ def _main(argv: list) -> int:
               "so that it is refused before it starts", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        if standalone:  # the process ends here: a second Ctrl-C must not turn the message into a traceback
+            import signal
+
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
         print(f"acoustiviz {args.command}: interrupted; finished outputs were kept", file=sys.stderr)
         return 130
 

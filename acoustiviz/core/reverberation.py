@@ -53,6 +53,10 @@ __all__ = [
 #: Largest order :func:`energy_order` sums shell by shell before it reports the order as capped
 #: (about 3e13 images: far beyond any memory budget).
 _ORDER_SEARCH_LIMIT = 32768
+#: Shell-weight convolutions of more products than this use an FFT beyond :data:`_EXACT_ORDERS`.
+_DIRECT_PRODUCTS = 10**8
+#: Orders whose shell weights are always convolved exactly (above any order the memory allows).
+_EXACT_ORDERS = 8192
 
 
 @dataclass(frozen=True)
@@ -154,7 +158,35 @@ def _shell_weights(room: Shoebox, m: int) -> np.ndarray:
         if out is None:
             out = seq
         else:
-            out = np.stack([np.convolve(out[:, b], seq[:, b])[: m + 1] for b in range(seq.shape[1])], axis=1)
+            out = np.stack([_convolve_head(out[:, b], seq[:, b], m + 1) for b in range(seq.shape[1])], axis=1)
+    return out
+
+
+def _convolve_head(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
+    """``np.convolve(a, b)[:n]`` of non-negative sequences, fast for the long ones of a long signal.
+
+    Up to :data:`_DIRECT_PRODUCTS` products, ``np.convolve`` itself. A long signal in a room asks
+    for orders in the millions, whose direct convolution would take hours. Their trailing zeros
+    are then left out (with absorbing walls the weights, powers of reflection coefficients,
+    underflow to exact zeros after a few thousand orders); if what is left is still too long (a
+    rigid or nearly rigid room) the orders from :data:`_EXACT_ORDERS` on are convolved by FFT, to
+    round-off (clipped at zero, the weights being large there), and those below, among which an
+    order is chosen, directly.
+    """
+    if a.size * b.size <= _DIRECT_PRODUCTS:
+        return np.convolve(a, b)[:n]
+    la, lb = (int(np.flatnonzero(x)[-1]) + 1 if np.any(x) else 0 for x in (a, b))
+    out = np.zeros(n)
+    if la * lb <= _DIRECT_PRODUCTS:
+        head = np.convolve(a[:la], b[:lb])[:n] if la and lb else out[:0]
+        out[: head.size] = head
+        return out
+    from scipy.signal import fftconvolve
+
+    full = fftconvolve(a[:la], b[:lb])[:n]
+    out[: full.size] = np.maximum(full, 0.0)
+    k = min(n, _EXACT_ORDERS)
+    out[:k] = np.convolve(a[:k], b[:k])[:k]
     return out
 
 

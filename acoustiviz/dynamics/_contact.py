@@ -26,9 +26,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from .._jit import helper, kernel
+from .._jit import helper, kernel, njit
 from ..constants import HERTZ_DURATION_CONSTANT
 from . import _dop853 as _dop
 from ._dop853 import error_norm as _dop_error
@@ -240,7 +239,7 @@ def _step_size(err, h, rejected):
     return h * min(grow, 0.8 * err ** (-1.0 / 8.0))
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
     """The largest contact force (N) so far, with a maximum inside the step of ``hstep`` from ``work[0]``.
 
@@ -256,7 +255,7 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
     return peak
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     """Record a zero of the main-mass velocity inside the step (Newton, full steps) in ``ext``.
 
@@ -270,7 +269,7 @@ def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     record_extremum(ext, n_ext, start.tc + yd[0], yd[1], 1.0 if y[2] > 0.0 else -1.0)
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0):
     """Dense rows (``DENSE_COLUMNS``) at the output times ``t_eval`` (s) inside the step; return the next due.
 
@@ -298,7 +297,7 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
     return ie
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst, ext, n_ext):
     """Integrate one contact from ``start.tc`` s until the bodies part or ``t_end`` s (module docstring).
 
@@ -449,7 +448,7 @@ def free_restitution(p, u0, rtol):
     return free_restitution_of(as_params(p), u0, rtol)
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def free_restitution_of(prm, u0, rtol):
     """Restitution of the compliant contact of the two masses alone at approach speed ``u0`` m/s.
 

@@ -36,9 +36,8 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from .._jit import helper, kernel
+from .._jit import helper, kernel, njit
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_restitution_of, instant_impact
 from ._flight import (
     _osc,
@@ -49,7 +48,7 @@ from ._flight import (
     flight_state,
     scan_forced,
 )
-from ._records import ContactStart, Progress
+from ._records import ContactStart
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 
@@ -124,7 +123,7 @@ def _release(c, tau_end, sw):
 Flights = namedtuple("Flights", ["a", "wd", "a_s", "wd_s", "meff", "u_stick"])
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _flights(prm, fcs):
     """The :data:`Flights` constants of the model ``prm`` (``fcs``: the forcing of the masses together)."""
     M, K, C, m = prm.M, prm.K, prm.C, prm.m
@@ -137,7 +136,7 @@ def _flights(prm, fcs):
     return Flights(a, wd, a_s, wd_s, meff, u_stick)
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _account(c, tau, fcv, c_main, acc, extrema):
     """Add the work of F and the dissipation by the dashpot ``c_main`` (N s/m) over ``tau`` s of the flight ``c``.
 
@@ -150,7 +149,7 @@ def _account(c, tau, fcv, c_main, acc, extrema):
         flight_minmax(c, tau, acc)
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _stuck(prm, fl, fc, fcs, st, t, t1, acc, extrema):
     """Follow the masses stuck on wall ``st[5]`` (one oscillator of mass M + m) until the wall stops pushing.
 
@@ -186,7 +185,7 @@ def _stuck(prm, fl, fc, fcs, st, t, t1, acc, extrema):
     return t, True
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _in_contact(prm, fc, st, t, t1, rtol, impacts, n, acc, extrema, work, kst):
     """Integrate the open contact (impact row ``n - 1``) until the bodies part or ``t1`` s.
 
@@ -228,7 +227,7 @@ def _in_contact(prm, fc, st, t, t1, rtol, impacts, n, acc, extrema, work, kst):
     return t, r.status
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _fly(prm, fl, fc, st, t, t1, acc, extrema):
     """Free flight from ``t`` s to the next contact or ``t1`` s; ``st``, ``acc`` updated.
 
@@ -247,7 +246,7 @@ def _fly(prm, fl, fc, st, t, t1, acc, extrema):
     return t + tau if found else t1, found, sw
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc):
     """Apply an instantaneous impact at ``t`` s on wall ``sw`` (approach ``u0`` m/s) into row ``n``.
 
@@ -282,7 +281,7 @@ def _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc):
     return n
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _open_contact(prm, st, sw, u0, impacts, n):
     """Open a compliant contact on wall ``sw`` (approach ``u0`` m/s) in row ``n``; return the next free row."""
     for k in range(3, 8):
@@ -333,8 +332,8 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
 
     Returns
     -------
-    Progress
-        ``n`` the next free impact row and ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS``,
+    tuple of int
+        ``(n, status)``: ``n`` the next free impact row and ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS``,
         ``STATUS_STEP_UNDERFLOW`` or ``STATUS_DIVERGED``).
     """
     fl = _flights(prm, fcs)
@@ -352,18 +351,18 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
         if st[4] > 0.5:  # inside a contact: integrate it
             t, stc = _in_contact(prm, fc, st, t, t1, rtol, impacts, n, acc, extrema, work, kst)
             if stc != STATUS_OK:
-                return Progress(n, stc)
+                return (n, stc)
             continue
         t, found, sw = _fly(prm, fl, fc, st, t, t1, acc, extrema)
         if not (math.isfinite(st[0]) and math.isfinite(st[1])):
-            return Progress(n, STATUS_DIVERGED)
+            return (n, STATUS_DIVERGED)
         if not found:
             break
         if n >= max_impacts:
-            return Progress(n, STATUS_MAX_IMPACTS)
+            return (n, STATUS_MAX_IMPACTS)
         u0 = sw * (st[3] - st[1])
         if restitution is not None and u0 <= 0.0:  # resting on a wall: instantaneous impacts cannot follow
-            return Progress(n, STATUS_MAX_IMPACTS)
+            return (n, STATUS_MAX_IMPACTS)
         impacts[n, 0] = t
         impacts[n, 1] = sw
         impacts[n, 2] = u0
@@ -371,4 +370,4 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
             n = _open_contact(prm, st, sw, u0, impacts, n)
         else:  # instantaneous impact
             n = _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc)
-    return Progress(n, status)
+    return (n, status)

@@ -410,9 +410,9 @@ class _Runner:
         cap = min(n0 + self.cap, self.imp.shape[0] - 1)
         if self.solver == "newmark":
             # no dense output, no turning points (None: compiled out)
-            r = newmark_advance(self.prm, self.fc, self.st, t0, self.h, self.nsteps, n0,
-                                NmBooks(self.imp, cap, acc, extrema), None, None)
-            out = (r.n, r.status)
+            n, status, _, _ = newmark_advance(self.prm, self.fc, self.st, t0, self.h, self.nsteps, n0,
+                                              NmBooks(self.imp, cap, acc, extrema), None, None)
+            out = (n, status)
         else:
             args = (self.prm, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
                     extrema)

@@ -28,7 +28,7 @@ import numpy as np
 from .._jit import helper, kernel
 from ._contact import N_STAGE_ROWS, N_WORK_ROWS, NY, contact, free_contact, instant_impact
 from ._flight import _osc, flight_coeffs, free_extrema, record_extremum, scan_unforced
-from ._newmark import central_difference, newmark
+from ._newmark import central_difference, compile_newmark, newmark
 from ._records import ContactStart, as_params, without_main
 from ._status import (
     DENSE_COLUMNS,
@@ -49,6 +49,7 @@ __all__ = [
     "restitution_table",
     "event_solver",
     "newmark",
+    "compile_newmark",
     "central_difference",
 ]
 

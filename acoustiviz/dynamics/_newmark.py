@@ -23,11 +23,10 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from .._jit import helper, kernel
+from .._jit import compile_for, helper, kernel, njit
 from ._flight import record_extremum
-from ._records import Advanced, DenseOutput, NmBooks, Turns, as_params
+from ._records import DenseOutput, NmBooks, Turns, as_params, params_record
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 #: One end of a Newmark step: displacements ``x, y`` (m), velocities ``v, w`` (m/s), accelerations
@@ -87,7 +86,7 @@ def _hermite_turn(x, v, x1, v1, h):
     return s, h00 * x + h10 * h * v + h01 * x1 + h11 * h * v1
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _nm_step(prm, a, h, fx1, escale):
     """The end (:data:`NmPoint`) of one Newmark step of ``h`` s from the point ``a``.
 
@@ -133,7 +132,7 @@ def _nm_step(prm, a, h, fx1, escale):
     return NmPoint(x1, v1, y1, w1, bx, by, sw1, d1, f1, (f1 - fe1) * u1)
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _nm_impacts(hg, a, b, t, h, in_contact, impacts, n, max_impacts):
     """Book the contact of one step from ``a`` to ``b`` (starting at ``t`` s) into the impact rows.
 
@@ -173,7 +172,7 @@ def _nm_impacts(hg, a, b, t, h, in_contact, impacts, n, max_impacts):
     return n
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def _nm_dense(a, b, t, t1, h, c_main, ec, en, t_eval, ie, dense):
     """Dense rows (``DENSE_COLUMNS``) at the output times ``t_eval`` (s) of the step ``a`` -> ``b``, ``t`` -> ``t1`` s.
 
@@ -200,8 +199,40 @@ def _nm_dense(a, b, t, t1, h, c_main, ec, en, t_eval, ie, dense):
     return ie
 
 
+#: Entries of a Newmark run's ``resume`` vector (float64): steps taken since ``t0``, the Newton
+#: iterations' energy scale, 1.0 once the step end below holds, then the step end (``NmPoint``).
+RESUME_STEPS, RESUME_ESCALE, RESUME_HELD, RESUME_POINT = 0, 1, 2, 3
+_POINT_SIZE = len(NmPoint._fields)
+RESUME_SIZE = RESUME_POINT + _POINT_SIZE
+
+
+@helper
+def _take_up(resume, a, escale, in_contact, flag):
+    """``(steps done, step end, energy scale, in contact)`` where ``resume`` left them, else as given."""
+    if resume is None:  # removed at compile time for one call
+        return 0, a, escale, in_contact
+    if resume[RESUME_HELD] < 0.5:
+        return int(resume[RESUME_STEPS]), a, escale, in_contact
+    q = RESUME_POINT
+    b = NmPoint(resume[q], resume[q + 1], resume[q + 2], resume[q + 3], resume[q + 4], resume[q + 5],
+                resume[q + 6], resume[q + 7], resume[q + 8], resume[q + 9])
+    return int(resume[RESUME_STEPS]), b, resume[RESUME_ESCALE], b.sw != 0.0 and flag > 0.5
+
+
+@helper
+def _hold(resume, steps, escale, a):
+    """Keep in ``resume`` what the next call takes up (nothing without it)."""
+    if resume is None:
+        return
+    resume[RESUME_STEPS] = steps
+    resume[RESUME_ESCALE] = escale
+    resume[RESUME_HELD] = 1.0
+    for i in range(_POINT_SIZE):
+        resume[RESUME_POINT + i] = a[i]
+
+
 @kernel
-def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
+def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns, resume=None):
     """Average-acceleration Newmark-beta (γ = 1/2, β = 1/4), ``nsteps`` steps of ``h`` s from ``t0`` s.
 
     Each step solves ``M a_x + C v + K x - s F_c - F = 0``, ``m a_y + s F_c = 0`` at the new
@@ -237,11 +268,17 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
     turns : Turns or None
         Turning points of x (rows: time s, x m, ±1) and their count
         (:class:`~acoustiviz.dynamics._records.Turns`); None: not located.
+    resume : ndarray or None
+        A run continued over several calls (``RESUME_SIZE`` floats, zeros at the start, updated in
+        place): step ``k`` of the whole run ends at ``t0 + (k + 1) h`` and each call takes up the
+        step end (accelerations and contact force included) and the energy scale where the last
+        one stopped, so that the steps are those of one call, bit for bit. None: one call, from
+        ``st`` at ``t0`` (compiled out).
 
     Returns
     -------
-    Advanced
-        ``n`` the next free impact row, ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or
+    tuple
+        ``(n, status, t, ie)``: ``n`` the next free impact row, ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS`` or
         ``STATUS_DIVERGED``), ``t`` the time reached (s; ``st`` holds the state there) and ``ie``
         the next output time due (``dense.ie``, or 0 without dense output).
     """
@@ -266,8 +303,10 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
     status = STATUS_OK
     h2 = 0.5 * h
     escale = 1e-13 * (abs(v) + abs(w) + 1.0)
-    t = t0
-    for k in range(nsteps):
+    k0, a, escale, in_contact = _take_up(resume, a, escale, in_contact, st[4])
+    t = t0 + k0 * h if k0 else t0
+    done = 0
+    for k in range(k0, k0 + nsteps):
         t1 = t0 + (k + 1) * h
         fx1 = pc * math.cos(om * t1) + ps * math.sin(om * t1) if forced else 0.0
         b = _nm_step(prm, a, h, fx1, escale)
@@ -299,6 +338,8 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
         fx = fx1
         in_contact = b.sw != 0.0
         t = t1
+        done += 1
+    _hold(resume, k0 + done, escale, a)
     st[0] = a.x
     st[1] = a.v
     st[2] = a.y
@@ -310,49 +351,77 @@ def newmark_advance(prm, fc, st, t0, h, nsteps, n, books, dense, turns):
     acc[2] = en
     acc[3] = xmax
     acc[4] = xmin
-    return Advanced(n, status, t, ie)
+    return n, status, t, ie
 
 
-@kernel
-def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ext, n_ext):
+#: Steps of one call of the compiled Newmark kernel in a free-decay run (a fraction of a second):
+#: between calls Python handles a pending Ctrl-C, so a long run stops promptly; the steps are
+#: those of one call, bit for bit (``resume`` of :func:`newmark_advance`).
+NEWMARK_CHUNK_STEPS = 1 << 19
+
+
+def _free_decay_args(prm, st, h, n, books, t_eval, ie, dense, turns, resume) -> tuple:
+    """The arguments of one call of :func:`newmark_advance` in a free-decay run."""
+    out = None if t_eval is None else DenseOutput(t_eval, ie, dense)
+    return prm, None, st, 0.0, float(h), 0, n, books, out, turns, resume
+
+
+def compile_newmark(p, h, t_eval, max_impacts, impacts, dense, ext, n_ext) -> float:
+    """Compile (or load) the kernel of :func:`newmark` for these arguments without running it; the wall s."""
+    books = NmBooks(impacts, int(max_impacts), np.zeros(5), False)
+    turns = None if ext is None else Turns(ext, n_ext)
+    return compile_for(newmark_advance, _free_decay_args(params_record(p), np.zeros(8), h, 0, books, t_eval, 0,
+                                                         dense, turns, np.zeros(RESUME_SIZE)))
+
+
+def newmark(p, state0, h, nsteps, t_eval, max_impacts, impacts, dense, final, ext, n_ext, *,
+            chunk: int | None = None, progress=None):
     """Free decay by :func:`newmark_advance` from t = 0 (no forcing), ``nsteps`` steps of ``h`` s.
 
     A start inside a contact opens an impact row at t = 0. A contact still open at the end
     keeps a NaN separation speed and its duration so far. Fills ``final`` (x, v, y, w,
     dissipated by C, dissipated in contacts, δ at the end; SI). Returns
     ``(n_impacts, status, t_reached)``; arrays as in
-    :func:`~acoustiviz.dynamics._kernels.event_solver`.
+    :func:`~acoustiviz.dynamics._kernels.event_solver`. The kernel runs ``chunk`` steps per
+    call (default :data:`NEWMARK_CHUNK_STEPS`); ``progress(steps done, nsteps)`` is called
+    between calls.
     """
-    prm = as_params(p)
+    prm = params_record(p)
     hg = prm.half_gap
     st = np.zeros(8)
-    for i in range(4):
-        st[i] = state0[i]
+    st[:4] = state0[:4]
     z = state0[2] - state0[0]
     n = 0
     if abs(z) > hg:  # a start inside a contact
         sw = 1.0 if z > 0.0 else -1.0
         st[4] = 1.0
         st[5] = sw
-        impacts[0, 0] = 0.0
+        impacts[0, :] = 0.0
         impacts[0, 1] = sw
         impacts[0, 2] = sw * (state0[3] - state0[1])
         impacts[0, 3] = math.nan
-        for j in range(4, 8):
-            impacts[0, j] = 0.0
         n = 1
     acc = np.zeros(5)
-    books = NmBooks(impacts, max_impacts, acc, False)
-    out = None if t_eval is None else DenseOutput(t_eval, 0, dense)
+    books = NmBooks(impacts, int(max_impacts), acc, False)
     turns = None if ext is None else Turns(ext, n_ext)
-    r = newmark_advance(prm, None, st, 0.0, h, nsteps, n, books, out, turns)
-    n, status, t = r.n, r.status, r.t
+    resume = np.zeros(RESUME_SIZE)
+    nsteps = int(nsteps)
+    chunk = max(1, int(NEWMARK_CHUNK_STEPS if chunk is None else chunk))
+    done, ie = 0, 0
+    while True:
+        args = list(_free_decay_args(prm, st, h, n, books, t_eval, ie, dense, turns, resume))
+        args[5] = min(chunk, nsteps - done)
+        n, status, t, ie = newmark_advance(*args)
+        done += args[5]
+        if status != STATUS_OK or done >= nsteps:
+            break
+        if progress is not None:
+            progress(done, nsteps)
     delta = 0.0
     if st[4] > 0.5:
         impacts[n - 1, 4] = t - impacts[n - 1, 0]
         delta = st[5] * (st[2] - st[0]) - hg
-    for i in range(4):
-        final[i] = st[i]
+    final[:4] = st[:4]
     final[4] = acc[1]
     final[5] = acc[2]
     final[6] = delta

@@ -2,7 +2,10 @@
 
 numba compiles :func:`collections.namedtuple` classes as structs whose fields are read by name;
 defined at module level they pickle, so kernels taking or returning them stay in numba's disk
-cache. The parameter vector ``p`` (``PARAM_COLUMNS`` of :mod:`._status`) is what the drivers are
+cache. Records go into kernels and between kernels, never back to Python: numba boxes a returned
+namedtuple by calling its Python class, where a pending Ctrl-C raises ``KeyboardInterrupt``, and
+numba then calls a NULL class object (a segmentation fault); entry kernels return plain tuples.
+The parameter vector ``p`` (``PARAM_COLUMNS`` of :mod:`._status`) is what the drivers are
 called with from Python; :func:`as_params` (compiled) and :func:`params_record` (Python) turn it
 into :class:`Params`, the only place its entries are read by position.
 """
@@ -11,9 +14,9 @@ from __future__ import annotations
 
 from collections import namedtuple
 
-from numba import njit
+from .._jit import njit
 
-__all__ = ["Params", "Advanced", "Progress", "ContactStart", "ContactEnd", "NmBooks", "DenseOutput", "Turns",
+__all__ = ["Params", "ContactStart", "ContactEnd", "NmBooks", "DenseOutput", "Turns",
            "as_params", "params_record", "without_main"]
 
 #: The model as the kernels see it (paper eq 15): main mass ``M`` (kg), main spring ``K`` (N/m),
@@ -21,11 +24,6 @@ __all__ = ["Params", "Advanced", "Progress", "ContactStart", "ContactEnd", "NmBo
 #: stiffness ``k_hertz`` (N/m^1.5), contact damping ``c1`` (N s/m) and ``clip`` (True: the contact
 #: force is clipped at zero instead of pulling).
 Params = namedtuple("Params", ["M", "K", "C", "m", "half_gap", "k_hertz", "c1", "clip"])
-
-#: What a stepping kernel returns: ``n`` the next free impact row, ``status`` a ``STATUS_*`` code
-#: of :mod:`._status`, ``t`` the time reached (s) and ``ie`` the next dense-output time due.
-Advanced = namedtuple("Advanced", ["n", "status", "t", "ie"])
-
 
 #: What :func:`~acoustiviz.dynamics._newmark.newmark_advance` books: impact rows ``impacts``
 #: (``IMPACT_COLUMNS`` of :mod:`._status`) up to the row limit ``max_impacts``, accumulators ``acc``
@@ -43,7 +41,7 @@ DenseOutput = namedtuple("DenseOutput", ["t_eval", "ie", "rows"])
 Turns = namedtuple("Turns", ["rows", "count"])
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def as_params(p):
     """The :class:`Params` of the parameter vector ``p`` (``PARAM_COLUMNS``, SI; ``clip`` 1.0 or 0.0)."""
     return Params(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7] > 0.5)
@@ -53,9 +51,6 @@ def params_record(p) -> Params:
     """:class:`Params` of the parameter vector ``p`` in Python (the same float64 values)."""
     return Params(*(float(v) for v in p[:7]), bool(p[7] > 0.5))
 
-
-#: What the forced driver returns: ``n`` the next free impact row and ``status`` a ``STATUS_*`` code.
-Progress = namedtuple("Progress", ["n", "status"])
 
 #: Where a contact starts (or resumes): time ``tc`` (s), wall ``sw`` (±1), main-mass displacement
 #: ``x`` (m) and velocity ``v`` (m/s), ``xi`` the square root of the penetration (m^0.5) and ``u``
@@ -69,7 +64,7 @@ ContactStart = namedtuple("ContactStart", ["tc", "sw", "x", "v", "xi", "u"])
 ContactEnd = namedtuple("ContactEnd", ["ended", "status", "ie", "duration", "peak", "y"])
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always")
 def without_main(prm):
     """The two masses alone: ``prm`` with the main spring and dashpot (``K``, ``C``) set to zero."""
     return Params(prm.M, 0.0, 0.0, prm.m, prm.half_gap, prm.k_hertz, prm.c1, prm.clip)

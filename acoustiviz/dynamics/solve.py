@@ -42,7 +42,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .._jit import compile_for
+from .._jit import announce_long_work, compile_for
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import AUTO_TOLERANCE_RANGE, DEFAULT_RTOL, SOLVER_RTOL_RANGE, SOLVERS
 from ..errors import AccuracyWarning
@@ -72,6 +72,9 @@ NEWMARK_WARN_FRACTION = 1.0 / 20.0
 NEWMARK_DEFAULT_FRACTION = 1.0 / 50.0
 #: Nodes of the impact map's restitution table (uniform in ln(speed) over four decades).
 IMPACT_MAP_NODES = 40
+#: A Newmark run of more steps is announced on stderr before it starts (a run this long takes
+#: seconds; it runs in batches of steps, so Ctrl-C stops it).
+NEWMARK_LONG_STEPS = 100_000_000
 #: CPU time in s of the event solver's first compilation with its callees, quoted to the user when
 #: it happens (:func:`acoustiviz._jit.compile_for`); measured by ``benchmarks/bench_startup.py``
 #: (figures: ``benchmarks/results/design_timings.md``).
@@ -319,8 +322,10 @@ def _run_kernel(solver, p, state0, duration, rtol, dt, nsteps, t_eval, n_max, n_
     n_ext = np.zeros(1, np.int64)
     if solver == "newmark":
         # compiled (or loaded from the cache) apart, so that the solver time is the solver alone
-        compiled = compile_for(kern.newmark, (p, state0, float(dt), int(nsteps), t_eval, int(n_max), impacts, dense,
-                                              final, ext, n_ext))
+        compiled = kern.compile_newmark(p, float(dt), t_eval, int(n_max), impacts, dense, ext, n_ext)
+        if nsteps > NEWMARK_LONG_STEPS:
+            announce_long_work(f"newmark: {nsteps:.3g} steps of {dt:.3g} s for {duration:g} s of motion, a long "
+                               "run (Ctrl-C stops it)")
         t0 = time.perf_counter()
         n, status, t_end = kern.newmark(p, state0, dt, nsteps, t_eval, n_max, impacts, dense, final, ext, n_ext)
         elapsed = time.perf_counter() - t0

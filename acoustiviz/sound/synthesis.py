@@ -88,7 +88,7 @@ def _train_kernel_py(out_re, out_im, pos, wre, wim, table, half, steps):  # prag
             out_im[base + q] += wim[j] * g
 
 
-_train_kernel = _njit(cache=True)(_train_kernel_py)
+_train_kernel = _njit(_train_kernel_py)
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import signal
 import threading
 from concurrent.futures import FIRST_COMPLETED, Executor, wait
@@ -26,15 +27,17 @@ from .progress import Progress
 from .spec import Settings, SweepSpec
 from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
 
-__all__ = ["run_sweep", "make_executor"]
+__all__ = ["run_sweep", "make_executor", "check_executor_form", "dask_address", "dask_executor", "local_pool",
+           "shutdown_now", "DASK_FORM"]
 
 
-def _worker_init(settings: Settings) -> None:
-    """Process-pool initializer: leave Ctrl-C to the parent and load the compiled kernels once."""
+def _worker_init(initializer, initargs) -> None:
+    """Process-pool initializer: leave Ctrl-C to the parent, then run ``initializer(*initargs)``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-    warm_up(settings)
+    if initializer is not None:
+        initializer(*initargs)
 
 
 @contextlib.contextmanager
@@ -72,12 +75,62 @@ def _interruptible():
             signal.signal(signal.SIGINT, old)
 
 
+def local_pool(n: int, initializer=None, initargs=()):
+    """A local process pool of ``n`` workers that leave Ctrl-C to the parent.
+
+    The workers ignore SIGINT (it is held pending while they are forked, then set to ignored
+    before ``initializer(*initargs)`` runs), so a Ctrl-C at the terminal, which reaches every
+    process of the foreground group, stops the parent alone; :func:`shutdown_now` then stops
+    the workers. The workers are forked at once, not at the first submission.
+    """
+    from concurrent.futures import ProcessPoolExecutor
+
+    ex = ProcessPoolExecutor(max_workers=int(n), initializer=_worker_init, initargs=(initializer, initargs))
+    with _sigint_blocked():  # the first submission forks the workers (every one of them with "fork")
+        ex.submit(int)
+    return ex
+
+
+#: Seconds :func:`shutdown_now` lets a process pool's manager thread drop the cancelled tasks
+#: before the workers are stopped (it does so at once when woken; a hang detector only).
+_CANCEL_WAIT_S = 5.0
+
+
+def shutdown_now(ex: Executor) -> None:
+    """Shut ``ex`` down without waiting: cancel what has not started and stop a local pool's workers.
+
+    A process pool's running tasks are compiled code that a signal cannot stop, and the
+    interpreter's exit would wait for them: its worker processes are terminated, after its
+    manager thread has dropped the cancelled tasks (a pool broken with cancelled tasks still
+    pending fails them again, ``InvalidStateError``, and its manager thread dies without
+    cleaning up, which hangs the exit).
+    """
+    with _sigint_blocked():  # a second Ctrl-C waits until the workers are stopped
+        _shutdown_now(ex)
+
+
 def _shutdown_now(ex: Executor) -> None:
-    """Shut ``ex`` down without waiting, cancelling what has not started."""
+    procs = list((getattr(ex, "_processes", None) or {}).values())
     try:
         ex.shutdown(wait=False, cancel_futures=True)
     except TypeError:  # executors without cancel_futures (e.g. Dask's ClientExecutor)
         ex.shutdown(wait=False)
+    if not procs:
+        return
+    import time
+
+    manager = getattr(ex, "_executor_manager_thread", None)
+    deadline = time.monotonic() + _CANCEL_WAIT_S
+    while (getattr(ex, "_cancel_pending_futures", False) and manager is not None and manager.is_alive()
+           and time.monotonic() < deadline):
+        time.sleep(0.005)
+    for p in procs:
+        with contextlib.suppress(OSError, ValueError):  # already gone
+            p.terminate()
+    for p in procs:
+        p.join(_CANCEL_WAIT_S)
+    if manager is not None:
+        manager.join(_CANCEL_WAIT_S)
 
 
 def make_executor(executor, workers, settings: Settings, n_tasks: int):
@@ -99,7 +152,45 @@ def make_executor(executor, workers, settings: Settings, n_tasks: int):
     if isinstance(executor, str) and executor.startswith("dask://"):
         ex, close = dask_executor(executor)
         return ex, "dask", close, None
-    raise ParameterError("executor", f"expected 'process', 'dask://HOST:PORT' or an Executor, got {executor!r}")
+    raise ParameterError("executor", f"expected 'process', {DASK_FORM} or an Executor, got {executor!r}")
+
+
+#: The form of a Dask scheduler's address, as error messages state it.
+DASK_FORM = "dask://HOST:PORT (PORT an integer in 1..65535; an IPv6 HOST in brackets, dask://[::1]:8786)"
+_DASK_ADDRESS = re.compile(r"(?:(?P<scheme>[a-z][a-z0-9+.-]*)://)?"
+                           r"(?P<host>\[[0-9A-Fa-f:.]*:[0-9A-Fa-f:.]*\]|[A-Za-z0-9_.-]+):(?P<port>[0-9]{1,5})")
+
+
+def dask_address(url) -> str:
+    """The scheduler address (``tcp://HOST:PORT``) of ``dask://HOST:PORT``, checked without connecting.
+
+    ``dask://SCHEME://HOST:PORT`` keeps its scheme (``tls``, ...). One home of the form of an
+    executor address, for the settings checks (before any file is written) and the connection.
+
+    Raises
+    ------
+    ParameterError
+        Named ``executor``, stating the allowed form, for anything else (a port that is not an
+        integer in 1..65535, a missing host, unbalanced IPv6 brackets, ...).
+    """
+    text = url if isinstance(url, str) else ""
+    m = _DASK_ADDRESS.fullmatch(text[len("dask://"):]) if text.startswith("dask://") else None
+    if m is None or not 1 <= int(m["port"]) <= 65535:
+        raise ParameterError("executor", f"expected {DASK_FORM}, got {url!r}")
+    return f"{m['scheme'] or 'tcp'}://{m['host']}:{int(m['port'])}"
+
+
+def check_executor_form(executor) -> None:
+    """Refuse, naming ``executor``, what is not None, ``"process"``, an Executor or ``dask://HOST:PORT``.
+
+    A Dask address is checked by :func:`dask_address`, without connecting.
+    """
+    if executor is None or executor == "process" or isinstance(executor, Executor):
+        return
+    if isinstance(executor, str) and executor.startswith("dask://"):
+        dask_address(executor)
+        return
+    raise ParameterError("executor", f"expected 'process' or {DASK_FORM}, got {executor!r}")
 
 
 def dask_executor(url: str):
@@ -110,30 +201,25 @@ def dask_executor(url: str):
     Raises
     ------
     ParameterError
-        Named ``executor``: a malformed address, the ``distributed`` extra missing, or a
-        scheduler that cannot be reached.
+        Named ``executor``: a malformed address (:func:`dask_address`), the ``distributed``
+        extra missing, or a scheduler that cannot be reached.
     """
-    if not isinstance(url, str) or not url.startswith("dask://"):
-        raise ParameterError("executor", f"expected dask://HOST:PORT, got {url!r}")
-    address = url[len("dask://"):]
-    if not address:
-        raise ParameterError("executor", "expected dask://HOST:PORT")
+    address = dask_address(url)
     try:
         from distributed import Client
     except ImportError:
         raise ParameterError(
             "executor", "dask:// needs the optional dependency: pip install 'acoustiviz[distributed]'") from None
     try:
-        client = Client(address if "://" in address else f"tcp://{address}", timeout=20)
-    except OSError as exc:
+        client = Client(address, timeout=20)
+    except (OSError, ValueError) as exc:
         raise ParameterError("executor", f"cannot reach the Dask scheduler at {address}: {exc}") from None
     return client.get_executor(), client.close
 
 
 def _local_pool(n: int, settings: Settings):
-    from concurrent.futures import ProcessPoolExecutor
-
-    return ProcessPoolExecutor(max_workers=n, initializer=_worker_init, initargs=(settings,))
+    """A local pool whose workers load the compiled kernels of ``settings`` once."""
+    return local_pool(n, warm_up, (settings,))
 
 
 def _is_broken_pool(exc: BaseException) -> bool:
@@ -198,7 +284,7 @@ class _Runner:
                         else:
                             yield res
                     running.clear()
-                    _shutdown_now(self.ex)
+                    shutdown_now(self.ex)
                     yield from self._isolate(sorted(suspects, key=lambda d: d.design_id))
                     self.ex = _local_pool(self.n, self.settings)
         finally:
@@ -233,13 +319,13 @@ class _Runner:
                     res = self._failed(d, exc)
                 yield res
             finally:
-                _shutdown_now(ex)
+                shutdown_now(ex)
 
     def close(self, *, interrupted: bool) -> None:
         """Shut down what this runner owns (at once when interrupted)."""
         if self.kind != "given":
             if interrupted:
-                _shutdown_now(self.ex)
+                shutdown_now(self.ex)
             else:
                 self.ex.shutdown(wait=True)
         if self.cleanup is not None:
@@ -290,6 +376,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         raise ParameterError("spec", f"expected a SweepSpec, got {type(spec).__name__}")
     if workers is not None and (int(workers) != workers or workers < 1):
         raise ParameterError("workers", f"must be an integer >= 1, got {workers!r}")
+    check_executor_form(executor)  # before sweep.json is written
     out = Path(out_dir)
     prepare_dir(spec, out, overwrite)
     path = out / SWEEP_CSV
