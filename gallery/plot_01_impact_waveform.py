@@ -21,9 +21,9 @@ from _gallery import output_dir
 from acoustiviz import AIR, Impact, acceleration_pulse
 from acoustiviz.core.geometry import configuration
 from acoustiviz.field import time_series
+from acoustiviz.files import write_csv_atomic
 from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.output.plot.waveform import plot_waveform
-from acoustiviz.output.writers import write_csv_atomic
 
 RADIUS, U0, K_HZ, DENSITY = 0.01905, 1.4, 5.6e8, 7800.0
 DISTANCE, ANGLE = 0.7, math.radians(45.0)

@@ -184,7 +184,7 @@ def _cell(v) -> str:
 
 def write_forced_csv(run: ForcedRun, path):
     """Write the frequency-response table (one row per frequency and attractor) atomically; return the path."""
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
 
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")

@@ -385,7 +385,7 @@ def scene_noises(ctx, run) -> list:
 
 def produce_operating_noise(ctx, run):
     """Scene output ``operating_noise`` of ``run``: levels per frequency at the first listener (CSV) and a WAV."""
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
     from .products import Product
 
     name, position = ctx.listeners[0]

@@ -359,7 +359,7 @@ def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, ex
 
 def write_map_csv(level: LevelMap, path):
     """Write the map as CSV (:data:`CSV_COLUMNS`, one row per grid point, ``nan`` inside the sphere), atomically."""
-    from ..output.writers import write_csv_atomic
+    from ..files import write_csv_atomic
 
     cols = [level.grid.points[:, 0], level.grid.points[:, 1], level.grid.points[:, 2], level.peak_pa,
             level.peak_spl_db, level.sel_db, level.time_of_peak_s]

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from ..output.writers import write_csv_atomic, write_text_atomic
+from ..files import write_csv_atomic, write_text_atomic
 from . import damper as _damper
 from . import forced as _forced
 from .maps import produce_level_map
@@ -59,7 +59,7 @@ class RunContext:
 
         ``name`` must be a plain file name: one holding a separator, ``..`` or a NUL is refused
         (a :class:`ParameterError`), so nothing is written outside the output folder whatever the
-        scene says (its labels are checked at load time too, :func:`acoustiviz.output.writers.label_problem`).
+        scene says (its labels are checked at load time too, :func:`acoustiviz.files.label_problem`).
         """
         if not name or name in (".", "..") or "/" in name or "\\" in name or "\x00" in name:
             raise ParameterError("--out", f"refusing to write {name!r}: not a file name inside {self.out}")

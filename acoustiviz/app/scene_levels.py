@@ -124,9 +124,9 @@ def produce_levels(ctx):
 
 def produce_spectrum(ctx):
     """``spectrum.csv`` and ``spectrum.png``: 1/3-octave band Leq and LFmax at each listener."""
+    from ..files import write_text_atomic
     from ..output.plot.levels import plot_band_levels
     from ..output.plot.style import style
-    from ..output.writers import write_text_atomic
     from .products import Product
     from .products import new_figure as _fig
     from .products import save as _save

@@ -96,7 +96,7 @@ def write_waveform_outputs(setup, point, wf: Waveform, settings, *, csv=None, pn
         if getattr(setup.configuration, "image_order", None) is not None:
             import json
 
-            from ..output.writers import write_text_atomic
+            from ..files import write_text_atomic
 
             side = Path(csv).with_suffix(".json")
             record = waveform_record(setup, point, wf, settings, Path(csv).name)

@@ -141,7 +141,7 @@ def _band(table, sel, spl, centre, lo, hi) -> Band:
 
 def write_design_table(bands, path) -> Path:
     """Write bands as ``design_table.csv`` (columns :data:`DESIGN_TABLE_COLUMNS`) atomically."""
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
 
     lines = [",".join(DESIGN_TABLE_COLUMNS)]
     for b in bands:

@@ -14,7 +14,7 @@ from ...constants import SECTION_PLANES
 from ...constants import STILL_SIZE as DEFAULT_SIZE
 from ...core.geometry import Geometry
 from ...core.medium import Medium
-from ..writers import atomic_path
+from ...files import atomic_path
 
 __all__ = [
     "SECTIONS",
