@@ -36,7 +36,7 @@ from ..constants import (
     PAPER_GAP,
     PAPER_RADIUS,
     PAPER_V0,
-    TABLE1,
+    TABLE1_PARAMETERS,
 )
 from ..core.geometry import geometry_class
 from ..errors import ParameterError
@@ -91,9 +91,10 @@ INCLINATION_MAP = "inclination_map.png"
 SPL_MAP = "max_spl_map.png"
 
 
-def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_hertz=None, material=None,
+def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1_PARAMETERS["c1"], k_hertz=None, material=None,
                v0=PAPER_V0, distance=PAPER_DISTANCE, angle_deg=PAPER_ANGLE_DEG, config="plane",
-               M=TABLE1["M"], K=TABLE1["K"], C=TABLE1["C"], clip_tensile=False, duration=DEFAULT_DURATION,
+               M=TABLE1_PARAMETERS["M"], K=TABLE1_PARAMETERS["K"], C=TABLE1_PARAMETERS["C"], clip_tensile=False,
+               duration=DEFAULT_DURATION,
                solver="event", rtol=DEFAULT_RTOL, radius=PAPER_RADIUS, density=None, surface=None,
                pulse="half-sine", pulse_mass="impact", c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY,
                wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4, levels=False, room=None) -> SweepSpec:
@@ -151,11 +152,11 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         check_range("angle_deg", a, 0.0, min(limits, default=180.0), unit="deg")
     spec = SweepSpec(
         gap=parse_values("gap", gap),
-        m=None if mass_ratio is not None else parse_values("m", TABLE1["m"] if m is None else m),
+        m=None if mass_ratio is not None else parse_values("m", TABLE1_PARAMETERS["m"] if m is None else m),
         mass_ratio=None if mass_ratio is None else parse_values("mass_ratio", mass_ratio),
         c1=parse_values("c1", c1),
-        k_hertz=None if material is not None else parse_values("k_hertz", TABLE1["k_hertz"] if k_hertz is None
-                                                               else k_hertz),
+        k_hertz=None if material is not None else parse_values(
+            "k_hertz", TABLE1_PARAMETERS["k_hertz"] if k_hertz is None else k_hertz),
         material=None if material is None else parse_values("material", material, str),
         v0=parse_values("v0", v0),
         distance=parse_values("distance", distance),
@@ -466,7 +467,7 @@ def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=Non
         duration = SweepSettings(given.get("duration", DEFAULT_DURATION)).duration
     records = by_name(MODEL)  # the damper's ranges first, as check_ranges does for the sweep
     try:
-        model = DamperModel(**{k: records[k].check(given.get(k, TABLE1[k])) for k in ("M", "K", "C")})
+        model = DamperModel(**{k: records[k].check(given.get(k, TABLE1_PARAMETERS[k])) for k in ("M", "K", "C")})
     except ParameterError as exc:
         raise exc.renamed(names.get(exc.name, exc.name)) from None
     check_budget(sweep_estimate(swept, model, duration, workers or 2, options=(names.get("duration", "duration"),)),

@@ -25,7 +25,7 @@ from ..constants import (
     PAPER_V0,
     PULSES,
     SOLVERS,
-    TABLE1,
+    TABLE1_PARAMETERS,
 )
 from ..core.geometry import GEOMETRIES, Geometry, geometry
 from ..errors import ParameterError
@@ -273,9 +273,9 @@ class Settings:
         tuples for sequences. Designs whose configuration is such a geometry are built with them.
     """
 
-    M: float = TABLE1["M"]
-    K: float = TABLE1["K"]
-    C: float = TABLE1["C"]
+    M: float = TABLE1_PARAMETERS["M"]
+    K: float = TABLE1_PARAMETERS["K"]
+    C: float = TABLE1_PARAMETERS["C"]
     clip_tensile: bool = False
     duration: float = DEFAULT_DURATION
     solver: str = "event"
@@ -432,7 +432,7 @@ class SweepSpec:
     gap: tuple = (PAPER_GAP,)
     m: tuple | None = None
     mass_ratio: tuple | None = None
-    c1: tuple = (TABLE1["c1"],)
+    c1: tuple = (TABLE1_PARAMETERS["c1"],)
     k_hertz: tuple | None = None
     material: tuple | None = None
     v0: tuple = (PAPER_V0,)
@@ -450,9 +450,9 @@ class SweepSpec:
         if self.k_hertz is not None and self.material is not None:
             raise ParameterError("k_hertz", "give either k_hertz (N/m^1.5) or material, not both")
         if self.m is None and self.mass_ratio is None:
-            object.__setattr__(self, "m", (TABLE1["m"],))
+            object.__setattr__(self, "m", (TABLE1_PARAMETERS["m"],))
         if self.k_hertz is None and self.material is None:
-            object.__setattr__(self, "k_hertz", (TABLE1["k_hertz"],))
+            object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
         if not isinstance(self.settings, Settings):
             raise ParameterError("settings", f"expected a Settings, got {type(self.settings).__name__}")
         _check_all("gap", self.gap, check_positive, "m")
