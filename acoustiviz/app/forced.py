@@ -291,9 +291,9 @@ def produce_bifurcation(ctx):
 
 def produce_operating_noise(ctx):
     """Scene output ``operating_noise``: levels per frequency at the first listener (CSV) and a WAV."""
-    from .forced_noise import produce_operating_noise as produce
+    from .forced_noise import write_operating_noise
 
-    return produce(ctx, _scene_forced_run(ctx))
+    return write_operating_noise(ctx, _scene_forced_run(ctx))
 
 
 def forced_table(fr, noises=None) -> str:

@@ -59,15 +59,12 @@ from ..sweep import (
 from ..sweep.spec import sweepable
 from .settings.damper import MODEL, RUN
 from .settings.design import DEFAULT_TOLERANCE
-from .settings.sweep import sweep_radius
+from .settings.sweep import SWEPT, sweep_radius
 from .settings.table import by_name
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
-           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow", "with_room", "check_ranges"]
-
-#: Parameters of :func:`sweep_spec` a sweep runs over (each ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``).
-SWEPT = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
+           "check_executor", "check_sweep_work", "sweep_workflow", "with_room", "check_ranges"]
 
 #: :func:`sweep_spec` / :func:`run_sweep_outputs` parameter -> ``acoustiviz sweep`` option.
 SWEEP_OPTIONS = {
@@ -460,7 +457,7 @@ def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=Non
     from .names import user_terms
 
     names = SWEEP_OPTIONS if names is None else names
-    swept = {names.get(p, p): given.get(p) for p in SWEPT}
+    swept = {names.get(s.name, s.name): given.get(s.name) for s in SWEPT}
     from .settings.sweep import SweepSettings
 
     with user_terms({"duration": names.get("duration", "duration")}):

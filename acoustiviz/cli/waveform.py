@@ -39,7 +39,7 @@ def run(args) -> int:
     from ..app.names import user_terms
     from ..app.settings.impact import WaveformSettings
     from ..app.waveform import waveform_at, write_waveform_outputs
-    from ._impact import impact_from_args, observer_point
+    from ._impact import impact_from_args, observer_point_from_options
 
     names = {**WaveformSettings.cli_names(), "memory_limit": "--max-memory"}
     with user_terms(names):
@@ -50,7 +50,7 @@ def run(args) -> int:
     if listener is not None:
         point = setup.configuration.in_room("--listener", listener[None, :])[0]
     else:
-        point = observer_point(setup, args.distance, args.angle)
+        point = observer_point_from_options(setup, args.distance, args.angle)
     with user_terms(names):
         wf = waveform_at(setup, point, settings, max_memory_mb=getattr(args, "max_memory", None),
                          size_options=given_first(_SIZE_OPTIONS, args.given_options))
