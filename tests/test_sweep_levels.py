@@ -17,7 +17,7 @@ from acoustiviz.sweep import (
     PAPER_RADIUS,
     RANK_COLUMNS,
     Design,
-    Settings,
+    FixedSettings,
     SweepSpec,
     SweepTable,
     design,
@@ -46,11 +46,11 @@ def plane_design():
 
 @pytest.fixture(scope="module")
 def with_levels(plane_design):
-    return evaluate_design(plane_design, Settings(duration=DURATION, levels=True))
+    return evaluate_design(plane_design, FixedSettings(duration=DURATION, levels=True))
 
 
 def test_levels_equal_direct_calls_on_the_same_run(plane_design, with_levels):
-    s, d = Settings(duration=DURATION), plane_design
+    s, d = FixedSettings(duration=DURATION), plane_design
     model = DamperModel(M=s.M, K=s.K, C=s.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1)
     run = simulate(model, DURATION, solver=s.solver, initial=InitialState(v=d.v0), rtol=s.rtol)
     assert len(run.impacts) == with_levels.n_impacts > 10
@@ -74,20 +74,20 @@ def test_levels_equal_direct_calls_on_the_same_run(plane_design, with_levels):
 
 
 def test_levels_off_by_default_leave_nan(plane_design):
-    r = evaluate_design(plane_design, Settings(duration=0.3))
+    r = evaluate_design(plane_design, FixedSettings(duration=0.3))
     assert all(math.isnan(r.row()[c]) for c in ("lafmax_db", "lcpeak_db", "laeq_db"))
     assert np.isfinite(r.max_spl_db)
 
 
 def test_levels_setting_is_checked():
     with pytest.raises(ParameterError) as err:
-        Settings(levels="yes")
+        FixedSettings(levels="yes")
     assert err.value.name == "levels"
 
 
 def _table(values):
     """A hand-made sweep table: four designs of one inclination, levels given per design."""
-    spec = SweepSpec(gap=(0.02, 0.04), m=(0.02, 0.04), settings=Settings(levels=True))
+    spec = SweepSpec(gap=(0.02, 0.04), m=(0.02, 0.04), settings=FixedSettings(levels=True))
     n = len(values["max_spl_db"])
     cols = {}
     for c in ALL_COLUMNS:
@@ -160,7 +160,7 @@ def test_design_table_gives_the_range_of_each_level_in_a_band(tmp_path):
 
 
 def _run_and_scene(gap, m, config="plane", pulse="half-sine", pulse_mass="impact", duration=DURATION):
-    s = Settings(duration=duration, pulse=pulse, pulse_mass=pulse_mass)
+    s = FixedSettings(duration=duration, pulse=pulse, pulse_mass=pulse_mass)
     d = Design(0, gap, m, 20.0, 5.6e8, "", 2.0, 0.7, math.pi / 4, config, PAPER_RADIUS)
     model = DamperModel(M=s.M, K=s.K, C=s.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1)
     run = simulate(model, duration, solver=s.solver, initial=InitialState(v=d.v0), rtol=s.rtol)

@@ -47,7 +47,7 @@ from ..sweep import (
     RANK_COLUMNS,
     SWEEP_CSV,
     SWEEP_JSON,
-    Settings,
+    FixedSettings,
     SweepSpec,
     design,
     design_table,
@@ -110,17 +110,17 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1_PARAMETERS["
     config : str or sequence of str
         ``"free"``, ``"plane"`` or ``"wall-floor"``.
     M, K, C, clip_tensile, duration, solver, rtol
-        The damper and its solver (:class:`~acoustiviz.sweep.Settings`; ``rtol`` defaults to
+        The damper and its solver (:class:`~acoustiviz.sweep.FixedSettings`; ``rtol`` defaults to
         :data:`~acoustiviz.constants.DEFAULT_RTOL`, as for every damper run).
     radius : float or "mass"
         Radius of the radiating sphere in m, or ``"mass"``: from the impact mass and ``density``.
     density : float, optional
         Sphere density in kg/m³; only with ``radius="mass"`` (default 7800 or the material's).
     surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest, levels
-        See :class:`~acoustiviz.sweep.Settings`.
+        See :class:`~acoustiviz.sweep.FixedSettings`.
     room : dict, optional
         The settings of a shoebox room (:class:`acoustiviz.core.room_geometry.Room`), for
-        ``config="room"`` (:attr:`acoustiviz.sweep.Settings.room`).
+        ``config="room"`` (:attr:`acoustiviz.sweep.FixedSettings.room`).
 
     Returns
     -------
@@ -135,10 +135,10 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1_PARAMETERS["
         if density is not None:
             raise ParameterError("density", "sets the sphere's radius from the impact mass; it needs a radius "
                                             "from the mass (--radius mass)")
-    settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
-                        radius_mode=radius_mode, radius=radius, density=density, surface=surface, pulse=pulse,
-                        pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance, n_fastest=n_fastest,
-                        levels=bool(levels), room=room)
+    settings = FixedSettings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver,
+                             rtol=rtol, radius_mode=radius_mode, radius=radius, density=density, surface=surface,
+                             pulse=pulse, pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance,
+                             n_fastest=n_fastest, levels=bool(levels), room=room)
     configs = parse_values("config", config, str)
     for cfg in configs:
         check_choice("config", cfg, sweepable(settings))

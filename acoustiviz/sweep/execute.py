@@ -23,13 +23,13 @@ from pathlib import Path
 from ..errors import ParameterError
 from .evaluate import evaluate_or_fail, failed_result, warm_up
 from .progress import Progress
-from .spec import Settings, SweepSpec
+from .spec import FixedSettings, SweepSpec
 from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
 
 __all__ = ["run_sweep", "make_executor"]
 
 
-def _worker_init(settings: Settings) -> None:
+def _worker_init(settings: FixedSettings) -> None:
     """Process-pool initializer: leave Ctrl-C to the parent and load the compiled kernels once."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):
@@ -80,7 +80,7 @@ def _shutdown_now(ex: Executor) -> None:
         ex.shutdown(wait=False)
 
 
-def make_executor(executor, workers, settings: Settings, n_tasks: int):
+def make_executor(executor, workers, settings: FixedSettings, n_tasks: int):
     """Return ``(executor, kind, cleanup, n)``; kind is ``"local"``, ``"given"`` or ``"dask"``.
 
     A local pool has ``n`` processes, at most ``n_tasks``; it and a Dask client are owned (shut
@@ -130,7 +130,7 @@ def dask_executor(url: str):
     return client.get_executor(), client.close
 
 
-def _local_pool(n: int, settings: Settings):
+def _local_pool(n: int, settings: FixedSettings):
     from concurrent.futures import ProcessPoolExecutor
 
     return ProcessPoolExecutor(max_workers=n, initializer=_worker_init, initargs=(settings,))
@@ -145,7 +145,7 @@ def _is_broken_pool(exc: BaseException) -> bool:
 class _Runner:
     """Submit designs to an executor and yield their results, failed designs included."""
 
-    def __init__(self, executor, workers, settings: Settings, n_tasks: int):
+    def __init__(self, executor, workers, settings: FixedSettings, n_tasks: int):
         self.settings = settings
         self.ex, self.kind, self.cleanup, self.n = make_executor(executor, workers, settings, n_tasks)
 
