@@ -31,6 +31,7 @@ from .products import new_figure as _fig
 from .products import save as _save
 from .scene_levels import check_levels_settings, check_sound_listeners, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
+from .sweep import scene_sweep_spec
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
 
@@ -346,19 +347,12 @@ def produce_animation(ctx: RunContext):
     return products
 
 
-def sweep_spec(scene):
-    """The scene's :class:`~acoustiviz.sweep.SweepSpec` (:func:`acoustiviz.app.sweep.scene_sweep_spec`)."""
-    from .sweep import scene_sweep_spec
-
-    return scene_sweep_spec(scene, solver=damper_solver(scene))
-
-
 def produce_sweep(ctx: RunContext):
     """Sweep over gap and impact mass (paper Figure 6): ``sweep/sweep.csv``, the maps and the design table."""
     from .sweep import run_sweep_outputs
 
     opts = ctx.scene.output("sweep")
-    spec = sweep_spec(ctx.scene)
+    spec = scene_sweep_spec(ctx.scene)
     ctx.progress(f"sweeping {len(spec.designs())} designs, {opts['duration_s']:g} s of motion each")
     run = run_sweep_outputs(spec, ctx.path("sweep"), workers=opts["workers"] or None, progress=ctx.stream)
     ctx.sweep_table = run.table
@@ -420,8 +414,8 @@ PRODUCERS = {
 # --------------------------------------------------------------------------- the run
 #: Output kind -> the settings object its producer builds, built before any output is computed.
 _SETTINGS = {
-    "sweep": sweep_spec,
-    "design_table": sweep_spec,
+    "sweep": scene_sweep_spec,
+    "design_table": scene_sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
     "levels": lambda scene: (check_levels_settings(scene), check_sound_listeners(scene)),
     "spectrum": check_sound_listeners,
@@ -534,7 +528,7 @@ def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
         from ..sweep.store import check_dir
 
         with user_terms({"out": "outputs.sweep"}):
-            check_dir(sweep_spec(scene), out / "sweep")
+            check_dir(scene_sweep_spec(scene), out / "sweep")
     out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
     ctx = RunContext(scene, out, say, stream, planned)
