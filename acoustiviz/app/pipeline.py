@@ -26,7 +26,7 @@ from . import damper as _damper
 from . import forced as _forced
 from .maps import produce_level_map
 from .names import SCENE_DAMPER_KEYS, user_terms
-from .products import Product, damper_initial, damper_model, damper_solver
+from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
 from .scene_levels import check_levels_settings, check_sound_listeners, produce_levels, produce_spectrum
@@ -91,7 +91,7 @@ class RunContext:
     @functools.cached_property
     def damper_model(self):
         """The scene's :class:`~acoustiviz.dynamics.DamperModel`."""
-        return damper_model(self.scene)
+        return scene_damper_model(self.scene)
 
     @functools.cached_property
     def damper_initial(self):
@@ -429,7 +429,7 @@ def _operating_listener(scene) -> None:
     """The first listener, which hears the damper in operation, outside its cavity."""
     from .forced_noise import check_listener
 
-    check_listener(damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
+    check_listener(scene_damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
                    radius=scene.damper_sphere_radius(), name="listeners", settings=scene.geometry_settings())
 
 

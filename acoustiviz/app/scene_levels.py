@@ -37,9 +37,9 @@ def _cavity(scene, model, medium):
 def check_sound_listeners(scene) -> None:
     """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
     from ..sound import check_listeners
-    from .products import damper_model
+    from .products import scene_damper_model
 
-    room = _cavity(scene, damper_model(scene), scene.medium())
+    room = _cavity(scene, scene_damper_model(scene), scene.medium())
     check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
