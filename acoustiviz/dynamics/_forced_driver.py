@@ -49,7 +49,7 @@ from ._flight import (
     flight_state,
     scan_forced,
 )
-from ._records import ContactStart, Progress
+from ._records import ContactStart, DriverResult
 from ._status import STATUS_DIVERGED, STATUS_MAX_IMPACTS, STATUS_OK
 
 
@@ -333,7 +333,7 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
 
     Returns
     -------
-    Progress
+    DriverResult
         ``n`` the next free impact row and ``status`` (``STATUS_OK``, ``STATUS_MAX_IMPACTS``,
         ``STATUS_STEP_UNDERFLOW`` or ``STATUS_DIVERGED``).
     """
@@ -352,18 +352,18 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
         if st[4] > 0.5:  # inside a contact: integrate it
             t, stc = _in_contact(prm, fc, st, t, t1, rtol, impacts, n, acc, extrema, work, kst)
             if stc != STATUS_OK:
-                return Progress(n, stc)
+                return DriverResult(n, stc)
             continue
         t, found, sw = _fly(prm, fl, fc, st, t, t1, acc, extrema)
         if not (math.isfinite(st[0]) and math.isfinite(st[1])):
-            return Progress(n, STATUS_DIVERGED)
+            return DriverResult(n, STATUS_DIVERGED)
         if not found:
             break
         if n >= max_impacts:
-            return Progress(n, STATUS_MAX_IMPACTS)
+            return DriverResult(n, STATUS_MAX_IMPACTS)
         u0 = sw * (st[3] - st[1])
         if restitution is not None and u0 <= 0.0:  # resting on a wall: instantaneous impacts cannot follow
-            return Progress(n, STATUS_MAX_IMPACTS)
+            return DriverResult(n, STATUS_MAX_IMPACTS)
         impacts[n, 0] = t
         impacts[n, 1] = sw
         impacts[n, 2] = u0
@@ -371,4 +371,4 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
             n = _open_contact(prm, st, sw, u0, impacts, n)
         else:  # instantaneous impact
             n = _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc)
-    return Progress(n, status)
+    return DriverResult(n, status)

@@ -13,7 +13,7 @@ from collections import namedtuple
 
 from numba import njit
 
-__all__ = ["Params", "Advanced", "Progress", "ContactStart", "ContactEnd", "NmBooks", "DenseOutput", "Turns",
+__all__ = ["Params", "Advanced", "DriverResult", "ContactStart", "ContactEnd", "NmBooks", "DenseOutput", "Turns",
            "as_params", "params_record", "without_main"]
 
 #: The model as the kernels see it (paper eq 15): main mass ``M`` (kg), main spring ``K`` (N/m),
@@ -55,7 +55,7 @@ def params_record(p) -> Params:
 
 
 #: What the forced driver returns: ``n`` the next free impact row and ``status`` a ``STATUS_*`` code.
-Progress = namedtuple("Progress", ["n", "status"])
+DriverResult = namedtuple("DriverResult", ["n", "status"])
 
 #: Where a contact starts (or resumes): time ``tc`` (s), wall ``sw`` (±1), main-mass displacement
 #: ``x`` (m) and velocity ``v`` (m/s), ``xi`` the square root of the penetration (m^0.5) and ``u``
