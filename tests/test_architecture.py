@@ -221,11 +221,6 @@ def _public_definitions(path: Path) -> set:
 
 #: The interface every ``acoustiviz <command>`` module implements: the same names by design.
 SUBCOMMAND_INTERFACE = {"add_parser", "run"}
-#: Public names still defined in several modules, tolerated until each has one home (not required).
-KNOWN_DUPLICATES = {
-    "LEVEL_COLUMNS",
-    "window_metrics",
-}
 
 
 def test_no_public_name_is_defined_twice():
@@ -235,7 +230,7 @@ def test_no_public_name_is_defined_twice():
         for name in _public_definitions(path):
             if not (_top(rel) == "cli" and name in SUBCOMMAND_INTERFACE):
                 homes.setdefault(name, []).append(rel.as_posix())
-    twice = {name: where for name, where in sorted(homes.items()) if len(where) > 1 and name not in KNOWN_DUPLICATES}
+    twice = {name: where for name, where in sorted(homes.items()) if len(where) > 1}
     assert not twice, "public names defined in more than one module:\n" + "\n".join(
         f"{name}: {', '.join(where)}" for name, where in twice.items())
 

@@ -26,7 +26,7 @@ from acoustiviz.sweep import (
     load_sweep,
 )
 from acoustiviz.sweep.evaluate import sound_setup
-from acoustiviz.sweep.levels import LEVEL_COLUMNS, click_windows, design_levels
+from acoustiviz.sweep.levels import SWEEP_LEVEL_COLUMNS, click_windows, design_levels
 from acoustiviz.sweep.store import ALL_COLUMNS, NUMERIC_COLUMNS
 
 DURATION = 1.5
@@ -188,8 +188,8 @@ def test_sparse_levels_equal_rendering_and_filtering_every_sample(gap, m, config
     run, scene, clicks, point = _run_and_scene(gap, m, config, duration=3.0)
     kw = {"scene": scene, "model": clicks, "point": point, "duration": 3.0}
     sparse, dense = design_levels(run.impacts, **kw), design_levels(run.impacts, method="dense", **kw)
-    assert set(sparse) == set(LEVEL_COLUMNS)
-    for c in LEVEL_COLUMNS:
+    assert set(sparse) == set(SWEEP_LEVEL_COLUMNS)
+    for c in SWEEP_LEVEL_COLUMNS:
         assert np.isfinite(dense[c]) and sparse[c] == pytest.approx(dense[c], abs=LEVELS_TOL_DB), c
 
 
@@ -199,7 +199,7 @@ def test_design_levels_checks_its_method_and_hears_silence():
     with pytest.raises(ParameterError) as err:
         design_levels(run.impacts, method="fast", **kw)
     assert err.value.name == "method"
-    assert design_levels(ImpactSequence([], [], []), **kw) == dict.fromkeys(LEVEL_COLUMNS, -math.inf)
+    assert design_levels(ImpactSequence([], [], []), **kw) == dict.fromkeys(SWEEP_LEVEL_COLUMNS, -math.inf)
 
 
 @pytest.mark.parametrize(("pulse", "mass_model"), [("half-sine", "impact"), ("impulse-matched", "effective"),

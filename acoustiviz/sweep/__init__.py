@@ -76,7 +76,7 @@ from __future__ import annotations
 
 from .evaluate import DesignResult, evaluate_design, impact_spl_db, listener_point, max_spl_db
 from .execute import run_sweep
-from .levels import LEVEL_COLUMNS, design_levels
+from .levels import SWEEP_LEVEL_COLUMNS, design_levels
 from .progress import Progress
 from .query import (
     DESIGN_TABLE_COLUMNS,
@@ -127,7 +127,7 @@ __all__ = [
     "PAPER_TABLE2",
     "DESIGN_TABLE_COLUMNS",
     "RANK_COLUMNS",
-    "LEVEL_COLUMNS",
+    "SWEEP_LEVEL_COLUMNS",
     "design_levels",
     "SweepMismatch",
     "FixedSettings",

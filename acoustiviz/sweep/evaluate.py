@@ -14,7 +14,7 @@ import numpy as np
 
 from ..core.geometry import observer_points
 from ..errors import ParameterError
-from .levels import LEVEL_COLUMNS, NO_LEVELS, design_levels
+from .levels import NO_LEVELS, SWEEP_LEVEL_COLUMNS, design_levels
 from .spec import PAPER_RADIUS, Design, FixedSettings
 
 __all__ = ["DesignResult", "listener_point", "sound_setup", "impact_spl_db", "max_spl_db", "evaluate_design",
@@ -165,7 +165,7 @@ class DesignResult:
             "max_approach_velocity_m_s": self.max_approach_velocity,
             "fit_window_start_s": self.fit_window_start, "fit_window_stop_s": self.fit_window_stop,
             "fit_n_maxima": self.fit_n_maxima, "spl_impacts_evaluated": self.spl_impacts_evaluated,
-            **{c: self.levels.get(c, math.nan) for c in LEVEL_COLUMNS},
+            **{c: self.levels.get(c, math.nan) for c in SWEEP_LEVEL_COLUMNS},
             "success": int(self.success), "error": self.error,
         }
 
