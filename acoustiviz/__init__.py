@@ -50,7 +50,6 @@ _LAZY = {
     "AccuracyWarning": "errors",
     "ClippingWarning": "errors",
     "ParameterError": "errors",
-    "configuration": "core.geometry",
     "images_free": "core.geometry",
     "images_plane": "core.geometry",
     "images_wall_floor": "core.geometry",

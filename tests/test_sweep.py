@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.core.medium import Medium
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics import metrics as dm
@@ -215,7 +215,7 @@ def direct_reference(gap, m, settings, *, angle=math.pi / 4, distance=0.7, confi
     r = simulate(model, settings.duration, initial=InitialState(v=2.0), rtol=settings.rtol)
     mx = exact_maxima(r)
     a = 0.01905
-    conf = configuration(config, a, wall_distance=0.05 if config == "wall-floor" else None)
+    conf = geometry(config, a, wall_distance=0.05 if config == "wall-floor" else None)
     centre = conf.sources[0].position
     point = centre + distance * np.array([math.sin(angle), 0.0, math.cos(angle)])
     levels = [field_metrics(acceleration_pulse(Impact(u, 5.6e8, m), "half-sine"), point[None, :], conf,
@@ -262,7 +262,7 @@ def test_level_of_fastest_impacts_is_the_max_over_all_impacts(settings, config):
     d = SweepSpec(gap=(0.05,), m=(0.03,), config=(config,), settings=settings).designs()[0]
     model = DamperModel(m=d.m, gap=d.gap)
     u = simulate(model, settings.duration, rtol=1e-10).impacts.approach_velocity
-    conf = configuration(config, d.radius, wall_distance=0.05 if config == "wall-floor" else None)
+    conf = geometry(config, d.radius, wall_distance=0.05 if config == "wall-floor" else None)
     from acoustiviz.sweep import listener_point
 
     kw = dict(mass=d.m, partner_mass=math.inf if settings.pulse_mass == "impact" else settings.M,
@@ -285,7 +285,7 @@ def test_level_grows_with_approach_speed_over_a_wide_range():
     for _ in range(40):
         radius = float(rng.choice([0.002, 0.01, 0.01905, 0.05]))
         config = str(rng.choice(["free", "plane", "wall-floor"]))
-        conf = configuration(config, radius, wall_distance=radius * 3 if config == "wall-floor" else None)
+        conf = geometry(config, radius, wall_distance=radius * 3 if config == "wall-floor" else None)
         angle = float(rng.choice([0.0, 0.7, 1.2, 1.5]))
         from acoustiviz.sweep import listener_point
 

@@ -156,7 +156,7 @@ def section_field(pulse, config, time, *, medium: Medium = AIR, planes=None, ext
 
     Examples
     --------
-    >>> f = section_field(pulse, configuration("plane", 0.01905), [0.5e-3, 1e-3], n_u=41)  # doctest: +SKIP
+    >>> f = section_field(pulse, geometry("plane", 0.01905), [0.5e-3, 1e-3], n_u=41)  # doctest: +SKIP
     >>> f.pressures[0].shape  # (times, points of the xz section)
     (2, 902)
     """

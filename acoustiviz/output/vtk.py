@@ -328,7 +328,7 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
 
     Examples
     --------
-    >>> write_snapshot_vtk(pulse, configuration("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
+    >>> write_snapshot_vtk(pulse, geometry("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
     from .render.snapshot import _field

@@ -316,9 +316,9 @@ def render_balloon(
     Examples
     --------
     >>> from acoustiviz import Impact, acceleration_pulse
-    >>> from acoustiviz.core.geometry import configuration
+    >>> from acoustiviz.core.geometry import geometry
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.226), "half-sine")
-    >>> corner = configuration("wall-floor", 0.01905, wall_distance=0.05)
+    >>> corner = geometry("wall-floor", 0.01905, wall_distance=0.05)
     >>> render_balloon(pulse, corner, "balloon.png", size=(800, 600))  # doctest: +SKIP
     PosixPath('balloon.png')
     """
