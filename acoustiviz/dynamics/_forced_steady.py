@@ -469,7 +469,7 @@ def check_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOpt
     if spc is not None and int(spc) < 8:
         raise ParameterError("steps_per_cycle", f"must be >= 8, got {spc}")
     return SteadyStateOptions(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
-                          steps_per_cycle=None if spc is None else int(spc), **ints)
+                              steps_per_cycle=None if spc is None else int(spc), **ints)
 
 
 def _start(model, excitation, initial) -> tuple:
@@ -530,7 +530,7 @@ def simulate_cycles(
     _check_common(model, excitation, solver, restitution)
     state = _start(model, excitation, initial)
     settings = SteadyStateOptions(solver=solver, restitution=restitution, rtol=rtol, steps_per_cycle=steps_per_cycle,
-                              max_impacts_per_cycle=max_impacts_per_cycle)
+                                  max_impacts_per_cycle=max_impacts_per_cycle)
     run = _Runner(model, excitation, settings, state, rows=int(max_impacts_per_cycle) * int(cycles))
     run.cap = run.imp.shape[0] - 1
     pts = [run.section()]
