@@ -11,14 +11,15 @@ The package is laid out in layers, each importing only from those below it:
 ``sound``
     sound synthesis: impact trains rendered as calibrated pressure signals at listeners;
 ``output``
-    sinks only: plots, pyvista renders, WAV files and other writers;
+    sinks only: plots, pyvista renders, WAV, VTK and HTML files;
 ``sweep``
     design sweeps and the design table;
 ``app``
     the application layer that both front-ends call: ``scene`` files and the ``cli``.
 
-``constants`` and ``errors`` are the one home of the package's facts and exceptions. Importing
-the package imports nothing else and has no side effect: each name is imported on first use.
+``constants`` and ``errors`` are the one home of the package's facts and exceptions; ``files``
+writes every file of the package atomically. Importing the package imports nothing else and has
+no side effect: each name is imported on first use.
 """
 
 __version__ = "0.1.0"
@@ -49,7 +50,6 @@ _LAZY = {
     "AccuracyWarning": "errors",
     "ClippingWarning": "errors",
     "ParameterError": "errors",
-    "configuration": "core.geometry",
     "images_free": "core.geometry",
     "images_plane": "core.geometry",
     "images_wall_floor": "core.geometry",

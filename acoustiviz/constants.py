@@ -53,7 +53,7 @@ __all__ = [
     "PAPER_DISTANCE",
     "PAPER_ANGLE_DEG",
     "DEFAULT_WALL_DISTANCE",
-    "TABLE1",
+    "TABLE1_PARAMETERS",
     "PAPER_GAP",
     "PAPER_V0",
     "DEFAULT_DURATION",
@@ -152,8 +152,9 @@ DEFAULT_WALL_DISTANCE = 0.05
 # --- the paper's Table 1 damper ------------------------------------------------------------
 
 #: Table 1: main mass M (kg), spring K (N/m), dashpot C (N s/m), impact mass m (kg), Hertz
-#: stiffness k_hertz (N/m^1.5) and contact damping c1 (N s/m).
-TABLE1 = {"M": 0.5, "K": 500.0, "C": 0.05, "m": 0.0405, "k_hertz": PAPER_K_HERTZ, "c1": 20.0}
+#: stiffness k_hertz (N/m^1.5) and contact damping c1 (N s/m), by name; the damper model built
+#: from them is :data:`acoustiviz.dynamics.TABLE1`.
+TABLE1_PARAMETERS = {"M": 0.5, "K": 500.0, "C": 0.05, "m": 0.0405, "k_hertz": PAPER_K_HERTZ, "c1": 20.0}
 #: Total free travel d of the impact mass in Figure 5, m.
 PAPER_GAP = 0.04
 #: Initial main-mass velocity of Figure 5, m/s.

@@ -45,7 +45,7 @@ from _timing import run_writing
 
 from acoustiviz.constants import DEFAULT_RTOL
 from acoustiviz.dynamics import TABLE1, simulate
-from acoustiviz.output.writers import write_csv_atomic
+from acoustiviz.files import write_csv_atomic
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -31,7 +31,7 @@ from scipy.optimize import minimize_scalar
 from acoustiviz import field
 from acoustiviz.core import approximations
 from acoustiviz.core.contact import HERTZ_DURATION_CONSTANT, Impact, SampledPulse, acceleration_pulse, hertz_pulse_shape
-from acoustiviz.core.geometry import configuration, images_plane
+from acoustiviz.core.geometry import geometry, images_plane
 from acoustiviz.core.medium import AIR
 from acoustiviz.field import _closed
 from acoustiviz.field.grids import planar_grid
@@ -141,7 +141,7 @@ def pulse_table(quick: bool) -> None:
     print(hdr)
     print("-" * len(hdr))
     for name in ("free", "plane", "wall-floor"):
-        cfg = configuration(name, A, wall_distance=0.1) if name == "wall-floor" else configuration(name, A)
+        cfg = geometry(name, A, wall_distance=0.1) if name == "wall-floor" else geometry(name, A)
         pts = rng.uniform([0.05, -0.5, 0.05], [1.0, 0.5, 1.0], (n, 3))
         pts = pts[cfg.in_fluid(pts)]
         t = np.arange(0.0, 4e-3, field.default_sample_interval(pulses["half-sine"], A))
@@ -164,7 +164,7 @@ def pulse_table(quick: bool) -> None:
 def exposure_table(quick: bool) -> None:
     """Exposure of the whole response with no time grid (field.exposure) on the corner, against field_metrics."""
     imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3)
-    cfg = configuration("wall-floor", A, wall_distance=0.1)
+    cfg = geometry("wall-floor", A, wall_distance=0.1)
     n = 100_000 if quick else 1_000_000
     pts = np.random.default_rng(1).uniform([0.05, -0.5, 0.05], [1.0, 0.5, 1.0], (n, 3))
     print(f"exposure (SEL) of the whole response without a time grid, wall-floor corner, {n:,} points "
@@ -212,7 +212,7 @@ def _second_search(pulse, pts, cfg, fp):
 def fast_peaks_table(quick: bool) -> None:
     """Peaks and SEL on the corner without a time loop (field.fast_peaks), against the refined field_metrics."""
     imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * np.pi * A**3)
-    cfg = configuration("wall-floor", A, wall_distance=0.1)
+    cfg = geometry("wall-floor", A, wall_distance=0.1)
     n = 100_000 if quick else 1_000_000
     pts = np.random.default_rng(1).uniform([0.05, -0.5, 0.05], [1.0, 0.5, 1.0], (n, 3))
     nsub = 2_000

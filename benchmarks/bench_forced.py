@@ -235,7 +235,7 @@ def table_attractors(baseline=BASELINE, write=False):
         f"{sum(fa.newton_iterations for fa in resp.per_frequency):9d} {total:6.2f}")
     say(f"CPU ratio old / new: {old_total / total:.2f}")
     if write:
-        from acoustiviz.output.writers import write_text_atomic
+        from acoustiviz.files import write_text_atomic
 
         path = root / "benchmarks" / "results" / "bench_forced_attractors.txt"
         write_text_atomic(path, "\n".join(lines) + "\n")
@@ -253,7 +253,7 @@ def main(argv=None):
         tee = Tee(sys.stdout)
         with contextlib.redirect_stdout(tee):
             _main(args)
-        from acoustiviz.output.writers import write_text_atomic
+        from acoustiviz.files import write_text_atomic
 
         path = Path(__file__).resolve().parent / "results" / "bench_forced.txt"
         write_text_atomic(path, "".join(tee.parts).lstrip("\n"))

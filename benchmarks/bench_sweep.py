@@ -9,7 +9,7 @@ process pool, and prints
 * the wall time of the sweep (designs only) and of the whole call (with pool start-up),
 * the per-design cost: wall time per design, and core-seconds per design (wall x workers / n),
 * the serial cost of one design in this process (the median over a few designs, CPU time), for
-  reference, without and with the weighted levels of its run (``Settings.levels``: LAFmax, LCpeak
+  reference, without and with the weighted levels of its run (``FixedSettings.levels``: LAFmax, LCpeak
   and LAeq of the click train at 96 kHz), and the extra cost of the levels per design;
 * side by side on the same runs, the levels alone (:func:`acoustiviz.sweep.design_levels`) over
   the motion alone (the design without levels), computed from the clicks alone (``sparse``, what
@@ -44,12 +44,12 @@ def main(argv=None) -> int:
     t_import = time.perf_counter()
     from dataclasses import replace
 
-    from acoustiviz.sweep import Settings, SweepSpec, design_levels, evaluate_design, run_sweep, value_range
+    from acoustiviz.sweep import FixedSettings, SweepSpec, design_levels, evaluate_design, run_sweep, value_range
 
     t_import = time.perf_counter() - t_import
     ng, nm, duration = (5, 4, 5.0) if args.quick else (20, 20, 20.0)
     spec = SweepSpec(gap=value_range(0.02, 0.06, ng), m=value_range(0.02, 0.08, nm),
-                     settings=Settings(duration=duration, levels=args.levels))
+                     settings=FixedSettings(duration=duration, levels=args.levels))
     n = ng * nm
     workers = args.workers or os.cpu_count() or 1
     def sweep(settings):

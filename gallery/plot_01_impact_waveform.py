@@ -19,11 +19,11 @@ import numpy as np
 from _gallery import output_dir
 
 from acoustiviz import AIR, Impact, acceleration_pulse
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.field import time_series
+from acoustiviz.files import write_csv_atomic
 from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.output.plot.waveform import plot_waveform
-from acoustiviz.output.writers import write_csv_atomic
 
 RADIUS, U0, K_HZ, DENSITY = 0.01905, 1.4, 5.6e8, 7800.0
 DISTANCE, ANGLE = 0.7, math.radians(45.0)
@@ -38,8 +38,8 @@ def listener_pressure(pulse, t, conf):
 
 t = np.linspace(1.8e-3, 3.2e-3, 2801)  # s from the start of contact
 half_sine = acceleration_pulse(impact, "half-sine")
-free = listener_pressure(half_sine, t, configuration("free", RADIUS))
-plane = listener_pressure(half_sine, t, configuration("plane", RADIUS))
+free = listener_pressure(half_sine, t, geometry("free", RADIUS))
+plane = listener_pressure(half_sine, t, geometry("plane", RADIUS))
 
 # %%
 from matplotlib.figure import Figure  # noqa: E402
@@ -53,7 +53,7 @@ with style():
     ax1.set_ylim(-1.05, 0.75)
     ax1.legend(loc="lower center", fontsize=8)
     for kind, colour in (("half-sine", "C0"), ("impulse-matched", "C1"), ("hertz", "C3")):
-        p = listener_pressure(acceleration_pulse(impact, kind), t, configuration("plane", RADIUS))
+        p = listener_pressure(acceleration_pulse(impact, kind), t, geometry("plane", RADIUS))
         plot_waveform(t, p, ax=ax2, label=f"{kind}: peaks {p.max():.2f} / {p.min():.2f} Pa", color=colour)
     ax2.set_title("(B) reflecting plane: three acceleration pulses")
     ax2.legend(loc="lower center", fontsize=8)

@@ -20,9 +20,9 @@ from _gallery import fast_mode, output_dir
 from acoustiviz import Impact, acceleration_pulse
 from acoustiviz.core.geometry import images_plane
 from acoustiviz.field import directivity
+from acoustiviz.files import write_csv_atomic
 from acoustiviz.output.plot.directivity import plot_directivity
 from acoustiviz.output.plot.style import save_figure, style
-from acoustiviz.output.writers import write_csv_atomic
 
 RADIUS, U0, K_HZ, DENSITY, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.7
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)

@@ -15,9 +15,9 @@ from _gallery import fast_mode, output_dir
 
 from acoustiviz.dynamics import TABLE1, DamperModel
 from acoustiviz.dynamics.metrics import restitution_curve
+from acoustiviz.files import write_csv_atomic
 from acoustiviz.output.plot.dynamics import plot_restitution
 from acoustiviz.output.plot.style import save_figure, style
-from acoustiviz.output.writers import write_csv_atomic
 
 masses = np.linspace(0.005, 0.1, 8 if fast_mode() else 20)  # kg
 speeds = np.array([0.2, 0.5, 1.0, 2.0, 3.0])  # m/s

@@ -29,11 +29,11 @@ from matplotlib.figure import Figure
 
 from acoustiviz.output.plot.design import plot_inclination_map, plot_spl_map
 from acoustiviz.output.plot.style import save_figure, style
-from acoustiviz.sweep import Settings, SweepSpec, run_sweep, value_range
+from acoustiviz.sweep import FixedSettings, SweepSpec, run_sweep, value_range
 
 n_gap, n_mass, duration = (4, 3, 3.0) if fast_mode() else (20, 20, 20.0)
 spec = SweepSpec(gap=value_range(0.02, 0.06, n_gap), m=value_range(0.02, 0.08, n_mass),
-                 settings=Settings(duration=duration))
+                 settings=FixedSettings(duration=duration))
 table = run_sweep(spec, output_dir() / "design_sweep", progress=sys.stderr)
 
 # %%

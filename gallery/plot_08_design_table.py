@@ -30,7 +30,7 @@ from acoustiviz.output.plot.design import plot_design_table
 from acoustiviz.output.plot.style import save_figure, style
 from acoustiviz.sweep import (
     PAPER_TABLE2,
-    Settings,
+    FixedSettings,
     SweepSpec,
     design,
     design_table,
@@ -41,7 +41,7 @@ from acoustiviz.sweep import (
 
 n_gap, n_mass, duration = (4, 3, 3.0) if fast_mode() else (20, 20, 20.0)
 spec = SweepSpec(gap=value_range(0.02, 0.06, n_gap), m=value_range(0.02, 0.08, n_mass),
-                 settings=Settings(duration=duration))
+                 settings=FixedSettings(duration=duration))
 # the same directory as plot_07: if that script ran, nothing is recomputed
 table = run_sweep(spec, output_dir() / "design_sweep", progress=sys.stderr)
 

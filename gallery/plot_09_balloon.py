@@ -22,14 +22,14 @@ import math
 from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.output.render import balloon_data, render_balloon
 
 RADIUS, U0, K_HZ, DENSITY, WALL, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.05, 0.7
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)
 pulse = acceleration_pulse(impact, "half-sine")
-plane = configuration("plane", RADIUS)
-corner = configuration("wall-floor", RADIUS, wall_distance=WALL)
+plane = geometry("plane", RADIUS)
+corner = geometry("wall-floor", RADIUS, wall_distance=WALL)
 n_theta = 8 if fast_mode() else 32
 size = (900, 400) if fast_mode() else (1800, 800)
 

@@ -20,13 +20,13 @@ import math
 from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.output.render import mp4_available, render_animation, render_snapshot
 
 RADIUS, U0, K_HZ, DENSITY, WALL = 0.01905, 1.4, 5.6e8, 7800.0, 0.05
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)
 pulse = acceleration_pulse(impact, "hertz")
-corner = configuration("wall-floor", RADIUS, wall_distance=WALL)
+corner = geometry("wall-floor", RADIUS, wall_distance=WALL)
 fast = fast_mode()
 times = [0.3e-3, 0.6e-3, 0.9e-3, 1.2e-3]  # s from the start of contact
 extent = 0.5  # m from the sphere's centre to the far edges of the planes

@@ -10,7 +10,7 @@ from acoustiviz.app.names import user_terms
 from acoustiviz.app.sweep import SWEEP_OPTIONS, design_report, run_sweep_outputs, scene_sweep_spec, sweep_spec
 from acoustiviz.errors import ParameterError
 from acoustiviz.scene import scene_from_dict
-from acoustiviz.sweep import Settings, SweepSpec
+from acoustiviz.sweep import FixedSettings, SweepSpec
 
 
 def test_values_ranges_and_lists():
@@ -24,7 +24,7 @@ def test_values_ranges_and_lists():
 
 def test_defaults_are_the_constants():
     spec = sweep_spec()
-    assert spec == SweepSpec(angle=(math.radians(constants.PAPER_ANGLE_DEG),), settings=Settings())
+    assert spec == SweepSpec(angle=(math.radians(constants.PAPER_ANGLE_DEG),), settings=FixedSettings())
     assert spec.settings.rtol == constants.DEFAULT_RTOL
     assert spec.distance == (constants.PAPER_DISTANCE,) and spec.settings.radius == constants.PAPER_RADIUS
 

@@ -264,12 +264,12 @@ def test_a_speed_out_of_range_is_still_the_speed(here, capsys, argv, option):
 
 @pytest.mark.parametrize("name, bad", [("gap", 1e-308), ("k_hertz", 1e-308), ("m", 1e-12)])
 def test_the_stated_bound_of_a_damper_input_works(name, bad):
-    from acoustiviz.constants import PAPER_GAP, PAPER_V0, TABLE1
+    from acoustiviz.constants import PAPER_GAP, PAPER_V0, TABLE1_PARAMETERS
     from acoustiviz.core.limits import check_damper
     from acoustiviz.errors import ParameterError
 
-    given = dict(M=TABLE1["M"], K=TABLE1["K"], m=TABLE1["m"], gap=PAPER_GAP, k_hertz=TABLE1["k_hertz"], v=PAPER_V0,
-                 duration=1.0)
+    given = dict(M=TABLE1_PARAMETERS["M"], K=TABLE1_PARAMETERS["K"], m=TABLE1_PARAMETERS["m"], gap=PAPER_GAP,
+                 k_hertz=TABLE1_PARAMETERS["k_hertz"], v=PAPER_V0, duration=1.0)
     given[name] = bad
     with pytest.raises(ParameterError) as err:
         check_damper(**given)

@@ -163,12 +163,12 @@ def test_bad_input_is_one_line_naming_the_option(here, capsys, argv, option):
 
 
 def test_a_failed_write_leaves_nothing_and_names_the_file(here, capsys, monkeypatch):
-    import acoustiviz.output.writers as writers
+    import acoustiviz.files as files
 
     def refuse(src, dst):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(writers.os, "replace", refuse)
+    monkeypatch.setattr(files.os, "replace", refuse)
     rc = call(["waveform", "--csv", "w.csv"])
     err = capsys.readouterr().err
     assert_user_error(rc, err, "w.csv")
@@ -177,7 +177,7 @@ def test_a_failed_write_leaves_nothing_and_names_the_file(here, capsys, monkeypa
 
 
 def test_atomic_writer_names_the_target_not_its_temporary_file(here):
-    from acoustiviz.output.writers import write_text_atomic
+    from acoustiviz.files import write_text_atomic
 
     with pytest.raises(OSError) as info:
         write_text_atomic(here / "adir", "x")
@@ -559,12 +559,12 @@ def test_forced_checks_its_outputs_before_computing(here, capsys, monkeypatch):
 def _full_disk(monkeypatch):
     import errno
 
-    import acoustiviz.output.writers as writers
+    import acoustiviz.files as files
 
     def full(fd):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(writers.os, "fsync", full)
+    monkeypatch.setattr(files.os, "fsync", full)
 
 
 @pytest.mark.parametrize("argv, target", [

@@ -278,11 +278,11 @@ def test_one_set_of_defaults():
     from acoustiviz import constants
     from acoustiviz.cli import build_parser
     from acoustiviz.cli.sweep import spec_from_args
-    from acoustiviz.sweep import Settings
+    from acoustiviz.sweep import FixedSettings
 
     spec = spec_from_args(build_parser().parse_args(["sweep", "--out", "x"]))
-    assert spec.settings == Settings()
+    assert spec.settings == FixedSettings()
     assert spec.settings.rtol == constants.DEFAULT_RTOL
-    assert (spec.settings.M, spec.settings.K, spec.settings.C) == tuple(constants.TABLE1[k] for k in "MKC")
-    assert (spec.gap, spec.m, spec.v0, spec.c1) == ((constants.PAPER_GAP,), (constants.TABLE1["m"],),
-                                                    (constants.PAPER_V0,), (constants.TABLE1["c1"],))
+    assert (spec.settings.M, spec.settings.K, spec.settings.C) == tuple(constants.TABLE1_PARAMETERS[k] for k in "MKC")
+    assert (spec.gap, spec.m, spec.v0, spec.c1) == ((constants.PAPER_GAP,), (constants.TABLE1_PARAMETERS["m"],),
+                                                    (constants.PAPER_V0,), (constants.TABLE1_PARAMETERS["c1"],))

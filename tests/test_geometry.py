@@ -11,7 +11,6 @@ from acoustiviz.core.geometry import (
     FreeField,
     ReflectingPlane,
     WallFloorCorner,
-    configuration,
     geometry,
 )
 from acoustiviz.core.images import ImageSet, ImageSource, Plane, images_of
@@ -63,9 +62,9 @@ def test_lenient_keeps_only_what_applies():
     assert (wall.wall_distance, wall.strike, wall.height) == (A, "wall", 0.3)
 
 
-def test_configuration_is_the_explicit_constructor():
-    assert configuration("wall-floor", A, wall_distance=0.07) == WallFloorCorner(A, 0.07)
-    assert configuration("plane", A, wall_distance=0.07) == ReflectingPlane(A)  # others' settings ignored
+def test_geometry_builds_by_name_and_ignores_others_settings_when_lenient():
+    assert geometry("wall-floor", A, wall_distance=0.07) == WallFloorCorner(A, 0.07)
+    assert geometry("plane", A, lenient=True, wall_distance=0.07) == ReflectingPlane(A)  # others' settings ignored
 
 
 @pytest.mark.parametrize("g", [FreeField(A), ReflectingPlane(A), WallFloorCorner(A, 0.05),

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from acoustiviz._validate import ParameterError
-from acoustiviz.core.geometry import configuration, images_free, images_plane, images_wall_floor
+from acoustiviz.core.geometry import geometry, images_free, images_plane, images_wall_floor
 from acoustiviz.core.room_geometry import Room
 from acoustiviz.field.grids import SECTIONS, planar_grid, section_grid, spherical_grid, spherical_grid_for
 
@@ -94,8 +94,8 @@ def test_to_pyvista_keeps_point_order():
 
 
 def _scenes():
-    return [configuration("free", A), configuration("plane", A),
-            configuration("wall-floor", A, wall_distance=0.05),
+    return [geometry("free", A), geometry("plane", A),
+            geometry("wall-floor", A, wall_distance=0.05),
             Room(A, (0.5, 0.4, 0.3), 0.1, (0.1, 0.15, A), order=1)]
 
 

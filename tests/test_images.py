@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from acoustiviz.core.geometry import configuration, images_free, images_plane, images_wall_floor
+from acoustiviz.core.geometry import geometry, images_free, images_plane, images_wall_floor
 from acoustiviz.core.images import ImageSource, mirror_point
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import pressure, pulse_response, sphere_pressure
@@ -85,7 +85,6 @@ def test_in_fluid_mask():
     "kwargs, name",
     [
         (dict(name="wall-floor", radius=A, wall_distance=0.01), "wall_distance"),
-        (dict(name="wall-floor", radius=A), "wall_distance"),
         (dict(name="corner", radius=A), "config"),
         (dict(name="plane", radius=-1.0), "radius"),
         (dict(name="wall-floor", radius=A, wall_distance=0.05, strike="roof"), "strike"),
@@ -94,7 +93,7 @@ def test_in_fluid_mask():
 )
 def test_bad_configuration_names_parameter(kwargs, name):
     with pytest.raises(ParameterError) as err:
-        configuration(**kwargs)
+        geometry(**kwargs)
     assert err.value.name == name
 
 
@@ -179,9 +178,9 @@ def test_image_source_validation():
 
 
 @pytest.mark.parametrize("conf", [
-    configuration("plane", 0.01905),
-    configuration("wall-floor", 0.01905, wall_distance=0.05),
-    configuration("wall-floor", 0.01905, wall_distance=0.01905, strike="wall", height=0.3),
+    geometry("plane", 0.01905),
+    geometry("wall-floor", 0.01905, wall_distance=0.05),
+    geometry("wall-floor", 0.01905, strike="wall", height=0.3),
 ])
 def test_observer_points_keep_distance_and_angle(conf):
     from acoustiviz.core.geometry import observer_points

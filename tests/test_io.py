@@ -6,7 +6,7 @@ import pytest
 def test_atomic_writes_leave_no_temporary_and_normal_permissions(tmp_path):
     import os
 
-    from acoustiviz.output.writers import atomic_path, write_text_atomic
+    from acoustiviz.files import atomic_path, write_text_atomic
 
     target = write_text_atomic(tmp_path / "a.txt", "hello")
     assert target.read_text() == "hello"
@@ -25,7 +25,7 @@ def test_atomic_writes_leave_no_temporary_and_normal_permissions(tmp_path):
 def test_a_symbolic_link_is_never_replaced(tmp_path):
     import os
 
-    from acoustiviz.output.writers import write_text_atomic
+    from acoustiviz.files import write_text_atomic
 
     target = tmp_path / "elsewhere.txt"
     target.write_text("kept")
@@ -39,7 +39,7 @@ def test_a_symbolic_link_is_never_replaced(tmp_path):
 
 
 def test_a_read_only_file_is_never_replaced_even_by_root(tmp_path):
-    from acoustiviz.output.writers import write_bytes_atomic, write_text_atomic
+    from acoustiviz.files import write_bytes_atomic, write_text_atomic
 
     target = tmp_path / "out.txt"
     target.write_text("kept")
@@ -55,7 +55,7 @@ def test_a_read_only_file_is_never_replaced_even_by_root(tmp_path):
 def test_a_link_made_while_the_data_were_computed_is_not_replaced(tmp_path):
     import os
 
-    from acoustiviz.output.writers import atomic_path
+    from acoustiviz.files import atomic_path
 
     target = tmp_path / "out.txt"
     with pytest.raises(OSError, match="symbolic link"), atomic_path(target) as tmp:
@@ -66,7 +66,7 @@ def test_a_link_made_while_the_data_were_computed_is_not_replaced(tmp_path):
 
 @pytest.mark.parametrize("name", ["a\x00b.txt"])
 def test_a_name_the_system_cannot_take_is_an_os_error_naming_it(tmp_path, name):
-    from acoustiviz.output.writers import write_text_atomic
+    from acoustiviz.files import write_text_atomic
 
     with pytest.raises(OSError) as info:
         write_text_atomic(tmp_path / name, "x")
@@ -77,14 +77,14 @@ def test_a_name_the_system_cannot_take_is_an_os_error_naming_it(tmp_path, name):
 def test_a_full_disk_while_writing_bytes_leaves_nothing(tmp_path, monkeypatch):
     import errno
 
-    import acoustiviz.output.writers as writers
+    import acoustiviz.files as files
 
     def full(fd):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(writers.os, "fsync", full)
+    monkeypatch.setattr(files.os, "fsync", full)
     with pytest.raises(OSError) as info:
-        writers.write_bytes_atomic(tmp_path / "a.bin", b"x" * 1000)
+        files.write_bytes_atomic(tmp_path / "a.bin", b"x" * 1000)
     assert info.value.errno == errno.ENOSPC and info.value.filename == str(tmp_path / "a.bin")
     assert list(tmp_path.iterdir()) == []
 
@@ -96,7 +96,7 @@ def test_a_full_disk_while_writing_bytes_leaves_nothing(tmp_path, monkeypatch):
     ("CON", False), ("nul.txt", False), ("com1", False), ("lpt9", False), ("console", True),
 ])
 def test_labels_that_become_file_names(label, ok):
-    from acoustiviz.output.writers import label_problem
+    from acoustiviz.files import label_problem
 
     assert (label_problem(label) is None) == ok
 
@@ -109,7 +109,7 @@ def test_csv_columns_are_numpys_savetxt_text(tmp_path, rows):
 
     import numpy as np
 
-    from acoustiviz.output.writers import write_csv_atomic
+    from acoustiviz.files import write_csv_atomic
 
     rng = np.random.default_rng(rows)
     cols = [rng.normal(size=rows) * 10.0 ** rng.integers(-30, 30, size=rows) for _ in range(4)]
@@ -132,7 +132,7 @@ def test_csv_columns_are_numpys_savetxt_text(tmp_path, rows):
 def test_csv_columns_refuse_a_format_count_that_does_not_match(tmp_path):
     import numpy as np
 
-    from acoustiviz.output.writers import write_csv_atomic
+    from acoustiviz.files import write_csv_atomic
 
     with pytest.raises(ValueError, match="2 formats for 3 columns"):
         write_csv_atomic(tmp_path / "a.csv", ["a", "b", "c"], [np.ones(2)] * 3, fmt=["%g", "%g"])

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad, trapezoid
 
 from acoustiviz.core.contact import HalfSinePulse, Impact, SampledPulse, acceleration_pulse
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.core.medium import AIR
 from acoustiviz.errors import ParameterError
 from acoustiviz.field.grids import spherical_grid_for
@@ -32,9 +32,9 @@ def pulse(request):
 
 @pytest.mark.slow
 def test_closed_form_equals_far_field_intensity_over_the_free_grid(pulse):
-    grid = spherical_grid_for(configuration("free", A), 1.0, n_theta=4)
+    grid = spherical_grid_for(geometry("free", A), 1.0, n_theta=4)
     closed = radiated_energy_free(pulse, radius=A)
-    grid_energy = radiated_energy_grid(pulse, configuration("free", A).sources, grid, radius=A)
+    grid_energy = radiated_energy_grid(pulse, geometry("free", A).sources, grid, radius=A)
     assert grid_energy == pytest.approx(closed, rel=1e-6)
 
 
@@ -107,7 +107,7 @@ def test_exact_hertz_spectrum_is_the_fourier_integral_of_the_closed_form(w):
 @pytest.mark.slow
 def test_grid_integration_converges_as_the_grid_is_refined(config):
     pulse = acceleration_pulse(IMPACT, "half-sine")
-    cfg = configuration(config, A, wall_distance=0.05)
+    cfg = geometry(config, A, lenient=True, wall_distance=0.05)
     e = [radiated_energy_grid(pulse, cfg.sources, spherical_grid_for(cfg, 1.0, n_theta=n), radius=A)
          for n in (3, 6, 12)]
     d1, d2 = abs(e[1] - e[0]), abs(e[2] - e[1])
@@ -200,7 +200,7 @@ def test_grid_energy_is_the_sum_of_every_directions_own_far_field(name):
     from acoustiviz.levels.energy import _time_grid
 
     pulse = acceleration_pulse(IMPACT, "half-sine")
-    cfg = configuration(name, A, wall_distance=0.05)
+    cfg = geometry(name, A, lenient=True, wall_distance=0.05)
     grid = spherical_grid_for(cfg, 1.0, n_theta=4)
     imgs = ImageSet.of(cfg.sources)
     pos = imgs.positions - np.asarray(grid.centre, dtype=float)

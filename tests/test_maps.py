@@ -9,7 +9,7 @@ import pytest
 from acoustiviz.app.impacts import impact_setup
 from acoustiviz.app.maps import (
     CLI_NAMES,
-    CSV_COLUMNS,
+    MAP_CSV_COLUMNS,
     MAP_SETTINGS,
     level_map,
     map_grid,
@@ -140,7 +140,7 @@ def test_csv_columns_and_rows(tmp_path):
     m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.2, resolution=21)
     path = write_map_csv(m, tmp_path / "m.csv")
     lines = path.read_text().splitlines()
-    assert lines[0] == ",".join(CSV_COLUMNS) == "x_m,y_m,z_m,peak_pa,peak_spl_db,sel_db,time_of_peak_s"
+    assert lines[0] == ",".join(MAP_CSV_COLUMNS) == "x_m,y_m,z_m,peak_pa,peak_spl_db,sel_db,time_of_peak_s"
     data = np.genfromtxt(path, delimiter=",", skip_header=1)
     assert data.shape == (m.grid.points.shape[0], 7)
     np.testing.assert_allclose(data[:, :3], m.grid.points, rtol=1e-9, atol=1e-15)

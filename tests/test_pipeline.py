@@ -132,19 +132,19 @@ def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
 
 
 def test_scene_sweep_maps_onto_the_sweep_spec(tmp_path):
-    from acoustiviz.app.pipeline import sweep_spec
+    from acoustiviz.app.sweep import scene_sweep_spec
 
     scene = scene_from_dict({"damper": {"contact_damping_n_s_m": 15.0, "initial_velocity_m_s": 1.5},
                              "outputs": {"sweep": {"gap_m": "0.02:0.04:3", "mass_kg": "0.03:0.05:2",
                                                    "duration_s": 1.5}}})
-    spec = sweep_spec(scene)
+    spec = scene_sweep_spec(scene)
     assert spec.gap == pytest.approx((0.02, 0.03, 0.04)) and spec.m == pytest.approx((0.03, 0.05))
     assert spec.c1 == (15.0,) and spec.v0 == (1.5,) and spec.config == ("plane",)
     assert spec.distance[0] == pytest.approx(0.7) and spec.angle[0] == pytest.approx(math.pi / 4)
     assert spec.settings.duration == 1.5 and spec.settings.radius == pytest.approx(0.01905)
     assert spec.settings.levels is False
     with_levels = scene_from_dict({"outputs": {"sweep": {"gap_m": "0.02:0.04:3", "levels": True}}})
-    assert sweep_spec(with_levels).settings.levels is True
+    assert scene_sweep_spec(with_levels).settings.levels is True
 
 
 @pytest.mark.slow
@@ -180,11 +180,11 @@ def test_fig6_scene_and_the_sweep_command_write_the_same_sweep_json(tmp_path):
     from pathlib import Path
 
     import acoustiviz
-    from acoustiviz.app.pipeline import sweep_spec
+    from acoustiviz.app.sweep import scene_sweep_spec
     from acoustiviz.sweep.store import SWEEP_JSON, prepare_dir
 
     scene = load_scene(Path(acoustiviz.__file__).parent / "assets" / "scenes" / "fig6_design_maps.toml")
-    from_scene = sweep_spec(scene)
+    from_scene = scene_sweep_spec(scene)
     from_cli = _cli_spec(["--gap", "0.02:0.06:20", "--m", "0.02:0.08:20", "--duration", "20", "--out", "x"])
     assert from_scene == from_cli
     assert from_scene.gap[9] == 0.0389473684210526  # 0.02 + 9 * 0.04/19 to 15 digits

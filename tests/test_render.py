@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import snapshots
 
@@ -70,7 +70,7 @@ def test_balloon_data_closes_the_region_and_peaks_on_the_axis(pulse, plane, corn
 
 
 def test_balloon_free_field_is_a_symmetric_dipole(pulse):
-    d = render.balloon_data(pulse, configuration("free", A), n_theta=8, distance=1.0)
+    d = render.balloon_data(pulse, geometry("free", A), n_theta=8, distance=1.0)
     lev = d.level.mean(axis=1)  # rows: cos θ from -1 to 1
     np.testing.assert_allclose(lev, lev[::-1], atol=0.3)
     assert lev[0] - lev[len(lev) // 2] > 10.0
@@ -249,11 +249,11 @@ def test_headless_render_is_quiet(tmp_path):
     env["PYTHONPATH"] = os.pathsep.join([str(root), env.get("PYTHONPATH", "")])
     code = ("import math, sys\n"
             "from acoustiviz import Impact, acceleration_pulse\n"
-            "from acoustiviz.core.geometry import configuration\n"
+            "from acoustiviz.core.geometry import geometry\n"
             "from acoustiviz.output.render import render_balloon\n"
             f"a = {A!r}\n"
             "imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * math.pi * a**3)\n"
-            "render_balloon(acceleration_pulse(imp, 'half-sine'), configuration('plane', a), sys.argv[1],\n"
+            "render_balloon(acceleration_pulse(imp, 'half-sine'), geometry('plane', a), sys.argv[1],\n"
             f"               size={SIZE!r}, n_theta=8)\n")
     out = tmp_path / "b.png"
     proc = subprocess.run([sys.executable, "-c", code, str(out)], env=env, capture_output=True, text=True,

@@ -199,9 +199,9 @@ position_m = [{x}, 1.0, 1.0]
     with pytest.raises(SceneError, match=r"grids.sphere.distance_m: must lie in \(0.040005, 1\] m"):
         scene_from_text(base.format(x=1.5) + "[grids.sphere]\ndistance_m = 1.5\n[outputs.balloon]\n", "t.toml")
     # a sweep takes the scene's room: its designs are built in it
-    from acoustiviz.app.pipeline import sweep_spec
+    from acoustiviz.app.sweep import scene_sweep_spec
 
-    spec = sweep_spec(scene_from_text(base.format(x=1.5) + "[outputs.sweep]\n", "t.toml"))
+    spec = scene_sweep_spec(scene_from_text(base.format(x=1.5) + "[outputs.sweep]\n", "t.toml"))
     assert spec.config == ("room",) and dict(spec.settings.room)["dimensions"] == (3.0, 2.5, 2.0)
 
 

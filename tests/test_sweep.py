@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from acoustiviz.core.contact import Impact, acceleration_pulse
-from acoustiviz.core.geometry import configuration
+from acoustiviz.core.geometry import geometry
 from acoustiviz.core.medium import Medium
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics import metrics as dm
@@ -20,7 +20,7 @@ from acoustiviz.sweep import (
     CSV_COLUMNS,
     SWEEP_CSV,
     Design,
-    Settings,
+    FixedSettings,
     SweepMismatch,
     SweepSpec,
     SweepTable,
@@ -32,7 +32,7 @@ from acoustiviz.sweep import (
     max_spl_db,
     parse_values,
     run_sweep,
-    sphere_radius,
+    sweep_sphere_radius,
     value_range,
 )
 
@@ -88,7 +88,7 @@ class InlineExecutor(Executor):
 def small_spec(**settings):
     kw = {"duration": 2.0}
     kw.update(settings)
-    return SweepSpec(gap=value_range(0.02, 0.06, 3), m=value_range(0.02, 0.08, 2), settings=Settings(**kw))
+    return SweepSpec(gap=value_range(0.02, 0.06, 3), m=value_range(0.02, 0.08, 2), settings=FixedSettings(**kw))
 
 
 def read_csv(path):
@@ -169,15 +169,15 @@ def test_bad_specs_are_refused_before_any_work(kw, name):
 
 def test_settings_validate():
     with pytest.raises(ParameterError, match="^radius_mode"):
-        Settings(radius_mode="guess")
+        FixedSettings(radius_mode="guess")
     with pytest.raises(ParameterError, match="^pulse_mass"):
-        Settings(pulse_mass="both")
+        FixedSettings(pulse_mass="both")
     with pytest.raises(ParameterError, match="^n_fastest"):
-        Settings(n_fastest=-1)
+        FixedSettings(n_fastest=-1)
 
 
 def test_grid_order_and_mass_ratio():
-    spec = SweepSpec(gap=(0.02, 0.04), mass_ratio=(0.1, 0.2), settings=Settings(M=0.5))
+    spec = SweepSpec(gap=(0.02, 0.04), mass_ratio=(0.1, 0.2), settings=FixedSettings(M=0.5))
     ds = spec.designs()
     assert [(d.gap, d.m) for d in ds] == [(0.02, 0.05), (0.02, 0.1), (0.04, 0.05), (0.04, 0.1)]
     assert [d.design_id for d in ds] == [0, 1, 2, 3]
@@ -185,12 +185,12 @@ def test_grid_order_and_mass_ratio():
 
 
 def test_sphere_radius_choices():
-    s = Settings(radius_mode="from-mass", density=7800.0)
+    s = FixedSettings(radius_mode="from-mass", density=7800.0)
     m = 0.0405
-    assert sphere_radius(m, s) == pytest.approx((3 * m / (4 * math.pi * 7800.0)) ** (1 / 3), rel=1e-12)
-    assert sphere_radius(m, Settings()) == 0.01905
+    assert sweep_sphere_radius(m, s) == pytest.approx((3 * m / (4 * math.pi * 7800.0)) ** (1 / 3), rel=1e-12)
+    assert sweep_sphere_radius(m, FixedSettings()) == 0.01905
     # materials give the density and K_HZ (paper eq 2) at the sphere's radius
-    spec = SweepSpec(k_hertz=None, material=("steel", "brass"), settings=Settings(radius_mode="from-mass"))
+    spec = SweepSpec(k_hertz=None, material=("steel", "brass"), settings=FixedSettings(radius_mode="from-mass"))
     d_steel, d_brass = spec.designs()
     assert d_brass.radius < d_steel.radius  # brass is denser than steel
     from acoustiviz.core.contact import hertz_stiffness
@@ -203,7 +203,7 @@ def test_sphere_radius_choices():
 
 def test_spec_roundtrips_through_json_dict():
     spec = SweepSpec(gap=(0.02, 0.03), mass_ratio=(0.1,), config=("plane", "wall-floor"),
-                     settings=Settings(pulse="hertz", radius_mode="from-mass"))
+                     settings=FixedSettings(pulse="hertz", radius_mode="from-mass"))
     assert SweepSpec.from_dict(spec.to_dict()) == spec
 
 
@@ -215,7 +215,7 @@ def direct_reference(gap, m, settings, *, angle=math.pi / 4, distance=0.7, confi
     r = simulate(model, settings.duration, initial=InitialState(v=2.0), rtol=settings.rtol)
     mx = exact_maxima(r)
     a = 0.01905
-    conf = configuration(config, a, wall_distance=0.05 if config == "wall-floor" else None)
+    conf = geometry(config, a, wall_distance=0.05 if config == "wall-floor" else None)
     centre = conf.sources[0].position
     point = centre + distance * np.array([math.sin(angle), 0.0, math.cos(angle)])
     levels = [field_metrics(acceleration_pulse(Impact(u, 5.6e8, m), "half-sine"), point[None, :], conf,
@@ -224,7 +224,7 @@ def direct_reference(gap, m, settings, *, angle=math.pi / 4, distance=0.7, confi
 
 
 def test_design_values_equal_direct_calls():
-    s = Settings(duration=4.0)
+    s = FixedSettings(duration=4.0)
     d = SweepSpec(gap=(0.03,), m=(0.05,), settings=s).designs()[0]
     res = evaluate_design(d, s)
     r, mx, spl = direct_reference(0.03, 0.05, s)
@@ -241,7 +241,7 @@ def test_design_values_equal_direct_calls():
 
 
 def test_listener_in_wall_floor_corner_matches_direct_call():
-    s = Settings(duration=1.0)
+    s = FixedSettings(duration=1.0)
     d = SweepSpec(gap=(0.04,), m=(0.03,), config=("wall-floor",), angle=(math.radians(60),), distance=(0.4,),
                   settings=s).designs()[0]
     res = evaluate_design(d, s)
@@ -250,10 +250,10 @@ def test_listener_in_wall_floor_corner_matches_direct_call():
 
 
 @pytest.mark.parametrize("settings", [
-    Settings(duration=3.0),
-    Settings(duration=3.0, radius_mode="from-mass", pulse_mass="effective"),
-    Settings(duration=3.0, pulse="hertz"),
-    Settings(duration=3.0, pulse="impulse-matched", radius=0.005),
+    FixedSettings(duration=3.0),
+    FixedSettings(duration=3.0, radius_mode="from-mass", pulse_mass="effective"),
+    FixedSettings(duration=3.0, pulse="hertz"),
+    FixedSettings(duration=3.0, pulse="impulse-matched", radius=0.005),
 ])
 @pytest.mark.parametrize("config", ["free", "plane", "wall-floor"])
 @pytest.mark.slow
@@ -262,7 +262,7 @@ def test_level_of_fastest_impacts_is_the_max_over_all_impacts(settings, config):
     d = SweepSpec(gap=(0.05,), m=(0.03,), config=(config,), settings=settings).designs()[0]
     model = DamperModel(m=d.m, gap=d.gap)
     u = simulate(model, settings.duration, rtol=1e-10).impacts.approach_velocity
-    conf = configuration(config, d.radius, wall_distance=0.05 if config == "wall-floor" else None)
+    conf = geometry(config, d.radius, wall_distance=0.05 if config == "wall-floor" else None)
     from acoustiviz.sweep import listener_point
 
     kw = dict(mass=d.m, partner_mass=math.inf if settings.pulse_mass == "impact" else settings.M,
@@ -285,7 +285,7 @@ def test_level_grows_with_approach_speed_over_a_wide_range():
     for _ in range(40):
         radius = float(rng.choice([0.002, 0.01, 0.01905, 0.05]))
         config = str(rng.choice(["free", "plane", "wall-floor"]))
-        conf = configuration(config, radius, wall_distance=radius * 3 if config == "wall-floor" else None)
+        conf = geometry(config, radius, wall_distance=radius * 3 if config == "wall-floor" else None)
         angle = float(rng.choice([0.0, 0.7, 1.2, 1.5]))
         from acoustiviz.sweep import listener_point
 
@@ -415,7 +415,7 @@ def test_other_settings_are_refused_unless_overwritten(tmp_path):
     with pytest.raises(SweepMismatch, match=r"^out: .*different settings.*settings.duration"):
         run_sweep(other, tmp_path, executor=InlineExecutor())
     with pytest.raises(SweepMismatch):
-        run_sweep(SweepSpec(gap=(0.02,), settings=Settings(duration=1.0)), tmp_path, executor=InlineExecutor())
+        run_sweep(SweepSpec(gap=(0.02,), settings=FixedSettings(duration=1.0)), tmp_path, executor=InlineExecutor())
     ex = InlineExecutor()
     table = run_sweep(other, tmp_path, executor=ex, overwrite=True)
     assert ex.submitted == len(other.designs()) and len(table) == len(other.designs())
@@ -431,7 +431,7 @@ def read_spec_of(path):
 
 
 def test_process_pool_gives_the_same_rows(tmp_path):
-    spec = SweepSpec(gap=(0.03, 0.05), m=(0.04,), settings=Settings(duration=1.0))
+    spec = SweepSpec(gap=(0.03, 0.05), m=(0.04,), settings=FixedSettings(duration=1.0))
     pooled = run_sweep(spec, tmp_path / "p", workers=2)
     inline = run_sweep(spec, tmp_path / "i", executor=InlineExecutor())
     for c in CSV_COLUMNS:
@@ -440,7 +440,7 @@ def test_process_pool_gives_the_same_rows(tmp_path):
 
 def test_dask_local_cluster(tmp_path):
     distributed = pytest.importorskip("distributed")
-    spec = SweepSpec(gap=(0.03, 0.05), m=(0.04,), settings=Settings(duration=1.0))
+    spec = SweepSpec(gap=(0.03, 0.05), m=(0.04,), settings=FixedSettings(duration=1.0))
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cl, \
             distributed.Client(cl) as client:
         table = run_sweep(spec, tmp_path / "d", executor=client.get_executor())

@@ -17,7 +17,7 @@ from acoustiviz.sweep import (
     PAPER_RADIUS,
     RANK_COLUMNS,
     Design,
-    Settings,
+    FixedSettings,
     SweepSpec,
     SweepTable,
     design,
@@ -26,7 +26,7 @@ from acoustiviz.sweep import (
     load_sweep,
 )
 from acoustiviz.sweep.evaluate import sound_setup
-from acoustiviz.sweep.levels import LEVEL_COLUMNS, click_windows, design_levels
+from acoustiviz.sweep.levels import SWEEP_LEVEL_COLUMNS, click_windows, design_levels
 from acoustiviz.sweep.store import ALL_COLUMNS, NUMERIC_COLUMNS
 
 DURATION = 1.5
@@ -46,11 +46,11 @@ def plane_design():
 
 @pytest.fixture(scope="module")
 def with_levels(plane_design):
-    return evaluate_design(plane_design, Settings(duration=DURATION, levels=True))
+    return evaluate_design(plane_design, FixedSettings(duration=DURATION, levels=True))
 
 
 def test_levels_equal_direct_calls_on_the_same_run(plane_design, with_levels):
-    s, d = Settings(duration=DURATION), plane_design
+    s, d = FixedSettings(duration=DURATION), plane_design
     model = DamperModel(M=s.M, K=s.K, C=s.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1)
     run = simulate(model, DURATION, solver=s.solver, initial=InitialState(v=d.v0), rtol=s.rtol)
     assert len(run.impacts) == with_levels.n_impacts > 10
@@ -74,20 +74,20 @@ def test_levels_equal_direct_calls_on_the_same_run(plane_design, with_levels):
 
 
 def test_levels_off_by_default_leave_nan(plane_design):
-    r = evaluate_design(plane_design, Settings(duration=0.3))
+    r = evaluate_design(plane_design, FixedSettings(duration=0.3))
     assert all(math.isnan(r.row()[c]) for c in ("lafmax_db", "lcpeak_db", "laeq_db"))
     assert np.isfinite(r.max_spl_db)
 
 
 def test_levels_setting_is_checked():
     with pytest.raises(ParameterError) as err:
-        Settings(levels="yes")
+        FixedSettings(levels="yes")
     assert err.value.name == "levels"
 
 
 def _table(values):
     """A hand-made sweep table: four designs of one inclination, levels given per design."""
-    spec = SweepSpec(gap=(0.02, 0.04), m=(0.02, 0.04), settings=Settings(levels=True))
+    spec = SweepSpec(gap=(0.02, 0.04), m=(0.02, 0.04), settings=FixedSettings(levels=True))
     n = len(values["max_spl_db"])
     cols = {}
     for c in ALL_COLUMNS:
@@ -160,7 +160,7 @@ def test_design_table_gives_the_range_of_each_level_in_a_band(tmp_path):
 
 
 def _run_and_scene(gap, m, config="plane", pulse="half-sine", pulse_mass="impact", duration=DURATION):
-    s = Settings(duration=duration, pulse=pulse, pulse_mass=pulse_mass)
+    s = FixedSettings(duration=duration, pulse=pulse, pulse_mass=pulse_mass)
     d = Design(0, gap, m, 20.0, 5.6e8, "", 2.0, 0.7, math.pi / 4, config, PAPER_RADIUS)
     model = DamperModel(M=s.M, K=s.K, C=s.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1)
     run = simulate(model, duration, solver=s.solver, initial=InitialState(v=d.v0), rtol=s.rtol)
@@ -188,8 +188,8 @@ def test_sparse_levels_equal_rendering_and_filtering_every_sample(gap, m, config
     run, scene, clicks, point = _run_and_scene(gap, m, config, duration=3.0)
     kw = {"scene": scene, "model": clicks, "point": point, "duration": 3.0}
     sparse, dense = design_levels(run.impacts, **kw), design_levels(run.impacts, method="dense", **kw)
-    assert set(sparse) == set(LEVEL_COLUMNS)
-    for c in LEVEL_COLUMNS:
+    assert set(sparse) == set(SWEEP_LEVEL_COLUMNS)
+    for c in SWEEP_LEVEL_COLUMNS:
         assert np.isfinite(dense[c]) and sparse[c] == pytest.approx(dense[c], abs=LEVELS_TOL_DB), c
 
 
@@ -199,7 +199,7 @@ def test_design_levels_checks_its_method_and_hears_silence():
     with pytest.raises(ParameterError) as err:
         design_levels(run.impacts, method="fast", **kw)
     assert err.value.name == "method"
-    assert design_levels(ImpactSequence([], [], []), **kw) == dict.fromkeys(LEVEL_COLUMNS, -math.inf)
+    assert design_levels(ImpactSequence([], [], []), **kw) == dict.fromkeys(SWEEP_LEVEL_COLUMNS, -math.inf)
 
 
 @pytest.mark.parametrize(("pulse", "mass_model"), [("half-sine", "impact"), ("impulse-matched", "effective"),

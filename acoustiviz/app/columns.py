@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..output.writers import write_csv_atomic
+from ..files import write_csv_atomic
 
 __all__ = ["WAVEFORM_FORMATS", "DIRECTIVITY_FORMATS", "write_waveform_csv", "waveform_extremes",
            "write_directivity_csv"]

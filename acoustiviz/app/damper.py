@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from .. import dynamics
 from .._validate import check_choice, check_finite, check_positive
-from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1
+from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1_PARAMETERS
 from ..core.limits import check_damper
 from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
@@ -30,8 +30,9 @@ __all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "run_damp
            "damping_figures", "check_click_fits"]
 
 
-def damper_model(*, M: float = TABLE1["M"], K: float = TABLE1["K"], C: float = TABLE1["C"], m: float = TABLE1["m"],
-                 gap: float = PAPER_GAP, k_hertz: float = TABLE1["k_hertz"], c1: float = TABLE1["c1"],
+def damper_model(*, M: float = TABLE1_PARAMETERS["M"], K: float = TABLE1_PARAMETERS["K"],
+                 C: float = TABLE1_PARAMETERS["C"], m: float = TABLE1_PARAMETERS["m"], gap: float = PAPER_GAP,
+                 k_hertz: float = TABLE1_PARAMETERS["k_hertz"], c1: float = TABLE1_PARAMETERS["c1"],
                  clip_tensile: bool = False) -> DamperModel:
     """The damper of paper eq 15 (defaults: Table 1 with d = 4 cm); see :class:`~acoustiviz.dynamics.DamperModel`."""
     return DamperModel(M=M, K=K, C=C, m=m, gap=gap, k_hertz=k_hertz, c1=c1, clip_tensile=bool(clip_tensile))

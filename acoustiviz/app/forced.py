@@ -194,7 +194,7 @@ def _cell(v) -> str:
 
 def write_forced_csv(run: ForcedRun, path):
     """Write the frequency-response table (one row per frequency and attractor) atomically; return the path."""
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
 
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
@@ -301,9 +301,9 @@ def produce_bifurcation(ctx):
 
 def produce_operating_noise(ctx):
     """Scene output ``operating_noise``: levels per frequency at the first listener (CSV) and a WAV."""
-    from .forced_noise import produce_operating_noise as produce
+    from .forced_noise import write_operating_noise
 
-    return produce(ctx, _scene_forced_run(ctx))
+    return write_operating_noise(ctx, _scene_forced_run(ctx))
 
 
 def forced_table(fr, noises=None) -> str:

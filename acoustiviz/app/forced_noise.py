@@ -35,7 +35,7 @@ from .levels import ANALYSIS_RATE
 
 __all__ = ["NOISE_RATE", "F_SETTLE", "NOISE_COLUMNS", "OperatingNoise", "operating_noise", "default_listener",
            "mark_worst_case", "check_listener", "add_operating_noise", "write_operating_wav", "DesignMap", "design_map",
-           "noise_statement", "produce_operating_noise"]
+           "noise_statement", "write_operating_noise"]
 
 #: Rate in Hz at which the click train is rendered for its levels.
 NOISE_RATE = ANALYSIS_RATE
@@ -383,9 +383,9 @@ def scene_noises(ctx, run) -> list:
     return noises
 
 
-def produce_operating_noise(ctx, run):
+def write_operating_noise(ctx, run):
     """Scene output ``operating_noise`` of ``run``: levels per frequency at the first listener (CSV) and a WAV."""
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
     from .products import Product
 
     name, position = ctx.listeners[0]

@@ -336,7 +336,7 @@ def write_levels_csv(csv_path, report: LevelReport) -> tuple:
     tuple of Path
         The two files written.
     """
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
 
     lv, bl = report.levels, report.bands
     header = ["channel", "channel_name", *LEVEL_COLUMNS, "evaluated_at_hz", "start_s", "stop_s"]

@@ -52,7 +52,7 @@ __all__ = [
     "MAP_SETTINGS",
     "CLI_NAMES",
     "SCENE_NAMES",
-    "CSV_COLUMNS",
+    "MAP_CSV_COLUMNS",
     "LevelMap",
     "check_map_settings",
     "map_grid",
@@ -77,7 +77,7 @@ CLI_NAMES = {**{s.name: s.option for s in MAP_SETTINGS}, "max_memory_mb": "--max
 SCENE_NAMES = {**{s.name: s.path for s in MAP_SETTINGS},
                "max_memory_mb": "grids.memory_limit_mb"}
 #: Columns of the CSV file, in order.
-CSV_COLUMNS = ("x_m", "y_m", "z_m", "peak_pa", "peak_spl_db", "sel_db", "time_of_peak_s")
+MAP_CSV_COLUMNS = ("x_m", "y_m", "z_m", "peak_pa", "peak_spl_db", "sel_db", "time_of_peak_s")
 _CSV_FORMATS = ("%.9e", "%.9e", "%.9e", "%.10e", "%.6f", "%.6f", "%.10e")
 #: Bytes per grid point: points, grid, the evaluator's six results, the maps, masks, and the copies
 #: made while writing the CSV, the figure and the VTK file, with a margin for VTK's own copies; and
@@ -367,12 +367,12 @@ def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, ex
 
 
 def write_map_csv(level: LevelMap, path):
-    """Write the map as CSV (:data:`CSV_COLUMNS`, one row per grid point, ``nan`` inside the sphere), atomically."""
-    from ..output.writers import write_csv_atomic
+    """Write the map as CSV (:data:`MAP_CSV_COLUMNS`, one row per grid point, ``nan`` inside the sphere), atomically."""
+    from ..files import write_csv_atomic
 
     cols = [level.grid.points[:, 0], level.grid.points[:, 1], level.grid.points[:, 2], level.peak_pa,
             level.peak_spl_db, level.sel_db, level.time_of_peak_s]
-    return write_csv_atomic(path, list(CSV_COLUMNS), cols, fmt=list(_CSV_FORMATS))
+    return write_csv_atomic(path, list(MAP_CSV_COLUMNS), cols, fmt=list(_CSV_FORMATS))
 
 
 def map_title(level: LevelMap, config, setup_text: str = "") -> str:

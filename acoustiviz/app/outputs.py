@@ -3,7 +3,7 @@
 Every command checks the files it will write *before* it computes anything, so that a long run
 never ends in a file it cannot write: the file name ends in a format its writer knows, the
 target is not a folder, and its folder exists and takes new files (probed by creating and
-removing the very kind of temporary file :func:`acoustiviz.output.writers.atomic_path` will
+removing the very kind of temporary file :func:`acoustiviz.files.atomic_path` will
 use, so a read-only file system, a folder without write permission or a name too long for the
 file system are all caught). Output folders (``--out``) may be created, provided the nearest
 existing ancestor is a folder that takes new entries.
@@ -104,7 +104,7 @@ def _as_path(option: str, path, what: str) -> Path:
 
 def _refuse_replacing(option: str, target: Path) -> None:
     """A symbolic link or a read-only file in the target's place is refused (never replaced)."""
-    from ..output.writers import refuse_replacing
+    from ..files import refuse_replacing
 
     try:
         refuse_replacing(target)
@@ -114,7 +114,7 @@ def _refuse_replacing(option: str, target: Path) -> None:
 
 def _probe(option: str, target: Path) -> None:
     """Create and remove the temporary file the atomic writer will create beside ``target``."""
-    from ..output.writers import temporary_beside
+    from ..files import temporary_beside
 
     try:
         tmp = temporary_beside(target)

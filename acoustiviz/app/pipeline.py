@@ -21,16 +21,17 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from ..output.writers import write_csv_atomic, write_text_atomic
+from ..files import write_csv_atomic, write_text_atomic
 from . import damper as _damper
 from . import forced as _forced
 from .maps import produce_level_map
 from .names import SCENE_DAMPER_KEYS, user_terms
-from .products import Product, damper_initial, damper_model, damper_solver
+from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
 from .scene_levels import check_levels_settings, check_sound_listeners, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
+from .sweep import scene_sweep_spec
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
 
@@ -59,7 +60,7 @@ class RunContext:
 
         ``name`` must be a plain file name: one holding a separator, ``..`` or a NUL is refused
         (a :class:`ParameterError`), so nothing is written outside the output folder whatever the
-        scene says (its labels are checked at load time too, :func:`acoustiviz.output.writers.label_problem`).
+        scene says (its labels are checked at load time too, :func:`acoustiviz.files.label_problem`).
         """
         if not name or name in (".", "..") or "/" in name or "\\" in name or "\x00" in name:
             raise ParameterError("--out", f"refusing to write {name!r}: not a file name inside {self.out}")
@@ -90,7 +91,7 @@ class RunContext:
     @functools.cached_property
     def damper_model(self):
         """The scene's :class:`~acoustiviz.dynamics.DamperModel`."""
-        return damper_model(self.scene)
+        return scene_damper_model(self.scene)
 
     @functools.cached_property
     def damper_initial(self):
@@ -352,19 +353,12 @@ def produce_animation(ctx: RunContext):
     return products
 
 
-def sweep_spec(scene):
-    """The scene's :class:`~acoustiviz.sweep.SweepSpec` (:func:`acoustiviz.app.sweep.scene_sweep_spec`)."""
-    from .sweep import scene_sweep_spec
-
-    return scene_sweep_spec(scene, solver=damper_solver(scene))
-
-
 def produce_sweep(ctx: RunContext):
     """Sweep over gap and impact mass (paper Figure 6): ``sweep/sweep.csv``, the maps and the design table."""
     from .sweep import run_sweep_outputs
 
     opts = ctx.scene.output("sweep")
-    spec = sweep_spec(ctx.scene)
+    spec = scene_sweep_spec(ctx.scene)
     ctx.progress(f"sweeping {len(spec.designs())} designs, {opts['duration_s']:g} s of motion each")
     run = run_sweep_outputs(spec, ctx.path("sweep"), workers=opts["workers"] or None, progress=ctx.stream)
     ctx.sweep_table = run.table
@@ -427,8 +421,8 @@ PRODUCERS = {
 #: Output kind -> the settings object its producer builds, built before any output is computed.
 _SETTINGS = {
     "waveform": waveform_settings,
-    "sweep": sweep_spec,
-    "design_table": sweep_spec,
+    "sweep": scene_sweep_spec,
+    "design_table": scene_sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
     "levels": lambda scene: (check_levels_settings(scene), check_sound_listeners(scene)),
     "spectrum": check_sound_listeners,
@@ -442,7 +436,7 @@ def _operating_listener(scene) -> None:
     """The first listener, which hears the damper in operation, outside its cavity."""
     from .forced_noise import check_listener
 
-    check_listener(damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
+    check_listener(scene_damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
                    radius=scene.damper_sphere_radius(), name="listeners", settings=scene.geometry_settings())
 
 
@@ -541,7 +535,7 @@ def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
         from ..sweep.store import check_dir
 
         with user_terms({"out": "outputs.sweep"}):
-            check_dir(sweep_spec(scene), out / "sweep")
+            check_dir(scene_sweep_spec(scene), out / "sweep")
     out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
     ctx = RunContext(scene, out, say, stream, planned)

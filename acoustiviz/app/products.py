@@ -13,7 +13,7 @@ from pathlib import Path
 
 from . import damper as _damper
 
-__all__ = ["Product", "new_figure", "save", "damper_model", "damper_initial", "damper_solver"]
+__all__ = ["Product", "new_figure", "save", "scene_damper_model", "damper_initial", "damper_solver"]
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,7 @@ def save(fig, path: Path) -> Path:
     return save_figure(fig, path)
 
 
-def damper_model(scene):
+def scene_damper_model(scene):
     """The scene's :class:`~acoustiviz.dynamics.DamperModel` (K_HZ for the damper sphere's radius)."""
     d = scene.section("damper")
     return _damper.damper_model(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"],
@@ -59,7 +59,7 @@ def damper_initial(scene):
 def damper_solver(scene, progress=None) -> str:
     """The scene's damper solver; ``"auto"`` is the cheapest whose error suits ``damper.tolerance``."""
     d = scene.section("damper")
-    name, reason = _damper.choose_solver(d["solver"], damper_model(scene), damper_initial(scene), d["tolerance"])
+    name, reason = _damper.choose_solver(d["solver"], scene_damper_model(scene), damper_initial(scene), d["tolerance"])
     if reason and progress is not None:
         progress(f"solver auto -> {name}: {reason}")
     return name

@@ -99,7 +99,7 @@ def _balloon(s, setup, paths, title) -> list:
 
     pulse, conf, medium = setup.pulse, setup.configuration, setup.medium
     levels = balloon_levels(s.metric, pulse, conf, medium)
-    name = levels[1] if levels else render.METRICS[s.metric][1]
+    name = levels[1] if levels else render.BALLOON_FIELD_METRICS[s.metric][1]
     imp = setup.impact
     head = title or (f"{name.split(' (')[0]} at {s.distance:g} m, {s.db_range:g} dB from centre to rim; "
                      f"U0 = {imp.velocity:g} m/s, m = {imp.mass * 1e3:.4g} g, K_HZ = {imp.k_hertz:.3g} N/m^1.5")

@@ -37,9 +37,9 @@ def _cavity(scene, model, medium):
 def check_sound_listeners(scene) -> None:
     """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
     from ..sound import check_listeners
-    from .products import damper_model
+    from .products import scene_damper_model
 
-    room = _cavity(scene, damper_model(scene), scene.medium())
+    room = _cavity(scene, scene_damper_model(scene), scene.medium())
     check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
@@ -124,9 +124,9 @@ def produce_levels(ctx):
 
 def produce_spectrum(ctx):
     """``spectrum.csv`` and ``spectrum.png``: 1/3-octave band Leq and LFmax at each listener."""
+    from ..files import write_text_atomic
     from ..output.plot.levels import plot_band_levels
     from ..output.plot.style import style
-    from ..output.writers import write_text_atomic
     from .products import Product
     from .products import new_figure as _fig
     from .products import save as _save

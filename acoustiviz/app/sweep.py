@@ -36,7 +36,7 @@ from ..constants import (
     PAPER_GAP,
     PAPER_RADIUS,
     PAPER_V0,
-    TABLE1,
+    TABLE1_PARAMETERS,
 )
 from ..core.geometry import geometry_class
 from ..errors import ParameterError
@@ -47,7 +47,7 @@ from ..sweep import (
     RANK_COLUMNS,
     SWEEP_CSV,
     SWEEP_JSON,
-    Settings,
+    FixedSettings,
     SweepSpec,
     design,
     design_table,
@@ -59,15 +59,12 @@ from ..sweep import (
 from ..sweep.spec import sweepable
 from .settings.damper import MODEL, RUN
 from .settings.design import DEFAULT_TOLERANCE
-from .settings.sweep import sweep_radius
+from .settings.sweep import SWEPT, sweep_radius
 from .settings.table import by_name
 
 __all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
            "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
-           "check_executor", "SWEPT", "check_sweep_work", "sweep_workflow", "with_room", "check_ranges"]
-
-#: Parameters of :func:`sweep_spec` a sweep runs over (each ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``).
-SWEPT = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
+           "check_executor", "check_sweep_work", "sweep_workflow", "with_room", "check_ranges"]
 
 #: :func:`sweep_spec` / :func:`run_sweep_outputs` parameter -> ``acoustiviz sweep`` option.
 SWEEP_OPTIONS = {
@@ -91,9 +88,10 @@ INCLINATION_MAP = "inclination_map.png"
 SPL_MAP = "max_spl_map.png"
 
 
-def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_hertz=None, material=None,
+def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1_PARAMETERS["c1"], k_hertz=None, material=None,
                v0=PAPER_V0, distance=PAPER_DISTANCE, angle_deg=PAPER_ANGLE_DEG, config="plane",
-               M=TABLE1["M"], K=TABLE1["K"], C=TABLE1["C"], clip_tensile=False, duration=DEFAULT_DURATION,
+               M=TABLE1_PARAMETERS["M"], K=TABLE1_PARAMETERS["K"], C=TABLE1_PARAMETERS["C"], clip_tensile=False,
+               duration=DEFAULT_DURATION,
                solver="event", rtol=DEFAULT_RTOL, radius=PAPER_RADIUS, density=None, surface=None,
                pulse="half-sine", pulse_mass="impact", c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY,
                wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4, levels=False, room=None) -> SweepSpec:
@@ -112,17 +110,17 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
     config : str or sequence of str
         ``"free"``, ``"plane"`` or ``"wall-floor"``.
     M, K, C, clip_tensile, duration, solver, rtol
-        The damper and its solver (:class:`~acoustiviz.sweep.Settings`; ``rtol`` defaults to
+        The damper and its solver (:class:`~acoustiviz.sweep.FixedSettings`; ``rtol`` defaults to
         :data:`~acoustiviz.constants.DEFAULT_RTOL`, as for every damper run).
     radius : float or "mass"
         Radius of the radiating sphere in m, or ``"mass"``: from the impact mass and ``density``.
     density : float, optional
         Sphere density in kg/m³; only with ``radius="mass"`` (default 7800 or the material's).
     surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest, levels
-        See :class:`~acoustiviz.sweep.Settings`.
+        See :class:`~acoustiviz.sweep.FixedSettings`.
     room : dict, optional
         The settings of a shoebox room (:class:`acoustiviz.core.room_geometry.Room`), for
-        ``config="room"`` (:attr:`acoustiviz.sweep.Settings.room`).
+        ``config="room"`` (:attr:`acoustiviz.sweep.FixedSettings.room`).
 
     Returns
     -------
@@ -137,10 +135,10 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         if density is not None:
             raise ParameterError("density", "sets the sphere's radius from the impact mass; it needs a radius "
                                             "from the mass (--radius mass)")
-    settings = Settings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver, rtol=rtol,
-                        radius_mode=radius_mode, radius=radius, density=density, surface=surface, pulse=pulse,
-                        pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance, n_fastest=n_fastest,
-                        levels=bool(levels), room=room)
+    settings = FixedSettings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver,
+                             rtol=rtol, radius_mode=radius_mode, radius=radius, density=density, surface=surface,
+                             pulse=pulse, pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance,
+                             n_fastest=n_fastest, levels=bool(levels), room=room)
     configs = parse_values("config", config, str)
     for cfg in configs:
         check_choice("config", cfg, sweepable(settings))
@@ -151,11 +149,11 @@ def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1["c1"], k_her
         check_range("angle_deg", a, 0.0, min(limits, default=180.0), unit="deg")
     spec = SweepSpec(
         gap=parse_values("gap", gap),
-        m=None if mass_ratio is not None else parse_values("m", TABLE1["m"] if m is None else m),
+        m=None if mass_ratio is not None else parse_values("m", TABLE1_PARAMETERS["m"] if m is None else m),
         mass_ratio=None if mass_ratio is None else parse_values("mass_ratio", mass_ratio),
         c1=parse_values("c1", c1),
-        k_hertz=None if material is not None else parse_values("k_hertz", TABLE1["k_hertz"] if k_hertz is None
-                                                               else k_hertz),
+        k_hertz=None if material is not None else parse_values(
+            "k_hertz", TABLE1_PARAMETERS["k_hertz"] if k_hertz is None else k_hertz),
         material=None if material is None else parse_values("material", material, str),
         v0=parse_values("v0", v0),
         distance=parse_values("distance", distance),
@@ -460,14 +458,14 @@ def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=Non
     from .names import user_terms
 
     names = SWEEP_OPTIONS if names is None else names
-    swept = {names.get(p, p): given.get(p) for p in SWEPT}
+    swept = {names.get(s.name, s.name): given.get(s.name) for s in SWEPT}
     from .settings.sweep import SweepSettings
 
     with user_terms({"duration": names.get("duration", "duration")}):
         duration = SweepSettings(given.get("duration", DEFAULT_DURATION)).duration
     records = by_name(MODEL)  # the damper's ranges first, as check_ranges does for the sweep
     try:
-        model = DamperModel(**{k: records[k].check(given.get(k, TABLE1[k])) for k in ("M", "K", "C")})
+        model = DamperModel(**{k: records[k].check(given.get(k, TABLE1_PARAMETERS[k])) for k in ("M", "K", "C")})
     except ParameterError as exc:
         raise exc.renamed(names.get(exc.name, exc.name)) from None
     check_budget(sweep_estimate(swept, model, duration, workers or 2, options=(names.get("duration", "duration"),)),

@@ -99,7 +99,7 @@ class WaveformResult:
             if "json" in files:
                 import json
 
-                from ..output.writers import write_text_atomic
+                from ..files import write_text_atomic
 
                 written.append(write_text_atomic(files["json"], json.dumps(self.record(i, files["csv"].name),
                                                                            indent=2) + "\n"))

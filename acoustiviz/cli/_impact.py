@@ -11,8 +11,8 @@ from ..app.settings.impact import IMPACT_GROUPS, OBSERVER, WAVEFORM
 from ..app.settings.room import ROOM
 from ..app.settings.table import add_option
 
-__all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings", "room_duration",
-           "impact_from_args", "observer_point"]
+__all__ = ["add_impact_options", "add_observer_options", "add_room_options", "room_settings_from_args", "room_duration",
+           "impact_from_args", "observer_point_from_options"]
 
 
 def add_impact_options(parser, *, velocity: bool = True) -> None:
@@ -40,7 +40,7 @@ def add_room_options(parser, *, duration: bool = False) -> None:
         add_option(g, WAVEFORM[1], metavar="S")
 
 
-def room_settings(args, *, duration=None, max_memory_mb=None) -> dict | None:
+def room_settings_from_args(args, *, duration=None, max_memory_mb=None) -> dict | None:
     """The room settings of the options (:func:`acoustiviz.app.impacts.room_settings`); None without ``--room``."""
     from ..app.impacts import room_settings as _room_settings
 
@@ -93,7 +93,7 @@ def impact_from_args(args, *, velocity: float | None = None):
     with user_terms({s.name: s.option for s in IMPACT}):  # the records' fixed ranges, then the physics' limits
         check_values({s.name: getattr(args, s.name) for s in IMPACT if hasattr(args, s.name)}, IMPACT)
     cap = getattr(args, "max_memory", None)  # also caps a room's image order
-    room = room_settings(args, duration=getattr(args, "duration", None), max_memory_mb=cap) \
+    room = room_settings_from_args(args, duration=getattr(args, "duration", None), max_memory_mb=cap) \
         if hasattr(args, "room") else None
     terms = {**IMPACT_OPTIONS, **ROOM_OPTIONS, "max_memory_mb": "--max-memory"} if room is not None else IMPACT_OPTIONS
     with user_terms(terms):
@@ -105,7 +105,7 @@ def impact_from_args(args, *, velocity: float | None = None):
                             room=room)
 
 
-def observer_point(setup, distance: float, angle_deg: float):
+def observer_point_from_options(setup, distance: float, angle_deg: float):
     """The observer of ``--distance`` (m) and ``--angle`` (degrees) (:func:`acoustiviz.app.impacts.observer_point`)."""
     from ..app.impacts import observer_point as _observer_point
     from ..app.names import IMPACT_OPTIONS, user_terms

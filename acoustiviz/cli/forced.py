@@ -82,12 +82,12 @@ def run(args) -> int:
     from ..app.names import ROOM_OPTIONS, user_terms
     from ..app.settings.damper import MODEL, check_values
     from ..app.settings.forced import ForcedJob, ForcedSettings
-    from ._impact import room_duration, room_settings
+    from ._impact import room_duration, room_settings_from_args
 
     with user_terms(ForcedSettings.cli_names()):
         st = ForcedSettings.from_values({s.name: getattr(args, s.name) for s in FORCED})
     with user_terms(ROOM_OPTIONS):
-        room = room_settings(args, duration=room_duration(args))
+        room = room_settings_from_args(args, duration=room_duration(args))
     with user_terms({s.name: s.option for s in MODEL}):
         model = check_values({s.name: getattr(args, s.name) for s in MODEL}, MODEL)
     job = ForcedJob(st, model, args.freq, force=args.force, base=args.base, restitution=args.restitution,

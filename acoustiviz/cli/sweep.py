@@ -71,14 +71,14 @@ def _given(args) -> dict:
     from .._validate import ParameterError
     from ..app.names import ROOM_OPTIONS, user_terms
     from ..app.sweep import SWEEP_OPTIONS, with_room
-    from ._impact import room_settings
+    from ._impact import room_settings_from_args
 
     if args.room is None and args.room_window is not None:
         raise ParameterError("--room-window", "only applies with --room LX,LY,LZ")
     given = {s.name: getattr(args, s.name) for _, records in _GROUPS for s in records
              if getattr(args, s.name) is not None}
     with user_terms({**SWEEP_OPTIONS, **ROOM_OPTIONS, "duration": "--room-window"}):
-        return with_room(given, room_settings(args, duration=args.room_window))
+        return with_room(given, room_settings_from_args(args, duration=args.room_window))
 
 
 def spec_from_args(args):

@@ -39,7 +39,7 @@ def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.waveform.WaveformJob` of the options; errors name the options."""
     from ..app.budget import given_first
     from ..app.settings.waveform import Listener, WaveformJob
-    from ._impact import impact_from_args, observer_point
+    from ._impact import impact_from_args, observer_point_from_options
 
     WAVEFORM[0].check(args.samples_per_duration, WAVEFORM[0].option)
     WAVEFORM[1].check(args.duration, WAVEFORM[1].option)
@@ -48,7 +48,7 @@ def settings_from_args(args):
     if listener is not None:
         point = setup.configuration.in_room("--listener", listener[None, :])[0]
     else:
-        point = observer_point(setup, args.distance, args.angle)
+        point = observer_point_from_options(setup, args.distance, args.angle)
     names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory",
              "listeners": "--listener" if listener is not None else "--distance"}
     return WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,

@@ -59,7 +59,6 @@ __all__ = [
     "ReflectingPlane",
     "Region",
     "WallFloorCorner",
-    "configuration",
     "geometry",
     "geometry_class",
     "relevant_settings",
@@ -294,23 +293,6 @@ def geometry(name: str, radius: float, *, lenient: bool = False, **settings) -> 
     if lenient:
         settings = cls.relevant(settings)
     return cls.from_settings(radius, **settings)
-
-
-def configuration(name: str, radius: float, *, wall_distance=None, strike: str = "floor", height=None) -> Geometry:
-    """Build a geometry by name with every setting explicit (no defaults; others' settings ignored).
-
-    ``wall_distance`` (m), ``strike`` and ``height`` (m) are those of :class:`WallFloorCorner`;
-    the free field and the plane take none. Raises a ParameterError naming ``config`` for an
-    unknown name.
-
-    Examples
-    --------
-    >>> configuration("plane", 0.01905, wall_distance=0.05)  # a plane has no wall: ignored
-    ReflectingPlane(radius=0.01905)
-    """
-    cls = geometry_class(name)
-    given = {"wall_distance": wall_distance, "strike": strike, "height": height}
-    return cls(radius, **{k: v for k, v in given.items() if k in cls.SETTINGS})
 
 
 def images_free(radius: float) -> FreeField:

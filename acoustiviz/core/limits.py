@@ -26,7 +26,14 @@ from __future__ import annotations
 
 import math
 
-from ..constants import HERTZ_DURATION_CONSTANT, PAPER_DENSITY, PAPER_GAP, PAPER_K_HERTZ, PAPER_RADIUS, TABLE1
+from ..constants import (
+    HERTZ_DURATION_CONSTANT,
+    PAPER_DENSITY,
+    PAPER_GAP,
+    PAPER_K_HERTZ,
+    PAPER_RADIUS,
+    TABLE1_PARAMETERS,
+)
 from ..errors import ParameterError
 
 __all__ = ["LOG_LIMIT", "FORCING_DECADES", "check_sphere_mass", "check_impact", "check_damper",
@@ -49,7 +56,7 @@ FORCING_DECADES = 3.0
 
 #: The paper's values (Figure 2 sphere, Table 1 damper) an input is put back to when looking for the one at fault.
 _ORDINARY = {"k_hertz": PAPER_K_HERTZ, "mass": PAPER_DENSITY * 4.0 / 3.0 * math.pi * PAPER_RADIUS**3,
-             "M": TABLE1["M"], "K": TABLE1["K"], "m": TABLE1["m"], "gap": PAPER_GAP}
+             "M": TABLE1_PARAMETERS["M"], "K": TABLE1_PARAMETERS["K"], "m": TABLE1_PARAMETERS["m"], "gap": PAPER_GAP}
 #: Units of the inputs that may be at fault.
 _UNITS = {"k_hertz": "N/m^1.5", "mass": "kg", "M": "kg", "K": "N/m", "m": "kg", "gap": "m"}
 

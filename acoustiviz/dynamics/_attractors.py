@@ -44,8 +44,8 @@ from ._forced_steady import (
     MAX_PERIOD,
     WINDOW_BATCHES,
     Excitation,
-    ForcedSettings,
     SteadyState,
+    SteadyStateOptions,
     _Runner,
     _start,
     check_settings,
@@ -357,7 +357,7 @@ def steady_state(
     excitation: Excitation,
     *,
     initial=None,
-    settings: ForcedSettings | None = None,
+    settings: SteadyStateOptions | None = None,
     **kwargs,
 ) -> SteadyState:
     """Run the forced damper from one start to its attractor and measure it.
@@ -371,7 +371,7 @@ def steady_state(
     initial : tuple, optional
         ``(x, v, y, w)`` at t = 0 in m and m/s (default: the linear start); a previous
         :attr:`SteadyState.final_state` continues a frequency sweep.
-    settings : ForcedSettings, optional
+    settings : SteadyStateOptions, optional
         Or its fields as keywords: ``solver``, ``restitution``, ``tolerance`` (Newton residual, m
         and m/s), ``max_cycles``, ``rtol``, ``steps_per_cycle``, ``max_impacts_per_cycle``.
 

@@ -24,7 +24,7 @@ import numpy as np
 from .._validate import ParameterError, check_choice
 from ..constants import FREQUENCY_SWEEPS
 from ._attractors import attractors_at, steady_state
-from ._forced_steady import Excitation, ForcedSettings, check_settings
+from ._forced_steady import Excitation, SteadyStateOptions, check_settings
 from .model import DamperModel
 
 __all__ = ["SWEEPS", "AttractorResponse", "FrequencyResponse", "attractor_response", "frequency_response",
@@ -208,7 +208,7 @@ class AttractorResponse:
         The attractors (with their basin fractions) and the unstable orbits met, per frequency.
     sweep : str
         Continuation of the attractors along the frequencies (module docstring).
-    settings : ForcedSettings
+    settings : SteadyStateOptions
     rounds : int
         Rounds of continuation run.
     """
@@ -216,7 +216,7 @@ class AttractorResponse:
     frequencies: np.ndarray
     per_frequency: tuple
     sweep: str
-    settings: ForcedSettings
+    settings: SteadyStateOptions
     rounds: int = 0
 
     def entries(self) -> list:
@@ -284,7 +284,7 @@ def attractor_response(
     kind: str = "force",
     sweep: str = "up",
     executor=None,
-    settings: ForcedSettings | None = None,
+    settings: SteadyStateOptions | None = None,
     progress=None,
     **kwargs,
 ) -> AttractorResponse:
@@ -302,7 +302,7 @@ def attractor_response(
         Which neighbours' attractors seed a frequency (module docstring).
     executor : concurrent.futures.Executor, optional
         Runs the frequencies of each round in parallel.
-    settings : ForcedSettings, optional
+    settings : SteadyStateOptions, optional
         Or its fields as keywords (tolerance, rtol, starts, max_cycles, solver, restitution).
     progress : callable, optional
         Called with a one-line message after each frequency of the first round and after each

@@ -64,7 +64,7 @@ __all__ = [
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "Excitation",
-    "ForcedSettings",
+    "SteadyStateOptions",
     "SteadyState",
     "check_settings",
     "default_steps_per_cycle",
@@ -87,7 +87,7 @@ REGIMES = ("periodic-N", "quasi-periodic", "chaotic", "unresolved")
 
 
 @dataclass(frozen=True)
-class ForcedSettings:
+class SteadyStateOptions:
     """How a steady state is looked for (SI; the same defaults for the API, CLI and scenes).
 
     Attributes
@@ -439,16 +439,16 @@ class _Runner:
         return float(self.model.energy(x, v, y, w))
 
 
-def check_settings(model, excitation, settings=None, **kwargs) -> ForcedSettings:
+def check_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOptions:
     """Check ``settings`` (or build them from ``**kwargs``) without running; return them, checked.
 
     Errors name the parameter and the allowed range.
     """
     if settings is None:
-        unknown = set(kwargs) - set(ForcedSettings.__dataclass_fields__)
+        unknown = set(kwargs) - set(SteadyStateOptions.__dataclass_fields__)
         if unknown:
             raise ParameterError(sorted(unknown)[0], "unknown setting of the forced damper")
-        settings = ForcedSettings(**kwargs)
+        settings = SteadyStateOptions(**kwargs)
     elif kwargs:
         raise ParameterError(sorted(kwargs)[0], "give either settings or keywords, not both")
     solver, restitution = settings.solver, settings.restitution
@@ -468,8 +468,8 @@ def check_settings(model, excitation, settings=None, **kwargs) -> ForcedSettings
     spc = settings.steps_per_cycle
     if spc is not None and int(spc) < 8:
         raise ParameterError("steps_per_cycle", f"must be >= 8, got {spc}")
-    return ForcedSettings(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
-                          steps_per_cycle=None if spc is None else int(spc), **ints)
+    return SteadyStateOptions(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
+                              steps_per_cycle=None if spc is None else int(spc), **ints)
 
 
 def _start(model, excitation, initial) -> tuple:
@@ -529,8 +529,8 @@ def simulate_cycles(
     """
     _check_common(model, excitation, solver, restitution)
     state = _start(model, excitation, initial)
-    settings = ForcedSettings(solver=solver, restitution=restitution, rtol=rtol, steps_per_cycle=steps_per_cycle,
-                              max_impacts_per_cycle=max_impacts_per_cycle)
+    settings = SteadyStateOptions(solver=solver, restitution=restitution, rtol=rtol, steps_per_cycle=steps_per_cycle,
+                                  max_impacts_per_cycle=max_impacts_per_cycle)
     run = _Runner(model, excitation, settings, state, rows=int(max_impacts_per_cycle) * int(cycles))
     run.cap = run.imp.shape[0] - 1
     pts = [run.section()]

@@ -77,7 +77,7 @@ class PoincareMap:
     Parameters
     ----------
     model, excitation, settings
-        The damper, its excitation and :class:`._forced_steady.ForcedSettings`.
+        The damper, its excitation and :class:`._forced_steady.SteadyStateOptions`.
     """
 
     def __init__(self, model, excitation, settings):

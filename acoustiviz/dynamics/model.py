@@ -26,6 +26,7 @@ import math
 from dataclasses import dataclass
 
 from .._validate import ParameterError, check_finite, check_nonnegative, check_positive
+from ..constants import PAPER_GAP, TABLE1_PARAMETERS
 from ..core.contact import contact_duration, effective_mass, max_approach
 
 __all__ = ["DamperModel", "InitialState", "TABLE1"]
@@ -60,13 +61,13 @@ class DamperModel:
     31.6227...
     """
 
-    M: float = 0.5
-    K: float = 500.0
-    C: float = 0.05
-    m: float = 0.0405
-    gap: float = 0.04
-    k_hertz: float = 5.6e8
-    c1: float = 20.0
+    M: float = TABLE1_PARAMETERS["M"]
+    K: float = TABLE1_PARAMETERS["K"]
+    C: float = TABLE1_PARAMETERS["C"]
+    m: float = TABLE1_PARAMETERS["m"]
+    gap: float = PAPER_GAP
+    k_hertz: float = TABLE1_PARAMETERS["k_hertz"]
+    c1: float = TABLE1_PARAMETERS["c1"]
     clip_tensile: bool = False
 
     def __post_init__(self):

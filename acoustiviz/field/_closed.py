@@ -87,7 +87,7 @@ def add_images(out, y_of, img, end: float, tail: float, *, t0=None, dt=None, t=N
         del y
 
 
-def window_metrics(res, y_of, img, end: float, tail: float, t0, dt: float, m: int, refine: bool):
+def numpy_window_metrics(res, y_of, img, end: float, tail: float, t0, dt: float, m: int, refine: bool):
     """Per point ``i``: ``res[i] = (max p, min p, Σ p²)`` (Pa, Pa, Pa²) over its grid ``t0[i] + k dt``, k < m.
 
     The numpy twin of :func:`acoustiviz.field._kernels._metrics_kernel`: the samples with the tail

@@ -144,7 +144,7 @@ def time_series(
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
     config : Geometry
-        The sphere and its images (:func:`acoustiviz.core.geometry.configuration`).
+        The sphere and its images (:func:`acoustiviz.core.geometry.geometry`).
     medium : Medium
         The fluid (default air at 20 °C).
     cutoff : float

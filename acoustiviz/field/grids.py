@@ -411,8 +411,8 @@ def section_grid(config, section: str, extent: float, n_long: int, *, level=None
 
     Examples
     --------
-    >>> from acoustiviz.core.geometry import configuration
-    >>> g = section_grid(configuration("plane", 0.01905), "xz", 0.2, 21)
+    >>> from acoustiviz.core.geometry import geometry
+    >>> g = section_grid(geometry("plane", 0.01905), "xz", 0.2, 21)
     >>> g.shape, round(float(g.points[:, 2].min()), 6)  # cut at the floor z = 0
     ((12, 21), 0.0)
     """

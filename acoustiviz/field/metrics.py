@@ -156,14 +156,14 @@ def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, nimg: int, d
     points of ``img`` (:class:`._common.ImageArrays`) on their grids ``t0[i] + k dt``, k < m; by the
     compiled ``_metrics_kernel``, or for a small request (:func:`._closed.is_small`, where compiling
     would cost more than the work) whose scratch fits in ``limit``, by its numpy twin
-    :func:`._closed.window_metrics`. ``chunk`` from the bytes ``per_point`` and ``fixed``, the scratch added.
+    :func:`._closed.numpy_window_metrics`. ``chunk`` from the bytes ``per_point`` and ``fixed``, the scratch added.
     """
     scratch = 8 * m * 7  # the samples, retarded times, complex Y and masks of the vectorised sum
     if _closed.is_small(n, m, nimg, refine=refine, need=per_point + scratch, room=limit - fixed):
         y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)
 
         def run(res, t0, img):
-            _closed.window_metrics(res, y_of, img, pa.tau, tail, t0, dt, m, refine)
+            _closed.numpy_window_metrics(res, y_of, img, pa.tau, tail, t0, dt, m, refine)
 
         return run, chunk_size(per_point + scratch, fixed, limit)
     buf = np.zeros(m)

@@ -156,9 +156,9 @@ def section_field(pulse, config, time, *, medium: Medium = AIR, planes=None, ext
 
     Examples
     --------
-    >>> from acoustiviz import Impact, acceleration_pulse, configuration
+    >>> from acoustiviz import Impact, acceleration_pulse, geometry
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.2264), "half-sine")
-    >>> f = section_field(pulse, configuration("plane", 0.01905), [0.5e-3, 1e-3], n_u=41)
+    >>> f = section_field(pulse, geometry("plane", 0.01905), [0.5e-3, 1e-3], n_u=41)
     >>> f.pressures[0].shape  # (times, points of the xz section)
     (2, 902)
     """

@@ -25,7 +25,7 @@ import numpy as np
 from .._validate import ParameterError, check_positive, check_range
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
-from .writers import write_text_atomic
+from ..files import write_text_atomic
 
 __all__ = ["page", "write_balloon_html", "write_snapshot_html"]
 

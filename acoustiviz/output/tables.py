@@ -1,4 +1,4 @@
-"""Tables of physics results written as CSV files (atomically, see :mod:`acoustiviz.output.writers`).
+"""Tables of physics results written as CSV files (atomically, see :mod:`acoustiviz.files`).
 
 The physics layers return arrays and small dataclasses; this module decides how they look on disk.
 
@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .writers import write_csv_atomic
+from ..files import write_csv_atomic
 
 __all__ = ["IMPACT_COLUMNS", "EXTRA_IMPACT_COLUMNS", "write_impact_table", "csv_number"]
 

@@ -39,7 +39,7 @@ from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..field import field_metrics
 from ..field.grids import fluid_box
-from .writers import atomic_path, write_bytes_atomic
+from ..files import atomic_path, write_bytes_atomic
 
 __all__ = [
     "SUFFIXES",
@@ -249,7 +249,7 @@ _HDF_MARGIN = 8 << 20
 def _save(mesh, path: Path) -> Path:
     """Write ``mesh`` to ``path`` atomically; a full disk is an :class:`OSError`, never a native abort.
 
-    A ``.vtu`` is encoded in memory and written by Python (:func:`~acoustiviz.output.writers.write_bytes_atomic`).
+    A ``.vtu`` is encoded in memory and written by Python (:func:`~acoustiviz.files.write_bytes_atomic`).
     VTK's HDF5 writer can only write to a file and aborts the process on a full disk, so for a
     ``.vtkhdf`` the free space is checked first (8 times the data's size and 8 MiB).
     """
@@ -328,7 +328,7 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
 
     Examples
     --------
-    >>> write_snapshot_vtk(pulse, configuration("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
+    >>> write_snapshot_vtk(pulse, geometry("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
     from .render.snapshot import _field

@@ -250,7 +250,7 @@ def _validate_listeners(raw, src, radius):
         return [dict(DEFAULT_LISTENER, position_m=None)]
     if not isinstance(raw, list) or not raw:
         raise SceneError(src, "listeners", "expected one or more [[listeners]] tables")
-    from ..output.writers import label_problem
+    from ..files import label_problem
 
     out = []
     seen = {}

@@ -18,7 +18,7 @@ material, initial velocity of the main mass, listener distance and angle, config
   acceleration pulse of the sphere built from its own approach speed
   (:func:`acoustiviz.core.pulses.acceleration_pulse`), radiated by the sphere and its images
   (:func:`acoustiviz.field.field_metrics`);
-* optionally (``Settings.levels``), the weighted levels of the whole run at the listener: LAFmax,
+* optionally (``FixedSettings.levels``), the weighted levels of the whole run at the listener: LAFmax,
   LCpeak and LAeq over the simulated duration, of the click train at 96 kHz computed from the
   clicks alone (:mod:`acoustiviz.sweep.levels`).
 
@@ -76,7 +76,7 @@ from __future__ import annotations
 
 from .evaluate import DesignResult, evaluate_design, impact_spl_db, listener_point, max_spl_db
 from .execute import run_sweep
-from .levels import LEVEL_COLUMNS, design_levels
+from .levels import SWEEP_LEVEL_COLUMNS, design_levels
 from .progress import Progress
 from .query import (
     DESIGN_TABLE_COLUMNS,
@@ -94,11 +94,11 @@ from .spec import (
     PULSE_MASSES,
     RADIUS_MODES,
     Design,
-    Settings,
+    FixedSettings,
     SweepSpec,
-    parse_range,
+    parse_start_stop_count,
     parse_values,
-    sphere_radius,
+    sweep_sphere_radius,
     value_range,
 )
 from .store import (
@@ -127,10 +127,10 @@ __all__ = [
     "PAPER_TABLE2",
     "DESIGN_TABLE_COLUMNS",
     "RANK_COLUMNS",
-    "LEVEL_COLUMNS",
+    "SWEEP_LEVEL_COLUMNS",
     "design_levels",
     "SweepMismatch",
-    "Settings",
+    "FixedSettings",
     "Design",
     "DesignResult",
     "SweepSpec",
@@ -138,10 +138,10 @@ __all__ = [
     "Band",
     "DesignChoice",
     "MAX_RANGE_COUNT",
-    "parse_range",
+    "parse_start_stop_count",
     "parse_values",
     "value_range",
-    "sphere_radius",
+    "sweep_sphere_radius",
     "listener_point",
     "impact_spl_db",
     "max_spl_db",

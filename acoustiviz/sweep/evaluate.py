@@ -14,8 +14,8 @@ import numpy as np
 
 from ..core.geometry import observer_points
 from ..errors import ParameterError
-from .levels import LEVEL_COLUMNS, NO_LEVELS, design_levels
-from .spec import PAPER_RADIUS, Design, Settings
+from .levels import NO_LEVELS, SWEEP_LEVEL_COLUMNS, design_levels
+from .spec import PAPER_RADIUS, Design, FixedSettings
 
 __all__ = ["DesignResult", "listener_point", "sound_setup", "impact_spl_db", "max_spl_db", "evaluate_design",
            "evaluate_or_fail", "failed_result", "warm_up"]
@@ -165,19 +165,19 @@ class DesignResult:
             "max_approach_velocity_m_s": self.max_approach_velocity,
             "fit_window_start_s": self.fit_window_start, "fit_window_stop_s": self.fit_window_stop,
             "fit_n_maxima": self.fit_n_maxima, "spl_impacts_evaluated": self.spl_impacts_evaluated,
-            **{c: self.levels.get(c, math.nan) for c in LEVEL_COLUMNS},
+            **{c: self.levels.get(c, math.nan) for c in SWEEP_LEVEL_COLUMNS},
             "success": int(self.success), "error": self.error,
         }
 
 
-def evaluate_design(design: Design, settings: Settings) -> DesignResult:
+def evaluate_design(design: Design, settings: FixedSettings) -> DesignResult:
     """Simulate one damper design and radiate its impacts (the work of one sweep row).
 
     Parameters
     ----------
     design : Design
         The design.
-    settings : Settings
+    settings : FixedSettings
         The sweep's fixed settings.
 
     Returns
@@ -235,7 +235,7 @@ def evaluate_design(design: Design, settings: Settings) -> DesignResult:
     )
 
 
-def sound_setup(design: Design, settings: Settings, medium=None):
+def sound_setup(design: Design, settings: FixedSettings, medium=None):
     """``(cavity scene, click model)`` rendering a design's run as its maximum SPL hears it.
 
     Every impact strikes the configuration's struck surface (``walls="one"``); the pulse and its
@@ -251,7 +251,7 @@ def sound_setup(design: Design, settings: Settings, medium=None):
     return scene, model
 
 
-def failed_result(design: Design, settings: Settings, reason: str) -> DesignResult:
+def failed_result(design: Design, settings: FixedSettings, reason: str) -> DesignResult:
     """The row of a design that could not be evaluated: NaN values, ``success`` False, ``reason``."""
     nan = math.nan
     one_line = " ".join(str(reason).split()) or "unknown error"
@@ -259,7 +259,7 @@ def failed_result(design: Design, settings: Settings, reason: str) -> DesignResu
                         design.m / settings.M, one_line)
 
 
-def evaluate_or_fail(design: Design, settings: Settings) -> DesignResult:
+def evaluate_or_fail(design: Design, settings: FixedSettings) -> DesignResult:
     """:func:`evaluate_design`, or a failed row naming the exception that stopped it.
 
     Any exception of the design (an overflow, a solver error...) becomes a failed row, so that
@@ -271,7 +271,7 @@ def evaluate_or_fail(design: Design, settings: Settings) -> DesignResult:
         return failed_result(design, settings, f"{type(exc).__name__}: {exc}")
 
 
-def warm_up(settings: Settings) -> None:
+def warm_up(settings: FixedSettings) -> None:
     """Run a tiny design so that numba kernels are compiled or loaded from cache before timing."""
     tiny = replace(settings, duration=0.05)
     evaluate_or_fail(Design(-1, 0.04, 0.0405, 20.0, 5.6e8, "", 2.0, 0.7, math.pi / 4, "plane", PAPER_RADIUS), tiny)

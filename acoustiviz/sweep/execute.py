@@ -24,7 +24,7 @@ from pathlib import Path
 from ..errors import ParameterError
 from .evaluate import evaluate_or_fail, failed_result, warm_up
 from .progress import Progress
-from .spec import Settings, SweepSpec
+from .spec import FixedSettings, SweepSpec
 from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
 
 __all__ = ["run_sweep", "make_executor", "check_executor_form", "dask_address", "dask_executor", "local_pool",
@@ -133,7 +133,7 @@ def _shutdown_now(ex: Executor) -> None:
         manager.join(_CANCEL_WAIT_S)
 
 
-def make_executor(executor, workers, settings: Settings, n_tasks: int):
+def make_executor(executor, workers, settings: FixedSettings, n_tasks: int):
     """Return ``(executor, kind, cleanup, n)``; kind is ``"local"``, ``"given"`` or ``"dask"``.
 
     A local pool has ``n`` processes, at most ``n_tasks``; it and a Dask client are owned (shut
@@ -217,7 +217,7 @@ def dask_executor(url: str):
     return client.get_executor(), client.close
 
 
-def _local_pool(n: int, settings: Settings):
+def _local_pool(n: int, settings: FixedSettings):
     """A local pool whose workers load the compiled kernels of ``settings`` once."""
     return local_pool(n, warm_up, (settings,))
 
@@ -231,7 +231,7 @@ def _is_broken_pool(exc: BaseException) -> bool:
 class _Runner:
     """Submit designs to an executor and yield their results, failed designs included."""
 
-    def __init__(self, executor, workers, settings: Settings, n_tasks: int):
+    def __init__(self, executor, workers, settings: FixedSettings, n_tasks: int):
         self.settings = settings
         self.ex, self.kind, self.cleanup, self.n = make_executor(executor, workers, settings, n_tasks)
 

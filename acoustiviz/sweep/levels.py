@@ -51,14 +51,14 @@ import numpy as np
 
 from ..constants import ANALYSIS_RATE
 
-__all__ = ["LEVEL_COLUMNS", "LEVEL_METRICS", "LEVEL_METHODS", "design_levels", "click_windows", "NO_LEVELS"]
+__all__ = ["SWEEP_LEVEL_COLUMNS", "LEVEL_METRICS", "LEVEL_METHODS", "design_levels", "click_windows", "NO_LEVELS"]
 
 #: The level columns of ``sweep.csv``, in order.
-LEVEL_COLUMNS = ("lafmax_db", "lcpeak_db", "laeq_db")
+SWEEP_LEVEL_COLUMNS = ("lafmax_db", "lcpeak_db", "laeq_db")
 #: Column -> metric name of :func:`acoustiviz.levels.metric_levels`.
 LEVEL_METRICS = {"lafmax_db": "lafmax", "lcpeak_db": "lcpeak", "laeq_db": "laeq"}
 #: The level columns of a design whose levels were not computed.
-NO_LEVELS = dict.fromkeys(LEVEL_COLUMNS, math.nan)
+NO_LEVELS = dict.fromkeys(SWEEP_LEVEL_COLUMNS, math.nan)
 #: How :func:`design_levels` computes: from the clicks alone, or rendering and filtering every sample.
 LEVEL_METHODS = ("sparse", "dense")
 
@@ -107,7 +107,7 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
     check_choice("method", method, LEVEL_METHODS)
     n = int(round(duration * sample_rate))
     if len(impacts) == 0:
-        return dict.fromkeys(LEVEL_COLUMNS, -math.inf)
+        return dict.fromkeys(SWEEP_LEVEL_COLUMNS, -math.inf)
     clicks = click_windows(impacts, scene=scene, model=model, point=point,
                            sample_rate=sample_rate) if method == "sparse" else None
     if clicks is None:
@@ -117,7 +117,7 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
         out = render(ImpactSequence.from_table(impacts), scene, model, np.reshape(point, (1, 3)),
                      sample_rate=sample_rate, duration=duration)
         lv = sound_levels(out.pressure[0], sample_rate, start=0.0, stop=n / sample_rate)
-        return {c: float(getattr(lv, c)[0]) for c in LEVEL_COLUMNS}
+        return {c: float(getattr(lv, c)[0]) for c in SWEEP_LEVEL_COLUMNS}
     from ..levels.train import train_levels
 
     got = train_levels(*clicks, sample_rate, n, list(LEVEL_METRICS.values()))

@@ -17,7 +17,7 @@ import numpy as np
 from .._validate import check_positive, check_range
 from ..constants import MAX_INCLINATION
 from ..errors import ParameterError
-from .levels import LEVEL_COLUMNS
+from .levels import SWEEP_LEVEL_COLUMNS
 from .store import ALL_COLUMNS, NUMERIC_COLUMNS, SweepTable, format_value
 
 __all__ = ["PAPER_TABLE2", "DESIGN_TABLE_COLUMNS", "RANK_COLUMNS", "Band", "DesignChoice", "design_table",
@@ -76,7 +76,7 @@ class Band:
 DESIGN_TABLE_COLUMNS = (
     "inclination_m_s", "band_low_m_s", "band_high_m_s", "n_designs", "min_max_spl_db", "max_max_spl_db",
     "decrease_db", "quietest_gap_m", "quietest_mass_kg", "loudest_gap_m", "loudest_mass_kg",
-    *(f"{end}_{c}" for c in LEVEL_COLUMNS for end in ("min", "max")),
+    *(f"{end}_{c}" for c in SWEEP_LEVEL_COLUMNS for end in ("min", "max")),
 )
 #: Columns a design query can rank by: every numeric column of ``sweep.csv`` but the design id and
 #: the success flag.
@@ -133,7 +133,7 @@ def _band(table, sel, spl, centre, lo, hi) -> Band:
     i_min = sel[np.argmin(spl[sel])]
     i_max = sel[np.argmax(spl[sel])]
     g, m = table["gap_m"], table["mass_kg"]
-    ranges = {c: _nan_range(np.asarray(table[c], dtype=float)[sel]) for c in LEVEL_COLUMNS if c in table.columns}
+    ranges = {c: _nan_range(np.asarray(table[c], dtype=float)[sel]) for c in SWEEP_LEVEL_COLUMNS if c in table.columns}
     return Band(centre, float(lo), float(hi), int(sel.size), float(spl[i_min]), float(spl[i_max]),
                 float(spl[i_max] - spl[i_min]), float(g[i_min]), float(m[i_min]), float(g[i_max]), float(m[i_max]),
                 ranges)
@@ -141,12 +141,12 @@ def _band(table, sel, spl, centre, lo, hi) -> Band:
 
 def write_design_table(bands, path) -> Path:
     """Write bands as ``design_table.csv`` (columns :data:`DESIGN_TABLE_COLUMNS`) atomically."""
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
 
     lines = [",".join(DESIGN_TABLE_COLUMNS)]
     for b in bands:
         ranges = b.level_ranges or {}
-        levels = [v for c in LEVEL_COLUMNS for v in ranges.get(c, (math.nan, math.nan))]
+        levels = [v for c in SWEEP_LEVEL_COLUMNS for v in ranges.get(c, (math.nan, math.nan))]
         lines.append(",".join(format_value(v) for v in (
             b.centre, b.low, b.high, b.n_designs, b.min_spl_db, b.max_spl_db, b.decrease_db,
             b.quietest_gap, b.quietest_mass, b.loudest_gap, b.loudest_mass, *levels)))
@@ -220,7 +220,7 @@ class DesignChoice:
         """The weighted levels of a row (when the sweep computed them) and the ranked column."""
         parts = [f"{name} {row[c]:.2f} dB" for c, name in (("lafmax_db", "LAFmax"), ("lcpeak_db", "LCpeak"),
                                                             ("laeq_db", "LAeq")) if math.isfinite(row.get(c, math.nan))]
-        if self.rank_by not in ("max_spl_db", *LEVEL_COLUMNS):
+        if self.rank_by not in ("max_spl_db", *SWEEP_LEVEL_COLUMNS):
             parts.append(f"{self.rank_by} {row[self.rank_by]:.6g}")
         return "".join(f", {p}" for p in parts)
 
@@ -279,7 +279,7 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
         raise ParameterError("sweep", "the sweep holds no finished design")
     key = np.asarray(table[rank_by], dtype=float)
     if not np.any(ok & np.isfinite(key)):
-        hint = " (run the sweep with levels: acoustiviz sweep --levels)" if rank_by in LEVEL_COLUMNS else ""
+        hint = " (run the sweep with levels: acoustiviz sweep --levels)" if rank_by in SWEEP_LEVEL_COLUMNS else ""
         raise ParameterError("rank_by", f"the sweep holds no value of {rank_by}{hint}")
     ok &= np.isfinite(key)
     span = (float(np.min(e[ok])), float(np.max(e[ok])))

@@ -2,7 +2,7 @@
 
 A :class:`SweepSpec` is the Cartesian product of the swept values (gap, impact mass, contact
 damping, stiffness or material, initial velocity, listener distance and angle, configuration)
-and one :class:`Settings` of everything held fixed. Everything is validated when the spec is
+and one :class:`FixedSettings` of everything held fixed. Everything is validated when the spec is
 built, so that a bad combination fails before any design runs. SI units; angles in radians.
 """
 
@@ -25,7 +25,7 @@ from ..constants import (
     PAPER_V0,
     PULSES,
     SOLVERS,
-    TABLE1,
+    TABLE1_PARAMETERS,
 )
 from ..core.geometry import GEOMETRIES, Geometry, geometry
 from ..errors import ParameterError
@@ -34,14 +34,14 @@ __all__ = [
     "RADIUS_MODES",
     "PULSE_MASSES",
     "PAPER_RADIUS",
-    "Settings",
+    "FixedSettings",
     "Design",
     "SweepSpec",
     "MAX_RANGE_COUNT",
-    "parse_range",
+    "parse_start_stop_count",
     "parse_values",
     "value_range",
-    "sphere_radius",
+    "sweep_sphere_radius",
 ]
 
 #: How the radiating sphere's radius is chosen: the paper's fixed sphere, or from the impact mass.
@@ -103,7 +103,7 @@ def value_range(start: float, stop: float, count: int) -> tuple[float, ...]:
     return (start, *inner, stop)
 
 
-def parse_range(name: str, text: str) -> tuple[float, ...]:
+def parse_start_stop_count(name: str, text: str) -> tuple[float, ...]:
     """Parse ``start:stop:count`` (both ends included) with :func:`value_range`.
 
     Parameters
@@ -119,7 +119,7 @@ def parse_range(name: str, text: str) -> tuple[float, ...]:
 
     Examples
     --------
-    >>> parse_range("--m", "0.02:0.08:4")
+    >>> parse_start_stop_count("--m", "0.02:0.08:4")
     (0.02, 0.04, 0.06, 0.08)
     """
     s = str(text).strip()
@@ -137,7 +137,7 @@ def parse_range(name: str, text: str) -> tuple[float, ...]:
 
 
 def parse_values(name: str, text, kind=float) -> tuple:
-    """Parse ``start:stop:count`` (inclusive, :func:`parse_range`), ``a,b,c`` or a single value.
+    """Parse ``start:stop:count`` (inclusive, :func:`parse_start_stop_count`), ``a,b,c`` or a single value.
 
     Parameters
     ----------
@@ -171,7 +171,7 @@ def parse_values(name: str, text, kind=float) -> tuple:
         if ":" in s:
             if kind is not float:
                 raise ParameterError(name, f"expected names separated by commas, got {s!r}")
-            return parse_range(name, s)
+            return parse_start_stop_count(name, s)
         items = [p.strip() for p in s.split(",")]
     if not items:
         raise ParameterError(name, "expected at least one value")
@@ -215,7 +215,7 @@ def _material(name, value):
 
 # --------------------------------------------------------------------------- specification
 @dataclass(frozen=True)
-class Settings:
+class FixedSettings:
     """What stays fixed across a sweep (defaults: paper Table 1, Figure 5 start, Figure 2 sphere).
 
     The defaults are those of :mod:`acoustiviz.constants`, shared with every front-end.
@@ -273,9 +273,9 @@ class Settings:
         tuples for sequences. Designs whose configuration is such a geometry are built with them.
     """
 
-    M: float = TABLE1["M"]
-    K: float = TABLE1["K"]
-    C: float = TABLE1["C"]
+    M: float = TABLE1_PARAMETERS["M"]
+    K: float = TABLE1_PARAMETERS["K"]
+    C: float = TABLE1_PARAMETERS["C"]
     clip_tensile: bool = False
     duration: float = DEFAULT_DURATION
     solver: str = "event"
@@ -383,7 +383,7 @@ class Design:
     config: str
     radius: float
 
-    def geometry(self, settings: Settings) -> Geometry:
+    def geometry(self, settings: FixedSettings) -> Geometry:
         """The design's geometry: its configuration around its sphere, with the sweep's wall distance."""
         return geometry(self.config, self.radius, lenient=True, **settings.geometry_settings)
 
@@ -419,7 +419,7 @@ class SweepSpec:
         Listener angles in rad from the acceleration axis (π/4).
     config : tuple of str
         Configurations (``"plane"``: the paper's reflecting plane).
-    settings : Settings
+    settings : FixedSettings
         Everything else.
 
     Examples
@@ -432,14 +432,14 @@ class SweepSpec:
     gap: tuple = (PAPER_GAP,)
     m: tuple | None = None
     mass_ratio: tuple | None = None
-    c1: tuple = (TABLE1["c1"],)
+    c1: tuple = (TABLE1_PARAMETERS["c1"],)
     k_hertz: tuple | None = None
     material: tuple | None = None
     v0: tuple = (PAPER_V0,)
     distance: tuple = (0.7,)
     angle: tuple = (math.pi / 4,)
     config: tuple = ("plane",)
-    settings: Settings = field(default_factory=Settings)
+    settings: FixedSettings = field(default_factory=FixedSettings)
 
     #: Order of the grid's axes; the last varies fastest.
     AXES = ("config", "material", "k_hertz", "c1", "v0", "distance", "angle", "gap", "m")
@@ -450,11 +450,11 @@ class SweepSpec:
         if self.k_hertz is not None and self.material is not None:
             raise ParameterError("k_hertz", "give either k_hertz (N/m^1.5) or material, not both")
         if self.m is None and self.mass_ratio is None:
-            object.__setattr__(self, "m", (TABLE1["m"],))
+            object.__setattr__(self, "m", (TABLE1_PARAMETERS["m"],))
         if self.k_hertz is None and self.material is None:
-            object.__setattr__(self, "k_hertz", (TABLE1["k_hertz"],))
-        if not isinstance(self.settings, Settings):
-            raise ParameterError("settings", f"expected a Settings, got {type(self.settings).__name__}")
+            object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
+        if not isinstance(self.settings, FixedSettings):
+            raise ParameterError("settings", f"expected a FixedSettings, got {type(self.settings).__name__}")
         _check_all("gap", self.gap, check_positive, "m")
         if self.m is not None:
             _check_all("m", self.m, check_positive, "kg")
@@ -503,7 +503,7 @@ class SweepSpec:
         out = []
         for i, vals in enumerate(itertools.product(*(self._axis(a) for a in self.AXES))):
             cfg, mat, kh, c1, v0, dist, ang, gap, m = vals
-            radius = sphere_radius(m, s, mat or None)
+            radius = sweep_sphere_radius(m, s, mat or None)
             if mat:
                 from ..core.contact import hertz_stiffness
 
@@ -534,25 +534,25 @@ class SweepSpec:
     def from_dict(cls, d: dict) -> SweepSpec:
         """Inverse of :meth:`to_dict`."""
         d = dict(d)
-        settings = Settings(**d.pop("settings"))
+        settings = FixedSettings(**d.pop("settings"))
         kw = {k: (tuple(v) if v is not None else None) for k, v in d.items()}
         return cls(**kw, settings=settings)
 
 
-def sweepable(settings: Settings) -> tuple:
+def sweepable(settings: FixedSettings) -> tuple:
     """Names of the geometries a sweep with ``settings`` can build: those whose required settings it has."""
     given = dict(settings.room or ())
     return tuple(n for n, c in GEOMETRIES.items() if all(k in given for k in c.REQUIRED))
 
 
-def sphere_radius(mass: float, settings: Settings, material: str | None = None) -> float:
+def sweep_sphere_radius(mass: float, settings: FixedSettings, material: str | None = None) -> float:
     """Radius in m of the radiating sphere of an impact mass (see :mod:`acoustiviz.sweep`).
 
     Parameters
     ----------
     mass : float
         Impact mass in kg.
-    settings : Settings
+    settings : FixedSettings
         ``radius_mode``, ``radius`` and ``density``.
     material : str, optional
         Sphere material, whose density is used when ``settings.density`` is None.
@@ -567,7 +567,7 @@ def sphere_radius(mass: float, settings: Settings, material: str | None = None) 
     --------
     A steel ball of the Table 1 impact mass, 40.5 g at 7800 kg/m³:
 
-    >>> round(sphere_radius(0.0405, Settings(radius_mode="from-mass")), 5)
+    >>> round(sweep_sphere_radius(0.0405, FixedSettings(radius_mode="from-mass")), 5)
     0.01074
     """
     from ..core.materials import sphere_radius as radius_of

@@ -336,7 +336,7 @@ def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
     afresh; without, it is refused (:class:`SweepMismatch`). A damaged ``sweep.json`` is refused
     as damaged, and left as it is, unless ``overwrite`` moves it aside.
     """
-    from ..output.writers import write_text_atomic
+    from ..files import write_text_atomic
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -366,7 +366,7 @@ def _move_aside(out: Path) -> None:
     ``max_spl_map.previous-N.png``), so the sweep moved aside keeps everything that described it;
     other files, files already moved aside and sub-folders stay.
     """
-    from ..output.writers import refuse_replacing
+    from ..files import refuse_replacing
 
     n = 1
     while any((out / (_PREVIOUS.format(n=n) + ext)).exists() for ext in (".csv", ".json")):

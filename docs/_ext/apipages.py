@@ -19,15 +19,16 @@ from pathlib import Path
 
 #: Layers in import order (foundation first): first name below ``acoustiviz`` -> heading.
 LAYERS = {
-    "constants": "Foundation: constants and errors",
-    "errors": "Foundation: constants and errors",
+    "constants": "Foundation: constants, errors and atomic files",
+    "errors": "Foundation: constants, errors and atomic files",
+    "files": "Foundation: constants, errors and atomic files",
     "core": "Core physics: medium, materials, contact, radiation, images",
     "dynamics": "Damper dynamics",
     "field": "Field evaluator and grids",
     "grids": "Field evaluator and grids",
     "levels": "Levels",
     "sound": "Sound synthesis: impact trains to calibrated signals",
-    "output": "Outputs: plots, renders, WAV files, other files",
+    "output": "Outputs: plots, renders, WAV files, VTK and HTML files",
     "sweep": "Design sweeps",
     "app": "Application layer",
     "scene": "Scene files",

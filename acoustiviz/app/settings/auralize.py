@@ -23,7 +23,7 @@ from ...constants import (
     PULSES,
     SAMPLE_RATES,
     STRIKES,
-    TABLE1,
+    TABLE1_PARAMETERS,
     TAIL_SEED,
     WAV_RATE,
 )
@@ -156,13 +156,13 @@ class DamperSettings(Settings):
 
     TABLE = DAMPER
 
-    M: float = TABLE1["M"]
-    K: float = TABLE1["K"]
-    C: float = TABLE1["C"]
-    m: float = TABLE1["m"]
+    M: float = TABLE1_PARAMETERS["M"]
+    K: float = TABLE1_PARAMETERS["K"]
+    C: float = TABLE1_PARAMETERS["C"]
+    m: float = TABLE1_PARAMETERS["m"]
     gap: float = PAPER_GAP
-    k_hertz: float = TABLE1["k_hertz"]
-    c1: float = TABLE1["c1"]
+    k_hertz: float = TABLE1_PARAMETERS["k_hertz"]
+    c1: float = TABLE1_PARAMETERS["c1"]
     clip_tensile: bool = False
     x0: float = 0.0
     v0: float = PAPER_V0

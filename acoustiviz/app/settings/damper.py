@@ -19,7 +19,7 @@ from ...constants import (
     PAPER_V0,
     SCENE_SOLVERS,
     SOLVER_RTOL_RANGE,
-    TABLE1,
+    TABLE1_PARAMETERS,
 )
 from .table import Setting, check_values
 
@@ -29,22 +29,22 @@ _D = "damper"
 
 #: The damper model (paper eq 15).
 MODEL = (
-    Setting("M", "--M", "main_mass_kg", "float", TABLE1["M"], "main mass M", "kg", low=0.0, high=1e6,
+    Setting("M", "--M", "main_mass_kg", "float", TABLE1_PARAMETERS["M"], "main mass M", "kg", low=0.0, high=1e6,
             low_open=True, table=_D, metavar="KG"),
-    Setting("K", "--K", "stiffness_n_m", "float", TABLE1["K"], "main spring stiffness K", "N/m", low=0.0,
+    Setting("K", "--K", "stiffness_n_m", "float", TABLE1_PARAMETERS["K"], "main spring stiffness K", "N/m", low=0.0,
             high=1e12, low_open=True, table=_D, metavar="N/M"),
-    Setting("C", "--C", "damping_n_s_m", "float", TABLE1["C"], "main viscous dashpot C", "N s/m", low=0.0,
+    Setting("C", "--C", "damping_n_s_m", "float", TABLE1_PARAMETERS["C"], "main viscous dashpot C", "N s/m", low=0.0,
             high=1e9, table=_D, metavar="N*S/M"),
-    Setting("m", "--m", "impact_mass_kg", "float", TABLE1["m"], "impact mass m", "kg", low=0.0, high=1e5,
+    Setting("m", "--m", "impact_mass_kg", "float", TABLE1_PARAMETERS["m"], "impact mass m", "kg", low=0.0, high=1e5,
             low_open=True, table=_D, metavar="KG"),
     Setting("gap", "--gap", "gap_m", "float", PAPER_GAP, "total free travel d of the impact mass", "m", low=0.0,
             high=10.0, low_open=True, table=_D, metavar="M"),
-    Setting("k_hertz", "--k-hertz", "k_hertz_n_m1_5", "float", TABLE1["k_hertz"],
+    Setting("k_hertz", "--k-hertz", "k_hertz_n_m1_5", "float", TABLE1_PARAMETERS["k_hertz"],
             "Hertz contact stiffness K_HZ (a scene's default: from sphere.material and contact.surface, else "
             "5.6e8)", "N/m^1.5", low=0.0, high=1e14, low_open=True, scene_default=None, table="contact",
             metavar="N/M^1.5"),
-    Setting("c1", "--c1", "contact_damping_n_s_m", "float", TABLE1["c1"], "contact damping c1", "N s/m", low=0.0,
-            high=1e9, table=_D, metavar="N*S/M"),
+    Setting("c1", "--c1", "contact_damping_n_s_m", "float", TABLE1_PARAMETERS["c1"], "contact damping c1", "N s/m",
+            low=0.0, high=1e9, table=_D, metavar="N*S/M"),
 )
 
 #: How the contact force behaves as the bodies part (``acoustiviz damper`` and ``auralize``, a scene's [damper]).

@@ -23,11 +23,9 @@ from ...errors import ParameterError
 from .base import Settings, check_size
 from .table import Setting
 
-__all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "SECTIONS", "MAX_TIMES", "BalloonSettings", "SnapshotSettings",
+__all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "MAX_TIMES", "BalloonSettings", "SnapshotSettings",
            "AnimationSettings", "SETTINGS_OF_VIEW"]
 
-#: Planes through the sphere's centre a field view may show.
-SECTIONS = SECTION_PLANES
 #: Most snapshot times drawn side by side.
 MAX_TIMES = MAX_SNAPSHOT_TIMES
 #: Farthest edge of a field plane and largest balloon radius in m (a render of a field kilometres
@@ -81,8 +79,8 @@ ANIMATION = (
 
 def _check_sections(sections) -> tuple:
     names = tuple(sections)
-    if not names or any(n not in SECTIONS for n in names) or len(set(names)) != len(names):
-        raise ParameterError("sections", f"expected a subset of {', '.join(SECTIONS)}, got {list(names)!r}")
+    if not names or any(n not in SECTION_PLANES for n in names) or len(set(names)) != len(names):
+        raise ParameterError("sections", f"expected a subset of {', '.join(SECTION_PLANES)}, got {list(names)!r}")
     return names
 
 

@@ -24,7 +24,7 @@ from ...constants import (
     PULSES,
     SOLVER_RTOL_RANGE,
     SOLVERS,
-    TABLE1,
+    TABLE1_PARAMETERS,
 )
 from ...errors import ParameterError
 from .base import Settings
@@ -65,11 +65,11 @@ def _fixed(name, doc):
 #: The swept options: one value, START:STOP:COUNT (both ends included) or a comma list A,B,C.
 SWEPT = (
     _swept("gap", "--gap", f"total free travel d in m (default {PAPER_GAP:g})"),
-    _swept("m", "--m", f"impact mass in kg (default {TABLE1['m']:g})"),
+    _swept("m", "--m", f"impact mass in kg (default {TABLE1_PARAMETERS['m']:g})"),
     _swept("mass_ratio", "--mass-ratio", f"mass ratio m/M instead of --m (m = ratio x M within "
            f"{by_name(MODEL)['m'].range_text()})"),
-    _swept("c1", "--c1", f"contact damping in N s/m (default {TABLE1['c1']:g})"),
-    _swept("k_hertz", "--k-hertz", f"Hertz contact stiffness in N/m^1.5 (default {TABLE1['k_hertz']:g})"),
+    _swept("c1", "--c1", f"contact damping in N s/m (default {TABLE1_PARAMETERS['c1']:g})"),
+    _swept("k_hertz", "--k-hertz", f"Hertz contact stiffness in N/m^1.5 (default {TABLE1_PARAMETERS['k_hertz']:g})"),
     _swept("material", "--material", "sphere material(s) from the catalogue instead of --k-hertz: K_HZ from the "
            "sphere radius and the materials (paper eq 2), density for --radius mass"),
     _swept("v0", "--v0", f"initial main-mass velocity in m/s (default {PAPER_V0:g})"),
@@ -80,9 +80,9 @@ SWEPT = (
 
 #: The damper of every design (before the duration, :data:`SWEEP`) and its solver (after it).
 SWEEP_DAMPER = (
-    _fixed("M", f"main mass in kg (default {TABLE1['M']:g})"),
-    _fixed("K", f"main spring in N/m (default {TABLE1['K']:g})"),
-    _fixed("C", f"main dashpot in N s/m (default {TABLE1['C']:g})"),
+    _fixed("M", f"main mass in kg (default {TABLE1_PARAMETERS['M']:g})"),
+    _fixed("K", f"main spring in N/m (default {TABLE1_PARAMETERS['K']:g})"),
+    _fixed("C", f"main dashpot in N s/m (default {TABLE1_PARAMETERS['C']:g})"),
     Setting("clip_tensile", "--clip-tensile", None, "bool", None,
             "clip the contact force at zero (default: the paper's form, which may pull)"),
     SWEEP[0],

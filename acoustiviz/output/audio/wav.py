@@ -12,7 +12,7 @@ import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
 from ...errors import ClippingWarning
-from ..writers import atomic_path, write_bytes_atomic
+from ...files import atomic_path, write_bytes_atomic
 
 __all__ = [
     "SUBTYPES",

@@ -49,7 +49,7 @@ def save_figure(fig, path):
     """
     from pathlib import Path
 
-    from ..writers import atomic_path
+    from ...files import atomic_path
 
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower() or "png"

@@ -24,14 +24,13 @@ drawing only; paths and argv belong to :mod:`acoustiviz.cli`.
 
 from __future__ import annotations
 
-from ._common import DEFAULT_SIZE, SECTIONS, check_backend, mp4_available
+from ._common import DEFAULT_SIZE, check_backend, mp4_available
 from .animation import animation_times, frame_fields, render_animation
-from .balloon import METRICS, BalloonData, balloon_data, render_balloon
+from .balloon import BALLOON_FIELD_METRICS, BalloonData, balloon_data, render_balloon
 from .snapshot import render_snapshot, section_planes
 
 __all__ = [
-    "METRICS",
-    "SECTIONS",
+    "BALLOON_FIELD_METRICS",
     "DEFAULT_SIZE",
     "BalloonData",
     "balloon_data",

@@ -10,24 +10,16 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError
-from ...constants import SECTION_PLANES
 from ...constants import STILL_SIZE as DEFAULT_SIZE
 from ...core.geometry import Geometry
 from ...core.medium import Medium
-from ..writers import atomic_path
+from ...files import atomic_path
 
 __all__ = [
-    "SECTIONS",
     "DEFAULT_SIZE",
     "mp4_available",
     "check_backend",
 ]
-
-
-#: Section planes of :func:`section_planes`: the vertical plane normal to the wall (``"xz"``),
-#: the vertical plane parallel to it through the sphere (``"yz"``), the horizontal plane through
-#: the sphere's centre (``"xy"``): :data:`acoustiviz.constants.SECTION_PLANES`.
-SECTIONS = SECTION_PLANES
 
 
 #: Largest image side in pixels accepted by the renders.

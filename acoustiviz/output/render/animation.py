@@ -12,7 +12,7 @@ from ...core.geometry import Geometry
 from ...core.medium import AIR, Medium
 from ...field import arrival_windows, snapshots, source_geometry
 from ...field.sections import SectionField, section_grids
-from ..writers import atomic_path
+from ...files import atomic_path
 from ._common import _check_inputs, _check_path, _check_size, _grab, _plotter, _scene_label, mp4_available
 from .snapshot import _draw_snapshot, _symmetric_limit, _time_label
 

@@ -37,15 +37,15 @@ from ._common import (
 )
 
 __all__ = [
-    "METRICS",
+    "BALLOON_FIELD_METRICS",
     "BalloonData",
     "balloon_data",
     "render_balloon",
 ]
 
 
-#: Balloon metrics: name -> (FieldMetrics attribute, colour-bar title with its unit).
-METRICS = {
+#: Balloon metrics of the field itself: name -> (FieldMetrics attribute, colour-bar title with its unit).
+BALLOON_FIELD_METRICS = {
     "peak": ("peak_spl_db", "peak SPL (dB re 20 µPa)"),
     "rms": ("rms_spl_db", "RMS level (dB re 20 µPa)"),
     "sel": ("sel_db", "SEL (dB re 20 µPa, 1 s)"),
@@ -185,7 +185,7 @@ def balloon_data(
     """
     _check_inputs(pulse, config, medium)
     if levels is None:
-        check_choice("metric", metric, tuple(METRICS))
+        check_choice("metric", metric, tuple(BALLOON_FIELD_METRICS))
     r = check_positive("distance", distance, "m")
     if r <= BALLOON_MIN_RADII * config.radius:
         raise ParameterError("distance", f"must exceed 1.05 × the sphere's diameter "
@@ -201,7 +201,7 @@ def balloon_data(
     if not np.all(config.in_fluid(pts)):
         raise ParameterError("distance", f"{r:g} m puts measuring points inside the sphere or a wall")
     if levels is None:
-        attr, label = METRICS[metric]
+        attr, label = BALLOON_FIELD_METRICS[metric]
         every = np.vstack([pts, grid.points])
         # a room: each point's window ends by the room's (the images that arrive within it), as for a directivity
         fm = field_metrics(pulse, every, config, medium=medium, window=room_window(config, every, medium))
@@ -316,9 +316,9 @@ def render_balloon(
     Examples
     --------
     >>> from acoustiviz import Impact, acceleration_pulse
-    >>> from acoustiviz.core.geometry import configuration
+    >>> from acoustiviz.core.geometry import geometry
     >>> pulse = acceleration_pulse(Impact(velocity=1.4, k_hertz=5.6e8, mass=0.226), "half-sine")
-    >>> corner = configuration("wall-floor", 0.01905, wall_distance=0.05)
+    >>> corner = geometry("wall-floor", 0.01905, wall_distance=0.05)
     >>> render_balloon(pulse, corner, "balloon.png", size=(800, 600))  # doctest: +SKIP
     PosixPath('balloon.png')
     """

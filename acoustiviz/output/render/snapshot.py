@@ -192,7 +192,7 @@ def render_snapshot(
 
     Examples
     --------
-    >>> render_snapshot(pulse, configuration("plane", 0.01905), [0.5e-3, 1e-3], "p.png")  # doctest: +SKIP
+    >>> render_snapshot(pulse, geometry("plane", 0.01905), [0.5e-3, 1e-3], "p.png")  # doctest: +SKIP
     PosixPath('p.png')
     """
     path = _check_path(path, (".png",))
