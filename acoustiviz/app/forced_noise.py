@@ -190,6 +190,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     LAeq is exactly the energy average of the periodic train (eq: LAeq = 10 lg(Σ_k E_A,k / (W p_ref²))
     over the impacts k of one window) and LAFmax its periodic maximum.
     """
+    from ..core.signal import Signal
     from ..levels.train import signal_levels
     from ..sound import ClickModel, ImpactSequence, periodic_train, render
     from .wav import cavity
@@ -223,7 +224,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         seq = ImpactSequence(base, walls, speeds)
     out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
     p = out.pressure[0]
-    lv = signal_levels(p, out.sample_rate, start=start, stop=stop)  # sound_levels, from the clicks alone
+    lv = signal_levels(Signal(p, out.sample_rate), start=start, stop=stop)  # sound_levels, from the clicks alone
     start, stop = lv.start, lv.stop  # on the sample grid
 
     def one(x):

@@ -19,6 +19,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive
 from ..constants import ANALYSIS_RATE
+from ..core.signal import Signal
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, third_octave_levels
 
 __all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse",
@@ -214,9 +215,10 @@ def analyse(pressure, sample_rate, *, start=None, stop=None, channels=None, with
     """
     from ..levels.train import signal_levels
 
-    lv = signal_levels(pressure, sample_rate, start=start, stop=stop)  # sound_levels, from the sound alone
-    bl = third_octave_levels(pressure, sample_rate, start=start, stop=stop)
-    ld = loudness(pressure, sample_rate, start=start, stop=stop) if with_loudness else None
+    sig = Signal(pressure, sample_rate)
+    lv = signal_levels(sig, start=start, stop=stop)  # sound_levels, from the sound alone
+    bl = third_octave_levels(sig, start=start, stop=stop)
+    ld = loudness(sig, start=start, stop=stop) if with_loudness else None
     n = lv.lzpeak_db.size
     names = list(channels) if channels is not None else [str(i + 1) for i in range(n)]
     return LevelReport(lv, bl, ld, names)
