@@ -185,7 +185,7 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
 
     if not len(seq):
         return
-    from .limits import contact_speeds
+    from ..core.limits import contact_speeds
 
     n = {"m": "m", "k_hertz": "k_hertz", "duration": "duration", "velocities": "velocities", **(names or {})}
     slowest, fastest = float(seq.velocities.min()), float(seq.velocities.max())

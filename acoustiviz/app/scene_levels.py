@@ -36,7 +36,7 @@ def _cavity(scene, model, medium):
 
 def check_sound_listeners(scene) -> None:
     """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
-    from ..output.audio import check_listeners
+    from ..sound import check_listeners
     from .products import damper_model
 
     room = _cavity(scene, damper_model(scene), scene.medium())
