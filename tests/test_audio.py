@@ -16,6 +16,7 @@ from acoustiviz.core.geometry import images_plane, images_wall_floor
 from acoustiviz.core.images import ImageSource
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
+from acoustiviz.core.signal import Signal
 from acoustiviz.errors import ParameterError
 from acoustiviz.output import audio
 from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
@@ -265,7 +266,7 @@ def _two_clicks():
 
 def test_float_wav_is_in_pascals(tmp_path):
     out = _two_clicks()
-    info = audio.write_wav(tmp_path / "a.wav", out.pressure[0], 48000)
+    info = audio.write_wav(tmp_path / "a.wav", Signal(out.pressure[0], 48000))
     data, fs = sf.read(tmp_path / "a.wav", dtype="float64")
     meta = sf.info(str(tmp_path / "a.wav"))
     assert fs == 48000 and meta.subtype == "FLOAT" and meta.format == "WAV" and meta.channels == 1
@@ -280,25 +281,25 @@ def test_pcm24_shares_one_scale_and_never_clips_silently(tmp_path):
     scale = audio.shared_scale(out.pressure, headroom_db=1.0)
     assert scale == pytest.approx(out.peak.max() * 10 ** 0.05)
     for i in range(2):
-        audio.write_wav(tmp_path / f"{i}.wav", out.pressure[i], 48000, subtype="PCM_24", scale=scale)
+        audio.write_wav(tmp_path / f"{i}.wav", Signal(out.pressure[i], 48000), subtype="PCM_24", scale=scale)
         data, _ = sf.read(tmp_path / f"{i}.wav", dtype="float64")
         assert sf.info(str(tmp_path / f"{i}.wav")).subtype == "PCM_24"
         np.testing.assert_allclose(data * scale, out.pressure[i], atol=scale * 2.0**-22)
     with pytest.warns(audio.ClippingWarning, match=r"dB over full scale"):
-        info = audio.write_wav(tmp_path / "c.wav", out.pressure[0], 48000, subtype="PCM_24", scale=0.5)
+        info = audio.write_wav(tmp_path / "c.wav", Signal(out.pressure[0], 48000), subtype="PCM_24", scale=0.5)
     assert info["clipped_samples"] > 0
     assert info["over_full_scale_db"] == pytest.approx(20 * math.log10(out.peak[0] / 0.5))
     data, _ = sf.read(tmp_path / "c.wav")
     assert np.max(np.abs(data)) <= 1.0  # clipped, not wrapped around
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        audio.write_wav(tmp_path / "d.wav", out.pressure[0], 48000, subtype="FLOAT")  # float: no warning
+        audio.write_wav(tmp_path / "d.wav", Signal(out.pressure[0], 48000), subtype="FLOAT")  # float: no warning
 
 
 def test_sidecar_is_beside_the_wav(tmp_path):
     out = _two_clicks()
     wav = tmp_path / "run.wav"
-    info = audio.write_wav(wav, out.pressure, 48000)
+    info = audio.write_wav(wav, Signal(out.pressure, 48000))
     path = audio.write_sidecar(wav, {**out.describe(), "file": info})
     assert path == tmp_path / "run.json"
     rec = json.loads(path.read_text())
@@ -317,8 +318,8 @@ def test_sox_reads_the_files(tmp_path):
     """
     out = _two_clicks()
     scale = audio.shared_scale(out.pressure)
-    audio.write_wav(tmp_path / "f.wav", out.pressure, 48000, scale=10.0)
-    audio.write_wav(tmp_path / "p.wav", out.pressure, 48000, subtype="PCM_24", scale=scale)
+    audio.write_wav(tmp_path / "f.wav", Signal(out.pressure, 48000), scale=10.0)
+    audio.write_wav(tmp_path / "p.wav", Signal(out.pressure, 48000), subtype="PCM_24", scale=scale)
 
     def sox(*args):
         res = subprocess.run(["sox", *map(str, args)], capture_output=True, text=True, check=True)

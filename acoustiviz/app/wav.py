@@ -29,6 +29,7 @@ import numpy as np
 
 from .. import __version__
 from ..core.geometry import GEOMETRIES, geometry
+from ..core.signal import Signal
 from ..errors import ClippingWarning, ParameterError
 from ..output.audio import shared_scale, write_sidecar, write_wav
 from ..sound import CavityScene
@@ -425,7 +426,7 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
     for k, wav in enumerate(files):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ClippingWarning)
-            info = write_wav(wav.path, wav.pressure, sample_rate, subtype=subtype, scale=scale)
+            info = write_wav(wav.path, Signal(wav.pressure, sample_rate), subtype=subtype, scale=scale)
         record = sidecar_record(wav, info, sample_rate=sample_rate, scale=scale, scale_source=source,
                                 rendering=rendering, scene_name=scene_name, damper=damper,
                                 radius_source=radius_source, levels=None if levels is None else levels[k],
