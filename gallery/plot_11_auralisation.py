@@ -32,7 +32,6 @@ from dataclasses import replace
 
 from _gallery import fast_mode, output_dir
 
-from acoustiviz.core.signal import Signal
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.metrics import envelope_inclination, positive_maxima, sample_times
 from acoustiviz.output import audio
@@ -88,7 +87,7 @@ for name, r, label in pairs:
     sound = r["sound"]
     for suffix, subtype, sc in (("", "FLOAT", 1.0), ("_listen", "PCM_24", scale)):
         path = out_dir / f"auralisation_{name}{suffix}.wav"
-        info = audio.write_wav(path, Signal(sound.pressure, RATE), subtype=subtype, scale=sc)
+        info = audio.write_wav(path, sound.signal, subtype=subtype, scale=sc)
         audio.write_sidecar(path, {
             "file": path.name, "design": label, "m_kg": r["m"], "gap_m": r["gap"],
             "damping_inclination_fit_m_s": r["e"], "subtype": subtype, "scale_pa_per_full_scale": sc,

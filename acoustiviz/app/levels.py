@@ -408,5 +408,5 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
     if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
         rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration,
                            room_sound=room_sound)
-    return analyse(Signal(rendering.pressure, ANALYSIS_RATE), start=start, stop=stop, channels=channels,
+    return analyse(rendering.signal, start=start, stop=stop, channels=channels,
                    with_loudness=with_loudness)
