@@ -52,3 +52,25 @@ def test_positions_other_than_one_finite_point_are_refused(position):
 
 def test_listener_is_exported_at_the_top_level():
     assert acoustiviz.Listener is Listener and "Listener" in acoustiviz.__all__
+
+
+def test_a_listener_unpacks_as_the_name_position_pairs_of_a_scene():
+    name, position = Listener("mic", [0.1, 0.2, 0.3])
+    assert name == "mic"
+    np.testing.assert_array_equal(position, [0.1, 0.2, 0.3])
+
+
+def test_a_run_sees_the_scene_listeners_as_listener_values(tmp_path):
+    from acoustiviz.app.pipeline import RunContext
+    from acoustiviz.scene.load import load_scene
+
+    path = tmp_path / "scene.toml"
+    path.write_text('[[listeners]]\nname = "near"\nposition_m = [0.0, 0.3, 0.4]\n'
+                    '[[listeners]]\nposition_m = [0.5, 0.0, 0.5]\n')
+    scene = load_scene(path)
+    ctx = RunContext(scene, tmp_path / "out")
+    got = ctx.listeners
+    assert all(isinstance(lst, Listener) for lst in got)
+    assert [lst.name for lst in got] == ["near", "listener2"]
+    np.testing.assert_array_equal(got[0].position, [0.0, 0.3, 0.4])
+    np.testing.assert_array_equal(got[1].position, [0.5, 0.0, 0.5])

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.listener import Listener
 from ..errors import ParameterError
 from ..output.writers import write_csv_atomic, write_text_atomic
 from . import damper as _damper
@@ -80,8 +81,8 @@ class RunContext:
 
     @functools.cached_property
     def listeners(self):
-        """``[(name, (3,) position in m)]``."""
-        return self.scene.listeners()
+        """The scene's listeners, a list of :class:`~acoustiviz.core.listener.Listener` (positions in m)."""
+        return [Listener(name, position) for name, position in self.scene.listeners()]
 
     def pulse(self, kind=None):
         """The single impact's acceleration pulse (scene pulse, or ``kind``)."""

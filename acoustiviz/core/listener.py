@@ -38,6 +38,17 @@ class Listener:
     name: str
     position: np.ndarray
 
+    def __iter__(self):
+        """Unpack as ``name, position``, as the ``(name, position)`` pairs of a scene's listeners.
+
+        Examples
+        --------
+        >>> name, position = Listener("mic", [0.0, 0.0, 0.5])
+        >>> name, float(position[2])
+        ('mic', 0.5)
+        """
+        return iter((self.name, self.position))
+
     def __post_init__(self):
         problem = label_problem(self.name)
         if problem is not None:
