@@ -348,7 +348,7 @@ def test_figure_axes_carry_units():
     from acoustiviz.output.plot.audio import auralisation_figure
 
     out = _two_clicks()
-    fig = auralisation_figure(list(out.pressure), out.sample_rate, labels=["a", "b"])
+    fig = auralisation_figure([Signal(p, out.sample_rate) for p in out.pressure], labels=["a", "b"])
     labels = {ax.get_xlabel() for ax in fig.axes} | {ax.get_ylabel() for ax in fig.axes}
     assert {"time (s)", "time (ms)", "sound pressure (Pa)", "frequency (kHz)"} <= labels
     assert any("dB re 20 µPa" in lab for lab in labels)  # the colour bars

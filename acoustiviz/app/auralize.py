@@ -424,15 +424,16 @@ def _print_written(s: AuralizeSettings, files, written, echo) -> None:
 
 def _write_png(s: AuralizeSettings, paths, channels, echo) -> None:
     """The waveforms of the files as one figure."""
+    from ..core.signal import Signal
     from ..output.plot.audio import auralisation_figure
     from ..output.plot.style import save_figure
 
     if s.stereo:
         labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]
-        signals = list(channels[0])
+        signals = [Signal(c, s.rate) for c in channels[0]]
     else:
         labels = [Path(p).name for p in paths]
-        signals = [c[0] for c in channels]
-    save_figure(auralisation_figure(signals, s.rate, labels=labels), s.png)
+        signals = [Signal(c[0], s.rate) for c in channels]
+    save_figure(auralisation_figure(signals, labels=labels), s.png)
     echo(f"wrote {s.png}")
 
