@@ -311,12 +311,14 @@ def test_a_sidecar_states_the_rate_and_length_of_its_file_not_of_the_rendering_i
     import soundfile as sf
 
     from acoustiviz.app.wav import WavFile, write_wav_files
+    from acoustiviz.core.listener import Listener
+    from acoustiviz.core.signal import Signal
 
     fs, n = 48000, 4800
-    wav = WavFile(tmp_path / "a.wav", np.sin(np.arange(n) / 7.0)[None, :], ["listener1"], np.array([[0.5, 0, 0.5]]),
-                  ["mono"])
+    wav = WavFile(tmp_path / "a.wav", Signal(np.sin(np.arange(n) / 7.0)[None, :], fs),
+                  [Listener("listener1", [0.5, 0, 0.5])], ["mono"])
     described = {"sample_rate_hz": 96000, "duration_s": 0.2, "sample_rate": 96000, "impact_count": 3}
-    [w] = write_wav_files([wav], sample_rate=fs, rendering=described)
+    [w] = write_wav_files([wav], rendering=described)
     info = sf.info(str(tmp_path / "a.wav"))
     doc = json.loads(w["sidecar"].read_text())
     assert doc["sample_rate_hz"] == info.samplerate == fs and doc["frames"] == info.frames == n

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS, WAV_RATE
+from ..core.listener import Listener
 from ..core.signal import Signal
 from ..dynamics import DamperModel
 from ..errors import ParameterError
@@ -293,7 +294,7 @@ def write_operating_wav(noises, path, *, sample_rate: int = WAV_RATE, listener=N
     parts = [n.interval_pressure(sample_rate) for n in ok]
     pressure = np.concatenate(parts) if parts else np.zeros(1)
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
-    wav = WavFile(path, pressure[None, :], ["listener1"], pts[None, :], ["mono"])
+    wav = WavFile(path, Signal(pressure, sample_rate), [Listener("listener1", pts)], ["mono"])
     from ..sound.synthesis import band_limit
 
     # the levels' rendering (at its own rate) re-rendered at the file's rate: its band limit is the file's
@@ -302,7 +303,7 @@ def write_operating_wav(noises, path, *, sample_rate: int = WAV_RATE, listener=N
     rendering["operating_sequence"] = [{"frequency_hz": n.frequency_hz, "duration_s": n.duration,
                                         "laeq_db": n.laeq_db, "lafmax_db": n.lafmax_db, "lcpeak_db": n.lcpeak_db}
                                        for n in ok]
-    return write_wav_files([wav], sample_rate=sample_rate, rendering=rendering,
+    return write_wav_files([wav], rendering=rendering,
                            radius_source="default: the paper's sphere")
 
 
