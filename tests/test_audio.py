@@ -380,3 +380,47 @@ def test_whole_run_level_and_exposure_match_the_field_evaluator():
         exposure += met.exposure[0]
     assert out.peak[0] == pytest.approx(max(peaks), rel=5e-3)
     assert np.sum(out.pressure[0] ** 2) / out.sample_rate == pytest.approx(exposure, rel=1e-4)
+
+
+def test_wav_writer_takes_a_signal_of_whole_hertz(tmp_path):
+    with pytest.raises(ParameterError, match="signal"):
+        audio.write_wav(tmp_path / "a.wav", np.zeros(10))
+    with pytest.raises(ParameterError, match="sample_rate"):
+        audio.write_wav(tmp_path / "b.wav", Signal(np.zeros(10), 44100.5))
+    assert not list(tmp_path.iterdir())  # refused before anything was written
+
+
+def test_a_calibrated_wav_reads_back_as_the_signal_written(tmp_path):
+    from acoustiviz.app.levels import read_calibrated_wav
+
+    out = _two_clicks()
+    path = tmp_path / "two.wav"
+    audio.write_wav(path, out.signal, subtype="FLOAT", scale=0.5)
+    back = read_calibrated_wav(path, pa_per_fs=0.5)
+    sig = back.signal
+    assert isinstance(sig, Signal) and sig.sample_rate == out.sample_rate == 48000 and sig.start == 0.0
+    assert sig.channels == 2 and sig.n_samples == out.n_samples
+    np.testing.assert_allclose(sig.pressure, out.pressure, rtol=1e-7, atol=1e-7 * out.peak.max())
+    assert back.source == "given" and back.channels == ["1", "2"]
+
+
+def test_a_rendering_carries_its_samples_as_one_signal():
+    out = _two_clicks()
+    assert isinstance(out.signal, Signal) and out.signal.channels == 2
+    assert out.pressure is out.signal.pressure and not out.pressure.flags.writeable
+    assert out.sample_rate == 48000 and isinstance(out.sample_rate, int)
+    np.testing.assert_allclose(out.time, out.signal.times, rtol=0, atol=1e-15)
+
+
+def test_plots_draw_a_signal_against_its_own_times():
+    from acoustiviz.output.plot.audio import plot_pressure_signal, plot_spectrogram
+
+    fs, t0 = 8000, 2.0
+    sig = Signal(np.sin(2 * np.pi * 500 * np.arange(fs // 2) / fs), fs, start=t0)
+    ax = plot_pressure_signal(sig)
+    assert ax.get_xlim() == pytest.approx((t0, t0 + (fs // 2 - 1) / fs))
+    ax = plot_spectrogram(sig, segment=0.01)
+    lo, hi = ax.get_xlim()
+    assert t0 <= lo < t0 + 0.01 and t0 + 0.49 < hi <= t0 + 0.5
+    with pytest.raises(ParameterError, match="signal"):
+        plot_pressure_signal(Signal(np.zeros((2, 10)), fs))  # one channel per plot

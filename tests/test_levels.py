@@ -163,3 +163,32 @@ def test_metric_levels_give_one_value_per_row_and_name_the_option():
     with pytest.raises(ParameterError) as err:
         metric_levels(Signal(rows, FS), "dba")
     assert err.value.name == "metric"
+
+
+def test_a_signal_that_starts_later_has_the_same_levels_over_the_same_samples():
+    """start and stop are times on the signal's own axis: shifting the axis shifts them, not the levels."""
+    x, t0 = tone(1000, seconds=1.0), 3.25
+    at_zero = sound_levels(Signal(x, FS), start=0.25, stop=0.75)
+    later = sound_levels(Signal(x, FS, start=t0), start=t0 + 0.25, stop=t0 + 0.75)
+    for field in ("lzpeak_db", "lcpeak_db", "lafmax_db", "laeq_db", "sel_a_db"):
+        np.testing.assert_array_equal(getattr(later, field), getattr(at_zero, field))
+    assert later.start == pytest.approx(t0 + 0.25, abs=1e-12) and later.stop == pytest.approx(t0 + 0.75, abs=1e-12)
+    bands = third_octave_levels(Signal(x, FS, start=t0), start=t0 + 0.25)
+    assert bands.start == pytest.approx(t0 + 0.25, abs=1e-12)
+    with pytest.raises(ParameterError) as err:  # an interval before the signal's start
+        sound_levels(Signal(x, FS, start=t0), start=0.25)
+    assert err.value.name == "start"
+
+
+def test_weighting_returns_a_signal_on_the_same_axis():
+    sig = Signal(tone(1000, seconds=0.5), FS, start=1.5)
+    a = weighted(sig, "A")
+    assert isinstance(a, Signal) and a.sample_rate == FS and a.start == 1.5 and a.n_samples == sig.n_samples
+    np.testing.assert_array_equal(weighted(sig, "Z").pressure, sig.pressure)
+
+
+@pytest.mark.parametrize("bad", [np.ones(100), [1.0, 2.0], Signal([1.0], FS)])
+def test_levels_refuse_anything_but_a_signal_of_two_samples_or_more(bad):
+    with pytest.raises(ParameterError) as err:
+        sound_levels(bad)
+    assert err.value.name == "signal"
