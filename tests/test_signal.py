@@ -78,3 +78,23 @@ def test_windows_outside_the_signal_are_refused_naming_the_bound(start, stop, na
 
 def test_signal_is_exported_at_the_top_level():
     assert acoustiviz.Signal is Signal and "Signal" in acoustiviz.__all__
+
+
+def test_an_owned_read_only_array_is_kept_and_anything_else_copied():
+    owned = np.arange(6.0)
+    owned.flags.writeable = False
+    assert Signal(owned, 10.0).pressure is owned  # nobody can change it: no second copy of a long signal
+    view = owned[1:]
+    assert Signal(view, 10.0).pressure is not view  # a view of someone's data: copied
+    ints = np.arange(6)
+    ints.flags.writeable = False
+    kept = Signal(ints, 10.0).pressure
+    assert kept.dtype == float and not kept.flags.writeable
+
+
+def test_a_rendering_hands_its_samples_over_without_a_copy():
+    from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
+
+    out = render(ImpactSequence([0.01], [-1], [1.0]), CavityScene(), ClickModel(), [0.0, 0.5, 0.5],
+                 sample_rate=48000, duration=0.02)
+    assert out.signal.pressure.flags.owndata and not out.signal.pressure.flags.writeable

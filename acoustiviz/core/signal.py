@@ -16,8 +16,15 @@ from .._validate import ParameterError, check_finite, check_positive
 __all__ = ["Signal"]
 
 
-def _readonly(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=float)  # a private copy, so the caller's array can change without changing the value
+def _readonly(p: np.ndarray) -> np.ndarray:
+    """``p`` as a read-only float array the caller cannot change through a reference it still holds.
+
+    An array that owns its float data and is already read-only is taken as it is (a renderer hands
+    over its output without a second copy of a long signal); anything else is copied.
+    """
+    if p.dtype == np.float64 and p.flags.owndata and not p.flags.writeable:
+        return p
+    a = np.array(p, dtype=float)
     a.flags.writeable = False
     return a
 
@@ -30,7 +37,7 @@ class Signal:
     ----------
     pressure : (n_samples,) or (n_channels, n_samples) array_like
         Calibrated sound pressure in Pa (finite); 1-D for one channel. Stored as a read-only
-        float copy.
+        float copy (a read-only float array that owns its data is kept without copying).
     sample_rate : float
         Sample rate in Hz (positive, finite).
     start : float

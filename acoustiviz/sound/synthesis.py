@@ -366,6 +366,7 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     grid = (fs, L, f_int, h, half, tail)
     _add_exact_clicks(out, sequence, pulses, geom, grid, a, medium)
     _add_trains(out, sequence, pulses, trains, grid, a, medium)
+    out.flags.writeable = False  # finished: the Signal takes it without a copy
     return Rendering(Signal(out, fs), f_int, pts, sequence, scene, model)
 
 
