@@ -282,7 +282,7 @@ def levels(s, echo=print) -> tuple:
         report = analyse(sig.signal, start=s.start, stop=s.stop, channels=sig.channels, with_loudness=s.loudness)
     _check_levels(report, sig, s.signal, echo)
     echo(f"{s.signal}: {sig.signal.channels} channel(s), {sig.signal.duration:g} s at "
-         f"{sig.signal.sample_rate:g} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
+         f"{int(sig.signal.sample_rate)} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
     for line in summary_lines(report, rate_note=" (the file's rate)"):
         echo(line)
     paths = write_levels_csv(s.csv, report)
