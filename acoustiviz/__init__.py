@@ -47,6 +47,8 @@ _LAZY = {
     "pressure": "core.radiation",
     "pulse_response": "core.radiation",
     "sphere_pressure": "core.radiation",
+    "Signal": "core.signal",
+    "Listener": "core.listener",
     "AccuracyWarning": "errors",
     "ClippingWarning": "errors",
     "ParameterError": "errors",

@@ -24,6 +24,8 @@ __all__ = [
     "check_range",
     "check_choice",
     "check_points",
+    "label_problem",
+    "LABEL_MAX",
 ]
 
 
@@ -106,3 +108,38 @@ def check_points(name: str, points) -> np.ndarray:
     if not np.all(np.isfinite(p)):
         raise ParameterError(name, "coordinates must be finite")
     return p
+
+
+#: Longest label (a listener's name, ...) that becomes part of a file name, in characters.
+LABEL_MAX = 64
+#: Device names Windows reserves (with any extension); refused everywhere so that a scene is portable.
+_RESERVED = frozenset({"con", "prn", "aux", "nul", *(f"com{i}" for i in range(10)), *(f"lpt{i}" for i in range(10))})
+
+
+def label_problem(label) -> str | None:
+    """Why ``label`` cannot become part of a file name inside an output folder, or None if it can.
+
+    A label is 1 to :data:`LABEL_MAX` letters, digits, ``_``, ``-`` and ``.`` (inner spaces
+    allowed), starts with a letter, digit or ``_`` and ends without a dot or space. So it holds no
+    path separator, no ``..``, no NUL or control character and no character a file system
+    refuses, and it is not a device name Windows reserves (``CON``, ``NUL``, ``COM1``, ...): a
+    name taken from someone else's input can never choose a folder or a device.
+
+    Examples
+    --------
+    >>> label_problem("left") is None
+    True
+    >>> label_problem("../../victim/data")
+    "may hold only letters, digits, '_', '-', '.' and inner spaces; got '../../victim/data'"
+    """
+    if not isinstance(label, str) or not label:
+        return f"expected a non-empty name, got {label!r}"
+    if len(label) > LABEL_MAX:
+        return f"at most {LABEL_MAX} characters, got {len(label)}"
+    if not all(ch.isalnum() or ch in "_-. " for ch in label) or not label.isprintable():
+        return f"may hold only letters, digits, '_', '-', '.' and inner spaces; got {label!r}"
+    if not (label[0].isalnum() or label[0] == "_") or label[-1] in ". ":
+        return f"must start with a letter, digit or '_' and not end with '.' or a space; got {label!r}"
+    if label.split(".")[0].strip().lower() in _RESERVED:
+        return f"{label!r} is a device name on Windows; choose another"
+    return None

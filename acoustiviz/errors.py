@@ -123,10 +123,12 @@ class ClippingWarning(UserWarning):
 
     >>> import tempfile, warnings
     >>> from pathlib import Path
+    >>> from acoustiviz import Signal
     >>> from acoustiviz.output.audio import write_wav
     >>> with tempfile.TemporaryDirectory() as folder, warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
-    ...     info = write_wav(Path(folder) / "click.wav", [0.0, 2.0, -0.5], 48000, subtype="PCM_24", scale=1.0)
+    ...     info = write_wav(Path(folder) / "click.wav", Signal([0.0, 2.0, -0.5], 48000), subtype="PCM_24",
+    ...                      scale=1.0)
     >>> [w.category.__name__ for w in caught], info["clipped_samples"], round(info["over_full_scale_db"], 2)
     (['ClippingWarning'], 1, 6.02)
     """

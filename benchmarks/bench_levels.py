@@ -24,6 +24,7 @@ from _timing import cpu_best_of, run_writing
 from acoustiviz import sound
 from acoustiviz.app.levels import ANALYSIS_RATE
 from acoustiviz.core.geometry import geometry
+from acoustiviz.core.signal import Signal
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.field.grids import spherical_grid_for
 from acoustiviz.levels import (
@@ -53,29 +54,30 @@ def part_levels(seq, scene, repeat: int, quick: bool) -> None:
     hdr = f"{'analysis':>28} {'CPU (s)':>9}"
     print(hdr)
     print("-" * len(hdr))
-    t, lv = cpu_best_of(lambda: sound_levels(p, ANALYSIS_RATE), repeat)
+    t, lv = cpu_best_of(lambda: sound_levels(Signal(p, ANALYSIS_RATE)), repeat)
     print(f"{'weighted levels (8 levels)':>28} {t:9.3f}")
-    t_sp, sp = cpu_best_of(lambda: signal_levels(p, ANALYSIS_RATE), repeat)
+    t_sp, sp = cpu_best_of(lambda: signal_levels(Signal(p, ANALYSIS_RATE)), repeat)
     gap = max(float(np.max(np.abs(getattr(sp, c) - getattr(lv, c)))) for c in LEVEL_COLUMNS)
     print(f"{'  from the sound alone':>28} {t_sp:9.3f}   {t / t_sp:.1f}x faster, largest difference {gap:.1e} dB")
-    t, bl = cpu_best_of(lambda: third_octave_levels(p, ANALYSIS_RATE), repeat)
+    t, bl = cpu_best_of(lambda: third_octave_levels(Signal(p, ANALYSIS_RATE)), repeat)
     print(f"{'1/3-octave bands (30)':>28} {t:9.3f}")
     sparse_above, bands.SPARSE_ABOVE = bands.SPARSE_ABOVE, -1.0  # decimate every sample
     try:
-        t_d, bd = cpu_best_of(lambda: third_octave_levels(p, ANALYSIS_RATE), repeat)
+        t_d, bd = cpu_best_of(lambda: third_octave_levels(Signal(p, ANALYSIS_RATE)), repeat)
     finally:
         bands.SPARSE_ABOVE = sparse_above
     gap = max(float(np.max(np.abs(bl.leq_db - bd.leq_db))), float(np.max(np.abs(bl.lmax_db - bd.lmax_db))))
     print(f"{'  decimating every sample':>28} {t_d:9.3f}   {t_d / t:.1f}x slower, largest difference {gap:.1e} dB")
     if loudness_available() and not quick:
-        t, ld = cpu_best_of(lambda: loudness(p, ANALYSIS_RATE), 1)
+        t, ld = cpu_best_of(lambda: loudness(Signal(p, ANALYSIS_RATE)), 1)
         print(f"{'loudness + sharpness':>28} {t:9.3f}   N5 {ld.n5_sone[0]:.2f} sone, S {ld.sharpness_acum[0]:.2f} acum")
     rates = (48000,) if quick else (48000, 44100)
     print(f"\nlevel at {ANALYSIS_RATE / 1e3:g} kHz and its change (dB) when evaluated on a lower-rate rendering")
     hdr = f"{'level':>10} {ANALYSIS_RATE / 1e3:>8g} kHz" + "".join(f" {f'{fs / 1e3:g} kHz':>10}" for fs in rates)
     print(hdr)
     print("-" * len(hdr))
-    lows = {fs: sound_levels(sound.render(seq, scene, model, LISTENER, sample_rate=fs, duration=20.0).pressure, fs)
+    lows = {fs: sound_levels(Signal(sound.render(seq, scene, model, LISTENER, sample_rate=fs,
+                                                  duration=20.0).pressure, fs))
             for fs in rates}
     for c in LEVEL_COLUMNS:
         ref = float(getattr(lv, c)[0])

@@ -32,6 +32,7 @@ from acoustiviz.app.views import (
     reference_metric_levels,
 )
 from acoustiviz.constants import ANALYSIS_RATE
+from acoustiviz.core.signal import Signal
 from acoustiviz.field import directivity, time_series, waveform_span
 from acoustiviz.levels import METRICS, sound_levels
 from acoustiviz.levels.transient import transient_levels
@@ -87,11 +88,11 @@ def part_stages(pulse: str, repeat: int) -> None:
     t_fft, _ = best_of(lambda: fftconvolve(hi, h[None, :], axes=1)[:, K * L:(2 * K + n_sound) * L:L], repeat)
     p = np.zeros((pts.shape[0], fs))
     p[:, :low.shape[1]] = low
-    t_a, pa = best_of(lambda: weighted(p, fs, "A"), repeat)
-    t_c, _ = best_of(lambda: weighted(p, fs, "C"), repeat)
+    t_a, pa = best_of(lambda: weighted(Signal(p, fs), "A").pressure, repeat)
+    t_c, _ = best_of(lambda: weighted(Signal(p, fs), "C"), repeat)
     t_f, _ = best_of(lambda: library().time_weighting(pa, fs, mode="fast"), repeat)
     t_s, _ = best_of(lambda: library().time_weighting(pa, fs, mode="slow"), repeat)
-    t_all, _ = best_of(lambda: sound_levels(p, fs), repeat)
+    t_all, _ = best_of(lambda: sound_levels(Signal(p, fs)), repeat)
     t_tr, _ = best_of(lambda: transient_levels(low, fs, fs, list(METRICS)), repeat)
     print(f"   L = {L}, {h.size} decimation taps, {n_sound * L} samples at {L * fs / 1e6:g} MHz, "
           f"{low.shape[1]} of {fs} samples at {fs / 1e3:g} kHz hold sound")

@@ -32,6 +32,7 @@ from dataclasses import replace
 
 from _gallery import fast_mode, output_dir
 
+from acoustiviz.core.signal import Signal
 from acoustiviz.dynamics import TABLE1, simulate
 from acoustiviz.dynamics.metrics import envelope_inclination, positive_maxima, sample_times
 from acoustiviz.output import audio
@@ -87,7 +88,7 @@ for name, r, label in pairs:
     sound = r["sound"]
     for suffix, subtype, sc in (("", "FLOAT", 1.0), ("_listen", "PCM_24", scale)):
         path = out_dir / f"auralisation_{name}{suffix}.wav"
-        info = audio.write_wav(path, sound.pressure, RATE, subtype=subtype, scale=sc)
+        info = audio.write_wav(path, sound.signal, subtype=subtype, scale=sc)
         audio.write_sidecar(path, {
             "file": path.name, "design": label, "m_kg": r["m"], "gap_m": r["gap"],
             "damping_inclination_fit_m_s": r["e"], "subtype": subtype, "scale_pa_per_full_scale": sc,
@@ -102,7 +103,7 @@ for name, r, label in pairs:
 # Both waveforms and spectrograms, one pressure scale and one colour scale.
 labels = [f"{label}: m = {r['m'] * 1e3:.1f} g, d = {r['gap'] * 100:.0f} cm, e = {r['e'] * 100:.2f} cm/s"
           for _, r, label in pairs]
-fig = auralisation_figure([r["sound"].pressure[0] for _, r, _ in pairs], RATE, labels=labels)
+fig = auralisation_figure([Signal(r["sound"].pressure[0], RATE) for _, r, _ in pairs], labels=labels)
 fig.suptitle("Impact damper heard 0.7 m away at 45° (rigid plane, a = 19.05 mm, half-sine pulses)")
 path = save_figure(fig, out_dir / "plot_11_auralisation.png")
 print(f"wrote {path}")

@@ -16,6 +16,7 @@ from acoustiviz.core.geometry import images_plane, images_wall_floor
 from acoustiviz.core.images import ImageSource
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
+from acoustiviz.core.signal import Signal
 from acoustiviz.errors import ParameterError
 from acoustiviz.output import audio
 from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
@@ -265,7 +266,7 @@ def _two_clicks():
 
 def test_float_wav_is_in_pascals(tmp_path):
     out = _two_clicks()
-    info = audio.write_wav(tmp_path / "a.wav", out.pressure[0], 48000)
+    info = audio.write_wav(tmp_path / "a.wav", Signal(out.pressure[0], 48000))
     data, fs = sf.read(tmp_path / "a.wav", dtype="float64")
     meta = sf.info(str(tmp_path / "a.wav"))
     assert fs == 48000 and meta.subtype == "FLOAT" and meta.format == "WAV" and meta.channels == 1
@@ -280,25 +281,25 @@ def test_pcm24_shares_one_scale_and_never_clips_silently(tmp_path):
     scale = audio.shared_scale(out.pressure, headroom_db=1.0)
     assert scale == pytest.approx(out.peak.max() * 10 ** 0.05)
     for i in range(2):
-        audio.write_wav(tmp_path / f"{i}.wav", out.pressure[i], 48000, subtype="PCM_24", scale=scale)
+        audio.write_wav(tmp_path / f"{i}.wav", Signal(out.pressure[i], 48000), subtype="PCM_24", scale=scale)
         data, _ = sf.read(tmp_path / f"{i}.wav", dtype="float64")
         assert sf.info(str(tmp_path / f"{i}.wav")).subtype == "PCM_24"
         np.testing.assert_allclose(data * scale, out.pressure[i], atol=scale * 2.0**-22)
     with pytest.warns(audio.ClippingWarning, match=r"dB over full scale"):
-        info = audio.write_wav(tmp_path / "c.wav", out.pressure[0], 48000, subtype="PCM_24", scale=0.5)
+        info = audio.write_wav(tmp_path / "c.wav", Signal(out.pressure[0], 48000), subtype="PCM_24", scale=0.5)
     assert info["clipped_samples"] > 0
     assert info["over_full_scale_db"] == pytest.approx(20 * math.log10(out.peak[0] / 0.5))
     data, _ = sf.read(tmp_path / "c.wav")
     assert np.max(np.abs(data)) <= 1.0  # clipped, not wrapped around
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        audio.write_wav(tmp_path / "d.wav", out.pressure[0], 48000, subtype="FLOAT")  # float: no warning
+        audio.write_wav(tmp_path / "d.wav", Signal(out.pressure[0], 48000), subtype="FLOAT")  # float: no warning
 
 
 def test_sidecar_is_beside_the_wav(tmp_path):
     out = _two_clicks()
     wav = tmp_path / "run.wav"
-    info = audio.write_wav(wav, out.pressure, 48000)
+    info = audio.write_wav(wav, Signal(out.pressure, 48000))
     path = audio.write_sidecar(wav, {**out.describe(), "file": info})
     assert path == tmp_path / "run.json"
     rec = json.loads(path.read_text())
@@ -317,8 +318,8 @@ def test_sox_reads_the_files(tmp_path):
     """
     out = _two_clicks()
     scale = audio.shared_scale(out.pressure)
-    audio.write_wav(tmp_path / "f.wav", out.pressure, 48000, scale=10.0)
-    audio.write_wav(tmp_path / "p.wav", out.pressure, 48000, subtype="PCM_24", scale=scale)
+    audio.write_wav(tmp_path / "f.wav", Signal(out.pressure, 48000), scale=10.0)
+    audio.write_wav(tmp_path / "p.wav", Signal(out.pressure, 48000), subtype="PCM_24", scale=scale)
 
     def sox(*args):
         res = subprocess.run(["sox", *map(str, args)], capture_output=True, text=True, check=True)
@@ -347,7 +348,7 @@ def test_figure_axes_carry_units():
     from acoustiviz.output.plot.audio import auralisation_figure
 
     out = _two_clicks()
-    fig = auralisation_figure(list(out.pressure), out.sample_rate, labels=["a", "b"])
+    fig = auralisation_figure([Signal(p, out.sample_rate) for p in out.pressure], labels=["a", "b"])
     labels = {ax.get_xlabel() for ax in fig.axes} | {ax.get_ylabel() for ax in fig.axes}
     assert {"time (s)", "time (ms)", "sound pressure (Pa)", "frequency (kHz)"} <= labels
     assert any("dB re 20 µPa" in lab for lab in labels)  # the colour bars
@@ -379,3 +380,47 @@ def test_whole_run_level_and_exposure_match_the_field_evaluator():
         exposure += met.exposure[0]
     assert out.peak[0] == pytest.approx(max(peaks), rel=5e-3)
     assert np.sum(out.pressure[0] ** 2) / out.sample_rate == pytest.approx(exposure, rel=1e-4)
+
+
+def test_wav_writer_takes_a_signal_of_whole_hertz(tmp_path):
+    with pytest.raises(ParameterError, match="signal"):
+        audio.write_wav(tmp_path / "a.wav", np.zeros(10))
+    with pytest.raises(ParameterError, match="sample_rate"):
+        audio.write_wav(tmp_path / "b.wav", Signal(np.zeros(10), 44100.5))
+    assert not list(tmp_path.iterdir())  # refused before anything was written
+
+
+def test_a_calibrated_wav_reads_back_as_the_signal_written(tmp_path):
+    from acoustiviz.app.levels import read_calibrated_wav
+
+    out = _two_clicks()
+    path = tmp_path / "two.wav"
+    audio.write_wav(path, out.signal, subtype="FLOAT", scale=0.5)
+    back = read_calibrated_wav(path, pa_per_fs=0.5)
+    sig = back.signal
+    assert isinstance(sig, Signal) and sig.sample_rate == out.sample_rate == 48000 and sig.start == 0.0
+    assert sig.channels == 2 and sig.n_samples == out.n_samples
+    np.testing.assert_allclose(sig.pressure, out.pressure, rtol=1e-7, atol=1e-7 * out.peak.max())
+    assert back.source == "given" and back.channels == ["1", "2"]
+
+
+def test_a_rendering_carries_its_samples_as_one_signal():
+    out = _two_clicks()
+    assert isinstance(out.signal, Signal) and out.signal.channels == 2
+    assert out.pressure is out.signal.pressure and not out.pressure.flags.writeable
+    assert out.sample_rate == 48000 and isinstance(out.sample_rate, int)
+    np.testing.assert_allclose(out.time, out.signal.times, rtol=0, atol=1e-15)
+
+
+def test_plots_draw_a_signal_against_its_own_times():
+    from acoustiviz.output.plot.audio import plot_pressure_signal, plot_spectrogram
+
+    fs, t0 = 8000, 2.0
+    sig = Signal(np.sin(2 * np.pi * 500 * np.arange(fs // 2) / fs), fs, start=t0)
+    ax = plot_pressure_signal(sig)
+    assert ax.get_xlim() == pytest.approx((t0, t0 + (fs // 2 - 1) / fs))
+    ax = plot_spectrogram(sig, segment=0.01)
+    lo, hi = ax.get_xlim()
+    assert t0 <= lo < t0 + 0.01 and t0 + 0.49 < hi <= t0 + 0.5
+    with pytest.raises(ParameterError, match="signal"):
+        plot_pressure_signal(Signal(np.zeros((2, 10)), fs))  # one channel per plot

@@ -8,6 +8,7 @@ import pytest
 from acoustiviz.cli import main
 from acoustiviz.core.medium import AIR
 from acoustiviz.core.radiation import sphere_pressure
+from acoustiviz.core.signal import Signal
 
 A = 0.01905
 ARGS = [
@@ -118,12 +119,12 @@ def test_weighted_metric_columns_lcpeak_near_peak_and_one_angle_checked_directly
     low = resample_poly(p, 1, up, window=("kaiser", 12.0))
     low = np.concatenate([low, np.zeros(fs - low.size)])  # 1 s, as the command's LAeq interval
     assert data[3, 0] == 45.0
-    assert data[3, 4] == pytest.approx(metric_levels(low, fs, "lcpeak")[0], abs=0.05)
+    assert data[3, 4] == pytest.approx(metric_levels(Signal(low, fs), "lcpeak")[0], abs=0.05)
     out2 = tmp_path / "e.csv"
     assert main([*ARGS, "--config", "plane", "--step", "15", "--metric", "laeq", "--csv", str(out2)]) == 0
     header2, data2 = _read(out2)
     assert header2[-1] == "laeq_db"
-    assert data2[3, 4] == pytest.approx(metric_levels(low, fs, "laeq")[0], abs=0.05)
+    assert data2[3, 4] == pytest.approx(metric_levels(Signal(low, fs), "laeq")[0], abs=0.05)
 
 
 def test_rms_and_sel_a_metrics_and_bad_metric(tmp_path, capsys):

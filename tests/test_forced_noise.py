@@ -16,6 +16,7 @@ from acoustiviz.app.forced import default_listener, design_map, operating_noise
 from acoustiviz.app.forced_noise import F_SETTLE, NOISE_RATE
 from acoustiviz.app.wav import cavity
 from acoustiviz.constants import P_REF, PAPER_RADIUS
+from acoustiviz.core.signal import Signal
 from acoustiviz.dynamics import DamperModel
 from acoustiviz.dynamics.forced import Excitation, steady_state
 from acoustiviz.levels import sound_levels
@@ -47,7 +48,7 @@ def _lone_click_exposures(r):
     for wall, speed in zip(r.impact_walls, r.impact_speeds, strict=True):
         one = render(ImpactSequence([0.01], [int(wall)], [speed]), scene, clicks, default_listener(),
                      sample_rate=96000, duration=0.5)  # 0.5 s: the A filter's low-frequency tail dies out
-        lv = sound_levels(one.pressure[0], one.sample_rate)
+        lv = sound_levels(Signal(one.pressure[0], one.sample_rate))
         ea.append(P_REF**2 * 10 ** (lv.sel_a_db[0] / 10))
         ez.append(P_REF**2 * 10 ** (lv.sel_db[0] / 10))
     return np.array(ea), np.array(ez)
@@ -129,7 +130,7 @@ def test_design_map_gives_laeq():
 def test_levels_from_the_clicks_alone_equal_those_of_every_sample(noise):
     # the train's levels are computed from its clicks (the filters' states carried across the
     # silences); filtering every sample of the same rendering gives them to round-off
-    lv = sound_levels(noise.pressure, noise.sample_rate, start=noise.start, stop=noise.stop)
+    lv = sound_levels(Signal(noise.pressure, noise.sample_rate), start=noise.start, stop=noise.stop)
     assert noise.laeq_db == pytest.approx(float(lv.laeq_db[0]), abs=1e-9)
     assert noise.lzeq_db == pytest.approx(float(lv.lzeq_db[0]), abs=1e-9)
     assert noise.lcpeak_db == pytest.approx(float(lv.lcpeak_db[0]), abs=1e-9)

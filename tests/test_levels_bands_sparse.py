@@ -5,6 +5,7 @@ import pytest
 from scipy.signal import resample_poly
 
 from acoustiviz.constants import P_REF
+from acoustiviz.core.signal import Signal
 from acoustiviz.levels import third_octave_levels
 from acoustiviz.levels._filters import OctaveFilterBank, time_weighting
 from acoustiviz.levels.bands import decimate
@@ -45,7 +46,7 @@ def test_band_levels_of_a_click_train_equal_those_of_the_whole_signal():
     n = 4 * FS
     rng = np.random.default_rng(4)
     p = _train(n, np.sort(rng.choice(n - 400, 40, replace=False)))
-    bl = third_octave_levels(p, FS, start=0.5, stop=3.5)
+    bl = third_octave_levels(Signal(p, FS), start=0.5, stop=3.5)
     bank = OctaveFilterBank(FS, fraction=3, order=6, limits=[25.0, 20000.0])
     i0, i1 = FS // 2, 7 * FS // 2
     x = p - np.mean(p[:, i0:i1], axis=1, keepdims=True)

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from acoustiviz.core.signal import Signal
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import METRICS, sound_levels
 from acoustiviz.levels.train import signal_levels, train_levels, train_signal
@@ -17,7 +18,7 @@ TOL_DB = {m: (5e-6 if m in ("lafmax", "lasmax") else 1e-9) for m in ALL}
 
 def _assert_same(starts, windows, n, fs=FS, first=0):
     fast = train_levels(starts, windows, fs, n, ALL, first_sample=first)
-    full = sound_levels(train_signal(starts, windows, n), fs, start=first / fs)
+    full = sound_levels(Signal(train_signal(starts, windows, n), fs), start=first / fs)
     for m, field in METRICS.items():
         ref = float(getattr(full, field)[0])
         assert fast[m] == pytest.approx(ref, abs=TOL_DB[m]), m
@@ -100,8 +101,8 @@ def test_levels_of_a_mostly_silent_signal_equal_those_of_every_sample(stop):
     for ch in (0, 2):
         for s in np.sort(rng.choice(n - 300, 25, replace=False)):
             p[ch, s:s + 300] += _clicks(1, 300, int(s))[0]
-    fast = signal_levels(p, FS, stop=stop)
-    full = sound_levels(p, FS, stop=stop)
+    fast = signal_levels(Signal(p, FS), stop=stop)
+    full = sound_levels(Signal(p, FS), stop=stop)
     assert (fast.start, fast.stop, fast.sample_rate, fast.library) == (full.start, full.stop, full.sample_rate,
                                                                          full.library)
     for m, field in METRICS.items():
@@ -116,7 +117,7 @@ def test_dense_signals_later_intervals_and_low_rates_are_filtered_whole():
     click = np.zeros((1, 48000))
     click[0, 1000:1300] = _clicks(1, 300, 1)[0]
     for p, fs, start in ((noise, FS, None), (click, 48000, 0.01)):
-        fast, full = signal_levels(p, fs, start=start), sound_levels(p, fs, start=start)
+        fast, full = signal_levels(Signal(p, fs), start=start), sound_levels(Signal(p, fs), start=start)
         for field in METRICS.values():
             np.testing.assert_array_equal(getattr(fast, field), getattr(full, field))
 
@@ -136,7 +137,7 @@ def test_levels_over_a_later_interval_of_a_mostly_silent_signal():
     p = np.zeros(FS)
     for s in np.sort(rng.choice(FS - 300, 12, replace=False)):
         p[s:s + 300] += _clicks(1, 300, int(s))[0]
-    fast, full = signal_levels(p, FS, start=0.3, stop=0.9), sound_levels(p, FS, start=0.3, stop=0.9)
+    fast, full = signal_levels(Signal(p, FS), start=0.3, stop=0.9), sound_levels(Signal(p, FS), start=0.3, stop=0.9)
     assert (fast.start, fast.stop) == (full.start, full.stop)
     for m, field in METRICS.items():
         np.testing.assert_allclose(getattr(fast, field), getattr(full, field), rtol=0, atol=TOL_DB[m])

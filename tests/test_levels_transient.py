@@ -5,6 +5,7 @@ import pytest
 from scipy.signal import sosfilt
 
 import acoustiviz.levels.transient as transient
+from acoustiviz.core.signal import Signal
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import METRICS, sound_levels
 from acoustiviz.levels._library import library, weighting_sos
@@ -20,7 +21,7 @@ def _padded(head, n):
 
 def _assert_same(head, n, tol_db=1e-6, fs=FS):
     fast = transient_levels(head, fs, n, ALL)
-    full = sound_levels(_padded(head, n), fs)
+    full = sound_levels(Signal(_padded(head, n), fs))
     for m, field in METRICS.items():
         np.testing.assert_allclose(fast[m], getattr(full, field), rtol=0, atol=tol_db, err_msg=m)
 
@@ -90,7 +91,7 @@ def test_where_the_library_resamples_the_levels_are_those_of_the_full_signal():
     fs = 48000
     click = np.r_[np.hanning(40) * np.sin(np.arange(40)), np.zeros(5)]
     fast = transient_levels(click, fs, fs, ALL)
-    full = sound_levels(_padded(click, fs), fs)
+    full = sound_levels(Signal(_padded(click, fs), fs))
     for m, field in METRICS.items():
         np.testing.assert_array_equal(fast[m], getattr(full, field))
 

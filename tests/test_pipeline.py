@@ -311,14 +311,36 @@ def test_a_sidecar_states_the_rate_and_length_of_its_file_not_of_the_rendering_i
     import soundfile as sf
 
     from acoustiviz.app.wav import WavFile, write_wav_files
+    from acoustiviz.core.listener import Listener
+    from acoustiviz.core.signal import Signal
 
     fs, n = 48000, 4800
-    wav = WavFile(tmp_path / "a.wav", np.sin(np.arange(n) / 7.0)[None, :], ["listener1"], np.array([[0.5, 0, 0.5]]),
-                  ["mono"])
+    wav = WavFile(tmp_path / "a.wav", Signal(np.sin(np.arange(n) / 7.0)[None, :], fs),
+                  [Listener("listener1", [0.5, 0, 0.5])], ["mono"])
     described = {"sample_rate_hz": 96000, "duration_s": 0.2, "sample_rate": 96000, "impact_count": 3}
-    [w] = write_wav_files([wav], sample_rate=fs, rendering=described)
+    [w] = write_wav_files([wav], rendering=described)
     info = sf.info(str(tmp_path / "a.wav"))
     doc = json.loads(w["sidecar"].read_text())
     assert doc["sample_rate_hz"] == info.samplerate == fs and doc["frames"] == info.frames == n
     assert doc["duration_s"] == n / fs and "sample_rate" not in doc
     assert doc["impacts"] == 3  # the rest of the description is kept
+
+
+def test_a_wav_file_names_one_listener_per_channel(tmp_path):
+    from acoustiviz.app.wav import WavFile
+    from acoustiviz.core.listener import Listener
+    from acoustiviz.core.signal import Signal
+    from acoustiviz.errors import ParameterError
+
+    two = Signal(np.zeros((2, 100)), 48000)
+    left, right = Listener("left", [0.1, 0.0, 0.5]), Listener("right", [-0.1, 0.0, 0.5])
+    wav = WavFile(tmp_path / "s.wav", two, [left, right], ["left", "right"])
+    assert wav.names == ["left", "right"]
+    np.testing.assert_array_equal(wav.positions, [[0.1, 0.0, 0.5], [-0.1, 0.0, 0.5]])
+    assert wav.signal.channels == 2 and wav.pressure.shape == (2, 100)
+    mono = WavFile(tmp_path / "m.wav", Signal(np.zeros(100), 48000), [left], ["mono"])
+    assert mono.pressure.shape == (1, 100)  # one channel is one row
+    with pytest.raises(ParameterError, match="listeners"):
+        WavFile(tmp_path / "x.wav", two, [left], ["mono"])
+    with pytest.raises(ParameterError, match="signal"):
+        WavFile(tmp_path / "y.wav", np.zeros((2, 100)), [left, right], ["left", "right"])

@@ -8,6 +8,7 @@ import pytest
 from acoustiviz.cli import main
 from acoustiviz.constants import ANALYSIS_RATE
 from acoustiviz.core.medium import Medium
+from acoustiviz.core.signal import Signal
 from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import metric_levels
@@ -61,11 +62,11 @@ def test_levels_equal_direct_calls_on_the_same_run(plane_design, with_levels):
                duration=DURATION).pressure
     row = with_levels.row()
     for column, metric in (("lafmax_db", "lafmax"), ("lcpeak_db", "lcpeak"), ("laeq_db", "laeq")):
-        direct = metric_levels(p, ANALYSIS_RATE, metric, start=0.0, stop=DURATION)[0]
+        direct = metric_levels(Signal(p, ANALYSIS_RATE), metric, start=0.0, stop=DURATION)[0]
         assert row[column] == pytest.approx(direct, abs=LEVELS_TOL_DB), column
     # a second method: the unweighted peak of the rendered train is the loudest impact's peak SPL of
     # the field evaluator (band-limiting to 43 kHz changes the half-sine click's peak by < 0.1 dB)
-    lzpeak = metric_levels(p, ANALYSIS_RATE, "lzpeak", start=0.0, stop=DURATION)[0]
+    lzpeak = metric_levels(Signal(p, ANALYSIS_RATE), "lzpeak", start=0.0, stop=DURATION)[0]
     assert lzpeak == pytest.approx(with_levels.max_spl_db, abs=0.1)
     # orders every impact level must obey: an impulse's C-peak is within a few dB of its Z-peak, and
     # the A-weighted 125 ms average of 1 ms clicks lies far below their peak

@@ -335,7 +335,7 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
     with user_terms({"scale": "--scale"}):  # refused before the levels and the files, not after
         check_scale_fits(files, s.subtype, s.scale)
     per_file = _levels_per_file(s, seq, sound, files, out, duration, say)
-    written = write_wav_files(files, sample_rate=s.rate, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
+    written = write_wav_files(files, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
                               rendering=out, scene_name=scene_name, damper=run_desc,
                               radius_source=sound.radius_source, levels=per_file)
     _print_written(s, files, written, say)
@@ -344,6 +344,8 @@ def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, durat
 
 def _files(s: AuralizeSettings, out, listeners, labels=None, paths=None) -> list:
     """The WAV files of a rendering: one per listener, or one stereo file of the first two listeners."""
+    from ..core.listener import Listener
+    from ..core.signal import Signal
     from .wav import WavFile
 
     p = out.pressure
@@ -353,7 +355,7 @@ def _files(s: AuralizeSettings, out, listeners, labels=None, paths=None) -> list
         groups = [(p[i:i + 1], listeners[i:i + 1], [labels[i] if labels else f"listener{i + 1}"], ["mono"])
                   for i in range(p.shape[0])]
     paths = output_paths(s.wav, len(groups)) if paths is None else paths
-    return [WavFile(path, data, names, pts, channels)
+    return [WavFile(path, Signal(data, s.rate), [Listener(n, q) for n, q in zip(names, pts, strict=True)], channels)
             for path, (data, pts, names, channels) in zip(paths, groups, strict=True)]
 
 
@@ -387,7 +389,7 @@ def _levels_per_file(s: AuralizeSettings, seq, sound: Sound, files, out, duratio
         return None
     from .levels import rendered_levels, summary_lines, write_levels_csv
 
-    names_all = [n for f in files for n in (f.channel_names if s.stereo else f.listeners)]
+    names_all = [n for f in files for n in (f.channel_names if s.stereo else f.names)]
     report = rendered_levels(seq, sound.scene, sound.model, sound.listeners, duration=duration,
                              channels=names_all, with_loudness=s.loudness, rendering=out, room_sound=sound.room_sound)
     for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
@@ -424,15 +426,16 @@ def _print_written(s: AuralizeSettings, files, written, echo) -> None:
 
 def _write_png(s: AuralizeSettings, paths, channels, echo) -> None:
     """The waveforms of the files as one figure."""
+    from ..core.signal import Signal
     from ..output.plot.audio import auralisation_figure
     from ..output.plot.style import save_figure
 
     if s.stereo:
         labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]
-        signals = list(channels[0])
+        signals = [Signal(c, s.rate) for c in channels[0]]
     else:
         labels = [Path(p).name for p in paths]
-        signals = [c[0] for c in channels]
-    save_figure(auralisation_figure(signals, s.rate, labels=labels), s.png)
+        signals = [Signal(c[0], s.rate) for c in channels]
+    save_figure(auralisation_figure(signals, labels=labels), s.png)
     echo(f"wrote {s.png}")
 

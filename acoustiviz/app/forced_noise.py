@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..constants import PAPER_ANGLE_DEG, PAPER_DISTANCE, PAPER_RADIUS, WAV_RATE
+from ..core.listener import Listener
+from ..core.signal import Signal
 from ..dynamics import DamperModel
 from ..errors import ParameterError
 from .levels import ANALYSIS_RATE
@@ -83,12 +85,12 @@ class OperatingNoise:
     ----------
     frequency_hz : float
         Forcing frequency in Hz.
-    pressure : ndarray
-        Sound pressure in Pa at ``sample_rate``: lead-in, interval and one trailing period.
-    sample_rate : int
-        Hz (:data:`NOISE_RATE` unless asked otherwise).
+    signal : Signal
+        Sound pressure in Pa, one channel from 0 s, at :data:`NOISE_RATE` Hz unless asked otherwise:
+        lead-in, interval and one trailing period. :attr:`pressure` and :attr:`sample_rate` are
+        its samples and its rate.
     start, stop : float
-        The interval in s within ``pressure``.
+        The interval in s on the signal's time axis.
     cycles : int
         Forcing cycles in the interval.
     duration : float
@@ -110,8 +112,7 @@ class OperatingNoise:
     """
 
     frequency_hz: float
-    pressure: np.ndarray
-    sample_rate: int
+    signal: Signal
     start: float
     stop: float
     cycles: int
@@ -128,6 +129,16 @@ class OperatingNoise:
     clicks: object
     listener: np.ndarray
     rendering: dict
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """``(n_samples,)`` read-only sound pressure in Pa (the samples of :attr:`signal`)."""
+        return self.signal.pressure
+
+    @property
+    def sample_rate(self) -> int:
+        """Rate in Hz of :attr:`signal` (a whole number)."""
+        return int(self.signal.sample_rate)
 
     @property
     def duration(self) -> float:
@@ -222,8 +233,8 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         cycles, settled = n - lead, lead * period >= F_SETTLE * (1 - 1e-9)
         seq = ImpactSequence(base, walls, speeds)
     out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
-    p = out.pressure[0]
-    lv = signal_levels(p, out.sample_rate, start=start, stop=stop)  # sound_levels, from the clicks alone
+    sig = Signal(out.pressure[0], out.sample_rate)
+    lv = signal_levels(sig, start=start, stop=stop)  # sound_levels, from the clicks alone
     start, stop = lv.start, lv.stop  # on the sample grid
 
     def one(x):
@@ -237,7 +248,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         f"non-periodic motion: its {steady.measured_cycles} measured cycles rendered once, levels over "
         f"the last {cycles} after a {start:.3g} s lead-in"}}
     return OperatingNoise(
-        frequency_hz=steady.excitation.frequency, pressure=p, sample_rate=out.sample_rate, start=start, stop=stop,
+        frequency_hz=steady.excitation.frequency, signal=sig, start=start, stop=stop,
         cycles=cycles, settled=settled, laeq_db=one(lv.laeq_db), lzeq_db=one(lv.lzeq_db),
         lcpeak_db=one(lv.lcpeak_db), lzpeak_db=one(lv.lzpeak_db), lafmax_db=one(lv.lafmax_db),
         sel_per_cycle_db=one(lv.sel_db) - per_cycle, sel_a_per_cycle_db=one(lv.sel_a_db) - per_cycle,
@@ -283,7 +294,7 @@ def write_operating_wav(noises, path, *, sample_rate: int = WAV_RATE, listener=N
     parts = [n.interval_pressure(sample_rate) for n in ok]
     pressure = np.concatenate(parts) if parts else np.zeros(1)
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
-    wav = WavFile(path, pressure[None, :], ["listener1"], pts[None, :], ["mono"])
+    wav = WavFile(path, Signal(pressure, sample_rate), [Listener("listener1", pts)], ["mono"])
     from ..sound.synthesis import band_limit
 
     # the levels' rendering (at its own rate) re-rendered at the file's rate: its band limit is the file's
@@ -292,7 +303,7 @@ def write_operating_wav(noises, path, *, sample_rate: int = WAV_RATE, listener=N
     rendering["operating_sequence"] = [{"frequency_hz": n.frequency_hz, "duration_s": n.duration,
                                         "laeq_db": n.laeq_db, "lafmax_db": n.lafmax_db, "lcpeak_db": n.lcpeak_db}
                                        for n in ok]
-    return write_wav_files([wav], sample_rate=sample_rate, rendering=rendering,
+    return write_wav_files([wav], rendering=rendering,
                            radius_source="default: the paper's sphere")
 
 
@@ -374,7 +385,7 @@ def scene_noises(ctx, run) -> list:
     noises = getattr(ctx, "_forced_noises", None)
     if noises is None:
         opts = ctx.scene.output("operating_noise")
-        _, position = ctx.listeners[0]
+        position = ctx.listeners[0].position
         radius = ctx.scene.damper_sphere_radius()
         config = ctx.scene.section("configuration")["kind"]
         noises = add_operating_noise(run, listener=position, config=config, radius=radius, seconds=opts["seconds"],
@@ -388,7 +399,8 @@ def write_operating_noise(ctx, run):
     from ..files import write_text_atomic
     from .products import Product
 
-    name, position = ctx.listeners[0]
+    listener = ctx.listeners[0]
+    name, position = listener.name, listener.position
     radius = ctx.scene.damper_sphere_radius()
     noises = scene_noises(ctx, run)
     buf = io.StringIO()

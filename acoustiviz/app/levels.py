@@ -19,6 +19,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive
 from ..constants import ANALYSIS_RATE
+from ..core.signal import Signal
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, third_octave_levels
 
 __all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse",
@@ -32,10 +33,8 @@ class CalibratedSignal:
 
     Attributes
     ----------
-    pressure : (n_channels, n_samples) ndarray
-        Sound pressure in Pa.
-    sample_rate : int
-        Rate in Hz.
+    signal : Signal
+        Sound pressure in Pa, ``(n_channels, n_samples)``, at the file's rate in Hz, from 0 s.
     pa_per_full_scale : float
         The calibration applied: a sample value v is ``v × pa_per_full_scale`` Pa.
     source : str
@@ -44,8 +43,7 @@ class CalibratedSignal:
         Channel names (from the sidecar, else ``"1"``, ``"2"``, ...).
     """
 
-    pressure: np.ndarray
-    sample_rate: int
+    signal: Signal
     pa_per_full_scale: float
     source: str
     channels: list
@@ -163,7 +161,8 @@ def read_calibrated_wav(path, *, pa_per_fs=None) -> CalibratedSignal:
     if record is not None and isinstance(record.get("channel_names"), list) \
             and len(record["channel_names"]) == data.shape[1]:
         names = [str(n) for n in record["channel_names"]]
-    return CalibratedSignal(data.T * scale, int(fs), scale, source, names or [str(i + 1) for i in range(data.shape[1])])
+    return CalibratedSignal(Signal(data.T * scale, int(fs)), scale, source,
+                            names or [str(i + 1) for i in range(data.shape[1])])
 
 
 @dataclass(frozen=True)
@@ -204,8 +203,11 @@ class LevelReport:
         return out
 
 
-def analyse(pressure, sample_rate, *, start=None, stop=None, channels=None, with_loudness: bool = False) -> LevelReport:
-    """Weighted levels, 1/3-octave bands and (optionally) loudness of pressure signals in Pa.
+def analyse(signal: Signal, *, start=None, stop=None, channels=None, with_loudness: bool = False) -> LevelReport:
+    """Weighted levels, 1/3-octave bands and (optionally) loudness of a pressure signal in Pa.
+
+    ``start`` and ``stop`` are times in s on the signal's axis (default: the whole signal);
+    ``channels`` names the signal's channels (default ``"1"``, ``"2"``, ...).
 
     The weighted levels are those of :func:`acoustiviz.levels.sound_levels`, computed from the
     signal's sound alone where it is mostly exact silence (a damper run's click train:
@@ -214,9 +216,9 @@ def analyse(pressure, sample_rate, *, start=None, stop=None, channels=None, with
     """
     from ..levels.train import signal_levels
 
-    lv = signal_levels(pressure, sample_rate, start=start, stop=stop)  # sound_levels, from the sound alone
-    bl = third_octave_levels(pressure, sample_rate, start=start, stop=stop)
-    ld = loudness(pressure, sample_rate, start=start, stop=stop) if with_loudness else None
+    lv = signal_levels(signal, start=start, stop=stop)  # sound_levels, from the sound alone
+    bl = third_octave_levels(signal, start=start, stop=stop)
+    ld = loudness(signal, start=start, stop=stop) if with_loudness else None
     n = lv.lzpeak_db.size
     names = list(channels) if channels is not None else [str(i + 1) for i in range(n)]
     return LevelReport(lv, bl, ld, names)
@@ -277,11 +279,10 @@ def levels(s, echo=print) -> tuple:
                  f"{sig.pa_per_full_scale:g} Pa per full scale")
         if s.start is not None and s.stop is not None and s.stop <= s.start:
             raise ParameterError("--stop", f"must be later than --start ({s.start:g} s), got {s.stop:g} s")
-        report = analyse(sig.pressure, sig.sample_rate, start=s.start, stop=s.stop, channels=sig.channels,
-                         with_loudness=s.loudness)
+        report = analyse(sig.signal, start=s.start, stop=s.stop, channels=sig.channels, with_loudness=s.loudness)
     _check_levels(report, sig, s.signal, echo)
-    echo(f"{s.signal}: {sig.pressure.shape[0]} channel(s), {sig.pressure.shape[1] / sig.sample_rate:g} s at "
-         f"{sig.sample_rate} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
+    echo(f"{s.signal}: {sig.signal.channels} channel(s), {sig.signal.duration:g} s at "
+         f"{int(sig.signal.sample_rate)} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
     for line in summary_lines(report, rate_note=" (the file's rate)"):
         echo(line)
     paths = write_levels_csv(s.csv, report)
@@ -407,5 +408,5 @@ def rendered_levels(sequence, scene, model, listeners, *, duration=None, start=N
     if rendering is None or rendering.sample_rate != ANALYSIS_RATE:
         rendering = render(sequence, scene, model, listeners, sample_rate=ANALYSIS_RATE, duration=duration,
                            room_sound=room_sound)
-    return analyse(rendering.pressure, ANALYSIS_RATE, start=start, stop=stop, channels=channels,
+    return analyse(rendering.signal, start=start, stop=stop, channels=channels,
                    with_loudness=with_loudness)

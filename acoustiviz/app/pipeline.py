@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.listener import Listener
 from ..errors import ParameterError
 from ..files import write_csv_atomic, write_text_atomic
 from . import damper as _damper
@@ -81,8 +82,8 @@ class RunContext:
 
     @functools.cached_property
     def listeners(self):
-        """``[(name, (3,) position in m)]``."""
-        return self.scene.listeners()
+        """The scene's listeners, a list of :class:`~acoustiviz.core.listener.Listener` (positions in m)."""
+        return [Listener(name, position) for name, position in self.scene.listeners()]
 
     def pulse(self, kind=None):
         """The single impact's acceleration pulse (scene pulse, or ``kind``)."""
@@ -130,7 +131,7 @@ def waveform_settings(scene, out=None):
     files ``waveform_NAME.csv`` and ``.png`` in folder ``out`` (None: no files, the checks of the
     scene's settings alone, made before the run folder exists); errors name scene keys.
     """
-    from .settings.waveform import PLACEHOLDER, Listener, WaveformJob
+    from .settings.waveform import PLACEHOLDER, WaveformJob
 
     kinds = scene.output("waveform")["pulses"] or [scene.section("contact")["pulse"]]
     setup = scene.setup()

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.listener import Listener
 from ..errors import ParameterError
 from ..levels import loudness_available
 from ..levels.energy import run_energy
@@ -59,13 +60,13 @@ def damper_sound_setup(ctx):
     contact = ctx.scene.section("contact")
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
-    named = ctx.scene.listeners(radius)
+    named = [Listener(name, position) for name, position in ctx.scene.listeners(radius)]
     seq = ImpactSequence.from_table(ctx.damper_run.impacts)
     d = ctx.damper_model
     check_click_fits(seq, d.k_hertz, d.m, ctx.damper_run.duration,
                      names={"m": "damper.impact_mass_kg", "k_hertz": "contact.k_hertz_n_m1_5",
                             "duration": "damper.duration_s"})
-    return seq, room, model, [n for n, _ in named], np.array([p for _, p in named])
+    return seq, room, model, [lst.name for lst in named], np.array([lst.position for lst in named])
 
 
 def check_levels_settings(scene) -> None:

@@ -297,13 +297,14 @@ def reference_metric_levels(metrics, pulse, points, config, medium, *, chunk=Non
     dict
         Metric -> ``(k,)`` level in dB.
     """
+    from ..core.signal import Signal
     from ..levels import sound_levels
 
     names = _check_metrics(metrics)
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     out = {m: np.empty(pts.shape[0]) for m in names}
     for g in _groups(pts.shape[0], chunk):
-        lv = sound_levels(impact_signals(pulse, pts[g], config, medium), ANALYSIS_RATE)
+        lv = sound_levels(Signal(impact_signals(pulse, pts[g], config, medium), ANALYSIS_RATE))
         for m in names:
             out[m][g] = getattr(lv, METRICS[m])
     return out

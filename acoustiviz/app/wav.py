@@ -29,6 +29,7 @@ import numpy as np
 
 from .. import __version__
 from ..core.geometry import GEOMETRIES, geometry
+from ..core.signal import Signal
 from ..errors import ClippingWarning, ParameterError
 from ..output.audio import shared_scale, write_sidecar, write_wav
 from ..sound import CavityScene
@@ -121,28 +122,46 @@ def least_absorbing(band_absorption) -> list:
 
 
 class WavFile:
-    """One file to write: its path, its channels (Pa) and who hears them.
+    """One file to write: its path, its signal (Pa) and who hears each channel.
 
     Parameters
     ----------
     path : path-like
         The WAV file.
-    pressure : (n_channels, n_frames) array_like
-        Sound pressure in Pa at the output rate.
-    listeners : sequence of str
-        Listener names, one per channel.
-    positions : (n_channels, 3) array_like
-        Listener positions in m.
+    signal : Signal
+        Sound pressure in Pa, ``(n_channels, n_frames)`` (1-D for one channel), at the file's rate
+        (a whole number of Hz).
+    listeners : sequence of Listener
+        Who hears each channel (name, position in m), one per channel.
     channel_names : sequence of str
         ``["mono"]`` or ``["left", "right"]``.
     """
 
-    def __init__(self, path, pressure, listeners, positions, channel_names):
+    def __init__(self, path, signal: Signal, listeners, channel_names):
+        if not isinstance(signal, Signal):
+            raise ParameterError("signal", f"expected an acoustiviz.Signal, got {type(signal).__name__}")
         self.path = Path(path)
-        self.pressure = np.atleast_2d(np.asarray(pressure, dtype=float))
+        self.signal = Signal(np.atleast_2d(signal.pressure), signal.sample_rate, start=signal.start)
         self.listeners = list(listeners)
-        self.positions = np.asarray(positions, dtype=float).reshape(-1, 3)
+        if len(self.listeners) != self.signal.channels:
+            raise ParameterError("listeners", f"expected one Listener per channel ({self.signal.channels}), "
+                                              f"got {len(self.listeners)}")
         self.channel_names = list(channel_names)
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """``(n_channels, n_frames)`` read-only sound pressure in Pa (the samples of :attr:`signal`)."""
+        return self.signal.pressure
+
+    @property
+    def names(self) -> list:
+        """The listeners' names, one per channel."""
+        return [lst.name for lst in self.listeners]
+
+    @property
+    def positions(self) -> np.ndarray:
+        """``(n_channels, 3)`` listener positions in m."""
+        return np.array([lst.position for lst in self.listeners], dtype=float).reshape(-1, 3)
 
 
 def calibration(files, subtype: str, *, scale=None, headroom_db: float = 1.0) -> tuple:
@@ -285,7 +304,7 @@ def _room_wall(scene, wall):
 _FILE_FACTS = ("sample_rate_hz", "duration_s", "sample_rate")
 
 
-def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, scale_source: str,
+def sidecar_record(wav: WavFile, info: dict, *, scale: float, scale_source: str,
                    rendering: dict, scene_name=None, damper=None, radius_source: str = "", levels=None,
                    physical_peak=None) -> dict:
     """The JSON sidecar of one WAV file (schema version :data:`SIDECAR_VERSION`).
@@ -295,9 +314,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
     wav : WavFile
         The file written.
     info : dict
-        What :func:`acoustiviz.output.audio.write_wav` returned.
-    sample_rate : int
-        Output rate in Hz.
+        What :func:`acoustiviz.output.audio.write_wav` returned (the file's rate and length among it).
     scale : float
         Pa per full scale.
     scale_source : str
@@ -336,7 +353,7 @@ def sidecar_record(wav: WavFile, info: dict, *, sample_rate: int, scale: float, 
         "scale_pa_per_full_scale": scale,
         "scale_source": scale_source,
         "pressure_pa": "sample value x scale_pa_per_full_scale",
-        "listeners": wav.listeners,
+        "listeners": wav.names,
         "listeners_m": wav.positions.tolist(),
         "channel_names": wav.channel_names,
         "peak_pa": peaks.tolist(),
@@ -384,16 +401,14 @@ def _early_room(scene, pts, model, seq):
     return dataclasses.replace(scene, config=early)
 
 
-def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=None, headroom_db: float = 1.0,
+def write_wav_files(files, *, subtype: str = "PCM_24", scale=None, headroom_db: float = 1.0,
                     rendering, scene_name=None, damper=None, radius_source: str = "", levels=None) -> list:
     """Write WAV files and their sidecars with one shared calibration.
 
     Parameters
     ----------
     files : sequence of WavFile
-        The files of one run.
-    sample_rate : int
-        Output rate in Hz.
+        The files of one run, each with its signal at the file's rate.
     subtype : {"PCM_24", "FLOAT"}
         Sample format (see :func:`acoustiviz.output.audio.write_wav`): normalised 24-bit PCM (default,
         peak ``headroom_db`` below full scale) or float32 (in pascals unless ``scale`` is given).
@@ -425,8 +440,8 @@ def write_wav_files(files, *, sample_rate: int, subtype: str = "PCM_24", scale=N
     for k, wav in enumerate(files):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ClippingWarning)
-            info = write_wav(wav.path, wav.pressure, sample_rate, subtype=subtype, scale=scale)
-        record = sidecar_record(wav, info, sample_rate=sample_rate, scale=scale, scale_source=source,
+            info = write_wav(wav.path, wav.signal, subtype=subtype, scale=scale)
+        record = sidecar_record(wav, info, scale=scale, scale_source=source,
                                 rendering=rendering, scene_name=scene_name, damper=damper,
                                 radius_source=radius_source, levels=None if levels is None else levels[k],
                                 physical_peak=physical[k])

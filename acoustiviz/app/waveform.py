@@ -29,8 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.listener import Listener
 from .columns import waveform_extremes, write_waveform_csv
-from .settings.waveform import Listener, WaveformJob
+from .settings.waveform import WaveformJob
 
 __all__ = ["WaveformJob", "Listener", "WaveformResult", "run", "pressure_columns"]
 
@@ -124,7 +125,7 @@ class WaveformResult:
         return {"software": f"acoustiviz {__version__}", "csv": csv_name,
                 "columns": ["time_s", *pressure_columns(p.kind for p in s.pulses)],
                 "config": conf.name, "radius_m": conf.radius, **conf.settings(),
-                "listener_m": list(s.listeners[i].position), "window_s": s.window,
+                "listener_m": s.listeners[i].position.tolist(), "window_s": s.window,
                 "sample_interval_s": float(t[1] - t[0]) if t.size > 1 else None,
                 "velocity_m_s": imp.velocity, "k_hertz_n_m1_5": imp.k_hertz, "mass_kg": imp.mass,
                 "pulse": s.pulses[0].kind, "medium": {"c_m_s": s.medium.c, "rho_kg_m3": s.medium.rho},

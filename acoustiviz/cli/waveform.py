@@ -38,7 +38,8 @@ def add_parser(subparsers) -> None:
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.waveform.WaveformJob` of the options; errors name the options."""
     from ..app.budget import given_first
-    from ..app.settings.waveform import Listener, WaveformJob
+    from ..app.settings.waveform import WaveformJob
+    from ..core.listener import Listener
     from ._impact import impact_from_args, observer_point_from_options
 
     WAVEFORM[0].check(args.samples_per_duration, WAVEFORM[0].option)

@@ -1,8 +1,9 @@
 """Levels: how loud an impact sounds to people and to standards, and how much of its energy becomes sound.
 
-Pure functions of pressure arrays in Pa and their sample rate, so they serve a computed waveform,
-a damper run at a listener, a WAV read back with its calibration, a design of a sweep or a point
-of a directivity alike. Nothing here writes files.
+Pure functions of one :class:`~acoustiviz.core.signal.Signal` (pressure in Pa, its sample rate in
+Hz, the time of its first sample in s), so they serve a computed waveform, a damper run at a
+listener, a WAV read back with its calibration, a design of a sweep or a point of a directivity
+alike. Nothing here writes files.
 
 * :mod:`.weighted` -- LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) (IEC 61672-1);
 * :mod:`.transient` -- the same levels of a signal silent after its first samples, from those

@@ -15,9 +15,10 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..constants import P_REF
+from ..core.signal import Signal
 from ._filters import sosfilt_normal
 from ._library import library
-from .weighted import _integer_rate, as_channels, interval_slice, level_db
+from .weighted import _integer_rate, check_signal, level_db
 
 __all__ = ["BAND_LIMITS", "BandLevels", "third_octave_levels", "band_energy_sum", "decimate"]
 
@@ -148,17 +149,16 @@ def _nominal(label: str) -> float:
     return float(text.rstrip("k")) * scale
 
 
-def third_octave_levels(pressure, sample_rate: float, *, start=None, stop=None, limits=BAND_LIMITS) -> BandLevels:
+def third_octave_levels(signal: Signal, *, start=None, stop=None, limits=BAND_LIMITS) -> BandLevels:
     """Leq and LFmax per 1/3-octave band of pressure signals.
 
     Parameters
     ----------
-    pressure : (n_samples,) or (n_channels, n_samples) array_like
-        Sound pressure in Pa.
-    sample_rate : float
-        Sample rate in Hz (whole Hz); above 2 × the top band's upper edge (22.4 kHz for 20 kHz).
+    signal : Signal
+        Sound pressure in Pa, one or more channels, at a whole number of Hz above 2 × the top
+        band's upper edge (22.4 kHz for 20 kHz).
     start, stop : float, optional
-        Interval in s (default: the whole signal).
+        Interval in s on the signal's time axis (default: the whole signal).
     limits : (float, float)
         Lowest and highest nominal mid-band frequency in Hz.
 
@@ -179,13 +179,13 @@ def third_octave_levels(pressure, sample_rate: float, *, start=None, stop=None, 
     --------
     >>> fs = 48000
     >>> t = np.arange(fs) / fs
-    >>> bl = third_octave_levels(np.sqrt(2) * np.sin(2 * np.pi * 1000 * t), fs)
+    >>> bl = third_octave_levels(Signal(np.sqrt(2) * np.sin(2 * np.pi * 1000 * t), fs))
     >>> k = list(bl.nominal_hz).index(1000.0)
     >>> round(float(bl.leq_db[0, k]), 1)
     94.0
     """
-    p = as_channels(pressure)
-    fs = _integer_rate(sample_rate)
+    p = check_signal(signal).as_channels()
+    fs = _integer_rate(signal.sample_rate)
     lo, hi = (float(v) for v in limits)
     if not (0 < lo < hi):
         raise ParameterError("limits", f"must be two increasing frequencies > 0 Hz, got {limits!r}")
@@ -193,7 +193,7 @@ def third_octave_levels(pressure, sample_rate: float, *, start=None, stop=None, 
     if fs <= 2 * top_edge:
         raise ParameterError("sample_rate", f"must exceed {2 * top_edge:.0f} Hz for bands up to {hi:g} Hz, "
                                             f"got {fs} Hz")
-    win = interval_slice(p.shape[1], fs, start, stop)
+    win = signal.interval(start, stop)
     lib = library()
     bank = lib.OctaveFilterBank(fs, fraction=3, order=_ORDER, limits=[lo, hi])
 
@@ -213,4 +213,4 @@ def third_octave_levels(pressure, sample_rate: float, *, start=None, stop=None, 
         env = np.asarray(lib.time_weighting(y, fs // q if fs % q == 0 else fs / q, mode="fast"))
         lmax[:, k] = level_db(np.max(env[:, i0:i1], axis=1), P_REF)
     return BandLevels(np.asarray(bank.freq, dtype=float), np.array([_nominal(s) for s in bank.nominal_freq]),
-                      leq, lmax, float(fs), win.start / fs, win.stop / fs, lib.name)
+                      leq, lmax, float(fs), signal.start + win.start / fs, signal.start + win.stop / fs, lib.name)

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_choice
-from .weighted import _integer_rate, as_channels, interval_slice
+from ..core.signal import Signal
+from .weighted import _integer_rate, check_signal
 
 __all__ = ["LOUDNESS_RATE", "Loudness", "loudness_available", "loudness"]
 
@@ -68,17 +69,16 @@ class Loudness:
                  "sharpness_acum": float(self.sharpness_acum[i])} for i in range(n)]
 
 
-def loudness(pressure, sample_rate: float, *, start=None, stop=None, field: str = "free") -> Loudness:
+def loudness(signal: Signal, *, start=None, stop=None, field: str = "free") -> Loudness:
     """N5, Nmax (sone) and sharpness (acum) of pressure signals.
 
     Parameters
     ----------
-    pressure : (n_samples,) or (n_channels, n_samples) array_like
-        Sound pressure in Pa.
-    sample_rate : float
-        Sample rate in Hz (whole Hz).
+    signal : Signal
+        Sound pressure in Pa, one or more channels, at a whole number of Hz.
     start, stop : float, optional
-        Interval in s (default: the whole signal); it should last at least 0.2 s.
+        Interval in s on the signal's time axis (default: the whole signal); it should last at
+        least 0.2 s.
     field : {"free", "diffuse"}
         Sound field of ISO 532-1.
 
@@ -95,9 +95,9 @@ def loudness(pressure, sample_rate: float, *, start=None, stop=None, field: str 
     if not loudness_available():
         raise ParameterError("mosqito", "loudness and sharpness need mosqito: pip install 'acoustiviz[hearing]'")
     check_choice("field", field, ("free", "diffuse"))
-    p = as_channels(pressure)
-    fs = _integer_rate(sample_rate)
-    win = interval_slice(p.shape[1], fs, start, stop)
+    p = check_signal(signal).as_channels()
+    fs = _integer_rate(signal.sample_rate)
+    win = signal.interval(start, stop)
     x = p[:, win]
     if fs != LOUDNESS_RATE:
         from math import gcd
@@ -121,5 +121,6 @@ def loudness(pressure, sample_rate: float, *, start=None, stop=None, field: str 
         mean_spec = np.mean(np.asarray(n_spec, dtype=float), axis=1)
         total = float(np.mean(n_t))
         sharp.append(float(sharpness_din_from_loudness(total, mean_spec)) if total > 0 else 0.0)
-    return Loudness(np.array(n5), np.array(nmax), np.array(sharp), field, win.start / fs, win.stop / fs,
+    return Loudness(np.array(n5), np.array(nmax), np.array(sharp), field, signal.start + win.start / fs,
+                    signal.start + win.stop / fs,
                     f"mosqito {metadata.version('mosqito')}")

@@ -39,8 +39,9 @@ import functools
 import numpy as np
 
 from .._validate import ParameterError
+from ..core.signal import Signal
 from .transient import MAX_RELATIVE_GAP, _alpha, _system
-from .weighted import METRICS, SoundLevels, _integer_rate, as_channels, interval_slice, level_db, sound_levels
+from .weighted import METRICS, SoundLevels, _integer_rate, check_signal, level_db, sound_levels
 
 __all__ = ["train_levels", "train_signal", "signal_levels", "MIN_BLOCK", "SPARSE_ABOVE"]
 
@@ -218,13 +219,13 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics, *
     first_sample : int
         First sample of the interval, ``0 <= first_sample <= n_samples - 2``: the filters run from
         sample 0 (the sound before it is heard through their memory), the peaks, maxima and
-        energies are taken from it on (``sound_levels(..., start=first_sample / sample_rate)``).
+        energies are taken from it on (``sound_levels(Signal(...), start=first_sample / sample_rate)``).
 
     Returns
     -------
     dict
         Metric -> level in dB re 20 µPa (exposure levels re (20 µPa)²·s), a float: equal to
-        ``getattr(sound_levels(train_signal(...), sample_rate), METRICS[metric])[0]`` up to round-off
+        ``getattr(sound_levels(Signal(train_signal(...), sample_rate)), METRICS[metric])[0]`` up to round-off
         (time-weighted maxima: within :data:`~.transient.MAX_RELATIVE_GAP`); ``-inf`` for silence.
 
     Examples
@@ -233,7 +234,7 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics, *
     >>> click = np.sin(np.pi * np.arange(48) / 48) ** 2
     >>> starts, windows = [1000, 50000, 50030], np.stack([click, -click, 0.5 * click])
     >>> fast = train_levels(starts, windows, fs, fs, ["laeq", "lcpeak", "lafmax"])
-    >>> full = sound_levels(train_signal(starts, windows, fs), fs)
+    >>> full = sound_levels(Signal(train_signal(starts, windows, fs), fs))
     >>> [bool(abs(fast[m] - getattr(full, METRICS[m])[0]) < 1e-6) for m in ("laeq", "lcpeak", "lafmax")]
     [True, True, True]
     """
@@ -254,7 +255,7 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics, *
         ({"C"} if "lcpeak" in names else set())
     dense = any(_system(fs, c) is None for c in curves) or any(_alpha(fs, m) is None for m in modes)
     if dense or win.size >= n:  # below 96 kHz, or more window samples than signal: filter the signal
-        full = sound_levels(train_signal(st, win, n), fs, start=first / fs)
+        full = sound_levels(Signal(train_signal(st, win, n), fs), start=first / fs)
         return {m: float(getattr(full, METRICS[m])[0]) for m in names}
     keep = (st + win.shape[1] > 0) & (st < n)  # windows with a sample in [0, n)
     st, win = st[keep], win[keep]
@@ -272,7 +273,7 @@ def train_levels(starts, windows, sample_rate: float, n_samples: int, metrics, *
         reach *= 2
 
 
-def signal_levels(pressure, sample_rate: float, *, start=None, stop=None) -> SoundLevels:
+def signal_levels(signal: Signal, *, start=None, stop=None) -> SoundLevels:
     """:func:`~acoustiviz.levels.sound_levels` of signals that are mostly exact silence, from their sound alone.
 
     A damper run rendered at 96 kHz is a few hundred clicks among two million zero samples. Each
@@ -286,30 +287,28 @@ def signal_levels(pressure, sample_rate: float, *, start=None, stop=None) -> Sou
 
     Parameters
     ----------
-    pressure : (n_samples,) or (n_channels, n_samples) array_like
-        Sound pressure in Pa.
-    sample_rate : float
-        Sample rate in Hz (whole Hz).
+    signal : Signal
+        Sound pressure in Pa, one or more channels, at a whole number of Hz.
     start, stop : float, optional
-        The interval in s, as for :func:`~acoustiviz.levels.sound_levels`.
+        The interval in s on the signal's time axis, as for :func:`~acoustiviz.levels.sound_levels`.
 
     Returns
     -------
     SoundLevels
-        Equal to ``sound_levels(pressure, sample_rate, start=start, stop=stop)`` up to round-off
+        Equal to ``sound_levels(signal, start=start, stop=stop)`` up to round-off
         (time-weighted maxima: within :data:`~.transient.MAX_RELATIVE_GAP`, 4.3e-6 dB).
     """
     from ._library import library
 
-    p = as_channels(pressure)
-    fs = _integer_rate(sample_rate)
-    win = interval_slice(p.shape[1], fs, start, stop)
+    p = check_signal(signal).as_channels()
+    fs = _integer_rate(signal.sample_rate)
+    win = signal.interval(start, stop)
     n = win.stop
     blk = MIN_BLOCK
     held = [np.unique(np.flatnonzero(row[:n]) // blk) for row in p]
     if _system(fs, "A") is None or _system(fs, "C") is None \
             or any(h.size * blk > SPARSE_ABOVE * n for h in held):
-        return sound_levels(p, fs, start=start, stop=stop)
+        return sound_levels(signal, start=start, stop=stop)
     padded = np.concatenate([p[:, :n], np.zeros((p.shape[0], blk))], axis=1)
     names = list(METRICS)
     rows = []
@@ -319,7 +318,8 @@ def signal_levels(pressure, sample_rate: float, *, start=None, stop=None) -> Sou
                                  first_sample=win.start)
                     if h.size else dict.fromkeys(names, -np.inf))
     cols = {METRICS[m]: np.array([r[m] for r in rows]) for m in names}
-    return SoundLevels(**cols, sample_rate=float(fs), start=win.start / fs, stop=n / fs, library=library().name)
+    return SoundLevels(**cols, sample_rate=float(fs), start=signal.start + win.start / fs, stop=signal.start + n / fs,
+                       library=library().name)
 
 
 def _blocks(st, win, n, blk):

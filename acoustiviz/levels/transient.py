@@ -33,6 +33,7 @@ import functools
 import numpy as np
 
 from .._validate import ParameterError
+from ..core.signal import Signal
 from ._library import library, weighting_sos
 from .weighted import METRICS, _integer_rate, as_channels, level_db, sound_levels
 
@@ -197,7 +198,7 @@ def transient_levels(head, sample_rate: float, n_samples: int, metrics) -> dict:
     -------
     dict
         Metric -> ``(n_channels,)`` level in dB re 20 µPa (exposure levels re (20 µPa)²·s): equal to
-        ``getattr(sound_levels(padded, sample_rate), METRICS[metric])`` up to rounding (exposure,
+        ``getattr(sound_levels(Signal(padded, sample_rate)), METRICS[metric])`` up to rounding (exposure,
         peaks) or :data:`MAX_RELATIVE_GAP` (time-weighted maxima).
 
     Examples
@@ -205,7 +206,7 @@ def transient_levels(head, sample_rate: float, n_samples: int, metrics) -> dict:
     >>> fs = 96000
     >>> click = np.sin(np.pi * np.arange(48) / 48) ** 2
     >>> fast = transient_levels(click, fs, fs, ["sel-a", "lafmax"])
-    >>> full = sound_levels(np.r_[click, np.zeros(fs - 48)], fs)
+    >>> full = sound_levels(Signal(np.r_[click, np.zeros(fs - 48)], fs))
     >>> bool(abs(fast["sel-a"][0] - full.sel_a_db[0]) < 1e-9), bool(abs(fast["lafmax"][0] - full.lafmax_db[0]) < 1e-4)
     (True, True)
     """
@@ -222,7 +223,7 @@ def transient_levels(head, sample_rate: float, n_samples: int, metrics) -> dict:
     need |= {"C"} if "lcpeak" in names else set()
     if any(_system(fs, c) is None for c in need) or any(_alpha(fs, _TIME_MODES[m]) is None
                                                         for m in names if m in _TIME_MODES):
-        full = sound_levels(np.pad(x, ((0, 0), (0, n - x.shape[1]))), fs)
+        full = sound_levels(Signal(np.pad(x, ((0, 0), (0, n - x.shape[1]))), fs))
         return {m: getattr(full, METRICS[m]) for m in names}
     stop = min(n, x.shape[1] + SETTLE_SAMPLES)
     runs = {c: (stop, _run(c, fs, x, stop, n)) for c in need}

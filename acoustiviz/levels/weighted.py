@@ -1,8 +1,9 @@
 """Frequency- and time-weighted sound levels of pressure signals (IEC 61672-1).
 
-Every function here is a pure function of a pressure array in Pa and its sample rate in Hz, so it
-serves a computed waveform, a damper run at a listener, a WAV file read back with its calibration,
-one design of a sweep or one point of a directivity alike. The A and C frequency weightings and the
+Every function here is a pure function of a :class:`~acoustiviz.core.signal.Signal` (pressure in Pa,
+its sample rate in Hz and the time of its first sample in s), so it serves a computed waveform, a
+damper run at a listener, a WAV file read back with its calibration, one design of a sweep or one
+point of a directivity alike. The A and C frequency weightings and the
 F and S time weightings are the IEC 61672-1 filters of :mod:`._filters`; here is the level
 arithmetic (peaks, energy averages over an interval, exposure).
 
@@ -10,7 +11,8 @@ Levels in dB re 20 µPa (``P_REF``); exposure levels in dB re (20 µPa)²·1 s:
 
 * ``LZpeak``, ``LCpeak``: the largest |p| of the unweighted and the C-weighted signal;
 * ``LAFmax``, ``LASmax``: the largest A-weighted, F (125 ms) or S (1 s) time-weighted level;
-* ``LAeq,T``, ``LZeq,T``: the energy average over the interval ``T = stop - start``;
+* ``LAeq,T``, ``LZeq,T``: the energy average over the interval ``T = stop - start`` (times on the
+  signal's own axis, which starts at ``signal.start``);
 * ``SEL`` (``LZE``) and ``SEL(A)`` (``LAE``): the exposure ``∫ p² dt`` over the interval re
   ``P_REF² × 1 s``, so ``SEL = Leq,T + 10 log10(T / 1 s)``.
 
@@ -24,11 +26,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import ParameterError, check_nonnegative, check_positive
+from .._validate import ParameterError, check_positive
 from ..constants import LEVEL_METRICS, P_REF
+from ..core.signal import Signal
 from ._library import library
 
-__all__ = ["LEVEL_COLUMNS", "METRICS", "SoundLevels", "as_channels", "interval_slice", "weighted", "sound_levels",
+__all__ = ["LEVEL_COLUMNS", "METRICS", "SoundLevels", "as_channels", "check_signal", "weighted", "sound_levels",
            "level_db", "metric_levels"]
 
 #: The level columns of :meth:`SoundLevels.rows`, in order.
@@ -65,44 +68,49 @@ def as_channels(pressure, name: str = "pressure") -> np.ndarray:
     return p
 
 
-def interval_slice(n_samples: int, sample_rate: float, start=None, stop=None) -> slice:
-    """The samples ``[start, stop)`` in s of a signal of ``n_samples`` at ``sample_rate`` Hz.
-
-    ``start`` defaults to 0 and ``stop`` to the end; both must lie within the signal and span at
-    least two samples.
-    """
-    fs = check_positive("sample_rate", sample_rate, "Hz")
-    duration = n_samples / fs
-    t0 = 0.0 if start is None else check_nonnegative("start", start, "s")
-    t1 = duration if stop is None else check_positive("stop", stop, "s")
-    if t0 >= duration:
-        raise ParameterError("start", f"must lie in [0, {duration:g}) s (the signal's length), got {t0:g} s")
-    if t1 > duration * (1 + 1e-12):
-        raise ParameterError("stop", f"must lie in (start, {duration:g}] s (the signal's length), got {t1:g} s")
-    i0, i1 = int(round(t0 * fs)), min(int(round(t1 * fs)), n_samples)
-    if i1 - i0 < 2:
-        raise ParameterError("stop", f"the interval [{t0:g}, {t1:g}) s holds fewer than two samples at {fs:g} Hz")
-    return slice(i0, i1)
+def check_signal(signal, name: str = "signal") -> Signal:
+    """``signal`` unless it is not a :class:`~acoustiviz.core.signal.Signal` of at least two samples."""
+    if not isinstance(signal, Signal):
+        raise ParameterError(name, f"expected an acoustiviz.Signal (pressure in Pa with its sample rate in Hz), "
+                                   f"got {type(signal).__name__}")
+    if signal.n_samples < 2:
+        raise ParameterError(name, f"expected at least two samples, got {signal.n_samples}")
+    return signal
 
 
-def weighted(pressure, sample_rate: float, curve: str) -> np.ndarray:
-    """The A-, C- or Z-weighted signal (IEC 61672-1) in Pa, shaped like ``pressure``.
+def weighted(signal: Signal, curve: str) -> Signal:
+    """The A-, C- or Z-weighted signal (IEC 61672-1).
 
     Parameters
     ----------
-    pressure : (n_samples,) or (n_channels, n_samples) array_like
-        Sound pressure in Pa.
-    sample_rate : float
-        Sample rate in Hz (an integer number of Hz).
+    signal : Signal
+        Sound pressure in Pa at a whole number of Hz.
     curve : {"A", "C", "Z"}
         The frequency weighting.
+
+    Returns
+    -------
+    Signal
+        The weighted pressure in Pa, same shape, rate and start as ``signal``.
+
+    Examples
+    --------
+    >>> fs = 48000
+    >>> tone = Signal(np.sin(2 * np.pi * 100 * np.arange(fs) / fs), fs)
+    >>> a = weighted(tone, "A")  # A(100 Hz) = -19.1 dB
+    >>> round(float(level_db(np.mean(a.pressure[fs // 2:] ** 2) / np.mean(tone.pressure[fs // 2:] ** 2), 1.0)), 1)
+    -19.1
     """
     if curve not in ("A", "C", "Z"):
         raise ParameterError("curve", f"must be one of 'A', 'C', 'Z', got {curve!r}")
+    return Signal(_weighted(signal.pressure, signal.sample_rate, curve), signal.sample_rate, start=signal.start)
+
+
+def _weighted(p: np.ndarray, sample_rate, curve: str) -> np.ndarray:
+    """``p`` (Pa, samples on the last axis) weighted by ``curve`` at ``sample_rate`` Hz, as a new array."""
     fs = _integer_rate(sample_rate)
-    p = np.asarray(pressure, dtype=float)
     if curve == "Z":
-        return p.copy()
+        return np.array(p, dtype=float)
     return np.asarray(library().weighting_filter(p, fs, curve))
 
 
@@ -172,19 +180,18 @@ class SoundLevels:
                 "reference": "dB re 20 uPa; exposure levels re (20 uPa)^2 s"}
 
 
-def sound_levels(pressure, sample_rate: float, *, start=None, stop=None) -> SoundLevels:
+def sound_levels(signal: Signal, *, start=None, stop=None) -> SoundLevels:
     """LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL and SEL(A) of pressure signals.
 
     Parameters
     ----------
-    pressure : (n_samples,) or (n_channels, n_samples) array_like
-        Sound pressure in Pa, sample ``n`` at ``n / sample_rate`` s.
-    sample_rate : float
-        Sample rate in Hz (whole Hz). The weightings are accurate to IEC 61672-1 class 1 up to
-        16 kHz at 48 kHz and above (the weighting oversamples internally below 96 kHz).
+    signal : Signal
+        Sound pressure in Pa, one or more channels of at least two samples, at a whole number of
+        Hz. The weightings are accurate to IEC 61672-1 class 1 up to 16 kHz at 48 kHz and above
+        (the weighting oversamples internally below 96 kHz).
     start, stop : float, optional
-        The interval in s (default: the whole signal). Peaks and maxima are taken within it,
-        equivalent levels average over it and exposure levels integrate over it.
+        The interval in s on the signal's time axis (default: the whole signal). Peaks and maxima
+        are taken within it, equivalent levels average over it and exposure levels integrate over it.
 
     Returns
     -------
@@ -201,14 +208,14 @@ def sound_levels(pressure, sample_rate: float, *, start=None, stop=None) -> Soun
     --------
     >>> fs = 48000
     >>> t = np.arange(fs) / fs
-    >>> lv = sound_levels(np.sqrt(2) * np.sin(2 * np.pi * 1000 * t), fs)
+    >>> lv = sound_levels(Signal(np.sqrt(2) * np.sin(2 * np.pi * 1000 * t), fs))
     >>> round(float(lv.laeq_db[0]), 1), round(float(lv.lzpeak_db[0] - lv.lzeq_db[0]), 2)
     (94.0, 3.01)
     """
-    p = as_channels(pressure)
-    fs = _integer_rate(sample_rate)
-    win = interval_slice(p.shape[1], fs, start, stop)
-    pa, pc = weighted(p, fs, "A"), weighted(p, fs, "C")
+    p = check_signal(signal).as_channels()
+    fs = _integer_rate(signal.sample_rate)
+    win = signal.interval(start, stop)
+    pa, pc = _weighted(p, fs, "A"), _weighted(p, fs, "C")
     n = win.stop - win.start
 
     def peak(x):
@@ -225,19 +232,18 @@ def sound_levels(pressure, sample_rate: float, *, start=None, stop=None) -> Soun
         lasmax_db=level_db(_time_weighted_max(pa, fs, "slow", win)),
         laeq_db=level_db(ea / t), lzeq_db=level_db(ez / t),
         sel_db=level_db(ez), sel_a_db=level_db(ea),
-        sample_rate=float(fs), start=win.start / fs, stop=win.stop / fs, library=library().name,
+        sample_rate=float(fs), start=signal.start + win.start / fs, stop=signal.start + win.stop / fs,
+        library=library().name,
     )
 
 
-def metric_levels(pressure, sample_rate: float, metric: str, *, start=None, stop=None) -> np.ndarray:
-    """One level per row of ``pressure`` (a design, a listener, a point of a directivity grid).
+def metric_levels(signal: Signal, metric: str, *, start=None, stop=None) -> np.ndarray:
+    """One level per channel of ``signal`` (a design, a listener, a point of a directivity grid).
 
     Parameters
     ----------
-    pressure : (n_samples,) or (n_rows, n_samples) array_like
-        Sound pressure in Pa on a uniform time grid.
-    sample_rate : float
-        Sample rate in Hz (whole Hz).
+    signal : Signal
+        Sound pressure in Pa, one channel per row, at a whole number of Hz.
     metric : str
         A key of :data:`METRICS`: ``"lzpeak"``, ``"lcpeak"``, ``"lafmax"``, ``"lasmax"``, ``"laeq"``,
         ``"lzeq"``, ``"sel"`` or ``"sel-a"``.
@@ -251,4 +257,4 @@ def metric_levels(pressure, sample_rate: float, metric: str, *, start=None, stop
     """
     if metric not in METRICS:
         raise ParameterError("metric", f"must be one of {', '.join(METRICS)}, got {metric!r}")
-    return getattr(sound_levels(pressure, sample_rate, start=start, stop=stop), METRICS[metric])
+    return getattr(sound_levels(signal, start=start, stop=stop), METRICS[metric])

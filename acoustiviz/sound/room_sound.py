@@ -41,6 +41,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_choice, check_range
 from ..constants import TAIL_SEED
+from ..core.signal import Signal
 from .synthesis import (
     _SINC_HALF,
     _SINC_STEPS,
@@ -324,7 +325,8 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
         shift = {w: np.rint(geom[w][0][:, 0] * fs).astype(int) for w in (-1, 1)}
         tail_info = _add_tail(out, dry, sign, shift, plan, rs, a, medium, fs)
     info = _describe(plan, rs, tail_info, len(srcs[scene.struck_wall]))
-    return Rendering(out, fs, f_int, pts, sequence, scene2, model, info)
+    out.flags.writeable = False  # finished: the Signal takes it without a copy
+    return Rendering(Signal(out, fs), f_int, pts, sequence, scene2, model, info)
 
 
 def _band_ratios(conf, box) -> np.ndarray:

@@ -14,6 +14,7 @@ from ..constants import SAMPLE_RATES, WAV_RATE
 from ..core.contact import PULSE_KINDS, Impact, acceleration_pulse
 from ..core.images import ImageSet
 from ..core.radiation import pulse_response
+from ..core.signal import Signal
 from ..field.sources import image_geometry
 from .sources import MASS_MODELS, CavityScene, ImpactSequence, check_listeners, spl, wall_sources
 
@@ -212,10 +213,10 @@ class Rendering:
 
     Attributes
     ----------
-    pressure : (n_listeners, n_samples) ndarray
-        Sound pressure in Pa; sample ``n`` is at time ``n / sample_rate`` s.
-    sample_rate : int
-        Output rate in Hz.
+    signal : Signal
+        Sound pressure in Pa, ``(n_listeners, n_samples)``, at the output rate in Hz, from 0 s
+        (sample ``n`` at ``n / sample_rate`` s); :attr:`pressure` and :attr:`sample_rate` are its
+        samples and its rate.
     internal_rate : float
         Rate in Hz at which the clicks were evaluated before decimation.
     listeners : (n_listeners, 3) ndarray
@@ -231,8 +232,7 @@ class Rendering:
         exact image order, the transition time, the tail and the bands (JSON-ready).
     """
 
-    pressure: np.ndarray
-    sample_rate: int
+    signal: Signal
     internal_rate: float
     listeners: np.ndarray
     sequence: ImpactSequence
@@ -241,9 +241,19 @@ class Rendering:
     room: dict | None = None
 
     @property
+    def pressure(self) -> np.ndarray:
+        """``(n_listeners, n_samples)`` read-only sound pressure in Pa (the samples of :attr:`signal`)."""
+        return self.signal.pressure
+
+    @property
+    def sample_rate(self) -> int:
+        """Output rate in Hz (the rate of :attr:`signal`, a whole number)."""
+        return int(self.signal.sample_rate)
+
+    @property
     def n_samples(self) -> int:
         """Number of samples per listener."""
-        return int(self.pressure.shape[1])
+        return self.signal.n_samples
 
     @property
     def time(self) -> np.ndarray:
@@ -356,7 +366,8 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     grid = (fs, L, f_int, h, half, tail)
     _add_exact_clicks(out, sequence, pulses, geom, grid, a, medium)
     _add_trains(out, sequence, pulses, trains, grid, a, medium)
-    return Rendering(out, fs, f_int, pts, sequence, scene, model)
+    out.flags.writeable = False  # finished: the Signal takes it without a copy
+    return Rendering(Signal(out, fs), f_int, pts, sequence, scene, model)
 
 
 def _check_render_args(sequence, scene, model, listeners, sample_rate, duration):

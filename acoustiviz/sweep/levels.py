@@ -111,12 +111,13 @@ def design_levels(impacts, *, scene, model, point, duration: float, sample_rate:
     clicks = click_windows(impacts, scene=scene, model=model, point=point,
                            sample_rate=sample_rate) if method == "sparse" else None
     if clicks is None:
+        from ..core.signal import Signal
         from ..levels import sound_levels
         from ..sound import ImpactSequence, render
 
         out = render(ImpactSequence.from_table(impacts), scene, model, np.reshape(point, (1, 3)),
                      sample_rate=sample_rate, duration=duration)
-        lv = sound_levels(out.pressure[0], sample_rate, start=0.0, stop=n / sample_rate)
+        lv = sound_levels(Signal(out.pressure[0], sample_rate), start=0.0, stop=n / sample_rate)
         return {c: float(getattr(lv, c)[0]) for c in SWEEP_LEVEL_COLUMNS}
     from ..levels.train import train_levels
 

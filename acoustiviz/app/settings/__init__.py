@@ -30,8 +30,8 @@ from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .sweep import SweepSettings
 from .table import SAME, Setting, add_option
-from .waveform import Listener, WaveformJob
+from .waveform import WaveformJob
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob", "Listener"]
+           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob"]

@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import dataclasses
 
+from ...core.listener import Listener
 from ...errors import ParameterError
 from .base import Settings
 from .impact import WAVEFORM
 from .table import Setting
 
-__all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "Listener", "WaveformJob"]
+__all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "WaveformJob"]
 
 #: In a file name of a job with several listeners: replaced by each listener's name.
 PLACEHOLDER = "{listener}"
@@ -34,24 +35,6 @@ WAVEFORM_OUTPUTS = (
     Setting("png", "--png", None, "str", None, "draw the waveform", metavar="PATH"),
 )
 
-
-@dataclasses.dataclass(frozen=True)
-class Listener:
-    """A named listener.
-
-    Attributes
-    ----------
-    name : str
-        Its name (part of file names with several listeners).
-    position : tuple of 3 float
-        Its position in m.
-    """
-
-    name: str
-    position: tuple
-
-    def __post_init__(self):
-        object.__setattr__(self, "position", tuple(float(v) for v in self.position))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -154,8 +137,8 @@ class WaveformJob(Settings):
             p = np.asarray(lst.position, dtype=float)
             if not np.all(np.isfinite(p)) or np.linalg.norm(p - conf.centre) <= conf.radius \
                     or not bool(conf.in_fluid(p[None, :])[0]):
-                raise ParameterError("listeners", f"listener {lst.name!r} at {lst.position} m is not in the fluid "
-                                                  "(inside the sphere, a wall or below the floor)")
+                raise ParameterError("listeners", f"listener {lst.name!r} at {lst.position.tolist()} m is not in the "
+                                                  "fluid (inside the sphere, a wall or below the floor)")
 
     def _check_budget(self) -> None:
         import numpy as np

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validate import ParameterError, check_choice, check_positive
+from ...core.signal import Signal
 from ...errors import ClippingWarning
 from ...files import atomic_path, write_bytes_atomic
 
@@ -55,17 +56,16 @@ def sidecar_path(wav_path) -> Path:
     return Path(wav_path).with_suffix(".json")
 
 
-def write_wav(path, pressure, sample_rate: int, *, subtype: str = "FLOAT", scale: float = 1.0) -> dict:
-    """Write pressure signals to a WAV file atomically; return what was written.
+def write_wav(path, signal: Signal, *, subtype: str = "FLOAT", scale: float = 1.0) -> dict:
+    """Write a pressure signal to a WAV file atomically; return what was written.
 
     Parameters
     ----------
     path : path-like
         Output ``.wav`` file.
-    pressure : (n_samples,) or (n_channels, n_samples) array_like
-        Pressure in Pa.
-    sample_rate : int
-        Rate in Hz.
+    signal : Signal
+        Pressure in Pa, one or more channels, at a whole number of Hz (a WAV file stores the rate
+        as an integer and no start time).
     subtype : {"FLOAT", "PCM_24"}
         ``"FLOAT"``: 32-bit float, sample value = pressure / scale (default scale 1: values in Pa;
         nothing is clipped, values beyond ±1 are stored as they are). ``"PCM_24"``: 24-bit integers of
@@ -79,17 +79,26 @@ def write_wav(path, pressure, sample_rate: int, *, subtype: str = "FLOAT", scale
         ``path``, ``subtype``, ``channels``, ``frames``, ``sample_rate_hz``, ``pa_per_full_scale``,
         ``peak_full_scale`` (largest |sample| before any clipping), ``over_full_scale_db`` (dB by which it
         exceeds full scale, or 0), ``clipped_samples``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     info = write_wav(Path(folder) / "click.wav", Signal([0.0, 0.5, -0.25], 48000))
+    >>> info["frames"], info["sample_rate_hz"], info["peak_full_scale"]
+    (3, 48000, 0.5)
     """
     import soundfile as sf
 
     check_choice("subtype", subtype, SUBTYPES)
     sc = check_positive("scale", scale, "Pa")
-    fs = check_positive("sample_rate", sample_rate, "Hz")
-    p = np.asarray(pressure, dtype=float)
-    if p.ndim == 1:
-        p = p[None, :]
-    if p.ndim != 2 or not np.all(np.isfinite(p)):
-        raise ParameterError("pressure", "expected a finite (n_channels, n_samples) array in Pa")
+    if not isinstance(signal, Signal):
+        raise ParameterError("signal", f"expected an acoustiviz.Signal (pressure in Pa with its sample rate in Hz), "
+                                       f"got {type(signal).__name__}")
+    fs = signal.sample_rate
+    if fs != int(fs):
+        raise ParameterError("sample_rate", f"a WAV file holds a whole number of Hz, got {fs!r}")
+    p = signal.as_channels()
     data = (p / sc).T
     peak = float(np.max(np.abs(data), initial=0.0))
     over_db = 20.0 * math.log10(peak) if peak > 1.0 else 0.0

@@ -5,30 +5,28 @@ from __future__ import annotations
 import numpy as np
 
 from ...constants import P_REF
+from ...core.signal import Signal
 from .style import new_axes, style
 
 __all__ = ["plot_pressure_signal", "plot_spectrogram", "auralisation_figure"]
 
 
-def _signal(signal, sample_rate):
-    from ..._validate import ParameterError, check_positive
+def _samples(signal) -> np.ndarray:
+    """The samples in Pa of a one-channel :class:`Signal` of at least two samples."""
+    from ..._validate import ParameterError
 
-    fs = check_positive("sample_rate", sample_rate, "Hz")
-    x = np.asarray(signal, dtype=float)
-    if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
-        raise ParameterError("signal", "expected a finite 1-D pressure signal in Pa (>= 2 samples)")
-    return x, fs
+    if not isinstance(signal, Signal) or signal.channels != 1 or signal.n_samples < 2:
+        raise ParameterError("signal", "expected a one-channel acoustiviz.Signal of pressure in Pa (>= 2 samples)")
+    return signal.as_channels()[0]
 
 
-def plot_pressure_signal(signal, sample_rate, ax=None, *, label=None, title=None, **line_kwargs):
+def plot_pressure_signal(signal: Signal, ax=None, *, label=None, title=None, **line_kwargs):
     """Plot a sampled pressure signal against time.
 
     Parameters
     ----------
-    signal : (n,) array_like
-        Pressure in Pa, sample ``k`` at ``k / sample_rate`` s.
-    sample_rate : float
-        Sample rate in Hz.
+    signal : Signal
+        One channel of pressure in Pa; drawn against its sample times in s (:attr:`Signal.times`).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; a new figure is made when omitted.
     label, title : str, optional
@@ -42,18 +40,18 @@ def plot_pressure_signal(signal, sample_rate, ax=None, *, label=None, title=None
 
     Examples
     --------
-    >>> ax = plot_pressure_signal(np.zeros(480), 48000)
+    >>> ax = plot_pressure_signal(Signal(np.zeros(480), 48000))
     >>> ax.get_xlabel(), ax.get_ylabel()
     ('time (s)', 'sound pressure (Pa)')
     """
-    x, fs = _signal(signal, sample_rate)
-    t = np.arange(x.size) / fs
+    x = _samples(signal)
+    t = signal.times
     with style():
         ax = new_axes(ax)
         kw = {"lw": 0.6, **line_kwargs}
         ax.plot(t, x, label=label, **kw)
         ax.axhline(0.0, color="0.6", lw=0.5, zorder=0)
-        ax.set_xlim(0.0, t[-1])
+        ax.set_xlim(t[0], t[-1])
         ax.set_xlabel("time (s)")
         ax.set_ylabel("sound pressure (Pa)")
         if title:
@@ -69,16 +67,14 @@ def _segment_samples(n: int, fs: float, segment) -> int:
     return max(16, min(n, int(round(seg * fs))))
 
 
-def plot_spectrogram(signal, sample_rate, ax=None, *, segment=None, dynamic_range: float = 70.0,
+def plot_spectrogram(signal: Signal, ax=None, *, segment=None, dynamic_range: float = 70.0,
                      vmax=None, title=None, colorbar: bool = True):
     """Draw a spectrogram: band level in dB re 20 µPa against time (s) and frequency (kHz).
 
     Parameters
     ----------
-    signal : (n,) array_like
-        Pressure in Pa.
-    sample_rate : float
-        Sample rate in Hz.
+    signal : Signal
+        One channel of pressure in Pa; segment times in s on the signal's axis.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; a new figure is made when omitted.
     segment : float, optional
@@ -102,10 +98,17 @@ def plot_spectrogram(signal, sample_rate, ax=None, *, segment=None, dynamic_rang
     Level of band k: ``10 log10(PSD_k Δf / p_ref²)``, the mean-square pressure of the segment in a band of
     width ``Δf = sample_rate / n_per_segment`` (scipy's Welch density scaling), so a steady tone reads its
     SPL. Short clicks read lower than their peak SPL: their energy is spread over the segment.
+
+    Examples
+    --------
+    >>> fs = 48000
+    >>> ax = plot_spectrogram(Signal(np.sin(2 * np.pi * 1000 * np.arange(fs // 10) / fs), fs))
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('time (s)', 'frequency (kHz)')
     """
     from scipy.signal import spectrogram
 
-    x, fs = _signal(signal, sample_rate)
+    x, fs = _samples(signal), signal.sample_rate
     nper = _segment_samples(x.size, fs, segment)
     f, t, sxx = spectrogram(x, fs=fs, window="hann", nperseg=nper, noverlap=nper // 2, scaling="density",
                             mode="psd")
@@ -114,8 +117,8 @@ def plot_spectrogram(signal, sample_rate, ax=None, *, segment=None, dynamic_rang
     top = float(level.max()) if vmax is None else float(vmax)
     with style():
         ax = new_axes(ax)
-        mesh = ax.pcolormesh(t, f / 1e3, level, shading="auto", cmap="magma", vmin=top - dynamic_range, vmax=top,
-                             rasterized=True)
+        mesh = ax.pcolormesh(signal.start + t, f / 1e3, level, shading="auto", cmap="magma",
+                             vmin=top - dynamic_range, vmax=top, rasterized=True)
         ax.set_xlabel("time (s)")
         ax.set_ylabel("frequency (kHz)")
         ax.set_ylim(0.0, fs / 2e3)
@@ -128,7 +131,7 @@ def plot_spectrogram(signal, sample_rate, ax=None, *, segment=None, dynamic_rang
     return ax
 
 
-def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dynamic_range: float = 70.0,
+def auralisation_figure(signals, *, labels=None, segment=None, dynamic_range: float = 70.0,
                         time_range=None, zoom: float | None = 0.004):
     """One row per signal: its waveform (Pa against s), its loudest click, and its spectrogram.
 
@@ -136,10 +139,8 @@ def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dyna
 
     Parameters
     ----------
-    signals : sequence of (n,) array_like
-        Pressure signals in Pa at ``sample_rate``.
-    sample_rate : float
-        Sample rate in Hz.
+    signals : sequence of Signal
+        One-channel pressure signals in Pa, each at its own rate.
     labels : sequence of str, optional
         A heading per row.
     segment, dynamic_range : float, optional
@@ -156,35 +157,39 @@ def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dyna
     from matplotlib.figure import Figure
     from scipy.signal import spectrogram
 
-    signals = [_signal(s, sample_rate)[0] for s in signals]
+    signals = list(signals)
+    samples = [_samples(s) for s in signals]
     labels = list(labels) if labels is not None else [f"signal {i + 1}" for i in range(len(signals))]
     n = len(signals)
     ncol = 3 if zoom else 2
     widths = [1.0, 0.45, 1.25] if zoom else [1.0, 1.25]
-    lim = max(float(np.max(np.abs(s), initial=0.0)) for s in signals) * 1.08 or 1.0
+    lim = max(float(np.max(np.abs(s), initial=0.0)) for s in samples) * 1.08 or 1.0
     vmax = -np.inf
-    for s in signals:  # a shared top level so the colours compare across rows
-        nper = _segment_samples(s.size, sample_rate, segment)
-        _, _, sxx = spectrogram(s, fs=sample_rate, window="hann", nperseg=nper, noverlap=nper // 2)
-        vmax = max(vmax, 10.0 * np.log10(max(float(sxx.max()) * sample_rate / nper, 1e-30) / P_REF**2))
+    for sig, s in zip(signals, samples, strict=True):  # a shared top level so the colours compare across rows
+        fs = sig.sample_rate
+        nper = _segment_samples(s.size, fs, segment)
+        _, _, sxx = spectrogram(s, fs=fs, window="hann", nperseg=nper, noverlap=nper // 2)
+        vmax = max(vmax, 10.0 * np.log10(max(float(sxx.max()) * fs / nper, 1e-30) / P_REF**2))
     with style():
         fig = Figure(figsize=(12.5 if zoom else 11.0, 3.1 * n + 0.5), layout="constrained")
         rows = fig.subfigures(n, 1, squeeze=False)[:, 0]
-        for row, s, lab, color in zip(rows, signals, labels, ("C0", "C3", "C2", "C1") * n, strict=False):
+        for row, sig, s, lab, color in zip(rows, signals, samples, labels, ("C0", "C3", "C2", "C1") * n,
+                                           strict=False):
+            fs = sig.sample_rate
             axes = row.subplots(1, ncol, gridspec_kw={"width_ratios": widths})
             pk = float(np.max(np.abs(s), initial=0.0))
             spl = 20 * np.log10(pk / P_REF) if pk > 0 else float("nan")
             row.suptitle(f"{lab} -- peak {pk:.2f} Pa, {spl:.1f} dB re 20 µPa", fontsize=11)
             wa, sa = axes[0], axes[-1]
-            plot_pressure_signal(s, sample_rate, ax=wa, color=color)
+            plot_pressure_signal(sig, ax=wa, color=color)
             wa.set_ylim(-lim, lim)
             wa.set_title("whole run")
             if zoom:
                 za = axes[1]
                 k = int(np.argmax(np.abs(s)))
-                half = int(round(zoom * sample_rate / 2))
+                half = int(round(zoom * fs / 2))
                 lo, hi = max(k - half, 0), min(k + half, s.size)
-                t_ms = np.arange(lo, hi) / sample_rate * 1e3
+                t_ms = (sig.start + np.arange(lo, hi) / fs) * 1e3
                 za.plot(t_ms, s[lo:hi], color=color, lw=1.0, marker=".", ms=2.5)
                 za.axhline(0.0, color="0.6", lw=0.5, zorder=0)
                 za.set_xlim(t_ms[0], t_ms[-1])
@@ -192,7 +197,7 @@ def auralisation_figure(signals, sample_rate, *, labels=None, segment=None, dyna
                 za.set_xlabel("time (ms)")
                 za.set_ylabel("sound pressure (Pa)")
                 za.set_title("loudest click")
-            plot_spectrogram(s, sample_rate, ax=sa, segment=segment, dynamic_range=dynamic_range, vmax=vmax,
+            plot_spectrogram(sig, ax=sa, segment=segment, dynamic_range=dynamic_range, vmax=vmax,
                              title="spectrogram")
             if time_range is not None:
                 wa.set_xlim(*time_range)
