@@ -24,7 +24,7 @@ import stat
 import tempfile
 from pathlib import Path
 
-from .._validate import LABEL_MAX, label_problem
+from ._validate import LABEL_MAX, label_problem
 
 __all__ = ["atomic_path", "temporary_beside", "refuse_replacing", "label_problem", "LABEL_MAX",
            "write_text_atomic", "write_bytes_atomic", "write_csv_atomic", "CSV_BLOCK_ROWS"]

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 
-from ...core.listener import Listener
 from ...errors import ParameterError
 from .base import Settings
 from .impact import WAVEFORM
@@ -100,8 +99,8 @@ class WaveformJob(Settings):
         """True when the configuration is a room (its peaks are the largest samples of the window)."""
         return getattr(self.configuration, "image_order", None) is not None
 
-    def files(self, listener: Listener) -> dict:
-        """``{"csv": path, "json": path, "png": path}`` of one listener, those asked for (paths as strings)."""
+    def files(self, listener) -> dict:
+        """``{"csv": path, "json": path, "png": path}`` of one :class:`~acoustiviz.Listener`, those asked for (strings)."""
         out = {}
         for key in ("csv", "png"):
             name = getattr(self, key)
@@ -115,6 +114,8 @@ class WaveformJob(Settings):
 
     def validate(self) -> None:
         """The pulses, the listeners in the fluid, the memory budget and the files, in that order."""
+        from ...core.listener import Listener  # numpy: not imported by --help
+
         object.__setattr__(self, "pulses", tuple(self.pulses))
         object.__setattr__(self, "listeners", tuple(lst if isinstance(lst, Listener) else Listener(*lst)
                                                     for lst in self.listeners))  # or (name, position) pairs
