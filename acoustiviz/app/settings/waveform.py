@@ -100,7 +100,7 @@ class WaveformJob(Settings):
         return getattr(self.configuration, "image_order", None) is not None
 
     def files(self, listener) -> dict:
-        """``{"csv": path, "json": path, "png": path}`` of one :class:`~acoustiviz.Listener`, those asked for (strings)."""
+        """``{"csv": path, "json": path, "png": path}`` of one :class:`~acoustiviz.Listener`, as asked (strings)."""
         out = {}
         for key in ("csv", "png"):
             name = getattr(self, key)
