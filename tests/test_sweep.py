@@ -391,6 +391,34 @@ def test_rows_written_one_by_one_and_resumed_after_interruption(tmp_path):
     assert table["max_spl_db"][4] == evaluate_design(d, spec.settings).max_spl_db
 
 
+def test_a_finished_sweep_is_in_design_order_whatever_order_its_rows_came_in(tmp_path):
+    spec = small_spec(duration=1.0)
+    ref = tmp_path / "ref"
+    run_sweep(spec, ref, executor=InlineExecutor())  # one design after another: the design order
+    expected = (ref / SWEEP_CSV).read_bytes()
+    # the journal of a sweep whose designs finished last first, cut before the first design
+    shuffled = tmp_path / "shuffled"
+    shuffled.mkdir()
+    (shuffled / "sweep.json").write_bytes((ref / "sweep.json").read_bytes())
+    header, *lines = expected.decode().splitlines(keepends=True)
+    (shuffled / SWEEP_CSV).write_text(header + "".join(reversed(lines[1:])))
+    again = InlineExecutor()
+    run_sweep(spec, shuffled, executor=again)
+    assert again.submitted == 1  # only the first design was missing
+    assert (shuffled / SWEEP_CSV).read_bytes() == expected
+
+
+def test_a_file_already_in_design_order_is_not_rewritten(tmp_path):
+    from acoustiviz.sweep.store import put_in_design_order, read_rows
+
+    spec = small_spec(duration=1.0)
+    run_sweep(spec, tmp_path, executor=InlineExecutor())
+    path = tmp_path / SWEEP_CSV
+    before = path.stat().st_mtime_ns, path.read_bytes()
+    assert not put_in_design_order(path, read_rows(path, spec), spec.designs())
+    assert (path.stat().st_mtime_ns, path.read_bytes()) == before
+
+
 def test_torn_last_line_is_dropped_and_recomputed(tmp_path):
     spec = small_spec(duration=1.0)
     with pytest.raises(KeyboardInterrupt):

@@ -25,7 +25,7 @@ from ..errors import ParameterError
 from .evaluate import evaluate_or_fail, failed_result, warm_up
 from .progress import Progress
 from .spec import FixedSettings, SweepSpec
-from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, read_rows, table_from_rows
+from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, put_in_design_order, read_rows, table_from_rows
 
 __all__ = ["run_sweep", "make_executor", "check_executor_form", "dask_address", "dask_executor", "local_pool",
            "shutdown_now", "DASK_FORM"]
@@ -407,4 +407,5 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
             if interrupted:  # count what the journal holds: the interrupt may fall between a row and its count
                 kept = len(read_rows(path, spec, "out"))
                 report.say(f"sweep: stopped; {kept} of {len(designs)} designs kept in {path}")
+    put_in_design_order(path, rows, designs)  # finished: the same bytes whatever order the workers took
     return table_from_rows(spec, rows, "out")

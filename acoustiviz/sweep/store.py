@@ -40,6 +40,7 @@ from ..errors import ParameterError
 from .spec import SweepSpec
 
 __all__ = [
+    "put_in_design_order",
     "CSV_COLUMNS",
     "EXTRA_COLUMNS",
     "ALL_COLUMNS",
@@ -442,6 +443,28 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
             raise ParameterError(name, f"{path} line {k} is damaged: it matches no design of {SWEEP_JSON}")
         rows.setdefault(int(row["design_id"]), row)
     return rows
+
+
+def put_in_design_order(path: Path, rows: dict[int, dict], designs) -> bool:
+    """Rewrite a finished ``sweep.csv`` with its rows in the order of ``designs``; True if it was rewritten.
+
+    The journal appends each row as its design finishes, in an order that depends on the workers;
+    once every design is in, the file is rewritten (atomically, each row's text as written) in the
+    designs' order, so the same sweep writes the same bytes whatever ran it. A file already in
+    that order is left untouched.
+    """
+    from ..files import write_text_atomic
+
+    order = [d.design_id for d in designs]
+    if list(rows) == order:
+        return False
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(ALL_COLUMNS)
+    for i in order:
+        writer.writerow([rows[i][c] for c in ALL_COLUMNS])
+    write_text_atomic(path, buf.getvalue())
+    return True
 
 
 def load_sweep(out_dir, name: str = "sweep") -> SweepTable:
