@@ -224,15 +224,22 @@ def damper_settings(scene, out=None):
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
 
 
+def _write_damper(ctx: RunContext, kind: str) -> list:
+    """Write the files of damper output ``kind`` of the scene's one damper run; return their paths."""
+    for name in DAMPER_FILES[kind].values():  # only the files checked before the run
+        ctx.path(name)
+    return ctx.damper.write(only=DAMPER_FILES[kind])
+
+
 def produce_damper_history(ctx: RunContext):
     """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
-    csv, png = ctx.damper.write(only=DAMPER_FILES["damper_history"])
+    csv, png = _write_damper(ctx, "damper_history")
     return [Product("damper_history", png, _damper.damping_figures(ctx.damper)), Product("damper_history", csv, {})]
 
 
 def produce_impact_table(ctx: RunContext):
     """One row per contact of the damper run (CSV with the damper command's columns)."""
-    (path,) = ctx.damper.write(only=DAMPER_FILES["impact_table"])
+    (path,) = _write_damper(ctx, "impact_table")
     imp = ctx.damper_run.impacts
     figs = {"impacts": str(len(imp))}
     if len(imp):
