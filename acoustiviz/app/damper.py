@@ -1,15 +1,20 @@
-"""One place that builds and runs an impact-damper model, for every front-end.
+"""The damper job: one run of the impact damper (paper eq 15), its damping and its files.
 
-``acoustiviz damper``, ``acoustiviz auralize`` and scene files describe a damper the same way
-(paper eq 15, defaults of Table 1 and Figure 5 from :mod:`acoustiviz.constants`); they all call
-:func:`damper_model` and :func:`run_damper`, so the same settings give the same impact sequence
-whichever front-end asked. SI units throughout.
+Three parts, shared by ``acoustiviz damper``, a scene's ``[outputs.damper_history]`` and
+``[outputs.impact_table]`` (whose one run the scene's WAV, levels and spectrum reuse), ``acoustiviz
+auralize`` and Python callers:
+
+* :class:`~acoustiviz.app.settings.damper_job.DamperJob`, the settings, checked once when made;
+* :func:`run`, which simulates and measures a :class:`DamperResult` (physics only: no files, no printing);
+* :meth:`DamperResult.write`, which writes the files the settings asked for and returns their paths.
+
+Defaults: Table 1 and the Figure 5 start (:mod:`acoustiviz.constants`). SI units throughout.
 
 Examples
 --------
->>> model = damper_model()
->>> run = run_damper(model, 1.0, v0=2.0)
->>> run.result.solver, len(run.result.impacts) > 0
+>>> job = DamperJob(damper_model(), duration=1.0)
+>>> result = run(job)
+>>> result.result.solver, len(result.result.impacts) > 0
 ('event', True)
 """
 
@@ -20,13 +25,14 @@ import warnings
 from dataclasses import dataclass
 
 from .. import dynamics
-from .._validate import check_choice, check_finite, check_positive
+from .._validate import check_choice, check_finite
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1_PARAMETERS
-from ..core.limits import check_damper
 from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
+from .settings.damper_job import DamperJob
 
-__all__ = ["DamperRun", "damper_model", "choose_solver", "run_damper", "run_damper_settings", "damper_description",
+__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "choose_solver", "run_damper", "run_damper_settings",
+           "damper_description",
            "damping_figures", "check_click_fits"]
 
 
@@ -54,18 +60,18 @@ def choose_solver(solver: str, model: DamperModel, initial: InitialState, tolera
     return cheapest_solver(model, initial, tolerance)
 
 
-@dataclass(frozen=True)
-class DamperRun:
-    """A damper simulation with what every front-end reports about it.
+@dataclass(frozen=True, eq=False)
+class DamperResult:
+    """A damper run of a :class:`DamperJob`, with what every front end reports about it.
 
     Attributes
     ----------
+    settings : DamperJob
+        What was run.
     result : SimulationResult
         Time histories, impact table, energy balance (:func:`acoustiviz.dynamics.simulate`).
     metrics : DampingMetrics
         Damping inclination (eq 16 and envelope fit) and settling time from the exact maxima.
-    initial : InitialState
-        The start of the run.
     warnings : tuple of str
         Accuracy warnings the solver raised.
     seconds : float
@@ -74,17 +80,92 @@ class DamperRun:
         Why ``"auto"`` chose the solver it did (empty when the solver was named).
     """
 
+    settings: DamperJob
     result: object
     metrics: DampingMetrics
-    initial: InitialState
     warnings: tuple
     seconds: float
     solver_reason: str = ""
 
+    @property
+    def initial(self) -> InitialState:
+        """The start of the run (m, m/s)."""
+        return self.settings.initial
+
+    def write(self, folder=None, *, only=None) -> list:
+        """Write the files the settings ask for into ``folder``; return their paths.
+
+        The impact table (:func:`acoustiviz.output.tables.write_impact_table`), the time history
+        (``time_s, x_m, v_m_s, y_m, w_m_s``) and the Figure 5 plot, in that order, each atomically.
+
+        Parameters
+        ----------
+        folder : path-like, optional
+            Where relative file names are put (default: as given, the current folder).
+        only : iterable of str, optional
+            Write only these of the settings' files (``"impacts_csv"``, ``"history_csv"``, ``"png"``):
+            a scene's outputs each write their own files of the one run.
+
+        Returns
+        -------
+        list of Path
+        """
+        from pathlib import Path
+
+        files = {k: Path(v) if folder is None else Path(folder) / v for k, v in self.settings.files().items()
+                 if only is None or k in only}
+        res, written = self.result, []
+        if "impacts_csv" in files:
+            from ..output.tables import write_impact_table
+
+            written.append(write_impact_table(files["impacts_csv"], res.impacts))
+        if "history_csv" in files:
+            from ..files import write_csv_atomic
+
+            written.append(write_csv_atomic(files["history_csv"], ["time_s", "x_m", "v_m_s", "y_m", "w_m_s"],
+                                            [res.t, res.x, res.v, res.y, res.w]))
+        if "png" in files:
+            from ..output.plot.dynamics import plot_free_vibration
+            from ..output.plot.style import save_figure
+
+            written.append(save_figure(plot_free_vibration(res).figure, files["png"]))
+        return [Path(p) for p in written]
+
+
+def run(settings: DamperJob) -> DamperResult:
+    """Simulate the damper of ``settings`` and measure its damping (no files, no printing).
+
+    Parameters
+    ----------
+    settings : DamperJob
+        The job, checked when it was made.
+
+    Returns
+    -------
+    DamperResult
+    """
+    from .names import user_terms
+
+    s = settings
+    with user_terms(s.names):  # an error of the physics in the front end's words
+        method = solver_method(s.solver)
+        name, reason = choose_solver(s.solver, s.model, s.initial, s.rtol)
+        kwargs = {"dt": s.dt} if name == "newmark" else {"rtol": method.run_rtol(s.rtol)}
+        start = time.perf_counter()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = dynamics.simulate(s.model, s.duration, solver=name, initial=s.initial,
+                                       t_eval=sample_times(s.duration, s.model), **kwargs)
+        seconds = time.perf_counter() - start
+        metrics = damping_metrics(result)
+    return DamperResult(s, result, metrics, tuple(str(w.message) for w in caught), seconds, reason)
+
 
 def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0: float = PAPER_V0,
-               x0: float = 0.0, rtol: float = DEFAULT_RTOL, dt=None) -> DamperRun:
+               x0: float = 0.0, rtol: float = DEFAULT_RTOL, dt=None) -> DamperResult:
     """Simulate ``model`` for ``duration`` s from the Figure 5 start (x = x0, dx/dt = v0, impact mass centred, at rest).
+
+    A shorthand for ``run(DamperJob(model, InitialState(x=x0, v=v0), duration, solver, rtol, dt))``.
 
     Parameters
     ----------
@@ -105,7 +186,7 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
 
     Returns
     -------
-    DamperRun
+    DamperResult
 
     Raises
     ------
@@ -113,25 +194,11 @@ def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0
         Before any work, for settings whose run cannot be computed or measured
         (:func:`acoustiviz.core.limits.check_damper`).
     """
-    initial = InitialState(x=x0, v=v0)
-    method = solver_method(solver)
-    rtol = method.check_rtol(rtol)
-    check_positive("duration", duration, "s")
-    check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=check_finite("v", v0),
-                 duration=duration, c1=model.c1)
-    name, reason = choose_solver(solver, model, initial, rtol)
-    kwargs = {"dt": dt} if name == "newmark" else {"rtol": method.run_rtol(rtol)}
-    start = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = dynamics.simulate(model, duration, solver=name, initial=initial, t_eval=sample_times(duration, model),
-                          **kwargs)
-    seconds = time.perf_counter() - start
-    metrics = damping_metrics(result)
-    return DamperRun(result, metrics, initial, tuple(str(w.message) for w in caught), seconds, reason)
+    check_finite("v", v0)
+    return run(DamperJob(model, InitialState(x=x0, v=v0), duration, solver, rtol, dt))
 
 
-def damper_description(model: DamperModel, run: DamperRun, duration: float) -> dict:
+def damper_description(model: DamperModel, run: DamperResult, duration: float) -> dict:
     """The settings of a run as recorded in sidecars and summaries (SI units in the key names)."""
     return {"M_kg": model.M, "K_n_m": model.K, "C_n_s_m": model.C, "m_kg": model.m, "gap_m": model.gap,
             "k_hertz_n_m1_5": model.k_hertz, "c1_n_s_m": model.c1, "v0_m_s": run.initial.v,
@@ -139,7 +206,7 @@ def damper_description(model: DamperModel, run: DamperRun, duration: float) -> d
             "solver_settings": dict(run.result.settings), "clip_tensile": model.clip_tensile}
 
 
-def damping_figures(run: DamperRun) -> dict:
+def damping_figures(run: DamperResult) -> dict:
     """The key figures of a run as short strings: impacts, inclinations (cm/s), settling time (s).
 
     ``solver_ms`` is the simulation's wall time without the kernels' compilation, ``compile_ms``
@@ -211,16 +278,15 @@ def run_damper_settings(settings, max_memory_mb=None) -> tuple:
 
     The working memory is checked first (:func:`acoustiviz.app.budget.damper_estimate`, capped at
     ``max_memory_mb`` MB). Returns ``(model, run)``: the :class:`~acoustiviz.dynamics.DamperModel`
-    and its :class:`DamperRun`.
+    and its :class:`DamperResult`.
     """
-    from .budget import check_budget, damper_estimate
     from .names import DAMPER_OPTIONS, user_terms
 
     d = settings
-    with user_terms(DAMPER_OPTIONS):
+    names = {**DAMPER_OPTIONS, "max_memory_mb": "--max-memory"}
+    with user_terms(names):
         model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
                              clip_tensile=bool(d.clip_tensile))
-        check_budget(damper_estimate(model, d.duration, solver=d.solver, dt=d.dt, options=("--duration",)),
-                     max_memory_mb)
-        run = run_damper(model, d.duration, solver=d.solver, x0=d.x0, v0=d.v0, rtol=d.rtol, dt=d.dt)
-    return model, run
+        job = DamperJob(model, InitialState(x=d.x0, v=check_finite("v", d.v0)), d.duration, d.solver, d.rtol, d.dt,
+                        max_memory_mb, names=names)
+    return model, run(job)

@@ -94,28 +94,21 @@ class RunContext:
         """The scene's :class:`~acoustiviz.dynamics.DamperModel`."""
         return scene_damper_model(self.scene)
 
-    @functools.cached_property
+    @property
     def damper_initial(self):
         """Initial state of the damper run."""
         return damper_initial(self.scene)
 
     @functools.cached_property
-    def damper_solver(self) -> str:
-        """The scene's solver, or for ``"auto"`` the cheapest that meets its tolerance."""
-        return damper_solver(self.scene, self.progress)
-
-    @functools.cached_property
     def damper(self):
-        """The damper simulation with its damping metrics (once per run; :func:`acoustiviz.app.damper.run_damper`)."""
-        d = self.scene.section("damper")
-        solver = self.damper_solver
-        self.progress(f"simulating the damper for {d['duration_s']:g} s ({solver} solver)")
-        from ..dynamics import solver_method
+        """The scene's one damper run (:class:`~acoustiviz.app.damper.DamperResult` of :func:`damper_settings`).
 
-        rtol = solver_method(d["solver"]).run_rtol(d["tolerance"])  # "auto": the accuracy wanted, capped
-        with user_terms(SCENE_DAMPER_KEYS):
-            return _damper.run_damper(self.damper_model, d["duration_s"], solver=solver, v0=self.damper_initial.v,
-                                      x0=self.damper_initial.x, rtol=rtol)
+        Computed once per scene run, for every output that wants it (history, impact table, WAV, levels, spectrum).
+        """
+        settings = damper_settings(self.scene, self.out)
+        name = damper_solver(self.scene, self.progress)
+        self.progress(f"simulating the damper for {settings.duration:g} s ({name} solver)")
+        return _damper.run(settings)
 
     @property
     def damper_run(self):
@@ -208,30 +201,46 @@ def produce_directivity(ctx: RunContext):
             Product("directivity", png, {})]
 
 
+#: The files of each damper output (:class:`~acoustiviz.app.settings.damper_job.DamperJob` fields -> file names).
+DAMPER_FILES = {"impact_table": {"impacts_csv": "impacts.csv"},
+                "damper_history": {"history_csv": "damper_history.csv", "png": "damper_history.png"}}
+
+
+def damper_settings(scene, out=None):
+    """The scene's ``[damper]`` and its damper outputs as a :class:`~acoustiviz.app.settings.damper_job.DamperJob`.
+
+    The files of ``[outputs.impact_table]`` and ``[outputs.damper_history]`` the scene asks for, in
+    folder ``out`` (None: no files, the checks of the scene's settings alone, made before the run folder
+    exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
+    """
+    from .settings.damper_job import DamperJob
+
+    d = scene.section("damper")
+    files = {} if out is None else {key: str(Path(out) / name) for kind, names in DAMPER_FILES.items()
+                                    if scene.wants(kind) for key, name in names.items()}
+    names = {**SCENE_DAMPER_KEYS, "impacts_csv": "outputs.impact_table", "history_csv": "outputs.damper_history",
+             "png": "outputs.damper_history", "max_memory_mb": "grids.memory_limit_mb"}
+    return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
+                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
+
+
+def _write_damper(ctx: RunContext, kind: str) -> list:
+    """Write the files of damper output ``kind`` of the scene's one damper run; return their paths."""
+    for name in DAMPER_FILES[kind].values():  # only the files checked before the run
+        ctx.path(name)
+    return ctx.damper.write(only=DAMPER_FILES[kind])
+
+
 def produce_damper_history(ctx: RunContext):
     """Main-mass displacement with and without the damper (paper Figure 5) as PNG and CSV."""
-    from ..output.plot.dynamics import plot_free_vibration
-    from ..output.plot.style import style
-
-    res = ctx.damper_run
-    csv = write_csv_atomic(ctx.path("damper_history.csv"),
-                           ["time_s", "x_m", "v_m_s", "y_m", "w_m_s"], [res.t, res.x, res.v, res.y, res.w])
-    with style():
-        fig = _fig()
-        plot_free_vibration(res, ax=fig.add_subplot())
-        png = _save(fig, ctx.path("damper_history.png"))
-    figs = _damper.damping_figures(ctx.damper)
-    return [Product("damper_history", png, figs), Product("damper_history", csv, {})]
+    csv, png = _write_damper(ctx, "damper_history")
+    return [Product("damper_history", png, _damper.damping_figures(ctx.damper)), Product("damper_history", csv, {})]
 
 
 def produce_impact_table(ctx: RunContext):
     """One row per contact of the damper run (CSV with the damper command's columns)."""
-    res = ctx.damper_run
-    path = ctx.path("impacts.csv")
-    from ..output.tables import write_impact_table
-
-    write_impact_table(path, res.impacts)
-    imp = res.impacts
+    (path,) = _write_damper(ctx, "impact_table")
+    imp = ctx.damper_run.impacts
     figs = {"impacts": str(len(imp))}
     if len(imp):
         figs["max_approach_m_s"] = f"{np.max(imp.approach_velocity):.4g}"
@@ -422,6 +431,7 @@ PRODUCERS = {
 #: Output kind -> the settings object its producer builds, built before any output is computed.
 _SETTINGS = {
     "waveform": waveform_settings,
+    **{kind: damper_settings for kind in DAMPER_FILES},
     "sweep": scene_sweep_spec,
     "design_table": scene_sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),

@@ -13,7 +13,7 @@ from ..app.settings.table import add_option, by_name
 from ..constants import DEFAULT_RTOL
 from ..constants import SOLVERS as SOLVER_NAMES
 
-__all__ = ["add_model_options", "add_damper_options", "damper_from_args", "DEFAULT_RTOL", "SOLVER_NAMES"]
+__all__ = ["add_model_options", "add_damper_options", "DEFAULT_RTOL", "SOLVER_NAMES"]
 
 
 def add_model_options(group) -> None:
@@ -35,21 +35,3 @@ def add_damper_options(parser, *, duration_help: str = "simulated time") -> None
     for record in SOLVER:
         add_option(s, record)
     add_option(s, run["rtol"])
-
-
-def damper_from_args(args):
-    """Build and run the damper of the shared options (:func:`acoustiviz.app.damper.run_damper_settings`).
-
-    Returns
-    -------
-    model : DamperModel
-    run : acoustiviz.app.damper.DamperRun
-    """
-    from ..app.damper import run_damper_settings
-    from ..app.names import user_terms
-    from ..app.settings.auralize import DamperSettings
-
-    names = {f.name for f in dataclasses.fields(DamperSettings)}
-    with user_terms(DamperSettings.cli_names()):
-        settings = DamperSettings(**{k: v for k, v in vars(args).items() if k in names})
-    return run_damper_settings(settings, getattr(args, "max_memory", None))

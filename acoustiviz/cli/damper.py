@@ -1,5 +1,8 @@
 r"""``acoustiviz damper``: simulate the impact damper, print its damping, write impacts and a plot.
 
+argv -> :class:`~acoustiviz.app.settings.damper_job.DamperJob` (:func:`settings_from_args`) ->
+:func:`acoustiviz.app.damper.run` -> the summary -> :meth:`~acoustiviz.app.damper.DamperResult.write`.
+
 Example::
 
     acoustiviz damper --M 0.5 --K 500 --C 0.05 --m 0.0405 --gap 0.04 --k-hertz 5.6e8 --c1 20 \\
@@ -8,7 +11,9 @@ Example::
 
 from __future__ import annotations
 
-from ._damper import add_damper_options, damper_from_args
+from ..app.settings.damper_job import DAMPER_OUTPUTS
+from ..app.settings.table import add_option
+from ._damper import add_damper_options
 
 
 def add_parser(subparsers):
@@ -25,24 +30,42 @@ def add_parser(subparsers):
     )
     add_damper_options(p)
     o = p.add_argument_group("outputs")
-    o.add_argument("--impacts-csv", metavar="PATH", default=None,
-                   help="write the impact table (one row per contact) as CSV")
-    o.add_argument("--png", metavar="PATH", default=None,
-                   help="plot x(t) with and without the damper (Figure 5) as PNG")
+    for s in DAMPER_OUTPUTS:
+        add_option(o, s)
     p.set_defaults(func=run)
     return p
 
 
-def run(args) -> int:
-    """Run the ``damper`` subcommand; return the exit status."""
-    from ..app.outputs import check_distinct, check_output_file
+def settings_from_args(args):
+    """The :class:`~acoustiviz.app.settings.damper_job.DamperJob` of the options; errors name the options."""
+    from ..app.damper import damper_model
+    from ..app.names import DAMPER_OPTIONS, user_terms
+    from ..app.settings.damper import DAMPER, RUN, check_values
+    from ..app.settings.damper_job import DamperJob
+    from ..dynamics import InitialState
 
-    if args.impacts_csv is not None:
-        check_output_file("--impacts-csv", args.impacts_csv, "csv")
-    if args.png is not None:
-        check_output_file("--png", args.png, "figure")
-    check_distinct({"--impacts-csv": args.impacts_csv, "--png": args.png})
-    _, damper = damper_from_args(args)
+    names = {**DAMPER_OPTIONS, **DamperJob.cli_names(), "max_memory_mb": "--max-memory"}
+    with user_terms(names):
+        d = check_values({s.name: getattr(args, s.name) for s in DAMPER if hasattr(args, s.name)}, DAMPER)
+        model = damper_model(**{k: d[k] for k in ("M", "K", "C", "m", "gap", "k_hertz", "c1", "clip_tensile")})
+    start = InitialState(x=d.get("x0", RUN[0].default), v=d["v0"])
+    return DamperJob(model, start, d["duration"], d["solver"], d["rtol"], d["dt"], getattr(args, "max_memory", None),
+                     impacts_csv=args.impacts_csv, history_csv=args.history_csv, png=args.png, names=names)
+
+
+def run(args) -> int:
+    """Run the ``damper`` subcommand: argv -> settings -> run -> summary -> files; return the exit status."""
+    from ..app.damper import run as run_job
+
+    result = run_job(settings_from_args(args))
+    _print_summary(result)
+    for path in result.write():
+        print(f"wrote {path}")
+    return 0 if result.result.success else 1
+
+
+def _print_summary(damper) -> None:
+    """The solver's warnings, the impacts, the damping inclinations, the settling time, the energy and the times."""
     result = damper.result
     for msg in damper.warnings:
         print(f"warning: {msg}")
@@ -66,16 +89,3 @@ def run(args) -> int:
         print("energy closure: no initial energy, nothing to close")
     print(f"solver time: {round(1000 * result.solver_time)} ms")
     print(f"kernel compile (or cache load) time: {round(1000 * result.compile_time)} ms")
-    if args.impacts_csv:
-        from ..output.tables import write_impact_table
-
-        path = write_impact_table(args.impacts_csv, result.impacts)
-        print(f"wrote {path}")
-    if args.png:
-        from ..output.plot.dynamics import plot_free_vibration
-        from ..output.plot.style import save_figure
-
-        ax = plot_free_vibration(result)
-        path = save_figure(ax.figure, args.png)
-        print(f"wrote {path}")
-    return 0 if result.success else 1

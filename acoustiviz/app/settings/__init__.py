@@ -7,6 +7,8 @@
 ``parse``    a point X,Y,Z and an image size WxH typed as text
 ``impact``   the options of one impact, its waveform and its directivity
 ``waveform`` the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
+``damper``   the records of the impact damper (paper eq 15), its start, run and solver; beside it
+             ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
 ``render``   the balloon, snapshot and animation views
 ``forced``   the damper in operation: continuation, solver, tolerances, level interval, the job
 ``design``   the target damping inclination and its tolerance
@@ -22,6 +24,7 @@ settings objects check their values with them; ``acoustiviz --help``, ``acoustiv
 """
 
 from .base import Settings, check_size
+from .damper_job import DamperJob
 from .design import DesignSettings
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
@@ -34,4 +37,5 @@ from .waveform import WaveformJob
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob"]
+           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
+           "DamperJob"]

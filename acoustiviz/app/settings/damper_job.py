@@ -1,0 +1,118 @@
+"""The settings of the damper job: the damper, its start, its run and its files.
+
+:class:`DamperJob` is the whole of what :func:`acoustiviz.app.damper.run` needs, checked once when it
+is made (the records' ranges of :mod:`acoustiviz.app.settings.damper`, the solver's own tolerance, the
+physics' limits, the memory budget, the files to write), so ``acoustiviz damper``, a scene's
+``[outputs.impact_table]`` and ``[outputs.damper_history]`` and a Python caller build the same object
+and hand it to the same run. The records of its command-line files (``--impacts-csv``,
+``--history-csv``, ``--png``) live here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_V0
+from .base import Settings
+from .damper import CONTACT_LAW, MODEL, RUN, SOLVER
+from .table import Setting, check_values
+
+__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperJob"]
+
+#: The files of ``acoustiviz damper`` (a scene names them itself: ``impacts.csv`` for ``[outputs.impact_table]``,
+#: ``damper_history.csv`` and ``.png`` for ``[outputs.damper_history]``).
+DAMPER_OUTPUTS = (
+    Setting("impacts_csv", "--impacts-csv", None, "str", None, "write the impact table (one row per contact) as CSV",
+            metavar="PATH"),
+    Setting("history_csv", "--history-csv", None, "str", None,
+            "write the time history as CSV (columns time_s,x_m,v_m_s,y_m,w_m_s)", metavar="PATH"),
+    Setting("png", "--png", None, "str", None, "plot x(t) with and without the damper (Figure 5) as PNG",
+            metavar="PATH"),
+)
+
+#: Each file of the job -> the kind of file :func:`acoustiviz.app.outputs.check_output_file` expects.
+FILE_KINDS = {"impacts_csv": "csv", "history_csv": "csv", "png": "figure"}
+
+
+@dataclasses.dataclass(frozen=True)
+class DamperJob(Settings):
+    """One run of the impact damper (paper eq 15), its damping and the files wanted of it.
+
+    Attributes
+    ----------
+    model : acoustiviz.dynamics.DamperModel
+        The damper: masses in kg, stiffnesses in N/m and N/m^1.5, dashpots in N s/m, the gap in m.
+    initial : acoustiviz.dynamics.InitialState, optional
+        The start (m, m/s); default the paper's Figure 5 start (x = 0, dx/dt = V0, impact mass centred
+        and at rest).
+    duration : float
+        Simulated time in s.
+    solver : {"event", "newmark", "impact-map", "auto"}
+        The solver (:data:`acoustiviz.dynamics.METHODS`); ``"auto"``: the cheapest whose error suits ``rtol``.
+    rtol : float
+        Relative tolerance; each solver checks its own range.
+    dt : float, optional
+        Newmark step in s (default: 1/50 of the shortest possible contact).
+    max_memory_mb : float, optional
+        Cap in MB on the working memory (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
+    impacts_csv, history_csv, png : str, optional
+        The impact table, the time history and the Figure 5 plot; relative to the folder
+        :meth:`acoustiviz.app.damper.DamperResult.write` is given.
+    names : dict
+        The front end's vocabulary: API parameter -> the option or scene key its errors name
+        (not compared; default: the API names).
+    """
+
+    TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS)  # duration, solver, dt, rtol and the files
+    model: object
+    initial: object = None
+    duration: float = DEFAULT_DURATION
+    solver: str = "event"
+    rtol: float = DEFAULT_RTOL
+    dt: float | None = None
+    max_memory_mb: float | None = None
+    impacts_csv: str | None = None
+    history_csv: str | None = None
+    png: str | None = None
+    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self):
+        from ..names import user_terms
+
+        with user_terms(self.names):  # the table's ranges and every check of validate, in the user's words
+            super().__post_init__()
+
+    def files(self) -> dict:
+        """``{"impacts_csv": path, "history_csv": path, "png": path}`` of the files asked for (strings)."""
+        return {key: getattr(self, key) for key in FILE_KINDS if getattr(self, key) is not None}
+
+    def validate(self) -> None:
+        """The model's and the start's ranges, the solver's tolerance, the physics' limits, the memory, the files."""
+        from ...core.limits import check_damper
+        from ...dynamics import InitialState, solver_method
+
+        if self.initial is None:
+            object.__setattr__(self, "initial", InitialState(v=PAPER_V0))
+        model, start = self.model, self.initial
+        check_values({s.name: getattr(model, s.name) for s in MODEL + CONTACT_LAW}, MODEL + CONTACT_LAW)
+        check_values({"x0": start.x, "v0": start.v}, RUN)
+        solver_method(self.solver).check_rtol(self.rtol)
+        check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=start.v,
+                     duration=self.duration, c1=model.c1)
+        self._check_budget()
+        self._check_files()
+
+    def _check_budget(self) -> None:
+        from ..budget import check_budget, damper_estimate
+
+        option = self.names.get("duration", "duration")
+        check_budget(damper_estimate(self.model, self.duration, solver=self.solver, dt=self.dt, options=(option,)),
+                     self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
+
+    def _check_files(self) -> None:
+        from ..outputs import check_distinct, check_output_file
+
+        files = self.files()
+        for key, path in files.items():
+            check_output_file(key, path, FILE_KINDS[key])
+        check_distinct({f"{self.names.get(k, k)} ({k})": p for k, p in files.items()})
