@@ -267,7 +267,7 @@ class _Runner:
                     running[fut] = queue.pop()
                 if not broken:
                     done, _ = wait(running, return_when=FIRST_COMPLETED)
-                    for fut in done:
+                    for fut in [f for f in running if f in done]:  # in submission order, not a set's
                         d = running.pop(fut)
                         res, dead = self._outcome(fut, d)
                         if dead:
