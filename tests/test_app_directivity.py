@@ -128,7 +128,8 @@ def test_bad_options_are_refused_before_any_work_naming_the_option(extra, option
 def test_bad_scene_settings_are_refused_naming_the_scene_key(tmp_path, monkeypatch):
     _no_work(monkeypatch)
     setup = impact_setup(**SPHERE, config="plane")
-    names = {**DirectivityJob.scene_names(), "distance": "listeners[0].distance_m"}
+    scene = scene_from_dict({"configuration": {"kind": "plane"}, "outputs": {"directivity": {}}})
+    names = directivity_settings(scene).names  # the scene's vocabulary
     job = dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
                names=names)
     with pytest.raises(ParameterError, match=r"^outputs\.directivity\.step_deg: .*\(0, 90\] deg"):
