@@ -10,7 +10,7 @@ default or a file format.
 * :mod:`.columns` -- the waveform and directivity tables and the peaks a waveform reports;
 * :mod:`.waveform` -- the waveform job: :class:`~.waveform.WaveformJob` (its settings), :func:`~.waveform.run`
   and :class:`~.waveform.WaveformResult` with its files (``docs/guide/layout.md``: the pattern);
-* :mod:`.directivity` -- the levels of one impact against angle on a circle, printed and written;
+* :mod:`.directivity` -- the directivity job: the levels of one impact against angle on a circle, and its files;
 * :mod:`.render` -- the 3-D views' memory estimate and files;
 * :mod:`.impacts` -- sphere, contact, pulse, medium, configuration and observers of one impact;
 * :mod:`.damper` -- build and run a damper model, and the figures reported about it;

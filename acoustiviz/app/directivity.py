@@ -1,127 +1,165 @@
-"""The directivity of one impact: peak SPL, RMS and a further level against angle on a circle (paper Figure 3).
+"""The directivity job: peak SPL, RMS and a further level of one impact against angle on a circle (paper Figure 3).
 
-``acoustiviz directivity`` runs :func:`directivity_at` on its
-:class:`~acoustiviz.app.settings.impact.DirectivitySettings`, prints :func:`directivity_lines` and
-writes :func:`write_directivity_outputs`. Angles in degrees from the acceleration axis (the normal of
-the struck surface) on the command line, in rad in the API; the circle's radius in m.
+Three parts, shared by ``acoustiviz directivity``, a scene's ``[outputs.directivity]`` and Python callers:
+
+* :class:`~acoustiviz.app.settings.directivity.DirectivityJob`, the settings, checked once when made;
+* :func:`run`, which computes a :class:`DirectivityResult` from them (physics only: no files, no printing);
+* :meth:`DirectivityResult.write`, which writes the files the settings asked for and returns their paths.
+
+Angles are in rad from the acceleration axis (the normal of the struck surface) in the API, in degrees
+on the command line and in the table; the circle's radius in m.
+
+Examples
+--------
+The paper's Figure 3 above a reflecting plane, at 0.7 m every 45°:
+
+>>> from acoustiviz.app.impacts import impact_setup
+>>> setup = impact_setup(radius=0.01905, velocity=1.4, density=7800.0, config="plane")
+>>> job = DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, 0.7, step_deg=45.0)
+>>> result = run(job)
+>>> result.angles_deg.round(6).tolist(), result.spl_db.round(1).tolist()
+([0.0, 45.0, 90.0], [93.2, 88.8, 68.2])
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ..constants import DIRECTIVITY_METRICS
+from .settings.directivity import DirectivityJob
 
-__all__ = ["DirectivityResult", "directivity_at", "directivity_lines", "write_directivity_outputs"]
+__all__ = ["DirectivityJob", "DirectivityResult", "run"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DirectivityResult:
-    """A directivity and its further level.
+    """The directivity of a :class:`DirectivityJob` and its further level.
 
     Attributes
     ----------
-    angles : (n,) ndarray
-        Polar angles in rad.
+    settings : DirectivityJob
+        What was computed.
     directivity : acoustiviz.field.Directivity
-        Peak (Pa), RMS (Pa) and peak SPL (dB) per angle.
-    metric : str
-        The further level (``"peak-spl"``: none).
-    values : (n,) ndarray or None
-        The further level in dB per angle.
+        Peak (Pa), RMS (Pa) and peak SPL (dB) per angle, with the circle's points (m) and the RMS window (s).
+    levels : (n,) ndarray or None
+        The further level ``settings.metric`` in dB per angle (None for ``"peak-spl"``).
     """
 
-    angles: np.ndarray
+    settings: DirectivityJob
     directivity: object
-    metric: str
-    values: np.ndarray | None
+    levels: np.ndarray | None
+
+    @property
+    def angles(self) -> np.ndarray:
+        """Polar angles in rad from the acceleration axis."""
+        return np.asarray(self.directivity.angle, dtype=float)
+
+    @property
+    def angles_deg(self) -> np.ndarray:
+        """Polar angles in degrees from the acceleration axis."""
+        return np.asarray(self.directivity.angle_deg, dtype=float)
+
+    @property
+    def peak(self) -> np.ndarray:
+        """Peak pressure ``max|p|`` in Pa per angle."""
+        return np.asarray(self.directivity.peak, dtype=float)
+
+    @property
+    def rms(self) -> np.ndarray:
+        """RMS pressure in Pa over the window per angle."""
+        return np.asarray(self.directivity.rms, dtype=float)
+
+    @property
+    def spl_db(self) -> np.ndarray:
+        """Peak SPL ``20 log10(max|p| / 20 µPa)`` in dB per angle."""
+        return np.asarray(self.directivity.spl_db, dtype=float)
 
     @property
     def column(self) -> str | None:
-        """The CSV column of the further level (None: none)."""
-        return DIRECTIVITY_METRICS[self.metric] if self.metric != "peak-spl" else None
+        """The table's column of the further level (None: none)."""
+        return DIRECTIVITY_METRICS[self.settings.metric] if self.levels is not None else None
 
+    def loudest(self) -> int:
+        """The index of the angle of the largest peak SPL."""
+        return int(np.nanargmax(self.spl_db))
 
-def directivity_at(setup, distance: float, settings, *, max_memory_mb=None) -> DirectivityResult:
-    """The directivity of ``setup`` on a circle of radius ``distance`` m, its memory checked first.
+    def title(self) -> str:
+        """The figure's title: the configuration, the circle's radius, the sphere, the speed and the pulse."""
+        s = self.settings
+        return (f"{s.configuration.caption()}: r = {s.distance:g} m, a = {s.configuration.radius * 1e3:g} mm, "
+                f"U0 = {s.impact.velocity:g} m/s, {s.pulse.kind} pulse")
 
-    Errors name ``--distance`` and ``--step``. ``settings``: a
-    :class:`~acoustiviz.app.settings.impact.DirectivitySettings` (step in degrees, further level).
-    """
-    from ..field import circle_points, directivity
-    from .budget import check_budget, check_room_order, directivity_estimate, memory_cap, metric_estimate
-    from .impacts import observer_point
-    from .names import IMPACT_OPTIONS, user_terms
-    from .views import directivity_angles, directivity_metric
+    def write(self, folder=None) -> list:
+        """Write the files the settings ask for into ``folder``; return their paths.
 
-    check_room_order(setup.configuration, max_memory_mb)  # a room short of its tolerance: refused
-    with user_terms({"distance": "--distance"}):  # the circle's radius fits in the fluid (a room's walls)
-        circle_points(setup.configuration, distance, [0.0])
-    with user_terms(IMPACT_OPTIONS):
-        observer_point(setup, distance, 0.0)  # the circle's radius checked as --distance
-    names = {"step_deg": "--step", "distance": "--distance", "angles": "--step", "memory_limit": "--max-memory"}
-    with user_terms(names):
-        check_budget(directivity_estimate(setup.configuration, settings.step_deg, pulse=setup.pulse,
-                                          medium=setup.medium, window_options=("--wall-distance", "--distance")),
-                     max_memory_mb)
-        angles = directivity_angles(setup.configuration, settings.step_deg)
-        weighted = settings.metric not in ("peak-spl", "rms")
-        if weighted:  # the sound at every angle, held together: its memory checked before any work
-            check_budget(metric_estimate(setup.pulse, circle_points(setup.configuration, distance, angles),
-                                         setup.configuration, setup.medium, settings.metric), max_memory_mb)
-        d = directivity(setup.pulse, setup.configuration, distance, angles, medium=setup.medium)
-        values = None if settings.metric == "peak-spl" else directivity_metric(
-            d, settings.metric, setup.pulse, setup.configuration, setup.medium,
-            memory_limit=memory_cap(max_memory_mb) if weighted else None)
-    return DirectivityResult(angles, d, settings.metric, values)
+        The table (``angle_deg, peak_pa, rms_pa, spl_db`` and the further level's column,
+        :func:`acoustiviz.app.columns.write_directivity_csv`) and the polar figure, each atomically.
 
+        Parameters
+        ----------
+        folder : path-like, optional
+            Where relative file names are put (default: as given, the current folder).
 
-def directivity_lines(setup, distance: float, res: DirectivityResult, window=None) -> list:
-    """The summary and the table printed by ``acoustiviz directivity``; ``window`` in s: a room's."""
-    from .views import metric_label
+        Returns
+        -------
+        list of Path
+        """
+        files = {k: Path(v) if folder is None else Path(folder) / v for k, v in self.settings.files().items()}
+        written = []
+        if "csv" in files:
+            from .columns import write_directivity_csv
 
-    imp, conf, d, extra = setup.impact, setup.configuration, res.directivity, res.values is not None
-    lines = [f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
-             f"({setup.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, pulse {setup.pulse.kind}",
-             f"circle: {distance:g} m from the sphere's centre, configuration {conf.caption()}; "
-             f"RMS window {d.metrics.window * 1e3:.3f} ms from the first arrival"]
-    if window is not None:
-        lines.append(f"images: image_order {conf.image_order}, images {conf.image_count}, neglected_energy_db "
-                     f"{conf.neglected_energy_db:.1f} (every image that can arrive within the {window:g} s window)")
-    if extra and res.metric != "rms":
-        lines.append(f"{metric_label(res.metric)}: from the pressure at each angle band-limited flat to 43.2 kHz and "
-                     "sampled at 96 kHz (IEC 61672-1 weightings); equivalent levels over 1 s from the first arrival")
-    lines.append(f"{'angle_deg':>9} {'peak_pa':>10} {'rms_pa':>10} {'spl_db':>7}"
-                 + (f" {res.column:>10}" if extra else ""))
-    for k, row in enumerate(zip(np.degrees(res.angles), d.peak, d.rms, d.spl_db, strict=True)):
-        lines.append(f"{row[0]:9.2f} {row[1]:10.4g} {row[2]:10.4g} {row[3]:7.2f}"
-                     + (f" {res.values[k]:10.2f}" if extra else ""))
-    return lines
+            written.append(write_directivity_csv(files["csv"], self.directivity, self.column, self.levels))
+        if "png" in files:
+            written.append(self._figure(files["png"]))
+        return [Path(p) for p in written]
 
-
-def write_directivity_outputs(setup, distance: float, res: DirectivityResult, *, csv=None, png=None) -> list:
-    """Write the table and the polar figure asked for; return their paths."""
-    written = []
-    if csv:
-        from .columns import write_directivity_csv
-
-        write_directivity_csv(csv, res.directivity, res.column, res.values)
-        written.append(csv)
-    if png:
+    def _figure(self, path: Path) -> Path:
+        """Peak SPL and RMS (and the further level) against angle, polar, titled from the settings alone."""
         from ..output.plot.directivity import directivity_figure
         from ..output.plot.style import save_figure
         from .views import directivity_metric_figure
 
-        conf, imp = setup.configuration, setup.impact
-        half = conf.polar_limit_deg == 90.0
-        title = (f"{conf.caption()}: r = {distance:g} m, a = {setup.radius * 1e3:g} mm, "
-                 f"U0 = {imp.velocity:g} m/s, {setup.pulse.kind} pulse")
-        if res.values is not None:
-            fig = directivity_metric_figure(res.directivity, res.values, res.metric, half_space=half, title=title)
+        half = self.settings.configuration.polar_limit_deg == 90.0
+        if self.levels is not None:
+            fig = directivity_metric_figure(self.directivity, self.levels, self.settings.metric, half_space=half,
+                                            title=self.title())
         else:
-            fig = directivity_figure(res.directivity, half_space=half, title=title)
-        save_figure(fig, png)
-        written.append(png)
-    return written
+            fig = directivity_figure(self.directivity, half_space=half, title=self.title())
+        return save_figure(fig, path)
+
+
+def run(settings: DirectivityJob) -> DirectivityResult:
+    """Compute the directivity of ``settings`` and its further level (no files).
+
+    Parameters
+    ----------
+    settings : DirectivityJob
+        The job, checked when it was made.
+
+    Returns
+    -------
+    DirectivityResult
+    """
+    from .names import user_terms
+
+    with user_terms(settings.names):  # an error of the physics in the front end's words
+        return _run(settings)
+
+
+def _run(s: DirectivityJob) -> DirectivityResult:
+    from ..field import directivity
+    from .budget import memory_cap
+    from .views import directivity_angles, directivity_metric
+
+    conf = s.configuration
+    angles = directivity_angles(conf, s.step_deg)
+    d = directivity(s.pulse, conf, s.distance, angles, medium=s.medium)
+    levels = None
+    if s.metric != "peak-spl":  # the sound at every angle within the cap its estimate was checked against
+        levels = directivity_metric(d, s.metric, s.pulse, conf, s.medium,
+                                    memory_limit=memory_cap(s.max_memory_mb) if s.weighted else None)
+    return DirectivityResult(s, d, levels)

@@ -164,41 +164,49 @@ def produce_waveform(ctx: RunContext):
     return products
 
 
-def produce_directivity(ctx: RunContext):
-    """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance (CSV + polar PNG)."""
-    from ..field import directivity
-    from ..output.plot.directivity import directivity_figure
-    from .budget import memory_cap
-    from .columns import write_directivity_csv
-    from .views import DIRECTIVITY_METRICS, directivity_angles, directivity_metric, directivity_metric_figure
+def directivity_settings(scene, out=None):
+    """The scene's ``[outputs.directivity]`` as a :class:`~acoustiviz.app.settings.directivity.DirectivityJob`.
 
-    out = ctx.scene.output("directivity")
-    step, metric = out["step_deg"], out.get("metric", "peak-spl")
-    conf = ctx.configuration
-    name, pos = ctx.listeners[0]
-    dist = float(np.linalg.norm(pos - conf.centre))
-    top = conf.polar_limit_deg
-    angles = directivity_angles(conf, step)
-    with user_terms({"distance": f"listeners.{name}"}):
-        d = directivity(ctx.pulse(), conf, dist, angles, medium=ctx.medium)
-    title = f"{conf.caption()}, r = {dist:g} m (paper Figure 3)"
-    figures, column, values = {}, None, None
-    if metric != "peak-spl":
-        values = directivity_metric(d, metric, ctx.pulse(), conf, ctx.medium,  # within the cap it was checked against
-                                    memory_limit=memory_cap(ctx.scene.section("grids")["memory_limit_mb"]))
-        column = DIRECTIVITY_METRICS[metric]
-        figures[f"max_{column}"] = f"{np.nanmax(values):.1f}"
-        fig = directivity_metric_figure(d, values, metric, half_space=top == 90.0, title=title)
-    else:
-        fig = directivity_figure(d, half_space=top == 90.0, title=title)
-    if hasattr(conf, "image_order"):  # a room: its image model
+    The circle's radius is the first listener's distance from the sphere's centre; the files are
+    ``directivity.csv`` and ``.png`` in folder ``out`` (None: no files, the checks of the scene's settings
+    alone, made before the run folder exists); errors name scene keys.
+    """
+    from .settings.directivity import DirectivityJob
+
+    opts, setup = scene.output("directivity"), scene.setup()
+    (_, position), *_ = scene.listeners()
+    first = scene.data["listeners"][0]
+    circle = "listeners[0]." + ("position_m" if first.get("position_m") is not None else "distance_m")
+    files = {} if out is None else {k: str(Path(out) / f"directivity.{k}") for k in ("csv", "png")}
+    names = {**DirectivityJob.scene_names(), "csv": "outputs.directivity", "png": "outputs.directivity",
+             "distance": circle, "angles": "outputs.directivity.step_deg", "max_memory_mb": "grids.memory_limit_mb",
+             "memory_limit": "grids.memory_limit_mb", "wall_distance": "configuration.wall_distance_m",
+             "window": "configuration.window_s"}
+    distance = float(np.linalg.norm(np.asarray(position, dtype=float) - setup.configuration.centre))
+    return DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, distance,
+                          step_deg=opts["step_deg"], metric=opts.get("metric", "peak-spl"),
+                          max_memory_mb=scene.section("grids")["memory_limit_mb"],
+                          k_hertz_source=setup.k_hertz_source, names=names, **files)
+
+
+def produce_directivity(ctx: RunContext):
+    """Peak, RMS and SPL (and a chosen level) against angle at the first listener's distance: the directivity job."""
+    from .directivity import run
+
+    settings = directivity_settings(ctx.scene, ctx.out)
+    for path in settings.files().values():  # only the files checked before the run
+        ctx.path(Path(path).name)
+    result = run(settings)
+    csv, png = result.write()
+    i = result.loudest()
+    figures = {"max_spl_db": f"{result.spl_db[i]:.1f}", "at_deg": f"{result.angles_deg[i]:g}",
+               "distance_m": f"{settings.distance:g}"}
+    if result.levels is not None:
+        figures[f"max_{result.column}"] = f"{np.nanmax(result.levels):.1f}"
+    if settings.in_room:  # a room: its image model
+        conf = settings.configuration
         figures.update(image_order=str(conf.image_order), images=str(conf.image_count))
-    csv = write_directivity_csv(ctx.path("directivity.csv"), d, column, values)
-    png = _save(fig, ctx.path("directivity.png"))
-    i = int(np.nanargmax(d.spl_db))
-    return [Product("directivity", csv, {"max_spl_db": f"{d.spl_db[i]:.1f}", "at_deg": f"{d.angle_deg[i]:g}",
-                                         "distance_m": f"{dist:g}", **figures}),
-            Product("directivity", png, {})]
+    return [Product("directivity", csv, figures), Product("directivity", png, {})]
 
 
 #: The files of each damper output (:class:`~acoustiviz.app.settings.damper_job.DamperJob` fields -> file names).
@@ -432,6 +440,7 @@ PRODUCERS = {
 _SETTINGS = {
     "waveform": waveform_settings,
     **{kind: damper_settings for kind in DAMPER_FILES},
+    "directivity": directivity_settings,
     "sweep": scene_sweep_spec,
     "design_table": scene_sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),

@@ -1,7 +1,12 @@
-"""``acoustiviz directivity``: peak SPL and RMS pressure versus angle on a circle (paper Figure 3)."""
+"""``acoustiviz directivity``: peak SPL and RMS pressure versus angle on a circle (paper Figure 3).
+
+argv -> :class:`~acoustiviz.app.settings.directivity.DirectivityJob` (:func:`settings_from_args`) ->
+:func:`acoustiviz.app.directivity.run` -> :meth:`~acoustiviz.app.directivity.DirectivityResult.write` -> the summary.
+"""
 
 from __future__ import annotations
 
+from ..app.settings.directivity import DIRECTIVITY_OUTPUTS
 from ..app.settings.impact import DIRECTIVITY
 from ..app.settings.table import add_option
 from ._impact import add_impact_options, add_observer_options, add_room_options
@@ -26,39 +31,62 @@ def add_parser(subparsers) -> None:
     add_impact_options(p)
     add_observer_options(p, angle=False)
     add_room_options(p, duration=True)
-    add_option(p, DIRECTIVITY[0], metavar="DEG")
-    p.add_argument("--metric", default="peak-spl", metavar="NAME",
-                   help="level shown against angle: peak-spl (default, max|p|), rms (RMS level over the window), "
-                        "or a weighted level computed from the impact's pressure at each angle, band-limited at "
-                        "96 kHz: lcpeak, lafmax, laeq (over 1 s from the first arrival), sel-a, lzpeak, lasmax, "
-                        "lzeq, sel")
-    p.add_argument("--csv", default=None, metavar="PATH",
-                   help="write columns angle_deg,peak_pa,rms_pa,spl_db and, for another --metric, its column "
-                        "(rms_db, lcpeak_db, lafmax_db, laeq_db, sel_a_db, ...)")
-    p.add_argument("--png", default=None, metavar="PATH", help="draw SPL and RMS polar plots")
+    step, metric = DIRECTIVITY
+    add_option(p, step, metavar="DEG")
+    add_option(p, metric, metavar="NAME", parse_choices=False)  # a bad name: the job's one line, closest name
+    for s in DIRECTIVITY_OUTPUTS:
+        add_option(p, s)
     p.set_defaults(func=run)
+
+
+def settings_from_args(args):
+    """The :class:`~acoustiviz.app.settings.directivity.DirectivityJob` of the options; errors name the options."""
+    from ..app.names import IMPACT_OPTIONS, ROOM_OPTIONS
+    from ..app.settings.directivity import DirectivityJob
+    from ._impact import impact_from_args, room_duration
+
+    room_duration(args)  # --duration with --room only, and required there
+    setup = impact_from_args(args)
+    names = {**IMPACT_OPTIONS, **ROOM_OPTIONS, **DirectivityJob.cli_names(), "max_memory_mb": "--max-memory",
+             "memory_limit": "--max-memory", "angles": "--step", "window": "--duration"}
+    return DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, args.distance,
+                          step_deg=args.step, metric=args.metric, max_memory_mb=getattr(args, "max_memory", None),
+                          csv=args.csv, png=args.png, k_hertz_source=setup.k_hertz_source, names=names)
 
 
 def run(args) -> int:
     """Compute the directivity, print it, and write the requested files."""
-    from ..app.directivity import directivity_at, directivity_lines, write_directivity_outputs
-    from ..app.names import user_terms
-    from ..app.outputs import check_distinct, check_output_file
-    from ..app.settings.impact import DirectivitySettings
-    from ._impact import impact_from_args, room_duration
+    from ..app.directivity import run as run_job
 
-    with user_terms(DirectivitySettings.cli_names()):
-        settings = DirectivitySettings(args.step, args.metric)
-    if args.csv is not None:
-        check_output_file("--csv", args.csv, "csv")
-    if args.png is not None:
-        check_output_file("--png", args.png, "figure")
-    check_distinct({"--csv": args.csv, "--png": args.png})
-    window = room_duration(args)
-    setup = impact_from_args(args)
-    res = directivity_at(setup, args.distance, settings, max_memory_mb=getattr(args, "max_memory", None))
-    for line in directivity_lines(setup, args.distance, res, window):
+    result = run_job(settings_from_args(args))
+    for line in _summary_lines(result):
         print(line)
-    for path in write_directivity_outputs(setup, args.distance, res, csv=args.csv, png=args.png):
+    for path in result.write():
         print(f"wrote {path}")
     return 0
+
+
+def _summary_lines(result) -> list:
+    """The impact, the circle (in a room, its images), how a weighted level is made, and the table."""
+    import numpy as np
+
+    from ..app.views import metric_label
+
+    s = result.settings
+    imp, conf, d, extra = s.impact, s.configuration, result.directivity, result.levels is not None
+    lines = [f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
+             f"({s.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, pulse {s.pulse.kind}",
+             f"circle: {s.distance:g} m from the sphere's centre, configuration {conf.caption()}; "
+             f"RMS window {d.metrics.window * 1e3:.3f} ms from the first arrival"]
+    if s.in_room:
+        lines.append(f"images: image_order {conf.image_order}, images {conf.image_count}, neglected_energy_db "
+                     f"{conf.neglected_energy_db:.1f} (every image that can arrive within the {s.window:g} s window)")
+    if s.weighted:
+        lines.append(f"{metric_label(s.metric)}: from the pressure at each angle band-limited flat to 43.2 kHz and "
+                     "sampled at 96 kHz (IEC 61672-1 weightings); equivalent levels over 1 s from the first arrival")
+    lines.append(f"{'angle_deg':>9} {'peak_pa':>10} {'rms_pa':>10} {'spl_db':>7}"
+                 + (f" {result.column:>10}" if extra else ""))
+    for k, row in enumerate(zip(np.degrees(result.angles), d.peak, d.rms, d.spl_db, strict=True)):
+        lines.append(f"{row[0]:9.2f} {row[1]:10.4g} {row[2]:10.4g} {row[3]:7.2f}"
+                     + (f" {result.levels[k]:10.2f}" if extra else ""))
+    return lines

@@ -1,22 +1,23 @@
 """Settings objects: one frozen dataclass per workflow, checked once against one table of ranges and defaults.
 
-============ ==========================================================================================
-``table``    the :class:`Setting` record (API name, option, scene key, type, unit, range, default,
-             meaning) and :func:`add_option`, which builds a command-line option from it
-``base``     the :class:`Settings` base class that checks its fields against its table, and image sizes
-``parse``    a point X,Y,Z and an image size WxH typed as text
-``impact``   the options of one impact, its waveform and its directivity
-``waveform`` the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
-``damper``   the records of the impact damper (paper eq 15), its start, run and solver; beside it
-             ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
-``render``   the balloon, snapshot and animation views
-``forced``   the damper in operation: continuation, solver, tolerances, level interval, the job
-``design``   the target damping inclination and its tolerance
-``sweep``    the simulated time per design of a sweep, the sweep's options and its sphere radius
-``room``     the shoebox room's options
-``auralize`` the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
-``levels``   the WAV file, its calibration, the interval and the CSV of ``acoustiviz levels``
-============ ==========================================================================================
+================ ======================================================================================
+``table``        the :class:`Setting` record (API name, option, scene key, type, unit, range, default,
+                 meaning) and :func:`add_option`, which builds a command-line option from it
+``base``         the :class:`Settings` base class that checks its fields against its table, and image sizes
+``parse``        a point X,Y,Z and an image size WxH typed as text
+``impact``       the options of one impact, its waveform and its directivity
+``waveform``     the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
+``directivity``  the directivity job: impact, circle, angle step, level and files (:class:`DirectivityJob`)
+``damper``       the records of the impact damper (paper eq 15), its start, run and solver; beside it
+                 ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
+``render``       the balloon, snapshot and animation views
+``forced``       the damper in operation: continuation, solver, tolerances, level interval, the job
+``design``       the target damping inclination and its tolerance
+``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius
+``room``         the shoebox room's options
+``auralize``     the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
+``levels``       the WAV file, its calibration, the interval and the CSV of ``acoustiviz levels``
+================ ======================================================================================
 
 The command line builds its options from the records, the scene schema its keys, and the
 settings objects check their values with them; ``acoustiviz --help``, ``acoustiviz run
@@ -26,6 +27,7 @@ settings objects check their values with them; ``acoustiviz --help``, ``acoustiv
 from .base import Settings, check_size
 from .damper_job import DamperJob
 from .design import DesignSettings
+from .directivity import DirectivityJob
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
@@ -38,4 +40,4 @@ from .waveform import WaveformJob
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
            "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
-           "DamperJob"]
+           "DamperJob", "DirectivityJob"]

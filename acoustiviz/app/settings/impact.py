@@ -106,7 +106,9 @@ DIRECTIVITY = (
     Setting("step_deg", "--step", "step_deg", "float", 5.0, "angle step", "deg", low=0.0,
             high=90.0, low_open=True, table="outputs.directivity"),
     Setting("metric", "--metric", "metric", "str", "peak-spl",
-            "level shown against angle besides peak, RMS and SPL: a weighted level of one impact; peak-spl: none",
+            "level shown against angle besides peak, RMS and SPL: peak-spl (none, max|p|), rms (RMS level over the "
+            "window), or a weighted level computed from the impact's pressure at each angle, band-limited at 96 kHz: "
+            "lcpeak, lafmax, laeq (over 1 s from the first arrival), sel-a, lzpeak, lasmax, lzeq, sel",
             choices=tuple(DIRECTIVITY_METRICS), table="outputs.directivity"),
 )
 
