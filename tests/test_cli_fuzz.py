@@ -823,3 +823,24 @@ def test_overwrite_moves_only_the_sweeps_own_files(here, capsys):
     capsys.readouterr()
     assert (here / "sw" / "notes.txt").read_text() == "mine\n"
     assert (here / "sw" / "max_spl_map.previous-1.png").exists() and (here / "sw" / "max_spl_map.png").exists()
+
+
+ROOM_SCENE = ("[configuration]\nkind = \"room\"\nroom_m = [6.0, 4.0, 3.0]\nabsorption = 0.1\n"
+              "source_m = [2.0, 1.5, 0.01905]\nwindow_s = {window}\n\n"
+              "[[listeners]]\nname = \"middle\"\nposition_m = [3.0, 2.0, 1.5]\n\n[outputs.waveform]\n")
+
+
+def test_a_room_window_too_long_for_memory_is_refused_before_its_images_are_counted(here, capsys, monkeypatch):
+    """A waveform over a 10 000 s window: its time grid alone exceeds any cap, named before the image order."""
+    import acoustiviz.core.reverberation as reverberation
+
+    def sought(*args, **kwargs):
+        raise AssertionError("the image order of the window was sought")
+
+    monkeypatch.setattr(reverberation, "energy_order", sought)
+    (here / "room.toml").write_text(ROOM_SCENE.format(window="10000"))
+    rc = call(["run", "room.toml", "--out", "out"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "configuration.window_s")
+    assert "grids.memory_limit_mb" in err, err
+    assert left_over(here) == ["room.toml"]

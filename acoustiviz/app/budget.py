@@ -222,6 +222,20 @@ def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=
                     tuple(window_options) + tuple(options))
 
 
+def window_estimate(pulse, radius: float, medium, window: float, samples_per_duration: int,
+                    options=("--duration",)) -> Estimate:
+    """The time grid alone of a waveform over a room's ``window`` (s): a floor of :func:`waveform_estimate`.
+
+    It counts the samples of ``window`` at ``samples_per_duration`` per contact duration of ``pulse``
+    as for a single source (the real sphere, no image), so it needs neither the room's image order
+    nor its images: a window too long for any memory is refused before the order is sought.
+    """
+    from ..core.geometry import geometry
+
+    return waveform_estimate([pulse], np.zeros(3), geometry("free", radius), medium, samples_per_duration,
+                             options=options, window=window)
+
+
 def scene_waveform_estimate(scene, conf):
     """The memory of a scene's ``[outputs.waveform]``: the largest listener's table, as the run samples it.
 
