@@ -21,6 +21,7 @@ from .validate import (
     _validate_table,
     check_configuration,
     check_damper_physics,
+    check_window,
     scene_frequencies,
 )
 
@@ -314,7 +315,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     radius = data["sphere"]["radius_m"]
     _check_materials(data, source)
     _band_absorption(raw, data, source)
-    _check_window(data, raw, source)
+    check_window(data, raw, source, lambda free: Scene(MappingProxyType(free), source, ()).setup())
     check_configuration(data, source)
     data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
     outputs = _validate_outputs(raw.get("outputs", {}), data, source)
@@ -326,33 +327,6 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     if "wav" in outputs:
         scene.room_sound()  # the tail's and the bands' settings, refused here rather than mid-run
     return scene
-
-
-def _check_window(data: dict, raw: dict, source: str) -> None:
-    """A room's waveform window within ``grids.memory_limit_mb``, before the room's image order is sought.
-
-    The time grid alone (:func:`acoustiviz.app.budget.window_estimate`) of a very long window exceeds
-    any cap, and seeking the image order of such a window takes long; the full estimate follows.
-    """
-    conf = data["configuration"]
-    outputs = raw.get("outputs")
-    if conf.get("window_s") is None or not isinstance(outputs, dict) or "waveform" not in outputs \
-            or not _enclosed(data):
-        return
-    from ..app.budget import check_budget, window_estimate
-    from ..app.settings.impact import WAVEFORM
-
-    free = Scene(MappingProxyType({**data, "configuration": {**conf, "kind": "free"}}), source, ())
-    try:
-        setup = free.setup()
-    except ParameterError:
-        return  # an impact refused here is named by the checks that follow
-    try:
-        check_budget(window_estimate(setup.pulse, setup.radius, setup.medium, conf["window_s"], WAVEFORM[0].default,
-                                     options=("configuration.window_s",)),
-                     data["grids"]["memory_limit_mb"], cap_name="grids.memory_limit_mb")
-    except ParameterError as exc:
-        raise SceneError(source, exc.name, exc.detail) from None
 
 
 def _check_materials(data: dict, source: str) -> None:
