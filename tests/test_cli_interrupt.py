@@ -127,6 +127,42 @@ def interrupt_after(argv, folder: Path, marker: str) -> Run:
     return run
 
 
+
+#: ``python -m SHIM levels ...``: the command's work runs code from C (as an extension module's
+#: initialisation does) and a Ctrl-C lands in it; CPython records that as an unhandled interrupt.
+_FROM_C_SHIM = """\
+import ctypes
+import sys
+
+import acoustiviz.cli.levels as levels
+
+
+def run(args):
+    print("working", file=sys.stderr, flush=True)
+    if ctypes.pythonapi.PyRun_SimpleString(b"raise KeyboardInterrupt") != 0:
+        raise KeyboardInterrupt
+
+
+levels.run = run
+from acoustiviz.cli import main
+
+sys.exit(main())
+"""
+
+
+def test_ctrl_c_in_code_run_from_c_still_exits_130(tmp_path):
+    """``python -m`` kills its own process by SIGINT at exit once CPython has recorded an unhandled
+    Ctrl-C, whatever status the command returns: the status must still be 130, not death by signal."""
+    (tmp_path / "ctrl_c_from_c.py").write_text(_FROM_C_SHIM)
+    env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
+    proc = subprocess.run([sys.executable, "-m", "ctrl_c_from_c", "levels", "in.wav",
+                           "--csv", "l.csv"], cwd=tmp_path, env=env,
+                          stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    assert "working" in proc.stderr, proc.stderr
+    assert proc.returncode == 130, proc.stderr
+    assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
+
+
 FORCED = ["forced", "--force", "5", "--freq", "3:7:40"]
 
 

@@ -105,6 +105,9 @@ def main(argv=None) -> int:
     collector (:func:`gc.freeze`): the interpreter's exit then skips traversing them again in
     its final collections (figures: ``benchmarks/results/design_timings.md``). Every output file is closed
     by then and exit handlers still run.
+
+    A Ctrl-C at any moment, the imports of the command included, ends it with one line and exit
+    status 130 (:func:`interrupted`).
     """
     if argv is None:
         try:
@@ -116,7 +119,74 @@ def main(argv=None) -> int:
     return _main(list(argv))
 
 
+def command_of(argv) -> str:
+    """The subcommand named in ``argv`` (its first word that is one), or ``""``."""
+    return next((str(tok) for tok in argv if str(tok) in SUBCOMMANDS), "")
+
+
+def interrupted(command: str, standalone: bool) -> int:
+    """Say that ``command`` was interrupted; return its exit status, 130.
+
+    When the process ends here (``standalone``) a second Ctrl-C is ignored from now on, so that it
+    cannot turn the message into a traceback, and the interpreter's record of an unhandled
+    Ctrl-C is cleared: a Ctrl-C that landed in code the interpreter runs from C (an extension
+    module's initialisation) leaves that record set, and ``python -m`` would then end the process
+    by the signal itself instead of with status 130 (:func:`_forget_unhandled_interrupt`).
+    """
+    if standalone:
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        _forget_unhandled_interrupt()
+    name = f"acoustiviz {command}" if command else "acoustiviz"
+    print(f"{name}: interrupted; finished outputs were kept", file=sys.stderr)
+    return 130
+
+
+def _forget_unhandled_interrupt() -> None:
+    """Clear CPython's flag of a KeyboardInterrupt left unhandled by code run from C.
+
+    CPython sets it when a KeyboardInterrupt leaves code run by ``PyRun_String`` (as some
+    extension modules run at import) and, at the end of ``python -m``, kills its own process by
+    SIGINT when it is set, whatever the exit status asked for. Running an empty string the same
+    way clears it.
+    """
+    try:
+        import ctypes
+
+        ctypes.pythonapi.PyRun_SimpleString(b"")
+    except (ImportError, AttributeError, OSError):  # another interpreter: no such flag
+        pass
+
+
+def _unraisable_interrupts(previous):
+    """A :data:`sys.unraisablehook` that delivers a Ctrl-C swallowed by a finaliser again.
+
+    A KeyboardInterrupt raised inside a ``__del__``, a weak-reference callback or a garbage
+    collection cannot propagate (Python prints "Exception ignored in ..." and carries on): the
+    signal is raised again so that it lands in the command's own code, which then stops.
+    """
+    import signal
+
+    def hook(unraisable):
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            previous(unraisable)
+            return
+        signal.raise_signal(signal.SIGINT)  # last: the handler runs once this hook has returned
+
+    return hook
+
+
 def _main(argv: list, standalone: bool = False) -> int:
+    if standalone:
+        sys.unraisablehook = _unraisable_interrupts(sys.unraisablehook)
+    try:
+        return _command(argv, standalone)
+    except KeyboardInterrupt:
+        return interrupted(command_of(argv), standalone)
+
+
+def _command(argv: list, standalone: bool) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     # the options typed (not defaulted): errors about work too large name one of these first
@@ -154,13 +224,6 @@ def _main(argv: list, standalone: bool = False) -> int:
         print(f"acoustiviz {args.command}: error: out of memory; ask for less work or lower --max-memory "
               "so that it is refused before it starts", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        if standalone:  # the process ends here: a second Ctrl-C must not turn the message into a traceback
-            import signal
-
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-        print(f"acoustiviz {args.command}: interrupted; finished outputs were kept", file=sys.stderr)
-        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover
