@@ -844,3 +844,54 @@ def test_a_room_window_too_long_for_memory_is_refused_before_its_images_are_coun
     assert_user_error(rc, err, "configuration.window_s")
     assert "grids.memory_limit_mb" in err, err
     assert left_over(here) == ["room.toml"]
+
+
+#: One cheap invocation of every command (inputs made by :func:`_capped_inputs`).
+CAPPED = {
+    "run": ["run", "--out", "o"],
+    "run room scene": ["run", "room.toml", "--out", "o"],
+    "waveform": ["waveform", "--csv", "w.csv"],
+    "directivity": ["directivity", "--step", "30", "--csv", "d.csv"],
+    "map": ["map", "--resolution", "21", "--extent", "0.3", "--csv", "m.csv"],
+    "damper": ["damper", "--duration", "1", "--impacts-csv", "i.csv"],
+    "forced": ["forced", "--force", "5", "--freq", "5", "--starts", "1", "--max-cycles", "60", "--csv", "f.csv"],
+    "sweep": ["sweep", "--gap", "0.02,0.04", "--m", "0.04", "--duration", "1", "--workers", "1", "--out", "sw"],
+    "design": ["design", "--sweep", "SWEEP", "--inclination", "0.005", "--tolerance", "0.01"],
+    "render balloon": ["render", "balloon", "--resolution", "8", "--size", "160x120", "--png", "b.png"],
+    "render snapshot": ["render", "snapshot", "--resolution", "31", "--size", "160x120", "--png", "s.png"],
+    "render animation": ["render", "animation", "--frames", "3", "--resolution", "21", "--size", "160x120",
+                         "--gif", "a.gif"],
+    "auralize": ["auralize", "--duration", "0.3", "--wav", "a.wav"],
+    "levels": ["levels", "t.wav", "--csv", "l.csv", "--pa-per-fs", "1"],
+}
+
+
+def _capped_inputs(folder: Path, argv: list, sweep: Path) -> list:
+    """Write the inputs ``argv`` reads into ``folder``; return ``argv`` with the sweep's folder filled in."""
+    from scipy.io import wavfile
+
+    (folder / "room.toml").write_text(ROOM_SCENE.format(window="0.02"))
+    wavfile.write(folder / "t.wav", 48000, (0.1 * np.sin(0.1 * np.arange(4800))).astype(np.float32))
+    return [str(sweep) if a == "SWEEP" else a for a in argv]
+
+
+@pytest.mark.parametrize("command", list(CAPPED))
+def test_a_cap_that_refuses_everything_refuses_every_command_naming_max_memory(here, capsys, finished_sweep,
+                                                                                command):
+    """``--max-memory 1e-6`` (one byte) leaves room for no work: every command, a scene's run included,
+    refuses before writing anything, naming ``--max-memory`` (a scene's own cap is larger)."""
+    argv = _capped_inputs(here, CAPPED[command], finished_sweep)
+    before = left_over(here)
+    rc = call([*argv, "--max-memory", "1e-6"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--max-memory")
+    assert left_over(here) == before
+
+
+@pytest.mark.parametrize("value", ["-0", "0", "nan", "-5"])
+def test_a_cap_that_is_not_a_positive_size_is_refused_by_every_command(here, capsys, finished_sweep, value):
+    for command in ("design", "levels", "run"):
+        argv = _capped_inputs(here, CAPPED[command], finished_sweep)
+        rc = call([*argv, f"--max-memory={value}"])
+        assert_user_error(rc, capsys.readouterr().err, "--max-memory")
+    assert not (here / "o").exists() and not (here / "l.csv").exists()

@@ -204,9 +204,13 @@ def _command(argv: list, standalone: bool) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = one_line
+            from ..app.budget import outer_cap
             from ..app.outputs import replacing
 
-            with replacing(getattr(args, "replace", False), getattr(args, "replace_option", "--force")):
+            # --max-memory bounds every budget check of the command, a scene's too; a cap that is not
+            # a positive number of MB is refused here, before any work
+            with replacing(getattr(args, "replace", False), getattr(args, "replace_option", "--force")), \
+                    outer_cap(getattr(args, "max_memory", None)):
                 return int(args.func(args) or 0)
     except ParameterError as exc:
         print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
