@@ -895,3 +895,25 @@ def test_a_cap_that_is_not_a_positive_size_is_refused_by_every_command(here, cap
         rc = call([*argv, f"--max-memory={value}"])
         assert_user_error(rc, capsys.readouterr().err, "--max-memory")
     assert not (here / "o").exists() and not (here / "l.csv").exists()
+
+
+@pytest.mark.parametrize("c1, cut", [("1000", True), ("20", False)])
+def test_a_contact_cut_by_the_end_of_the_run_is_said_where_the_user_reads(here, capsys, c1, cut):
+    """With c1 = 1000 N s/m the Table 1 damper is in contact at t = 1 s: the last row's separation
+    velocity and restitution are nan, and the run says so in one note; a run ending between contacts
+    has none. ``--help`` of ``--impacts-csv`` explains the nan cells."""
+    assert call(["damper", "--duration", "1", "--c1", c1, "--impacts-csv", "i.csv"]) == 0
+    out = capsys.readouterr().out
+    with open("i.csv", newline="") as fh:
+        last = list(csv.DictReader(fh))[-1]
+    assert math.isnan(float(last["separation_velocity_m_s"])) == cut
+    assert math.isnan(float(last["restitution"])) == cut
+    notes = [ln for ln in out.splitlines() if ln.startswith("note: the last contact")]
+    assert len(notes) == (1 if cut else 0), out
+    if cut:
+        assert "i.csv" in notes[0] and "nan" in notes[0] and f"{float(last['time_s']):.6g}" in notes[0], notes
+        assert 0.0 < float(last["duration_s"]) <= 1.0 - float(last["time_s"]) + 1e-9
+    with pytest.raises(SystemExit):
+        main(["damper", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "has nan separation_velocity_m_s and restitution" in text

@@ -26,7 +26,9 @@ def add_parser(subparsers):
     add_damper_options(p)
     o = p.add_argument_group("outputs")
     o.add_argument("--impacts-csv", metavar="PATH", default=None,
-                   help="write the impact table (one row per contact) as CSV")
+                   help="write the impact table (one row per contact) as CSV; a contact still under way "
+                        "when the run ends (the last row) has nan separation_velocity_m_s and restitution, "
+                        "and its duration_s is the time it lasted until then")
     o.add_argument("--png", metavar="PATH", default=None,
                    help="plot x(t) with and without the damper (Figure 5) as PNG")
     p.set_defaults(func=run)
@@ -71,6 +73,10 @@ def run(args) -> int:
 
         path = write_impact_table(args.impacts_csv, result.impacts)
         print(f"wrote {path}")
+        cut = _unfinished_contact(result.impacts)
+        if cut is not None:
+            print(f"note: the last contact (from {cut:.6g} s) was still under way when the run ended: its "
+                  f"separation velocity and restitution in {path} are nan")
     if args.png:
         from ..output.plot.dynamics import plot_free_vibration
         from ..output.plot.style import save_figure
@@ -79,3 +85,12 @@ def run(args) -> int:
         path = save_figure(ax.figure, args.png)
         print(f"wrote {path}")
     return 0 if result.success else 1
+
+
+def _unfinished_contact(impacts):
+    """The start in s of a last contact the end of the run cut (its separation speed is NaN), else None."""
+    import math
+
+    if len(impacts) == 0 or not math.isnan(float(impacts.separation_velocity[-1])):
+        return None
+    return float(impacts.time[-1])
