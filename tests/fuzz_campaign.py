@@ -436,9 +436,20 @@ def _bad_wav(path: Path) -> str:
         return f"{path.name}: unreadable WAV ({exc})"
     if not np.all(np.isfinite(data)):
         return f"{path.name}: not finite"
-    if data.size == 0 or not np.any(data):
+    if data.size == 0 or (not np.any(data) and not _said_silent(path)):
         return f"{path.name}: all zeros"
     return ""
+
+
+def _said_silent(path: Path) -> bool:
+    """Not a defect: a WAV of a run without any impact (``auralize --v0 0.5`` hits no wall within its
+    duration) is silence, and says so: its sidecar (``PATH.json``) gives a peak of 0 Pa for every channel
+    (and the run prints ``impacts: 0 (silence)``)."""
+    try:
+        peaks = json.loads(path.with_suffix(".json").read_text(encoding="utf-8"))["peak_pa"]
+        return bool(peaks) and all(float(p) == 0.0 for p in peaks)
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
 
 
 def _inf_nan(folder: Path, before: dict) -> str:
