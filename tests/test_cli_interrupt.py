@@ -164,6 +164,52 @@ def test_ctrl_c_in_code_run_from_c_still_exits_130(tmp_path):
     assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
 
 
+#: ``python -m SHIM levels ...``: the Ctrl-C lands in a finaliser (``__del__``), where Python can only
+#: print "Exception ignored in ..." and carry on.
+_IN_FINALISER_SHIM = """\
+import signal
+import sys
+
+import acoustiviz.cli.levels as levels
+
+
+class Resource:
+    def __del__(self):
+        signal.raise_signal(signal.SIGINT)
+        for _ in range(1000):  # the KeyboardInterrupt is raised here, inside the finaliser
+            pass
+
+
+def run(args):
+    print("working", file=sys.stderr, flush=True)
+    Resource()  # finalised at once
+    for _ in range(10000):
+        pass
+    print("carried on", file=sys.stderr, flush=True)
+    return 0
+
+
+levels.run = run
+from acoustiviz.cli import main
+
+sys.exit(main())
+"""
+
+
+def test_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path):
+    """A Ctrl-C raised inside a ``__del__`` cannot propagate (Python prints "Exception ignored in ..."
+    and carries on): the command still ends with the one line and status 130, not 0."""
+    (tmp_path / "ctrl_c_in_del.py").write_text(_IN_FINALISER_SHIM)
+    env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
+    proc = subprocess.run([sys.executable, "-m", "ctrl_c_in_del", "levels", "in.wav", "--csv", "l.csv"],
+                          cwd=tmp_path, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                          timeout=120)
+    assert "working" in proc.stderr, proc.stderr
+    assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    assert proc.returncode == 130, proc.stderr
+    assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
+
+
 FORCED = ["forced", "--force", "5", "--freq", "3:7:40"]
 
 

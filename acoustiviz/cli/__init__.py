@@ -159,31 +159,37 @@ def _forget_unhandled_interrupt() -> None:
         pass
 
 
-def _unraisable_interrupts(previous):
+def _unraisable_interrupts(previous, swallowed: list):
     """A :data:`sys.unraisablehook` that delivers a Ctrl-C swallowed by a finaliser again.
 
     A KeyboardInterrupt raised inside a ``__del__``, a weak-reference callback or a garbage
-    collection cannot propagate (Python prints "Exception ignored in ..." and carries on): the
-    signal is raised again so that it lands in the command's own code, which then stops.
+    collection cannot propagate (Python prints "Exception ignored in ..." and carries on): it is
+    noted in ``swallowed`` (the command then ends interrupted, whatever it returns) and raised again
+    in the main thread, so that work still going on stops.
     """
-    import signal
+    import _thread
 
     def hook(unraisable):
         if not isinstance(unraisable.exc_value, KeyboardInterrupt):
             previous(unraisable)
             return
-        signal.raise_signal(signal.SIGINT)  # last: the handler runs once this hook has returned
+        swallowed.append(unraisable.exc_value)
+        # from another thread, as a signal arriving: that thread runs once the main thread lets go of the
+        # interpreter, after this hook has returned (tripped here, it would interrupt this hook instead)
+        _thread.start_new_thread(_thread.interrupt_main, ())
 
     return hook
 
 
 def _main(argv: list, standalone: bool = False) -> int:
+    swallowed = []
     if standalone:
-        sys.unraisablehook = _unraisable_interrupts(sys.unraisablehook)
+        sys.unraisablehook = _unraisable_interrupts(sys.unraisablehook, swallowed)
     try:
-        return _command(argv, standalone)
+        status = _command(argv, standalone)
     except KeyboardInterrupt:
         return interrupted(command_of(argv), standalone)
+    return interrupted(command_of(argv), standalone) if swallowed else status
 
 
 def _command(argv: list, standalone: bool) -> int:
