@@ -13,7 +13,10 @@ Every command takes ``--force``, also spelled ``--replace`` (the one spelling on
 
 Every command takes ``--max-memory MB``: it estimates the memory and the output size of its work
 before starting (:mod:`acoustiviz.app.budget`) and refuses work over the cap (default
-:data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB), naming the option to change.
+:data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB), naming the option to change; a scene's run
+keeps under both the cap and the scene's own ``grids.memory_limit_mb`` (:func:`~acoustiviz.app.budget.outer_cap`).
+
+A Ctrl-C at any moment, the imports included, ends a command with one line and exit status 130.
 """
 
 from __future__ import annotations
@@ -82,7 +85,8 @@ def build_parser() -> argparse.ArgumentParser:
         leaf.set_defaults(replace_option=record.option)
         leaf.add_argument("--max-memory", type=float, default=None, metavar="MB",
                           help=f"refuse work whose estimated memory or output size exceeds MB megabytes "
-                               f"(default {MAX_MEMORY_MB:g})")
+                               f"(default {MAX_MEMORY_MB:g}; a scene's run also keeps under its "
+                               f"grids.memory_limit_mb)")
     return parser
 
 
