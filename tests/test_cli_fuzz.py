@@ -823,3 +823,97 @@ def test_overwrite_moves_only_the_sweeps_own_files(here, capsys):
     capsys.readouterr()
     assert (here / "sw" / "notes.txt").read_text() == "mine\n"
     assert (here / "sw" / "max_spl_map.previous-1.png").exists() and (here / "sw" / "max_spl_map.png").exists()
+
+
+ROOM_SCENE = ("[configuration]\nkind = \"room\"\nroom_m = [6.0, 4.0, 3.0]\nabsorption = 0.1\n"
+              "source_m = [2.0, 1.5, 0.01905]\nwindow_s = {window}\n\n"
+              "[[listeners]]\nname = \"middle\"\nposition_m = [3.0, 2.0, 1.5]\n\n[outputs.waveform]\n")
+
+
+def test_a_room_window_too_long_for_memory_is_refused_before_its_images_are_counted(here, capsys, monkeypatch):
+    """A waveform over a 10 000 s window: its time grid alone exceeds any cap, named before the image order."""
+    import acoustiviz.core.reverberation as reverberation
+
+    def sought(*args, **kwargs):
+        raise AssertionError("the image order of the window was sought")
+
+    monkeypatch.setattr(reverberation, "energy_order", sought)
+    (here / "room.toml").write_text(ROOM_SCENE.format(window="10000"))
+    rc = call(["run", "room.toml", "--out", "out"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "configuration.window_s")
+    assert "grids.memory_limit_mb" in err, err
+    assert left_over(here) == ["room.toml"]
+
+
+#: One cheap invocation of every command (inputs made by :func:`_capped_inputs`).
+CAPPED = {
+    "run": ["run", "--out", "o"],
+    "run room scene": ["run", "room.toml", "--out", "o"],
+    "waveform": ["waveform", "--csv", "w.csv"],
+    "directivity": ["directivity", "--step", "30", "--csv", "d.csv"],
+    "map": ["map", "--resolution", "21", "--extent", "0.3", "--csv", "m.csv"],
+    "damper": ["damper", "--duration", "1", "--impacts-csv", "i.csv"],
+    "forced": ["forced", "--force", "5", "--freq", "5", "--starts", "1", "--max-cycles", "60", "--csv", "f.csv"],
+    "sweep": ["sweep", "--gap", "0.02,0.04", "--m", "0.04", "--duration", "1", "--workers", "1", "--out", "sw"],
+    "design": ["design", "--sweep", "SWEEP", "--inclination", "0.005", "--tolerance", "0.01"],
+    "render balloon": ["render", "balloon", "--resolution", "8", "--size", "160x120", "--png", "b.png"],
+    "render snapshot": ["render", "snapshot", "--resolution", "31", "--size", "160x120", "--png", "s.png"],
+    "render animation": ["render", "animation", "--frames", "3", "--resolution", "21", "--size", "160x120",
+                         "--gif", "a.gif"],
+    "auralize": ["auralize", "--duration", "0.3", "--wav", "a.wav"],
+    "levels": ["levels", "t.wav", "--csv", "l.csv", "--pa-per-fs", "1"],
+}
+
+
+def _capped_inputs(folder: Path, argv: list, sweep: Path) -> list:
+    """Write the inputs ``argv`` reads into ``folder``; return ``argv`` with the sweep's folder filled in."""
+    from scipy.io import wavfile
+
+    (folder / "room.toml").write_text(ROOM_SCENE.format(window="0.02"))
+    wavfile.write(folder / "t.wav", 48000, (0.1 * np.sin(0.1 * np.arange(4800))).astype(np.float32))
+    return [str(sweep) if a == "SWEEP" else a for a in argv]
+
+
+@pytest.mark.parametrize("command", list(CAPPED))
+def test_a_cap_that_refuses_everything_refuses_every_command_naming_max_memory(here, capsys, finished_sweep,
+                                                                                command):
+    """``--max-memory 1e-6`` (one byte) leaves room for no work: every command, a scene's run included,
+    refuses before writing anything, naming ``--max-memory`` (a scene's own cap is larger)."""
+    argv = _capped_inputs(here, CAPPED[command], finished_sweep)
+    before = left_over(here)
+    rc = call([*argv, "--max-memory", "1e-6"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--max-memory")
+    assert left_over(here) == before
+
+
+@pytest.mark.parametrize("value", ["-0", "0", "nan", "-5"])
+def test_a_cap_that_is_not_a_positive_size_is_refused_by_every_command(here, capsys, finished_sweep, value):
+    for command in ("design", "levels", "run"):
+        argv = _capped_inputs(here, CAPPED[command], finished_sweep)
+        rc = call([*argv, f"--max-memory={value}"])
+        assert_user_error(rc, capsys.readouterr().err, "--max-memory")
+    assert not (here / "o").exists() and not (here / "l.csv").exists()
+
+
+@pytest.mark.parametrize("c1, cut", [("1000", True), ("20", False)])
+def test_a_contact_cut_by_the_end_of_the_run_is_said_where_the_user_reads(here, capsys, c1, cut):
+    """With c1 = 1000 N s/m the Table 1 damper is in contact at t = 1 s: the last row's separation
+    velocity and restitution are nan, and the run says so in one note; a run ending between contacts
+    has none. ``--help`` of ``--impacts-csv`` explains the nan cells."""
+    assert call(["damper", "--duration", "1", "--c1", c1, "--impacts-csv", "i.csv"]) == 0
+    out = capsys.readouterr().out
+    with open("i.csv", newline="") as fh:
+        last = list(csv.DictReader(fh))[-1]
+    assert math.isnan(float(last["separation_velocity_m_s"])) == cut
+    assert math.isnan(float(last["restitution"])) == cut
+    notes = [ln for ln in out.splitlines() if ln.startswith("note: the last contact")]
+    assert len(notes) == (1 if cut else 0), out
+    if cut:
+        assert "i.csv" in notes[0] and "nan" in notes[0] and f"{float(last['time_s']):.6g}" in notes[0], notes
+        assert 0.0 < float(last["duration_s"]) <= 1.0 - float(last["time_s"]) + 1e-9
+    with pytest.raises(SystemExit):
+        main(["damper", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "has nan separation_velocity_m_s and restitution" in text

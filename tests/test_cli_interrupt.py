@@ -43,8 +43,9 @@ def _env() -> dict:
 class Run:
     """A command line started in ``folder``; its stderr read line by line as it comes."""
 
-    def __init__(self, argv, folder: Path):
-        self.proc = subprocess.Popen([sys.executable, "-m", "acoustiviz", *argv], cwd=folder, env=_env(),
+    def __init__(self, argv, folder: Path, python_options=()):
+        self.proc = subprocess.Popen([sys.executable, *python_options, "-m", "acoustiviz", *argv], cwd=folder,
+                                     env=_env(),
                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                      text=True, start_new_session=True)
         self.lines: list[str] = []
@@ -110,7 +111,7 @@ class Run:
 
 def assert_interrupted(run: Run, elapsed: float) -> None:
     """Exit 130 within :data:`EXIT_WITHIN_S` of the signal, the one-line message last, no traceback."""
-    err = run.stderr()
+    err = "\n".join(ln for ln in run.stderr().splitlines() if not ln.startswith("import time:"))  # -X importtime
     assert run.proc.returncode == 130, err
     assert "Traceback" not in err and "Fatal Python error" not in err, err
     assert INTERRUPTED.match(err.splitlines()[-1]), err
@@ -125,6 +126,88 @@ def interrupt_after(argv, folder: Path, marker: str) -> Run:
     elapsed = run.interrupt()
     assert_interrupted(run, elapsed)
     return run
+
+
+
+#: ``python -m SHIM levels ...``: the command's work runs code from C (as an extension module's
+#: initialisation does) and a Ctrl-C lands in it; CPython records that as an unhandled interrupt.
+_FROM_C_SHIM = """\
+import ctypes
+import sys
+
+import acoustiviz.cli.levels as levels
+
+
+def run(args):
+    print("working", file=sys.stderr, flush=True)
+    if ctypes.pythonapi.PyRun_SimpleString(b"raise KeyboardInterrupt") != 0:
+        raise KeyboardInterrupt
+
+
+levels.run = run
+from acoustiviz.cli import main
+
+sys.exit(main())
+"""
+
+
+def test_ctrl_c_in_code_run_from_c_still_exits_130(tmp_path):
+    """``python -m`` kills its own process by SIGINT at exit once CPython has recorded an unhandled
+    Ctrl-C, whatever status the command returns: the status must still be 130, not death by signal."""
+    (tmp_path / "ctrl_c_from_c.py").write_text(_FROM_C_SHIM)
+    env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
+    proc = subprocess.run([sys.executable, "-m", "ctrl_c_from_c", "levels", "in.wav",
+                           "--csv", "l.csv"], cwd=tmp_path, env=env,
+                          stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    assert "working" in proc.stderr, proc.stderr
+    assert proc.returncode == 130, proc.stderr
+    assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
+
+
+#: ``python -m SHIM levels ...``: the Ctrl-C lands in a finaliser (``__del__``), where Python can only
+#: print "Exception ignored in ..." and carry on.
+_IN_FINALISER_SHIM = """\
+import signal
+import sys
+
+import acoustiviz.cli.levels as levels
+
+
+class Resource:
+    def __del__(self):
+        signal.raise_signal(signal.SIGINT)
+        for _ in range(1000):  # the KeyboardInterrupt is raised here, inside the finaliser
+            pass
+
+
+def run(args):
+    print("working", file=sys.stderr, flush=True)
+    Resource()  # finalised at once
+    for _ in range(10000):
+        pass
+    print("carried on", file=sys.stderr, flush=True)
+    return 0
+
+
+levels.run = run
+from acoustiviz.cli import main
+
+sys.exit(main())
+"""
+
+
+def test_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path):
+    """A Ctrl-C raised inside a ``__del__`` cannot propagate (Python prints "Exception ignored in ..."
+    and carries on): the command still ends with the one line and status 130, not 0."""
+    (tmp_path / "ctrl_c_in_del.py").write_text(_IN_FINALISER_SHIM)
+    env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
+    proc = subprocess.run([sys.executable, "-m", "ctrl_c_in_del", "levels", "in.wav", "--csv", "l.csv"],
+                          cwd=tmp_path, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                          timeout=120)
+    assert "working" in proc.stderr, proc.stderr
+    assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    assert proc.returncode == 130, proc.stderr
+    assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
 
 
 FORCED = ["forced", "--force", "5", "--freq", "3:7:40"]
@@ -386,3 +469,90 @@ def test_long_waveform_in_a_room_answers_at_once(tmp_path, absorption):
     lines = proc.stderr.strip().splitlines()
     assert proc.returncode == 2 and len(lines) == 1 and ": error: --" in lines[0], proc.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------------ every command, early and later
+#: One invocation of every command, long enough to be running when its marker shows, and the module
+#: whose import (``python -X importtime`` prints one line as each module is imported) marks the
+#: command at work: its kernels' compiled code being loaded or compiled, its signal read.
+EVERY_COMMAND = {
+    "run": (["run", "--out", "r"], "numba"),
+    "waveform": (["waveform", "--samples-per-duration", "20000", "--csv", "w.csv"], "numba"),
+    "directivity": (["directivity", "--step", "0.5", "--csv", "d.csv"], "numba"),
+    "map": (["map", "--resolution", "301", "--csv", "m.csv"], "numba"),
+    "damper": (["damper", "--duration", "100", "--impacts-csv", "i.csv"], "numba"),
+    "forced": ([*FORCED, "--csv", "f.csv"], "numba"),
+    "sweep": (["sweep", "--out", "s", "--gap", "0.01:0.05:20", "--workers", "1"], "numba"),
+    "design": (["design", "--sweep", "SWEEP", "--inclination", "0.005", "--tolerance", "0.01"], "numba"),
+    "render balloon": (["render", "balloon", "--resolution", "64", "--png", "b.png"], "numba"),
+    "render snapshot": (["render", "snapshot", "--resolution", "401", "--png", "s.png"], "numba"),
+    "render animation": (["render", "animation", "--frames", "40", "--resolution", "101", "--gif", "a.gif"],
+                         "numba"),
+    "auralize": (["auralize", "--duration", "5", "--wav", "a.wav"], "numba"),
+    "levels": (["levels", "t.wav", "--csv", "l.csv", "--pa-per-fs", "1", "--loudness"], "scipy"),
+}
+#: The first module the command line imports for its parser: a Ctrl-C then lands in its imports.
+PARSER_MODULE = "acoustiviz.app.settings.table"
+
+
+@pytest.fixture(scope="module")
+def sweep_folder(tmp_path_factory):
+    """A finished sweep of two designs (what ``design`` reads)."""
+    folder = tmp_path_factory.mktemp("sweep") / "sw"
+    assert main(["sweep", "--gap", "0.03,0.04", "--m", "0.04", "--duration", "0.5", "--quiet", "--out",
+                 str(folder)]) == 0
+    return folder
+
+
+def _inputs(folder: Path, argv: list, sweep: Path) -> list:
+    """Write what ``argv`` reads into ``folder`` (a 30 s WAV); return ``argv`` with the sweep's folder."""
+    if "t.wav" in argv:
+        from scipy.io import wavfile
+
+        t = np.arange(30 * 48000) / 48000.0
+        wavfile.write(folder / "t.wav", 48000, (0.1 * np.sin(2 * np.pi * 1000.0 * t)).astype(np.float32))
+    return [str(sweep) if a == "SWEEP" else a for a in argv]
+
+
+def _imported(module: str) -> str:
+    """The ``-X importtime`` line of ``module`` (printed once it is imported)."""
+    return r"\|\s+" + re.escape(module) + "$"
+
+
+@pytest.fixture
+def command_argv(request, tmp_path):
+    """The invocation of ``request.param`` with its inputs in ``tmp_path`` (the sweep only for design)."""
+    argv, marker = EVERY_COMMAND[request.param]
+    sweep = request.getfixturevalue("sweep_folder") if "SWEEP" in argv else None
+    return _inputs(tmp_path, argv, sweep), marker
+
+
+def _interrupt_at_import(argv, folder: Path, module: str) -> Run:
+    run = Run(argv, folder, python_options=("-X", "importtime"))
+    run.wait_for(_imported(module))
+    assert_interrupted(run, run.interrupt())
+    return run
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("attempt", range(2))
+@pytest.mark.parametrize("command_argv", list(EVERY_COMMAND), indirect=True)
+def test_ctrl_c_while_the_command_line_imports_exits_130(tmp_path, command_argv, attempt):
+    """Ctrl-C very early, while the parser's modules are imported: one line, status 130 (not a
+    traceback, not death by SIGINT), nothing written."""
+    argv, _ = command_argv
+    before = sorted(p.name for p in tmp_path.iterdir())
+    _interrupt_at_import(argv, tmp_path, PARSER_MODULE)
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("attempt", range(2))
+@pytest.mark.parametrize("command_argv", list(EVERY_COMMAND), indirect=True)
+def test_ctrl_c_while_the_command_works_exits_130(tmp_path, command_argv, attempt):
+    """Ctrl-C later, once the command has started its work (its compiled kernels or its signal
+    reader being loaded): one line, status 130, and no output half-written."""
+    argv, marker = command_argv
+    _interrupt_at_import(argv, tmp_path, marker)
+    for name in ("w.csv", "d.csv", "m.csv", "i.csv", "f.csv", "b.png", "s.png", "a.gif", "a.wav", "l.csv"):
+        assert not (tmp_path / name).exists(), name

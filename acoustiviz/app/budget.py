@@ -20,6 +20,8 @@ Examples
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +33,8 @@ from ..errors import ParameterError
 __all__ = [
     "Estimate",
     "check_budget",
+    "outer_cap",
+    "design_estimate",
     "given_first",
     "memory_cap",
     "waveform_estimate",
@@ -50,6 +54,35 @@ __all__ = [
 
 _MB = 2.0**20
 _F8 = 8.0  # bytes per float64
+
+#: A cap set around a whole command (:func:`outer_cap`): (MB, the option that sets it), or None.
+_OUTER_CAP: ContextVar = ContextVar("acoustiviz_outer_cap", default=None)
+
+
+@contextmanager
+def outer_cap(max_memory_mb=None, cap_name: str = "--max-memory"):
+    """Within this block every :func:`check_budget` and :func:`memory_cap` also keeps under ``max_memory_mb``.
+
+    The command line's ``--max-memory`` bounds all of a command's work, that of a scene too, whose own
+    cap (``grids.memory_limit_mb``) is checked with it: the smaller of the two applies and errors
+    name the one that does. None: no outer cap.
+    """
+    if max_memory_mb is not None:
+        max_memory_mb = check_positive(cap_name, max_memory_mb, "MB")
+    token = _OUTER_CAP.set(None if max_memory_mb is None else (float(max_memory_mb), cap_name))
+    try:
+        yield
+    finally:
+        _OUTER_CAP.reset(token)
+
+
+def _cap(max_memory_mb, cap_name: str) -> tuple:
+    """The cap in MB that applies and the option or key that sets it (:func:`outer_cap` included)."""
+    cap = MAX_MEMORY_MB if max_memory_mb is None else check_positive(cap_name, max_memory_mb, "MB")
+    outer = _OUTER_CAP.get()
+    if outer is not None and (outer[0] < cap or max_memory_mb is None):
+        return outer
+    return cap, cap_name
 
 
 @dataclass(frozen=True)
@@ -82,7 +115,7 @@ def _mb(nbytes: float) -> str:
     if not math.isfinite(nbytes):
         return "an unbounded amount"
     mb = nbytes / _MB
-    return f"{mb:,.0f} MB" if mb < 1e7 else f"{mb:.3g} MB"
+    return f"{mb:,.0f} MB" if 1.0 <= mb < 1e7 else f"{mb:.3g} MB"
 
 
 def given_first(options, given=()) -> tuple:
@@ -113,7 +146,7 @@ def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--m
     ParameterError
         Named after the first option of ``estimate``, with the estimate, the cap and what to change.
     """
-    cap = MAX_MEMORY_MB if max_memory_mb is None else check_positive(cap_name, max_memory_mb, "MB")
+    cap, cap_name = _cap(max_memory_mb, cap_name)
     limit = cap * _MB
     for amount, noun in ((estimate.memory, "of memory"), (estimate.output, "of output files")):
         if not (amount <= limit):  # also refuses NaN and inf
@@ -127,8 +160,15 @@ def check_budget(estimate: Estimate, max_memory_mb=None, *, cap_name: str = "--m
 
 
 def memory_cap(max_memory_mb=None) -> float:
-    """The cap in bytes (``max_memory_mb`` MB, default :data:`~acoustiviz.constants.MAX_MEMORY_MB`)."""
-    return (MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)) * _MB
+    """The cap in bytes (``max_memory_mb`` MB, default :data:`~acoustiviz.constants.MAX_MEMORY_MB`).
+
+    Under :func:`outer_cap`, at most its cap.
+    """
+    outer = _OUTER_CAP.get()
+    cap = MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)
+    if outer is not None:
+        cap = outer[0] if max_memory_mb is None else min(cap, outer[0])
+    return cap * _MB
 
 
 def _div(a: float, b: float) -> float:
@@ -220,6 +260,20 @@ def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=
         return est
     return Estimate(est.memory + _F8 * m, est.output, f"{n:.3g} angles and a window of {m:.3g} samples",
                     tuple(window_options) + tuple(options))
+
+
+def window_estimate(pulse, radius: float, medium, window: float, samples_per_duration: int,
+                    options=("--duration",)) -> Estimate:
+    """The time grid alone of a waveform over a room's ``window`` (s): a floor of :func:`waveform_estimate`.
+
+    It counts the samples of ``window`` at ``samples_per_duration`` per contact duration of ``pulse``
+    as for a single source (the real sphere, no image), so it needs neither the room's image order
+    nor its images: a window too long for any memory is refused before the order is sought.
+    """
+    from ..core.geometry import geometry
+
+    return waveform_estimate([pulse], np.zeros(3), geometry("free", radius), medium, samples_per_duration,
+                             options=options, window=window)
 
 
 def scene_waveform_estimate(scene, conf):
@@ -439,3 +493,17 @@ def sweep_estimate(swept, model, duration: float, workers: int, options=("--dura
     opts = tuple(dict.fromkeys((biggest,) + tuple(options))) if n * 1024.0 > one.memory * workers else options
     return Estimate(one.memory * max(1, int(workers)) + 1024.0 * n, 400.0 * n,
                     f"{n:.3g} designs, {one.what} each, {workers} worker(s)", opts)
+
+
+def design_estimate(path, options=("--sweep",)) -> Estimate:
+    """Reading a sweep's table at ``path`` (its ``sweep.csv``): the text and its parsed rows, about 4 x its size.
+
+    A table that is missing or unreadable counts as empty (its reader names it).
+    """
+    import os
+
+    try:
+        size = float(os.path.getsize(path))
+    except OSError:
+        size = 0.0
+    return Estimate(4.0 * size + 1.0, 0.0, f"a sweep table of {size:,.0f} B", tuple(options))

@@ -13,7 +13,10 @@ Every command takes ``--force``, also spelled ``--replace`` (the one spelling on
 
 Every command takes ``--max-memory MB``: it estimates the memory and the output size of its work
 before starting (:mod:`acoustiviz.app.budget`) and refuses work over the cap (default
-:data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB), naming the option to change.
+:data:`acoustiviz.constants.MAX_MEMORY_MB`, 2048 MB), naming the option to change; a scene's run
+keeps under both the cap and the scene's own ``grids.memory_limit_mb`` (:func:`~acoustiviz.app.budget.outer_cap`).
+
+A Ctrl-C at any moment, the imports included, ends a command with one line and exit status 130.
 """
 
 from __future__ import annotations
@@ -82,7 +85,8 @@ def build_parser() -> argparse.ArgumentParser:
         leaf.set_defaults(replace_option=record.option)
         leaf.add_argument("--max-memory", type=float, default=None, metavar="MB",
                           help=f"refuse work whose estimated memory or output size exceeds MB megabytes "
-                               f"(default {MAX_MEMORY_MB:g})")
+                               f"(default {MAX_MEMORY_MB:g}; a scene's run also keeps under its "
+                               f"grids.memory_limit_mb)")
     return parser
 
 
@@ -105,6 +109,9 @@ def main(argv=None) -> int:
     collector (:func:`gc.freeze`): the interpreter's exit then skips traversing them again in
     its final collections (figures: ``benchmarks/results/design_timings.md``). Every output file is closed
     by then and exit handlers still run.
+
+    A Ctrl-C at any moment, the imports of the command included, ends it with one line and exit
+    status 130 (:func:`interrupted`).
     """
     if argv is None:
         try:
@@ -116,7 +123,80 @@ def main(argv=None) -> int:
     return _main(list(argv))
 
 
+def command_of(argv) -> str:
+    """The subcommand named in ``argv`` (its first word that is one), or ``""``."""
+    return next((str(tok) for tok in argv if str(tok) in SUBCOMMANDS), "")
+
+
+def interrupted(command: str, standalone: bool) -> int:
+    """Say that ``command`` was interrupted; return its exit status, 130.
+
+    When the process ends here (``standalone``) a second Ctrl-C is ignored from now on, so that it
+    cannot turn the message into a traceback, and the interpreter's record of an unhandled
+    Ctrl-C is cleared: a Ctrl-C that landed in code the interpreter runs from C (an extension
+    module's initialisation) leaves that record set, and ``python -m`` would then end the process
+    by the signal itself instead of with status 130 (:func:`_forget_unhandled_interrupt`).
+    """
+    if standalone:
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        _forget_unhandled_interrupt()
+    name = f"acoustiviz {command}" if command else "acoustiviz"
+    print(f"{name}: interrupted; finished outputs were kept", file=sys.stderr)
+    return 130
+
+
+def _forget_unhandled_interrupt() -> None:
+    """Clear CPython's flag of a KeyboardInterrupt left unhandled by code run from C.
+
+    CPython sets it when a KeyboardInterrupt leaves code run by ``PyRun_String`` (as some
+    extension modules run at import) and, at the end of ``python -m``, kills its own process by
+    SIGINT when it is set, whatever the exit status asked for. Running an empty string the same
+    way clears it.
+    """
+    try:
+        import ctypes
+
+        ctypes.pythonapi.PyRun_SimpleString(b"")
+    except (ImportError, AttributeError, OSError):  # another interpreter: no such flag
+        pass
+
+
+def _unraisable_interrupts(previous, swallowed: list):
+    """A :data:`sys.unraisablehook` that delivers a Ctrl-C swallowed by a finaliser again.
+
+    A KeyboardInterrupt raised inside a ``__del__``, a weak-reference callback or a garbage
+    collection cannot propagate (Python prints "Exception ignored in ..." and carries on): it is
+    noted in ``swallowed`` (the command then ends interrupted, whatever it returns) and raised again
+    in the main thread, so that work still going on stops.
+    """
+    import _thread
+
+    def hook(unraisable):
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            previous(unraisable)
+            return
+        swallowed.append(unraisable.exc_value)
+        # from another thread, as a signal arriving: that thread runs once the main thread lets go of the
+        # interpreter, after this hook has returned (tripped here, it would interrupt this hook instead)
+        _thread.start_new_thread(_thread.interrupt_main, ())
+
+    return hook
+
+
 def _main(argv: list, standalone: bool = False) -> int:
+    swallowed = []
+    if standalone:
+        sys.unraisablehook = _unraisable_interrupts(sys.unraisablehook, swallowed)
+    try:
+        status = _command(argv, standalone)
+    except KeyboardInterrupt:
+        return interrupted(command_of(argv), standalone)
+    return interrupted(command_of(argv), standalone) if swallowed else status
+
+
+def _command(argv: list, standalone: bool) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     # the options typed (not defaulted): errors about work too large name one of these first
@@ -134,9 +214,13 @@ def _main(argv: list, standalone: bool = False) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = one_line
+            from ..app.budget import outer_cap
             from ..app.outputs import replacing
 
-            with replacing(getattr(args, "replace", False), getattr(args, "replace_option", "--force")):
+            # --max-memory bounds every budget check of the command, a scene's too; a cap that is not
+            # a positive number of MB is refused here, before any work
+            with replacing(getattr(args, "replace", False), getattr(args, "replace_option", "--force")), \
+                    outer_cap(getattr(args, "max_memory", None)):
                 return int(args.func(args) or 0)
     except ParameterError as exc:
         print(f"acoustiviz {args.command}: error: {exc}", file=sys.stderr)
@@ -154,13 +238,6 @@ def _main(argv: list, standalone: bool = False) -> int:
         print(f"acoustiviz {args.command}: error: out of memory; ask for less work or lower --max-memory "
               "so that it is refused before it starts", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        if standalone:  # the process ends here: a second Ctrl-C must not turn the message into a traceback
-            import signal
-
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-        print(f"acoustiviz {args.command}: interrupted; finished outputs were kept", file=sys.stderr)
-        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

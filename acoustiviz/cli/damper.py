@@ -57,11 +57,25 @@ def run(args) -> int:
     """Run the ``damper`` subcommand: argv -> settings -> run -> summary -> files; return the exit status."""
     from ..app.damper import run as run_job
 
-    result = run_job(settings_from_args(args))
+    settings = settings_from_args(args)
+    result = run_job(settings)
     _print_summary(result)
     for path in result.write():
         print(f"wrote {path}")
+    cut = _unfinished_contact(result.result.impacts)
+    if settings.impacts_csv and cut is not None:
+        print(f"note: the last contact (from {cut:.6g} s) was still under way when the run ended: its "
+              f"separation velocity and restitution in {settings.impacts_csv} are nan")
     return 0 if result.result.success else 1
+
+
+def _unfinished_contact(impacts):
+    """The start in s of a last contact the end of the run cut (its separation speed is NaN), else None."""
+    import math
+
+    if len(impacts) == 0 or not math.isnan(float(impacts.separation_velocity[-1])):
+        return None
+    return float(impacts.time[-1])
 
 
 def _print_summary(damper) -> None:

@@ -48,9 +48,13 @@ def add_parser(subparsers):
 
 def run(args) -> int:
     """Run the ``design`` subcommand; return the exit status."""
+    from pathlib import Path
+
+    from ..app.budget import check_budget, design_estimate
     from ..app.names import user_terms
     from ..app.sweep import DESIGN_OPTIONS, design_report
 
+    check_budget(design_estimate(Path(args.sweep) / "sweep.csv"), args.max_memory)
     with user_terms(DESIGN_OPTIONS):
         lines = design_report(args.sweep, args.inclination, args.tolerance, definition=args.definition,
                               table=args.table, band_width=args.band_width, rank_by=args.rank_by)

@@ -31,11 +31,9 @@ def run(args) -> int:
         return 0
     if args.out is None:
         raise ParameterError("--out", "give an output folder, e.g. --out acoustiviz-out")
-    from .._validate import check_positive
     from ..app.outputs import check_input_file, check_output_dir
 
-    if args.max_memory is not None:  # scenes bound their grids with grids.memory_limit_mb
-        check_positive("--max-memory", args.max_memory, "MB")
+    # --max-memory (checked by the command line) bounds the scene's work with grids.memory_limit_mb
     check_output_dir("--out", args.out)
     if args.scene is not None:
         check_input_file("SCENE", args.scene, "scene file")

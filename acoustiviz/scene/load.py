@@ -21,6 +21,7 @@ from .validate import (
     _validate_table,
     check_configuration,
     check_damper_physics,
+    check_window,
     scene_frequencies,
 )
 
@@ -314,6 +315,7 @@ def scene_from_dict(raw: dict, source: str = "<scene>") -> Scene:
     radius = data["sphere"]["radius_m"]
     _check_materials(data, source)
     _band_absorption(raw, data, source)
+    check_window(data, raw, source, lambda free: Scene(MappingProxyType(free), source, ()).setup())
     check_configuration(data, source)
     data["listeners"] = _validate_listeners(raw.get("listeners"), source, radius)
     outputs = _validate_outputs(raw.get("outputs", {}), data, source)

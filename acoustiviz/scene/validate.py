@@ -258,3 +258,32 @@ def check_damper_physics(scene) -> None:
         raise
     except ParameterError as exc:
         raise SceneError(scene.source, exc.name, exc.detail) from None
+
+
+def check_window(data: dict, raw: dict, source: str, setup) -> None:
+    """A room's waveform window within ``grids.memory_limit_mb``, before the room's image order is sought.
+
+    The time grid alone (:func:`acoustiviz.app.budget.window_estimate`) of a very long window exceeds
+    any cap, and seeking the image order of such a window takes long; the full estimate follows.
+    ``setup(data)`` builds the impact of a scene's ``data`` (here in the free field, so without the room).
+    """
+    from ..core.geometry import geometry_class
+
+    conf = data["configuration"]
+    outputs = raw.get("outputs")
+    if conf.get("window_s") is None or not isinstance(outputs, dict) or "waveform" not in outputs \
+            or not geometry_class(conf["kind"]).enclosed:
+        return
+    from ..app.budget import check_budget, window_estimate
+    from ..app.settings.impact import WAVEFORM
+
+    try:
+        free = setup({**data, "configuration": {**conf, "kind": "free"}})
+    except ParameterError:
+        return  # an impact refused here is named by the checks that follow
+    try:
+        check_budget(window_estimate(free.pulse, free.radius, free.medium, conf["window_s"], WAVEFORM[0].default,
+                                     options=("configuration.window_s",)),
+                     data["grids"]["memory_limit_mb"], cap_name="grids.memory_limit_mb")
+    except ParameterError as exc:
+        raise SceneError(source, exc.name, exc.detail) from None

@@ -22,8 +22,10 @@ __all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperJob"]
 #: The files of ``acoustiviz damper`` (a scene names them itself: ``impacts.csv`` for ``[outputs.impact_table]``,
 #: ``damper_history.csv`` and ``.png`` for ``[outputs.damper_history]``).
 DAMPER_OUTPUTS = (
-    Setting("impacts_csv", "--impacts-csv", None, "str", None, "write the impact table (one row per contact) as CSV",
-            metavar="PATH"),
+    Setting("impacts_csv", "--impacts-csv", None, "str", None,
+            "write the impact table (one row per contact) as CSV; a contact still under way when the run ends "
+            "(the last row) has nan separation_velocity_m_s and restitution, and its duration_s is the time it "
+            "lasted until then", metavar="PATH"),
     Setting("history_csv", "--history-csv", None, "str", None,
             "write the time history as CSV (columns time_s,x_m,v_m_s,y_m,w_m_s)", metavar="PATH"),
     Setting("png", "--png", None, "str", None, "plot x(t) with and without the damper (Figure 5) as PNG",
