@@ -263,3 +263,13 @@ def test_levels_refuses_a_float_file_holding_nan(here, capsys):  # noqa: F811
     assert_user_error(rc, err, "SIGNAL.wav")
     assert "1 sample(s) that are not finite" in err
     assert left_over(here) == ["n.wav"]
+
+
+@pytest.mark.slow
+def test_a_room_window_too_long_for_memory_names_the_window_first(here, capsys):  # noqa: F811
+    """In a room the number of samples grows with the window: the error names --duration before the defaults."""
+    rc = call(["waveform", "--room", "6,4,3", "--absorption", "0.3", "--listener", "3,2,1.5", "--duration", "10000",
+               "--csv", "o.csv"])
+    err = capsys.readouterr().err
+    assert_user_error(rc, err, "--duration")
+    assert "--max-memory" in err and left_over(here) == []

@@ -55,8 +55,13 @@ def settings_from_args(args):
     return WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,
                        (Listener(LISTENER_NAME, point),), samples_per_duration=args.samples_per_duration,
                        max_memory_mb=getattr(args, "max_memory", None), csv=args.csv, png=args.png,
-                       k_hertz_source=setup.k_hertz_source, size_options=given_first(_SIZE_OPTIONS, args.given_options),
-                       names=names)
+                       k_hertz_source=setup.k_hertz_source, names=names,
+                       size_options=given_first(_size_options(args), args.given_options))
+
+
+def _size_options(args) -> tuple:
+    """The options the number of samples grows with: in a room, the window ``--duration`` first."""
+    return ("--duration", *_SIZE_OPTIONS) if args.room is not None else _SIZE_OPTIONS
 
 
 def run(args) -> int:
