@@ -8,13 +8,14 @@ before any work, naming the front end's option or key.
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 
 import numpy as np
 import pytest
 
 import acoustiviz.app.maps as job_module
-from acoustiviz.app.impacts import impact_setup
+from acoustiviz.app.impacts import impact_setup, room_settings
 from acoustiviz.app.map_job import MapJob, map_settings, run
 from acoustiviz.cli import build_parser, main
 from acoustiviz.cli.map import settings_from_args
@@ -24,33 +25,36 @@ from acoustiviz.scene import scene_from_dict
 #: The paper's Figure 2 sphere, as the API takes it.
 SPHERE = dict(radius=0.01905, velocity=1.4, density=7800.0)
 
-#: (argv, scene TOML before its [outputs.level_map] table, the table's keys, API keywords of the job).
+#: (argv, scene TOML before its [outputs.level_map] table, the table's keys, API keywords of the job,
+#: API configuration keywords).
 CASES = {
     "vertical": (("--config", "plane", "--extent", "0.2", "--resolution", "24"),
                  '[configuration]\nkind = "plane"\n', "extent_m = 0.2\nresolution = 24\nvtk = true\n",
-                 dict(extent=0.2, resolution=24)),
+                 dict(extent=0.2, resolution=24), dict(config="plane")),
     "horizontal": (("--config", "wall-floor", "--plane", "horizontal", "--plane-height", "0.05", "--extent", "0.25",
                     "--resolution", "20"),
                    '[configuration]\nkind = "wall-floor"\n',
                    'plane = "horizontal"\nheight_m = 0.05\nextent_m = 0.25\nresolution = 20\nvtk = true\n',
-                   dict(plane="horizontal", height=0.05, extent=0.25, resolution=20)),
+                   dict(plane="horizontal", height=0.05, extent=0.25, resolution=20), dict(config="wall-floor")),
+    "room": (("--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--duration", "0.005",
+              "--extent", "0.3", "--resolution", "16"),
+             '[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = [0.3]\n'
+             'source_m = [1.0, 1.0, 0.01905]\nwindow_s = 0.005\n', "extent_m = 0.3\nresolution = 16\nvtk = true\n",
+             dict(extent=0.3, resolution=16),
+             dict(room=room_settings("3,2.5,2", absorption="0.3", source="1,1,0.01905", duration=0.005))),
 }
 
 FILES = {"png": "level_map.png", "csv": "level_map.csv", "vtk": "level_map.vtu"}
 WRITTEN = ("level_map.csv", "level_map.png", "level_map.vtu", "level_map_geometry.vtu")
 
 
-def _config(case: str) -> str:
-    return "plane" if case == "vertical" else "wall-floor"
-
-
 def _setup(case: str):
-    return impact_setup(**SPHERE, config=_config(case))
+    return impact_setup(**SPHERE, **CASES[case][4])
 
 
 @pytest.mark.parametrize("case", CASES)
 def test_every_front_end_writes_the_same_files(case, tmp_path, monkeypatch, capsys):
-    argv, scene, table, job = CASES[case]
+    argv, scene, table, job, _ = CASES[case]
     cli = tmp_path / "cli"
     cli.mkdir()
     monkeypatch.chdir(cli)
@@ -91,13 +95,18 @@ def test_the_result_holds_the_grid_and_the_levels_in_si_units():
 
 @pytest.mark.parametrize("case", CASES)
 def test_the_command_line_and_a_scene_build_equal_settings(case, tmp_path):
-    argv, scene, table, _ = CASES[case]
+    argv, scene, table, _, _ = CASES[case]
     paths = {k: str(tmp_path / v) for k, v in FILES.items()}
     # the scene's memory cap (grids.memory_limit_mb) defaults to 256 MB, the command line's to --max-memory's
     args = build_parser().parse_args(["map", *argv, "--max-memory", "256",
                                       *[x for k, v in paths.items() for x in (f"--{k}", v)]])
     from_cli = settings_from_args(args)
     from_scene = map_settings(scene_from_dict(tomllib.loads(scene + "[outputs.level_map]\n" + table)), tmp_path)
+    if case == "room":  # a scene's room is not capped by grids.memory_limit_mb, the command line's by --max-memory
+        assert from_cli.configuration.max_memory_mb == 256.0 and from_scene.configuration.max_memory_mb is None
+        assert from_cli.configuration.image_order == from_scene.configuration.image_order  # the cap does not bind
+        from_cli = dataclasses.replace(from_cli, configuration=dataclasses.replace(from_cli.configuration,
+                                                                                   max_memory_mb=None))
     assert from_cli == from_scene
     assert from_cli.files() == paths
     assert from_cli.names["resolution"] == "--resolution"
