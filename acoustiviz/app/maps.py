@@ -65,7 +65,6 @@ __all__ = [
     "summary_figures",
     "write_map_outputs",
     "points_bar",
-    "produce_level_map",
 ]
 
 _BY_NAME = {s.name: s for s in MAP_SETTINGS}
@@ -443,25 +442,6 @@ def points_bar(stream):
     finally:
         for bar in bars:
             bar.close()
-
-
-def produce_level_map(ctx):
-    """Scene output ``level_map``: ``level_map.csv``, ``level_map.png`` and, with ``vtk``, ``level_map.vtu``."""
-    from .products import Product
-
-    opts = ctx.scene.output("level_map")
-    pulse, conf = ctx.pulse(), ctx.configuration
-    with points_bar(ctx.stream) as bar:
-        level = level_map(pulse, conf, medium=ctx.medium, plane=opts["plane"], height=opts["height_m"],
-                          extent=opts["extent_m"], resolution=opts["resolution"],
-                          max_memory_mb=ctx.scene.section("grids")["memory_limit_mb"], names=SCENE_NAMES,
-                          progress=bar)
-    imp = ctx.scene.impact()
-    title = map_title(level, conf, f"U0 = {imp.velocity:g} m/s, a = {conf.radius * 1e3:g} mm, {pulse.kind} pulse")
-    paths = write_map_outputs(level, conf, png=ctx.path("level_map.png"), csv=ctx.path("level_map.csv"),
-                              vtk=ctx.path("level_map.vtu") if opts["vtk"] else None, title=title)
-    figs = summary_figures(level)
-    return [Product("level_map", p, figs if i == 0 else {}) for i, p in enumerate(paths)]
 
 
 def summary_figures(level: LevelMap) -> dict:

@@ -25,7 +25,7 @@ from ..errors import ParameterError
 from ..files import write_csv_atomic, write_text_atomic
 from . import damper as _damper
 from . import forced as _forced
-from .maps import produce_level_map
+from .map_job import map_settings, produce_level_map
 from .names import SCENE_DAMPER_KEYS, user_terms
 from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
@@ -441,6 +441,7 @@ _SETTINGS = {
     "waveform": waveform_settings,
     **{kind: damper_settings for kind in DAMPER_FILES},
     "directivity": directivity_settings,
+    "level_map": map_settings,
     "sweep": scene_sweep_spec,
     "design_table": scene_sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
