@@ -25,7 +25,7 @@ from .settings.levels import LevelsJob
 
 __all__ = ["ANALYSIS_RATE", "file_summary", "silent_notes", "LevelsJob", "LevelsResult", "run", "job_from_wav",
            "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse",
-           "bands_path", "write_levels_csv", "summary_lines", "rendered_levels"]
+           "bands_path", "write_levels_csv", "write_spectrum_csv", "summary_lines", "rendered_levels"]
 
 
 
@@ -280,15 +280,50 @@ class LevelsResult:
     settings: object
     report: LevelReport
 
-    def write(self, folder=None) -> tuple:
-        """Write the levels CSV and its ``_bands.csv`` (:func:`write_levels_csv`) into ``folder``; return their paths.
+    def write(self, folder=None) -> list:
+        """Write the files the settings ask for into ``folder``; return their paths.
 
-        ``folder``: where a relative file name is put (default: as given, the current folder).
+        The levels CSV and its ``_bands.csv`` (:func:`write_levels_csv`), the spectrum's CSV
+        (:func:`write_spectrum_csv`) and its figure, each atomically. ``folder``: where relative
+        file names are put (default: as given, the current folder).
         """
-        csv = self.settings.csv
-        if csv is None:
-            return ()
-        return write_levels_csv(Path(csv) if folder is None else Path(folder) / csv, self.report)
+        s, written = self.settings, []
+
+        def where(name):
+            return Path(name) if folder is None else Path(folder) / name
+
+        if s.csv is not None:
+            written += write_levels_csv(where(s.csv), self.report)
+        if s.spectrum_csv is not None:
+            written.append(write_spectrum_csv(where(s.spectrum_csv), self.report))
+        if s.spectrum_png is not None:
+            written.append(self._spectrum_figure(where(s.spectrum_png)))
+        return [Path(p) for p in written]
+
+    def _spectrum_figure(self, path):
+        """The 1/3-octave band Leq and LFmax of each channel."""
+        from ..output.plot.levels import plot_band_levels
+        from ..output.plot.style import style
+        from .products import new_figure, save
+
+        bl = self.report.bands
+        with style():
+            fig = new_figure()
+            ax = fig.add_subplot()
+            for i, name in enumerate(self.report.channels):
+                plot_band_levels(bl.nominal_hz, bl.leq_db[i], lmax_db=bl.lmax_db[i], label=name, ax=ax)
+            ax.set_title(f"1/3-octave bands of {self.settings.what} over {bl.stop - bl.start:g} s")
+            return save(fig, path)
+
+
+def write_spectrum_csv(path, report: LevelReport):
+    """Write ``channel,band_hz,leq_db,lmax_db`` (channels by name, nominal mid-band in Hz, dB) atomically."""
+    from ..files import write_text_atomic
+
+    rows = ["channel,band_hz,leq_db,lmax_db"] + [
+        f"{r['channel']},{r['band_hz']:g},{r['leq_db']:.4f},{r['lmax_db']:.4f}"
+        for r in report.bands.rows(report.channels)]
+    return write_text_atomic(path, "\n".join(rows) + "\n")
 
 
 def run(settings) -> LevelsResult:

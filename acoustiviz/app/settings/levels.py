@@ -83,9 +83,20 @@ class LevelsJob:
         Also ISO 532-1 loudness and DIN 45692 sharpness.
     csv : str or None
         The levels CSV (one row per channel); its bands go to ``OUT_bands.csv`` beside it.
+    spectrum_csv, spectrum_png : str or None
+        The 1/3-octave spectrum (``channel,band_hz,leq_db,lmax_db``, channels by name) and its figure.
+    what : str
+        What the signal is, for the figure's title.
     names : dict
         The user's name of each setting (option or scene key), for error messages.
+
+    Two jobs are equal when they evaluate the same pressure (by value) over the same interval with
+    the same metrics into the same files; where the calibration came from, the title's wording and
+    the vocabulary of errors only describe, and are left out.
     """
+
+    #: The fields compared by :meth:`__eq__` besides the signal.
+    _COMPARED = ("channels", "start", "stop", "loudness", "csv", "spectrum_csv", "spectrum_png")
 
     signal: object
     channels: tuple
@@ -95,7 +106,21 @@ class LevelsJob:
     stop: float | None = None
     loudness: bool = False
     csv: str | None = None
+    spectrum_csv: str | None = None
+    spectrum_png: str | None = None
+    what: str = "the signal"
     names: dict = dataclasses.field(default_factory=dict, repr=False)
+
+    def __eq__(self, other):
+        import numpy as np
+
+        if not isinstance(other, LevelsJob):
+            return NotImplemented
+        a, b = self.signal, other.signal
+        return (a.sample_rate == b.sample_rate and a.start == b.start and np.array_equal(a.pressure, b.pressure)
+                and all(getattr(self, k) == getattr(other, k) for k in self._COMPARED))
+
+    __hash__ = None
 
     def __post_init__(self):
         from ..._validate import ParameterError
