@@ -121,3 +121,12 @@ def test_scene_refuses_loudness_without_mosqito_before_the_run(tmp_path, monkeyp
     with pytest.raises(ParameterError, match=r"outputs\.levels\.loudness"):
         run_scene(scene, tmp_path / "o")
     assert not ran and not any((tmp_path / "o").glob("*.csv"))
+
+
+def test_levels_that_overflow_are_refused_before_any_file(tmp_path):
+    rng = np.random.default_rng(1)
+    loud = Signal(1e200 * rng.standard_normal(4800), 48000.0)
+    job = LevelsJob(loud, ("a",), csv="levels.csv", names={"input": "damper"})
+    with np.errstate(all="ignore"), pytest.raises(ParameterError, match="damper.*not finite"):
+        run(job).write(tmp_path)
+    assert not any(tmp_path.iterdir())

@@ -363,11 +363,12 @@ def _check_finite(report: LevelReport, job) -> None:
     """
     values = _level_values(report)
     if np.any(np.isnan(values)) or np.any(values == np.inf):
-        what = job.names.get("input_name", "the signal")
-        scale = "" if job.pa_per_full_scale is None else f"{job.pa_per_full_scale:g} Pa per full scale "
+        what = job.names.get("input_name", job.what)
+        if job.pa_per_full_scale is None:  # a computed signal: no calibration to blame
+            raise ParameterError(job.names.get("input", "signal"), f"the levels of {what} are not finite numbers")
         raise ParameterError(job.names.get("input", "signal"),
                              f"the levels of {what} are not finite numbers with the calibration of "
-                             f"{scale}({job.source}); give a smaller one")
+                             f"{job.pa_per_full_scale:g} Pa per full scale ({job.source}); give a smaller one")
 
 
 def silent_notes(report: LevelReport, echo) -> None:
