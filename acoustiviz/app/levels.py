@@ -21,9 +21,11 @@ from .._validate import ParameterError, check_positive
 from ..constants import ANALYSIS_RATE
 from ..core.signal import Signal
 from ..levels import LEVEL_COLUMNS, BandLevels, Loudness, SoundLevels, loudness, third_octave_levels
+from .settings.levels import LevelsJob
 
-__all__ = ["ANALYSIS_RATE", "levels", "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse",
-           "bands_path", "write_levels_csv", "summary_lines", "rendered_levels"]
+__all__ = ["ANALYSIS_RATE", "file_summary", "silent_notes", "LevelsJob", "LevelsResult", "run", "job_from_wav",
+           "CalibratedSignal", "LevelReport", "read_calibrated_wav", "analyse",
+           "bands_path", "write_levels_csv", "write_spectrum_csv", "summary_lines", "rendered_levels"]
 
 
 
@@ -248,62 +250,130 @@ def _check_inputs(s) -> None:
         raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
 
 
-def levels(s, echo=print) -> tuple:
-    """Read a calibrated WAV file, compute its levels, ``echo`` them and write the two CSV files.
+def job_from_wav(s, echo=print):
+    """The :class:`~acoustiviz.app.settings.levels.LevelsJob` of ``acoustiviz levels``' settings.
 
-    The application step of ``acoustiviz levels``: the file and its calibration in Pa per full
-    scale (:func:`read_calibrated_wav`), the levels, bands and optional loudness of the interval
-    ``[start, stop)`` in s (:func:`analyse`), written by :func:`write_levels_csv`. Errors name the
-    command-line options.
-
-    Parameters
-    ----------
-    s : acoustiviz.app.settings.levels.LevelsSettings
-        The file, the CSV, the calibration and the interval.
-    echo : callable
-        Called with each summary line.
-
-    Returns
-    -------
-    tuple of pathlib.Path
-        The levels CSV and its bands CSV.
+    Checks the file, the CSV, the memory and the loudness library, then reads the file and its
+    calibration (:func:`read_calibrated_wav`); a ``--pa-per-fs`` a sidecar overrides is ``echo``-ed
+    as ignored. Errors name the command-line options.
     """
     from .names import user_terms
+    from .settings.levels import LevelsJob
 
     _check_inputs(s)
     terms = {"pa_per_fs": "--pa-per-fs", "start": "--start", "stop": "--stop", "signal": "SIGNAL.wav"}
     with user_terms(terms):
         sig = read_calibrated_wav(s.signal, pa_per_fs=s.pa_per_fs)
-        if sig.source != "given" and s.pa_per_fs is not None and s.pa_per_fs != sig.pa_per_full_scale:
-            echo(f"note: --pa-per-fs {s.pa_per_fs:g} ignored: the {sig.source} records "
-                 f"{sig.pa_per_full_scale:g} Pa per full scale")
-        if s.start is not None and s.stop is not None and s.stop <= s.start:
-            raise ParameterError("--stop", f"must be later than --start ({s.start:g} s), got {s.stop:g} s")
-        report = analyse(sig.signal, start=s.start, stop=s.stop, channels=sig.channels, with_loudness=s.loudness)
-    _check_levels(report, sig, s.signal, echo)
-    echo(f"{s.signal}: {sig.signal.channels} channel(s), {sig.signal.duration:g} s at "
-         f"{int(sig.signal.sample_rate)} Hz, {sig.pa_per_full_scale:g} Pa per full scale ({sig.source})")
-    for line in summary_lines(report, rate_note=" (the file's rate)"):
-        echo(line)
-    paths = write_levels_csv(s.csv, report)
-    for path in paths:
-        echo(f"wrote {path}")
-    return paths
+    if sig.source != "given" and s.pa_per_fs is not None and s.pa_per_fs != sig.pa_per_full_scale:
+        echo(f"note: --pa-per-fs {s.pa_per_fs:g} ignored: the {sig.source} records "
+             f"{sig.pa_per_full_scale:g} Pa per full scale")
+    return LevelsJob(sig.signal, tuple(sig.channels), sig.pa_per_full_scale, sig.source, start=s.start,
+                     stop=s.stop, loudness=s.loudness, csv=s.csv,
+                     names={**terms, "input": "--pa-per-fs" if sig.source == "given" else "SIGNAL.wav",
+                            "input_name": str(s.signal)})
 
 
-def _check_levels(report: LevelReport, sig: CalibratedSignal, signal, echo) -> None:
-    """No level that is not a number or infinitely loud is written; a silent channel is said to be one.
+@dataclass(frozen=True, eq=False)
+class LevelsResult:
+    """The levels of a :class:`~acoustiviz.app.settings.levels.LevelsJob`: its settings and its report."""
+
+    settings: object
+    report: LevelReport
+
+    def write(self, folder=None) -> list:
+        """Write the files the settings ask for into ``folder``; return their paths.
+
+        The levels CSV and its ``_bands.csv`` (:func:`write_levels_csv`), the spectrum's CSV
+        (:func:`write_spectrum_csv`) and its figure, each atomically. ``folder``: where relative
+        file names are put (default: as given, the current folder).
+        """
+        s, written = self.settings, []
+
+        def where(name):
+            return Path(name) if folder is None else Path(folder) / name
+
+        if s.csv is not None:
+            written += write_levels_csv(where(s.csv), self.report)
+        if s.spectrum_csv is not None:
+            written.append(write_spectrum_csv(where(s.spectrum_csv), self.report))
+        if s.spectrum_png is not None:
+            written.append(self._spectrum_figure(where(s.spectrum_png)))
+        return [Path(p) for p in written]
+
+    def _spectrum_figure(self, path):
+        """The 1/3-octave band Leq and LFmax of each channel."""
+        from ..output.plot.levels import plot_band_levels
+        from ..output.plot.style import style
+        from .products import new_figure, save
+
+        bl = self.report.bands
+        with style():
+            fig = new_figure()
+            ax = fig.add_subplot()
+            for i, name in enumerate(self.report.channels):
+                plot_band_levels(bl.nominal_hz, bl.leq_db[i], lmax_db=bl.lmax_db[i], label=name, ax=ax)
+            ax.set_title(f"1/3-octave bands of {self.settings.what} over {bl.stop - bl.start:g} s")
+            return save(fig, path)
+
+
+def write_spectrum_csv(path, report: LevelReport):
+    """Write ``channel,band_hz,leq_db,lmax_db`` (channels by name, nominal mid-band in Hz, dB) atomically."""
+    from ..files import write_text_atomic
+
+    rows = ["channel,band_hz,leq_db,lmax_db"] + [
+        f"{r['channel']},{r['band_hz']:g},{r['leq_db']:.4f},{r['lmax_db']:.4f}"
+        for r in report.bands.rows(report.channels)]
+    return write_text_atomic(path, "\n".join(rows) + "\n")
+
+
+def run(settings) -> LevelsResult:
+    """The levels, bands and optional loudness of a job's signal over its interval (:func:`analyse`).
+
+    Physics only: no file is written and nothing printed. Levels that are not numbers or infinitely
+    loud (a calibration too large) are refused, naming the setting that gave the calibration.
+    """
+    from .names import user_terms
+
+    s = settings
+    with user_terms({k: v for k, v in s.names.items() if k in ("start", "stop", "signal")}):
+        report = analyse(s.signal, start=s.start, stop=s.stop, channels=s.channels, with_loudness=s.loudness)
+    _check_finite(report, s)
+    return LevelsResult(s, report)
+
+
+def file_summary(result: LevelsResult) -> list:
+    """The summary of a WAV file's levels: the file, its rate and calibration, then :func:`summary_lines`."""
+    job, sig = result.settings, result.settings.signal
+    return [f"{job.names.get('input_name', 'the signal')}: {sig.channels} channel(s), {sig.duration:g} s at "
+            f"{int(sig.sample_rate)} Hz, {job.pa_per_full_scale:g} Pa per full scale ({job.source})",
+            *summary_lines(result.report, rate_note=" (the file's rate)")]
+
+
+def _level_values(report: LevelReport):
+    """The report's levels, ``(n_channels, len(LEVEL_COLUMNS))`` in dB."""
+    rows = report.levels.rows(report.channels)
+    return np.array([[row[c] for c in LEVEL_COLUMNS] for row in rows], dtype=float)
+
+
+def _check_finite(report: LevelReport, job) -> None:
+    """No level that is not a number or infinitely loud is written.
 
     The calibration's range (:func:`calibration_range`) keeps the levels finite; should one still
-    be NaN or +inf, nothing is written. A channel with no sound at all has levels of -inf dB, written
-    as ``-inf`` (:func:`acoustiviz.output.tables.csv_number`), and a note says which.
+    be NaN or +inf, nothing is written, and the error names the setting the calibration came from.
     """
-    lv = report.levels
-    values = np.array([[row[c] for c in LEVEL_COLUMNS] for row in lv.rows(report.channels)], dtype=float)
+    values = _level_values(report)
     if np.any(np.isnan(values)) or np.any(values == np.inf):
-        name = "--pa-per-fs" if sig.source == "given" else "SIGNAL.wav"
-        raise ParameterError(name, f"the levels of {signal} are not finite numbers with the calibration of "
-                                   f"{sig.pa_per_full_scale:g} Pa per full scale ({sig.source}); give a smaller one")
+        what = job.names.get("input_name", job.what)
+        if job.pa_per_full_scale is None:  # a computed signal: no calibration to blame
+            raise ParameterError(job.names.get("input", "signal"), f"the levels of {what} are not finite numbers")
+        raise ParameterError(job.names.get("input", "signal"),
+                             f"the levels of {what} are not finite numbers with the calibration of "
+                             f"{job.pa_per_full_scale:g} Pa per full scale ({job.source}); give a smaller one")
+
+
+def silent_notes(report: LevelReport, echo) -> None:
+    """``echo`` a note for each channel with no sound at all: its levels are -inf dB, written as ``-inf``."""
+    values, lv = _level_values(report), report.levels
     for i, name in enumerate(report.channels):
         if np.all(values[i] == -np.inf):
             echo(f"note: channel {name} is silent over {lv.start:g}-{lv.stop:g} s: its levels are -inf dB")

@@ -30,7 +30,7 @@ from .names import SCENE_DAMPER_KEYS, user_terms
 from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
-from .scene_levels import check_levels_settings, check_sound_listeners, produce_levels, produce_spectrum
+from .scene_levels import check_sound_listeners, levels_settings, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
 from .sweep import scene_sweep_spec
 
@@ -445,8 +445,8 @@ _SETTINGS = {
     "sweep": scene_sweep_spec,
     "design_table": scene_sweep_spec,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
-    "levels": lambda scene: (check_levels_settings(scene), check_sound_listeners(scene)),
-    "spectrum": check_sound_listeners,
+    "levels": levels_settings,
+    "spectrum": levels_settings,
     **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},
     **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation")},
     "operating_noise": lambda scene: (scene.forced_settings(), _operating_listener(scene)),

@@ -19,11 +19,14 @@ from ..core.listener import Listener
 from ..errors import ParameterError
 from ..levels import loudness_available
 from ..levels.energy import run_energy
-from .levels import ANALYSIS_RATE, LevelReport, rendered_levels, summary_lines, write_levels_csv
+from .levels import ANALYSIS_RATE, LevelsResult, summary_lines
 
-__all__ = ["check_levels_settings", "check_sound_listeners", "damper_sound_setup", "produce_levels", "produce_spectrum"]
+__all__ = ["check_levels_settings", "check_sound_listeners", "damper_sound_setup", "levels_settings", "produce_levels",
+           "produce_spectrum"]
 
-_CACHE = "_levels_report"
+_CACHE = "_levels_result"
+#: The files each output writes, in its folder.
+_FILES = {"levels": {"csv": "levels.csv"}, "spectrum": {"spectrum_csv": "spectrum.csv", "spectrum_png": "spectrum.png"}}
 
 
 def _cavity(scene, model, medium):
@@ -76,17 +79,44 @@ def check_levels_settings(scene) -> None:
         raise ParameterError("outputs.levels.loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
 
 
-def _report(ctx) -> LevelReport:
-    """The run's level report, computed once per run and kept on the context."""
+def levels_settings(scene, out=None, signal=None, channels=()):
+    """The scene's ``[outputs.levels]`` and ``[outputs.spectrum]`` as one :class:`~acoustiviz.app.levels.LevelsJob`.
+
+    ``signal``: the damper run's sound at the listeners (named ``channels``), computed at
+    :data:`ANALYSIS_RATE`; the files are those of the two outputs the scene asks for, in folder ``out``.
+    Without a signal (before the run) only the checks are made: loudness needs mosqito, the
+    listeners lie outside the cavity; None is returned.
+    """
+    from pathlib import Path
+
+    from .settings.levels import LevelsJob
+
+    check_levels_settings(scene)
+    if signal is None:
+        check_sound_listeners(scene)
+        return None
+    opts = scene.output("levels") if "levels" in scene.outputs else {}
+    files = {k: str(Path(out) / v) if out is not None else v
+             for kind, names in _FILES.items() if kind in scene.outputs for k, v in names.items()}
+    return LevelsJob(signal, tuple(channels), None, "computed", loudness=bool(opts.get("loudness", False)),
+                     what="the damper run", names={"signal": "damper", "input": "damper", "loudness":
+                                                   "outputs.levels.loudness"}, **files)
+
+
+def _result(ctx) -> LevelsResult:
+    """The run's levels, computed and their files written once per run; kept on the context."""
+    from ..sound import render
+    from .levels import run
+
     if _CACHE not in ctx.__dict__:
-        opts = ctx.scene.output("levels") if "levels" in ctx.scene.outputs else {}
         check_levels_settings(ctx.scene)
         seq, room, model, names, points = damper_sound_setup(ctx)
         ctx.progress(f"levels of {len(seq)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")
-        ctx.__dict__[_CACHE] = rendered_levels(seq, room, model, points, duration=ctx.damper_run.duration,
-                                               channels=names, with_loudness=bool(opts.get("loudness", False)),
-                                               room_sound=ctx.scene.room_sound())
+        rendering = render(seq, room, model, points, sample_rate=ANALYSIS_RATE, duration=ctx.damper_run.duration,
+                           room_sound=ctx.scene.room_sound())
+        result = run(levels_settings(ctx.scene, ctx.out, rendering.signal, names))
+        ctx.__dict__[_CACHE] = result, result.write()
     return ctx.__dict__[_CACHE]
 
 
@@ -94,10 +124,11 @@ def produce_levels(ctx):
     """``levels.csv`` (+ its bands): weighted levels of the damper run at each listener."""
     from .products import Product
 
-    report = _report(ctx)
+    result, written = _result(ctx)
+    report = result.report
     for line in summary_lines(report, rate_note=" (computed signal)"):
         ctx.progress(line)
-    main, bands = write_levels_csv(ctx.path("levels.csv"), report)
+    main, bands = [p for p in written if p.name in ("levels.csv", "levels_bands.csv")]
     lv = report.levels
     figures = {"evaluated_at_hz": f"{lv.sample_rate:g}",
                "lcpeak_db": f"{np.max(lv.lcpeak_db):.1f}", "lafmax_db": f"{np.max(lv.lafmax_db):.1f}",
@@ -125,25 +156,11 @@ def produce_levels(ctx):
 
 def produce_spectrum(ctx):
     """``spectrum.csv`` and ``spectrum.png``: 1/3-octave band Leq and LFmax at each listener."""
-    from ..files import write_text_atomic
-    from ..output.plot.levels import plot_band_levels
-    from ..output.plot.style import style
     from .products import Product
-    from .products import new_figure as _fig
-    from .products import save as _save
 
-    report = _report(ctx)
-    bl = report.bands
-    rows = ["channel,band_hz,leq_db,lmax_db"] + [
-        f"{r['channel']},{r['band_hz']:g},{r['leq_db']:.4f},{r['lmax_db']:.4f}" for r in bl.rows(report.channels)]
-    csv = write_text_atomic(ctx.path("spectrum.csv"), "\n".join(rows) + "\n")
-    with style():
-        fig = _fig()
-        ax = fig.add_subplot()
-        for i, name in enumerate(report.channels):
-            plot_band_levels(bl.nominal_hz, bl.leq_db[i], lmax_db=bl.lmax_db[i], label=name, ax=ax)
-        ax.set_title(f"1/3-octave bands of the damper run over {bl.stop - bl.start:g} s")
-        png = _save(fig, ctx.path("spectrum.png"))
+    result, written = _result(ctx)
+    csv, png = [p for p in written if p.name in ("spectrum.csv", "spectrum.png")]
+    bl = result.report.bands
     k = int(np.argmax(np.max(bl.leq_db, axis=0)))
     return [Product("spectrum", csv, {"loudest_band_hz": f"{bl.nominal_hz[k]:g}",
                                       "loudest_band_leq_db": f"{np.max(bl.leq_db[:, k]):.1f}"}),

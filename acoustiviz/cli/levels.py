@@ -1,7 +1,8 @@
 """``acoustiviz levels``: weighted levels, 1/3-octave bands and loudness of a calibrated WAV file.
 
-The options are the records of :mod:`acoustiviz.app.settings.levels`; :func:`acoustiviz.app.levels.levels`
-runs them.
+argv -> :class:`~acoustiviz.app.settings.levels.LevelsJob` (:func:`settings_from_args`, the options
+generated from the records of :mod:`acoustiviz.app.settings.levels`) -> :func:`acoustiviz.app.levels.run`
+-> the summary -> :meth:`~acoustiviz.app.levels.LevelsResult.write`.
 """
 
 from __future__ import annotations
@@ -28,13 +29,30 @@ def add_parser(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
-    """Parse the options into :class:`~acoustiviz.app.settings.levels.LevelsSettings` and run them."""
-    from ..app.levels import levels
+def settings_from_args(args, echo=print):
+    """The :class:`~acoustiviz.app.settings.levels.LevelsJob` of the options; errors name the options.
+
+    The options' ranges are checked first, then the file, the CSV and the memory, then the file and its
+    calibration are read (:func:`acoustiviz.app.levels.job_from_wav`).
+    """
+    from ..app.levels import job_from_wav
     from ..app.names import user_terms
     from ..app.settings.levels import LevelsSettings
 
     with user_terms(LevelsSettings.cli_names()):
         settings = LevelsSettings.from_namespace(vars(args))
-    levels(settings)
+    return job_from_wav(settings, echo)
+
+
+def run(args) -> int:
+    """Compute the levels (:func:`acoustiviz.app.levels.run`), print them and write the CSV files."""
+    from ..app.levels import file_summary, silent_notes
+    from ..app.levels import run as run_job
+
+    result = run_job(settings_from_args(args))
+    silent_notes(result.report, print)
+    for line in file_summary(result):
+        print(line)
+    for path in result.write():
+        print(f"wrote {path}")
     return 0

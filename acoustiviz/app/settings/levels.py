@@ -2,7 +2,7 @@
 
 One :class:`~acoustiviz.app.settings.table.Setting` per option (:data:`ALL`, in the order
 ``--help`` shows them); :class:`LevelsSettings` checks the ranges of :data:`LEVELS` once. The
-checks that need the file (its sidecar, its length) are made by :func:`acoustiviz.app.levels.levels`.
+checks that need the file (its sidecar, its length) are made by :func:`acoustiviz.app.levels.job_from_wav`.
 Times in s, pressures in Pa. A scene's ``[outputs.levels]`` evaluates the damper run it computes,
 not a file, so these settings have no scene keys.
 """
@@ -14,7 +14,7 @@ import dataclasses
 from .base import Settings
 from .table import Setting
 
-__all__ = ["ALL", "LEVELS", "LevelsSettings"]
+__all__ = ["ALL", "LEVELS", "LevelsSettings", "LevelsJob"]
 
 SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav")
 
@@ -58,3 +58,77 @@ class LevelsSettings(Settings):
         """The settings of a mapping of option destinations to values (``vars(args)``)."""
         names = {f.name for f in dataclasses.fields(cls)}
         return cls(**{k: v for k, v in ns.items() if k in names})
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class LevelsJob:
+    """The whole of what :func:`acoustiviz.app.levels.run` needs: a calibrated signal, the interval, the files.
+
+    Each front end builds the signal (``acoustiviz levels`` reads a WAV file and its calibration);
+    the interval, the metrics and the files are then one code path.
+
+    Attributes
+    ----------
+    signal : acoustiviz.Signal
+        Sound pressure in Pa, ``(n_channels, n_samples)``, its times in s.
+    channels : tuple of str
+        One name per channel of ``signal``.
+    pa_per_full_scale : float or None
+        The calibration applied to a file's samples, in Pa per full scale (None: a computed signal).
+    source : str
+        Where the calibration came from (``"given"``, ``"sidecar NAME.json"``) or the signal was computed.
+    start, stop : float or None
+        The interval in s on the signal's axis (None: its start, its end).
+    loudness : bool
+        Also ISO 532-1 loudness and DIN 45692 sharpness.
+    csv : str or None
+        The levels CSV (one row per channel); its bands go to ``OUT_bands.csv`` beside it.
+    spectrum_csv, spectrum_png : str or None
+        The 1/3-octave spectrum (``channel,band_hz,leq_db,lmax_db``, channels by name) and its figure.
+    what : str
+        What the signal is, for the figure's title.
+    names : dict
+        The user's name of each setting (option or scene key), for error messages.
+
+    Two jobs are equal when they evaluate the same pressure (by value) over the same interval with
+    the same metrics into the same files; where the calibration came from, the title's wording and
+    the vocabulary of errors only describe, and are left out.
+    """
+
+    #: The fields compared by :meth:`__eq__` besides the signal.
+    _COMPARED = ("channels", "start", "stop", "loudness", "csv", "spectrum_csv", "spectrum_png")
+
+    signal: object
+    channels: tuple
+    pa_per_full_scale: float | None = None
+    source: str = "computed"
+    start: float | None = None
+    stop: float | None = None
+    loudness: bool = False
+    csv: str | None = None
+    spectrum_csv: str | None = None
+    spectrum_png: str | None = None
+    what: str = "the signal"
+    names: dict = dataclasses.field(default_factory=dict, repr=False)
+
+    def __eq__(self, other):
+        import numpy as np
+
+        if not isinstance(other, LevelsJob):
+            return NotImplemented
+        a, b = self.signal, other.signal
+        return (a.sample_rate == b.sample_rate and a.start == b.start and np.array_equal(a.pressure, b.pressure)
+                and all(getattr(self, k) == getattr(other, k) for k in self._COMPARED))
+
+    __hash__ = None
+
+    def __post_init__(self):
+        from ..._validate import ParameterError
+
+        if self.start is not None and self.stop is not None and self.stop <= self.start:
+            raise ParameterError(self.names.get("stop", "stop"),
+                                 f"must be later than {self.names.get('start', 'start')} ({self.start:g} s), "
+                                 f"got {self.stop:g} s")
+        if len(self.channels) != self.signal.channels:
+            raise ParameterError(self.names.get("signal", "signal"),
+                                 f"{len(self.channels)} channel name(s) for {self.signal.channels} channel(s)")
