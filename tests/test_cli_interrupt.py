@@ -556,3 +556,29 @@ def test_ctrl_c_while_the_command_works_exits_130(tmp_path, command_argv, attemp
     _interrupt_at_import(argv, tmp_path, marker)
     for name in ("w.csv", "d.csv", "m.csv", "i.csv", "f.csv", "b.png", "s.png", "a.gif", "a.wav", "l.csv"):
         assert not (tmp_path / name).exists(), name
+
+
+def test_an_interrupt_python_wrapped_in_another_exception_still_exits_130(monkeypatch, capsys):
+    """A Ctrl-C in a dataclass field's ``__set_name__`` reaches the command as a RuntimeError caused by it."""
+    import acoustiviz.cli as cli
+
+    def class_built_under_ctrl_c(argv, standalone):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise RuntimeError("Error calling __set_name__ on 'Field' instance 'names'") from exc
+
+    monkeypatch.setattr(cli, "_command", class_built_under_ctrl_c)
+    assert cli._main(["map"]) == 130
+    assert "acoustiviz map: interrupted" in capsys.readouterr().err
+
+
+def test_an_error_not_caused_by_an_interrupt_is_not_taken_for_one(monkeypatch):
+    import acoustiviz.cli as cli
+
+    def fails(argv, standalone):
+        raise RuntimeError("a defect")
+
+    monkeypatch.setattr(cli, "_command", fails)
+    with pytest.raises(RuntimeError, match="a defect"):
+        cli._main(["map"])

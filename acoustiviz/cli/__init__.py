@@ -193,7 +193,27 @@ def _main(argv: list, standalone: bool = False) -> int:
         status = _command(argv, standalone)
     except KeyboardInterrupt:
         return interrupted(command_of(argv), standalone)
+    except Exception as exc:
+        if _raised_by_interrupt(exc):
+            return interrupted(command_of(argv), standalone)
+        raise
     return interrupted(command_of(argv), standalone) if swallowed else status
+
+
+def _raised_by_interrupt(exc: BaseException) -> bool:
+    """True when a KeyboardInterrupt caused ``exc``.
+
+    Python wraps some exceptions raised while it builds a class (a Ctrl-C landing in a dataclass
+    field's ``__set_name__`` becomes a ``RuntimeError``), so a Ctrl-C during the imports can
+    arrive as another exception whose cause is the interrupt.
+    """
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
 
 
 def _command(argv: list, standalone: bool) -> int:
