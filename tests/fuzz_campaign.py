@@ -115,6 +115,7 @@ class Invocation:
     klass: str = ""
     reason: str = ""
     stderr_tail: str = ""
+    traceback: bool = False  # stderr held "Traceback" anywhere (the tail may have cut it off)
     duration: float = 0.0
     sigint_sent: bool = False
 
@@ -360,7 +361,9 @@ def execute(inv: Invocation, folder: Path, timeout: float) -> dict:
         _, err = proc.communicate()
         inv.status = None
     inv.duration = round(time.monotonic() - start, 3)
-    inv.stderr_tail = err.decode(errors="replace")[-800:]
+    text = err.decode(errors="replace")
+    inv.stderr_tail = text[-800:]
+    inv.traceback = "Traceback" in text
     return before
 
 
@@ -471,7 +474,7 @@ def classify(inv: Invocation, folder: Path, before: dict) -> None:
     changed = _changed_inputs(inv, folder, before)
     checks = [
         ("hang", status is None, "time-out"),
-        ("traceback", "Traceback" in err, lines[-1] if lines else ""),
+        ("traceback", inv.traceback or "Traceback" in err, lines[-1] if lines else ""),
         ("crash", status is not None and status < 0 and not (inv.sigint_sent and status == -signal.SIGINT),
          f"signal {-status if status else 0}"),
         ("changed-input", bool(changed), ", ".join(changed)),

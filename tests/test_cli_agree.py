@@ -321,3 +321,9 @@ def test_auto_with_a_coarse_tolerance_runs_alike_from_scene_and_command(here, ca
                                  '[outputs.impact_table]\n')
     assert call(["run", "s.toml", "--out", "o", "--quiet"]) == 0
     assert (here / "i.csv").read_bytes() == (here / "o" / "impacts.csv").read_bytes()
+
+
+@pytest.mark.parametrize("value", ["4.9e-324", "1e-12"])
+def test_a_main_mass_too_light_for_the_contacts_is_named(here, capsys, value):
+    """The main mass, not the speed left at its default, is blamed (a denormal one made the reduced mass 0)."""
+    refused(["damper", "--duration", "1", "--M", value], capsys, "--M")

@@ -257,6 +257,10 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
         raise ParameterError("m", f"an impact mass of {m:g} kg is lighter than {MIN_MASS_RATIO:g} of the main mass "
                                   f"({M:g} kg), below which the solvers cannot follow its contacts; it must be "
                                   f">= {MIN_MASS_RATIO * M:.3g} kg")
+    if M < MIN_MASS_RATIO * m:  # the mirror: a main mass too light to carry the contacts it takes part in
+        raise ParameterError("M", f"a main mass of {M:g} kg is lighter than {MIN_MASS_RATIO:g} of the impact mass "
+                                  f"({m:g} kg), below which the solvers cannot follow the contacts; it must be "
+                                  f">= {MIN_MASS_RATIO * m:.3g} kg")
     if v == 0:
         return
     lo, hi, mu, ltau0 = _damper_speeds(M, m, gap, k_hertz, duration, lperiod)
@@ -292,9 +296,21 @@ def check_damper(*, M: float, K: float, m: float, gap: float, k_hertz: float, v:
                               f"(either sign) must lie in {_fmt_range(lo, hi, 'm/s')} ({why})")
 
 
+def _reduced_mass(m: float, M: float) -> float:
+    """``m M / (m + M)`` in kg without overflow or underflow: the smaller mass over ``1 + small / large``.
+
+    >>> _reduced_mass(0.0405, 0.5) == 0.0405 * 0.5 / 0.5405
+    True
+    >>> _reduced_mass(0.0405, 5e-324) > 0  # the product m M would underflow to 0
+    True
+    """
+    small, large = min(m, M), max(m, M)
+    return small / (1.0 + small / large)
+
+
 def _damper_speeds(M, m, gap, k_hertz, duration, lperiod) -> tuple:
     """``(lo, hi, mu, log10 of the contact time at 1 m/s)``: the initial speeds (m/s) whose contacts can be computed."""
-    mu = m * M / (m + M) if math.isfinite(m * M) and m + M > 0 else min(m, M)
+    mu = _reduced_mass(m, M)
     q0 = _lg(1.25) + _lg(mu) - _lg(k_hertz)
     ltau0 = _lg(HERTZ_DURATION_CONSTANT) + 0.4 * q0
     cons = _contact_constraints(k_hertz, mu, m)
