@@ -3,8 +3,8 @@
 Every public function checks its inputs before doing any work and raises :class:`ParameterError`
 naming the parameter as the caller spelt it (``"radius"`` in the API, ``"--radius"`` on the
 command line, ``"sphere.radius_m"`` in a scene), with the offending value and the allowed range.
-A front-end that renames a parameter does so with :meth:`ParameterError.renamed`, never by
-taking the message apart.
+A front-end that renames a parameter does so with :meth:`ParameterError.renamed` (around a whole
+block, :func:`user_terms`), never by taking the message apart.
 
 Examples
 --------
@@ -17,6 +17,9 @@ Examples
 """
 
 from __future__ import annotations
+
+import contextlib
+from collections.abc import Mapping
 
 __all__ = ["ParameterError", "SceneError", "AccuracyWarning", "ClippingWarning"]
 
@@ -132,3 +135,20 @@ class ClippingWarning(UserWarning):
     >>> [w.category.__name__ for w in caught], info["clipped_samples"], round(info["over_full_scale_db"], 2)
     (['ClippingWarning'], 1, 6.02)
     """
+
+
+@contextlib.contextmanager
+def user_terms(names: Mapping[str, str]):
+    """Re-raise a :class:`ParameterError` about a parameter of ``names`` under the user's name.
+
+    Parameters
+    ----------
+    names : mapping of str to str
+        API parameter name -> the option or scene key the user gave.
+    """
+    try:
+        yield
+    except ParameterError as exc:
+        if exc.name in names and names[exc.name] != exc.name:
+            raise exc.renamed(names[exc.name]) from None
+        raise

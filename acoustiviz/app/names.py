@@ -18,10 +18,9 @@ Examples
 
 from __future__ import annotations
 
-import contextlib
 from collections.abc import Mapping
 
-from ..errors import ParameterError
+from ..errors import user_terms
 from .settings.damper import DAMPER
 from .settings.impact import IMPACT, OBSERVER, WAVEFORM
 from .settings.room import ROOM
@@ -68,19 +67,3 @@ SCENE_IMPACT_KEYS = {
     "strike": "configuration.strike",
 }
 
-
-@contextlib.contextmanager
-def user_terms(names: Mapping[str, str]):
-    """Re-raise a :class:`ParameterError` about a parameter of ``names`` under the user's name.
-
-    Parameters
-    ----------
-    names : mapping of str to str
-        API parameter name -> the option or scene key the user gave.
-    """
-    try:
-        yield
-    except ParameterError as exc:
-        if exc.name in names and names[exc.name] != exc.name:
-            raise exc.renamed(names[exc.name]) from None
-        raise

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from ...errors import ParameterError
+from ...errors import ParameterError, user_terms
 
 __all__ = ["Settings", "check_size", "SIZE_RANGE"]
 
@@ -39,9 +39,11 @@ class Settings:
     TABLE = ()
 
     def __post_init__(self):
-        for s in self.TABLE:
-            object.__setattr__(self, s.name, s.check(getattr(self, s.name)))
-        self.validate()
+        # a job's ``names`` field (API name -> option or scene key): its errors in the user's words
+        with user_terms(getattr(self, "names", None) or {}):
+            for s in self.TABLE:
+                object.__setattr__(self, s.name, s.check(getattr(self, s.name)))
+            self.validate()
 
     def validate(self) -> None:
         """Checks beyond the table's ranges (subclasses)."""

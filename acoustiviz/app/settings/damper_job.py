@@ -78,12 +78,6 @@ class DamperJob(Settings):
     png: str | None = None
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
-    def __post_init__(self):
-        from ..names import user_terms
-
-        with user_terms(self.names):  # the table's ranges and every check of validate, in the user's words
-            super().__post_init__()
-
     def files(self) -> dict:
         """``{"impacts_csv": path, "history_csv": path, "png": path}`` of the files asked for (strings)."""
         return {key: getattr(self, key) for key in FILE_KINDS if getattr(self, key) is not None}

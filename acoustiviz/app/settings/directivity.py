@@ -73,12 +73,6 @@ class DirectivityJob(Settings):
     k_hertz_source: str = dataclasses.field(default="given", compare=False)
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
-    def __post_init__(self):
-        from ..names import user_terms
-
-        with user_terms(self.names):  # the table's ranges and every check of validate, in the user's words
-            super().__post_init__()
-
     @property
     def window(self) -> float | None:
         """In a room, the window in s from the start of contact each angle's levels end by; None elsewhere."""

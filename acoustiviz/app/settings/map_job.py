@@ -82,12 +82,6 @@ class MapJob(Settings):
     k_hertz_source: str = dataclasses.field(default="given", compare=False)
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
-    def __post_init__(self):
-        from ..names import user_terms
-
-        with user_terms(self.names):  # the table's ranges and every check of validate, in the user's words
-            super().__post_init__()
-
     def files(self) -> dict:
         """``{"png": path, "csv": path, "vtk": path}`` as asked (strings)."""
         return {key: getattr(self, key) for key in ("png", "csv", "vtk") if getattr(self, key) is not None}

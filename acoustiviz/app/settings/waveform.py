@@ -83,12 +83,6 @@ class WaveformJob(Settings):
     size_options: tuple = dataclasses.field(default=("samples_per_duration",), compare=False, repr=False)
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
-    def __post_init__(self):
-        from ..names import user_terms
-
-        with user_terms(self.names):  # the table's ranges and every check of validate, in the user's words
-            super().__post_init__()
-
     @property
     def window(self) -> float | None:
         """In a room, the window in s from the start of contact the waveform covers; None elsewhere."""
