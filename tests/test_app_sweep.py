@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from acoustiviz import constants
-from acoustiviz.app.names import user_terms
 from acoustiviz.app import design as design_job
 from acoustiviz.app import sweep as sweep_job
+from acoustiviz.app.names import user_terms
 from acoustiviz.app.settings.design import DesignJob
 from acoustiviz.app.settings.sweep_job import sweep_job as build_sweep
 from acoustiviz.app.sweep import SWEEP_OPTIONS, scene_sweep_spec, sweep_spec

@@ -53,7 +53,7 @@ class SweepJob(Settings):
     ----------
     gap, m, mass_ratio, c1, k_hertz, material, v0, distance, angle, config : tuple
         The values of each axis (:class:`acoustiviz.sweep.SweepSpec`, SI units, the angle in rad); ``m`` or
-        ``mass_ratio``, ``k_hertz`` or ``material`` (None: the other).
+        ``mass_ratio``, ``k_hertz`` or ``material`` (None: the other; both None: Table 1's m and K_HZ).
     settings : acoustiviz.sweep.FixedSettings
         The damper, solver, sphere and sound of every design (duration in s, the levels on or off).
     out : str, optional
@@ -104,6 +104,11 @@ class SweepJob(Settings):
 
         if self.settings is None:
             object.__setattr__(self, "settings", FixedSettings())
+        # neither masses nor ratios, neither K_HZ nor materials: Table 1's, so equal sweeps are equal jobs
+        if self.m is None and self.mass_ratio is None:
+            object.__setattr__(self, "m", (TABLE1_PARAMETERS["m"],))
+        if self.k_hertz is None and self.material is None:
+            object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
         self._check_ranges()
         self._check_budget()
         object.__setattr__(self, "spec", self._build_spec())
