@@ -49,7 +49,7 @@ RADIUS = Setting("radius", "--radius", "radius_m", "float", PAPER_RADIUS, "spher
 
 
 #: The damper's records, whose ranges the swept values and the fixed M, K and C obey
-#: (:func:`acoustiviz.app.sweep.check_ranges`).
+#: (:class:`acoustiviz.app.settings.sweep_job.SweepJob` checks them).
 _DAMPER = by_name(MODEL + RUN)
 
 
