@@ -119,7 +119,7 @@ class SweepJob(Settings):
             self._check_folder()
 
     def _check_ranges(self) -> None:
-        """The fixed M, K and C and the masses of mass ratios in the damper records' ranges; the listener angles."""
+        """M, K, C and the masses of mass ratios in the damper records' ranges; the configurations; the angles."""
         from ...core.geometry import geometry_class
 
         records = by_name(MODEL + RUN)
@@ -132,10 +132,13 @@ class SweepJob(Settings):
             except ParameterError as exc:
                 raise ParameterError("mass_ratio", f"{ratio:g} gives an impact mass m = ratio x M = {mass:g} kg, "
                                                    f"but the impact mass {exc.detail}") from None
+        from ..._validate import check_choice, check_range
+        from ...sweep.spec import sweepable
+
+        for cfg in self.config:  # the geometries the fixed settings can build (a room needs its settings)
+            check_choice("config", cfg, sweepable(self.settings))
         # the paper's geometries bound the angle by their class; a room by where its sphere is (SweepSpec checks)
         limits = [lim for c in self.config if isinstance(lim := geometry_class(c).polar_limit_deg, float)]
-        from ..._validate import check_range
-
         for a in self.angle:
             check_range("angle_deg", math.degrees(a), 0.0, min(limits, default=180.0), unit="deg")
 
@@ -153,12 +156,8 @@ class SweepJob(Settings):
                      self.max_memory_mb, cap_name=self._name("max_memory_mb"))
 
     def _build_spec(self):
-        from ..._validate import check_choice
         from ...sweep import SweepSpec
-        from ...sweep.spec import sweepable
 
-        for cfg in self.config:
-            check_choice("config", cfg, sweepable(self.settings))
         return SweepSpec(gap=self.gap, m=self.m, mass_ratio=self.mass_ratio, c1=self.c1, k_hertz=self.k_hertz,
                          material=self.material, v0=self.v0, distance=self.distance, angle=self.angle,
                          config=self.config, settings=self.settings)
