@@ -70,8 +70,10 @@ def _fixed(name, doc):
 
 #: The swept options: one value, START:STOP:COUNT (both ends included) or a comma list A,B,C.
 SWEPT = (
-    _swept("gap", "--gap", f"total free travel d in m (command default {PAPER_GAP:g})", "gap_m", "0.02:0.06:5"),
-    _swept("m", "--m", f"impact mass in kg (command default {TABLE1_PARAMETERS['m']:g})", "mass_kg", "0.02:0.08:4"),
+    _swept("gap", "--gap", f"total free travel d in m (default {PAPER_GAP:g} on the command line)", "gap_m",
+           "0.02:0.06:5"),
+    _swept("m", "--m", f"impact mass in kg (default {TABLE1_PARAMETERS['m']:g} on the command line)", "mass_kg",
+           "0.02:0.08:4"),
     _swept("mass_ratio", "--mass-ratio", f"mass ratio m/M instead of --m (m = ratio x M within "
            f"{by_name(MODEL)['m'].range_text()})"),
     _swept("c1", "--c1", f"contact damping in N s/m (default {TABLE1_PARAMETERS['c1']:g})"),
