@@ -6,8 +6,12 @@ import numpy as np
 import pytest
 
 from acoustiviz import constants
+from acoustiviz.app import design as design_job
+from acoustiviz.app import sweep as sweep_job
 from acoustiviz.app.names import user_terms
-from acoustiviz.app.sweep import SWEEP_OPTIONS, design_report, run_sweep_outputs, scene_sweep_spec, sweep_spec
+from acoustiviz.app.settings.design import DesignJob
+from acoustiviz.app.settings.sweep_job import sweep_job as build_sweep
+from acoustiviz.app.sweep import SWEEP_OPTIONS, scene_sweep_spec, sweep_spec
 from acoustiviz.errors import ParameterError
 from acoustiviz.scene import scene_from_dict
 from acoustiviz.sweep import FixedSettings, SweepSpec
@@ -70,14 +74,15 @@ def test_scene_errors_name_the_scene_key():
 
 @pytest.mark.slow
 def test_outputs_and_report(tmp_path):
-    spec = sweep_spec(gap="0.03,0.05", m="0.04", duration=1.0)
-    run = run_sweep_outputs(spec, tmp_path, workers=1)
-    assert len(run.table) == 2 and [p.name for p in run.paths] == ["design_table.csv", "inclination_map.png",
-                                                                   "max_spl_map.png"]
+    run = sweep_job.run(build_sweep(dict(gap="0.03,0.05", m="0.04", duration=1.0), out=str(tmp_path), workers=1))
+    paths = run.write()
+    assert len(run.table) == 2 and [p.name for p in paths] == ["design_table.csv", "inclination_map.png",
+                                                               "max_spl_map.png"]
     e = float(run.table["inclination_two_maxima_m_s"][0])
-    lines = design_report(tmp_path, e, 1e-9, table=True)  # a tolerance must be > 0; 1e-9 m/s holds this design only
+    # a tolerance must be > 0; 1e-9 m/s holds this design only
+    lines = design_job.run(DesignJob(sweep=str(tmp_path), inclination=e, tolerance=1e-9, table=True)).lines()
     spl = run.table["max_spl_db"][0]
     assert f"max SPL {spl:.2f} dB" in "\n".join(lines) and any(ln.startswith("design table") for ln in lines)
     assert np.isfinite(run.table["max_spl_db"]).all()
     with pytest.raises(ParameterError, match="^sweep"):
-        design_report(tmp_path / "none", 0.008)
+        DesignJob(sweep=str(tmp_path / "none"), inclination=0.008)

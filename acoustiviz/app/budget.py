@@ -458,8 +458,10 @@ def animation_estimate(frames: int, n_u: int, n_sections: int, size, n_sources: 
 def range_count(text) -> float:
     """How many values a swept setting ``VALUE``, ``START:STOP:COUNT`` or ``A,B,C`` holds, without listing them.
 
-    Text that does not parse counts as one value (its own check reports it).
+    Text that does not parse counts as one value (its own check reports it); a sequence counts its items.
     """
+    if isinstance(text, (tuple, list)):
+        return float(max(1, len(text)))
     t = str(text).strip()
     if ":" in t:
         parts = t.split(":")
@@ -476,9 +478,9 @@ def sweep_estimate(swept, model, duration: float, workers: int, options=("--dura
 
     Parameters
     ----------
-    swept : mapping of str to str
-        Option (or scene key) -> its text (``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``); the
-        designs are every combination.
+    swept : mapping of str to str or sequence
+        Option (or scene key) -> its text (``VALUE``, ``START:STOP:COUNT`` or ``A,B,C``) or its
+        values; the designs are every combination.
     model : DamperModel
         A design, for the samples of one run.
     duration : float

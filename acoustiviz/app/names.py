@@ -22,11 +22,14 @@ from collections.abc import Mapping
 
 from ..errors import user_terms
 from .settings.damper import DAMPER
+from .settings.design import DESIGN, DESIGN_RUN
 from .settings.impact import IMPACT, OBSERVER, WAVEFORM
 from .settings.room import ROOM
+from .settings.sweep import SCENE_SWEEP, SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
 from .settings.table import by_name
 
-__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS"]
+__all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS",
+           "SWEEP_OPTIONS", "SCENE_SWEEP_KEYS", "DESIGN_OPTIONS"]
 
 
 def _names(attr: str, records, aliases: Mapping[str, str] = {}, lookup=()) -> dict:  # noqa: B006 - read only
@@ -67,3 +70,25 @@ SCENE_IMPACT_KEYS = {
     "strike": "configuration.strike",
 }
 
+
+#: :class:`~acoustiviz.app.settings.sweep_job.SweepJob` parameter (and the :class:`~acoustiviz.sweep.SweepSpec`'s and
+#: :class:`~acoustiviz.sweep.FixedSettings`' it sets) -> ``acoustiviz sweep`` option.
+_SWEEP_RECORDS = SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SWEEP_RUN
+_SWEEP_ALIASES = {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"}
+SWEEP_OPTIONS = {**_names("option", _SWEEP_RECORDS, _SWEEP_ALIASES), "max_memory_mb": "--max-memory"}
+
+#: The same parameters -> the scene key they are read from: ``[outputs.sweep]``'s records, the damper's, the
+#: sphere's, the contact's and the configuration's keys, and the first listener for the listener's values.
+SCENE_SWEEP_KEYS = {
+    **{k: v for k, v in SCENE_DAMPER_KEYS.items() if k in ("M", "K", "C", "c1", "v0", "clip_tensile", "rtol",
+                                                           "solver", "k_hertz")},
+    **{k: v for k, v in SCENE_IMPACT_KEYS.items() if k in ("radius", "density", "wall_distance", "pulse", "config")},
+    "material": SCENE_IMPACT_KEYS["sphere_material"], "surface": SCENE_IMPACT_KEYS["surface_material"],
+    "c": SCENE_IMPACT_KEYS["c"], "rho": SCENE_IMPACT_KEYS["rho"],
+    **_names("path", SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SCENE_SWEEP),
+    **{k: "listeners" for k in ("distance", "angle", "angle_deg")},
+    "radius_mode": SCENE_IMPACT_KEYS["radius"], "out": "outputs.sweep", "max_memory_mb": "grids.memory_limit_mb",
+}
+
+#: :class:`~acoustiviz.app.design.DesignJob` parameter -> ``acoustiviz design`` option.
+DESIGN_OPTIONS = {**_names("option", DESIGN + DESIGN_RUN, {"width": "band_width"}), "max_memory_mb": "--max-memory"}

@@ -25,14 +25,16 @@ from ..errors import ParameterError
 from ..files import write_csv_atomic, write_text_atomic
 from . import damper as _damper
 from . import forced as _forced
+from . import sweep as _sweep
+from .design import design_settings, produce_design_table
 from .map_job import map_settings, produce_level_map
-from .names import SCENE_DAMPER_KEYS, user_terms
+from .names import SCENE_DAMPER_KEYS
 from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
 from .scene_levels import check_sound_listeners, levels_settings, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
-from .sweep import scene_sweep_spec
+from .sweep import produce_sweep, sweep_settings
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
 
@@ -109,6 +111,17 @@ class RunContext:
         name = damper_solver(self.scene, self.progress)
         self.progress(f"simulating the damper for {settings.duration:g} s ({name} solver)")
         return _damper.run(settings)
+
+    @functools.cached_property
+    def sweep(self):
+        """The scene's one sweep (:class:`~acoustiviz.app.sweep.SweepResult` of :func:`sweep_settings`).
+
+        Run (or resumed) once per scene run, for the sweep's reports and the design table.
+        """
+        settings = sweep_settings(self.scene, self.out)
+        self.progress(f"sweeping {len(settings.spec.designs())} designs, {settings.settings.duration:g} s of motion "
+                      "each")
+        return _sweep.run(settings, progress=self.stream)
 
     @property
     def damper_run(self):
@@ -371,49 +384,6 @@ def produce_animation(ctx: RunContext):
     return products
 
 
-def produce_sweep(ctx: RunContext):
-    """Sweep over gap and impact mass (paper Figure 6): ``sweep/sweep.csv``, the maps and the design table."""
-    from .sweep import run_sweep_outputs
-
-    opts = ctx.scene.output("sweep")
-    spec = scene_sweep_spec(ctx.scene)
-    ctx.progress(f"sweeping {len(spec.designs())} designs, {opts['duration_s']:g} s of motion each")
-    run = run_sweep_outputs(spec, ctx.path("sweep"), workers=opts["workers"] or None, progress=ctx.stream)
-    ctx.sweep_table = run.table
-    spl = np.asarray(run.table["max_spl_db"])
-    figs = {"designs": str(len(run.table))}
-    n_failed = int(run.table.failed.sum())
-    if n_failed:
-        figs["failed_designs"] = str(n_failed)
-    if np.isfinite(spl).any():
-        figs["max_spl_db_range"] = f"{np.nanmin(spl):.1f}-{np.nanmax(spl):.1f}"
-    best = max(run.bands, key=lambda b: b.decrease_db, default=None)
-    if best is not None:
-        figs["largest_saving_db"] = f"{best.decrease_db:.1f} at {100 * best.low:.3g}-{100 * best.high:.3g} cm/s"
-    return [Product("sweep", run.journal, figs)] + [Product("sweep", p, {}) for p in run.paths]
-
-
-def produce_design_table(ctx: RunContext):
-    """Paper Table 2 from the sweep as a figure beside the paper's values, and the quietest design for a target."""
-    from ..sweep import load_sweep
-    from .sweep import scene_design_table
-
-    opts = ctx.scene.output("design_table")
-    table = getattr(ctx, "sweep_table", None)
-    if table is None:  # the sweep output runs first; a scene without it is refused at load time
-        table = load_sweep(ctx.path("sweep"))
-    bands, png, choice = scene_design_table(table, ctx.out, inclination=opts["inclination_m_s"],
-                                            tolerance=opts["tolerance_m_s"])
-    products = [Product("design_table", png, {"bands": str(len(bands))})]
-    if choice is not None:
-        path = write_text_atomic(ctx.path("design_choice.txt"), choice.summary() + "\n")
-        figs = {"candidates": str(choice.n_candidates)}
-        if choice.n_candidates:
-            figs["saving_db"] = f"{choice.saving_db:.1f}"
-        products.append(Product("design_table", path, figs))
-    return products
-
-
 PRODUCERS = {
     "waveform": produce_waveform,
     "directivity": produce_directivity,
@@ -442,8 +412,8 @@ _SETTINGS = {
     **{kind: damper_settings for kind in DAMPER_FILES},
     "directivity": directivity_settings,
     "level_map": map_settings,
-    "sweep": scene_sweep_spec,
-    "design_table": scene_sweep_spec,
+    "sweep": sweep_settings,
+    "design_table": lambda scene: (sweep_settings(scene), design_settings(scene)),
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
     "levels": levels_settings,
     "spectrum": levels_settings,
@@ -553,10 +523,7 @@ def run_scene(scene, out, *, force: bool = False, progress=None, stream=None):
         raise ParameterError("outputs", f"this build cannot produce {', '.join(missing)}")
     planned = preflight(scene, out, _SETTINGS)  # every output's settings and files, before the first
     if scene.wants("sweep"):  # a sweep folder of an earlier run: resumed only when it is the same, undamaged sweep
-        from ..sweep.store import check_dir
-
-        with user_terms({"out": "outputs.sweep"}):
-            check_dir(scene_sweep_spec(scene), out / "sweep")
+        sweep_settings(scene, out)
     out.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
     ctx = RunContext(scene, out, say, stream, planned)

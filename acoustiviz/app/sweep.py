@@ -1,14 +1,17 @@
-"""Design sweeps from a user's settings, and the files and report of a finished sweep.
+"""The sweep job: a grid of damper designs, its journal and its reports (``acoustiviz sweep``, ``[outputs.sweep]``).
 
-``acoustiviz sweep``, ``acoustiviz design`` and a scene's ``[outputs.sweep]`` and
-``[outputs.design_table]`` all call these functions: :func:`sweep_spec` turns settings (numbers,
-``start:stop:count`` ranges or comma lists) into a :class:`~acoustiviz.sweep.SweepSpec` with the
-defaults of :mod:`acoustiviz.constants`; :func:`scene_sweep_spec` reads a scene through the very
-same function, so the same settings give the same ``sweep.json`` -- and either front-end resumes
-the other's folder; :func:`run_sweep_outputs` runs (or resumes) a sweep and writes the design
-table and the Figure 6 maps. Errors name the API parameter; front-ends translate the names with
-:func:`acoustiviz.app.names.user_terms` (:data:`SWEEP_OPTIONS` for the command line). SI units;
-angles in degrees where a name says ``_deg``.
+Three parts, shared by ``acoustiviz sweep``, a scene's ``[outputs.sweep]`` and Python callers:
+
+* :class:`~acoustiviz.app.settings.sweep_job.SweepJob`, the settings, checked once when made
+  (:func:`~acoustiviz.app.settings.sweep_job.sweep_job` builds it from values as typed);
+* :func:`run`, which runs (or resumes) the designs into the job's folder -- ``sweep.json`` and one
+  ``sweep.csv`` row per finished design, so an interrupted sweep keeps what finished and the same job
+  resumes it -- and returns a :class:`SweepResult`;
+* :meth:`SweepResult.write`, which writes the reports: ``design_table.csv`` (paper Table 2) and, for
+  gap x mass sweeps, the Figure 6 maps.
+
+The scene builds the job in :func:`sweep_settings` from the same records, so the same settings give the
+same ``sweep.json`` -- and either front end resumes the other's folder. SI units; angles in rad.
 
 Examples
 --------
@@ -24,501 +27,221 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._validate import check_choice, check_positive, check_range
-from ..constants import (
-    DEFAULT_AIR_DENSITY,
-    DEFAULT_DURATION,
-    DEFAULT_RTOL,
-    DEFAULT_SOUND_SPEED,
-    DEFAULT_WALL_DISTANCE,
-    PAPER_ANGLE_DEG,
-    PAPER_DISTANCE,
-    PAPER_GAP,
-    PAPER_RADIUS,
-    PAPER_V0,
-    TABLE1_PARAMETERS,
-)
-from ..core.geometry import geometry_class
-from ..errors import ParameterError
-from ..sweep import (
-    DEFINITIONS,
-    DESIGN_TABLE_CSV,
-    PAPER_TABLE2,
-    RANK_COLUMNS,
-    SWEEP_CSV,
-    SWEEP_JSON,
-    FixedSettings,
-    SweepSpec,
-    design,
-    design_table,
-    load_sweep,
-    parse_values,
-    run_sweep,
-    write_design_table,
-)
-from ..sweep.spec import sweepable
-from .settings.damper import MODEL, RUN
-from .settings.design import DEFAULT_TOLERANCE
-from .settings.sweep import SWEPT, sweep_radius
-from .settings.table import by_name
+from ..constants import PAPER_RADIUS
+from ..sweep import DESIGN_TABLE_CSV, SWEEP_CSV, SweepSpec
+from .names import SCENE_SWEEP_KEYS, SWEEP_OPTIONS
+from .settings.sweep import sweep_radius
+from .settings.sweep_job import INCLINATION_MAP, SPL_MAP, SweepJob, sweep_job
 
-__all__ = ["SWEEP_OPTIONS", "DESIGN_OPTIONS", "INCLINATION_MAP", "SPL_MAP", "SweepRun", "sweep_spec",
-           "scene_sweep_spec", "write_sweep_outputs", "run_sweep_outputs", "sweep_summary", "design_report",
-           "check_executor", "check_sweep_work", "sweep_workflow", "with_room", "check_ranges"]
-
-#: :func:`sweep_spec` / :func:`run_sweep_outputs` parameter -> ``acoustiviz sweep`` option.
-SWEEP_OPTIONS = {
-    "gap": "--gap", "m": "--m", "mass_ratio": "--mass-ratio", "c1": "--c1", "k_hertz": "--k-hertz",
-    "material": "--material", "v0": "--v0", "distance": "--distance", "angle": "--angle", "angle_deg": "--angle",
-    "config": "--config", "M": "--M", "K": "--K", "C": "--C", "clip_tensile": "--clip-tensile",
-    "duration": "--duration", "solver": "--solver", "rtol": "--rtol", "radius": "--radius",
-    "radius_mode": "--radius", "density": "--density", "surface": "--surface", "pulse": "--pulse",
-    "pulse_mass": "--pulse-mass", "c": "--c", "rho": "--rho", "wall_distance": "--wall-distance",
-    "n_fastest": "--spl-fastest", "levels": "--levels", "out": "--out", "executor": "--executor",
-    "workers": "--workers",
-    "definition": "--definition", "width": "--band-width", "band_width": "--band-width",
-}
-#: :func:`design_report` parameter -> ``acoustiviz design`` option.
-DESIGN_OPTIONS = {"sweep": "--sweep", "out": "--sweep", "inclination": "--inclination", "tolerance": "--tolerance",
-                  "definition": "--definition", "width": "--band-width", "band_width": "--band-width",
-                  "rank_by": "--rank-by"}
-
-#: File names of the Figure 6 maps inside a sweep directory.
-INCLINATION_MAP = "inclination_map.png"
-SPL_MAP = "max_spl_map.png"
+__all__ = ["SweepJob", "SweepResult", "run", "sweep_spec", "sweep_settings", "scene_sweep_spec", "sweep_summary",
+           "produce_sweep", "with_room", "SWEEP_OPTIONS"]
 
 
-def sweep_spec(*, gap=PAPER_GAP, m=None, mass_ratio=None, c1=TABLE1_PARAMETERS["c1"], k_hertz=None, material=None,
-               v0=PAPER_V0, distance=PAPER_DISTANCE, angle_deg=PAPER_ANGLE_DEG, config="plane",
-               M=TABLE1_PARAMETERS["M"], K=TABLE1_PARAMETERS["K"], C=TABLE1_PARAMETERS["C"], clip_tensile=False,
-               duration=DEFAULT_DURATION,
-               solver="event", rtol=DEFAULT_RTOL, radius=PAPER_RADIUS, density=None, surface=None,
-               pulse="half-sine", pulse_mass="impact", c=DEFAULT_SOUND_SPEED, rho=DEFAULT_AIR_DENSITY,
-               wall_distance=DEFAULT_WALL_DISTANCE, n_fastest=4, levels=False, room=None) -> SweepSpec:
-    """The sweep of the given settings; swept ones take a value, ``start:stop:count`` or ``a,b,c``.
-
-    Parameters
-    ----------
-    gap, m, mass_ratio, c1, k_hertz, v0, distance : number, str or sequence
-        Swept values: gap d (m), impact mass (kg) or mass ratio m/M instead, contact damping
-        (N·s/m), Hertz stiffness (N/m^1.5), initial main-mass velocity (m/s), listener distance
-        (m). Defaults: paper Table 1 and Figure 5 (m = 40.5 g, K_HZ = 5.6e8).
-    material : str or sequence of str, optional
-        Sphere materials instead of ``k_hertz`` (K_HZ from paper eq 2).
-    angle_deg : number, str or sequence
-        Listener angles in degrees from the acceleration axis (<= 90 with a reflecting surface).
-    config : str or sequence of str
-        ``"free"``, ``"plane"`` or ``"wall-floor"``.
-    M, K, C, clip_tensile, duration, solver, rtol
-        The damper and its solver (:class:`~acoustiviz.sweep.FixedSettings`; ``rtol`` defaults to
-        :data:`~acoustiviz.constants.DEFAULT_RTOL`, as for every damper run).
-    radius : float or "mass"
-        Radius of the radiating sphere in m, or ``"mass"``: from the impact mass and ``density``.
-    density : float, optional
-        Sphere density in kg/m³; only with ``radius="mass"`` (default 7800 or the material's).
-    surface, pulse, pulse_mass, c, rho, wall_distance, n_fastest, levels
-        See :class:`~acoustiviz.sweep.FixedSettings`.
-    room : dict, optional
-        The settings of a shoebox room (:class:`acoustiviz.core.room_geometry.Room`), for
-        ``config="room"`` (:attr:`acoustiviz.sweep.FixedSettings.room`).
-
-    Returns
-    -------
-    SweepSpec
-    """
-    if m is not None and mass_ratio is not None:
-        raise ParameterError("m", "give either the impact mass or the mass ratio, not both")
-    if k_hertz is not None and material is not None:
-        raise ParameterError("k_hertz", "give either K_HZ or the sphere material, not both")
-    radius_mode, radius = sweep_radius(radius)
-    if radius_mode == "fixed":
-        if density is not None:
-            raise ParameterError("density", "sets the sphere's radius from the impact mass; it needs a radius "
-                                            "from the mass (--radius mass)")
-    settings = FixedSettings(M=M, K=K, C=C, clip_tensile=bool(clip_tensile), duration=duration, solver=solver,
-                             rtol=rtol, radius_mode=radius_mode, radius=radius, density=density, surface=surface,
-                             pulse=pulse, pulse_mass=pulse_mass, c=c, rho=rho, wall_distance=wall_distance,
-                             n_fastest=n_fastest, levels=bool(levels), room=room)
-    configs = parse_values("config", config, str)
-    for cfg in configs:
-        check_choice("config", cfg, sweepable(settings))
-    angles = parse_values("angle_deg", angle_deg)
-    # the paper's geometries bound the angle by their class; a room by where its sphere is (SweepSpec checks)
-    limits = [lim for c in configs if isinstance(lim := geometry_class(c).polar_limit_deg, float)]
-    for a in angles:
-        check_range("angle_deg", a, 0.0, min(limits, default=180.0), unit="deg")
-    spec = SweepSpec(
-        gap=parse_values("gap", gap),
-        m=None if mass_ratio is not None else parse_values("m", TABLE1_PARAMETERS["m"] if m is None else m),
-        mass_ratio=None if mass_ratio is None else parse_values("mass_ratio", mass_ratio),
-        c1=parse_values("c1", c1),
-        k_hertz=None if material is not None else parse_values(
-            "k_hertz", TABLE1_PARAMETERS["k_hertz"] if k_hertz is None else k_hertz),
-        material=None if material is None else parse_values("material", material, str),
-        v0=parse_values("v0", v0),
-        distance=parse_values("distance", distance),
-        angle=tuple(math.radians(a) for a in angles),
-        config=configs,
-        settings=settings,
-    )
-    check_ranges(spec)
-    return spec
-
-
-def check_ranges(spec: SweepSpec) -> None:
-    """Refuse a value of ``spec`` outside the range of its damper record, naming its axis (or setting).
-
-    The records of :mod:`acoustiviz.app.settings.damper` hold the ranges ``acoustiviz damper`` and a
-    scene's ``[damper]`` check, so a sweep refuses what they refuse: the swept gap, impact mass,
-    contact damping, Hertz stiffness and initial velocity, and the fixed M, K and C. Impact masses
-    given as mass ratios are checked as masses, the error naming ``mass_ratio``.
-    """
-    records = by_name(MODEL + RUN)
-    for name in ("M", "K", "C"):
-        records[name].check(getattr(spec.settings, name), name)
-    if spec.mass_ratio is not None:
-        for ratio, mass in zip(spec.mass_ratio, spec.masses, strict=True):
-            try:
-                records["m"].check(mass, "m")
-            except ParameterError as exc:
-                raise ParameterError("mass_ratio", f"{ratio:g} gives an impact mass m = ratio x M = {mass:g} kg, "
-                                                   f"but the impact mass {exc.detail}") from None
-    for name in ("gap", "m", "c1", "k_hertz", "v0"):
-        for value in getattr(spec, name) or ():
-            records[name].check(value, name)
-
-
-#: :func:`sweep_spec` parameter -> the scene key it is read from (errors name the key).
-SCENE_KEYS = {"gap": "outputs.sweep.gap_m", "m": "outputs.sweep.mass_kg", "duration": "outputs.sweep.duration_s",
-              "c1": "damper.contact_damping_n_s_m", "v0": "damper.initial_velocity_m_s",
-              "M": "damper.main_mass_kg", "K": "damper.stiffness_n_m", "C": "damper.damping_n_s_m",
-              "rtol": "damper.tolerance", "solver": "damper.solver", "radius": "sphere.radius_m",
-              "density": "sphere.density_kg_m3", "material": "sphere.material", "surface": "contact.surface",
-              "k_hertz": "contact.k_hertz_n_m1_5", "wall_distance": "configuration.wall_distance_m",
-              "distance": "listeners", "angle": "listeners", "angle_deg": "listeners",
-              "config": "configuration.kind"}
-
-
-def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
-    """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (gap × impact mass).
-
-    The scene's settings go through :func:`sweep_spec`, the function behind ``acoustiviz sweep``,
-    so a scene and the command with the same settings make the same sweep. The listener is the
-    scene's first; ``solver`` is the damper solver the scene resolved (its ``"auto"`` choice).
-    """
-    from ..dynamics import solver_method
-    from ..errors import SceneError
-    from .names import user_terms
-
-    opts = scene.output("sweep")
-    d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
-    conf = scene.section("configuration")
-    if scene.geometry_settings().get("strike", "floor") != "floor":
-        raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
-    listener = scene.data["listeners"][0]
-    if listener["position_m"] is None:
-        distance, angle_deg = listener["distance_m"], listener["angle_deg"]
-    else:  # a listener given by position: its distance and angle from the sphere's centre
-        import numpy as np
-
-        (_, pos), *_ = scene.listeners()
-        geom = scene.configuration()
-        rel = np.asarray(pos) - np.asarray(geom.centre)
-        distance = float(np.linalg.norm(rel))
-        angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(geom.axis)) / distance))))
-    if solver is None:
-        from .products import damper_solver
-
-        solver = damper_solver(scene)
-    medium = scene.medium()
-    from_mass = s["damper_radius"] == "from-mass"
-    stiffness = {"material": s["material"]} if (s["material"] and c["k_hertz_n_m1_5"] is None) else \
-        {"k_hertz": scene.k_hertz()}
-    with user_terms(SCENE_KEYS):
-        return sweep_spec(
-            gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
-            distance=distance, angle_deg=angle_deg, config=conf["kind"], M=d["main_mass_kg"], K=d["stiffness_n_m"],
-            C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"], duration=opts["duration_s"],
-            solver=solver, rtol=solver_method(d["solver"]).run_rtol(d["tolerance"]),
-            radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
-            surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
-            wall_distance=conf["wall_distance_m"], levels=opts["levels"],
-            room=scene.geometry_settings().get("room"), **stiffness)
-
-
-def check_executor(executor, workers=None):
-    """Check the ``executor`` text (``"process"`` or ``"dask://HOST:PORT"``) and ``workers`` before any work."""
-    if workers is not None and (int(workers) != workers or workers < 1):
-        raise ParameterError("workers", f"must be an integer >= 1, got {workers}")
-    from ..sweep.execute import check_executor_form
-
-    check_executor_form(executor)
-
-
-def write_sweep_outputs(table, out_dir, *, definition: str = "two-maxima", band_width: float = 0.001):
-    """Write ``design_table.csv`` and, for gap × mass sweeps, the two Figure 6 maps.
-
-    Returns
-    -------
-    bands : tuple of Band
-        The design table (paper Table 2).
-    paths : list of Path
-        Files written.
-    others : list of str
-        Swept axes besides gap and mass (the maps are drawn only for gap × mass sweeps).
-    """
-    from ..output.plot.style import save_figure
-
-    out = Path(out_dir)
-    bands = design_table(table, definition=definition, width=band_width)
-    paths = [write_design_table(bands, out / DESIGN_TABLE_CSV)]
-    others = [a for a in table.spec.swept() if a not in ("gap", "m")]
-    if not others and len(table):
-        from ..output.plot.design import plot_inclination_map, plot_spl_map
-
-        ax = plot_inclination_map(table, definition=definition)
-        paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
-        ax = plot_spl_map(table)
-        paths.append(save_figure(ax.figure, out / SPL_MAP))
-    return bands, paths, others
-
-
-@dataclass(frozen=True)
-class SweepRun:
-    """A sweep run (or resumed) with its outputs.
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """The rows of a finished (or resumed) sweep and its design table.
 
     Attributes
     ----------
-    table : SweepTable
-        Every row of the directory.
-    bands : tuple of Band
-        The design table.
-    paths : list of Path
-        Files written besides ``sweep.json`` and ``sweep.csv``.
-    others : list of str
-        Swept axes besides gap and mass (no maps for those sweeps).
+    settings : SweepJob
+        What was run.
+    table : acoustiviz.sweep.SweepTable
+        Every row of the folder.
+    bands : tuple of acoustiviz.sweep.Band
+        The design table (paper Table 2) with the job's definition and band width.
     seconds : float
-        Wall time of this run in s.
-    out : Path
-        The sweep directory.
-    definition : str
-        Damping-inclination definition of the design table and the maps.
+        Wall time of this run in s (reported only).
     """
 
+    settings: SweepJob
     table: object
     bands: tuple
-    paths: list
-    others: list
     seconds: float
-    out: Path
-    definition: str
 
     @property
     def journal(self) -> Path:
         """``sweep.csv``."""
-        return self.out / SWEEP_CSV
+        return self.settings.folder() / SWEEP_CSV
+
+    @property
+    def others(self) -> list:
+        """Swept axes besides gap and mass (the maps are drawn only for gap x mass sweeps)."""
+        return [a for a in self.table.spec.swept() if a not in ("gap", "m")]
+
+    def write(self, folder=None) -> list:
+        """Write ``design_table.csv`` and, for gap x mass sweeps, the two Figure 6 maps; return their paths.
+
+        Parameters
+        ----------
+        folder : path-like, optional
+            Where to write (default: the job's sweep folder).
+
+        Returns
+        -------
+        list of pathlib.Path
+        """
+        from ..output.plot.style import save_figure
+        from ..sweep import write_design_table
+
+        out = self.settings.folder() if folder is None else Path(folder)
+        paths = [write_design_table(self.bands, out / DESIGN_TABLE_CSV)]
+        if not self.others and len(self.table):
+            from ..output.plot.design import plot_inclination_map, plot_spl_map
+
+            ax = plot_inclination_map(self.table, definition=self.settings.definition)
+            paths.append(save_figure(ax.figure, out / INCLINATION_MAP))
+            ax = plot_spl_map(self.table)
+            paths.append(save_figure(ax.figure, out / SPL_MAP))
+        return paths
 
 
-def run_sweep_outputs(spec: SweepSpec, out, *, executor="process", workers=None, progress=None, bar=None,
-                      overwrite: bool = False, definition: str = "two-maxima",
-                      band_width: float = 0.001) -> SweepRun:
-    """Run (or resume) ``spec`` into folder ``out`` and write its design table and maps.
+def run(settings: SweepJob, progress=None, *, bar=None) -> SweepResult:
+    """Run (or resume) the designs of ``settings`` into its folder; its journal is written as designs finish.
 
     Parameters
     ----------
-    spec : SweepSpec
-        The sweep.
-    out : path-like
-        The sweep directory.
-    executor, workers, progress, bar, overwrite
-        See :func:`acoustiviz.sweep.run_sweep`.
-    definition : {"two-maxima", "fit"}
-        Damping inclination of the design table and of map A.
-    band_width : float
-        Width of the design table's bands in m/s.
+    settings : SweepJob
+        The job, checked when it was made.
+    progress : text stream, optional
+        Where to report the resume count, failed designs and a progress bar (None: silent).
+    bar : bool, optional
+        Draw the bar on ``progress`` (None: only on a terminal).
 
     Returns
     -------
-    SweepRun
+    SweepResult
     """
-    check_choice("definition", definition, DEFINITIONS)
-    check_positive("band_width", band_width, "m/s")
-    check_executor(executor, workers)
+    from ..errors import user_terms
+    from ..sweep import design_table, run_sweep
+
+    s = settings
     t0 = time.perf_counter()
-    table = run_sweep(spec, out, executor=executor, workers=workers, progress=progress, bar=bar,
-                      overwrite=bool(overwrite))
+    with user_terms(s.names):
+        table = run_sweep(s.spec, s.folder(), executor=s.executor, workers=s.workers, progress=progress, bar=bar,
+                          overwrite=s.overwrite)
     seconds = time.perf_counter() - t0
-    bands, paths, others = write_sweep_outputs(table, out, definition=definition, band_width=band_width)
-    return SweepRun(table, bands, paths, others, seconds, Path(out), definition)
+    return SweepResult(s, table, tuple(design_table(table, definition=s.definition, width=s.band_width)), seconds)
 
 
-def sweep_summary(run: SweepRun) -> list[str]:
-    """Lines reporting a sweep run: designs, failures, files, the largest acoustic saving."""
-    table = run.table
-    lines = [f"sweep: {len(table)} designs in {run.out} ({run.seconds:.1f} s this run)"]
+def sweep_spec(**given) -> SweepSpec:
+    """The :class:`~acoustiviz.sweep.SweepSpec` of values as typed (:func:`.settings.sweep_job.sweep_job`).
+
+    Errors name the API parameters.
+    """
+    return sweep_job(given).spec
+
+
+def sweep_summary(result: SweepResult, paths=()) -> list[str]:
+    """Lines reporting a sweep: designs, failures, the files ``paths`` written, the largest acoustic saving."""
+    table, out = result.table, result.settings.folder()
+    lines = [f"sweep: {len(table)} designs in {out} ({result.seconds:.1f} s this run)"]
     n_failed = int(table.failed.sum())
     if n_failed:
         ids = ", ".join(str(i) for i in table["design_id"][table.failed][:10])
         lines.append(f"failed designs: {n_failed} (design_id {ids}{', ...' if n_failed > 10 else ''}; "
-                     f"reasons in the error column of {run.journal})")
-    lines += [f"wrote {p}" for p in run.paths]
-    if run.others:
-        lines.append(f"maps skipped: they need only --gap and --m swept (also swept: {', '.join(run.others)})")
-    best = max(run.bands, key=lambda b: b.decrease_db, default=None)
+                     f"reasons in the error column of {result.journal})")
+    lines += [f"wrote {p}" for p in paths]
+    if result.others:
+        lines.append(f"maps skipped: they need only --gap and --m swept (also swept: {', '.join(result.others)})")
+    best = max(result.bands, key=lambda b: b.decrease_db, default=None)
     if best is not None:
-        lines.append(f"largest acoustic saving at equal damping ({run.definition}): {best.decrease_db:.1f} dB in "
-                     f"the band {100 * best.low:.3g}-{100 * best.high:.3g} cm/s ({best.n_designs} designs)")
+        lines.append(f"largest acoustic saving at equal damping ({result.settings.definition}): {best.decrease_db:.1f} "
+                     f"dB in the band {100 * best.low:.3g}-{100 * best.high:.3g} cm/s ({best.n_designs} designs)")
     return lines
 
 
-def design_report(sweep, inclination: float, tolerance: float = DEFAULT_TOLERANCE, *, definition: str = "two-maxima",
-                  table: bool = False, band_width: float = 0.001, rank_by: str = "max_spl_db") -> list[str]:
-    """Lines answering the design query of a sweep directory (paper Table 2).
+def _scene_listener(scene) -> tuple:
+    """The first listener's distance in m and angle in degrees from the sphere's centre and axis."""
+    listener = scene.data["listeners"][0]
+    if listener["position_m"] is None:
+        return listener["distance_m"], listener["angle_deg"]
+    import numpy as np
 
-    Parameters
-    ----------
-    sweep : path-like
-        A sweep directory.
-    inclination, tolerance : float
-        Target damping inclination and accepted deviation in m/s.
-    definition : {"two-maxima", "fit"}
-        Damping-inclination definition.
-    table : bool
-        Also give the design table of the whole sweep.
-    band_width : float
-        Band width of the table in m/s.
-    rank_by : str
-        The column ranking the candidates (:data:`acoustiviz.sweep.RANK_COLUMNS`; default
-        ``max_spl_db``; ``lafmax_db``, ``lcpeak_db``, ``laeq_db`` for a sweep run with levels).
+    (_, pos), *_ = scene.listeners()
+    geom = scene.configuration()
+    rel = np.asarray(pos) - np.asarray(geom.centre)
+    distance = float(np.linalg.norm(rel))
+    return distance, math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(geom.axis)) / distance))))
+
+
+def _scene_given(scene, solver: str) -> dict:
+    """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values of a scene's tables."""
+    from ..dynamics import solver_method
+
+    opts = scene.output("sweep")
+    d, s, c = scene.section("damper"), scene.section("sphere"), scene.section("contact")
+    distance, angle_deg = _scene_listener(scene)
+    medium = scene.medium()
+    from_mass = s["damper_radius"] == "from-mass"
+    stiffness = {"material": s["material"]} if (s["material"] and c["k_hertz_n_m1_5"] is None) else \
+        {"k_hertz": scene.k_hertz()}
+    return dict(gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
+                distance=distance, angle_deg=angle_deg, config=scene.section("configuration")["kind"],
+                M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"],
+                duration=opts["duration_s"], solver=solver, rtol=solver_method(d["solver"]).run_rtol(d["tolerance"]),
+                radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
+                surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
+                wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
+                room=scene.geometry_settings().get("room"), **stiffness)
+
+
+def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
+    """The scene's ``[outputs.sweep]`` (gap x impact mass) as a :class:`SweepJob`.
+
+    The listener is the scene's first; ``solver`` is the damper solver the scene resolved (default: its
+    ``"auto"`` choice); the folder is ``sweep`` in folder ``out`` (None: no folder, the checks of the scene's
+    settings alone, made before the run folder exists); the memory within ``grids.memory_limit_mb``; errors
+    name scene keys.
     """
-    from ..sweep.query import check_target
+    from ..errors import SceneError
 
-    check_target(inclination, tolerance)
-    if rank_by not in RANK_COLUMNS:
-        raise ParameterError("rank_by", f"must be one of {', '.join(RANK_COLUMNS)}; got {rank_by!r}")
-    check_positive("band_width", band_width, "m/s")
-    check_choice("definition", definition, DEFINITIONS)
-    if not Path(sweep).is_dir():
-        raise ParameterError("sweep", f"no such directory: {sweep}")
-    rows = load_sweep(sweep)
-    lines = []
-    if not rows.complete:
-        lines.append(f"note: the sweep is unfinished ({len(rows)} of {len(rows.spec.designs())} designs)")
-    lines += design(rows, inclination, tolerance, definition=definition, rank_by=rank_by).summary().splitlines()
-    if table:
-        lines += ["", f"design table ({definition} damping inclination, bands of {100 * band_width:g} cm/s):",
-                  f"{'e (cm/s)':>9} {'n':>4} {'min SPLmax':>11} {'max SPLmax':>11} {'decrease':>9}  quietest (m, d)"]
-        for b in design_table(rows, definition=definition, width=band_width):
-            ranges = "".join(f"; {name} {lo:.1f}-{hi:.1f} dB" for name, (lo, hi) in
-                             zip(("LAFmax", "LCpeak", "LAeq"), (b.level_ranges or {}).values(), strict=False)
-                             if math.isfinite(lo))
-            lines.append(f"{100 * b.centre:9.2f} {b.n_designs:4d} {b.min_spl_db:11.1f} {b.max_spl_db:11.1f} "
-                         f"{b.decrease_db:9.1f}  {1000 * b.quietest_mass:.1f} g, {100 * b.quietest_gap:.2f} cm"
-                         f"{ranges}")
-    return lines
+    if scene.geometry_settings().get("strike", "floor") != "floor":
+        raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
+    if solver is None:
+        from .products import damper_solver
+
+        solver = damper_solver(scene)
+    opts = scene.output("sweep")
+    return sweep_job(_scene_given(scene, solver), names=SCENE_SWEEP_KEYS,
+                     out=None if out is None else str(Path(out) / "sweep"), workers=opts["workers"] or None,
+                     max_memory_mb=scene.section("grids")["memory_limit_mb"])
 
 
-def scene_design_table(table, out_dir, *, inclination=None, tolerance: float = DEFAULT_TOLERANCE):
-    """A scene's ``[outputs.design_table]``: the Table 2 figure beside the paper's, and the choice for a target.
-
-    Returns
-    -------
-    bands : tuple of Band
-    png : Path
-        ``design_table.png``.
-    choice : DesignChoice or None
-        The answer for ``inclination`` (None without a target).
-    """
-    from ..output.plot.design import plot_design_table
-    from ..output.plot.style import save_figure
-
-    bands = design_table(table)
-    ax = plot_design_table(bands, paper=PAPER_TABLE2)
-    png = save_figure(ax.figure, Path(out_dir) / "design_table.png")
-    choice = None if inclination is None else design(table, inclination, tolerance)
-    return bands, png, choice
+def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
+    """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (:func:`sweep_settings`)."""
+    return sweep_settings(scene, solver=solver).spec
 
 
-def check_sweep_work(given: dict, *, workers=None, max_memory_mb=None, names=None) -> None:
-    """Refuse a sweep whose memory or output would exceed the cap, before anything is built or run.
+def produce_sweep(ctx):
+    """Scene output ``sweep``: the scene's one sweep (``sweep/sweep.csv``), its design table and maps."""
+    from .products import Product
 
-    Parameters
-    ----------
-    given : dict
-        The :func:`sweep_spec` parameters given (absent ones take their defaults).
-    workers : int, optional
-        Designs run at once (default: counted as 2).
-    max_memory_mb : float, optional
-        The cap (:func:`acoustiviz.app.budget.check_budget`).
-    names : dict, optional
-        Parameter -> the option or scene key named in errors (default :data:`SWEEP_OPTIONS`).
-    """
-    from ..dynamics import DamperModel
-    from .budget import check_budget, sweep_estimate
-    from .names import user_terms
+    ctx.path("sweep")  # only the folder checked before the run
+    result = ctx.sweep
+    paths = result.write()
+    import numpy as np
 
-    names = SWEEP_OPTIONS if names is None else names
-    swept = {names.get(s.name, s.name): given.get(s.name) for s in SWEPT}
-    from .settings.sweep import SweepSettings
-
-    with user_terms({"duration": names.get("duration", "duration")}):
-        duration = SweepSettings(given.get("duration", DEFAULT_DURATION)).duration
-    records = by_name(MODEL)  # the damper's ranges first, as check_ranges does for the sweep
-    try:
-        model = DamperModel(**{k: records[k].check(given.get(k, TABLE1_PARAMETERS[k])) for k in ("M", "K", "C")})
-    except ParameterError as exc:
-        raise exc.renamed(names.get(exc.name, exc.name)) from None
-    check_budget(sweep_estimate(swept, model, duration, workers or 2, options=(names.get("duration", "duration"),)),
-                 max_memory_mb)
-
-
-def sweep_workflow(given: dict, out, *, executor: str = "process", workers=None, max_memory_mb=None,
-                   names=None, **run) -> list:
-    """Check, build and run (or resume) a sweep into folder ``out``; return its summary lines.
-
-    The output folder, the memory and output size, the settings and the executor are checked
-    before any design runs; errors name :data:`SWEEP_OPTIONS` (or ``names``).
-
-    Parameters
-    ----------
-    given : dict
-        The :func:`sweep_spec` parameters given (absent ones take their defaults).
-    out : path-like
-        The sweep folder (resumed when it holds the same sweep).
-    executor, workers
-        Where the designs run (:func:`run_sweep_outputs`).
-    max_memory_mb : float, optional
-        The cap (:func:`check_sweep_work`).
-    names : dict, optional
-        Parameter -> the option or scene key named in errors.
-    **run
-        Further :func:`run_sweep_outputs` arguments (``progress``, ``bar``, ``overwrite``,
-        ``definition``, ``band_width``).
-    """
-    from .names import user_terms
-    from .outputs import check_output_dir, check_output_file
-
-    names = SWEEP_OPTIONS if names is None else names
-    check_output_dir(names["out"], out)
-    if not (Path(out) / SWEEP_JSON).exists():  # a new sweep: its files must not replace others' unasked
-        for name, kind in ((DESIGN_TABLE_CSV, "csv"), (INCLINATION_MAP, "png"), (SPL_MAP, "png")):
-            if (Path(out) / name).exists() or (Path(out) / name).is_symlink():
-                check_output_file(names["out"], Path(out) / name, kind)
-    check_sweep_work(given, workers=workers, max_memory_mb=max_memory_mb, names=names)
-    with user_terms(names):
-        spec = sweep_spec(**given)
-        check_executor(executor, workers)
-        result = run_sweep_outputs(spec, out, executor=executor, workers=workers, **run)
-    return sweep_summary(result)
+    table = result.table
+    spl = np.asarray(table["max_spl_db"])
+    figs = {"designs": str(len(table))}
+    n_failed = int(table.failed.sum())
+    if n_failed:
+        figs["failed_designs"] = str(n_failed)
+    if np.isfinite(spl).any():
+        figs["max_spl_db_range"] = f"{np.nanmin(spl):.1f}-{np.nanmax(spl):.1f}"
+    best = max(result.bands, key=lambda b: b.decrease_db, default=None)
+    if best is not None:
+        figs["largest_saving_db"] = f"{best.decrease_db:.1f} at {100 * best.low:.3g}-{100 * best.high:.3g} cm/s"
+    return [Product("sweep", result.journal, figs)] + [Product("sweep", p, {}) for p in paths]
 
 
 def with_room(given: dict, room: dict | None) -> dict:
-    """The :func:`sweep_spec` parameters ``given`` with a shoebox room's, the room checked before any work.
+    """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values ``given`` with a shoebox room's.
 
     Parameters
     ----------
     given : dict
-        The :func:`sweep_spec` parameters given.
+        The values given.
     room : dict or None
         The room's settings (:func:`acoustiviz.app.impacts.room_settings`: dimensions in m,
         absorption, source in m, the window ``duration`` in s, ...); None: ``given`` unchanged.

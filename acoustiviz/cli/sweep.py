@@ -9,20 +9,22 @@ Every swept option takes one value, a range ``start:stop:count`` (both ends incl
 comma-separated list. Writes ``DIR/sweep.json`` (the settings), ``DIR/sweep.csv`` (one row per
 design, as they finish), ``DIR/design_table.csv`` (paper Table 2) and the paper's Figure 6
 maps ``DIR/inclination_map.png`` and ``DIR/max_spl_map.png``. Running the same command again
-resumes an interrupted sweep and recomputes nothing that finished. This module only parses the
-options; :mod:`acoustiviz.app.sweep` does the rest, with the defaults of
-:mod:`acoustiviz.constants`.
+resumes an interrupted sweep and recomputes nothing that finished.
+
+argv -> :class:`~acoustiviz.app.settings.sweep_job.SweepJob` (:func:`settings_from_args`) ->
+:func:`acoustiviz.app.sweep.run` -> :meth:`~acoustiviz.app.sweep.SweepResult.write` -> the summary.
 """
 
 from __future__ import annotations
 
-from ..app.settings.sweep import SWEEP_DAMPER, SWEEP_SOUND, SWEPT
-from ..app.settings.table import add_option
+from ..app.settings.sweep import SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
+from ..app.settings.table import add_option, by_name
 from ._impact import add_room_options
 
-#: ``--help`` group title -> its records; each option's destination is its sweep_spec parameter.
+#: ``--help`` group title -> its records; each option's destination is its API name.
 _GROUPS = (("swept parameters (VALUE, START:STOP:COUNT or A,B,C; SI units)", SWEPT),
            ("damper (SI units)", SWEEP_DAMPER), ("sound (SI units)", SWEEP_SOUND))
+_RUN = by_name(SWEEP_RUN)
 
 
 def add_parser(subparsers):
@@ -43,34 +45,20 @@ def add_parser(subparsers):
         for s in records:
             add_option(g, s, dest=s.name, **({"metavar": "DURATION"} if s.option == "--duration" else {}))
     add_room_options(p)  # --config room with --room; the window its images reach is --room-window
-    p.add_argument("--room-window", type=float, default=None, metavar="S",
-                   help="with --room: the window in s from the start of each impact whose images the peak SPL "
-                        "takes (required when a surface is rigid and --image-order is not given)")
+    add_option(p, _RUN["room_window"], dest="room_window")
     o = p.add_argument_group("execution and outputs")
-    o.add_argument("--out", required=True, metavar="DIR", help="output directory (resumed if it exists)")
-    o.add_argument("--executor", default="process", metavar="process|dask://HOST:PORT",
-                   help="local process pool (default) or a Dask distributed scheduler")
-    o.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="processes of the local pool (default: all cores; a Dask cluster has its own)")
-    o.add_argument("--overwrite", action="store_true",
-                   help="if DIR holds a sweep with other settings, move its sweep.csv and sweep.json aside "
-                        "(sweep.previous-N.csv and .json, N = 1, 2, ...) and start afresh")
-    o.add_argument("--definition", default="two-maxima", choices=("two-maxima", "fit"),
-                   help="damping inclination of the design table and map A: paper eq 16 (default) or "
-                        "the envelope fit")
-    o.add_argument("--band-width", type=float, default=0.001, metavar="M/S",
-                   help="width of the design table's inclination bands in m/s (default 0.001 = 0.1 cm/s)")
-    o.add_argument("--quiet", action="store_true",
-                   help="no progress bar (it is drawn only on a terminal anyway; the resume count is still shown)")
+    for s in SWEEP_RUN:
+        if s.name != "room_window":
+            add_option(o, s, dest=s.name, **({"required": True} if s.name == "out" else {}))
     p.set_defaults(func=run)
     return p
 
 
 def _given(args) -> dict:
-    """The :func:`acoustiviz.app.sweep.sweep_spec` parameters the options give, ``--room``'s checked now."""
+    """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values the options give, ``--room``'s checked now."""
     from .._validate import ParameterError
-    from ..app.names import ROOM_OPTIONS, user_terms
-    from ..app.sweep import SWEEP_OPTIONS, with_room
+    from ..app.names import ROOM_OPTIONS, SWEEP_OPTIONS, user_terms
+    from ..app.sweep import with_room
     from ._impact import room_settings_from_args
 
     if args.room is None and args.room_window is not None:
@@ -81,25 +69,30 @@ def _given(args) -> dict:
         return with_room(given, room_settings_from_args(args, duration=args.room_window))
 
 
+def settings_from_args(args):
+    """The :class:`~acoustiviz.app.settings.sweep_job.SweepJob` of the options; errors name the options."""
+    from ..app.names import SWEEP_OPTIONS
+    from ..app.settings.sweep_job import sweep_job
+
+    return sweep_job(_given(args), names=SWEEP_OPTIONS, out=args.out, executor=args.executor, workers=args.workers,
+                     overwrite=args.overwrite, definition=args.definition, band_width=args.band_width,
+                     max_memory_mb=getattr(args, "max_memory", None))
+
+
 def spec_from_args(args):
     """The :class:`acoustiviz.sweep.SweepSpec` of parsed options (errors name the option)."""
-    from ..app.names import user_terms
-    from ..app.sweep import SWEEP_OPTIONS, sweep_spec
-
-    with user_terms(SWEEP_OPTIONS):
-        return sweep_spec(**_given(args))
+    return settings_from_args(args).spec
 
 
 def run(args) -> int:
-    """Run the ``sweep`` subcommand; return the exit status."""
+    """Check every input and the folder, run (or resume) the sweep, write its reports and print a summary."""
     import sys
 
-    from ..app.sweep import sweep_workflow
+    from ..app.sweep import run as run_job
+    from ..app.sweep import sweep_summary
 
-    lines = sweep_workflow(_given(args), args.out, executor=args.executor, workers=args.workers,
-                           max_memory_mb=getattr(args, "max_memory", None), progress=sys.stderr,
-                           bar=False if args.quiet else None, overwrite=bool(args.overwrite),
-                           definition=args.definition, band_width=args.band_width)
-    for line in lines:
+    settings = settings_from_args(args)
+    result = run_job(settings, progress=sys.stderr, bar=False if args.quiet else None)
+    for line in sweep_summary(result, result.write()):
         print(line)
     return 0

@@ -12,7 +12,7 @@ from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
-from ..app.settings.sweep import SWEEP
+from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_SOUND, SWEPT
 from ..constants import (
     ANIMATION_SIZE,
     EXCITATIONS,
@@ -144,12 +144,6 @@ _LISTENER = {
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
 
-def _swept(name: str, doc: str, default: str) -> Key:
-    """A swept damper value of ``[outputs.sweep]``: each value in the range of the damper's record ``name``."""
-    r = next(s for s in DAMPER if s.name == name)
-    return Key("range", doc, default, r.unit, low=r.low, high=r.high, low_open=r.low_open)
-
-
 def _size(default) -> Key:
     return Key("ints", "image width and height", default, "px", low=SIZE_RANGE[0], high=SIZE_RANGE[1], length=2)
 
@@ -195,14 +189,8 @@ _OUT = {
         "masses_kg": Key("floats", "impact masses", [0.01, 0.02, 0.04, 0.06, 0.08, 0.1], "kg", low=1e-6, high=1e4),
         "velocities_m_s": Key("floats", "approach speeds", [0.5, 1.0, 2.0], "m/s", low=1e-4, high=1e3)},
         "coefficient of restitution against impact mass (paper Figure 7)"),
-    "sweep": Table({
-        "gap_m": _swept("gap", "gap range start:stop:count", "0.02:0.06:5"),
-        "mass_kg": _swept("m", "impact-mass range start:stop:count", "0.02:0.08:4"),
-        **_from_table(SWEEP, "outputs.sweep"),
-        "workers": Key("int", "worker processes (0: all cores)", 0, low=0, high=1024),
-        "levels": Key("bool", "also LAFmax, LCpeak and LAeq of each design's run at the listener, rendered at "
-                      "96 kHz (about 0.3 s more per 20 s design)", False)},
-        "sweep over gap and impact mass (paper Figure 6)"),
+    "sweep": Table(_from_table(SWEPT + SWEEP + SCENE_SWEEP + SWEEP_SOUND, "outputs.sweep"),
+                   "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
     "wav": Table({"rate_hz": Key("int", "sample rate", WAV_RATE, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),

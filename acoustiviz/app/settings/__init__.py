@@ -12,8 +12,9 @@
                  ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
 ``render``       the balloon, snapshot and animation views
 ``forced``       the damper in operation: continuation, solver, tolerances, level interval, the job
-``design``       the target damping inclination and its tolerance
-``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius
+``design``       the target damping inclination and its tolerance, and the design job (:class:`DesignJob`)
+``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius; beside
+                 it ``sweep_job``, the sweep job: swept values, designs, executor, folder (:class:`SweepJob`)
 ``room``         the shoebox room's options
 ``auralize``     the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
 ``levels``       the WAV file, its calibration, the interval and the CSV of ``acoustiviz levels``
@@ -26,7 +27,7 @@ settings objects check their values with them; ``acoustiviz --help``, ``acoustiv
 
 from .base import Settings, check_size
 from .damper_job import DamperJob
-from .design import DesignSettings
+from .design import DesignJob, DesignSettings
 from .directivity import DirectivityJob
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
@@ -34,10 +35,11 @@ from .levels import LevelsSettings
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .sweep import SweepSettings
+from .sweep_job import SweepJob
 from .table import SAME, Setting, add_option
 from .waveform import WaveformJob
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
            "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
-           "DamperJob", "DirectivityJob"]
+           "DamperJob", "DirectivityJob", "DesignJob", "SweepJob"]

@@ -2,8 +2,10 @@
 
 :data:`SWEEP` holds the settings object's records; :data:`SWEPT`, :data:`SWEEP_DAMPER` and
 :data:`SWEEP_SOUND` the options of the command, each given only when typed (the defaults named
-in their help are :func:`acoustiviz.app.sweep.sweep_spec`'s). :data:`RADIUS` is the sphere's
-radius in m, which a sweep also takes as ``"mass"`` (:func:`sweep_radius`).
+in their help are :class:`~acoustiviz.app.settings.sweep_job.SweepJob`'s); :data:`SWEEP_RUN` where
+the designs run, the folder and its design report; :data:`SCENE_SWEEP` the keys of a scene's
+``[outputs.sweep]`` that the command spells otherwise. :data:`RADIUS` is the sphere's radius in m,
+which a sweep also takes as ``"mass"`` (:func:`sweep_radius`).
 """
 
 from __future__ import annotations
@@ -29,9 +31,11 @@ from ...constants import (
 from ...errors import ParameterError
 from .base import Settings
 from .damper import MODEL, RUN
+from .design import BAND_WIDTH, DEFINITION
 from .table import Setting, by_name
 
-__all__ = ["SWEEP", "SWEPT", "SWEEP_DAMPER", "SWEEP_SOUND", "RADIUS", "SweepSettings", "sweep_radius"]
+__all__ = ["SWEEP", "SWEPT", "SWEEP_DAMPER", "SWEEP_SOUND", "SWEEP_RUN", "SCENE_SWEEP", "RADIUS", "SweepSettings",
+           "sweep_radius"]
 
 SWEEP = (
     # A scene's sweep is a quick look (5 s of motion per design); the command runs the paper's 20 s.
@@ -45,13 +49,15 @@ RADIUS = Setting("radius", "--radius", "radius_m", "float", PAPER_RADIUS, "spher
 
 
 #: The damper's records, whose ranges the swept values and the fixed M, K and C obey
-#: (:func:`acoustiviz.app.sweep.check_ranges`).
+#: (:class:`acoustiviz.app.settings.sweep_job.SweepJob` checks them).
 _DAMPER = by_name(MODEL + RUN)
 
 
-def _swept(name, option, doc):
+def _swept(name, option, doc, key=None, scene_default=None):
     if name in _DAMPER:  # each value in the damper record's range
-        doc = doc.replace(" (default", f", each in {_DAMPER[name].range_text()} (default")
+        r = _DAMPER[name]
+        return Setting(name, option, key, "range", None, doc, r.unit, low=r.low, high=r.high, low_open=r.low_open,
+                       metavar="RANGE", scene_default=scene_default, table="outputs.sweep" if key else "")
     return Setting(name, option, None, "str", None, doc, metavar="NAMES" if option in ("--material", "--config")
                    else "RANGE")
 
@@ -64,8 +70,10 @@ def _fixed(name, doc):
 
 #: The swept options: one value, START:STOP:COUNT (both ends included) or a comma list A,B,C.
 SWEPT = (
-    _swept("gap", "--gap", f"total free travel d in m (default {PAPER_GAP:g})"),
-    _swept("m", "--m", f"impact mass in kg (default {TABLE1_PARAMETERS['m']:g})"),
+    _swept("gap", "--gap", f"total free travel d in m (default {PAPER_GAP:g} on the command line)", "gap_m",
+           "0.02:0.06:5"),
+    _swept("m", "--m", f"impact mass in kg (default {TABLE1_PARAMETERS['m']:g} on the command line)", "mass_kg",
+           "0.02:0.08:4"),
     _swept("mass_ratio", "--mass-ratio", f"mass ratio m/M instead of --m (m = ratio x M within "
            f"{by_name(MODEL)['m'].range_text()})"),
     _swept("c1", "--c1", f"contact damping in N s/m (default {TABLE1_PARAMETERS['c1']:g})"),
@@ -114,10 +122,35 @@ SWEEP_SOUND = (
             metavar="M"),
     Setting("n_fastest", "--spl-fastest", None, "int", None,
             "evaluate the N fastest impacts exactly (the loudest is the fastest); 0: all (default 4)", metavar="N"),
-    Setting("levels", "--levels", None, "bool", None,
+    Setting("levels", "--levels", "levels", "bool", None,
             "also report the LAFmax, LCpeak and LAeq of each run's click train at the listener at 96 kHz "
             "over the run (columns lafmax_db, lcpeak_db, laeq_db; about as costly as the motion, so off by "
-            "default)"),
+            "default)", scene_default=False, table="outputs.sweep"),
+)
+
+#: Where the designs run, the folder and its design report (the command's ``execution and outputs``).
+SWEEP_RUN = (
+    Setting("room_window", "--room-window", None, "float", None,
+            "with --room: the window in s from the start of each impact whose images the peak SPL takes (required "
+            "when a surface is rigid and --image-order is not given)", "s", metavar="S"),
+    Setting("out", "--out", None, "str", None, "output directory (resumed if it exists)", metavar="DIR"),
+    Setting("executor", "--executor", None, "str", "process", "local process pool or a Dask distributed scheduler",
+            metavar="process|dask://HOST:PORT"),
+    Setting("workers", "--workers", None, "int", None,
+            "processes of the local pool (default: all cores; a Dask cluster has its own)", low=1, metavar="N"),
+    Setting("overwrite", "--overwrite", None, "bool", False,
+            "if DIR holds a sweep with other settings, move its sweep.csv and sweep.json aside "
+            "(sweep.previous-N.csv and .json, N = 1, 2, ...) and start afresh"),
+    DEFINITION,
+    BAND_WIDTH,
+    Setting("quiet", "--quiet", None, "bool", False,
+            "no progress bar (it is drawn only on a terminal anyway; the resume count is still shown)"),
+)
+
+#: The keys of a scene's ``[outputs.sweep]`` the command spells otherwise (its --workers has no 0).
+SCENE_SWEEP = (
+    Setting("workers", None, "workers", "int", 0, "worker processes (0: all cores)", low=0, high=1024,
+            table="outputs.sweep"),
 )
 
 

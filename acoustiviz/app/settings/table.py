@@ -35,8 +35,9 @@ class Setting:
         The command-line option (None: none).
     key : str or None
         The scene key within its table (None: none).
-    kind : {"str", "float", "int", "bool"}
-        The type of one value (``"bool"``: a flag on the command line).
+    kind : {"str", "float", "int", "bool", "range"}
+        The type of one value (``"bool"``: a flag on the command line; ``"range"``: numbers given as one
+        value, ``START:STOP:COUNT`` or ``A,B,C``, each within the range, checked into a tuple).
     default : object
         The default (None: computed from other settings, or absent).
     doc : str
@@ -100,6 +101,8 @@ class Setting:
             return None
         if self.kind == "str":
             return check_choice(name, value, self.choices) if self.choices else str(value)
+        if self.kind == "range":
+            return self._check_range(value, name)
         if self.kind == "bool":
             if not _is_bool(value):
                 raise ParameterError(name, f"must be true or false, got {value!r}")
@@ -111,8 +114,17 @@ class Setting:
             return int(value)
         return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open)
 
+    def _check_range(self, value, name: str) -> tuple:
+        """The values of ``value`` (one value, ``START:STOP:COUNT``, ``A,B,C`` or a sequence), each in range."""
+        from ...sweep.spec import parse_values
 
-_TYPES = {"str": str, "float": float, "int": int}
+        values = parse_values(name, value)
+        for v in values:
+            check_range(name, v, self.low, self.high, unit=self.unit, low_open=self.low_open)
+        return values
+
+
+_TYPES = {"str": str, "float": float, "int": int, "range": str}
 
 
 def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, parse_choices: bool = True,
@@ -138,7 +150,7 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
                            help=s.doc.replace("%", "%%"), **kw)
         return
     bounded = s.kind != "str" and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
-    rng = f", in {s.range_text()}" if bounded else ""
+    rng = f", {'each ' if s.kind == 'range' else ''}in {s.range_text()}" if bounded else ""
     value = s.default if default == SAME else default
     shown = " (default %(default)s)" if value is not None else ""
     choices = s.choices if parse_choices else ()
