@@ -70,9 +70,9 @@ SOUND = (
     Setting("walls", "--walls", "walls", "str", "both",
             "both: impacts on the far wall radiate from it, axis reversed; one: every impact is "
             "heard as a strike on the struck surface (the paper's view)", choices=("both", "one"), table=_W),
-    Setting("struck_wall", "--struck-wall", None, "int", -1,
+    Setting("struck_wall", "--struck-wall", "struck_wall", "int", -1,
             "the damper wall lying on the struck surface z = 0; the other wall is gap + 2a further along +z",
-            choices=(-1, 1)),
+            low=-1, high=1, choices=(-1, 1), table=_W),
     _MEDIUM["c"],  # the fluid's records: the ranges of a scene's [medium] and of the commands of one impact
     _MEDIUM["rho"],
 )
@@ -83,20 +83,21 @@ ROOM_SOUND = (
             "per click), then a seeded statistical tail (noise decaying per band at Eyring's T60, from the "
             "images' level) until --tolerance-db of the energy: seconds instead of minutes for a reverberant "
             "room; the direct click and the early images stay exact", table=_W),
-    Setting("tail_seed", "--tail-seed", None, "int", None,
-            f"seed of the tail's noise, an integer >= 0 (default {TAIL_SEED}: the same WAV every run)"),
-    Setting("tail_decay", "--tail-decay", None, "str", None,
+    Setting("tail_seed", "--tail-seed", "tail_seed", "int", None,
+            f"seed of the tail's noise, an integer >= 0 (default {TAIL_SEED}: the same WAV every run)",
+            low=0, high=2**63 - 1, scene_default=TAIL_SEED, table=_W),
+    Setting("tail_decay", "--tail-decay", "tail_decay", "str", None,
             "the tail's decay: Eyring's T60 per band (default) or the image sum's own expected decay",
-            choices=("eyring", "images")),
-    Setting("transition", "--transition", None, "float", None,
+            choices=("eyring", "images"), scene_default="eyring", table=_W),
+    Setting("transition", "--transition", "transition_s", "float", None,
             "with --late-tail: transition time from the start of contact (default: max(sqrt(V) ms, one "
-            "reflection per contact duration))", "s", low=0.0, high=10.0, low_open=True, metavar="S"),
-    Setting("absorption_bands", "--absorption-bands", None, "str", None,
+            "reflection per contact duration))", "s", low=0.0, high=10.0, low_open=True, metavar="S", table=_W),
+    Setting("absorption_bands", "--absorption-bands", "absorption_bands", "str", None,
             "absorption per octave band for the WAV instead of --absorption: comma-separated F:A (band centre "
             "F in Hz in [16, 20000], increasing; alpha A in [0, 1) on every surface) or F:A1/A2/A3/A4/A5/A6 (per "
             "surface x0,x1,y0,y1,z0 floor,z1 ceiling), e.g. 125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,"
             "4000:0.35; the images and the tail are filtered per band, the direct click stays broadband",
-            metavar="F:A,..."),
+            metavar="F:A,...", table=_W),
 )
 
 FILES = (
