@@ -89,6 +89,11 @@ class ImpactSequence:
     def __len__(self) -> int:
         return int(self.times.size)
 
+    def __eq__(self, other):
+        if not isinstance(other, ImpactSequence):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, k), getattr(other, k)) for k in ("times", "walls", "velocities"))
+
     def count(self, wall: int) -> int:
         """Number of impacts on ``wall`` (-1 or +1)."""
         return int(np.count_nonzero(self.walls == wall))

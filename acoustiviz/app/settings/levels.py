@@ -14,7 +14,7 @@ import dataclasses
 from .base import Settings
 from .table import Setting, by_name
 
-__all__ = ["ALL", "JOB", "LEVELS", "LevelsSettings", "LevelsJob"]
+__all__ = ["ALL", "LEVELS_JOB", "LEVELS", "LevelsSettings", "LevelsJob"]
 
 SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav")
 
@@ -62,7 +62,7 @@ class LevelsSettings(Settings):
 
 #: The records :class:`LevelsJob` checks: the interval, the loudness and the levels CSV (the calibration is a
 #: fact of the signal, so it keeps its record's range under the job's name).
-JOB = (*(s for s in ALL if s.name in ("start", "stop", "loudness", "csv")),
+LEVELS_JOB = (*(s for s in ALL if s.name in ("start", "stop", "loudness", "csv")),
        dataclasses.replace(by_name(ALL)["pa_per_fs"], name="pa_per_full_scale"))
 
 
@@ -71,7 +71,7 @@ class LevelsJob(Settings):
     """The whole of what :func:`acoustiviz.app.levels.run` needs: a calibrated signal, the interval, the files.
 
     Each front end builds the signal (``acoustiviz levels`` reads a WAV file and its calibration);
-    the interval, the metrics and the files are then one code path. The ranges of :data:`JOB` are
+    the interval, the metrics and the files are then one code path. The ranges of :data:`LEVELS_JOB` are
     checked when the job is made, then :meth:`validate`.
 
     Attributes
@@ -102,7 +102,7 @@ class LevelsJob(Settings):
     the vocabulary of errors only describe, and are left out.
     """
 
-    TABLE = JOB
+    TABLE = LEVELS_JOB
     #: The fields compared by :meth:`__eq__` besides the signal.
     _COMPARED = ("channels", "start", "stop", "loudness", "csv", "spectrum_csv", "spectrum_png")
 
