@@ -328,7 +328,6 @@ def _files(job: AuralizeJob, rendering) -> tuple:
 
 def _impacts(job: AuralizeJob, damper) -> tuple:
     """``(sequence, sidecar record, damper run)``: the impacts given, or those of the damper run (simulated once)."""
-    from ..sound import ImpactSequence
     from .damper import damper_description
     from .damper import run as run_damper
 
@@ -337,7 +336,7 @@ def _impacts(job: AuralizeJob, damper) -> tuple:
         return job.impacts, {"impacts_csv": job.impacts_csv, "m_kg": m.m, "M_kg": m.M, "gap_m": m.gap,
                              "k_hertz_n_m1_5": m.k_hertz}, None
     damper = run_damper(job.damper) if damper is None else damper
-    return ImpactSequence.from_table(damper.result.impacts), damper_description(job.model, damper, job.duration), damper
+    return damper.result.impacts.sequence(), damper_description(job.model, damper, job.duration), damper
 
 
 def _levels(job: AuralizeJob, seq, rendering, files):

@@ -56,7 +56,7 @@ def damper_sound_setup(ctx):
     (``[outputs.wav]`` surroundings, or their defaults), clicks and listeners. A click longer
     than the run is refused as on the command line (:func:`acoustiviz.app.damper.check_click_fits`).
     """
-    from ..sound import ClickModel, ImpactSequence
+    from ..sound import ClickModel
     from .damper import check_click_fits
 
     radius = ctx.scene.damper_sphere_radius()
@@ -65,7 +65,7 @@ def damper_sound_setup(ctx):
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
     named = [Listener(name, position) for name, position in ctx.scene.listeners(radius)]
-    seq = ImpactSequence.from_table(ctx.damper_run.impacts)
+    seq = ctx.damper_run.impacts.sequence()
     d = ctx.damper_model
     check_click_fits(seq, d.k_hertz, d.m, ctx.damper_run.duration,
                      names={"m": "damper.impact_mass_kg", "k_hertz": "contact.k_hertz_n_m1_5",
