@@ -129,8 +129,25 @@ def test_the_command_line_and_a_scene_build_equal_jobs(tmp_path):
     from_scene = wav_settings(scene, tmp_path, damper_settings(scene))
     assert from_cli == from_scene
     assert from_cli == _api_job(SHORT, ["listener1"], [LISTENER], (str(tmp_path / "wav_listener1.wav"),))
+    assert from_cli.room_sound is None and from_cli.impacts is None and from_cli.damper.duration == SHORT["duration"]
     assert from_cli.names["rate"] == "--rate" and from_scene.names["rate"] == "outputs.wav.rate_hz"
     other = scene_from_dict(_scene({**SHORT, "rate": 96000}, ["listener1"], [LISTENER]))
+    assert wav_settings(other, tmp_path, damper_settings(other)) != from_cli
+
+
+def test_a_room_with_a_late_tail_builds_equal_jobs(tmp_path):
+    point = (1.0, 1.0, 1.2)
+    room = ["--room", "3,4,2.5", "--absorption", "0.4", "--late-tail", "--tail-seed", "7"]
+    from_cli = settings_from_args(build_parser().parse_args(_argv(SHORT, str(tmp_path / "wav_listener1.wav"),
+                                                                  [point], room)))
+    data = _scene(SHORT, ["listener1"], [point], {"wav": {"late_tail": True, "tail_seed": 7}})
+    data["configuration"] = {"kind": "room", "room_m": [3.0, 4.0, 2.5], "absorption": [0.4]}
+    scene = scene_from_dict(data)
+    from_scene = wav_settings(scene, tmp_path, damper_settings(scene))
+    assert from_cli == from_scene
+    assert from_cli.room_sound.late_tail and from_cli.room_sound.seed == 7
+    data["outputs"]["wav"]["tail_seed"] = 8
+    other = scene_from_dict(data)
     assert wav_settings(other, tmp_path, damper_settings(other)) != from_cli
 
 
