@@ -37,7 +37,7 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     run = simulate(TABLE1, 20.0, solver="event")
     t_dyn = time.perf_counter() - t0
-    seq = sound.ImpactSequence.from_table(run.impacts)
+    seq = run.impacts.sequence()
     scene = sound.CavityScene("plane", radius=0.01905, gap=TABLE1.gap)
     print(f"damper: Table 1, 20 s, {len(seq)} impacts ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
           f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s; "

@@ -120,7 +120,7 @@ def main(argv=None) -> int:
     repeat = 1 if args.quick else max(1, args.repeat)
     t0 = time.perf_counter()
     run = simulate(TABLE1, 20.0, solver="event")
-    seq = sound.ImpactSequence.from_table(run.impacts)
+    seq = run.impacts.sequence()
     scene = sound.CavityScene("plane", radius=RADIUS, gap=TABLE1.gap)
     print(f"damper: Table 1, 20 s, {len(seq)} impacts, solved in {time.perf_counter() - t0:.2f} s (not counted)")
     part_levels(seq, scene, repeat, args.quick)

@@ -227,11 +227,11 @@ def wav_table(repeat: int) -> None:
     from acoustiviz.app.wav import cavity
     from acoustiviz.constants import DEFAULT_DURATION
     from acoustiviz.dynamics import DamperModel
-    from acoustiviz.sound import ClickModel, ImpactSequence, render
+    from acoustiviz.sound import ClickModel, render
 
     model = DamperModel()
     run = run_damper(model, DEFAULT_DURATION)
-    seq = ImpactSequence.from_table(run.result.impacts)
+    seq = run.result.impacts.sequence()
     click = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
     listener = [3.0, 2.0, 1.5]
     cases = _wav_cases()

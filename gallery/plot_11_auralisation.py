@@ -38,7 +38,7 @@ from acoustiviz.dynamics.metrics import envelope_inclination, positive_maxima, s
 from acoustiviz.output import audio
 from acoustiviz.output.plot.audio import auralisation_figure
 from acoustiviz.output.plot.style import save_figure
-from acoustiviz.sound import CavityScene, ClickModel, ImpactSequence, render
+from acoustiviz.sound import CavityScene, ClickModel, render
 
 RATE, DURATION = 48000, 20.0
 LISTENER = [0.495, 0.0, 0.514]  # m: 0.7 m from the sphere's centre at 45 deg from the plane's normal
@@ -52,7 +52,7 @@ def design(m, gap):
     model = replace(TABLE1, m=m, gap=gap)
     run = simulate(model, DURATION, t_eval=sample_times(DURATION, model))
     incl = envelope_inclination(positive_maxima(run.t, run.x)).value  # m/s
-    seq = ImpactSequence.from_table(run.impacts)
+    seq = run.impacts.sequence()
     sound = render(seq, CavityScene("plane", radius=RADIUS, gap=gap),
                          ClickModel(k_hertz=model.k_hertz, mass=m, main_mass=model.M),
                          LISTENER, sample_rate=RATE, duration=DURATION)

@@ -52,7 +52,7 @@ for name, (m, gap) in DESIGNS.items():
     incl = envelope_inclination(positive_maxima(run.t, run.x)).value
     room = sound.CavityScene("plane", radius=RADIUS, gap=gap)
     clicks = sound.ClickModel(k_hertz=model.k_hertz, mass=m, main_mass=model.M)
-    seq = sound.ImpactSequence.from_table(run.impacts)
+    seq = run.impacts.sequence()
     report = rendered_levels(seq, room, clicks, LISTENER, duration=DURATION, channels=[name],
                              with_loudness=with_loudness)
     energy = run_energy(run.impacts, room, clicks, DURATION)

@@ -1,25 +1,31 @@
-"""An auralised damper run: every impact rendered at the listeners, written as calibrated WAV files.
+"""The auralize job: a damper run (or impacts read from a CSV) heard at listeners, as calibrated WAV files.
 
-:func:`auralize` executes an :class:`~acoustiviz.app.settings.auralize.AuralizeSettings`: it checks
-every setting before any work (the sphere and the fluid, the room and its sound, the listeners, the
-files, the memory), simulates the damper (paper eq 15) or reads its impacts from a CSV, renders the
-Hertz pulse of each impact with rigid-sphere radiation and image sources
-(:func:`acoustiviz.sound.render`), and writes the files and their sidecars through
-:func:`acoustiviz.app.wav.write_wav_files`, the writer a scene's ``[outputs.wav]`` shares. Errors
-name the command-line options. Lengths in m, times in s, pressures in Pa.
+Three parts, shared by ``acoustiviz auralize``, a scene's ``[outputs.wav]`` and Python callers:
+
+* :class:`~acoustiviz.app.settings.auralize.AuralizeJob`, the settings, checked once when made
+  (:func:`job_from_settings` builds it from the command's options, errors naming them);
+* :func:`run`, which simulates the damper (paper eq 15) or takes the impacts given, renders the Hertz
+  pulse of each impact with rigid-sphere radiation and image sources (:func:`acoustiviz.sound.render`)
+  and, when asked, evaluates the levels with the levels job (:func:`acoustiviz.app.levels.run`),
+  returning an :class:`AuralizeResult` (no files, no printing);
+* :meth:`AuralizeResult.write`, which writes the levels CSVs, the WAV files with their sidecars
+  (:func:`acoustiviz.app.wav.write_wav_files`) and the figure, and returns their paths.
+
+Lengths in m, times in s, pressures in Pa.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import dataclasses
 from pathlib import Path
 
 import numpy as np
 
-from .._validate import check_positive, check_range
+from .._validate import check_finite, check_positive, check_range
+from ..core.listener import Listener
 from ..errors import ParameterError
 from .names import user_terms
-from .settings.auralize import ALL, DEFAULT_LISTENER, AuralizeSettings
+from .settings.auralize import ALL, DEFAULT_LISTENER, AuralizeJob, AuralizeSettings
 from .settings.parse import parse_point
 from .settings.table import by_name
 from .wav import check_scale_fits, write_wav_files
@@ -27,24 +33,21 @@ from .wav import check_scale_fits, write_wav_files
 #: Every auralize setting by its API name: the ranges checked here are the table's.
 _TABLE = by_name(ALL)
 
-__all__ = ["auralize", "write_sound", "read_impacts_csv", "output_paths", "Sound"]
+__all__ = ["AuralizeJob", "AuralizeResult", "run", "job_from_settings", "read_impacts_csv", "output_paths",
+           "AURALIZE_OPTIONS"]
 
 
-@dataclass(frozen=True)
-class Sound:
-    """What a run renders, all checked: the sphere, the scene, the click model, listeners and room sound.
+def _cli_names() -> dict:
+    from .names import DAMPER_OPTIONS
+    from .wav import ROOM_SOUND_OPTIONS
 
-    ``radius`` in m with ``radius_source`` saying where it came from; ``room`` the room's settings
-    (None: no room); ``room_sound`` the :class:`~acoustiviz.sound.RoomSound` (None: none).
-    """
+    return {**{s.name: s.option for s in ALL}, **DAMPER_OPTIONS, **ROOM_SOUND_OPTIONS, "wav_files": "--wav",
+            "listeners": "--listener", "max_memory_mb": "--max-memory", "order": "--image-order",
+            "velocities": "--impacts"}
 
-    radius: float
-    radius_source: str
-    scene: object
-    model: object
-    listeners: np.ndarray
-    room: dict | None
-    room_sound: object
+
+#: The options of ``acoustiviz auralize`` by API name: what a job built from them names in its errors.
+AURALIZE_OPTIONS = _cli_names()
 
 
 def read_impacts_csv(path):
@@ -91,8 +94,6 @@ def _check_sphere_and_medium(s: AuralizeSettings):
 
     # the damper's ranges were checked when its DamperSettings were made (app.settings.damper)
     d, table = s.damper, _TABLE
-    if Path(s.wav).suffix.lower() != ".wav":
-        raise ParameterError("--wav", f"must end in .wav, got {s.wav!r}")
     if s.radius is not None and s.density is not None:
         raise ParameterError("--radius", "give either --radius or --density, not both")
     if s.density is not None:
@@ -147,10 +148,10 @@ def _room_of(s: AuralizeSettings, absorption):
     return room, config
 
 
-def _scene_of(s: AuralizeSettings, radius, medium):
-    """The cavity's walls in their surroundings, the room's settings and the room's sound (None: none)."""
-    from .names import ROOM_OPTIONS, user_terms
-    from .wav import ROOM_SOUND_OPTIONS, cavity, least_absorbing
+def _cavity_of(s: AuralizeSettings, radius, medium):
+    """The cavity's walls in their surroundings and the room's sound (None: none)."""
+    from .names import ROOM_OPTIONS
+    from .wav import cavity, least_absorbing
 
     rs = _room_sound_of(s)
     absorption = s.room.absorption
@@ -162,15 +163,12 @@ def _scene_of(s: AuralizeSettings, radius, medium):
     with user_terms(terms):
         scene = cavity(config, radius, s.damper.gap, struck_wall=s.struck_wall, walls=s.walls,
                        wall_distance=s.wall_distance, strike=s.strike, height=s.height, medium=medium, room=room)
-    if rs is not None:
-        with user_terms({**ROOM_SOUND_OPTIONS, "order": "--image-order"}):
-            rs.check_room(scene.configuration)
-    return scene, room, rs
+    return scene, rs
 
 
-def _listeners_of(s: AuralizeSettings, scene, room):
-    """The listener positions (m): the given ones, or two ears around one head with ``--stereo``."""
-    from ..sound import check_listeners, ear_positions
+def _listeners_of(s: AuralizeSettings, scene) -> tuple:
+    """The listeners: the given positions (m), or two ears around one head with ``--stereo``."""
+    from ..sound import ear_positions
 
     points = [parse_point(p, "--listener") for p in (s.listener or [DEFAULT_LISTENER])]
     if s.stereo:
@@ -179,263 +177,213 @@ def _listeners_of(s: AuralizeSettings, scene, room):
             points = list(ear_positions(points[0], scene, spacing=spacing))
         elif len(points) != 2:
             raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
-    if room is not None:
-        scene.configuration.in_room("--listener", np.array(points))
-    return check_listeners(np.array(points), scene, name="--listener")
+        return tuple(Listener(side, p) for side, p in zip(("left", "right"), points, strict=True))
+    # the mono file of the i-th --listener names its channel listener<i>
+    return tuple(Listener(f"listener{i + 1}", p) for i, p in enumerate(points))
 
 
-def _check_outputs(s: AuralizeSettings, n_files: int) -> None:
-    """Refuse unwritable or clashing WAV, sidecar and figure paths."""
-    from .outputs import check_distinct, check_output_file
-
-    outputs = {}
-    for path in output_paths(s.wav, n_files):
-        outputs[f"--wav {path}"] = check_output_file("--wav", path, "wav")
-        outputs[f"--wav {path.with_suffix('.json')}"] = check_output_file("--wav", path.with_suffix(".json"), "json")
-    if s.png is not None:
-        outputs["--png"] = check_output_file("--png", s.png, "figure")
-    check_distinct(outputs)
-
-
-def _impacts_given(s: AuralizeSettings, n_listeners: int):
-    """The impacts read from ``impacts`` (or None), with the sound's length checked against the budget."""
-    from .budget import check_budget, wav_estimate
+def _run_of(s: AuralizeSettings) -> tuple:
+    """``(model, damper job, impacts)``: the damper, and its run to simulate or the impacts of ``--impacts``."""
+    from ..dynamics import InitialState
+    from .damper import DamperJob, damper_model
+    from .names import DAMPER_OPTIONS
     from .outputs import check_input_file
 
-    seq = None
-    sound_length, length_options = s.damper.duration, ("--duration",)
-    if s.impacts:
-        check_input_file("--impacts", s.impacts, "CSV file")
-        seq = read_impacts_csv(s.impacts)
-        last = float(seq.times.max()) if len(seq) else 0.0
-        if last > s.damper.duration:  # the sound lasts until the last click has died away
-            sound_length, length_options = last, ("--impacts", "--duration")
-    check_budget(wav_estimate(sound_length, s.rate, n_listeners, options=length_options), s.max_memory)
-    return seq
-
-
-def _check_run_and_levels(s: AuralizeSettings) -> None:
-    """The damper to simulate (when no impacts are given), the file's scale and the levels asked for."""
     d = s.damper
-    if not s.impacts:
-        from ..core.limits import check_damper
-        from .names import DAMPER_OPTIONS, user_terms
-
-        with user_terms(DAMPER_OPTIONS):
-            check_damper(M=d.M, K=d.K, m=d.m, gap=d.gap, k_hertz=d.k_hertz, v=d.v0, duration=d.duration, c1=d.c1)
-    if s.scale is not None:
-        check_positive("--scale", s.scale, "Pa")
-    if s.levels_csv is not None and Path(s.levels_csv).suffix.lower() != ".csv":
-        raise ParameterError("--levels-csv", f"must end in .csv, got {s.levels_csv!r}")
-    if s.loudness:
-        from ..levels import loudness_available
-
-        if not loudness_available():
-            raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+    names = {**DAMPER_OPTIONS, "max_memory_mb": "--max-memory"}
+    with user_terms(names):
+        model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
+                             clip_tensile=bool(d.clip_tensile))
+        if s.impacts:
+            check_input_file("--impacts", s.impacts, "CSV file")
+            return model, None, read_impacts_csv(s.impacts)
+        job = DamperJob(model, InitialState(x=d.x0, v=check_finite("v", d.v0)), d.duration, d.solver, d.rtol, d.dt,
+                        s.max_memory, names=names)
+    return model, job, None
 
 
-def check_sound(s: AuralizeSettings):
-    """Every check a run makes before any work, in the order it meets them; return the :class:`Sound` and impacts.
+def job_from_settings(s: AuralizeSettings) -> AuralizeJob:
+    """The :class:`~acoustiviz.app.settings.auralize.AuralizeJob` of ``acoustiviz auralize``'s options.
 
-    The impacts are those of ``s.impacts`` (None: to be simulated).
+    The sphere (``--radius``, or ``--density`` and the impact mass), the cavity in its configuration
+    or room, the room's sound, the listeners (two ears with ``--stereo`` and one head), the damper
+    run to simulate or the impacts of ``--impacts``, then every check of the job; errors name the options.
     """
     from ..sound import ClickModel
 
     radius, radius_source, medium = _check_sphere_and_medium(s)
-    scene, room, rs = _scene_of(s, radius, medium)
-    model = ClickModel(k_hertz=s.damper.k_hertz, mass=s.damper.m, main_mass=s.damper.M, mass_model=s.mass_model,
+    scene, rs = _cavity_of(s, radius, medium)
+    click = ClickModel(k_hertz=s.damper.k_hertz, mass=s.damper.m, main_mass=s.damper.M, mass_model=s.mass_model,
                        pulse=s.pulse)
-    listeners = _listeners_of(s, scene, room)
-    _check_outputs(s, 1 if s.stereo else len(listeners))
-    seq = _impacts_given(s, len(listeners))
-    _check_run_and_levels(s)
-    return Sound(radius, radius_source, scene, model, listeners, room, rs), seq
+    listeners = _listeners_of(s, scene)
+    if Path(s.wav).suffix.lower() != ".wav":  # before the impacts are read and the damper is checked
+        raise ParameterError("--wav", f"must end in .wav, got {s.wav!r}")
+    model, damper, impacts = _run_of(s)
+    files = output_paths(s.wav, 1 if s.stereo else len(listeners))
+    return AuralizeJob(model, scene, click, listeners, tuple(str(p) for p in files), s.damper.duration, damper,
+                       impacts, s.impacts, rs, stereo=s.stereo, rate=s.rate, subtype=s.subtype, scale=s.scale,
+                       headroom=s.headroom, png=s.png, levels=s.levels, levels_csv=s.levels_csv, loudness=s.loudness,
+                       max_memory_mb=s.max_memory, radius_source=radius_source, names=AURALIZE_OPTIONS)
 
 
-def _simulate(s: AuralizeSettings, echo):
-    """Run the damper as ``acoustiviz damper`` would; return the impact sequence and a description."""
-    from ..sound import ImpactSequence
-    from .damper import damper_description, run_damper_settings
+@dataclasses.dataclass(frozen=True, eq=False)
+class AuralizeResult:
+    """The sound of an :class:`~acoustiviz.app.settings.auralize.AuralizeJob`, ready to write.
 
-    model, run = run_damper_settings(s.damper, s.max_memory)
-    for msg in run.warnings:
-        echo(f"warning: {msg}")
-    if not run.result.success:
-        echo(f"warning: the damper solver stopped early: {run.result.message}")
-    return ImpactSequence.from_table(run.result.impacts), damper_description(model, run, s.damper.duration)
-
-
-def auralize(s: AuralizeSettings, echo=print) -> list:
-    """Simulate (or read) the impacts, render them, write the WAVs and sidecars; ``echo`` each summary line.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The WAV files written (each with its ``.json`` sidecar beside it).
-    """
-    from .damper import check_click_fits
-
-    sound, seq = check_sound(s)
-    d = s.damper
-    if seq is not None:
-        run_desc = {"impacts_csv": str(s.impacts), "m_kg": d.m, "M_kg": d.M, "gap_m": d.gap,
-                    "k_hertz_n_m1_5": d.k_hertz}
-    else:
-        seq, run_desc = _simulate(s, echo)
-    check_click_fits(seq, d.k_hertz, d.m, d.duration, names={"m": "--m", "k_hertz": "--k-hertz",
-                                                                "duration": "--duration", "velocities": "--impacts"})
-    files, _ = write_sound(s, seq, sound, run_desc, duration=d.duration, echo=echo)
-    if s.png:
-        _write_png(s, [f.path for f in files], [f.pressure for f in files], echo)
-    return [f.path for f in files]
-
-
-def write_sound(s: AuralizeSettings, seq, sound: Sound, run_desc: dict, *, duration: float, labels=None,
-                paths=None, scene_name=None, echo=print, quiet: bool = False) -> tuple:
-    """Render the impacts ``seq`` at the listeners of ``sound`` and write the files ``s`` asks for.
-
-    The one application step of ``acoustiviz auralize`` and a scene's ``[outputs.wav]``: the Hertz
-    pulse of each impact radiated by the rigid sphere with its image sources
-    (:func:`acoustiviz.sound.render`, ``duration`` in s), the levels when ``s`` asks for
-    them, and the WAV files and sidecars with one shared calibration
-    (:func:`acoustiviz.app.wav.write_wav_files`).
-
-    Parameters
+    Attributes
     ----------
-    s : AuralizeSettings
-        Rate, sample format, scale, headroom, stereo and levels of the files.
-    seq : acoustiviz.sound.ImpactSequence
-        The impacts (times in s, walls, approach speeds in m/s).
-    sound : Sound
-        The checked sphere, cavity, click model and listeners (m).
-    run_desc : dict
-        The damper run recorded in every sidecar.
-    labels : sequence of str, optional
-        Listener names (default: ``listener1``, ``listener2``, ... in the order given, or ``left``/``right``).
-    paths : sequence of path-like, optional
-        The files (default: :func:`output_paths` of ``s.wav``).
-    scene_name : str, optional
-        Recorded in every sidecar.
-    echo : callable
-        Called with each summary line (none with ``quiet``).
-
-    Returns
-    -------
-    tuple
-        ``(files, written)``: the :class:`~acoustiviz.app.wav.WavFile` list and, per file, what
-        :func:`~acoustiviz.app.wav.write_wav_files` returns (its record, sidecar and warnings).
+    settings : AuralizeJob
+        What was run.
+    sequence : acoustiviz.sound.ImpactSequence
+        The impacts heard (times in s, walls, approach speeds in m/s).
+    rendering : acoustiviz.sound.Rendering
+        The sound at every listener at the job's rate (Pa).
+    files : tuple of acoustiviz.app.wav.WavFile
+        One per file: its name, its calibrated :class:`~acoustiviz.core.signal.Signal` (Pa) and its listeners.
+    record : dict
+        The damper run (or the impacts file) recorded in every sidecar.
+    damper : acoustiviz.app.damper.DamperResult or None
+        The damper run simulated (None: the impacts were given).
+    levels : acoustiviz.app.levels.LevelsResult or None
+        The levels of every channel, evaluated by the levels job on the sound computed at 96 kHz.
+    written : list of dict
+        Filled by :meth:`write`: per WAV file, its sidecar ``record``, the ``sidecar`` path and any ``warnings``.
     """
-    from ..sound import render
 
-    say = (lambda msg: None) if quiet else echo
-    out = render(seq, sound.scene, sound.model, sound.listeners, sample_rate=s.rate, duration=duration,
-                 room_sound=sound.room_sound)
-    _print_sound(seq, sound, out, s.rate, say)
-    files = _files(s, out, sound.listeners, labels, paths)
-    with user_terms({"scale": "--scale"}):  # refused before the levels and the files, not after
-        check_scale_fits(files, s.subtype, s.scale)
-    per_file = _levels_per_file(s, seq, sound, files, out, duration, say)
-    written = write_wav_files(files, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
-                              rendering=out, scene_name=scene_name, damper=run_desc,
-                              radius_source=sound.radius_source, levels=per_file)
-    _print_written(s, files, written, say)
-    return files, written
+    settings: AuralizeJob
+    sequence: object
+    rendering: object
+    files: tuple
+    record: dict
+    damper: object = None
+    levels: object = None
+    written: list = dataclasses.field(default_factory=list)
+
+    @property
+    def file_levels(self) -> list | None:
+        """Per file, the levels of its channels as its sidecar records them (None: no levels asked for)."""
+        if self.levels is None:
+            return None
+        groups = [[0, 1]] if self.settings.stereo else [[i] for i in range(len(self.files))]
+        return [self.levels.report.subset(g).describe() for g in groups]
+
+    def write(self, folder=None) -> list:
+        """Write the files the job asks for into ``folder``; return their paths.
+
+        The levels CSV and its ``_bands.csv`` (:meth:`acoustiviz.app.levels.LevelsResult.write`), each WAV
+        file and its sidecar with one shared calibration (:func:`acoustiviz.app.wav.write_wav_files`), and the
+        waveforms' figure, in that order, each atomically. ``folder``: where relative file names are put
+        (default: as given, the current folder).
+        """
+        from .wav import WavFile
+
+        s, paths = self.settings, []
+
+        def where(name):
+            return Path(name) if folder is None else Path(folder) / name
+
+        if self.levels is not None and s.levels_csv is not None:
+            paths += self.levels.write(folder)
+        if s.wav_files:
+            wavs = [WavFile(where(f.path), f.signal, f.listeners, f.channel_names) for f in self.files]
+            written = write_wav_files(wavs, subtype=s.subtype, scale=s.scale, headroom_db=s.headroom,
+                                      rendering=self.rendering, scene_name=s.scene_name, damper=self.record,
+                                      radius_source=s.radius_source, levels=self.file_levels)
+            self.written[:] = written
+            for wav, w in zip(wavs, written, strict=True):
+                paths += [wav.path, Path(w["sidecar"])]
+        if s.png is not None:
+            paths.append(Path(self._figure(where(s.png))))
+        return paths
+
+    def _figure(self, path):
+        """The waveforms of the files as one figure."""
+        from ..core.signal import Signal
+        from ..output.plot.audio import auralisation_figure
+        from ..output.plot.style import save_figure
+
+        if self.settings.stereo:
+            (f,) = self.files
+            labels = [f"{Path(f.path).name} {side}" for side in f.channel_names]
+        else:
+            labels = [Path(f.path).name for f in self.files]
+        signals = [Signal(row, f.signal.sample_rate) for f in self.files for row in f.pressure]
+        return save_figure(auralisation_figure(signals, labels=labels), path)
 
 
-def _files(s: AuralizeSettings, out, listeners, labels=None, paths=None) -> list:
-    """The WAV files of a rendering: one per listener, or one stereo file of the first two listeners."""
-    from ..core.listener import Listener
+def _files(job: AuralizeJob, rendering) -> tuple:
+    """The files of a rendering: one per listener, or one stereo file of the two listeners."""
     from ..core.signal import Signal
     from .wav import WavFile
 
-    p = out.pressure
-    if s.stereo:
-        groups = [(p[:2], listeners[:2], list(labels[:2]) if labels else ["left", "right"], ["left", "right"])]
-    else:  # without labels the mono file of the i-th --listener names its channel listener<i>
-        groups = [(p[i:i + 1], listeners[i:i + 1], [labels[i] if labels else f"listener{i + 1}"], ["mono"])
-                  for i in range(p.shape[0])]
-    paths = output_paths(s.wav, len(groups)) if paths is None else paths
-    return [WavFile(path, Signal(data, s.rate), [Listener(n, q) for n, q in zip(names, pts, strict=True)], channels)
-            for path, (data, pts, names, channels) in zip(paths, groups, strict=True)]
-
-
-def _print_sound(seq, sound: Sound, out, rate, echo) -> None:
-    """The impacts, the sound model and (in a room) its images, one line each."""
-    scene, model = out.scene, sound.model
-    echo(f"impacts: {len(seq)} ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
-         f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
-         else "impacts: 0 (silence)")
-    echo(f"sound: sphere radius {sound.radius * 1e3:.2f} mm ({sound.radius_source}), pulse {model.pulse}, "
-         f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
-         f"{rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
-    if sound.room is not None and out.room is not None:
-        r = out.room
-        neg = r["neglected_energy_db"]
-        tail = (f"late tail from {r['transition_s']:.4f} s to {r['tail_end_s']:.3f} s ({r['tail_decay']}, seed "
-                f"{r['tail_seed']})" if r["late_tail"] else "no late tail")
-        bands = f", absorption in {len(r['absorption_bands_hz'])} bands" if "absorption_bands_hz" in r else ""
-        echo(f"room: {scene.configuration.caption()}; image_order {r['image_order']}, images {r['images']}, "
-             f"{tail}{bands}, neglected_energy_db " + (f"{neg:.1f}" if isinstance(neg, float) else str(neg)))
-    elif sound.room is not None:
-        conf = scene.configuration
-        echo(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
-             f"neglected_energy_db {conf.neglected_energy_db:.1f}" + (" (capped by the memory budget)"
-                                                                       if conf.order_capped else ""))
-
-
-def _levels_per_file(s: AuralizeSettings, seq, sound: Sound, files, out, duration, echo):
-    """The levels of each file when asked for (echoed, and written as ``levels_csv``), else None."""
-    if not (s.levels or s.levels_csv is not None or s.loudness):
-        return None
-    from .levels import rendered_levels, summary_lines, write_levels_csv
-
-    names_all = [n for f in files for n in (f.channel_names if s.stereo else f.names)]
-    report = rendered_levels(seq, sound.scene, sound.model, sound.listeners, duration=duration,
-                             channels=names_all, with_loudness=s.loudness, rendering=out, room_sound=sound.room_sound)
-    for line in summary_lines(report, rate_note=" (computed signal, flat to 43.2 kHz)"):
-        echo(line)
-    groups = [[0, 1]] if s.stereo else [[i] for i in range(len(files))]
-    per_file = [report.subset(g).describe() for g in groups]
-    if s.levels_csv is not None:
-        for path in write_levels_csv(s.levels_csv, report):
-            echo(f"wrote {path}")
-    return per_file
-
-
-def _print_written(s: AuralizeSettings, files, written, echo) -> None:
-    """Each file's warnings, peak, calibration and name."""
-    for wav, w in zip(files, written, strict=True):
-        for msg in w["warnings"]:
-            echo(f"warning: {msg}")
-        rec = w["record"]
-        spls, peaks = rec["peak_spl_db_re_20upa"], rec["peak_pa"]
-        lvl = ", ".join(f"{v:.1f}" if v is not None else "silent" for v in spls)
-        echo(f"peak SPL: {lvl} dB re 20 uPa (peak {max(peaks):.4g} Pa)")
-        if rec["subtype"] == "PCM_24":
-            top = max((v for v in rec["peak_dbfs"] if v is not None), default=None)
-            echo(f"calibration: {rec['scale_pa_per_full_scale']:.6g} Pa per full scale ({rec['scale_source']})"
-                 + (f"; peak {top:.1f} dBFS" if top is not None else ""))
-        over = rec["clipping"]["peak_over_full_scale_db"]
-        if s.subtype == "FLOAT" and over > 0:
-            echo(f"note: the peak is {over:.1f} dB above 1.0 = {rec['scale_pa_per_full_scale']:g} Pa; the float "
-                 "file stores it exactly, but players that treat 1.0 as full scale will clip it (use --subtype "
-                 "PCM_24 for listening)")
-        echo(f"wrote {wav.path}")
-        echo(f"wrote {w['sidecar']}")
-
-
-def _write_png(s: AuralizeSettings, paths, channels, echo) -> None:
-    """The waveforms of the files as one figure."""
-    from ..core.signal import Signal
-    from ..output.plot.audio import auralisation_figure
-    from ..output.plot.style import save_figure
-
-    if s.stereo:
-        labels = [f"{Path(paths[0]).name} {side}" for side in ("left", "right")]
-        signals = [Signal(c, s.rate) for c in channels[0]]
+    p, rate = rendering.pressure, job.rate
+    if job.stereo:
+        groups = [(p, list(job.listeners), ["left", "right"])]
     else:
-        labels = [Path(p).name for p in paths]
-        signals = [Signal(c[0], s.rate) for c in channels]
-    save_figure(auralisation_figure(signals, labels=labels), s.png)
-    echo(f"wrote {s.png}")
+        groups = [(p[i:i + 1], [lst], ["mono"]) for i, lst in enumerate(job.listeners)]
+    paths = job.wav_files or [f"{lsts[0].name}.wav" for _, lsts, _ in groups]
+    return tuple(WavFile(path, Signal(data, rate), lsts, channels)
+                 for path, (data, lsts, channels) in zip(paths, groups, strict=True))
 
+
+def _impacts(job: AuralizeJob, damper) -> tuple:
+    """``(sequence, sidecar record, damper run)``: the impacts given, or those of the damper run (simulated once)."""
+    from .damper import damper_description
+    from .damper import run as run_damper
+
+    if job.impacts is not None:
+        m = job.model
+        return job.impacts, {"impacts_csv": job.impacts_csv, "m_kg": m.m, "M_kg": m.M, "gap_m": m.gap,
+                             "k_hertz_n_m1_5": m.k_hertz}, None
+    damper = run_damper(job.damper) if damper is None else damper
+    return damper.result.impacts.sequence(), damper_description(job.model, damper, job.duration), damper
+
+
+def _levels(job: AuralizeJob, seq, rendering, files):
+    """The levels job's result on the sound computed at 96 kHz (None when no levels are asked for)."""
+    if not job.wants_levels:
+        return None
+    from ..sound import render
+    from .levels import ANALYSIS_RATE
+    from .levels import run as run_levels
+    from .settings.levels import LevelsJob
+
+    if rendering.sample_rate != ANALYSIS_RATE:
+        points = np.array([lst.position for lst in job.listeners], dtype=float)
+        rendering = render(seq, job.cavity, job.click, points, sample_rate=ANALYSIS_RATE, duration=job.duration,
+                           room_sound=job.room_sound)
+    channels = [n for f in files for n in (f.channel_names if job.stereo else f.names)]
+    names = {"csv": job.name("levels_csv"), "loudness": job.name("loudness"), "signal": "damper", "input": "damper"}
+    return run_levels(LevelsJob(rendering.signal, tuple(channels), loudness=job.loudness, csv=job.levels_csv,
+                                what="the damper run", names=names))
+
+
+def run(job: AuralizeJob, *, damper=None) -> AuralizeResult:
+    """Simulate (or take) the impacts, render them at the listeners and evaluate the levels asked for.
+
+    Physics only: no file is written and nothing printed.
+
+    Parameters
+    ----------
+    job : AuralizeJob
+        The job, checked when it was made.
+    damper : acoustiviz.app.damper.DamperResult, optional
+        The run of ``job.damper`` already simulated (a scene's one damper run), used instead of simulating again.
+
+    Returns
+    -------
+    AuralizeResult
+    """
+    from ..sound import render
+    from .damper import check_click_fits
+
+    seq, record, damper = _impacts(job, damper)
+    check_click_fits(seq, job.model.k_hertz, job.model.m, job.duration,
+                     names={k: job.name(k) for k in ("m", "k_hertz", "duration", "velocities")})
+    points = np.array([lst.position for lst in job.listeners], dtype=float)
+    rendering = render(seq, job.cavity, job.click, points, sample_rate=job.rate, duration=job.duration,
+                       room_sound=job.room_sound)
+    files = _files(job, rendering)
+    with user_terms({"scale": job.name("scale")}):  # refused before the levels and the files, not after
+        check_scale_fits(files, job.subtype, job.scale)
+    return AuralizeResult(job, seq, rendering, files, record, damper, _levels(job, seq, rendering, files))

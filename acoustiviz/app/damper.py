@@ -31,7 +31,7 @@ from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 from .settings.damper_job import DamperJob
 
-__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "choose_solver", "run_damper", "run_damper_settings",
+__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "choose_solver", "run_damper",
            "damper_description",
            "damping_figures", "check_click_fits"]
 
@@ -271,22 +271,3 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
                                      f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
                                      f"than the {duration:g} s sound; use a lighter mass, a stiffer contact or a "
                                      f"longer {n['duration']}")
-
-
-def run_damper_settings(settings, max_memory_mb=None) -> tuple:
-    """Build and run the damper of a :class:`~acoustiviz.app.settings.auralize.DamperSettings`, errors naming options.
-
-    The working memory is checked first (:func:`acoustiviz.app.budget.damper_estimate`, capped at
-    ``max_memory_mb`` MB). Returns ``(model, run)``: the :class:`~acoustiviz.dynamics.DamperModel`
-    and its :class:`DamperResult`.
-    """
-    from .names import DAMPER_OPTIONS, user_terms
-
-    d = settings
-    names = {**DAMPER_OPTIONS, "max_memory_mb": "--max-memory"}
-    with user_terms(names):
-        model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
-                             clip_tensile=bool(d.clip_tensile))
-        job = DamperJob(model, InitialState(x=d.x0, v=check_finite("v", d.v0)), d.duration, d.solver, d.rtol, d.dt,
-                        max_memory_mb, names=names)
-    return model, run(job)

@@ -32,8 +32,9 @@ from .names import SCENE_DAMPER_KEYS
 from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
-from .scene_levels import check_sound_listeners, levels_settings, produce_levels, produce_spectrum
+from .scene_levels import levels_settings, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
+from .scene_wav import wav_settings
 from .sweep import produce_sweep, sweep_settings
 
 __all__ = ["Product", "RunContext", "run_scene", "incomplete", "PRODUCERS"]
@@ -288,36 +289,24 @@ def produce_restitution(ctx: RunContext):
 
 
 def produce_wav(ctx: RunContext):
-    """Calibrated WAV of the damper run at each listener, written by the command's own step.
+    """Calibrated WAV of the damper run at each listener: the auralize job of :func:`.scene_wav.wav_settings`.
 
-    The scene's :meth:`~acoustiviz.scene.Scene.auralize_settings` (the settings object of
-    ``acoustiviz auralize``) run by :func:`acoustiviz.app.auralize.write_sound`.
+    The job's damper is the scene's one damper run (:attr:`RunContext.damper`), simulated once for every output.
     """
-    from .auralize import Sound, write_sound
-    from .scene_levels import damper_sound_setup
+    from .auralize import run
+    from .scene_wav import wav_products, wav_settings
 
-    s = ctx.scene.auralize_settings()
-    res = ctx.damper_run
-    seq, room, model, names, points = damper_sound_setup(ctx)
-    ctx.progress(f"auralising {len(seq)} impacts at {len(names)} listener(s), {s.rate} Hz")
-    source = f"scene: sphere.damper_radius = {ctx.scene.section('sphere')['damper_radius']!r}"
-    sound = Sound(s.radius, source, room, model, points, None, ctx.scene.room_sound())
-    paths = [ctx.path("wav_stereo.wav")] if s.stereo else [ctx.path(f"wav_{name}.wav") for name in names]
-    files, written = write_sound(s, seq, sound, _damper.damper_description(ctx.damper_model, ctx.damper, res.duration),
-                                 duration=res.duration, labels=names, paths=paths, scene_name=ctx.scene.name,
-                                 quiet=True)
-    products = []
-    for wav, w in zip(files, written, strict=True):
+    job = wav_settings(ctx.scene, ctx.out, damper_settings(ctx.scene))
+    for path in job.wav_files:  # only the files checked before the run
+        ctx.path(Path(path).name)
+    damper = ctx.damper
+    ctx.progress(f"auralising {len(damper.result.impacts)} impacts at {len(job.listeners)} listener(s), {job.rate} Hz")
+    result = run(job, damper=damper)
+    result.write()
+    for w in result.written:
         for msg in w["warnings"]:
             ctx.progress(f"warning: {msg}")
-        rec = w["record"]
-        lvl = max((v for v in rec["peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
-        phys = max((v for v in rec["physical_peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
-        products += [Product("wav", wav.path, {"impacts": str(len(seq)), "peak_spl_db": f"{lvl:.1f}",
-                                               "physical_peak_spl_db": f"{phys:.1f}",
-                                               "subtype": rec["subtype"], "rate_hz": str(s.rate)}),
-                     Product("wav", w["sidecar"], {})]
-    return products
+    return wav_products(result)
 
 
 def _plane_options(ctx: RunContext, s) -> dict:
@@ -414,7 +403,7 @@ _SETTINGS = {
     "level_map": map_settings,
     "sweep": sweep_settings,
     "design_table": lambda scene: (sweep_settings(scene), design_settings(scene)),
-    "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
+    "wav": lambda scene: wav_settings(scene, None, damper_settings(scene)),
     "levels": levels_settings,
     "spectrum": levels_settings,
     **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},

@@ -21,7 +21,8 @@ from ..levels import loudness_available
 from ..levels.energy import run_energy
 from .levels import ANALYSIS_RATE, LevelsResult, summary_lines
 
-__all__ = ["check_levels_settings", "check_sound_listeners", "damper_sound_setup", "levels_settings", "produce_levels",
+__all__ = ["check_levels_settings", "check_sound_listeners", "damper_cavity", "damper_sound_setup", "levels_settings",
+           "produce_levels",
            "produce_spectrum"]
 
 _CACHE = "_levels_result"
@@ -29,7 +30,7 @@ _CACHE = "_levels_result"
 _FILES = {"levels": {"csv": "levels.csv"}, "spectrum": {"spectrum_csv": "spectrum.csv", "spectrum_png": "spectrum.png"}}
 
 
-def _cavity(scene, model, medium):
+def damper_cavity(scene, model, medium):
     """The cavity a scene's damper sounds in (``[outputs.wav]`` surroundings, or their defaults)."""
     from .wav import cavity
 
@@ -43,7 +44,7 @@ def check_sound_listeners(scene) -> None:
     from ..sound import check_listeners
     from .products import scene_damper_model
 
-    room = _cavity(scene, scene_damper_model(scene), scene.medium())
+    room = damper_cavity(scene, scene_damper_model(scene), scene.medium())
     check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
@@ -55,16 +56,16 @@ def damper_sound_setup(ctx):
     (``[outputs.wav]`` surroundings, or their defaults), clicks and listeners. A click longer
     than the run is refused as on the command line (:func:`acoustiviz.app.damper.check_click_fits`).
     """
-    from ..sound import ClickModel, ImpactSequence
+    from ..sound import ClickModel
     from .damper import check_click_fits
 
     radius = ctx.scene.damper_sphere_radius()
-    room = _cavity(ctx.scene, ctx.damper_model, ctx.medium)
+    room = damper_cavity(ctx.scene, ctx.damper_model, ctx.medium)
     contact = ctx.scene.section("contact")
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
     named = [Listener(name, position) for name, position in ctx.scene.listeners(radius)]
-    seq = ImpactSequence.from_table(ctx.damper_run.impacts)
+    seq = ctx.damper_run.impacts.sequence()
     d = ctx.damper_model
     check_click_fits(seq, d.k_hertz, d.m, ctx.damper_run.duration,
                      names={"m": "damper.impact_mass_kg", "k_hertz": "contact.k_hertz_n_m1_5",

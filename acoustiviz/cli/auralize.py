@@ -1,11 +1,13 @@
 """``acoustiviz auralize``: calibrated WAV files of a damper's whole impact sequence.
 
+argv -> :class:`~acoustiviz.app.settings.auralize.AuralizeJob` (:func:`settings_from_args`, the options
+generated from the records of :mod:`acoustiviz.app.settings.auralize` and the damper's) ->
+:func:`acoustiviz.app.auralize.run` -> the summary -> :meth:`~acoustiviz.app.auralize.AuralizeResult.write`.
+
 The damper options are those of ``acoustiviz damper`` (paper eq 15, Table 1 defaults); the run's
 impact table (or a CSV of impacts given with ``--impacts``) is rendered at each ``--listener``.
 Positions are in m in the frame where the struck surface is ``z = 0`` and the sphere's centre is
-``(0, 0, a)``; see :mod:`acoustiviz.sound` for how the two walls map to sources. The options
-are the records of :mod:`acoustiviz.app.settings.auralize`; :func:`acoustiviz.app.auralize.auralize`
-runs them.
+``(0, 0, a)``; see :mod:`acoustiviz.sound` for how the two walls map to sources.
 """
 
 from __future__ import annotations
@@ -31,11 +33,6 @@ def add_parser(subparsers) -> None:
         "scale (float32 in pascals with --subtype FLOAT). Lengths in m, times in s.",
     )
     add_damper_options(p, duration_help="simulated time; the WAV lasts this long, or to the end of the last click")
-    g = p.add_argument_group("impacts from a file")
-    g.add_argument("--impacts", default=None, metavar="CSV",
-                   help="render the impacts of this CSV (columns time_s,wall,approach_velocity_m_s, as written "
-                        "by 'acoustiviz damper --impacts-csv') instead of simulating; --m, --M, --gap and "
-                        "--k-hertz still describe the damper")
     for title, records in AURALIZE_GROUPS:
         group = p.add_argument_group(title)
         for s in records:
@@ -45,13 +42,94 @@ def add_parser(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
-    """Parse the options into :class:`~acoustiviz.app.settings.auralize.AuralizeSettings` and run them."""
-    from ..app.auralize import auralize
+def settings_from_args(args):
+    """The :class:`~acoustiviz.app.settings.auralize.AuralizeJob` of the options; errors name the options.
+
+    The options' ranges are checked first (:class:`~acoustiviz.app.settings.auralize.AuralizeSettings`),
+    then the job is built and checked (:func:`acoustiviz.app.auralize.job_from_settings`).
+    """
+    from ..app.auralize import job_from_settings
     from ..app.names import user_terms
     from ..app.settings.auralize import AuralizeSettings, DamperSettings
 
     with user_terms({**AuralizeSettings.cli_names(), **DamperSettings.cli_names()}):
         settings = AuralizeSettings.from_namespace(vars(args))
-    auralize(settings)
+    return job_from_settings(settings)
+
+
+def run(args) -> int:
+    """Run the ``auralize`` subcommand: argv -> job -> run -> summary -> files; return the exit status."""
+    from ..app.auralize import run as run_job
+
+    result = run_job(settings_from_args(args))
+    if result.damper is not None:
+        for msg in result.damper.warnings:
+            print(f"warning: {msg}")
+        if not result.damper.result.success:
+            print(f"warning: the damper solver stopped early: {result.damper.result.message}")
+    for line in sound_lines(result):
+        print(line)
+    if result.levels is not None:
+        from ..app.levels import summary_lines
+
+        for line in summary_lines(result.levels.report, rate_note=" (computed signal, flat to 43.2 kHz)"):
+            print(line)
+    paths = result.write()
+    for path in paths:
+        if path.suffix.lower() == ".csv":  # the levels, written first
+            print(f"wrote {path}")
+    for line in written_lines(result):
+        print(line)
+    if result.settings.png is not None:
+        print(f"wrote {paths[-1]}")
     return 0
+
+
+def sound_lines(result) -> list:
+    """The impacts, the sound model and (in a room) its images, one line each."""
+    job, seq, out = result.settings, result.sequence, result.rendering
+    scene, model = out.scene, job.click
+    lines = [f"impacts: {len(seq)} ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
+             f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
+             else "impacts: 0 (silence)",
+             f"sound: sphere radius {job.cavity.radius * 1e3:.2f} mm ({job.radius_source}), pulse {model.pulse}, "
+             f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
+             f"{job.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)"]
+    conf = scene.configuration
+    if not getattr(conf, "enclosed", False):
+        return lines
+    if out.room is not None:
+        r = out.room
+        neg = r["neglected_energy_db"]
+        tail = (f"late tail from {r['transition_s']:.4f} s to {r['tail_end_s']:.3f} s ({r['tail_decay']}, seed "
+                f"{r['tail_seed']})" if r["late_tail"] else "no late tail")
+        bands = f", absorption in {len(r['absorption_bands_hz'])} bands" if "absorption_bands_hz" in r else ""
+        lines.append(f"room: {conf.caption()}; image_order {r['image_order']}, images {r['images']}, "
+                     f"{tail}{bands}, neglected_energy_db " + (f"{neg:.1f}" if isinstance(neg, float) else str(neg)))
+    else:
+        lines.append(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
+                     f"neglected_energy_db {conf.neglected_energy_db:.1f}"
+                     + (" (capped by the memory budget)" if conf.order_capped else ""))
+    return lines
+
+
+def written_lines(result) -> list:
+    """Each WAV file's warnings, peak, calibration and name, after :meth:`write`."""
+    lines = []
+    for wav, w in zip(result.settings.wav_files, result.written, strict=True):
+        lines += [f"warning: {msg}" for msg in w["warnings"]]
+        rec = w["record"]
+        spls, peaks = rec["peak_spl_db_re_20upa"], rec["peak_pa"]
+        lvl = ", ".join(f"{v:.1f}" if v is not None else "silent" for v in spls)
+        lines.append(f"peak SPL: {lvl} dB re 20 uPa (peak {max(peaks):.4g} Pa)")
+        if rec["subtype"] == "PCM_24":
+            top = max((v for v in rec["peak_dbfs"] if v is not None), default=None)
+            lines.append(f"calibration: {rec['scale_pa_per_full_scale']:.6g} Pa per full scale "
+                         f"({rec['scale_source']})" + (f"; peak {top:.1f} dBFS" if top is not None else ""))
+        over = rec["clipping"]["peak_over_full_scale_db"]
+        if result.settings.subtype == "FLOAT" and over > 0:
+            lines.append(f"note: the peak is {over:.1f} dB above 1.0 = {rec['scale_pa_per_full_scale']:g} Pa; the "
+                         "float file stores it exactly, but players that treat 1.0 as full scale will clip it (use "
+                         "--subtype PCM_24 for listening)")
+        lines += [f"wrote {wav}", f"wrote {w['sidecar']}"]
+    return lines

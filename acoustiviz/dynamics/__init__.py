@@ -19,6 +19,7 @@ The physics here imports nothing from plotting or the command line.
 from .maxima import Maxima, exact_maxima
 from .model import TABLE1, DamperModel, InitialState
 from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
+from .sequence import ImpactSequence
 from .solve import (
     METHODS,
     SOLVERS,
@@ -41,6 +42,7 @@ __all__ = [
     "Maxima",
     "exact_maxima",
     "ImpactTable",
+    "ImpactSequence",
     "SimulationResult",
     "SOLVERS",
     "AccuracyWarning",

@@ -12,6 +12,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .model import DamperModel, InitialState
+from .sequence import ImpactSequence
 
 __all__ = ["ImpactTable", "EnergyBalance", "Extrema", "SimulationResult"]
 
@@ -87,6 +88,14 @@ class ImpactTable:
 
     def __len__(self) -> int:
         return int(self.time.size)
+
+    def sequence(self) -> ImpactSequence:
+        """The impacts as the package's one :class:`~acoustiviz.dynamics.sequence.ImpactSequence`.
+
+        Contact start times in s, walls -1/+1 and approach speeds in m/s (as magnitudes); the
+        table's other columns stay here.
+        """
+        return ImpactSequence(self.time, self.wall, np.abs(self.approach_velocity))
 
     def head(self, n: int) -> ImpactTable:
         """The first ``n`` impacts."""

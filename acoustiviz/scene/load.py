@@ -102,23 +102,6 @@ class Scene:
         except ParameterError as exc:
             raise SceneError(self.source, exc.name, exc.detail) from None
 
-    def auralize_settings(self):
-        """``[outputs.wav]`` with its sound's tables as ``AuralizeSettings``, run by ``app.auralize.write_sound``."""
-        from ..app.settings.auralize import ALL, AuralizeSettings, DamperSettings
-
-        o, c, m = self.output_or_defaults("wav"), self.data["contact"], self.data["medium"]
-        d, radius = self.data["damper"], self.damper_sphere_radius()
-        files = {s.name: o[s.key] for s in ALL if s.table == "outputs.wav"}
-        damper = DamperSettings(M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], m=d["impact_mass_kg"],
-                                gap=d["gap_m"], k_hertz=self.k_hertz(radius), c1=d["contact_damping_n_s_m"],
-                                clip_tensile=d["clip_tensile"], x0=d["initial_displacement_m"], solver=d["solver"],
-                                v0=d["initial_velocity_m_s"], duration=d["duration_s"], rtol=d["tolerance"])
-        return AuralizeSettings(damper=damper, config=self.data["configuration"]["kind"], radius=radius,
-                                pulse=c["pulse"], mass_model=c["pulse_mass"], struck_wall=o["struck_wall"],
-                                c=m["c_m_s"], rho=m["rho_kg_m3"], tail_seed=o["tail_seed"],
-                                tail_decay=o["tail_decay"], transition=o["transition_s"],
-                                absorption_bands=o["absorption_bands"], **files)
-
     def _impact_settings(self, radius: float | None = None) -> dict:
         s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
         return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],

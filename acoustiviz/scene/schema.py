@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..app.settings.auralize import ALL as _AURALIZE
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
@@ -20,9 +21,7 @@ from ..constants import (
     PAPER_DISTANCE,
     PULSES,
     ROOM_STRIKES,
-    SAMPLE_RATES,
     STILL_SIZE,
-    WAV_RATE,
 )
 from ..core.geometry import GEOMETRIES
 
@@ -78,6 +77,9 @@ def _from_table(settings, table: str) -> dict:
 _MEDIUM = {
     **_from_table(IMPACT, "medium"),
 }
+
+#: The keys of ``[outputs.wav]``: the records of ``acoustiviz auralize`` that have one.
+_WAV = _from_table(_AURALIZE, "outputs.wav")
 
 _SPHERE = {
     "radius_m": _from_table(IMPACT, "sphere")["radius_m"],
@@ -193,27 +195,8 @@ _OUT = {
                    "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
-    "wav": Table({"rate_hz": Key("int", "sample rate", WAV_RATE, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),
-                                 choices=SAMPLE_RATES),
-                  "stereo": Key("bool", "one stereo file from the first two listeners", False),
-                  "subtype": Key("str", "PCM_24: normalised to peak 1 dB below full scale, one shared scale "
-                                 "(Pa per full scale) recorded in the sidecar; FLOAT: float32 in pascals (1.0 = 1 Pa)",
-                                 "PCM_24", choices=("PCM_24", "FLOAT")),
-                  "struck_wall": Key("int", "damper wall lying on the struck surface z = 0", -1, low=-1, high=1),
-                  "walls": Key("str", "'both': impacts on the far wall radiate from it with the reversed axis; "
-                               "'one': every impact is heard as a strike on z = 0", "both", choices=("both", "one")),
-                  "late_tail": Key("bool", "room: images exactly only until the transition time, then a seeded "
-                                   "statistical tail (noise decaying per band, Eyring's T60 by default) until "
-                                   "configuration.tolerance_db of the energy", False),
-                  "tail_seed": Key("int", "room: seed of the tail's noise", 20261126, low=0, high=2**63 - 1),
-                  "tail_decay": Key("str", "room: the tail's decay, Eyring's T60 per band or the image sum's own",
-                                    "eyring", choices=("eyring", "images")),
-                  "transition_s": _pos("room, late_tail: transition time from the start of contact (default: "
-                                       "max(sqrt(V) ms, one reflection per contact duration))", "s", None, high=10.0),
-                  "absorption_bands": Key("str", "room: absorption per octave band instead of configuration."
-                                          "absorption, 'F:A,F:A,...' (centre F in Hz in [16, 20000], increasing; "
-                                          "alpha A in [0, 1)) or 'F:A1/A2/A3/A4/A5/A6,...' per surface; the "
-                                          "room's other outputs use each surface's least absorbing band", None)},
+    "wav": Table({k: _WAV[k] for k in ("rate_hz", "stereo", "subtype", "struck_wall", "walls", "late_tail",
+                                       "tail_seed", "tail_decay", "transition_s", "absorption_bands")},
                  "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
     "levels": Table({"loudness": Key("bool", "also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)",
                                      False)},

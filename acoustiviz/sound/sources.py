@@ -11,6 +11,7 @@ from ..constants import PAPER_RADIUS
 from ..core.geometry import Geometry, geometry
 from ..core.images import ImageSet, ImageSource
 from ..core.medium import AIR, Medium
+from ..dynamics.sequence import ImpactSequence
 from ..field.metrics import spl_db
 
 __all__ = [
@@ -41,83 +42,6 @@ def spl(pressure) -> float:
 
 
 # --------------------------------------------------------------------------- inputs
-@dataclass(frozen=True)
-class ImpactSequence:
-    """The impacts to render: contact start times, walls and approach speeds.
-
-    Parameters
-    ----------
-    times : (n,) array_like
-        Contact start times in s (>= 0, any order).
-    walls : (n,) array_like of int
-        The wall struck, -1 or +1 (the convention of :mod:`acoustiviz.dynamics`).
-    velocities : (n,) array_like
-        Relative approach speeds in m/s (> 0).
-
-    Examples
-    --------
-    >>> seq = ImpactSequence([0.01, 0.2], [-1, 1], [1.3, 0.9])
-    >>> len(seq), seq.count(+1)
-    (2, 1)
-    """
-
-    times: np.ndarray
-    walls: np.ndarray
-    velocities: np.ndarray
-
-    def __post_init__(self):
-        t = np.array(self.times, dtype=float).reshape(-1)
-        v = np.array(self.velocities, dtype=float).reshape(-1)
-        try:
-            w = np.array(self.walls, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            raise ParameterError("walls", "expected -1 or +1 for every impact") from None
-        if not (t.size == w.size == v.size):
-            raise ParameterError("times", f"times ({t.size}), walls ({w.size}) and velocities ({v.size}) "
-                                          "must have the same length")
-        if not np.all(np.isfinite(t)) or np.any(t < 0):
-            raise ParameterError("times", "impact times must be finite and >= 0 s")
-        if not np.all(np.isin(w, (-1.0, 1.0))):
-            raise ParameterError("walls", f"every wall must be -1 or +1, got {sorted(set(w.tolist()))}")
-        if not np.all(np.isfinite(v)) or np.any(v <= 0):
-            raise ParameterError("velocities", "approach speeds must be finite and > 0 m/s")
-        wi = w.astype(np.int8)
-        for name, arr in (("times", t), ("walls", wi), ("velocities", v)):
-            arr.setflags(write=False)
-            object.__setattr__(self, name, arr)
-
-    def __len__(self) -> int:
-        return int(self.times.size)
-
-    def count(self, wall: int) -> int:
-        """Number of impacts on ``wall`` (-1 or +1)."""
-        return int(np.count_nonzero(self.walls == wall))
-
-    @classmethod
-    def from_table(cls, table) -> ImpactSequence:
-        """Build from an impact table with ``times``/``time``, ``walls``/``wall`` and approach speeds.
-
-        Accepts any object (or mapping) exposing the contact start times in s, the wall (-1/+1)
-        and the relative approach speed in m/s under the names used by
-        :mod:`acoustiviz.dynamics` (``time``, ``wall``, ``approach_velocity``, singular or plural).
-        Speeds are taken as magnitudes.
-        """
-
-        def get(*names):
-            for nm in names:
-                if isinstance(table, dict) and nm in table:
-                    return table[nm]
-                if hasattr(table, nm):
-                    return getattr(table, nm)
-            raise ParameterError("table", f"the impact table has none of {names}")
-
-        t = get("times", "time", "time_s", "start", "t")
-        w = get("walls", "wall")
-        v = get("approach_velocities", "approach_velocity", "approach_velocity_m_s", "approach_speed",
-                "velocity_in")
-        return cls(t, w, np.abs(np.asarray(v, dtype=float)))
-
-
 def periodic_train(times, walls, velocities, period: float, repeats: int) -> ImpactSequence:
     """The impacts of one period repeated ``repeats`` times, each copy ``period`` s after the last.
 

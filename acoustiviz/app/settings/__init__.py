@@ -16,8 +16,10 @@
 ``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius; beside
                  it ``sweep_job``, the sweep job: swept values, designs, executor, folder (:class:`SweepJob`)
 ``room``         the shoebox room's options
-``auralize``     the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
-``levels``       the WAV file, its calibration, the interval and the CSV of ``acoustiviz levels``
+``auralize``     the auralize job: the damper run or the impacts, cavity, listeners, files (:class:`AuralizeJob`),
+                 and the command's options as typed (:class:`DamperSettings`, :class:`AuralizeSettings`)
+``levels``       the levels job: a calibrated signal, the interval and the CSVs (:class:`LevelsJob`), and
+                 the options of ``acoustiviz levels``
 ================ ======================================================================================
 
 The command line builds its options from the records, the scene schema its keys, and the

@@ -1,10 +1,12 @@
 """Settings of an auralised damper run: ``acoustiviz auralize`` (the damper run is :class:`DamperSettings`).
 
 One :class:`~acoustiviz.app.settings.table.Setting` per option, grouped as ``--help`` shows them
-(:data:`AURALIZE_GROUPS`); :class:`AuralizeSettings` holds a run's values and checks the ranges
-of :data:`AURALIZE` once. The checks that need the other settings (the sphere's radius from
-``--density``, the room, the listeners, the files) are made by :mod:`acoustiviz.app.auralize`
-in the order a run meets them. Lengths in m, times in s, pressures in Pa.
+(:data:`AURALIZE_GROUPS`); the records with a scene key are the keys of a scene's ``[outputs.wav]``.
+:class:`AuralizeSettings` holds the command's values as typed and checks the ranges of
+:data:`AURALIZE` once; :func:`acoustiviz.app.auralize.job_from_settings` turns them into the
+:class:`AuralizeJob` (the sphere, the cavity, the listeners, the damper run or the impacts, the
+files), which every front end builds and which checks everything else when it is made. Lengths
+in m, times in s, pressures in Pa.
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ from .impact import IMPACT
 from .room import RoomOptions
 from .table import Setting, by_name
 
-__all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER"]
+__all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeJob", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER",
+           "AURALIZE_JOB"]
 
 #: The default listener in m: 0.7 m at 45 degrees from the paper's sphere.
 DEFAULT_LISTENER = "0.495,0,0.514"
@@ -70,9 +73,9 @@ SOUND = (
     Setting("walls", "--walls", "walls", "str", "both",
             "both: impacts on the far wall radiate from it, axis reversed; one: every impact is "
             "heard as a strike on the struck surface (the paper's view)", choices=("both", "one"), table=_W),
-    Setting("struck_wall", "--struck-wall", None, "int", -1,
+    Setting("struck_wall", "--struck-wall", "struck_wall", "int", -1,
             "the damper wall lying on the struck surface z = 0; the other wall is gap + 2a further along +z",
-            choices=(-1, 1)),
+            low=-1, high=1, choices=(-1, 1), table=_W),
     _MEDIUM["c"],  # the fluid's records: the ranges of a scene's [medium] and of the commands of one impact
     _MEDIUM["rho"],
 )
@@ -83,20 +86,21 @@ ROOM_SOUND = (
             "per click), then a seeded statistical tail (noise decaying per band at Eyring's T60, from the "
             "images' level) until --tolerance-db of the energy: seconds instead of minutes for a reverberant "
             "room; the direct click and the early images stay exact", table=_W),
-    Setting("tail_seed", "--tail-seed", None, "int", None,
-            f"seed of the tail's noise, an integer >= 0 (default {TAIL_SEED}: the same WAV every run)"),
-    Setting("tail_decay", "--tail-decay", None, "str", None,
+    Setting("tail_seed", "--tail-seed", "tail_seed", "int", None,
+            f"seed of the tail's noise, an integer >= 0 (default {TAIL_SEED}: the same WAV every run)",
+            low=0, high=2**63 - 1, scene_default=TAIL_SEED, table=_W),
+    Setting("tail_decay", "--tail-decay", "tail_decay", "str", None,
             "the tail's decay: Eyring's T60 per band (default) or the image sum's own expected decay",
-            choices=("eyring", "images")),
-    Setting("transition", "--transition", None, "float", None,
+            choices=("eyring", "images"), scene_default="eyring", table=_W),
+    Setting("transition", "--transition", "transition_s", "float", None,
             "with --late-tail: transition time from the start of contact (default: max(sqrt(V) ms, one "
-            "reflection per contact duration))", "s", low=0.0, high=10.0, low_open=True, metavar="S"),
-    Setting("absorption_bands", "--absorption-bands", None, "str", None,
+            "reflection per contact duration))", "s", low=0.0, high=10.0, low_open=True, metavar="S", table=_W),
+    Setting("absorption_bands", "--absorption-bands", "absorption_bands", "str", None,
             "absorption per octave band for the WAV instead of --absorption: comma-separated F:A (band centre "
             "F in Hz in [16, 20000], increasing; alpha A in [0, 1) on every surface) or F:A1/A2/A3/A4/A5/A6 (per "
             "surface x0,x1,y0,y1,z0 floor,z1 ceiling), e.g. 125:0.1,250:0.15,500:0.2,1000:0.25,2000:0.3,"
             "4000:0.35; the images and the tail are filtered per band, the direct click stays broadband",
-            metavar="F:A,..."),
+            metavar="F:A,...", table=_W),
 )
 
 FILES = (
@@ -134,12 +138,19 @@ LEVELS = (
             "(pip install 'acoustiviz[hearing]')"),
 )
 
+IMPACTS = (
+    Setting("impacts", "--impacts", None, "str", None,
+            "render the impacts of this CSV (columns time_s,wall,approach_velocity_m_s, as written by 'acoustiviz "
+            "damper --impacts-csv') instead of simulating; --m, --M, --gap and --k-hertz still describe the damper",
+            metavar="CSV"),
+)
+
 #: ``(--help group title, its settings)`` in the order ``acoustiviz auralize --help`` shows them.
-AURALIZE_GROUPS = (("sound model", SOUND), ("room sound (with --room)", ROOM_SOUND),
+AURALIZE_GROUPS = (("impacts from a file", IMPACTS), ("sound model", SOUND), ("room sound (with --room)", ROOM_SOUND),
                    ("listeners and files", FILES), ("levels", LEVELS))
 
 #: Every option of ``acoustiviz auralize`` besides the damper's and the room's.
-ALL = SOUND + ROOM_SOUND + FILES + LEVELS
+ALL = IMPACTS + SOUND + ROOM_SOUND + FILES + LEVELS
 
 #: The settings whose range :class:`AuralizeSettings` checks on its own, before any other check.
 AURALIZE = tuple(s for s in ALL if s.name in ("c", "rho", "headroom"))
@@ -233,3 +244,196 @@ class AuralizeSettings(Settings):
         if values.get("listener") is not None:
             values["listener"] = tuple(values["listener"])
         return cls(damper=DamperSettings(**pick(DamperSettings)), room=RoomOptions(**pick(RoomOptions)), **values)
+
+
+#: The records :class:`AuralizeJob` checks when it is made: the files' format and the levels wanted.
+AURALIZE_JOB = tuple(s for s in FILES + LEVELS if s.name not in ("listener", "ear_spacing", "wav"))
+
+
+def _room_sound_key(rs) -> tuple | None:
+    """The values of a :class:`~acoustiviz.sound.RoomSound` (None: none), for comparing two jobs."""
+    if rs is None:
+        return None
+    import numpy as np
+
+    bands = None if not rs.banded else tuple(tuple(np.ravel(a).tolist()) for a in (rs.band_centres,
+                                                                                   rs.band_absorption))
+    return rs.late_tail, rs.seed, rs.decay, rs.transition, bands
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class AuralizeJob(Settings):
+    """The whole of what :func:`acoustiviz.app.auralize.run` needs: an auralised damper run and its files.
+
+    ``acoustiviz auralize`` (:func:`acoustiviz.app.auralize.job_from_settings`), a scene's
+    ``[outputs.wav]`` (:func:`acoustiviz.app.scene_wav.wav_settings`) and Python callers build it;
+    the ranges of :data:`AURALIZE_JOB` are checked when it is made, then :meth:`validate` makes every other
+    check before any work. Lengths in m, times in s, pressures in Pa.
+
+    Attributes
+    ----------
+    model : acoustiviz.dynamics.DamperModel
+        The damper (masses in kg, stiffness in N/m^1.5, gap in m): it sets the clicks and the record.
+    cavity : acoustiviz.sound.CavityScene
+        The cavity's walls in their surroundings (a configuration or a room), the medium.
+    click : acoustiviz.sound.ClickModel
+        The Hertz pulse of each impact.
+    listeners : tuple of Listener
+        Who hears each channel (name, position in m): one file each, or the two channels of ``stereo``.
+    wav_files : tuple of str
+        The WAV files (each with its ``.json`` sidecar): one per listener, one with ``stereo``; empty:
+        none (the checks of a scene's settings before its run folder exists).
+    duration : float
+        Length of the sound in s (at least: the sound lasts until the last click has died away).
+    damper : acoustiviz.app.settings.damper_job.DamperJob, optional
+        The damper run to simulate; or
+    impacts : acoustiviz.sound.ImpactSequence, optional
+        The impacts to render (read from ``impacts_csv``, recorded in the sidecars).
+    room_sound : acoustiviz.sound.RoomSound, optional
+        In a room: the late tail and the absorption bands.
+    stereo, rate, subtype, scale, headroom, png, levels, levels_csv, loudness
+        As the records of :data:`AURALIZE_JOB` say (rate in Hz, scale in Pa per full scale, headroom in dB).
+    max_memory_mb : float, optional
+        Cap in MB on the working memory.
+    radius_source, scene_name : str
+        Where the sphere's radius came from and the scene that asked, recorded in each sidecar.
+    names : dict
+        API parameter -> the option or scene key named in errors.
+
+    Two jobs are equal when they render the same impacts or damper run into the same files with the
+    same settings; the sidecars' descriptions and the vocabulary of errors are left out.
+    """
+
+    TABLE = AURALIZE_JOB
+    #: The fields compared by :meth:`__eq__` (the room's sound by its values).
+    _COMPARED = ("model", "cavity", "click", "listeners", "wav_files", "duration", "damper", "impacts", "impacts_csv",
+                 "stereo", "rate", "subtype", "scale", "headroom", "png", "levels", "levels_csv", "loudness",
+                 "max_memory_mb")
+
+    model: object
+    cavity: object
+    click: object
+    listeners: tuple
+    wav_files: tuple = ()
+    duration: float = DEFAULT_DURATION
+    damper: object = None
+    impacts: object = None
+    impacts_csv: str | None = None
+    room_sound: object = None
+    stereo: bool = False
+    rate: int = WAV_RATE
+    subtype: str = "PCM_24"
+    scale: float | None = None
+    headroom: float = 1.0
+    png: str | None = None
+    levels: bool = False
+    levels_csv: str | None = None
+    loudness: bool = False
+    max_memory_mb: float | None = None
+    radius_source: str = ""
+    scene_name: str | None = None
+    names: dict = dataclasses.field(default_factory=dict, repr=False)
+
+    def __eq__(self, other):
+        if not isinstance(other, AuralizeJob):
+            return NotImplemented
+        return (all(getattr(self, k) == getattr(other, k) for k in self._COMPARED)
+                and _room_sound_key(self.room_sound) == _room_sound_key(other.room_sound))
+
+    __hash__ = None
+
+    @property
+    def wants_levels(self) -> bool:
+        """Whether the levels are computed (printed, recorded in the sidecars, written as ``levels_csv``)."""
+        return self.levels or self.levels_csv is not None or self.loudness
+
+    def name(self, key: str) -> str:
+        """The user's name of setting ``key`` (the API name when the front end gave none)."""
+        return self.names.get(key, key)
+
+    def validate(self) -> None:
+        """The run, the room's sound, the listeners, the files, the memory and the levels, in that order."""
+        import numpy as np
+
+        from ...errors import ParameterError, user_terms
+        from ...sound import ImpactSequence
+
+        object.__setattr__(self, "listeners", tuple(self.listeners))
+        object.__setattr__(self, "wav_files", tuple(str(p) for p in self.wav_files))
+        if (self.damper is None) == (self.impacts is None):
+            raise ParameterError(self.name("impacts"), "give either the damper run to simulate or the impacts to "
+                                                       "render, not both or neither")
+        if self.impacts is not None and not isinstance(self.impacts, ImpactSequence):
+            raise ParameterError(self.name("impacts"), f"expected an ImpactSequence, got {type(self.impacts).__name__}")
+        conf = self.cavity.configuration
+        if self.room_sound is not None:
+            from ..wav import ROOM_SOUND_OPTIONS
+
+            with user_terms({k: self.name(k) for k in (*ROOM_SOUND_OPTIONS, "order")}):
+                self.room_sound.check_room(conf)
+        points = np.array([lst.position for lst in self.listeners], dtype=float).reshape(-1, 3)
+        if self.stereo and len(points) != 2:
+            raise ParameterError(self.name("stereo"), f"needs two listeners (left, right), got {len(points)}")
+        self._check_listeners(points)
+        self._check_files()
+        self._check_budget()
+        self._check_levels()
+
+    def _check_listeners(self, points) -> None:
+        from ...sound import check_listeners
+
+        conf = self.cavity.configuration
+        if getattr(conf, "enclosed", False):
+            conf.in_room(self.name("listeners"), points)
+        check_listeners(points, self.cavity, name=self.name("listeners"))
+
+    def _check_files(self) -> None:
+        """WAV files (and sidecars), figure and levels CSVs writable and distinct; one WAV per file the run makes."""
+        from pathlib import Path
+
+        from ...errors import ParameterError
+        from ..levels import bands_path
+        from ..outputs import check_distinct, check_output_file
+
+        option = self.name("wav_files")
+        n = 1 if self.stereo else len(self.listeners)
+        if self.wav_files and len(self.wav_files) != n:
+            raise ParameterError(option, f"{n} file(s) for {len(self.listeners)} listener(s), got "
+                                         f"{len(self.wav_files)}")
+        outputs = {}
+        for path in map(Path, self.wav_files):
+            if path.suffix.lower() != ".wav":
+                raise ParameterError(option, f"must end in .wav, got {str(path)!r}")
+            outputs[f"{option} {path}"] = check_output_file(option, path, "wav")
+            outputs[f"{option} {path.with_suffix('.json')}"] = check_output_file(option, path.with_suffix(".json"),
+                                                                                 "json")
+        if self.png is not None:
+            outputs[self.name("png")] = check_output_file(self.name("png"), self.png, "figure")
+        if self.levels_csv is not None:
+            option = self.name("levels_csv")
+            if Path(self.levels_csv).suffix.lower() != ".csv":
+                raise ParameterError(option, f"must end in .csv, got {self.levels_csv!r}")
+            outputs[option] = check_output_file(option, self.levels_csv, "csv")
+            outputs[f"{option} (bands)"] = check_output_file(option, bands_path(self.levels_csv), "csv")
+        check_distinct(outputs)
+
+    def _check_budget(self) -> None:
+        """The sound at the file's rate within the memory cap (it lasts until the last impact given, if later)."""
+        from ..budget import check_budget, wav_estimate
+
+        length, options = self.duration, (self.name("duration"),)
+        if self.impacts is not None and len(self.impacts):
+            last = float(self.impacts.times.max())
+            if last > self.duration:  # the sound lasts until the last click has died away
+                length, options = last, (self.name("impacts"), self.name("duration"))
+        check_budget(wav_estimate(length, self.rate, len(self.listeners), options=options), self.max_memory_mb,
+                     cap_name=self.name("max_memory_mb"))
+
+    def _check_levels(self) -> None:
+        from ...errors import ParameterError
+
+        if self.loudness:
+            from ...levels import loudness_available
+
+            if not loudness_available():
+                raise ParameterError(self.name("loudness"), "needs mosqito: pip install 'acoustiviz[hearing]'")

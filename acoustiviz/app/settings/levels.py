@@ -12,9 +12,9 @@ from __future__ import annotations
 import dataclasses
 
 from .base import Settings
-from .table import Setting
+from .table import Setting, by_name
 
-__all__ = ["ALL", "LEVELS", "LevelsSettings", "LevelsJob"]
+__all__ = ["ALL", "LEVELS_JOB", "LEVELS", "LevelsSettings", "LevelsJob"]
 
 SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav")
 
@@ -60,12 +60,19 @@ class LevelsSettings(Settings):
         return cls(**{k: v for k, v in ns.items() if k in names})
 
 
+#: The records :class:`LevelsJob` checks: the interval, the loudness and the levels CSV (the calibration is a
+#: fact of the signal, so it keeps its record's range under the job's name).
+LEVELS_JOB = (*(s for s in ALL if s.name in ("start", "stop", "loudness", "csv")),
+       dataclasses.replace(by_name(ALL)["pa_per_fs"], name="pa_per_full_scale"))
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
-class LevelsJob:
+class LevelsJob(Settings):
     """The whole of what :func:`acoustiviz.app.levels.run` needs: a calibrated signal, the interval, the files.
 
     Each front end builds the signal (``acoustiviz levels`` reads a WAV file and its calibration);
-    the interval, the metrics and the files are then one code path.
+    the interval, the metrics and the files are then one code path. The ranges of :data:`LEVELS_JOB` are
+    checked when the job is made, then :meth:`validate`.
 
     Attributes
     ----------
@@ -95,6 +102,7 @@ class LevelsJob:
     the vocabulary of errors only describe, and are left out.
     """
 
+    TABLE = LEVELS_JOB
     #: The fields compared by :meth:`__eq__` besides the signal.
     _COMPARED = ("channels", "start", "stop", "loudness", "csv", "spectrum_csv", "spectrum_png")
 
@@ -122,8 +130,9 @@ class LevelsJob:
 
     __hash__ = None
 
-    def __post_init__(self):
-        from ..._validate import ParameterError
+    def validate(self) -> None:
+        """A non-empty interval, and one channel name per channel of the signal."""
+        from ...errors import ParameterError
 
         if self.start is not None and self.stop is not None and self.stop <= self.start:
             raise ParameterError(self.names.get("stop", "stop"),
