@@ -14,17 +14,22 @@ over the band and every attractor, which is what an optimiser ranks designs by.
 Warm starts
 -----------
 Neighbouring designs of a sweep have neighbouring attractors. A :class:`WarmStart` holds the
-attractors of the designs already evaluated by one worker; a design within ``warm_radius``
-(largest relative difference of gap, impact mass, contact damping and Hertz stiffness) of one of
-them starts, at each frequency, from the nearest one's attractors (each continued by
+attractors of the designs already evaluated by one worker. A design with the same dynamics as a
+cached one (the same gap, impact mass, contact damping and Hertz stiffness: another listener or
+configuration) takes its attractors as they are, exactly what its own search would find. With
+``warm_radius`` > 0, a design within that largest relative difference of those four parameters
+of a cached one starts, at each frequency, from the nearest one's attractors (each continued by
 :data:`acoustiviz.dynamics.forced.continuation_seed`: a periodic orbit's section point and period,
 a non-periodic motion's final state) and from the first ``warm_starts`` of its own starts (the
-linear start), instead of all ``starts`` starts and the continuation rounds; a design with the
-same dynamics as a cached one takes its attractors as they are. The neighbour's attractors stand
-for the basins its own search explored, so a warm-started design may find more attractors than a
-search from scratch (a neighbour's orbit that its own starts miss) and, rarely, fewer; the worst
-case agrees with a search from scratch within the standard error of a chaotic batch mean
-(``benchmarks/bench_operation.py``, ``tests/test_sweep_operation.py``).
+linear start), instead of all ``starts`` starts and the continuation rounds.
+
+That shortcut is off by default, because it can miss an attractor. Coexisting attractors' basins
+move fast with the design: on the Table 1 damper at 5 Hz every start of m = 40.5 g ends on one
+chaotic motion, while at 41.5 g five of the six starts end on a periodic orbit and one on a chaotic
+motion 6 % larger, which neither the 40.5 g attractor nor the linear start reaches; the worst case
+of the warm-started search is then the periodic orbit, 27 standard errors below the search from
+scratch (``benchmarks/results/operation.md``). With every own start (``warm_starts = starts``) the
+neighbour's attractors only add to the search, at about its cost from scratch.
 
 Which designs seed which is fixed by the design list alone: :func:`run_operation` cuts the designs,
 in grid order, into chains of ``chain`` consecutive designs, each chain evaluated in order in one
@@ -136,8 +141,9 @@ class Operation:
         1 is the linear start), 0 to ``starts``.
     warm_radius : float
         Largest relative difference of gap, impact mass, contact damping and Hertz stiffness to a design
-        already evaluated for its attractors to start this one's search (0: only a design of the same
-        dynamics, whose attractors are then taken as they are).
+        already evaluated for its attractors to start this one's search with ``warm_starts`` own starts
+        (module docstring: it may miss an attractor). 0 (default): only a design of the same dynamics,
+        whose attractors are then taken as they are.
     """
 
     amplitude: float
@@ -153,7 +159,7 @@ class Operation:
     levels: bool = True
     noise_seconds: float = NOISE_SECONDS
     warm_starts: int = 1
-    warm_radius: float = 0.5
+    warm_radius: float = 0.0
 
     def __post_init__(self):
         from ..dynamics._forced_response import _frequencies
