@@ -163,6 +163,9 @@ def test_process_pool_equals_serial_whatever_the_order_of_the_chains():
     chains = operation_chains(spec.designs(), 2)
     assert [len(c) for c in chains] == [2, 2]
     serial = {r["design_id"]: r for c in chains[::-1] for r in evaluate_chain(c, spec.settings, op)}
-    pooled = run_operation(spec, op, workers=2, chain=2)
+    kept, said = [], []
+    pooled = run_operation(spec, op, workers=2, chain=2, on_rows=kept.append, progress=said.append)
     _same_rows(pooled, [serial[d.design_id] for d in spec.designs()])
+    assert sorted(r["design_id"] for rows in kept for r in rows) == [0, 1, 2, 3]  # each chain as it finished
+    assert len(kept) == 2 and said[-1] == "operation: 4 of 4 designs"
     assert [r["warm_from"] for r in pooled] == [-1, 0, -1, 2]

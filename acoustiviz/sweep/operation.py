@@ -433,7 +433,7 @@ def _chain_failed(designs, fixed, exc) -> list:
 
 
 def run_operation(spec, operation: Operation, *, executor=None, workers: int | None = None, chain: int = 8,
-                  progress=None) -> list:
+                  progress=None, on_rows=None) -> list:
     """Every design of ``spec`` in operation: one row per design, in design order.
 
     Parameters
@@ -452,6 +452,9 @@ def run_operation(spec, operation: Operation, *, executor=None, workers: int | N
         scratch.
     progress : callable, optional
         Called with a one-line message after each chain.
+    on_rows : callable, optional
+        Called in this process with the rows of each chain as it finishes (to keep them, e.g. in a
+        journal, before the sweep ends or is interrupted).
 
     Returns
     -------
@@ -489,6 +492,8 @@ def run_operation(spec, operation: Operation, *, executor=None, workers: int | N
                     except Exception as exc:  # noqa: BLE001 - recorded in the chain's rows
                         out = _chain_failed(c, spec.settings, exc)
                     rows.update((r["design_id"], r) for r in out)
+                    if on_rows is not None:
+                        on_rows(out)
                     if progress:
                         progress(f"operation: {len(rows)} of {len(designs)} designs")
             interrupted = False
