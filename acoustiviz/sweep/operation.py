@@ -100,12 +100,8 @@ OPERATION_DEFINITIONS = {
 }
 #: The columns of a design's row, in order.
 OPERATION_COLUMNS = tuple(OPERATION_DEFINITIONS)
-#: Columns describing the design (filled in a failed row too).
-_DESIGN_COLUMNS = OPERATION_COLUMNS[:10]
 #: The level columns and the :class:`~acoustiviz.sound.operating.OperatingNoise` attribute of each.
 _LEVELS = {"worst_lcpeak_db": "lcpeak_db", "worst_laeq_db": "laeq_db", "worst_lafmax_db": "lafmax_db"}
-#: Least length in s of each level interval (that of ``acoustiviz forced``: whole periods, at least 1 s).
-NOISE_SECONDS = 1.0
 
 
 @dataclass(frozen=True)
@@ -134,8 +130,9 @@ class Operation:
         Impact-map restitution (None: the compliant contact's at each speed).
     levels : bool
         Hear each attractor's click train at the design's listener (the level columns; otherwise empty).
-    noise_seconds : float
-        Least length in s of each level interval, (0, 60].
+    noise_seconds : float or None
+        Least length in s of each level interval, (0, 60] (None: that of
+        :func:`acoustiviz.sound.operating.operating_noise`, as ``acoustiviz forced``).
     warm_starts : int
         Own starts of a warm-started design (the first of :func:`acoustiviz.dynamics.forced.start_states`:
         1 is the linear start), 0 to ``starts``.
@@ -157,7 +154,7 @@ class Operation:
     max_cycles: int = FORCED_MAX_CYCLES
     restitution: float | None = None
     levels: bool = True
-    noise_seconds: float = NOISE_SECONDS
+    noise_seconds: float | None = None
     warm_starts: int = 1
     warm_radius: float = 0.0
 
@@ -172,11 +169,11 @@ class Operation:
         Excitation(f[0], self.amplitude, self.kind)  # the amplitude's range, in one place
         if not isinstance(self.levels, bool):
             raise ParameterError("levels", f"must be True or False, got {self.levels!r}")
-        check_range("noise_seconds", self.noise_seconds, 0.0, 60.0, low_open=True, unit="s")
-        if isinstance(self.warm_starts, bool) or int(self.warm_starts) != self.warm_starts \
-                or not 0 <= self.warm_starts <= min(int(self.starts), FORCED_MAX_STARTS):
-            raise ParameterError("warm_starts", f"must be an integer in [0, starts = {self.starts}], "
-                                                f"got {self.warm_starts!r}")
+        if self.noise_seconds is not None:
+            check_range("noise_seconds", self.noise_seconds, 0.0, 60.0, low_open=True, unit="s")
+        top = self.starts if _is_int(self.starts) else FORCED_MAX_STARTS  # starts itself: check_operation
+        if not _is_int(self.warm_starts) or not 0 <= self.warm_starts <= top:
+            raise ParameterError("warm_starts", f"must be an integer in [0, starts = {top}], got {self.warm_starts!r}")
         check_range("warm_radius", self.warm_radius, 0.0, math.inf)
 
     def options(self):
@@ -191,6 +188,10 @@ class Operation:
         from ..dynamics.forced import Excitation
 
         return Excitation(float(frequency), self.amplitude, self.kind)
+
+
+def _is_int(v) -> bool:
+    return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
 
 
 def _model(design: Design, fixed: FixedSettings):
@@ -304,8 +305,9 @@ def _noise(steady, design: Design, fixed: FixedSettings, operation: Operation):
     medium = Medium(c=fixed.c, rho=fixed.rho)
     own = geometry_class(design.config).relevant(fixed.geometry_settings)  # the design's geometry's settings
     where = {"room": own} if conf.enclosed else own
+    seconds = {} if operation.noise_seconds is None else {"seconds": operation.noise_seconds}
     return operating_noise(steady, listener=point, config=design.config, radius=design.radius,
-                           seconds=operation.noise_seconds, settings={**where, "medium": medium})
+                           settings={**where, "medium": medium}, **seconds)
 
 
 def summarise(per_frequency, levels=None) -> dict:
