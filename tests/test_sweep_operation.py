@@ -169,3 +169,15 @@ def test_process_pool_equals_serial_whatever_the_order_of_the_chains():
     assert sorted(r["design_id"] for rows in kept for r in rows) == [0, 1, 2, 3]  # each chain as it finished
     assert len(kept) == 2 and said[-1] == "operation: 4 of 4 designs"
     assert [r["warm_from"] for r in pooled] == [-1, 0, -1, 2]
+
+
+def test_a_given_executor_is_used_and_left_open():
+    from concurrent.futures import ThreadPoolExecutor
+
+    op = Operation(5.0, (3.0, 3.5), starts=1)
+    spec = SweepSpec(gap=(0.04, 0.05, 0.06))
+    serial = [r for c in operation_chains(spec.designs(), 1) for r in evaluate_chain(c, spec.settings, op)]
+    with ThreadPoolExecutor(2) as ex:
+        rows = run_operation(spec, op, executor=ex, chain=1)
+        assert ex.submit(int).result() == 0  # not shut down by the run
+    _same_rows(rows, serial)
