@@ -28,11 +28,11 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..core.geometry import GEOMETRIES, geometry
+from ..core.geometry import GEOMETRIES
 from ..core.signal import Signal
 from ..errors import ClippingWarning, ParameterError
 from ..output.audio import shared_scale, write_sidecar, write_wav
-from ..sound import CavityScene
+from ..sound.sources import cavity
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
            "check_scale_fits", "physical_peaks", "room_sound", "least_absorbing", "ROOM_SOUND_OPTIONS",
@@ -56,22 +56,6 @@ def _enclosed(name) -> bool:
     """Whether the geometry registered as ``name`` closes the fluid (a room); False for an unknown name."""
     cls = GEOMETRIES.get(name)
     return bool(cls is not None and cls.enclosed)
-
-
-def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
-           wall_distance=None, strike: str = "floor", height=None, medium=None, room=None) -> CavityScene:
-    """The damper's cavity in its surroundings (:func:`acoustiviz.core.geometry.geometry` builds them).
-
-    ``room``: the settings of a shoebox room (:class:`acoustiviz.core.geometry.Room`), which then
-    replaces ``config`` and its settings.
-    """
-    if room is not None:
-        c = {} if medium is None else {"sound_speed": medium.c}
-        conf = geometry("room", radius, **{**c, **room})
-    else:
-        conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
-    extra = {} if medium is None else {"medium": medium}
-    return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)
 
 
 def room_sound(*, late_tail: bool = False, seed=None, decay: str = "eyring", transition=None,

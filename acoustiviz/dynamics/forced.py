@@ -21,6 +21,7 @@ from ._forced_response import (
     SWEEPS,
     AttractorResponse,
     FrequencyResponse,
+    _seed,
     attractor_response,
     describe,
     frequency_response,
@@ -40,7 +41,12 @@ from ._forced_steady import (
 )
 from ._shooting import PoincareMap, ShootResult, section_scale, shoot
 
+#: ``(state, period)`` that continues an attractor elsewhere (a neighbouring frequency or design): the
+#: first section point of a periodic orbit with its period, the final state of a non-periodic motion.
+continuation_seed = _seed
+
 __all__ = [
+    "continuation_seed",
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "MAX_PERIOD",

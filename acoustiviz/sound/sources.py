@@ -24,6 +24,7 @@ __all__ = [
     "wall_sources",
     "check_listeners",
     "ear_positions",
+    "cavity",
 ]
 
 
@@ -283,3 +284,19 @@ def ear_positions(centre, scene: CavityScene, *, spacing: float = 0.18) -> np.nd
         side = np.array([0.0, 1.0, 0.0])
     side = side / np.linalg.norm(side)
     return np.stack([c + 0.5 * d * side, c - 0.5 * d * side])
+
+
+def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
+           wall_distance=None, strike: str = "floor", height=None, medium=None, room=None) -> CavityScene:
+    """The damper's cavity in its surroundings (:func:`acoustiviz.core.geometry.geometry` builds them).
+
+    ``room``: the settings of a shoebox room (:class:`acoustiviz.core.geometry.Room`), which then
+    replaces ``config`` and its settings.
+    """
+    if room is not None:
+        c = {} if medium is None else {"sound_speed": medium.c}
+        conf = geometry("room", radius, **{**c, **room})
+    else:
+        conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
+    extra = {} if medium is None else {"medium": medium}
+    return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)

@@ -66,7 +66,11 @@ The package
 :mod:`~acoustiviz.sweep.query`
     the design table (paper Table 2) and the quietest design for a target inclination;
 :mod:`~acoustiviz.sweep.progress`
-    the progress bar (tqdm, on a terminal) and the resume count.
+    the progress bar (tqdm, on a terminal) and the resume count;
+:mod:`~acoustiviz.sweep.operation`
+    designs in operation: every attractor of each design under a harmonic excitation over a band,
+    condensed into one row of worst-case columns (amplitude, reduction, LCpeak, LAeq, LAFmax), run
+    on the same executors.
 
 Units are SI throughout (m, kg, s, N/m^1.5, N·s/m, J); angles are in radians in the API and in
 degrees in the CSV.
@@ -77,6 +81,7 @@ from __future__ import annotations
 from .evaluate import DesignResult, evaluate_design, impact_spl_db, listener_point, max_spl_db
 from .execute import run_sweep
 from .levels import SWEEP_LEVEL_COLUMNS, design_levels
+from .operation import OPERATION_COLUMNS, Operation, WarmStart, evaluate_in_operation, run_operation
 from .progress import Progress
 from .query import (
     DESIGN_TABLE_COLUMNS,
@@ -153,4 +158,9 @@ __all__ = [
     "write_design_table",
     "design",
     "Progress",
+    "OPERATION_COLUMNS",
+    "Operation",
+    "WarmStart",
+    "evaluate_in_operation",
+    "run_operation",
 ]

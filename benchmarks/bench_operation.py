@@ -1,0 +1,153 @@
+"""CPU time of one design in operation, from scratch and warm-started (acoustiviz.sweep.operation).
+
+Usage::
+
+    python benchmarks/bench_operation.py           # the table
+    python benchmarks/bench_operation.py --write   # also to benchmarks/results/operation.md
+    python benchmarks/bench_operation.py --profile # only where a search from scratch spends its time
+
+The Table 1 damper under F0 = 5 N over 3-7 Hz (9 frequencies, every attractor, the default
+starts and sweep up): what ``acoustiviz forced --freq 3:7:9`` runs. A small set of neighbouring
+designs (impact masses 2.5 % apart around 40.5 g, and gaps 5 % apart around 40 mm) is evaluated
+twice, each design from scratch and as one chain (the first from scratch, each next warm-started
+from the attractors of the nearest design before it, :class:`acoustiviz.sweep.operation.WarmStart`).
+The dynamics alone are timed (``levels=False``); the levels of the click trains are timed once
+apart. Each line: CPU s from scratch and warm-started, the worst amplitude of each with its
+standard error, and their difference in units of the combined standard error (periodic worst
+cases have none: their difference is then given in µm).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import sys
+import time
+from dataclasses import replace
+
+from _timing import RESULTS, Tee, results_header
+
+from acoustiviz.sweep import SweepSpec
+from acoustiviz.sweep.operation import Operation, WarmStart, evaluate_in_operation
+from acoustiviz.sweep.spec import value_range
+
+OPERATION = Operation(5.0, value_range(3.0, 7.0, 9), levels=False)
+#: The warm-started searches compared: the linear start alone, and every own start, beside the nearest design's
+#: attractors.
+WARM = {"warm 1": replace(OPERATION, warm_radius=0.5, warm_starts=1),
+        "warm all": replace(OPERATION, warm_radius=0.5, warm_starts=OPERATION.starts)}
+
+
+def _cpu(f):
+    c = time.process_time()
+    out = f()
+    return time.process_time() - c, out
+
+
+def _difference(a: dict, b: dict) -> str:
+    """``(b - a) / sqrt(se_a² + se_b²)`` of the worst amplitudes, or the difference in µm without errors."""
+    d = b["worst_amplitude_m"] - a["worst_amplitude_m"]
+    se = math.hypot(a["worst_amplitude_std_err_m"], b["worst_amplitude_std_err_m"])
+    return f"{d / se:+7.2f} se" if se > 0 else f"{1e6 * d:+7.2f} um"
+
+
+def _worst(r: dict) -> str:
+    return (f"{r['cycles_integrated']:6d} {1e3 * r['worst_amplitude_m']:8.3f} "
+            f"{1e3 * r['worst_amplitude_std_err_m']:5.3f} {r['worst_regime'][:8]:>8} {r['worst_frequency_hz']:4.1f}")
+
+
+def table(specs) -> None:
+    print(f"Table 1 damper, F0 = 5 N, {len(OPERATION.frequencies)} frequencies 3-7 Hz, {OPERATION.starts} starts, "
+          f"sweep {OPERATION.sweep}, dynamics only. Warm: the nearest design before it in the chain (radius 0.5) "
+          "seeds each frequency, with the linear start (warm 1) or every own start (warm all), no continuation.")
+    print("CPU s; forcing cycles integrated (the cost without the machine's load); worst amplitude in mm, its "
+          "standard error in mm, regime, frequency in Hz; difference to scratch in "
+          "combined standard errors (se) or in um when both are periodic.")
+    print(f"{'design':>14} | {'scratch s':>9} {'cycles, worst (scratch)':>36} |" + "".join(
+        f" {name + ' s':>10} {'cycles, worst':>36} {'diff':>10} |" for name in WARM))
+    tot = dict.fromkeys(["scratch", *WARM], 0.0)
+    n = 0
+    for label, spec in specs:
+        caches = {name: WarmStart() for name in WARM}
+        for d in spec.designs():
+            ts, rs = _cpu(lambda d=d, s=spec: evaluate_in_operation(d, s.settings, OPERATION))
+            line = f"{label + ' ' + (f'{1e3 * d.m:.1f} g' if label == 'm' else f'{1e3 * d.gap:.0f} mm'):>14} | " \
+                   f"{ts:9.2f} {_worst(rs):>36} |"
+            first = not len(caches["warm 1"])
+            for name, op in WARM.items():
+                tw, rw = _cpu(lambda d=d, s=spec, o=op, w=caches[name]: evaluate_in_operation(d, s.settings, o, warm=w))
+                line += f" {tw:10.2f} {_worst(rw):>36} {_difference(rs, rw):>10} |"
+                tot[name] += 0.0 if first else tw
+            tot["scratch"] += 0.0 if first else ts
+            n += 0 if first else 1
+            print(line)
+    print(f"mean CPU s per warm-started design ({n} designs): scratch {tot['scratch'] / n:.2f}, " + ", ".join(
+        f"{name} {tot[name] / n:.2f}" for name in WARM))
+
+
+def levels_cost(spec) -> None:
+    d = spec.designs()[0]
+    t, r = _cpu(lambda: evaluate_in_operation(d, spec.settings, Operation(5.0, OPERATION.frequencies)))
+    print(f"with the levels of every attractor's click train at the listener (96 kHz): {t:.2f} CPU s for "
+          f"design 0 (worst LCpeak {r['worst_lcpeak_db']:.1f} dB, LAeq {r['worst_laeq_db']:.1f} dB, "
+          f"LAFmax {r['worst_lafmax_db']:.1f} dB)")
+
+
+#: Where a search from scratch spends its time: label -> (module file, function) of pstats.
+PROFILED = {"forced driver kernel (advance)": ("_forced_driver.py", "advance"),
+            "shooting (Newton, Jacobians, Floquet)": ("_shooting.py", "shoot"),
+            "  of which finite-difference Jacobians": ("_shooting.py", "_jacobian"),
+            "direct runs cycle by cycle": ("_attractors.py", "step"),
+            "non-periodic windows (batch means, Lyapunov)": ("_measure.py", "measure_window")}
+
+
+def profile(spec) -> None:
+    """Where one design's search from scratch spends its CPU time (cumulative, under cProfile)."""
+    import cProfile
+    import pstats
+
+    d = spec.designs()[0]
+    prof = cProfile.Profile()
+    prof.runcall(evaluate_in_operation, d, spec.settings, OPERATION)
+    st = pstats.Stats(prof).stats
+    total = max(v[3] for v in st.values())
+    print(f"profile of design 0 from scratch (cProfile, {total:.2f} s with its overhead):")
+    for label, (fname, func) in PROFILED.items():
+        hits = [(v[1], v[3]) for (f, _, name), v in st.items() if f.endswith(fname) and name == func]
+        calls, cum = sum(h[0] for h in hits), sum(h[1] for h in hits)
+        print(f"  {label:<46} {cum:6.2f} s {100 * cum / total:5.1f} %  ({calls} calls)")
+
+
+def _write_markdown(header: str, body: str) -> None:
+    """``results/operation.md``: the command line and the table, written atomically."""
+    path = RESULTS / "operation.md"
+    text = (f"# One design in operation: from scratch and warm-started\n\n{header}\n\n```text\n"
+            f"{body.strip()}\n```\n")
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+    print(f"wrote {path}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--write", action="store_true", help="also write benchmarks/results/operation.md")
+    ap.add_argument("--profile", action="store_true", help="only the profile of one design from scratch")
+    args = ap.parse_args()
+    masses = SweepSpec(m=value_range(0.0385, 0.0425, 5))
+    gaps = SweepSpec(gap=value_range(0.038, 0.042, 3))
+    evaluate_in_operation(masses.designs()[0], masses.settings, Operation(5.0, (3.0,), starts=1, max_cycles=18,
+                                                                          levels=False))  # kernels loaded
+    tee = Tee(sys.stdout)
+    with contextlib.redirect_stdout(tee):
+        profile(masses)
+        if not args.profile:
+            table([("m", masses), ("gap", gaps)])
+            levels_cost(masses)
+    if args.write:
+        _write_markdown(results_header("python benchmarks/bench_operation.py"), "".join(tee.parts))
+
+
+if __name__ == "__main__":
+    main()
