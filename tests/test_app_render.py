@@ -216,6 +216,22 @@ def test_a_scene_asking_for_png_vtu_and_html_evaluates_the_field_once(tmp_path, 
     assert len(calls) == 1
 
 
+def test_the_files_of_a_weighted_balloon_compute_nothing(tmp_path, monkeypatch):
+    """A weighted level (LCpeak): the run computes the VTK file's metrics too, so writing only draws and exports."""
+    import acoustiviz.output.vtk as vtk
+
+    result = run(_job("balloon", metric="lcpeak", n_theta=4, size=(200, 150), png="w.png", vtk="w.vtu"))
+    n = result.data.directions.shape[0] * result.data.directions.shape[1]
+    assert result.data.metrics.peak_spl_db.shape == (n,)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a sink evaluated the field")
+
+    monkeypatch.setattr(vtk, "field_metrics", refuse)
+    written = result.write(tmp_path)
+    assert [p.name for p in written] == ["w.png", "w.vtu", "w_geometry.vtu"]
+
+
 # --------------------------------------------------------------------------- refused before any work
 def _no_work(monkeypatch):
     """Make any evaluation of a field fail the test: bad input must be refused before it."""

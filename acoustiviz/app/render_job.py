@@ -20,7 +20,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .settings.render_job import JOB_OF_VIEW, AnimationJob, BalloonJob, SnapshotJob
@@ -88,7 +88,8 @@ class BalloonResult:
     settings : BalloonJob
         What was computed.
     data : acoustiviz.output.render.BalloonData
-        The level in dB over the measuring sphere (directions, distance in m).
+        The level in dB over the measuring sphere (directions, distance in m), and every metric of the
+        field there when the VTK file wants them (a weighted level's too).
     """
 
     settings: BalloonJob
@@ -199,8 +200,14 @@ def _balloon(s: BalloonJob) -> BalloonResult:
         name = levels[1] if levels else BALLOON_FIELD_METRICS[s.metric][1]
         announce_long_work(f"balloon: {name.split(' (')[0]} rendered at about {points:.3g} points, a long "
                            "computation (Ctrl-C stops it)")
-    return BalloonResult(s, balloon_data(s.pulse, s.configuration, medium=s.medium, distance=s.distance,
-                                         metric=s.metric, n_theta=s.n_theta, levels=levels))
+    data = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=s.distance, metric=s.metric,
+                        n_theta=s.n_theta, levels=levels)
+    if s.vtk is not None and data.metrics is None:  # a weighted level: the VTK file's metrics too, here, once
+        from ..field import field_metrics
+
+        lattice = data.anchor + data.distance * data.directions.reshape(-1, 3)
+        data = replace(data, metrics=field_metrics(s.pulse, lattice, s.configuration, medium=s.medium))
+    return BalloonResult(s, data)
 
 
 def _animation(s: AnimationJob) -> AnimationResult:
