@@ -118,6 +118,35 @@ def test_a_job_asks_for_no_file_and_writes_none():
     assert result.write() == []
 
 
+@pytest.mark.parametrize("view", CASES)
+def test_every_option_and_scene_key_of_a_view_is_its_jobs_record(view):
+    """The command's options of the view and the scene's keys of ``[outputs.<view>]`` are made from the records."""
+    import argparse
+
+    from acoustiviz.scene.schema import SCHEMA
+
+    parser = build_parser()
+    sub = parser
+    for name in ("render", view):
+        sub = next(a for a in sub._actions if isinstance(a, argparse._SubParsersAction)).choices[name]
+    options = {o for a in sub._actions for o in a.option_strings if o.startswith("--")}
+    from acoustiviz.app.outputs import REPLACE
+    from acoustiviz.app.settings.impact import IMPACT, WAVEFORM
+    from acoustiviz.app.settings.room import ROOM
+
+    # the impact's, the room's and the global options, the same for every command
+    others = {s.option for s in (*IMPACT, *ROOM, WAVEFORM[1], REPLACE)} | {*REPLACE.aliases, "--help", "--max-memory"}
+    cls = JOBS[view]
+    assert options - others == {s.option for s in cls.TABLE if s.option}
+    keys = SCHEMA["outputs"].keys[view].keys
+    records = {s.key: s for s in cls.TABLE if s.table == f"outputs.{view}"}
+    assert set(keys) - {"vtk", "html"} == set(records)
+    for key, s in records.items():
+        k = keys[key]
+        assert (k.low, k.high, k.unit, tuple(k.choices), k.doc) == (s.low, s.high, s.unit, tuple(s.choices), s.doc)
+        assert k.default == (list(s.in_scene) if isinstance(s.in_scene, tuple) else s.in_scene)
+
+
 # --------------------------------------------------------------------------- random settings from the records
 def _value(s, rng: random.Random):
     """A random valid value of record ``s`` that keeps the job small (nothing is computed)."""
