@@ -275,14 +275,17 @@ def animation_settings(scene, out=None) -> AnimationJob:
     return view_job(scene, "animation", out)
 
 
-def _produce(ctx, view: str, say: str, figures) -> list:
-    """Run and write the scene's ``view``; the products, the first with the result's ``figures``."""
+def _produce(ctx, view: str, say, figures) -> list:
+    """Run and write the scene's ``view``; the products, the first with the result's ``figures``.
+
+    ``say(settings)`` and ``figures(result)`` give the progress line and the summary's figures.
+    """
     from .products import Product
 
     settings = view_job(ctx.scene, view, ctx.out)
     for path in settings.files().values():  # only the files checked before the run
         ctx.path(Path(path).name)
-    ctx.progress(say)
+    ctx.progress(say(settings))
     result = run(settings)
     products = []
     for path in result.write():
@@ -293,20 +296,18 @@ def _produce(ctx, view: str, say: str, figures) -> list:
 
 def produce_snapshot(ctx) -> list:
     """Scene output ``snapshot``: the pressure on the planar sections at the requested times."""
-    times = view_values(ctx.scene, "snapshot")["times"]
-    return _produce(ctx, "snapshot", f"rendering {len(times)} snapshot(s)",
+    return _produce(ctx, "snapshot", lambda s: f"rendering {len(s.times)} snapshot(s)",
                     lambda r: {"times_ms": ", ".join(f"{1e3 * t:g}" for t in r.settings.times)})
 
 
 def produce_balloon(ctx) -> list:
     """Scene output ``balloon``: the 3-D directivity balloon on the spherical grid around the contact point."""
-    return _produce(ctx, "balloon", "rendering the balloon",
+    return _produce(ctx, "balloon", lambda s: f"rendering the balloon ({s.metric} at {s.distance:g} m)",
                     lambda r: {"metric": r.settings.metric, "max_db": f"{r.data.max_level:.1f}",
                                "mean_db": f"{r.data.mean_level:.1f}", "distance_m": f"{r.settings.distance:g}"})
 
 
 def produce_animation(ctx) -> list:
     """Scene output ``animation``: a GIF of the wavefront leaving the impact and reflecting."""
-    frames = view_values(ctx.scene, "animation")["frames"]
-    return _produce(ctx, "animation", f"rendering {frames} animation frames",
+    return _produce(ctx, "animation", lambda s: f"rendering {s.frames} animation frames",
                     lambda r: {"frames": str(r.settings.frames), "fps": f"{r.settings.fps:g}"})

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from ...errors import ParameterError, user_terms
+from ...errors import ParameterError
 from .base import Settings
 from .render import (
     ANIMATION,
@@ -94,10 +94,9 @@ class ViewJob(Settings):
     def validate(self) -> None:
         """The view's own checks, then the files, the view in the fluid and the memory and output budget."""
         super().validate()
-        with user_terms(self.names):
-            self._check_files()
-            self._check_fits()
-            self._check_budget()
+        self._check_files()
+        self._check_fits()
+        self._check_budget()
 
     def _check_files(self) -> None:
         from ...output.vtk import geometry_path
@@ -123,7 +122,7 @@ class ViewJob(Settings):
         from ..budget import check_budget
         from ..render import render_estimate
 
-        n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4")) or 1
+        n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4"))  # movies hold every frame
         est = render_estimate(self.VIEW, self, len(self.configuration.sources), n_files=n_files, options=self.names)
         check_budget(est, self.max_memory_mb, cap_name=self.name("max_memory_mb"))
 
