@@ -3,7 +3,11 @@
 One table per view; a scene's ``[grids.sphere]`` and ``[grids.plane]`` keys and its
 ``[outputs.balloon|snapshot|animation]`` keys are the same settings as the command's options.
 Where the two front-ends start from different defaults (a scene's planes share one resolution,
-the command's views each have their own), the table records both (``scene_default``).
+the command's views each have their own), the table records both (``scene_default``). Beside the
+tables: each view's image size (:data:`SIZES`), the planes (:data:`SECTION_LIST`), a snapshot's
+times (:data:`TIMES`), the caption (:data:`TITLE`) and the files, the command's paths
+(:data:`VIEW_FILES`) and a scene's switches (:data:`SCENE_FILES`); the jobs of
+:mod:`acoustiviz.app.settings.render_job` hold them all.
 """
 
 from __future__ import annotations
@@ -76,7 +80,6 @@ ANIMATION = (
 )
 
 
-
 def _size(view: str, default: tuple, scene_default=None) -> Setting:
     return Setting("size", "--size", "size_px", "size", default, "image size in pixels, width x height", "px",
                    low=SIZE_RANGE[0], high=SIZE_RANGE[1], scene_default=scene_default or default,
@@ -89,9 +92,9 @@ SIZES = {"balloon": _size("balloon", STILL_SIZE), "snapshot": _size("snapshot", 
 
 #: The planes of a snapshot or an animation.
 SECTION_LIST = Setting("sections", "--sections", "sections", "strs", ("xz",),
-                   "planes through the sphere's centre: xz the vertical plane normal to the wall (holding the "
-                   "acceleration axis), yz the vertical plane parallel to it, xy the horizontal",
-                   choices=SECTION_PLANES, table="grids.plane", metavar="LIST")
+                       "planes through the sphere's centre: xz the vertical plane normal to the wall (holding the "
+                       "acceleration axis), yz the vertical plane parallel to it, xy the horizontal",
+                       choices=SECTION_PLANES, table="grids.plane", metavar="LIST")
 
 #: The times of a snapshot, drawn side by side.
 TIMES = Setting("times", "--time", "times_s", "floats", (0.001,),
@@ -125,10 +128,6 @@ SCENE_FILES = {
 }
 
 
-def _check_sections(sections) -> tuple:
-    return SECTION_LIST.check(sections)
-
-
 @dataclasses.dataclass(frozen=True)
 class BalloonSettings(Settings):
     """The directivity balloon: measuring sphere, level, colour range and image."""
@@ -159,7 +158,7 @@ class SnapshotSettings(Settings):
 
     def validate(self) -> None:  # noqa: D102
         object.__setattr__(self, "times", TIMES.check(self.times))
-        object.__setattr__(self, "sections", _check_sections(self.sections))
+        object.__setattr__(self, "sections", SECTION_LIST.check(self.sections))
         object.__setattr__(self, "size", check_size(self.size))
 
 
@@ -177,7 +176,7 @@ class AnimationSettings(Settings):
     size: tuple = ANIMATION_SIZE
 
     def validate(self) -> None:  # noqa: D102
-        object.__setattr__(self, "sections", _check_sections(self.sections))
+        object.__setattr__(self, "sections", SECTION_LIST.check(self.sections))
         object.__setattr__(self, "size", check_size(self.size))
 
 
