@@ -32,6 +32,14 @@ from .names import SCENE_DAMPER_KEYS
 from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
+from .render_job import (
+    animation_settings,
+    balloon_settings,
+    produce_animation,
+    produce_balloon,
+    produce_snapshot,
+    snapshot_settings,
+)
 from .scene_levels import levels_settings, produce_levels, produce_spectrum
 from .scene_outputs import SUMMARY, preflight
 from .scene_wav import wav_settings
@@ -309,70 +317,6 @@ def produce_wav(ctx: RunContext):
     return wav_products(result)
 
 
-def _plane_options(ctx: RunContext, s) -> dict:
-    return {"extent": s.extent, "sections": s.sections, "n_u": s.n_u, "medium": ctx.medium}
-
-
-def produce_snapshot(ctx: RunContext):
-    """Pressure p(x, t) on the planar sections at the requested times (one PNG, side by side)."""
-    from ..field.sections import section_field
-    from ..output.render import render_snapshot
-
-    s = ctx.scene.view_settings("snapshot")
-    times = list(s.times)
-    ctx.progress(f"rendering {len(times)} snapshot(s)")
-    field = section_field(ctx.pulse(), ctx.configuration, times, **_plane_options(ctx, s))  # once for every file
-    path = render_snapshot(ctx.pulse(), ctx.configuration, times if len(times) > 1 else times[0],
-                           ctx.path("snapshot.png"), size=s.size, field=field)
-    products = [Product("snapshot", path, {"times_ms": ", ".join(f"{1e3 * t:g}" for t in times)})]
-    if ctx.scene.output("snapshot")["vtk"]:
-        from ..output.vtk import write_snapshot_vtk
-
-        products += [Product("vtk", p) for p in write_snapshot_vtk(ctx.pulse(), ctx.configuration, times,
-                                                                    ctx.path("snapshot.vtu"), field=field)]
-    return products
-
-
-def produce_balloon(ctx: RunContext):
-    """3-D directivity balloon on the spherical grid around the contact point (PNG)."""
-    from ..output.render import balloon_data, render_balloon
-    from .views import balloon_levels
-
-    s = ctx.scene.view_settings("balloon")
-    pulse, conf = ctx.pulse(), ctx.configuration
-    data = balloon_data(pulse, conf, medium=ctx.medium, distance=s.distance, metric=s.metric, n_theta=s.n_theta,
-                        levels=balloon_levels(s.metric, pulse, conf, ctx.medium))
-    path = render_balloon(pulse, conf, ctx.path("balloon.png"), medium=ctx.medium, db_range=s.db_range,
-                          size=s.size, data=data)
-    products = [Product("balloon", path, {"metric": s.metric, "max_db": f"{data.max_level:.1f}",
-                                          "mean_db": f"{data.mean_level:.1f}", "distance_m": f"{s.distance:g}"})]
-    if ctx.scene.output("balloon")["vtk"]:
-        from ..output.vtk import write_balloon_vtk
-
-        products += [Product("vtk", p) for p in write_balloon_vtk(pulse, conf, ctx.path("balloon.vtu"),
-                                                                   medium=ctx.medium, data=data)]
-    return products
-
-
-def produce_animation(ctx: RunContext):
-    """GIF of the wavefront leaving the impact and reflecting, on the planar sections."""
-    from ..output.render import render_animation
-    from ..output.render.animation import animation_field
-
-    s = ctx.scene.view_settings("animation")
-    ctx.progress(f"rendering {s.frames} animation frames")
-    field = animation_field(ctx.pulse(), ctx.configuration, frames=s.frames, **_plane_options(ctx, s))  # once
-    path = render_animation(ctx.pulse(), ctx.configuration, ctx.path("animation.gif"), fps=s.fps, size=s.size,
-                            field=field)
-    products = [Product("animation", path, {"frames": str(s.frames), "fps": f"{s.fps:g}"})]
-    if ctx.scene.output("animation")["vtk"]:
-        from ..output.vtk import write_animation_vtk
-
-        products += [Product("vtk", p) for p in write_animation_vtk(ctx.pulse(), ctx.configuration,
-                                                                     ctx.path("animation.vtu"), field=field)]
-    return products
-
-
 PRODUCERS = {
     "waveform": produce_waveform,
     "directivity": produce_directivity,
@@ -406,7 +350,9 @@ _SETTINGS = {
     "wav": lambda scene: wav_settings(scene, None, damper_settings(scene)),
     "levels": levels_settings,
     "spectrum": levels_settings,
-    **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},
+    "snapshot": snapshot_settings,
+    "balloon": balloon_settings,
+    "animation": animation_settings,
     **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation")},
     "operating_noise": lambda scene: (scene.forced_settings(), _operating_listener(scene)),
 }

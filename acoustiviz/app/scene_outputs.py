@@ -41,7 +41,9 @@ def _levels(scene, names) -> list:
 
 def _view(kind: str, ending: str):
     def files(scene, names):
-        return [(f"{kind}.{ending}", ending)] + (_vtk(kind) if scene.output(kind)["vtk"] else [])
+        opts = scene.output(kind)
+        return [(f"{kind}.{ending}", ending)] + (_vtk(kind) if opts["vtk"] else []) \
+            + ([(f"{kind}.html", "html")] if opts.get("html") else [])
 
     return files
 

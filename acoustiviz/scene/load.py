@@ -159,27 +159,16 @@ class Scene:
     def view_settings(self, view: str):
         """The settings object of a 3-D view: ``"balloon"``, ``"snapshot"`` or ``"animation"``.
 
-        Mapped from ``[grids]`` and ``[outputs.<view>]`` onto :mod:`acoustiviz.app.settings.render`;
+        The keys of ``[grids]`` and ``[outputs.<view>]`` read through the view's records
+        (:func:`acoustiviz.app.render_job.view_values`) onto :mod:`acoustiviz.app.settings.render`;
         errors name the scene keys.
         """
         from ..app.names import user_terms
+        from ..app.render_job import view_values
         from ..app.settings.render import SETTINGS_OF_VIEW
 
-        cls = SETTINGS_OF_VIEW[view]
-        out, grids = self.output_or_defaults(view), self.data["grids"]
-        if view == "balloon":
-            g = grids["sphere"]
-            values = dict(distance=g["distance_m"], metric=out["metric"], db_range=out["db_range"],
-                          n_theta=g["n_theta"])
-        else:
-            g = grids["plane"]
-            values = dict(sections=tuple(g["sections"]), extent=g["extent_m"], n_u=g["resolution"])
-            if view == "snapshot":
-                values["times"] = tuple(out["times_s"])
-            else:
-                values.update(frames=out["frames"], fps=out["fps"])
         with user_terms(view_names(view)):
-            return cls.from_values({**values, "size": tuple(out["size_px"])}, scene=True)
+            return SETTINGS_OF_VIEW[view].from_values(view_values(self, view), scene=True)
 
     def forced_settings(self):
         """``[excitation]`` and ``[outputs.operating_noise]`` as a :class:`~acoustiviz.app.settings.ForcedSettings`."""
@@ -444,10 +433,9 @@ def _check_geometry(scene: Scene) -> None:
 
 def view_names(view: str) -> dict:
     """API name of a 3-D view's setting -> its scene key."""
-    from ..app.settings.render import SETTINGS_OF_VIEW
+    from ..app.settings.render_job import JOB_OF_VIEW
 
-    return {**SETTINGS_OF_VIEW[view].scene_names(), "size": f"outputs.{view}.size_px",
-            "times": "outputs.snapshot.times_s", "sections": "grids.plane.sections"}
+    return JOB_OF_VIEW[view].scene_names()
 
 
 def _check_views(scene: Scene, conf) -> None:

@@ -6,22 +6,19 @@ import math
 from dataclasses import dataclass
 
 from ..app.settings.auralize import ALL as _AURALIZE
-from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
-from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
+from ..app.settings.render import ANIMATION, BALLOON, SCENE_FILES, SECTION_LIST, SIZES, SNAPSHOT, TIMES
 from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_SOUND, SWEPT
 from ..constants import (
-    ANIMATION_SIZE,
     EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
     PULSES,
     ROOM_STRIKES,
-    STILL_SIZE,
 )
 from ..core.geometry import GEOMETRIES
 
@@ -69,9 +66,18 @@ def _from_table(settings, table: str) -> dict:
     keys = {}
     for st in settings:
         if st.key and st.table == table:
-            keys.setdefault(st.key, Key(st.kind, st.doc, st.in_scene, st.unit, low=st.low,
-                                                          high=st.high, low_open=st.low_open, choices=st.choices))
+            kind, default, length = _KINDS.get(st.kind, st.kind), st.in_scene, st.length
+            if st.kind == "size":  # [width, height]
+                length = 2
+            if isinstance(default, tuple):  # as TOML gives it
+                default = list(default)
+            keys.setdefault(st.key, Key(kind, st.doc, default, st.unit, low=st.low, high=st.high,
+                                        low_open=st.low_open, choices=st.choices, length=length))
     return keys
+
+
+#: A record's kind -> the scene key's.
+_KINDS = {"size": "ints"}
 
 
 _MEDIUM = {
@@ -146,22 +152,17 @@ _LISTENER = {
     "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
 }
 
-def _size(default) -> Key:
-    return Key("ints", "image width and height", default, "px", low=SIZE_RANGE[0], high=SIZE_RANGE[1], length=2)
 
 
 _SPHERE_GRID = _from_table(BALLOON, "grids.sphere")
 
-_PLANE_GRID = {
-    **_from_table(SNAPSHOT + ANIMATION, "grids.plane"),
-    "sections": Key("strs", "sections through the sphere's centre: 'xz' the vertical plane normal to the wall "
-                    "(holding the acceleration axis), 'yz' the vertical plane parallel to it, 'xy' the horizontal",
-                    ["xz"], choices=("xz", "yz", "xy")),
-}
+_PLANE_GRID = _from_table((*SNAPSHOT, *ANIMATION, SECTION_LIST), "grids.plane")
 
-#: Shared by the 3-D outputs: also write the data behind the picture (acoustiviz.output.vtk).
-_VTK = Key("bool", "also write the data as <output>.vtu with the sphere and planes in <output>_geometry.vtu "
-           "(ParaView, pyvista, meshio)", False)
+
+def _view(view: str, records=()) -> dict:
+    """The keys of ``[outputs.<view>]``: its records, its image size and its extra files."""
+    return _from_table((*records, SIZES[view], *SCENE_FILES[view]), f"outputs.{view}")
+
 
 #: ``[outputs.level_map]``: the settings of ``acoustiviz map`` (one definition, acoustiviz.app.maps).
 _LEVEL_MAP = _from_table(_MAP_SETTINGS, "outputs.level_map")
@@ -175,16 +176,10 @@ _OUT = {
                          "peak, RMS and SPL (and the chosen metric) against angle at the first listener's distance"),
     "level_map": Table(_LEVEL_MAP, "peak SPL and SEL of the single impact over a plane, as `acoustiviz map` "
                        "(level_map.png, level_map.csv)"),
-    "snapshot": Table({"times_s": Key("floats", f"snapshot times (at most {MAX_TIMES}, drawn side by side)",
-                                      [0.001], "s", low=0.0, high=10.0, length=MAX_TIMES),
-                       "size_px": _size([1400, 600]),
-                       "vtk": _VTK},
+    "snapshot": Table(_view("snapshot", (TIMES,)),
                       "pressure field on the planar sections at given times (pyvista)"),
-    "balloon": Table({**_from_table(BALLOON, "outputs.balloon"), "size_px": _size(list(STILL_SIZE)), "vtk": _VTK},
-                     "3-D directivity balloon on the spherical grid (pyvista)"),
-    "animation": Table({**_from_table(ANIMATION, "outputs.animation"), "size_px": _size(list(ANIMATION_SIZE)),
-                        "vtk": _VTK},
-                       "GIF of the wavefront on the planar sections (pyvista)"),
+    "balloon": Table(_view("balloon", BALLOON), "3-D directivity balloon on the spherical grid (pyvista)"),
+    "animation": Table(_view("animation", ANIMATION), "GIF of the wavefront on the planar sections (pyvista)"),
     "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),
     "restitution": Table({

@@ -10,7 +10,8 @@
 ``directivity``  the directivity job: impact, circle, angle step, level and files (:class:`DirectivityJob`)
 ``damper``       the records of the impact damper (paper eq 15), its start, run and solver; beside it
                  ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
-``render``       the balloon, snapshot and animation views
+``render``       the balloon, snapshot and animation views, their sizes, planes, times, caption and files;
+                 beside it ``render_job``, their jobs: impact, view, caption, files (:class:`SnapshotJob`, ...)
 ``forced``       the damper in operation: continuation, solver, tolerances, level interval, the job
 ``design``       the target damping inclination and its tolerance, and the design job (:class:`DesignJob`)
 ``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius; beside
@@ -36,6 +37,7 @@ from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
+from .render_job import AnimationJob, BalloonJob, SnapshotJob
 from .sweep import SweepSettings
 from .sweep_job import SweepJob
 from .table import SAME, Setting, add_option
@@ -44,4 +46,4 @@ from .waveform import WaveformJob
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
            "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
-           "DamperJob", "DirectivityJob", "DesignJob", "SweepJob"]
+           "DamperJob", "DirectivityJob", "DesignJob", "SweepJob", "SnapshotJob", "BalloonJob", "AnimationJob"]

@@ -6,7 +6,7 @@ import dataclasses
 
 from ...errors import ParameterError, user_terms
 
-__all__ = ["Settings", "check_size", "SIZE_RANGE"]
+__all__ = ["Settings", "check_size", "parse_size", "SIZE_RANGE"]
 
 #: Smallest and largest image side in pixels.
 SIZE_RANGE = (64, 8192)
@@ -25,6 +25,24 @@ def check_size(size, name: str = "size") -> tuple:
     if not (lo <= w <= hi and lo <= h <= hi):
         raise ParameterError(name, f"width and height must lie in [{lo}, {hi}] px, got {w}x{h}")
     return w, h
+
+
+def parse_size(text: str, name: str = "size") -> tuple:
+    """``"1200x900"`` -> ``(1200, 900)``, each side checked (:func:`check_size`); a ParameterError naming ``name``.
+
+    Examples
+    --------
+    >>> parse_size("800x600")
+    (800, 600)
+    """
+    parts = str(text).lower().replace("\u00d7", "x").split("x")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        w, h = int(parts[0]), int(parts[1])
+    except ValueError:
+        raise ParameterError(name, f"expected WIDTHxHEIGHT in pixels, e.g. 1200x900, got {text!r}") from None
+    return check_size((w, h), name)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -3,7 +3,11 @@
 One table per view; a scene's ``[grids.sphere]`` and ``[grids.plane]`` keys and its
 ``[outputs.balloon|snapshot|animation]`` keys are the same settings as the command's options.
 Where the two front-ends start from different defaults (a scene's planes share one resolution,
-the command's views each have their own), the table records both (``scene_default``).
+the command's views each have their own), the table records both (``scene_default``). Beside the
+tables: each view's image size (:data:`SIZES`), the planes (:data:`SECTION_LIST`), a snapshot's
+times (:data:`TIMES`), the caption (:data:`TITLE`) and the files, the command's paths
+(:data:`VIEW_FILES`) and a scene's switches (:data:`SCENE_FILES`); the jobs of
+:mod:`acoustiviz.app.settings.render_job` hold them all.
 """
 
 from __future__ import annotations
@@ -19,12 +23,11 @@ from ...constants import (
     SECTION_PLANES,
     STILL_SIZE,
 )
-from ...errors import ParameterError
-from .base import Settings, check_size
+from .base import SIZE_RANGE, Settings, check_size
 from .table import Setting
 
-__all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "MAX_TIMES", "BalloonSettings", "SnapshotSettings",
-           "AnimationSettings", "SETTINGS_OF_VIEW"]
+__all__ = ["BALLOON", "SNAPSHOT", "ANIMATION", "MAX_TIMES", "SIZES", "SECTION_LIST", "TIMES", "TITLE", "VIEW_FILES",
+           "SCENE_FILES", "BalloonSettings", "SnapshotSettings", "AnimationSettings", "SETTINGS_OF_VIEW"]
 
 #: Most snapshot times drawn side by side.
 MAX_TIMES = MAX_SNAPSHOT_TIMES
@@ -77,11 +80,52 @@ ANIMATION = (
 )
 
 
-def _check_sections(sections) -> tuple:
-    names = tuple(sections)
-    if not names or any(n not in SECTION_PLANES for n in names) or len(set(names)) != len(names):
-        raise ParameterError("sections", f"expected a subset of {', '.join(SECTION_PLANES)}, got {list(names)!r}")
-    return names
+def _size(view: str, default: tuple, scene_default=None) -> Setting:
+    return Setting("size", "--size", "size_px", "size", default, "image size in pixels, width x height", "px",
+                   low=SIZE_RANGE[0], high=SIZE_RANGE[1], scene_default=scene_default or default,
+                   table=f"outputs.{view}", metavar="WxH")
+
+
+#: View -> the record of its image size (a scene's snapshot is wide: its times go side by side).
+SIZES = {"balloon": _size("balloon", STILL_SIZE), "snapshot": _size("snapshot", STILL_SIZE, (1400, 600)),
+         "animation": _size("animation", ANIMATION_SIZE)}
+
+#: The planes of a snapshot or an animation.
+SECTION_LIST = Setting("sections", "--sections", "sections", "strs", ("xz",),
+                       "planes through the sphere's centre: xz the vertical plane normal to the wall (holding the "
+                       "acceleration axis), yz the vertical plane parallel to it, xy the horizontal",
+                       choices=SECTION_PLANES, table="grids.plane", metavar="LIST")
+
+#: The times of a snapshot, drawn side by side.
+TIMES = Setting("times", "--time", "times_s", "floats", (0.001,),
+                f"snapshot time(s) from the start of contact (at most {MAX_SNAPSHOT_TIMES}, drawn side by side)",
+                "s", low=0.0, high=10.0, table="outputs.snapshot", metavar="S", length=MAX_SNAPSHOT_TIMES)
+
+#: The caption of a picture (a scene's is always the default).
+TITLE = Setting("title", "--title", None, "str", None, "replace the default annotation", metavar="TEXT")
+
+#: The files of the command line's views (a scene names them itself: ``<view>.png``, ``.gif``, ``.vtu``, ``.html``).
+VIEW_FILES = {
+    "png": Setting("png", "--png", None, "str", None, "output image", metavar="PATH"),
+    "gif": Setting("gif", "--gif", None, "str", None, "output GIF", metavar="PATH"),
+    "mp4": Setting("mp4", "--mp4", None, "str", None, "output MP4 (needs imageio-ffmpeg)", metavar="PATH"),
+    "vtk": Setting("vtk", "--vtk", None, "str", None,
+                   "the data behind the picture for ParaView, pyvista or meshio: a .vtu (or .vtkhdf) file, with the "
+                   "sphere and planes beside it in PATH_geometry.vtu", metavar="PATH"),
+    "html": Setting("html", "--html", None, "str", None,
+                    "an interactive 3-D view in one self-contained HTML file (no server needed)", metavar="PATH"),
+}
+
+#: The scene's switches of the extra files of a view (``vtk = true``: ``<view>.vtu``), per view.
+SCENE_FILES = {
+    view: tuple(
+        Setting(kind, None, kind, "bool", False, doc, table=f"outputs.{view}")
+        for kind, doc in (("vtk", "also write the data as <output>.vtu with the sphere and planes in "
+                                  "<output>_geometry.vtu (ParaView, pyvista, meshio)"),
+                          ("html", "also write an interactive 3-D view as <output>.html (one self-contained file)"))
+        if kind == "vtk" or view != "animation")
+    for view in ("balloon", "snapshot", "animation")
+}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -113,13 +157,8 @@ class SnapshotSettings(Settings):
     size: tuple = STILL_SIZE
 
     def validate(self) -> None:  # noqa: D102
-        times = tuple(self.times)
-        if not times or len(times) > MAX_TIMES:
-            raise ParameterError("times", f"one to at most {MAX_TIMES} times, got {len(times)}")
-        from ..._validate import check_range
-
-        object.__setattr__(self, "times", tuple(check_range("times", t, 0.0, 10.0, unit="s") for t in times))
-        object.__setattr__(self, "sections", _check_sections(self.sections))
+        object.__setattr__(self, "times", TIMES.check(self.times))
+        object.__setattr__(self, "sections", SECTION_LIST.check(self.sections))
         object.__setattr__(self, "size", check_size(self.size))
 
 
@@ -137,7 +176,7 @@ class AnimationSettings(Settings):
     size: tuple = ANIMATION_SIZE
 
     def validate(self) -> None:  # noqa: D102
-        object.__setattr__(self, "sections", _check_sections(self.sections))
+        object.__setattr__(self, "sections", SECTION_LIST.check(self.sections))
         object.__setattr__(self, "size", check_size(self.size))
 
 

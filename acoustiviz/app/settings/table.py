@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from ..._validate import check_choice, check_range
 from ...errors import ParameterError
+from .base import check_size, parse_size
 
 __all__ = ["Setting", "SAME", "add_option", "by_name", "check_values"]
 
@@ -35,9 +36,12 @@ class Setting:
         The command-line option (None: none).
     key : str or None
         The scene key within its table (None: none).
-    kind : {"str", "float", "int", "bool", "range"}
+    kind : {"str", "float", "int", "bool", "range", "strs", "floats", "size"}
         The type of one value (``"bool"``: a flag on the command line; ``"range"``: numbers given as one
-        value, ``START:STOP:COUNT`` or ``A,B,C``, each within the range, checked into a tuple).
+        value, ``START:STOP:COUNT`` or ``A,B,C``, each within the range, checked into a tuple); ``"strs"``
+        and ``"floats"``: a tuple of 1 to ``length`` names or numbers, each checked as a ``"str"`` or
+        ``"float"`` (typed as a comma list and as several values on the command line); ``"size"``: an
+        image's ``(width, height)`` in pixels, each an integer in ``[low, high]`` (typed ``WxH``).
     default : object
         The default (None: computed from other settings, or absent).
     doc : str
@@ -56,6 +60,8 @@ class Setting:
         How ``--help`` shows the option's value (default: ``M`` for lengths, ``N`` otherwise).
     aliases : tuple of str
         Further command-line spellings of the option (``--replace`` beside ``--force``).
+    length : int, optional
+        Most values of a ``"strs"`` or ``"floats"`` setting (None: any number).
     """
 
     name: str
@@ -73,6 +79,7 @@ class Setting:
     table: str = ""
     metavar: str | None = None
     aliases: tuple = ()
+    length: int | None = None
 
     @property
     def path(self) -> str | None:
@@ -99,6 +106,10 @@ class Setting:
         name = name or self.name
         if value is None:
             return None
+        if self.kind in _SEQUENCES:
+            return self._check_sequence(value, name)
+        if self.kind == "size":
+            return parse_size(value, name) if isinstance(value, str) else check_size(value, name)
         if self.kind == "str":
             return check_choice(name, value, self.choices) if self.choices else str(value)
         if self.kind == "range":
@@ -123,8 +134,30 @@ class Setting:
             check_range(name, v, self.low, self.high, unit=self.unit, low_open=self.low_open)
         return values
 
+    def _check_sequence(self, value, name: str) -> tuple:
+        """A ``"strs"`` or ``"floats"`` value: a tuple of 1 to ``length`` distinct names, or of ranged numbers."""
+        if isinstance(value, str):  # a comma list, as typed
+            value = [v.strip() for v in value.split(",") if v.strip()]
+        try:
+            values = tuple(value)
+        except TypeError:
+            values = (value,)
+        if not values or (self.length and len(values) > self.length):
+            most = f"one to at most {self.length} values" if self.length else "at least one value"
+            raise ParameterError(name, f"expected {most}, got {len(values)}")
+        if self.kind == "floats":
+            return tuple(check_range(name, v, self.low, self.high, unit=self.unit, low_open=self.low_open)
+                         for v in values)
+        if any(not isinstance(v, str) or (self.choices and v not in self.choices) for v in values) \
+                or len(set(values)) != len(values):
+            allowed = f"a subset of {', '.join(self.choices)}" if self.choices else "distinct names"
+            raise ParameterError(name, f"expected {allowed}, got {list(values)!r}")
+        return values
 
-_TYPES = {"str": str, "float": float, "int": int, "range": str}
+
+#: Kinds holding several values.
+_SEQUENCES = ("strs", "floats")
+_TYPES = {"str": str, "float": float, "int": int, "range": str, "strs": str, "floats": float, "size": str}
 
 
 def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, parse_choices: bool = True,
@@ -149,11 +182,21 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
         group.add_argument(s.option, *s.aliases, action="store_true", default=s.default if default == SAME else default,
                            help=s.doc.replace("%", "%%"), **kw)
         return
-    bounded = s.kind != "str" and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
+    bounded = s.kind not in ("str", "strs") and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
     rng = f", {'each ' if s.kind == 'range' else ''}in {s.range_text()}" if bounded else ""
     value = s.default if default == SAME else default
+    if s.kind == "size" and isinstance(value, tuple):  # as typed: WxH
+        value = "{}x{}".format(*value)
+    elif s.kind == "strs" and isinstance(value, tuple):  # as typed: a comma list
+        value = ",".join(value)
+    elif s.kind == "floats":  # several values after the option
+        kw.setdefault("nargs", "+")
     shown = " (default %(default)s)" if value is not None else ""
-    choices = s.choices if parse_choices else ()
+    if s.kind == "floats" and value is not None:
+        shown = f" (default {' '.join(f'{v:g}' for v in value)})"
+    if s.kind == "strs":
+        rng = f", a comma list of {', '.join(s.choices)}" if s.choices else ", a comma list"
+    choices = s.choices if parse_choices and s.kind != "strs" else ()
     metavar = metavar or s.metavar
     if metavar is None and not choices:
         metavar = "M" if s.unit == "m" else "N"

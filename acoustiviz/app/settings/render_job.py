@@ -1,0 +1,189 @@
+"""The settings of the render jobs: one impact, its surroundings, one 3-D view, its picture and its files.
+
+:class:`SnapshotJob`, :class:`BalloonJob` and :class:`AnimationJob` are the whole of what
+:func:`acoustiviz.app.render_job.run` needs, checked once when made (the table's ranges, the view
+against the fluid, the memory and output budget, the files to write), so ``acoustiviz render
+snapshot|balloon|animation``, a scene's ``[outputs.snapshot|balloon|animation]`` and a Python caller
+build the same object and hand it to the same run. Each is its view's settings
+(:mod:`acoustiviz.app.settings.render`) with the impact, the caption, the files and the memory cap
+added, as keyword arguments.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ...errors import ParameterError
+from .base import Settings
+from .render import (
+    ANIMATION,
+    BALLOON,
+    SECTION_LIST,
+    SIZES,
+    SNAPSHOT,
+    TIMES,
+    TITLE,
+    VIEW_FILES,
+    AnimationSettings,
+    BalloonSettings,
+    SnapshotSettings,
+)
+
+__all__ = ["ViewJob", "SnapshotJob", "BalloonJob", "AnimationJob", "JOB_OF_VIEW"]
+
+#: File kind -> the format :func:`acoustiviz.app.outputs.check_output_file` checks it as.
+_FORMATS = {"png": "png", "gif": "gif", "mp4": "mp4", "vtk": "vtk", "html": "html"}
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class ViewJob(Settings):
+    """What every render job holds besides its view: the impact, the caption, the VTK file and the memory cap.
+
+    Attributes
+    ----------
+    impact : acoustiviz.core.contact.Impact
+        Speed (m/s), K_HZ (N/m^1.5) and masses (kg) of the impact.
+    pulse : pulse
+        The acceleration pulse (m/s² against s).
+    medium : acoustiviz.core.medium.Medium
+        The fluid.
+    configuration : acoustiviz.core.geometry.Geometry
+        The sphere and its image sources.
+    title : str, optional
+        Replaces the default caption of the picture (None: :meth:`caption`).
+    vtk : str, optional
+        The data behind the picture as a ``.vtu`` (or ``.vtkhdf``) file, with ``<stem>_geometry.vtu``
+        beside it; relative to the folder the result's ``write`` is given.
+    max_memory_mb : float, optional
+        Cap in MB on the estimated memory and output (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
+    k_hertz_source : str
+        Where K_HZ came from (reported; not compared).
+    names : dict
+        The front end's vocabulary: API parameter -> the option or scene key its errors name
+        (not compared; default: the API names).
+    """
+
+    VIEW = ""
+    #: The files of the view, in the order they are written.
+    FILES = ()
+    impact: object
+    pulse: object
+    medium: object
+    configuration: object
+    title: str | None = None
+    vtk: str | None = None
+    max_memory_mb: float | None = None
+    k_hertz_source: str = dataclasses.field(default="given", compare=False)
+    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+
+    def files(self) -> dict:
+        """``{kind: path}`` of the files asked for (strings), in :attr:`FILES` order."""
+        return {k: getattr(self, k) for k in self.FILES if getattr(self, k) is not None}
+
+    def name(self, api: str) -> str:
+        """The option or scene key of API parameter ``api`` (itself without one)."""
+        return self.names.get(api, api)
+
+    def caption(self) -> str:
+        """The default caption of a field view: the configuration, the sphere and the impact."""
+        imp, conf = self.impact, self.configuration
+        return (f"{conf.caption(long=True)}: a = {conf.radius * 1e3:.4g} mm, m = {imp.mass * 1e3:.4g} g, "
+                f"U0 = {imp.velocity:g} m/s, K_HZ = {imp.k_hertz:.3g} N/m^1.5, contact {imp.duration * 1e6:.0f} µs, "
+                f"{self.pulse.kind} pulse")
+
+    def validate(self) -> None:
+        """The view's own checks, then the files, the view in the fluid and the memory and output budget."""
+        super().validate()
+        self._check_files()
+        self._check_fits()
+        self._check_budget()
+
+    def _check_files(self) -> None:
+        from ...output.vtk import geometry_path
+        from ..outputs import check_distinct, check_output_file
+        from ..render import check_view_outputs
+
+        check_view_outputs({k: getattr(self, k) for k in self.FILES}, {k: self.name(k) for k in self.FILES},
+                           require=False)
+        paths = {}
+        for key, path in self.files().items():
+            paths[self.name(key)] = check_output_file(self.name(key), path, _FORMATS[key])
+        if self.vtk is not None:
+            name = self.name("vtk")
+            paths[f"{name} (geometry)"] = check_output_file(name, geometry_path(self.vtk), "vtk")
+        check_distinct(paths)
+
+    def _check_fits(self) -> None:
+        from ..render import check_view_fits
+
+        check_view_fits(self.VIEW, self, self.configuration)
+
+    def _check_budget(self) -> None:
+        from ..budget import check_budget
+        from ..render import render_estimate
+
+        n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4"))  # movies hold every frame
+        est = render_estimate(self.VIEW, self, len(self.configuration.sources), n_files=n_files, options=self.names)
+        check_budget(est, self.max_memory_mb, cap_name=self.name("max_memory_mb"))
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class SnapshotJob(ViewJob, SnapshotSettings):
+    """The pressure on planes through the sphere at given times, as a PNG, a VTK file and an HTML page.
+
+    The view's settings are those of :class:`~acoustiviz.app.settings.render.SnapshotSettings`
+    (``times`` in s, ``sections``, ``extent`` in m, ``n_u``, ``clim`` in Pa, ``size`` in px); the
+    rest those of :class:`ViewJob`; ``png`` and ``html`` name the picture and the page.
+    """
+
+    TABLE = (*SNAPSHOT, TIMES, SECTION_LIST, SIZES["snapshot"], TITLE, *(VIEW_FILES[k] for k in ("png", "vtk", "html")))
+    VIEW = "snapshot"
+    FILES = ("png", "vtk", "html")
+    png: str | None = None
+    html: str | None = None
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class BalloonJob(ViewJob, BalloonSettings):
+    """The directivity balloon around the contact point, as a PNG, a VTK file and an HTML page.
+
+    The view's settings are those of :class:`~acoustiviz.app.settings.render.BalloonSettings`
+    (``distance`` in m, ``metric``, ``db_range`` in dB, ``n_theta``, ``opacity``, ``size`` in px); the
+    rest those of :class:`ViewJob`; ``png`` and ``html`` name the picture and the page.
+    """
+
+    TABLE = (*BALLOON, SIZES["balloon"], TITLE, *(VIEW_FILES[k] for k in ("png", "vtk", "html")))
+    VIEW = "balloon"
+    FILES = ("png", "vtk", "html")
+    png: str | None = None
+    html: str | None = None
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class AnimationJob(ViewJob, AnimationSettings):
+    """The wavefront leaving the impact, frame by frame, as a GIF, an MP4 and a VTK file.
+
+    The view's settings are those of :class:`~acoustiviz.app.settings.render.AnimationSettings`
+    (``frames``, ``fps`` in frames/s, ``sections``, ``extent`` in m, ``n_u``, ``clim`` in Pa, ``size``
+    in px); the rest those of :class:`ViewJob`; ``gif`` and ``mp4`` name the movies (an MP4 needs
+    ``imageio-ffmpeg``).
+    """
+
+    TABLE = (*ANIMATION, SECTION_LIST, SIZES["animation"], TITLE, *(VIEW_FILES[k] for k in ("gif", "mp4", "vtk")))
+    VIEW = "animation"
+    FILES = ("gif", "mp4", "vtk")
+    gif: str | None = None
+    mp4: str | None = None
+
+    def _check_files(self) -> None:
+        super()._check_files()
+        if self.mp4 is not None:
+            from ...output.render import mp4_available
+
+            if not mp4_available():
+                raise ParameterError(self.name("mp4"), "writing MP4 needs imageio and imageio-ffmpeg ('pip install "
+                                                       "imageio-ffmpeg'); use a GIF instead")
+
+
+#: View name -> its job class.
+JOB_OF_VIEW = {"snapshot": SnapshotJob, "balloon": BalloonJob, "animation": AnimationJob}
