@@ -16,11 +16,12 @@ from .table import Setting
 
 __all__ = ["ALL", "LEVELS", "LevelsSettings", "LevelsJob"]
 
-SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav")
+SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav", positional=True,
+                 required=True)
 
 ALL = (
     Setting("csv", "--csv", None, "str", None, "one row per channel; the bands go to OUT_bands.csv beside it",
-            metavar="OUT.csv"),
+            metavar="OUT.csv", required=True),
     Setting("pa_per_fs", "--pa-per-fs", None, "float", None,
             "calibration (Pa per full scale) when the file has no sidecar", "Pa", low=0.0, low_open=True,
             metavar="PA"),

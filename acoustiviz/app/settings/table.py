@@ -35,8 +35,9 @@ class Setting:
         The command-line option (None: none).
     key : str or None
         The scene key within its table (None: none).
-    kind : {"str", "float", "int", "bool"}
-        The type of one value (``"bool"``: a flag on the command line).
+    kind : {"str", "float", "int", "bool", "floats", "ints", "strs", "point"}
+        The type of the value (``"bool"``: a flag on the command line; a list, ``"floats"``,
+        ``"ints"``, ``"strs"`` or a ``"point"`` of 3 numbers, only in a scene).
     default : object
         The default (None: computed from other settings, or absent).
     doc : str
@@ -55,6 +56,17 @@ class Setting:
         How ``--help`` shows the option's value (default: ``M`` for lengths, ``N`` otherwise).
     aliases : tuple of str
         Further command-line spellings of the option (``--replace`` beside ``--force``).
+    scene_kind : str, optional
+        The scene's type of the value where the command line types it as text (``"floats"``: the
+        option ``--room 6,4,3`` is the key ``room_m = [6, 4, 3]``); None: ``kind``.
+    length : int, optional
+        The number of values of a list: the most of ``"floats"``, exactly that many of ``"ints"``.
+    scene_doc : str, optional
+        The meaning in the scene's words where ``doc`` names other options (None: ``doc``).
+    positional : bool
+        A positional argument of its command (named by ``option`` in errors and ``--help``), not an option.
+    required : bool
+        The command line requires the option.
     """
 
     name: str
@@ -72,11 +84,26 @@ class Setting:
     table: str = ""
     metavar: str | None = None
     aliases: tuple = ()
+    scene_kind: str | None = None
+    length: int | None = None
+    scene_doc: str | None = None
+    positional: bool = False
+    required: bool = False
 
     @property
     def path(self) -> str | None:
         """The full scene key (``"grids.plane.resolution"``), None without one."""
         return f"{self.table}.{self.key}" if self.key else None
+
+    @property
+    def key_kind(self) -> str:
+        """The type of the scene key."""
+        return self.scene_kind or self.kind
+
+    @property
+    def key_doc(self) -> str:
+        """The meaning of the scene key."""
+        return self.scene_doc or self.doc
 
     @property
     def in_scene(self) -> object:
@@ -137,6 +164,12 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
         group.add_argument(s.option, *s.aliases, action="store_true", default=s.default if default == SAME else default,
                            help=s.doc.replace("%", "%%"), **kw)
         return
+    if s.positional:  # named by its API name; an optional one takes its default when left out
+        more = {} if s.required else {"nargs": "?", "default": s.default if default == SAME else default}
+        group.add_argument(s.name, metavar=metavar or s.metavar, help=s.doc.replace("%", "%%"), **more, **kw)
+        return
+    if s.required:
+        kw = {"required": True, **kw}
     bounded = s.kind != "str" and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
     rng = f", in {s.range_text()}" if bounded else ""
     value = s.default if default == SAME else default
