@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..app.settings.run import RUN
+from ..app.settings.run import RUN_OPTIONS
 from ..app.settings.table import add_option
 
 
@@ -15,7 +15,7 @@ def add_parser(subparsers) -> None:
         "damper striking a reflecting plane, listener at 0.7 m and 45 deg, with a small set of every "
         "kind of output. Writes DIR/summary.md listing each file and its key figures.",
     )
-    for s in RUN:
+    for s in RUN_OPTIONS:
         add_option(p, s)
     p.set_defaults(func=run)
 

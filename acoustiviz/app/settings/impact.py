@@ -45,18 +45,22 @@ IMPACT_GROUPS = (
         Setting("k_hertz", "--k-hertz", None, "float", None,
                 f"Hertz contact stiffness in N/m^1.5 (default {PAPER_K_HERTZ:g}, or from --material/--surface when "
                 "given)", "N/m^1.5", low=0.0, high=1e14, low_open=True, metavar="N/M^1.5"),
-        Setting("material", "--material", None, "str", None,
-                "sphere material from the catalogue (sets density and, with --surface, K_HZ)", metavar="NAME"),
-        Setting("surface", "--surface", None, "str", None,
-                "surface material from the catalogue (default: same as --material, else steel)", metavar="NAME"),
+        Setting("material", "--material", "material", "str", None,
+                "sphere material from the catalogue (sets density and, with --surface, K_HZ)", metavar="NAME",
+                table="sphere", scene_doc="sphere material from the catalogue (sets density; with contact.surface, "
+                "K_HZ)"),
+        Setting("surface", "--surface", "surface", "str", None,
+                "surface material from the catalogue (default: same as --material, else steel)", metavar="NAME",
+                table="contact",
+                scene_doc="surface material from the catalogue (K_HZ from sphere and surface materials)"),
         Setting("density", "--density", "density_kg_m3", "float", None,
                 f"sphere density (default {PAPER_DENSITY:g} or the material's)", "kg/m^3", low=0.0, high=1e5,
                 low_open=True, table="sphere", metavar="KG/M^3"),
         Setting("mass", "--mass", "mass_kg", "float", None, "sphere mass; replaces the density", "kg", low=0.0,
                 high=1e4, low_open=True, table="sphere", metavar="KG"),
-        Setting("pulse", "--pulse", None, "str", "half-sine",
+        Setting("pulse", "--pulse", "pulse", "str", "half-sine",
                 "acceleration pulse: the paper's peak-matched half-sine, an impulse-matched half-sine, or the exact "
-                "Hertz pulse", choices=PULSES),
+                "Hertz pulse", choices=PULSES, table="contact", scene_doc="acceleration pulse"),
     )),
     ("medium", (
         Setting("c", "--c", "c_m_s", "float", DEFAULT_SOUND_SPEED, "speed of sound in the fluid",

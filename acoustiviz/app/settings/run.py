@@ -5,7 +5,7 @@ from __future__ import annotations
 from ...constants import MAX_MEMORY_MB
 from .table import Setting
 
-__all__ = ["MAX_MEMORY", "RUN"]
+__all__ = ["MAX_MEMORY", "RUN_OPTIONS"]
 
 #: Every command's cap on its estimated memory and output size, in MB (checked by
 #: :func:`acoustiviz.app.budget.outer_cap`; a scene's run also keeps under its ``grids.memory_limit_mb``).
@@ -15,7 +15,7 @@ MAX_MEMORY = Setting("max_memory_mb", "--max-memory", None, "float", None,
                      metavar="MB")
 
 #: ``acoustiviz run``: the scene file, the output folder and what is printed.
-RUN = (
+RUN_OPTIONS = (
     Setting("scene", "SCENE", None, "str", None, "scene file (TOML)", metavar="SCENE", positional=True),
     Setting("out", "--out", None, "str", None, "output folder", metavar="DIR"),
     Setting("quiet", "--quiet", None, "bool", False, "no progress messages"),

@@ -45,7 +45,7 @@ class Setting:
     unit : str
         SI unit of a number ("" for counts and names).
     low, high : float
-        Allowed interval of a number (``low`` excluded when ``low_open``).
+        Allowed interval of a number (``low`` excluded when ``low_open``, ``high`` when ``high_open``).
     choices : tuple
         The allowed names of a string.
     scene_default : object
@@ -79,6 +79,7 @@ class Setting:
     low: float = -math.inf
     high: float = math.inf
     low_open: bool = False
+    high_open: bool = False
     choices: tuple = ()
     scene_default: object = SAME
     table: str = ""
@@ -115,7 +116,7 @@ class Setting:
         if self.kind == "str":
             return ""
         u = f" {self.unit}" if self.unit else ""
-        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}]{u}"
+        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}{u}"
 
     def check(self, value, name: str | None = None):
         """``value`` in the setting's type, or a :class:`ParameterError` naming ``name`` (default: the API name).
@@ -136,7 +137,8 @@ class Setting:
                     or not self.low <= value <= self.high:
                 raise ParameterError(name, f"must be an integer in [{self.low:g}, {self.high:g}], got {value!r}")
             return int(value)
-        return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open)
+        return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open,
+                           high_open=self.high_open)
 
 
 _TYPES = {"str": str, "float": float, "int": int}
