@@ -10,6 +10,7 @@ from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
+from ..app.settings.levels import ALL as LEVELS_OPTIONS
 from ..app.settings.map import MAP_SCENE_VTK
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
@@ -196,7 +197,7 @@ _OUT = {
                                           "alpha A in [0, 1)) or 'F:A1/A2/A3/A4/A5/A6,...' per surface; the "
                                           "room's other outputs use each surface's least absorbing band", None)},
                  "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
-    "levels": Table(_from_table(OUTPUT_KEYS, "outputs.levels"),
+    "levels": Table(_from_table(LEVELS_OPTIONS, "outputs.levels"),
                     "LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL, SEL(A) of the damper run at each listener, "
                     "evaluated at 96 kHz (CSV)"),
     "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),

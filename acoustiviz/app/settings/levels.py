@@ -29,9 +29,10 @@ ALL = (
             "start of the interval (default: the start of the file)", "s", low=0.0, metavar="S"),
     Setting("stop", "--stop", None, "float", None,
             "end of the interval (default: the end of the file)", "s", low=0.0, low_open=True, metavar="S"),
-    Setting("loudness", "--loudness", None, "bool", False,
+    Setting("loudness", "--loudness", "loudness", "bool", False,
             "also ISO 532-1 loudness N5/Nmax (sone) and DIN 45692 sharpness (acum); needs mosqito "
-            "(pip install 'acoustiviz[hearing]')"),
+            "(pip install 'acoustiviz[hearing]')", table="outputs.levels",
+            scene_doc="also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)"),
 )
 
 #: The settings whose range :class:`LevelsSettings` checks on its own, before any other check.

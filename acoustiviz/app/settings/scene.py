@@ -71,6 +71,4 @@ OUTPUT_KEYS = (
             low=1e-6, high=1e4, table="outputs.restitution"),
     Setting("velocities", None, "velocities_m_s", "floats", [0.5, 1.0, 2.0], "approach speeds", "m/s", low=1e-4,
             high=1e3, table="outputs.restitution"),
-    Setting("loudness", None, "loudness", "bool", False,
-            "also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)", table="outputs.levels"),
 )
