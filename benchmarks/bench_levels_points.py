@@ -10,9 +10,9 @@ The paper's click (19.05 mm steel sphere at 1.4 m/s) in the three configurations
 2. Old against new on the same points, side by side in one run: the default balloon (32 polar
    nodes at 0.7 m, 64 points a chunk as the balloon takes them) and a 181-angle directivity at
    0.7 m (1 deg steps in free field, 0.5 deg over the quarter circle of the plane and the corner).
-   ``old`` is :func:`acoustiviz.app.views.reference_metric_levels` (``impact_signals`` over 1 s and
+   ``old`` is :func:`acoustiviz.sound.impact_levels.reference_metric_levels` (``impact_signals`` over 1 s and
    ``sound_levels``), which computes all eight levels whichever is asked, so it is timed once per
-   view and configuration; ``new`` is :func:`acoustiviz.app.views.points_metric_levels` for that
+   view and configuration; ``new`` is :func:`acoustiviz.sound.impact_levels.points_metric_levels` for that
    metric alone (``all 8``: the eight from one sound). ``max |dL|`` is the largest difference in dB
    between the two over the points.
 """
@@ -26,17 +26,14 @@ import numpy as np
 from _timing import best_of
 
 from acoustiviz.app.impacts import impact_setup
-from acoustiviz.app.views import (
-    directivity_angles,
-    points_metric_levels,
-    reference_metric_levels,
-)
+from acoustiviz.app.views import directivity_angles
 from acoustiviz.constants import ANALYSIS_RATE
 from acoustiviz.core.signal import Signal
 from acoustiviz.field import directivity, time_series, waveform_span
 from acoustiviz.levels import METRICS, sound_levels
 from acoustiviz.levels.transient import transient_levels
 from acoustiviz.output import render
+from acoustiviz.sound.impact_levels import points_metric_levels, reference_metric_levels
 
 CONFIGS = ("free", "plane", "wall-floor")
 

@@ -51,8 +51,8 @@ FILES = ("directivity.csv", "directivity.png")
 
 def _api_job(config: dict, distance: float, metric: str, **kw) -> DirectivityJob:
     setup = impact_setup(**SPHERE, **config)
-    return DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, distance, step_deg=30.0,
-                          metric=metric, **kw)
+    return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
+                          configuration=setup.configuration, distance=distance, step_deg=30.0, metric=metric, **kw)
 
 
 @pytest.mark.parametrize("case", CASES)

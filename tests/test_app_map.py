@@ -69,7 +69,7 @@ def test_every_front_end_writes_the_same_files(case, tmp_path, monkeypatch, caps
     api = tmp_path / "api"
     api.mkdir()
     s = _setup(case)
-    result = run(MapJob(s.impact, s.pulse, s.medium, s.configuration, **job, **FILES))
+    result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration, **job, **FILES))
     written = result.write(api)
     assert sorted(p.name for p in written) == list(WRITTEN)
     for name in WRITTEN:
@@ -81,7 +81,8 @@ def test_every_front_end_writes_the_same_files(case, tmp_path, monkeypatch, caps
 
 def test_the_result_holds_the_grid_and_the_levels_in_si_units():
     s = _setup("vertical")
-    result = run(MapJob(s.impact, s.pulse, s.medium, s.configuration, extent=0.2, resolution=24))
+    result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration, extent=0.2,
+                        resolution=24))
     level = result.level
     n = level.grid.points.shape[0]
     assert level.peak_pa.shape == level.sel_db.shape == (n,)

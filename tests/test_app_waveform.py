@@ -44,8 +44,9 @@ def _api_job(config: dict, point, folder: Path) -> WaveformJob:
     setup = impact_setup(**SPHERE, **config)
     if point is None:
         point = observer_points(setup.configuration, 0.7, math.radians(45.0))[0]
-    return WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,
-                       (Listener("listener", point),), csv="waveform_listener.csv", png="waveform_listener.png")
+    return WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
+                       configuration=setup.configuration, listeners=(Listener("listener", point),),
+                       csv="waveform_listener.csv", png="waveform_listener.png")
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -97,7 +98,7 @@ def _plane_job(**kw):
     points = observer_points(setup.configuration, 0.7, np.radians([30.0, 60.0]))
     values = dict(pulses=(setup.pulse,), listeners=(Listener("a", points[0]), Listener("b", points[1])))
     values.update(kw)
-    return WaveformJob(setup.impact, medium=setup.medium, configuration=setup.configuration, **values)
+    return WaveformJob(impact=setup.impact, medium=setup.medium, configuration=setup.configuration, **values)
 
 
 def test_several_listeners_need_the_placeholder_in_each_file_name(tmp_path):
@@ -113,7 +114,8 @@ def test_a_listener_inside_the_sphere_or_below_the_floor_is_refused_by_its_key()
     setup = impact_setup(**SPHERE, config="plane")
     for where in (setup.configuration.centre, setup.configuration.centre - [0.0, 0.0, 0.5]):
         with pytest.raises(ParameterError, match=r"^listeners\[0\]: listener 'x'"):
-            WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration, (Listener("x", where),),
+            WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
+                        configuration=setup.configuration, listeners=(Listener("x", where),),
                         names={"listeners": "listeners[0]"})
 
 

@@ -217,3 +217,17 @@ def test_damped_contact_peak_force_is_the_refined_maximum():
     assert coarse.peak_force == pytest.approx(fine.peak_force, rel=1e-12)
     assert coarse.peak_force >= float(fine.force.max()) * (1 - 1e-13)  # no sample lies above it
     assert coarse.peak_force - float(fine.force.max()) < 1e-9 * coarse.peak_force
+
+
+def test_sampled_pulses_compare_by_value():
+    """Two pulses with the same samples are equal (a settings object holding one can be compared)."""
+    from acoustiviz.core.pulses import HertzPulse, SampledPulse
+
+    assert HertzPulse(1000.0, 1e-4) == HertzPulse(1000.0, 1e-4)
+    assert HertzPulse(1000.0, 1e-4) != HertzPulse(1001.0, 1e-4)
+    assert SampledPulse([0.0, 1e-4, 2e-4], [0.0, 1.0, 0.0]) == SampledPulse((0.0, 1e-4, 2e-4), (0.0, 1.0, 0.0))
+    assert SampledPulse([0.0, 1e-4, 2e-4], [0.0, 1.0, 0.0]) != SampledPulse([0.0, 1e-4, 2e-4], [0.0, 2.0, 0.0])
+    assert HertzPulse(1000.0, 1e-4) != SampledPulse(HertzPulse(1000.0, 1e-4).times,
+                                                    HertzPulse(1000.0, 1e-4).acceleration_samples, "hertz")
+    with pytest.raises(TypeError):
+        hash(HertzPulse(1000.0, 1e-4))

@@ -64,3 +64,21 @@ def test_scene_and_command_line_give_the_same_verdict(scene_kw, key, option, cli
 def test_listener_outside_the_room_is_refused():
     with pytest.raises(SceneError, match="listeners"):
         scene_from_text(_text(listener="[3.0, 2.0, 3.5]"), "s.toml")
+
+
+@pytest.mark.parametrize("key, value, option, text", [
+    ("tolerance_db", "0.0", "--tolerance-db", "[-200, 0) dB"),
+    ("image_order", "10001", "--image-order", "[0, 10000]"),
+])
+def test_room_ranges_are_one_record_for_scene_and_command_line(key, value, option, text, tmp_path, capsys):
+    """The image model's ranges come from one record: a scene and the command line refuse the same value."""
+    scene = _text(table="configuration").replace("window_s = 0.05", f"window_s = 0.05\n{key} = {value}")
+    with pytest.raises(SceneError) as err:
+        scene_from_text(scene, "s.toml")
+    assert f"configuration.{key}" in str(err.value) and text in str(err.value)
+    assert main(["waveform", "--room", "6,4,3", "--absorption", "0.1", "--source", "2,1.5,0.01905",
+                 "--listener", "3,2,1.5", "--duration", "0.05", option, value,
+                 "--csv", str(tmp_path / "o.csv")]) == 2
+    cli_err = capsys.readouterr().err.strip()
+    assert f"{option}: " in cli_err and text in cli_err
+    assert not (tmp_path / "o.csv").exists()

@@ -185,3 +185,40 @@ def test_damper_command_solver_options_are_records(parser):
         assert err.value.name == "dt" and "(0, 10000] s" in err.value.detail
     with pytest.raises(ParameterError):
         DamperSettings(clip_tensile="yes")
+
+
+def test_add_option_makes_positional_and_required_arguments():
+    """A positional record is named by its API name (optional unless required); a required option must be given."""
+    from acoustiviz.app.settings.table import Setting, add_option
+
+    class Refuse(argparse.ArgumentParser):
+        def error(self, message):
+            raise ValueError(message)
+
+    parser = Refuse()
+    add_option(parser, Setting("wav", "WAV", None, "str", None, "the file", metavar="WAV", positional=True,
+                               required=True))
+    add_option(parser, Setting("scene", "SCENE", None, "str", None, "the scene", metavar="SCENE", positional=True))
+    add_option(parser, Setting("csv", "--csv", None, "str", None, "the table", metavar="PATH", required=True))
+    args = parser.parse_args(["a.wav", "--csv", "t.csv"])
+    assert (args.wav, args.scene, args.csv) == ("a.wav", None, "t.csv")
+    assert parser.parse_args(["a.wav", "s.toml", "--csv", "t.csv"]).scene == "s.toml"
+    with pytest.raises(ValueError, match="--csv"):
+        parser.parse_args(["a.wav"])
+    with pytest.raises(ValueError, match="WAV"):
+        parser.parse_args(["--csv", "t.csv"])
+    text = parser.format_help()
+    assert "WAV" in text and "the file" in text and "[SCENE]" in text
+
+
+def test_a_scene_key_shares_the_record_of_its_option():
+    """--room and configuration.room_m are one record: the scene's key is a list of 3 lengths, the option text."""
+    from acoustiviz.app.settings.room import ROOM
+    from acoustiviz.scene.schema import SCHEMA
+
+    room = next(s for s in ROOM if s.name == "room")
+    key = SCHEMA["configuration"].keys[room.key]
+    assert (room.option, room.kind, key.kind, key.length, key.unit) == ("--room", "str", "floats", 3, "m")
+    assert key.doc == room.scene_doc != room.doc
+    tolerance = SCHEMA["configuration"].keys["tolerance_db"]
+    assert (tolerance.low, tolerance.high, tolerance.high_open) == (-200.0, 0.0, True)

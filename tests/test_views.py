@@ -4,19 +4,11 @@ import numpy as np
 import pytest
 
 from acoustiviz.app.impacts import impact_setup, observer_point
-from acoustiviz.app.views import (
-    balloon_levels,
-    directivity_angles,
-    directivity_metric,
-    impact_signals,
-    impact_sound,
-    point_levels,
-    points_metric_levels,
-    reference_metric_levels,
-)
+from acoustiviz.app.views import balloon_levels, directivity_angles, directivity_metric, point_levels
 from acoustiviz.errors import ParameterError
 from acoustiviz.field import directivity
 from acoustiviz.levels import METRICS
+from acoustiviz.sound.impact_levels import impact_signals, impact_sound, points_metric_levels, reference_metric_levels
 
 ALL = list(METRICS)
 TOL_DB = 0.01

@@ -327,16 +327,17 @@ def scene_estimates(scene, conf) -> list:
 
 
 def metric_estimate(pulse, points, config, medium, metric: str, options=("--step", "--distance")) -> Estimate:
-    """A weighted level (``metric``) at ``points``: :func:`acoustiviz.app.views.points_metric_levels`, all at once.
+    """A weighted level (``metric``) at ``points``, all at once, as ``points_metric_levels`` computes it.
 
-    Every point's sound is evaluated in closed form at the oversampled times of
-    :func:`acoustiviz.app.views.sound_samples` (8 B each) and decimated by an FFT convolution,
+    Every point's sound (:func:`acoustiviz.sound.impact_levels.points_metric_levels`) is evaluated in
+    closed form at the oversampled times of
+    :func:`acoustiviz.sound.impact_levels.sound_samples` (8 B each) and decimated by an FFT convolution,
     which holds about four more arrays of that size (its padded input, spectrum, product and
     output); the evaluator adds its geometry for one point (72 B per image). The points must be
     few enough to list (the angles' estimate is checked first).
     """
     from ..field._common import geometry_bytes
-    from .views import sound_samples
+    from ..sound.impact_levels import sound_samples
 
     k = int(np.asarray(points).reshape(-1, 3).shape[0])
     m = float(sound_samples(pulse, points, config, medium))

@@ -15,7 +15,8 @@ The paper's Figure 3 above a reflecting plane, at 0.7 m every 45°:
 
 >>> from acoustiviz.app.impacts import impact_setup
 >>> setup = impact_setup(radius=0.01905, velocity=1.4, density=7800.0, config="plane")
->>> job = DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, 0.7, step_deg=45.0)
+>>> job = DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
+...                      configuration=setup.configuration, distance=0.7, step_deg=45.0)
 >>> result = run(job)
 >>> result.angles_deg.round(6).tolist(), result.spl_db.round(1).tolist()
 ([0.0, 45.0, 90.0], [93.2, 88.8, 68.2])

@@ -12,7 +12,8 @@ Examples
 --------
 >>> from acoustiviz.app.impacts import impact_setup
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> result = run(MapJob(s.impact, s.pulse, s.medium, s.configuration, extent=0.3, resolution=21))
+>>> result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration,
+...                     extent=0.3, resolution=21))
 >>> result.level.grid.shape  # (points along z, along x): the map is cut at the floor
 (12, 21)
 """
@@ -101,7 +102,8 @@ def map_settings(scene, out=None):
     files = {} if out is None else {k: str(Path(out) / f"level_map.{'vtu' if k == 'vtk' else k}") for k in kinds}
     names = {**MapJob.scene_names(), **{k: "outputs.level_map" for k in ("png", "csv", "vtk")},
              "max_memory_mb": "grids.memory_limit_mb", "memory_limit": "grids.memory_limit_mb"}
-    return MapJob(setup.impact, setup.pulse, setup.medium, setup.configuration, plane=opts["plane"],
+    return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+                  plane=opts["plane"],
                   height=opts["height_m"], extent=opts["extent_m"], resolution=opts["resolution"],
                   max_memory_mb=scene.section("grids")["memory_limit_mb"], k_hertz_source=setup.k_hertz_source,
                   names=names, **files)

@@ -25,6 +25,7 @@ from .settings.damper import DAMPER
 from .settings.design import DESIGN, DESIGN_RUN
 from .settings.impact import IMPACT, OBSERVER, WAVEFORM
 from .settings.room import ROOM
+from .settings.scene import CONFIGURATION_KEYS
 from .settings.sweep import SCENE_SWEEP, SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
 from .settings.table import by_name
 
@@ -59,16 +60,10 @@ ROOM_OPTIONS = _names("option", ROOM, {"dimensions": "room", "strike": "room_str
 #: :func:`acoustiviz.app.damper.run_damper` / :class:`~acoustiviz.dynamics.DamperModel` parameter -> scene key.
 SCENE_DAMPER_KEYS = _names("path", DAMPER, {"v": "v0"})
 
-#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key: the records' keys, and the keys the scene
-#: schema still spells itself (material, surface, pulse, configuration kind and strike).
-SCENE_IMPACT_KEYS = {
-    **_names("path", IMPACT, {"k_hertz": "k_hertz"}, lookup=DAMPER),
-    "sphere_material": "sphere.material",
-    "surface_material": "contact.surface",
-    "pulse": "contact.pulse",
-    "config": "configuration.kind",
-    "strike": "configuration.strike",
-}
+#: :func:`acoustiviz.app.impacts.impact_setup` parameter -> scene key (the configuration's kind and struck surface
+#: are scene-only records, :mod:`acoustiviz.app.settings.scene`).
+SCENE_IMPACT_KEYS = _names("path", IMPACT + CONFIGURATION_KEYS, {"k_hertz": "k_hertz", **_IMPACT_ALIASES},
+                           lookup=DAMPER)
 
 
 #: :class:`~acoustiviz.app.settings.sweep_job.SweepJob` parameter (and the :class:`~acoustiviz.sweep.SweepSpec`'s and

@@ -155,8 +155,8 @@ def waveform_settings(scene, out=None):
     names = {"csv": "outputs.waveform", "png": "outputs.waveform", "listeners": "listeners",
              "pulses": "outputs.waveform.pulses", "max_memory_mb": "grids.memory_limit_mb",
              "memory_limit": "grids.memory_limit_mb"}
-    return WaveformJob(setup.impact, tuple(scene.pulse(kind=k) for k in kinds), setup.medium, setup.configuration,
-                       tuple(Listener(n, p) for n, p in scene.listeners()),
+    return WaveformJob(impact=setup.impact, pulses=tuple(scene.pulse(kind=k) for k in kinds), medium=setup.medium,
+                       configuration=setup.configuration, listeners=tuple(Listener(n, p) for n, p in scene.listeners()),
                        max_memory_mb=scene.section("grids")["memory_limit_mb"],
                        k_hertz_source=setup.k_hertz_source, names=names,
                        size_options=("configuration.window_s",) if room else ("listeners",), **files)
@@ -205,7 +205,8 @@ def directivity_settings(scene, out=None):
              "memory_limit": "grids.memory_limit_mb", "wall_distance": "configuration.wall_distance_m",
              "window": "configuration.window_s"}
     distance = float(np.linalg.norm(np.asarray(position, dtype=float) - setup.configuration.centre))
-    return DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, distance,
+    return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
+                          configuration=setup.configuration, distance=distance,
                           step_deg=opts["step_deg"], metric=opts.get("metric", "peak-spl"),
                           max_memory_mb=scene.section("grids")["memory_limit_mb"],
                           k_hertz_source=setup.k_hertz_source, names=names, **files)

@@ -15,8 +15,8 @@ The paper's Figure 2 waveform above a reflecting plane, at 0.7 m and 45°:
 >>> from acoustiviz.core.geometry import observer_points
 >>> setup = impact_setup(radius=0.01905, velocity=1.4, density=7800.0, config="plane")
 >>> point = observer_points(setup.configuration, 0.7, math.radians(45.0))[0]
->>> job = WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,
-...                   (Listener("paper", point),))
+>>> job = WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
+...                   configuration=setup.configuration, listeners=(Listener("paper", point),))
 >>> result = run(job)
 >>> round(result.peak_spl_db[0], 1)
 88.8

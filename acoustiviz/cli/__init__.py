@@ -75,6 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
             raise
         mod.add_parser(sub)
     from ..app.outputs import REPLACE
+    from ..app.settings.run import MAX_MEMORY
     from ..app.settings.table import add_option
 
     for leaf in _leaf_parsers(sub):
@@ -83,10 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
             dataclasses.replace(REPLACE, option=REPLACE.aliases[0], aliases=())
         add_option(leaf, record, dest=REPLACE.name)
         leaf.set_defaults(replace_option=record.option)
-        leaf.add_argument("--max-memory", type=float, default=None, metavar="MB",
-                          help=f"refuse work whose estimated memory or output size exceeds MB megabytes "
-                               f"(default {MAX_MEMORY_MB:g}; a scene's run also keeps under its "
-                               f"grids.memory_limit_mb)")
+        add_option(leaf, MAX_MEMORY)
     return parser
 
 

@@ -88,10 +88,12 @@ def impact_from_args(args, *, velocity: float | None = None):
     from ..app.impacts import impact_setup
     from ..app.names import IMPACT_OPTIONS, ROOM_OPTIONS, user_terms
     from ..app.settings.impact import IMPACT
+    from ..app.settings.room import ROOM
     from ..app.settings.table import check_values
 
-    with user_terms({s.name: s.option for s in IMPACT}):  # the records' fixed ranges, then the physics' limits
-        check_values({s.name: getattr(args, s.name) for s in IMPACT if hasattr(args, s.name)}, IMPACT)
+    records = IMPACT + ROOM
+    with user_terms({s.name: s.option for s in records}):  # the records' fixed ranges, then the physics' limits
+        check_values({s.name: getattr(args, s.name) for s in records if hasattr(args, s.name)}, records)
     cap = getattr(args, "max_memory", None)  # also caps a room's image order
     room = room_settings_from_args(args, duration=getattr(args, "duration", None), max_memory_mb=cap) \
         if hasattr(args, "room") else None

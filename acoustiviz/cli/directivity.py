@@ -49,7 +49,8 @@ def settings_from_args(args):
     setup = impact_from_args(args)
     names = {**IMPACT_OPTIONS, **ROOM_OPTIONS, **DirectivityJob.cli_names(), "max_memory_mb": "--max-memory",
              "memory_limit": "--max-memory", "angles": "--step", "window": "--duration"}
-    return DirectivityJob(setup.impact, setup.pulse, setup.medium, setup.configuration, args.distance,
+    return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
+                          configuration=setup.configuration, distance=args.distance,
                           step_deg=args.step, metric=args.metric, max_memory_mb=getattr(args, "max_memory", None),
                           csv=args.csv, png=args.png, k_hertz_source=setup.k_hertz_source, names=names)
 

@@ -10,9 +10,6 @@ from __future__ import annotations
 from ..app.settings.levels import ALL, SIGNAL
 from ..app.settings.table import add_option
 
-#: argparse arguments of an option beyond its record.
-_EXTRA = {"--csv": {"required": True}}
-
 
 def add_parser(subparsers) -> None:
     """Register the ``levels`` subcommand."""
@@ -23,9 +20,8 @@ def add_parser(subparsers) -> None:
         "from 25 Hz to 20 kHz), in dB re 20 uPa. The calibration (Pa per full scale) is read from the sidecar "
         "SIGNAL.json beside SIGNAL.wav when there is one, else from --pa-per-fs. Times in s.",
     )
-    p.add_argument(SIGNAL.name, metavar=SIGNAL.metavar, help=SIGNAL.doc)
-    for s in ALL:
-        add_option(p, s, **_EXTRA.get(s.option, {}))
+    for s in (SIGNAL, *ALL):
+        add_option(p, s)
     p.set_defaults(func=run)
 
 

@@ -45,7 +45,8 @@ def settings_from_args(args):
     room_duration(args)  # --duration with --room only, and required there
     setup = impact_from_args(args)
     names = {**CLI_NAMES, **MapJob.cli_names(), "memory_limit": "--max-memory"}
-    return MapJob(setup.impact, setup.pulse, setup.medium, setup.configuration, plane=args.plane,
+    return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+                  plane=args.plane,
                   height=args.plane_height, extent=args.extent, resolution=args.resolution,
                   max_memory_mb=getattr(args, "max_memory", None), png=args.png, csv=args.csv, vtk=args.vtk,
                   k_hertz_source=setup.k_hertz_source, names=names)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from ..app.settings.run import RUN_OPTIONS
+from ..app.settings.table import add_option
+
 
 def add_parser(subparsers) -> None:
     """Register the ``run`` subcommand."""
@@ -12,10 +15,8 @@ def add_parser(subparsers) -> None:
         "damper striking a reflecting plane, listener at 0.7 m and 45 deg, with a small set of every "
         "kind of output. Writes DIR/summary.md listing each file and its key figures.",
     )
-    p.add_argument("scene", nargs="?", default=None, metavar="SCENE", help="scene file (TOML)")
-    p.add_argument("--out", required=False, default=None, metavar="DIR", help="output folder")
-    p.add_argument("--quiet", action="store_true", help="no progress messages")
-    p.add_argument("--help-scene", action="store_true", help="print every scene key with unit, range and default")
+    for s in RUN_OPTIONS:
+        add_option(p, s)
     p.set_defaults(func=run)
 
 

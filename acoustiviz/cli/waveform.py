@@ -52,8 +52,9 @@ def settings_from_args(args):
         point = observer_point_from_options(setup, args.distance, args.angle)
     names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory",
              "listeners": "--listener" if listener is not None else "--distance"}
-    return WaveformJob(setup.impact, (setup.pulse,), setup.medium, setup.configuration,
-                       (Listener(LISTENER_NAME, point),), samples_per_duration=args.samples_per_duration,
+    return WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
+                       configuration=setup.configuration, listeners=(Listener(LISTENER_NAME, point),),
+                       samples_per_duration=args.samples_per_duration,
                        max_memory_mb=getattr(args, "max_memory", None), csv=args.csv, png=args.png,
                        k_hertz_source=setup.k_hertz_source, names=names,
                        size_options=given_first(_size_options(args), args.given_options))

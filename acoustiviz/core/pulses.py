@@ -72,7 +72,7 @@ class HalfSinePulse:
         return abs(self.amplitude)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SampledPulse:
     """An acceleration pulse given by samples, linear between them and zero outside.
 
@@ -100,6 +100,13 @@ class SampledPulse:
     times: np.ndarray
     acceleration_samples: np.ndarray
     kind: str = "sampled"
+
+    def __eq__(self, other):
+        """Equal pulses are of one class and kind with equal samples (by value; unhashable, as arrays are)."""
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return self.kind == other.kind and np.array_equal(self.times, other.times) \
+            and np.array_equal(self.acceleration_samples, other.acceleration_samples)
 
     def __post_init__(self):
         t = np.array(self.times, dtype=float)

@@ -10,17 +10,18 @@ from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
+from ..app.settings.levels import ALL as LEVELS_OPTIONS
+from ..app.settings.map import MAP_SCENE_VTK
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, SCENE_FILES, SECTION_LIST, SIZES, SNAPSHOT, TIMES
+from ..app.settings.room import ROOM
+from ..app.settings.scene import CONFIGURATION_KEYS, CONTACT_KEYS, GRIDS, LISTENER_KEYS, OUTPUT_KEYS, SCENE, SPHERE_KEYS
 from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_SOUND, SWEPT
 from ..constants import (
     EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
-    PULSES,
-    ROOM_STRIKES,
 )
-from ..core.geometry import GEOMETRIES
 
 __all__ = [
     "SCHEMA",
@@ -43,6 +44,7 @@ class Key:
     low_open: bool = False
     choices: tuple = ()
     length: int | None = None  # most values of "floats", exact count of "ints"
+    high_open: bool = False
 
 
 @dataclass(frozen=True)
@@ -54,81 +56,56 @@ class Table:
     array: bool = False  # [[name]] array of tables
 
 
-def _pos(doc, unit, default=None, **kw):
-    return Key("float", doc, default, unit, low=0.0, low_open=True, **kw)
+def _key(st) -> Key:
+    """The scene key of record ``st``: its scene type, meaning and default where they differ from the command line's.
 
-def _from_table(settings, table: str) -> dict:
-    """The keys of scene table ``table`` (``"grids.sphere"``) among ``settings``, built from their records.
-
-    The records are the single home of each range, unit, default and meaning
-    (:mod:`acoustiviz.app.settings`); the scene takes its own default where it has one.
+    An image size is the list ``[width, height]``; a tuple default is the list TOML gives.
     """
-    keys = {}
-    for st in settings:
-        if st.key and st.table == table:
-            kind, default, length = _KINDS.get(st.kind, st.kind), st.in_scene, st.length
-            if st.kind == "size":  # [width, height]
-                length = 2
-            if isinstance(default, tuple):  # as TOML gives it
-                default = list(default)
-            keys.setdefault(st.key, Key(kind, st.doc, default, st.unit, low=st.low, high=st.high,
-                                        low_open=st.low_open, choices=st.choices, length=length))
-    return keys
+    kind, default, length = _KINDS.get(st.key_kind, st.key_kind), st.in_scene, st.length
+    if st.key_kind == "size":
+        length = 2
+    if isinstance(default, tuple):
+        default = list(default)
+    return Key(kind, st.key_doc, default, st.unit, low=st.low, high=st.high, low_open=st.low_open,
+               choices=st.choices, length=length, high_open=st.high_open)
 
 
 #: A record's kind -> the scene key's.
 _KINDS = {"size": "ints"}
 
 
-_MEDIUM = {
-    **_from_table(IMPACT, "medium"),
-}
+def _from_table(settings, table: str, order=None) -> dict:
+    """The keys of scene table ``table`` (``"grids.sphere"``) among ``settings``, built from their records.
+
+    The records are the single home of each range, unit, default and meaning
+    (:mod:`acoustiviz.app.settings`); the scene takes its own default where it has one. ``order``:
+    the keys in this order (default: the records').
+    """
+    keys = {}
+    for st in settings:
+        if st.key and st.table == table:
+            keys.setdefault(st.key, _key(st))
+    return keys if order is None else {k: keys[k] for k in order}
+
+
+_MEDIUM = _from_table(IMPACT, "medium")
 
 #: The keys of ``[outputs.wav]``: the records of ``acoustiviz auralize`` that have one.
 _WAV = _from_table(_AURALIZE, "outputs.wav")
 
-_SPHERE = {
-    "radius_m": _from_table(IMPACT, "sphere")["radius_m"],
-    "material": Key("str", "sphere material from the catalogue (sets density; with contact.surface, K_HZ)", None),
-    "density_kg_m3": _from_table(IMPACT, "sphere")["density_kg_m3"],
-    "mass_kg": _from_table(IMPACT, "sphere")["mass_kg"],
-    "damper_radius": Key("str", "sphere radius for damper impacts: 'given' keeps radius_m (the paper's choice), "
-                         "'from-mass' derives it from the impact mass and the density", "given",
-                         choices=("given", "from-mass")),
-}
+_SPHERE = _from_table(IMPACT + SPHERE_KEYS, "sphere",
+                      ("radius_m", "material", "density_kg_m3", "mass_kg", "damper_radius"))
 
 _CONTACT = {
     **_from_table(DAMPER, "contact"),
-    "surface": Key("str", "surface material from the catalogue (K_HZ from sphere and surface materials)", None),
-    "pulse": Key("str", "acceleration pulse", "half-sine", choices=PULSES),
-    "pulse_mass": Key("str", "mass in the pulse: the impact mass alone or the effective mass of the two bodies",
-                      "impact", choices=("impact", "effective")),
+    **_from_table(IMPACT + CONTACT_KEYS, "contact", ("surface", "pulse", "pulse_mass")),
 }
 
-_IMPACT = {
-    **_from_table(IMPACT, "impact"),
-}
+_IMPACT = _from_table(IMPACT, "impact")
 
-_CONFIGURATION = {
-    "kind": Key("str", "free field, reflecting plane (floor z = 0), wall-floor corner, or a shoebox room "
-                "(also written [geometry])", "plane", choices=tuple(GEOMETRIES)),
-    "wall_distance_m": _from_table(IMPACT, "configuration")["wall_distance_m"],
-    "strike": Key("str", "wall-floor: struck surface (a wall strike puts the sphere against the wall, "
-                  "accelerating along +x); room: floor, ceiling or x0, x1, y0, y1, z0, z1", "floor",
-                  choices=("floor", "wall") + ROOM_STRIKES[1:]),
-    "height_m": _from_table(IMPACT, "configuration")["height_m"],
-    "room_m": Key("floats", "room: dimensions [Lx, Ly, Lz] of the room [0, Lx] x [0, Ly] x [0, Lz], floor z = 0",
-                  None, "m", length=3),
-    "absorption": Key("floats", "room: energy absorption coefficient alpha in [0, 1), one value or six "
-                      "(x0, x1, y0, y1, z0 floor, z1 ceiling); default 0, rigid", None, length=6),
-    "source_m": Key("point", "room: centre of the sphere, touching the surface it strikes (default: the middle of "
-                             "the floor)", None, "m"),
-    "image_order": Key("int", "room: image order (default: from tolerance_db and window_s)", None, low=0,
-                       high=10000),
-    "tolerance_db": Key("float", "room: largest neglected image energy relative to the total (default -60)",
-                        None, "dB", low=-200.0, high=0.0),
-    **_from_table(WAVEFORM, "configuration"),
-}
+_CONFIGURATION = _from_table(IMPACT + ROOM + WAVEFORM + CONFIGURATION_KEYS, "configuration", (
+    "kind", "wall_distance_m", "strike", "height_m", "room_m", "absorption", "source_m", "image_order", "tolerance_db",
+    "window_s"))
 
 _DAMPER_RECORDS = _from_table(DAMPER, "damper")
 _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
@@ -144,15 +121,7 @@ _EXCITATION = {
     **_from_table(FORCED, "excitation"),
 }
 
-_LISTENER = {
-    "name": Key("str", "label used in file names (default listenerN): unique, 1-64 letters, digits, '_', '-', '.' "
-                       "and inner spaces, starting with a letter, digit or '_'", None),
-    "distance_m": _pos("distance from the sphere's centre (with angle_deg)", "m", None, high=1e4),
-    "angle_deg": Key("float", "angle from the acceleration axis (with distance_m)", None, "deg", low=0.0, high=180.0),
-    "position_m": Key("point", "position [x, y, z] in the scene frame (instead of distance/angle)", None, "m"),
-}
-
-
+_LISTENER = _from_table(LISTENER_KEYS, "listeners")
 
 _SPHERE_GRID = _from_table(BALLOON, "grids.sphere")
 
@@ -165,13 +134,10 @@ def _view(view: str, records=()) -> dict:
 
 
 #: ``[outputs.level_map]``: the settings of ``acoustiviz map`` (one definition, acoustiviz.app.maps).
-_LEVEL_MAP = _from_table(_MAP_SETTINGS, "outputs.level_map")
-_LEVEL_MAP["vtk"] = Key("bool", "also write the map as level_map.vtu with the sphere and planes in "
-                        "level_map_geometry.vtu (ParaView, pyvista, meshio)", False)
+_LEVEL_MAP = _from_table((*_MAP_SETTINGS, MAP_SCENE_VTK), "outputs.level_map")
 
 _OUT = {
-    "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
-                      "pressure waveform at each listener"),
+    "waveform": Table(_from_table(OUTPUT_KEYS, "outputs.waveform"), "pressure waveform at each listener"),
     "directivity": Table(_from_table(DIRECTIVITY, "outputs.directivity"),
                          "peak, RMS and SPL (and the chosen metric) against angle at the first listener's distance"),
     "level_map": Table(_LEVEL_MAP, "peak SPL and SEL of the single impact over a plane, as `acoustiviz map` "
@@ -182,10 +148,8 @@ _OUT = {
     "animation": Table(_view("animation", ANIMATION), "GIF of the wavefront on the planar sections (pyvista)"),
     "damper_history": Table({}, "main-mass displacement with and without damper (paper Figure 5)"),
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),
-    "restitution": Table({
-        "masses_kg": Key("floats", "impact masses", [0.01, 0.02, 0.04, 0.06, 0.08, 0.1], "kg", low=1e-6, high=1e4),
-        "velocities_m_s": Key("floats", "approach speeds", [0.5, 1.0, 2.0], "m/s", low=1e-4, high=1e3)},
-        "coefficient of restitution against impact mass (paper Figure 7)"),
+    "restitution": Table(_from_table(OUTPUT_KEYS, "outputs.restitution"),
+                         "coefficient of restitution against impact mass (paper Figure 7)"),
     "sweep": Table(_from_table(SWEPT + SWEEP + SCENE_SWEEP + SWEEP_SOUND, "outputs.sweep"),
                    "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
@@ -193,8 +157,7 @@ _OUT = {
     "wav": Table({k: _WAV[k] for k in ("rate_hz", "stereo", "subtype", "struck_wall", "walls", "late_tail",
                                        "tail_seed", "tail_decay", "transition_s", "absorption_bands")},
                  "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
-    "levels": Table({"loudness": Key("bool", "also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)",
-                                     False)},
+    "levels": Table(_from_table(LEVELS_OPTIONS, "outputs.levels"),
                     "LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL, SEL(A) of the damper run at each listener, "
                     "evaluated at 96 kHz (CSV)"),
     "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),
@@ -212,8 +175,7 @@ _OUT = {
 OUTPUT_KINDS = tuple(_OUT)
 
 SCHEMA = {
-    "scene": Table({"name": Key("str", "short name", "scene"), "description": Key("str", "what it shows", "")},
-                   "title"),
+    "scene": Table(_from_table(SCENE, "scene"), "title"),
     "medium": Table(_MEDIUM, "the fluid (default air at 20 degC)"),
     "sphere": Table(_SPHERE, "the impacting sphere"),
     "contact": Table(_CONTACT, "Hertz contact and the acceleration pulse"),
@@ -224,7 +186,7 @@ SCHEMA = {
     "listeners": Table(_LISTENER, "listeners ([[listeners]], each with distance_m and angle_deg, or position_m)",
                        array=True),
     "grids": Table({"sphere": Table(_SPHERE_GRID, "spherical grid"), "plane": Table(_PLANE_GRID, "planar grid"),
-                    "memory_limit_mb": _pos("memory cap of grid evaluations", "MiB", 256.0, high=1e6)},
+                    **_from_table(GRIDS, "grids")},
                    "evaluation grids"),
     "outputs": Table(_OUT, "what to produce; only these are computed"),
 }
@@ -258,8 +220,9 @@ def schema_help() -> str:
 
 def _fmt_range(k: Key) -> str:
     lb = "(" if k.low_open else "["
+    hb = ")" if k.high_open else "]"
     u = f" {k.unit}" if k.unit else ""
-    return f"{lb}{k.low:g}, {k.high:g}]{u}"
+    return f"{lb}{k.low:g}, {k.high:g}{hb}{u}"
 
 
 def _type_name(kind: str) -> str:

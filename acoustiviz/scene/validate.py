@@ -50,7 +50,8 @@ def _check_number(v, k: Key, src: str, path: str) -> float:
     if not math.isfinite(v):
         raise SceneError(src, path, f"must be finite, got {v}")
     ok_low = v > k.low if k.low_open else v >= k.low
-    if not (ok_low and v <= k.high):
+    ok_high = v < k.high if k.high_open else v <= k.high
+    if not (ok_low and ok_high):
         raise SceneError(src, path, f"must lie in {_fmt_range(k)}, got {v:g}")
     return v
 

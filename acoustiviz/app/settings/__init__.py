@@ -5,7 +5,8 @@
                  meaning) and :func:`add_option`, which builds a command-line option from it
 ``base``         the :class:`Settings` base class that checks its fields against its table, and image sizes
 ``parse``        a point X,Y,Z and an image size WxH typed as text
-``impact``       the options of one impact, its waveform and its directivity
+``impact``       the options of one impact, its waveform and its directivity, and the base of the jobs
+                 of one impact (:class:`ImpactJob`)
 ``waveform``     the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
 ``directivity``  the directivity job: impact, circle, angle step, level and files (:class:`DirectivityJob`)
 ``damper``       the records of the impact damper (paper eq 15), its start, run and solver; beside it
@@ -21,6 +22,9 @@
                  and the command's options as typed (:class:`DamperSettings`, :class:`AuralizeSettings`)
 ``levels``       the levels job: a calibrated signal, the interval and the CSVs (:class:`LevelsJob`), and
                  the options of ``acoustiviz levels``
+``run``          every command's ``--max-memory`` and the options of ``acoustiviz run``
+``scene``        the keys only a scene has: its title, listeners, damper radius and pulse mass, the
+                 configuration's kind and struck surface, the grids' memory cap, outputs asked by key
 ================ ======================================================================================
 
 The command line builds its options from the records, the scene schema its keys, and the

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from .base import Settings
-from .impact import DIRECTIVITY
+from .impact import DIRECTIVITY, ImpactJob
 from .table import Setting
 
 __all__ = ["DIRECTIVITY_OUTPUTS", "DirectivityJob"]
@@ -26,8 +25,8 @@ DIRECTIVITY_OUTPUTS = (
 )
 
 
-@dataclasses.dataclass(frozen=True)
-class DirectivityJob(Settings):
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class DirectivityJob(ImpactJob):
     """Peak, RMS and peak SPL (and a further level) of one impact against angle on a circle, and its files.
 
     Attributes
@@ -60,28 +59,12 @@ class DirectivityJob(Settings):
     """
 
     TABLE = (*DIRECTIVITY, *DIRECTIVITY_OUTPUTS)
-    impact: object
     pulse: object
-    medium: object
-    configuration: object
     distance: float
     step_deg: float = DIRECTIVITY[0].default
     metric: str = DIRECTIVITY[1].default
-    max_memory_mb: float | None = None
     csv: str | None = None
     png: str | None = None
-    k_hertz_source: str = dataclasses.field(default="given", compare=False)
-    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
-
-    @property
-    def window(self) -> float | None:
-        """In a room, the window in s from the start of contact each angle's levels end by; None elsewhere."""
-        return getattr(self.configuration, "duration", None)
-
-    @property
-    def in_room(self) -> bool:
-        """True when the configuration is a room (its image model is reported)."""
-        return getattr(self.configuration, "image_order", None) is not None
 
     @property
     def weighted(self) -> bool:
@@ -112,10 +95,6 @@ class DirectivityJob(Settings):
         for key, path in self.files().items():
             check_output_file(self._name(key), path, "figure" if key == "png" else key)
         check_distinct({self._name(key): path for key, path in self.files().items()})
-
-    def _name(self, api: str) -> str:
-        """The option or scene key of API parameter ``api`` (itself without one)."""
-        return self.names.get(api, api)
 
     def _check_budget(self) -> None:
         from ...field import circle_points

@@ -29,7 +29,7 @@ from .base import Settings
 from .table import Setting
 
 __all__ = ["IMPACT_GROUPS", "IMPACT", "OBSERVER", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
-           "MIN_SAMPLES_PER_DURATION"]
+           "MIN_SAMPLES_PER_DURATION", "ImpactJob"]
 
 #: Fewest time samples per contact duration a waveform is drawn or tabulated with.
 MIN_SAMPLES_PER_DURATION = 200
@@ -45,18 +45,22 @@ IMPACT_GROUPS = (
         Setting("k_hertz", "--k-hertz", None, "float", None,
                 f"Hertz contact stiffness in N/m^1.5 (default {PAPER_K_HERTZ:g}, or from --material/--surface when "
                 "given)", "N/m^1.5", low=0.0, high=1e14, low_open=True, metavar="N/M^1.5"),
-        Setting("material", "--material", None, "str", None,
-                "sphere material from the catalogue (sets density and, with --surface, K_HZ)", metavar="NAME"),
-        Setting("surface", "--surface", None, "str", None,
-                "surface material from the catalogue (default: same as --material, else steel)", metavar="NAME"),
+        Setting("material", "--material", "material", "str", None,
+                "sphere material from the catalogue (sets density and, with --surface, K_HZ)", metavar="NAME",
+                table="sphere", scene_doc="sphere material from the catalogue (sets density; with contact.surface, "
+                "K_HZ)"),
+        Setting("surface", "--surface", "surface", "str", None,
+                "surface material from the catalogue (default: same as --material, else steel)", metavar="NAME",
+                table="contact",
+                scene_doc="surface material from the catalogue (K_HZ from sphere and surface materials)"),
         Setting("density", "--density", "density_kg_m3", "float", None,
                 f"sphere density (default {PAPER_DENSITY:g} or the material's)", "kg/m^3", low=0.0, high=1e5,
                 low_open=True, table="sphere", metavar="KG/M^3"),
         Setting("mass", "--mass", "mass_kg", "float", None, "sphere mass; replaces the density", "kg", low=0.0,
                 high=1e4, low_open=True, table="sphere", metavar="KG"),
-        Setting("pulse", "--pulse", None, "str", "half-sine",
+        Setting("pulse", "--pulse", "pulse", "str", "half-sine",
                 "acceleration pulse: the paper's peak-matched half-sine, an impulse-matched half-sine, or the exact "
-                "Hertz pulse", choices=PULSES),
+                "Hertz pulse", choices=PULSES, table="contact", scene_doc="acceleration pulse"),
     )),
     ("medium", (
         Setting("c", "--c", "c_m_s", "float", DEFAULT_SOUND_SPEED, "speed of sound in the fluid",
@@ -129,3 +133,49 @@ class DirectivitySettings(Settings):
     TABLE = DIRECTIVITY
     step_deg: float = 5.0
     metric: str = "peak-spl"
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class ImpactJob(Settings):
+    """The base of the jobs of one impact (waveform, directivity, map): the impact, its fluid and surroundings.
+
+    Its fields are keyword-only, and so are its subclasses' (``WaveformJob(impact=..., pulses=..., ...)``);
+    each subclass adds its pulse or pulses, its sampling and its files.
+
+    Attributes
+    ----------
+    impact : acoustiviz.core.contact.Impact
+        Speed (m/s), K_HZ (N/m^1.5) and masses (kg) of the impact.
+    medium : acoustiviz.core.medium.Medium
+        The fluid.
+    configuration : acoustiviz.core.geometry.Geometry
+        The sphere and its image sources (in a room, its window in s ends the job's sound).
+    max_memory_mb : float, optional
+        Cap in MB on the working memory (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
+    k_hertz_source : str
+        Where K_HZ came from (reported; not compared).
+    names : dict
+        The front end's vocabulary: API parameter -> the option or scene key its errors name
+        (not compared; default: the API names).
+    """
+
+    impact: object
+    medium: object
+    configuration: object
+    max_memory_mb: float | None = None
+    k_hertz_source: str = dataclasses.field(default="given", compare=False)
+    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def window(self) -> float | None:
+        """In a room, the window in s from the start of contact the job's sound covers; None elsewhere."""
+        return getattr(self.configuration, "duration", None)
+
+    @property
+    def in_room(self) -> bool:
+        """True when the configuration is a room (its image model is reported, its peaks are the window's)."""
+        return getattr(self.configuration, "image_order", None) is not None
+
+    def _name(self, api: str) -> str:
+        """The option or scene key of API parameter ``api`` (itself without one)."""
+        return self.names.get(api, api)

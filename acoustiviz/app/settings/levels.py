@@ -16,11 +16,12 @@ from .table import Setting, by_name
 
 __all__ = ["ALL", "LEVELS_JOB", "LEVELS", "LevelsSettings", "LevelsJob"]
 
-SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav")
+SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav", positional=True,
+                 required=True)
 
 ALL = (
     Setting("csv", "--csv", None, "str", None, "one row per channel; the bands go to OUT_bands.csv beside it",
-            metavar="OUT.csv"),
+            metavar="OUT.csv", required=True),
     Setting("pa_per_fs", "--pa-per-fs", None, "float", None,
             "calibration (Pa per full scale) when the file has no sidecar", "Pa", low=0.0, low_open=True,
             metavar="PA"),
@@ -28,9 +29,10 @@ ALL = (
             "start of the interval (default: the start of the file)", "s", low=0.0, metavar="S"),
     Setting("stop", "--stop", None, "float", None,
             "end of the interval (default: the end of the file)", "s", low=0.0, low_open=True, metavar="S"),
-    Setting("loudness", "--loudness", None, "bool", False,
+    Setting("loudness", "--loudness", "loudness", "bool", False,
             "also ISO 532-1 loudness N5/Nmax (sone) and DIN 45692 sharpness (acum); needs mosqito "
-            "(pip install 'acoustiviz[hearing]')"),
+            "(pip install 'acoustiviz[hearing]')", table="outputs.levels",
+            scene_doc="also ISO 532-1 loudness and DIN 45692 sharpness (needs mosqito)"),
 )
 
 #: The settings whose range :class:`LevelsSettings` checks on its own, before any other check.

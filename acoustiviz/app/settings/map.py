@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from .table import Setting
 
-__all__ = ["MAP_SETTINGS", "PLANES"]
+__all__ = ["MAP_SETTINGS", "PLANES", "MAP_SCENE_VTK"]
 
 #: The planes a map can lie in (see :mod:`acoustiviz.app.maps`).
 PLANES = ("vertical", "horizontal")
@@ -31,3 +31,8 @@ MAP_SETTINGS = (
             "grid points along the longer side of the map (square spacing; the default gives about 1e5 points "
             "on a square map)", low=8, high=20000, table=_TABLE),
 )
+
+#: ``[outputs.level_map] vtk``: a scene names the map's VTK file itself (the command line's ``--vtk PATH``).
+MAP_SCENE_VTK = Setting("vtk", None, "vtk", "bool", False,
+                        "also write the map as level_map.vtu with the sphere and planes in level_map_geometry.vtu "
+                        "(ParaView, pyvista, meshio)", table=_TABLE)

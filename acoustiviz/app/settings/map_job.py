@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from .base import Settings
+from .impact import ImpactJob
 from .map import MAP_SETTINGS
 from .table import Setting
 
@@ -32,8 +32,8 @@ MAP_OUTPUTS = (
 _BY_NAME = {s.name: s for s in MAP_SETTINGS}
 
 
-@dataclasses.dataclass(frozen=True)
-class MapJob(Settings):
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class MapJob(ImpactJob):
     """Peak SPL and SEL of one impact over a plane through the scene, and its files.
 
     Attributes
@@ -67,20 +67,14 @@ class MapJob(Settings):
     """
 
     TABLE = (*MAP_SETTINGS, *MAP_OUTPUTS)
-    impact: object
     pulse: object
-    medium: object
-    configuration: object
     plane: str = _BY_NAME["plane"].default
     height: float | None = None
     extent: float = _BY_NAME["extent"].default
     resolution: int = _BY_NAME["resolution"].default
-    max_memory_mb: float | None = None
     png: str | None = None
     csv: str | None = None
     vtk: str | None = None
-    k_hertz_source: str = dataclasses.field(default="given", compare=False)
-    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def files(self) -> dict:
         """``{"png": path, "csv": path, "vtk": path}`` as asked (strings)."""
@@ -107,7 +101,3 @@ class MapJob(Settings):
             name = self._name("vtk")
             paths[f"{name} (geometry)"] = check_output_file(name, geometry_path(self.vtk), "vtk")
         check_distinct(paths)
-
-    def _name(self, api: str) -> str:
-        """The option or scene key of API parameter ``api`` (itself without one)."""
-        return self.names.get(api, api)

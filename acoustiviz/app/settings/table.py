@@ -36,12 +36,13 @@ class Setting:
         The command-line option (None: none).
     key : str or None
         The scene key within its table (None: none).
-    kind : {"str", "float", "int", "bool", "range", "strs", "floats", "size"}
+    kind : {"str", "float", "int", "bool", "range", "strs", "floats", "size", "ints", "point"}
         The type of one value (``"bool"``: a flag on the command line; ``"range"``: numbers given as one
         value, ``START:STOP:COUNT`` or ``A,B,C``, each within the range, checked into a tuple); ``"strs"``
         and ``"floats"``: a tuple of 1 to ``length`` names or numbers, each checked as a ``"str"`` or
         ``"float"`` (typed as a comma list and as several values on the command line); ``"size"``: an
-        image's ``(width, height)`` in pixels, each an integer in ``[low, high]`` (typed ``WxH``).
+        image's ``(width, height)`` in pixels, each an integer in ``[low, high]`` (typed ``WxH``);
+        ``"ints"`` and ``"point"`` (3 numbers): lists only a scene gives.
     default : object
         The default (None: computed from other settings, or absent).
     doc : str
@@ -49,7 +50,7 @@ class Setting:
     unit : str
         SI unit of a number ("" for counts and names).
     low, high : float
-        Allowed interval of a number (``low`` excluded when ``low_open``).
+        Allowed interval of a number (``low`` excluded when ``low_open``, ``high`` when ``high_open``).
     choices : tuple
         The allowed names of a string.
     scene_default : object
@@ -60,8 +61,18 @@ class Setting:
         How ``--help`` shows the option's value (default: ``M`` for lengths, ``N`` otherwise).
     aliases : tuple of str
         Further command-line spellings of the option (``--replace`` beside ``--force``).
+    scene_kind : str, optional
+        The scene's type of the value where the command line types it as text (``"floats"``: the
+        option ``--room 6,4,3`` is the key ``room_m = [6, 4, 3]``); None: ``kind``.
     length : int, optional
-        Most values of a ``"strs"`` or ``"floats"`` setting (None: any number).
+        The number of values of a list: the most of ``"strs"`` and ``"floats"``, exactly that many of
+        ``"ints"`` (None: any number).
+    scene_doc : str, optional
+        The meaning in the scene's words where ``doc`` names other options (None: ``doc``).
+    positional : bool
+        A positional argument of its command (named by ``option`` in errors and ``--help``), not an option.
+    required : bool
+        The command line requires the option.
     """
 
     name: str
@@ -74,17 +85,32 @@ class Setting:
     low: float = -math.inf
     high: float = math.inf
     low_open: bool = False
+    high_open: bool = False
     choices: tuple = ()
     scene_default: object = SAME
     table: str = ""
     metavar: str | None = None
     aliases: tuple = ()
+    scene_kind: str | None = None
     length: int | None = None
+    scene_doc: str | None = None
+    positional: bool = False
+    required: bool = False
 
     @property
     def path(self) -> str | None:
         """The full scene key (``"grids.plane.resolution"``), None without one."""
         return f"{self.table}.{self.key}" if self.key else None
+
+    @property
+    def key_kind(self) -> str:
+        """The type of the scene key."""
+        return self.scene_kind or self.kind
+
+    @property
+    def key_doc(self) -> str:
+        """The meaning of the scene key."""
+        return self.scene_doc or self.doc
 
     @property
     def in_scene(self) -> object:
@@ -96,7 +122,7 @@ class Setting:
         if self.kind == "str":
             return ""
         u = f" {self.unit}" if self.unit else ""
-        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}]{u}"
+        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}{u}"
 
     def check(self, value, name: str | None = None):
         """``value`` in the setting's type, or a :class:`ParameterError` naming ``name`` (default: the API name).
@@ -123,7 +149,8 @@ class Setting:
                     or not self.low <= value <= self.high:
                 raise ParameterError(name, f"must be an integer in [{self.low:g}, {self.high:g}], got {value!r}")
             return int(value)
-        return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open)
+        return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open,
+                           high_open=self.high_open)
 
     def _check_range(self, value, name: str) -> tuple:
         """The values of ``value`` (one value, ``START:STOP:COUNT``, ``A,B,C`` or a sequence), each in range."""
@@ -182,6 +209,12 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
         group.add_argument(s.option, *s.aliases, action="store_true", default=s.default if default == SAME else default,
                            help=s.doc.replace("%", "%%"), **kw)
         return
+    if s.positional:  # named by its API name; an optional one takes its default when left out
+        more = {} if s.required else {"nargs": "?", "default": s.default if default == SAME else default}
+        group.add_argument(s.name, metavar=metavar or s.metavar, help=s.doc.replace("%", "%%"), **more, **kw)
+        return
+    if s.required:
+        kw = {"required": True, **kw}
     bounded = s.kind not in ("str", "strs") and not s.choices and (math.isfinite(s.low) or math.isfinite(s.high))
     rng = f", {'each ' if s.kind == 'range' else ''}in {s.range_text()}" if bounded else ""
     value = s.default if default == SAME else default

@@ -12,8 +12,7 @@ from __future__ import annotations
 import dataclasses
 
 from ...errors import ParameterError
-from .base import Settings
-from .impact import WAVEFORM
+from .impact import WAVEFORM, ImpactJob
 from .table import Setting
 
 __all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "WaveformJob"]
@@ -36,8 +35,8 @@ WAVEFORM_OUTPUTS = (
 
 
 
-@dataclasses.dataclass(frozen=True)
-class WaveformJob(Settings):
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class WaveformJob(ImpactJob):
     """The pressure waveform of one impact at one or more listeners, and the files wanted of it.
 
     Attributes
@@ -70,28 +69,12 @@ class WaveformJob(Settings):
     """
 
     TABLE = (WAVEFORM[0], *WAVEFORM_OUTPUTS)
-    impact: object
     pulses: tuple
-    medium: object
-    configuration: object
     listeners: tuple
     samples_per_duration: int = WAVEFORM[0].default
-    max_memory_mb: float | None = None
     csv: str | None = None
     png: str | None = None
-    k_hertz_source: str = dataclasses.field(default="given", compare=False)
     size_options: tuple = dataclasses.field(default=("samples_per_duration",), compare=False, repr=False)
-    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
-
-    @property
-    def window(self) -> float | None:
-        """In a room, the window in s from the start of contact the waveform covers; None elsewhere."""
-        return getattr(self.configuration, "duration", None)
-
-    @property
-    def in_room(self) -> bool:
-        """True when the configuration is a room (its peaks are the largest samples of the window)."""
-        return getattr(self.configuration, "image_order", None) is not None
 
     def files(self, listener) -> dict:
         """``{"csv": path, "json": path, "png": path}`` of one :class:`~acoustiviz.Listener`, as asked (strings)."""
@@ -160,5 +143,5 @@ class WaveformJob(Settings):
             for kind, path in self.files(lst).items():
                 key = "csv" if kind == "json" else kind
                 check_output_file(key, path, "figure" if kind == "png" else kind)
-                paths[f"{self.names.get(key, key)} ({lst.name}, {kind})"] = path
+                paths[f"{self._name(key)} ({lst.name}, {kind})"] = path
         check_distinct(paths)
