@@ -31,6 +31,7 @@ from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
 from .scene_levels import check_sound_listeners, levels_settings, produce_levels, produce_spectrum
+from .scene_optimize import optimize_settings, produce_optimize
 from .scene_outputs import SUMMARY, preflight
 from .sweep import scene_sweep_spec
 
@@ -426,6 +427,7 @@ PRODUCERS = {
     "restitution": produce_restitution,
     "sweep": produce_sweep,
     "design_table": produce_design_table,
+    "optimize": produce_optimize,
     "wav": produce_wav,
     "levels": produce_levels,
     "spectrum": produce_spectrum,
@@ -444,6 +446,7 @@ _SETTINGS = {
     "level_map": map_settings,
     "sweep": scene_sweep_spec,
     "design_table": scene_sweep_spec,
+    "optimize": optimize_settings,
     "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
     "levels": levels_settings,
     "spectrum": levels_settings,

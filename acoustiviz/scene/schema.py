@@ -11,6 +11,8 @@ from ..app.settings.design import DESIGN
 from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
+from ..app.settings.optimize import EXECUTION as _OPT_EXECUTION
+from ..app.settings.optimize import OPTIMIZE, REPEATED, SCENE_VARIABLES
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..app.settings.sweep import SWEEP
 from ..constants import (
@@ -172,6 +174,18 @@ _LEVEL_MAP = _from_table(_MAP_SETTINGS, "outputs.level_map")
 _LEVEL_MAP["vtk"] = Key("bool", "also write the map as level_map.vtu with the sphere and planes in "
                         "level_map_geometry.vtu (ParaView, pyvista, meshio)", False)
 
+def _optimize_keys() -> dict:
+    """``[outputs.optimize]`` from its records: the variables, objectives, constraints, budget and workers."""
+    keys = _from_table(SCENE_VARIABLES + OPTIMIZE + _OPT_EXECUTION, "outputs.optimize")
+    for s in OPTIMIZE:
+        if s.name in REPEATED:  # a list in a scene, a repeated option on the command line
+            keys[s.key] = Key("texts", s.doc.replace(" (repeatable", " (a list").replace("repeatable", "a list"),
+                              list(s.in_scene or ()))
+    keys["levels"] = Key("bool", "also LAFmax, LCpeak and LAeq of each design's run (columns lafmax_db, lcpeak_db, "
+                         "laeq_db)", False)
+    return keys
+
+
 _OUT = {
     "waveform": Table({"pulses": Key("strs", "pulses to compare", None, choices=PULSES)},
                       "pressure waveform at each listener"),
@@ -205,6 +219,8 @@ _OUT = {
         "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
+    "optimize": Table(_optimize_keys(), "the damper to build, found by an optimiser over gap and impact mass "
+                      "(optimize/evaluations.csv, pareto.csv, optimize.json, pareto.png)"),
     "wav": Table({"rate_hz": Key("int", "sample rate", WAV_RATE, "Hz", low=min(SAMPLE_RATES), high=max(SAMPLE_RATES),
                                  choices=SAMPLE_RATES),
                   "stereo": Key("bool", "one stereo file from the first two listeners", False),
@@ -298,7 +314,8 @@ def _fmt_range(k: Key) -> str:
 
 def _type_name(kind: str) -> str:
     return {"float": "a number", "int": "an integer", "bool": "true or false", "str": "a string",
-            "floats": "a list of numbers", "strs": "a list of strings", "point": "a list of 3 numbers",
+            "floats": "a list of numbers", "strs": "a list of strings", "texts": "a list of strings",
+            "point": "a list of 3 numbers",
             "ints": "a list of integers",
             "range": "a 'start:stop:count' string, 'a,b,c' or one number",
             "frequencies": "a 'start:stop:count' string, 'f1,f2,...' or one number"}[kind]

@@ -24,12 +24,12 @@ _FORM = "LO:HI, log:LO:HI, A,B,C or one value"
 OPTIMIZE = (
     Setting("minimize", "--minimize", "minimize", "str", None,
             "a column of sweep.csv to minimise (repeatable; two or more objectives give a Pareto front), e.g. "
-            "max_spl_db", metavar="COLUMN", table=_T),
+            "max_spl_db", metavar="COLUMN", scene_default=("max_spl_db",), table=_T),
     Setting("maximize", "--maximize", "maximize", "str", None,
-            "a column of sweep.csv to maximise (repeatable)", metavar="COLUMN", table=_T),
+            "a column of sweep.csv to maximise (repeatable)", metavar="COLUMN", scene_default=(), table=_T),
     Setting("constraints", "--constraint", "constraints", "str", None,
             "a feasible design meets 'COLUMN<=VALUE' or 'COLUMN>=VALUE' (repeatable), e.g. "
-            "'inclination_two_maxima_m_s>=0.004'", metavar="'COLUMN<=VALUE'", table=_T),
+            "'inclination_two_maxima_m_s>=0.004'", metavar="'COLUMN<=VALUE'", scene_default=(), table=_T),
     Setting("evaluations", "--evaluations", "evaluations", "int", 60, "designs evaluated in all", low=1,
             high=100000, table=_T),
     Setting("seed", "--seed", "seed", "int", 0, "seed of the optimiser: the same seed gives the same designs "
