@@ -14,6 +14,8 @@
 ``forced``       the damper in operation: continuation, solver, tolerances, level interval, the job
 ``design``       the target damping inclination and its tolerance
 ``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius
+``optimize``     the optimisation job: variables, objectives, constraints, budget, seed, batch, folder
+                 (:class:`OptimizeJob`)
 ``room``         the shoebox room's options
 ``auralize``     the damper run (:class:`DamperSettings`) and the sound, listeners and files of WAVs
 ``levels``       the WAV file, its calibration, the interval and the CSV of ``acoustiviz levels``
@@ -31,6 +33,7 @@ from .directivity import DirectivityJob
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
+from .optimize import OptimizeJob
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .sweep import SweepSettings
@@ -40,4 +43,4 @@ from .waveform import WaveformJob
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
            "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
-           "DamperJob", "DirectivityJob"]
+           "DamperJob", "DirectivityJob", "OptimizeJob"]
