@@ -86,6 +86,7 @@ def test_ctrl_c_keeps_every_finished_evaluation(tmp_path):
     assert "interrupted; finished outputs were kept" in err
     text = journal.read_text()
     kept = read_journal(journal)
+    assert f"optimize: stopped; {len(kept)} of 5000 evaluations kept" in err
     assert len(kept) >= 3 and sorted(kept) == list(range(len(kept)))
     assert all(json.loads(line)["row"]["error"] == "" for line in text.splitlines())
 

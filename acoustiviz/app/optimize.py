@@ -188,7 +188,8 @@ def run(job: OptimizeJob, progress=None) -> OptimizeResult:
     job : OptimizeJob
         The job, checked when it was made.
     progress : text stream, optional
-        Where to report the resume count and each failed design (e.g. ``sys.stderr``).
+        Where to report the resume count, each failed design and, on a terminal, a progress bar
+        (e.g. ``sys.stderr``); None: silent.
 
     Returns
     -------
@@ -205,23 +206,35 @@ def run(job: OptimizeJob, progress=None) -> OptimizeResult:
     from ..files import write_text_atomic
     from ..sweep.optimise import JOURNAL, read_journal, run_optimisation
     from ..sweep.problem import feasible_mask, objective_matrix, pareto_mask
+    from ..sweep.progress import Progress
     from .names import user_terms
-
-    def report(record):
-        if progress is not None and record["row"].get("error"):
-            print(f"optimize: evaluation {record['evaluation']} failed: {record['row']['error']}", file=progress)
 
     with user_terms(job.names), tempfile.TemporaryDirectory() as scratch:
         folder = Path(job.out) if job.out is not None else Path(scratch)
         folder.mkdir(parents=True, exist_ok=True)
         if job.out is not None:
             write_text_atomic(folder / FILES[2], optimize_json_text(job))
-        before = len(read_journal(folder / JOURNAL, "out"))
-        if before and progress is not None:
-            print(f"optimize: resuming {folder}: {min(before, job.evaluations)} of {job.evaluations} evaluations "
-                  "done before", file=progress)
-        records = run_optimisation(job.problem, job.evaluator(), folder, executor=job.executor,
-                                   workers=job.workers, report=report)
+        before = min(len(read_journal(folder / JOURNAL, "out")), job.evaluations)
+        bar = Progress(job.evaluations, before, progress, bar=None if before < job.evaluations else False,
+                       desc="optimize", unit="design")
+        if before:
+            bar.say(f"optimize: resuming {folder}: {before} of {job.evaluations} evaluations done before")
+
+        def report(record):
+            bar.update()
+            if record["row"].get("error"):
+                bar.say(f"optimize: evaluation {record['evaluation']} failed: {record['row']['error']}")
+
+        try:
+            records = run_optimisation(job.problem, job.evaluator(), folder, executor=job.executor,
+                                       workers=job.workers, report=report)
+        except KeyboardInterrupt:
+            bar.close()
+            kept = len(read_journal(folder / JOURNAL, "out"))
+            bar.say(f"optimize: stopped; {kept} of {job.evaluations} evaluations kept in {folder / JOURNAL}")
+            raise
+        finally:
+            bar.close()
     rows = [r["row"] for r in records]
     feasible = feasible_mask(job.problem, rows)
     front = pareto_mask(objective_matrix(job.problem, rows), feasible) if rows else feasible
