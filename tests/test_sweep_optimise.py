@@ -113,6 +113,13 @@ def test_the_best_design_is_within_0_3_db_of_a_30_by_30_grid_with_a_tenth_of_its
     assert all(b <= reference + 0.3 for b in found), (reference, found)
 
 
+def test_a_design_that_cannot_be_built_is_a_row_with_its_reason_and_its_variables():
+    row = FreeVibration(FixedSettings(duration=0.1))(3, {"gap": 0.04, "angle_deg": 100.0, "config": "plane"})
+    assert row["design_id"] == 3 and row["success"] == 0 and "angle" in row["error"]
+    assert (row["gap_m"], row["angle_deg"], row["config"]) == (0.04, 100.0, "plane")
+    assert math.isnan(row["max_spl_db"]) and len(row["error"].splitlines()) == 1
+
+
 # --------------------------------------------------------------------------- the problem
 @pytest.mark.parametrize(("text", "kind", "expected"), [
     ("0.01:0.06", float, ("float", 0.01, 0.06, ())),

@@ -58,7 +58,7 @@ def optimize_settings(scene, out=None) -> OptimizeJob:
     opts = scene.output("optimize")
     table = "outputs.optimize"
     names = {s.name: f"{table}.{s.key}" for s in (*OPTIMIZE, *SCENE_VARIABLES, *EXECUTION) if s.key}
-    names.update(angle_deg="listeners", variables=f"{table}.gap_m", count=f"{table}.gap_m")
+    names.update(angle_deg="listeners", variables=f"{table}.gap_m")
     with user_terms({"duration": f"{table}.duration_s", "levels": f"{table}.levels"}):
         spec = scene_sweep_spec(_AsSweep(scene, opts))
     given = {**_given(spec), "gap": opts["gap_m"], "m": opts["mass_kg"]}

@@ -54,7 +54,7 @@ def _names() -> dict:
 
     names = {s.name: s.option for s in (*VARIABLES, *OPTIMIZE, *SWEEP_DAMPER, *SWEEP_SOUND, *EXECUTION)}
     names.update({"angle": "--angle", "radius_mode": "--radius", "n_fastest": "--spl-fastest",
-                  "objectives": "--minimize", "variables": "--gap", "count": "--gap", **OptimizeJob.cli_names()})
+                  "objectives": "--minimize", "variables": "--gap", **OptimizeJob.cli_names()})
     return names
 
 
