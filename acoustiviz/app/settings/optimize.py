@@ -47,8 +47,10 @@ REPEATED = ("minimize", "maximize", "constraints")
 
 
 def _variable(record: Setting) -> Setting:
-    doc = record.doc.split(" (default")[0]
-    return dataclasses.replace(record, doc=f"{doc}: {_FORM}", metavar="NAMES" if record.metavar == "NAMES" else "LO:HI")
+    doc = record.doc.split(" (default")[0].split(";")[0]
+    if record.metavar == "NAMES":  # names: one of several, or held
+        return dataclasses.replace(record, doc=f"{doc}: A,B,C (one of them) or one name (held)")
+    return dataclasses.replace(record, doc=f"{doc}: {_FORM}", metavar="LO:HI")
 
 
 #: The variables: the swept parameters of ``acoustiviz sweep`` (each in its damper record's range).
