@@ -176,8 +176,10 @@ class OptimizeJob(Settings):
             except (OSError, ValueError):
                 old = None
             mine = json.loads(json.dumps(self.document()))
-            if not isinstance(old, dict) or {k: v for k, v in old.items() if k != "written_by"} != \
-                    {k: v for k, v in mine.items() if k != "written_by"}:
+            # the budget may change: the designs of a batch depend only on the evaluations before it
+            free = ("written_by", "evaluations")
+            if not isinstance(old, dict) or {k: v for k, v in old.items() if k not in free} != \
+                    {k: v for k, v in mine.items() if k not in free}:
                 raise ParameterError("out", f"{out} holds an optimisation with other settings; use another folder")
             return
         for name in FILES:
