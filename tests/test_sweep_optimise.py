@@ -150,7 +150,7 @@ def test_constraints_and_feasibility():
             parse_constraint("c", bad)
     rows = [{"max_spl_db": 99.0, "error": ""}, {"max_spl_db": 101.0, "error": ""},
             {"max_spl_db": math.nan, "error": "x"}]
-    p = Problem((parse_variable("gap", "0.01:0.02"),), (Objective("max_spl_db", "min"),), (c,))
+    p = Problem((parse_variable("gap", "0.01:0.02"),), (Objective("max_spl_db", "min"),), (c,), 1, 0, 1)
     assert feasible_mask(p, rows).tolist() == [True, False, False]
 
 

@@ -192,13 +192,17 @@ class Problem:
 
     variables: tuple
     objectives: tuple
-    constraints: tuple = ()
-    evaluations: int = 60
-    seed: int = 0
-    batch: int = 8
+    constraints: tuple
+    evaluations: int
+    seed: int
+    batch: int
     columns: tuple = ()
 
     def __post_init__(self):
+        for name in ("evaluations", "seed", "batch"):  # the front ends check the ranges of their records
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < (0 if name == "seed" else 1):
+                raise ParameterError(name, f"must be an integer >= {0 if name == 'seed' else 1}, got {value!r}")
         if not self.objectives:
             raise ParameterError("minimize", "give at least one objective column (--minimize or --maximize)")
         for name, items in (("objectives", self.objectives), ("constraints", self.constraints)):
