@@ -67,6 +67,13 @@ The package
     the design table (paper Table 2) and the quietest design for a target inclination;
 :mod:`~acoustiviz.sweep.progress`
     the progress bar (tqdm, on a terminal) and the resume count.
+:mod:`~acoustiviz.sweep.problem`
+    an optimisation's variables, objectives and constraints, feasibility and the Pareto filter;
+:mod:`~acoustiviz.sweep.modes`
+    evaluation modes of an optimisation: a design's variables -> a row of columns (free vibration);
+:mod:`~acoustiviz.sweep.optimise`
+    running an optimisation: batches asked of Optuna's TPE sampler, evaluated on any executor,
+    journalled and resumable (the optional ``optimize`` extra).
 
 Units are SI throughout (m, kg, s, N/m^1.5, N·s/m, J); angles are in radians in the API and in
 degrees in the CSV.
