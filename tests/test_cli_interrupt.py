@@ -483,6 +483,8 @@ EVERY_COMMAND = {
     "damper": (["damper", "--duration", "100", "--impacts-csv", "i.csv"], "numba"),
     "forced": ([*FORCED, "--csv", "f.csv"], "numba"),
     "sweep": (["sweep", "--out", "s", "--gap", "0.01:0.05:20", "--workers", "1"], "numba"),
+    "optimize": (["optimize", "--out", "o", "--gap", "0.01:0.06", "--minimize", "max_spl_db", "--evaluations", "500",
+                  "--workers", "1"], "numba"),
     "design": (["design", "--sweep", "SWEEP", "--inclination", "0.005", "--tolerance", "0.01"], "numba"),
     "render balloon": (["render", "balloon", "--resolution", "64", "--png", "b.png"], "numba"),
     "render snapshot": (["render", "snapshot", "--resolution", "401", "--png", "s.png"], "numba"),

@@ -41,6 +41,7 @@ from .render_job import (
     snapshot_settings,
 )
 from .scene_levels import levels_settings, produce_levels, produce_spectrum
+from .scene_optimize import optimize_settings, produce_optimize
 from .scene_outputs import SUMMARY, preflight
 from .scene_wav import wav_settings
 from .sweep import produce_sweep, sweep_settings
@@ -330,6 +331,7 @@ PRODUCERS = {
     "restitution": produce_restitution,
     "sweep": produce_sweep,
     "design_table": produce_design_table,
+    "optimize": produce_optimize,
     "wav": produce_wav,
     "levels": produce_levels,
     "spectrum": produce_spectrum,
@@ -349,6 +351,7 @@ _SETTINGS = {
     "sweep": sweep_settings,
     "design_table": lambda scene: (sweep_settings(scene), design_settings(scene)),
     "wav": lambda scene: wav_settings(scene, None, damper_settings(scene)),
+    "optimize": optimize_settings,
     "levels": levels_settings,
     "spectrum": levels_settings,
     "snapshot": snapshot_settings,

@@ -78,6 +78,7 @@ _FILES = {
     "animation": _view("animation", "gif"),
     "restitution": _pair("restitution"),
     "sweep": lambda scene, names: [("sweep", "folder")],
+    "optimize": lambda scene, names: [("optimize", "folder")],
     "design_table": lambda scene, names: [("design_table.png", "png"), ("design_choice.txt", "text")],
     "wav": lambda scene, names: (_wav("wav_stereo") if scene.output("wav")["stereo"]
                                  else [f for n in names for f in _wav(f"wav_{n}")]),

@@ -39,6 +39,7 @@ SUBCOMMANDS = {
     "forced": "acoustiviz.cli.forced",
     "sweep": "acoustiviz.cli.sweep",
     "design": "acoustiviz.cli.design",
+    "optimize": "acoustiviz.cli.optimize",
     "render": "acoustiviz.cli.render",
     "auralize": "acoustiviz.cli.auralize",
     "levels": "acoustiviz.cli.levels",

@@ -13,6 +13,8 @@ from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.levels import ALL as LEVELS_OPTIONS
 from ..app.settings.map import MAP_SCENE_VTK
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
+from ..app.settings.optimize import EXECUTION as _OPT_EXECUTION
+from ..app.settings.optimize import OPTIMIZE, SCENE_LEVELS, SCENE_VARIABLES
 from ..app.settings.render import ANIMATION, BALLOON, SCENE_FILES, SECTION_LIST, SIZES, SNAPSHOT, TIMES
 from ..app.settings.room import ROOM
 from ..app.settings.scene import CONFIGURATION_KEYS, CONTACT_KEYS, GRIDS, LISTENER_KEYS, OUTPUT_KEYS, SCENE, SPHERE_KEYS
@@ -136,6 +138,11 @@ def _view(view: str, records=()) -> dict:
 #: ``[outputs.level_map]``: the settings of ``acoustiviz map`` (one definition, acoustiviz.app.maps).
 _LEVEL_MAP = _from_table((*_MAP_SETTINGS, MAP_SCENE_VTK), "outputs.level_map")
 
+def _optimize_keys() -> dict:
+    """``[outputs.optimize]`` from its records: the variables, objectives, constraints, budget and workers."""
+    return _from_table(SCENE_VARIABLES + OPTIMIZE + _OPT_EXECUTION + (SCENE_LEVELS,), "outputs.optimize")
+
+
 _OUT = {
     "waveform": Table(_from_table(OUTPUT_KEYS, "outputs.waveform"), "pressure waveform at each listener"),
     "directivity": Table(_from_table(DIRECTIVITY, "outputs.directivity"),
@@ -154,6 +161,8 @@ _OUT = {
                    "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
+    "optimize": Table(_optimize_keys(), "the damper to build, found by an optimiser over gap and impact mass "
+                      "(optimize/evaluations.csv, pareto.csv, optimize.json, pareto.png)"),
     "wav": Table({k: _WAV[k] for k in ("rate_hz", "stereo", "subtype", "struck_wall", "walls", "late_tail",
                                        "tail_seed", "tail_decay", "transition_s", "absorption_bands")},
                  "calibrated WAV of the damper run at each listener (plays without clipping by default)"),
@@ -227,7 +236,8 @@ def _fmt_range(k: Key) -> str:
 
 def _type_name(kind: str) -> str:
     return {"float": "a number", "int": "an integer", "bool": "true or false", "str": "a string",
-            "floats": "a list of numbers", "strs": "a list of strings", "point": "a list of 3 numbers",
+            "floats": "a list of numbers", "strs": "a list of strings", "texts": "a list of strings",
+            "point": "a list of 3 numbers",
             "ints": "a list of integers",
             "range": "a 'start:stop:count' string, 'a,b,c' or one number",
             "frequencies": "a 'start:stop:count' string, 'f1,f2,...' or one number"}[kind]

@@ -128,6 +128,13 @@ def _check_strs(value, k: Key, src: str, path: str):
     return list(value)
 
 
+def _check_texts(value, k: Key, src: str, path: str):
+    """A list of free strings (possibly empty), checked further by the settings object that reads them."""
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise SceneError(src, path, f"expected {_type_name(k.kind)}, got {value!r}")
+    return list(value)
+
+
 def _check_range(value, k: Key, src: str, path: str):
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         value = str(value)
@@ -151,6 +158,7 @@ def _check_frequencies(value, k: Key, src: str, path: str):
 #: The check of each kind of key: it returns the value as the scene holds it, or raises SceneError.
 _CHECKS = {"float": _check_float, "int": _check_int, "bool": _check_bool, "str": _check_str,
            "ints": _check_ints, "floats": _check_floats, "point": _check_floats, "strs": _check_strs,
+           "texts": _check_texts,
            "range": _check_range, "frequencies": _check_frequencies}
 
 

@@ -70,7 +70,14 @@ The package
 :mod:`~acoustiviz.sweep.operation`
     designs in operation: every attractor of each design under a harmonic excitation over a band,
     condensed into one row of worst-case columns (amplitude, reduction, LCpeak, LAeq, LAFmax), run
-    on the same executors.
+    on the same executors;
+:mod:`~acoustiviz.sweep.problem`
+    an optimisation's variables, objectives and constraints, feasibility and the Pareto filter;
+:mod:`~acoustiviz.sweep.modes`
+    evaluation modes of an optimisation: a design's variables -> a row of columns (free vibration);
+:mod:`~acoustiviz.sweep.optimise`
+    running an optimisation: batches asked of Optuna's TPE sampler, evaluated on any executor,
+    journalled and resumable (the optional ``optimize`` extra).
 
 Units are SI throughout (m, kg, s, N/m^1.5, N·s/m, J); angles are in radians in the API and in
 degrees in the CSV.

@@ -17,6 +17,8 @@
 ``design``       the target damping inclination and its tolerance, and the design job (:class:`DesignJob`)
 ``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius; beside
                  it ``sweep_job``, the sweep job: swept values, designs, executor, folder (:class:`SweepJob`)
+``optimize``     the optimisation job: variables, objectives, constraints, budget, seed, batch, folder
+                 (:class:`OptimizeJob`)
 ``room``         the shoebox room's options
 ``auralize``     the auralize job: the damper run or the impacts, cavity, listeners, files (:class:`AuralizeJob`),
                  and the command's options as typed (:class:`DamperSettings`, :class:`AuralizeSettings`)
@@ -39,6 +41,7 @@ from .directivity import DirectivityJob
 from .forced import ForcedSettings
 from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
+from .optimize import OptimizeJob
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
 from .render_job import AnimationJob, BalloonJob, SnapshotJob
@@ -50,4 +53,5 @@ from .waveform import WaveformJob
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
            "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
-           "DamperJob", "DirectivityJob", "DesignJob", "SweepJob", "SnapshotJob", "BalloonJob", "AnimationJob"]
+           "DamperJob", "DirectivityJob", "DesignJob", "SweepJob", "SnapshotJob", "BalloonJob", "AnimationJob",
+           "OptimizeJob"]

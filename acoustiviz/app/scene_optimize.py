@@ -1,0 +1,89 @@
+"""A scene's ``[outputs.optimize]``: the same :class:`~acoustiviz.app.settings.optimize.OptimizeJob` as the command.
+
+The variables are the table's ``gap_m`` and ``mass_kg``; everything else (the damper, its solver,
+the sphere, the contact, the first listener and the configuration) is the scene's, read through
+:func:`acoustiviz.app.sweep.scene_sweep_spec`, the reading of a scene's sweep.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..constants import PAPER_GAP, TABLE1_PARAMETERS
+from .settings.optimize import EXECUTION, OPTIMIZE, SCENE_VARIABLES, OptimizeJob
+
+__all__ = ["optimize_settings", "produce_optimize", "OPTIMIZE_FOLDER"]
+
+#: The folder of the optimisation inside a scene's run folder.
+OPTIMIZE_FOLDER = "optimize"
+#: FixedSettings fields given to :func:`acoustiviz.app.sweep.sweep_spec` under their own names.
+_SAME = ("M", "K", "C", "clip_tensile", "duration", "solver", "rtol", "surface", "pulse", "pulse_mass", "c", "rho",
+         "wall_distance", "n_fastest", "levels", "room")
+
+
+class _AsSweep:
+    """The scene as its sweep reads it: ``[outputs.sweep]`` the optimisation's duration and levels."""
+
+    def __init__(self, scene, opts: dict):
+        self._scene = scene
+        self._sweep = {"gap_m": PAPER_GAP, "mass_kg": TABLE1_PARAMETERS["m"], "duration_s": opts["duration_s"],
+                       "levels": opts["levels"], "workers": 0}
+
+    def output(self, kind: str) -> dict:
+        return dict(self._sweep) if kind == "sweep" else self._scene.output(kind)
+
+    def __getattr__(self, name):
+        return getattr(self._scene, name)
+
+
+def _given(spec) -> dict:
+    """The :func:`acoustiviz.app.sweep.sweep_spec` parameters of a one-design spec's fixed values."""
+    s = spec.settings
+    given = {k: getattr(s, k) for k in _SAME}
+    given["room"] = dict(s.room) if s.room else None
+    given.update(radius="mass" if s.radius_mode == "from-mass" else s.radius, density=s.density,
+                 c1=spec.c1[0], v0=spec.v0[0], distance=spec.distance[0], config=spec.config[0],
+                 angle_deg=math.degrees(spec.angle[0]))
+    given.update({"k_hertz": spec.k_hertz[0]} if spec.material is None else {"material": spec.material[0]})
+    return given
+
+
+def optimize_settings(scene, out=None) -> OptimizeJob:
+    """The scene's ``[outputs.optimize]`` as an :class:`OptimizeJob` writing into ``out/optimize`` (None: no folder)."""
+    from .names import user_terms
+    from .optimize import optimize_variables
+    from .sweep import scene_sweep_spec
+
+    opts = scene.output("optimize")
+    table = "outputs.optimize"
+    names = {s.name: f"{table}.{s.key}" for s in (*OPTIMIZE, *SCENE_VARIABLES, *EXECUTION) if s.key}
+    names.update(angle_deg="listeners", variables=f"{table}.gap_m")
+    with user_terms({"duration": f"{table}.duration_s", "levels": f"{table}.levels"}):
+        spec = scene_sweep_spec(_AsSweep(scene, opts))
+    given = {**_given(spec), "gap": opts["gap_m"], "m": opts["mass_kg"]}
+    variables, fixed = optimize_variables(given, names)
+    return OptimizeJob(variables, fixed, minimize=tuple(opts["minimize"]), maximize=tuple(opts["maximize"]),
+                       constraints=tuple(opts["constraints"]), evaluations=opts["evaluations"], seed=opts["seed"],
+                       batch=opts["batch"], mode=opts["mode"],
+                       out=None if out is None else str(Path(out) / OPTIMIZE_FOLDER), workers=opts["workers"],
+                       names=names)
+
+
+def produce_optimize(ctx):
+    """Scene output ``optimize``: ``optimize/evaluations.csv``, ``pareto.csv``, ``optimize.json``, ``pareto.png``."""
+    from .optimize import run
+    from .products import Product
+
+    job = optimize_settings(ctx.scene, ctx.out)
+    ctx.path(OPTIMIZE_FOLDER)  # the folder checked before the run
+    ctx.progress(f"optimising: {job.evaluations} designs, {job.fixed.duration:g} s of motion each")
+    result = run(job, progress=ctx.stream)
+    figs = {"evaluations": str(len(result.records)), "feasible": str(int(result.feasible.sum()))}
+    if len(job.problem.objectives) > 1:
+        figs["pareto_designs"] = str(int(result.pareto.sum()))
+    elif result.pareto.any():
+        o = job.problem.objectives[0]
+        figs[f"best_{o.column}"] = f"{result.best()[0][o.column]:.6g}"
+    paths = result.write()
+    return [Product("optimize", p, figs if i == 0 else {}) for i, p in enumerate(paths)]

@@ -1,0 +1,176 @@
+"""The optimisation job: one settings object, one run and one writer for the command line, scenes and the API.
+
+The same optimisation is asked for three ways (``acoustiviz optimize``, a scene's ``[outputs.optimize]``
+and :class:`~acoustiviz.app.settings.optimize.OptimizeJob` built in Python) on a tiny budget and the
+files are compared byte for byte; the command line and the scene build equal settings; a run resumes
+from its journal; a design that fails is a row with its reason; the Pareto front of two objectives
+is checked against a brute-force non-dominated filter of the evaluations; and bad input is one line
+naming the option before any work.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+import tomllib
+
+import pytest
+
+pytest.importorskip("optuna")
+
+from acoustiviz.app.optimize import optimize_variables, run  # noqa: E402
+from acoustiviz.app.scene_optimize import optimize_settings  # noqa: E402
+from acoustiviz.app.settings.optimize import OptimizeJob  # noqa: E402
+from acoustiviz.cli import build_parser, main  # noqa: E402
+from acoustiviz.cli.optimize import settings_from_args  # noqa: E402
+from acoustiviz.errors import ParameterError  # noqa: E402
+from acoustiviz.scene import scene_from_dict  # noqa: E402
+
+FILES = ("evaluations.csv", "pareto.csv", "optimize.json", "pareto.png")
+BAND = ("inclination_two_maxima_m_s>=0.002", "inclination_two_maxima_m_s<=0.008")
+#: A tiny problem: 0.3 s of motion per design, 6 evaluations in batches of 4 (one batch and a partial one).
+ARGV = ("--gap", "0.01:0.06", "--m", "0.01:0.08", "--minimize", "max_spl_db", "--constraint", BAND[0],
+        "--constraint", BAND[1], "--evaluations", "6", "--batch", "4", "--seed", "3", "--duration", "0.3",
+        "--workers", "1")
+SCENE = ('[outputs.optimize]\ngap_m = "0.01:0.06"\nmass_kg = "0.01:0.08"\nminimize = ["max_spl_db"]\n'
+         f'constraints = ["{BAND[0]}", "{BAND[1]}"]\nevaluations = 6\nbatch = 4\nseed = 3\nduration_s = 0.3\n'
+         'workers = 1\n')
+
+
+def _api_job(out, duration=0.3, **kw) -> OptimizeJob:
+    variables, fixed = optimize_variables({"gap": "0.01:0.06", "m": "0.01:0.08", "duration": duration})
+    values = dict(minimize=("max_spl_db",), constraints=BAND, evaluations=6, batch=4, seed=3, out=str(out),
+                  workers=1)
+    values.update(kw)
+    return OptimizeJob(variables, fixed, **values)
+
+
+def _rows(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_every_front_end_writes_the_same_files(tmp_path, capsys):
+    assert main(["optimize", *ARGV, "--out", str(tmp_path / "cli")]) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "optimize: 6 designs evaluated" in out and ("best design" in out or "no evaluated design" in out)
+    toml = tmp_path / "scene.toml"
+    toml.write_text(SCENE)
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    api = tmp_path / "api"
+    written = run(_api_job(api)).write()
+    assert sorted(p.name for p in written) == sorted(FILES)
+    for name in FILES:
+        mine = (tmp_path / "cli" / name).read_bytes()
+        assert len(mine) > 100
+        assert (tmp_path / "scene" / "optimize" / name).read_bytes() == mine, f"the scene's {name} differs"
+        assert (api / name).read_bytes() == mine, f"the API's {name} differs"
+    rows = _rows(tmp_path / "cli" / "evaluations.csv")
+    assert [int(r["evaluation"]) for r in rows] == list(range(6))
+    for r in rows:  # every design within the bounds, feasible exactly when it meets the band
+        assert 0.01 <= float(r["gap_m"]) <= 0.06 and 0.01 <= float(r["mass_kg"]) <= 0.08
+        inc = float(r["inclination_two_maxima_m_s"])
+        assert (r["feasible"] == "true") == (0.002 <= inc <= 0.008 and not r["error"])
+
+
+def test_the_command_line_and_a_scene_build_equal_settings(tmp_path):
+    args = build_parser().parse_args(["optimize", *ARGV, "--out", str(tmp_path / "optimize")])
+    from_cli = settings_from_args(args)
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(SCENE)), tmp_path)
+    assert from_cli == from_scene
+    assert from_cli.out == from_scene.out == str(tmp_path / "optimize")
+    assert [v.name for v in from_cli.problem.searched] == ["gap", "m"]
+
+
+def test_the_same_seed_gives_the_same_designs_and_another_seed_others(tmp_path):
+    a = run(_api_job(tmp_path / "a"))
+    b = run(_api_job(tmp_path / "b"))
+    c = run(_api_job(tmp_path / "c", seed=4))
+    assert [r["params"] for r in a.records] == [r["params"] for r in b.records]
+    assert [r["params"] for r in a.records] != [r["params"] for r in c.records]
+
+
+def test_a_resumed_run_keeps_every_finished_evaluation_and_asks_the_same_designs(tmp_path):
+    whole = run(_api_job(tmp_path / "whole"))
+    part = tmp_path / "part"
+    run(_api_job(part, evaluations=5))  # stopped after 5 evaluations: one inside the second batch
+    journal = (part / "journal.jsonl").read_text().splitlines()
+    assert len(journal) == 5
+    # a kill in the middle of writing the next line leaves a torn line, which is dropped
+    with open(part / "journal.jsonl", "a") as fh:
+        fh.write('{"evaluation": 5, "par')
+    # a larger budget continues the same run: the designs of a batch depend only on those before it
+    resumed = run(_api_job(part), progress=None)
+    assert [r["params"] for r in resumed.records] == [r["params"] for r in whole.records]
+    kept = [json.loads(line) for line in journal]
+    assert [r["row"] for r in resumed.records[:5]] == [k["row"] for k in kept]  # not recomputed
+    assert len((part / "journal.jsonl").read_text().splitlines()) == 6
+
+
+def test_a_folder_of_another_optimisation_is_refused(tmp_path):
+    run(_api_job(tmp_path, evaluations=1)).write()
+    with pytest.raises(ParameterError, match=r"^--out: .*other settings"):
+        _api_job(tmp_path, evaluations=2, seed=4, names={"out": "--out"})
+
+
+def test_a_design_that_fails_is_a_row_with_its_reason(tmp_path, monkeypatch):
+    import acoustiviz.sweep.evaluate as evaluate
+
+    real = evaluate.evaluate_design
+
+    def overflow_beyond_4_cm(design, settings):
+        if design.gap > 0.04:
+            raise FloatingPointError("overflow in the contact force")
+        return real(design, settings)
+
+    monkeypatch.setattr(evaluate, "evaluate_design", overflow_beyond_4_cm)  # the forked workers inherit it
+    rows = run(_api_job(tmp_path, evaluations=8, batch=8)).rows
+    failed = [r for r in rows if r["gap_m"] > 0.04]
+    assert failed and len(failed) < len(rows)
+    for r in failed:
+        assert r["error"] == "FloatingPointError: overflow in the contact force"
+        assert r["feasible"] is False and r["pareto"] is False and math.isnan(r["max_spl_db"]) and r["success"] == 0
+    assert all(not r["error"] for r in rows if r["gap_m"] <= 0.04)
+
+
+def test_constraints_decide_feasibility_and_an_infeasible_run_says_so(tmp_path, capsys):
+    assert main(["optimize", "--gap", "0.01:0.06", "--minimize", "max_spl_db", "--constraint", "max_spl_db<=0",
+                 "--evaluations", "3", "--duration", "0.3", "--workers", "1", "--out", str(tmp_path)]) == 0
+    assert "no evaluated design is feasible" in capsys.readouterr().out
+    rows = _rows(tmp_path / "evaluations.csv")
+    assert all(r["feasible"] == "false" for r in rows) and len(_rows(tmp_path / "pareto.csv")) == 0
+
+
+def test_two_objectives_give_the_brute_force_non_dominated_designs(tmp_path):
+    job = _api_job(tmp_path, minimize=("max_spl_db",), maximize=("inclination_two_maxima_m_s",), constraints=(),
+                   evaluations=12, duration=1.0)
+    result = run(job)
+    rows = [r for r in result.rows if r["feasible"]]
+    pts = [(r["max_spl_db"], -r["inclination_two_maxima_m_s"]) for r in rows]
+    expected = [r["evaluation"] for r, p in zip(rows, pts, strict=True)
+                if not any(q[0] <= p[0] and q[1] <= p[1] and q != p for q in pts)]
+    assert [r["evaluation"] for r in result.best()] == expected
+    assert len(rows) >= 6 and len(expected) >= 1
+    result.write()
+    assert [int(r["evaluation"]) for r in _rows(tmp_path / "pareto.csv")] == expected
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (("--gap", "0.01:0.06", "--minimize", "loudness"), r"--minimize: unknown column 'loudness'"),
+    (("--gap", "0.06:0.01", "--minimize", "max_spl_db"), r"--gap: needs LO < HI"),
+    (("--gap", "0.01:x", "--minimize", "max_spl_db"), r"--gap: expected .*non-number"),
+    (("--gap", "0.01:20", "--minimize", "max_spl_db"), r"--gap: "),
+    (("--gap", "0.01:0.06", "--minimize", "max_spl_db", "--evaluations", "0"), r"--evaluations: "),
+    (("--gap", "0.01:0.06", "--minimize", "max_spl_db", "--executor", "spark://h:1"), r"--executor: "),
+    (("--gap", "0.01:0.06", "--minimize", "max_spl_db", "--constraint", "max_spl_db<100"), r"--constraint: "),
+    (("--gap", "0.01:0.06", "--minimize", "lafmax_db"), r"--minimize: .*--levels"),
+    (("--minimize", "max_spl_db",), r"--gap: no variable to search"),
+])
+def test_bad_input_is_one_line_naming_the_option_before_any_work(argv, message, tmp_path, capsys):
+    assert main(["optimize", *argv, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert re.search(message, err), err
+    assert not (tmp_path / "o").exists()
