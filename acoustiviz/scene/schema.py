@@ -2,20 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
-from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
+from ..app.settings.forced import AMPLITUDE, EXCITATION_KIND, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.render import ANIMATION, BALLOON, MAX_TIMES, SNAPSHOT
 from ..app.settings.sweep import SWEEP
 from ..constants import (
     ANIMATION_SIZE,
-    EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
     PULSES,
@@ -127,14 +127,9 @@ _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
     "main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m", "contact_damping_n_s_m",
     "clip_tensile", "initial_velocity_m_s", "initial_displacement_m", "duration_s", "solver", "tolerance")}
 
-_EXCITATION = {
-    "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
-                "through K and C", "force", choices=EXCITATIONS),
-    **_from_table((AMPLITUDE,), "excitation"),
-    "frequencies_hz": Key("frequencies", FREQUENCIES.doc, FREQUENCIES.in_scene, FREQUENCIES.unit, low=FREQUENCIES.low,
-                          high=FREQUENCIES.high, low_open=FREQUENCIES.low_open),
-    **_from_table(FORCED, "excitation"),
-}
+_EXCITATION = _from_table((EXCITATION_KIND, AMPLITUDE, FREQUENCIES, *FORCED), "excitation")
+# the frequencies are written as text (a range or a list), each value in the record's range
+_EXCITATION["frequencies_hz"] = dataclasses.replace(_EXCITATION["frequencies_hz"], kind="frequencies")
 
 _LISTENER = {
     "name": Key("str", "label used in file names (default listenerN): unique, 1-64 letters, digits, '_', '-', '.' "

@@ -4,14 +4,15 @@
 ``table``        the :class:`Setting` record (API name, option, scene key, type, unit, range, default,
                  meaning) and :func:`add_option`, which builds a command-line option from it
 ``base``         the :class:`Settings` base class that checks its fields against its table, and image sizes
-``parse``        a point X,Y,Z and an image size WxH typed as text
+``parse``        a point X,Y,Z, an image size WxH and forcing frequencies typed as text
 ``impact``       the options of one impact, its waveform and its directivity
 ``waveform``     the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
 ``directivity``  the directivity job: impact, circle, angle step, level and files (:class:`DirectivityJob`)
 ``damper``       the records of the impact damper (paper eq 15), its start, run and solver; beside it
                  ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
 ``render``       the balloon, snapshot and animation views
-``forced``       the damper in operation: continuation, solver, tolerances, level interval, the job
+``forced``       the records of the damper in operation: excitation, continuation, solver, noise, files;
+                 beside it ``forced_job``, the forced job (:class:`ForcedJob`)
 ``design``       the target damping inclination and its tolerance
 ``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius
 ``room``         the shoebox room's options
@@ -28,7 +29,7 @@ from .base import Settings, check_size
 from .damper_job import DamperJob
 from .design import DesignSettings
 from .directivity import DirectivityJob
-from .forced import ForcedSettings
+from .forced_job import ForcedJob
 from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
 from .parse import parse_point, parse_size
@@ -39,5 +40,5 @@ from .waveform import WaveformJob
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
+           "ForcedJob", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
            "DamperJob", "DirectivityJob"]
