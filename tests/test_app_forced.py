@@ -24,7 +24,6 @@ from acoustiviz.app.damper import damper_model
 from acoustiviz.app.forced import ForcedJob, forced_settings, run
 from acoustiviz.app.settings.damper import MODEL
 from acoustiviz.app.settings.forced import AMPLITUDE, EXCITATION_KIND, FORCED, FREQUENCIES
-from acoustiviz.app.settings.forced_job import FORCED_FILE_KINDS
 from acoustiviz.cli import build_parser, main
 from acoustiviz.cli.forced import settings_from_args
 from acoustiviz.dynamics import DamperModel
@@ -291,4 +290,3 @@ def test_the_scene_keys_of_the_excitation_are_the_records():
         assert (k.doc, k.default, k.unit, k.low, k.high, k.low_open, tuple(k.choices)) == \
             (s.doc, s.in_scene, s.unit, s.low, s.high, s.low_open, tuple(s.choices)), s.key
     assert keys[FREQUENCIES.key].kind == "frequencies"  # written as text: a range or a list
-    assert set(FORCED_FILE_KINDS) >= {"wav", "csv", "png"}

@@ -51,7 +51,8 @@ from .settings.parse import parse_frequencies
 __all__ = ["ForcedJob", "ForcedResult", "run", "forced_settings", "forced_table", "FORCED_CSV_COLUMNS",
            "NOISE_COLUMNS", "OperatingNoise", "add_operating_noise", "check_listener", "default_listener",
            "operating_noise", "parse_frequencies", "write_forced_csv", "write_forced_png", "write_operating_wav",
-           "DesignMap", "design_map", "produce_frequency_response", "produce_bifurcation", "produce_operating_noise"]
+           "DesignMap", "design_map", "report", "produce_frequency_response", "produce_bifurcation",
+           "produce_operating_noise"]
 
 #: Columns of the frequency-response CSV, one row per (frequency, attractor); the first eight
 #: and ``attractor, basin_fraction, stable, max_floquet_modulus, residual, amplitude_std_err_m``
