@@ -171,9 +171,12 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
     -------
     ForcedResult
     """
+    from .names import user_terms
+
     s = settings
     t0, c0 = time.perf_counter(), time.process_time()
-    resp = _attractors(s, progress)
+    with user_terms(s.names):  # a Dask scheduler found unreachable on connecting: the option that named it
+        resp = _attractors(s, progress)
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
     rows = _rows(resp)
     noises, noise_elapsed = None, 0.0
