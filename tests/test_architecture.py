@@ -397,12 +397,12 @@ def _calls_outside(tree, func: str, allowed_roots=frozenset()) -> list:
 
 #: Command-line modules still adding options by hand while their workflows are converted to jobs. It must be
 #: empty: each file leaves it when its options come from records (``add_option``).
-PENDING_OPTIONS = {"cli/forced.py"}
+PENDING_OPTIONS = set()
 
 #: Scene keys still spelled by hand in ``scene/schema.py`` while their workflows are converted (excitation,
 #: sweep, render, WAV), by the definition holding them. It must be empty: each leaves it when its keys come
 #: from records.
-PENDING_KEYS = {"_EXCITATION"}
+PENDING_KEYS = set()
 
 
 def _is_version(call) -> bool:

@@ -13,7 +13,8 @@ from acoustiviz.app.settings.auralize import ALL as AURALIZE_ALL
 from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings, DamperSettings
 from acoustiviz.app.settings.damper import DAMPER, MODEL
 from acoustiviz.app.settings.design import DESIGN, DESIGN_RUN, DesignJob, DesignSettings
-from acoustiviz.app.settings.forced import FORCED, ForcedSettings
+from acoustiviz.app.settings.forced import EXCITATION_KIND, FORCED, FORCED_EXECUTION, NOISE
+from acoustiviz.app.settings.forced_job import ForcedJob
 from acoustiviz.app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM, DirectivitySettings, WaveformSettings
 from acoustiviz.app.settings.levels import ALL as LEVELS_ALL
 from acoustiviz.app.settings.levels import LEVELS, LevelsSettings
@@ -37,7 +38,8 @@ TABLES = [
     (("render", "animation"), ANIMATION, AnimationSettings),
     (("waveform",), WAVEFORM, WaveformSettings),
     (("directivity",), DIRECTIVITY, DirectivitySettings),
-    (("forced",), FORCED, ForcedSettings),
+    (("forced",), FORCED, ForcedJob),
+    (("forced",), (EXCITATION_KIND, *FORCED_EXECUTION[:2], NOISE), ForcedJob),
     (("design",), DESIGN, DesignSettings),
     (("sweep",), SWEEP, SweepSettings),
     (("design",), DESIGN_RUN, DesignJob),

@@ -85,7 +85,8 @@ def test_a_gap_too_large_to_impact_gives_the_linear_response_and_no_reduction():
 
 
 def test_worst_amplitude_and_reduction_match_a_direct_forced_run():
-    from acoustiviz.app.forced import run_forced
+    from acoustiviz.app.forced import run
+    from acoustiviz.app.settings.forced_job import ForcedJob
     from acoustiviz.dynamics import DamperModel
 
     freqs = (3.0, 6.5)
@@ -93,7 +94,7 @@ def test_worst_amplitude_and_reduction_match_a_direct_forced_run():
     row = evaluate_in_operation(spec.designs()[0], spec.settings, Operation(5.0, freqs, levels=False))
     s = spec.settings
     model = DamperModel(M=s.M, K=s.K, C=s.C, m=0.0405, gap=0.04, k_hertz=5.6e8, c1=20.0)
-    fr = run_forced(model, freqs, 5.0)
+    fr = run(ForcedJob(model=model, frequencies=freqs, amplitude=5.0, noise=False))
     amps = [r["amplitude_m"] for r in fr.rows]
     k = int(np.argmax(amps))
     assert row["worst_amplitude_m"] == amps[k]

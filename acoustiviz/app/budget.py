@@ -409,19 +409,24 @@ def wav_estimate(duration: float, sample_rate: float, channels: int, options=("-
 
 
 def forced_estimate(n_frequencies: int, max_cycles: int, *, noise_seconds: float = 0.0,
-                    analysis_rate: float = 96000.0, wav_rate: float = float(WAV_RATE), wav: bool = False) -> Estimate:
+                    analysis_rate: float = 96000.0, wav_rate: float = float(WAV_RATE), wav: bool = False,
+                    names=None) -> Estimate:
     """A frequency response, and the noise in operation when ``noise_seconds`` > 0.
 
     The Poincare section and extrema of each run (a few floats per cycle, ``max_cycles`` at
     most), and with the noise in operation a click train per frequency of at least
     ``noise_seconds`` after a 1 s lead-in, rendered at ``analysis_rate`` with about ten filtered copies;
-    a WAV of every frequency in turn at ``wav_rate``.
+    a WAV of every frequency in turn at ``wav_rate``. ``names`` maps ``max_cycles``, ``frequencies``
+    and ``noise_seconds`` to the option or scene key to name (default: the command line's options).
     """
     with np.errstate(all="ignore"):
         runs = _count(float(n_frequencies) * float(max_cycles) * 16.0)
         train = _count((2.0 * float(noise_seconds) + 1.0) * analysis_rate * 11.0) if noise_seconds > 0 else 0.0
         wav_n = _count(float(n_frequencies) * 2.0 * float(noise_seconds) * wav_rate) if wav else 0.0
-    opts = ("--max-cycles", "--freq") if train <= runs else ("--noise-seconds", "--freq")
+    names = {"max_cycles": "--max-cycles", "frequencies": "--freq", "noise_seconds": "--noise-seconds",
+             **(names or {})}
+    first = "max_cycles" if train <= runs else "noise_seconds"
+    opts = (names[first], names["frequencies"])
     return Estimate(_F8 * (runs + train + 3.0 * wav_n), 4.0 * wav_n + 400.0 * n_frequencies,
                     f"{n_frequencies} frequencies, up to {max_cycles} cycles each"
                     + (f", {noise_seconds:g} s of noise each" if noise_seconds > 0 else ""), opts)

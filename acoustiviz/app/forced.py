@@ -1,9 +1,15 @@
-"""The damper in operation, for every front-end: frequency response table and figure.
+"""The forced job: the damper in operation, its frequency response, bifurcation diagram and noise, for every front end.
 
-``acoustiviz forced`` parses its options and calls :func:`parse_frequencies`,
-:func:`run_forced`, :func:`write_forced_csv` and :func:`write_forced_png`; the physics is in
-:mod:`acoustiviz.dynamics.forced`; the noise in operation (LAeq, LCpeak, LAFmax of the steady
-click train at a listener) in :mod:`acoustiviz.app.forced_noise`. SI units; frequencies in Hz.
+Three parts, shared by ``acoustiviz forced``, a scene's ``[outputs.frequency_response]``,
+``[outputs.bifurcation]`` and ``[outputs.operating_noise]`` and Python callers:
+
+* :class:`~acoustiviz.app.settings.forced_job.ForcedJob`, the settings, checked once when made;
+* :func:`run`, which finds every attractor of each frequency (:mod:`acoustiviz.dynamics.forced`) and,
+  when asked, their noise in operation (:mod:`acoustiviz.app.forced_noise`: LAeq, LCpeak, LAFmax of
+  the steady click train at a listener), returning a :class:`ForcedResult` (no files, no printing);
+* :meth:`ForcedResult.write`, which writes the files the settings asked for and returns their paths.
+
+SI units; frequencies in Hz.
 
 Examples
 --------
@@ -20,13 +26,11 @@ import io
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-from ..constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE
-from ..dynamics import DamperModel
-from ..dynamics.forced import FORCED_SOLVERS, SWEEPS, AttractorResponse, attractor_response, describe
-from ..errors import ParameterError
+from ..dynamics.forced import AttractorResponse, attractor_response, describe
 from .forced_noise import (
     NOISE_COLUMNS,
     DesignMap,
@@ -36,16 +40,19 @@ from .forced_noise import (
     default_listener,
     design_map,
     mark_worst_case,
+    noise_statement,
     operating_noise,
+    write_noise_csv,
     write_operating_wav,
 )
-from .names import DAMPER_OPTIONS, user_terms
+from .settings.forced_job import ForcedJob
 from .settings.parse import parse_frequencies
 
-__all__ = ["forced_workflow", "forced_table", "operating_noise_report", "room_surroundings",
-           "FORCED_CSV_COLUMNS", "FORCED_OPTIONS", "NOISE_COLUMNS", "ForcedRun", "OperatingNoise",
-           "add_operating_noise", "check_listener", "default_listener", "operating_noise", "parse_frequencies",
-           "run_forced", "write_forced_csv", "write_forced_png", "write_operating_wav", "DesignMap", "design_map"]
+__all__ = ["ForcedJob", "ForcedResult", "run", "forced_settings", "forced_table", "FORCED_CSV_COLUMNS",
+           "NOISE_COLUMNS", "OperatingNoise", "add_operating_noise", "check_listener", "default_listener",
+           "operating_noise", "parse_frequencies", "write_forced_csv", "write_forced_png", "write_operating_wav",
+           "DesignMap", "design_map", "report", "produce_frequency_response", "produce_bifurcation",
+           "produce_operating_noise"]
 
 #: Columns of the frequency-response CSV, one row per (frequency, attractor); the first eight
 #: and ``attractor, basin_fraction, stable, max_floquet_modulus, residual, amplitude_std_err_m``
@@ -59,41 +66,38 @@ FORCED_CSV_COLUMNS = (
     "attractors", "hysteresis", "worst_case", "lyapunov_1_s", "lyapunov_std_err_1_s", "newton_iterations",
     "cycles_integrated", "solver", "tolerance", "rtol", "starts", "max_cycles", "message",
 )
-#: API parameter -> command-line option of ``acoustiviz forced``.
-FORCED_OPTIONS = {
-    **DAMPER_OPTIONS,
-    "frequency": "--freq",
-    "frequencies": "--freq",
-    "sweep": "--sweep",
-    "tolerance": "--tolerance",
-    "rtol": "--rtol",
-    "starts": "--starts",
-    "max_cycles": "--max-cycles",
-    "restitution": "--restitution",
-    "workers": "--workers",
-    "executor": "--executor",
-}
 
 
-@dataclass(frozen=True)
-class ForcedRun:
-    """The attractors over a list of frequencies, and their table.
+@dataclass(frozen=True, eq=False)
+class ForcedResult:
+    """The attractors of a :class:`~acoustiviz.app.settings.forced_job.ForcedJob`, their table and their noise.
 
     Attributes
     ----------
+    settings : ForcedJob
+        What was computed.
     response : AttractorResponse
-    rows : list of dict
-        One row per (frequency, attractor), keys :data:`FORCED_CSV_COLUMNS`.
+        Every attractor of each frequency.
+    rows : tuple of dict
+        One row per (frequency, attractor), keys :data:`FORCED_CSV_COLUMNS` (the level columns filled
+        with the noise in operation).
+    noises : tuple or None
+        The :class:`OperatingNoise` of each row (None where its run failed); None without the noise.
     elapsed : float
-        Wall time of the runs in s.
+        Wall time of the attractors' runs in s.
     cpu : float
-        CPU time of this process during the runs in s (worker processes not included).
+        CPU time of this process during those runs in s (worker processes not included).
+    noise_elapsed : float
+        Wall time of the noise in operation in s (0 without it).
     """
 
+    settings: ForcedJob
     response: AttractorResponse
-    rows: list
+    rows: tuple
+    noises: tuple | None
     elapsed: float
     cpu: float = math.nan
+    noise_elapsed: float = 0.0
 
     @property
     def columns(self) -> tuple:
@@ -106,65 +110,119 @@ class ForcedRun:
         return [a for _, _, a, _ in self.response.entries()]
 
     @property
+    def failed(self) -> list:
+        """The steady states whose run failed."""
+        return [r for r in self.steady_states if not r.success]
+
+    @property
     def success(self) -> bool:
         """True when every run completed (whatever its regime)."""
-        return all(r.success for r in self.steady_states)
+        return not self.failed
+
+    def write(self, folder=None, *, only=None) -> list:
+        """Write the files the settings ask for into ``folder``; return their paths.
+
+        The WAV of the frequencies in turn and its JSON sidecar, the level table, the attractors' table,
+        the three-panel figure, the frequency response and the bifurcation diagram, each atomically.
+
+        Parameters
+        ----------
+        folder : path-like, optional
+            Where relative file names are put (default: as given, the current folder).
+        only : iterable of str, optional
+            Write only these files of the settings (:data:`~acoustiviz.app.settings.forced_job.FORCED_FILE_KINDS`
+            keys; default all).
+
+        Returns
+        -------
+        list of pathlib.Path
+        """
+        s = self.settings
+        paths = []
+        for key, name in s.files().items():
+            if only is not None and key not in only:
+                continue
+            path = Path(name) if folder is None else Path(folder) / name
+            if key == "wav":
+                rec = write_operating_wav(self.noises, path, listener=s.listener_position, radius=s.radius)
+                paths += [path, Path(rec[0]["sidecar"])]
+            elif key == "noise_csv":
+                paths.append(write_noise_csv(path, self.steady_states, self.noises))
+            else:
+                paths.append(_WRITERS[key](self, path))
+        return paths
 
 
-def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str = "force", sweep: str = "up",
-               solver: str = "event", restitution: float | None = None, tolerance: float = FORCED_TOLERANCE,
-               rtol: float = FORCED_RTOL, starts: int = FORCED_STARTS, max_cycles: int = FORCED_MAX_CYCLES,
-               workers: int = 1, executor: str = "process", progress=None) -> ForcedRun:
-    """Every attractor of ``model`` under a harmonic force (N) or base motion (m) at each frequency (Hz).
+def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
+    """Find every attractor of ``settings`` at each frequency and, when asked, their noise in operation (no files).
 
-    Parameters are those of :func:`acoustiviz.dynamics.forced.attractor_response` (``tolerance``
-    in m and m/s, the Newton residual of a periodic orbit); ``workers`` > 1 runs the frequencies
-    of each round on a local process pool, and ``executor="dask://HOST:PORT"`` on a Dask cluster
-    (the same executors as sweeps, :func:`acoustiviz.sweep.execute.dask_executor`). Errors name
-    the command-line options.
+    ``workers`` > 1 runs the frequencies of each round on a local process pool, and
+    ``executor="dask://HOST:PORT"`` on a Dask cluster (the same executors as sweeps,
+    :func:`acoustiviz.sweep.execute.dask_executor`).
+
+    Parameters
+    ----------
+    settings : ForcedJob
+        The job, checked when it was made.
+    progress : callable, optional
+        Called with a one-line message after each frequency and each continuation round.
+
+    Returns
+    -------
+    ForcedResult
     """
-    with user_terms({**FORCED_OPTIONS, "amplitude": "--force" if kind == "force" else "--base"}):
-        if sweep not in SWEEPS:
-            raise ParameterError("sweep", f"must be one of {', '.join(SWEEPS)}, got {sweep!r}")
-        if solver not in FORCED_SOLVERS:
-            raise ParameterError("solver", f"must be one of {', '.join(FORCED_SOLVERS)}, got {solver!r}")
-        if int(workers) < 1:
-            raise ParameterError("workers", f"must be >= 1, got {workers}")
-        from ..core.limits import check_forcing_frequencies
+    from .names import user_terms
 
-        check_forcing_frequencies(frequencies, M=model.M, K=model.K)
-        kwargs = {"solver": solver, "restitution": restitution, "tolerance": tolerance, "rtol": rtol,
-                  "starts": starts, "max_cycles": max_cycles}
-        t0, c0 = time.perf_counter(), time.process_time()
-        if executor != "process":
-            from ..sweep.execute import dask_executor
+    s = settings
+    t0, c0 = time.perf_counter(), time.process_time()
+    with user_terms(s.names):  # a Dask scheduler found unreachable on connecting: the option that named it
+        resp = _attractors(s, progress)
+    elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
+    rows = _rows(resp)
+    noises, noise_elapsed = None, 0.0
+    if s.noise:  # the level columns of every attractor
+        t0 = time.perf_counter()
+        noises = tuple(add_operating_noise(rows, [a for _, _, a, _ in resp.entries()], listener=s.listener_position,
+                                           config=s.config, radius=s.radius, seconds=s.noise_seconds,
+                                           settings=s.surroundings))
+        noise_elapsed = time.perf_counter() - t0
+    return ForcedResult(s, resp, tuple(rows), noises, elapsed, cpu, noise_elapsed)
 
-            ex, close = dask_executor(executor)
-            try:
-                resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
-                                          progress=progress, **kwargs)
-            finally:
-                close()
-        elif int(workers) > 1:
-            from ..sweep.execute import local_pool, shutdown_now
 
-            # workers that leave Ctrl-C to this process: on an interrupt the pending frequencies are
-            # cancelled and the workers stopped at once
-            ex = local_pool(min(int(workers), len(frequencies)))
-            finished = False
-            try:
-                resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, executor=ex,
-                                          progress=progress, **kwargs)
-                finished = True
-            finally:
-                if finished:
-                    ex.shutdown(wait=True)
-                else:
-                    shutdown_now(ex)
-        else:
-            resp = attractor_response(model, frequencies, amplitude, kind=kind, sweep=sweep, progress=progress,
-                                      **kwargs)
-        elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
+def _attractors(s: ForcedJob, progress) -> AttractorResponse:
+    """The attractors of every frequency, run here, on a local pool or on a Dask cluster."""
+    kwargs = {"kind": s.kind, "sweep": s.sweep, "progress": progress, "solver": s.solver,
+              "restitution": s.restitution, "tolerance": s.tolerance, "rtol": s.rtol, "starts": s.starts,
+              "max_cycles": s.max_cycles}
+    if s.executor != "process":
+        from ..sweep.execute import dask_executor
+
+        ex, close = dask_executor(s.executor)
+        try:
+            return attractor_response(s.model, s.frequencies, s.amplitude, executor=ex, **kwargs)
+        finally:
+            close()
+    if s.workers > 1:
+        from ..sweep.execute import local_pool, shutdown_now
+
+        # workers that leave Ctrl-C to this process: on an interrupt the pending frequencies are
+        # cancelled and the workers stopped at once
+        ex = local_pool(min(s.workers, len(s.frequencies)))
+        finished = False
+        try:
+            resp = attractor_response(s.model, s.frequencies, s.amplitude, executor=ex, **kwargs)
+            finished = True
+        finally:
+            if finished:
+                ex.shutdown(wait=True)
+            else:
+                shutdown_now(ex)
+        return resp
+    return attractor_response(s.model, s.frequencies, s.amplitude, **kwargs)
+
+
+def _rows(resp: AttractorResponse) -> list:
+    """One row per (frequency, attractor) of ``resp``, the level columns empty and the worst cases marked."""
     rows = []
     settings = resp.settings.describe()
     prev_regimes: set = set()
@@ -179,7 +237,7 @@ def run_forced(model: DamperModel, frequencies, amplitude: float, *, kind: str =
             rows.append(row)
         prev_regimes = regimes
     mark_worst_case(rows)
-    return ForcedRun(resp, rows, elapsed, cpu)
+    return rows
 
 
 def _cell(v) -> str:
@@ -192,20 +250,20 @@ def _cell(v) -> str:
     return str(v)
 
 
-def write_forced_csv(run: ForcedRun, path):
+def write_forced_csv(result: ForcedResult, path):
     """Write the frequency-response table (one row per frequency and attractor) atomically; return the path."""
     from ..files import write_text_atomic
 
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    cols = run.columns
+    cols = result.columns
     w.writerow(cols)
-    for row in run.rows:
+    for row in result.rows:
         w.writerow([_cell(row.get(c)) for c in cols])
     return write_text_atomic(path, buf.getvalue())
 
 
-def write_forced_png(run: ForcedRun, path):
+def write_forced_png(result: ForcedResult, path):
     """Plot the frequency response, the bifurcation diagram and the noise levels if computed; return the path.
 
     The response is drawn with and without the damper; the third panel (LAeq, LAFmax, LCpeak of
@@ -216,17 +274,17 @@ def write_forced_png(run: ForcedRun, path):
     from ..output.plot.forced import plot_bifurcation, plot_frequency_response, plot_operating_levels
     from ..output.plot.style import save_figure, style
 
-    noise = any(row.get("laeq_db") is not None for row in run.rows)
+    noise = any(row.get("laeq_db") is not None for row in result.rows)
     with style():
         fig = Figure(figsize=(9.5, 10.5 if noise else 8.0), layout="constrained")
         axes = fig.subplots(3 if noise else 2, 1, sharex=True)
-        plot_frequency_response(run.response, ax=axes[0])
-        plot_bifurcation(run.response, ax=axes[1])
+        plot_frequency_response(result.response, ax=axes[0])
+        plot_bifurcation(result.response, ax=axes[1])
         if noise:  # the levels of the click train of every attractor
-            levels = {c: [np.nan if row.get(c) is None else row[c] for row in run.rows]
+            levels = {c: [np.nan if row.get(c) is None else row[c] for row in result.rows]
                       for c in ("laeq_db", "lafmax_db", "lcpeak_db")}
-            plot_operating_levels([row["frequency_hz"] for row in run.rows], levels,
-                                  [row["regime"] for row in run.rows], ax=axes[2])
+            plot_operating_levels([row["frequency_hz"] for row in result.rows], levels,
+                                  [row["regime"] for row in result.rows], ax=axes[2])
             axes[2].set_ylabel("level at the listener (dB re 20 µPa)")
         for ax in axes[:-1]:
             ax.set_xlabel("")  # shared with the panel below
@@ -234,76 +292,25 @@ def write_forced_png(run: ForcedRun, path):
     return save_figure(fig, path)
 
 
-# --------------------------------------------------------------------------- scene outputs
-def _scene_forced_run(ctx) -> ForcedRun:
-    """The [excitation] frequency response of a scene run, computed once and kept on ``ctx``."""
-    run = getattr(ctx, "_forced_run", None)
-    if run is None:
-        from .settings.forced import ForcedSettings
+def _one_panel(plot: str):
+    """A writer of the one panel drawn by :mod:`acoustiviz.output.plot.forced`'s ``plot``, in the scene's size."""
+    def write(result: ForcedResult, path):
+        from matplotlib.figure import Figure
 
-        ex, st = ctx.scene.section("excitation"), ctx.scene.forced_settings()
-        freqs = parse_frequencies(ex["frequencies_hz"], "excitation.frequencies_hz")
-        ctx.progress(f"forced damper: {freqs.size} frequencies, sweep {st.sweep} ({st.solver} solver)")
-        with user_terms({"frequencies": "excitation.frequencies_hz", "frequency": "excitation.frequencies_hz",
-                         "amplitude": "excitation.amplitude", **ForcedSettings.scene_names()}):
-            run = run_forced(ctx.damper_model, freqs, ex["amplitude"], kind=ex["kind"], sweep=st.sweep,
-                             solver=st.solver, tolerance=st.tolerance, rtol=st.rtol, starts=st.starts,
-                             max_cycles=st.max_cycles)
-        ctx._forced_run = run
-    return run
+        from ..output.plot import forced as plots
+        from ..output.plot.style import save_figure, style
+
+        with style():
+            fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+            getattr(plots, plot)(result.response, ax=fig.add_subplot())
+            return save_figure(fig, path)
+
+    return write
 
 
-def produce_frequency_response(ctx):
-    """Scene output ``frequency_response``: the CSV of ``acoustiviz forced`` and its figure."""
-    from matplotlib.figure import Figure
-
-    from ..output.plot.forced import plot_frequency_response
-    from ..output.plot.style import save_figure, style
-    from .products import Product
-
-    run = _scene_forced_run(ctx)
-    if ctx.scene.wants("operating_noise"):  # the level columns, at the first listener
-        from .forced_noise import scene_noises
-
-        scene_noises(ctx, run)
-    csv_path = write_forced_csv(run, ctx.path("frequency_response.csv"))
-    with style():
-        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
-        plot_frequency_response(run.response, ax=fig.add_subplot())
-        png = save_figure(fig, ctx.path("frequency_response.png"))
-    red = [r["reduction_db"] for r in run.rows]
-    figs = {"frequencies": str(run.response.frequencies.size), "attractors": str(len(run.rows)),
-            "best_reduction_db": f"{np.nanmax(red):.1f}",
-            "non_periodic": str(sum(not r["regime"].startswith("periodic-") for r in run.rows)),
-            **{k: f"{v:g}" if isinstance(v, float) else str(v) for k, v in run.response.settings.describe().items()
-               if k in ("starts", "tolerance", "rtol", "max_cycles")}}
-    failed = sorted({r.excitation.frequency for r in run.steady_states if not r.success})
-    if failed:  # the run is incomplete, as with `acoustiviz forced` (exit status 1)
-        figs["failed_frequencies_hz"] = " ".join(f"{f:g}" for f in failed)
-    return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
-
-
-def produce_bifurcation(ctx):
-    """Scene output ``bifurcation``: Poincaré displacement against forcing frequency (PNG)."""
-    from matplotlib.figure import Figure
-
-    from ..output.plot.forced import plot_bifurcation
-    from ..output.plot.style import save_figure, style
-    from .products import Product
-
-    run = _scene_forced_run(ctx)
-    with style():
-        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
-        plot_bifurcation(run.response, ax=fig.add_subplot())
-        png = save_figure(fig, ctx.path("bifurcation.png"))
-    return [Product("bifurcation", png, {"regimes": " ".join(sorted({r["regime"] for r in run.rows}))})]
-
-
-def produce_operating_noise(ctx):
-    """Scene output ``operating_noise``: levels per frequency at the first listener (CSV) and a WAV."""
-    from .forced_noise import write_operating_noise
-
-    return write_operating_noise(ctx, _scene_forced_run(ctx))
+#: File of the settings -> its writer ``(result, path) -> path``.
+_WRITERS = {"csv": write_forced_csv, "png": write_forced_png,
+            "response_png": _one_panel("plot_frequency_response"), "bifurcation_png": _one_panel("plot_bifurcation")}
 
 
 def forced_table(fr, noises=None) -> str:
@@ -333,128 +340,108 @@ def forced_table(fr, noises=None) -> str:
     return "\n".join(lines)
 
 
-def room_surroundings(room: dict | None, listener, *, room_name: str = "a room") -> dict | None:
-    """The cavity's surroundings in a room (``{"room": room}``), or None above the paper's plane.
-
-    In a room the listener must be given: the paper's default (0.7 m at 45 degrees above the
-    plane) has no place in it. The room's ``duration`` (s) says how long after each click its
-    reflections are heard (the images that arrive within it).
-
-    Parameters
-    ----------
-    room : dict or None
-        The room's settings (:func:`acoustiviz.app.impacts.room_settings`).
-    listener : (3,) array_like or None
-        The listener in m.
-    room_name : str
-        How the error names the room (``"--room"`` on the command line).
-    """
-    if room is None:
-        return None
-    if listener is None:
-        raise ParameterError("listener", f"required with {room_name}: the listener's position X,Y,Z in m in the room")
-    return {"room": room}
-
-
-def operating_noise_report(fr, listener, seconds: float, *, wav=None, settings=None) -> list:
-    """Add the noise in operation to ``fr`` at ``listener`` and, with ``wav``, write it; return the report lines.
-
-    Parameters
-    ----------
-    fr : ForcedRun
-        The attractors of each frequency.
-    listener : (3,) ndarray or None
-        Listener in m (None: the paper's, 0.7 m at 45 degrees).
-    seconds : float
-        Least length in s of each level interval (whole periods).
-    wav : path-like, optional
-        The WAV of the frequencies in turn (with its JSON sidecar).
-    settings : dict, optional
-        The cavity's surroundings (:func:`room_surroundings`; None: the paper's plane).
-    """
-    import time
-
-    from .forced_noise import noise_statement
-
-    t0 = time.perf_counter()
-    noises = add_operating_noise(fr, listener=listener, seconds=seconds, settings=settings)
-    where = ("the paper's listener (0.7 m, 45 deg)" if listener is None
-             else f"({','.join(f'{v:g}' for v in listener)}) m")
-    lines = [f"noise in operation at {where}: {noise_statement(seconds)}; {time.perf_counter() - t0:.2f} s",
-             forced_table(fr, noises)]
-    if wav:
-        rec = write_operating_wav(noises, wav, listener=listener)
-        lines.append(f"wrote {wav} (sidecar {rec[0]['sidecar']})")
+def report(result: ForcedResult) -> list:
+    """The lines ``acoustiviz forced`` prints: the settings and timings, the table, the failures, the noise."""
+    s = result.settings
+    unit = "N" if s.kind == "force" else "m"
+    lines = [f"{s.kind} amplitude {s.amplitude:g} {unit}; sweep {s.sweep}; solver {s.solver}; {s.starts} starts; "
+             f"tolerance {s.tolerance:g} m, m/s; rtol {s.rtol:g}; max cycles {s.max_cycles}; "
+             f"{len(s.frequencies)} frequencies, {len(result.rows)} attractors in {result.elapsed:.2f} s"]
+    if not s.noise:
+        lines.append(forced_table(result, None))
+    lines += [f"warning: {r.excitation.frequency:g} Hz: {r.message}" for r in result.failed]
+    if s.noise:
+        where = ("the paper's listener (0.7 m, 45 deg)" if s.listener is None
+                 else f"({','.join(f'{v:g}' for v in s.listener)}) m")
+        lines += [f"noise in operation at {where}: {noise_statement(s.noise_seconds)}; {result.noise_elapsed:.2f} s",
+                  forced_table(result, result.noises)]
     return lines
 
 
-def _check_forced_outputs(job) -> None:
-    """Refuse unwritable or clashing output files (before any work)."""
-    from .outputs import check_distinct, check_output_file
-
-    outputs = {"--csv": job.csv and check_output_file("--csv", job.csv, "csv"),
-               "--png": job.png and check_output_file("--png", job.png, "figure")}
-    if job.wav is not None:
-        outputs["--wav"] = check_output_file("--wav", job.wav, "wav")
-        outputs["--wav (sidecar)"] = check_output_file("--wav", outputs["--wav"].with_suffix(".json"), "json")
-    check_distinct(outputs)
-    if job.wav is not None and not job.noise:
-        raise ParameterError("--wav", "needs the noise in operation: drop --no-noise")
+# --------------------------------------------------------------------------- scene outputs
+#: The files of each scene output (:class:`ForcedJob` fields -> file names; ``{name}``: the first listener's).
+FORCED_FILES = {"frequency_response": {"csv": "frequency_response.csv", "response_png": "frequency_response.png"},
+                "bifurcation": {"bifurcation_png": "bifurcation.png"},
+                "operating_noise": {"noise_csv": "operating_noise.csv", "wav": "operating_noise_{name}.wav"}}
 
 
-def _checked_job(job) -> tuple:
-    """Every check before any work: ``(frequencies in Hz, listener in m or None, room, damper model)``."""
-    from ..sweep.execute import check_executor_form
-    from .budget import check_budget, forced_estimate
-    from .damper import damper_model
-    from .names import ROOM_OPTIONS, user_terms
-    from .settings.parse import parse_point
+def forced_settings(scene, out=None) -> ForcedJob:
+    """The scene's ``[excitation]`` and its forced outputs as a :class:`ForcedJob`.
 
-    freqs = parse_frequencies(job.freq)
-    listener = None if job.listener is None else parse_point(job.listener, "--listener")
-    _check_forced_outputs(job)
-    st = job.settings
-    with user_terms({**ROOM_OPTIONS, "listener": "--listener"}):
-        room = room_surroundings(job.room, listener, room_name="--room")
-    with user_terms(FORCED_OPTIONS):
-        model = damper_model(**job.model)
-        check_executor_form(job.executor)
-    check_budget(forced_estimate(len(freqs) * st.starts, st.max_cycles,
-                                 noise_seconds=st.noise_seconds if job.noise else 0.0,
-                                 wav=job.wav is not None), job.max_memory)
-    if job.noise or listener is not None:
-        with user_terms(ROOM_OPTIONS):  # a room's settings checked here, before any run
-            check_listener(model, listener, settings=room)
-    return freqs, listener, room, model
-
-
-def forced_workflow(job, *, echo=print, progress=None) -> int:
-    """Run a :class:`~acoustiviz.app.settings.forced.ForcedJob`: check it, run it, ``echo`` the report, write files.
-
-    Errors name the command-line options. ``progress`` receives a line per finished frequency.
-    Returns the exit status: 0, or 1 when a frequency's run failed (each one warned about).
+    The damper of ``[damper]``; the noise in operation when the scene asks for ``[outputs.operating_noise]``,
+    at its first listener, from the damper's sphere in the scene's configuration; the files of the forced
+    outputs it asks for in folder ``out`` (None: no files, the checks of the scene's settings alone, made
+    before the run folder exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
-    freqs, listener, room, model = _checked_job(job)
-    st = job.settings
-    kind, amp = ("force", job.force) if job.force is not None else ("base", job.base)
-    fr = run_forced(model, freqs, amp, kind=kind, sweep=st.sweep, solver=st.solver, restitution=job.restitution,
-                    tolerance=st.tolerance, rtol=st.rtol, starts=st.starts, max_cycles=st.max_cycles,
-                    workers=job.workers, executor=job.executor, progress=progress)
-    unit = "N" if kind == "force" else "m"
-    echo(f"{kind} amplitude {amp:g} {unit}; sweep {st.sweep}; solver {st.solver}; {st.starts} starts; "
-         f"tolerance {st.tolerance:g} m, m/s; rtol {st.rtol:g}; max cycles {st.max_cycles}; "
-         f"{len(freqs)} frequencies, {len(fr.rows)} attractors in {fr.elapsed:.2f} s")
-    failed = [r for r in fr.steady_states if not r.success]
-    if not job.noise:
-        echo(forced_table(fr, None))
-    for r in failed:
-        echo(f"warning: {r.excitation.frequency:g} Hz: {r.message}")
-    if job.noise:
-        for line in operating_noise_report(fr, listener, st.noise_seconds, wav=job.wav, settings=room):
-            echo(line)
-    if job.csv:
-        echo(f"wrote {write_forced_csv(fr, job.csv)}")
-    if job.png:
-        echo(f"wrote {write_forced_png(fr, job.png)}")
-    return 0 if not failed else 1
+    from .names import SCENE_DAMPER_KEYS, user_terms
+    from .products import scene_damper_model
+    from .settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 
+    ex = scene.section("excitation")
+    noise = scene.wants("operating_noise")
+    (name, position), *_ = scene.listeners()
+    files = {} if out is None else {key: str(Path(out) / file.format(name=name)) for kind, names in FORCED_FILES.items()
+                                    if scene.wants(kind) for key, file in names.items()}
+    names = {**SCENE_DAMPER_KEYS, **ForcedJob.scene_names(), "frequencies": FREQUENCIES.path,
+             "frequency": FREQUENCIES.path, "amplitude": AMPLITUDE.path, "listener": "listeners",
+             "config": "configuration.kind", "max_memory_mb": "grids.memory_limit_mb",
+             **{key: f"outputs.{kind}" for kind, keys in FORCED_FILES.items() for key in keys}}
+    with user_terms(names):
+        freqs = parse_frequencies(ex["frequencies_hz"], FREQUENCIES.path)
+    return ForcedJob(scene_damper_model(scene), tuple(freqs), kind=ex["kind"], amplitude=ex["amplitude"],
+                     **{s.name: ex[s.key] for s in FORCED if s.table == "excitation"},
+                     noise_seconds=scene.output_or_defaults("operating_noise")["seconds"], noise=noise,
+                     listener=tuple(position) if noise else None, config=scene.section("configuration")["kind"],
+                     radius=scene.damper_sphere_radius(), surroundings=scene.geometry_settings(),
+                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
+
+
+def _write(ctx, kind: str) -> list:
+    """Write the files of forced output ``kind`` of the scene's one forced run; return their paths."""
+    s = ctx.forced.settings
+    keys = [key for key in FORCED_FILES[kind] if getattr(s, key) is not None]
+    for key in keys:  # only the files checked before the run
+        ctx.path(Path(getattr(s, key)).name)
+    return ctx.forced.write(only=keys)
+
+
+def produce_frequency_response(ctx):
+    """Scene output ``frequency_response``: the CSV of ``acoustiviz forced`` and its figure."""
+    from .products import Product
+
+    result = ctx.forced
+    csv_path, png = _write(ctx, "frequency_response")
+    red = [r["reduction_db"] for r in result.rows]
+    figs = {"frequencies": str(result.response.frequencies.size), "attractors": str(len(result.rows)),
+            "best_reduction_db": f"{np.nanmax(red):.1f}",
+            "non_periodic": str(sum(not r["regime"].startswith("periodic-") for r in result.rows)),
+            **{k: f"{v:g}" if isinstance(v, float) else str(v)
+               for k, v in result.response.settings.describe().items() if k in ("starts", "tolerance", "rtol",
+                                                                               "max_cycles")}}
+    failed = sorted({r.excitation.frequency for r in result.failed})
+    if failed:  # the run is incomplete, as with `acoustiviz forced` (exit status 1)
+        figs["failed_frequencies_hz"] = " ".join(f"{f:g}" for f in failed)
+    return [Product("frequency_response", png, figs), Product("frequency_response", csv_path, {})]
+
+
+def produce_bifurcation(ctx):
+    """Scene output ``bifurcation``: Poincaré displacement against forcing frequency (PNG)."""
+    from .products import Product
+
+    (png,) = _write(ctx, "bifurcation")
+    return [Product("bifurcation", png, {"regimes": " ".join(sorted({r["regime"] for r in ctx.forced.rows}))})]
+
+
+def produce_operating_noise(ctx):
+    """Scene output ``operating_noise``: levels per frequency at the first listener (CSV) and a WAV."""
+    from .forced_noise import NOISE_RATE
+    from .products import Product
+
+    wav, _, csv_path = _write(ctx, "operating_noise")
+    ok = [n for n in ctx.forced.noises if n is not None]
+    laeq = max((n.laeq_db for n in ok), default=-math.inf)
+    peak = max((n.lcpeak_db for n in ok), default=-math.inf)
+    return [Product("operating_noise", csv_path, {"listener": ctx.listeners[0].name, "max_laeq_db": f"{laeq:.1f}",
+                                                 "max_lcpeak_db": f"{peak:.1f}",
+                                                 "levels": f"{NOISE_RATE / 1000:g} kHz, whole periods"}),
+            Product("operating_noise", wav, {})]

@@ -30,7 +30,7 @@ from ..sound.operating import (
 
 __all__ = ["NOISE_RATE", "F_SETTLE", "NOISE_COLUMNS", "OperatingNoise", "operating_noise", "default_listener",
            "mark_worst_case", "check_listener", "add_operating_noise", "write_operating_wav", "DesignMap", "design_map",
-           "noise_statement", "write_operating_noise"]
+           "noise_statement", "write_noise_csv"]
 
 def mark_worst_case(rows: list) -> None:
     """Fill ``worst_case`` of ``rows``: per frequency, the attractor of largest amplitude and of largest LCpeak."""
@@ -57,20 +57,20 @@ def check_listener(model: DamperModel, listener=None, *, config: str = "plane", 
     return check_listeners(pts, cavity(config, radius, model.gap, **(settings or {})), name=name)[0]
 
 
-def add_operating_noise(run, **kwargs) -> list:
-    """Fill the level columns of ``run.rows`` (a :class:`acoustiviz.app.forced.ForcedRun`, every attractor).
+def add_operating_noise(rows: list, steady_states, **kwargs) -> list:
+    """Fill the level columns of ``rows`` (one per attractor, :data:`acoustiviz.app.forced.FORCED_CSV_COLUMNS`).
 
-    Rows of failed runs keep empty levels; the worst case per frequency is marked again with the
-    levels. Returns the :class:`OperatingNoise` list (None where failed); ``**kwargs`` go to
-    :func:`operating_noise`.
+    ``steady_states`` holds the :class:`~acoustiviz.dynamics.forced.SteadyState` of each row. Rows of
+    failed runs keep empty levels; the worst case per frequency is marked again with the levels.
+    Returns the :class:`OperatingNoise` list (None where failed); ``**kwargs`` go to :func:`operating_noise`.
     """
     noises = []
-    for row, r in zip(run.rows, run.steady_states, strict=True):
+    for row, r in zip(rows, steady_states, strict=True):
         nz = operating_noise(r, **kwargs) if r.success else None
         if nz is not None:
             row.update(nz.levels())
         noises.append(nz)
-    mark_worst_case(run.rows)
+    mark_worst_case(rows)
     return noises
 
 
@@ -172,43 +172,19 @@ def _cell(v) -> str:
     return str(v)
 
 
-def scene_noises(ctx, run) -> list:
-    """The operating noise of a scene's forced run at its first listener, computed once and kept on ``ctx``."""
-    noises = getattr(ctx, "_forced_noises", None)
-    if noises is None:
-        opts = ctx.scene.output("operating_noise")
-        position = ctx.listeners[0].position
-        radius = ctx.scene.damper_sphere_radius()
-        config = ctx.scene.section("configuration")["kind"]
-        noises = add_operating_noise(run, listener=position, config=config, radius=radius, seconds=opts["seconds"],
-                                     settings=ctx.scene.geometry_settings())
-        ctx._forced_noises = noises
-    return noises
+def write_noise_csv(path, steady_states, noises):
+    """Write the levels of each attractor (``frequency_hz, regime, impacts_per_cycle`` and :data:`NOISE_COLUMNS`).
 
-
-def write_operating_noise(ctx, run):
-    """Scene output ``operating_noise`` of ``run``: levels per frequency at the first listener (CSV) and a WAV."""
+    ``noises`` holds the :class:`OperatingNoise` of each of ``steady_states`` (None: its run failed, the
+    levels left empty). Written atomically; returns the path.
+    """
     from ..files import write_text_atomic
-    from .products import Product
 
-    listener = ctx.listeners[0]
-    name, position = listener.name, listener.position
-    radius = ctx.scene.damper_sphere_radius()
-    noises = scene_noises(ctx, run)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(("frequency_hz", "regime", "impacts_per_cycle", *NOISE_COLUMNS))
-    for r, n in zip(run.steady_states, noises, strict=True):
+    for r, n in zip(steady_states, noises, strict=True):
         levels = n.levels() if n is not None else {}
         w.writerow([_cell(v) for v in (r.excitation.frequency, r.regime, r.impacts_per_cycle,
                                        *(levels.get(c) for c in NOISE_COLUMNS))])
-    csv_path = write_text_atomic(ctx.path("operating_noise.csv"), buf.getvalue())
-    wav = ctx.path(f"operating_noise_{name}.wav")
-    write_operating_wav(noises, wav, listener=position, radius=radius)
-    ok = [n for n in noises if n is not None]
-    laeq = max((n.laeq_db for n in ok), default=-math.inf)
-    peak = max((n.lcpeak_db for n in ok), default=-math.inf)
-    return [Product("operating_noise", csv_path, {"listener": name, "max_laeq_db": f"{laeq:.1f}",
-                                                 "max_lcpeak_db": f"{peak:.1f}",
-                                                 "levels": f"{NOISE_RATE / 1000:g} kHz, whole periods"}),
-            Product("operating_noise", wav, {})]
+    return write_text_atomic(path, buf.getvalue())

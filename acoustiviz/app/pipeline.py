@@ -138,6 +138,17 @@ class RunContext:
         """The damper's :class:`~acoustiviz.dynamics.SimulationResult`."""
         return self.damper.result
 
+    @functools.cached_property
+    def forced(self):
+        """The scene's one forced run (:class:`~acoustiviz.app.forced.ForcedResult` of its ``forced_settings``).
+
+        Computed once per scene run, for every output that wants it (frequency response, bifurcation, noise).
+        """
+        settings = _forced.forced_settings(self.scene, self.out)
+        self.progress(f"forced damper: {len(settings.frequencies)} frequencies, sweep {settings.sweep} "
+                      f"({settings.solver} solver)")
+        return _forced.run(settings)
+
 
 # --------------------------------------------------------------------------- producers
 def waveform_settings(scene, out=None):
@@ -357,17 +368,8 @@ _SETTINGS = {
     "snapshot": snapshot_settings,
     "balloon": balloon_settings,
     "animation": animation_settings,
-    **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation")},
-    "operating_noise": lambda scene: (scene.forced_settings(), _operating_listener(scene)),
+    **{kind: _forced.forced_settings for kind in _forced.FORCED_FILES},
 }
-
-
-def _operating_listener(scene) -> None:
-    """The first listener, which hears the damper in operation, outside its cavity."""
-    from .forced_noise import check_listener
-
-    check_listener(scene_damper_model(scene), scene.listeners()[0][1], config=scene.section("configuration")["kind"],
-                   radius=scene.damper_sphere_radius(), name="listeners", settings=scene.geometry_settings())
 
 
 def _check_out(out: Path, force: bool) -> None:

@@ -170,16 +170,6 @@ class Scene:
         with user_terms(view_names(view)):
             return SETTINGS_OF_VIEW[view].from_values(view_values(self, view), scene=True)
 
-    def forced_settings(self):
-        """``[excitation]`` and ``[outputs.operating_noise]`` as a :class:`~acoustiviz.app.settings.ForcedSettings`."""
-        from ..app.names import user_terms
-        from ..app.settings.forced import FORCED, ForcedSettings
-
-        values = {s.name: self.data[s.table][s.key] for s in FORCED if s.table == "excitation"}
-        values["noise_seconds"] = self.output_or_defaults("operating_noise")["seconds"]
-        with user_terms(ForcedSettings.scene_names()):
-            return ForcedSettings.from_values(values, scene=True)
-
     def medium(self):
         """The fluid as a :class:`~acoustiviz.core.medium.Medium`."""
         return self.setup().medium

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 from ..app.settings.auralize import ALL as _AURALIZE
 from ..app.settings.damper import DAMPER
 from ..app.settings.design import DESIGN
-from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
+from ..app.settings.forced import AMPLITUDE, EXCITATION_KIND, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.levels import ALL as LEVELS_OPTIONS
 from ..app.settings.map import MAP_SCENE_VTK
@@ -20,7 +21,6 @@ from ..app.settings.room import ROOM
 from ..app.settings.scene import CONFIGURATION_KEYS, CONTACT_KEYS, GRIDS, LISTENER_KEYS, OUTPUT_KEYS, SCENE, SPHERE_KEYS
 from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_SOUND, SWEPT
 from ..constants import (
-    EXCITATIONS,
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
 )
@@ -114,14 +114,9 @@ _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
     "main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m", "contact_damping_n_s_m",
     "clip_tensile", "initial_velocity_m_s", "initial_displacement_m", "duration_s", "solver", "tolerance")}
 
-_EXCITATION = {
-    "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
-                "through K and C", "force", choices=EXCITATIONS),
-    **_from_table((AMPLITUDE,), "excitation"),
-    "frequencies_hz": Key("frequencies", FREQUENCIES.doc, FREQUENCIES.in_scene, FREQUENCIES.unit, low=FREQUENCIES.low,
-                          high=FREQUENCIES.high, low_open=FREQUENCIES.low_open),
-    **_from_table(FORCED, "excitation"),
-}
+_EXCITATION = _from_table((EXCITATION_KIND, AMPLITUDE, FREQUENCIES, *FORCED), "excitation")
+# the frequencies are written as text (a range or a list), each value in the record's range
+_EXCITATION["frequencies_hz"] = dataclasses.replace(_EXCITATION["frequencies_hz"], kind="frequencies")
 
 _LISTENER = _from_table(LISTENER_KEYS, "listeners")
 
@@ -137,6 +132,7 @@ def _view(view: str, records=()) -> dict:
 
 #: ``[outputs.level_map]``: the settings of ``acoustiviz map`` (one definition, acoustiviz.app.maps).
 _LEVEL_MAP = _from_table((*_MAP_SETTINGS, MAP_SCENE_VTK), "outputs.level_map")
+
 
 def _optimize_keys() -> dict:
     """``[outputs.optimize]`` from its records: the variables, objectives, constraints, budget and workers."""

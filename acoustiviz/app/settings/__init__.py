@@ -4,7 +4,7 @@
 ``table``        the :class:`Setting` record (API name, option, scene key, type, unit, range, default,
                  meaning) and :func:`add_option`, which builds a command-line option from it
 ``base``         the :class:`Settings` base class that checks its fields against its table, and image sizes
-``parse``        a point X,Y,Z and an image size WxH typed as text
+``parse``        a point X,Y,Z, an image size WxH and forcing frequencies typed as text
 ``impact``       the options of one impact, its waveform and its directivity, and the base of the jobs
                  of one impact (:class:`ImpactJob`)
 ``waveform``     the waveform job: impact, listeners, sampling and files (:class:`WaveformJob`)
@@ -13,7 +13,8 @@
                  ``damper_job``, the damper job: model, start, run, solver and files (:class:`DamperJob`)
 ``render``       the balloon, snapshot and animation views, their sizes, planes, times, caption and files;
                  beside it ``render_job``, their jobs: impact, view, caption, files (:class:`SnapshotJob`, ...)
-``forced``       the damper in operation: continuation, solver, tolerances, level interval, the job
+``forced``       the records of the damper in operation: excitation, continuation, solver, noise, files;
+                 beside it ``forced_job``, the forced job (:class:`ForcedJob`)
 ``design``       the target damping inclination and its tolerance, and the design job (:class:`DesignJob`)
 ``sweep``        the simulated time per design of a sweep, the sweep's options and its sphere radius; beside
                  it ``sweep_job``, the sweep job: swept values, designs, executor, folder (:class:`SweepJob`)
@@ -38,7 +39,7 @@ from .base import Settings, check_size
 from .damper_job import DamperJob
 from .design import DesignJob, DesignSettings
 from .directivity import DirectivityJob
-from .forced import ForcedSettings
+from .forced_job import ForcedJob
 from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
 from .optimize import OptimizeJob
@@ -52,6 +53,6 @@ from .waveform import WaveformJob
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
-           "ForcedSettings", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
+           "ForcedJob", "DesignSettings", "SweepSettings", "LevelsSettings", "WaveformJob",
            "DamperJob", "DirectivityJob", "DesignJob", "SweepJob", "SnapshotJob", "BalloonJob", "AnimationJob",
            "OptimizeJob"]

@@ -203,10 +203,13 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
         Let argparse refuse a name outside ``s.choices``; False leaves it to the settings object
         (its error is the command's one line naming the option, with the closest name).
     **kw
-        Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``).
+        Further :meth:`argparse.ArgumentParser.add_argument` arguments (``nargs``; ``type=str`` for a number
+        typed as a list, read by its own parser; ``action`` for a flag with its negation,
+        :class:`argparse.BooleanOptionalAction`).
     """
     if s.kind == "bool":  # a flag
-        group.add_argument(s.option, *s.aliases, action="store_true", default=s.default if default == SAME else default,
+        kw.setdefault("action", "store_true")
+        group.add_argument(s.option, *s.aliases, default=s.default if default == SAME else default,
                            help=s.doc.replace("%", "%%"), **kw)
         return
     if s.positional:  # named by its API name; an optional one takes its default when left out
@@ -234,8 +237,8 @@ def add_option(group, s: Setting, *, metavar: str | None = None, default=SAME, p
     if metavar is None and not choices:
         metavar = "M" if s.unit == "m" else "N"
     text = f"{s.doc}{rng}{shown}".replace("%", "%%").replace("%%(default)s", "%(default)s")
-    group.add_argument(s.option, *s.aliases, type=_TYPES[s.kind], default=value, choices=choices or None,
-                       metavar=metavar, help=text, **kw)
+    kw.setdefault("type", _TYPES[s.kind])
+    group.add_argument(s.option, *s.aliases, default=value, choices=choices or None, metavar=metavar, help=text, **kw)
 
 
 def by_name(settings) -> dict:
