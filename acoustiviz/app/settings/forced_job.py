@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
 from ...constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE, PAPER_RADIUS
 from ...errors import ParameterError
 from .base import Settings
@@ -141,6 +139,8 @@ class ForcedJob(Settings):
     @property
     def listener_position(self):
         """The listener in m as a (3,) array, None for the paper's."""
+        import numpy as np  # not imported by --help
+
         return None if self.listener is None else np.array(self.listener, dtype=float)
 
     def _check_frequencies(self) -> None:
@@ -171,6 +171,8 @@ class ForcedJob(Settings):
 
     def _check_listener(self) -> None:
         if self.listener is not None:
+            import numpy as np  # not imported by --help
+
             point = np.asarray(self.listener, dtype=float)
             if point.shape != (3,) or not np.all(np.isfinite(point)):
                 raise ParameterError("listener", f"expected three finite coordinates X,Y,Z in m, got {self.listener!r}")
