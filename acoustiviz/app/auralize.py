@@ -164,7 +164,7 @@ def _scene_of(s: AuralizeSettings, radius, medium):
                        wall_distance=s.wall_distance, strike=s.strike, height=s.height, medium=medium, room=room)
     if rs is not None:
         with user_terms({**ROOM_SOUND_OPTIONS, "order": "--image-order"}):
-            rs.check_room(scene.configuration)
+            rs.check_room(scene.geometry)
     return scene, room, rs
 
 
@@ -180,7 +180,7 @@ def _listeners_of(s: AuralizeSettings, scene, room):
         elif len(points) != 2:
             raise ParameterError("--stereo", f"needs one head position or two --listener positions, got {len(points)}")
     if room is not None:
-        scene.configuration.in_room("--listener", np.array(points))
+        scene.geometry.in_room("--listener", np.array(points))
     return check_listeners(np.array(points), scene, name="--listener")
 
 
@@ -366,7 +366,7 @@ def _print_sound(seq, sound: Sound, out, rate, echo) -> None:
          f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
          else "impacts: 0 (silence)")
     echo(f"sound: sphere radius {sound.radius * 1e3:.2f} mm ({sound.radius_source}), pulse {model.pulse}, "
-         f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
+         f"mass model {model.mass_model}, configuration {scene.geometry.name}, walls {scene.walls}; "
          f"{rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)")
     if sound.room is not None and out.room is not None:
         r = out.room
@@ -374,10 +374,10 @@ def _print_sound(seq, sound: Sound, out, rate, echo) -> None:
         tail = (f"late tail from {r['transition_s']:.4f} s to {r['tail_end_s']:.3f} s ({r['tail_decay']}, seed "
                 f"{r['tail_seed']})" if r["late_tail"] else "no late tail")
         bands = f", absorption in {len(r['absorption_bands_hz'])} bands" if "absorption_bands_hz" in r else ""
-        echo(f"room: {scene.configuration.caption()}; image_order {r['image_order']}, images {r['images']}, "
+        echo(f"room: {scene.geometry.caption()}; image_order {r['image_order']}, images {r['images']}, "
              f"{tail}{bands}, neglected_energy_db " + (f"{neg:.1f}" if isinstance(neg, float) else str(neg)))
     elif sound.room is not None:
-        conf = scene.configuration
+        conf = scene.geometry
         echo(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
              f"neglected_energy_db {conf.neglected_energy_db:.1f}" + (" (capped by the memory budget)"
                                                                        if conf.order_capped else ""))

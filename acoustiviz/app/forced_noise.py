@@ -222,7 +222,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         reps = max(1, math.ceil(seconds / window - 1e-9))
         total = lead + reps + 1
         seq = periodic_train(base, walls, speeds, window, total)
-        delay = float(np.linalg.norm(pts - np.asarray(scene.configuration.centre))) / scene.medium.c
+        delay = float(np.linalg.norm(pts - np.asarray(scene.geometry.centre))) / scene.medium.c
         offset = _quiet_offset(base + delay, window)
         start, stop = lead * window + offset, (lead + reps) * window + offset
         cycles, end, settled = reps * steady.measured_cycles, total * window, True
