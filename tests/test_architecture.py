@@ -443,3 +443,36 @@ def test_hand_written_call_finder_finds_calls():
     assert [(line, where) for line, where, _ in _calls_outside(tree, "Key", {"_key"})] == [(6, "TABLE[a]"),
                                                                                           (6, "TABLE[b]")]
     assert [where for _, where, _ in _calls_outside(tree, "Key")] == ["TABLE[a]", "TABLE[b]", "_key"]
+#: Layers whose functions take the sphere's surroundings as ``geometry`` (a ``Geometry``), never ``config``.
+GEOMETRY_NAMED = PHYSICS | {"sweep"}
+#: Parameter names the surroundings once went by.
+OLD_GEOMETRY_NAMES = {"config", "conf"}
+
+
+def _old_geometry_parameters(source: str, where: str) -> list[str]:
+    """Functions (and lambdas) of one module with a parameter named ``config`` or ``conf``."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+            a = node.args
+            params = [*a.posonlyargs, *a.args, *a.kwonlyargs, *(p for p in (a.vararg, a.kwarg) if p is not None)]
+            name = getattr(node, "name", "<lambda>")
+            found += [f"{where}:{node.lineno} {name}({p.arg})" for p in params if p.arg in OLD_GEOMETRY_NAMES]
+    return found
+
+
+def test_physics_and_sweep_functions_name_the_surroundings_geometry():
+    """A ``Geometry`` is passed as ``geometry`` in the physics and sweep layers, never as ``config``."""
+    found = [hit for path, rel in _modules() if _top(rel) in GEOMETRY_NAMED
+             for hit in _old_geometry_parameters(path.read_text(encoding="utf-8"), rel.as_posix())]
+    assert not found, "\n".join(found)
+
+
+def test_old_geometry_parameter_finder_finds_each_kind_of_parameter():
+    source = ("def f(geometry, config):\n    pass\n"
+              "def g(*, conf=None):\n    pass\n"
+              "class C:\n    async def h(self, /, config):\n        pass\n"
+              "k = lambda conf: conf\n"
+              "def fine(geometry, configuration_name, kind='plane'):\n    pass\n")
+    assert _old_geometry_parameters(source, "m.py") == ["m.py:1 f(config)", "m.py:3 g(conf)", "m.py:6 h(config)",
+                                                        "m.py:8 <lambda>(conf)"]

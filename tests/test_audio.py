@@ -253,7 +253,7 @@ def test_ears_are_symmetric_about_the_listener():
     ears = sound.ear_positions(LISTENER, scene, spacing=0.18)
     assert np.linalg.norm(ears[0] - ears[1]) == pytest.approx(0.18)
     np.testing.assert_allclose(ears.mean(axis=0), LISTENER)
-    look = scene.configuration.contact_point - LISTENER
+    look = scene.geometry.contact_point - LISTENER
     assert abs(np.dot(ears[0] - ears[1], look)) < 1e-12
 
 

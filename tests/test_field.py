@@ -169,7 +169,7 @@ def test_windows_and_decay_time(paper_pulse):
         (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0, 1]], c, memory_limit=-1), "memory_limit"),
         (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0]], c), "points"),
         (lambda p, c: field.time_series("pulse", [0, 1e-3], [[0, 0, 1]], c), "pulse"),
-        (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0, 1]], "plane"), "config"),
+        (lambda p, c: field.time_series(p, [0, 1e-3], [[0, 0, 1]], "plane"), "geometry"),
         (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, cutoff=2.0), "cutoff"),
         (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, window=0.0), "window"),
         (lambda p, c: field.field_metrics(p, [[0, 0, 1]], c, t=[0, 1e-4, 3e-4]), "t"),

@@ -140,7 +140,7 @@ def test_run_energy_interpolates_the_configuration_ratio_faithfully():
     room = cavity("plane", A, 0.04)
     model = ClickModel()
     out = run_energy(table, room, model, duration=1.0)
-    grid = spherical_grid_for(room.configuration, 1.0, n_theta=8)
+    grid = spherical_grid_for(room.geometry, 1.0, n_theta=8)
     # the reference speeds are the table's quartiles: 0.2, 0.5, 0.9, 1.4, 2.0 -> exact at every impact
     for k, v in enumerate(speeds):
         direct = radiated_energy_grid(model.pulse_for(v), wall_sources(room, -1), grid, radius=A)

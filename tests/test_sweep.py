@@ -266,7 +266,7 @@ def test_level_of_fastest_impacts_is_the_max_over_all_impacts(settings, config):
     from acoustiviz.sweep import listener_point
 
     kw = dict(mass=d.m, partner_mass=math.inf if settings.pulse_mass == "impact" else settings.M,
-              k_hertz=d.k_hertz, pulse=settings.pulse, config=conf, point=listener_point(conf, 0.7, math.pi / 4),
+              k_hertz=d.k_hertz, pulse=settings.pulse, geometry=conf, point=listener_point(conf, 0.7, math.pi / 4),
               medium=Medium())
     every = max(impact_spl_db(v, **kw) for v in u)
     fast, n = max_spl_db(u, n_fastest=1, **kw)
@@ -291,7 +291,7 @@ def test_level_grows_with_approach_speed_over_a_wide_range():
 
         kw = dict(mass=float(rng.choice([0.005, 0.04, 0.5])), partner_mass=float(rng.choice([math.inf, 0.5])),
                   k_hertz=float(rng.choice([1e7, 5.6e8, 1e10])), pulse=str(rng.choice(["half-sine", "hertz"])),
-                  config=conf, point=listener_point(conf, float(rng.choice([0.1, 0.7, 3.0])), angle),
+                  geometry=conf, point=listener_point(conf, float(rng.choice([0.1, 0.7, 3.0])), angle),
                   medium=Medium())
         levels = np.array([impact_spl_db(v, **kw) for v in speeds])
         step = np.diff(levels) / np.log2(speeds[1] / speeds[0])  # dB per doubling of the speed

@@ -56,7 +56,7 @@ def test_levels_equal_direct_calls_on_the_same_run(plane_design, with_levels):
     run = simulate(model, DURATION, solver=s.solver, initial=InitialState(v=d.v0), rtol=s.rtol)
     assert len(run.impacts) == with_levels.n_impacts > 10
     scene = CavityScene("plane", d.radius, d.gap, walls="one", medium=Medium(c=s.c, rho=s.rho))
-    point = listener_point(scene.configuration, d.distance, d.angle)
+    point = listener_point(scene.geometry, d.distance, d.angle)
     clicks = ClickModel(k_hertz=d.k_hertz, mass=d.m, main_mass=s.M, mass_model="impact", pulse=s.pulse)
     p = render(ImpactSequence.from_table(run.impacts), scene, clicks, point, sample_rate=ANALYSIS_RATE,
                duration=DURATION).pressure
@@ -166,7 +166,7 @@ def _run_and_scene(gap, m, config="plane", pulse="half-sine", pulse_mass="impact
     model = DamperModel(M=s.M, K=s.K, C=s.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1)
     run = simulate(model, duration, solver=s.solver, initial=InitialState(v=d.v0), rtol=s.rtol)
     scene, clicks = sound_setup(d, s, Medium(c=s.c, rho=s.rho))
-    return run, scene, clicks, listener_point(scene.configuration, d.distance, d.angle)
+    return run, scene, clicks, listener_point(scene.geometry, d.distance, d.angle)
 
 
 @pytest.mark.parametrize(("config", "pulse", "pulse_mass"), [

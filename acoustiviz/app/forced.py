@@ -183,7 +183,7 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
     if s.noise:  # the level columns of every attractor
         t0 = time.perf_counter()
         noises = tuple(add_operating_noise(rows, [a for _, _, a, _ in resp.entries()], listener=s.listener_position,
-                                           config=s.config, radius=s.radius, seconds=s.noise_seconds,
+                                           kind=s.config, radius=s.radius, seconds=s.noise_seconds,
                                            settings=s.surroundings))
         noise_elapsed = time.perf_counter() - t0
     return ForcedResult(s, resp, tuple(rows), noises, elapsed, cpu, noise_elapsed)

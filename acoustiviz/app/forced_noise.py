@@ -156,7 +156,7 @@ def design_map(model: DamperModel, masses, gaps, frequency: float, amplitude: fl
             reg[i, j] = r.regime if r.success else "failed"
             if r.success:
                 red[i, j] = r.reduction_db
-                nz = operating_noise(r, listener=listener, config=config, radius=radius, seconds=seconds)
+                nz = operating_noise(r, listener=listener, kind=config, radius=radius, seconds=seconds)
                 for c, a in lv.items():
                     a[i, j] = getattr(nz, c)
     return DesignMap(masses, gaps, red, regime=reg, **lv)

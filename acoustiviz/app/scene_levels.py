@@ -135,7 +135,7 @@ def produce_levels(ctx):
                "lcpeak_db": f"{np.max(lv.lcpeak_db):.1f}", "lafmax_db": f"{np.max(lv.lafmax_db):.1f}",
                "laeq_db": f"{np.max(lv.laeq_db):.1f}", "sel_a_db": f"{np.max(lv.sel_a_db):.1f}"}
     _, room, model, _, _ = damper_sound_setup(ctx)
-    if room.configuration.enclosed:  # a room returns the sound: no radiated energy, no sound power
+    if room.geometry.enclosed:  # a room returns the sound: no radiated energy, no sound power
         ctx.progress("sound power and radiation efficiency: not defined in a room (its walls close the fluid, so "
                      "no surface around the sphere encloses the energy radiated away)")
         return [Product("levels", main, figures), Product("levels", bands, {})]

@@ -230,10 +230,10 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
 
     scene, model, seq = rendering.scene, rendering.model, rendering.sequence
     pts = np.asarray(rendering.listeners if points is None else points, dtype=float).reshape(-1, 3)
-    base = scene.configuration
+    base = scene.geometry
     if getattr(base, "enclosed", False):  # a room: the images that arrive with the clicks, not the reverberation
         scene = _early_room(scene, pts, model, seq)
-        base = scene.configuration
+        base = scene.geometry
     peak = np.zeros(pts.shape[0])
     for wall in (-1, 1):
         u = np.abs(np.asarray(seq.velocities, dtype=float)[np.asarray(seq.walls) == wall])
@@ -272,7 +272,7 @@ def _room_wall(scene, wall):
 
     from ..errors import ParameterError
 
-    room = scene.configuration
+    room = scene.geometry
     if wall == scene.struck_wall or scene.walls == "one":
         return room
     try:
@@ -377,12 +377,12 @@ def _early_room(scene, pts, model, seq):
     """The cavity in the same room with only the images that arrive within :data:`ROOM_PEAK_WINDOW` s."""
     import dataclasses
 
-    room = scene.configuration
+    room = scene.geometry
     longest = max((model.pulse_for(v).duration for v in np.unique(seq.velocities) if v > 0), default=0.0)
     reach = float(np.max(np.linalg.norm(pts - room.centre, axis=1))) + scene.gap
     window = (reach - room.radius) / scene.medium.c + longest + ROOM_PEAK_WINDOW
     early = dataclasses.replace(room, order=None, tolerance_db=-200.0, duration=window)
-    return dataclasses.replace(scene, config=early)
+    return dataclasses.replace(scene, geometry=early)
 
 
 def write_wav_files(files, *, subtype: str = "PCM_24", scale=None, headroom_db: float = 1.0,

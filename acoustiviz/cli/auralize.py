@@ -93,9 +93,9 @@ def sound_lines(result) -> list:
              f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
              else "impacts: 0 (silence)",
              f"sound: sphere radius {job.cavity.radius * 1e3:.2f} mm ({job.radius_source}), pulse {model.pulse}, "
-             f"mass model {model.mass_model}, configuration {scene.configuration.name}, walls {scene.walls}; "
+             f"mass model {model.mass_model}, configuration {scene.geometry.name}, walls {scene.walls}; "
              f"{job.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)"]
-    conf = scene.configuration
+    conf = scene.geometry
     if not getattr(conf, "enclosed", False):
         return lines
     if out.room is not None:

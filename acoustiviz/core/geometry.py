@@ -333,6 +333,6 @@ def images_wall_floor(radius: float, wall_distance=None, *, strike: str = "floor
     return WallFloorCorner(radius, wall_distance, strike, height)
 
 
-def observer_points(config: Geometry, distance, angles) -> np.ndarray:
+def observer_points(geometry: Geometry, distance, angles) -> np.ndarray:
     """Observers at ``distance`` (m) and ``angles`` (rad) from the axis (:meth:`Geometry.observer_points`)."""
-    return config.observer_points(distance, angles)
+    return geometry.observer_points(distance, angles)

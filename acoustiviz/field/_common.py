@@ -42,10 +42,11 @@ def check_pulse(pulse):
     return pulse
 
 
-def check_config(config):
-    if not isinstance(config, Geometry):
-        raise ParameterError("config", f"expected a geometry (acoustiviz.core.geometry), got {type(config).__name__}")
-    return config
+def check_geometry(geometry):
+    if not isinstance(geometry, Geometry):
+        raise ParameterError("geometry", f"expected a Geometry (acoustiviz.core.geometry), got "
+                                         f"{type(geometry).__name__}")
+    return geometry
 
 
 class PulseArrays(NamedTuple):
@@ -288,12 +289,12 @@ def geometry_bytes(nimg: int) -> int:
     return 8 * (nimg * 9 + 12)
 
 
-def prepare(pulse, config, medium, cutoff):
+def prepare(pulse, geometry, medium, cutoff):
     """Check the arguments; return the kernels' :class:`PulseArrays` and the kept tail in s."""
     check_pulse(pulse)
-    check_config(config)
+    check_geometry(geometry)
     if not isinstance(medium, Medium):
         raise ParameterError("medium", f"expected a Medium, got {type(medium).__name__}")
-    tail = decay_time(config.radius, medium=medium, cutoff=cutoff)
-    return pulse_args(pulse, config.radius, medium), tail
+    tail = decay_time(geometry.radius, medium=medium, cutoff=cutoff)
+    return pulse_args(pulse, geometry.radius, medium), tail
 

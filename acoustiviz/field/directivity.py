@@ -11,7 +11,7 @@ from .._validate import ParameterError, check_positive
 from ..core.geometry import Geometry, observer_points
 from ..core.medium import AIR, Medium
 from ..core.reach import circle_limit
-from ._common import check_config, check_pulse
+from ._common import check_geometry, check_pulse
 from .metrics import FieldMetrics, field_metrics
 from .sources import source_geometry
 
@@ -60,7 +60,7 @@ class Directivity:
         return self.metrics.peak_spl_db
 
 
-def circle_points(config: Geometry, distance: float, angles) -> np.ndarray:
+def circle_points(geometry: Geometry, distance: float, angles) -> np.ndarray:
     """Points on a circle of radius ``distance`` (m) around the sphere's centre.
 
     The circle lies in the plane spanned by the acceleration axis and the horizontal direction
@@ -69,7 +69,7 @@ def circle_points(config: Geometry, distance: float, angles) -> np.ndarray:
 
     Parameters
     ----------
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     distance : float
         Radius of the circle in m (> sphere radius).
@@ -81,23 +81,23 @@ def circle_points(config: Geometry, distance: float, angles) -> np.ndarray:
     (k, 3) ndarray
         Positions in m.
     """
-    check_config(config)
+    check_geometry(geometry)
     r = check_positive("distance", distance, "m")
-    top = circle_limit(config)
-    if r <= config.radius and not math.isfinite(top):
-        raise ParameterError("distance", f"must exceed the sphere radius {config.radius:g} m, got {r:g} m")
-    if r <= config.radius or r > top:
-        raise ParameterError("distance", f"must lie in ({config.radius:g}, {top:.6g}] m for the circle around the "
-                                         f"sphere's centre {_xyz(config.centre)} m to stay in the fluid "
-                                         f"({config.fluid_text()}), got {r:g} m")
-    return observer_points(config, r, angles)
+    top = circle_limit(geometry)
+    if r <= geometry.radius and not math.isfinite(top):
+        raise ParameterError("distance", f"must exceed the sphere radius {geometry.radius:g} m, got {r:g} m")
+    if r <= geometry.radius or r > top:
+        raise ParameterError("distance", f"must lie in ({geometry.radius:g}, {top:.6g}] m for the circle around the "
+                                         f"sphere's centre {_xyz(geometry.centre)} m to stay in the fluid "
+                                         f"({geometry.fluid_text()}), got {r:g} m")
+    return observer_points(geometry, r, angles)
 
 
 def _xyz(p) -> str:
     return "(" + ", ".join(f"{float(x):.6g}" for x in p) + ")"
 
 
-def room_window(config: Geometry, points, medium: Medium = AIR):
+def room_window(geometry: Geometry, points, medium: Medium = AIR):
     """The directivity's window length in s in a geometry with a window of its own (a room), else None.
 
     A room's images are those that can arrive within its ``duration`` from the start of contact
@@ -106,10 +106,10 @@ def room_window(config: Geometry, points, medium: Medium = AIR):
     reached last: ``duration - max (r - a)/c``. Refused (naming ``distance``) when the sound reaches
     the circle only after the room's window.
     """
-    reach = getattr(config, "duration", None)
+    reach = getattr(geometry, "duration", None)
     if reach is None:
         return None
-    first = float(np.max(np.linalg.norm(np.asarray(points) - config.centre, axis=1) - config.radius)) / medium.c
+    first = float(np.max(np.linalg.norm(np.asarray(points) - geometry.centre, axis=1) - geometry.radius)) / medium.c
     if first >= reach:
         raise ParameterError("distance", f"the sound reaches the circle at {first:.6g} s, after the room's window "
                                          f"of {reach:g} s: make the window longer or the circle smaller")
@@ -118,7 +118,7 @@ def room_window(config: Geometry, points, medium: Medium = AIR):
 
 def directivity(
     pulse,
-    config: Geometry,
+    geometry: Geometry,
     distance: float,
     angles,
     *,
@@ -132,7 +132,7 @@ def directivity(
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (m/s²).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     distance : float
         Distance in m from the sphere's centre.
@@ -174,15 +174,15 @@ def directivity(
     array([93.2, 88.8, 68.2])
     """
     check_pulse(pulse)
-    pts = circle_points(config, distance, angles)
-    if not np.all(config.in_fluid(pts)):
+    pts = circle_points(geometry, distance, angles)
+    if not np.all(geometry.in_fluid(pts)):
         raise ParameterError("angles", "some observers on the circle lie outside the fluid")
     if window is None:
-        window = room_window(config, pts, medium)
+        window = room_window(geometry, pts, medium)
     if window is None:
-        delay, _, _, _ = source_geometry(pts, config, medium=medium)
+        delay, _, _, _ = source_geometry(pts, geometry, medium=medium)
         spread = float(np.max(delay.max(axis=1) - delay.min(axis=1)))
-        window = pulse.duration + spread + 10.0 * config.radius / medium.c
-    fm = field_metrics(pulse, pts, config, medium=medium, sample_interval=sample_interval, window=window)
+        window = pulse.duration + spread + 10.0 * geometry.radius / medium.c
+    fm = field_metrics(pulse, pts, geometry, medium=medium, sample_interval=sample_interval, window=window)
     th = np.atleast_1d(np.asarray(angles, dtype=float))
     return Directivity(th, pts, float(distance), fm)

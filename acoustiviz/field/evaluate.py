@@ -25,7 +25,7 @@ from ._common import (
     DEFAULT_CUTOFF,
     DEFAULT_MEMORY_LIMIT,
     ImageArrays,
-    check_config,
+    check_geometry,
     check_pulse,
     chunk_size,
     geometry_bytes,
@@ -42,7 +42,7 @@ def iter_time_series(
     pulse,
     t,
     points,
-    config: Geometry,
+    geometry: Geometry,
     *,
     medium: Medium = AIR,
     cutoff: float = DEFAULT_CUTOFF,
@@ -60,7 +60,7 @@ def iter_time_series(
     points : (n, 3) array_like
         Observer positions in m. Points outside the fluid (inside the sphere or behind a
         plane) get NaN.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -76,18 +76,18 @@ def iter_time_series(
     block : (stop - start, m) ndarray
         Pressure in Pa.
     """
-    pa, tail = prepare(pulse, config, medium, cutoff)
+    pa, tail = prepare(pulse, geometry, medium, cutoff)
     pts = check_points("points", points)
     tt = np.atleast_1d(np.asarray(t, dtype=float))
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
-    nimg = len(config.images())
+    nimg = len(geometry.images())
     dt, closed, chunk = _series_plan(tt, pts.shape[0], nimg, 8 * tt.size + geometry_bytes(nimg), 8 * tt.size * 2, limit)
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
         out = np.zeros((stop - start, tt.size))
-        _series_chunk(out, pulse, tt, dt, closed, pts[start:stop], config, medium, pa, tail)
+        _series_chunk(out, pulse, tt, dt, closed, pts[start:stop], geometry, medium, pa, tail)
         yield start, stop, out
 
 
@@ -105,20 +105,20 @@ def _series_plan(tt, n: int, nimg: int, per_point: float, fixed: float, limit: f
     return dt, closed, chunk_size(per_point + (scratch if closed else 0), fixed, limit)
 
 
-def _series_chunk(out, pulse, tt, dt, closed, sub, config, medium, pa, tail):
+def _series_chunk(out, pulse, tt, dt, closed, sub, geometry, medium, pa, tail):
     """Fill the zeroed ``out`` (len(sub), m) with the pressure in Pa at ``sub`` and times ``tt``.
 
     ``pa`` and ``tail`` (s) are those of :func:`._common.prepare`; ``dt`` the grid's step in s or None;
     ``closed``: sum in numpy (:func:`._closed.add_images`, the kernel's samples and tail) rather than
     by the compiled kernel.
     """
-    delay, p0, cre, cim, inside = chunk_geometry(sub, config, medium)
+    delay, p0, cre, cim, inside = chunk_geometry(sub, geometry, medium)
     img = ImageArrays(delay, p0, cre, cim)
     t0 = np.full(sub.shape[0], tt[0])
     if not closed:
         _series_kernel(out, t0, dt, img, pa, tail)
     else:  # a small block or a non-uniform grid: the vectorised closed form, the same samples and tail
-        y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)
+        y_of = pulse_response_function(pulse, radius=geometry.radius, medium=medium)
         _closed.add_images(out, y_of, img, pa.tau, tail, t0=t0, dt=dt, t=tt)
     out[inside] = np.nan
 
@@ -127,7 +127,7 @@ def time_series(
     pulse,
     t,
     points,
-    config: Geometry,
+    geometry: Geometry,
     *,
     medium: Medium = AIR,
     cutoff: float = DEFAULT_CUTOFF,
@@ -143,7 +143,7 @@ def time_series(
         Times in s from the start of contact.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images (:func:`acoustiviz.core.geometry.geometry`).
     medium : Medium
         The fluid (default air at 20 °C).
@@ -180,15 +180,15 @@ def time_series(
             "memory_limit",
             f"the result alone needs {need:.4g} B > {limit:.4g} B; use iter_time_series or field_metrics",
         )
-    pa, tail = prepare(pulse, config, medium, cutoff)
+    pa, tail = prepare(pulse, geometry, medium, cutoff)
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("t", "expected a finite 1-D array of times in s")
-    nimg = len(config.images())
+    nimg = len(geometry.images())
     dt, closed, chunk = _series_plan(tt, pts.shape[0], nimg, geometry_bytes(nimg), need, limit)
     out = np.zeros((pts.shape[0], tt.size))
     for start in range(0, pts.shape[0], chunk):
         stop = min(start + chunk, pts.shape[0])
-        _series_chunk(out[start:stop], pulse, tt, dt, closed, pts[start:stop], config, medium, pa, tail)
+        _series_chunk(out[start:stop], pulse, tt, dt, closed, pts[start:stop], geometry, medium, pa, tail)
     return out
 
 
@@ -197,7 +197,7 @@ def snapshots(
     pulse,
     times,
     points,
-    config: Geometry,
+    geometry: Geometry,
     *,
     medium: Medium = AIR,
     memory_limit: float = DEFAULT_MEMORY_LIMIT,
@@ -212,7 +212,7 @@ def snapshots(
         Snapshot times in s.
     points : (n, 3) array_like
         Grid points in m (e.g. ``PlanarGrid.points``); points outside the fluid get NaN.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -240,20 +240,20 @@ def snapshots(
            [-0.5939, -0.0066,     nan]])
     """
     check_pulse(pulse)
-    check_config(config)
+    check_geometry(geometry)
     pts = check_points("points", points)
     tt = np.atleast_1d(np.asarray(times, dtype=float))
     if tt.ndim != 1 or not np.all(np.isfinite(tt)):
         raise ParameterError("times", "expected a finite 1-D array of times in s")
     limit = check_positive("memory_limit", memory_limit, "B")
     need = 8.0 * pts.shape[0] * tt.size
-    per_point = geometry_bytes(len(config.images())) + 8 * 6
+    per_point = geometry_bytes(len(geometry.images())) + 8 * 6
     chunk = chunk_size(per_point, need, limit)
     out = np.empty((tt.size, pts.shape[0]))
-    y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)  # the pulse's tables once
+    y_of = pulse_response_function(pulse, radius=geometry.radius, medium=medium)  # the pulse's tables once
     for lo in range(0, pts.shape[0], chunk):
         hi = min(lo + chunk, pts.shape[0])
-        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
+        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], geometry, medium)
         for q, tq in enumerate(tt):
             acc = np.zeros(hi - lo)
             for j in range(delay.shape[1]):

@@ -39,7 +39,7 @@ from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import hertz_shape_pieces, pulse_response_function
 from ._arrivals import _arrival_order
-from ._common import DEFAULT_MEMORY_LIMIT, check_config, check_pulse, pulse_args
+from ._common import DEFAULT_MEMORY_LIMIT, check_geometry, check_pulse, pulse_args
 from ._exposure_closed import EPOCH, _exposure_closed, closed_tables, half_sine_lag_terms
 from .sources import chunk_geometry
 
@@ -421,7 +421,7 @@ def _exposure_points(out, pts, inside, spos, saxis, radius, rho, c, tau, s, step
                                       h0)
 
 
-def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlations=None,
+def exposure(pulse, points, geometry: Geometry, *, medium: Medium = AIR, correlations=None,
              chunk: int = 65536) -> np.ndarray:
     """Sound exposure ``∫ p² dt`` in Pa²·s of the whole response at each point, without a time loop.
 
@@ -431,7 +431,7 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -453,20 +453,20 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     about 1e-12).
     """
     check_pulse(pulse)
-    check_config(config)
+    check_geometry(geometry)
     pts = check_points("points", points)
-    corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
+    corr = pulse_correlations(pulse, geometry.radius, medium=medium) if correlations is None else correlations
     out = np.empty(pts.shape[0])
-    imgs = config.images()
+    imgs = geometry.images()
     if len(imgs) > PAIRS_ABOVE:  # many sources: the geometry in the kernel, the pairs over sorted arrivals
-        inside = ~config.in_fluid(pts)
+        inside = ~geometry.in_fluid(pts)
         spos = np.ascontiguousarray(imgs.positions, dtype=float)
         saxis = np.ascontiguousarray(imgs.weighted_axes, dtype=float)
         ptab = pair_table(corr.table)
         for lo in range(0, pts.shape[0], max(1, int(chunk))):
             hi = min(lo + max(1, int(chunk)), pts.shape[0])
             _exposure_points(out[lo:hi], np.ascontiguousarray(pts[lo:hi]), inside[lo:hi], spos, saxis,
-                             float(config.radius),
+                             float(geometry.radius),
                              float(medium.rho), float(medium.c), corr.duration, corr.pole, corr.step, corr.table,
                              corr.y_end, corr.m_g, corr.m_h, ptab,
                              np.ascontiguousarray(corr.lag_terms, dtype=complex))
@@ -475,7 +475,7 @@ def exposure(pulse, points, config: Geometry, *, medium: Medium = AIR, correlati
     step = max(1, min(int(chunk), DEFAULT_MEMORY_LIMIT // (_BYTES_PER_SOURCE * len(imgs))))
     for lo in range(0, pts.shape[0], step):
         hi = min(lo + step, pts.shape[0])
-        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
+        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], geometry, medium)
         res = np.empty(hi - lo)
         _exposure_kernel(res, delay, p0 * cre, p0 * cim, corr.duration, corr.pole, corr.step, corr.table, corr.y_end,
                          corr.m_g, corr.m_h)

@@ -203,8 +203,8 @@ def spherical_grid(
     return SphericalGrid(c + r * d, weights, d, c, r, region, nt, npf)
 
 
-def spherical_grid_for(config, radius: float, *, n_theta: int = 32, n_phi=None) -> SphericalGrid:
-    """The spherical grid that closes the fluid region of a configuration.
+def spherical_grid_for(geometry, radius: float, *, n_theta: int = 32, n_phi=None) -> SphericalGrid:
+    """The spherical grid that closes the fluid region of a geometry.
 
     The region is the geometry's :meth:`~acoustiviz.core.geometry.Geometry.enclosure`: for the
     free field the whole sphere around the sphere's centre, for the plane the half space around
@@ -214,7 +214,7 @@ def spherical_grid_for(config, radius: float, *, n_theta: int = 32, n_phi=None) 
 
     Parameters
     ----------
-    config : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene.
     radius : float
         Radius in m; for the half and quarter regions it must keep the grid clear of the
@@ -226,11 +226,11 @@ def spherical_grid_for(config, radius: float, *, n_theta: int = 32, n_phi=None) 
     -------
     SphericalGrid
     """
-    reg = config.enclosure()
+    reg = geometry.enclosure()
     g = spherical_grid(radius, region=reg.kind, centre=reg.origin, up=reg.up, side=reg.side, n_theta=n_theta,
                        n_phi=n_phi)
-    dist = np.linalg.norm(g.points - config.centre, axis=1)
-    if np.any(dist < config.radius) or not np.all(config.in_fluid(g.points)):
+    dist = np.linalg.norm(g.points - geometry.centre, axis=1)
+    if np.any(dist < geometry.radius) or not np.all(geometry.in_fluid(g.points)):
         raise ParameterError("radius", f"{radius:g} m puts grid points inside the sphere or a wall; make it larger")
     return g
 
@@ -329,12 +329,12 @@ def planar_grid(centre, u, v, n_u: int = 101, n_v=None) -> PlanarGrid:
     return PlanarGrid(pts, origin, uu, vv, nu, nv)
 
 
-def fluid_box(config, lo, hi) -> tuple:
-    """The box ``[lo, hi]`` cut at each plane of ``config`` on the side away from the fluid.
+def fluid_box(geometry, lo, hi) -> tuple:
+    """The box ``[lo, hi]`` cut at each plane of ``geometry`` on the side away from the fluid.
 
     Parameters
     ----------
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene; each of its planes is normal to an axis (the floor's z, a wall's x or y).
     lo, hi : (3,) array_like
         Lower and upper corners in m.
@@ -346,7 +346,7 @@ def fluid_box(config, lo, hi) -> tuple:
     """
     lo = np.array(lo, dtype=float)
     hi = np.array(hi, dtype=float)
-    for p in config.planes:
+    for p in geometry.planes:
         k = int(np.argmax(np.abs(p.normal)))
         if p.normal[k] > 0:
             lo[k] = max(lo[k], float(p.point[k]))
@@ -355,7 +355,7 @@ def fluid_box(config, lo, hi) -> tuple:
     return lo, hi
 
 
-def section_rectangle(config, section: str, extent: float, n_long: int, *, level=None) -> tuple:
+def section_rectangle(geometry, section: str, extent: float, n_long: int, *, level=None) -> tuple:
     """The rectangle and point counts of :func:`section_grid`, without building its points.
 
     Parameters and notes as for :func:`section_grid` (a caller checks the size of a grid from
@@ -367,8 +367,8 @@ def section_rectangle(config, section: str, extent: float, n_long: int, *, level
         Centre and edge vectors in m (the arguments of :func:`planar_grid`) and the counts.
     """
     check_choice("section", section, tuple(SECTIONS))
-    c = np.asarray(config.centre, dtype=float)
-    lo, hi = fluid_box(config, c - extent, c + extent)
+    c = np.asarray(geometry.centre, dtype=float)
+    lo, hi = fluid_box(geometry, c - extent, c + extent)
     i, j = SECTIONS[section]
     centre = c.copy()
     centre[i] = 0.5 * (lo[i] + hi[i])
@@ -383,7 +383,7 @@ def section_rectangle(config, section: str, extent: float, n_long: int, *, level
     return centre, u, v, nu, nv
 
 
-def section_grid(config, section: str, extent: float, n_long: int, *, level=None) -> PlanarGrid:
+def section_grid(geometry, section: str, extent: float, n_long: int, *, level=None) -> PlanarGrid:
     """A planar grid through the sphere along two axes, reaching ``extent`` from its centre, cut at the planes.
 
     The square of half-side ``extent`` around the sphere's centre in the plane of ``section`` is
@@ -392,7 +392,7 @@ def section_grid(config, section: str, extent: float, n_long: int, *, level=None
 
     Parameters
     ----------
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its planes.
     section : {"xz", "yz", "xy"}
         The two axes the grid spans (see :data:`SECTIONS`).
@@ -416,5 +416,5 @@ def section_grid(config, section: str, extent: float, n_long: int, *, level=None
     >>> g.shape, round(float(g.points[:, 2].min()), 6)  # cut at the floor z = 0
     ((12, 21), 0.0)
     """
-    centre, u, v, nu, nv = section_rectangle(config, section, extent, n_long, level=level)
+    centre, u, v, nu, nv = section_rectangle(geometry, section, extent, n_long, level=level)
     return planar_grid(centre, u, v, n_u=nu, n_v=nv)

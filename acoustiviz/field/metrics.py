@@ -120,7 +120,7 @@ class FieldMetrics:
             return 10.0 * np.log10(self.exposure / (P_REF**2 * 1.0))
 
 
-def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff, limit):
+def _window_samples(pulse, pts, geometry, medium, sample_interval, window, cutoff, limit):
     """Return ``(dt, m, window)``: the step in s, the samples that fill the window, the window in s.
 
     The window is ``window`` (s) or, by default, the longest arrival spread of the points in the
@@ -128,18 +128,18 @@ def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff,
     it (rounding it up to whole samples of the interval would lengthen it and lower the RMS).
     """
     dt = (
-        default_sample_interval(pulse, config.radius, medium=medium)
+        default_sample_interval(pulse, geometry.radius, medium=medium)
         if sample_interval is None
         else check_positive("sample_interval", sample_interval, "s")
     )
     if window is None:
         win = dt
         n = pts.shape[0]
-        step = chunk_size(geometry_bytes(len(config.images())) + 40, 8.0 * n * 5, limit)
+        step = chunk_size(geometry_bytes(len(geometry.images())) + 40, 8.0 * n * 5, limit)
         for lo in range(0, n, step):
             sub = pts[lo : lo + step]
-            start, stop = arrival_windows(pulse, sub, config, medium=medium, cutoff=cutoff)
-            ok = config.in_fluid(sub)
+            start, stop = arrival_windows(pulse, sub, geometry, medium=medium, cutoff=cutoff)
+            ok = geometry.in_fluid(sub)
             if np.any(ok):
                 win = max(win, float(np.max((stop - start)[ok])))
     else:
@@ -148,7 +148,7 @@ def _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff,
     return win / m, m, win
 
 
-def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, nimg: int, dt: float, refine: bool, per_point,
+def _exact_metrics(pulse, geometry, medium, pa, tail, n: int, m: int, nimg: int, dt: float, refine: bool, per_point,
                    fixed, limit):
     """The exact model's metrics of blocks of points, and the points per block.
 
@@ -160,7 +160,7 @@ def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, nimg: int, d
     """
     scratch = 8 * m * 7  # the samples, retarded times, complex Y and masks of the vectorised sum
     if _closed.is_small(n, m, nimg, refine=refine, need=per_point + scratch, room=limit - fixed):
-        y_of = pulse_response_function(pulse, radius=config.radius, medium=medium)
+        y_of = pulse_response_function(pulse, radius=geometry.radius, medium=medium)
 
         def run(res, t0, img):
             _closed.numpy_window_metrics(res, y_of, img, pa.tau, tail, t0, dt, m, refine)
@@ -177,7 +177,7 @@ def _exact_metrics(pulse, config, medium, pa, tail, n: int, m: int, nimg: int, d
 def field_metrics(
     pulse,
     points,
-    config: Geometry,
+    geometry: Geometry,
     *,
     medium: Medium = AIR,
     sample_interval=None,
@@ -196,7 +196,7 @@ def field_metrics(
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -258,11 +258,11 @@ def field_metrics(
     >>> round(float(m.peak_spl_db[0]), 1)  # dB re 20 µPa
     88.8
     """
-    pa, tail = prepare(pulse, config, medium, cutoff)
+    pa, tail = prepare(pulse, geometry, medium, cutoff)
     pts = check_points("points", points)
     limit = check_positive("memory_limit", memory_limit, "B")
     n = pts.shape[0]
-    nimg = len(config.images())
+    nimg = len(geometry.images())
     if t is not None:
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         dt = uniform_step(tt)
@@ -271,15 +271,15 @@ def field_metrics(
         m = tt.size
         win = m * dt
     else:
-        dt, m, win = _window_samples(pulse, pts, config, medium, sample_interval, window, cutoff, limit)
+        dt, m, win = _window_samples(pulse, pts, geometry, medium, sample_interval, window, cutoff, limit)
     out_bytes = 8.0 * n * 5 + n  # four float results, the window starts and the model codes
     if out_bytes + 8 * m > limit:
         raise ParameterError("memory_limit", f"the results and the window of {m} samples need "
                                              f"{out_bytes + 8 * m:.4g} B > {limit:.4g} B")
     fixed = out_bytes + 8 * m + (limit / 2 if tolerance is not None else 0)  # half for cheap models
-    exact_metrics, chunk = _exact_metrics(
-        pulse, config, medium, pa, tail, n, m, nimg, dt, refine, geometry_bytes(nimg) + 8 * 4 + 16 * nimg, fixed, limit
-    )
+    per_point = geometry_bytes(nimg) + 8 * 4 + 16 * nimg
+    exact_metrics, chunk = _exact_metrics(pulse, geometry, medium, pa, tail, n, m, nimg, dt, refine, per_point, fixed,
+                                          limit)
     pmax = np.empty(n)
     pmin = np.empty(n)
     ssq = np.empty(n)
@@ -291,20 +291,20 @@ def field_metrics(
         tol = check_positive("tolerance", tolerance, "Pa")
     for lo in range(0, n, chunk):
         hi = min(lo + chunk, n)
-        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], config, medium)
+        delay, p0, cre, cim, inside = chunk_geometry(pts[lo:hi], geometry, medium)
         t0 = np.full(hi - lo, tt[0]) if t is not None else delay.min(axis=1)
         wstart[lo:hi] = t0
         res = np.empty((hi - lo, 3))
         exact = np.ones(hi - lo, dtype=bool)
         if tolerance is not None:
-            choice = _approx.choose_models(pulse, delay, p0, cre + 1j * cim, tol, radius=config.radius, medium=medium)
+            choice = _approx.choose_models(pulse, delay, p0, cre + 1j * cim, tol, radius=geometry.radius, medium=medium)
             for code, name in enumerate(_approx.MODELS):
                 sel = choice == code
                 if name == "exact" or not np.any(sel):
                     continue
                 exact &= ~sel
                 res[sel] = _approx.window_metrics(
-                    name, pulse, delay[sel], p0[sel], t0[sel], dt, m, radius=config.radius, medium=medium,
+                    name, pulse, delay[sel], p0[sel], t0[sel], dt, m, radius=geometry.radius, medium=medium,
                     max_bytes=limit / 4,
                 )  # fmt: skip
                 models[lo:hi][sel] = code

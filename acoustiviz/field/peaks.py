@@ -77,7 +77,7 @@ from ..constants import P_REF
 from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from ..core.radiation import pulse_response
-from ._common import PeakCorrelations, PeakSampling, PeakSources, check_config, check_pulse, pulse_args
+from ._common import PeakCorrelations, PeakSampling, PeakSources, check_geometry, check_pulse, pulse_args
 from ._exposure_closed import ClosedPairs, closed_tables
 from ._peak_dense import _dense_kernel
 from ._peak_kernels import TAIL_STEPS, _peaks_kernel
@@ -110,7 +110,7 @@ PROGRESS_BLOCK = 64
 
 @dataclass(frozen=True)
 class PeakTable:
-    """Observer-independent tables of one pulse, sphere and configuration for :func:`fast_peaks`.
+    """Observer-independent tables of one pulse, sphere and geometry for :func:`fast_peaks`.
 
     Attributes
     ----------
@@ -182,27 +182,27 @@ class PeakExposure:
             return 10.0 * np.log10(self.exposure / P_REF**2)
 
 
-def _source_arrays(config: Geometry):
+def _source_arrays(geometry: Geometry):
     """Image centres, weighted axes (the reflection weight folded into the axis), sphere centre, planes."""
-    imgs = config.images()
-    if config.planes:
-        ppt = np.ascontiguousarray([p.point for p in config.planes], dtype=float)
-        pnm = np.ascontiguousarray([p.normal for p in config.planes], dtype=float)
+    imgs = geometry.images()
+    if geometry.planes:
+        ppt = np.ascontiguousarray([p.point for p in geometry.planes], dtype=float)
+        pnm = np.ascontiguousarray([p.normal for p in geometry.planes], dtype=float)
     else:
         ppt = np.zeros((0, 3))
         pnm = np.zeros((0, 3))
-    return imgs.positions, imgs.weighted_axes, np.asarray(config.centre, dtype=float), ppt, pnm
+    return imgs.positions, imgs.weighted_axes, np.asarray(geometry.centre, dtype=float), ppt, pnm
 
 
-def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
+def peak_table(pulse, geometry: Geometry, *, medium: Medium = AIR, samples: int = DEFAULT_SAMPLES,
                fine: int = DEFAULT_FINE) -> PeakTable:
-    """Tabulate ``Y`` for :func:`fast_peaks` (once per pulse, sphere and configuration).
+    """Tabulate ``Y`` for :func:`fast_peaks` (once per pulse, sphere and geometry).
 
     Parameters
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse (m/s²) starting at t = 0.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images (their separation sets the table's length).
     medium : Medium
         The fluid.
@@ -216,17 +216,17 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
     PeakTable
     """
     check_pulse(pulse)
-    check_config(config)
+    check_geometry(geometry)
     if int(samples) != samples or samples < 2:
         raise ParameterError("samples", f"must be an integer >= 2, got {samples}")
     if int(fine) != fine or fine < 1:
         raise ParameterError("fine", f"must be an integer >= 1, got {fine}")
     samples, fine = int(samples), int(fine)
-    pa = pulse_args(pulse, config.radius, medium)
+    pa = pulse_args(pulse, geometry.radius, medium)
     end = float(pulse.duration) if pa.kind == 0 else float(pa.xi[-1])
-    big_h = min(float(pulse.duration), config.radius / medium.c) / samples
+    big_h = min(float(pulse.duration), geometry.radius / medium.c) / samples
     h = big_h / fine
-    pos = config.images().positions
+    pos = geometry.images().positions
     pulse_only = pos.shape[0] > PULSE_TABLE_ABOVE
     if pulse_only:  # the pulse only: each image's decay past it is computed in closed form
         spread = 0.0
@@ -237,7 +237,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
         pad = (int(math.ceil(spread / h)) + 2 * fine) // fine * fine
         ncol = pad // fine + int(math.ceil((spread + end) / big_h)) + 4 + TAIL_STEPS
     u = (np.arange(ncol)[None, :] * fine + np.arange(fine)[:, None] - pad) * h
-    y = pulse_response(pulse, u, radius=config.radius, medium=medium)
+    y = pulse_response(pulse, u, radius=geometry.radius, medium=medium)
     # max |Y'| = max |s Y + A|: bounded by the samples plus one fine step of |Y''| <= |s| max|Y'| + max|A'|
     flat = np.abs(np.diff(y.T.ravel())) / h
     slope = float(flat.max()) * (1.0 + abs(pa.s) * h) + 1e-300
@@ -245,7 +245,7 @@ def peak_table(pulse, config: Geometry, *, medium: Medium = AIR, samples: int = 
                      pulse_only)
 
 
-def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposure: bool = True,
+def fast_peaks(pulse, points, geometry: Geometry, *, medium: Medium = AIR, exposure: bool = True,
                table: PeakTable | None = None, correlations: PulseCorrelations | None = None,
                margin: float = DEFAULT_MARGIN, chunk: int = 65536, workers: int | None = None,
                progress=None) -> PeakExposure:
@@ -257,14 +257,14 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
     points : (n, 3) array_like
         Observer positions in m; points outside the fluid get NaN.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
     exposure : bool
         Also return ``∫ p² dt`` (Pa²·s) of the whole response (:func:`acoustiviz.field.exposure`).
     table : PeakTable, optional
-        From :func:`peak_table` for this pulse, sphere and configuration, to reuse between calls.
+        From :func:`peak_table` for this pulse, sphere and geometry, to reuse between calls.
     correlations : PulseCorrelations, optional
         From :func:`acoustiviz.field.pulse_correlations`, to reuse between calls.
     margin : float
@@ -294,17 +294,17 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
     Newton steps on the closed form.
     """
     check_pulse(pulse)
-    check_config(config)
+    check_geometry(geometry)
     pts = check_points("points", points)
     if not (margin >= 0.0 and math.isfinite(margin)):
         raise ParameterError("margin", f"must be a finite number >= 0, got {margin}")
     threads = _threads(workers, pts.shape[0])
     if table is None and correlations is None:
-        # the observer-independent tables, built once per pulse, configuration and medium
-        tb, tp, cargs, lag_terms, cusps, sources = _observer_tables(_Keyed(pulse), _Keyed(config), _Keyed(medium),
+        # the observer-independent tables, built once per pulse, geometry and medium
+        tb, tp, cargs, lag_terms, cusps, sources = _observer_tables(_Keyed(pulse), _Keyed(geometry), _Keyed(medium),
                                                          bool(exposure))
     else:
-        tb, tp, cargs, lag_terms, cusps, sources = _build_tables(pulse, config, medium, bool(exposure), table,
+        tb, tp, cargs, lag_terms, cusps, sources = _build_tables(pulse, geometry, medium, bool(exposure), table,
                                                                  correlations)
     spos, saxis, centre, ppt, pnm = sources
     n = pts.shape[0]
@@ -318,7 +318,7 @@ def fast_peaks(pulse, points, config: Geometry, *, medium: Medium = AIR, exposur
         step = min(step, max(1, -(-n // (4 * threads))))
     if progress is not None:  # about a hundred reports
         step = min(step, max(PROGRESS_BLOCK, -(-n // 100)))
-    src = PeakSources(spos, saxis, centre, ppt, pnm, float(config.radius), float(medium.rho), float(medium.c))
+    src = PeakSources(spos, saxis, centre, ppt, pnm, float(geometry.radius), float(medium.rho), float(medium.c))
     smp = PeakSampling(tb.coarse_step, tb.fine, tb.pad, tb.y_real, tb.y_imag, tb.slope_bound, float(margin), cusps)
     corr = PeakCorrelations(bool(exposure), *cargs)
     if tb.pulse_only:  # the half-sine's exposure in closed form (lag_terms), others by the table
@@ -374,14 +374,14 @@ def _threads(workers, n: int) -> int:
     return workers
 
 
-def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table=None, correlations=None):
+def _build_tables(pulse, geometry: Geometry, medium: Medium, exposure: bool, table=None, correlations=None):
     """What :func:`fast_peaks` needs besides the points: peak table, Taylor pulse, correlations, sources."""
-    tb = peak_table(pulse, config, medium=medium) if table is None else table
+    tb = peak_table(pulse, geometry, medium=medium) if table is None else table
     # the refinement evaluates Y, Y' and Y'' of every pulse from its Taylor table
-    tp = taylor_pulse(pulse, config.radius, medium)
+    tp = taylor_pulse(pulse, geometry.radius, medium)
     end = tp.end
     if exposure:
-        corr = pulse_correlations(pulse, config.radius, medium=medium) if correlations is None else correlations
+        corr = pulse_correlations(pulse, geometry.radius, medium=medium) if correlations is None else correlations
         cargs = (corr.duration, corr.pole, corr.step, corr.table, corr.y_end, corr.m_g, corr.m_h)
         lag_terms = np.ascontiguousarray(corr.lag_terms, dtype=complex)
     else:
@@ -391,7 +391,7 @@ def _build_tables(pulse, config: Geometry, medium: Medium, exposure: bool, table
     # maximum narrower than a coarse step sit at such a breakpoint (else p is C¹ and p'' bounded)
     a_scale = float(np.max(np.abs(pulse.acceleration(np.linspace(0.0, end, 257)))))
     cusps = bool(np.max(np.abs(pulse.acceleration(np.array([0.0, end])))) > 1e-9 * a_scale)
-    return tb, tp, cargs, lag_terms, cusps, _source_arrays(config)
+    return tb, tp, cargs, lag_terms, cusps, _source_arrays(geometry)
 
 
 def _value_key(obj):
@@ -424,6 +424,6 @@ class _Keyed:
 
 
 @functools.lru_cache(maxsize=16)
-def _observer_tables(pulse: _Keyed, config: _Keyed, medium: _Keyed, exposure: bool):
-    """:func:`_build_tables` kept for the last 16 pulse, configuration and medium values (read, never written)."""
-    return _build_tables(pulse.obj, config.obj, medium.obj, exposure)
+def _observer_tables(pulse: _Keyed, geometry: _Keyed, medium: _Keyed, exposure: bool):
+    """:func:`_build_tables` kept for the last 16 pulse, geometry and medium values (read, never written)."""
+    return _build_tables(pulse.obj, geometry.obj, medium.obj, exposure)

@@ -74,12 +74,12 @@ def check_times(time) -> np.ndarray:
     return times
 
 
-def section_planes(config, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
+def section_planes(geometry, extent: float, *, sections=("xz",), n_u: int = 241) -> list:
     """Planar grids through the sphere for field snapshots, clipped to the fluid's bounding box.
 
     Parameters
     ----------
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene.
     extent : float
         Distance in m from the sphere's centre to the far edges of each section.
@@ -96,8 +96,8 @@ def section_planes(config, extent: float, *, sections=("xz",), n_u: int = 241) -
     list of PlanarGrid
     """
     e = check_positive("extent", extent, "m")
-    if e <= 2.0 * config.radius:
-        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * config.radius:g} m, got {e:g} m")
+    if e <= 2.0 * geometry.radius:
+        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * geometry.radius:g} m, got {e:g} m")
     if isinstance(sections, str):
         sections = (sections,)
     if int(n_u) != n_u or n_u < 8:
@@ -105,11 +105,11 @@ def section_planes(config, extent: float, *, sections=("xz",), n_u: int = 241) -
     out = []
     for s in sections:
         check_choice("sections", s, tuple(SECTIONS))
-        out.append(section_grid(config, s, e, n_u))
+        out.append(section_grid(geometry, s, e, n_u))
     return out
 
 
-def section_grids(config, planes, extent, times, medium: Medium, n_u: int, sections=("xz",)) -> list:
+def section_grids(geometry, planes, extent, times, medium: Medium, n_u: int, sections=("xz",)) -> list:
     """The grids of a snapshot: ``planes`` if given, else :func:`section_planes` reaching where sound is by ``times``.
 
     The default ``extent`` is 1.25 × the distance in m sound travels by the last time (plus the
@@ -121,12 +121,12 @@ def section_grids(config, planes, extent, times, medium: Medium, n_u: int, secti
             raise ParameterError("planes", "expected a PlanarGrid or a non-empty sequence of them")
         return ps
     if extent is None:
-        reach = medium.c * float(np.max(times)) + config.radius
-        extent = max(8.0 * config.radius, 1.25 * reach)
-    return section_planes(config, extent, sections=sections, n_u=n_u)
+        reach = medium.c * float(np.max(times)) + geometry.radius
+        extent = max(8.0 * geometry.radius, 1.25 * reach)
+    return section_planes(geometry, extent, sections=sections, n_u=n_u)
 
 
-def section_field(pulse, config, time, *, medium: Medium = AIR, planes=None, extent=None, sections=("xz",),
+def section_field(pulse, geometry, time, *, medium: Medium = AIR, planes=None, extent=None, sections=("xz",),
                   n_u: int = 241) -> SectionField:
     """Evaluate the pressure p(x, t) on planar sections at one or more times.
 
@@ -134,7 +134,7 @@ def section_field(pulse, config, time, *, medium: Medium = AIR, planes=None, ext
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene.
     time : float or sequence of float
         Times in s from the start of contact (1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES`, each >= 0).
@@ -163,6 +163,6 @@ def section_field(pulse, config, time, *, medium: Medium = AIR, planes=None, ext
     (2, 902)
     """
     times = check_times(time)
-    grids = section_grids(config, planes, extent, times, medium, n_u, sections)
-    fields = [evaluate.snapshots(pulse, times, g.points, config, medium=medium) for g in grids]
+    grids = section_grids(geometry, planes, extent, times, medium, n_u, sections)
+    fields = [evaluate.snapshots(pulse, times, g.points, geometry, medium=medium) for g in grids]
     return SectionField.of(grids, times, fields)

@@ -19,7 +19,7 @@ from .._validate import check_points
 from ..core.geometry import Geometry
 from ..core.images import ImageSet
 from ..core.medium import AIR, Medium
-from ._common import DEFAULT_CUTOFF, check_config, check_pulse, decay_time
+from ._common import DEFAULT_CUTOFF, check_geometry, check_pulse, decay_time
 
 __all__ = ["image_geometry", "source_geometry", "waveform_span", "waveform_spans", "arrival_windows"]
 
@@ -79,14 +79,14 @@ def image_geometry(points, sources, radius: float, *, medium: Medium = AIR):
     return (r - a) / medium.c, p0, ra - 1j * (1.0 - ra), r
 
 
-def source_geometry(points, config: Geometry, *, medium: Medium = AIR):
-    """:func:`image_geometry` of the sources of a configuration (its sphere and images).
+def source_geometry(points, geometry: Geometry, *, medium: Medium = AIR):
+    """:func:`image_geometry` of the sources of a geometry (its sphere and images).
 
     Parameters
     ----------
     points : (n, 3) array_like
         Observer positions in m.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -96,10 +96,10 @@ def source_geometry(points, config: Geometry, *, medium: Medium = AIR):
     delay, p0, c_shape, distance : (n, k) ndarray
         As :func:`image_geometry`: s, Pa/(m/s), dimensionless, m.
     """
-    return image_geometry(points, config.images(), config.radius, medium=medium)
+    return image_geometry(points, geometry.images(), geometry.radius, medium=medium)
 
 
-def waveform_span(pulse, point, config: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
+def waveform_span(pulse, point, geometry: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
     """First arrival and end in s (from the start of contact) of one impact's sound at ``point``.
 
     The end is the last image's arrival plus the pulse plus ``decay_times`` decay times a/c of
@@ -112,7 +112,7 @@ def waveform_span(pulse, point, config: Geometry, *, medium: Medium = AIR, decay
         Acceleration pulse of the sphere.
     point : (3,) array_like
         Observer position in m.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -124,12 +124,12 @@ def waveform_span(pulse, point, config: Geometry, *, medium: Medium = AIR, decay
     first, end : float
         Times in s.
     """
-    first, end = waveform_spans(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium,
+    first, end = waveform_spans(pulse, np.asarray(point, dtype=float)[None, :], geometry, medium=medium,
                                 decay_times=decay_times)[0]
     return float(first), float(end)
 
 
-def waveform_spans(pulse, points, config: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
+def waveform_spans(pulse, points, geometry: Geometry, *, medium: Medium = AIR, decay_times: float = 40.0):
     """:func:`waveform_span` of many points at once.
 
     Parameters
@@ -138,7 +138,7 @@ def waveform_spans(pulse, points, config: Geometry, *, medium: Medium = AIR, dec
         Acceleration pulse of the sphere.
     points : (n, 3) array_like
         Observer positions in m.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -150,12 +150,12 @@ def waveform_spans(pulse, points, config: Geometry, *, medium: Medium = AIR, dec
     (n, 2) ndarray
         First arrival and end of each point's sound, in s from the start of contact.
     """
-    delay = source_geometry(np.asarray(points, dtype=float).reshape(-1, 3), config, medium=medium)[0]
-    tail = pulse.duration + decay_times * config.radius / medium.c
+    delay = source_geometry(np.asarray(points, dtype=float).reshape(-1, 3), geometry, medium=medium)[0]
+    tail = pulse.duration + decay_times * geometry.radius / medium.c
     return np.column_stack([delay.min(axis=1), delay.max(axis=1) + tail])
 
 
-def arrival_windows(pulse, points, config: Geometry, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
+def arrival_windows(pulse, points, geometry: Geometry, *, medium: Medium = AIR, cutoff: float = DEFAULT_CUTOFF):
     """Interval of each point in which its pressure is non-zero (to ``cutoff``).
 
     Parameters
@@ -164,7 +164,7 @@ def arrival_windows(pulse, points, config: Geometry, *, medium: Medium = AIR, cu
         Acceleration pulse of the sphere.
     points : (n, 3) array_like
         Observer positions in m.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -178,16 +178,16 @@ def arrival_windows(pulse, points, config: Geometry, *, medium: Medium = AIR, cu
         ``max_j (r_j - a)/c + T + (a/c) ln(1/cutoff)``, in s.
     """
     check_pulse(pulse)
-    check_config(config)
-    delay, _, _, _ = source_geometry(points, config, medium=medium)
-    tail = decay_time(config.radius, medium=medium, cutoff=cutoff)
+    check_geometry(geometry)
+    delay, _, _, _ = source_geometry(points, geometry, medium=medium)
+    tail = decay_time(geometry.radius, medium=medium, cutoff=cutoff)
     return delay.min(axis=1), delay.max(axis=1) + pulse.duration + tail
 
 
 
-def chunk_geometry(pts, config, medium):
-    inside = ~config.in_fluid(pts)
-    delay, p0, cc, _ = source_geometry(pts, config, medium=medium)
+def chunk_geometry(pts, geometry, medium):
+    inside = ~geometry.in_fluid(pts)
+    delay, p0, cc, _ = source_geometry(pts, geometry, medium=medium)
     if np.any(inside):
         delay[inside] = 0.0
         p0[inside] = 0.0

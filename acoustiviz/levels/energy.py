@@ -370,7 +370,7 @@ class RunEnergy:
     Attributes
     ----------
     energy_j : (n_impacts,) ndarray
-        Energy radiated by each impact in J (into the configuration's half or quarter space).
+        Energy radiated by each impact in J (into the geometry's half or quarter space).
     energy_lost_j : (n_impacts,) ndarray
         Kinetic energy lost in each impact in J (the dynamics' impact table).
     efficiency : (n_impacts,) ndarray
@@ -380,7 +380,7 @@ class RunEnergy:
     loudest : int
         Index of the impact that radiates most.
     ratio_speeds_m_s, ratios : dict
-        Per wall (-1, +1): the approach speeds in m/s at which the configuration's energy was
+        Per wall (-1, +1): the approach speeds in m/s at which the geometry's energy was
         integrated over the spherical grid, and its ratio to the free sphere's closed form there.
     """
 
@@ -406,7 +406,7 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     table : acoustiviz.dynamics.ImpactTable
         The run's impacts (approach speeds, walls, energy lost).
     cavity_scene : acoustiviz.sound.CavityScene
-        Where the cavity sits (configuration, walls, radius, medium); its ``sources(wall)`` gives
+        Where the cavity sits (geometry, walls, radius, medium); its ``sources(wall)`` gives
         the image sources of an impact on each wall.
     model : acoustiviz.sound.ClickModel
         How an approach speed becomes an acceleration pulse.
@@ -418,7 +418,7 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     Notes
     -----
     Each impact's energy is the free sphere's closed form for its own pulse
-    (:func:`radiated_energy_free`) times the ratio of the configuration's energy
+    (:func:`radiated_energy_free`) times the ratio of the geometry's energy
     (:func:`radiated_energy_grid`, far-field intensity over the half or quarter
     sphere, with the struck or the far wall's images) to the free sphere's, integrated at the
     quartiles (and extremes) of that wall's approach speeds and interpolated in log speed: the
@@ -430,12 +430,12 @@ def run_energy(table, cavity_scene, model, duration: float, *, n_theta: int = 8)
     """
     from ..field.grids import spherical_grid_for
 
-    cavity_scene.configuration.enclosure()  # a room refuses here, saying why, before any work
+    cavity_scene.geometry.enclosure()  # a room refuses here, saying why, before any work
     a, medium = cavity_scene.radius, cavity_scene.medium
     v = np.abs(np.asarray(table.approach_velocity, dtype=float))
     walls = np.asarray(table.wall, dtype=float).astype(int)
     free = np.array([radiated_energy_free(model.pulse_for(vk), radius=a, medium=medium) for vk in v])
-    grid = spherical_grid_for(cavity_scene.configuration, 1.0, n_theta=n_theta)
+    grid = spherical_grid_for(cavity_scene.geometry, 1.0, n_theta=n_theta)
     energy = free.copy()
     speeds, ratios = {}, {}
     for w in (-1, 1):

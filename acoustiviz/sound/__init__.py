@@ -23,17 +23,17 @@ times ``t - t_k - (r - a)/c``.
 How impacts map to sources
 --------------------------
 The damper's axis of motion (``x`` in :mod:`acoustiviz.dynamics`) is the axis ``n`` of the
-configuration's real sphere (the normal of the struck surface, ``+z`` for ``"free"`` and
+real sphere of the scene's geometry (the normal of the struck surface, ``+z`` for ``"free"`` and
 ``"plane"``). The cavity's two walls are perpendicular to it:
 
-* the **struck wall** (``struck_wall``, default ``-1``) lies on the configuration's struck
-  surface (``z = 0`` for ``"plane"``). Its impacts are exactly the configuration: the sphere at
-  ``(0, 0, a)`` accelerating along ``+n`` and its images in the configuration's planes (paper
+* the **struck wall** (``struck_wall``, default ``-1``) lies on the geometry's struck surface
+  (``z = 0`` for ``"plane"``). Its impacts are exactly the geometry's sources: the sphere at
+  ``(0, 0, a)`` accelerating along ``+n`` and its images in the geometry's planes (paper
   eq 14 for ``"plane"``).
 * the **far wall** (the other one) lies ``gap + 2a`` further along ``n``: its impacts put the
   sphere's centre at ``(0, 0, a + gap)`` accelerating along ``-n`` (it rebounds back towards the
   struck wall). The far wall is taken as acoustically small (a lid, smaller than the
-  wavelengths of the click) and does not reflect; the configuration's planes still do, so the
+  wavelengths of the click) and does not reflect; the geometry's planes still do, so the
   far-wall sphere has its own images in them (its image in ``z = 0`` sits at ``(0, 0, -a - gap)``
   with axis ``+n``).
 

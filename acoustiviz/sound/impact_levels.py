@@ -23,7 +23,7 @@ __all__ = ["LEVEL_INTERVAL", "impact_signals", "sound_samples", "impact_sound", 
 LEVEL_INTERVAL = 1.0
 
 
-def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: float):
+def _signal_grid(pulse, points, geometry, medium, sample_rate: int, interval: float):
     """The oversampled times of :func:`impact_signals` and what decimates them.
 
     Returns ``(points, t, L, h, K, n_sound, n_out)``: the ``(k, 3)`` points in m, the times in s at
@@ -34,14 +34,14 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
     from .synthesis import decimation_filter, oversampling_factor
 
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    spans = waveform_spans(pulse, pts, config, medium=medium)
+    spans = waveform_spans(pulse, pts, geometry, medium=medium)
     L = oversampling_factor(sample_rate, pulse.duration)
     h = decimation_filter(L)
     K = (h.size - 1) // (2 * L)
     t0 = np.floor(spans[:, 0].min() * sample_rate) / sample_rate
     n_out = int(round(interval * sample_rate))
     end = float(spans[:, 1].max())
-    reach = getattr(config, "duration", None)  # a room: the sound within its window (every image arriving in it)
+    reach = getattr(geometry, "duration", None)  # a room: the sound within its window (every image arriving in it)
     if reach is not None:
         end = max(min(end, float(reach)), t0)
     n_sound = int(np.ceil((end - t0) * sample_rate)) + 1
@@ -51,7 +51,7 @@ def _signal_grid(pulse, points, config, medium, sample_rate: int, interval: floa
     return pts, t, L, h, K, n_sound, n_out
 
 
-def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
+def impact_signals(pulse, points, geometry, medium, *, sample_rate: int = ANALYSIS_RATE,
                    interval: float = LEVEL_INTERVAL) -> np.ndarray:
     """Pressure of one impact at each point, band-limited and sampled at ``sample_rate`` over ``interval``.
 
@@ -68,7 +68,7 @@ def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS
         The sphere's acceleration pulse.
     points : (k, 3) array_like
         Observers in m.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -86,24 +86,24 @@ def impact_signals(pulse, points, config, medium, *, sample_rate: int = ANALYSIS
 
     from ..field import time_series
 
-    pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, config, medium, sample_rate, interval)
-    hi = time_series(pulse, t, pts, config, medium=medium)
+    pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, geometry, medium, sample_rate, interval)
+    hi = time_series(pulse, t, pts, geometry, medium=medium)
     low = upfirdn(h, hi, up=1, down=L, axis=1)[:, K:K + n_sound + K]
     out = np.zeros((pts.shape[0], n_out))
     out[:, :low.shape[1]] = low
     return out
 
 
-def sound_samples(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
+def sound_samples(pulse, points, geometry, medium, *, sample_rate: int = ANALYSIS_RATE,
                   interval: float = LEVEL_INTERVAL) -> int:
     """Oversampled times per point at which :func:`impact_sound` evaluates the closed form (no pressure computed).
 
     :func:`acoustiviz.app.budget.metric_estimate` counts its memory from them before the work.
     """
-    return int(_signal_grid(pulse, points, config, medium, sample_rate, interval)[1].size)
+    return int(_signal_grid(pulse, points, geometry, medium, sample_rate, interval)[1].size)
 
 
-def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_RATE,
+def impact_sound(pulse, points, geometry, medium, *, sample_rate: int = ANALYSIS_RATE,
                  interval: float = LEVEL_INTERVAL, memory_limit=None) -> tuple[np.ndarray, int]:
     """The samples of :func:`impact_signals` up to the end of the sound, and the interval's length.
 
@@ -113,7 +113,7 @@ def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_R
 
     Parameters
     ----------
-    pulse, points, config, medium, sample_rate, interval
+    pulse, points, geometry, medium, sample_rate, interval
         As for :func:`impact_signals`.
     memory_limit : float, optional
         Cap in bytes on the closed form's samples (:func:`acoustiviz.field.time_series`; default its own).
@@ -129,9 +129,9 @@ def impact_sound(pulse, points, config, medium, *, sample_rate: int = ANALYSIS_R
 
     from ..field import time_series
 
-    pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, config, medium, sample_rate, interval)
+    pts, t, L, h, K, n_sound, n_out = _signal_grid(pulse, points, geometry, medium, sample_rate, interval)
     kw = {} if memory_limit is None else {"memory_limit": memory_limit}
-    hi = time_series(pulse, t, pts, config, medium=medium, **kw)
+    hi = time_series(pulse, t, pts, geometry, medium=medium, **kw)
     full = fftconvolve(hi, h[None, :], axes=1)  # output j of the decimation is full[:, j L]
     return np.ascontiguousarray(full[:, K * L:(2 * K + n_sound) * L:L]), n_out
 
@@ -142,7 +142,7 @@ def _groups(n: int, chunk):
     return [slice(lo, lo + step) for lo in range(0, n, max(step, 1))]
 
 
-def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None, memory_limit=None) -> dict:
+def points_metric_levels(metrics, pulse, points, geometry, medium, *, chunk=None, memory_limit=None) -> dict:
     """Weighted levels of one impact at each point: :func:`reference_metric_levels` from the sound alone.
 
     The points are taken ``chunk`` at a time, as by the reference (sample 0 of a chunk is its
@@ -156,7 +156,7 @@ def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None, 
     ----------
     metrics : sequence of str
         Keys of :data:`acoustiviz.levels.METRICS`.
-    pulse, config, medium
+    pulse, geometry, medium
         The impact, sphere and fluid.
     points : (k, 3) array_like
         Observers in m.
@@ -176,13 +176,13 @@ def points_metric_levels(metrics, pulse, points, config, medium, *, chunk=None, 
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     out = {m: np.empty(pts.shape[0]) for m in names}
     for g in _groups(pts.shape[0], chunk):
-        sound, n_out = impact_sound(pulse, pts[g], config, medium, memory_limit=memory_limit)
+        sound, n_out = impact_sound(pulse, pts[g], geometry, medium, memory_limit=memory_limit)
         for m, v in transient_levels(sound, ANALYSIS_RATE, n_out, names).items():
             out[m][g] = v
     return out
 
 
-def reference_metric_levels(metrics, pulse, points, config, medium, *, chunk=None) -> dict:
+def reference_metric_levels(metrics, pulse, points, geometry, medium, *, chunk=None) -> dict:
     """The same levels as :func:`points_metric_levels`, straight from the definition.
 
     :func:`impact_signals` at :data:`~acoustiviz.constants.ANALYSIS_RATE` over the whole
@@ -192,7 +192,7 @@ def reference_metric_levels(metrics, pulse, points, config, medium, *, chunk=Non
 
     Parameters
     ----------
-    metrics, pulse, points, config, medium, chunk
+    metrics, pulse, points, geometry, medium, chunk
         As for :func:`points_metric_levels`.
 
     Returns
@@ -207,7 +207,7 @@ def reference_metric_levels(metrics, pulse, points, config, medium, *, chunk=Non
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     out = {m: np.empty(pts.shape[0]) for m in names}
     for g in _groups(pts.shape[0], chunk):
-        lv = sound_levels(Signal(impact_signals(pulse, pts[g], config, medium), ANALYSIS_RATE))
+        lv = sound_levels(Signal(impact_signals(pulse, pts[g], geometry, medium), ANALYSIS_RATE))
         for m in names:
             out[m][g] = getattr(lv, METRICS[m])
     return out

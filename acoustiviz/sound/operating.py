@@ -151,7 +151,7 @@ def _quiet_offset(arrivals: np.ndarray, window: float) -> float:
     return float(np.mod(a[k] + gaps[k] / 2, window))
 
 
-def operating_noise(steady, *, listener=None, config: str = "plane", radius: float = PAPER_RADIUS,
+def operating_noise(steady, *, listener=None, kind: str = "plane", radius: float = PAPER_RADIUS,
                     seconds: float = 1.0, sample_rate: int = NOISE_RATE, settings=None) -> OperatingNoise:
     """Render the steady-state impacts of ``steady`` at a listener and give their weighted levels.
 
@@ -160,7 +160,8 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
     steady : acoustiviz.dynamics.forced.SteadyState
     listener : (3,) array_like, optional
         Position in m (default :func:`default_listener`, 0.7 m at 45° above the plane).
-    config : {"free", "plane", "wall-floor", "room"}
+    kind : {"free", "plane", "wall-floor", "room"}
+        The configuration kind of the surroundings (:func:`acoustiviz.core.geometry.geometry`).
     radius : float
         Sphere radius in m (default: the paper's 19.05 mm).
     settings : dict, optional
@@ -190,7 +191,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         raise ParameterError("seconds", f"must lie in (0, 60] s, got {seconds:g}")
     model = steady.model
     period = steady.excitation.period
-    scene = cavity(config, radius, model.gap, **(settings or {}))
+    scene = cavity(kind, radius, model.gap, **(settings or {}))
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
     keep = steady.impact_speeds > 0
@@ -202,7 +203,7 @@ def operating_noise(steady, *, listener=None, config: str = "plane", radius: flo
         reps = max(1, math.ceil(seconds / window - 1e-9))
         total = lead + reps + 1
         seq = periodic_train(base, walls, speeds, window, total)
-        delay = float(np.linalg.norm(pts - np.asarray(scene.configuration.centre))) / scene.medium.c
+        delay = float(np.linalg.norm(pts - np.asarray(scene.geometry.centre))) / scene.medium.c
         offset = _quiet_offset(base + delay, window)
         start, stop = lead * window + offset, (lead + reps) * window + offset
         cycles, end, settled = reps * steady.measured_cycles, total * window, True

@@ -230,23 +230,23 @@ class _Plan:
     note: str
 
 
-def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
+def _plan(geometry, rs: RoomSound, shortest_click: float, medium) -> _Plan:
     """The exact image order, the transition time and the tail's end."""
     from ..core.reverberation import complete_until, echo_density_time, energy_order, mixing_time
     from ..core.room import Shoebox, image_count, max_order_for_memory
     from ..core.tail import tail_end
 
-    a = conf.radius
-    box = Shoebox(conf.dimensions, rs.band_absorption) if rs.banded else conf.shoebox
-    tol = conf.tolerance_db if rs.tolerance_db is None else rs.tolerance_db
+    a = geometry.radius
+    box = Shoebox(geometry.dimensions, rs.band_absorption) if rs.banded else geometry.shoebox
+    tol = geometry.tolerance_db if rs.tolerance_db is None else rs.tolerance_db
     cap = max_order_for_memory(bands=box.bands)
-    if conf.order is not None and not rs.late_tail:
-        return _Plan(conf.order, None, None, conf.neglected_energy_db, box, "image order given")
-    need = energy_order(box, tol, radius=a, medium=medium, duration=conf.duration, max_order=cap)
+    if geometry.order is not None and not rs.late_tail:
+        return _Plan(geometry.order, None, None, geometry.neglected_energy_db, box, "image order given")
+    need = energy_order(box, tol, radius=a, medium=medium, duration=geometry.duration, max_order=cap)
     if not rs.late_tail:
         return _Plan(need.order, None, None, need.neglected_db, box, "images to the tolerance")
-    if rs.transition is None and conf.order is not None:  # the given order, complete until complete_until(N)
-        n_x = conf.order
+    if rs.transition is None and geometry.order is not None:  # the given order, complete until complete_until(N)
+        n_x = geometry.order
         t_x = complete_until(box, n_x, radius=a, medium=medium)
     else:
         t_x = rs.transition if rs.transition is not None else max(
@@ -264,10 +264,11 @@ def _plan(conf, rs: RoomSound, shortest_click: float, medium) -> _Plan:
         note = f"transition moved earlier to what max_images = {rs.max_images} exact images reach"
     else:
         note = "transition: the given time" if rs.transition is not None else (
-            "transition: where the given image order is complete" if conf.order is not None else
+            "transition: where the given image order is complete" if geometry.order is not None else
             "transition: max(mixing time sqrt(V) ms, one reflection per contact duration)")
     if t_x <= 0:
-        name = "order" if conf.order is not None and rs.transition is None and n_x == conf.order else "max_images"
+        given = geometry.order is not None and rs.transition is None and n_x == geometry.order
+        name = "order" if given else "max_images"
         raise ParameterError(name, f"the exact images to order {n_x} are complete at no time after the start in "
                                    "this room; allow more (an order of 3 or more)")
     end, neg = tail_end(box, t_x, tol, decay=rs.decay, medium=medium)
@@ -280,18 +281,18 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
     from ..field.sources import image_geometry
     from .sources import wall_sources
 
-    conf = scene.configuration
-    if not getattr(conf, "enclosed", False):
+    geometry = scene.geometry
+    if not getattr(geometry, "enclosed", False):
         raise ParameterError("room_sound", f"only for a scene in a room (a geometry that closes the fluid), "
-                                           f"got {conf.name!r}")
+                                           f"got {geometry.name!r}")
     if not isinstance(rs, RoomSound):
         raise ParameterError("room_sound", f"expected a RoomSound, got {type(rs).__name__}")
     a, medium = scene.radius, scene.medium
     pulses = [model.pulse_for(v) for v in sequence.velocities]
     taus = np.array([p.duration for p in pulses]) if pulses else np.array([1.0])
-    plan = _plan(conf, rs, float(taus.min()), medium)
-    conf2 = dataclasses.replace(conf, order=plan.order)
-    scene2 = dataclasses.replace(scene, config=conf2)
+    plan = _plan(geometry, rs, float(taus.min()), medium)
+    ordered = dataclasses.replace(geometry, order=plan.order)  # the exact images to the planned order
+    scene2 = dataclasses.replace(scene, geometry=ordered)
     L = _oversampling(fs, taus, oversampling)
     h = decimation_filter(L)
     half = (h.size - 1) // (2 * L)
@@ -301,7 +302,7 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
 
     walls = [w for w in (-1, 1) if np.any(sequence.walls == w)]
     srcs = {w: wall_sources(scene2, w) for w in (-1, 1)}
-    ratio = _band_ratios(conf2, plan.box) if rs.banded else None
+    ratio = _band_ratios(ordered, plan.box) if rs.banded else None
     geom, trains = {}, {}
     for w in (-1, 1):
         s = srcs[w]
@@ -329,10 +330,10 @@ def render_room(sequence, scene, model, pts, fs: int, duration, oversampling, rs
     return Rendering(Signal(out, fs), f_int, pts, sequence, scene2, model, info)
 
 
-def _band_ratios(conf, box) -> np.ndarray:
+def _band_ratios(geometry, box) -> np.ndarray:
     """``(n_images, n_bands)`` band weight over broadband weight of each image: ``prod_s (beta_bs / beta_s)^n_s``."""
-    refl = conf.room_images().reflections.astype(float)  # (n, 6), the same lattice order for both walls
-    lg = np.log(box.reflection) - np.log(conf.shoebox.reflection)[:, None]  # (6, n_bands)
+    refl = geometry.room_images().reflections.astype(float)  # (n, 6), the same lattice order for both walls
+    lg = np.log(box.reflection) - np.log(geometry.shoebox.reflection)[:, None]  # (6, n_bands)
     return np.exp(refl @ lg)
 
 

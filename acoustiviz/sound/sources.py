@@ -81,7 +81,7 @@ class CavityScene:
 
     Parameters
     ----------
-    config : Geometry or str
+    geometry : acoustiviz.core.geometry.Geometry or str
         The geometry of the struck wall's surroundings (:mod:`acoustiviz.core.geometry`), or a
         registry name (``"free"``, ``"plane"``, ...) built with its default settings and
         ``radius``. Stored as the geometry value.
@@ -92,7 +92,7 @@ class CavityScene:
         Total free travel d of the impact mass in the cavity in m; the far wall lies ``gap + 2a``
         from the struck one.
     struck_wall : {-1, +1}
-        The damper wall lying on the configuration's struck surface.
+        The damper wall lying on the geometry's struck surface.
     walls : {"both", "one"}
         ``"both"``: far-wall impacts radiate from the far wall with the reversed axis;
         ``"one"``: every impact is heard as a strike on the struck wall.
@@ -100,7 +100,7 @@ class CavityScene:
         The fluid.
     """
 
-    config: Geometry | str = "plane"
+    geometry: Geometry | str = "plane"
     radius: float | None = None
     gap: float = 0.04
     struck_wall: int = -1
@@ -108,15 +108,15 @@ class CavityScene:
     medium: Medium = AIR
 
     def __post_init__(self):
-        if isinstance(self.config, Geometry):
-            cfg = self.config
-            if self.radius is not None and check_positive("radius", self.radius, "m") != cfg.radius:
-                raise ParameterError("radius", f"the geometry's sphere has radius {cfg.radius:g} m, got "
+        if isinstance(self.geometry, Geometry):
+            built = self.geometry
+            if self.radius is not None and check_positive("radius", self.radius, "m") != built.radius:
+                raise ParameterError("radius", f"the geometry's sphere has radius {built.radius:g} m, got "
                                                f"{self.radius:g} m")
-        else:
-            cfg = geometry(self.config, PAPER_RADIUS if self.radius is None else self.radius)
-        object.__setattr__(self, "config", cfg)
-        object.__setattr__(self, "radius", cfg.radius)
+        else:  # a registry name: the geometry it names, around the given sphere
+            built = geometry(self.geometry, PAPER_RADIUS if self.radius is None else self.radius)
+        object.__setattr__(self, "geometry", built)
+        object.__setattr__(self, "radius", built.radius)
         check_positive("gap", self.gap, "m")
         if self.struck_wall not in (-1, 1):
             raise ParameterError("struck_wall", f"must be -1 or +1, got {self.struck_wall!r}")
@@ -125,19 +125,14 @@ class CavityScene:
             raise ParameterError("medium", f"expected a Medium, got {type(self.medium).__name__}")
 
     @property
-    def configuration(self) -> Geometry:
-        """The geometry: the sphere on the struck wall, its images and the reflecting planes."""
-        return self.config
-
-    @property
     def axis(self) -> np.ndarray:
         """Unit normal n of the struck surface (the damper's axis of motion), into the fluid."""
-        return np.asarray(self.configuration.axis, dtype=float)
+        return np.asarray(self.geometry.axis, dtype=float)
 
     @property
     def far_centre(self) -> np.ndarray:
         """Centre in m of the sphere when it touches the far wall: ``c0 + gap n``."""
-        return np.asarray(self.configuration.centre, dtype=float) + self.gap * self.axis
+        return np.asarray(self.geometry.centre, dtype=float) + self.gap * self.axis
 
     def sources(self, wall: int) -> tuple:
         """Image sources radiating an impact on damper wall ``wall`` (-1 or +1); see :func:`wall_sources`."""
@@ -145,20 +140,20 @@ class CavityScene:
 
     def describe(self) -> dict:
         """A JSON-ready description of the scene and of how impacts map to sources."""
-        cfg = self.configuration
+        geometry = self.geometry
         far = -self.struck_wall
         out = {
-            "config": cfg.name,
+            "config": geometry.name,
             "radius_m": self.radius,
             "gap_m": self.gap,
             "struck_wall": self.struck_wall,
             "walls": self.walls,
             "planes": [{"label": p.label, "point_m": p.point.tolist(), "normal": p.normal.tolist()}
-                       for p in cfg.planes],
+                       for p in geometry.planes],
             "medium": {"c_m_s": self.medium.c, "rho_kg_m3": self.medium.rho},
             "sources": {},
         }
-        out.update(cfg.settings())
+        out.update(geometry.settings())
         for w in (self.struck_wall, far):
             srcs = self.sources(w)
             if isinstance(srcs, ImageSet):  # a room's images: their count and the real sphere, not each one
@@ -186,9 +181,9 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
     Returns
     -------
     tuple of ImageSource, or ImageSet
-        For the struck wall (or any wall with ``walls="one"``): the configuration's sources.
+        For the struck wall (or any wall with ``walls="one"``): the geometry's sources.
         For the far wall: the sphere at ``c0 + gap n`` with axis ``-n``, then its images in the
-        configuration's planes (labels prefixed ``"far "``). A geometry whose images come as an
+        geometry's planes (labels prefixed ``"far "``). A geometry whose images come as an
         :class:`~acoustiviz.core.images.ImageSet` (a room's thousands) gives them as one.
 
     Examples
@@ -199,11 +194,11 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
     """
     if wall not in (-1, 1):
         raise ParameterError("wall", f"must be -1 or +1, got {wall!r}")
-    cfg = scene.configuration
+    geometry = scene.geometry
     if wall == scene.struck_wall or scene.walls == "one":
-        return cfg.sources if isinstance(cfg.sources, ImageSet) else tuple(cfg.sources)
+        return geometry.sources if isinstance(geometry.sources, ImageSet) else tuple(geometry.sources)
     real = ImageSource(scene.far_centre, -scene.axis, 0, "far")
-    imgs = cfg.image_sources(real)
+    imgs = geometry.image_sources(real)
     if isinstance(imgs, ImageSet):
         return imgs
     return tuple(ImageSource(s.position, s.axis, s.order, "far" if s.order == 0 else f"far {s.label}", s.weight)
@@ -213,14 +208,14 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
 def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> np.ndarray:
     """Validate listener positions; return them as an ``(n, 3)`` array in m.
 
-    A listener must be in the fluid of the configuration (not below the floor, not behind a
+    A listener must be in the fluid of the geometry (not below the floor, not behind a
     wall, not inside the sphere) and, with ``walls="both"``, not inside the cavity (within a
     radius of the segment the sphere's centre travels between the two walls).
 
     Parameters
     ----------
     points : (n, 3) or (3,) array_like
-        Positions in m in the configuration's frame.
+        Positions in m in the geometry's frame.
     scene : CavityScene
         The scene.
     name : str
@@ -232,15 +227,15 @@ def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> n
         Naming ``name``, the offending position and why it is not allowed.
     """
     pts = check_points(name, points)
-    cfg = scene.configuration
+    geometry = scene.geometry
     a = scene.radius
     tol = 1e-12 * a
-    c0 = np.asarray(cfg.centre, dtype=float)
+    c0 = np.asarray(geometry.centre, dtype=float)
     for p in pts:
         where = f"({p[0]:g}, {p[1]:g}, {p[2]:g}) m"
         if np.linalg.norm(p - c0) < a - tol:
             raise ParameterError(name, f"listener {where} is inside the sphere (radius {a:g} m)")
-        for pl in cfg.planes:
+        for pl in geometry.planes:
             if (p - pl.point) @ pl.normal < -tol:
                 side = "below the floor" if pl.label == "floor" else f"behind the {pl.label}"
                 raise ParameterError(name, f"listener {where} is {side} (the fluid is where "
@@ -277,7 +272,7 @@ def ear_positions(centre, scene: CavityScene, *, spacing: float = 0.18) -> np.nd
     """
     c = check_points("centre", centre)[0]
     d = check_positive("spacing", spacing, "m")
-    look = np.asarray(scene.configuration.contact_point, dtype=float) - c
+    look = np.asarray(scene.geometry.contact_point, dtype=float) - c
     up = np.array([0.0, 0.0, 1.0])
     side = np.cross(up, look)  # points to the listener's left when facing the damper
     if np.linalg.norm(side) < 1e-12:  # listener straight above: use +y as the left
@@ -286,17 +281,17 @@ def ear_positions(centre, scene: CavityScene, *, spacing: float = 0.18) -> np.nd
     return np.stack([c + 0.5 * d * side, c - 0.5 * d * side])
 
 
-def cavity(config: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
+def cavity(kind: str, radius: float, gap: float, *, struck_wall: int = -1, walls: str = "both",
            wall_distance=None, strike: str = "floor", height=None, medium=None, room=None) -> CavityScene:
     """The damper's cavity in its surroundings (:func:`acoustiviz.core.geometry.geometry` builds them).
 
     ``room``: the settings of a shoebox room (:class:`acoustiviz.core.geometry.Room`), which then
-    replaces ``config`` and its settings.
+    replaces ``kind`` (the configuration kind) and its settings.
     """
     if room is not None:
         c = {} if medium is None else {"sound_speed": medium.c}
         conf = geometry("room", radius, **{**c, **room})
     else:
-        conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
+        conf = geometry(kind, radius, wall_distance=wall_distance, strike=strike, height=height)
     extra = {} if medium is None else {"medium": medium}
     return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)

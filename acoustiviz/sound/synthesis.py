@@ -302,7 +302,7 @@ def render(sequence: ImpactSequence, scene: CavityScene, model: ClickModel, list
     sequence : ImpactSequence
         Contact start times (s), walls (-1/+1) and approach speeds (m/s).
     scene : CavityScene
-        Where the cavity sits, the image configuration and the medium.
+        Where the cavity sits, its geometry (the images) and the medium.
     model : ClickModel
         Impact mass, Hertz stiffness, mass model and pulse kind.
     listeners : (n, 3) or (3,) array_like

@@ -21,7 +21,7 @@ __all__ = ["DesignResult", "listener_point", "sound_setup", "impact_spl_db", "ma
            "evaluate_or_fail", "failed_result", "warm_up"]
 
 
-def listener_point(config, distance: float, angle: float) -> np.ndarray:
+def listener_point(geometry, distance: float, angle: float) -> np.ndarray:
     """Listener position in m, ``distance`` from the sphere's centre, ``angle`` rad off its axis.
 
     The listener lies in the plane of the acceleration axis and the horizontal direction away
@@ -30,7 +30,7 @@ def listener_point(config, distance: float, angle: float) -> np.ndarray:
 
     Parameters
     ----------
-    config : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     distance : float
         Distance in m (> the sphere radius).
@@ -41,14 +41,14 @@ def listener_point(config, distance: float, angle: float) -> np.ndarray:
     -------
     (1, 3) ndarray
     """
-    point = observer_points(config, distance, angle)[0]
-    if not bool(config.in_fluid(point[None, :])[0]):
+    point = observer_points(geometry, distance, angle)[0]
+    if not bool(geometry.in_fluid(point[None, :])[0]):
         raise ParameterError("angle", "the listener would lie inside a wall or below the floor")
     return point[None, :]
 
 
 def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz: float, pulse: str,
-                  config, point, medium) -> float:
+                  geometry, point, medium) -> float:
     """Peak sound pressure level in dB re 20 µPa of one impact at one listener.
 
     Parameters
@@ -63,7 +63,7 @@ def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz:
         Hertz stiffness in N/m^1.5.
     pulse : str
         Pulse kind (:func:`acoustiviz.core.pulses.acceleration_pulse`).
-    config : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         Sphere and images.
     point : (1, 3) array_like
         Listener in m.
@@ -81,8 +81,8 @@ def impact_spl_db(velocity: float, *, mass: float, partner_mass: float, k_hertz:
     from ..field.directivity import room_window
 
     imp = Impact(velocity=float(velocity), k_hertz=k_hertz, mass=mass, partner_mass=partner_mass)
-    window = room_window(config, np.atleast_2d(point), medium)  # a room: the images arriving within its window
-    return float(field_metrics(acceleration_pulse(imp, pulse), point, config, medium=medium,
+    window = room_window(geometry, np.atleast_2d(point), medium)  # a room: the images arriving within its window
+    return float(field_metrics(acceleration_pulse(imp, pulse), point, geometry, medium=medium,
                                window=window).peak_spl_db[0])
 
 
@@ -202,14 +202,14 @@ def evaluate_design(design: Design, settings: FixedSettings) -> DesignResult:
     res = simulate(model, s.duration, solver=s.solver, initial=InitialState(v=design.v0), rtol=s.rtol)
     metrics = dm.damping_metrics(res, window_fraction=s.fit_window_fraction, settling_fraction=s.settling_fraction)
     two, fit, settle = metrics.two_maxima, metrics.fit, metrics.settling_time
-    conf = design.geometry(s)
-    point = listener_point(conf, design.distance, design.angle)
+    geometry = design.geometry(s)
+    point = listener_point(geometry, design.distance, design.angle)
     u = res.impacts.approach_velocity
     medium = Medium(c=s.c, rho=s.rho)
     spl, n_eval = max_spl_db(
         u, n_fastest=s.n_fastest, mass=design.m,
         partner_mass=math.inf if s.pulse_mass == "impact" else s.M,
-        k_hertz=design.k_hertz, pulse=s.pulse, config=conf, point=point, medium=medium,
+        k_hertz=design.k_hertz, pulse=s.pulse, geometry=geometry, point=point, medium=medium,
     )
     levels = dict(NO_LEVELS)
     if s.levels:
@@ -238,7 +238,7 @@ def evaluate_design(design: Design, settings: FixedSettings) -> DesignResult:
 def sound_setup(design: Design, settings: FixedSettings, medium=None):
     """``(cavity scene, click model)`` rendering a design's run as its maximum SPL hears it.
 
-    Every impact strikes the configuration's struck surface (``walls="one"``); the pulse and its
+    Every impact strikes the geometry's struck surface (``walls="one"``); the pulse and its
     mass are the sweep's (``pulse``, ``pulse_mass``).
     """
     from ..core.medium import Medium

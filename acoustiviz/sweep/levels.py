@@ -12,7 +12,7 @@ conformance-tested library (:func:`acoustiviz.levels.sound_levels`):
 * ``laeq_db``: the A-weighted energy average over the run, ``LAeq,T`` with ``T`` the simulated
   duration (from t = 0, the start of the run, to ``duration``).
 
-Every impact is heard as a strike on the configuration's struck surface (``walls="one"`` of
+Every impact is heard as a strike on the geometry's struck surface (``walls="one"`` of
 :class:`acoustiviz.sound.CavityScene`), the view the maximum SPL takes, so the two describe
 the same sound. Levels in dB re 20 µPa.
 

@@ -306,7 +306,7 @@ def _noise(steady, design: Design, fixed: FixedSettings, operation: Operation):
     own = geometry_class(design.config).relevant(fixed.geometry_settings)  # the design's geometry's settings
     where = {"room": own} if conf.enclosed else own
     seconds = {} if operation.noise_seconds is None else {"seconds": operation.noise_seconds}
-    return operating_noise(steady, listener=point, config=design.config, radius=design.radius,
+    return operating_noise(steady, listener=point, kind=design.config, radius=design.radius,
                            settings={**where, "medium": medium}, **seconds)
 
 

@@ -365,7 +365,7 @@ class AuralizeJob(Settings):
                                                        "render, not both or neither")
         if self.impacts is not None and not isinstance(self.impacts, ImpactSequence):
             raise ParameterError(self.name("impacts"), f"expected an ImpactSequence, got {type(self.impacts).__name__}")
-        conf = self.cavity.configuration
+        conf = self.cavity.geometry
         if self.room_sound is not None:
             from ..wav import ROOM_SOUND_OPTIONS
 
@@ -382,7 +382,7 @@ class AuralizeJob(Settings):
     def _check_listeners(self, points) -> None:
         from ...sound import check_listeners
 
-        conf = self.cavity.configuration
+        conf = self.cavity.geometry
         if getattr(conf, "enclosed", False):
             conf.in_room(self.name("listeners"), points)
         check_listeners(points, self.cavity, name=self.name("listeners"))
