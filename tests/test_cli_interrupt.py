@@ -40,6 +40,15 @@ def _env() -> dict:
     return env
 
 
+def _default_sigint() -> None:
+    """In the child before it starts Python: SIGINT back to its default action.
+
+    A shell starts a background job with SIGINT ignored, and Python then leaves Ctrl-C ignored; the
+    commands must be tested as a terminal starts them, whatever the shell that runs the tests.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class Run:
     """A command line started in ``folder``; its stderr read line by line as it comes."""
 
@@ -47,7 +56,7 @@ class Run:
         self.proc = subprocess.Popen([sys.executable, *python_options, "-m", "acoustiviz", *argv], cwd=folder,
                                      env=_env(),
                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                     text=True, start_new_session=True)
+                                     text=True, start_new_session=True, preexec_fn=_default_sigint)
         self.lines: list[str] = []
         self._cond = threading.Condition()
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -158,7 +167,8 @@ def test_ctrl_c_in_code_run_from_c_still_exits_130(tmp_path):
     env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
     proc = subprocess.run([sys.executable, "-m", "ctrl_c_from_c", "levels", "in.wav",
                            "--csv", "l.csv"], cwd=tmp_path, env=env,
-                          stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+                          stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
+                          preexec_fn=_default_sigint)
     assert "working" in proc.stderr, proc.stderr
     assert proc.returncode == 130, proc.stderr
     assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
@@ -203,7 +213,7 @@ def test_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path):
     env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
     proc = subprocess.run([sys.executable, "-m", "ctrl_c_in_del", "levels", "in.wav", "--csv", "l.csv"],
                           cwd=tmp_path, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=120)
+                          timeout=120, preexec_fn=_default_sigint)
     assert "working" in proc.stderr, proc.stderr
     assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
     assert proc.returncode == 130, proc.stderr

@@ -70,9 +70,12 @@ def test_ctrl_c_keeps_every_finished_evaluation(tmp_path):
     argv = [sys.executable, "-m", "acoustiviz", "optimize", "--gap", "0.01:0.06", "--m", "0.01:0.08",
             "--minimize", "max_spl_db", "--evaluations", "5000", "--duration", "1", "--workers", "1",
             "--out", str(out)]
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    # this tree first on the path, no inherited numba or plotting switch; SIGINT at its default action
+    # (a shell starts a background job with it ignored), as a terminal starts the command
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "PYTHON", "MPL"))}
+    env.update(PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     journal = out / JOURNAL
     deadline = time.monotonic() + 300  # a hang detector only: the trigger is the journal's third line
     while time.monotonic() < deadline and proc.poll() is None:
