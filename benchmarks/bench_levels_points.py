@@ -34,9 +34,9 @@ from acoustiviz.app.views import (
 from acoustiviz.constants import ANALYSIS_RATE
 from acoustiviz.core.signal import Signal
 from acoustiviz.field import directivity, time_series, waveform_span
+from acoustiviz.field.balloon import balloon_data
 from acoustiviz.levels import METRICS, sound_levels
 from acoustiviz.levels.transient import transient_levels
-from acoustiviz.output import render
 
 CONFIGS = ("free", "plane", "wall-floor")
 
@@ -53,8 +53,7 @@ def balloon_points(s, n_theta: int) -> np.ndarray:
         seen["points"] = np.asarray(points, dtype=float)
         return np.zeros(len(points))
 
-    render.balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.7, n_theta=n_theta,
-                        levels=(grab, "level"))
+    balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.7, n_theta=n_theta, levels=(grab, "level"))
     return seen["points"]
 
 

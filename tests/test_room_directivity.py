@@ -300,7 +300,7 @@ def test_map_command_in_a_room_lies_on_the_plane_through_the_sphere_inside_the_w
 
 @pytest.mark.parametrize("metric", ["peak", "sel"])
 def test_balloon_in_a_room_beyond_every_arrival_equals_the_plane(metric, paper_pulse):
-    from acoustiviz.output.render import balloon_data
+    from acoustiviz.field.balloon import balloon_data
 
     pulse = paper_pulse()
     room = Room(A, (1000.0, 1000.0, 1000.0), 0.0, (500.0, 500.0, A), duration=0.004)

@@ -288,12 +288,17 @@ def geometry_bytes(nimg: int) -> int:
     return 8 * (nimg * 9 + 12)
 
 
-def prepare(pulse, config, medium, cutoff):
-    """Check the arguments; return the kernels' :class:`PulseArrays` and the kept tail in s."""
+def check_inputs(pulse, config, medium) -> None:
+    """Check that ``pulse``, ``config`` and ``medium`` are a pulse, a geometry and a medium."""
     check_pulse(pulse)
     check_config(config)
     if not isinstance(medium, Medium):
         raise ParameterError("medium", f"expected a Medium, got {type(medium).__name__}")
+
+
+def prepare(pulse, config, medium, cutoff):
+    """Check the arguments; return the kernels' :class:`PulseArrays` and the kept tail in s."""
+    check_inputs(pulse, config, medium)
     tail = decay_time(config.radius, medium=medium, cutoff=cutoff)
     return pulse_args(pulse, config.radius, medium), tail
 
