@@ -124,8 +124,11 @@ _CUBE = ('[configuration]\nkind = "room"\nroom_m = [1.0, 1.0, 1.0]\nsource_m = [
          "[outputs.balloon]\n", "grids.sphere.distance_m", "to stay in the fluid"),
         (_CUBE + "[grids.sphere]\ndistance_m = 0.9\n[outputs.balloon]\n", "grids.sphere.distance_m",
          "(0.040005, 0.5] m"),
+        ("[grids]\nmemory_limit_mb = 1.0\n[outputs.animation]\n", "outputs.animation.frames",
+         "40 frames of 800x600 px"),  # its GIF's frames counted, though the run has not named it yet
     ],
-    ids=["snapshot-memory", "balloon-memory", "directivity-memory", "balloon-behind-the-wall", "balloon-in-a-room"],
+    ids=["snapshot-memory", "balloon-memory", "directivity-memory", "balloon-behind-the-wall", "balloon-in-a-room",
+         "animation-memory"],
 )
 def test_a_scene_the_jobs_refuse_is_refused_before_any_work_naming_the_key(tmp_path, monkeypatch, capsys, toml, key,
                                                                              words):
@@ -143,12 +146,6 @@ def test_a_scene_the_jobs_refuse_is_refused_before_any_work_naming_the_key(tmp_p
     assert len(err.strip().splitlines()) == 1, err
     assert f"{key}: " in err and words in err, err
     assert not (tmp_path / "out").exists()  # nothing written, not even the run folder
-
-
-def test_an_animation_over_the_memory_cap_is_refused_at_load():
-    # its job, built before the run names its GIF, counts no frame image: the loader keeps this check
-    with pytest.raises(SceneError, match=r"s.toml: outputs.animation.frames: .* 40 frames of 800x600 px"):
-        scene_from_text("[grids]\nmemory_limit_mb = 1.0\n[outputs.animation]\n", "s.toml")
 
 
 def test_bad_toml_and_missing_file(tmp_path):

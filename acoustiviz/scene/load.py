@@ -439,21 +439,16 @@ def view_names(view: str) -> dict:
 
 
 def _check_views(scene: Scene, conf) -> None:
-    """The memory and output size of the animation and of the scene's other estimates within ``grids.memory_limit_mb``.
+    """The memory and output size of the scene's estimates within ``grids.memory_limit_mb``.
 
-    The estimates are the command line's (:mod:`acoustiviz.app.budget`). The snapshot's and the balloon's
-    budgets, and the directivity's angles, are their jobs' own checks, made when the run builds every
-    output's settings before the first (:func:`acoustiviz.app.scene_outputs.preflight`); the animation's
-    stays here, for its job is built there before its GIF is named and so counts no frame image.
+    The estimates are the command line's (:mod:`acoustiviz.app.budget`). The 3-D views' budgets and
+    the directivity's angles are their jobs' own checks, made when the run builds every output's
+    settings before the first (:func:`acoustiviz.app.scene_outputs.preflight`).
     """
     from ..app.budget import check_budget, scene_estimates
-    from ..app.render import render_estimate
 
     cap = scene.data["grids"]["memory_limit_mb"]
-    estimates = [(lambda: render_estimate("animation", scene.view_settings("animation"), len(conf.sources),
-                                          options=view_names("animation")))] if scene.wants("animation") else []
-    estimates += scene_estimates(scene, conf)  # the waveform's tables, a weighted directivity's sound
-    for estimate in estimates:
+    for estimate in scene_estimates(scene, conf):  # the waveform's tables, a weighted directivity's sound
         try:
             check_budget(estimate(), cap, cap_name="grids.memory_limit_mb")
         except ParameterError as exc:
