@@ -30,9 +30,9 @@ from acoustiviz.app.views import directivity_angles
 from acoustiviz.constants import ANALYSIS_RATE
 from acoustiviz.core.signal import Signal
 from acoustiviz.field import directivity, time_series, waveform_span
+from acoustiviz.field.balloon import balloon_data
 from acoustiviz.levels import METRICS, sound_levels
 from acoustiviz.levels.transient import transient_levels
-from acoustiviz.output import render
 from acoustiviz.sound.impact_levels import points_metric_levels, reference_metric_levels
 
 CONFIGS = ("free", "plane", "wall-floor")
@@ -50,8 +50,7 @@ def balloon_points(s, n_theta: int) -> np.ndarray:
         seen["points"] = np.asarray(points, dtype=float)
         return np.zeros(len(points))
 
-    render.balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.7, n_theta=n_theta,
-                        levels=(grab, "level"))
+    balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.7, n_theta=n_theta, levels=(grab, "level"))
     return seen["points"]
 
 

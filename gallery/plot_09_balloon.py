@@ -23,7 +23,8 @@ from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
 from acoustiviz.core.geometry import geometry
-from acoustiviz.output.render import balloon_data, render_balloon
+from acoustiviz.field.balloon import balloon_data
+from acoustiviz.output.render import render_balloon
 
 RADIUS, U0, K_HZ, DENSITY, WALL, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.05, 0.7
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)
@@ -34,19 +35,18 @@ n_theta = 8 if fast_mode() else 32
 size = (900, 400) if fast_mode() else (1800, 800)
 
 # %%
-# The levels themselves, from the same grids the balloons are drawn from.
-for conf in (plane, corner):
-    d = balloon_data(pulse, conf, distance=DISTANCE, n_theta=n_theta)
+# The levels themselves, computed once; the balloons are drawn from them.
+datas = [balloon_data(pulse, conf, distance=DISTANCE, n_theta=n_theta) for conf in (plane, corner)]
+for conf, d in zip((plane, corner), datas, strict=True):
     print(f"{conf.name:>10}: peak SPL at {DISTANCE} m from {d.level.min():.1f} to {d.max_level:.1f} dB, "
           f"energy mean over the {d.grid.region} space {d.mean_level:.1f} dB")
 
 # %%
 path = render_balloon(
+    datas,
     pulse,
     [plane, corner],
     output_dir() / "plot_09_balloon.png",
-    distance=DISTANCE,
-    n_theta=n_theta,
     size=size,
     title=f"peak SPL at {DISTANCE} m around the contact point, 30 dB from centre to rim\n"
     f"left: reflecting plane; right: wall-floor corner, wall {WALL * 100:g} cm from the sphere's centre",

@@ -21,6 +21,7 @@ from _gallery import fast_mode, output_dir
 
 from acoustiviz import Impact, acceleration_pulse
 from acoustiviz.core.geometry import geometry
+from acoustiviz.field.sections import animation_field, section_field
 from acoustiviz.output.render import mp4_available, render_animation, render_snapshot
 
 RADIUS, U0, K_HZ, DENSITY, WALL = 0.01905, 1.4, 5.6e8, 7800.0, 0.05
@@ -32,29 +33,27 @@ times = [0.3e-3, 0.6e-3, 0.9e-3, 1.2e-3]  # s from the start of contact
 extent = 0.5  # m from the sphere's centre to the far edges of the planes
 
 # %%
+field = section_field(pulse, corner, times, extent=extent, sections=("xz",), n_u=61 if fast else 301)
 path = render_snapshot(
+    field,
     pulse,
     corner,
-    times,
     output_dir() / "plot_10_wavefront.png",
-    extent=extent,
-    sections=("xz",),
-    n_u=61 if fast else 301,
     size=(900, 600) if fast else (1800, 1200),
 )
 print(f"wrote {path}")
 
 # %%
+frames = animation_field(pulse, corner, extent=extent, frames=6 if fast else 60, n_u=41 if fast else 201)
 gif = render_animation(
+    frames,
     pulse,
     corner,
     output_dir() / "plot_10_wavefront.gif",
-    extent=extent,
-    frames=6 if fast else 60,
     fps=12,
-    n_u=41 if fast else 201,
     size=(320, 240) if fast else (800, 600),
 )
 print(f"wrote {gif}")
 if mp4_available() and not fast:
-    print(f"wrote {render_animation(pulse, corner, output_dir() / 'plot_10_wavefront.mp4', extent=extent)}")
+    video = animation_field(pulse, corner, extent=extent)
+    print(f"wrote {render_animation(video, pulse, corner, output_dir() / 'plot_10_wavefront.mp4')}")

@@ -247,7 +247,8 @@ def test_a_scene_asking_for_png_vtu_and_html_evaluates_the_field_once(tmp_path, 
 
 def test_the_files_of_a_weighted_balloon_compute_nothing(tmp_path, monkeypatch):
     """A weighted level (LCpeak): the run computes the VTK file's metrics too, so writing only draws and exports."""
-    import acoustiviz.output.vtk as vtk
+    import acoustiviz.field.balloon as balloon
+    import acoustiviz.field.metrics as metrics
 
     result = run(_job("balloon", metric="lcpeak", n_theta=4, size=(200, 150), png="w.png", vtk="w.vtu"))
     n = result.data.directions.shape[0] * result.data.directions.shape[1]
@@ -256,7 +257,8 @@ def test_the_files_of_a_weighted_balloon_compute_nothing(tmp_path, monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a sink evaluated the field")
 
-    monkeypatch.setattr(vtk, "field_metrics", refuse)
+    monkeypatch.setattr(metrics, "field_metrics", refuse)  # the evaluator, and the name the balloon calls it by
+    monkeypatch.setattr(balloon, "field_metrics", refuse)
     written = result.write(tmp_path)
     assert [p.name for p in written] == ["w.png", "w.vtu", "w_geometry.vtu"]
 

@@ -196,6 +196,70 @@ def test_physics_and_sweeps_never_import_output():
     assert not bad, "physics and sweeps must not import the output layer:\n" + "\n".join(bad)
 
 
+#: Packages whose functions evaluate pressures or levels, as dotted paths inside acoustiviz.
+EVALUATORS = ("field", "levels", "core.radiation")
+#: Functions of those packages the output layer may use: geometry that evaluates no pressure or level.
+EVALUATOR_EXEMPT = {"fluid_box"}
+
+
+def _evaluator_imports(tree, base: tuple) -> list:
+    """``(line, what)`` for every evaluator a module of package ``base`` (e.g. ``("output", "render")``) imports.
+
+    From :data:`EVALUATORS` a sink may import value types (capitalised names: ``SectionField``,
+    ``BalloonData``, ``PlanarGrid``) and constants (``P_REF``), and the functions of
+    :data:`EVALUATOR_EXEMPT`; any other name (a function such as ``section_field`` or
+    ``sound_levels``, a submodule such as ``evaluate``, ``*``) or the package itself is reported.
+    """
+    def under(parts) -> bool:
+        dotted = ".".join(parts)
+        return any(dotted == e or dotted.startswith(e + ".") for e in EVALUATORS)
+
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, a.name) for a in node.names
+                      if a.name.split(".")[0] == "acoustiviz" and under(a.name.split(".")[1:])]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                target = (*base[: len(base) - (node.level - 1)], *(node.module.split(".") if node.module else ()))
+            elif node.module and node.module.split(".")[0] == "acoustiviz":
+                target = tuple(node.module.split(".")[1:])
+            else:
+                continue
+            for a in node.names:
+                value = a.name in EVALUATOR_EXEMPT or a.name[:1].isupper()
+                if (under(target) and not value) or (not under(target) and under((*target, a.name))):
+                    found.append((node.lineno, ".".join((*target, a.name))))
+    return found
+
+
+def test_output_imports_no_field_or_level_evaluator():
+    """The output layer draws and writes values computed below it: no evaluator of field, levels or radiation."""
+    bad = []
+    for path, rel in _modules():
+        if _top(rel) == "output":
+            found = _evaluator_imports(ast.parse(path.read_text(encoding="utf-8")), rel.parent.parts)
+            bad += [f"{rel}:{line} imports {what}" for line, what in found]
+    assert not bad, "the output layer is sinks only; compute in the physics layer:\n" + "\n".join(bad)
+
+
+def test_evaluator_import_finder_tells_value_types_from_evaluators():
+    source = ("from ...field.sections import SectionField, section_field\n"   # 1: the evaluator
+              "from ...field.grids import PlanarGrid, fluid_box\n"            # 2: a type and exempt geometry
+              "from ...constants import P_REF\n"                              # 3: not a physics package
+              "from ...field import evaluate\n"                               # 4: a submodule of evaluators
+              "from ... import levels\n"                                      # 5: the package itself
+              "def f():\n"
+              "    from acoustiviz.levels.bands import BANDS, band_levels\n"  # 7: lazy, absolute
+              "    import acoustiviz.core.radiation\n"                        # 8: a plain import
+              "    from ...core.geometry import Geometry, geometry\n"         # 9: core, not radiation
+              "    from ...core import radiation\n")                          # 10: the radiation module
+    found = _evaluator_imports(ast.parse(source), ("output", "render"))
+    assert sorted(found) == [(1, "field.sections.section_field"), (4, "field.evaluate"), (5, "levels"),
+                             (7, "levels.bands.band_levels"), (8, "acoustiviz.core.radiation"),
+                             (10, "core.radiation")]
+
+
 def _public_definitions(path: Path) -> set:
     """Public names a module defines itself: top-level ``def``/``class`` and assigned names listed in ``__all__``.
 

@@ -189,15 +189,15 @@ def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path, half_sine_pulse)
     import pyvista as pv
 
     from acoustiviz.core.room_geometry import Room
+    from acoustiviz.field.balloon import balloon_data
     from acoustiviz.field.directivity import room_window
-    from acoustiviz.output.render import balloon_data
     from acoustiviz.output.vtk import write_balloon_vtk
 
     a = 0.01905
     pulse = half_sine_pulse
     room = Room(a, (3.0, 2.5, 2.0), 0.1, (1.0, 1.0, a), duration=0.02)
     data = balloon_data(pulse, room, distance=0.5, metric="peak", n_theta=6)
-    path, _ = write_balloon_vtk(pulse, room, tmp_path / "b.vtu", data=data, geometry=False)
+    path, _ = write_balloon_vtk(data, room, tmp_path / "b.vtu", geometry=False)
     mesh = pv.read(path)
     pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
     # the file's window is the room's (ending by its duration), and its peak SPL the balloon's level
@@ -207,16 +207,16 @@ def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path, half_sine_pulse)
 
 
 def test_animation_gif_and_vtk_evaluate_the_frames_once(tmp_path, monkeypatch):
-    import acoustiviz.output.render.animation as animation
+    import acoustiviz.field.sections as sections
 
-    original = animation.frame_fields
+    original = sections.frame_fields
     calls = []
 
     def counted(*args, **kwargs):
         calls.append(1)
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(animation, "frame_fields", counted)
+    monkeypatch.setattr(sections, "frame_fields", counted)
     paths = [tmp_path / "a.gif", tmp_path / "a.vtu"]
     assert main(["render", "animation", "--config", "plane", "--frames", "3", "--fps", "8", "--size", "160x120",
                  "--resolution", "21", "--gif", str(paths[0]), "--vtk", str(paths[1])]) == 0
@@ -227,15 +227,15 @@ def test_animation_gif_and_vtk_evaluate_the_frames_once(tmp_path, monkeypatch):
 def test_a_shared_animation_field_is_left_as_computed(tmp_path, half_sine_pulse, plane_geometry):
     import pyvista as pv
 
+    from acoustiviz.field.sections import animation_field
     from acoustiviz.output.render import render_animation
-    from acoustiviz.output.render.animation import animation_field
     from acoustiviz.output.vtk import write_animation_vtk
 
     field = animation_field(half_sine_pulse, plane_geometry, frames=4, n_u=21)
     before = [p.copy() for p in field.pressures]
     assert not any(p.flags.writeable for p in field.pressures)
-    render_animation(half_sine_pulse, plane_geometry, tmp_path / "a.gif", size=(160, 120), field=field)
-    write_animation_vtk(half_sine_pulse, plane_geometry, tmp_path / "a.vtu", field=field, geometry=False)
+    render_animation(field, half_sine_pulse, plane_geometry, tmp_path / "a.gif", size=(160, 120))
+    write_animation_vtk(field, plane_geometry, tmp_path / "a.vtu", geometry=False)
     for now, then in zip(field.pressures, before, strict=True):
         np.testing.assert_array_equal(now, then)  # the GIF drew every frame without writing into the field
     data = pv.read(tmp_path / "a.vtu")

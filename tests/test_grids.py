@@ -170,7 +170,7 @@ def _old_map_grid(config, plane, height, extent, n):
 @pytest.mark.parametrize("config", _scenes(), ids=["free", "plane", "wall-floor", "room"])
 def test_section_grid_reproduces_the_snapshot_and_map_grids(config):
     from acoustiviz.app.maps import map_grid
-    from acoustiviz.output.render import section_planes
+    from acoustiviz.field.sections import section_planes
 
     for section in SECTIONS:
         for extent, n in ((0.1, 41), (0.25, 24)):

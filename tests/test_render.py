@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from acoustiviz.core.geometry import geometry
 from acoustiviz.errors import ParameterError
-from acoustiviz.field import snapshots
+from acoustiviz.field.balloon import balloon_data
+from acoustiviz.field.sections import animation_field, section_field, section_planes
 
 pv = pytest.importorskip("pyvista")
 render = pytest.importorskip("acoustiviz.output.render")
@@ -42,40 +42,27 @@ def _assert_real_picture(img, size=SIZE):
     assert len(colours) > 100
 
 
+def _split(kw, physics):
+    """``kw`` split into the field's arguments (names in ``physics``) and the sink's."""
+    return ({k: v for k, v in kw.items() if k in physics}, {k: v for k, v in kw.items() if k not in physics})
+
+
 def _balloon(pulse, conf, path, **kw):
-    kw = {"size": SIZE, "n_theta": 8, **kw}
-    return render.render_balloon(pulse, conf, path, **kw)
+    """The balloon of ``conf`` (one or several) computed by the field layer, then rendered."""
+    where, draw = _split({"n_theta": 8, **kw}, ("distance", "metric", "n_theta"))
+    confs = [conf] if not isinstance(conf, list) else conf
+    data = [balloon_data(pulse, c, **where) for c in confs]
+    return render.render_balloon(data if isinstance(conf, list) else data[0], pulse, conf, path,
+                                 **{"size": SIZE, **draw})
 
 
 def _snapshot(pulse, conf, t, path, **kw):
-    kw = {"size": SIZE, "n_u": 41, **kw}
-    return render.render_snapshot(pulse, conf, t, path, **kw)
+    """The snapshot of ``conf`` at ``t`` evaluated by the field layer, then rendered."""
+    where, draw = _split({"n_u": 41, **kw}, ("extent", "sections", "n_u", "planes"))
+    return render.render_snapshot(section_field(pulse, conf, t, **where), pulse, conf, path, **{"size": SIZE, **draw})
 
 
 # --------------------------------------------------------------------------- balloon
-def test_balloon_data_closes_the_region_and_peaks_on_the_axis(pulse, plane, corner):
-    d = render.balloon_data(pulse, plane, n_theta=8)
-    nt, nph, _ = d.directions.shape
-    assert (nt, nph) == (8 + 2, 16 + 1)
-    np.testing.assert_allclose(np.linalg.norm(d.directions, axis=-1), 1.0, atol=1e-12)
-    np.testing.assert_allclose(d.directions[-1] @ [0, 0, 1], 1.0)  # the pole
-    np.testing.assert_allclose(d.directions[0] @ [0, 0, 1], 0.0, atol=1e-12)  # the rim on the floor
-    assert np.all(np.isfinite(d.level))
-    assert d.level[-1].mean() == pytest.approx(d.max_level, abs=0.5)  # loudest along the normal
-    assert d.level[-1].mean() - d.level[0].mean() > 15.0  # quiet at grazing
-    assert d.mean_level < d.max_level
-    q = render.balloon_data(pulse, corner, n_theta=6)
-    assert np.all(q.directions[..., 0] >= -1e-12) and np.all(q.directions[..., 2] >= -1e-12)
-    assert q.grid.region == "quarter" and q.label == "peak SPL (dB re 20 µPa)"
-
-
-def test_balloon_free_field_is_a_symmetric_dipole(pulse):
-    d = render.balloon_data(pulse, geometry("free", A), n_theta=8, distance=1.0)
-    lev = d.level.mean(axis=1)  # rows: cos θ from -1 to 1
-    np.testing.assert_allclose(lev, lev[::-1], atol=0.3)
-    assert lev[0] - lev[len(lev) // 2] > 10.0
-
-
 def test_balloon_png_has_the_size_and_real_content(pulse, plane, corner, tmp_path):
     out = _balloon(pulse, corner, tmp_path / "corner.png")
     assert out == tmp_path / "corner.png"
@@ -131,26 +118,16 @@ def test_snapshot_series_and_planes(pulse, corner, tmp_path):
     img = _img(_snapshot(pulse, corner, [0.0003, 0.0006], tmp_path / "series.png", size=(300, 150),
                          sections=("xz", "xy")))
     _assert_real_picture(img, (300, 150))
-    grids = render.section_planes(corner, 0.2, sections=("xz", "yz", "xy"), n_u=11)
+    grids = section_planes(corner, 0.2, sections=("xz", "yz", "xy"), n_u=11)
     for g in grids:
         assert np.all(corner.in_fluid(g.points) | (np.linalg.norm(g.points - corner.centre, axis=1) < A))
     assert min(g.points[:, 0].min() for g in grids) == pytest.approx(-0.05)  # clipped at the wall
 
 
-def test_frames_evaluate_only_inside_the_arrival_windows(pulse, corner):
-    grid = render.section_planes(corner, 0.25, n_u=31)[0]
-    times = np.array([0.0002, 0.0005, 0.0009])
-    got = render.frame_fields(pulse, corner, times, grid.points)
-    ref = snapshots(pulse, times, grid.points, corner)
-    ok = np.isfinite(ref)
-    np.testing.assert_array_equal(np.isfinite(got), ok)
-    np.testing.assert_allclose(got[ok], ref[ok], rtol=0, atol=1e-9 * np.abs(ref[ok]).max())
-    assert (got[0][ok[0]] == 0).mean() > 0.5  # most points are still silent early on
-
-
 # --------------------------------------------------------------------------- animation
 def test_gif_animation_frames(pulse, corner, tmp_path):
-    out = render.render_animation(pulse, corner, tmp_path / "a.gif", frames=5, size=(160, 120), n_u=31)
+    field = animation_field(pulse, corner, frames=5, n_u=31)
+    out = render.render_animation(field, pulse, corner, tmp_path / "a.gif", size=(160, 120))
     with Image.open(out) as im:
         assert im.size == (160, 120)
         assert im.n_frames == 5
@@ -162,12 +139,13 @@ def test_gif_animation_frames(pulse, corner, tmp_path):
 
 
 def test_mp4_is_optional(pulse, plane, tmp_path):
+    field = animation_field(pulse, plane, frames=3, n_u=21)
     if render.mp4_available():
-        out = render.render_animation(pulse, plane, tmp_path / "a.mp4", frames=3, size=(160, 120), n_u=21)
+        out = render.render_animation(field, pulse, plane, tmp_path / "a.mp4", size=(160, 120))
         assert out.stat().st_size > 1000
     else:
         with pytest.raises(ParameterError, match="imageio-ffmpeg"):
-            render.render_animation(pulse, plane, tmp_path / "a.mp4", frames=3, size=(160, 120))
+            render.render_animation(field, pulse, plane, tmp_path / "a.mp4", size=(160, 120))
     assert not list(tmp_path.glob(".*"))
 
 
@@ -190,7 +168,7 @@ def test_bad_paths_and_times(pulse, plane, tmp_path):
     with pytest.raises(ParameterError, match="time"):
         _snapshot(pulse, plane, -1.0, tmp_path / "x.png")
     with pytest.raises(ParameterError, match="path"):
-        render.render_animation(pulse, plane, tmp_path / "x.png")
+        render.render_animation(animation_field(pulse, plane, frames=2, n_u=11), pulse, plane, tmp_path / "x.png")
 
 
 def test_missing_back_end_is_a_clear_error(pulse, plane, tmp_path, monkeypatch):
@@ -219,10 +197,11 @@ def _rss_bytes():
 def test_memory_does_not_grow_over_50_renders(pulse, plane, tmp_path):
     from pyvista.plotting import plotter as _plotter_module
 
-    grid = render.section_planes(plane, 0.1, n_u=12)
+    grid = section_planes(plane, 0.1, n_u=12)
 
     def once(k):
-        render.render_snapshot(pulse, plane, 0.0002 + 1e-6 * k, tmp_path / "m.png", planes=grid, size=(96, 72))
+        field = section_field(pulse, plane, 0.0002 + 1e-6 * k, planes=grid)
+        render.render_snapshot(field, pulse, plane, tmp_path / "m.png", size=(96, 72))
 
     for k in range(8):  # warm up: fonts, shaders, numba caches
         once(k)
@@ -250,11 +229,12 @@ def test_headless_render_is_quiet(tmp_path):
     code = ("import math, sys\n"
             "from acoustiviz import Impact, acceleration_pulse\n"
             "from acoustiviz.core.geometry import geometry\n"
+            "from acoustiviz.field.balloon import balloon_data\n"
             "from acoustiviz.output.render import render_balloon\n"
             f"a = {A!r}\n"
             "imp = Impact(velocity=1.4, k_hertz=5.6e8, mass=7800 * 4 / 3 * math.pi * a**3)\n"
-            "render_balloon(acceleration_pulse(imp, 'half-sine'), geometry('plane', a), sys.argv[1],\n"
-            f"               size={SIZE!r}, n_theta=8)\n")
+            "pulse, plane = acceleration_pulse(imp, 'half-sine'), geometry('plane', a)\n"
+            f"render_balloon(balloon_data(pulse, plane, n_theta=8), pulse, plane, sys.argv[1], size={SIZE!r})\n")
     out = tmp_path / "b.png"
     proc = subprocess.run([sys.executable, "-c", code, str(out)], env=env, capture_output=True, text=True,
                           timeout=300)

@@ -85,8 +85,6 @@ def test_mass_material_and_stiffness_rules():
         ({"listeners": [{"angle_deg": 30.0}]}, "listeners[0]", "needs distance_m"),
         ({"configuration": {"kind": "wall-floor", "wall_distance_m": 0.001}}, "configuration.wall_distance_m",
          "cut the wall"),
-        ({"outputs": {"snapshot": {"times_s": [0.001] * 12}}, "grids": {"plane": {"resolution": 20000}}},
-         "grids.plane.resolution", "memory_limit_mb"),
         ({"outputs": {"design_table": {}}}, "outputs.design_table", "needs [outputs.sweep]"),
         ({"outputs": {"sweep": {"gap_m": "0.02:0.06"}}}, "outputs.sweep.gap_m", "start:stop:count"),
         ({"outputs": {"sweep": {"gap_m": "-0.02:0.06:3"}}}, "outputs.sweep.gap_m", "(0, 10] m"),
@@ -106,6 +104,48 @@ def test_invalid_scenes_name_file_key_and_range(raw, key, words):
     assert msg.startswith(f"my.toml: {key}: "), msg
     assert words in msg, msg
     assert "\n" not in msg
+
+
+#: A room scene's surroundings: the sphere on the floor of a 1 m cube with a 10 ms window.
+_CUBE = ('[configuration]\nkind = "room"\nroom_m = [1.0, 1.0, 1.0]\nsource_m = [0.5, 0.5, 0.01905]\n'
+         "window_s = 0.01\n")
+
+
+@pytest.mark.parametrize(
+    ("toml", "key", "words"),
+    [
+        ("[grids.plane]\nresolution = 20000\n[outputs.snapshot]\ntimes_s = [0.001, 0.002]\n",
+         "grids.plane.resolution", "grids.memory_limit_mb"),
+        ("[grids]\nmemory_limit_mb = 1.0\n[grids.sphere]\nn_theta = 512\n[outputs.balloon]\n",
+         "grids.sphere.n_theta", "grids.memory_limit_mb"),
+        ("[grids]\nmemory_limit_mb = 1.0\n[outputs.directivity]\nstep_deg = 0.01\n",
+         "outputs.directivity.step_deg", "grids.memory_limit_mb"),
+        ('[configuration]\nkind = "wall-floor"\nwall_distance_m = 0.05\n[grids.sphere]\ndistance_m = 0.02\n'
+         "[outputs.balloon]\n", "grids.sphere.distance_m", "to stay in the fluid"),
+        (_CUBE + "[grids.sphere]\ndistance_m = 0.9\n[outputs.balloon]\n", "grids.sphere.distance_m",
+         "(0.040005, 0.5] m"),
+        ("[grids]\nmemory_limit_mb = 1.0\n[outputs.animation]\n", "outputs.animation.frames",
+         "40 frames of 800x600 px"),  # its GIF's frames counted, though the run has not named it yet
+    ],
+    ids=["snapshot-memory", "balloon-memory", "directivity-memory", "balloon-behind-the-wall", "balloon-in-a-room",
+         "animation-memory"],
+)
+def test_a_scene_the_jobs_refuse_is_refused_before_any_work_naming_the_key(tmp_path, monkeypatch, capsys, toml, key,
+                                                                             words):
+    """The loader leaves these checks to the outputs' jobs, which the run builds before its first output."""
+    from acoustiviz.app import pipeline
+    from acoustiviz.cli import main
+
+    for kind in OUTPUT_KINDS:  # any output made fails the test
+        monkeypatch.setitem(pipeline.PRODUCERS, kind, lambda ctx: pytest.fail("an output was made"))
+    scene = tmp_path / "s.toml"
+    scene.write_text(toml, encoding="utf-8")
+    scene_from_text(toml, "s.toml")  # the loader accepts it: the check is the job's alone
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1, err
+    assert f"{key}: " in err and words in err, err
+    assert not (tmp_path / "out").exists()  # nothing written, not even the run folder
 
 
 def test_bad_toml_and_missing_file(tmp_path):

@@ -6,7 +6,10 @@ import pytest
 
 from acoustiviz.app.impacts import impact_setup
 from acoustiviz.cli import main
+from acoustiviz.errors import ParameterError
 from acoustiviz.field import field_metrics, snapshots, time_series
+from acoustiviz.field.balloon import balloon_data
+from acoustiviz.field.sections import animation_field, section_field
 from acoustiviz.output.vtk import geometry_path, write_animation_vtk, write_balloon_vtk, write_snapshot_vtk
 
 pv = pytest.importorskip("pyvista")
@@ -52,8 +55,8 @@ def test_several_times_agree_with_the_time_series(tmp_path):
     """Each pressure array matches a second route through the evaluator: the time series at that time."""
     s = _setup("wall-floor", wall_distance=0.05)
     times = [0.4e-3, 0.8e-3, 1.2e-3]
-    data, geo = write_snapshot_vtk(s.pulse, s.configuration, times, tmp_path / "s.vtu", medium=s.medium,
-                                   sections=("xz", "xy"), n_u=31)
+    field = section_field(s.pulse, s.configuration, times, medium=s.medium, sections=("xz", "xy"), n_u=31)
+    data, geo = write_snapshot_vtk(field, s.configuration, tmp_path / "s.vtu")
     mesh = pv.read(data)
     assert _pressure_names(mesh) == [f"pressure_pa_t{k:04d}" for k in range(3)]
     np.testing.assert_allclose(mesh.field_data["time_s"], times, rtol=0, atol=0)
@@ -74,7 +77,8 @@ def test_several_times_agree_with_the_time_series(tmp_path):
 
 def test_geometry_file(tmp_path):
     s = _setup("wall-floor", wall_distance=0.05)
-    _, geo = write_snapshot_vtk(s.pulse, s.configuration, 1e-3, tmp_path / "f.vtkhdf", medium=s.medium, n_u=21)
+    field = section_field(s.pulse, s.configuration, 1e-3, medium=s.medium, n_u=21)
+    _, geo = write_snapshot_vtk(field, s.configuration, tmp_path / "f.vtkhdf")
     assert geo == tmp_path / "f_geometry.vtu" == geometry_path(tmp_path / "f.vtkhdf")
     g = pv.read(geo)
     part = g.cell_data["part"]
@@ -95,8 +99,8 @@ def test_geometry_file(tmp_path):
 @pytest.mark.parametrize("suffix", [".vtu", ".vtkhdf"])
 def test_balloon_metrics_on_the_measuring_sphere(tmp_path, suffix):
     s = _setup()
-    data, _ = write_balloon_vtk(s.pulse, s.configuration, tmp_path / f"b{suffix}", medium=s.medium, distance=0.5,
-                                n_theta=8)
+    balloon = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.5, n_theta=8)
+    data, _ = write_balloon_vtk(balloon, s.configuration, tmp_path / f"b{suffix}")
     mesh = pv.read(data)
     pts = np.asarray(mesh.points)
     conf = s.configuration
@@ -167,8 +171,20 @@ def test_bad_outputs_exit_2(tmp_path, monkeypatch, capsys, argv, option):
 
 def test_write_refuses_other_suffix(tmp_path):
     s = _setup()
+    field = animation_field(s.pulse, s.configuration, medium=s.medium, frames=2, n_u=11)
     with pytest.raises(ValueError, match="vtu"):
-        write_animation_vtk(s.pulse, s.configuration, tmp_path / "a.vtk", frames=2)
+        write_animation_vtk(field, s.configuration, tmp_path / "a.vtk")
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_balloon_without_its_metrics_is_refused_not_evaluated(tmp_path):
+    # a level of its own carries no field metrics: the writer says where they come from, computes nothing
+    s = _setup()
+    flat = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.5, n_theta=6, metric="flat",
+                        levels=(lambda pts: np.full(len(pts), 80.0), "flat (dB re 20 µPa)"))
+    with pytest.raises(ParameterError, match="balloon_metrics") as exc:
+        write_balloon_vtk(flat, s.configuration, tmp_path / "b.vtu")
+    assert exc.value.name == "data"
     assert not list(tmp_path.iterdir())
 
 

@@ -20,7 +20,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 from .settings.render_job import JOB_OF_VIEW, AnimationJob, BalloonJob, SnapshotJob
@@ -62,20 +62,18 @@ class SnapshotResult:
         from ..output import render
 
         s, f, files = self.settings, self.field, _paths(self.settings, folder)
-        times = list(f.times)
         out = []
         if "png" in files:
-            out.append(render.render_snapshot(s.pulse, s.configuration, times, files["png"], clim=s.clim,
-                                              title=s.title or s.caption(), size=s.size, field=f))
+            out.append(render.render_snapshot(f, s.pulse, s.configuration, files["png"], clim=s.clim,
+                                              title=s.title or s.caption(), size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_snapshot_vtk
 
-            out += write_snapshot_vtk(s.pulse, s.configuration, times, files["vtk"], field=f)
+            out += write_snapshot_vtk(f, s.configuration, files["vtk"])
         if "html" in files:
             from ..output.html import write_snapshot_html
 
-            out.append(write_snapshot_html(s.pulse, s.configuration, times, files["html"], clim=s.clim, title=s.title,
-                                           field=f))
+            out.append(write_snapshot_html(f, s.pulse, s.configuration, files["html"], clim=s.clim, title=s.title))
         return [Path(p) for p in out]
 
 
@@ -87,7 +85,7 @@ class BalloonResult:
     ----------
     settings : BalloonJob
         What was computed.
-    data : acoustiviz.output.render.BalloonData
+    data : acoustiviz.field.balloon.BalloonData
         The level in dB over the measuring sphere (directions, distance in m), and every metric of the
         field there when the VTK file wants them (a weighted level's too).
     """
@@ -114,18 +112,17 @@ class BalloonResult:
         s, d, files = self.settings, self.data, _paths(self.settings, folder)
         out = []
         if "png" in files:
-            out.append(render.render_balloon(s.pulse, s.configuration, files["png"], db_range=s.db_range,
-                                             opacity=s.opacity, title=self.title(), data=d, medium=s.medium,
-                                             size=s.size))
+            out.append(render.render_balloon(d, s.pulse, s.configuration, files["png"], db_range=s.db_range,
+                                             opacity=s.opacity, title=self.title(), size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_balloon_vtk
 
-            out += write_balloon_vtk(s.pulse, s.configuration, files["vtk"], medium=s.medium, data=d)
+            out += write_balloon_vtk(d, s.configuration, files["vtk"])
         if "html" in files:
             from ..output.html import write_balloon_html
 
-            out.append(write_balloon_html(s.pulse, s.configuration, files["html"], medium=s.medium,
-                                          db_range=s.db_range, title=s.title, data=d))
+            out.append(write_balloon_html(d, s.pulse, s.configuration, files["html"], db_range=s.db_range,
+                                          title=s.title))
         return [Path(p) for p in out]
 
 
@@ -155,12 +152,12 @@ class AnimationResult:
         out = []
         for key in ("gif", "mp4"):
             if key in files:
-                out.append(render.render_animation(s.pulse, s.configuration, files[key], fps=s.fps, clim=s.clim,
-                                                   title=s.title or s.caption(), size=s.size, field=f))
+                out.append(render.render_animation(f, s.pulse, s.configuration, files[key], fps=s.fps, clim=s.clim,
+                                                   title=s.title or s.caption(), size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_animation_vtk
 
-            out += write_animation_vtk(s.pulse, s.configuration, files["vtk"], field=f)
+            out += write_animation_vtk(f, s.configuration, files["vtk"])
         return [Path(p) for p in out]
 
 
@@ -191,7 +188,7 @@ def _snapshot(s: SnapshotJob) -> SnapshotResult:
 
 def _balloon(s: BalloonJob) -> BalloonResult:
     from .._jit import announce_long_work
-    from ..output.render import BALLOON_FIELD_METRICS, balloon_data
+    from ..field.balloon import BALLOON_FIELD_METRICS, balloon_data, balloon_metrics
     from .views import balloon_levels
 
     levels = balloon_levels(s.metric, s.pulse, s.configuration, s.medium)
@@ -202,16 +199,13 @@ def _balloon(s: BalloonJob) -> BalloonResult:
                            "computation (Ctrl-C stops it)")
     data = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=s.distance, metric=s.metric,
                         n_theta=s.n_theta, levels=levels)
-    if s.vtk is not None and data.metrics is None:  # a weighted level: the VTK file's metrics too, here, once
-        from ..field import field_metrics
-
-        lattice = data.anchor + data.distance * data.directions.reshape(-1, 3)
-        data = replace(data, metrics=field_metrics(s.pulse, lattice, s.configuration, medium=s.medium))
+    if s.vtk is not None:  # a weighted level: the VTK file's metrics too, here, once
+        data = balloon_metrics(s.pulse, s.configuration, data, medium=s.medium)
     return BalloonResult(s, data)
 
 
 def _animation(s: AnimationJob) -> AnimationResult:
-    from ..output.render.animation import animation_field
+    from ..field.sections import animation_field
 
     return AnimationResult(s, animation_field(s.pulse, s.configuration, medium=s.medium, frames=s.frames,
                                               extent=s.extent, sections=s.sections, n_u=s.n_u))

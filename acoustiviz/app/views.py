@@ -188,7 +188,7 @@ def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
 
 
 def balloon_levels(metric: str, pulse, config, medium):
-    """The ``levels`` argument of :func:`acoustiviz.output.render.balloon_data` for ``metric``.
+    """The ``levels`` argument of :func:`acoustiviz.field.balloon.balloon_data` for ``metric``.
 
     ``None`` for the closed form's ``"peak"``, ``"rms"`` and ``"sel"``; :func:`point_levels`
     for a weighted level of :data:`BALLOON_METRICS`.

@@ -289,12 +289,17 @@ def geometry_bytes(nimg: int) -> int:
     return 8 * (nimg * 9 + 12)
 
 
-def prepare(pulse, geometry, medium, cutoff):
-    """Check the arguments; return the kernels' :class:`PulseArrays` and the kept tail in s."""
+def check_inputs(pulse, geometry, medium) -> None:
+    """Check that ``pulse``, ``geometry`` and ``medium`` are a pulse, a geometry and a medium."""
     check_pulse(pulse)
     check_geometry(geometry)
     if not isinstance(medium, Medium):
         raise ParameterError("medium", f"expected a Medium, got {type(medium).__name__}")
+
+
+def prepare(pulse, geometry, medium, cutoff):
+    """Check the arguments; return the kernels' :class:`PulseArrays` and the kept tail in s."""
+    check_inputs(pulse, geometry, medium)
     tail = decay_time(geometry.radius, medium=medium, cutoff=cutoff)
     return pulse_args(pulse, geometry.radius, medium), tail
 

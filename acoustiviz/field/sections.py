@@ -4,6 +4,8 @@
 sections through the sphere (:func:`section_planes`, cut at the floor and the walls) at a few
 times and returns a :class:`SectionField`; a PNG render, a VTK file and an HTML page of the same
 snapshot all take that one value, as a dataset is built once and then plotted or exported.
+:func:`animation_field` does the same for the frames of a wavefront animation (:func:`frame_fields`
+evaluates each frame only where a wave is passing).
 Times in s from the start of contact, lengths in m, pressures in Pa.
 """
 
@@ -15,11 +17,14 @@ import numpy as np
 
 from .._validate import ParameterError, check_choice, check_positive
 from ..constants import MAX_SNAPSHOT_TIMES
+from ..core.geometry import Geometry
 from ..core.medium import AIR, Medium
 from . import evaluate
 from .grids import SECTIONS, PlanarGrid, section_grid
+from .sources import arrival_windows, source_geometry
 
-__all__ = ["SectionField", "check_times", "section_planes", "section_grids", "section_field"]
+__all__ = ["SectionField", "check_times", "section_planes", "section_grids", "section_field", "animation_times",
+           "frame_fields", "animation_field"]
 
 
 @dataclass(frozen=True)
@@ -166,3 +171,100 @@ def section_field(pulse, geometry, time, *, medium: Medium = AIR, planes=None, e
     grids = section_grids(geometry, planes, extent, times, medium, n_u, sections)
     fields = [evaluate.snapshots(pulse, times, g.points, geometry, medium=medium) for g in grids]
     return SectionField.of(grids, times, fields)
+
+
+# --------------------------------------------------------------------------- animations
+def animation_times(pulse, geometry: Geometry, points, *, medium: Medium = AIR, frames: int = 48) -> np.ndarray:
+    """Frame times in s from the start of contact until the last wavefront crosses ``points``.
+
+    The last time is the latest arrival, over the points and the image sources, of the end of
+    the pulse ``max (r_j - a)/c + T``.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    geometry : Geometry
+        The scene.
+    points : (n, 3) array_like
+        Points in m (e.g. the planar grids' points).
+    medium : Medium
+        The fluid.
+    frames : int
+        Number of frames (>= 2).
+
+    Returns
+    -------
+    (frames,) ndarray
+    """
+    if int(frames) != frames or not 2 <= frames <= 2000:
+        raise ParameterError("frames", f"must be an integer in [2, 2000], got {frames!r}")
+    delay, _, _, _ = source_geometry(points, geometry, medium=medium)
+    ok = geometry.in_fluid(points)
+    end = float(np.max(delay[ok])) + pulse.duration
+    return np.linspace(0.5 * pulse.duration, end, int(frames))
+
+
+def frame_fields(pulse, geometry: Geometry, times, points, *, medium: Medium = AIR) -> np.ndarray:
+    """Pressure (k, n) in Pa at ``times`` (k,), evaluating each frame only where it is non-zero.
+
+    Points outside their arrival window at a frame time (:func:`acoustiviz.field.arrival_windows`)
+    are set to zero without evaluation; points outside the fluid are NaN.
+    """
+    pts = np.asarray(points, dtype=float)
+    tt = np.atleast_1d(np.asarray(times, dtype=float))
+    start, stop = arrival_windows(pulse, pts, geometry, medium=medium)
+    out = np.zeros((tt.size, pts.shape[0]))
+    out[:, ~geometry.in_fluid(pts)] = np.nan
+    for q, tq in enumerate(tt):
+        live = (start <= tq) & (tq <= stop)
+        if np.any(live):
+            out[q, live] = evaluate.snapshots(pulse, [tq], pts[live], geometry, medium=medium)[0]
+    return out
+
+
+def animation_field(pulse, geometry: Geometry, *, medium: Medium = AIR, times=None, frames: int = 48, planes=None,
+                    extent=None, sections=("xz",), n_u: int = 201, min_times: int = 2) -> SectionField:
+    """Every frame of a wavefront animation: its grids, frame times and pressures, evaluated once.
+
+    Parameters
+    ----------
+    pulse : HalfSinePulse or SampledPulse
+        Acceleration pulse of the sphere.
+    geometry : Geometry
+        The scene.
+    medium : Medium
+        The fluid.
+    times : (k,) array_like, optional
+        Frame times in s (default :func:`animation_times` over the planes, ``frames`` of them).
+    frames : int
+        Number of frames when ``times`` is not given.
+    planes, extent, sections, n_u
+        Where the field is evaluated, as for :func:`section_field`.
+    min_times : int
+        Fewest frame times accepted in ``times`` (an animation needs two; a data file one).
+
+    Returns
+    -------
+    acoustiviz.field.sections.SectionField
+        Pressures in Pa by :func:`frame_fields` (zero where no wave has arrived or all have
+        passed, NaN inside the sphere).
+    """
+    if times is None:
+        grids = section_grids(geometry, planes, extent, [_reach_time(geometry, medium, extent)], medium, n_u, sections)
+        times = animation_times(pulse, geometry, np.vstack([g.points for g in grids]), medium=medium, frames=frames)
+    else:
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        if times.ndim != 1 or times.size < min_times or not np.all(np.isfinite(times)):
+            least = "at least two " if min_times == 2 else ""
+            raise ParameterError("times", f"expected {least}finite frame times in s")
+        grids = section_grids(geometry, planes, extent, times, medium, n_u, sections)
+    fields = tuple(frame_fields(pulse, geometry, times, g.points, medium=medium) for g in grids)
+    return SectionField.of(grids, times, fields)
+
+
+def _reach_time(geometry: Geometry, medium: Medium, extent) -> float:
+    """A time in s whose default extent frames the scene (used before the frame times exist)."""
+    if extent is not None:
+        return max(0.0, (float(extent) / 1.25 - geometry.radius) / medium.c)
+    return max(12.0 * geometry.radius, 6.0 * geometry.feature_distance) / medium.c

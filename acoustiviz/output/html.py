@@ -1,6 +1,8 @@
 """Interactive 3-D views as self-contained HTML pages: no server, no network, one file.
 
-Each page embeds its meshes (base64 float32 arrays), a colour map and a small WebGL viewer
+Each page draws a value computed beforehand by the physics layer (a
+:class:`~acoustiviz.field.sections.SectionField` or a :class:`~acoustiviz.field.balloon.BalloonData`)
+and evaluates nothing itself. Each page embeds its meshes (base64 float32 arrays), a colour map and a small WebGL viewer
 (``_viewer.js``, about 200 lines, inlined): drag to rotate, wheel to zoom, double-click to
 reset the view, and a slider through the times of a snapshot series. It opens in any browser
 with WebGL from a local file or as an e-mail attachment.
@@ -24,7 +26,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_positive, check_range
 from ..core.geometry import Geometry
-from ..core.medium import AIR, Medium
+from ..field.balloon import BalloonData
 from ..files import write_text_atomic
 
 __all__ = ["page", "write_balloon_html", "write_snapshot_html"]
@@ -174,37 +176,28 @@ def _check_html_path(path) -> Path:
     return p
 
 
-def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, distance: float = 0.7,
-                       metric: str = "peak", db_range: float = 30.0, n_theta: int = 32, opacity: float = 0.85,
-                       balloon_size=None, title=None, data=None) -> Path:
+def write_balloon_html(data, pulse, config: Geometry, path, *, db_range: float = 30.0, opacity: float = 0.85,
+                       balloon_size=None, title=None) -> Path:
     """Write an interactive page of a directivity balloon (see :func:`acoustiviz.output.render.render_balloon`).
 
     Parameters
     ----------
+    data : acoustiviz.field.balloon.BalloonData
+        The levels computed by :func:`acoustiviz.field.balloon.balloon_data`.
     pulse : HalfSinePulse or SampledPulse
-        Acceleration pulse of the sphere.
+        Acceleration pulse of the sphere (named in the subtitle).
     config : Geometry
-        The scene.
+        The scene of ``data``.
     path : path-like
         Output ``.html`` file (written atomically).
-    medium : Medium
-        The fluid.
-    distance : float
-        Radius in m of the measuring sphere around the contact point.
-    metric : {"peak", "rms", "sel"}
-        Level drawn.
     db_range : float
         Range in dB from the balloon's centre to its largest radius, in (0, 200].
-    n_theta : int
-        Polar resolution of the measuring grid.
     opacity : float
         Opacity of the balloon in (0, 1].
     balloon_size : float, optional
         Largest balloon radius in m (default six sphere radii, at least 1.5 × the wall distance).
     title : str, optional
         Heading of the page.
-    data : BalloonData, optional
-        Levels already computed by :func:`acoustiviz.output.render.balloon_data`.
 
     Returns
     -------
@@ -212,14 +205,12 @@ def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, d
         ``path``.
     """
     from .render._common import _scene_extent, _scene_label
-    from .render.balloon import BalloonData, _balloon_mesh, balloon_data
+    from .render.balloon import _balloon_mesh
 
     path = _check_html_path(path)
     rng = check_range("db_range", db_range, 0.0, 200.0, unit="dB", low_open=True)
     opacity = check_range("opacity", opacity, 0.0, 1.0, low_open=True)
-    if data is None:
-        data = balloon_data(pulse, config, medium=medium, distance=distance, metric=metric, n_theta=n_theta)
-    elif not isinstance(data, BalloonData):
+    if not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
     if balloon_size is None:
         bsize = max(6.0 * config.radius, 1.5 * config.feature_distance)
@@ -241,37 +232,28 @@ def write_balloon_html(pulse, config: Geometry, path, *, medium: Medium = AIR, d
     return write_text_atomic(path, text)
 
 
-def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
-                        sections=("xz",), n_u: int = 241, clim=None, title=None, cmap: str = "RdBu_r",
-                        field=None) -> Path:
+def write_snapshot_html(field, pulse, config: Geometry, path, *, clim=None, title=None, cmap: str = "RdBu_r") -> Path:
     """Write an interactive page of the pressure on planar sections at one or more times.
 
-    The points and values are those of :func:`acoustiviz.output.render.render_snapshot` with
-    the same arguments; several times share one colour scale and a slider.
+    The points and values are those :func:`acoustiviz.output.render.render_snapshot` draws from the
+    same ``field``; several times share one colour scale and a slider.
 
     Parameters
     ----------
+    field : acoustiviz.field.sections.SectionField
+        The pressure evaluated by :func:`acoustiviz.field.sections.section_field`.
     pulse : HalfSinePulse or SampledPulse
-        Acceleration pulse of the sphere.
+        Acceleration pulse of the sphere (named in the subtitle).
     config : Geometry
-        The scene.
-    time : float or sequence of float
-        Times in s from the start of contact (1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES`, each >= 0).
+        The scene of ``field``.
     path : path-like
         Output ``.html`` file (written atomically).
-    medium : Medium
-        The fluid.
-    planes, extent, sections, n_u
-        Where the field is evaluated, as for the render.
     clim : float, optional
         Colour limit in Pa; the map spans ``[-clim, clim]`` (default as for the render).
     title : str, optional
         Heading of the page.
     cmap : str
         A diverging colour map, centred on zero.
-    field : acoustiviz.field.sections.SectionField, optional
-        The field already evaluated (``time``, ``medium``, ``planes``, ``extent``, ``sections``
-        and ``n_u`` are then taken from it); by default it is evaluated here.
 
     Returns
     -------
@@ -279,12 +261,11 @@ def write_snapshot_html(pulse, config: Geometry, time, path, *, medium: Medium =
         ``path``.
     """
     from .render._common import _scene_label
-    from .render.snapshot import _field, _symmetric_limit
+    from .render.snapshot import _check_field, _symmetric_limit
     from .vtk import _bounds, _quads
 
     path = _check_html_path(path)
-    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
-                   n_u=n_u)
+    field = _check_field(field)
     grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     layers = []

@@ -1,7 +1,8 @@
 """Fields for other tools: the data behind each render as VTK files (ParaView, pyvista, meshio).
 
-Each writer writes the same field as the matching render of :mod:`acoustiviz.output.render`
-on the same points (given, or evaluated there as the render would), atomically, as an
+Each writer writes the value the matching render of :mod:`acoustiviz.output.render` draws (a
+:class:`~acoustiviz.field.sections.SectionField` or a :class:`~acoustiviz.field.balloon.BalloonData`,
+computed beforehand by the physics layer; a writer evaluates nothing), atomically, as an
 unstructured grid of quadrilaterals:
 
 * :func:`write_snapshot_vtk` and :func:`write_animation_vtk` -- the planar sections, with the
@@ -34,10 +35,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import ParameterError, check_positive
+from .._validate import ParameterError
 from ..core.geometry import Geometry
-from ..core.medium import AIR, Medium
-from ..field import field_metrics
+from ..field.balloon import BalloonData
 from ..field.grids import fluid_box
 from ..files import atomic_path, write_bytes_atomic
 
@@ -143,7 +143,7 @@ def balloon_dataset(data, metrics):
 
     Parameters
     ----------
-    data : acoustiviz.output.render.BalloonData
+    data : acoustiviz.field.balloon.BalloonData
         Its lattice of directions, anchor and distance give the points
         ``anchor + distance * directions`` in m.
     metrics : acoustiviz.field.FieldMetrics
@@ -294,32 +294,31 @@ def _write_with_geometry(mesh, config, path: Path, geometry: bool) -> tuple:
     return out, geo
 
 
-def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = AIR, planes=None, extent=None,
-                       sections=("xz",), n_u: int = 241, geometry: bool = True, field=None) -> tuple:
+def _sections(field, config, path, geometry: bool) -> tuple:
+    """Write a :class:`~acoustiviz.field.sections.SectionField` (and the scene beside it) to ``path``."""
+    from .render.snapshot import _check_field
+
+    path = _check_vtk_path(path)
+    field = _check_field(field)
+    return _write_with_geometry(planes_dataset(field.grids, field.times, field.pressures), config, path, geometry)
+
+
+def write_snapshot_vtk(field, config: Geometry, path, *, geometry: bool = True) -> tuple:
     """Write the pressure of a field snapshot on its planar sections to a VTK file.
 
-    The points are those of :func:`acoustiviz.output.render.render_snapshot` called with the
-    same arguments, and the values those of :func:`acoustiviz.field.sections.section_field` there.
+    The points and values are those :func:`acoustiviz.output.render.render_snapshot` draws from the
+    same ``field``.
 
     Parameters
     ----------
-    pulse : HalfSinePulse or SampledPulse
-        Acceleration pulse of the sphere.
+    field : acoustiviz.field.sections.SectionField
+        The pressure evaluated by :func:`acoustiviz.field.sections.section_field`.
     config : Geometry
-        The scene.
-    time : float or sequence of float
-        Times in s from the start of contact (1 to :data:`~acoustiviz.constants.MAX_SNAPSHOT_TIMES`, each >= 0).
+        The scene of ``field``.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    medium : Medium
-        The fluid.
-    planes, extent, sections, n_u
-        Where the field is evaluated, as for :func:`acoustiviz.output.render.render_snapshot`.
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
-    field : acoustiviz.field.sections.SectionField, optional
-        The field already evaluated (``time``, ``medium``, ``planes``, ``extent``, ``sections``
-        and ``n_u`` are then taken from it); by default it is evaluated here.
 
     Returns
     -------
@@ -328,95 +327,57 @@ def write_snapshot_vtk(pulse, config: Geometry, time, path, *, medium: Medium = 
 
     Examples
     --------
-    >>> write_snapshot_vtk(pulse, geometry("plane", 0.01905), 1e-3, "s.vtu")  # doctest: +SKIP
+    >>> plane = geometry("plane", 0.01905)  # doctest: +SKIP
+    >>> write_snapshot_vtk(section_field(pulse, plane, 1e-3), plane, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
-    from .render.snapshot import _field
-
-    path = _check_vtk_path(path)
-    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
-                   n_u=n_u)
-    grids, times, fields = field.grids, field.times, field.pressures
-    return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
+    return _sections(field, config, path, geometry)
 
 
-def write_animation_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, times=None, frames: int = 48,
-                        planes=None, extent=None, sections=("xz",), n_u: int = 201, geometry: bool = True,
-                        field=None) -> tuple:
+def write_animation_vtk(field, config: Geometry, path, *, geometry: bool = True) -> tuple:
     """Write every frame of a wavefront animation to one VTK file (one pressure array per frame).
 
-    The frame times and points are those of :func:`acoustiviz.output.render.render_animation`
-    called with the same arguments; each frame is evaluated by
-    :func:`acoustiviz.output.render.frame_fields` (zero where no wave has arrived or all
-    have passed, NaN inside the sphere).
+    The frame times, points and values are those :func:`acoustiviz.output.render.render_animation`
+    draws from the same ``field`` (zero where no wave has arrived or all have passed, NaN inside the
+    sphere).
 
     Parameters
     ----------
-    pulse : HalfSinePulse or SampledPulse
-        Acceleration pulse of the sphere.
+    field : acoustiviz.field.sections.SectionField
+        The frames evaluated by :func:`acoustiviz.field.sections.animation_field` (one frame time is
+        enough for a data file).
     config : Geometry
-        The scene.
+        The scene of ``field``.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    medium : Medium
-        The fluid.
-    times : (k,) array_like, optional
-        Frame times in s (default :func:`acoustiviz.output.render.animation_times`).
-    frames : int
-        Number of frames when ``times`` is not given (2..2000).
-    planes, extent, sections, n_u
-        Where the field is evaluated, as for the render.
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
-    field : acoustiviz.field.sections.SectionField, optional
-        The frames already evaluated by :func:`acoustiviz.output.render.animation.animation_field`
-        (the arguments saying where and when are then taken from it); by default they are
-        evaluated here.
 
     Returns
     -------
     (pathlib.Path, pathlib.Path or None)
         The data file and the geometry file.
     """
-    from .render.animation import animation_field
-    from .render.snapshot import _field
-
-    path = _check_vtk_path(path)
-    if field is None:
-        field = animation_field(pulse, config, medium=medium, times=times, frames=frames, planes=planes, extent=extent,
-                                sections=sections, n_u=n_u, min_times=1)
-    field = _field(pulse, config, None, field)
-    grids, times, fields = field.grids, field.times, field.pressures
-    return _write_with_geometry(planes_dataset(grids, times, fields), config, path, geometry)
+    return _sections(field, config, path, geometry)
 
 
-def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, distance: float = 0.7,
-                      n_theta: int = 32, data=None, geometry: bool = True) -> tuple:
+def write_balloon_vtk(data, config: Geometry, path, *, geometry: bool = True) -> tuple:
     """Write the metrics of a directivity balloon on its measuring sphere to a VTK file.
 
-    The points are the closed lattice of :func:`acoustiviz.output.render.balloon_data` at
-    ``distance`` from the contact point (the whole sphere, the half space above the plane or
-    the quarter space of the corner), the values those of
-    :func:`acoustiviz.field.field_metrics` there (see ``BALLOON_ARRAYS`` for the names), with
-    the balloon's window (in a room :func:`acoustiviz.field.directivity.room_window`).
+    The points are the closed lattice of ``data`` at its distance from the contact point (the whole
+    sphere, the half space above the plane or the quarter space of the corner), the values every
+    metric ``data`` holds there (see ``BALLOON_ARRAYS`` for the names).
 
     Parameters
     ----------
-    pulse : HalfSinePulse or SampledPulse
-        Acceleration pulse of the sphere.
+    data : acoustiviz.field.balloon.BalloonData
+        The balloon computed by :func:`acoustiviz.field.balloon.balloon_data`, holding its metrics
+        (``data.metrics``; a balloon of a level of its own gets them from
+        :func:`acoustiviz.field.balloon.balloon_metrics`).
     config : Geometry
-        The scene.
+        The scene of ``data``.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    medium : Medium
-        The fluid.
-    distance : float
-        Radius in m of the measuring sphere.
-    n_theta : int
-        Polar resolution of the measuring grid (:data:`~acoustiviz.constants.BALLOON_N_THETA_RANGE`).
-    data : BalloonData, optional
-        The lattice already computed by ``balloon_data`` (``distance`` and ``n_theta`` are
-        then taken from it), and its metrics when it holds them (``data.metrics``).
     geometry : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
@@ -425,19 +386,12 @@ def write_balloon_vtk(pulse, config: Geometry, path, *, medium: Medium = AIR, di
     (pathlib.Path, pathlib.Path or None)
         The data file and the geometry file.
     """
-    from .render.balloon import BalloonData, balloon_data
-
     path = _check_vtk_path(path)
-    if data is None:
-        check_positive("distance", distance, "m")
-        data = balloon_data(pulse, config, medium=medium, distance=distance, n_theta=n_theta)
-    elif not isinstance(data, BalloonData):
+    if not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
-    metrics = data.metrics
-    if metrics is None:  # a level of its own: the metrics are evaluated here
-        pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
-        metrics = field_metrics(pulse, pts, config, medium=medium)
-    return _write_with_geometry(balloon_dataset(data, metrics), config, path, geometry)
+    if data.metrics is None:
+        raise ParameterError("data", "holds no field metrics: add them with acoustiviz.field.balloon.balloon_metrics")
+    return _write_with_geometry(balloon_dataset(data, data.metrics), config, path, geometry)
 
 
 def map_dataset(grid, arrays):

@@ -429,22 +429,16 @@ def view_names(view: str) -> dict:
 
 
 def _check_views(scene: Scene, conf) -> None:
-    """The memory and output size of each 3-D view and of the directivity's angles within ``grids.memory_limit_mb``.
+    """The memory and output size of the scene's estimates within ``grids.memory_limit_mb``.
 
-    The estimates are the command line's (:mod:`acoustiviz.app.budget`).
+    The estimates are the command line's (:mod:`acoustiviz.app.budget`). The 3-D views' budgets and
+    the directivity's angles are their jobs' own checks, made when the run builds every output's
+    settings before the first (:func:`acoustiviz.app.scene_outputs.preflight`).
     """
-    from ..app.budget import check_budget, directivity_estimate, scene_estimates
-    from ..app.render import render_estimate
+    from ..app.budget import check_budget, scene_estimates
 
     cap = scene.data["grids"]["memory_limit_mb"]
-    estimates = [(lambda view=view: render_estimate(view, scene.view_settings(view), len(conf.sources),
-                                                    options=view_names(view)))
-                 for view in ("snapshot", "animation", "balloon") if scene.wants(view)]
-    if scene.wants("directivity"):  # the angles of the step, as the command counts them
-        step = scene.data["outputs"]["directivity"]["step_deg"]
-        estimates.append(lambda: directivity_estimate(conf, step, ("outputs.directivity.step_deg",)))
-    estimates += scene_estimates(scene, conf)  # the waveform's tables, a weighted directivity's sound
-    for estimate in estimates:
+    for estimate in scene_estimates(scene, conf):  # the waveform's tables, a weighted directivity's sound
         try:
             check_budget(estimate(), cap, cap_name="grids.memory_limit_mb")
         except ParameterError as exc:
@@ -452,15 +446,15 @@ def _check_views(scene: Scene, conf) -> None:
 
 
 def _check_circles(scene: Scene, conf) -> None:
-    """The directivity's circle (the first listener's distance) and the balloon's sphere fit in the fluid.
+    """The directivity's circle (the first listener's distance) fits in the fluid.
 
-    Checked at load time, before any output is made: in a room the circle and the balloon must stay
-    inside its walls, and the sound must reach the circle within the room's window.
+    Checked at load time, before any output is made: in a room the circle must stay inside its walls,
+    and the sound must reach the circle within the room's window; the message says the circle is the
+    directivity's. The balloon's sphere is its job's own check (the view against the fluid), made
+    before the first output (:func:`acoustiviz.app.scene_outputs.preflight`).
     """
     import numpy as np
 
-    from ..constants import BALLOON_MIN_RADII
-    from ..core.reach import check_view_radius
     from ..field.directivity import circle_points, room_window
 
     src = scene.source
@@ -474,11 +468,6 @@ def _check_circles(scene: Scene, conf) -> None:
         except ParameterError as exc:
             raise SceneError(src, key, f"the directivity's circle (its radius the first listener's distance "
                                        f"from the sphere's centre): {exc.detail}") from None
-    if scene.wants("balloon"):
-        try:
-            check_view_radius(conf, scene.data["grids"]["sphere"]["distance_m"], BALLOON_MIN_RADII * conf.radius)
-        except ParameterError as exc:
-            raise SceneError(src, "grids.sphere.distance_m", exc.detail) from None
 
 
 def scene_from_text(text: str, source: str = "<scene>") -> Scene:

@@ -15,15 +15,18 @@ PAGES = ("balloon.html", "snapshot.html")
 def make_pages(folder: Path) -> list:
     """Write the interactive pages into ``folder``; return their paths."""
     from acoustiviz.app.impacts import impact_setup
+    from acoustiviz.field.balloon import balloon_data
+    from acoustiviz.field.sections import section_field
     from acoustiviz.output.html import write_balloon_html, write_snapshot_html
 
     corner = impact_setup(radius=0.01905, velocity=1.4, config="wall-floor", wall_distance=0.05)
     plane = impact_setup(radius=0.01905, velocity=1.4, config="plane")
+    balloon = balloon_data(corner.pulse, corner.configuration, medium=corner.medium, n_theta=32)
+    field = section_field(plane.pulse, plane.configuration, [0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3],
+                          medium=plane.medium, n_u=161)
     return [
-        write_balloon_html(corner.pulse, corner.configuration, folder / "balloon.html", medium=corner.medium,
-                           n_theta=32),
-        write_snapshot_html(plane.pulse, plane.configuration, [0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3],
-                            folder / "snapshot.html", medium=plane.medium, n_u=161),
+        write_balloon_html(balloon, corner.pulse, corner.configuration, folder / "balloon.html"),
+        write_snapshot_html(field, plane.pulse, plane.configuration, folder / "snapshot.html"),
     ]
 
 

@@ -122,7 +122,9 @@ class ViewJob(Settings):
         from ..budget import check_budget
         from ..render import render_estimate
 
-        n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4"))  # movies hold every frame
+        # movies hold every frame; a job naming no file at all is a scene's, checked before the run names
+        # its files, and a scene always writes its animation's GIF
+        n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4")) if self.files() else 1
         est = render_estimate(self.VIEW, self, len(self.configuration.sources), n_files=n_files, options=self.names)
         check_budget(est, self.max_memory_mb, cap_name=self.name("max_memory_mb"))
 

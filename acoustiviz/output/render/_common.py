@@ -12,7 +12,6 @@ import numpy as np
 from ..._validate import ParameterError
 from ...constants import STILL_SIZE as DEFAULT_SIZE
 from ...core.geometry import Geometry
-from ...core.medium import Medium
 from ...files import atomic_path
 
 __all__ = [
@@ -145,11 +144,10 @@ def _check_path(path, suffixes) -> Path:
     return p
 
 
-def _check_inputs(pulse, config, medium):
+def _check_inputs(pulse, config):
+    """Check the scene drawn around the data and the pulse named in its caption."""
     if not isinstance(config, Geometry):
         raise ParameterError("config", f"expected a geometry (acoustiviz.core.geometry), got {type(config).__name__}")
-    if not isinstance(medium, Medium):
-        raise ParameterError("medium", f"expected a Medium, got {type(medium).__name__}")
     if not hasattr(pulse, "duration"):
         raise ParameterError("pulse", f"expected an acceleration pulse, got {type(pulse).__name__}")
 

@@ -1,4 +1,4 @@
-"""Field snapshots: p(x, t) on planar sections at one or more times, on a diverging map centred on 0 Pa."""
+"""Field snapshots: a :class:`~acoustiviz.field.sections.SectionField` drawn on a diverging map centred on 0 Pa."""
 
 from __future__ import annotations
 
@@ -9,9 +9,8 @@ import numpy as np
 
 from ..._validate import ParameterError, check_positive
 from ...core.geometry import Geometry
-from ...core.medium import AIR, Medium
 from ...field.grids import PlanarGrid, fluid_box
-from ...field.sections import SectionField, section_field, section_planes
+from ...field.sections import SectionField
 from ._common import (
     _SPHERE_COLOUR,
     DEFAULT_SIZE,
@@ -29,10 +28,7 @@ from ._common import (
     check_backend,
 )
 
-__all__ = [
-    "section_planes",
-    "render_snapshot",
-]  # section_planes: :func:`acoustiviz.field.sections.section_planes`, kept importable here
+__all__ = ["render_snapshot"]
 
 
 # --------------------------------------------------------------------------- snapshots
@@ -113,10 +109,8 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
     return meshes, clock
 
 
-def _field(pulse, config, time, field, **where) -> SectionField:
-    """``field`` if given (checked), else the field of ``time`` evaluated by :func:`section_field` at ``where``."""
-    if field is None:
-        return section_field(pulse, config, time, **where)
+def _check_field(field) -> SectionField:
+    """``field`` if it is a :class:`SectionField`, else an error naming ``field``."""
     if not isinstance(field, SectionField):
         raise ParameterError("field", f"expected a SectionField, got {type(field).__name__}")
     return field
@@ -128,47 +122,31 @@ def _time_label(t: float) -> str:
 
 
 def render_snapshot(
+    field: SectionField,
     pulse,
     config: Geometry,
-    time,
     path,
     *,
-    medium: Medium = AIR,
-    planes=None,
-    extent=None,
-    sections=("xz",),
-    n_u: int = 241,
     size=DEFAULT_SIZE,
     clim=None,
     title=None,
     show_scalar_bar: bool = True,
     cmap: str = "RdBu_r",
-    field=None,
 ) -> Path:
     """Render the pressure p(x, t) on planar grids at one or more times into a PNG file.
 
     Parameters
     ----------
+    field : acoustiviz.field.sections.SectionField
+        The pressure evaluated by :func:`acoustiviz.field.sections.section_field` on its planes at
+        one or more times (at most 12); several times go side by side (up to three in a row, four
+        and more on a near-square grid) with one colour scale.
     pulse : HalfSinePulse or SampledPulse
-        Acceleration pulse of the sphere.
+        Acceleration pulse of the sphere (named in the caption).
     config : Geometry
-        The scene.
-    time : float or sequence of float
-        Snapshot time(s) in s from the start of contact, at most 12; several go side by side
-        (up to three in a row, four and more on a near-square grid) with one colour scale.
+        The scene of ``field``.
     path : path-like
         Output ``.png`` file (written atomically).
-    medium : Medium
-        The fluid.
-    planes : PlanarGrid or sequence of PlanarGrid, optional
-        Where to evaluate the field (default :func:`section_planes` with ``sections``).
-    extent : float, optional
-        Half-size in m of the default sections (default 1.25 × the distance sound travels
-        by the last time, at least eight sphere radii).
-    sections : sequence of {"xz", "yz", "xy"}
-        Default sections to draw (ignored with ``planes``).
-    n_u : int
-        Points along the longer side of each default section.
     size : (int, int)
         Image width and height in pixels.
     clim : float, optional
@@ -180,10 +158,6 @@ def render_snapshot(
         Draw the labelled colour bar.
     cmap : str
         A diverging matplotlib colour map; it is centred on zero.
-    field : SectionField, optional
-        The field already evaluated by :func:`acoustiviz.field.sections.section_field` (``time``,
-        ``medium``, ``planes``, ``extent``, ``sections`` and ``n_u`` are then taken from it); by
-        default it is evaluated here.
 
     Returns
     -------
@@ -192,14 +166,15 @@ def render_snapshot(
 
     Examples
     --------
-    >>> render_snapshot(pulse, geometry("plane", 0.01905), [0.5e-3, 1e-3], "p.png")  # doctest: +SKIP
+    >>> plane = geometry("plane", 0.01905)  # doctest: +SKIP
+    >>> field = section_field(pulse, plane, [0.5e-3, 1e-3])  # doctest: +SKIP
+    >>> render_snapshot(field, pulse, plane, "p.png")  # doctest: +SKIP
     PosixPath('p.png')
     """
     path = _check_path(path, (".png",))
     size = _check_size(size)
-    _check_inputs(pulse, config, medium)
-    field = _field(pulse, config, time, field, medium=medium, planes=planes, extent=extent, sections=sections,
-                   n_u=n_u)
+    _check_inputs(pulse, config)
+    field = _check_field(field)
     grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     cols = times.size if times.size <= 3 else int(math.ceil(math.sqrt(times.size)))
