@@ -162,7 +162,7 @@ def profile(spec) -> None:
 def _write_markdown(header: str, body: str) -> None:
     """``results/operation.md``: the command line and the table, written atomically."""
     path = RESULTS / "operation.md"
-    text = (f"# One design in operation: from scratch and warm-started\n\n{header}\n\n```text\n"
+    text = (f"# One design in operation: from scratch (before and after) and warm-started\n\n{header}\n\n```text\n"
             f"{body.strip()}\n```\n")
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(text, encoding="utf-8")
@@ -194,7 +194,8 @@ def main() -> None:
             table([("m", masses), ("gap", gaps)])
             levels_cost(masses)
     if args.write:
-        _write_markdown(results_header("python benchmarks/bench_operation.py"), "".join(tee.parts))
+        command = " ".join(["python benchmarks/bench_operation.py", *(a for a in sys.argv[1:] if a != "--write")])
+        _write_markdown(results_header(command), "".join(tee.parts))
 
 
 if __name__ == "__main__":
