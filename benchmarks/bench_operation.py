@@ -9,7 +9,8 @@ Usage::
                                                               # the "before" imported from that checkout
 
 The Table 1 damper under F0 = 5 N over 3-7 Hz (9 frequencies, every attractor, the default
-starts and sweep up): what ``acoustiviz forced --freq 3:7:9`` runs. A small set of neighbouring
+starts and sweep up): what ``acoustiviz forced --freq 3:7:9`` runs, with the checkpoint shootings
+far from any return screened out (``Operation.options``). A small set of neighbouring
 designs (impact masses 2.5 % apart around 40.5 g, and gaps 5 % apart around 40 mm) is evaluated
 twice, each design from scratch and as one chain (the first from scratch, each next warm-started
 from the attractors of the nearest design before it, :class:`acoustiviz.sweep.operation.WarmStart`).
