@@ -5,9 +5,12 @@ Usage::
     python benchmarks/bench_operation.py           # the table
     python benchmarks/bench_operation.py --write   # also to benchmarks/results/operation.md
     python benchmarks/bench_operation.py --profile # only where a search from scratch spends its time
+    python benchmarks/bench_operation.py --before /work/main  # also each design from scratch before/after,
+                                                              # the "before" imported from that checkout
 
 The Table 1 damper under F0 = 5 N over 3-7 Hz (9 frequencies, every attractor, the default
-starts and sweep up): what ``acoustiviz forced --freq 3:7:9`` runs. A small set of neighbouring
+starts and sweep up): what ``acoustiviz forced --freq 3:7:9`` runs, with the checkpoint shootings
+far from any return screened out (``Operation.options``). A small set of neighbouring
 designs (impact masses 2.5 % apart around 40.5 g, and gaps 5 % apart around 40 mm) is evaluated
 twice, each design from scratch and as one chain (the first from scratch, each next warm-started
 from the attractors of the nearest design before it, :class:`acoustiviz.sweep.operation.WarmStart`).
@@ -21,7 +24,10 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import json
 import math
+import os
+import subprocess
 import sys
 import time
 from dataclasses import replace
@@ -86,6 +92,41 @@ def table(specs) -> None:
         f"{name} {tot[name] / n:.2f}" for name in WARM))
 
 
+def _designs(specs):
+    for label, spec in specs:
+        for d in spec.designs():
+            yield f"{label} " + (f"{1e3 * d.m:.1f} g" if label == "m" else f"{1e3 * d.gap:.0f} mm"), d, spec
+
+
+def scratch_rows(specs) -> None:
+    """One JSON line per design from scratch: its label, CPU s and the cells of its row (``--rows``)."""
+    for name, d, spec in _designs(specs):
+        t, r = _cpu(lambda d=d, s=spec: evaluate_in_operation(d, s.settings, OPERATION))
+        keep = ("cycles_integrated", "worst_amplitude_m", "worst_amplitude_std_err_m", "worst_regime",
+                "worst_frequency_hz", "attractors")
+        print(json.dumps({"design": name, "cpu_s": t, **{k: r[k] for k in keep}}), flush=True)
+
+
+def before_after(specs, before: str) -> None:
+    """Each design from scratch with the package at ``before`` (a checkout, run apart) and with this one."""
+    env = {**os.environ, "PYTHONPATH": before}
+    proc = subprocess.run([sys.executable, __file__, "--rows"], env=env, capture_output=True, text=True, check=True)
+    old = [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
+    print(f"from scratch, before ({before}) and after (this tree), each run in its own process: CPU s, cycles, "
+          "worst amplitude mm, its standard error mm, regime, Hz, attractors found; difference in se or um")
+    print(f"{'design':>14} | {'before s':>8} {'cycles, worst, attractors':>42} | {'after s':>8} "
+          f"{'cycles, worst, attractors':>42} {'diff':>10}")
+    tot = [0.0, 0.0, 0, 0]
+    for o, (name, d, spec) in zip(old, _designs(specs), strict=True):
+        t, r = _cpu(lambda d=d, s=spec: evaluate_in_operation(d, s.settings, OPERATION))
+        print(f"{name:>14} | {o['cpu_s']:8.2f} {_worst(o):>36} {o['attractors']:5d} | {t:8.2f} {_worst(r):>36} "
+              f"{r['attractors']:5d} {_difference(o, r):>10}")
+        tot = [tot[0] + o["cpu_s"], tot[1] + t, tot[2] + o["cycles_integrated"], tot[3] + r["cycles_integrated"]]
+    n = len(old)
+    print(f"mean per design: before {tot[0] / n:.2f} CPU s, {tot[2] / n:.0f} cycles; after {tot[1] / n:.2f} CPU s, "
+          f"{tot[3] / n:.0f} cycles")
+
+
 def levels_cost(spec) -> None:
     d = spec.designs()[0]
     t, r = _cpu(lambda: evaluate_in_operation(d, spec.settings, Operation(5.0, OPERATION.frequencies)))
@@ -122,7 +163,7 @@ def profile(spec) -> None:
 def _write_markdown(header: str, body: str) -> None:
     """``results/operation.md``: the command line and the table, written atomically."""
     path = RESULTS / "operation.md"
-    text = (f"# One design in operation: from scratch and warm-started\n\n{header}\n\n```text\n"
+    text = (f"# One design in operation: from scratch (before and after) and warm-started\n\n{header}\n\n```text\n"
             f"{body.strip()}\n```\n")
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(text, encoding="utf-8")
@@ -134,19 +175,28 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--write", action="store_true", help="also write benchmarks/results/operation.md")
     ap.add_argument("--profile", action="store_true", help="only the profile of one design from scratch")
+    ap.add_argument("--before", metavar="CHECKOUT", help="also each design from scratch with the package of "
+                    "another checkout (its folder, run in a process of its own) beside this one")
+    ap.add_argument("--rows", action="store_true", help=argparse.SUPPRESS)  # the "before" side of --before
     args = ap.parse_args()
     masses = SweepSpec(m=value_range(0.0385, 0.0425, 5))
     gaps = SweepSpec(gap=value_range(0.038, 0.042, 3))
     evaluate_in_operation(masses.designs()[0], masses.settings, Operation(5.0, (3.0,), starts=1, max_cycles=18,
                                                                           levels=False))  # kernels loaded
+    if args.rows:
+        scratch_rows([("m", masses), ("gap", gaps)])
+        return
     tee = Tee(sys.stdout)
     with contextlib.redirect_stdout(tee):
+        if args.before:
+            before_after([("m", masses), ("gap", gaps)], args.before)
         profile(masses)
         if not args.profile:
             table([("m", masses), ("gap", gaps)])
             levels_cost(masses)
     if args.write:
-        _write_markdown(results_header("python benchmarks/bench_operation.py"), "".join(tee.parts))
+        command = " ".join(["python benchmarks/bench_operation.py", *(a for a in sys.argv[1:] if a != "--write")])
+        _write_markdown(results_header(command), "".join(tee.parts))
 
 
 if __name__ == "__main__":

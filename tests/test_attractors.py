@@ -45,3 +45,41 @@ def test_motions_without_impacts_are_one_motion_wherever_the_impact_mass_floats(
     assert a.impacts_per_cycle == b.impacts_per_cycle == 0
     assert abs(a.poincare[0, 2] - b.poincare[0, 2]) > 0.5  # the impact mass elsewhere
     assert same_motion(a, b)
+
+
+@pytest.mark.parametrize("mass,frequency", [(None, 3.5), (None, 5.0), (None, 7.0), (0.0395, 6.5)])
+def test_screened_checkpoints_keep_the_attractors_of_the_full_search(mass, frequency):
+    """Screening the checkpoints finds no motion the full search does not, and its largest amplitude.
+
+    At 6.5 Hz with a 39.5 g impact mass the full search's starts also reach a small orbit by a
+    shooting from far away, which the screened search may skip: a subset, with the same worst case.
+    """
+    from dataclasses import replace
+
+    from acoustiviz.dynamics.forced import SCREENED_CHECKPOINT_RETURN, SteadyStateOptions, attractors_at
+
+    model, ex = DamperModel(), Excitation(frequency, 5.0)
+    model = model if mass is None else replace(model, m=mass)
+    full = attractors_at(model, ex, SteadyStateOptions())
+    screened = attractors_at(model, ex, SteadyStateOptions(checkpoint_return=SCREENED_CHECKPOINT_RETURN))
+    assert screened.attractors and all(a.success for a in screened.attractors)
+    for a in screened.attractors:
+        assert any(same_motion(a, b) for b in full.attractors), a.regime
+    worst_full = max(full.attractors, key=lambda a: a.amplitude)
+    worst = max(screened.attractors, key=lambda a: a.amplitude)
+    assert worst.period == worst_full.period
+    se = np.hypot(worst.amplitude_std_err, worst_full.amplitude_std_err)
+    assert abs(worst.amplitude - worst_full.amplitude) <= max(3.0 * se, 1e-6 * worst_full.amplitude)
+    assert screened.cycles_integrated <= full.cycles_integrated
+
+
+def test_every_checkpoint_is_tried_unless_asked_and_the_screen_is_checked():
+    from acoustiviz._validate import ParameterError
+    from acoustiviz.dynamics.forced import SteadyStateOptions, check_settings
+
+    model, ex = DamperModel(), Excitation(5.0, 5.0)
+    assert check_settings(model, ex).checkpoint_return == np.inf
+    assert check_settings(model, ex, checkpoint_return=0.1).checkpoint_return == 0.1
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(ParameterError, match="checkpoint_return"):
+            check_settings(model, ex, SteadyStateOptions(checkpoint_return=bad))

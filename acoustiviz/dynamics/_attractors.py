@@ -2,10 +2,11 @@ r"""The attractors of the forced damper at one frequency: several starts, shooti
 
 Each start is run cycle by cycle on the Poincaré section (forcing phase 0). Whenever the section
 points return close to themselves after n cycles (scaled distance below :data:`TRIGGER` twice in
-a row), and at a few checkpoints regardless, the orbit is refined by shooting
-(:func:`._shooting.shoot`): Newton's method on ``P^n(s) = s``. A converged orbit is measured over
-one period (amplitude, impacts, energy) with its Floquet multipliers; a stable one ends the
-start, an unstable one (a saddle the run passed by) is kept aside and the run goes on.
+a row), and at a few checkpoints (when the best return is within ``settings.checkpoint_return``), the
+orbit is refined by shooting (:func:`._shooting.shoot`): Newton's method on ``P^n(s) = s``. A
+converged orbit is measured over one period (amplitude, impacts, energy) with its Floquet
+multipliers; a stable one ends the start, an unstable one (a saddle the run passed by) is kept
+aside and the run goes on.
 
 A start that finds no periodic orbit within ``max_cycles`` is measured over a window of
 :data:`._forced_steady.WINDOW_BATCHES` batches of :data:`._forced_steady.BATCH_CYCLES` cycles:
@@ -62,12 +63,18 @@ from ._shooting import PoincareMap, section_scale, shoot
 from ._status import STATUS_OK
 from .model import DamperModel
 
-__all__ = ["FrequencyAttractors", "start_states", "attractors_at", "steady_state", "same_motion"]
+__all__ = ["FrequencyAttractors", "start_states", "attractors_at", "steady_state", "same_motion",
+           "SCREENED_CHECKPOINT_RETURN"]
 
 #: Scaled return distance below which (twice in a row) a period is tried by shooting.
 TRIGGER = 1e-2
 #: Cycles at which the best period guess is tried by shooting even without a close return.
 CHECKPOINTS = (8, 32, 128, 512, 2048)
+#: ``checkpoint_return`` of a screened search (:class:`._forced_steady.SteadyStateOptions`): a point
+#: farther than this (scaled) from each of its last :data:`MAX_PERIOD` points is far from any periodic
+#: orbit, where Newton's method mostly fails after tens of cycles of Jacobians and step halvings. It
+#: may also skip the rare solve that converges from there to an orbit with a small basin.
+SCREENED_CHECKPOINT_RETURN = 0.1
 #: Scaled distance to a known stable periodic orbit within which a start is counted in its basin.
 CAPTURE_DISTANCE = 1e-4
 #: Cycles between comparisons of a non-periodic start with the known non-periodic attractors.
@@ -235,7 +242,8 @@ def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _O
         d = _period_guess(st.pts, k)
         close = np.flatnonzero((d < TRIGGER) & (prev < TRIGGER))
         prev = d
-        n = int(close[0]) if close.size else (int(np.argmin(d)) if k in CHECKPOINTS else 0)
+        checkpoint = k in CHECKPOINTS and float(np.min(d)) < settings.checkpoint_return
+        n = int(close[0]) if close.size else (int(np.argmin(d)) if checkpoint else 0)
         if n and k >= next_try:
             steady = st.refine(st.section, n, k)
             if steady is not None and steady.stable:

@@ -109,6 +109,10 @@ class SteadyStateOptions:
         Newmark steps per forcing period (None: :func:`default_steps_per_cycle`).
     max_impacts_per_cycle : int
         More impacts per cycle stop the run (chattering).
+    checkpoint_return : float
+        Scaled return distance below which a start's best period guess is tried by shooting at the
+        checkpoints of :mod:`._attractors` (> 0; inf, the default: at every checkpoint;
+        :data:`._attractors.SCREENED_CHECKPOINT_RETURN` screens out the points far from any orbit).
     """
 
     solver: str = "event"
@@ -119,6 +123,7 @@ class SteadyStateOptions:
     starts: int = FORCED_STARTS
     steps_per_cycle: int | None = None
     max_impacts_per_cycle: int = 200
+    checkpoint_return: float = math.inf
 
     def describe(self) -> dict:
         """The settings as a flat dict (for CSV and summaries)."""
@@ -468,8 +473,11 @@ def check_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOpt
     spc = settings.steps_per_cycle
     if spc is not None and int(spc) < 8:
         raise ParameterError("steps_per_cycle", f"must be >= 8, got {spc}")
+    ret = settings.checkpoint_return
+    if not (isinstance(ret, float) and ret == math.inf):  # inf: every checkpoint tried
+        ret = check_range("checkpoint_return", ret, 0.0, math.inf, low_open=True)
     return SteadyStateOptions(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
-                              steps_per_cycle=None if spc is None else int(spc), **ints)
+                              steps_per_cycle=None if spc is None else int(spc), checkpoint_return=ret, **ints)
 
 
 def _start(model, excitation, initial) -> tuple:

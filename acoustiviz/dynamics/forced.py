@@ -16,7 +16,14 @@ point one way, ``forced -> _forced_response -> _attractors -> _shooting -> _forc
 from __future__ import annotations
 
 from ..constants import EXCITATIONS, FORCED_SOLVERS
-from ._attractors import FrequencyAttractors, attractors_at, same_motion, start_states, steady_state
+from ._attractors import (
+    SCREENED_CHECKPOINT_RETURN,
+    FrequencyAttractors,
+    attractors_at,
+    same_motion,
+    start_states,
+    steady_state,
+)
 from ._forced_response import (
     SWEEPS,
     AttractorResponse,
@@ -47,6 +54,7 @@ continuation_seed = _seed
 
 __all__ = [
     "continuation_seed",
+    "SCREENED_CHECKPOINT_RETURN",
     "EXCITATIONS",
     "FORCED_SOLVERS",
     "MAX_PERIOD",

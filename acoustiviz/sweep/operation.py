@@ -177,11 +177,17 @@ class Operation:
         check_range("warm_radius", self.warm_radius, 0.0, math.inf)
 
     def options(self):
-        """The :class:`~acoustiviz.dynamics.forced.SteadyStateOptions` of a search from scratch."""
-        from ..dynamics.forced import SteadyStateOptions
+        """The :class:`~acoustiviz.dynamics.forced.SteadyStateOptions` of a search from scratch.
+
+        Screened checkpoints (:data:`acoustiviz.dynamics.forced.SCREENED_CHECKPOINT_RETURN`): a design's
+        worst case is that of its large attractors; a shooting from a point far from any return, which
+        rarely converges, is left out (it may skip an orbit with a small basin that one start reached so).
+        """
+        from ..dynamics.forced import SCREENED_CHECKPOINT_RETURN, SteadyStateOptions
 
         return SteadyStateOptions(solver=self.solver, restitution=self.restitution, tolerance=self.tolerance,
-                                  rtol=self.rtol, max_cycles=self.max_cycles, starts=self.starts)
+                                  rtol=self.rtol, max_cycles=self.max_cycles, starts=self.starts,
+                                  checkpoint_return=SCREENED_CHECKPOINT_RETURN)
 
     def excitation(self, frequency: float):
         """The :class:`~acoustiviz.dynamics.forced.Excitation` at ``frequency`` Hz."""
