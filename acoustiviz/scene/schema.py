@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..app.settings.auralize import ALL as _AURALIZE
 from ..app.settings.base import SIZE_RANGE
 from ..app.settings.damper import DAMPER
-from ..app.settings.design import DESIGN
+from ..app.settings.design import DESIGN, RANK_BY
 from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
@@ -193,7 +193,7 @@ _OUT = {
         "coefficient of restitution against impact mass (paper Figure 7)"),
     "sweep": Table(_from_table(SWEPT + SWEEP + SCENE_SWEEP + SWEEP_SOUND, "outputs.sweep"),
                    "sweep over gap and impact mass (paper Figure 6)"),
-    "design_table": Table(_from_table(DESIGN, "outputs.design_table"),
+    "design_table": Table(_from_table(DESIGN + (RANK_BY,), "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),
     "wav": Table({k: _WAV[k] for k in ("rate_hz", "stereo", "subtype", "struck_wall", "walls", "late_tail",
                                        "tail_seed", "tail_decay", "transition_s", "absorption_bands")},
