@@ -207,3 +207,79 @@ def test_design_ranks_a_sweep_in_operation(tmp_path, capsys):
     assert capsys.readouterr().err.startswith("acoustiviz design: error: --rank-by")
     assert main(["design", "--sweep", str(tmp_path), "--rank-by", "worst_laeq_db", "--inclination", "0.008"]) == 2
     assert capsys.readouterr().err.startswith("acoustiviz design: error: --inclination")
+
+
+def test_a_failed_design_is_a_row_with_its_reason(tmp_path, monkeypatch, capsys):
+    real = operation_module.evaluate_in_operation
+
+    def failing(design, *args, **kwargs):
+        if design.design_id == 1:
+            raise FloatingPointError("overflow in the contact")
+        return real(design, *args, **kwargs)
+
+    monkeypatch.setattr(operation_module, "evaluate_in_operation", failing)
+    with ThreadPoolExecutor(1) as ex:
+        job = _api_job(tmp_path, executor="process")
+        table = run_sweep_in_operation(job.spec, job.operation, tmp_path, executor=ex)
+    assert table["success"].tolist() == [1, 0] and table.failed.tolist() == [False, True]
+    assert table["error"][1] == "FloatingPointError: overflow in the contact"
+    assert math.isnan(table["worst_laeq_db"][1]) and table["worst_regime"][1] == ""
+    result = sweep_app.SweepResult(job, table, (), 0.0)
+    assert "failed designs: 1 (design_id 1;" in "\n".join(sweep_app.sweep_summary(result))
+
+
+_CHILD = """
+import pathlib, sys, time
+import acoustiviz.sweep.operation as op
+gate, after = pathlib.Path(sys.argv[1]), int(sys.argv[2])
+real = op.evaluate_in_operation_or_fail
+def gated(design, *args, **kwargs):
+    while design.design_id >= after and not gate.exists():
+        time.sleep(0.01)
+    return real(design, *args, **kwargs)
+op.evaluate_in_operation_or_fail = gated
+from acoustiviz.cli import main
+sys.exit(main(sys.argv[3:]))
+"""
+#: Nine designs: a first chain of eight (OPERATION_CHAIN) and a second of one, which waits at the gate.
+NINE = ["sweep", "--m", "0.03:0.07:9", "--force", "5", "--freq", "6.5,7", "--starts", "2", "--max-cycles", "18",
+        "--noise-seconds", "0.02", "--workers", "1", "--quiet"]
+
+
+@pytest.mark.slow
+def test_ctrl_c_keeps_the_finished_chains_and_the_same_command_resumes(tmp_path, capsys):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import threading
+    import time
+
+    from acoustiviz.sweep.in_operation import OPERATION_CHAIN
+
+    assert OPERATION_CHAIN == 8
+    out, gate = tmp_path / "c", tmp_path / "gate"
+    env = dict(os.environ, MPLBACKEND="Agg")
+    proc = subprocess.Popen([sys.executable, "-c", _CHILD, str(gate), "8", *NINE, "--out", str(out)], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    watchdog = threading.Timer(300.0, gate.touch)  # a hang detector: never leave the child waiting
+    watchdog.start()
+    try:
+        t0 = time.monotonic()
+        while not ((out / "sweep.csv").exists() and (out / "sweep.csv").read_bytes().count(b"\n") >= 9):
+            assert proc.poll() is None, proc.stderr.read()[-2000:]
+            assert time.monotonic() - t0 < 300.0, "the first chain's rows never appeared"
+            time.sleep(0.01)
+        os.killpg(proc.pid, signal.SIGINT)  # parent and worker alike, as a terminal's Ctrl-C
+        err = proc.communicate(timeout=120)[1]
+    finally:
+        gate.touch()
+        watchdog.cancel()
+    assert proc.returncode == 130, err[-2000:]
+    assert "sweep: stopped; 8 of 9 designs kept" in err
+    kept = (out / "sweep.csv").read_text()
+    assert main([*NINE, "--out", str(out)]) == 0
+    assert "8 of 9 designs done before, 1 to compute" in capsys.readouterr().err
+    final = (out / "sweep.csv").read_text()
+    assert final.startswith(kept) and final.count("\n") == 10
+    assert load_any_sweep(out)["design_id"].tolist() == list(range(9))
