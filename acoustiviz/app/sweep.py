@@ -8,7 +8,12 @@ Three parts, shared by ``acoustiviz sweep``, a scene's ``[outputs.sweep]`` and P
   ``sweep.csv`` row per finished design, so an interrupted sweep keeps what finished and the same job
   resumes it -- and returns a :class:`SweepResult`;
 * :meth:`SweepResult.write`, which writes the reports: ``design_table.csv`` (paper Table 2) and, for
-  gap x mass sweeps, the Figure 6 maps.
+  gap x mass sweeps, the Figure 6 maps (none for a sweep in operation, whose rows are the product and
+  which ``acoustiviz design`` ranks).
+
+A job with an ``operation`` (``--force``/``--base`` and ``--freq``, or ``in_operation`` in a scene)
+evaluates every design in operation (:mod:`acoustiviz.sweep.in_operation`): ``sweep.csv`` then holds
+:data:`~acoustiviz.sweep.OPERATION_COLUMNS`.
 
 The scene builds the job in :func:`sweep_settings` from the same records, so the same settings give the
 same ``sweep.json`` -- and either front end resumes the other's folder. SI units; angles in rad.
@@ -236,9 +241,10 @@ def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
     """The scene's ``[outputs.sweep]`` (gap x impact mass) as a :class:`SweepJob`.
 
     The listener is the scene's first; ``solver`` is the damper solver the scene resolved (default: its
-    ``"auto"`` choice); the folder is ``sweep`` in folder ``out`` (None: no folder, the checks of the scene's
-    settings alone, made before the run folder exists); the memory within ``grids.memory_limit_mb``; errors
-    name scene keys.
+    ``"auto"`` choice); with ``in_operation`` the designs are swept in operation under the scene's
+    ``[excitation]`` (its solver and rtol then the search's); the folder is ``sweep`` in folder ``out``
+    (None: no folder, the checks of the scene's settings alone, made before the run folder exists); the
+    memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
     from ..errors import SceneError
 

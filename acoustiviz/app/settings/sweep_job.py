@@ -158,13 +158,15 @@ class SweepJob(Settings):
         from ..budget import check_budget, sweep_estimate
 
         s = self.settings
-        if self.operation is not None:  # the attractor searches and click trains of one design per worker
+        if self.operation is not None:  # the attractor searches and click trains of each design at once
             from ..budget import forced_estimate
 
             op = self.operation
             est = forced_estimate(len(op.frequencies), op.max_cycles, noise_seconds=op.noise_seconds or 1.0)
             api = {"--max-cycles": "max_cycles", "--freq": "frequencies", "--noise-seconds": "noise_seconds"}
-            est = dataclasses.replace(est, options=tuple(self._name(api.get(o, o)) for o in est.options))
+            n = self.workers or 2  # designs at once, as the free sweep's estimate counts them
+            est = dataclasses.replace(est, memory=n * est.memory, what=f"{est.what}; {n} designs at once",
+                                      options=tuple(self._name(api.get(o, o)) for o in est.options))
             check_budget(est, self.max_memory_mb, cap_name=self._name("max_memory_mb"))
             return
         swept = {self._name(a): getattr(self, a) for a in ("gap", "m", "mass_ratio", "c1", "k_hertz", "material",
