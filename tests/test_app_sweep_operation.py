@@ -32,7 +32,8 @@ from acoustiviz.sweep.in_operation import OPERATION_RANK, load_any_sweep, run_sw
 MASSES, FREQS = (0.0405, 0.06), (6.5, 7.0)
 SEARCH = dict(starts=2, max_cycles=18, noise_seconds=0.02)
 ARGV = ("sweep", "--m", "0.0405,0.06", "--force", "5", "--freq", "6.5,7", "--starts", "2", "--max-cycles", "18",
-        "--noise-seconds", "0.02", "--duration", "5", "--workers", "1", "--quiet")
+        "--noise-seconds", "0.02", "--workers", "1", "--quiet")
+#: duration_s (the free run's) does not apply in operation: the scene's sweep leaves it at the command line's default.
 SCENE = ('[damper]\nsolver = "event"\n[excitation]\nkind = "force"\namplitude = 5.0\nfrequencies_hz = "6.5,7"\n'
          'starts = 2\nmax_cycles = 18\n[outputs.sweep]\nmass_kg = "0.0405,0.06"\ngap_m = "0.04"\nduration_s = 5.0\n'
          'workers = 1\nin_operation = true\nnoise_seconds = 0.02\n')
@@ -44,7 +45,7 @@ def _operation(**kw) -> Operation:
 
 
 def _api_job(out, **kw) -> SweepJob:
-    kw = {"m": MASSES, "settings": FixedSettings(duration=5.0), "workers": 1, "operation": _operation(), **kw}
+    kw = {"m": MASSES, "workers": 1, "operation": _operation(), **kw}
     return SweepJob(out=str(out), **kw)
 
 
@@ -141,7 +142,7 @@ def test_a_sweep_resumed_in_another_mode_or_operation_is_refused(tmp_path, monke
         run_sweep_in_operation(SweepSpec(m=MASSES), _operation(), tmp_path / "op", executor=ex)
     seen = _counting(monkeypatch)
     with pytest.raises(SweepMismatch, match="different settings"):
-        SweepJob(m=MASSES, settings=FixedSettings(duration=5.0), out=str(tmp_path / "op"), workers=1)
+        SweepJob(m=MASSES, out=str(tmp_path / "op"), workers=1)
     with pytest.raises(SweepMismatch, match="different settings.*operation.starts"):
         _api_job(tmp_path / "op", operation=_operation(starts=3))
     free = dict(m=(0.04,), settings=FixedSettings(duration=0.2), workers=1)
@@ -170,6 +171,8 @@ def _no_work(monkeypatch):
     (["--force", "5", "--freq", "5", "--rtol", "1e-15"], "--rtol"),
     (["--force", "5", "--freq", "5", "--noise-seconds", "61"], "--noise-seconds"),
     (["--force", "5", "--freq", "5", "--max-cycles", "10000000"], "--max-cycles"),
+    (["--force", "5", "--freq", "5", "--duration", "5"], "--duration"),  # the free run's alone
+    (["--force", "5", "--freq", "5", "--levels"], "--levels"),
     (["--force", "5", "--freq", "5", "--max-cycles", "1000000", "--max-memory", "1"], "--max-cycles"),
 ])
 def test_the_command_refuses_bad_input_before_any_work(tmp_path, capsys, monkeypatch, extra, option):

@@ -234,7 +234,12 @@ def _scene_given(scene, solver: str) -> dict:
                  surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
                  wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
                  room=scene.geometry_settings().get("room"), **stiffness)
-    return {**given, **_scene_operation(scene)}  # in operation: the search's solver and rtol
+    operation = _scene_operation(scene)
+    if operation:  # the search's solver and rtol; the free run's own settings left at their defaults
+        from .settings.sweep_operation import FREE_VIBRATION_ONLY
+
+        given = {k: v for k, v in given.items() if k not in FREE_VIBRATION_ONLY}
+    return {**given, **operation}
 
 
 def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:

@@ -17,9 +17,10 @@ import dataclasses
 
 from ...errors import ParameterError
 from .forced import AMPLITUDE, FORCED, FREQUENCIES
+from .sweep import SWEEP
 from .table import by_name
 
-__all__ = ["OPERATION_OPTIONS", "split_operation", "SEARCH"]
+__all__ = ["OPERATION_OPTIONS", "FREE_VIBRATION_ONLY", "split_operation", "SEARCH"]
 
 #: The search records of ``acoustiviz forced`` (the sweep's ``--solver`` and ``--rtol`` set those two in operation).
 SEARCH = by_name(FORCED)
@@ -39,6 +40,11 @@ OPERATION_OPTIONS = (
       for n in ("sweep", "starts", "tolerance", "max_cycles", "noise_seconds")),
 )
 
+#: The sweep's settings of the free run alone (its length, initial velocity, impact pulses and levels): a sweep in
+#: operation refuses them typed, and a scene's sweep in operation leaves them at the command line's defaults, so
+#: both build the same job.
+FREE_VIBRATION_ONLY = ("duration", "levels", "v0", "n_fastest", "pulse", "pulse_mass")
+
 _NAMES = tuple(s.name for s in OPERATION_OPTIONS)
 
 
@@ -48,7 +54,8 @@ def split_operation(given: dict) -> tuple:
     ``given`` holds values as typed: ``force`` in N or ``base`` in m, ``frequencies`` as text
     (``START:STOP:COUNT``, ``F1,F2,...`` or one value, in Hz), ``sweep``, ``starts``, ``tolerance``,
     ``max_cycles``, ``noise_seconds`` (s), and in operation ``solver`` and ``rtol``; absent ones take
-    ``acoustiviz forced``'s defaults. ``rest`` is ``given`` without them (the free-vibration solver and
+    ``acoustiviz forced``'s defaults. In operation, a value of :data:`FREE_VIBRATION_ONLY` other than its
+    default is refused. ``rest`` is ``given`` without them (the free-vibration solver and
     rtol stay when there is no operation). Errors name the API parameter.
     """
     from ...sweep import Operation
@@ -62,6 +69,10 @@ def split_operation(given: dict) -> tuple:
             raise ParameterError(next(iter(typed)), "applies only to a sweep in operation (give --force F0 or "
                                                     "--base B, and --freq)")
         return None, rest
+    unset = (None, False, SWEEP[0].default)  # not given (the command line fills in the duration's default)
+    free = [k for k in FREE_VIBRATION_ONLY if rest.get(k) not in unset]
+    if free:
+        raise ParameterError(free[0], "applies only to a sweep of free vibration, not to one in operation")
     if force is not None and base is not None:
         raise ParameterError("base", "give either a force amplitude (--force) or a base amplitude, not both")
     if "frequencies" not in typed:
