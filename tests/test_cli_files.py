@@ -234,7 +234,8 @@ def test_every_command_has_the_flag(capsys):
     for leaf in leaves:
         flags = [a for a in leaf._actions if a.dest == "replace"]
         assert len(flags) == 1 and flags[0].option_strings in (["--force", "--replace"], ["--replace"]), leaf.prog
-        assert (flags[0].option_strings == ["--replace"]) == (leaf.prog == "acoustiviz forced"), leaf.prog
+        amplitude = leaf.prog in ("acoustiviz forced", "acoustiviz sweep")  # their --force is the force amplitude
+        assert (flags[0].option_strings == ["--replace"]) == amplitude, leaf.prog
 
 
 def test_replace_is_one_spelling_of_force_on_every_command(here, capsys):
@@ -274,9 +275,9 @@ def test_a_new_sweep_does_not_replace_a_design_table_it_did_not_write(here, caps
     rc = call(["sweep", *SWEEP_ARGS, "--out", "sw"])
     err = capsys.readouterr().err
     assert_user_error(rc, err, "design_table.csv")
-    assert "pass --force" in err
+    assert "pass --replace" in err  # sweep's --force is the force amplitude of a sweep in operation
     assert sorted(p.name for p in (here / "sw").iterdir()) == ["design_table.csv"]
-    assert call(["sweep", *SWEEP_ARGS, "--out", "sw", "--force"]) == 0, capsys.readouterr().err
+    assert call(["sweep", *SWEEP_ARGS, "--out", "sw", "--replace"]) == 0, capsys.readouterr().err
     assert (here / "sw" / "design_table.csv").read_text() != "mine\n"
 
 

@@ -36,13 +36,17 @@ class DesignTableResult:
     bands : tuple of acoustiviz.sweep.Band
         The design table with the job's definition and band width (inclinations in m/s, levels in dB).
     choice : acoustiviz.sweep.DesignChoice or None
-        The answer for the target (None without one).
+        The answer for the target (None without one, and for a sweep in operation).
+    ranking : tuple of int
+        A sweep in operation: the rows of its successful designs, best first by ``rank_by``
+        (:func:`acoustiviz.sweep.in_operation.rank_in_operation`); empty for free vibration.
     """
 
     settings: DesignJob
     table: object
     bands: tuple
     choice: object
+    ranking: tuple = ()
 
     def lines(self) -> list[str]:
         """The report: an unfinished sweep noted, the choice, and with ``table`` the design table."""
@@ -50,6 +54,8 @@ class DesignTableResult:
         lines = []
         if not rows.complete:
             lines.append(f"note: the sweep is unfinished ({len(rows)} of {len(rows.spec.designs())} designs)")
+        if rows.operation is not None:
+            return lines + self._operation_lines()
         if self.choice is not None:
             lines += self.choice.summary().splitlines()
         if s.table:
@@ -57,6 +63,27 @@ class DesignTableResult:
                       f"{'e (cm/s)':>9} {'n':>4} {'min SPLmax':>11} {'max SPLmax':>11} {'decrease':>9}  "
                       "quietest (m, d)"]
             lines += [_band_line(b) for b in self.bands]
+        return lines
+
+    def _operation_lines(self) -> list[str]:
+        """A sweep in operation: its excitation, then its designs best first by ``rank_by`` (at most ten)."""
+        from ..sweep.in_operation import OPERATION_RANK
+
+        op, rows, k = self.table.operation, self.table, self.settings.rank_by
+        f, unit = op.frequencies, "N" if op.kind == "force" else "m"
+        sense = "smallest" if OPERATION_RANK[k] > 0 else "largest"
+        lines = [f"sweep in operation: {op.kind} amplitude {op.amplitude:g} {unit} at {len(f)} frequencies "
+                 f"{f[0]:g}-{f[-1]:g} Hz; {len(self.ranking)} of {len(rows)} designs ranked by {k} ({sense} first; "
+                 "failed designs and designs without a value left out)"]
+        if self.ranking:
+            i = self.ranking[0]
+            lines.append(f"best: design {rows['design_id'][i]} (m = {rows['mass_kg'][i]:.6g} kg, d = "
+                         f"{rows['gap_m'][i]:.6g} m): {k} {rows[k][i]:.6g}")
+            cols = [k] + [c for c in ("worst_laeq_db", "min_reduction_db", "worst_amplitude_m") if c != k]
+            head = f"{'rank':>4} {'design':>6} {'m (kg)':>10} {'d (m)':>10} "
+            lines.append(head + " ".join(f"{c:>18}" for c in cols))
+            lines += [f"{n + 1:4d} {rows['design_id'][i]:6d} {rows['mass_kg'][i]:10.6g} {rows['gap_m'][i]:10.6g} "
+                      + " ".join(f"{rows[c][i]:18.6g}" for c in cols) for n, i in enumerate(self.ranking[:10])]
         return lines
 
     def write(self, folder=None) -> list:
@@ -82,7 +109,9 @@ class DesignTableResult:
 
             ax = plot_design_table(self.bands, paper=PAPER_TABLE2)
             paths.append(save_figure(ax.figure, files["png"]))
-        if "choice" in files and self.choice is not None:
+        if "choice" in files and self.table.operation is not None:  # the ranking of a sweep in operation
+            paths.append(write_text_atomic(files["choice"], "\n".join(self._operation_lines()) + "\n"))
+        elif "choice" in files and self.choice is not None:
             paths.append(write_text_atomic(files["choice"], self.choice.summary() + "\n"))
         return paths
 
@@ -110,14 +139,18 @@ def run(settings: DesignJob, table=None) -> DesignTableResult:
     DesignTableResult
     """
     from ..errors import ParameterError, user_terms
-    from ..sweep import design, design_table, load_sweep
+    from ..sweep import design, design_table
+    from ..sweep.in_operation import load_any_sweep, rank_in_operation
 
     s = settings
     if table is None:
         if s.sweep is None:
             raise ParameterError(s.names.get("sweep", "sweep"), "a design needs a sweep folder or its rows")
         with user_terms(s.names):
-            table = load_sweep(s.sweep)
+            table = load_any_sweep(s.sweep)
+    if table.operation is not None:
+        with user_terms(s.names):
+            return DesignTableResult(s, table, (), None, tuple(int(i) for i in rank_in_operation(table, s.rank_by)))
     bands = tuple(design_table(table, definition=s.definition, width=s.band_width))
     choice = None if s.inclination is None else design(table, s.inclination, s.tolerance, definition=s.definition,
                                                        rank_by=s.rank_by)
@@ -132,11 +165,14 @@ def design_settings(scene, out=None) -> DesignJob:
     run folder exists); errors name scene keys.
     """
     opts = scene.output("design_table")
-    files = {} if out is None else {k: str(Path(out) / name) for k, name in DESIGN_FILES.items()}
+    in_operation = scene.output("sweep")["in_operation"]  # a ranking, no design table figure
+    files = {} if out is None else {k: str(Path(out) / name) for k, name in DESIGN_FILES.items()
+                                    if not (in_operation and k == "png")}
     sweep = None if out is None or not (Path(out) / "sweep").is_dir() else str(Path(out) / "sweep")
     names = {**DesignJob.scene_names(), "sweep": "outputs.sweep", "png": "outputs.design_table",
              "choice": "outputs.design_table", "max_memory_mb": "grids.memory_limit_mb"}
     return DesignJob(inclination=opts["inclination_m_s"], tolerance=opts["tolerance_m_s"], sweep=sweep,
+                     rank_by=opts["rank_by"],
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
 
 
@@ -149,6 +185,11 @@ def produce_design_table(ctx):
     for path in settings.files().values():  # only the files checked before the run
         ctx.path(Path(path).name)
     result = run(settings, table=rows)
+    if rows.operation is not None:
+        figs = {"ranked": str(len(result.ranking))}
+        if result.ranking:
+            figs["best_design"] = str(rows["design_id"][result.ranking[0]])
+        return [Product("design_table", p, figs) for p in result.write()]
     png, *choice = result.write()
     products = [Product("design_table", png, {"bands": str(len(result.bands))})]
     if choice:

@@ -23,10 +23,12 @@ from collections.abc import Mapping
 from ..errors import user_terms
 from .settings.damper import DAMPER
 from .settings.design import DESIGN, DESIGN_RUN
+from .settings.forced import FORCED
 from .settings.impact import IMPACT, OBSERVER, WAVEFORM
 from .settings.room import ROOM
 from .settings.scene import CONFIGURATION_KEYS
 from .settings.sweep import SCENE_SWEEP, SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
+from .settings.sweep_operation import OPERATION_OPTIONS
 from .settings.table import by_name
 
 __all__ = ["user_terms", "DAMPER_OPTIONS", "IMPACT_OPTIONS", "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS",
@@ -68,7 +70,7 @@ SCENE_IMPACT_KEYS = _names("path", IMPACT + CONFIGURATION_KEYS, {"k_hertz": "k_h
 
 #: :class:`~acoustiviz.app.settings.sweep_job.SweepJob` parameter (and the :class:`~acoustiviz.sweep.SweepSpec`'s and
 #: :class:`~acoustiviz.sweep.FixedSettings`' it sets) -> ``acoustiviz sweep`` option.
-_SWEEP_RECORDS = SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SWEEP_RUN
+_SWEEP_RECORDS = SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SWEEP_RUN + OPERATION_OPTIONS
 _SWEEP_ALIASES = {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"}
 SWEEP_OPTIONS = {**_names("option", _SWEEP_RECORDS, _SWEEP_ALIASES), "max_memory_mb": "--max-memory"}
 
@@ -83,6 +85,10 @@ SCENE_SWEEP_KEYS = {
     **_names("path", SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SCENE_SWEEP),
     **{k: "listeners" for k in ("distance", "angle", "angle_deg")},
     "radius_mode": SCENE_IMPACT_KEYS["radius"], "out": "outputs.sweep", "max_memory_mb": "grids.memory_limit_mb",
+    # in operation (outputs.sweep.in_operation): the scene's [excitation], as its frequency response reads it
+    "force": "excitation.amplitude", "base": "excitation.amplitude", "frequencies": "excitation.frequencies_hz",
+    "kind": "excitation.kind", "amplitude": "excitation.amplitude",
+    **{r.name: r.path for r in FORCED if r.table == "excitation" and r.name not in ("solver", "rtol")},
 }
 
 #: :class:`~acoustiviz.app.design.DesignJob` parameter -> ``acoustiviz design`` option.

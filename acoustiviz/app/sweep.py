@@ -8,7 +8,12 @@ Three parts, shared by ``acoustiviz sweep``, a scene's ``[outputs.sweep]`` and P
   ``sweep.csv`` row per finished design, so an interrupted sweep keeps what finished and the same job
   resumes it -- and returns a :class:`SweepResult`;
 * :meth:`SweepResult.write`, which writes the reports: ``design_table.csv`` (paper Table 2) and, for
-  gap x mass sweeps, the Figure 6 maps.
+  gap x mass sweeps, the Figure 6 maps (none for a sweep in operation, whose rows are the product and
+  which ``acoustiviz design`` ranks).
+
+A job with an ``operation`` (``--force``/``--base`` and ``--freq``, or ``in_operation`` in a scene)
+evaluates every design in operation (:mod:`acoustiviz.sweep.in_operation`): ``sweep.csv`` then holds
+:data:`~acoustiviz.sweep.OPERATION_COLUMNS`.
 
 The scene builds the job in :func:`sweep_settings` from the same records, so the same settings give the
 same ``sweep.json`` -- and either front end resumes the other's folder. SI units; angles in rad.
@@ -48,7 +53,8 @@ class SweepResult:
     table : acoustiviz.sweep.SweepTable
         Every row of the folder.
     bands : tuple of acoustiviz.sweep.Band
-        The design table (paper Table 2) with the job's definition and band width.
+        The design table (paper Table 2) with the job's definition and band width (empty in operation:
+        no damping inclination).
     seconds : float
         Wall time of this run in s (reported only).
     """
@@ -83,6 +89,8 @@ class SweepResult:
         from ..output.plot.style import save_figure
         from ..sweep import write_design_table
 
+        if self.settings.operation is not None:  # the rows are the product; ranked by acoustiviz design
+            return []
         out = self.settings.folder() if folder is None else Path(folder)
         paths = [write_design_table(self.bands, out / DESIGN_TABLE_CSV)]
         if not self.others and len(self.table):
@@ -116,6 +124,13 @@ def run(settings: SweepJob, progress=None, *, bar=None) -> SweepResult:
 
     s = settings
     t0 = time.perf_counter()
+    if s.operation is not None:
+        from ..sweep.in_operation import run_sweep_in_operation
+
+        with user_terms(s.names):
+            table = run_sweep_in_operation(s.spec, s.operation, s.folder(), executor=s.executor, workers=s.workers,
+                                           progress=progress, bar=bar, overwrite=s.overwrite)
+        return SweepResult(s, table, (), time.perf_counter() - t0)
     with user_terms(s.names):
         table = run_sweep(s.spec, s.folder(), executor=s.executor, workers=s.workers, progress=progress, bar=bar,
                           overwrite=s.overwrite)
@@ -141,12 +156,32 @@ def sweep_summary(result: SweepResult, paths=()) -> list[str]:
         lines.append(f"failed designs: {n_failed} (design_id {ids}{', ...' if n_failed > 10 else ''}; "
                      f"reasons in the error column of {result.journal})")
     lines += [f"wrote {p}" for p in paths]
+    if result.settings.operation is not None:
+        return lines + _operation_lines(result)
     if result.others:
         lines.append(f"maps skipped: they need only --gap and --m swept (also swept: {', '.join(result.others)})")
     best = max(result.bands, key=lambda b: b.decrease_db, default=None)
     if best is not None:
         lines.append(f"largest acoustic saving at equal damping ({result.settings.definition}): {best.decrease_db:.1f} "
                      f"dB in the band {100 * best.low:.3g}-{100 * best.high:.3g} cm/s ({best.n_designs} designs)")
+    return lines
+
+
+def _operation_lines(result: SweepResult) -> list[str]:
+    """The excitation of a sweep in operation and its quietest design by the worst LAeq."""
+    from ..sweep.in_operation import rank_in_operation
+
+    op, table = result.settings.operation, result.table
+    f = op.frequencies
+    unit = "N" if op.kind == "force" else "m"
+    lines = [f"in operation: {op.kind} amplitude {op.amplitude:g} {unit}, {len(f)} frequencies "
+             f"{f[0]:g}-{f[-1]:g} Hz, {op.starts} starts, solver {op.solver}"]
+    best = rank_in_operation(table, "worst_laeq_db")
+    if best.size:
+        i = best[0]
+        lines.append(f"quietest by worst_laeq_db: design {table['design_id'][i]} (m {1000 * table['mass_kg'][i]:.1f} "
+                     f"g, d {100 * table['gap_m'][i]:.2f} cm): {table['worst_laeq_db'][i]:.1f} dB, smallest "
+                     f"reduction {table['min_reduction_db'][i]:.1f} dB")
     return lines
 
 
@@ -164,6 +199,24 @@ def _scene_listener(scene) -> tuple:
     return distance, math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(geom.axis)) / distance))))
 
 
+def _scene_operation(scene) -> dict:
+    """The values of a sweep in operation (``in_operation``): the scene's ``[excitation]``, else none.
+
+    The excitation is the scene's one, as its frequency response reads it; the level interval is
+    ``[outputs.sweep] noise_seconds`` (the record of ``--noise-seconds``).
+    """
+    opts = scene.output("sweep")
+    if not opts["in_operation"]:
+        return {}
+    from .settings.forced import FORCED
+
+    excitation = scene.section("excitation")
+    search = {s.name: excitation[s.key] for s in FORCED if s.table == "excitation"}  # the scene's checked values
+    return {excitation["kind"]: excitation["amplitude"], "frequencies": excitation["frequencies_hz"],
+            **{k: search[k] for k in ("sweep", "solver", "starts", "tolerance", "rtol", "max_cycles")},
+            "noise_seconds": opts["noise_seconds"]}
+
+
 def _scene_given(scene, solver: str) -> dict:
     """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values of a scene's tables."""
     from ..dynamics import solver_method
@@ -175,23 +228,30 @@ def _scene_given(scene, solver: str) -> dict:
     from_mass = s["damper_radius"] == "from-mass"
     stiffness = {"material": s["material"]} if (s["material"] and c["k_hertz_n_m1_5"] is None) else \
         {"k_hertz": scene.k_hertz()}
-    return dict(gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
-                distance=distance, angle_deg=angle_deg, config=scene.section("configuration")["kind"],
-                M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"],
-                duration=opts["duration_s"], solver=solver, rtol=solver_method(d["solver"]).run_rtol(d["tolerance"]),
-                radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
-                surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
-                wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
-                room=scene.geometry_settings().get("room"), **stiffness)
+    given = dict(gap=opts["gap_m"], m=opts["mass_kg"], c1=d["contact_damping_n_s_m"], v0=d["initial_velocity_m_s"],
+                 distance=distance, angle_deg=angle_deg, config=scene.section("configuration")["kind"],
+                 M=d["main_mass_kg"], K=d["stiffness_n_m"], C=d["damping_n_s_m"], clip_tensile=d["clip_tensile"],
+                 duration=opts["duration_s"], solver=solver, rtol=solver_method(d["solver"]).run_rtol(d["tolerance"]),
+                 radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
+                 surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
+                 wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
+                 room=scene.geometry_settings().get("room"), **stiffness)
+    operation = _scene_operation(scene)
+    if operation:  # the search's solver and rtol; the free run's own settings left at their defaults
+        from .settings.sweep_operation import FREE_VIBRATION_ONLY
+
+        given = {k: v for k, v in given.items() if k not in FREE_VIBRATION_ONLY}
+    return {**given, **operation}
 
 
 def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
     """The scene's ``[outputs.sweep]`` (gap x impact mass) as a :class:`SweepJob`.
 
     The listener is the scene's first; ``solver`` is the damper solver the scene resolved (default: its
-    ``"auto"`` choice); the folder is ``sweep`` in folder ``out`` (None: no folder, the checks of the scene's
-    settings alone, made before the run folder exists); the memory within ``grids.memory_limit_mb``; errors
-    name scene keys.
+    ``"auto"`` choice); with ``in_operation`` the designs are swept in operation under the scene's
+    ``[excitation]`` (its solver and rtol then the search's); the folder is ``sweep`` in folder ``out``
+    (None: no folder, the checks of the scene's settings alone, made before the run folder exists); the
+    memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
     from ..errors import SceneError
 
@@ -222,11 +282,16 @@ def produce_sweep(ctx):
     import numpy as np
 
     table = result.table
-    spl = np.asarray(table["max_spl_db"])
     figs = {"designs": str(len(table))}
     n_failed = int(table.failed.sum())
     if n_failed:
         figs["failed_designs"] = str(n_failed)
+    if result.settings.operation is not None:
+        laeq = np.asarray(table["worst_laeq_db"])
+        if np.isfinite(laeq).any():
+            figs["worst_laeq_db_range"] = f"{np.nanmin(laeq):.1f}-{np.nanmax(laeq):.1f}"
+        return [Product("sweep", result.journal, figs)]
+    spl = np.asarray(table["max_spl_db"])
     if np.isfinite(spl).any():
         figs["max_spl_db_range"] = f"{np.nanmin(spl):.1f}-{np.nanmax(spl):.1f}"
     best = max(result.bands, key=lambda b: b.decrease_db, default=None)

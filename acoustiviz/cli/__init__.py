@@ -7,9 +7,9 @@ answers at once. Any :class:`acoustiviz._validate.ParameterError` raised while a
 subcommand runs becomes a one-line message on stderr and exit status 2; so does a file that
 cannot be written or read (an :class:`OSError`, named by its file) and memory running out.
 
-Every command takes ``--force``, also spelled ``--replace`` (the one spelling on ``forced``, whose
-``--force`` is the force amplitude): without it an existing output file, named or derived, is refused before any work
-(:mod:`acoustiviz.app.outputs`).
+Every command takes ``--force``, also spelled ``--replace`` (the one spelling on ``forced`` and
+``sweep``, whose ``--force`` is the force amplitude): without it an existing output file, named or
+derived, is refused before any work (:mod:`acoustiviz.app.outputs`).
 
 Every command takes ``--max-memory MB``: it estimates the memory and the output size of its work
 before starting (:mod:`acoustiviz.app.budget`) and refuses work over the cap (default
@@ -61,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=f"Every command estimates its memory and output size before starting and refuses work over "
                f"{MAX_MEMORY_MB:g} MB (change the cap with --max-memory MB). Bad input: one line naming the "
                "option, exit status 2. An existing output file, or one written beside it, is replaced only with "
-               "--force or --replace (only --replace on forced, whose --force is the force amplitude).",
+               "--force or --replace (only --replace on forced and sweep, whose --force is the force amplitude).",
     )
     from .. import __version__
 

@@ -8,7 +8,9 @@ Among the designs of ``DIR/sweep.csv`` whose damping inclination lies within the
 the target, prints the quietest (m, d), its maximum SPL, and by how many dB it is quieter than
 the loudest (the acoustic-based design of the paper, Table 2); ``--rank-by lafmax_db`` (or any
 numeric column) ranks by another level; ``--png`` and ``--choice`` also write the design table's
-figure and the answer, as a scene's ``[outputs.design_table]`` does.
+figure and the answer, as a scene's ``[outputs.design_table]`` does. A sweep in operation
+(``acoustiviz sweep --force``) has no damping inclination: ``acoustiviz design --sweep DIR --rank-by
+worst_laeq_db`` lists its designs best first by that column (``min_reduction_db``: largest first).
 
 argv -> :class:`~acoustiviz.app.settings.design.DesignJob` (:func:`settings_from_args`) ->
 :func:`acoustiviz.app.design.run` -> the printed report and
@@ -33,7 +35,7 @@ def add_parser(subparsers):
         ),
     )
     for s in (*DESIGN, *DESIGN_RUN):
-        required = s.name in ("sweep", "inclination")
+        required = s.name == "sweep"  # --inclination too, unless the sweep is in operation (settings_from_args)
         add_option(p, s, **({"metavar": "M/S"} if s.unit == "m/s" else {}), **({"required": True} if required else {}))
     p.set_defaults(func=run)
     return p
@@ -43,11 +45,16 @@ def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.design.DesignJob` of the options; errors name the options."""
     from ..app.names import DESIGN_OPTIONS
     from ..app.settings.design import DesignJob
+    from ..errors import ParameterError
 
-    return DesignJob(inclination=args.inclination, tolerance=args.tolerance, sweep=args.sweep,
-                     definition=args.definition, table=args.table, band_width=args.band_width, rank_by=args.rank_by,
-                     png=args.png, choice=args.choice, max_memory_mb=getattr(args, "max_memory", None),
-                     names=DESIGN_OPTIONS)
+    job = DesignJob(inclination=args.inclination, tolerance=args.tolerance, sweep=args.sweep,
+                    definition=args.definition, table=args.table, band_width=args.band_width, rank_by=args.rank_by,
+                    png=args.png, choice=args.choice, max_memory_mb=getattr(args, "max_memory", None),
+                    names=DESIGN_OPTIONS)
+    if args.inclination is None and job.operation is None:
+        raise ParameterError("--inclination", "is required for a sweep of free vibration (a sweep in operation is "
+                                              "ranked by --rank-by alone)")
+    return job
 
 
 def run(args) -> int:

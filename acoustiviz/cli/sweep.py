@@ -11,6 +11,11 @@ design, as they finish), ``DIR/design_table.csv`` (paper Table 2) and the paper'
 maps ``DIR/inclination_map.png`` and ``DIR/max_spl_map.png``. Running the same command again
 resumes an interrupted sweep and recomputes nothing that finished.
 
+With ``--force F0`` (or ``--base B``) and ``--freq START:STOP:COUNT`` every design is evaluated in
+operation over the band instead (:func:`acoustiviz.sweep.run_operation`, with the search options of
+``acoustiviz forced``): ``DIR/sweep.csv`` holds one row of worst-case columns per design, written as
+chains of designs finish, and ``acoustiviz design --rank-by`` ranks them.
+
 argv -> :class:`~acoustiviz.app.settings.sweep_job.SweepJob` (:func:`settings_from_args`) ->
 :func:`acoustiviz.app.sweep.run` -> :meth:`~acoustiviz.app.sweep.SweepResult.write` -> the summary.
 """
@@ -18,12 +23,15 @@ argv -> :class:`~acoustiviz.app.settings.sweep_job.SweepJob` (:func:`settings_fr
 from __future__ import annotations
 
 from ..app.settings.sweep import SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
+from ..app.settings.sweep_operation import OPERATION_OPTIONS, SEARCH
 from ..app.settings.table import add_option, by_name
 from ._impact import add_room_options
 
 #: ``--help`` group title -> its records; each option's destination is its API name.
 _GROUPS = (("swept parameters (VALUE, START:STOP:COUNT or A,B,C; SI units)", SWEPT),
-           ("damper (SI units)", SWEEP_DAMPER), ("sound (SI units)", SWEEP_SOUND))
+           ("damper (SI units)", SWEEP_DAMPER), ("sound (SI units)", SWEEP_SOUND),
+           ("in operation (as acoustiviz forced; --solver and --rtol then set the search's, default "
+            f"{SEARCH['solver'].default} and {SEARCH['rtol'].default:g})", OPERATION_OPTIONS))
 _RUN = by_name(SWEEP_RUN)
 
 

@@ -61,7 +61,7 @@ from .spec import Design, FixedSettings
 
 __all__ = ["OPERATION_COLUMNS", "OPERATION_DEFINITIONS", "Operation", "WarmStart", "evaluate_in_operation",
            "evaluate_in_operation_or_fail", "failed_operation_row", "evaluate_chain", "operation_chains",
-           "run_operation", "check_operation"]
+           "run_operation", "run_chains", "check_operation"]
 
 #: Column -> its unit and definition (one row per design; "attractor" means every attractor of every
 #: frequency of the band whose run the solver completed).
@@ -471,9 +471,7 @@ def run_operation(spec, operation: Operation, *, executor=None, workers: int | N
         died, has ``success`` 0 and the reason in ``error``. On ``KeyboardInterrupt`` the pending
         chains are cancelled, the pool stopped and the interrupt propagates.
     """
-    from concurrent.futures import FIRST_COMPLETED, wait
-
-    from .execute import _interruptible, _sigint_blocked, check_executor_form, make_executor, shutdown_now
+    from .execute import check_executor_form
     from .spec import SweepSpec
 
     if not isinstance(spec, SweepSpec):
@@ -484,13 +482,33 @@ def run_operation(spec, operation: Operation, *, executor=None, workers: int | N
     designs = spec.designs()
     check_operation(designs, spec.settings, operation)
     chains = operation_chains(designs, chain)
+    rows = run_chains(chains, spec.settings, operation, executor=executor, workers=workers, progress=progress,
+                      on_rows=on_rows, total=len(designs))
+    return [rows[d.design_id] for d in designs]
+
+
+def run_chains(chains, fixed: FixedSettings, operation: Operation, *, executor=None, workers: int | None = None,
+               progress=None, on_rows=None, total: int | None = None) -> dict:
+    """The rows of the chains of designs ``chains`` (:func:`operation_chains`), keyed by design id.
+
+    What :func:`run_operation` does once its inputs are checked; a resumed sweep hands it only the chains
+    it still lacks (:mod:`acoustiviz.sweep.in_operation`). ``total`` is the designs counted by ``progress``
+    (default: those of ``chains``).
+    """
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    from .execute import _interruptible, _sigint_blocked, make_executor, shutdown_now
+
+    total = sum(len(c) for c in chains) if total is None else total
     rows = {}
+    if not chains:
+        return rows
     with _interruptible():
-        ex, kind, cleanup, _ = make_executor(executor, workers, spec.settings, len(chains))
+        ex, kind, cleanup, _ = make_executor(executor, workers, fixed, len(chains))
         interrupted = True
         try:
             with _sigint_blocked():  # the first submission forks a local pool's workers
-                running = {ex.submit(evaluate_chain, c, spec.settings, operation): c for c in chains}
+                running = {ex.submit(evaluate_chain, c, fixed, operation): c for c in chains}
             while running:
                 done, _ = wait(running, return_when=FIRST_COMPLETED)
                 for fut in [f for f in running if f in done]:
@@ -498,12 +516,12 @@ def run_operation(spec, operation: Operation, *, executor=None, workers: int | N
                     try:
                         out = fut.result()
                     except Exception as exc:  # noqa: BLE001 - recorded in the chain's rows
-                        out = _chain_failed(c, spec.settings, exc)
+                        out = _chain_failed(c, fixed, exc)
                     rows.update((r["design_id"], r) for r in out)
                     if on_rows is not None:
                         on_rows(out)
                     if progress:
-                        progress(f"operation: {len(rows)} of {len(designs)} designs")
+                        progress(f"operation: {len(rows)} of {total} designs")
             interrupted = False
         finally:
             if kind != "given":
@@ -513,4 +531,4 @@ def run_operation(spec, operation: Operation, *, executor=None, workers: int | N
                     ex.shutdown(wait=True)
             if cleanup is not None:
                 cleanup()
-    return [rows[d.design_id] for d in designs]
+    return rows

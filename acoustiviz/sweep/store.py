@@ -54,6 +54,7 @@ __all__ = [
     "Journal",
     "spec_document",
     "read_spec",
+    "read_document",
     "prepare_dir",
     "check_dir",
     "previous_sweeps",
@@ -99,8 +100,10 @@ EXTRA_COLUMNS = (
     "error",
 )
 ALL_COLUMNS = CSV_COLUMNS + EXTRA_COLUMNS
-_TEXT_COLUMNS = ("material", "config", "error")
-_INT_COLUMNS = ("design_id", "n_impacts", "fit_n_maxima", "spl_impacts_evaluated", "success")
+# text and integer columns of both kinds of sweep (those in operation: acoustiviz.sweep.operation)
+_TEXT_COLUMNS = ("material", "config", "error", "worst_regime")
+_INT_COLUMNS = ("design_id", "n_impacts", "fit_n_maxima", "spl_impacts_evaluated", "success", "attractors",
+                "failed_runs", "cycles_integrated", "warm_from")
 #: The numeric columns of ``sweep.csv``.
 NUMERIC_COLUMNS = tuple(c for c in ALL_COLUMNS if c not in _TEXT_COLUMNS)
 
@@ -134,10 +137,14 @@ class SweepTable:
         The sweep's settings.
     columns : dict
         Column name (those of ``sweep.csv``) to a 1-D array; text columns are arrays of str.
+    operation : acoustiviz.sweep.Operation, optional
+        The excitation of a sweep in operation (its columns :data:`acoustiviz.sweep.OPERATION_COLUMNS`);
+        None: free vibration.
     """
 
     spec: SweepSpec
     columns: dict
+    operation: object = None
 
     def __len__(self) -> int:
         return int(self.columns["design_id"].size)
@@ -166,7 +173,7 @@ class SweepTable:
             a = v[mask]
             a.setflags(write=False)
             cols[k] = a
-        return SweepTable(self.spec, cols)
+        return SweepTable(self.spec, cols, self.operation)
 
     def inclination(self, definition: str = "two-maxima") -> np.ndarray:
         """Damping inclination in m/s by ``definition`` (``"two-maxima"``, paper eq 16, or ``"fit"``)."""
@@ -199,14 +206,15 @@ def _number(kind, text: str, column: str, where, name: str):
                                    "(the sweep's files are damaged)") from None
 
 
-def table_from_rows(spec: SweepSpec, rows: dict[int, dict], name: str = "sweep") -> SweepTable:
-    """A :class:`SweepTable` from rows of text values keyed by design id.
+def table_from_rows(spec: SweepSpec, rows: dict[int, dict], name: str = "sweep", *, columns=ALL_COLUMNS,
+                    operation=None) -> SweepTable:
+    """A :class:`SweepTable` from rows of text values keyed by design id (``columns``: those of the rows).
 
     A cell that is not a number where one belongs raises :class:`ParameterError` named ``name``.
     """
     ids = sorted(rows)
     cols = {}
-    for c in ALL_COLUMNS:
+    for c in columns:
         vals = [rows[i][c] for i in ids]
         if c in _TEXT_COLUMNS:
             cols[c] = np.array(vals, dtype=str)
@@ -217,7 +225,7 @@ def table_from_rows(spec: SweepSpec, rows: dict[int, dict], name: str = "sweep")
                                dtype=float)
     for a in cols.values():
         a.setflags(write=False)
-    return SweepTable(spec, cols)
+    return SweepTable(spec, cols, operation)
 
 
 def format_value(v) -> str:
@@ -232,17 +240,22 @@ def format_value(v) -> str:
 
 
 # --------------------------------------------------------------------------- sweep.json
-def spec_document(spec: SweepSpec) -> dict:
-    """The content of ``sweep.json``: the format, the writing version and every setting."""
+def spec_document(spec: SweepSpec, operation: dict | None = None) -> dict:
+    """The content of ``sweep.json``: the format, the writing version and every setting.
+
+    ``operation``: the excitation of a sweep in operation as plain values, kept under the spec's
+    ``operation`` key (absent for free vibration), so a folder resumes only in its own mode.
+    """
     from .. import __version__
 
+    d = spec.to_dict() if operation is None else {**spec.to_dict(), "operation": operation}
     return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "written_by": f"acoustiviz {__version__}",
-            "spec": spec.to_dict()}
+            "spec": d}
 
 
-def spec_text(spec: SweepSpec) -> str:
+def spec_text(spec: SweepSpec, operation: dict | None = None) -> str:
     """``sweep.json`` as written (two-space indented JSON and a final newline)."""
-    return json.dumps(spec_document(spec), indent=2) + "\n"
+    return json.dumps(spec_document(spec, operation), indent=2) + "\n"
 
 
 class _Damaged(ParameterError):
@@ -268,14 +281,20 @@ def _read_document(path: Path, name: str):
     return doc
 
 
-def read_spec(out_dir, name: str = "sweep") -> SweepSpec:
-    """The :class:`SweepSpec` stored in ``out_dir/sweep.json`` (errors named ``name``)."""
+def read_document(out_dir, name: str = "sweep") -> dict:
+    """``out_dir/sweep.json`` parsed (errors named ``name``: missing, unreadable, damaged)."""
     path = Path(out_dir) / SWEEP_JSON
     if not path.is_file():
         raise ParameterError(name, f"{out_dir} holds no {SWEEP_JSON}: not a sweep directory")
-    doc = _read_document(path, name)
+    return _read_document(path, name)
+
+
+def read_spec(out_dir, name: str = "sweep") -> SweepSpec:
+    """The :class:`SweepSpec` stored in ``out_dir/sweep.json`` (errors named ``name``)."""
+    path = Path(out_dir) / SWEEP_JSON
+    doc = read_document(out_dir, name)
     try:
-        return SweepSpec.from_dict(doc["spec"])
+        return SweepSpec.from_dict({k: v for k, v in doc["spec"].items() if k != "operation"})
     except (ValueError, KeyError, TypeError, AttributeError) as exc:
         raise _Damaged(name, f"{path} is damaged: {exc}") from None
 
@@ -291,7 +310,7 @@ def _differences(a: dict, b: dict, prefix="") -> list[str]:
     return out
 
 
-def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool) -> str:
+def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool, operation: dict | None = None) -> str:
     """What :func:`prepare_dir` will do with ``out``, without writing: ``"resume"``, ``"aside"`` or ``"new"``.
 
     Raises what :func:`prepare_dir` refuses (:class:`SweepMismatch`, a damaged ``sweep.json``).
@@ -305,7 +324,7 @@ def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool) -> str:
                 raise _Damaged("out", f"{exc.detail}; use another directory, or --overwrite to move it aside "
                                       "and start afresh") from None
             have = {"spec": {}}
-        diffs = _differences(have["spec"], spec_document(spec)["spec"])
+        diffs = _differences(have["spec"], spec_document(spec, operation)["spec"])
         if have.get("format_version") != _FORMAT_VERSION:
             diffs = diffs or [f"format_version: {have.get('format_version')!r} there, {_FORMAT_VERSION} now"]
         if diffs and not overwrite:
@@ -322,14 +341,15 @@ def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool) -> str:
     return "aside" if (out / SWEEP_CSV).exists() else "new"
 
 
-def check_dir(spec: SweepSpec, out, overwrite: bool = False) -> None:
+def check_dir(spec: SweepSpec, out, overwrite: bool = False, operation: dict | None = None,
+              columns=ALL_COLUMNS) -> None:
     """Refuse, writing nothing, a folder :func:`prepare_dir` would refuse or a journal :func:`read_rows` would."""
     out = Path(out)
-    if out.is_dir() and _dir_plan(spec, out, overwrite) == "resume":
-        read_rows(out / SWEEP_CSV, spec, "out")
+    if out.is_dir() and _dir_plan(spec, out, overwrite, operation) == "resume":
+        read_rows(out / SWEEP_CSV, spec, "out", columns=columns)
 
 
-def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
+def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False, operation: dict | None = None) -> None:
     """Create ``out`` with ``sweep.json``, or check that it holds the same settings.
 
     With ``overwrite``, a directory made with other settings has its ``sweep.csv`` and
@@ -341,12 +361,12 @@ def prepare_dir(spec: SweepSpec, out: Path, overwrite: bool = False) -> None:
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    plan = _dir_plan(spec, out, overwrite)
+    plan = _dir_plan(spec, out, overwrite, operation)
     if plan == "resume":
         return
     if plan == "aside":
         _move_aside(out)
-    write_text_atomic(out / SWEEP_JSON, spec_text(spec))
+    write_text_atomic(out / SWEEP_JSON, spec_text(spec, operation))
 
 
 def previous_sweeps(out) -> list[Path]:
@@ -382,7 +402,7 @@ def _move_aside(out: Path) -> None:
 
 
 # --------------------------------------------------------------------------- sweep.csv
-def _journal_lines(path: Path, name: str) -> list:
+def _journal_lines(path: Path, name: str, columns=ALL_COLUMNS) -> list:
     """The complete text lines of the journal ``path`` (a torn last line left out); the file is only read."""
     raw = path.read_bytes()
     try:
@@ -391,7 +411,7 @@ def _journal_lines(path: Path, name: str) -> list:
         raise ParameterError(name, f"{path} is damaged: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     lines = text.split("\n")
     torn = lines.pop()  # "" after a final newline; a kill in the middle of a row leaves a part of it
-    if torn and not lines and not (",".join(ALL_COLUMNS)).startswith(torn):
+    if torn and not lines and not (",".join(columns)).startswith(torn):
         raise ParameterError(name, f"{path} is damaged: no complete line and not the start of a sweep journal")
     return lines
 
@@ -407,8 +427,8 @@ def _matches_design(row: dict, designs) -> bool:
         return False
 
 
-def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]:
-    """Finished rows of ``sweep.csv`` keyed by design id; a torn last line is left out (the file is only read).
+def read_rows(path: Path, spec: SweepSpec, name: str = "out", *, columns=ALL_COLUMNS) -> dict[int, dict]:
+    """Finished rows of ``sweep.csv`` (``columns``: its header) keyed by design id; a torn last line left out.
 
     A damaged file (not UTF-8 text, other columns, a row with another number of fields or that
     matches no design) raises :class:`ParameterError` named ``name``.
@@ -416,14 +436,14 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
     path = Path(path)
     if not path.exists():
         return {}
-    lines = _journal_lines(path, name)
+    lines = _journal_lines(path, name, columns)
     if not lines:
         return {}
     try:
         header = next(csv.reader([lines[0]]))
     except csv.Error as exc:
         raise ParameterError(name, f"{path} line 1 is damaged: {exc}") from None
-    if tuple(header) != ALL_COLUMNS:
+    if tuple(header) != tuple(columns):
         raise SweepMismatch(name, f"{path} is damaged or from another version: its columns are not those this "
                                   "version writes; use another directory")
     designs = spec.designs()
@@ -437,7 +457,7 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
             raise ParameterError(name, f"{path} line {k} is damaged ({len(vals)} fields, {len(header)} expected)")
         row = dict(zip(header, vals, strict=True))
         same = _matches_design(row, designs)
-        for c in NUMERIC_COLUMNS:  # damage found on reading, naming the line, before any work
+        for c in (c for c in columns if c not in _TEXT_COLUMNS):  # damage found on reading, naming the line
             _number(int if c in _INT_COLUMNS else float, row[c], c, f"{path} line {k}", name)
         if not same:
             raise ParameterError(name, f"{path} line {k} is damaged: it matches no design of {SWEEP_JSON}")
@@ -445,7 +465,7 @@ def read_rows(path: Path, spec: SweepSpec, name: str = "out") -> dict[int, dict]
     return rows
 
 
-def put_in_design_order(path: Path, rows: dict[int, dict], designs) -> bool:
+def put_in_design_order(path: Path, rows: dict[int, dict], designs, columns=ALL_COLUMNS) -> bool:
     """Rewrite a finished ``sweep.csv`` with its rows in the order of ``designs``; True if it was rewritten.
 
     The journal appends each row as its design finishes, in an order that depends on the workers;
@@ -460,9 +480,9 @@ def put_in_design_order(path: Path, rows: dict[int, dict], designs) -> bool:
         return False
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(ALL_COLUMNS)
+    writer.writerow(columns)
     for i in order:
-        writer.writerow([rows[i][c] for c in ALL_COLUMNS])
+        writer.writerow([rows[i][c] for c in columns])
     write_text_atomic(path, buf.getvalue())
     return True
 
@@ -522,14 +542,15 @@ class Journal:
     own: open it only after :func:`read_rows` has accepted the rest of the file.
     """
 
-    def __init__(self, path):
+    def __init__(self, path, columns=ALL_COLUMNS):
         self.path = Path(path)
+        self.columns = tuple(columns)
         if self.path.exists():
             _cut_torn_line(self.path)
         new = not self.path.exists() or self.path.stat().st_size == 0
         self._f = open(self.path, "a", encoding="utf-8", newline="")  # noqa: SIM115 - closed by close()
         if new:
-            self._f.write(",".join(ALL_COLUMNS) + "\n")
+            self._f.write(",".join(self.columns) + "\n")
             self._sync()
             _fsync_dir(self.path.parent)
 
@@ -539,9 +560,9 @@ class Journal:
 
     def append(self, row: dict) -> dict:
         """Write one row (column name to value); return it as the text values written."""
-        text = {c: format_value(row[c]) for c in ALL_COLUMNS}
+        text = {c: format_value(row[c]) for c in self.columns}
         buf = io.StringIO()
-        csv.writer(buf, lineterminator="\n").writerow([text[c] for c in ALL_COLUMNS])
+        csv.writer(buf, lineterminator="\n").writerow([text[c] for c in self.columns])
         self._f.write(buf.getvalue())
         self._sync()
         return text

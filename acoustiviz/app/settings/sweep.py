@@ -32,6 +32,7 @@ from ...errors import ParameterError
 from .base import Settings
 from .damper import MODEL, RUN
 from .design import BAND_WIDTH, DEFINITION
+from .forced import FORCED
 from .table import Setting, by_name
 
 __all__ = ["SWEEP", "SWEPT", "SWEEP_DAMPER", "SWEEP_SOUND", "SWEEP_RUN", "SCENE_SWEEP", "RADIUS", "SweepSettings",
@@ -147,10 +148,15 @@ SWEEP_RUN = (
             "no progress bar (it is drawn only on a terminal anyway; the resume count is still shown)"),
 )
 
-#: The keys of a scene's ``[outputs.sweep]`` the command spells otherwise (its --workers has no 0).
+#: The keys of a scene's ``[outputs.sweep]`` the command spells otherwise (its --workers has no 0; the command
+#: sweeps in operation when given --force or --base).
 SCENE_SWEEP = (
     Setting("workers", None, "workers", "int", 0, "worker processes (0: all cores)", low=0, high=1024,
             table="outputs.sweep"),
+    Setting("in_operation", None, "in_operation", "bool", False,
+            "evaluate every design in operation under the scene's [excitation] (its kind, amplitude, frequencies "
+            "and search) instead of in free vibration", table="outputs.sweep"),
+    dataclasses.replace(by_name(FORCED)["noise_seconds"], option=None, key="noise_seconds", table="outputs.sweep"),
 )
 
 

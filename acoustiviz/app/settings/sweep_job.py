@@ -70,6 +70,9 @@ class SweepJob(Settings):
         Width of the design table's bands in m/s.
     max_memory_mb : float, optional
         Cap in MB on the estimated memory (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
+    operation : acoustiviz.sweep.Operation, optional
+        Evaluate every design in operation under this excitation over its band
+        (:mod:`acoustiviz.app.settings.sweep_operation`); None: free vibration from ``v0``.
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name (not compared).
     spec : acoustiviz.sweep.SweepSpec
@@ -95,12 +98,13 @@ class SweepJob(Settings):
     definition: str = "two-maxima"
     band_width: float = 0.001
     max_memory_mb: float | None = None
+    operation: object = None
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
     spec: object = dataclasses.field(default=None, init=False, compare=False, repr=False)
 
     def validate(self) -> None:
-        """The damper's ranges, the memory budget, the grid, the executor, then the folder."""
-        from ...sweep import FixedSettings
+        """The damper's ranges, the memory budget, the grid, the executor, the operation, then the folder."""
+        from ...sweep import FixedSettings, Operation
 
         if self.settings is None:
             object.__setattr__(self, "settings", FixedSettings())
@@ -109,12 +113,18 @@ class SweepJob(Settings):
             object.__setattr__(self, "m", (TABLE1_PARAMETERS["m"],))
         if self.k_hertz is None and self.material is None:
             object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
+        if self.operation is not None and not isinstance(self.operation, Operation):
+            raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
         self._check_ranges()
         self._check_budget()
         object.__setattr__(self, "spec", self._build_spec())
         from ...sweep.execute import check_executor_form
 
         check_executor_form(self.executor)
+        if self.operation is not None:
+            from ...sweep.operation import check_operation
+
+            check_operation(self.spec.designs(), self.settings, self.operation)
         if self.out is not None:
             self._check_folder()
 
@@ -148,6 +158,17 @@ class SweepJob(Settings):
         from ..budget import check_budget, sweep_estimate
 
         s = self.settings
+        if self.operation is not None:  # the attractor searches and click trains of each design at once
+            from ..budget import forced_estimate
+
+            op = self.operation
+            est = forced_estimate(len(op.frequencies), op.max_cycles, noise_seconds=op.noise_seconds or 1.0)
+            api = {"--max-cycles": "max_cycles", "--freq": "frequencies", "--noise-seconds": "noise_seconds"}
+            n = self.workers or 2  # designs at once, as the free sweep's estimate counts them
+            est = dataclasses.replace(est, memory=n * est.memory, what=f"{est.what}; {n} designs at once",
+                                      options=tuple(self._name(api.get(o, o)) for o in est.options))
+            check_budget(est, self.max_memory_mb, cap_name=self._name("max_memory_mb"))
+            return
         swept = {self._name(a): getattr(self, a) for a in ("gap", "m", "mass_ratio", "c1", "k_hertz", "material",
                                                            "v0", "distance", "angle", "config")}
         option = self._name("duration")
@@ -170,12 +191,18 @@ class SweepJob(Settings):
 
         name = self._name("out")
         out = check_output_dir(name, self.out)
-        if not (out / SWEEP_JSON).exists():  # a new sweep: its files must not replace others' unasked
+        if not (out / SWEEP_JSON).exists() and self.operation is None:  # a new sweep's reports replace none
             for report, kind in REPORTS.items():
                 if (out / report).exists() or (out / report).is_symlink():
                     check_output_file(name, out / report, kind)
         with user_terms({"out": name}):
-            check_dir(self.spec, out, self.overwrite)
+            if self.operation is None:
+                check_dir(self.spec, out, self.overwrite)
+            else:
+                from ...sweep.in_operation import operation_document
+                from ...sweep.operation import OPERATION_COLUMNS
+
+                check_dir(self.spec, out, self.overwrite, operation_document(self.operation), OPERATION_COLUMNS)
 
     def folder(self) -> Path:
         """The sweep folder, or a :class:`ParameterError` naming ``out`` when there is none."""
@@ -224,7 +251,9 @@ def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
         listener): ``gap``, ``m`` or ``mass_ratio``, ``c1``, ``k_hertz`` or ``material``, ``v0``, ``distance``
         (m), ``angle_deg`` (degrees), ``config``; the damper ``M``, ``K``, ``C``, ``clip_tensile``,
         ``duration``, ``solver``, ``rtol``; the sound ``radius`` (m or ``"mass"``), ``density``, ``surface``,
-        ``pulse``, ``pulse_mass``, ``c``, ``rho``, ``wall_distance``, ``n_fastest``, ``levels``, ``room``.
+        ``pulse``, ``pulse_mass``, ``c``, ``rho``, ``wall_distance``, ``n_fastest``, ``levels``, ``room``; in
+        operation (:func:`~acoustiviz.app.settings.sweep_operation.split_operation`) ``force`` or ``base``,
+        ``frequencies`` and the search settings, ``solver`` and ``rtol`` then the search's.
     names : dict, optional
         API parameter -> the option or scene key errors name.
     **job
@@ -235,8 +264,11 @@ def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
     -------
     SweepJob
     """
+    from .sweep_operation import split_operation
+
     names = names or {}
     with user_terms(names):
+        operation, given = split_operation(given)
         if given.get("m") is not None and given.get("mass_ratio") is not None:
             raise ParameterError("m", "give either the impact mass or the mass ratio, not both")
         if given.get("k_hertz") is not None and given.get("material") is not None:
@@ -255,4 +287,4 @@ def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
             angle=tuple(math.radians(a) for a in _axis(given, "angle_deg", PAPER_ANGLE_DEG)),
             config=_axis(given, "config", "plane", str),
         )
-    return SweepJob(**axes, settings=settings, names=names, **job)
+    return SweepJob(**axes, settings=settings, names=names, operation=operation, **job)
