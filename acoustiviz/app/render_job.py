@@ -12,7 +12,7 @@ Examples
 --------
 >>> from acoustiviz.app.impacts import impact_setup
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> job = SnapshotJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration,
+>>> job = SnapshotJob(impact=s.impact, pulse=s.pulse, medium=s.medium, geometry=s.geometry,
 ...                   times=(0.5e-3, 1e-3), n_u=41)
 >>> run(job).field.pressures[0].shape  # (times, points of the xz section)
 (2, 902)
@@ -65,16 +65,16 @@ class SnapshotResult:
         times = list(f.times)
         out = []
         if "png" in files:
-            out.append(render.render_snapshot(s.pulse, s.configuration, times, files["png"], clim=s.clim,
+            out.append(render.render_snapshot(s.pulse, s.geometry, times, files["png"], clim=s.clim,
                                               title=s.title or s.caption(), size=s.size, field=f))
         if "vtk" in files:
             from ..output.vtk import write_snapshot_vtk
 
-            out += write_snapshot_vtk(s.pulse, s.configuration, times, files["vtk"], field=f)
+            out += write_snapshot_vtk(s.pulse, s.geometry, times, files["vtk"], field=f)
         if "html" in files:
             from ..output.html import write_snapshot_html
 
-            out.append(write_snapshot_html(s.pulse, s.configuration, times, files["html"], clim=s.clim, title=s.title,
+            out.append(write_snapshot_html(s.pulse, s.geometry, times, files["html"], clim=s.clim, title=s.title,
                                            field=f))
         return [Path(p) for p in out]
 
@@ -114,17 +114,17 @@ class BalloonResult:
         s, d, files = self.settings, self.data, _paths(self.settings, folder)
         out = []
         if "png" in files:
-            out.append(render.render_balloon(s.pulse, s.configuration, files["png"], db_range=s.db_range,
+            out.append(render.render_balloon(s.pulse, s.geometry, files["png"], db_range=s.db_range,
                                              opacity=s.opacity, title=self.title(), data=d, medium=s.medium,
                                              size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_balloon_vtk
 
-            out += write_balloon_vtk(s.pulse, s.configuration, files["vtk"], medium=s.medium, data=d)
+            out += write_balloon_vtk(s.pulse, s.geometry, files["vtk"], medium=s.medium, data=d)
         if "html" in files:
             from ..output.html import write_balloon_html
 
-            out.append(write_balloon_html(s.pulse, s.configuration, files["html"], medium=s.medium,
+            out.append(write_balloon_html(s.pulse, s.geometry, files["html"], medium=s.medium,
                                           db_range=s.db_range, title=s.title, data=d))
         return [Path(p) for p in out]
 
@@ -155,12 +155,12 @@ class AnimationResult:
         out = []
         for key in ("gif", "mp4"):
             if key in files:
-                out.append(render.render_animation(s.pulse, s.configuration, files[key], fps=s.fps, clim=s.clim,
+                out.append(render.render_animation(s.pulse, s.geometry, files[key], fps=s.fps, clim=s.clim,
                                                    title=s.title or s.caption(), size=s.size, field=f))
         if "vtk" in files:
             from ..output.vtk import write_animation_vtk
 
-            out += write_animation_vtk(s.pulse, s.configuration, files["vtk"], field=f)
+            out += write_animation_vtk(s.pulse, s.geometry, files["vtk"], field=f)
         return [Path(p) for p in out]
 
 
@@ -185,7 +185,7 @@ def run(settings):
 def _snapshot(s: SnapshotJob) -> SnapshotResult:
     from ..field.sections import section_field
 
-    return SnapshotResult(s, section_field(s.pulse, s.configuration, list(s.times), medium=s.medium, extent=s.extent,
+    return SnapshotResult(s, section_field(s.pulse, s.geometry, list(s.times), medium=s.medium, extent=s.extent,
                                            sections=s.sections, n_u=s.n_u))
 
 
@@ -194,26 +194,26 @@ def _balloon(s: BalloonJob) -> BalloonResult:
     from ..output.render import BALLOON_FIELD_METRICS, balloon_data
     from .views import balloon_levels
 
-    levels = balloon_levels(s.metric, s.pulse, s.configuration, s.medium)
+    levels = balloon_levels(s.metric, s.pulse, s.geometry, s.medium)
     points = 2 * s.n_theta**2  # about, the measuring sphere's nodes (budget.balloon_estimate)
     if levels is not None and points > BALLOON_LONG_POINTS:
         name = levels[1] if levels else BALLOON_FIELD_METRICS[s.metric][1]
         announce_long_work(f"balloon: {name.split(' (')[0]} rendered at about {points:.3g} points, a long "
                            "computation (Ctrl-C stops it)")
-    data = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=s.distance, metric=s.metric,
+    data = balloon_data(s.pulse, s.geometry, medium=s.medium, distance=s.distance, metric=s.metric,
                         n_theta=s.n_theta, levels=levels)
     if s.vtk is not None and data.metrics is None:  # a weighted level: the VTK file's metrics too, here, once
         from ..field import field_metrics
 
         lattice = data.anchor + data.distance * data.directions.reshape(-1, 3)
-        data = replace(data, metrics=field_metrics(s.pulse, lattice, s.configuration, medium=s.medium))
+        data = replace(data, metrics=field_metrics(s.pulse, lattice, s.geometry, medium=s.medium))
     return BalloonResult(s, data)
 
 
 def _animation(s: AnimationJob) -> AnimationResult:
     from ..output.render.animation import animation_field
 
-    return AnimationResult(s, animation_field(s.pulse, s.configuration, medium=s.medium, frames=s.frames,
+    return AnimationResult(s, animation_field(s.pulse, s.geometry, medium=s.medium, frames=s.frames,
                                               extent=s.extent, sections=s.sections, n_u=s.n_u))
 
 
@@ -256,7 +256,7 @@ def view_job(scene, view: str, out=None):
     names = {**cls.scene_names(), **{k: f"outputs.{view}" for k in cls.FILES},
              "max_memory_mb": "grids.memory_limit_mb", "memory_limit": "grids.memory_limit_mb"}
     return cls(**view_values(scene, view), impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-               configuration=setup.configuration, max_memory_mb=scene.section("grids")["memory_limit_mb"],
+               geometry=setup.geometry, max_memory_mb=scene.section("grids")["memory_limit_mb"],
                k_hertz_source=setup.k_hertz_source, names=names, **files)
 
 

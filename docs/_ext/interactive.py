@@ -20,9 +20,9 @@ def make_pages(folder: Path) -> list:
     corner = impact_setup(radius=0.01905, velocity=1.4, config="wall-floor", wall_distance=0.05)
     plane = impact_setup(radius=0.01905, velocity=1.4, config="plane")
     return [
-        write_balloon_html(corner.pulse, corner.configuration, folder / "balloon.html", medium=corner.medium,
+        write_balloon_html(corner.pulse, corner.geometry, folder / "balloon.html", medium=corner.medium,
                            n_theta=32),
-        write_snapshot_html(plane.pulse, plane.configuration, [0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3],
+        write_snapshot_html(plane.pulse, plane.geometry, [0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3],
                             folder / "snapshot.html", medium=plane.medium, n_u=161),
     ]
 
