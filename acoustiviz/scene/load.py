@@ -103,10 +103,10 @@ class Scene:
             raise SceneError(self.source, exc.name, exc.detail) from None
 
     def _impact_settings(self, radius: float | None = None) -> dict:
-        s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
+        s, c, table = self.data["sphere"], self.data["contact"], self.data["configuration"]
         return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],
                     sphere_material=s["material"], surface_material=c["surface"], c=self.data["medium"]["c_m_s"],
-                    rho=self.data["medium"]["rho_kg_m3"], config=conf["kind"], **self.geometry_settings())
+                    rho=self.data["medium"]["rho_kg_m3"], config=table["kind"], **self.geometry_settings())
 
     def sphere_mass(self) -> float:
         """Sphere mass in kg: ``mass_kg``, else density (or the material's) times volume."""
