@@ -57,7 +57,7 @@ class ImpactSetup:
         Sphere radius in m.
     medium : Medium
         The fluid.
-    geometry : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources.
     k_hertz_source : str
         Where K_HZ came from: ``"given"``, ``"Hertz, steel on steel"`` or ``"default (paper)"``.

@@ -43,7 +43,7 @@ class DirectivityJob(ImpactJob):
         Radius in m of the circle around the sphere's centre, in the fluid.
     step_deg : float
         Angle step in degrees, in (0, 90] (the angles run from the acceleration axis to the
-        configuration's polar limit, :func:`acoustiviz.app.views.directivity_angles`).
+        geometry's polar limit, :func:`acoustiviz.app.views.directivity_angles`).
     metric : str
         The further level shown against angle (:data:`acoustiviz.constants.DIRECTIVITY_METRICS`;
         ``"peak-spl"``: none).

@@ -173,7 +173,7 @@ class ImpactJob(Settings):
 
     @property
     def in_room(self) -> bool:
-        """True when the configuration is a room (its image model is reported, its peaks are the window's)."""
+        """True when the geometry is a room (its image model is reported, its peaks are the window's)."""
         return getattr(self.geometry, "image_order", None) is not None
 
     def _name(self, api: str) -> str:
