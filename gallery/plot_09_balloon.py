@@ -35,9 +35,9 @@ size = (900, 400) if fast_mode() else (1800, 800)
 
 # %%
 # The levels themselves, from the same grids the balloons are drawn from.
-for conf in (plane, corner):
-    d = balloon_data(pulse, conf, distance=DISTANCE, n_theta=n_theta)
-    print(f"{conf.name:>10}: peak SPL at {DISTANCE} m from {d.level.min():.1f} to {d.max_level:.1f} dB, "
+for geom in (plane, corner):
+    d = balloon_data(pulse, geom, distance=DISTANCE, n_theta=n_theta)
+    print(f"{geom.name:>10}: peak SPL at {DISTANCE} m from {d.level.min():.1f} to {d.max_level:.1f} dB, "
           f"energy mean over the {d.grid.region} space {d.mean_level:.1f} dB")
 
 # %%
