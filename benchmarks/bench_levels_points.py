@@ -50,13 +50,13 @@ def balloon_points(s, n_theta: int) -> np.ndarray:
         seen["points"] = np.asarray(points, dtype=float)
         return np.zeros(len(points))
 
-    balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.7, n_theta=n_theta, levels=(grab, "level"))
+    balloon_data(s.pulse, s.geometry, medium=s.medium, distance=0.7, n_theta=n_theta, levels=(grab, "level"))
     return seen["points"]
 
 
 def directivity_points(s) -> np.ndarray:
-    step = 1.0 if s.configuration.name == "free" else 0.5
-    d = directivity(s.pulse, s.configuration, 0.7, directivity_angles(s.configuration, step), medium=s.medium)
+    step = 1.0 if s.geometry.name == "free" else 0.5
+    d = directivity(s.pulse, s.geometry, 0.7, directivity_angles(s.geometry, step), medium=s.medium)
     return np.asarray(d.points, dtype=float)
 
 
@@ -71,7 +71,7 @@ def part_stages(pulse: str, repeat: int) -> None:
     pts = balloon_points(s, 32)[:64]
     fs = ANALYSIS_RATE
     print(f"\n1. stages for one chunk of 64 balloon points (plane, {pulse}), best of {repeat}, ms")
-    t_span, spans = best_of(lambda: np.array([waveform_span(s.pulse, p, s.configuration, medium=s.medium)
+    t_span, spans = best_of(lambda: np.array([waveform_span(s.pulse, p, s.geometry, medium=s.medium)
                                               for p in pts]), repeat)
     L = oversampling_factor(fs, s.pulse.duration)
     h = decimation_filter(L)
@@ -79,7 +79,7 @@ def part_stages(pulse: str, repeat: int) -> None:
     t0 = np.floor(spans[:, 0].min() * fs) / fs
     n_sound = int(np.ceil((spans[:, 1].max() - t0) * fs)) + 1
     t = t0 + np.arange(n_sound * L) / (L * fs)
-    t_ts, hi = best_of(lambda: time_series(s.pulse, t, pts, s.configuration, medium=s.medium), repeat)
+    t_ts, hi = best_of(lambda: time_series(s.pulse, t, pts, s.geometry, medium=s.medium), repeat)
     t_up, low = best_of(lambda: upfirdn(h, hi, up=1, down=L, axis=1)[:, K:K + n_sound + K], repeat)
     t_fft, _ = best_of(lambda: fftconvolve(hi, h[None, :], axes=1)[:, K * L:(2 * K + n_sound) * L:L], repeat)
     p = np.zeros((pts.shape[0], fs))
@@ -121,8 +121,8 @@ def part_compare(pulse: str, n_theta: int, repeat: int) -> None:
             s = _setup(config, pulse)
             pts = balloon_points(s, n_theta) if view == "balloon" else directivity_points(s)
             chunk = 64 if view == "balloon" else None
-            args = (s.pulse, pts, s.configuration, s.medium)
-            points_metric_levels(metrics, s.pulse, pts[:4], s.configuration, s.medium)  # warm caches
+            args = (s.pulse, pts, s.geometry, s.medium)
+            points_metric_levels(metrics, s.pulse, pts[:4], s.geometry, s.medium)  # warm caches
             t_old, ref = best_of(lambda a=args, c=chunk: reference_metric_levels(metrics, *a, chunk=c),
                                  1 if view == "balloon" else repeat)
             for m in [*metrics, "all 8"]:

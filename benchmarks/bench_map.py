@@ -38,12 +38,12 @@ def main() -> None:
             s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, pulse=pulse, config=config,
                              wall_distance=0.05 if config == "wall-floor" else None)
             height = 0.1 if plane == "horizontal" else None
-            level_map(s.pulse, s.configuration, medium=s.medium, resolution=16)  # compile the kernels
+            level_map(s.pulse, s.geometry, medium=s.medium, resolution=16)  # compile the kernels
             t_map, m = best_of(lambda s=s, height=height, plane=plane: level_map(
-                s.pulse, s.configuration, medium=s.medium, plane=plane, height=height), repeat)
-            t_csv, _ = best_of(lambda m=m, s=s: write_map_outputs(m, s.configuration, csv=out / "m.csv"), repeat)
-            t_png, _ = best_of(lambda m=m, s=s: write_map_outputs(m, s.configuration, png=out / "m.png"), repeat)
-            t_vtk, _ = best_of(lambda m=m, s=s: write_map_outputs(m, s.configuration, vtk=out / "m.vtu"), repeat)
+                s.pulse, s.geometry, medium=s.medium, plane=plane, height=height), repeat)
+            t_csv, _ = best_of(lambda m=m, s=s: write_map_outputs(m, s.geometry, csv=out / "m.csv"), repeat)
+            t_png, _ = best_of(lambda m=m, s=s: write_map_outputs(m, s.geometry, png=out / "m.png"), repeat)
+            t_vtk, _ = best_of(lambda m=m, s=s: write_map_outputs(m, s.geometry, vtk=out / "m.vtu"), repeat)
             n = m.grid.points.shape[0]
             rows.append((config, pulse, plane, n, t_map, n / t_map, t_csv, t_png, t_vtk))
     head = f"{'config':<11} {'pulse':<10} {'plane':<10} {'points':>7} {'map s':>7} {'points/s':>9} " \

@@ -244,9 +244,9 @@ def wav_table(repeat: int) -> None:
             out = render(seq, scene, click, listener, duration=DEFAULT_DURATION, room_sound=rs)
             times[name].append(time.process_time() - t0)
             if room is not None:
-                conf = out.scene.geometry
-                r = out.room or {"image_order": conf.image_order, "images": conf.image_count,
-                                 "neglected_energy_db": conf.neglected_energy_db, "transition_s": None}
+                geometry = out.scene.geometry
+                r = out.room or {"image_order": geometry.image_order, "images": geometry.image_count,
+                                 "neglected_energy_db": geometry.neglected_energy_db, "transition_s": None}
                 info[name] = (r["image_order"], r["images"], r["neglected_energy_db"], r["transition_s"],
                               out.n_samples / out.sample_rate)
     best = {k: min(v) for k, v in times.items()}

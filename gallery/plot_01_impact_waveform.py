@@ -30,10 +30,10 @@ DISTANCE, ANGLE = 0.7, math.radians(45.0)
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)
 
 
-def listener_pressure(pulse, t, conf):
+def listener_pressure(pulse, t, geometry):
     """Pressure in Pa at the Figure 2 listener: the sphere and its images (paper eq 14)."""
-    point = conf.sources[0].position + DISTANCE * np.array([math.sin(ANGLE), 0.0, math.cos(ANGLE)])
-    return time_series(pulse, t, point[None, :], conf, medium=AIR)[0]
+    point = geometry.sources[0].position + DISTANCE * np.array([math.sin(ANGLE), 0.0, math.cos(ANGLE)])
+    return time_series(pulse, t, point[None, :], geometry, medium=AIR)[0]
 
 
 t = np.linspace(1.8e-3, 3.2e-3, 2801)  # s from the start of contact

@@ -26,11 +26,11 @@ from acoustiviz.output.plot.style import save_figure, style
 
 RADIUS, U0, K_HZ, DENSITY, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.7
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)
-config = images_plane(RADIUS)
+geometry = images_plane(RADIUS)
 step = 15.0 if fast_mode() else 2.5
 angles = np.radians(np.arange(0.0, 90.0 + step / 2, step))
 results = {
-    kind: directivity(acceleration_pulse(impact, kind), config, DISTANCE, angles) for kind in ("half-sine", "hertz")
+    kind: directivity(acceleration_pulse(impact, kind), geometry, DISTANCE, angles) for kind in ("half-sine", "hertz")
 }
 
 out = output_dir()

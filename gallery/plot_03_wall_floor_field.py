@@ -25,13 +25,13 @@ from acoustiviz.output.plot.style import save_figure, style
 RADIUS, U0, K_HZ, DENSITY, WALL = 0.01905, 1.4, 5.6e8, 7800.0, 0.05
 impact = Impact(velocity=U0, k_hertz=K_HZ, mass=DENSITY * 4 / 3 * math.pi * RADIUS**3)
 pulse = acceleration_pulse(impact, "hertz")
-config = images_wall_floor(RADIUS, WALL)
+geometry = images_wall_floor(RADIUS, WALL)
 
 width, height = 0.60, 0.40  # m: x from the wall, z from the floor
 n_u = 120 if fast_mode() else 480
 grid = planar_grid((-WALL + width / 2, 0.0, height / 2), (width, 0.0, 0.0), (0.0, 0.0, height), n_u=n_u)
 times = np.array([0.35e-3, 0.8e-3, 1.25e-3])  # s from the start of contact
-field = snapshots(pulse, times, grid.points, config)
+field = snapshots(pulse, times, grid.points, geometry)
 
 # %%
 from matplotlib.colors import TwoSlopeNorm  # noqa: E402
@@ -39,7 +39,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, Rectangle  # noqa: E402
 
 # colour scale: symmetric about zero, saturating the 1/r² near field of the sphere
-far = np.linalg.norm(grid.points - config.centre, axis=1) > 0.1
+far = np.linalg.norm(grid.points - geometry.centre, axis=1) > 0.1
 vmax = float(np.nanpercentile(np.abs(field[:, far]), 99.5))
 norm = TwoSlopeNorm(vcenter=0.0, vmin=-vmax, vmax=vmax)
 extent = (-WALL * 100, (width - WALL) * 100, 0.0, height * 100)  # cm

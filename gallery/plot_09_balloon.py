@@ -36,9 +36,9 @@ size = (900, 400) if fast_mode() else (1800, 800)
 
 # %%
 # The levels themselves, computed once; the balloons are drawn from them.
-datas = [balloon_data(pulse, conf, distance=DISTANCE, n_theta=n_theta) for conf in (plane, corner)]
-for conf, d in zip((plane, corner), datas, strict=True):
-    print(f"{conf.name:>10}: peak SPL at {DISTANCE} m from {d.level.min():.1f} to {d.max_level:.1f} dB, "
+datas = [balloon_data(pulse, geom, distance=DISTANCE, n_theta=n_theta) for geom in (plane, corner)]
+for geom, d in zip((plane, corner), datas, strict=True):
+    print(f"{geom.name:>10}: peak SPL at {DISTANCE} m from {d.level.min():.1f} to {d.max_level:.1f} dB, "
           f"energy mean over the {d.grid.region} space {d.mean_level:.1f} dB")
 
 # %%

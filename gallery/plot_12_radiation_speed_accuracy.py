@@ -75,9 +75,9 @@ pulse = HalfSinePulse(amplitude=1e4, duration=10 * A / C)
 n_pts = 200 if fast_mode() else 2000
 r = np.linspace(0.1, 1.0, n_pts)[:, None]
 t = np.linspace(0, 4e-3, 800)[None, :]
-cfg = images_free(A)
-pts = cfg.centre + np.c_[np.zeros(n_pts), np.zeros(n_pts), r[:, 0]]
-time_series(pulse, t[0], pts[:5], cfg)  # compile
+geometry = images_free(A)
+pts = geometry.centre + np.c_[np.zeros(n_pts), np.zeros(n_pts), r[:, 0]]
+time_series(pulse, t[0], pts[:5], geometry)  # compile
 
 
 def cost(f, n):
@@ -87,7 +87,7 @@ def cost(f, n):
 
 
 costs = {
-    "exact (numba evaluator)": cost(lambda: time_series(pulse, t[0], pts, cfg), pts.shape[0] * t.size),
+    "exact (numba evaluator)": cost(lambda: time_series(pulse, t[0], pts, geometry), pts.shape[0] * t.size),
     "exact (numpy closed form)": cost(lambda: pressure(pulse, t, r, 1.0, radius=A), r.size * t.size),
     "near-field": cost(lambda: ap.near_field_pressure(pulse, t, r, 1.0, radius=A), r.size * t.size),
     "far-field": cost(lambda: ap.far_field_pressure(pulse, t, r, 1.0, radius=A), r.size * t.size),

@@ -33,11 +33,11 @@ setup = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0
                      config="wall-floor", wall_distance=0.05)
 resolution = 81 if fast_mode() else 401
 start = time.perf_counter()
-level = level_map(setup.pulse, setup.configuration, medium=setup.medium, plane="vertical", extent=0.5,
+level = level_map(setup.pulse, setup.geometry, medium=setup.medium, plane="vertical", extent=0.5,
                   resolution=resolution)
 print(f"{level.grid.points.shape[0]} points in {time.perf_counter() - start:.2f} s")
 
 # %%
-title = map_title(level, setup.configuration, "a = 19.05 mm, U0 = 1.4 m/s, Hertz pulse, wall 5 cm from the centre")
-(out,) = write_map_outputs(level, setup.configuration, png=output_dir() / "plot_15_level_map.png", title=title)
+title = map_title(level, setup.geometry, "a = 19.05 mm, U0 = 1.4 m/s, Hertz pulse, wall 5 cm from the centre")
+(out,) = write_map_outputs(level, setup.geometry, png=output_dir() / "plot_15_level_map.png", title=title)
 print(f"wrote {out}")

@@ -52,7 +52,7 @@ def test_scene_and_command_line_build_the_same_impact():
     s = scene.setup()
     assert s.impact == api.impact
     assert s.pulse.duration == api.pulse.duration
-    np.testing.assert_array_equal(s.configuration.sources[1].position, api.configuration.sources[1].position)
+    np.testing.assert_array_equal(s.geometry.sources[1].position, api.geometry.sources[1].position)
 
 
 def test_errors_name_the_option_the_user_gave():

@@ -52,7 +52,7 @@ FILES = ("directivity.csv", "directivity.png")
 def _api_job(config: dict, distance: float, metric: str, **kw) -> DirectivityJob:
     setup = impact_setup(**SPHERE, **config)
     return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-                          configuration=setup.configuration, distance=distance, step_deg=30.0, metric=metric, **kw)
+                          geometry=setup.geometry, distance=distance, step_deg=30.0, metric=metric, **kw)
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -90,9 +90,9 @@ def test_the_command_line_and_a_scene_build_equal_settings(case, tmp_path):
     from_scene = directivity_settings(scene_from_dict(tomllib.loads(scene + "[outputs.directivity]\n" + table)),
                                       tmp_path)
     if case == "room":  # a scene's room is not capped by grids.memory_limit_mb, the command line's by --max-memory
-        assert from_cli.configuration.max_memory_mb == 256.0 and from_scene.configuration.max_memory_mb is None
-        assert from_cli.configuration.image_order == from_scene.configuration.image_order  # the cap does not bind
-        from_cli = dataclasses.replace(from_cli, configuration=dataclasses.replace(from_cli.configuration,
+        assert from_cli.geometry.max_memory_mb == 256.0 and from_scene.geometry.max_memory_mb is None
+        assert from_cli.geometry.image_order == from_scene.geometry.image_order  # the cap does not bind
+        from_cli = dataclasses.replace(from_cli, geometry=dataclasses.replace(from_cli.geometry,
                                                                                    max_memory_mb=None))
     assert from_cli == from_scene
     assert (from_cli.distance, from_cli.metric, from_cli.csv) == (distance, metric, csv)
@@ -130,7 +130,7 @@ def test_bad_scene_settings_are_refused_naming_the_scene_key(tmp_path, monkeypat
     setup = impact_setup(**SPHERE, config="plane")
     scene = scene_from_dict({"configuration": {"kind": "plane"}, "outputs": {"directivity": {}}})
     names = directivity_settings(scene).names  # the scene's vocabulary
-    job = dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+    job = dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                names=names)
     with pytest.raises(ParameterError, match=r"^outputs\.directivity\.step_deg: .*\(0, 90\] deg"):
         DirectivityJob(**job, distance=0.7, step_deg=120.0)

@@ -69,7 +69,7 @@ def test_every_front_end_writes_the_same_files(case, tmp_path, monkeypatch, caps
     api = tmp_path / "api"
     api.mkdir()
     s = _setup(case)
-    result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration, **job, **FILES))
+    result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, geometry=s.geometry, **job, **FILES))
     written = result.write(api)
     assert sorted(p.name for p in written) == list(WRITTEN)
     for name in WRITTEN:
@@ -81,7 +81,7 @@ def test_every_front_end_writes_the_same_files(case, tmp_path, monkeypatch, caps
 
 def test_the_result_holds_the_grid_and_the_levels_in_si_units():
     s = _setup("vertical")
-    result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration, extent=0.2,
+    result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, geometry=s.geometry, extent=0.2,
                         resolution=24))
     level = result.level
     n = level.grid.points.shape[0]
@@ -90,7 +90,7 @@ def test_the_result_holds_the_grid_and_the_levels_in_si_units():
     assert 0 < fluid.sum() < n  # the points inside the sphere are blank
     # the peak SPL in dB re 20 uPa of the peak pressure in Pa, point by point
     np.testing.assert_allclose(level.peak_spl_db[fluid], 20 * np.log10(level.peak_pa[fluid] / 20e-6), rtol=1e-9)
-    assert np.all(np.abs(level.grid.points[fluid] - s.configuration.centre) <= 0.2 + 1e-12)
+    assert np.all(np.abs(level.grid.points[fluid] - s.geometry.centre) <= 0.2 + 1e-12)
     assert result.write() == []  # no files asked for, none written
 
 
@@ -104,9 +104,9 @@ def test_the_command_line_and_a_scene_build_equal_settings(case, tmp_path):
     from_cli = settings_from_args(args)
     from_scene = map_settings(scene_from_dict(tomllib.loads(scene + "[outputs.level_map]\n" + table)), tmp_path)
     if case == "room":  # a scene's room is not capped by grids.memory_limit_mb, the command line's by --max-memory
-        assert from_cli.configuration.max_memory_mb == 256.0 and from_scene.configuration.max_memory_mb is None
-        assert from_cli.configuration.image_order == from_scene.configuration.image_order  # the cap does not bind
-        from_cli = dataclasses.replace(from_cli, configuration=dataclasses.replace(from_cli.configuration,
+        assert from_cli.geometry.max_memory_mb == 256.0 and from_scene.geometry.max_memory_mb is None
+        assert from_cli.geometry.image_order == from_scene.geometry.image_order  # the cap does not bind
+        from_cli = dataclasses.replace(from_cli, geometry=dataclasses.replace(from_cli.geometry,
                                                                                    max_memory_mb=None))
     assert from_cli == from_scene
     assert from_cli.files() == paths
@@ -145,7 +145,7 @@ def test_bad_scene_settings_are_refused_naming_the_scene_key(monkeypatch):
     setup = _setup("vertical")
     scene = scene_from_dict({"configuration": {"kind": "plane"}, "outputs": {"level_map": {}}})
     names = map_settings(scene).names  # the scene's vocabulary
-    job = dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+    job = dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                names=names)
     with pytest.raises(ParameterError, match=r"^outputs\.level_map\.resolution: .*\[8, 20000\]"):
         MapJob(**job, resolution=4)

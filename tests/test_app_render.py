@@ -60,7 +60,7 @@ def _written(view):
 
 def _job(view, **kw):
     s = impact_setup(**SETUP)
-    return JOBS[view](impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration, **kw)
+    return JOBS[view](impact=s.impact, pulse=s.pulse, medium=s.medium, geometry=s.geometry, **kw)
 
 
 def _scene(view):

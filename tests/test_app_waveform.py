@@ -43,9 +43,9 @@ CASES = {
 def _api_job(config: dict, point, folder: Path) -> WaveformJob:
     setup = impact_setup(**SPHERE, **config)
     if point is None:
-        point = observer_points(setup.configuration, 0.7, math.radians(45.0))[0]
+        point = observer_points(setup.geometry, 0.7, math.radians(45.0))[0]
     return WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
-                       configuration=setup.configuration, listeners=(Listener("listener", point),),
+                       geometry=setup.geometry, listeners=(Listener("listener", point),),
                        csv="waveform_listener.csv", png="waveform_listener.png")
 
 
@@ -85,9 +85,9 @@ def test_the_command_line_and_a_scene_build_equal_settings(case, tmp_path):
 
     from_scene = waveform_settings(scene_from_dict(tomllib.loads(scene + "[outputs.waveform]\n")), tmp_path)
     if case == "room":  # a scene's room is not capped by grids.memory_limit_mb, the command line's by --max-memory
-        assert from_cli.configuration.max_memory_mb == 256.0 and from_scene.configuration.max_memory_mb is None
-        assert from_cli.configuration.image_order == from_scene.configuration.image_order  # the cap does not bind
-        from_cli = dataclasses.replace(from_cli, configuration=dataclasses.replace(from_cli.configuration,
+        assert from_cli.geometry.max_memory_mb == 256.0 and from_scene.geometry.max_memory_mb is None
+        assert from_cli.geometry.image_order == from_scene.geometry.image_order  # the cap does not bind
+        from_cli = dataclasses.replace(from_cli, geometry=dataclasses.replace(from_cli.geometry,
                                                                                    max_memory_mb=None))
     assert from_cli == from_scene
     assert from_cli.csv == csv and from_cli.listeners[0].name == "listener"
@@ -95,10 +95,10 @@ def test_the_command_line_and_a_scene_build_equal_settings(case, tmp_path):
 
 def _plane_job(**kw):
     setup = impact_setup(**SPHERE, config="plane")
-    points = observer_points(setup.configuration, 0.7, np.radians([30.0, 60.0]))
+    points = observer_points(setup.geometry, 0.7, np.radians([30.0, 60.0]))
     values = dict(pulses=(setup.pulse,), listeners=(Listener("a", points[0]), Listener("b", points[1])))
     values.update(kw)
-    return WaveformJob(impact=setup.impact, medium=setup.medium, configuration=setup.configuration, **values)
+    return WaveformJob(impact=setup.impact, medium=setup.medium, geometry=setup.geometry, **values)
 
 
 def test_several_listeners_need_the_placeholder_in_each_file_name(tmp_path):
@@ -112,10 +112,10 @@ def test_several_listeners_need_the_placeholder_in_each_file_name(tmp_path):
 
 def test_a_listener_inside_the_sphere_or_below_the_floor_is_refused_by_its_key():
     setup = impact_setup(**SPHERE, config="plane")
-    for where in (setup.configuration.centre, setup.configuration.centre - [0.0, 0.0, 0.5]):
+    for where in (setup.geometry.centre, setup.geometry.centre - [0.0, 0.0, 0.5]):
         with pytest.raises(ParameterError, match=r"^listeners\[0\]: listener 'x'"):
             WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
-                        configuration=setup.configuration, listeners=(Listener("x", where),),
+                        geometry=setup.geometry, listeners=(Listener("x", where),),
                         names={"listeners": "listeners[0]"})
 
 

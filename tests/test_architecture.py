@@ -16,6 +16,7 @@ Layers, lowest first (a module may import its own layer and those below it, neve
 """
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -540,3 +541,53 @@ def test_old_geometry_parameter_finder_finds_each_kind_of_parameter():
               "def fine(geometry, configuration_name, kind='plane'):\n    pass\n")
     assert _old_geometry_parameters(source, "m.py") == ["m.py:1 f(config)", "m.py:3 g(conf)", "m.py:6 h(config)",
                                                         "m.py:8 <lambda>(conf)"]
+
+
+#: Parameters named ``config`` that hold a configuration kind's name (``"free"``, ``"plane"``, ...), never a
+#: ``Geometry``: the name the command line (``--config``) and the sweep's ``config`` axis give it. ``design_map``
+#: and ``check_listener`` cannot call it ``kind``: that is the excitation's kind beside it.
+KIND_NAMED_CONFIG = {
+    "app/impacts.py impact_setup(config)",  # the --config choice the setup's geometry is built from
+    "app/impacts.py room_settings(config)",  # the --config given besides --room (refused unless "free")
+    "app/forced_noise.py check_listener(config)",  # the cavity's kind (ForcedJob.config)
+    "app/forced_noise.py design_map(config)",  # the cavity's kind; ``kind`` is the excitation's
+}
+
+
+def _config_parameters_outside_output() -> list[str]:
+    """``module function(param)`` of each ``config``/``conf`` parameter in ``acoustiviz/`` outside ``output/``."""
+    found = []
+    for path, rel in _modules():
+        if _top(rel) != "output":
+            found += [re.sub(r":\d+ ", " ", hit)
+                      for hit in _old_geometry_parameters(path.read_text(encoding="utf-8"), rel.as_posix())]
+    return found
+
+
+def test_functions_outside_output_name_the_surroundings_geometry():
+    """Above the physics too a ``Geometry`` is passed as ``geometry``; a ``config`` left is a kind's name."""
+    found = _config_parameters_outside_output()
+    assert sorted(set(found) - KIND_NAMED_CONFIG) == []
+    assert sorted(KIND_NAMED_CONFIG - set(found)) == [], "an exemption names no parameter any more: drop it"
+
+
+def _configuration_fields(source: str, where: str) -> list[str]:
+    """Classes of one module declaring a field ``configuration`` (an annotated name in the class body)."""
+    return [f"{where}:{node.lineno} {node.name}.configuration" for node in ast.walk(ast.parse(source))
+            if isinstance(node, ast.ClassDef)
+            for item in node.body if isinstance(item, ast.AnnAssign) and isinstance(item.target, ast.Name)
+            and item.target.id == "configuration"]
+
+
+def test_no_settings_or_setup_class_has_a_configuration_field():
+    """Jobs, setups and results hold the surroundings as ``geometry``, as the physics names them."""
+    found = [hit for path, rel in _modules() if _top(rel) != "output"
+             for hit in _configuration_fields(path.read_text(encoding="utf-8"), rel.as_posix())]
+    assert not found, "\n".join(found)
+
+
+def test_configuration_field_finder_finds_annotated_fields_only():
+    source = ("class Job:\n    impact: object\n    configuration: object\n"
+              "class Other:\n    configuration = 'plane'\n    def f(self, configuration):\n        pass\n"
+              "class Setup(NamedTuple):\n    configuration: Geometry = None\n")
+    assert _configuration_fields(source, "m.py") == ["m.py:1 Job.configuration", "m.py:8 Setup.configuration"]

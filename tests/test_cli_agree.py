@@ -115,8 +115,8 @@ def test_a_room_scene_still_takes_its_settings(here):
                                  'source_m = [1.0, 1.0, 0.01905]\nwindow_s = 0.005\n')
     from acoustiviz.scene import load_scene
 
-    conf = load_scene(here / "s.toml").configuration()
-    assert conf.name == "room" and tuple(conf.dimensions) == (3.0, 2.5, 2.0)
+    geometry = load_scene(here / "s.toml").geometry()
+    assert geometry.name == "room" and tuple(geometry.dimensions) == (3.0, 2.5, 2.0)
 
 
 # --------------------------------------------------------------------------- the forcing frequencies

@@ -140,7 +140,7 @@ def test_printed_peaks_are_those_of_the_continuous_waveform(tmp_path, capsys, co
     dt = t[1] - t[0]
     for k, sign, printed in ((int(np.argmax(p)), 1.0, pmax), (int(np.argmin(p)), -1.0, pmin)):
         dense_t = np.linspace(t[k] - dt, t[k] + dt, 100_001)
-        dense = time_series(s.pulse, dense_t, point[None, :], s.configuration, medium=s.medium)[0]
+        dense = time_series(s.pulse, dense_t, point[None, :], s.geometry, medium=s.medium)[0]
         ref = sign * np.max(sign * dense)
         assert sign * printed >= sign * p[k]  # never below the largest sample
         assert printed == pytest.approx(ref, rel=1e-8)

@@ -64,7 +64,7 @@ def test_snapshot_page_carries_the_evaluators_field(pages):
     plane = next(layer for layer in scene["layers"] if layer.get("scalars"))
     pts = _f32(plane["positions"]).reshape(-1, 3).astype(float)
     s = impact_setup(radius=0.01905, velocity=1.4, config="plane")
-    ref = snapshots(s.pulse, [0.0005, 0.001], pts, s.configuration, medium=s.medium)
+    ref = snapshots(s.pulse, [0.0005, 0.001], pts, s.geometry, medium=s.medium)
     for k in range(2):
         got = _f32(plane["scalars"][k])
         # float32 positions and values: agreement to single precision of the field's scale

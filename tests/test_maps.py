@@ -46,30 +46,30 @@ def test_peaks_and_sel_equal_the_refined_field_metrics(config, pulse, kw):
     s = _setup(config, pulse, **kw)
     for plane in ("vertical", "horizontal"):
         height = None if plane == "vertical" else 0.06
-        m = level_map(s.pulse, s.configuration, medium=s.medium, plane=plane, height=height, extent=0.4,
+        m = level_map(s.pulse, s.geometry, medium=s.medium, plane=plane, height=height, extent=0.4,
                       resolution=31)
         ok = np.flatnonzero(np.isfinite(m.peak_pa))
         pick = np.random.default_rng(7).choice(ok, size=24, replace=False)
         pts = m.grid.points[pick]
-        fm = field_metrics(s.pulse, pts, s.configuration, medium=s.medium)
+        fm = field_metrics(s.pulse, pts, s.geometry, medium=s.medium)
         ref_peak = np.maximum(fm.peak_positive, -fm.peak_negative)
         np.testing.assert_allclose(m.peak_pa[pick], ref_peak, rtol=PEAK_RTOL)
         np.testing.assert_allclose(m.peak_spl_db[pick], 20 * np.log10(ref_peak / P_REF), rtol=0, atol=1e-7)
         np.testing.assert_allclose(m.sel_db[pick], 10 * np.log10(fm.exposure / P_REF**2), rtol=0, atol=SEL_ATOL_DB)
         # the time of the peak: the pressure there, from the time series, is +-peak
         for i in pick[:4]:
-            p = time_series(s.pulse, np.array([m.time_of_peak_s[i]]), m.grid.points[i][None, :], s.configuration,
+            p = time_series(s.pulse, np.array([m.time_of_peak_s[i]]), m.grid.points[i][None, :], s.geometry,
                             medium=s.medium)[0, 0]
             assert abs(p) == pytest.approx(m.peak_pa[i], rel=1e-9)
 
 
 def test_points_inside_the_sphere_are_blank_and_only_those():
     s = _setup("free")
-    m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.1, resolution=61)
-    dist = np.linalg.norm(m.grid.points - s.configuration.centre, axis=1)
+    m = level_map(s.pulse, s.geometry, medium=s.medium, extent=0.1, resolution=61)
+    dist = np.linalg.norm(m.grid.points - s.geometry.centre, axis=1)
     blank = ~np.isfinite(m.peak_pa)
     assert blank.any()
-    np.testing.assert_array_equal(blank, dist < s.configuration.radius * (1 - 1e-12))
+    np.testing.assert_array_equal(blank, dist < s.geometry.radius * (1 - 1e-12))
     for arr in (m.peak_spl_db, m.sel_db, m.time_of_peak_s, m.exposure_pa2s):
         np.testing.assert_array_equal(~np.isfinite(arr), blank)
 
@@ -77,12 +77,12 @@ def test_points_inside_the_sphere_are_blank_and_only_those():
 def test_a_grid_through_the_wall_and_floor_is_blank_behind_them():
     s = _setup("wall-floor", wall_distance=0.05)
     grid = planar_grid((0.0, 0.0, 0.0), (0.4, 0.0, 0.0), (0.0, 0.0, 0.4), n_u=41)
-    m = map_on_grid(s.pulse, s.configuration, grid, medium=s.medium)
+    m = map_on_grid(s.pulse, s.geometry, grid, medium=s.medium)
     x, z = grid.points[:, 0], grid.points[:, 2]
     behind = (x < -0.05 - 1e-12) | (z < -1e-12)
     assert behind.sum() > 400
     assert np.all(np.isnan(m.peak_pa[behind])) and np.all(np.isnan(m.sel_db[behind]))
-    inside = np.linalg.norm(grid.points - s.configuration.centre, axis=1) < s.configuration.radius
+    inside = np.linalg.norm(grid.points - s.geometry.centre, axis=1) < s.geometry.radius
     assert np.all(np.isfinite(m.peak_pa[~behind & ~inside]))
 
 
@@ -90,10 +90,10 @@ def test_a_grid_through_the_wall_and_floor_is_blank_behind_them():
 def test_maps_are_cut_at_the_floor_and_the_wall(config, kw):
     s = _setup(config, **kw)
     for plane in ("vertical", "horizontal"):
-        g = map_grid(s.configuration, plane=plane, extent=0.3, resolution=40)
-        for pl in s.configuration.planes:
+        g = map_grid(s.geometry, plane=plane, extent=0.3, resolution=40)
+        for pl in s.geometry.planes:
             assert np.all(pl.signed_distance(g.points) >= -1e-15)
-        c = s.configuration.centre
+        c = s.geometry.centre
         assert g.points[:, 0].max() == pytest.approx(c[0] + 0.3)
         if config == "wall-floor":
             assert g.points[:, 0].min() == pytest.approx(-0.05)
@@ -106,13 +106,13 @@ def test_maps_are_cut_at_the_floor_and_the_wall(config, kw):
 
 def test_default_resolution_gives_about_1e5_points_on_a_square_map():
     s = _setup("free")
-    g = map_grid(s.configuration)
+    g = map_grid(s.geometry)
     assert 0.9e5 < g.points.shape[0] < 1.1e5
 
 
 def test_free_field_vertical_map_is_mirror_symmetric_about_the_axis():
     s = _setup("free", "hertz")
-    m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.3, resolution=45)
+    m = level_map(s.pulse, s.geometry, medium=s.medium, extent=0.3, resolution=45)
     x = m.grid.image(m.grid.points[:, 0])
     np.testing.assert_allclose(x[:, ::-1], -x, atol=1e-13)  # the grid itself is mirrored (to round-off of 0.3 m)
     pk, sel, t = (m.grid.image(a) for a in (m.peak_pa, m.sel_db, m.time_of_peak_s))
@@ -124,10 +124,10 @@ def test_free_field_vertical_map_is_mirror_symmetric_about_the_axis():
 def test_sel_falls_6_db_per_doubling_of_distance_far_from_the_sphere():
     s = _setup("free")
     # 1 m spacing, the centre on the grid: point (c + k, c + k) lies k sqrt(2) m away at 45 degrees
-    m = level_map(s.pulse, s.configuration, medium=s.medium, extent=40.0, resolution=81)
+    m = level_map(s.pulse, s.geometry, medium=s.medium, extent=40.0, resolution=81)
     c = 40
     sel = m.grid.image(m.sel_db)
-    assert np.linalg.norm(m.grid.image(m.grid.points.T)[:, c, c] - s.configuration.centre) < 1e-12
+    assert np.linalg.norm(m.grid.image(m.grid.points.T)[:, c, c] - s.geometry.centre) < 1e-12
     drops = [sel[c + k, c + k] - sel[c + 2 * k, c + 2 * k] for k in (2, 5, 10, 20)]
     errors = np.abs(np.array(drops) - DOUBLING_DB)
     assert errors[-1] < 1e-4  # 28 m -> 57 m
@@ -137,7 +137,7 @@ def test_sel_falls_6_db_per_doubling_of_distance_far_from_the_sphere():
 
 def test_csv_columns_and_rows(tmp_path):
     s = _setup("plane")
-    m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.2, resolution=21)
+    m = level_map(s.pulse, s.geometry, medium=s.medium, extent=0.2, resolution=21)
     path = write_map_csv(m, tmp_path / "m.csv")
     lines = path.read_text().splitlines()
     assert lines[0] == ",".join(MAP_CSV_COLUMNS) == "x_m,y_m,z_m,peak_pa,peak_spl_db,sel_db,time_of_peak_s"
@@ -152,8 +152,8 @@ def test_csv_columns_and_rows(tmp_path):
 def test_vtk_holds_the_map_with_units_in_the_names(tmp_path):
     pv = pytest.importorskip("pyvista")
     s = _setup("wall-floor", wall_distance=0.05)
-    m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.2, resolution=16)
-    paths = write_map_outputs(m, s.configuration, vtk=tmp_path / "m.vtu")
+    m = level_map(s.pulse, s.geometry, medium=s.medium, extent=0.2, resolution=16)
+    paths = write_map_outputs(m, s.geometry, vtk=tmp_path / "m.vtu")
     assert [p.name for p in paths] == ["m.vtu", "m_geometry.vtu"]
     mesh = pv.read(tmp_path / "m.vtu")
     np.testing.assert_allclose(mesh.points, m.grid.points)
@@ -166,9 +166,9 @@ def test_vtk_holds_the_map_with_units_in_the_names(tmp_path):
 def test_png_is_written(tmp_path):
     Image = pytest.importorskip("PIL.Image")
     s = _setup("plane")
-    m = level_map(s.pulse, s.configuration, medium=s.medium, plane="horizontal", height=0.05, extent=0.2,
+    m = level_map(s.pulse, s.geometry, medium=s.medium, plane="horizontal", height=0.05, extent=0.2,
                   resolution=24)
-    (path,) = write_map_outputs(m, s.configuration, png=tmp_path / "m.png", title="t")
+    (path,) = write_map_outputs(m, s.geometry, png=tmp_path / "m.png", title="t")
     with Image.open(path) as im:
         img = np.asarray(im.convert("RGB")).astype(int)
     assert img.shape[1] > img.shape[0] and img.std() > 20
@@ -195,17 +195,17 @@ BAD = [
 def test_bad_settings_are_refused_naming_the_setting(kw, name):
     s = _setup("plane")
     with pytest.raises(ParameterError) as err:
-        plan_map(s.pulse, s.configuration, medium=s.medium, **kw)
+        plan_map(s.pulse, s.geometry, medium=s.medium, **kw)
     assert err.value.name == name
     with pytest.raises(ParameterError) as err:
-        level_map(s.pulse, s.configuration, medium=s.medium, names=CLI_NAMES, **kw)
+        level_map(s.pulse, s.geometry, medium=s.medium, names=CLI_NAMES, **kw)
     assert err.value.name == CLI_NAMES[name]
 
 
 def test_memory_refusal_says_what_to_change():
     s = _setup("plane")
     with pytest.raises(ParameterError) as err:
-        plan_map(s.pulse, s.configuration, resolution=20000, names=CLI_NAMES)
+        plan_map(s.pulse, s.geometry, resolution=20000, names=CLI_NAMES)
     msg = str(err.value)
     assert msg.startswith("--resolution:") and "--max-memory" in msg and "MB" in msg
 

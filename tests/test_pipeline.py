@@ -94,7 +94,7 @@ def test_existing_folder_needs_force(tmp_path):
 def test_context_is_lazy(tmp_path):
     ctx = RunContext(scene_from_dict({}), tmp_path)
     assert "damper_run" not in ctx.__dict__
-    _ = ctx.configuration
+    _ = ctx.geometry
     assert "damper_run" not in ctx.__dict__
 
 
@@ -126,7 +126,7 @@ def test_wav_output_is_calibrated_against_the_field_evaluator(tmp_path):
 
     # the damper's sphere is its impact mass m = 40.5 g with the paper's radius 19.05 mm
     pulse = acceleration_pulse(Impact(fastest, 5.6e8, 0.0405), "half-sine")
-    ref = field_metrics(pulse, pos[None, :], scene.configuration(), medium=scene.medium())
+    ref = field_metrics(pulse, pos[None, :], scene.geometry(), medium=scene.medium())
     # band-limited samples at 96 kHz land within half a sample of the true peak: allow 2 %
     assert np.abs(data).max() == pytest.approx(float(ref.peak[0]), rel=0.02)
 
@@ -236,11 +236,11 @@ def test_wav_sidecar_records_the_physical_and_the_file_peak_separately(tmp_path)
     res = simulate(ctx.damper_model, 1.0, initial=ctx.damper_initial)
     pulse = acceleration_pulse(Impact(float(np.max(res.impacts.approach_velocity)), 5.6e8, 0.0405), "half-sine")
     (_, pos), = scene.listeners()
-    cfg = scene.configuration()
-    t0 = (np.linalg.norm(pos - cfg.centre) - cfg.radius) / scene.medium().c - 1e-4
+    geometry = scene.geometry()
+    t0 = (np.linalg.norm(pos - geometry.centre) - geometry.radius) / scene.medium().c - 1e-4
     t = t0 + np.arange(0, 3e-3, 1e-8)
-    p = sum(sphere_pressure(pulse, t, pos, radius=cfg.radius, centre=s.position, axis=s.axis, medium=scene.medium())
-            for s in cfg.sources)[0]
+    p = sum(sphere_pressure(pulse, t, pos, radius=geometry.radius, centre=s.position, axis=s.axis,
+                            medium=scene.medium()) for s in geometry.sources)[0]
     assert side["physical_peak_pa"][0] == pytest.approx(np.max(np.abs(p)), rel=1e-4)
     assert side["physical_peak_spl_db_re_20upa"][0] == pytest.approx(20 * np.log10(np.max(np.abs(p)) / 20e-6),
                                                                       abs=1e-3)

@@ -40,7 +40,7 @@ def test_default_scene_is_the_paper_damper_with_every_output():
     assert (d["impact_mass_kg"], d["gap_m"], d["contact_damping_n_s_m"]) == (0.0405, 0.04, 20.0)
     assert sc.k_hertz() == 5.6e8
     (name, pos), = sc.listeners()
-    centre = sc.configuration().sources[0].position
+    centre = sc.geometry().sources[0].position
     assert math.dist(pos, centre) == pytest.approx(0.7)
     assert math.degrees(math.acos((pos[2] - centre[2]) / 0.7)) == pytest.approx(45.0)
 

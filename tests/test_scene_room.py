@@ -29,15 +29,15 @@ def _text(table="geometry", dims="[6.0, 4.0, 3.0]", alpha="0.1", source="[2.0, 1
 
 def test_shipped_room_scene_is_a_room_with_its_image_model():
     sc = scene_from_text(shipped_scenes()["room"], "room.toml")
-    conf = sc.configuration()
-    assert conf.name == "room" and conf.dimensions == (6.0, 4.0, 3.0) and conf.absorption == (0.1,)
-    assert conf.image_order == 18 and conf.image_count == 8473  # as the scene's comment says
+    geometry = sc.geometry()
+    assert geometry.name == "room" and geometry.dimensions == (6.0, 4.0, 3.0) and geometry.absorption == (0.1,)
+    assert geometry.image_order == 18 and geometry.image_count == 8473  # as the scene's comment says
 
 
 @pytest.mark.parametrize("table", ["geometry", "configuration"])
 def test_geometry_table_is_the_configuration_table(table):
-    conf = scene_from_text(_text(table), "s.toml").configuration()
-    assert conf.name == "room" and conf.source == (2.0, 1.5, 0.01905) and conf.duration == 0.05
+    geometry = scene_from_text(_text(table), "s.toml").geometry()
+    assert geometry.name == "room" and geometry.source == (2.0, 1.5, 0.01905) and geometry.duration == 0.05
 
 
 @pytest.mark.parametrize("scene_kw, key, option, cli", [

@@ -114,7 +114,7 @@ def _cli(command: str, argv: list, module):
 def _impact_api(values: dict) -> dict:
     """The impact's keyword arguments of a one-impact job, from :func:`acoustiviz.app.impacts.impact_setup`."""
     setup = impact_setup(**values)
-    return dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+    return dict(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                 max_memory_mb=CAP_MB, k_hertz_source=setup.k_hertz_source)
 
 

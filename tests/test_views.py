@@ -31,8 +31,8 @@ def test_every_metric_matches_the_full_interval(config, pulse):
     # on axis, oblique, grazing, very near the sphere (2 mm off its surface) and far (late arrival)
     pts = np.array([observer_point(s, d, a) for d, a in ((0.7, 0.0), (0.7, 45.0), (0.7, 88.0), (0.0211, 30.0),
                                                          (4.0, 60.0))])
-    new = points_metric_levels(ALL, s.pulse, pts, s.configuration, s.medium)
-    ref = reference_metric_levels(ALL, s.pulse, pts, s.configuration, s.medium)
+    new = points_metric_levels(ALL, s.pulse, pts, s.geometry, s.medium)
+    ref = reference_metric_levels(ALL, s.pulse, pts, s.geometry, s.medium)
     _assert_levels_close(new, ref)
     assert np.all(np.isfinite(ref["laeq"][:4])) and ref["laeq"][3] > ref["laeq"][1] + 20  # the near point is loud
 
@@ -40,8 +40,8 @@ def test_every_metric_matches_the_full_interval(config, pulse):
 def test_the_sound_is_the_start_of_the_full_signal():
     s = _setup("wall-floor", "hertz")
     pts = np.array([observer_point(s, d, a) for d, a in ((0.3, 20.0), (1.5, 70.0))])
-    full = impact_signals(s.pulse, pts, s.configuration, s.medium)
-    sound, n = impact_sound(s.pulse, pts, s.configuration, s.medium)
+    full = impact_signals(s.pulse, pts, s.geometry, s.medium)
+    sound, n = impact_sound(s.pulse, pts, s.geometry, s.medium)
     assert n == full.shape[1] and sound.shape[1] < n // 10
     assert np.max(np.abs(sound - full[:, :sound.shape[1]])) <= 1e-12 * np.max(np.abs(full))
     assert not np.any(full[:, sound.shape[1]:])
@@ -52,8 +52,8 @@ def test_a_late_point_keeps_the_time_grid_of_its_chunk():
     s = _setup("plane", "half-sine")
     pts = np.array([observer_point(s, d, 40.0) for d in (0.2, 0.25, 6.0, 0.7)])
     for chunk in (None, 2, 3):
-        new = points_metric_levels(["lcpeak", "lafmax", "sel-a"], s.pulse, pts, s.configuration, s.medium, chunk=chunk)
-        ref = reference_metric_levels(["lcpeak", "lafmax", "sel-a"], s.pulse, pts, s.configuration, s.medium,
+        new = points_metric_levels(["lcpeak", "lafmax", "sel-a"], s.pulse, pts, s.geometry, s.medium, chunk=chunk)
+        ref = reference_metric_levels(["lcpeak", "lafmax", "sel-a"], s.pulse, pts, s.geometry, s.medium,
                                       chunk=chunk)
         _assert_levels_close(new, ref)
     # 30 times farther: the far-field level falls by about 20 log10(30) = 29.5 dB
@@ -64,9 +64,9 @@ def test_a_late_point_keeps_the_time_grid_of_its_chunk():
 @pytest.mark.slow
 def test_directivity_metric_matches_the_full_interval(metric):
     s = _setup("free", "half-sine")
-    d = directivity(s.pulse, s.configuration, 0.7, directivity_angles(s.configuration, 30.0), medium=s.medium)
-    got = directivity_metric(d, metric, s.pulse, s.configuration, s.medium)
-    ref = reference_metric_levels([metric], s.pulse, d.points, s.configuration, s.medium)[metric]
+    d = directivity(s.pulse, s.geometry, 0.7, directivity_angles(s.geometry, 30.0), medium=s.medium)
+    got = directivity_metric(d, metric, s.pulse, s.geometry, s.medium)
+    ref = reference_metric_levels([metric], s.pulse, d.points, s.geometry, s.medium)[metric]
     np.testing.assert_allclose(got[:3], ref[:3], rtol=0, atol=TOL_DB)
     assert got[0] > got[2] + 5.0  # a dipole: loudest on its axis
     # the null at 90 degrees holds no sound in either computation
@@ -75,19 +75,19 @@ def test_directivity_metric_matches_the_full_interval(metric):
 
 def test_balloon_and_point_levels_use_the_same_levels():
     s = _setup("wall-floor", "half-sine")
-    assert balloon_levels("peak", s.pulse, s.configuration, s.medium) is None
-    function, label = balloon_levels("sel-a", s.pulse, s.configuration, s.medium)
+    assert balloon_levels("peak", s.pulse, s.geometry, s.medium) is None
+    function, label = balloon_levels("sel-a", s.pulse, s.geometry, s.medium)
     assert label.startswith("SEL(A)")
     pts = np.array([observer_point(s, 0.7, a) for a in (0.0, 30.0, 60.0)])
-    ref = reference_metric_levels(["sel-a"], s.pulse, pts, s.configuration, s.medium, chunk=2)["sel-a"]
+    ref = reference_metric_levels(["sel-a"], s.pulse, pts, s.geometry, s.medium, chunk=2)["sel-a"]
     np.testing.assert_allclose(function(pts), ref, rtol=0, atol=TOL_DB)
-    f2, _ = point_levels("sel-a", s.pulse, s.configuration, s.medium, chunk=2)
+    f2, _ = point_levels("sel-a", s.pulse, s.geometry, s.medium, chunk=2)
     np.testing.assert_allclose(f2(pts), ref, rtol=0, atol=TOL_DB)
 
 
 def test_bad_metrics_are_refused_before_any_work():
     s = _setup("free", "half-sine")
     with pytest.raises(ParameterError, match="metric"):
-        points_metric_levels(["lafmax", "loud"], s.pulse, np.ones((1, 3)), s.configuration, s.medium)
+        points_metric_levels(["lafmax", "loud"], s.pulse, np.ones((1, 3)), s.geometry, s.medium)
     with pytest.raises(ParameterError, match="metric"):
-        reference_metric_levels("loud", s.pulse, np.ones((1, 3)), s.configuration, s.medium)
+        reference_metric_levels("loud", s.pulse, np.ones((1, 3)), s.geometry, s.medium)

@@ -37,7 +37,7 @@ def test_cli_interface_of_the_issue(tmp_path, monkeypatch, capsys):
     assert _pressure_names(mesh) == ["pressure_pa_t0000"]
     np.testing.assert_array_equal(mesh.field_data["time_s"], [0.001])
     s = _setup()
-    expected = snapshots(s.pulse, [0.001], np.asarray(mesh.points), s.configuration, medium=s.medium)[0]
+    expected = snapshots(s.pulse, [0.001], np.asarray(mesh.points), s.geometry, medium=s.medium)[0]
     got = mesh.point_data["pressure_pa_t0000"]
     assert np.isfinite(got).sum() > 500 and np.nanmax(np.abs(got)) > 0.1  # a real field, not zeros
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0, equal_nan=True)
@@ -55,8 +55,8 @@ def test_several_times_agree_with_the_time_series(tmp_path):
     """Each pressure array matches a second route through the evaluator: the time series at that time."""
     s = _setup("wall-floor", wall_distance=0.05)
     times = [0.4e-3, 0.8e-3, 1.2e-3]
-    field = section_field(s.pulse, s.configuration, times, medium=s.medium, sections=("xz", "xy"), n_u=31)
-    data, geo = write_snapshot_vtk(field, s.configuration, tmp_path / "s.vtu")
+    field = section_field(s.pulse, s.geometry, times, medium=s.medium, sections=("xz", "xy"), n_u=31)
+    data, geo = write_snapshot_vtk(field, s.geometry, tmp_path / "s.vtu")
     mesh = pv.read(data)
     assert _pressure_names(mesh) == [f"pressure_pa_t{k:04d}" for k in range(3)]
     np.testing.assert_allclose(mesh.field_data["time_s"], times, rtol=0, atol=0)
@@ -66,26 +66,26 @@ def test_several_times_agree_with_the_time_series(tmp_path):
     inside = np.isfinite(mesh.point_data["pressure_pa_t0000"])
     pick = rng.choice(np.flatnonzero(inside), 12, replace=False)
     for k, t in enumerate(times):
-        ref = np.array([time_series(s.pulse, [t], [pts[i]], s.configuration, medium=s.medium)[0, 0] for i in pick])
+        ref = np.array([time_series(s.pulse, [t], [pts[i]], s.geometry, medium=s.medium)[0, 0] for i in pick])
         got = mesh.point_data[f"pressure_pa_t{k:04d}"][pick]
         scale = np.max(np.abs(mesh.point_data[f"pressure_pa_t{k:04d}"][inside]))
         np.testing.assert_allclose(got, ref, rtol=1e-9, atol=1e-9 * scale)
     # points inside the sphere carry NaN, and only those
-    r = np.linalg.norm(pts - s.configuration.centre, axis=1)
-    np.testing.assert_array_equal(~inside, r < s.configuration.radius)
+    r = np.linalg.norm(pts - s.geometry.centre, axis=1)
+    np.testing.assert_array_equal(~inside, r < s.geometry.radius)
 
 
 def test_geometry_file(tmp_path):
     s = _setup("wall-floor", wall_distance=0.05)
-    field = section_field(s.pulse, s.configuration, 1e-3, medium=s.medium, n_u=21)
-    _, geo = write_snapshot_vtk(field, s.configuration, tmp_path / "f.vtkhdf")
+    field = section_field(s.pulse, s.geometry, 1e-3, medium=s.medium, n_u=21)
+    _, geo = write_snapshot_vtk(field, s.geometry, tmp_path / "f.vtkhdf")
     assert geo == tmp_path / "f_geometry.vtu" == geometry_path(tmp_path / "f.vtkhdf")
     g = pv.read(geo)
     part = g.cell_data["part"]
     assert sorted(np.unique(part)) == [0, 1, 2]
-    conf = s.configuration
+    geometry = s.geometry
     sphere = g.extract_cells(np.flatnonzero(part == 0))
-    np.testing.assert_allclose(np.linalg.norm(sphere.points - conf.centre, axis=1), conf.radius, rtol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(sphere.points - geometry.centre, axis=1), geometry.radius, rtol=1e-6)
     floor = g.extract_cells(np.flatnonzero(part == 1))
     wall = g.extract_cells(np.flatnonzero(part == 2))
     np.testing.assert_allclose(floor.points[:, 2], 0.0, atol=1e-12)
@@ -93,20 +93,20 @@ def test_geometry_file(tmp_path):
     # the planes span the data: the section file's points lie within the floor's x-range
     data = pv.read(tmp_path / "f.vtkhdf")
     assert floor.bounds[0] <= data.bounds[0] + 1e-12 and floor.bounds[1] >= data.bounds[1] - 1e-12
-    np.testing.assert_allclose(g.field_data["sphere_radius_m"], [conf.radius])
+    np.testing.assert_allclose(g.field_data["sphere_radius_m"], [geometry.radius])
 
 
 @pytest.mark.parametrize("suffix", [".vtu", ".vtkhdf"])
 def test_balloon_metrics_on_the_measuring_sphere(tmp_path, suffix):
     s = _setup()
-    balloon = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.5, n_theta=8)
-    data, _ = write_balloon_vtk(balloon, s.configuration, tmp_path / f"b{suffix}")
+    balloon = balloon_data(s.pulse, s.geometry, medium=s.medium, distance=0.5, n_theta=8)
+    data, _ = write_balloon_vtk(balloon, s.geometry, tmp_path / f"b{suffix}")
     mesh = pv.read(data)
     pts = np.asarray(mesh.points)
-    conf = s.configuration
-    np.testing.assert_allclose(np.linalg.norm(pts - conf.contact_point, axis=1), 0.5, rtol=1e-12)
+    geometry = s.geometry
+    np.testing.assert_allclose(np.linalg.norm(pts - geometry.contact_point, axis=1), 0.5, rtol=1e-12)
     assert pts[:, 2].min() >= -1e-12  # the half space above the floor
-    fm = field_metrics(s.pulse, pts, conf, medium=s.medium)
+    fm = field_metrics(s.pulse, pts, geometry, medium=s.medium)
     for name, ref in [("peak_pa", fm.peak), ("rms_pa", fm.rms), ("peak_positive_pa", fm.peak_positive),
                       ("peak_negative_pa", fm.peak_negative), ("exposure_pa2s", fm.exposure)]:
         np.testing.assert_allclose(mesh.point_data[name], ref, rtol=1e-12, atol=0)
@@ -133,7 +133,7 @@ def test_animation_frames(tmp_path, monkeypatch):
     t = mesh.field_data["time_s"]
     assert len(_pressure_names(mesh)) == 5 == t.size and np.all(np.diff(t) > 0)
     s = _setup("free")
-    ref = snapshots(s.pulse, t, np.asarray(mesh.points), s.configuration, medium=s.medium)
+    ref = snapshots(s.pulse, t, np.asarray(mesh.points), s.geometry, medium=s.medium)
     for k in range(5):
         got = mesh.point_data[f"pressure_pa_t{k:04d}"]
         scale = np.nanmax(np.abs(ref[k]))
@@ -171,19 +171,19 @@ def test_bad_outputs_exit_2(tmp_path, monkeypatch, capsys, argv, option):
 
 def test_write_refuses_other_suffix(tmp_path):
     s = _setup()
-    field = animation_field(s.pulse, s.configuration, medium=s.medium, frames=2, n_u=11)
+    field = animation_field(s.pulse, s.geometry, medium=s.medium, frames=2, n_u=11)
     with pytest.raises(ValueError, match="vtu"):
-        write_animation_vtk(field, s.configuration, tmp_path / "a.vtk")
+        write_animation_vtk(field, s.geometry, tmp_path / "a.vtk")
     assert not list(tmp_path.iterdir())
 
 
 def test_a_balloon_without_its_metrics_is_refused_not_evaluated(tmp_path):
     # a level of its own carries no field metrics: the writer says where they come from, computes nothing
     s = _setup()
-    flat = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=0.5, n_theta=6, metric="flat",
+    flat = balloon_data(s.pulse, s.geometry, medium=s.medium, distance=0.5, n_theta=6, metric="flat",
                         levels=(lambda pts: np.full(len(pts), 80.0), "flat (dB re 20 µPa)"))
     with pytest.raises(ParameterError, match="balloon_metrics") as exc:
-        write_balloon_vtk(flat, s.configuration, tmp_path / "b.vtu")
+        write_balloon_vtk(flat, s.geometry, tmp_path / "b.vtu")
     assert exc.value.name == "data"
     assert not list(tmp_path.iterdir())
 

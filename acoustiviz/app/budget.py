@@ -181,28 +181,28 @@ def _count(x: float) -> float:
     return x if math.isfinite(x) and x >= 0 else math.inf
 
 
-def _image_count(config) -> int:
-    """The sources of ``config``: a room counts its images without building them."""
-    n = getattr(config, "image_count", None)
-    return int(n) if n is not None else len(config.images())
+def _image_count(geometry) -> int:
+    """The sources of ``geometry``: a room counts its images without building them."""
+    n = getattr(geometry, "image_count", None)
+    return int(n) if n is not None else len(geometry.images())
 
 
-def _room_end(pulses, config, medium):
+def _room_end(pulses, geometry, medium):
     """A bound in s on the end of a room's sound without its window, from its order alone; None elsewhere.
 
     The farthest image of the room's order (:func:`acoustiviz.core.reverberation._shell_upper_distance`,
     the bound its order is chosen with) plus the longest pulse and 40 decay times a/c, as
     :func:`acoustiviz.field.waveform_span` ends the sound, without building its millions of images.
     """
-    if getattr(config, "image_order", None) is None:
+    if getattr(geometry, "image_order", None) is None:
         return None
     from ..core.reverberation import _shell_upper_distance
 
-    reach = float(_shell_upper_distance(config.shoebox, np.float64(config.image_order)))
-    return reach / medium.c + max(p.duration for p in pulses) + 40.0 * config.radius / medium.c
+    reach = float(_shell_upper_distance(geometry.shoebox, np.float64(geometry.image_order)))
+    return reach / medium.c + max(p.duration for p in pulses) + 40.0 * geometry.radius / medium.c
 
 
-def waveform_estimate(pulses, point, config, medium, samples_per_duration,
+def waveform_estimate(pulses, point, geometry, medium, samples_per_duration,
                       options=("--samples-per-duration", "--distance"), *, window=None) -> Estimate:
     """Time samples of :func:`acoustiviz.app.views.waveform_times` and the CSV of them.
 
@@ -217,18 +217,18 @@ def waveform_estimate(pulses, point, config, medium, samples_per_duration,
     from ..field._common import geometry_bytes
 
     with np.errstate(all="ignore"):
-        end = window if window is not None else _room_end(pulses, config, medium)
+        end = window if window is not None else _room_end(pulses, geometry, medium)
         if end is None:
-            end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
+            end = max(waveform_span(p, point, geometry, medium=medium)[1] for p in pulses)
         dt = min(p.duration for p in pulses) / float(samples_per_duration)
         n = _count(_div(end, dt) + 2.0)
-    nimg = _image_count(config)
+    nimg = _image_count(geometry)
     memory = _F8 * n * (4 + min(nimg, 4)) * len(pulses) + geometry_bytes(nimg)
     what = f"{n:.3g} time samples" + (f" of {nimg:.3g} images" if nimg > 4 else "")
     return Estimate(memory, 38.0 * n * len(pulses), what, options)
 
 
-def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=None, medium=None,
+def directivity_estimate(geometry, step_deg: float, options=("--step",), *, pulse=None, medium=None,
                          window_options=("--wall-distance",)) -> Estimate:
     """Angles of :func:`acoustiviz.app.views.directivity_angles`; per angle its point, geometry and metrics.
 
@@ -237,25 +237,25 @@ def directivity_estimate(config, step_deg: float, options=("--step",), *, pulse=
     :func:`acoustiviz.field.default_sample_interval` (a far wall makes it long; the error is then
     named after ``window_options``).
     """
-    top = config.polar_limit_deg
+    top = geometry.polar_limit_deg
     with np.errstate(all="ignore"):
         n = _count(_div(top, float(step_deg)) + 2.0)
-    pos = np.asarray(config.images().positions, dtype=float)
+    pos = np.asarray(geometry.images().positions, dtype=float)
     per = _F8 * (3 + 12 + 9 * len(pos))
     est = Estimate(per * n, 60.0 * n, f"{n:.3g} angles", options)
     if pulse is None or medium is None:
         return est
     from ..field import default_sample_interval
 
-    reach = getattr(config, "duration", None)  # a room: the window its images reach
+    reach = getattr(geometry, "duration", None)  # a room: the window its images reach
     with np.errstate(all="ignore"):
         if reach is not None:
             window = float(reach)
         else:  # the largest distance between two sources (bounded by twice the farthest from the real one)
             spread = (float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) if len(pos) <= 64
                       else 2.0 * float(np.max(np.linalg.norm(pos - pos[0], axis=1)))) / medium.c
-            window = spread + float(pulse.duration) + 40.0 * config.radius / medium.c
-        m = _count(_div(window, default_sample_interval(pulse, config.radius, medium=medium)))
+            window = spread + float(pulse.duration) + 40.0 * geometry.radius / medium.c
+        m = _count(_div(window, default_sample_interval(pulse, geometry.radius, medium=medium)))
     if _F8 * m <= est.memory:
         return est
     return Estimate(est.memory + _F8 * m, est.output, f"{n:.3g} angles and a window of {m:.3g} samples",
@@ -276,7 +276,7 @@ def window_estimate(pulse, radius: float, medium, window: float, samples_per_dur
                              options=options, window=window)
 
 
-def scene_waveform_estimate(scene, conf):
+def scene_waveform_estimate(scene, geometry):
     """The memory of a scene's ``[outputs.waveform]``: the largest listener's table, as the run samples it.
 
     Each listener's times run to the room's window (``configuration.window_s``) or, without one, to
@@ -288,9 +288,9 @@ def scene_waveform_estimate(scene, conf):
 
     kinds = scene.output("waveform")["pulses"] or [scene.section("contact")["pulse"]]
     pulses = [scene.pulse(kind=k) for k in kinds]
-    window = getattr(conf, "duration", None)
-    room = getattr(conf, "image_order", None) is not None
-    estimates = [waveform_estimate(pulses, np.asarray(pos, dtype=float), conf, scene.medium(), WAVEFORM[0].default,
+    window = getattr(geometry, "duration", None)
+    room = getattr(geometry, "image_order", None) is not None
+    estimates = [waveform_estimate(pulses, np.asarray(pos, dtype=float), geometry, scene.medium(), WAVEFORM[0].default,
                                    options=("configuration.window_s",) if room else (f"listeners[{i}]",),
                                    window=window)
                  for i, (_, pos) in enumerate(scene.listeners())]
@@ -302,7 +302,7 @@ def scene_waveform_estimate(scene, conf):
     return worst
 
 
-def scene_estimates(scene, conf) -> list:
+def scene_estimates(scene, geometry) -> list:
     """What a scene's waveform and weighted directivity hold, as callables checked in turn at its load.
 
     The waveform's tables (:func:`scene_waveform_estimate`) and, for a directivity of a weighted
@@ -310,7 +310,7 @@ def scene_estimates(scene, conf) -> list:
     circle through the first listener, as the run computes it. They follow the angles' estimate,
     which bounds the number of points first.
     """
-    out = [lambda: scene_waveform_estimate(scene, conf)] if scene.wants("waveform") else []
+    out = [lambda: scene_waveform_estimate(scene, geometry)] if scene.wants("waveform") else []
     metric = scene.data["outputs"]["directivity"].get("metric", "peak-spl") if scene.wants("directivity") else None
     if metric not in (None, "peak-spl", "rms"):
         def directivity_metric():
@@ -318,15 +318,15 @@ def scene_estimates(scene, conf) -> list:
             from .views import directivity_angles
 
             (_, pos), *_ = scene.listeners()
-            angles = directivity_angles(conf, scene.data["outputs"]["directivity"]["step_deg"])
-            points = circle_points(conf, float(np.linalg.norm(np.asarray(pos) - conf.centre)), angles)
-            return metric_estimate(scene.pulse(), points, conf, scene.medium(), metric,
+            angles = directivity_angles(geometry, scene.data["outputs"]["directivity"]["step_deg"])
+            points = circle_points(geometry, float(np.linalg.norm(np.asarray(pos) - geometry.centre)), angles)
+            return metric_estimate(scene.pulse(), points, geometry, scene.medium(), metric,
                                    options=("outputs.directivity.step_deg", "outputs.directivity.metric"))
         out.append(directivity_metric)
     return out
 
 
-def metric_estimate(pulse, points, config, medium, metric: str, options=("--step", "--distance")) -> Estimate:
+def metric_estimate(pulse, points, geometry, medium, metric: str, options=("--step", "--distance")) -> Estimate:
     """A weighted level (``metric``) at ``points``, all at once, as ``points_metric_levels`` computes it.
 
     Every point's sound (:func:`acoustiviz.sound.impact_levels.points_metric_levels`) is evaluated in
@@ -340,8 +340,8 @@ def metric_estimate(pulse, points, config, medium, metric: str, options=("--step
     from ..sound.impact_levels import sound_samples
 
     k = int(np.asarray(points).reshape(-1, 3).shape[0])
-    m = float(sound_samples(pulse, points, config, medium))
-    nimg = _image_count(config)
+    m = float(sound_samples(pulse, points, geometry, medium))
+    nimg = _image_count(geometry)
     return Estimate(5.0 * _F8 * k * m + geometry_bytes(nimg) + 6.0 * _F8 * m, 0.0,
                     f"{k} angles x {m:.3g} oversampled samples of the sound each ({metric})", options)
 
@@ -350,7 +350,7 @@ def metric_estimate(pulse, points, config, medium, metric: str, options=("--step
 _UNCAPPED_MB = 1e9
 
 
-def check_room_order(config, max_memory_mb=None, *, window_option: str = "--duration",
+def check_room_order(geometry, max_memory_mb=None, *, window_option: str = "--duration",
                      cap_name: str = "--max-memory") -> None:
     """Refuse a room whose image order the memory budget cut before its tolerance was met.
 
@@ -360,23 +360,24 @@ def check_room_order(config, max_memory_mb=None, *, window_option: str = "--dura
     (:func:`acoustiviz.core.room.max_order_for_memory`), and the settings that shrink the need. A
     room whose order was given (``--image-order``) is the user's choice and passes.
     """
-    if not getattr(config, "order_capped", False):
+    if not getattr(geometry, "order_capped", False):
         return
     from dataclasses import replace
 
     from ..core.room import _image_bytes
 
-    full = replace(config, max_memory_mb=_UNCAPPED_MB)  # the same room, its order set by the tolerance alone
+    full = replace(geometry, max_memory_mb=_UNCAPPED_MB)  # the same room, its order set by the tolerance alone
     need = _image_bytes(full.image_order, None) / 1e6  # MB as the order's cap counts them
     cap = MAX_MEMORY_MB if max_memory_mb is None else float(max_memory_mb)
-    lost = config.neglected_energy_db
+    lost = geometry.neglected_energy_db
     lost = f"{lost:+.1f} dB" if math.isfinite(lost) else "an unbounded part of it"
-    where = "this room" if config.duration is None else f"a {config.duration:g} s window ({window_option}) in this room"
+    where = ("this room" if geometry.duration is None
+             else f"a {geometry.duration:g} s window ({window_option}) in this room")
     raise ParameterError(
         cap_name, f"{where} needs image order {'above ' if full.order_capped else ''}{full.image_order} "
                   f"({full.image_count:.3g} images, {math.ceil(need):,d} MB) to leave out at most "
-                  f"{config.tolerance_db:g} dB of its energy; the cap of {cap:g} MB allows order "
-                  f"{config.image_order}, which leaves out {lost}: raise {cap_name} "
+                  f"{geometry.tolerance_db:g} dB of its energy; the cap of {cap:g} MB allows order "
+                  f"{geometry.image_order}, which leaves out {lost}: raise {cap_name} "
                   f"to {math.ceil(need)}, or shorten {window_option}, raise --absorption or --tolerance-db, or "
                   "give --image-order to accept the loss")
 

@@ -47,7 +47,7 @@ def write_waveform_csv(path, times, pressures, names):
     return write_csv_atomic(path, ["time_s", *names], [times, *pressures], fmt=fmt)
 
 
-def waveform_extremes(pulse, samples, point, config, medium, *, memory_limit=None) -> tuple[float, float]:
+def waveform_extremes(pulse, samples, point, geometry, medium, *, memory_limit=None) -> tuple[float, float]:
     """Largest and smallest pressure in Pa a waveform reports.
 
     In a room (a configuration with an image order) the waveform is a window of a longer
@@ -63,7 +63,7 @@ def waveform_extremes(pulse, samples, point, config, medium, *, memory_limit=Non
         The tabulated pressure in Pa at ``point``.
     point : (3,) array_like
         Observer in m.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -74,11 +74,11 @@ def waveform_extremes(pulse, samples, point, config, medium, *, memory_limit=Non
     -------
     peak_positive, peak_negative : float
     """
-    if getattr(config, "image_order", None) is not None:
+    if getattr(geometry, "image_order", None) is not None:
         return float(np.max(samples)), float(np.min(samples))
     from .views import waveform_peaks
 
-    return waveform_peaks(pulse, point, config, medium, memory_limit=memory_limit)
+    return waveform_peaks(pulse, point, geometry, medium, memory_limit=memory_limit)
 
 
 def write_directivity_csv(path, directivity, column=None, values=None):

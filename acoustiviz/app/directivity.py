@@ -16,7 +16,7 @@ The paper's Figure 3 above a reflecting plane, at 0.7 m every 45°:
 >>> from acoustiviz.app.impacts import impact_setup
 >>> setup = impact_setup(radius=0.01905, velocity=1.4, density=7800.0, config="plane")
 >>> job = DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-...                      configuration=setup.configuration, distance=0.7, step_deg=45.0)
+...                      geometry=setup.geometry, distance=0.7, step_deg=45.0)
 >>> result = run(job)
 >>> result.angles_deg.round(6).tolist(), result.spl_db.round(1).tolist()
 ([0.0, 45.0, 90.0], [93.2, 88.8, 68.2])
@@ -90,7 +90,7 @@ class DirectivityResult:
     def title(self) -> str:
         """The figure's title: the configuration, the circle's radius, the sphere, the speed and the pulse."""
         s = self.settings
-        return (f"{s.configuration.caption()}: r = {s.distance:g} m, a = {s.configuration.radius * 1e3:g} mm, "
+        return (f"{s.geometry.caption()}: r = {s.distance:g} m, a = {s.geometry.radius * 1e3:g} mm, "
                 f"U0 = {s.impact.velocity:g} m/s, {s.pulse.kind} pulse")
 
     def write(self, folder=None) -> list:
@@ -124,7 +124,7 @@ class DirectivityResult:
         from ..output.plot.style import save_figure
         from .views import directivity_metric_figure
 
-        half = self.settings.configuration.polar_limit_deg == 90.0
+        half = self.settings.geometry.polar_limit_deg == 90.0
         if self.levels is not None:
             fig = directivity_metric_figure(self.directivity, self.levels, self.settings.metric, half_space=half,
                                             title=self.title())
@@ -156,11 +156,11 @@ def _run(s: DirectivityJob) -> DirectivityResult:
     from .budget import memory_cap
     from .views import directivity_angles, directivity_metric
 
-    conf = s.configuration
-    angles = directivity_angles(conf, s.step_deg)
-    d = directivity(s.pulse, conf, s.distance, angles, medium=s.medium)
+    geometry = s.geometry
+    angles = directivity_angles(geometry, s.step_deg)
+    d = directivity(s.pulse, geometry, s.distance, angles, medium=s.medium)
     levels = None
     if s.metric != "peak-spl":  # the sound at every angle within the cap its estimate was checked against
-        levels = directivity_metric(d, s.metric, s.pulse, conf, s.medium,
+        levels = directivity_metric(d, s.metric, s.pulse, geometry, s.medium,
                                     memory_limit=memory_cap(s.max_memory_mb) if s.weighted else None)
     return DirectivityResult(s, d, levels)

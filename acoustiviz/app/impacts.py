@@ -10,7 +10,7 @@ says ``_deg``.
 Examples
 --------
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> round(s.impact.mass, 4), s.configuration.name, s.k_hertz_source
+>>> round(s.impact.mass, 4), s.geometry.name, s.k_hertz_source
 (0.2259, 'plane', 'given')
 >>> observer_point(s, 0.7, 45.0).round(4)
 array([0.495, 0.   , 0.514])
@@ -57,7 +57,7 @@ class ImpactSetup:
         Sphere radius in m.
     medium : Medium
         The fluid.
-    configuration : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources.
     k_hertz_source : str
         Where K_HZ came from: ``"given"``, ``"Hertz, steel on steel"`` or ``"default (paper)"``.
@@ -67,7 +67,7 @@ class ImpactSetup:
     pulse: object
     radius: float
     medium: Medium
-    configuration: Geometry
+    geometry: Geometry
     k_hertz_source: str
 
 
@@ -171,12 +171,12 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     m = sphere_mass(radius, mass, density, sphere_material)
     check_impact(velocity, k, m, partner_mass, radius=radius, c=medium.c, rho=medium.rho)
     if room is not None:  # the room's own settings (Room.from_settings validates them all)
-        conf = geometry("room", radius, **{"sound_speed": medium.c, **room})
-        _check_struck(conf)
+        geom = geometry("room", radius, **{"sound_speed": medium.c, **room})
+        _check_struck(geom)
     else:
-        conf = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
+        geom = geometry(config, radius, wall_distance=wall_distance, strike=strike, height=height)
     impact = Impact(velocity=velocity, k_hertz=k, mass=m, partner_mass=partner_mass)
-    return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, conf, source)
+    return ImpactSetup(impact, acceleration_pulse(impact, pulse), radius, medium, geom, source)
 
 
 def _check_struck(room) -> None:
@@ -203,11 +203,10 @@ def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.
         Position in m.
     """
     check_range("distance", distance, setup.radius, MAX_DISTANCE, unit="m", low_open=True)
-    conf = setup.configuration
-    limit = conf.polar_limit_deg
+    limit = setup.geometry.polar_limit_deg
     theta = math.radians(check_range("angle_deg", angle_deg, 0.0, limit, unit="deg"))
-    point = observer_points(conf, distance, theta)[0]
-    if not bool(conf.in_fluid(point[None, :])[0]):
+    point = observer_points(setup.geometry, distance, theta)[0]
+    if not bool(setup.geometry.in_fluid(point[None, :])[0]):
         raise ParameterError("angle_deg", "the observer would lie inside a wall or below the floor")
     return point
 

@@ -12,7 +12,7 @@ Examples
 --------
 >>> from acoustiviz.app.impacts import impact_setup
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration,
+>>> result = run(MapJob(impact=s.impact, pulse=s.pulse, medium=s.medium, geometry=s.geometry,
 ...                     extent=0.3, resolution=21))
 >>> result.level.grid.shape  # (points along z, along x): the map is cut at the floor
 (12, 21)
@@ -48,8 +48,8 @@ class MapResult:
     def title(self) -> str:
         """The figure's title: the configuration, the plane, the speed, the sphere and the pulse."""
         s = self.settings
-        return map_title(self.level, s.configuration, f"U0 = {s.impact.velocity:g} m/s, "
-                                                     f"a = {s.configuration.radius * 1e3:g} mm, {s.pulse.kind} pulse")
+        return map_title(self.level, s.geometry, f"U0 = {s.impact.velocity:g} m/s, "
+                                                     f"a = {s.geometry.radius * 1e3:g} mm, {s.pulse.kind} pulse")
 
     def write(self, folder=None) -> list:
         """Write the files the settings ask for into ``folder``; return their paths.
@@ -67,7 +67,7 @@ class MapResult:
         list of pathlib.Path
         """
         files = {k: Path(v) if folder is None else Path(folder) / v for k, v in self.settings.files().items()}
-        return write_map_outputs(self.level, self.settings.configuration, title=self.title(), **files)
+        return write_map_outputs(self.level, self.settings.geometry, title=self.title(), **files)
 
 
 def run(settings: MapJob, *, progress=None) -> MapResult:
@@ -85,7 +85,7 @@ def run(settings: MapJob, *, progress=None) -> MapResult:
     MapResult
     """
     s = settings
-    level = level_map(s.pulse, s.configuration, medium=s.medium, plane=s.plane, height=s.height, extent=s.extent,
+    level = level_map(s.pulse, s.geometry, medium=s.medium, plane=s.plane, height=s.height, extent=s.extent,
                       resolution=s.resolution, max_memory_mb=s.max_memory_mb, names=s.names, progress=progress)
     return MapResult(s, level)
 
@@ -102,7 +102,7 @@ def map_settings(scene, out=None):
     files = {} if out is None else {k: str(Path(out) / f"level_map.{'vtu' if k == 'vtk' else k}") for k in kinds}
     names = {**MapJob.scene_names(), **{k: "outputs.level_map" for k in ("png", "csv", "vtk")},
              "max_memory_mb": "grids.memory_limit_mb", "memory_limit": "grids.memory_limit_mb"}
-    return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+    return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                   plane=opts["plane"],
                   height=opts["height_m"], extent=opts["extent_m"], resolution=opts["resolution"],
                   max_memory_mb=scene.section("grids")["memory_limit_mb"], k_hertz_source=setup.k_hertz_source,

@@ -26,7 +26,7 @@ Examples
 --------
 >>> from acoustiviz.app.impacts import impact_setup
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> m = level_map(s.pulse, s.configuration, medium=s.medium, extent=0.3, resolution=21)
+>>> m = level_map(s.pulse, s.geometry, medium=s.medium, extent=0.3, resolution=21)
 >>> m.grid.shape  # (points along z, along x): the map is cut at the floor
 (12, 21)
 >>> top = m.grid.image(m.sel_db)[-1, 10]  # SEL 0.3 m above the sphere's centre, in dB
@@ -133,12 +133,12 @@ def _defaults(plane, height, extent, resolution):
             _BY_NAME["resolution"].default if resolution is None else resolution)
 
 
-def check_map_settings(config, *, plane=None, height=None, extent=None, resolution=None) -> tuple:
+def check_map_settings(geometry, *, plane=None, height=None, extent=None, resolution=None) -> tuple:
     """Check the settings of a map against :data:`MAP_SETTINGS` and the scene; return them resolved.
 
     Parameters
     ----------
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its planes.
     plane : {"vertical", "horizontal"}, optional
         Default ``"vertical"``.
@@ -163,8 +163,8 @@ def check_map_settings(config, *, plane=None, height=None, extent=None, resoluti
     check_choice("plane", plane, PLANES)
     s = _BY_NAME["extent"]
     extent = check_range("extent", extent, s.low, s.high, unit="m", low_open=True)
-    if extent <= 2.0 * config.radius:
-        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * config.radius:g} m (and be <= "
+    if extent <= 2.0 * geometry.radius:
+        raise ParameterError("extent", f"must exceed the sphere's diameter {2 * geometry.radius:g} m (and be <= "
                                        f"{s.high:g} m), got {extent:g} m")
     s = _BY_NAME["resolution"]
     if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) \
@@ -178,13 +178,13 @@ def check_map_settings(config, *, plane=None, height=None, extent=None, resoluti
         return plane, None, extent, resolution
     s = _BY_NAME["height"]
     if height is None:
-        height = float(config.centre[2])
-    low = s.low if config.floor_height is None else config.floor_height
-    ceilings = [float(p.point[2]) for p in config.planes if p.normal[2] == -1.0]  # a room's ceiling
+        height = float(geometry.centre[2])
+    low = s.low if geometry.floor_height is None else geometry.floor_height
+    ceilings = [float(p.point[2]) for p in geometry.planes if p.normal[2] == -1.0]  # a room's ceiling
     height = check_range("height", height, low, min([s.high, *ceilings]), unit="m")
-    if abs(height - config.centre[2]) >= extent:
+    if abs(height - geometry.centre[2]) >= extent:
         raise ParameterError("height", f"{height:g} m is farther from the sphere's centre (z = "
-                                       f"{config.centre[2]:g} m) than the extent {extent:g} m: the plane would "
+                                       f"{geometry.centre[2]:g} m) than the extent {extent:g} m: the plane would "
                                        "show no part of the map's box")
     return plane, height, extent, resolution
 
@@ -193,12 +193,12 @@ def check_map_settings(config, *, plane=None, height=None, extent=None, resoluti
 SECTION_OF_PLANE = {"vertical": "xz", "horizontal": "xy"}
 
 
-def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
+def map_grid(geometry, *, plane=None, height=None, extent=None, resolution=None):
     """The planar grid of a map, cut at the floor and the wall (see the module notes).
 
     Parameters
     ----------
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its planes.
     plane, height, extent, resolution
         As for :func:`check_map_settings`.
@@ -210,19 +210,19 @@ def map_grid(config, *, plane=None, height=None, extent=None, resolution=None):
     """
     from ..field.grids import planar_grid
 
-    centre, u, v, nu, nv = _grid_spec(config, *check_map_settings(config, plane=plane, height=height, extent=extent,
+    centre, u, v, nu, nv = _grid_spec(geometry, *check_map_settings(geometry, plane=plane, height=height, extent=extent,
                                                                  resolution=resolution))
     return planar_grid(centre, u, v, n_u=nu, n_v=nv)
 
 
-def _grid_spec(config, plane, height, extent, n):
+def _grid_spec(geometry, plane, height, extent, n):
     """Centre (m), edge vectors (m) and point counts of a map's grid, from checked settings."""
     from ..field.grids import section_rectangle
 
-    return section_rectangle(config, SECTION_OF_PLANE[plane], extent, n, level=height)
+    return section_rectangle(geometry, SECTION_OF_PLANE[plane], extent, n, level=height)
 
 
-def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("resolution",)):
+def map_estimate(geometry, pulse, medium: Medium, n_points: int, *, options=("resolution",)):
     """Memory and output size of a map of ``n_points`` points (:class:`acoustiviz.app.budget.Estimate`).
 
     Memory: 512 B per point (points, results, maps, the copies made by the writers) plus the evaluator's
@@ -234,11 +234,11 @@ def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("reso
     from ..field.peaks import DEFAULT_FINE, DEFAULT_SAMPLES, PULSE_TABLE_ABOVE
     from .budget import Estimate
 
-    pos = config.images().positions
+    pos = geometry.images().positions
     spread = 0.0
     if pos.shape[0] <= PULSE_TABLE_ABOVE:
         spread = float(np.max(np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1))) / medium.c
-    step = min(float(pulse.duration), config.radius / medium.c) / DEFAULT_SAMPLES
+    step = min(float(pulse.duration), geometry.radius / medium.c) / DEFAULT_SAMPLES
     with np.errstate(all="ignore"):
         table = 16.0 * DEFAULT_FINE * ((2.0 * spread + float(pulse.duration)) / step + 64.0)
     n = float(n_points)
@@ -246,14 +246,14 @@ def map_estimate(config, pulse, medium: Medium, n_points: int, *, options=("reso
                     f"a map of {n:.3g} points", tuple(options))
 
 
-def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vertical", progress=None) -> LevelMap:
+def map_on_grid(pulse, geometry, grid, *, medium: Medium = AIR, plane: str = "vertical", progress=None) -> LevelMap:
     """Peak SPL, SEL and time of the peak of one impact at the points of any planar grid.
 
     Parameters
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     grid : acoustiviz.field.grids.PlanarGrid
         The points in m; those inside the sphere or behind a plane get NaN.
@@ -275,7 +275,7 @@ def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vert
     """
     from ..field import fast_peaks
 
-    r = fast_peaks(pulse, np.asarray(grid.points, dtype=float), config, medium=medium,  # NaN outside the fluid
+    r = fast_peaks(pulse, np.asarray(grid.points, dtype=float), geometry, medium=medium,  # NaN outside the fluid
                    progress=progress)
     time = np.where(r.peak_positive >= -r.peak_negative, r.time_positive, r.time_negative)
     return LevelMap(grid, plane, r.peak, r.peak_spl_db, r.sel_db, time, r.exposure)
@@ -285,7 +285,7 @@ def map_on_grid(pulse, config, grid, *, medium: Medium = AIR, plane: str = "vert
 MAP_LONG_POINTS = 1_000_000
 
 
-def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
+def level_map(pulse, geometry, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
               max_memory_mb=None, names=None, progress=None) -> LevelMap:
     """Peak SPL and SEL of one impact over a plane through the scene.
 
@@ -293,7 +293,7 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
     ----------
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (m/s²) starting at t = 0.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -325,7 +325,7 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
         Named ``plane``, ``height``, ``extent``, ``resolution`` or ``max_memory_mb`` (in the user's
         terms with ``names``), before any work.
     """
-    grid = plan_map(pulse, config, medium=medium, plane=plane, height=height, extent=extent, resolution=resolution,
+    grid = plan_map(pulse, geometry, medium=medium, plane=plane, height=height, extent=extent, resolution=resolution,
                     max_memory_mb=max_memory_mb, names=names)
     plane = _BY_NAME["plane"].default if plane is None else plane
     n = np.asarray(grid.points).shape[0]
@@ -333,10 +333,10 @@ def level_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, e
         from .._jit import announce_long_work
 
         announce_long_work(f"map: {n:.3g} points, a long computation (Ctrl-C stops it)")
-    return map_on_grid(pulse, config, grid, medium=medium, plane=plane, progress=progress)
+    return map_on_grid(pulse, geometry, grid, medium=medium, plane=plane, progress=progress)
 
 
-def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
+def plan_map(pulse, geometry, *, medium: Medium = AIR, plane=None, height=None, extent=None, resolution=None,
              max_memory_mb=None, names=None):
     """Check a map's settings and its memory and output size, and return its grid, without evaluating anything.
 
@@ -352,17 +352,17 @@ def plan_map(pulse, config, *, medium: Medium = AIR, plane=None, height=None, ex
 
     names = dict(names or {})
     with user_terms(names):
-        settings = check_map_settings(config, plane=plane, height=height, extent=extent, resolution=resolution)
-        nu, nv = _grid_spec(config, *settings)[3:]
+        settings = check_map_settings(geometry, plane=plane, height=height, extent=extent, resolution=resolution)
+        nu, nv = _grid_spec(geometry, *settings)[3:]
         opts = (names.get("resolution", "resolution"),)
-        check_budget(map_estimate(config, pulse, medium, nu * nv, options=opts), max_memory_mb,
+        check_budget(map_estimate(geometry, pulse, medium, nu * nv, options=opts), max_memory_mb,
                      cap_name=names.get("max_memory_mb", "max_memory_mb"))
         if nu * nv > MAX_MAP_POINTS:  # a bound on the work, whatever memory the caller allows
             raise ParameterError("resolution", f"a map of {nu} x {nv} = {nu * nv:.3g} points is more than the "
                                                f"{MAX_MAP_POINTS:.3g} a map may hold (a square map of resolution "
                                                f"{math.isqrt(MAX_MAP_POINTS)}), whatever the memory cap; lower it")
         plane, height, extent, resolution = settings
-    return map_grid(config, plane=plane, height=height, extent=extent, resolution=resolution)
+    return map_grid(geometry, plane=plane, height=height, extent=extent, resolution=resolution)
 
 
 def write_map_csv(level: LevelMap, path):
@@ -374,21 +374,21 @@ def write_map_csv(level: LevelMap, path):
     return write_csv_atomic(path, list(MAP_CSV_COLUMNS), cols, fmt=list(_CSV_FORMATS))
 
 
-def map_title(level: LevelMap, config, setup_text: str = "") -> str:
+def map_title(level: LevelMap, geometry, setup_text: str = "") -> str:
     """A one-line title: configuration, plane and the impact."""
     where = (f"vertical plane y = {level.grid.points[0, 1]:.4g} m through the centre" if level.plane == "vertical"
              else f"horizontal plane z = {level.grid.points[0, 2]:.4g} m")
-    return f"{config.name}: {where}" + (f"; {setup_text}" if setup_text else "")
+    return f"{geometry.name}: {where}" + (f"; {setup_text}" if setup_text else "")
 
 
-def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, title: str = "") -> list:
+def write_map_outputs(level: LevelMap, geometry, *, png=None, csv=None, vtk=None, title: str = "") -> list:
     """Write the requested files of a map (the same bytes from the command line and a scene).
 
     Parameters
     ----------
     level : LevelMap
         The map.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The scene (its sphere and planes are drawn and stored beside the VTK data).
     png, csv, vtk : path-like, optional
         The figure (:func:`acoustiviz.output.plot.maps.level_map_figure`), the CSV
@@ -409,13 +409,13 @@ def write_map_outputs(level: LevelMap, config, *, png=None, csv=None, vtk=None, 
         from ..output.plot.maps import level_map_figure
         from ..output.plot.style import save_figure
 
-        fig = level_map_figure(level.grid, level.peak_spl_db, level.sel_db, config, axes_names=level.in_plane(),
+        fig = level_map_figure(level.grid, level.peak_spl_db, level.sel_db, geometry, axes_names=level.in_plane(),
                                title=title)
         out.append(save_figure(fig, png))
     if vtk is not None:
         from ..output.vtk import write_map_vtk
 
-        out += [p for p in write_map_vtk(level.grid, level.arrays(), config, vtk) if p is not None]
+        out += [p for p in write_map_vtk(level.grid, level.arrays(), geometry, vtk) if p is not None]
     return out
 
 

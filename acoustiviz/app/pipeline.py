@@ -88,9 +88,9 @@ class RunContext:
         return self.scene.medium()
 
     @functools.cached_property
-    def configuration(self):
+    def geometry(self):
         """Sphere and image sources of the single-impact outputs."""
-        return self.scene.configuration()
+        return self.scene.geometry()
 
     @functools.cached_property
     def listeners(self):
@@ -162,13 +162,13 @@ def waveform_settings(scene, out=None):
 
     kinds = scene.output("waveform")["pulses"] or [scene.section("contact")["pulse"]]
     setup = scene.setup()
-    room = getattr(setup.configuration, "image_order", None) is not None
+    room = getattr(setup.geometry, "image_order", None) is not None
     files = {} if out is None else {k: str(Path(out) / f"waveform_{PLACEHOLDER}.{k}") for k in ("csv", "png")}
     names = {"csv": "outputs.waveform", "png": "outputs.waveform", "listeners": "listeners",
              "pulses": "outputs.waveform.pulses", "max_memory_mb": "grids.memory_limit_mb",
              "memory_limit": "grids.memory_limit_mb"}
     return WaveformJob(impact=setup.impact, pulses=tuple(scene.pulse(kind=k) for k in kinds), medium=setup.medium,
-                       configuration=setup.configuration, listeners=tuple(Listener(n, p) for n, p in scene.listeners()),
+                       geometry=setup.geometry, listeners=tuple(Listener(n, p) for n, p in scene.listeners()),
                        max_memory_mb=scene.section("grids")["memory_limit_mb"],
                        k_hertz_source=setup.k_hertz_source, names=names,
                        size_options=("configuration.window_s",) if room else ("listeners",), **files)
@@ -216,9 +216,9 @@ def directivity_settings(scene, out=None):
              "distance": circle, "angles": "outputs.directivity.step_deg", "max_memory_mb": "grids.memory_limit_mb",
              "memory_limit": "grids.memory_limit_mb", "wall_distance": "configuration.wall_distance_m",
              "window": "configuration.window_s"}
-    distance = float(np.linalg.norm(np.asarray(position, dtype=float) - setup.configuration.centre))
+    distance = float(np.linalg.norm(np.asarray(position, dtype=float) - setup.geometry.centre))
     return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-                          configuration=setup.configuration, distance=distance,
+                          geometry=setup.geometry, distance=distance,
                           step_deg=opts["step_deg"], metric=opts.get("metric", "peak-spl"),
                           max_memory_mb=scene.section("grids")["memory_limit_mb"],
                           k_hertz_source=setup.k_hertz_source, names=names, **files)
@@ -239,8 +239,8 @@ def produce_directivity(ctx: RunContext):
     if result.levels is not None:
         figures[f"max_{result.column}"] = f"{np.nanmax(result.levels):.1f}"
     if settings.in_room:  # a room: its image model
-        conf = settings.configuration
-        figures.update(image_order=str(conf.image_order), images=str(conf.image_count))
+        geometry = settings.geometry
+        figures.update(image_order=str(geometry.image_order), images=str(geometry.image_count))
     return [Product("directivity", csv, figures), Product("directivity", png, {})]
 
 

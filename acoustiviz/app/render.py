@@ -38,10 +38,10 @@ def check_view_outputs(offered: dict, names: dict | None = None, *, require: boo
     return paths
 
 
-def check_view_fits(view: str, settings, configuration) -> None:
+def check_view_fits(view: str, settings, geometry) -> None:
     """Refuse a balloon whose measuring sphere leaves the fluid (a room's walls), before any work.
 
-    The sphere of radius ``settings.distance`` (m) must clear the struck sphere of ``configuration``
+    The sphere of radius ``settings.distance`` (m) must clear the struck sphere of ``geometry``
     (more than 2.1 radii from its centre) and stay within the fluid
     (:func:`acoustiviz.core.reach.check_view_radius`); errors name ``distance``. The planes of a
     snapshot or an animation are cut at the walls and need no check.
@@ -50,7 +50,7 @@ def check_view_fits(view: str, settings, configuration) -> None:
         from ..constants import BALLOON_MIN_RADII
         from ..core.reach import check_view_radius
 
-        check_view_radius(configuration, settings.distance, BALLOON_MIN_RADII * configuration.radius)
+        check_view_radius(geometry, settings.distance, BALLOON_MIN_RADII * geometry.radius)
 
 
 def render_estimate(view: str, settings, n_sources: int, *, n_files: int = 1, options: dict | None = None):

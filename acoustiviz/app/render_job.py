@@ -12,7 +12,7 @@ Examples
 --------
 >>> from acoustiviz.app.impacts import impact_setup
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> job = SnapshotJob(impact=s.impact, pulse=s.pulse, medium=s.medium, configuration=s.configuration,
+>>> job = SnapshotJob(impact=s.impact, pulse=s.pulse, medium=s.medium, geometry=s.geometry,
 ...                   times=(0.5e-3, 1e-3), n_u=41)
 >>> run(job).field.pressures[0].shape  # (times, points of the xz section)
 (2, 902)
@@ -64,16 +64,16 @@ class SnapshotResult:
         s, f, files = self.settings, self.field, _paths(self.settings, folder)
         out = []
         if "png" in files:
-            out.append(render.render_snapshot(f, s.pulse, s.configuration, files["png"], clim=s.clim,
+            out.append(render.render_snapshot(f, s.pulse, s.geometry, files["png"], clim=s.clim,
                                               title=s.title or s.caption(), size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_snapshot_vtk
 
-            out += write_snapshot_vtk(f, s.configuration, files["vtk"])
+            out += write_snapshot_vtk(f, s.geometry, files["vtk"])
         if "html" in files:
             from ..output.html import write_snapshot_html
 
-            out.append(write_snapshot_html(f, s.pulse, s.configuration, files["html"], clim=s.clim, title=s.title))
+            out.append(write_snapshot_html(f, s.pulse, s.geometry, files["html"], clim=s.clim, title=s.title))
         return [Path(p) for p in out]
 
 
@@ -112,16 +112,16 @@ class BalloonResult:
         s, d, files = self.settings, self.data, _paths(self.settings, folder)
         out = []
         if "png" in files:
-            out.append(render.render_balloon(d, s.pulse, s.configuration, files["png"], db_range=s.db_range,
+            out.append(render.render_balloon(d, s.pulse, s.geometry, files["png"], db_range=s.db_range,
                                              opacity=s.opacity, title=self.title(), size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_balloon_vtk
 
-            out += write_balloon_vtk(d, s.configuration, files["vtk"])
+            out += write_balloon_vtk(d, s.geometry, files["vtk"])
         if "html" in files:
             from ..output.html import write_balloon_html
 
-            out.append(write_balloon_html(d, s.pulse, s.configuration, files["html"], db_range=s.db_range,
+            out.append(write_balloon_html(d, s.pulse, s.geometry, files["html"], db_range=s.db_range,
                                           title=s.title))
         return [Path(p) for p in out]
 
@@ -152,12 +152,12 @@ class AnimationResult:
         out = []
         for key in ("gif", "mp4"):
             if key in files:
-                out.append(render.render_animation(f, s.pulse, s.configuration, files[key], fps=s.fps, clim=s.clim,
+                out.append(render.render_animation(f, s.pulse, s.geometry, files[key], fps=s.fps, clim=s.clim,
                                                    title=s.title or s.caption(), size=s.size))
         if "vtk" in files:
             from ..output.vtk import write_animation_vtk
 
-            out += write_animation_vtk(f, s.configuration, files["vtk"])
+            out += write_animation_vtk(f, s.geometry, files["vtk"])
         return [Path(p) for p in out]
 
 
@@ -182,7 +182,7 @@ def run(settings):
 def _snapshot(s: SnapshotJob) -> SnapshotResult:
     from ..field.sections import section_field
 
-    return SnapshotResult(s, section_field(s.pulse, s.configuration, list(s.times), medium=s.medium, extent=s.extent,
+    return SnapshotResult(s, section_field(s.pulse, s.geometry, list(s.times), medium=s.medium, extent=s.extent,
                                            sections=s.sections, n_u=s.n_u))
 
 
@@ -191,23 +191,23 @@ def _balloon(s: BalloonJob) -> BalloonResult:
     from ..field.balloon import BALLOON_FIELD_METRICS, balloon_data, balloon_metrics
     from .views import balloon_levels
 
-    levels = balloon_levels(s.metric, s.pulse, s.configuration, s.medium)
+    levels = balloon_levels(s.metric, s.pulse, s.geometry, s.medium)
     points = 2 * s.n_theta**2  # about, the measuring sphere's nodes (budget.balloon_estimate)
     if levels is not None and points > BALLOON_LONG_POINTS:
         name = levels[1] if levels else BALLOON_FIELD_METRICS[s.metric][1]
         announce_long_work(f"balloon: {name.split(' (')[0]} rendered at about {points:.3g} points, a long "
                            "computation (Ctrl-C stops it)")
-    data = balloon_data(s.pulse, s.configuration, medium=s.medium, distance=s.distance, metric=s.metric,
+    data = balloon_data(s.pulse, s.geometry, medium=s.medium, distance=s.distance, metric=s.metric,
                         n_theta=s.n_theta, levels=levels)
     if s.vtk is not None:  # a weighted level: the VTK file's metrics too, here, once
-        data = balloon_metrics(s.pulse, s.configuration, data, medium=s.medium)
+        data = balloon_metrics(s.pulse, s.geometry, data, medium=s.medium)
     return BalloonResult(s, data)
 
 
 def _animation(s: AnimationJob) -> AnimationResult:
     from ..field.sections import animation_field
 
-    return AnimationResult(s, animation_field(s.pulse, s.configuration, medium=s.medium, frames=s.frames,
+    return AnimationResult(s, animation_field(s.pulse, s.geometry, medium=s.medium, frames=s.frames,
                                               extent=s.extent, sections=s.sections, n_u=s.n_u))
 
 
@@ -250,7 +250,7 @@ def view_job(scene, view: str, out=None):
     names = {**cls.scene_names(), **{k: f"outputs.{view}" for k in cls.FILES},
              "max_memory_mb": "grids.memory_limit_mb", "memory_limit": "grids.memory_limit_mb"}
     return cls(**view_values(scene, view), impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-               configuration=setup.configuration, max_memory_mb=scene.section("grids")["memory_limit_mb"],
+               geometry=setup.geometry, max_memory_mb=scene.section("grids")["memory_limit_mb"],
                k_hertz_source=setup.k_hertz_source, names=names, **files)
 
 

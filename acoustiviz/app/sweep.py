@@ -193,7 +193,7 @@ def _scene_listener(scene) -> tuple:
     import numpy as np
 
     (_, pos), *_ = scene.listeners()
-    geom = scene.configuration()
+    geom = scene.geometry()
     rel = np.asarray(pos) - np.asarray(geom.centre)
     distance = float(np.linalg.norm(rel))
     return distance, math.degrees(math.acos(max(-1.0, min(1.0, float(rel @ np.asarray(geom.axis)) / distance))))

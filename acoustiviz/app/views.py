@@ -4,10 +4,10 @@ Examples
 --------
 >>> from acoustiviz.app.impacts import impact_setup, observer_point
 >>> s = impact_setup(radius=0.01905, velocity=1.4, k_hertz=5.6e8, density=7800.0, config="plane")
->>> t = waveform_times([s.pulse], observer_point(s, 0.7, 45.0), s.configuration, s.medium)
+>>> t = waveform_times([s.pulse], observer_point(s, 0.7, 45.0), s.geometry, s.medium)
 >>> float(t[0]), bool(t[-1] > 2.0e-3)
 (0.0, True)
->>> directivity_angles(s.configuration, 30.0).round(4).tolist()
+>>> directivity_angles(s.geometry, 30.0).round(4).tolist()
 [0.0, 0.5236, 1.0472, 1.5708]
 """
 
@@ -26,7 +26,7 @@ __all__ = ["waveform_times", "waveform_peaks", "directivity_angles", "check_samp
            "MIN_SAMPLES_PER_DURATION", "DIRECTIVITY_METRICS", "directivity_metric", "metric_label",
            "directivity_metric_figure", "point_levels", "BALLOON_METRICS", "balloon_levels"]
 
-def waveform_times(pulses, point, config, medium, samples_per_duration: int = 400, *, window=None) -> np.ndarray:
+def waveform_times(pulses, point, geometry, medium, samples_per_duration: int = 400, *, window=None) -> np.ndarray:
     """Times in s from the start of contact to the end of the sound of every pulse at ``point``.
 
     The step is the shortest pulse's duration / ``samples_per_duration``; the end is the latest
@@ -38,7 +38,7 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
         Acceleration pulses shown together.
     point : (3,) array_like
         Observer in m.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -52,11 +52,11 @@ def waveform_times(pulses, point, config, medium, samples_per_duration: int = 40
     dt = min(p.duration for p in pulses) / samples_per_duration
     if window is not None:
         return np.arange(0.0, float(window) + 0.5 * dt, dt)
-    end = max(waveform_span(p, point, config, medium=medium)[1] for p in pulses)
+    end = max(waveform_span(p, point, geometry, medium=medium)[1] for p in pulses)
     return np.arange(0.0, end + dt, dt)
 
 
-def waveform_peaks(pulse, point, config, medium, *, memory_limit=None) -> tuple[float, float]:
+def waveform_peaks(pulse, point, geometry, medium, *, memory_limit=None) -> tuple[float, float]:
     """Largest and smallest pressure in Pa of the continuous waveform at ``point``.
 
     The peaks of :func:`acoustiviz.field.field_metrics` over the whole response (sampled at 64
@@ -69,7 +69,7 @@ def waveform_peaks(pulse, point, config, medium, *, memory_limit=None) -> tuple[
         Acceleration pulse of the sphere.
     point : (3,) array_like
         Observer in m.
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     medium : Medium
         The fluid.
@@ -82,7 +82,7 @@ def waveform_peaks(pulse, point, config, medium, *, memory_limit=None) -> tuple[
         Pressure in Pa (``peak_negative <= 0``).
     """
     kw = {} if memory_limit is None else {"memory_limit": memory_limit}
-    fm = field_metrics(pulse, np.asarray(point, dtype=float)[None, :], config, medium=medium, **kw)
+    fm = field_metrics(pulse, np.asarray(point, dtype=float)[None, :], geometry, medium=medium, **kw)
     return float(fm.peak_positive[0]), float(fm.peak_negative[0])
 
 
@@ -96,25 +96,25 @@ def check_samples_per_duration(samples_per_duration) -> int:
     return int(samples_per_duration)
 
 
-def directivity_angles(config, step_deg: float) -> np.ndarray:
+def directivity_angles(geometry, step_deg: float) -> np.ndarray:
     """Polar angles in rad from 0 to the edge of the fluid (180° free, 90° plane and corner), both ends included.
 
     Parameters
     ----------
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its images.
     step_deg : float
         Angle step in degrees, in (0, 90].
     """
     step = check_range("step_deg", step_deg, 0.0, 90.0, unit="deg", low_open=True)
-    top = config.polar_limit_deg
+    top = geometry.polar_limit_deg
     deg = np.arange(0.0, top + 1e-9 * top, step)
     if deg[-1] < top - 1e-9:
         deg = np.append(deg, top)
     return np.radians(deg)
 
 
-def directivity_metric(directivity, metric: str, pulse, config, medium, *, memory_limit=None) -> np.ndarray:
+def directivity_metric(directivity, metric: str, pulse, geometry, medium, *, memory_limit=None) -> np.ndarray:
     """The level ``metric`` in dB at each angle of a directivity.
 
     Parameters
@@ -130,7 +130,7 @@ def directivity_metric(directivity, metric: str, pulse, config, medium, *, memor
         over :data:`~acoustiviz.sound.impact_levels.LEVEL_INTERVAL` (1 s from the first arrival at any angle:
         LAeq,1s of one impact, numerically equal to its SEL(A)), computed by
         :func:`~acoustiviz.sound.impact_levels.points_metric_levels` from the sound alone.
-    pulse, config, medium
+    pulse, geometry, medium
         The impact, sphere and fluid of the directivity.
     memory_limit : float, optional
         Cap in bytes on the weighted level's closed-form samples
@@ -150,11 +150,11 @@ def directivity_metric(directivity, metric: str, pulse, config, medium, *, memor
             return 20.0 * np.log10(np.asarray(directivity.rms, dtype=float) / P_REF)
     from ..sound.impact_levels import points_metric_levels
 
-    return points_metric_levels([metric], pulse, directivity.points, config, medium,
+    return points_metric_levels([metric], pulse, directivity.points, geometry, medium,
                                 memory_limit=memory_limit)[metric]
 
 
-def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
+def point_levels(metric: str, pulse, geometry, medium, *, chunk: int = 64):
     """The weighted level ``metric`` of one impact as a function of observer points, and its label.
 
     Parameters
@@ -165,7 +165,7 @@ def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
         :func:`~acoustiviz.sound.impact_levels.points_metric_levels` (the levels of
         :func:`~acoustiviz.sound.impact_levels.impact_signals` at :data:`~acoustiviz.constants.ANALYSIS_RATE`
         over :data:`~acoustiviz.sound.impact_levels.LEVEL_INTERVAL`).
-    pulse, config, medium
+    pulse, geometry, medium
         The impact, sphere and fluid.
     chunk : int
         Points whose signals share one time grid (sample 0 at the chunk's earliest arrival); it
@@ -182,12 +182,12 @@ def point_levels(metric: str, pulse, config, medium, *, chunk: int = 64):
     from ..sound.impact_levels import points_metric_levels
 
     def function(points):
-        return points_metric_levels([metric], pulse, points, config, medium, chunk=chunk)[metric]
+        return points_metric_levels([metric], pulse, points, geometry, medium, chunk=chunk)[metric]
 
     return function, metric_label(metric)
 
 
-def balloon_levels(metric: str, pulse, config, medium):
+def balloon_levels(metric: str, pulse, geometry, medium):
     """The ``levels`` argument of :func:`acoustiviz.field.balloon.balloon_data` for ``metric``.
 
     ``None`` for the closed form's ``"peak"``, ``"rms"`` and ``"sel"``; :func:`point_levels`
@@ -195,7 +195,7 @@ def balloon_levels(metric: str, pulse, config, medium):
     """
     if metric not in BALLOON_METRICS:
         raise ParameterError("metric", f"must be one of {', '.join(BALLOON_METRICS)}, got {metric!r}")
-    return None if metric in ("peak", "rms", "sel") else point_levels(metric, pulse, config, medium)
+    return None if metric in ("peak", "rms", "sel") else point_levels(metric, pulse, geometry, medium)
 
 
 def metric_label(metric: str) -> str:

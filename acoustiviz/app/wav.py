@@ -240,13 +240,14 @@ def physical_peaks(rendering, points=None, *, n_fastest: int = 4) -> np.ndarray:
         u = np.unique(u[np.isfinite(u) & (u > 0)])[::-1]
         if u.size == 0:
             continue
-        conf = _room_wall(scene, wall) if getattr(base, "enclosed", False) else None
-        if conf is None:
+        geometry = _room_wall(scene, wall) if getattr(base, "enclosed", False) else None
+        if geometry is None:
             srcs = wall_sources(scene, wall)
-            conf = base.with_sources(srcs.sources() if hasattr(srcs, "sources") else srcs)
+            geometry = base.with_sources(srcs.sources() if hasattr(srcs, "sources") else srcs)
 
-        def peaks_of(speeds, conf=conf):
-            return np.array([field_metrics(model.pulse_for(v), pts, conf, medium=scene.medium).peak for v in speeds])
+        def peaks_of(speeds, geometry=geometry):
+            return np.array([field_metrics(model.pulse_for(v), pts, geometry, medium=scene.medium).peak
+                             for v in speeds])
 
         k = u.size if n_fastest == 0 else min(int(n_fastest), u.size)
         rows = peaks_of(u[:k])

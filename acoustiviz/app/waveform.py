@@ -14,9 +14,9 @@ The paper's Figure 2 waveform above a reflecting plane, at 0.7 m and 45°:
 >>> from acoustiviz.app.impacts import impact_setup
 >>> from acoustiviz.core.geometry import observer_points
 >>> setup = impact_setup(radius=0.01905, velocity=1.4, density=7800.0, config="plane")
->>> point = observer_points(setup.configuration, 0.7, math.radians(45.0))[0]
+>>> point = observer_points(setup.geometry, 0.7, math.radians(45.0))[0]
 >>> job = WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
-...                   configuration=setup.configuration, listeners=(Listener("paper", point),))
+...                   geometry=setup.geometry, listeners=(Listener("paper", point),))
 >>> result = run(job)
 >>> round(result.peak_spl_db[0], 1)
 88.8
@@ -111,20 +111,20 @@ class WaveformResult:
     def title(self, i: int = 0) -> str:
         """The figure's title at listener ``i``: the configuration, the listener's distance, the sphere and speed."""
         s = self.settings
-        conf = s.configuration
-        r = float(np.linalg.norm(np.asarray(s.listeners[i].position) - conf.centre))
-        return (f"{conf.name}, listener {s.listeners[i].name!r} at r = {r:.4g} m, a = {conf.radius * 1e3:g} mm, "
-                f"U0 = {s.impact.velocity:g} m/s")
+        geometry = s.geometry
+        r = float(np.linalg.norm(np.asarray(s.listeners[i].position) - geometry.centre))
+        return (f"{geometry.name}, listener {s.listeners[i].name!r} at r = {r:.4g} m, "
+                f"a = {geometry.radius * 1e3:g} mm, U0 = {s.impact.velocity:g} m/s")
 
     def record(self, i: int, csv_name: str) -> dict:
         """The JSON sidecar of a room's table at listener ``i``: the images, the settings and the peaks."""
         from .. import __version__
 
         s, t = self.settings, self.times[i]
-        conf, imp = s.configuration, s.impact
+        geometry, imp = s.geometry, s.impact
         return {"software": f"acoustiviz {__version__}", "csv": csv_name,
                 "columns": ["time_s", *pressure_columns(p.kind for p in s.pulses)],
-                "config": conf.name, "radius_m": conf.radius, **conf.settings(),
+                "config": geometry.name, "radius_m": geometry.radius, **geometry.settings(),
                 "listener_m": s.listeners[i].position.tolist(), "window_s": s.window,
                 "sample_interval_s": float(t[1] - t[0]) if t.size > 1 else None,
                 "velocity_m_s": imp.velocity, "k_hertz_n_m1_5": imp.k_hertz, "mass_kg": imp.mass,
@@ -171,21 +171,21 @@ def _run(s: WaveformJob) -> WaveformResult:
     from .budget import memory_cap
     from .views import waveform_times
 
-    conf, medium, pulses = s.configuration, s.medium, list(s.pulses)
+    geometry, medium, pulses = s.geometry, s.medium, list(s.pulses)
     cap = memory_cap(s.max_memory_mb)  # the cap its estimate was checked against
     times, pressures, highs, lows = [], [], [], []
     for lst in s.listeners:
         point = np.asarray(lst.position, dtype=float)
-        t = waveform_times(pulses, point, conf, medium, s.samples_per_duration, window=s.window)
-        p = np.array([time_series(pulse, t, point[None, :], conf, medium=medium, memory_limit=cap)[0]
+        t = waveform_times(pulses, point, geometry, medium, s.samples_per_duration, window=s.window)
+        p = np.array([time_series(pulse, t, point[None, :], geometry, medium=medium, memory_limit=cap)[0]
                       for pulse in pulses])
-        high, low = waveform_extremes(pulses[0], p[0], point, conf, medium, memory_limit=cap)
+        high, low = waveform_extremes(pulses[0], p[0], point, geometry, medium, memory_limit=cap)
         times.append(t)
         pressures.append(p)
         highs.append(high)
         lows.append(low)
     images = {}
     if s.in_room:
-        images = {"image_order": conf.image_order, "images": conf.image_count,
-                  "neglected_energy_db": conf.neglected_energy_db}
+        images = {"image_order": geometry.image_order, "images": geometry.image_count,
+                  "neglected_energy_db": geometry.neglected_energy_db}
     return WaveformResult(s, tuple(times), tuple(pressures), tuple(highs), tuple(lows), images)

@@ -95,8 +95,8 @@ def sound_lines(result) -> list:
              f"sound: sphere radius {job.cavity.radius * 1e3:.2f} mm ({job.radius_source}), pulse {model.pulse}, "
              f"mass model {model.mass_model}, configuration {scene.geometry.name}, walls {scene.walls}; "
              f"{job.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)"]
-    conf = scene.geometry
-    if not getattr(conf, "enclosed", False):
+    geometry = scene.geometry
+    if not getattr(geometry, "enclosed", False):
         return lines
     if out.room is not None:
         r = out.room
@@ -104,12 +104,12 @@ def sound_lines(result) -> list:
         tail = (f"late tail from {r['transition_s']:.4f} s to {r['tail_end_s']:.3f} s ({r['tail_decay']}, seed "
                 f"{r['tail_seed']})" if r["late_tail"] else "no late tail")
         bands = f", absorption in {len(r['absorption_bands_hz'])} bands" if "absorption_bands_hz" in r else ""
-        lines.append(f"room: {conf.caption()}; image_order {r['image_order']}, images {r['images']}, "
+        lines.append(f"room: {geometry.caption()}; image_order {r['image_order']}, images {r['images']}, "
                      f"{tail}{bands}, neglected_energy_db " + (f"{neg:.1f}" if isinstance(neg, float) else str(neg)))
     else:
-        lines.append(f"room: {conf.caption()}; image_order {conf.image_order}, images {conf.image_count}, "
-                     f"neglected_energy_db {conf.neglected_energy_db:.1f}"
-                     + (" (capped by the memory budget)" if conf.order_capped else ""))
+        lines.append(f"room: {geometry.caption()}; image_order {geometry.image_order}, images {geometry.image_count}, "
+                     f"neglected_energy_db {geometry.neglected_energy_db:.1f}"
+                     + (" (capped by the memory budget)" if geometry.order_capped else ""))
     return lines
 
 

@@ -50,7 +50,7 @@ def settings_from_args(args):
     names = {**IMPACT_OPTIONS, **ROOM_OPTIONS, **DirectivityJob.cli_names(), "max_memory_mb": "--max-memory",
              "memory_limit": "--max-memory", "angles": "--step", "window": "--duration"}
     return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-                          configuration=setup.configuration, distance=args.distance,
+                          geometry=setup.geometry, distance=args.distance,
                           step_deg=args.step, metric=args.metric, max_memory_mb=getattr(args, "max_memory", None),
                           csv=args.csv, png=args.png, k_hertz_source=setup.k_hertz_source, names=names)
 
@@ -74,14 +74,15 @@ def _summary_lines(result) -> list:
     from ..app.views import metric_label
 
     s = result.settings
-    imp, conf, d, extra = s.impact, s.configuration, result.directivity, result.levels is not None
+    imp, geometry, d, extra = s.impact, s.geometry, result.directivity, result.levels is not None
     lines = [f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
              f"({s.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, pulse {s.pulse.kind}",
-             f"circle: {s.distance:g} m from the sphere's centre, configuration {conf.caption()}; "
+             f"circle: {s.distance:g} m from the sphere's centre, configuration {geometry.caption()}; "
              f"RMS window {d.metrics.window * 1e3:.3f} ms from the first arrival"]
     if s.in_room:
-        lines.append(f"images: image_order {conf.image_order}, images {conf.image_count}, neglected_energy_db "
-                     f"{conf.neglected_energy_db:.1f} (every image that can arrive within the {s.window:g} s window)")
+        lines.append(f"images: image_order {geometry.image_order}, images {geometry.image_count}, "
+                     f"neglected_energy_db {geometry.neglected_energy_db:.1f} (every image that can arrive within "
+                     f"the {s.window:g} s window)")
     if s.weighted:
         lines.append(f"{metric_label(s.metric)}: from the pressure at each angle band-limited flat to 43.2 kHz and "
                      "sampled at 96 kHz (IEC 61672-1 weightings); equivalent levels over 1 s from the first arrival")

@@ -45,7 +45,7 @@ def settings_from_args(args):
     room_duration(args)  # --duration with --room only, and required there
     setup = impact_from_args(args)
     names = {**CLI_NAMES, **MapJob.cli_names(), "memory_limit": "--max-memory"}
-    return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, configuration=setup.configuration,
+    return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                   plane=args.plane,
                   height=args.plane_height, extent=args.extent, resolution=args.resolution,
                   max_memory_mb=getattr(args, "max_memory", None), png=args.png, csv=args.csv, vtk=args.vtk,
@@ -82,7 +82,7 @@ def _summary_lines(result, seconds: float) -> list:
     a, b = level.in_plane()
     lines = [f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
              f"({s.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, pulse {s.pulse.kind}",
-             f"map: {map_title(level, s.configuration)}, {g.n_u} x {g.n_v} points along {a} and {b}, "
+             f"map: {map_title(level, s.geometry)}, {g.n_u} x {g.n_v} points along {a} and {b}, "
              f"spacing {np.linalg.norm(g.u) / (g.n_u - 1) * 1e3:.3g} mm, {int(ok.sum())} in the fluid, "
              f"{seconds:.2f} s"]
     if ok.any():

@@ -73,7 +73,7 @@ def settings_from_args(args):
     setup = impact_from_args(args)
     values = {s.name: getattr(args, s.option[2:].replace("-", "_")) for s in cls.TABLE}
     return cls(**values, impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
-               configuration=setup.configuration, max_memory_mb=getattr(args, "max_memory", None),
+               geometry=setup.geometry, max_memory_mb=getattr(args, "max_memory", None),
                k_hertz_source=setup.k_hertz_source, names=names)
 
 

@@ -47,13 +47,13 @@ def settings_from_args(args):
     listener = _room_listener(args)
     setup = impact_from_args(args)
     if listener is not None:
-        point = setup.configuration.in_room("--listener", listener[None, :])[0]
+        point = setup.geometry.in_room("--listener", listener[None, :])[0]
     else:
         point = observer_point_from_options(setup, args.distance, args.angle)
     names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory",
              "listeners": "--listener" if listener is not None else "--distance"}
     return WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
-                       configuration=setup.configuration, listeners=(Listener(LISTENER_NAME, point),),
+                       geometry=setup.geometry, listeners=(Listener(LISTENER_NAME, point),),
                        samples_per_duration=args.samples_per_duration,
                        max_memory_mb=getattr(args, "max_memory", None), csv=args.csv, png=args.png,
                        k_hertz_source=setup.k_hertz_source, names=names,
@@ -101,22 +101,23 @@ def _print_summary(args, result) -> None:
     import numpy as np
 
     s = result.settings
-    imp, conf, pulse = s.impact, s.configuration, s.pulses[0]
+    imp, geometry, pulse = s.impact, s.geometry, s.pulses[0]
     point = np.asarray(s.listeners[0].position)
     print(f"impact: U0 = {imp.velocity:g} m/s, m = {imp.mass:.4g} kg, K_HZ = {imp.k_hertz:.4g} N/m^1.5 "
           f"({s.k_hertz_source}), contact {imp.duration * 1e6:.1f} us, peak acceleration "
           f"{imp.peak_acceleration:.4g} m/s^2, pulse {pulse.kind}")
     if not s.in_room:
-        print(f"observer: {args.distance:g} m at {args.angle:g} deg, configuration {conf.name}, "
+        print(f"observer: {args.distance:g} m at {args.angle:g} deg, configuration {geometry.name}, "
               f"point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m")
     else:
-        print(f"observer: point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m, {conf.caption()}, "
-              f"{np.linalg.norm(point - conf.centre):.4g} m from the sphere's centre")
-        neg = conf.neglected_energy_db
-        print(f"images: image_order {conf.image_order}, images {conf.image_count}, neglected_energy_db {neg:.1f} "
+        print(f"observer: point ({point[0]:.4f}, {point[1]:.4f}, {point[2]:.4f}) m, {geometry.caption()}, "
+              f"{np.linalg.norm(point - geometry.centre):.4g} m from the sphere's centre")
+        neg = geometry.neglected_energy_db
+        print(f"images: image_order {geometry.image_order}, images {geometry.image_count}, "
+              f"neglected_energy_db {neg:.1f} "
               f"(every image that can arrive within the {s.window:g} s window"
-              + (")" if neg == -math.inf else f"; tolerance {conf.tolerance_db:g} dB)")
-              + (" [capped by the memory budget]" if conf.order_capped else ""))
+              + (")" if neg == -math.inf else f"; tolerance {geometry.tolerance_db:g} dB)")
+              + (" [capped by the memory budget]" if geometry.order_capped else ""))
     how = "largest samples in the window" if s.in_room else "peaks of the continuous waveform"
     print(f"pressure: max {result.peak_positive[0]:.10g} Pa, min {result.peak_negative[0]:.10g} Pa ({how}), "
           f"peak SPL {result.peak_spl_db[0]:.1f} dB re 20 uPa")

@@ -90,9 +90,9 @@ class Scene:
                             names=ROOM_SOUND_SCENE_KEYS)
             if rs is not None:
                 settings = _geometry_settings(self.data["configuration"])
-                conf = geometry("room", self.data["sphere"]["radius_m"], **settings)
+                geom = geometry("room", self.data["sphere"]["radius_m"], **settings)
                 try:
-                    rs.check_room(conf)
+                    rs.check_room(geom)
                 except ParameterError as exc:
                     key = {**ROOM_SOUND_SCENE_KEYS, "order": "configuration.image_order"}[exc.name]
                     raise ParameterError(key, exc.detail) from None
@@ -103,10 +103,10 @@ class Scene:
             raise SceneError(self.source, exc.name, exc.detail) from None
 
     def _impact_settings(self, radius: float | None = None) -> dict:
-        s, c, conf = self.data["sphere"], self.data["contact"], self.data["configuration"]
+        s, c, table = self.data["sphere"], self.data["contact"], self.data["configuration"]
         return dict(radius=s["radius_m"] if radius is None else radius, k_hertz=c["k_hertz_n_m1_5"],
                     sphere_material=s["material"], surface_material=c["surface"], c=self.data["medium"]["c_m_s"],
-                    rho=self.data["medium"]["rho_kg_m3"], config=conf["kind"], **self.geometry_settings())
+                    rho=self.data["medium"]["rho_kg_m3"], config=table["kind"], **self.geometry_settings())
 
     def sphere_mass(self) -> float:
         """Sphere mass in kg: ``mass_kg``, else density (or the material's) times volume."""
@@ -174,9 +174,9 @@ class Scene:
         """The fluid as a :class:`~acoustiviz.core.medium.Medium`."""
         return self.setup().medium
 
-    def configuration(self, radius: float | None = None):
+    def geometry(self, radius: float | None = None):
         """The surfaces and image sources (:mod:`acoustiviz.core.geometry`) for a sphere of ``radius``."""
-        return self.setup(radius=radius).configuration
+        return self.setup(radius=radius).geometry
 
     def impact(self, velocity: float | None = None):
         """The single impact (or one at ``velocity`` m/s) as an :class:`~acoustiviz.core.contact.Impact`."""
@@ -196,14 +196,14 @@ class Scene:
 
         from ..core.geometry import observer_points
 
-        conf = self.configuration(radius)
+        geometry = self.geometry(radius)
         out = []
         for i, lst in enumerate(self.data["listeners"]):
             name = lst["name"] or f"listener{i + 1}"
             if lst["position_m"] is not None:
                 pos = np.asarray(lst["position_m"], dtype=float)
             else:
-                pos = observer_points(conf, lst["distance_m"], math.radians(lst["angle_deg"]))[0]
+                pos = observer_points(geometry, lst["distance_m"], math.radians(lst["angle_deg"]))[0]
             out.append((name, pos))
         return out
 
@@ -391,7 +391,7 @@ def _check_geometry(scene: Scene) -> None:
     """Listeners in the fluid; grids within the memory cap."""
     src = scene.source
     try:
-        conf = scene.configuration()
+        geometry = scene.geometry()
     except ParameterError as exc:
         key = {**{k: f"configuration.{v}" for k, v in _GEOMETRY_KEYS.items()}, **_SETUP_KEYS}.get(exc.name)
         if key is None:
@@ -400,25 +400,25 @@ def _check_geometry(scene: Scene) -> None:
     import numpy as np
 
     for i, (_name, pos) in enumerate(scene.listeners()):
-        if not bool(conf.in_fluid(np.asarray(pos)[None, :])[0]):
+        if not bool(geometry.in_fluid(np.asarray(pos)[None, :])[0]):
             key = f"listeners[{i}]"
             lst = scene.data["listeners"][i]
             key += ".position_m" if lst["position_m"] is not None else ".angle_deg"
             raise SceneError(src, key, "listener inside the sphere, below the floor or behind the wall "
-                                       f"(configuration {conf.name!r}; the fluid is {conf.fluid_text()})")
+                                       f"(configuration {geometry.name!r}; the fluid is {geometry.fluid_text()})")
     grids = scene.data["grids"]
-    _check_circles(scene, conf)
+    _check_circles(scene, geometry)
     if scene.wants("level_map"):  # settings, memory and output size of the map, before any output is made
         from ..app.maps import SCENE_NAMES, plan_map
 
         m = scene.data["outputs"]["level_map"]
         try:
-            plan_map(scene.pulse(), conf, medium=scene.medium(), plane=m["plane"], height=m["height_m"],
+            plan_map(scene.pulse(), geometry, medium=scene.medium(), plane=m["plane"], height=m["height_m"],
                      extent=m["extent_m"], resolution=m["resolution"], max_memory_mb=grids["memory_limit_mb"],
                      names=SCENE_NAMES)
         except ParameterError as exc:
             raise SceneError(src, exc.name, exc.detail) from None
-    _check_views(scene, conf)
+    _check_views(scene, geometry)
 
 
 def view_names(view: str) -> dict:
@@ -428,7 +428,7 @@ def view_names(view: str) -> dict:
     return JOB_OF_VIEW[view].scene_names()
 
 
-def _check_views(scene: Scene, conf) -> None:
+def _check_views(scene: Scene, geometry) -> None:
     """The memory and output size of the scene's estimates within ``grids.memory_limit_mb``.
 
     The estimates are the command line's (:mod:`acoustiviz.app.budget`). The 3-D views' budgets and
@@ -438,14 +438,14 @@ def _check_views(scene: Scene, conf) -> None:
     from ..app.budget import check_budget, scene_estimates
 
     cap = scene.data["grids"]["memory_limit_mb"]
-    for estimate in scene_estimates(scene, conf):  # the waveform's tables, a weighted directivity's sound
+    for estimate in scene_estimates(scene, geometry):  # the waveform's tables, a weighted directivity's sound
         try:
             check_budget(estimate(), cap, cap_name="grids.memory_limit_mb")
         except ParameterError as exc:
             raise SceneError(scene.source, exc.name, exc.detail) from None
 
 
-def _check_circles(scene: Scene, conf) -> None:
+def _check_circles(scene: Scene, geometry) -> None:
     """The directivity's circle (the first listener's distance) fits in the fluid.
 
     Checked at load time, before any output is made: in a room the circle must stay inside its walls,
@@ -463,8 +463,8 @@ def _check_circles(scene: Scene, conf) -> None:
         key = "listeners[0]." + ("position_m" if lst["position_m"] is not None else "distance_m")
         (_, pos), *_ = scene.listeners()
         try:
-            pts = circle_points(conf, float(np.linalg.norm(np.asarray(pos) - conf.centre)), [0.0, math.pi / 2])
-            room_window(conf, pts, scene.medium())
+            pts = circle_points(geometry, float(np.linalg.norm(np.asarray(pos) - geometry.centre)), [0.0, math.pi / 2])
+            room_window(geometry, pts, scene.medium())
         except ParameterError as exc:
             raise SceneError(src, key, f"the directivity's circle (its radius the first listener's distance "
                                        f"from the sphere's centre): {exc.detail}") from None
@@ -497,7 +497,7 @@ def load_scene(path) -> Scene:
     ...     path = Path(folder) / "fig2.toml"
     ...     _ = path.write_text('[sphere]\nradius_m = 0.01905\ndensity_kg_m3 = 7800.0\n[outputs.waveform]\n')
     ...     scene = load_scene(path)
-    >>> scene.outputs, scene.configuration().name
+    >>> scene.outputs, scene.geometry().name
     (('waveform',), 'plane')
     >>> round(scene.sphere_mass(), 4), round(scene.impact().duration * 1e6, 1)  # kg, µs
     (0.2259, 525.6)

@@ -203,11 +203,11 @@ _GEOMETRY_KEYS = {"wall_distance": "wall_distance_m", "strike": "strike", "heigh
                   "tolerance_db": "tolerance_db", "duration": "window_s"}
 
 
-def _geometry_settings(conf: dict) -> dict:
+def _geometry_settings(table: dict) -> dict:
     """The settings of a ``[configuration]`` table that apply to its ``kind``."""
     from ..core.geometry import relevant_settings
 
-    return relevant_settings(conf["kind"], **{k: conf[v] for k, v in _GEOMETRY_KEYS.items()})
+    return relevant_settings(table["kind"], **{k: table[v] for k, v in _GEOMETRY_KEYS.items()})
 
 
 def check_configuration(data: dict, source: str) -> None:
@@ -215,18 +215,18 @@ def check_configuration(data: dict, source: str) -> None:
     from ..core.geometry import geometry
 
     radius = data["sphere"]["radius_m"]
-    conf = data["configuration"]
-    _check_room_keys(conf, source)
-    if conf["height_m"] is not None and conf["height_m"] < radius:
+    table = data["configuration"]
+    _check_room_keys(table, source)
+    if table["height_m"] is not None and table["height_m"] < radius:
         raise SceneError(source, "configuration.height_m", f"the sphere would cut the floor: must be >= radius = "
-                                                           f"{radius:g} m, got {conf['height_m']:g} m")
+                                                           f"{radius:g} m, got {table['height_m']:g} m")
     try:
-        geometry(conf["kind"], radius, **_geometry_settings(conf))
+        geometry(table["kind"], radius, **_geometry_settings(table))
     except ParameterError as exc:
         raise SceneError(source, f"configuration.{_GEOMETRY_KEYS.get(exc.name, exc.name)}", exc.detail) from None
 
 
-def _check_room_keys(conf: dict, source: str) -> None:
+def _check_room_keys(table: dict, source: str) -> None:
     """Refuse a room's own key (``room_m``, ``source_m``, ``absorption``, ...) in a configuration that is no room.
 
     The command line refuses the same settings without ``--room`` (:func:`acoustiviz.app.impacts.room_settings`);
@@ -234,14 +234,14 @@ def _check_room_keys(conf: dict, source: str) -> None:
     """
     from ..core.geometry import GEOMETRIES, geometry_class
 
-    if geometry_class(conf["kind"]).enclosed:
+    if geometry_class(table["kind"]).enclosed:
         return
     rooms = [name for name, cls in GEOMETRIES.items() if cls.enclosed]
     for setting in GEOMETRIES[rooms[0]].SETTINGS:
         key = _GEOMETRY_KEYS.get(setting)
-        if setting != "strike" and key is not None and conf[key] is not None:
+        if setting != "strike" and key is not None and table[key] is not None:
             raise SceneError(source, f"configuration.{key}", f'only applies with kind = "{rooms[0]}" (a shoebox '
-                                                             f'room); kind "{conf["kind"]}" would ignore it')
+                                                             f'room); kind "{table["kind"]}" would ignore it')
 
 
 def check_damper_physics(scene) -> None:
@@ -278,20 +278,20 @@ def check_window(data: dict, raw: dict, source: str, setup) -> None:
     """
     from ..core.geometry import geometry_class
 
-    conf = data["configuration"]
+    table = data["configuration"]
     outputs = raw.get("outputs")
-    if conf.get("window_s") is None or not isinstance(outputs, dict) or "waveform" not in outputs \
-            or not geometry_class(conf["kind"]).enclosed:
+    if table.get("window_s") is None or not isinstance(outputs, dict) or "waveform" not in outputs \
+            or not geometry_class(table["kind"]).enclosed:
         return
     from ..app.budget import check_budget, window_estimate
     from ..app.settings.impact import WAVEFORM
 
     try:
-        free = setup({**data, "configuration": {**conf, "kind": "free"}})
+        free = setup({**data, "configuration": {**table, "kind": "free"}})
     except ParameterError:
         return  # an impact refused here is named by the checks that follow
     try:
-        check_budget(window_estimate(free.pulse, free.radius, free.medium, conf["window_s"], WAVEFORM[0].default,
+        check_budget(window_estimate(free.pulse, free.radius, free.medium, table["window_s"], WAVEFORM[0].default,
                                      options=("configuration.window_s",)),
                      data["grids"]["memory_limit_mb"], cap_name="grids.memory_limit_mb")
     except ParameterError as exc:

@@ -290,8 +290,8 @@ def cavity(kind: str, radius: float, gap: float, *, struck_wall: int = -1, walls
     """
     if room is not None:
         c = {} if medium is None else {"sound_speed": medium.c}
-        conf = geometry("room", radius, **{**c, **room})
+        geom = geometry("room", radius, **{**c, **room})
     else:
-        conf = geometry(kind, radius, wall_distance=wall_distance, strike=strike, height=height)
+        geom = geometry(kind, radius, wall_distance=wall_distance, strike=strike, height=height)
     extra = {} if medium is None else {"medium": medium}
-    return CavityScene(conf, gap=gap, struck_wall=struck_wall, walls=walls, **extra)
+    return CavityScene(geom, gap=gap, struck_wall=struck_wall, walls=walls, **extra)

@@ -306,11 +306,11 @@ def _noise(steady, design: Design, fixed: FixedSettings, operation: Operation):
     from ..sound.operating import operating_noise
     from .evaluate import listener_point
 
-    conf = design.geometry(fixed)
-    point = listener_point(conf, design.distance, design.angle)[0]
+    geometry = design.geometry(fixed)
+    point = listener_point(geometry, design.distance, design.angle)[0]
     medium = Medium(c=fixed.c, rho=fixed.rho)
     own = geometry_class(design.config).relevant(fixed.geometry_settings)  # the design's geometry's settings
-    where = {"room": own} if conf.enclosed else own
+    where = {"room": own} if geometry.enclosed else own
     seconds = {} if operation.noise_seconds is None else {"seconds": operation.noise_seconds}
     return operating_noise(steady, listener=point, kind=design.config, radius=design.radius,
                            settings={**where, "medium": medium}, **seconds)

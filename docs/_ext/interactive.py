@@ -21,12 +21,12 @@ def make_pages(folder: Path) -> list:
 
     corner = impact_setup(radius=0.01905, velocity=1.4, config="wall-floor", wall_distance=0.05)
     plane = impact_setup(radius=0.01905, velocity=1.4, config="plane")
-    balloon = balloon_data(corner.pulse, corner.configuration, medium=corner.medium, n_theta=32)
-    field = section_field(plane.pulse, plane.configuration, [0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3],
+    balloon = balloon_data(corner.pulse, corner.geometry, medium=corner.medium, n_theta=32)
+    field = section_field(plane.pulse, plane.geometry, [0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3],
                           medium=plane.medium, n_u=161)
     return [
-        write_balloon_html(balloon, corner.pulse, corner.configuration, folder / "balloon.html"),
-        write_snapshot_html(field, plane.pulse, plane.configuration, folder / "snapshot.html"),
+        write_balloon_html(balloon, corner.pulse, corner.geometry, folder / "balloon.html"),
+        write_snapshot_html(field, plane.pulse, plane.geometry, folder / "snapshot.html"),
     ]
 
 

@@ -365,12 +365,12 @@ class AuralizeJob(Settings):
                                                        "render, not both or neither")
         if self.impacts is not None and not isinstance(self.impacts, ImpactSequence):
             raise ParameterError(self.name("impacts"), f"expected an ImpactSequence, got {type(self.impacts).__name__}")
-        conf = self.cavity.geometry
+        geometry = self.cavity.geometry
         if self.room_sound is not None:
             from ..wav import ROOM_SOUND_OPTIONS
 
             with user_terms({k: self.name(k) for k in (*ROOM_SOUND_OPTIONS, "order")}):
-                self.room_sound.check_room(conf)
+                self.room_sound.check_room(geometry)
         points = np.array([lst.position for lst in self.listeners], dtype=float).reshape(-1, 3)
         if self.stereo and len(points) != 2:
             raise ParameterError(self.name("stereo"), f"needs two listeners (left, right), got {len(points)}")
@@ -382,9 +382,9 @@ class AuralizeJob(Settings):
     def _check_listeners(self, points) -> None:
         from ...sound import check_listeners
 
-        conf = self.cavity.geometry
-        if getattr(conf, "enclosed", False):
-            conf.in_room(self.name("listeners"), points)
+        geometry = self.cavity.geometry
+        if getattr(geometry, "enclosed", False):
+            geometry.in_room(self.name("listeners"), points)
         check_listeners(points, self.cavity, name=self.name("listeners"))
 
     def _check_files(self) -> None:

@@ -37,13 +37,13 @@ class DirectivityJob(ImpactJob):
         The acceleration pulse (m/s² against s).
     medium : acoustiviz.core.medium.Medium
         The fluid.
-    configuration : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources (in a room, its window in s ends each angle's).
     distance : float
         Radius in m of the circle around the sphere's centre, in the fluid.
     step_deg : float
         Angle step in degrees, in (0, 90] (the angles run from the acceleration axis to the
-        configuration's polar limit, :func:`acoustiviz.app.views.directivity_angles`).
+        geometry's polar limit, :func:`acoustiviz.app.views.directivity_angles`).
     metric : str
         The further level shown against angle (:data:`acoustiviz.constants.DIRECTIVITY_METRICS`;
         ``"peak-spl"``: none).
@@ -85,12 +85,12 @@ class DirectivityJob(ImpactJob):
         from ..impacts import MAX_DISTANCE
         from ..outputs import check_distinct, check_output_file
 
-        check_room_order(self.configuration, self.max_memory_mb, window_option=self._name("window"),
+        check_room_order(self.geometry, self.max_memory_mb, window_option=self._name("window"),
                          cap_name=self._name("max_memory_mb"))  # a room short of its tolerance: refused
-        points = circle_points(self.configuration, self.distance, [0.0, math.pi / 2])  # the circle in the fluid
-        object.__setattr__(self, "distance", float(check_range("distance", self.distance, self.configuration.radius,
+        points = circle_points(self.geometry, self.distance, [0.0, math.pi / 2])  # the circle in the fluid
+        object.__setattr__(self, "distance", float(check_range("distance", self.distance, self.geometry.radius,
                                                                MAX_DISTANCE, unit="m", low_open=True)))
-        room_window(self.configuration, points, self.medium)  # a room: the sound reaches the circle in its window
+        room_window(self.geometry, points, self.medium)  # a room: the sound reaches the circle in its window
         self._check_budget()
         for key, path in self.files().items():
             check_output_file(self._name(key), path, "figure" if key == "png" else key)
@@ -101,12 +101,12 @@ class DirectivityJob(ImpactJob):
         from ..budget import check_budget, directivity_estimate, metric_estimate
         from ..views import directivity_angles
 
-        conf, cap = self.configuration, self._name("max_memory_mb")
+        geometry, cap = self.geometry, self._name("max_memory_mb")
         step, distance = self._name("step_deg"), self._name("distance")
-        check_budget(directivity_estimate(conf, self.step_deg, (step,), pulse=self.pulse, medium=self.medium,
+        check_budget(directivity_estimate(geometry, self.step_deg, (step,), pulse=self.pulse, medium=self.medium,
                                           window_options=(self._name("wall_distance"), distance)),
                      self.max_memory_mb, cap_name=cap)
         if self.weighted:  # the sound at every angle, held together: its memory checked before any work
-            points = circle_points(conf, self.distance, directivity_angles(conf, self.step_deg))
-            check_budget(metric_estimate(self.pulse, points, conf, self.medium, self.metric, options=(step, distance)),
-                         self.max_memory_mb, cap_name=cap)
+            points = circle_points(geometry, self.distance, directivity_angles(geometry, self.step_deg))
+            check_budget(metric_estimate(self.pulse, points, geometry, self.medium, self.metric,
+                                         options=(step, distance)), self.max_memory_mb, cap_name=cap)

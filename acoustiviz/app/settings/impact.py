@@ -148,7 +148,7 @@ class ImpactJob(Settings):
         Speed (m/s), K_HZ (N/m^1.5) and masses (kg) of the impact.
     medium : acoustiviz.core.medium.Medium
         The fluid.
-    configuration : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources (in a room, its window in s ends the job's sound).
     max_memory_mb : float, optional
         Cap in MB on the working memory (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
@@ -161,7 +161,7 @@ class ImpactJob(Settings):
 
     impact: object
     medium: object
-    configuration: object
+    geometry: object
     max_memory_mb: float | None = None
     k_hertz_source: str = dataclasses.field(default="given", compare=False)
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
@@ -169,12 +169,12 @@ class ImpactJob(Settings):
     @property
     def window(self) -> float | None:
         """In a room, the window in s from the start of contact the job's sound covers; None elsewhere."""
-        return getattr(self.configuration, "duration", None)
+        return getattr(self.geometry, "duration", None)
 
     @property
     def in_room(self) -> bool:
-        """True when the configuration is a room (its image model is reported, its peaks are the window's)."""
-        return getattr(self.configuration, "image_order", None) is not None
+        """True when the geometry is a room (its image model is reported, its peaks are the window's)."""
+        return getattr(self.geometry, "image_order", None) is not None
 
     def _name(self, api: str) -> str:
         """The option or scene key of API parameter ``api`` (itself without one)."""

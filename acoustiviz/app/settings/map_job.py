@@ -44,7 +44,7 @@ class MapJob(ImpactJob):
         The acceleration pulse (m/s² against s).
     medium : acoustiviz.core.medium.Medium
         The fluid.
-    configuration : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources (in a room, every image arriving within its window).
     plane : {"vertical", "horizontal"}
         The plane of the map (:data:`~acoustiviz.app.settings.map.PLANES`).
@@ -85,7 +85,7 @@ class MapJob(ImpactJob):
         from ..maps import plan_map
 
         self._check_files()
-        plan_map(self.pulse, self.configuration, medium=self.medium, plane=self.plane, height=self.height,
+        plan_map(self.pulse, self.geometry, medium=self.medium, plane=self.plane, height=self.height,
                  extent=self.extent, resolution=self.resolution, max_memory_mb=self.max_memory_mb, names=self.names)
 
     def _check_files(self) -> None:

@@ -47,7 +47,7 @@ class ViewJob(Settings):
         The acceleration pulse (m/s² against s).
     medium : acoustiviz.core.medium.Medium
         The fluid.
-    configuration : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources.
     title : str, optional
         Replaces the default caption of the picture (None: :meth:`caption`).
@@ -69,7 +69,7 @@ class ViewJob(Settings):
     impact: object
     pulse: object
     medium: object
-    configuration: object
+    geometry: object
     title: str | None = None
     vtk: str | None = None
     max_memory_mb: float | None = None
@@ -86,8 +86,8 @@ class ViewJob(Settings):
 
     def caption(self) -> str:
         """The default caption of a field view: the configuration, the sphere and the impact."""
-        imp, conf = self.impact, self.configuration
-        return (f"{conf.caption(long=True)}: a = {conf.radius * 1e3:.4g} mm, m = {imp.mass * 1e3:.4g} g, "
+        imp, geometry = self.impact, self.geometry
+        return (f"{geometry.caption(long=True)}: a = {geometry.radius * 1e3:.4g} mm, m = {imp.mass * 1e3:.4g} g, "
                 f"U0 = {imp.velocity:g} m/s, K_HZ = {imp.k_hertz:.3g} N/m^1.5, contact {imp.duration * 1e6:.0f} µs, "
                 f"{self.pulse.kind} pulse")
 
@@ -116,7 +116,7 @@ class ViewJob(Settings):
     def _check_fits(self) -> None:
         from ..render import check_view_fits
 
-        check_view_fits(self.VIEW, self, self.configuration)
+        check_view_fits(self.VIEW, self, self.geometry)
 
     def _check_budget(self) -> None:
         from ..budget import check_budget
@@ -125,7 +125,7 @@ class ViewJob(Settings):
         # movies hold every frame; a job naming no file at all is a scene's, checked before the run names
         # its files, and a scene always writes its animation's GIF
         n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4")) if self.files() else 1
-        est = render_estimate(self.VIEW, self, len(self.configuration.sources), n_files=n_files, options=self.names)
+        est = render_estimate(self.VIEW, self, len(self.geometry.sources), n_files=n_files, options=self.names)
         check_budget(est, self.max_memory_mb, cap_name=self.name("max_memory_mb"))
 
 

@@ -47,7 +47,7 @@ class WaveformJob(ImpactJob):
         The acceleration pulses compared (m/s² against s), the first one reported.
     medium : acoustiviz.core.medium.Medium
         The fluid.
-    configuration : acoustiviz.core.geometry.Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its image sources (in a room, its window in s is the waveform's).
     listeners : tuple of Listener
         Where the pressure is computed (m), each in the fluid (``(name, position)`` pairs are taken too).
@@ -110,11 +110,11 @@ class WaveformJob(ImpactJob):
     def _check_listeners(self) -> None:
         import numpy as np
 
-        conf = self.configuration
+        geometry = self.geometry
         for lst in self.listeners:
             p = np.asarray(lst.position, dtype=float)
-            if not np.all(np.isfinite(p)) or np.linalg.norm(p - conf.centre) <= conf.radius \
-                    or not bool(conf.in_fluid(p[None, :])[0]):
+            if not np.all(np.isfinite(p)) or np.linalg.norm(p - geometry.centre) <= geometry.radius \
+                    or not bool(geometry.in_fluid(p[None, :])[0]):
                 raise ParameterError("listeners", f"listener {lst.name!r} at {lst.position.tolist()} m is not in the "
                                                   "fluid (inside the sphere, a wall or below the floor)")
 
@@ -123,9 +123,9 @@ class WaveformJob(ImpactJob):
 
         from ..budget import check_budget, check_room_order, waveform_estimate
 
-        check_room_order(self.configuration, self.max_memory_mb)  # a room that leaves out more than its tolerance
+        check_room_order(self.geometry, self.max_memory_mb)  # a room that leaves out more than its tolerance
         for lst in self.listeners:
-            check_budget(waveform_estimate(list(self.pulses), np.asarray(lst.position), self.configuration,
+            check_budget(waveform_estimate(list(self.pulses), np.asarray(lst.position), self.geometry,
                                            self.medium, self.samples_per_duration, options=self.size_options,
                                            window=self.window), self.max_memory_mb)
 
