@@ -27,8 +27,9 @@ class _AsSweep:
 
     def __init__(self, scene, opts: dict):
         self._scene = scene
+        # a sweep in free vibration on every core, with the optimisation's duration and levels
         self._sweep = {"gap_m": PAPER_GAP, "mass_kg": TABLE1_PARAMETERS["m"], "duration_s": opts["duration_s"],
-                       "levels": opts["levels"], "workers": 0}
+                       "levels": opts["levels"], "workers": 0, "in_operation": False}
 
     def output(self, kind: str) -> dict:
         return dict(self._sweep) if kind == "sweep" else self._scene.output(kind)
