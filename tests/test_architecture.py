@@ -554,19 +554,18 @@ KIND_NAMED_CONFIG = {
 }
 
 
-def _config_parameters_outside_output() -> list[str]:
-    """``module function(param)`` of each ``config``/``conf`` parameter in ``acoustiviz/`` outside ``output/``."""
+def _config_parameters() -> list[str]:
+    """``module function(param)`` of each ``config``/``conf`` parameter in ``acoustiviz/``."""
     found = []
     for path, rel in _modules():
-        if _top(rel) != "output":
-            found += [re.sub(r":\d+ ", " ", hit)
-                      for hit in _old_geometry_parameters(path.read_text(encoding="utf-8"), rel.as_posix())]
+        found += [re.sub(r":\d+ ", " ", hit)
+                  for hit in _old_geometry_parameters(path.read_text(encoding="utf-8"), rel.as_posix())]
     return found
 
 
-def test_functions_outside_output_name_the_surroundings_geometry():
-    """Above the physics too a ``Geometry`` is passed as ``geometry``; a ``config`` left is a kind's name."""
-    found = _config_parameters_outside_output()
+def test_functions_name_the_surroundings_geometry():
+    """Every layer, the sinks too, passes a ``Geometry`` as ``geometry``; a ``config`` left is a kind's name."""
+    found = _config_parameters()
     assert sorted(set(found) - KIND_NAMED_CONFIG) == []
     assert sorted(KIND_NAMED_CONFIG - set(found)) == [], "an exemption names no parameter any more: drop it"
 
@@ -581,7 +580,7 @@ def _configuration_fields(source: str, where: str) -> list[str]:
 
 def test_no_settings_or_setup_class_has_a_configuration_field():
     """Jobs, setups and results hold the surroundings as ``geometry``, as the physics names them."""
-    found = [hit for path, rel in _modules() if _top(rel) != "output"
+    found = [hit for path, rel in _modules()
              for hit in _configuration_fields(path.read_text(encoding="utf-8"), rel.as_posix())]
     assert not found, "\n".join(found)
 

@@ -197,7 +197,7 @@ def test_balloon_vtk_in_a_room_holds_the_levels_drawn(tmp_path, half_sine_pulse)
     pulse = half_sine_pulse
     room = Room(a, (3.0, 2.5, 2.0), 0.1, (1.0, 1.0, a), duration=0.02)
     data = balloon_data(pulse, room, distance=0.5, metric="peak", n_theta=6)
-    path, _ = write_balloon_vtk(data, room, tmp_path / "b.vtu", geometry=False)
+    path, _ = write_balloon_vtk(data, room, tmp_path / "b.vtu", geometry_file=False)
     mesh = pv.read(path)
     pts = data.anchor + data.distance * data.directions.reshape(-1, 3)
     # the file's window is the room's (ending by its duration), and its peak SPL the balloon's level
@@ -235,7 +235,7 @@ def test_a_shared_animation_field_is_left_as_computed(tmp_path, half_sine_pulse,
     before = [p.copy() for p in field.pressures]
     assert not any(p.flags.writeable for p in field.pressures)
     render_animation(field, half_sine_pulse, plane_geometry, tmp_path / "a.gif", size=(160, 120))
-    write_animation_vtk(field, plane_geometry, tmp_path / "a.vtu", geometry=False)
+    write_animation_vtk(field, plane_geometry, tmp_path / "a.vtu", geometry_file=False)
     for now, then in zip(field.pressures, before, strict=True):
         np.testing.assert_array_equal(now, then)  # the GIF drew every frame without writing into the field
     data = pv.read(tmp_path / "a.vtu")

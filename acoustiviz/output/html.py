@@ -64,19 +64,19 @@ def _triangles(mesh) -> np.ndarray:
     return np.asarray(tri.faces).reshape(-1, 4)[:, 1:]
 
 
-def _sphere_layer(config: Geometry) -> dict:
+def _sphere_layer(geometry: Geometry) -> dict:
     import pyvista as pv
 
-    s = pv.Sphere(radius=config.radius, center=config.centre, theta_resolution=40, phi_resolution=24)
+    s = pv.Sphere(radius=geometry.radius, center=geometry.centre, theta_resolution=40, phi_resolution=24)
     s = s.compute_normals(point_normals=True, cell_normals=False)
     return _layer(s.points, _triangles(s), color=_SPHERE, normals=s.point_data["Normals"], lit=True)
 
 
-def _plane_layers(config: Geometry, bounds, opacity: float) -> list:
+def _plane_layers(geometry: Geometry, bounds, opacity: float) -> list:
     """The floor and the wall as semi-transparent rectangles filling ``bounds`` ((2, 3), m), with outlines."""
     lo, hi = np.asarray(bounds, dtype=float)
     out = []
-    for p in config.planes:
+    for p in geometry.planes:
         k = int(np.argmax(np.abs(p.normal)))
         i, j = [a for a in range(3) if a != k]
         c = np.empty((4, 3))
@@ -176,7 +176,7 @@ def _check_html_path(path) -> Path:
     return p
 
 
-def write_balloon_html(data, pulse, config: Geometry, path, *, db_range: float = 30.0, opacity: float = 0.85,
+def write_balloon_html(data, pulse, geometry: Geometry, path, *, db_range: float = 30.0, opacity: float = 0.85,
                        balloon_size=None, title=None) -> Path:
     """Write an interactive page of a directivity balloon (see :func:`acoustiviz.output.render.render_balloon`).
 
@@ -186,7 +186,7 @@ def write_balloon_html(data, pulse, config: Geometry, path, *, db_range: float =
         The levels computed by :func:`acoustiviz.field.balloon.balloon_data`.
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (named in the subtitle).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``data``.
     path : path-like
         Output ``.html`` file (written atomically).
@@ -213,26 +213,26 @@ def write_balloon_html(data, pulse, config: Geometry, path, *, db_range: float =
     if not isinstance(data, BalloonData):
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
     if balloon_size is None:
-        bsize = max(6.0 * config.radius, 1.5 * config.feature_distance)
+        bsize = max(6.0 * geometry.radius, 1.5 * geometry.feature_distance)
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     top = data.max_level
     mesh = _balloon_mesh(data, bsize, top, rng).compute_normals(point_normals=True, cell_normals=False,
                                                                  auto_orient_normals=False)
     layers = [_layer(mesh.points, _triangles(mesh), scalars=mesh.point_data["level"],
-                     normals=mesh.point_data["Normals"], opacity=opacity, lit=True), _sphere_layer(config)]
-    x0, x1, y0, y1, z0, z1 = _scene_extent(config, 1.05 * bsize)
-    layers += _plane_layers(config, [[x0, y0, z0], [x1, y1, z1]], 0.35)
+                     normals=mesh.point_data["Normals"], opacity=opacity, lit=True), _sphere_layer(geometry)]
+    x0, x1, y0, y1, z0, z1 = _scene_extent(geometry, 1.05 * bsize)
+    layers += _plane_layers(geometry, [[x0, y0, z0], [x1, y1, z1]], 0.35)
     centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2])
     head = title or f"{data.label.split(' (')[0]} at {data.distance:g} m, {rng:g} dB from centre to rim"
-    sub = _scene_label(pulse, config) + f"; max {data.max_level:.1f} dB, energy mean {data.mean_level:.1f} dB"
+    sub = _scene_label(pulse, geometry) + f"; max {data.max_level:.1f} dB, energy mean {data.mean_level:.1f} dB"
     text = page(layers, title=head, subtitle=sub, colorbar=data.label, clim=(top - rng, top), cmap="viridis",
                 target=centre, radius=0.5 * float(np.linalg.norm([x1 - x0, y1 - y0, z1 - z0])),
-                direction=(0.9, -1.7, 0.8) if config.planes else (0.9, -1.7, 0.4))
+                direction=(0.9, -1.7, 0.8) if geometry.planes else (0.9, -1.7, 0.4))
     return write_text_atomic(path, text)
 
 
-def write_snapshot_html(field, pulse, config: Geometry, path, *, clim=None, title=None, cmap: str = "RdBu_r") -> Path:
+def write_snapshot_html(field, pulse, geometry: Geometry, path, *, clim=None, title=None, cmap: str = "RdBu_r") -> Path:
     """Write an interactive page of the pressure on planar sections at one or more times.
 
     The points and values are those :func:`acoustiviz.output.render.render_snapshot` draws from the
@@ -244,7 +244,7 @@ def write_snapshot_html(field, pulse, config: Geometry, path, *, clim=None, titl
         The pressure evaluated by :func:`acoustiviz.field.sections.section_field`.
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (named in the subtitle).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``field``.
     path : path-like
         Output ``.html`` file (written atomically).
@@ -274,11 +274,11 @@ def write_snapshot_html(field, pulse, config: Geometry, path, *, clim=None, titl
         layers.append(_layer(g.points, np.vstack([q[:, [0, 1, 2]], q[:, [0, 2, 3]]]), scalars=f))
         corners = g.origin + np.array([[0, 0], [1, 0], [1, 1], [0, 1]]) @ np.vstack([g.u, g.v])
         layers.append(_layer(corners, [[0, 1], [1, 2], [2, 3], [3, 0]], kind="lines", color="#505050"))
-    layers.append(_sphere_layer(config))
-    box = _bounds(config, np.vstack([g.points for g in grids]))
-    layers += _plane_layers(config, box, 0.25)
+    layers.append(_sphere_layer(geometry))
+    box = _bounds(geometry, np.vstack([g.points for g in grids]))
+    layers += _plane_layers(geometry, box, 0.25)
     labels = [f"t = {t * 1e3:.3f} ms" for t in times]
-    text = page(layers, title=title or "Sound pressure p(x, t)", subtitle=_scene_label(pulse, config),
+    text = page(layers, title=title or "Sound pressure p(x, t)", subtitle=_scene_label(pulse, geometry),
                 colorbar="sound pressure (Pa)", clim=(-lim, lim), cmap=cmap, frame_labels=labels,
                 target=box.mean(axis=0), radius=0.5 * float(np.linalg.norm(box[1] - box[0])),
                 direction=(0.35, -1.0, 0.35))

@@ -169,25 +169,25 @@ def balloon_dataset(data, metrics):
     return mesh
 
 
-def _bounds(config: Geometry, points) -> np.ndarray:
+def _bounds(geometry: Geometry, points) -> np.ndarray:
     """Box (2, 3) in m holding ``points`` and the sphere, its flat sides widened, cut by the planes."""
-    pts = np.vstack([np.asarray(points, float).reshape(-1, 3), config.centre - config.radius,
-                     config.centre + config.radius])
+    pts = np.vstack([np.asarray(points, float).reshape(-1, 3), geometry.centre - geometry.radius,
+                     geometry.centre + geometry.radius])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     span = float(np.max(hi - lo))
     for k in range(3):
         if hi[k] - lo[k] < 0.2 * span:
             lo[k] -= 0.3 * span
             hi[k] += 0.3 * span
-    return np.array(fluid_box(config, lo, hi))
+    return np.array(fluid_box(geometry, lo, hi))
 
 
-def geometry_dataset(config: Geometry, bounds):
-    """The sphere and the planes of ``config`` as one unstructured grid.
+def geometry_dataset(geometry: Geometry, bounds):
+    """The sphere and the planes of ``geometry`` as one unstructured grid.
 
     Parameters
     ----------
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene.
     bounds : (2, 3) array_like
         Lower and upper corners in m of the box the planes fill.
@@ -201,13 +201,13 @@ def geometry_dataset(config: Geometry, bounds):
     import pyvista as pv
 
     lo, hi = np.asarray(bounds, dtype=float)
-    sphere = pv.Sphere(radius=config.radius, center=config.centre, theta_resolution=48, phi_resolution=32)
+    sphere = pv.Sphere(radius=geometry.radius, center=geometry.centre, theta_resolution=48, phi_resolution=32)
     tris = sphere.faces.reshape(-1, 4)[:, 1:]
     pts = [np.asarray(sphere.points, float)]
     cells = {pv.CellType.TRIANGLE: tris}
     quads, parts = [], [np.zeros(tris.shape[0], dtype=np.int32)]
     n = pts[0].shape[0]
-    for p in config.planes:
+    for p in geometry.planes:
         k = int(np.argmax(np.abs(p.normal)))
         i, j = [a for a in range(3) if a != k]
         corner = np.empty((4, 3))
@@ -223,8 +223,8 @@ def geometry_dataset(config: Geometry, bounds):
     mesh = pv.UnstructuredGrid(cells, np.vstack(pts))
     # pyvista orders the cells by type as given: triangles first, then quadrilaterals
     mesh.cell_data["part"] = np.concatenate(parts)
-    mesh.field_data["sphere_radius_m"] = np.array([config.radius])
-    mesh.field_data["sphere_centre_m"] = np.asarray(config.centre, float)
+    mesh.field_data["sphere_radius_m"] = np.array([geometry.radius])
+    mesh.field_data["sphere_centre_m"] = np.asarray(geometry.centre, float)
     return mesh
 
 
@@ -280,30 +280,31 @@ def _write_hdf(mesh, path) -> None:
         raise OSError(errno.EIO, "cannot write: VTK could not write the HDF file", str(path))
 
 
-def write_geometry_vtk(config: Geometry, path, bounds) -> Path:
+def write_geometry_vtk(geometry: Geometry, path, bounds) -> Path:
     """Write :func:`geometry_dataset` to ``path`` (``.vtu``, atomically); return the path."""
     path = Path(path)
     if path.suffix.lower() != ".vtu":
         raise ParameterError("path", f"expected a file name ending in .vtu, got {str(path)!r}")
-    return _save(geometry_dataset(config, bounds), path)
+    return _save(geometry_dataset(geometry, bounds), path)
 
 
-def _write_with_geometry(mesh, config, path: Path, geometry: bool) -> tuple:
+def _write_with_geometry(mesh, geometry, path: Path, geometry_file: bool) -> tuple:
     out = _save(mesh, path)
-    geo = write_geometry_vtk(config, geometry_path(path), _bounds(config, mesh.points)) if geometry else None
+    geo = write_geometry_vtk(geometry, geometry_path(path), _bounds(geometry, mesh.points)) if geometry_file else None
     return out, geo
 
 
-def _sections(field, config, path, geometry: bool) -> tuple:
+def _sections(field, geometry, path, geometry_file: bool) -> tuple:
     """Write a :class:`~acoustiviz.field.sections.SectionField` (and the scene beside it) to ``path``."""
     from .render.snapshot import _check_field
 
     path = _check_vtk_path(path)
     field = _check_field(field)
-    return _write_with_geometry(planes_dataset(field.grids, field.times, field.pressures), config, path, geometry)
+    mesh = planes_dataset(field.grids, field.times, field.pressures)
+    return _write_with_geometry(mesh, geometry, path, geometry_file)
 
 
-def write_snapshot_vtk(field, config: Geometry, path, *, geometry: bool = True) -> tuple:
+def write_snapshot_vtk(field, geometry: Geometry, path, *, geometry_file: bool = True) -> tuple:
     """Write the pressure of a field snapshot on its planar sections to a VTK file.
 
     The points and values are those :func:`acoustiviz.output.render.render_snapshot` draws from the
@@ -313,11 +314,11 @@ def write_snapshot_vtk(field, config: Geometry, path, *, geometry: bool = True) 
     ----------
     field : acoustiviz.field.sections.SectionField
         The pressure evaluated by :func:`acoustiviz.field.sections.section_field`.
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``field``.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    geometry : bool
+    geometry_file : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
     Returns
@@ -331,10 +332,10 @@ def write_snapshot_vtk(field, config: Geometry, path, *, geometry: bool = True) 
     >>> write_snapshot_vtk(section_field(pulse, plane, 1e-3), plane, "s.vtu")  # doctest: +SKIP
     (PosixPath('s.vtu'), PosixPath('s_geometry.vtu'))
     """
-    return _sections(field, config, path, geometry)
+    return _sections(field, geometry, path, geometry_file)
 
 
-def write_animation_vtk(field, config: Geometry, path, *, geometry: bool = True) -> tuple:
+def write_animation_vtk(field, geometry: Geometry, path, *, geometry_file: bool = True) -> tuple:
     """Write every frame of a wavefront animation to one VTK file (one pressure array per frame).
 
     The frame times, points and values are those :func:`acoustiviz.output.render.render_animation`
@@ -346,11 +347,11 @@ def write_animation_vtk(field, config: Geometry, path, *, geometry: bool = True)
     field : acoustiviz.field.sections.SectionField
         The frames evaluated by :func:`acoustiviz.field.sections.animation_field` (one frame time is
         enough for a data file).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``field``.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    geometry : bool
+    geometry_file : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
     Returns
@@ -358,10 +359,10 @@ def write_animation_vtk(field, config: Geometry, path, *, geometry: bool = True)
     (pathlib.Path, pathlib.Path or None)
         The data file and the geometry file.
     """
-    return _sections(field, config, path, geometry)
+    return _sections(field, geometry, path, geometry_file)
 
 
-def write_balloon_vtk(data, config: Geometry, path, *, geometry: bool = True) -> tuple:
+def write_balloon_vtk(data, geometry: Geometry, path, *, geometry_file: bool = True) -> tuple:
     """Write the metrics of a directivity balloon on its measuring sphere to a VTK file.
 
     The points are the closed lattice of ``data`` at its distance from the contact point (the whole
@@ -374,11 +375,11 @@ def write_balloon_vtk(data, config: Geometry, path, *, geometry: bool = True) ->
         The balloon computed by :func:`acoustiviz.field.balloon.balloon_data`, holding its metrics
         (``data.metrics``; a balloon of a level of its own gets them from
         :func:`acoustiviz.field.balloon.balloon_metrics`).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``data``.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    geometry : bool
+    geometry_file : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
     Returns
@@ -391,7 +392,7 @@ def write_balloon_vtk(data, config: Geometry, path, *, geometry: bool = True) ->
         raise ParameterError("data", f"expected a BalloonData, got {type(data).__name__}")
     if data.metrics is None:
         raise ParameterError("data", "holds no field metrics: add them with acoustiviz.field.balloon.balloon_metrics")
-    return _write_with_geometry(balloon_dataset(data, data.metrics), config, path, geometry)
+    return _write_with_geometry(balloon_dataset(data, data.metrics), geometry, path, geometry_file)
 
 
 def map_dataset(grid, arrays):
@@ -418,7 +419,7 @@ def map_dataset(grid, arrays):
     return mesh
 
 
-def write_map_vtk(grid, arrays, config: Geometry, path, *, geometry: bool = True) -> tuple:
+def write_map_vtk(grid, arrays, geometry: Geometry, path, *, geometry_file: bool = True) -> tuple:
     """Write a level map (``acoustiviz map``) to a VTK file, the sphere and planes beside it.
 
     Parameters
@@ -428,11 +429,11 @@ def write_map_vtk(grid, arrays, config: Geometry, path, *, geometry: bool = True
     arrays : mapping of str to (n,) array_like
         Point arrays named with their units (``peak_pa``, ``peak_spl_db``, ``sel_db``,
         ``time_of_peak_s``, ``exposure_pa2s``; NaN where there is no fluid).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene.
     path : path-like
         Output ``.vtu`` or ``.vtkhdf`` file (written atomically).
-    geometry : bool
+    geometry_file : bool
         Also write the sphere and planes to :func:`geometry_path` of ``path``.
 
     Returns
@@ -441,4 +442,4 @@ def write_map_vtk(grid, arrays, config: Geometry, path, *, geometry: bool = True
         The data file and the geometry file.
     """
     path = _check_vtk_path(path)
-    return _write_with_geometry(map_dataset(grid, arrays), config, path, geometry)
+    return _write_with_geometry(map_dataset(grid, arrays), geometry, path, geometry_file)

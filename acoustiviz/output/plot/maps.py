@@ -29,21 +29,21 @@ def _limits(values) -> tuple:
     return (low, top) if top > low else (top - 1.0, top + 1.0)
 
 
-def _draw_geometry(ax, config, axes_names, offset: float, box) -> None:
+def _draw_geometry(ax, geometry, axes_names, offset: float, box) -> None:
     """The sphere's section and the reflecting planes seen edge-on (hatched), in the map's coordinates."""
     from matplotlib.patches import Circle, Rectangle
 
     i, j = (_AXIS[a] for a in axes_names)
     k = 3 - i - j
-    c = np.asarray(config.centre, dtype=float)
+    c = np.asarray(geometry.centre, dtype=float)
     d = offset - c[k]
-    if abs(d) < config.radius:
-        r = math.sqrt(config.radius**2 - d * d)
+    if abs(d) < geometry.radius:
+        r = math.sqrt(geometry.radius**2 - d * d)
         ax.add_patch(Circle((c[i], c[j]), r, facecolor="0.45", edgecolor="k", lw=0.8, zorder=4))
     x0, x1, y0, y1 = box
     band = 0.04 * max(x1 - x0, y1 - y0)
     ext = {(i, 1): 0.0, (i, -1): 0.0, (j, 1): 0.0, (j, -1): 0.0}  # room for the bands beyond the box
-    for p in config.planes:
+    for p in geometry.planes:
         n = int(np.argmax(np.abs(p.normal)))
         at = float(p.point[n])
         up = 1 if p.normal[n] > 0 else -1  # the fluid lies above (+1) or below (-1) the plane on its axis
@@ -66,7 +66,7 @@ def _draw_geometry(ax, config, axes_names, offset: float, box) -> None:
     ax.set_ylim(y0 - ext[(j, 1)], y1 + ext[(j, -1)])
 
 
-def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = "level (dB)", cmap: str = "magma",
+def plot_level_map(grid, values, geometry, *, axes_names=("x", "z"), label: str = "level (dB)", cmap: str = "magma",
                    ax=None, contours: float = 10.0):
     """Draw a level in dB over a planar grid, with the sphere and the reflecting planes.
 
@@ -76,7 +76,7 @@ def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = 
         Points in m; ``u`` along the first of ``axes_names``, ``v`` along the second.
     values : (n,) array_like
         Level in dB at the points (NaN: left blank).
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its planes, drawn in grey.
     axes_names : (str, str)
         Scene axes of the map's horizontal and vertical directions, ``("x", "z")`` or ``("x", "y")``.
@@ -115,7 +115,7 @@ def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = 
             ys = np.linspace(box[2], box[3], grid.n_v)
             cs = ax.contour(xs, ys, img, levels=levels, colors="white", linewidths=0.6, alpha=0.8)
             ax.clabel(cs, fmt="%g", fontsize=7)
-    _draw_geometry(ax, config, axes_names, float(grid.points[0, k]), box)
+    _draw_geometry(ax, geometry, axes_names, float(grid.points[0, k]), box)
     ax.set_aspect("equal")
     ax.grid(False)
     ax.set_xlabel(f"{axes_names[0]} (m)")
@@ -125,7 +125,7 @@ def plot_level_map(grid, values, config, *, axes_names=("x", "z"), label: str = 
     return ax
 
 
-def level_map_figure(grid, peak_spl_db, sel_db, config, *, axes_names=("x", "z"), title: str = ""):
+def level_map_figure(grid, peak_spl_db, sel_db, geometry, *, axes_names=("x", "z"), title: str = ""):
     """Peak SPL and SEL side by side over a planar grid.
 
     Parameters
@@ -134,7 +134,7 @@ def level_map_figure(grid, peak_spl_db, sel_db, config, *, axes_names=("x", "z")
         Points in m.
     peak_spl_db, sel_db : (n,) array_like
         Peak SPL in dB re 20 µPa and SEL in dB re (20 µPa)²·s at the points (NaN: blank).
-    config : Configuration
+    geometry : acoustiviz.core.geometry.Geometry
         The sphere and its planes.
     axes_names : (str, str)
         ``("x", "z")`` for a vertical map, ``("x", "y")`` for a horizontal one.
@@ -153,10 +153,10 @@ def level_map_figure(grid, peak_spl_db, sel_db, config, *, axes_names=("x", "z")
         height = min(9.0, max(3.2, 0.5 * width * v / u * 0.95 + 1.0))
         fig = Figure(figsize=(width, height), layout="constrained")
         a1, a2 = fig.subplots(1, 2)
-        plot_level_map(grid, peak_spl_db, config, axes_names=axes_names, ax=a1,
+        plot_level_map(grid, peak_spl_db, geometry, axes_names=axes_names, ax=a1,
                        label="peak SPL (dB re 20 µPa)")
         a1.set_title("peak sound pressure level")
-        plot_level_map(grid, sel_db, config, axes_names=axes_names, ax=a2, cmap="viridis",
+        plot_level_map(grid, sel_db, geometry, axes_names=axes_names, ax=a2, cmap="viridis",
                        label="SEL (dB re (20 µPa)²·s)")
         a2.set_title("sound exposure level")
         if title:

@@ -144,28 +144,30 @@ def _check_path(path, suffixes) -> Path:
     return p
 
 
-def _check_inputs(pulse, config):
+def _check_inputs(pulse, geometry):
     """Check the scene drawn around the data and the pulse named in its caption."""
-    if not isinstance(config, Geometry):
-        raise ParameterError("config", f"expected a geometry (acoustiviz.core.geometry), got {type(config).__name__}")
+    if not isinstance(geometry, Geometry):
+        raise ParameterError("geometry",
+                             f"expected a geometry (acoustiviz.core.geometry), got {type(geometry).__name__}")
     if not hasattr(pulse, "duration"):
         raise ParameterError("pulse", f"expected an acceleration pulse, got {type(pulse).__name__}")
 
 
-def _configs(config) -> list:
-    cs = [config] if isinstance(config, Geometry) else list(config)
+def _geometries(geometry) -> list:
+    cs = [geometry] if isinstance(geometry, Geometry) else list(geometry)
     if not cs or not all(isinstance(c, Geometry) for c in cs):
-        raise ParameterError("config", "expected a geometry (acoustiviz.core.geometry) or a non-empty sequence of them")
+        raise ParameterError("geometry",
+                             "expected a geometry (acoustiviz.core.geometry) or a non-empty sequence of them")
     return cs
 
 
 # --------------------------------------------------------------------------- scene geometry
-def _scene_extent(config: Geometry, half: float):
+def _scene_extent(geometry: Geometry, half: float):
     """Bounds ``(x0, x1, y0, y1, z0, z1)`` in m of a cube of half-size ``half`` around the sphere, cut by the planes."""
-    c = config.centre
+    c = geometry.centre
     lo = c - half
     hi = c + half
-    for p in config.planes:  # each plane bounds its axis on the side away from the fluid
+    for p in geometry.planes:  # each plane bounds its axis on the side away from the fluid
         k = int(np.argmax(np.abs(p.normal)))
         if p.normal[k] > 0:
             lo[k] = p.point[k]
@@ -174,14 +176,14 @@ def _scene_extent(config: Geometry, half: float):
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
-def _add_geometry(pl, config: Geometry, bounds, *, opacity: float = 0.35):
+def _add_geometry(pl, geometry: Geometry, bounds, *, opacity: float = 0.35):
     """Draw the sphere, and the floor and wall as semi-transparent rectangles spanning ``bounds`` (m)."""
     pv = check_backend()
-    a = config.radius
-    pl.add_mesh(pv.Sphere(radius=a, center=config.centre, theta_resolution=48, phi_resolution=32),
+    a = geometry.radius
+    pl.add_mesh(pv.Sphere(radius=a, center=geometry.centre, theta_resolution=48, phi_resolution=32),
                 color=_SPHERE_COLOUR, smooth_shading=True, specular=0.4)
     x0, x1, y0, y1, z0, z1 = bounds
-    for pl_ in config.planes:
+    for pl_ in geometry.planes:
         n = pl_.normal
         if abs(n[2]) > 0.5:  # floor
             mesh = pv.Plane(center=((x0 + x1) / 2, (y0 + y1) / 2, pl_.point[2]), direction=n,
@@ -210,9 +212,9 @@ def _set_camera(pl, focus, direction, *, zoom: float = 1.0, shift: float = 0.0):
         pl.camera.SetWindowCenter(shift, 0.0)
 
 
-def _scene_label(pulse, config: Geometry) -> str:
-    parts = [config.caption()]
-    parts.append(f"a = {config.radius * 1e3:.4g} mm")
+def _scene_label(pulse, geometry: Geometry) -> str:
+    parts = [geometry.caption()]
+    parts.append(f"a = {geometry.radius * 1e3:.4g} mm")
     parts.append(f"contact {pulse.duration * 1e6:.0f} µs")
     parts.append(f"{getattr(pulse, 'kind', 'sampled')} pulse")
     return ", ".join(parts)

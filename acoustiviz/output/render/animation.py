@@ -41,7 +41,7 @@ def _write_frames(frames, path: Path, fps: float):
 def render_animation(
     field: SectionField,
     pulse,
-    config: Geometry,
+    geometry: Geometry,
     path,
     *,
     fps: float = 12.0,
@@ -59,7 +59,7 @@ def render_animation(
         frame times and the pressure on them.
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (named in the caption).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``field``.
     path : path-like
         Output ``.gif`` (always available) or ``.mp4`` (needs ``imageio-ffmpeg``), written
@@ -89,7 +89,7 @@ def render_animation(
     """
     path = _check_path(path, (".gif", ".mp4"))
     size = _check_size(size)
-    _check_inputs(pulse, config)
+    _check_inputs(pulse, geometry)
     rate = check_range("fps", fps, 0.0, 60.0, unit="frames/s", low_open=True)
     if path.suffix.lower() == ".mp4":
         if not mp4_available():
@@ -99,11 +99,11 @@ def render_animation(
     field = _check_field(field)
     grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
-    label = _scene_label(pulse, config) if title is None else title
+    label = _scene_label(pulse, geometry) if title is None else title
     images = []
     with _plotter(size) as pl:
         # the meshes own their values (frames are copied into them): the field is never written
-        meshes, clock = _draw_snapshot(pl, config, grids, [np.array(f[0]) for f in fields], times[0], lim, cmap, size,
+        meshes, clock = _draw_snapshot(pl, geometry, grids, [np.array(f[0]) for f in fields], times[0], lim, cmap, size,
                                        label, True, 1)
         for q, tq in enumerate(times):
             for m, f in zip(meshes, fields, strict=True):

@@ -17,8 +17,8 @@ from ._common import (
     _check_inputs,
     _check_path,
     _check_size,
-    _configs,
     _font,
+    _geometries,
     _grab,
     _plotter,
     _scene_extent,
@@ -57,7 +57,7 @@ def _balloon_mesh(data: BalloonData, size: float, top: float, db_range: float):
 def render_balloon(
     data,
     pulse,
-    config,
+    geometry,
     path,
     *,
     db_range: float = 30.0,
@@ -82,7 +82,7 @@ def render_balloon(
         The levels computed by :func:`acoustiviz.field.balloon.balloon_data`, one per configuration.
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (named in the caption).
-    config : Geometry or sequence of Geometry
+    geometry : acoustiviz.core.geometry.Geometry or sequence of them
         The scene of ``data``; several are drawn side by side with one colour scale.
     path : path-like
         Output ``.png`` file (written atomically).
@@ -123,34 +123,34 @@ def render_balloon(
     """
     path = _check_path(path, (".png",))
     size = _check_size(size)
-    configs = _configs(config)
-    for c in configs:
+    geometries = _geometries(geometry)
+    for c in geometries:
         _check_inputs(pulse, c)
     rng = check_range("db_range", db_range, 0.0, 200.0, unit="dB", low_open=True)
     opacity = check_range("opacity", opacity, 0.0, 1.0, low_open=True)
     datas = [data] if isinstance(data, BalloonData) else list(data)
-    if len(datas) != len(configs) or not all(isinstance(d, BalloonData) for d in datas):
-        raise ParameterError("data", f"expected {len(configs)} BalloonData, one per configuration")
+    if len(datas) != len(geometries) or not all(isinstance(d, BalloonData) for d in datas):
+        raise ParameterError("data", f"expected {len(geometries)} BalloonData, one per configuration")
     top = max(d.max_level for d in datas)
     clim = (top - rng, top)
     if title is None:
         title = f"{datas[0].label.split(' (')[0]} at {datas[0].distance:g} m, {db_range:g} dB from centre to rim"
-    with _plotter(size, shape=(1, len(configs))) as pl:
-        for i, (c, d) in enumerate(zip(configs, datas, strict=True)):
+    with _plotter(size, shape=(1, len(geometries))) as pl:
+        for i, (c, d) in enumerate(zip(geometries, datas, strict=True)):
             pl.subplot(0, i)
-            actor = _draw_balloon(pl, pulse, c, d, top, rng, balloon_size, clim, cmap, size, len(configs), opacity)
-            if show_scalar_bar and i == len(configs) - 1:
-                _add_bar(pl, d.label, size, actor.mapper, n_views=len(configs))
+            actor = _draw_balloon(pl, pulse, c, d, top, rng, balloon_size, clim, cmap, size, len(geometries), opacity)
+            if show_scalar_bar and i == len(geometries) - 1:
+                _add_bar(pl, d.label, size, actor.mapper, n_views=len(geometries))
         pl.subplot(0, 0)
         pl.add_text(title, position="upper_left", font_size=_font(size, 13), color="black")
         img = _grab(pl)
     return _write_png(img, path)
 
 
-def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, size, n_views, opacity):
-    a = config.radius
+def _draw_balloon(pl, pulse, geometry, data, top, rng, balloon_size, clim, cmap, size, n_views, opacity):
+    a = geometry.radius
     if balloon_size is None:
-        bsize = min(max(6.0 * a, 1.5 * config.feature_distance), view_limit(config))  # inside a room's walls
+        bsize = min(max(6.0 * a, 1.5 * geometry.feature_distance), view_limit(geometry))  # inside a room's walls
     else:
         bsize = check_positive("balloon_size", balloon_size, "m")
     mesh = _balloon_mesh(data, bsize, top, rng)
@@ -160,13 +160,13 @@ def _draw_balloon(pl, pulse, config, data, top, rng, balloon_size, clim, cmap, s
     section = mesh.slice(normal="y", origin=data.anchor)  # the polar pattern in the plane y = 0
     if section.n_points:
         pl.add_mesh(section, color="#202020", line_width=max(1.0, 2.5 * size[1] / 900.0))
-    bounds = _scene_extent(config, 1.05 * bsize)
-    _add_geometry(pl, config, bounds)
-    line = _scene_label(pulse, config) + f"\nmax {data.max_level:.1f} dB, energy mean {data.mean_level:.1f} dB"
+    bounds = _scene_extent(geometry, 1.05 * bsize)
+    _add_geometry(pl, geometry, bounds)
+    line = _scene_label(pulse, geometry) + f"\nmax {data.max_level:.1f} dB, energy mean {data.mean_level:.1f} dB"
     pl.add_text(line, position="lower_left", font_size=_font((size[0] / n_views, size[1]), 11), color="#222222")
     x0, x1, y0, y1, z0, z1 = bounds
     focus = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
-    bounded = bool(config.planes)  # look down on a floor; all round a sphere in free field
+    bounded = bool(geometry.planes)  # look down on a floor; all round a sphere in free field
     direction = (0.9, -1.7, 0.8) if bounded else (0.9, -1.7, 0.4)
     _set_camera(pl, focus, direction, zoom=1.35 if bounded else 1.05)
     return actor

@@ -55,7 +55,7 @@ def _symmetric_limit(fields) -> float:
     return lim if lim > 0 else 1.0
 
 
-def _snapshot_bounds(planes, config: Geometry):
+def _snapshot_bounds(planes, geometry: Geometry):
     """Bounds (m) of the drawn floor/wall: the planes' box, flat axes widened to show the geometry."""
     pts = np.vstack([p.points for p in planes])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
@@ -64,11 +64,11 @@ def _snapshot_bounds(planes, config: Geometry):
         if hi[k] - lo[k] < 1e-9 * span:
             lo[k] -= 0.3 * span
             hi[k] += 0.3 * span
-    lo, hi = fluid_box(config, lo, hi)
+    lo, hi = fluid_box(geometry, lo, hi)
     return lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
 
 
-def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_bar, n_views):
+def _draw_snapshot(pl, geometry, planes, fields, t, clim, cmap, size, label, show_bar, n_views):
     """Draw one snapshot in the active view; return the plane meshes and the time annotation."""
     meshes = [_plane_mesh(g, f) for g, f in zip(planes, fields, strict=True)]
     actor = None
@@ -78,7 +78,7 @@ def _draw_snapshot(pl, config, planes, fields, t, clim, cmap, size, label, show_
                             nan_color=_SPHERE_COLOUR, lighting=False)
         corners = g.origin + np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]) @ np.vstack([g.u, g.v])
         pl.add_mesh(pv.lines_from_points(corners), color="#505050", line_width=max(1.0, 1.5 * size[1] / 900.0))
-    _add_geometry(pl, config, _snapshot_bounds(planes, config), opacity=0.25)
+    _add_geometry(pl, geometry, _snapshot_bounds(planes, geometry), opacity=0.25)
     vsize = (size[0] / n_views, size[1])
     clock = pl.add_text(_time_label(t), position="upper_left", font_size=_font(vsize, 18), color="black")
     if label:
@@ -124,7 +124,7 @@ def _time_label(t: float) -> str:
 def render_snapshot(
     field: SectionField,
     pulse,
-    config: Geometry,
+    geometry: Geometry,
     path,
     *,
     size=DEFAULT_SIZE,
@@ -143,7 +143,7 @@ def render_snapshot(
         and more on a near-square grid) with one colour scale.
     pulse : HalfSinePulse or SampledPulse
         Acceleration pulse of the sphere (named in the caption).
-    config : Geometry
+    geometry : acoustiviz.core.geometry.Geometry
         The scene of ``field``.
     path : path-like
         Output ``.png`` file (written atomically).
@@ -173,17 +173,17 @@ def render_snapshot(
     """
     path = _check_path(path, (".png",))
     size = _check_size(size)
-    _check_inputs(pulse, config)
+    _check_inputs(pulse, geometry)
     field = _check_field(field)
     grids, times, fields = field.grids, field.times, field.pressures
     lim = _symmetric_limit(fields) if clim is None else check_positive("clim", clim, "Pa")
     cols = times.size if times.size <= 3 else int(math.ceil(math.sqrt(times.size)))
     rows = int(math.ceil(times.size / cols))
-    label = _scene_label(pulse, config) if title is None else title
+    label = _scene_label(pulse, geometry) if title is None else title
     with _plotter(size, shape=(rows, cols)) as pl:
         for q, tq in enumerate(times):
             pl.subplot(q // cols, q % cols)
-            _draw_snapshot(pl, config, grids, [f[q] for f in fields], tq, lim, cmap, (size[0], size[1] / rows),
+            _draw_snapshot(pl, geometry, grids, [f[q] for f in fields], tq, lim, cmap, (size[0], size[1] / rows),
                            label if q == 0 else None, show_scalar_bar and q == times.size - 1, cols)
         img = _grab(pl)
     return _write_png(img, path)
