@@ -181,6 +181,7 @@ class DamperSettings(Settings):
     solver: str = "event"
     dt: float | None = None
     rtol: float = DEFAULT_RTOL
+    names: dict | None = dataclasses.field(default=None, compare=False, repr=False)
 
     def validate(self) -> None:
         """The tolerance in the range of the solver asked for (:data:`acoustiviz.dynamics.METHODS`)."""
@@ -194,10 +195,12 @@ class AuralizeSettings(Settings):
     """An auralised run: the damper, the room, the sound model, the listeners and the files.
 
     Field names are those of :data:`ALL` (the options' API names); ``impacts`` is a CSV of impacts
-    to render instead of simulating, ``max_memory`` the working-memory cap in MB.
+    to render instead of simulating, ``max_memory`` the working-memory cap in MB; ``names`` maps API names
+    (the damper's too) to the options or scene keys errors name (:meth:`from_namespace`: the options).
     """
 
     TABLE = AURALIZE
+    BUILT_FROM = DAMPER
     wav: str = "out.wav"
     damper: DamperSettings = dataclasses.field(default_factory=DamperSettings)
     room: RoomOptions = dataclasses.field(default_factory=RoomOptions)
@@ -231,19 +234,22 @@ class AuralizeSettings(Settings):
     levels_csv: str | None = None
     loudness: bool = False
     max_memory: float | None = None
+    names: dict | None = dataclasses.field(default=None, compare=False, repr=False)
 
     @classmethod
     def from_namespace(cls, ns: dict):
-        """The settings of a mapping of option destinations to values (``vars(args)``)."""
+        """The settings of a mapping of option destinations to values (``vars(args)``); errors name the options."""
         def pick(klass):
-            names = {f.name for f in dataclasses.fields(klass)}
-            return {k: v for k, v in ns.items() if k in names}
+            fields = {f.name for f in dataclasses.fields(klass)} - {"names"}
+            return {k: v for k, v in ns.items() if k in fields}
 
+        names = cls.names_for("cli")
         values = pick(cls)
         values.pop("room", None)
         if values.get("listener") is not None:
             values["listener"] = tuple(values["listener"])
-        return cls(damper=DamperSettings(**pick(DamperSettings)), room=RoomOptions(**pick(RoomOptions)), **values)
+        return cls(damper=DamperSettings(**pick(DamperSettings), names=names), room=RoomOptions(**pick(RoomOptions)),
+                   names=names, **values)
 
 
 #: The records :class:`AuralizeJob` checks when it is made: the files' format and the levels wanted.
