@@ -3,8 +3,9 @@
 Every name map is made here, from the records alone (:func:`~acoustiviz.app.settings.base.vocabulary`): the
 groups of records a job is built from (the impact, the damper, the room, the memory cap), the aliases of API
 parameters spelled otherwise than their record (:data:`ALIASES`), and the few derived values that have no
-record (:data:`DERIVED`). A settings object's :meth:`~acoustiviz.app.settings.base.Settings.names_for` gives
-its whole vocabulary; the constants below are those of the values the jobs share.
+record (:data:`DERIVED`), all three in :mod:`acoustiviz.app.settings.vocabulary`. A settings object's
+:meth:`~acoustiviz.app.settings.base.Settings.names_for` gives its whole vocabulary; the constants below are
+those of the values the jobs share.
 
 The library names its parameters as the API spells them (``radius``, ``v``, ``k_hertz``); a
 front-end's user gave them as options (``--radius``) or scene keys (``sphere.radius_m``). Inside
@@ -24,44 +25,19 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
-
 from ..errors import user_terms
 from .settings.base import vocabulary
 from .settings.damper import DAMPER
 from .settings.design import DESIGN, DESIGN_RUN
 from .settings.impact import IMPACT, OBSERVER, WAVEFORM
 from .settings.room import ROOM
-from .settings.run import MAX_MEMORY
-from .settings.scene import CONFIGURATION_KEYS, GRIDS
+from .settings.scene import CONFIGURATION_KEYS
 from .settings.sweep import SCENE_SWEEP, SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
+from .settings.vocabulary import ALIASES, DERIVED, MEMORY
 
 __all__ = ["user_terms", "vocabulary", "MEMORY", "ALIASES", "DERIVED", "DAMPER_OPTIONS", "IMPACT_OPTIONS",
            "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS", "SWEEP_OPTIONS", "SCENE_SWEEP_KEYS",
            "DESIGN_OPTIONS"]
-
-#: The memory cap as every job names it: ``--max-memory`` on the command line, ``grids.memory_limit_mb`` in a
-#: scene (the scene's record, under the API name ``max_memory_mb``).
-MEMORY = (MAX_MEMORY, dataclasses.replace(GRIDS[0], name="max_memory_mb"))
-
-#: API parameter -> the record it is spelled as, by the group of values it belongs to. ``room``: the window is
-#: the waveform's ``--duration``, the sound speed the medium's ``--c``; ``sweep``: the sweep's and the design
-#: table's parameters.
-ALIASES = {
-    "damper": {"v": "v0"},
-    "impact": {"sphere_material": "material", "surface_material": "surface"},
-    "room": {"dimensions": "room", "strike": "room_strike", "order": "image_order", "duration": "window",
-             "sound_speed": "c"},
-    "sweep": {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"},
-}
-
-#: Derived values with no record of their own -> their option (``"cli"``) or scene key (``"scene"``): the
-#: listeners a scene lists (each one's distance and angle), and a sweep's folder and radius choice in a scene.
-DERIVED = {
-    "cli": {"listeners": "--listener"},
-    "scene": {"listeners": "listeners", **{k: "listeners" for k in ("distance", "angle", "angle_deg")},
-              "out": "outputs.sweep"},
-}
 
 #: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
 DAMPER_OPTIONS = vocabulary("cli", DAMPER, ALIASES["damper"])

@@ -1,0 +1,37 @@
+"""The words of values that several jobs share: the memory cap's records, the alias table, the derived names.
+
+A job's vocabulary (:meth:`~acoustiviz.app.settings.base.Settings.names_for`) is made from records; these are
+the records and aliases the jobs' ``BUILT_FROM`` and ``ALIASES`` take from one place.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from .run import MAX_MEMORY
+from .scene import GRIDS
+
+__all__ = ["MEMORY", "ALIASES", "DERIVED"]
+
+#: The memory cap as every job names it: ``--max-memory`` on the command line, ``grids.memory_limit_mb`` in a
+#: scene (the scene's record, under the API name ``max_memory_mb``).
+MEMORY = (MAX_MEMORY, dataclasses.replace(GRIDS[0], name="max_memory_mb"))
+
+#: API parameter -> the record it is spelled as, by the group of values it belongs to. ``room``: the window is
+#: the waveform's ``--duration``, the sound speed the medium's ``--c``; ``sweep``: the sweep's and the design
+#: table's parameters.
+ALIASES = {
+    "damper": {"v": "v0"},
+    "impact": {"sphere_material": "material", "surface_material": "surface"},
+    "room": {"dimensions": "room", "strike": "room_strike", "order": "image_order", "duration": "window",
+             "sound_speed": "c"},
+    "sweep": {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"},
+}
+
+#: Derived values with no record of their own -> their option (``"cli"``) or scene key (``"scene"``): the
+#: listeners a scene lists (each one's distance and angle), and a sweep's folder and radius choice in a scene.
+DERIVED = {
+    "cli": {"listeners": "--listener"},
+    "scene": {"listeners": "listeners", **{k: "listeners" for k in ("distance", "angle", "angle_deg")},
+              "out": "outputs.sweep"},
+}
