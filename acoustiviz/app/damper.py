@@ -39,9 +39,15 @@ __all__ = ["DamperJob", "DamperResult", "run", "damper_model", "choose_solver", 
 def damper_model(*, M: float = TABLE1_PARAMETERS["M"], K: float = TABLE1_PARAMETERS["K"],
                  C: float = TABLE1_PARAMETERS["C"], m: float = TABLE1_PARAMETERS["m"], gap: float = PAPER_GAP,
                  k_hertz: float = TABLE1_PARAMETERS["k_hertz"], c1: float = TABLE1_PARAMETERS["c1"],
-                 clip_tensile: bool = False) -> DamperModel:
-    """The damper of paper eq 15 (defaults: Table 1 with d = 4 cm); see :class:`~acoustiviz.dynamics.DamperModel`."""
-    return DamperModel(M=M, K=K, C=C, m=m, gap=gap, k_hertz=k_hertz, c1=c1, clip_tensile=bool(clip_tensile))
+                 clip_tensile: bool = False, names=None) -> DamperModel:
+    """The damper of paper eq 15 (defaults: Table 1 with d = 4 cm); see :class:`~acoustiviz.dynamics.DamperModel`.
+
+    ``names``: API parameter -> the option or scene key its errors name (default: the API parameter).
+    """
+    from ..errors import user_terms
+
+    with user_terms(names or {}):
+        return DamperModel(M=M, K=K, C=C, m=m, gap=gap, k_hertz=k_hertz, c1=c1, clip_tensile=bool(clip_tensile))
 
 
 def choose_solver(solver: str, model: DamperModel, initial: InitialState, tolerance: float = DEFAULT_RTOL) -> tuple:
