@@ -36,8 +36,8 @@ from .settings.sweep import SCENE_SWEEP, SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, S
 from .settings.vocabulary import ALIASES, DERIVED, MEMORY
 
 __all__ = ["user_terms", "vocabulary", "MEMORY", "ALIASES", "DERIVED", "DAMPER_OPTIONS", "IMPACT_OPTIONS",
-           "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS", "SWEEP_OPTIONS", "SCENE_SWEEP_KEYS",
-           "DESIGN_OPTIONS"]
+           "ROOM_OPTIONS", "SCENE_IMPACT_KEYS", "SCENE_DAMPER_KEYS", "SWEEP_OPTIONS", "SWEEP_ROOM_OPTIONS",
+           "SCENE_SWEEP_KEYS", "DESIGN_OPTIONS"]
 
 #: :class:`~acoustiviz.dynamics.DamperModel` / :func:`~acoustiviz.dynamics.simulate` parameter -> option.
 DAMPER_OPTIONS = vocabulary("cli", DAMPER, ALIASES["damper"])
@@ -59,6 +59,12 @@ SCENE_IMPACT_KEYS = vocabulary("scene", IMPACT + CONFIGURATION_KEYS, {"k_hertz":
 #: :class:`~acoustiviz.app.settings.sweep_job.SweepJob` parameter (and the :class:`~acoustiviz.sweep.SweepSpec`'s and
 #: :class:`~acoustiviz.sweep.FixedSettings`' it sets) -> ``acoustiviz sweep`` option.
 SWEEP_OPTIONS = vocabulary("cli", SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SWEEP_RUN + MEMORY, ALIASES["sweep"])
+
+#: The same, and the room a sweep is run in (:func:`acoustiviz.app.sweep.with_room`): the window its images
+#: reach is ``--room-window``.
+SWEEP_ROOM_OPTIONS = vocabulary("cli", SWEPT + SWEEP_DAMPER + SWEEP_SOUND + SWEEP_RUN + MEMORY + ROOM,
+                                {**ALIASES["sweep"], **ALIASES["room"], "duration": "room_window"},
+                                lookup=WAVEFORM + IMPACT + SWEEP_RUN)
 
 #: The same parameters -> the scene key they are read from: ``[outputs.sweep]``'s records, the damper's, the
 #: sphere's, the contact's and the configuration's keys, and the first listener for the listener's values.

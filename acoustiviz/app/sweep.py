@@ -235,7 +235,7 @@ def produce_sweep(ctx):
     return [Product("sweep", result.journal, figs)] + [Product("sweep", p, {}) for p in paths]
 
 
-def with_room(given: dict, room: dict | None) -> dict:
+def with_room(given: dict, room: dict | None, *, names=None) -> dict:
     """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values ``given`` with a shoebox room's.
 
     Parameters
@@ -252,12 +252,14 @@ def with_room(given: dict, room: dict | None) -> dict:
         ``given`` with ``room`` and, unless a configuration is given, ``config="room"``. The room
         is built once around the sweep's sphere (the paper's radius when it follows the mass), so
         a source too close to a wall or a window without images fails here; errors name the room's
-        parameters (the caller renames them).
+        parameters as ``names`` says (API parameter -> option or scene key; default: the API names).
     """
     if room is None:
         return given
     from ..core.geometry import geometry
     from ..core.room_geometry import Room
+    from ..errors import user_terms
 
-    geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
+    with user_terms(names or {}):
+        geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
     return {**given, "config": given.get("config") or Room.name, "room": room}
