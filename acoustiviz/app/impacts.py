@@ -98,8 +98,17 @@ def k_hertz_from(radius: float, k_hertz=None, sphere_material=None, surface_mate
     return hertz_stiffness(radius, s_mat, f_mat), f"Hertz, {s_mat.name} on {f_mat.name}"
 
 
-def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) -> float:
-    """Sphere mass in kg: given, else density (given, the material's, or steel's 7800 kg/m³) × volume."""
+def sphere_mass(radius: float, mass=None, density=None, sphere_material=None, *, names=None) -> float:
+    """Sphere mass in kg: given, else density (given, the material's, or steel's 7800 kg/m³) × volume.
+
+    ``names``: API parameter -> the option or scene key its errors name (default: the API parameter).
+    """
+    with user_terms(names or {}):
+        return _sphere_mass(radius, mass, density, sphere_material)
+
+
+def _sphere_mass(radius: float, mass, density, sphere_material) -> float:
+    """The body of :func:`sphere_mass`; errors name the API parameters."""
     if mass is not None:
         if density is not None:
             raise ParameterError("mass", "give either the mass or the density, not both")

@@ -139,10 +139,11 @@ class Settings:
         return vocabulary(front, (*cls.BUILT_FROM, *cls.TABLE), cls.ALIASES, cls.LOOKUP)
 
     @classmethod
-    def from_values(cls, values: dict, *, scene: bool = False):
+    def from_values(cls, values: dict, *, scene: bool = False, names=None):
         """The settings of ``values`` (``{name: value}``); a missing name takes its table default.
 
-        ``scene``: take the scene's default where it differs from the command line's.
+        ``scene``: take the scene's default where it differs from the command line's; ``names``: API name ->
+        the option or scene key its errors name (default: the API name).
         """
         fields = {f.name for f in dataclasses.fields(cls)}
         table = cls.table()
@@ -150,6 +151,7 @@ class Settings:
         for name, s in table.items():
             if name not in kw and name in fields:
                 kw[name] = s.in_scene if scene else s.default
-        return cls(**kw)
+        with user_terms(names or {}):
+            return cls(**kw)
 
 
