@@ -476,3 +476,35 @@ def test_old_geometry_parameter_finder_finds_each_kind_of_parameter():
               "def fine(geometry, configuration_name, kind='plane'):\n    pass\n")
     assert _old_geometry_parameters(source, "m.py") == ["m.py:1 f(config)", "m.py:3 g(conf)", "m.py:6 h(config)",
                                                         "m.py:8 <lambda>(conf)"]
+
+
+#: Front ends: they build settings objects, whose ``names`` make the errors name what the user typed.
+FRONT_ENDS = {"cli", "scene"}
+
+
+def _user_terms_uses(source: str, where: str) -> list[str]:
+    """Each import, call or mention of ``user_terms`` in one module's source."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            found += [f"{where}:{node.lineno} import" for a in node.names if a.name == "user_terms"]
+        elif isinstance(node, ast.Name) and node.id == "user_terms":
+            found.append(f"{where}:{node.lineno} {node.id}")
+        elif isinstance(node, ast.Attribute) and node.attr == "user_terms":
+            found.append(f"{where}:{node.lineno} .{node.attr}")
+    return sorted(found, key=lambda hit: int(hit.split(":")[1].split()[0]))
+
+
+def test_front_ends_rename_no_errors_by_hand():
+    """The command line and the scene loader hand names to the settings or the app helpers, never ``user_terms``."""
+    found = [hit for path, rel in _modules() if _top(rel) in FRONT_ENDS
+             for hit in _user_terms_uses(path.read_text(encoding="utf-8"), rel.as_posix())]
+    assert not found, "user_terms in a front end (give the settings or the helper its names):\n" + "\n".join(found)
+
+
+def test_user_terms_finder_finds_each_use():
+    source = ("from acoustiviz.app.names import user_terms, IMPACT_OPTIONS\n"
+              "def f(args):\n    with user_terms(IMPACT_OPTIONS):\n        pass\n"
+              "def g():\n    from acoustiviz import errors\n    return errors.user_terms({})\n"
+              "def fine(names):\n    return terms_of_use(names)\n")
+    assert _user_terms_uses(source, "m.py") == ["m.py:1 import", "m.py:3 user_terms", "m.py:7 .user_terms"]
