@@ -185,15 +185,15 @@ def _scene_given(scene, solver: str) -> dict:
                 room=scene.geometry_settings().get("room"), **stiffness)
 
 
-def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
+def sweep_settings(scene, out=None, *, solver: str | None = None, names=None) -> SweepJob:
     """The scene's ``[outputs.sweep]`` (gap x impact mass) as a :class:`SweepJob`.
 
     The listener is the scene's first; ``solver`` is the damper solver the scene resolved (default: its
     ``"auto"`` choice); the folder is ``sweep`` in folder ``out`` (None: no folder, the checks of the scene's
     settings alone, made before the run folder exists); the memory within ``grids.memory_limit_mb``; errors
-    name scene keys.
+    name scene keys (``names``: API parameter -> scene key, default :data:`~acoustiviz.app.names.SCENE_SWEEP_KEYS`).
     """
-    from ..errors import SceneError
+    from ..errors import SceneError, user_terms
 
     if scene.geometry_settings().get("strike", "floor") != "floor":
         raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
@@ -201,15 +201,16 @@ def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
         from .products import damper_solver
 
         solver = damper_solver(scene)
-    opts = scene.output("sweep")
-    return sweep_job(_scene_given(scene, solver), names=SCENE_SWEEP_KEYS,
-                     out=None if out is None else str(Path(out) / "sweep"), workers=opts["workers"] or None,
-                     max_memory_mb=scene.section("grids")["memory_limit_mb"])
+    opts, names = scene.output("sweep"), names or SCENE_SWEEP_KEYS
+    with user_terms(names):
+        given = _scene_given(scene, solver)
+    return sweep_job(given, names=names, out=None if out is None else str(Path(out) / "sweep"),
+                     workers=opts["workers"] or None, max_memory_mb=scene.section("grids")["memory_limit_mb"])
 
 
-def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
+def scene_sweep_spec(scene, solver: str | None = None, *, names=None) -> SweepSpec:
     """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (:func:`sweep_settings`)."""
-    return sweep_settings(scene, solver=solver).spec
+    return sweep_settings(scene, solver=solver, names=names).spec
 
 
 def produce_sweep(ctx):
