@@ -47,7 +47,10 @@ def vocabulary(front: str, records, aliases=None, lookup=()) -> dict:
     {'v0': 'damper.v0_m_s'}
     """
     attr = FRONTS[front]
-    table = {s.name: s for s in (*records, *lookup)}
+    table = {}
+    for s in (*records, *lookup):  # the last record of a name that has a word for the front end
+        if getattr(s, attr) or s.name not in table:
+            table[s.name] = s
     names = {s.name: getattr(s, attr) for s in records if getattr(s, attr)}
     names.update({api: getattr(table[name], attr) for api, name in (aliases or {}).items()
                   if getattr(table[name], attr)})

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import dataclasses
 
-from .impact import DIRECTIVITY, ImpactJob
+from .impact import DIRECTIVITY, IMPACT, OBSERVER, WAVEFORM, ImpactJob
+from .room import ROOM
 from .table import Setting
+from .vocabulary import ALIASES, MEMORY
 
 __all__ = ["DIRECTIVITY_OUTPUTS", "DirectivityJob"]
 
@@ -59,6 +61,9 @@ class DirectivityJob(ImpactJob):
     """
 
     TABLE = (*DIRECTIVITY, *DIRECTIVITY_OUTPUTS)
+    BUILT_FROM = (*IMPACT, *OBSERVER, *ROOM, *MEMORY)  # the impact, its surroundings, the memory cap
+    ALIASES = {**ALIASES["impact"], **ALIASES["room"], **ALIASES["memory"], "angles": "step_deg", "window": "window"}
+    LOOKUP = WAVEFORM + IMPACT
     pulse: object
     distance: float
     step_deg: float = DIRECTIVITY[0].default

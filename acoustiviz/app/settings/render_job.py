@@ -28,6 +28,7 @@ from .render import (
     BalloonSettings,
     SnapshotSettings,
 )
+from .vocabulary import ALIASES, MEMORY
 
 __all__ = ["ViewJob", "SnapshotJob", "BalloonJob", "AnimationJob", "JOB_OF_VIEW"]
 
@@ -62,6 +63,9 @@ class ViewJob(Settings):
         The front end's vocabulary: API parameter -> the option or scene key its errors name
         (not compared; default: the API names).
     """
+
+    BUILT_FROM = MEMORY
+    ALIASES = ALIASES["memory"]
 
     VIEW = ""
     #: The files of the view, in the order they are written.

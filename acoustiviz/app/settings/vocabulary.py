@@ -19,13 +19,14 @@ MEMORY = (MAX_MEMORY, dataclasses.replace(GRIDS[0], name="max_memory_mb"))
 
 #: API parameter -> the record it is spelled as, by the group of values it belongs to. ``room``: the window is
 #: the waveform's ``--duration``, the sound speed the medium's ``--c``; ``sweep``: the sweep's and the design
-#: table's parameters.
+#: table's parameters; ``memory``: the physics' name of the memory cap.
 ALIASES = {
     "damper": {"v": "v0"},
     "impact": {"sphere_material": "material", "surface_material": "surface"},
     "room": {"dimensions": "room", "strike": "room_strike", "order": "image_order", "duration": "window",
              "sound_speed": "c"},
     "sweep": {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"},
+    "memory": {"memory_limit": "max_memory_mb"},
 }
 
 #: Derived values with no record of their own -> their option (``"cli"``) or scene key (``"scene"``): the
