@@ -106,6 +106,9 @@ class Settings:
     #: API name -> the record it is spelled as (:func:`vocabulary`), and the further records those may be in.
     ALIASES = {}
     LOOKUP = ()
+    #: Front end (``"cli"``, ``"scene"``) -> API name -> its word, for values that have no record
+    #: (:mod:`acoustiviz.app.settings.vocabulary`: the derived names, the output tables of a scene's files).
+    DERIVED_NAMES = {}
 
     def __post_init__(self):
         # a job's ``names`` field (API name -> option or scene key): its errors in the user's words
@@ -139,7 +142,8 @@ class Settings:
         Made from ``TABLE``, ``BUILT_FROM`` and ``ALIASES`` alone (:func:`vocabulary`), so no front end writes a
         name map by hand; a front end hands it to the settings as their ``names``.
         """
-        return vocabulary(front, (*cls.BUILT_FROM, *cls.TABLE), cls.ALIASES, cls.LOOKUP)
+        return {**vocabulary(front, (*cls.BUILT_FROM, *cls.TABLE), cls.ALIASES, cls.LOOKUP),
+                **cls.DERIVED_NAMES.get(front, {})}
 
     @classmethod
     def from_values(cls, values: dict, *, scene: bool = False, names=None):

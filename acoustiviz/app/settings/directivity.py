@@ -14,7 +14,7 @@ import dataclasses
 from .impact import DIRECTIVITY, IMPACT, OBSERVER, WAVEFORM, ImpactJob
 from .room import ROOM
 from .table import Setting
-from .vocabulary import ALIASES, MEMORY
+from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
 __all__ = ["DIRECTIVITY_OUTPUTS", "DirectivityJob"]
 
@@ -64,6 +64,7 @@ class DirectivityJob(ImpactJob):
     BUILT_FROM = (*IMPACT, *OBSERVER, *ROOM, *MEMORY)  # the impact, its surroundings, the memory cap
     ALIASES = {**ALIASES["impact"], **ALIASES["room"], **ALIASES["memory"], "angles": "step_deg", "window": "window"}
     LOOKUP = WAVEFORM + IMPACT
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["directivity"]}
     pulse: object
     distance: float
     step_deg: float = DIRECTIVITY[0].default

@@ -11,7 +11,7 @@ import dataclasses
 from .run import MAX_MEMORY
 from .scene import GRIDS
 
-__all__ = ["MEMORY", "ALIASES", "DERIVED"]
+__all__ = ["MEMORY", "ALIASES", "DERIVED", "OUTPUT_TABLES"]
 
 #: The memory cap as every job names it: ``--max-memory`` on the command line, ``grids.memory_limit_mb`` in a
 #: scene (the scene's record, under the API name ``max_memory_mb``).
@@ -35,4 +35,12 @@ DERIVED = {
     "cli": {"listeners": "--listener"},
     "scene": {"listeners": "listeners", **{k: "listeners" for k in ("distance", "angle", "angle_deg")},
               "out": "outputs.sweep"},
+}
+
+#: A scene's files have no key of their own: a job's file setting -> the ``[outputs.*]`` table that asks for it.
+OUTPUT_TABLES = {
+    "damper": {"impacts_csv": "outputs.impact_table", "history_csv": "outputs.damper_history",
+               "png": "outputs.damper_history"},
+    "waveform": {"csv": "outputs.waveform", "png": "outputs.waveform"},
+    "directivity": {"csv": "outputs.directivity", "png": "outputs.directivity"},
 }

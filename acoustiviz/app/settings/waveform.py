@@ -14,8 +14,9 @@ import dataclasses
 from ...errors import ParameterError
 from .base import vocabulary
 from .impact import OBSERVER, WAVEFORM, ImpactJob
+from .scene import OUTPUT_KEYS
 from .table import Setting
-from .vocabulary import DERIVED
+from .vocabulary import DERIVED, MEMORY, OUTPUT_TABLES
 
 __all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "WaveformJob"]
 
@@ -71,6 +72,8 @@ class WaveformJob(ImpactJob):
     """
 
     TABLE = (WAVEFORM[0], *WAVEFORM_OUTPUTS)
+    BUILT_FROM = (*MEMORY, *(s for s in OUTPUT_KEYS if s.name == "pulses"))  # a scene's pulses to compare
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["waveform"]}
 
     @classmethod
     def names_for(cls, front: str, *, point: bool = True) -> dict:
