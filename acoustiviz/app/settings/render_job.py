@@ -67,6 +67,12 @@ class ViewJob(Settings):
     BUILT_FROM = MEMORY
     ALIASES = ALIASES["memory"]
 
+    @classmethod
+    def names_for(cls, front: str) -> dict:
+        """The job's vocabulary (:meth:`Settings.names_for`); a scene's files are named by ``outputs.<view>``."""
+        files = {k: f"outputs.{cls.VIEW}" for k in cls.FILES} if front == "scene" else {}
+        return {**super().names_for(front), **files}
+
     VIEW = ""
     #: The files of the view, in the order they are written.
     FILES = ()

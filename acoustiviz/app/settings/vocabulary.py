@@ -43,4 +43,5 @@ OUTPUT_TABLES = {
                "png": "outputs.damper_history"},
     "waveform": {"csv": "outputs.waveform", "png": "outputs.waveform"},
     "directivity": {"csv": "outputs.directivity", "png": "outputs.directivity"},
+    "level_map": {k: "outputs.level_map" for k in ("png", "csv", "vtk")},
 }
