@@ -29,8 +29,9 @@ from .forced import (
 )
 from .impact import IMPACT, WAVEFORM
 from .room import ROOM
+from .scene import CONFIGURATION_KEYS
 from .table import check_values
-from .vocabulary import ALIASES, MEMORY
+from .vocabulary import ALIASES, DERIVED, MEMORY
 
 __all__ = ["FORCED_FILE_KINDS", "ForcedJob"]
 
@@ -87,9 +88,13 @@ class ForcedJob(Settings):
     """
 
     TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)
-    BUILT_FROM = (*DAMPER, *ROOM, FREQUENCIES, NOISE_LISTENER, *MEMORY)  # the model, the room, the memory cap
-    ALIASES = {**ALIASES["damper"], **ALIASES["room"], "frequency": FREQUENCIES.name}
+    # the model, the room (a scene's configuration), the frequencies, the amplitude, the listener, the memory cap
+    BUILT_FROM = (*DAMPER, *ROOM, *CONFIGURATION_KEYS[:1], FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
+    # the duration is the damper run's, not a room's window
+    ALIASES = {**ALIASES["damper"], **{k: v for k, v in ALIASES["room"].items() if k != "duration"},
+               "frequency": FREQUENCIES.name}
     LOOKUP = WAVEFORM + IMPACT
+    DERIVED_NAMES = {"scene": {"listener": DERIVED["scene"]["listeners"]}}  # the first of the scene's listeners
     model: object = None
     frequencies: tuple | None = None
     kind: str = EXCITATION_KIND.default
@@ -120,7 +125,10 @@ class ForcedJob(Settings):
 
     @classmethod
     def names_for(cls, front: str, kind: str = "force") -> dict:
-        """The job's vocabulary (:meth:`Settings.names_for`), its ``amplitude`` named as ``kind``'s option."""
+        """The job's vocabulary (:meth:`Settings.names_for`), its ``amplitude`` named as ``kind``'s option.
+
+        A scene names the amplitude ``excitation.amplitude`` whatever the kind.
+        """
         amplitude = vocabulary(front, (), {"amplitude": AMPLITUDES[kind].name}, lookup=tuple(AMPLITUDES.values()))
         return {**super().names_for(front), **amplitude}
 
