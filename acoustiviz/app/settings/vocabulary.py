@@ -44,4 +44,5 @@ OUTPUT_TABLES = {
     "waveform": {"csv": "outputs.waveform", "png": "outputs.waveform"},
     "directivity": {"csv": "outputs.directivity", "png": "outputs.directivity"},
     "level_map": {k: "outputs.level_map" for k in ("png", "csv", "vtk")},
+    "design_table": {"sweep": "outputs.sweep", "png": "outputs.design_table", "choice": "outputs.design_table"},
 }
