@@ -61,7 +61,7 @@ class DirectivityJob(ImpactJob):
     """
 
     TABLE = (*DIRECTIVITY, *DIRECTIVITY_OUTPUTS)
-    BUILT_FROM = (*IMPACT, *OBSERVER, *ROOM, *MEMORY)  # the impact, its surroundings, the memory cap
+    BUILT_FROM = (*IMPACT, OBSERVER[0], *ROOM, *MEMORY)  # the impact, the circle's radius, the room, the memory cap
     ALIASES = {**ALIASES["impact"], **ALIASES["room"], **ALIASES["memory"], "angles": "step_deg", "window": "window"}
     LOOKUP = WAVEFORM + IMPACT
     DERIVED_NAMES = {"scene": OUTPUT_TABLES["directivity"]}

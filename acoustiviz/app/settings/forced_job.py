@@ -90,9 +90,9 @@ class ForcedJob(Settings):
     TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)
     # the model, the room (a scene's configuration), the frequencies, the amplitude, the listener, the memory cap
     BUILT_FROM = (*DAMPER, *ROOM, *CONFIGURATION_KEYS[:1], FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
-    # the duration is the damper run's, not a room's window
-    ALIASES = {**ALIASES["damper"], **{k: v for k, v in ALIASES["room"].items() if k != "duration"},
-               "frequency": FREQUENCIES.name}
+    # the duration is the damper run's, not a room's window; the sound speed is not a setting of the job
+    ALIASES = {**ALIASES["damper"], "frequency": FREQUENCIES.name,
+               **{k: v for k, v in ALIASES["room"].items() if k not in ("duration", "sound_speed")}}
     LOOKUP = WAVEFORM + IMPACT
     DERIVED_NAMES = {"scene": {"listener": DERIVED["scene"]["listeners"]}}  # the first of the scene's listeners
     model: object = None
