@@ -37,17 +37,8 @@ __all__ = ["AuralizeJob", "AuralizeResult", "run", "job_from_settings", "read_im
            "AURALIZE_OPTIONS"]
 
 
-def _cli_names() -> dict:
-    from .names import DAMPER_OPTIONS
-    from .wav import ROOM_SOUND_OPTIONS
-
-    return {**{s.name: s.option for s in ALL}, **DAMPER_OPTIONS, **ROOM_SOUND_OPTIONS, "wav_files": "--wav",
-            "listeners": "--listener", "max_memory_mb": "--max-memory", "order": "--image-order",
-            "velocities": "--impacts"}
-
-
 #: The options of ``acoustiviz auralize`` by API name: what a job built from them names in its errors.
-AURALIZE_OPTIONS = _cli_names()
+AURALIZE_OPTIONS = AuralizeJob.names_for("cli")
 
 
 def read_impacts_csv(path):

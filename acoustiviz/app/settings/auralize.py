@@ -32,8 +32,9 @@ from ...constants import (
 from .base import Settings
 from .damper import DAMPER
 from .impact import IMPACT
-from .room import RoomOptions
+from .room import ROOM, RoomOptions
 from .table import Setting, by_name
+from .vocabulary import ALIASES, DERIVED, MEMORY, OUTPUT_TABLES
 
 __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeJob", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER",
            "AURALIZE_JOB"]
@@ -311,6 +312,13 @@ class AuralizeJob(Settings):
     """
 
     TABLE = AURALIZE_JOB
+    # every option of the command (the room's sound, the damper), the memory cap and the files
+    BUILT_FROM = (*ALL, *DAMPER, *MEMORY)
+    ALIASES = {**ALIASES["damper"], **ALIASES["room_sound"], "wav_files": "wav", "order": "image_order",
+               "velocities": "impacts"}
+    LOOKUP = ROOM  # the room's image order
+    DERIVED_NAMES = {"cli": {"listeners": DERIVED["cli"]["listeners"]},
+                     "scene": {"listeners": DERIVED["scene"]["listeners"], **OUTPUT_TABLES["wav"]}}
     #: The fields compared by :meth:`__eq__` (the room's sound by its values).
     _COMPARED = ("model", "cavity", "click", "listeners", "wav_files", "duration", "damper", "impacts", "impacts_csv",
                  "stereo", "rate", "subtype", "scale", "headroom", "png", "levels", "levels_csv", "loudness",

@@ -19,7 +19,8 @@ MEMORY = (MAX_MEMORY, dataclasses.replace(GRIDS[0], name="max_memory_mb"))
 
 #: API parameter -> the record it is spelled as, by the group of values it belongs to. ``room``: the window is
 #: the waveform's ``--duration``, the sound speed the medium's ``--c``; ``sweep``: the sweep's and the design
-#: table's parameters; ``memory``: the physics' name of the memory cap.
+#: table's parameters; ``memory``: the physics' name of the memory cap; ``room_sound``: the
+#: :class:`~acoustiviz.sound.RoomSound` parameters as ``acoustiviz auralize`` and ``[outputs.wav]`` name them.
 ALIASES = {
     "damper": {"v": "v0"},
     "impact": {"sphere_material": "material", "surface_material": "surface"},
@@ -27,6 +28,8 @@ ALIASES = {
              "sound_speed": "c"},
     "sweep": {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"},
     "memory": {"memory_limit": "max_memory_mb"},
+    "room_sound": {"seed": "tail_seed", "decay": "tail_decay", "band_centres": "absorption_bands",
+                   "band_absorption": "absorption_bands"},
 }
 
 #: Derived values with no record of their own -> their option (``"cli"``) or scene key (``"scene"``): the
@@ -45,4 +48,6 @@ OUTPUT_TABLES = {
     "directivity": {"csv": "outputs.directivity", "png": "outputs.directivity"},
     "level_map": {k: "outputs.level_map" for k in ("png", "csv", "vtk")},
     "design_table": {"sweep": "outputs.sweep", "png": "outputs.design_table", "choice": "outputs.design_table"},
+    # the impacts a scene's WAV files render are those of its [damper] run
+    "wav": {"wav_files": "outputs.wav", "impacts": "damper"},
 }
