@@ -149,7 +149,7 @@ def _cavity_of(s: AuralizeSettings, radius, medium):
     if rs is not None and rs.banded:  # the least absorbing band sets the room's image order and its peaks
         absorption = ",".join(f"{x:.17g}" for x in least_absorbing(rs.band_absorption))
     room, config = _room_of(s, absorption)
-    terms = {"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height",
+    terms = {**{k: AURALIZE_OPTIONS[k] for k in ("wall_distance", "strike", "height")},
              **(ROOM_OPTIONS if room is not None else {})}
     with user_terms(terms):
         scene = cavity(config, radius, s.damper.gap, struck_wall=s.struck_wall, walls=s.walls,
@@ -177,11 +177,11 @@ def _run_of(s: AuralizeSettings) -> tuple:
     """``(model, damper job, impacts)``: the damper, and its run to simulate or the impacts of ``--impacts``."""
     from ..dynamics import InitialState
     from .damper import DamperJob, damper_model
-    from .names import DAMPER_OPTIONS
+    from .names import DAMPER_OPTIONS, MEMORY, vocabulary
     from .outputs import check_input_file
 
     d = s.damper
-    names = {**DAMPER_OPTIONS, "max_memory_mb": "--max-memory"}
+    names = {**DAMPER_OPTIONS, **vocabulary("cli", MEMORY)}
     with user_terms(names):
         model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
                              clip_tensile=bool(d.clip_tensile))
