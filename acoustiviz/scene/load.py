@@ -79,7 +79,8 @@ class Scene:
 
     def room_sound(self):
         """The :class:`~acoustiviz.sound.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
-        from ..app.wav import ROOM_SOUND_SCENE_KEYS, room_sound
+        from ..app.settings.auralize import ROOM_SOUND_SCENE_KEYS
+        from ..app.wav import room_sound
 
         if not _enclosed(self.data):
             return None

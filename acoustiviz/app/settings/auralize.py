@@ -29,7 +29,7 @@ from ...constants import (
     TAIL_SEED,
     WAV_RATE,
 )
-from .base import Settings
+from .base import Settings, vocabulary
 from .damper import DAMPER
 from .impact import IMPACT
 from .room import ROOM, RoomOptions
@@ -37,7 +37,7 @@ from .table import Setting, by_name
 from .vocabulary import ALIASES, DERIVED, MEMORY, OUTPUT_TABLES
 
 __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeJob", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER",
-           "AURALIZE_JOB"]
+           "AURALIZE_JOB", "ROOM_SOUND_OPTIONS", "ROOM_SOUND_SCENE_KEYS"]
 
 #: The default listener in m: 0.7 m at 45 degrees from the paper's sphere.
 DEFAULT_LISTENER = "0.495,0,0.514"
@@ -152,6 +152,10 @@ AURALIZE_GROUPS = (("impacts from a file", IMPACTS), ("sound model", SOUND), ("r
 
 #: Every option of ``acoustiviz auralize`` besides the damper's and the room's.
 ALL = IMPACTS + SOUND + ROOM_SOUND + FILES + LEVELS
+
+#: :class:`~acoustiviz.sound.RoomSound` parameter -> ``acoustiviz auralize`` option, and -> ``[outputs.wav]`` key.
+ROOM_SOUND_OPTIONS = vocabulary("cli", (), ALIASES["room_sound"], lookup=ROOM_SOUND)
+ROOM_SOUND_SCENE_KEYS = vocabulary("scene", (), ALIASES["room_sound"], lookup=ROOM_SOUND)
 
 #: The settings whose range :class:`AuralizeSettings` checks on its own, before any other check.
 AURALIZE = tuple(s for s in ALL if s.name in ("c", "rho", "headroom"))
@@ -381,8 +385,6 @@ class AuralizeJob(Settings):
             raise ParameterError(self.name("impacts"), f"expected an ImpactSequence, got {type(self.impacts).__name__}")
         conf = self.cavity.geometry
         if self.room_sound is not None:
-            from ..wav import ROOM_SOUND_OPTIONS
-
             with user_terms({k: self.name(k) for k in (*ROOM_SOUND_OPTIONS, "order")}):
                 self.room_sound.check_room(conf)
         points = np.array([lst.position for lst in self.listeners], dtype=float).reshape(-1, 3)

@@ -29,7 +29,6 @@ from .forced import (
 )
 from .impact import IMPACT, WAVEFORM
 from .room import ROOM
-from .scene import CONFIGURATION_KEYS
 from .table import check_values
 from .vocabulary import ALIASES, DERIVED, MEMORY
 
@@ -89,7 +88,7 @@ class ForcedJob(Settings):
 
     TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)
     # the model, the room (a scene's configuration), the frequencies, the amplitude, the listener, the memory cap
-    BUILT_FROM = (*DAMPER, *ROOM, *CONFIGURATION_KEYS[:1], FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
+    BUILT_FROM = (*DAMPER, *ROOM, FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
     # the duration is the damper run's, not a room's window; the sound speed is not a setting of the job
     ALIASES = {**ALIASES["damper"], "frequency": FREQUENCIES.name,
                **{k: v for k, v in ALIASES["room"].items() if k not in ("duration", "sound_speed")}}
@@ -127,10 +126,12 @@ class ForcedJob(Settings):
     def names_for(cls, front: str, kind: str = "force") -> dict:
         """The job's vocabulary (:meth:`Settings.names_for`), its ``amplitude`` named as ``kind``'s option.
 
-        A scene names the amplitude ``excitation.amplitude`` whatever the kind.
+        A scene names the amplitude ``excitation.amplitude`` whatever the kind, and the configuration by its kind.
         """
+        from .scene import CONFIGURATION_KEYS  # its records import the geometries: not on the way to --help
+
         amplitude = vocabulary(front, (), {"amplitude": AMPLITUDES[kind].name}, lookup=tuple(AMPLITUDES.values()))
-        return {**super().names_for(front), **amplitude}
+        return {**vocabulary(front, CONFIGURATION_KEYS[:1]), **super().names_for(front), **amplitude}
 
     def files(self) -> dict:
         """``{field: path}`` of the files asked for (strings), in the order they are written."""

@@ -8,14 +8,13 @@ from __future__ import annotations
 
 import dataclasses
 
-from .run import MAX_MEMORY
-from .scene import GRIDS
+from .run import MAX_MEMORY, MEMORY_LIMIT
 
 __all__ = ["MEMORY", "ALIASES", "DERIVED", "OUTPUT_TABLES"]
 
 #: The memory cap as every job names it: ``--max-memory`` on the command line, ``grids.memory_limit_mb`` in a
 #: scene (the scene's record, under the API name ``max_memory_mb``).
-MEMORY = (MAX_MEMORY, dataclasses.replace(GRIDS[0], name="max_memory_mb"))
+MEMORY = (MAX_MEMORY, dataclasses.replace(MEMORY_LIMIT, name="max_memory_mb"))
 
 #: API parameter -> the record it is spelled as, by the group of values it belongs to. ``room``: the window is
 #: the waveform's ``--duration``, the sound speed the medium's ``--c``; ``sweep``: the sweep's and the design
@@ -28,8 +27,8 @@ ALIASES = {
              "sound_speed": "c"},
     "sweep": {"angle": "angle_deg", "radius_mode": "radius", "width": "band_width"},
     "memory": {"memory_limit": "max_memory_mb"},
-    "room_sound": {"seed": "tail_seed", "decay": "tail_decay", "band_centres": "absorption_bands",
-                   "band_absorption": "absorption_bands"},
+    "room_sound": {"late_tail": "late_tail", "seed": "tail_seed", "decay": "tail_decay", "transition": "transition",
+                   "band_centres": "absorption_bands", "band_absorption": "absorption_bands"},
 }
 
 #: Derived values with no record of their own -> their option (``"cli"``) or scene key (``"scene"``): the

@@ -14,9 +14,8 @@ import dataclasses
 from ...errors import ParameterError
 from .base import vocabulary
 from .impact import OBSERVER, WAVEFORM, ImpactJob
-from .scene import OUTPUT_KEYS
 from .table import Setting
-from .vocabulary import DERIVED, MEMORY, OUTPUT_TABLES
+from .vocabulary import DERIVED, OUTPUT_TABLES
 
 __all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "WaveformJob"]
 
@@ -72,7 +71,6 @@ class WaveformJob(ImpactJob):
     """
 
     TABLE = (WAVEFORM[0], *WAVEFORM_OUTPUTS)
-    BUILT_FROM = (*MEMORY, *(s for s in OUTPUT_KEYS if s.name == "pulses"))  # a scene's pulses to compare
     DERIVED_NAMES = {"scene": OUTPUT_TABLES["waveform"]}
 
     @classmethod
@@ -82,8 +80,11 @@ class WaveformJob(ImpactJob):
         ``point``: the listener was given as a point, else as the observer's distance and angle (its errors
         then name the distance).
         """
+        from .scene import OUTPUT_KEYS  # its records import the geometries: not on the way to --help
+
         listeners = DERIVED[front] if point else vocabulary(front, (), {"listeners": "distance"}, lookup=OBSERVER)
-        return {**super().names_for(front), "listeners": listeners["listeners"]}
+        pulses = vocabulary(front, tuple(s for s in OUTPUT_KEYS if s.name == "pulses"))  # a scene's pulses
+        return {**super().names_for(front), **pulses, "listeners": listeners["listeners"]}
     pulses: tuple
     listeners: tuple
     samples_per_duration: int = WAVEFORM[0].default
