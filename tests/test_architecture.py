@@ -548,6 +548,7 @@ def test_old_geometry_parameter_finder_finds_each_kind_of_parameter():
 #: and ``check_listener`` cannot call it ``kind``: that is the excitation's kind beside it.
 KIND_NAMED_CONFIG = {
     "app/impacts.py impact_setup(config)",  # the --config choice the setup's geometry is built from
+    "app/impacts.py _impact_setup(config)",  # the same, with the names its errors use
     "app/impacts.py room_settings(config)",  # the --config given besides --room (refused unless "free")
     "app/forced_noise.py check_listener(config)",  # the cavity's kind (ForcedJob.config)
     "app/forced_noise.py design_map(config)",  # the cavity's kind; ``kind`` is the excitation's
@@ -590,3 +591,35 @@ def test_configuration_field_finder_finds_annotated_fields_only():
               "class Other:\n    configuration = 'plane'\n    def f(self, configuration):\n        pass\n"
               "class Setup(NamedTuple):\n    configuration: Geometry = None\n")
     assert _configuration_fields(source, "m.py") == ["m.py:1 Job.configuration", "m.py:8 Setup.configuration"]
+
+
+#: Front ends: they build settings objects, whose ``names`` make the errors name what the user typed.
+FRONT_ENDS = {"cli", "scene"}
+
+
+def _user_terms_uses(source: str, where: str) -> list[str]:
+    """Each import, call or mention of ``user_terms`` in one module's source."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            found += [f"{where}:{node.lineno} import" for a in node.names if a.name == "user_terms"]
+        elif isinstance(node, ast.Name) and node.id == "user_terms":
+            found.append(f"{where}:{node.lineno} {node.id}")
+        elif isinstance(node, ast.Attribute) and node.attr == "user_terms":
+            found.append(f"{where}:{node.lineno} .{node.attr}")
+    return sorted(found, key=lambda hit: int(hit.split(":")[1].split()[0]))
+
+
+def test_front_ends_rename_no_errors_by_hand():
+    """The command line and the scene loader hand names to the settings or the app helpers, never ``user_terms``."""
+    found = [hit for path, rel in _modules() if _top(rel) in FRONT_ENDS
+             for hit in _user_terms_uses(path.read_text(encoding="utf-8"), rel.as_posix())]
+    assert not found, "user_terms in a front end (give the settings or the helper its names):\n" + "\n".join(found)
+
+
+def test_user_terms_finder_finds_each_use():
+    source = ("from acoustiviz.app.names import user_terms, IMPACT_OPTIONS\n"
+              "def f(args):\n    with user_terms(IMPACT_OPTIONS):\n        pass\n"
+              "def g():\n    from acoustiviz import errors\n    return errors.user_terms({})\n"
+              "def fine(names):\n    return terms_of_use(names)\n")
+    assert _user_terms_uses(source, "m.py") == ["m.py:1 import", "m.py:3 user_terms", "m.py:7 .user_terms"]

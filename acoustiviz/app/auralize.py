@@ -37,17 +37,8 @@ __all__ = ["AuralizeJob", "AuralizeResult", "run", "job_from_settings", "read_im
            "AURALIZE_OPTIONS"]
 
 
-def _cli_names() -> dict:
-    from .names import DAMPER_OPTIONS
-    from .wav import ROOM_SOUND_OPTIONS
-
-    return {**{s.name: s.option for s in ALL}, **DAMPER_OPTIONS, **ROOM_SOUND_OPTIONS, "wav_files": "--wav",
-            "listeners": "--listener", "max_memory_mb": "--max-memory", "order": "--image-order",
-            "velocities": "--impacts"}
-
-
 #: The options of ``acoustiviz auralize`` by API name: what a job built from them names in its errors.
-AURALIZE_OPTIONS = _cli_names()
+AURALIZE_OPTIONS = AuralizeJob.names_for("cli")
 
 
 def read_impacts_csv(path):
@@ -158,7 +149,7 @@ def _cavity_of(s: AuralizeSettings, radius, medium):
     if rs is not None and rs.banded:  # the least absorbing band sets the room's image order and its peaks
         absorption = ",".join(f"{x:.17g}" for x in least_absorbing(rs.band_absorption))
     room, config = _room_of(s, absorption)
-    terms = {"wall_distance": "--wall-distance", "strike": "--strike", "height": "--height",
+    terms = {**{k: AURALIZE_OPTIONS[k] for k in ("wall_distance", "strike", "height")},
              **(ROOM_OPTIONS if room is not None else {})}
     with user_terms(terms):
         scene = cavity(config, radius, s.damper.gap, struck_wall=s.struck_wall, walls=s.walls,
@@ -186,11 +177,11 @@ def _run_of(s: AuralizeSettings) -> tuple:
     """``(model, damper job, impacts)``: the damper, and its run to simulate or the impacts of ``--impacts``."""
     from ..dynamics import InitialState
     from .damper import DamperJob, damper_model
-    from .names import DAMPER_OPTIONS
+    from .names import DAMPER_OPTIONS, MEMORY, vocabulary
     from .outputs import check_input_file
 
     d = s.damper
-    names = {**DAMPER_OPTIONS, "max_memory_mb": "--max-memory"}
+    names = {**DAMPER_OPTIONS, **vocabulary("cli", MEMORY)}
     with user_terms(names):
         model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
                              clip_tensile=bool(d.clip_tensile))

@@ -424,8 +424,10 @@ def forced_estimate(n_frequencies: int, max_cycles: int, *, noise_seconds: float
         runs = _count(float(n_frequencies) * float(max_cycles) * 16.0)
         train = _count((2.0 * float(noise_seconds) + 1.0) * analysis_rate * 11.0) if noise_seconds > 0 else 0.0
         wav_n = _count(float(n_frequencies) * 2.0 * float(noise_seconds) * wav_rate) if wav else 0.0
-    names = {"max_cycles": "--max-cycles", "frequencies": "--freq", "noise_seconds": "--noise-seconds",
-             **(names or {})}
+    from .settings.base import vocabulary
+    from .settings.forced import FORCED, FREQUENCIES
+
+    names = {**vocabulary("cli", (*FORCED, FREQUENCIES)), **(names or {})}
     first = "max_cycles" if train <= runs else "noise_seconds"
     opts = (names[first], names["frequencies"])
     return Estimate(_F8 * (runs + train + 3.0 * wav_n), 4.0 * wav_n + 400.0 * n_frequencies,

@@ -31,7 +31,7 @@ from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 from .settings.damper_job import DamperJob
 
-__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "choose_solver", "run_damper",
+__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "check_damper_run", "choose_solver", "run_damper",
            "damper_description",
            "damping_figures", "check_click_fits"]
 
@@ -39,9 +39,15 @@ __all__ = ["DamperJob", "DamperResult", "run", "damper_model", "choose_solver", 
 def damper_model(*, M: float = TABLE1_PARAMETERS["M"], K: float = TABLE1_PARAMETERS["K"],
                  C: float = TABLE1_PARAMETERS["C"], m: float = TABLE1_PARAMETERS["m"], gap: float = PAPER_GAP,
                  k_hertz: float = TABLE1_PARAMETERS["k_hertz"], c1: float = TABLE1_PARAMETERS["c1"],
-                 clip_tensile: bool = False) -> DamperModel:
-    """The damper of paper eq 15 (defaults: Table 1 with d = 4 cm); see :class:`~acoustiviz.dynamics.DamperModel`."""
-    return DamperModel(M=M, K=K, C=C, m=m, gap=gap, k_hertz=k_hertz, c1=c1, clip_tensile=bool(clip_tensile))
+                 clip_tensile: bool = False, names=None) -> DamperModel:
+    """The damper of paper eq 15 (defaults: Table 1 with d = 4 cm); see :class:`~acoustiviz.dynamics.DamperModel`.
+
+    ``names``: API parameter -> the option or scene key its errors name (default: the API parameter).
+    """
+    from ..errors import user_terms
+
+    with user_terms(names or {}):
+        return DamperModel(M=M, K=K, C=C, m=m, gap=gap, k_hertz=k_hertz, c1=c1, clip_tensile=bool(clip_tensile))
 
 
 def choose_solver(solver: str, model: DamperModel, initial: InitialState, tolerance: float = DEFAULT_RTOL) -> tuple:
@@ -221,6 +227,22 @@ def damping_figures(run: DamperResult) -> dict:
             # the run alone, and apart the kernels' compilation (or loading from numba's cache)
             "solver_ms": f"{1e3 * max(run.seconds - run.result.compile_time, 0.0):.1f}",
             "compile_ms": f"{1e3 * run.result.compile_time:.1f}"}
+
+
+def check_damper_run(*, solver: str, rtol: float, M: float, K: float, m: float, gap: float, k_hertz: float,
+                     v: float, duration: float, c1: float, names=None) -> None:
+    """Refuse a damper run that cannot be computed or measured.
+
+    First the tolerance in the range of ``solver`` (:data:`acoustiviz.dynamics.METHODS`), then the physics'
+    limits (:func:`acoustiviz.core.limits.check_damper`). SI units (kg, N/m, m, N/m^1.5, m/s, s, N s/m);
+    ``names``: API parameter -> the option or scene key its errors name (default: the API parameter).
+    """
+    from ..core.limits import check_damper
+    from ..errors import user_terms
+
+    with user_terms(names or {}):
+        solver_method(solver).check_rtol(rtol)
+        check_damper(M=M, K=K, m=m, gap=gap, k_hertz=k_hertz, v=v, duration=duration, c1=c1)
 
 
 def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names=None) -> None:

@@ -169,8 +169,7 @@ def design_settings(scene, out=None) -> DesignJob:
     files = {} if out is None else {k: str(Path(out) / name) for k, name in DESIGN_FILES.items()
                                     if not (in_operation and k == "png")}
     sweep = None if out is None or not (Path(out) / "sweep").is_dir() else str(Path(out) / "sweep")
-    names = {**DesignJob.scene_names(), "sweep": "outputs.sweep", "png": "outputs.design_table",
-             "choice": "outputs.design_table", "max_memory_mb": "grids.memory_limit_mb"}
+    names = DesignJob.names_for("scene")
     return DesignJob(inclination=opts["inclination_m_s"], tolerance=opts["tolerance_m_s"], sweep=sweep,
                      rank_by=opts["rank_by"],
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)

@@ -373,21 +373,18 @@ def forced_settings(scene, out=None) -> ForcedJob:
     outputs it asks for in folder ``out`` (None: no files, the checks of the scene's settings alone, made
     before the run folder exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
-    from .names import SCENE_DAMPER_KEYS, user_terms
     from .products import scene_damper_model
-    from .settings.forced import AMPLITUDE, FORCED, FREQUENCIES
+    from .settings.forced import FORCED, FREQUENCIES
 
     ex = scene.section("excitation")
     noise = scene.wants("operating_noise")
     (name, position), *_ = scene.listeners()
     files = {} if out is None else {key: str(Path(out) / file.format(name=name)) for kind, names in FORCED_FILES.items()
                                     if scene.wants(kind) for key, file in names.items()}
-    names = {**SCENE_DAMPER_KEYS, **ForcedJob.scene_names(), "frequencies": FREQUENCIES.path,
-             "frequency": FREQUENCIES.path, "amplitude": AMPLITUDE.path, "listener": "listeners",
-             "config": "configuration.kind", "max_memory_mb": "grids.memory_limit_mb",
+    # a scene's files are named by the output table that asks for them
+    names = {**ForcedJob.names_for("scene", ex["kind"]),
              **{key: f"outputs.{kind}" for kind, keys in FORCED_FILES.items() for key in keys}}
-    with user_terms(names):
-        freqs = parse_frequencies(ex["frequencies_hz"], FREQUENCIES.path)
+    freqs = parse_frequencies(ex["frequencies_hz"], FREQUENCIES.path)
     return ForcedJob(scene_damper_model(scene), tuple(freqs), kind=ex["kind"], amplitude=ex["amplitude"],
                      **{s.name: ex[s.key] for s in FORCED if s.table == "excitation"},
                      noise_seconds=scene.output_or_defaults("operating_noise")["seconds"], noise=noise,

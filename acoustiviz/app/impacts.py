@@ -3,9 +3,9 @@
 :func:`impact_setup` holds every rule that turns the settings a user gives (radius, mass or
 density or material, K_HZ or materials, pulse, fluid, configuration) into the physics objects;
 ``acoustiviz waveform``, ``directivity``, ``render`` and scene files all call it, so they resolve
-defaults and conflicts the same way. Errors name the API parameter; front-ends translate the
-names with :func:`acoustiviz.app.names.user_terms`. SI units; angles in degrees only where a name
-says ``_deg``.
+defaults and conflicts the same way. Errors name the API parameter, or what the user typed where a
+front end passes its ``names`` (:meth:`acoustiviz.app.settings.base.Settings.names_for`). SI units; angles
+in degrees only where a name says ``_deg``.
 
 Examples
 --------
@@ -36,7 +36,7 @@ from ..core.geometry import CONFIGURATIONS, Geometry, geometry, geometry_class, 
 from ..core.limits import check_impact, check_sphere_mass
 from ..core.materials import material
 from ..core.medium import AIR, Medium
-from ..errors import ParameterError
+from ..errors import ParameterError, user_terms
 
 #: Farthest observer in m: squared distances stay finite (:data:`acoustiviz.core.limits.LOG_LIMIT`).
 MAX_DISTANCE = 1e145
@@ -98,8 +98,17 @@ def k_hertz_from(radius: float, k_hertz=None, sphere_material=None, surface_mate
     return hertz_stiffness(radius, s_mat, f_mat), f"Hertz, {s_mat.name} on {f_mat.name}"
 
 
-def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) -> float:
-    """Sphere mass in kg: given, else density (given, the material's, or steel's 7800 kg/m³) × volume."""
+def sphere_mass(radius: float, mass=None, density=None, sphere_material=None, *, names=None) -> float:
+    """Sphere mass in kg: given, else density (given, the material's, or steel's 7800 kg/m³) × volume.
+
+    ``names``: API parameter -> the option or scene key its errors name (default: the API parameter).
+    """
+    with user_terms(names or {}):
+        return _sphere_mass(radius, mass, density, sphere_material)
+
+
+def _sphere_mass(radius: float, mass, density, sphere_material) -> float:
+    """The body of :func:`sphere_mass`; errors name the API parameters."""
     if mass is not None:
         if density is not None:
             raise ParameterError("mass", "give either the mass or the density, not both")
@@ -119,7 +128,7 @@ def sphere_mass(radius: float, mass=None, density=None, sphere_material=None) ->
 def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_material=None, surface_material=None,
                  density=None, mass=None, pulse: str = "half-sine", c: float = AIR.c, rho: float = AIR.rho,
                  config: str = "free", wall_distance=None, strike: str = "floor", height=None,
-                 partner_mass: float = math.inf, room=None) -> ImpactSetup:
+                 partner_mass: float = math.inf, room=None, names=None) -> ImpactSetup:
     """Validate the settings of one impact and build its physics objects.
 
     Parameters
@@ -153,11 +162,21 @@ def impact_setup(*, radius: float, velocity: float, k_hertz=None, sphere_materia
     room : dict, optional
         The settings of a shoebox room (:class:`acoustiviz.core.geometry.Room`: ``dimensions``,
         ``absorption``, ``source``, ``strike``, ``duration``, ...); replaces ``config`` and its settings.
+    names : dict, optional
+        API parameter -> the option or scene key its errors name (default: the API parameter).
 
     Returns
     -------
     ImpactSetup
     """
+    with user_terms(names or {}):
+        return _impact_setup(radius, velocity, k_hertz, sphere_material, surface_material, density, mass, pulse, c,
+                             rho, config, wall_distance, strike, height, partner_mass, room)
+
+
+def _impact_setup(radius, velocity, k_hertz, sphere_material, surface_material, density, mass, pulse, c, rho, config,
+                  wall_distance, strike, height, partner_mass, room) -> ImpactSetup:
+    """The body of :func:`impact_setup`; errors name the API parameters."""
     radius = check_positive("radius", radius, "m")
     velocity = check_positive("velocity", velocity, "m/s")
     check_choice("pulse", pulse, PULSES)
@@ -190,18 +209,26 @@ def _check_struck(room) -> None:
                                    f"{room.source[ax]:g} m")
 
 
-def observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.ndarray:
+def observer_point(setup: ImpactSetup, distance: float, angle_deg: float, *, names=None) -> np.ndarray:
     """Observer at ``distance`` m from the sphere's centre and ``angle_deg`` degrees from its axis.
 
     The observer lies in the plane spanned by the acceleration axis and the horizontal direction
     away from any wall (+x); for the wall-floor corner, the plane through the centre normal to
     the wall, on the side away from it (:func:`acoustiviz.core.geometry.Geometry.observer_points`).
 
+    ``names``: API parameter -> the option or scene key its errors name (default: the API parameter).
+
     Returns
     -------
     (3,) ndarray
         Position in m.
     """
+    with user_terms(names or {}):
+        return _observer_point(setup, distance, angle_deg)
+
+
+def _observer_point(setup: ImpactSetup, distance: float, angle_deg: float) -> np.ndarray:
+    """The body of :func:`observer_point`; errors name the API parameters."""
     check_range("distance", distance, setup.radius, MAX_DISTANCE, unit="m", low_open=True)
     limit = setup.geometry.polar_limit_deg
     theta = math.radians(check_range("angle_deg", angle_deg, 0.0, limit, unit="deg"))

@@ -100,8 +100,7 @@ def map_settings(scene, out=None):
     opts, setup = scene.output("level_map"), scene.setup()
     kinds = ("png", "csv", "vtk") if opts["vtk"] else ("png", "csv")
     files = {} if out is None else {k: str(Path(out) / f"level_map.{'vtu' if k == 'vtk' else k}") for k in kinds}
-    names = {**MapJob.scene_names(), **{k: "outputs.level_map" for k in ("png", "csv", "vtk")},
-             "max_memory_mb": "grids.memory_limit_mb", "memory_limit": "grids.memory_limit_mb"}
+    names = MapJob.names_for("scene")
     return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                   plane=opts["plane"],
                   height=opts["height_m"], extent=opts["extent_m"], resolution=opts["resolution"],

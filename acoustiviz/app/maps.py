@@ -45,7 +45,9 @@ import numpy as np
 from .._validate import check_choice, check_range
 from ..core.medium import AIR, Medium
 from ..errors import ParameterError
+from .settings.base import vocabulary
 from .settings.map import MAP_SETTINGS, PLANES
+from .settings.vocabulary import MEMORY
 
 __all__ = [
     "PLANES",
@@ -71,10 +73,9 @@ _BY_NAME = {s.name: s for s in MAP_SETTINGS}
 #: Most points of one map (160 times the default's 1e5): the work is bounded, not only its memory.
 MAX_MAP_POINTS = 4000 * 4000
 #: API parameter -> command-line option (errors in the user's terms).
-CLI_NAMES = {**{s.name: s.option for s in MAP_SETTINGS}, "max_memory_mb": "--max-memory"}
+CLI_NAMES = vocabulary("cli", MAP_SETTINGS + MEMORY)
 #: API parameter -> scene key.
-SCENE_NAMES = {**{s.name: s.path for s in MAP_SETTINGS},
-               "max_memory_mb": "grids.memory_limit_mb"}
+SCENE_NAMES = vocabulary("scene", MAP_SETTINGS + MEMORY)
 #: Columns of the CSV file, in order.
 MAP_CSV_COLUMNS = ("x_m", "y_m", "z_m", "peak_pa", "peak_spl_db", "sel_db", "time_of_peak_s")
 _CSV_FORMATS = ("%.9e", "%.9e", "%.9e", "%.10e", "%.6f", "%.6f", "%.10e")

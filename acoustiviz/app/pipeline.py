@@ -28,7 +28,6 @@ from . import forced as _forced
 from . import sweep as _sweep
 from .design import design_settings, produce_design_table
 from .map_job import map_settings, produce_level_map
-from .names import SCENE_DAMPER_KEYS
 from .products import Product, damper_initial, damper_solver, scene_damper_model
 from .products import new_figure as _fig
 from .products import save as _save
@@ -164,9 +163,7 @@ def waveform_settings(scene, out=None):
     setup = scene.setup()
     room = getattr(setup.geometry, "image_order", None) is not None
     files = {} if out is None else {k: str(Path(out) / f"waveform_{PLACEHOLDER}.{k}") for k in ("csv", "png")}
-    names = {"csv": "outputs.waveform", "png": "outputs.waveform", "listeners": "listeners",
-             "pulses": "outputs.waveform.pulses", "max_memory_mb": "grids.memory_limit_mb",
-             "memory_limit": "grids.memory_limit_mb"}
+    names = WaveformJob.names_for("scene")
     return WaveformJob(impact=setup.impact, pulses=tuple(scene.pulse(kind=k) for k in kinds), medium=setup.medium,
                        geometry=setup.geometry, listeners=tuple(Listener(n, p) for n, p in scene.listeners()),
                        max_memory_mb=scene.section("grids")["memory_limit_mb"],
@@ -212,10 +209,7 @@ def directivity_settings(scene, out=None):
     first = scene.data["listeners"][0]
     circle = "listeners[0]." + ("position_m" if first.get("position_m") is not None else "distance_m")
     files = {} if out is None else {k: str(Path(out) / f"directivity.{k}") for k in ("csv", "png")}
-    names = {**DirectivityJob.scene_names(), "csv": "outputs.directivity", "png": "outputs.directivity",
-             "distance": circle, "angles": "outputs.directivity.step_deg", "max_memory_mb": "grids.memory_limit_mb",
-             "memory_limit": "grids.memory_limit_mb", "wall_distance": "configuration.wall_distance_m",
-             "window": "configuration.window_s"}
+    names = {**DirectivityJob.names_for("scene"), "distance": circle}  # the circle is the first listener's
     distance = float(np.linalg.norm(np.asarray(position, dtype=float) - setup.geometry.centre))
     return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
                           geometry=setup.geometry, distance=distance,
@@ -261,10 +255,9 @@ def damper_settings(scene, out=None):
     d = scene.section("damper")
     files = {} if out is None else {key: str(Path(out) / name) for kind, names in DAMPER_FILES.items()
                                     if scene.wants(kind) for key, name in names.items()}
-    names = {**SCENE_DAMPER_KEYS, "impacts_csv": "outputs.impact_table", "history_csv": "outputs.damper_history",
-             "png": "outputs.damper_history", "max_memory_mb": "grids.memory_limit_mb"}
     return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
-                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
+                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=DamperJob.names_for("scene"),
+                     **files)
 
 
 def _write_damper(ctx: RunContext, kind: str) -> list:

@@ -247,8 +247,7 @@ def view_job(scene, view: str, out=None):
         for kind, ending in (("vtk", "vtu"), ("html", "html")):
             if opts.get(kind):
                 files[kind] = str(Path(out) / f"{view}.{ending}")
-    names = {**cls.scene_names(), **{k: f"outputs.{view}" for k in cls.FILES},
-             "max_memory_mb": "grids.memory_limit_mb", "memory_limit": "grids.memory_limit_mb"}
+    names = cls.names_for("scene")
     return cls(**view_values(scene, view), impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
                geometry=setup.geometry, max_memory_mb=scene.section("grids")["memory_limit_mb"],
                k_hertz_source=setup.k_hertz_source, names=names, **files)

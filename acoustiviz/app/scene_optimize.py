@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 
 from ..constants import PAPER_GAP, TABLE1_PARAMETERS
-from .settings.optimize import EXECUTION, OPTIMIZE, SCENE_VARIABLES, OptimizeJob
+from .settings.optimize import EXECUTION, OPTIMIZE, SCENE_LEVELS, SCENE_VARIABLES, OptimizeJob
 
 __all__ = ["optimize_settings", "produce_optimize", "OPTIMIZE_FOLDER"]
 
@@ -52,16 +52,16 @@ def _given(spec) -> dict:
 
 def optimize_settings(scene, out=None) -> OptimizeJob:
     """The scene's ``[outputs.optimize]`` as an :class:`OptimizeJob` writing into ``out/optimize`` (None: no folder)."""
-    from .names import user_terms
+    from .names import DERIVED, SCENE_SWEEP_KEYS, vocabulary
     from .optimize import optimize_variables
     from .sweep import scene_sweep_spec
 
     opts = scene.output("optimize")
-    table = "outputs.optimize"
-    names = {s.name: f"{table}.{s.key}" for s in (*OPTIMIZE, *SCENE_VARIABLES, *EXECUTION) if s.key}
-    names.update(angle_deg="listeners", variables=f"{table}.gap_m")
-    with user_terms({"duration": f"{table}.duration_s", "levels": f"{table}.levels"}):
-        spec = scene_sweep_spec(_AsSweep(scene, opts))
+    records = (*OPTIMIZE, *SCENE_VARIABLES, *EXECUTION)
+    names = {**vocabulary("scene", records, {"variables": "gap"}), "angle_deg": DERIVED["scene"]["angle_deg"]}
+    # the sweep's checks of the optimisation's duration and levels name [outputs.optimize]'s keys
+    spec = scene_sweep_spec(_AsSweep(scene, opts), names={**SCENE_SWEEP_KEYS, **vocabulary(
+        "scene", (), {"duration": "duration", "levels": "levels"}, lookup=(*records, SCENE_LEVELS))})
     given = {**_given(spec), "gap": opts["gap_m"], "m": opts["mass_kg"]}
     variables, fixed = optimize_variables(given, names)
     return OptimizeJob(variables, fixed, minimize=tuple(opts["minimize"]), maximize=tuple(opts["maximize"]),

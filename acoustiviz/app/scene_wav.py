@@ -14,12 +14,7 @@ from pathlib import Path
 from ..core.listener import Listener
 from .scene_levels import damper_cavity
 
-__all__ = ["wav_settings", "wav_products", "WAV_SCENE_KEYS"]
-
-#: API parameter -> scene key, for the errors of a scene's auralize job.
-WAV_SCENE_KEYS = {"m": "damper.impact_mass_kg", "k_hertz": "contact.k_hertz_n_m1_5", "duration": "damper.duration_s",
-               "listeners": "listeners", "wav_files": "outputs.wav", "max_memory_mb": "grids.memory_limit_mb",
-               "order": "configuration.image_order", "impacts": "damper", "stereo": "outputs.wav.stereo"}
+__all__ = ["wav_settings", "wav_products"]
 
 
 def wav_settings(scene, out=None, damper=None):
@@ -31,8 +26,7 @@ def wav_settings(scene, out=None, damper=None):
     scene keys.
     """
     from ..sound import ClickModel
-    from .settings.auralize import ALL, AuralizeJob
-    from .wav import ROOM_SOUND_SCENE_KEYS
+    from .settings.auralize import AuralizeJob
 
     opts, contact = scene.output_or_defaults("wav"), scene.section("contact")
     model, radius = damper.model, scene.damper_sphere_radius()
@@ -43,7 +37,7 @@ def wav_settings(scene, out=None, damper=None):
         listeners = listeners[:2]
     stems = ["wav_stereo"] if opts["stereo"] else [f"wav_{lst.name}" for lst in listeners]
     files = () if out is None else tuple(str(Path(out) / f"{stem}.wav") for stem in stems)
-    names = {**{s.name: s.path for s in ALL if s.key}, **ROOM_SOUND_SCENE_KEYS, **WAV_SCENE_KEYS}
+    names = AuralizeJob.names_for("scene")
     return AuralizeJob(model, damper_cavity(scene, model, scene.medium()), click, listeners, files, damper.duration,
                        damper, room_sound=scene.room_sound(), stereo=opts["stereo"], rate=opts["rate_hz"],
                        subtype=opts["subtype"], max_memory_mb=scene.section("grids")["memory_limit_mb"],

@@ -244,16 +244,17 @@ def _scene_given(scene, solver: str) -> dict:
     return {**given, **operation}
 
 
-def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
+def sweep_settings(scene, out=None, *, solver: str | None = None, names=None) -> SweepJob:
     """The scene's ``[outputs.sweep]`` (gap x impact mass) as a :class:`SweepJob`.
 
     The listener is the scene's first; ``solver`` is the damper solver the scene resolved (default: its
     ``"auto"`` choice); with ``in_operation`` the designs are swept in operation under the scene's
     ``[excitation]`` (its solver and rtol then the search's); the folder is ``sweep`` in folder ``out``
     (None: no folder, the checks of the scene's settings alone, made before the run folder exists); the
-    memory within ``grids.memory_limit_mb``; errors name scene keys.
+    memory within ``grids.memory_limit_mb``; errors name scene keys (``names``: API parameter -> scene key,
+    default :data:`~acoustiviz.app.names.SCENE_SWEEP_KEYS`).
     """
-    from ..errors import SceneError
+    from ..errors import SceneError, user_terms
 
     if scene.geometry_settings().get("strike", "floor") != "floor":
         raise SceneError(scene.source, "configuration.strike", "sweeps support floor strikes only")
@@ -261,15 +262,16 @@ def sweep_settings(scene, out=None, *, solver: str | None = None) -> SweepJob:
         from .products import damper_solver
 
         solver = damper_solver(scene)
-    opts = scene.output("sweep")
-    return sweep_job(_scene_given(scene, solver), names=SCENE_SWEEP_KEYS,
-                     out=None if out is None else str(Path(out) / "sweep"), workers=opts["workers"] or None,
-                     max_memory_mb=scene.section("grids")["memory_limit_mb"])
+    opts, names = scene.output("sweep"), names or SCENE_SWEEP_KEYS
+    with user_terms(names):
+        given = _scene_given(scene, solver)
+    return sweep_job(given, names=names, out=None if out is None else str(Path(out) / "sweep"),
+                     workers=opts["workers"] or None, max_memory_mb=scene.section("grids")["memory_limit_mb"])
 
 
-def scene_sweep_spec(scene, solver: str | None = None) -> SweepSpec:
+def scene_sweep_spec(scene, solver: str | None = None, *, names=None) -> SweepSpec:
     """The :class:`~acoustiviz.sweep.SweepSpec` of a scene's ``[outputs.sweep]`` (:func:`sweep_settings`)."""
-    return sweep_settings(scene, solver=solver).spec
+    return sweep_settings(scene, solver=solver, names=names).spec
 
 
 def produce_sweep(ctx):
@@ -300,7 +302,7 @@ def produce_sweep(ctx):
     return [Product("sweep", result.journal, figs)] + [Product("sweep", p, {}) for p in paths]
 
 
-def with_room(given: dict, room: dict | None) -> dict:
+def with_room(given: dict, room: dict | None, *, names=None) -> dict:
     """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values ``given`` with a shoebox room's.
 
     Parameters
@@ -317,12 +319,14 @@ def with_room(given: dict, room: dict | None) -> dict:
         ``given`` with ``room`` and, unless a configuration is given, ``config="room"``. The room
         is built once around the sweep's sphere (the paper's radius when it follows the mass), so
         a source too close to a wall or a window without images fails here; errors name the room's
-        parameters (the caller renames them).
+        parameters as ``names`` says (API parameter -> option or scene key; default: the API names).
     """
     if room is None:
         return given
     from ..core.geometry import geometry
     from ..core.room_geometry import Room
+    from ..errors import user_terms
 
-    geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
+    with user_terms(names or {}):
+        geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
     return {**given, "config": given.get("config") or Room.name, "room": room}

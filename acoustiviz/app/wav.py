@@ -33,20 +33,10 @@ from ..core.signal import Signal
 from ..errors import ClippingWarning, ParameterError
 from ..output.audio import shared_scale, write_sidecar, write_wav
 from ..sound.sources import cavity
+from .settings.auralize import ROOM_SOUND_OPTIONS
 
 __all__ = ["SIDECAR_VERSION", "WavFile", "cavity", "sidecar_record", "calibration", "write_wav_files",
-           "check_scale_fits", "physical_peaks", "room_sound", "least_absorbing", "ROOM_SOUND_OPTIONS",
-           "ROOM_SOUND_SCENE_KEYS"]
-
-#: :class:`~acoustiviz.sound.RoomSound` parameter -> ``acoustiviz auralize`` option.
-ROOM_SOUND_OPTIONS = {"late_tail": "--late-tail", "seed": "--tail-seed", "decay": "--tail-decay",
-                      "transition": "--transition", "band_centres": "--absorption-bands",
-                      "band_absorption": "--absorption-bands"}
-#: :class:`~acoustiviz.sound.RoomSound` parameter -> scene key.
-ROOM_SOUND_SCENE_KEYS = {"late_tail": "outputs.wav.late_tail", "seed": "outputs.wav.tail_seed",
-                         "decay": "outputs.wav.tail_decay", "transition": "outputs.wav.transition_s",
-                         "band_centres": "outputs.wav.absorption_bands",
-                         "band_absorption": "outputs.wav.absorption_bands"}
+           "check_scale_fits", "physical_peaks", "room_sound", "least_absorbing"]
 
 #: Version of the sidecar schema; bumped whenever a key changes meaning (3: physical_peak_pa).
 SIDECAR_VERSION = 3

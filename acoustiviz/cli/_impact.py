@@ -86,31 +86,29 @@ def impact_from_args(args, *, velocity: float | None = None):
     acoustiviz.app.impacts.ImpactSetup
     """
     from ..app.impacts import impact_setup
-    from ..app.names import IMPACT_OPTIONS, ROOM_OPTIONS, user_terms
+    from ..app.names import IMPACT_OPTIONS, MEMORY, ROOM_OPTIONS, vocabulary
     from ..app.settings.impact import IMPACT
     from ..app.settings.room import ROOM
     from ..app.settings.table import check_values
 
-    records = IMPACT + ROOM
-    with user_terms({s.name: s.option for s in records}):  # the records' fixed ranges, then the physics' limits
-        check_values({s.name: getattr(args, s.name) for s in records if hasattr(args, s.name)}, records)
+    records = IMPACT + ROOM  # the records' fixed ranges first, then the physics' limits
+    check_values({s.name: getattr(args, s.name) for s in records if hasattr(args, s.name)}, records,
+                 vocabulary("cli", records))
     cap = getattr(args, "max_memory", None)  # also caps a room's image order
     room = room_settings_from_args(args, duration=getattr(args, "duration", None), max_memory_mb=cap) \
         if hasattr(args, "room") else None
-    terms = {**IMPACT_OPTIONS, **ROOM_OPTIONS, "max_memory_mb": "--max-memory"} if room is not None else IMPACT_OPTIONS
-    with user_terms(terms):
-        return impact_setup(radius=args.radius, velocity=args.velocity if velocity is None else velocity,
-                            k_hertz=args.k_hertz, sphere_material=args.material, surface_material=args.surface,
-                            density=args.density, mass=args.mass, pulse=args.pulse, c=args.c, rho=args.rho,
-                            config=args.config, wall_distance=args.wall_distance,
-                            strike=getattr(args, "strike", "floor"), height=getattr(args, "height", None),
-                            room=room)
+    names = {**IMPACT_OPTIONS, **ROOM_OPTIONS, **vocabulary("cli", MEMORY)} if room is not None else IMPACT_OPTIONS
+    return impact_setup(radius=args.radius, velocity=args.velocity if velocity is None else velocity,
+                        k_hertz=args.k_hertz, sphere_material=args.material, surface_material=args.surface,
+                        density=args.density, mass=args.mass, pulse=args.pulse, c=args.c, rho=args.rho,
+                        config=args.config, wall_distance=args.wall_distance,
+                        strike=getattr(args, "strike", "floor"), height=getattr(args, "height", None),
+                        room=room, names=names)
 
 
 def observer_point_from_options(setup, distance: float, angle_deg: float):
     """The observer of ``--distance`` (m) and ``--angle`` (degrees) (:func:`acoustiviz.app.impacts.observer_point`)."""
     from ..app.impacts import observer_point as _observer_point
-    from ..app.names import IMPACT_OPTIONS, user_terms
+    from ..app.names import IMPACT_OPTIONS
 
-    with user_terms(IMPACT_OPTIONS):
-        return _observer_point(setup, distance, angle_deg)
+    return _observer_point(setup, distance, angle_deg, names=IMPACT_OPTIONS)

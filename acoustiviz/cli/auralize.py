@@ -49,12 +49,9 @@ def settings_from_args(args):
     then the job is built and checked (:func:`acoustiviz.app.auralize.job_from_settings`).
     """
     from ..app.auralize import job_from_settings
-    from ..app.names import user_terms
-    from ..app.settings.auralize import AuralizeSettings, DamperSettings
+    from ..app.settings.auralize import AuralizeSettings
 
-    with user_terms({**AuralizeSettings.cli_names(), **DamperSettings.cli_names()}):
-        settings = AuralizeSettings.from_namespace(vars(args))
-    return job_from_settings(settings)
+    return job_from_settings(AuralizeSettings.from_namespace(vars(args)))
 
 
 def run(args) -> int:

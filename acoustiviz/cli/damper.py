@@ -39,15 +39,14 @@ def add_parser(subparsers):
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.damper_job.DamperJob` of the options; errors name the options."""
     from ..app.damper import damper_model
-    from ..app.names import DAMPER_OPTIONS, user_terms
     from ..app.settings.damper import DAMPER, RUN, check_values
     from ..app.settings.damper_job import DamperJob
     from ..dynamics import InitialState
 
-    names = {**DAMPER_OPTIONS, **DamperJob.cli_names(), "max_memory_mb": "--max-memory"}
-    with user_terms(names):
-        d = check_values({s.name: getattr(args, s.name) for s in DAMPER if hasattr(args, s.name)}, DAMPER)
-        model = damper_model(**{k: d[k] for k in ("M", "K", "C", "m", "gap", "k_hertz", "c1", "clip_tensile")})
+    names = DamperJob.names_for("cli")
+    d = check_values({s.name: getattr(args, s.name) for s in DAMPER if hasattr(args, s.name)}, DAMPER, names)
+    model = damper_model(**{k: d[k] for k in ("M", "K", "C", "m", "gap", "k_hertz", "c1", "clip_tensile")},
+                         names=names)
     start = InitialState(x=d.get("x0", RUN[0].default), v=d["v0"])
     return DamperJob(model, start, d["duration"], d["solver"], d["rtol"], d["dt"], getattr(args, "max_memory", None),
                      impacts_csv=args.impacts_csv, history_csv=args.history_csv, png=args.png, names=names)

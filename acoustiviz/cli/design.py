@@ -43,14 +43,13 @@ def add_parser(subparsers):
 
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.design.DesignJob` of the options; errors name the options."""
-    from ..app.names import DESIGN_OPTIONS
     from ..app.settings.design import DesignJob
     from ..errors import ParameterError
 
     job = DesignJob(inclination=args.inclination, tolerance=args.tolerance, sweep=args.sweep,
                     definition=args.definition, table=args.table, band_width=args.band_width, rank_by=args.rank_by,
                     png=args.png, choice=args.choice, max_memory_mb=getattr(args, "max_memory", None),
-                    names=DESIGN_OPTIONS)
+                    names=DesignJob.names_for("cli"))
     if args.inclination is None and job.operation is None:
         raise ParameterError("--inclination", "is required for a sweep of free vibration (a sweep in operation is "
                                               "ranked by --rank-by alone)")

@@ -41,14 +41,12 @@ def add_parser(subparsers) -> None:
 
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.directivity.DirectivityJob` of the options; errors name the options."""
-    from ..app.names import IMPACT_OPTIONS, ROOM_OPTIONS
     from ..app.settings.directivity import DirectivityJob
     from ._impact import impact_from_args, room_duration
 
     room_duration(args)  # --duration with --room only, and required there
     setup = impact_from_args(args)
-    names = {**IMPACT_OPTIONS, **ROOM_OPTIONS, **DirectivityJob.cli_names(), "max_memory_mb": "--max-memory",
-             "memory_limit": "--max-memory", "angles": "--step", "window": "--duration"}
+    names = DirectivityJob.names_for("cli")
     return DirectivityJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium,
                           geometry=setup.geometry, distance=args.distance,
                           step_deg=args.step, metric=args.metric, max_memory_mb=getattr(args, "max_memory", None),

@@ -74,7 +74,6 @@ def add_parser(subparsers):
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.forced_job.ForcedJob` of the options; errors name the options."""
     from ..app.damper import damper_model
-    from ..app.names import DAMPER_OPTIONS, ROOM_OPTIONS, user_terms
     from ..app.settings.damper import MODEL
     from ..app.settings.forced_job import ForcedJob
     from ..app.settings.parse import parse_frequencies, parse_point
@@ -82,14 +81,11 @@ def settings_from_args(args):
     from ._impact import room_duration, room_settings_from_args
 
     kind = "force" if args.force is not None else "base"
-    names = {**DAMPER_OPTIONS, **ROOM_OPTIONS, **ForcedJob.cli_names(), "frequencies": FREQUENCIES.option,
-             "frequency": FREQUENCIES.option, "amplitude": AMPLITUDES[kind].option, "listener": NOISE_LISTENER.option,
-             "max_memory_mb": "--max-memory"}
-    with user_terms(names):
-        frequencies = parse_frequencies(args.freq, FREQUENCIES.option)
-        listener = None if args.listener is None else parse_point(args.listener, NOISE_LISTENER.option)
-        room = room_settings_from_args(args, duration=room_duration(args))
-        model = damper_model(**check_values({s.name: getattr(args, s.name) for s in MODEL}, MODEL))
+    names = ForcedJob.names_for("cli", kind)
+    frequencies = parse_frequencies(args.freq, FREQUENCIES.option)
+    listener = None if args.listener is None else parse_point(args.listener, NOISE_LISTENER.option)
+    room = room_settings_from_args(args, duration=room_duration(args))
+    model = damper_model(**check_values({s.name: getattr(args, s.name) for s in MODEL}, MODEL, names), names=names)
     return ForcedJob(model, tuple(frequencies), kind=kind, amplitude=getattr(args, kind),
                      **{s.name: getattr(args, s.name) for s in (*FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)},
                      listener=None if listener is None else tuple(listener), config="plane" if room is None else "room",

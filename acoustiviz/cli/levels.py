@@ -32,12 +32,9 @@ def settings_from_args(args, echo=print):
     calibration are read (:func:`acoustiviz.app.levels.job_from_wav`).
     """
     from ..app.levels import job_from_wav
-    from ..app.names import user_terms
     from ..app.settings.levels import LevelsSettings
 
-    with user_terms(LevelsSettings.cli_names()):
-        settings = LevelsSettings.from_namespace(vars(args))
-    return job_from_wav(settings, echo)
+    return job_from_wav(LevelsSettings.from_namespace(vars(args)), echo)
 
 
 def run(args) -> int:

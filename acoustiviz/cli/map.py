@@ -38,13 +38,12 @@ def add_parser(subparsers) -> None:
 
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.map_job.MapJob` of the options; errors name the options."""
-    from ..app.maps import CLI_NAMES
     from ..app.settings.map_job import MapJob
     from ._impact import impact_from_args, room_duration
 
     room_duration(args)  # --duration with --room only, and required there
     setup = impact_from_args(args)
-    names = {**CLI_NAMES, **MapJob.cli_names(), "memory_limit": "--max-memory"}
+    names = MapJob.names_for("cli")
     return MapJob(impact=setup.impact, pulse=setup.pulse, medium=setup.medium, geometry=setup.geometry,
                   plane=args.plane,
                   height=args.plane_height, extent=args.extent, resolution=args.resolution,

@@ -48,28 +48,16 @@ def add_parser(subparsers):
     return p
 
 
-def _names() -> dict:
-    """API parameter -> option, the sweep's records this command shares included."""
-    from ..app.settings.optimize import OptimizeJob
-
-    names = {s.name: s.option for s in (*VARIABLES, *OPTIMIZE, *SWEEP_DAMPER, *SWEEP_SOUND, *EXECUTION)}
-    names.update({"angle": "--angle", "radius_mode": "--radius", "n_fastest": "--spl-fastest",
-                  "objectives": "--minimize", "variables": "--gap", **OptimizeJob.cli_names()})
-    return names
-
-
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.optimize.OptimizeJob` of the options; errors name the options."""
-    from ..app.names import user_terms
     from ..app.optimize import optimize_variables
     from ..app.settings.optimize import OptimizeJob
 
-    names = _names()
+    names = OptimizeJob.names_for("cli")
     given = {s.name: getattr(args, s.name) for s in (*VARIABLES, *SWEEP_DAMPER, *SWEEP_SOUND)
              if getattr(args, s.name) is not None}
-    with user_terms(names):
-        for s in OPTIMIZE[3:6]:
-            s.check(getattr(args, s.name), s.option)
+    for s in OPTIMIZE[3:6]:
+        s.check(getattr(args, s.name), s.option)
     variables, fixed = optimize_variables(given, names)
     return OptimizeJob(variables, fixed, minimize=tuple(args.minimize or ()), maximize=tuple(args.maximize or ()),
                        constraints=tuple(args.constraints or ()), evaluations=args.evaluations, seed=args.seed,

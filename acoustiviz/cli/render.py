@@ -67,7 +67,7 @@ def settings_from_args(args):
     from ._impact import impact_from_args, room_duration
 
     cls = JOB_OF_VIEW[args.view]
-    names = {**cls.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory"}
+    names = cls.names_for("cli")
     check_view_outputs({k: getattr(args, k) for k in cls.FILES})  # the command writes at least one file
     room_duration(args)
     setup = impact_from_args(args)

@@ -65,7 +65,7 @@ def add_parser(subparsers):
 def _given(args) -> dict:
     """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values the options give, ``--room``'s checked now."""
     from .._validate import ParameterError
-    from ..app.names import ROOM_OPTIONS, SWEEP_OPTIONS, user_terms
+    from ..app.names import SWEEP_ROOM_OPTIONS
     from ..app.sweep import with_room
     from ._impact import room_settings_from_args
 
@@ -73,8 +73,7 @@ def _given(args) -> dict:
         raise ParameterError("--room-window", "only applies with --room LX,LY,LZ")
     given = {s.name: getattr(args, s.name) for _, records in _GROUPS for s in records
              if getattr(args, s.name) is not None}
-    with user_terms({**SWEEP_OPTIONS, **ROOM_OPTIONS, "duration": "--room-window"}):
-        return with_room(given, room_settings_from_args(args, duration=args.room_window))
+    return with_room(given, room_settings_from_args(args, duration=args.room_window), names=SWEEP_ROOM_OPTIONS)
 
 
 def settings_from_args(args):

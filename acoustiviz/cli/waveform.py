@@ -50,8 +50,7 @@ def settings_from_args(args):
         point = setup.geometry.in_room("--listener", listener[None, :])[0]
     else:
         point = observer_point_from_options(setup, args.distance, args.angle)
-    names = {**WaveformJob.cli_names(), "max_memory_mb": "--max-memory", "memory_limit": "--max-memory",
-             "listeners": "--listener" if listener is not None else "--distance"}
+    names = WaveformJob.names_for("cli", point=listener is not None)
     return WaveformJob(impact=setup.impact, pulses=(setup.pulse,), medium=setup.medium,
                        geometry=setup.geometry, listeners=(Listener(LISTENER_NAME, point),),
                        samples_per_duration=args.samples_per_duration,

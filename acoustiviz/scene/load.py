@@ -79,7 +79,8 @@ class Scene:
 
     def room_sound(self):
         """The :class:`~acoustiviz.sound.RoomSound` of ``[outputs.wav]`` in a room (None: the exact render)."""
-        from ..app.wav import ROOM_SOUND_SCENE_KEYS, room_sound
+        from ..app.settings.auralize import ROOM_SOUND_SCENE_KEYS
+        from ..app.wav import room_sound
 
         if not _enclosed(self.data):
             return None
@@ -111,11 +112,10 @@ class Scene:
     def sphere_mass(self) -> float:
         """Sphere mass in kg: ``mass_kg``, else density (or the material's) times volume."""
         from ..app.impacts import sphere_mass
-        from ..app.names import SCENE_IMPACT_KEYS, user_terms
+        from ..app.names import SCENE_IMPACT_KEYS
 
         s = self.data["sphere"]
-        with user_terms(SCENE_IMPACT_KEYS):
-            return sphere_mass(s["radius_m"], s["mass_kg"], s["density_kg_m3"], s["material"])
+        return sphere_mass(s["radius_m"], s["mass_kg"], s["density_kg_m3"], s["material"], names=SCENE_IMPACT_KEYS)
 
     def sphere_density(self) -> float:
         """Sphere density in kg/m³ (given, the material's, or 7800)."""
@@ -146,15 +146,14 @@ class Scene:
     def setup(self, velocity: float | None = None, kind: str | None = None, radius: float | None = None):
         """The single impact and its surroundings (:func:`acoustiviz.app.impacts.impact_setup`)."""
         from ..app.impacts import impact_setup
-        from ..app.names import SCENE_IMPACT_KEYS, user_terms
+        from ..app.names import SCENE_IMPACT_KEYS
 
         partner = math.inf
         if self.data["contact"]["pulse_mass"] == "effective":
             partner = self.data["damper"]["main_mass_kg"]
-        with user_terms(SCENE_IMPACT_KEYS):
-            return impact_setup(velocity=self.data["impact"]["velocity_m_s"] if velocity is None else velocity,
-                                mass=self.sphere_mass(), pulse=kind or self.data["contact"]["pulse"],
-                                partner_mass=partner, **self._impact_settings(radius))
+        return impact_setup(velocity=self.data["impact"]["velocity_m_s"] if velocity is None else velocity,
+                            mass=self.sphere_mass(), pulse=kind or self.data["contact"]["pulse"],
+                            partner_mass=partner, **self._impact_settings(radius), names=SCENE_IMPACT_KEYS)
 
     def view_settings(self, view: str):
         """The settings object of a 3-D view: ``"balloon"``, ``"snapshot"`` or ``"animation"``.
@@ -163,12 +162,10 @@ class Scene:
         (:func:`acoustiviz.app.render_job.view_values`) onto :mod:`acoustiviz.app.settings.render`;
         errors name the scene keys.
         """
-        from ..app.names import user_terms
         from ..app.render_job import view_values
         from ..app.settings.render import SETTINGS_OF_VIEW
 
-        with user_terms(view_names(view)):
-            return SETTINGS_OF_VIEW[view].from_values(view_values(self, view), scene=True)
+        return SETTINGS_OF_VIEW[view].from_values(view_values(self, view), scene=True, names=view_names(view))
 
     def medium(self):
         """The fluid as a :class:`~acoustiviz.core.medium.Medium`."""

@@ -252,17 +252,15 @@ def check_damper_physics(scene) -> None:
     The same limits the run checks, with the K_HZ of the damper's sphere, raised as a
     :class:`SceneError` naming the key (``damper.impact_mass_kg``) and what is allowed.
     """
-    from ..app.names import SCENE_DAMPER_KEYS, user_terms
-    from ..core.limits import check_damper
-    from ..dynamics import solver_method
+    from ..app.damper import check_damper_run
+    from ..app.names import SCENE_DAMPER_KEYS
 
     d = scene.data["damper"]
     try:
-        with user_terms(SCENE_DAMPER_KEYS):
-            solver_method(d["solver"]).check_rtol(d["tolerance"])
-            check_damper(M=d["main_mass_kg"], K=d["stiffness_n_m"], m=d["impact_mass_kg"], gap=d["gap_m"],
-                         k_hertz=scene.k_hertz(scene.damper_sphere_radius()), v=d["initial_velocity_m_s"],
-                         duration=d["duration_s"], c1=d["contact_damping_n_s_m"])
+        check_damper_run(solver=d["solver"], rtol=d["tolerance"], M=d["main_mass_kg"], K=d["stiffness_n_m"],
+                         m=d["impact_mass_kg"], gap=d["gap_m"], k_hertz=scene.k_hertz(scene.damper_sphere_radius()),
+                         v=d["initial_velocity_m_s"], duration=d["duration_s"], c1=d["contact_damping_n_s_m"],
+                         names=SCENE_DAMPER_KEYS)
     except SceneError:
         raise
     except ParameterError as exc:

@@ -29,14 +29,15 @@ from ...constants import (
     TAIL_SEED,
     WAV_RATE,
 )
-from .base import Settings
+from .base import Settings, vocabulary
 from .damper import DAMPER
 from .impact import IMPACT
-from .room import RoomOptions
+from .room import ROOM, RoomOptions
 from .table import Setting, by_name
+from .vocabulary import ALIASES, DERIVED, MEMORY, OUTPUT_TABLES
 
 __all__ = ["AURALIZE", "AURALIZE_GROUPS", "AuralizeJob", "AuralizeSettings", "DamperSettings", "DEFAULT_LISTENER",
-           "AURALIZE_JOB"]
+           "AURALIZE_JOB", "ROOM_SOUND_OPTIONS", "ROOM_SOUND_SCENE_KEYS"]
 
 #: The default listener in m: 0.7 m at 45 degrees from the paper's sphere.
 DEFAULT_LISTENER = "0.495,0,0.514"
@@ -152,6 +153,10 @@ AURALIZE_GROUPS = (("impacts from a file", IMPACTS), ("sound model", SOUND), ("r
 #: Every option of ``acoustiviz auralize`` besides the damper's and the room's.
 ALL = IMPACTS + SOUND + ROOM_SOUND + FILES + LEVELS
 
+#: :class:`~acoustiviz.sound.RoomSound` parameter -> ``acoustiviz auralize`` option, and -> ``[outputs.wav]`` key.
+ROOM_SOUND_OPTIONS = vocabulary("cli", (), ALIASES["room_sound"], lookup=ROOM_SOUND)
+ROOM_SOUND_SCENE_KEYS = vocabulary("scene", (), ALIASES["room_sound"], lookup=ROOM_SOUND)
+
 #: The settings whose range :class:`AuralizeSettings` checks on its own, before any other check.
 AURALIZE = tuple(s for s in ALL if s.name in ("c", "rho", "headroom"))
 
@@ -181,6 +186,7 @@ class DamperSettings(Settings):
     solver: str = "event"
     dt: float | None = None
     rtol: float = DEFAULT_RTOL
+    names: dict | None = dataclasses.field(default=None, compare=False, repr=False)
 
     def validate(self) -> None:
         """The tolerance in the range of the solver asked for (:data:`acoustiviz.dynamics.METHODS`)."""
@@ -194,10 +200,12 @@ class AuralizeSettings(Settings):
     """An auralised run: the damper, the room, the sound model, the listeners and the files.
 
     Field names are those of :data:`ALL` (the options' API names); ``impacts`` is a CSV of impacts
-    to render instead of simulating, ``max_memory`` the working-memory cap in MB.
+    to render instead of simulating, ``max_memory`` the working-memory cap in MB; ``names`` maps API names
+    (the damper's too) to the options or scene keys errors name (:meth:`from_namespace`: the options).
     """
 
     TABLE = AURALIZE
+    BUILT_FROM = DAMPER
     wav: str = "out.wav"
     damper: DamperSettings = dataclasses.field(default_factory=DamperSettings)
     room: RoomOptions = dataclasses.field(default_factory=RoomOptions)
@@ -231,19 +239,22 @@ class AuralizeSettings(Settings):
     levels_csv: str | None = None
     loudness: bool = False
     max_memory: float | None = None
+    names: dict | None = dataclasses.field(default=None, compare=False, repr=False)
 
     @classmethod
     def from_namespace(cls, ns: dict):
-        """The settings of a mapping of option destinations to values (``vars(args)``)."""
+        """The settings of a mapping of option destinations to values (``vars(args)``); errors name the options."""
         def pick(klass):
-            names = {f.name for f in dataclasses.fields(klass)}
-            return {k: v for k, v in ns.items() if k in names}
+            fields = {f.name for f in dataclasses.fields(klass)} - {"names"}
+            return {k: v for k, v in ns.items() if k in fields}
 
+        names = cls.names_for("cli")
         values = pick(cls)
         values.pop("room", None)
         if values.get("listener") is not None:
             values["listener"] = tuple(values["listener"])
-        return cls(damper=DamperSettings(**pick(DamperSettings)), room=RoomOptions(**pick(RoomOptions)), **values)
+        return cls(damper=DamperSettings(**pick(DamperSettings), names=names), room=RoomOptions(**pick(RoomOptions)),
+                   names=names, **values)
 
 
 #: The records :class:`AuralizeJob` checks when it is made: the files' format and the levels wanted.
@@ -305,6 +316,13 @@ class AuralizeJob(Settings):
     """
 
     TABLE = AURALIZE_JOB
+    # every option of the command (the room's sound, the damper), the memory cap and the files
+    BUILT_FROM = (*ALL, *DAMPER, *MEMORY)
+    ALIASES = {**ALIASES["damper"], **ALIASES["room_sound"], "wav_files": "wav", "order": "image_order",
+               "velocities": "impacts"}
+    LOOKUP = ROOM  # the room's image order
+    DERIVED_NAMES = {"cli": {"listeners": DERIVED["cli"]["listeners"]},
+                     "scene": {"listeners": DERIVED["scene"]["listeners"], **OUTPUT_TABLES["wav"]}}
     #: The fields compared by :meth:`__eq__` (the room's sound by its values).
     _COMPARED = ("model", "cavity", "click", "listeners", "wav_files", "duration", "damper", "impacts", "impacts_csv",
                  "stereo", "rate", "subtype", "scale", "headroom", "png", "levels", "levels_csv", "loudness",
@@ -367,8 +385,6 @@ class AuralizeJob(Settings):
             raise ParameterError(self.name("impacts"), f"expected an ImpactSequence, got {type(self.impacts).__name__}")
         geometry = self.cavity.geometry
         if self.room_sound is not None:
-            from ..wav import ROOM_SOUND_OPTIONS
-
             with user_terms({k: self.name(k) for k in (*ROOM_SOUND_OPTIONS, "order")}):
                 self.room_sound.check_room(geometry)
         points = np.array([lst.position for lst in self.listeners], dtype=float).reshape(-1, 3)

@@ -14,8 +14,9 @@ import dataclasses
 
 from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_V0
 from .base import Settings
-from .damper import CONTACT_LAW, MODEL, RUN, SOLVER
+from .damper import CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
 from .table import Setting, check_values
+from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
 __all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperJob"]
 
@@ -66,6 +67,9 @@ class DamperJob(Settings):
     """
 
     TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS)  # duration, solver, dt, rtol and the files
+    BUILT_FROM = (*DAMPER, *MEMORY)  # the model and the start; the memory cap
+    ALIASES = ALIASES["damper"]
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["damper"]}
     model: object
     initial: object = None
     duration: float = DEFAULT_DURATION

@@ -12,6 +12,7 @@ import dataclasses
 from ...constants import MAX_INCLINATION
 from .base import Settings
 from .table import Setting
+from .vocabulary import MEMORY, OUTPUT_TABLES
 
 __all__ = ["DESIGN", "DESIGN_RUN", "RANK_BY", "DEFINITION", "BAND_WIDTH", "DesignSettings", "DesignJob",
            "DEFAULT_TOLERANCE"]
@@ -99,6 +100,9 @@ class DesignJob(DesignSettings):
     """
 
     TABLE = DESIGN + DESIGN_RUN
+    BUILT_FROM = MEMORY
+    ALIASES = {"width": "band_width"}
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["design_table"]}
     sweep: str | None = None
     definition: str = DEFINITION.default
     table: bool = False

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import dataclasses
 
-from .impact import DIRECTIVITY, ImpactJob
+from .impact import DIRECTIVITY, IMPACT, OBSERVER, WAVEFORM, ImpactJob
+from .room import ROOM
 from .table import Setting
+from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
 __all__ = ["DIRECTIVITY_OUTPUTS", "DirectivityJob"]
 
@@ -59,6 +61,10 @@ class DirectivityJob(ImpactJob):
     """
 
     TABLE = (*DIRECTIVITY, *DIRECTIVITY_OUTPUTS)
+    BUILT_FROM = (*IMPACT, OBSERVER[0], *ROOM, *MEMORY)  # the impact, the circle's radius, the room, the memory cap
+    ALIASES = {**ALIASES["impact"], **ALIASES["room"], **ALIASES["memory"], "angles": "step_deg", "window": "window"}
+    LOOKUP = WAVEFORM + IMPACT
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["directivity"]}
     pulse: object
     distance: float
     step_deg: float = DIRECTIVITY[0].default

@@ -14,10 +14,23 @@ import dataclasses
 
 from ...constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE, PAPER_RADIUS
 from ...errors import ParameterError
-from .base import Settings
-from .damper import CONTACT_LAW, MODEL
-from .forced import AMPLITUDE, AMPLITUDES, EXCITATION_KIND, FORCED, FORCED_EXECUTION, FORCED_OUTPUTS, FREQUENCIES, NOISE
+from .base import Settings, vocabulary
+from .damper import CONTACT_LAW, DAMPER, MODEL
+from .forced import (
+    AMPLITUDE,
+    AMPLITUDES,
+    EXCITATION_KIND,
+    FORCED,
+    FORCED_EXECUTION,
+    FORCED_OUTPUTS,
+    FREQUENCIES,
+    NOISE,
+    NOISE_LISTENER,
+)
+from .impact import IMPACT, WAVEFORM
+from .room import ROOM
 from .table import check_values
+from .vocabulary import ALIASES, DERIVED, MEMORY
 
 __all__ = ["FORCED_FILE_KINDS", "ForcedJob"]
 
@@ -74,6 +87,13 @@ class ForcedJob(Settings):
     """
 
     TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)
+    # the model, the room (a scene's configuration), the frequencies, the amplitude, the listener, the memory cap
+    BUILT_FROM = (*DAMPER, *ROOM, FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
+    # the duration is the damper run's, not a room's window; the sound speed is not a setting of the job
+    ALIASES = {**ALIASES["damper"], "frequency": FREQUENCIES.name,
+               **{k: v for k, v in ALIASES["room"].items() if k not in ("duration", "sound_speed")}}
+    LOOKUP = WAVEFORM + IMPACT
+    DERIVED_NAMES = {"scene": {"listener": DERIVED["scene"]["listeners"]}}  # the first of the scene's listeners
     model: object = None
     frequencies: tuple | None = None
     kind: str = EXCITATION_KIND.default
@@ -101,6 +121,17 @@ class ForcedJob(Settings):
     response_png: str | None = None
     bifurcation_png: str | None = None
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
+
+    @classmethod
+    def names_for(cls, front: str, kind: str = "force") -> dict:
+        """The job's vocabulary (:meth:`Settings.names_for`), its ``amplitude`` named as ``kind``'s option.
+
+        A scene names the amplitude ``excitation.amplitude`` whatever the kind, and the configuration by its kind.
+        """
+        from .scene import CONFIGURATION_KEYS  # its records import the geometries: not on the way to --help
+
+        amplitude = vocabulary(front, (), {"amplitude": AMPLITUDES[kind].name}, lookup=tuple(AMPLITUDES.values()))
+        return {**vocabulary(front, CONFIGURATION_KEYS[:1]), **super().names_for(front), **amplitude}
 
     def files(self) -> dict:
         """``{field: path}`` of the files asked for (strings), in the order they are written."""

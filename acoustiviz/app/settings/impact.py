@@ -27,6 +27,7 @@ from ...constants import (
 )
 from .base import Settings
 from .table import Setting
+from .vocabulary import ALIASES, MEMORY
 
 __all__ = ["IMPACT_GROUPS", "IMPACT", "OBSERVER", "WAVEFORM", "DIRECTIVITY", "WaveformSettings", "DirectivitySettings",
            "MIN_SAMPLES_PER_DURATION", "ImpactJob"]
@@ -158,6 +159,9 @@ class ImpactJob(Settings):
         The front end's vocabulary: API parameter -> the option or scene key its errors name
         (not compared; default: the API names).
     """
+
+    BUILT_FROM = MEMORY  # the memory cap of every impact job
+    ALIASES = ALIASES["memory"]
 
     impact: object
     medium: object

@@ -43,7 +43,8 @@ LEVELS = tuple(s for s in ALL if s.name in ("pa_per_fs", "start", "stop"))
 class LevelsSettings(Settings):
     """The file, its calibration (Pa per full scale), the interval (s) and the CSV of ``acoustiviz levels``.
 
-    ``max_memory`` is the working-memory cap in MB (None: the default budget).
+    ``max_memory`` is the working-memory cap in MB (None: the default budget); ``names`` maps API names to
+    the options or scene keys errors name (:meth:`from_namespace`: the options).
     """
 
     TABLE = LEVELS
@@ -54,12 +55,13 @@ class LevelsSettings(Settings):
     stop: float | None = None
     loudness: bool = False
     max_memory: float | None = None
+    names: dict | None = dataclasses.field(default=None, compare=False, repr=False)
 
     @classmethod
     def from_namespace(cls, ns: dict):
-        """The settings of a mapping of option destinations to values (``vars(args)``)."""
-        names = {f.name for f in dataclasses.fields(cls)}
-        return cls(**{k: v for k, v in ns.items() if k in names})
+        """The settings of a mapping of option destinations to values (``vars(args)``); errors name the options."""
+        fields = {f.name for f in dataclasses.fields(cls)} - {"names"}
+        return cls(**{k: v for k, v in ns.items() if k in fields}, names=cls.names_for("cli"))
 
 
 #: The records :class:`LevelsJob` checks: the interval, the loudness and the levels CSV (the calibration is a

@@ -14,6 +14,7 @@ import dataclasses
 from .impact import ImpactJob
 from .map import MAP_SETTINGS
 from .table import Setting
+from .vocabulary import OUTPUT_TABLES
 
 __all__ = ["MAP_OUTPUTS", "MapJob"]
 
@@ -67,6 +68,7 @@ class MapJob(ImpactJob):
     """
 
     TABLE = (*MAP_SETTINGS, *MAP_OUTPUTS)
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["level_map"]}
     pulse: object
     plane: str = _BY_NAME["plane"].default
     height: float | None = None

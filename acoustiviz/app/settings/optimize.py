@@ -12,7 +12,7 @@ import dataclasses
 
 from ...errors import ParameterError
 from .base import Settings
-from .sweep import SWEEP, SWEPT
+from .sweep import SWEEP, SWEEP_DAMPER, SWEEP_SOUND, SWEPT
 from .table import Setting
 
 __all__ = ["OPTIMIZE", "VARIABLES", "EXECUTION", "REPEATED", "SCENE_VARIABLES", "SCENE_LEVELS", "OptimizeJob", "FILES"]
@@ -112,6 +112,8 @@ class OptimizeJob(Settings):
     """
 
     TABLE = OPTIMIZE[3:7] + EXECUTION
+    BUILT_FROM = VARIABLES + OPTIMIZE + SWEEP_DAMPER + SWEEP_SOUND  # the sweep's records this job shares
+    ALIASES = {"angle": "angle_deg", "radius_mode": "radius", "objectives": "minimize", "variables": "gap"}
     variables: tuple
     fixed: object
     minimize: tuple = ()

@@ -28,6 +28,7 @@ from .render import (
     BalloonSettings,
     SnapshotSettings,
 )
+from .vocabulary import ALIASES, MEMORY
 
 __all__ = ["ViewJob", "SnapshotJob", "BalloonJob", "AnimationJob", "JOB_OF_VIEW"]
 
@@ -62,6 +63,15 @@ class ViewJob(Settings):
         The front end's vocabulary: API parameter -> the option or scene key its errors name
         (not compared; default: the API names).
     """
+
+    BUILT_FROM = MEMORY
+    ALIASES = ALIASES["memory"]
+
+    @classmethod
+    def names_for(cls, front: str) -> dict:
+        """The job's vocabulary (:meth:`Settings.names_for`); a scene's files are named by ``outputs.<view>``."""
+        files = {k: f"outputs.{cls.VIEW}" for k in cls.FILES} if front == "scene" else {}
+        return {**super().names_for(front), **files}
 
     VIEW = ""
     #: The files of the view, in the order they are written.

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from ...constants import PULSES, ROOM_STRIKES
 from ...core.geometry import GEOMETRIES
+from .run import MEMORY_LIMIT
 from .table import Setting
 
 __all__ = ["SCENE", "LISTENER_KEYS", "SPHERE_KEYS", "CONTACT_KEYS", "CONFIGURATION_KEYS", "GRIDS", "OUTPUT_KEYS"]
@@ -59,10 +60,7 @@ LISTENER_KEYS = (
 )
 
 #: ``[grids]``: the memory cap of a scene's grid evaluations.
-GRIDS = (
-    Setting("memory_limit_mb", None, "memory_limit_mb", "float", 256.0, "memory cap of grid evaluations", "MiB",
-            low=0.0, high=1e6, low_open=True, table="grids"),
-)
+GRIDS = (MEMORY_LIMIT,)
 
 #: The keys of outputs a scene asks for by name.
 OUTPUT_KEYS = (

@@ -246,10 +246,13 @@ def by_name(settings) -> dict:
     return {s.name: s for s in settings}
 
 
-def check_values(values: dict, records) -> dict:
-    """``values`` (``{name: value}``) with the range of each named record checked; errors name the API parameter."""
-    table = by_name(records)
-    return {k: table[k].check(v) if k in table else v for k, v in values.items()}
+def check_values(values: dict, records, names=None) -> dict:
+    """``values`` (``{name: value}``) with the range of each named record checked.
+
+    Errors name the API parameter, or its word in ``names`` (API name -> option or scene key).
+    """
+    table, names = by_name(records), names or {}
+    return {k: table[k].check(v, names.get(k)) if k in table else v for k, v in values.items()}
 
 
 def _is_bool(value) -> bool:

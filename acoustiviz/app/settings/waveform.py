@@ -12,8 +12,10 @@ from __future__ import annotations
 import dataclasses
 
 from ...errors import ParameterError
-from .impact import WAVEFORM, ImpactJob
+from .base import vocabulary
+from .impact import OBSERVER, WAVEFORM, ImpactJob
 from .table import Setting
+from .vocabulary import DERIVED, OUTPUT_TABLES
 
 __all__ = ["WAVEFORM_OUTPUTS", "LISTENER", "PLACEHOLDER", "WaveformJob"]
 
@@ -69,6 +71,20 @@ class WaveformJob(ImpactJob):
     """
 
     TABLE = (WAVEFORM[0], *WAVEFORM_OUTPUTS)
+    DERIVED_NAMES = {"scene": OUTPUT_TABLES["waveform"]}
+
+    @classmethod
+    def names_for(cls, front: str, *, point: bool = True) -> dict:
+        """The job's vocabulary (:meth:`Settings.names_for`), its listeners named as the front end gave them.
+
+        ``point``: the listener was given as a point, else as the observer's distance and angle (its errors
+        then name the distance).
+        """
+        from .scene import OUTPUT_KEYS  # its records import the geometries: not on the way to --help
+
+        listeners = DERIVED[front] if point else vocabulary(front, (), {"listeners": "distance"}, lookup=OBSERVER)
+        pulses = vocabulary(front, tuple(s for s in OUTPUT_KEYS if s.name == "pulses"))  # a scene's pulses
+        return {**super().names_for(front), **pulses, "listeners": listeners["listeners"]}
     pulses: tuple
     listeners: tuple
     samples_per_duration: int = WAVEFORM[0].default
