@@ -105,7 +105,8 @@ def confirmation_line(row: dict | None) -> str:
     if row is None:
         return "optimize: no feasible design to confirm"
     verdict = "agrees" if row["agree"] else "DISAGREES"
+    advice = "" if row["agree"] else "; search each design with more starts"
     return (f"optimize: confirmation of evaluation {row['evaluation']} with {row['confirmation_starts']} starts "
             f"{verdict}: worst amplitude {row['worst_amplitude_m']:.6g} m ({row['worst_regime']}) in the "
             f"optimisation, {row['confirmed_worst_amplitude_m']:.6g} m ({row['confirmed_worst_regime']}) confirmed "
-            "(confirmation.csv)")
+            f"(confirmation.csv{advice})")
