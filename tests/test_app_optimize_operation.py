@@ -4,7 +4,8 @@ The same optimisation in operation is asked for three ways on a tiny budget (thr
 frequencies, two starts) and the files are compared byte for byte; the command line and the scene
 build equal settings; objectives, constraints and options of free vibration are refused naming
 what the user typed, before any work; a run resumes from its journal; a design that fails is a row
-with its reason; a design's row does not depend on what its worker evaluated before; and the chosen
+with its reason; a design's row does not depend on what its worker evaluated before, so two workers
+give the rows of one; Ctrl-C keeps every finished evaluation (exit 130); and the chosen
 design's confirmation holds the worst case of an independent ``forced`` run with twice the starts.
 """
 
@@ -13,8 +14,14 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import re
+import signal
+import subprocess
+import sys
+import time
 import tomllib
+from pathlib import Path
 
 import pytest
 
@@ -33,6 +40,9 @@ from acoustiviz.errors import ParameterError  # noqa: E402
 from acoustiviz.scene import scene_from_dict  # noqa: E402
 from acoustiviz.sweep import Operation  # noqa: E402
 from acoustiviz.sweep.modes import InOperation  # noqa: E402
+from acoustiviz.sweep.optimise import JOURNAL, read_journal, run_optimisation  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
 
 FILES = ("evaluations.csv", "pareto.csv", "optimize.json", "pareto.png", "confirmation.csv")
 FREQS = (6.5, 7.0)
@@ -170,6 +180,40 @@ def test_a_design_s_row_does_not_depend_on_what_its_worker_evaluated_before():
     again = mode(1, design)
     assert json.dumps(first, sort_keys=True) == json.dumps(again, sort_keys=True)
     assert first["warm_from"] == -1
+
+
+def test_two_workers_give_the_result_of_one(tmp_path):
+    job = _api_job(None, evaluations=4, batch=4)
+    one = run_optimisation(job.problem, job.evaluator(), tmp_path / "one", workers=1)
+    two = run_optimisation(job.problem, job.evaluator(), tmp_path / "two", workers=2)
+    assert [r["evaluation"] for r in two] == [0, 1, 2, 3]
+    assert json.dumps(one) == json.dumps(two)  # the same designs and rows, in evaluation order (NaN included)
+
+
+def test_ctrl_c_keeps_every_finished_evaluation(tmp_path):
+    out = tmp_path / "o"
+    argv = [sys.executable, "-m", "acoustiviz", *ARGV[:-8], "--evaluations", "5000", "--batch", "2", "--workers", "1",
+            "--out", str(out)]
+    # this tree first on the path, no inherited numba or plotting switch; SIGINT at its default action
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "PYTHON", "MPL"))}
+    env.update(PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    journal = out / JOURNAL
+    deadline = time.monotonic() + 300  # a hang detector only: the trigger is the journal's second line
+    while time.monotonic() < deadline and proc.poll() is None:
+        if journal.exists() and journal.read_text().count("\n") >= 2:
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, proc.stderr.read()
+    os.killpg(proc.pid, signal.SIGINT)  # parent and workers alike, as a terminal's Ctrl-C
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err[-2000:]
+    kept = read_journal(journal)
+    assert f"optimize: stopped; {len(kept)} of 5000 evaluations kept" in err
+    assert len(kept) >= 2 and sorted(kept) == list(range(len(kept)))
+    assert all(r["row"]["error"] == "" for r in kept.values())
+    assert not (out / "confirmation.csv").exists()
 
 
 OP = ("--gap", "0.01:0.06", "--force", "5", "--freq", "6.5,7")
