@@ -7,7 +7,8 @@ Three parts, shared by ``acoustiviz optimize``, a scene's ``[outputs.optimize]``
 * :func:`run`, which evaluates the designs the optimiser asks for (journalled in the job's folder
   as they finish, so that an interrupted run resumes) and returns an :class:`OptimizeResult`;
 * :meth:`OptimizeResult.write`, which writes ``evaluations.csv``, ``pareto.csv``,
-  ``optimize.json`` and ``pareto.png``.
+  ``optimize.json`` and ``pareto.png`` (in operation also ``confirmation.csv``: the chosen design's
+  worst case found again by the ``forced`` job with twice the starts, :mod:`acoustiviz.app.optimize_confirm`).
 """
 
 from __future__ import annotations
@@ -23,7 +24,20 @@ import numpy as np
 
 from .settings.optimize import FILES, OptimizeJob
 
-__all__ = ["OptimizeJob", "OptimizeResult", "run", "optimize_variables", "summary"]
+__all__ = ["OptimizeJob", "OptimizeResult", "run", "operation_of", "optimize_variables", "summary"]
+
+
+def operation_of(given: dict, names: dict | None = None) -> tuple:
+    """``(operation, rest)`` of the typed values (:func:`acoustiviz.app.settings.sweep_operation.split_operation`).
+
+    The :class:`~acoustiviz.sweep.Operation` of ``given``'s excitation, band and search (None: free
+    vibration) and the other values; errors name ``names[parameter]``.
+    """
+    from .names import user_terms
+    from .settings.sweep_operation import split_operation
+
+    with user_terms(names or {}):
+        return split_operation(given)
 
 
 def optimize_variables(given: dict, names: dict | None = None) -> tuple:
@@ -68,12 +82,16 @@ class OptimizeResult:
     feasible, pareto : (n,) ndarray of bool
         Feasible designs (succeeded, finite objectives, every constraint met), and the feasible
         designs no other feasible design dominates (with one objective: the best, ties kept).
+    confirmation : dict, optional
+        In operation, the chosen design's confirmation (:func:`acoustiviz.app.optimize_confirm.confirm`;
+        None when no design is feasible or in free vibration).
     """
 
     settings: OptimizeJob
     records: tuple
     feasible: np.ndarray
     pareto: np.ndarray
+    confirmation: dict | None = None
 
     @property
     def rows(self) -> list:
@@ -91,7 +109,9 @@ class OptimizeResult:
         return [row for row in self.rows if row["pareto"]]
 
     def write(self, folder=None) -> list:
-        """Write ``evaluations.csv``, ``pareto.csv``, ``optimize.json`` and ``pareto.png``; return their paths.
+        """Write ``evaluations.csv``, ``pareto.csv``, ``optimize.json``, ``pareto.png``; return their paths.
+
+        In operation ``confirmation.csv`` too (:attr:`confirmation`).
 
         Parameters
         ----------
@@ -106,6 +126,11 @@ class OptimizeResult:
                  write_text_atomic(folder / FILES[1], self._csv(self.best())),
                  write_text_atomic(folder / FILES[2], optimize_json_text(self.settings)),
                  self._figure(folder / FILES[3])]
+        if self.settings.mode == "operation":
+            from .optimize_confirm import confirmation_csv_text
+            from .settings.optimize import CONFIRMATION
+
+            paths.append(write_text_atomic(folder / CONFIRMATION, confirmation_csv_text(self, self.confirmation)))
         return [Path(p) for p in paths]
 
     def _csv(self, rows) -> str:
@@ -238,7 +263,16 @@ def run(job: OptimizeJob, progress=None) -> OptimizeResult:
     rows = [r["row"] for r in records]
     feasible = feasible_mask(job.problem, rows)
     front = pareto_mask(objective_matrix(job.problem, rows), feasible) if rows else feasible
-    return OptimizeResult(job, tuple(records), feasible, front)
+    result = OptimizeResult(job, tuple(records), feasible, front)
+    if job.mode != "operation":
+        return result
+    from dataclasses import replace
+
+    from .optimize_confirm import confirm
+
+    if progress is not None:
+        progress.write("optimize: confirming the chosen design's worst case with twice the starts\n")
+    return replace(result, confirmation=confirm(result))
 
 
 def summary(result: OptimizeResult) -> list:
@@ -249,6 +283,16 @@ def summary(result: OptimizeResult) -> list:
     lines = [f"optimize: {n} designs evaluated ({failed} failed), {n_ok} feasible"]
     if not n_ok:
         return lines + ["optimize: no evaluated design is feasible: loosen the constraints or evaluate more"]
+    if job.mode == "operation":  # the chosen design's confirmation, after the lines about it
+        from .optimize_confirm import confirmation_line
+
+        return _design_lines(result, lines) + [confirmation_line(result.confirmation)]
+    return _design_lines(result, lines)
+
+
+def _design_lines(result: OptimizeResult, lines: list) -> list:
+    """``lines`` and the size of the front or the best design."""
+    job = result.settings
     best = result.best()
     objectives = job.problem.objectives
     searched = [v.name for v in job.problem.searched]

@@ -6,6 +6,13 @@ Example::
         --constraint 'inclination_two_maxima_m_s>=0.004' --constraint 'inclination_two_maxima_m_s<=0.006' \\
         --evaluations 90 --duration 1 --out DIR
 
+In operation (``--force F0`` or ``--base B`` and ``--freq START:STOP:COUNT``, the options of a sweep in
+operation) the objectives and constraints name the worst-case columns, and the chosen design's worst case is
+confirmed by ``acoustiviz forced`` with twice the starts (``DIR/confirmation.csv``)::
+
+    acoustiviz optimize --gap 0.01:0.06 --m 0.01:0.08 --force 20 --freq 4:6:3 --minimize worst_laeq_db \\
+        --constraint 'min_reduction_db>=6' --evaluations 40 --out DIR
+
 argv -> :class:`~acoustiviz.app.settings.optimize.OptimizeJob` (:func:`settings_from_args`) ->
 :func:`acoustiviz.app.optimize.run` -> :meth:`~acoustiviz.app.optimize.OptimizeResult.write` -> the summary.
 """
@@ -14,6 +21,7 @@ from __future__ import annotations
 
 from ..app.settings.optimize import EXECUTION, OPTIMIZE, REPEATED, VARIABLES
 from ..app.settings.sweep import SWEEP_DAMPER, SWEEP_SOUND
+from ..app.settings.sweep_operation import OPERATION_OPTIONS, SEARCH
 from ..app.settings.table import add_option
 
 
@@ -41,6 +49,10 @@ def add_parser(subparsers):
     snd = p.add_argument_group("sound (SI units)")
     for s in SWEEP_SOUND:
         add_option(snd, s, dest=s.name)
+    op = p.add_argument_group("in operation (as acoustiviz sweep; --solver and --rtol then set the search's, "
+                              f"default {SEARCH['solver'].default} and {SEARCH['rtol'].default:g})")
+    for s in OPERATION_OPTIONS:
+        add_option(op, s, dest=s.name)
     e = p.add_argument_group("execution and outputs")
     for s in EXECUTION:
         add_option(e, s, dest=s.name, **({"required": True} if s.name == "out" else {}))
@@ -50,18 +62,20 @@ def add_parser(subparsers):
 
 def settings_from_args(args):
     """The :class:`~acoustiviz.app.settings.optimize.OptimizeJob` of the options; errors name the options."""
-    from ..app.optimize import optimize_variables
+    from ..app.optimize import operation_of, optimize_variables
     from ..app.settings.optimize import OptimizeJob
 
     names = OptimizeJob.names_for("cli")
-    given = {s.name: getattr(args, s.name) for s in (*VARIABLES, *SWEEP_DAMPER, *SWEEP_SOUND)
+    given = {s.name: getattr(args, s.name) for s in (*VARIABLES, *SWEEP_DAMPER, *SWEEP_SOUND, *OPERATION_OPTIONS)
              if getattr(args, s.name) is not None}
     for s in OPTIMIZE[3:6]:
         s.check(getattr(args, s.name), s.option)
+    operation, given = operation_of(given, names)
     variables, fixed = optimize_variables(given, names)
     return OptimizeJob(variables, fixed, minimize=tuple(args.minimize or ()), maximize=tuple(args.maximize or ()),
                        constraints=tuple(args.constraints or ()), evaluations=args.evaluations, seed=args.seed,
-                       batch=args.batch, mode=args.mode, out=args.out, executor=args.executor,
+                       batch=args.batch, mode="operation" if operation is not None else args.mode,
+                       operation=operation, out=args.out, executor=args.executor,
                        workers=args.workers, names=names)
 
 

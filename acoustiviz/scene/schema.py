@@ -15,7 +15,7 @@ from ..app.settings.levels import ALL as LEVELS_OPTIONS
 from ..app.settings.map import MAP_SCENE_VTK
 from ..app.settings.map import MAP_SETTINGS as _MAP_SETTINGS
 from ..app.settings.optimize import EXECUTION as _OPT_EXECUTION
-from ..app.settings.optimize import OPTIMIZE, SCENE_LEVELS, SCENE_VARIABLES
+from ..app.settings.optimize import OPTIMIZE, SCENE_LEVELS, SCENE_OPERATION, SCENE_VARIABLES
 from ..app.settings.render import ANIMATION, BALLOON, SCENE_FILES, SECTION_LIST, SIZES, SNAPSHOT, TIMES
 from ..app.settings.room import ROOM
 from ..app.settings.scene import CONFIGURATION_KEYS, CONTACT_KEYS, GRIDS, LISTENER_KEYS, OUTPUT_KEYS, SCENE, SPHERE_KEYS
@@ -136,7 +136,8 @@ _LEVEL_MAP = _from_table((*_MAP_SETTINGS, MAP_SCENE_VTK), "outputs.level_map")
 
 def _optimize_keys() -> dict:
     """``[outputs.optimize]`` from its records: the variables, objectives, constraints, budget and workers."""
-    return _from_table(SCENE_VARIABLES + OPTIMIZE + _OPT_EXECUTION + (SCENE_LEVELS,), "outputs.optimize")
+    return _from_table(SCENE_VARIABLES + OPTIMIZE + _OPT_EXECUTION + (SCENE_LEVELS, *SCENE_OPERATION),
+                       "outputs.optimize")
 
 
 _OUT = {

@@ -3,8 +3,10 @@
 A mode is a picklable callable ``evaluate(index, params) -> dict`` (run in a worker of any executor)
 with a ``columns`` tuple naming what its rows hold (the columns objectives and constraints may
 name). :class:`FreeVibration`, the default, is the damper let go from the Figure 5 start, the row of
-``sweep.csv`` (:func:`acoustiviz.sweep.evaluate.evaluate_design`). Another mode (the damper in
-operation) plugs in by adding its callable to :data:`MODES`.
+``sweep.csv`` (:func:`acoustiviz.sweep.evaluate.evaluate_design`); :class:`InOperation` is the damper
+under a harmonic excitation over a band, the row of a sweep in operation
+(:func:`acoustiviz.sweep.operation.evaluate_in_operation`). Another mode plugs in by adding its
+callable to :data:`MODES`.
 """
 
 from __future__ import annotations
@@ -13,16 +15,22 @@ import math
 from dataclasses import dataclass
 
 from .levels import SWEEP_LEVEL_COLUMNS
+from .operation import OPERATION_COLUMNS, Operation
 from .spec import FixedSettings, SweepSpec
 from .store import ALL_COLUMNS, NUMERIC_COLUMNS
 
-__all__ = ["FreeVibration", "MODES", "FREE_VIBRATION_COLUMNS", "SWEPT_VARIABLES", "failed_row"]
+__all__ = ["FreeVibration", "InOperation", "MODES", "FREE_VIBRATION_COLUMNS", "IN_OPERATION_COLUMNS", "SWEPT_VARIABLES",
+           "failed_row"]
 
 #: The variables of a free-vibration design (the parameters of :func:`acoustiviz.app.sweep.sweep_spec`
 #: that ``acoustiviz sweep`` sweeps); ``material`` and ``config`` are names, the others numbers.
 SWEPT_VARIABLES = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
 #: The columns objectives and constraints may name: the numbers of a ``sweep.csv`` row.
 FREE_VIBRATION_COLUMNS = tuple(c for c in NUMERIC_COLUMNS if c not in ("design_id", "success"))
+#: The columns objectives and constraints may name in operation: the numbers of a sweep in operation's row.
+IN_OPERATION_COLUMNS = tuple(c for c in OPERATION_COLUMNS if c not in ("design_id", "material", "config",
+                                                                       "worst_regime", "warm_from", "success",
+                                                                       "error"))
 
 
 #: Variable -> the row's column holding its value.
@@ -60,12 +68,7 @@ class FreeVibration:
 
     def design(self, index: int, params: dict):
         """The :class:`~acoustiviz.sweep.spec.Design` of ``params`` (API names, angle in degrees)."""
-        from dataclasses import replace
-
-        kw = {k: (v,) for k, v in params.items() if k != "angle_deg"}
-        if "angle_deg" in params:
-            kw["angle"] = (math.radians(params["angle_deg"]),)
-        return replace(SweepSpec(**kw, settings=self.settings).designs()[0], design_id=int(index))
+        return _design(self.settings, index, params)
 
     def __call__(self, index: int, params: dict) -> dict:
         """The row of design ``index`` with variables ``params``; a design that fails is a row with its reason."""
@@ -74,9 +77,7 @@ class FreeVibration:
         try:
             design = self.design(index, params)
         except Exception as exc:  # noqa: BLE001 - a design that cannot be built is a row with its reason
-            row = failed_row(index, self.columns, f"{type(exc).__name__}: {exc}")
-            row.update({_COLUMN_OF[k]: v for k, v in params.items()})
-            return row
+            return _unbuilt_row(index, self.columns, params, exc)
         return evaluate_or_fail(design, self.settings).row()
 
     def warm_up(self) -> None:
@@ -86,5 +87,68 @@ class FreeVibration:
         warm_up(self.settings)
 
 
-#: Mode name -> its class, made from the fixed settings.
-MODES = {"free": FreeVibration}
+@dataclass(frozen=True)
+class InOperation:
+    """In operation: the damper under ``operation``'s excitation over its band, one sweep-in-operation row per design.
+
+    Each design's attractors are searched from scratch (no warm start from the designs a worker
+    evaluated before), so a row depends on the design alone, never on which worker ran it.
+
+    Attributes
+    ----------
+    settings : FixedSettings
+        Everything held fixed (the main system, the air, the listener's surroundings).
+    operation : Operation
+        The excitation (force F0 in N or base amplitude B in m), the frequencies in Hz and the search.
+    """
+
+    settings: FixedSettings
+    operation: Operation
+
+    #: The columns of a row (those of a sweep in operation's ``sweep.csv``).
+    columns = OPERATION_COLUMNS
+    #: The numeric columns objectives and constraints may name.
+    objective_columns = IN_OPERATION_COLUMNS
+    #: The level columns are always computed in operation (:attr:`Operation.levels`).
+    level_columns = ()
+
+    def design(self, index: int, params: dict):
+        """The :class:`~acoustiviz.sweep.spec.Design` of ``params`` (API names, angle in degrees)."""
+        return _design(self.settings, index, params)
+
+    def __call__(self, index: int, params: dict) -> dict:
+        """The row of design ``index`` in operation; a design that fails is a row with its reason."""
+        from .operation import evaluate_in_operation_or_fail
+
+        try:
+            design = self.design(index, params)
+        except Exception as exc:  # noqa: BLE001 - a design that cannot be built is a row with its reason
+            return {**_unbuilt_row(index, self.columns, params, exc), "worst_regime": "", "warm_from": -1}
+        return evaluate_in_operation_or_fail(design, self.settings, self.operation)
+
+    def warm_up(self) -> None:
+        """Compile (or load) the free run's kernels (the contact kernels the search shares)."""
+        from .evaluate import warm_up
+
+        warm_up(self.settings)
+
+
+def _design(settings: FixedSettings, index: int, params: dict):
+    """The :class:`~acoustiviz.sweep.spec.Design` ``index`` of ``params`` (API names, angle in degrees)."""
+    from dataclasses import replace
+
+    kw = {k: (v,) for k, v in params.items() if k != "angle_deg"}
+    if "angle_deg" in params:
+        kw["angle"] = (math.radians(params["angle_deg"]),)
+    return replace(SweepSpec(**kw, settings=settings).designs()[0], design_id=int(index))
+
+
+def _unbuilt_row(index: int, columns, params: dict, exc: Exception) -> dict:
+    """The failed row of a design that could not be built: its reason and the variables it was given."""
+    row = failed_row(index, columns, f"{type(exc).__name__}: {exc}")
+    row.update({_COLUMN_OF[k]: v for k, v in params.items() if _COLUMN_OF[k] in row})
+    return row
+
+
+#: Mode name -> its class, made from the fixed settings (in operation, and the :class:`~acoustiviz.sweep.Operation`).
+MODES = {"free": FreeVibration, "operation": InOperation}

@@ -12,10 +12,12 @@ import dataclasses
 
 from ...errors import ParameterError
 from .base import Settings
-from .sweep import SWEEP, SWEEP_DAMPER, SWEEP_SOUND, SWEPT
+from .sweep import SCENE_SWEEP, SWEEP, SWEEP_DAMPER, SWEEP_SOUND, SWEPT
+from .sweep_operation import OPERATION_OPTIONS
 from .table import Setting
 
-__all__ = ["OPTIMIZE", "VARIABLES", "EXECUTION", "REPEATED", "SCENE_VARIABLES", "SCENE_LEVELS", "OptimizeJob", "FILES"]
+__all__ = ["OPTIMIZE", "VARIABLES", "EXECUTION", "REPEATED", "SCENE_VARIABLES", "SCENE_LEVELS", "SCENE_OPERATION",
+           "OptimizeJob", "FILES", "CONFIRMATION"]
 
 _T = "outputs.optimize"
 _FORM = "LO:HI, log:LO:HI, A,B,C or one value"
@@ -42,7 +44,8 @@ OPTIMIZE = (
     Setting("batch", "--batch", "batch", "int", 8, "designs asked of the optimiser at a time and evaluated in "
             "parallel (the designs depend on it, not on the workers)", low=1, high=1024, table=_T),
     Setting("mode", "--mode", "mode", "str", "free", "what a design's columns are: free vibration from the "
-            "Figure 5 start (the columns of sweep.csv)", choices=("free",), table=_T),
+            "Figure 5 start (the columns of sweep.csv) or in operation (the worst-case columns of a sweep in "
+            "operation; set by --force or --base)", choices=("free", "operation"), table=_T),
     # a scene's optimisation is a quick look, like its sweep (the record's scene default); the command runs 20 s
     dataclasses.replace(SWEEP[0], table=_T),
 )
@@ -50,6 +53,14 @@ OPTIMIZE = (
 #: A scene's level columns (the command line's ``--levels`` is the sweep's record).
 SCENE_LEVELS = Setting("levels", None, "levels", "bool", False, "also LAFmax, LCpeak and LAeq of each design's run "
                        "(columns lafmax_db, lcpeak_db, laeq_db)", table=_T)
+
+#: A scene's optimisation in operation: under the scene's ``[excitation]``, as ``[outputs.sweep] in_operation``.
+SCENE_OPERATION = (
+    dataclasses.replace(SCENE_SWEEP[1], table=_T, doc="evaluate every design in operation under the scene's "
+                        "[excitation] (its kind, amplitude, frequencies and search) instead of in free vibration; "
+                        "the chosen design's worst case is then confirmed with twice the starts"),
+    dataclasses.replace(SCENE_SWEEP[2], table=_T),
+)
 
 #: The records given as repeated options on the command line and as lists in a scene.
 REPEATED = ("minimize", "maximize", "constraints")
@@ -81,6 +92,8 @@ EXECUTION = (
 
 #: The files of the folder.
 FILES = ("evaluations.csv", "pareto.csv", "optimize.json", "pareto.png")
+#: The file of an optimisation in operation: the chosen design's worst case confirmed.
+CONFIRMATION = "confirmation.csv"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -100,7 +113,9 @@ class OptimizeJob(Settings):
     evaluations, seed, batch : int
         Budget, seed of the optimiser, designs per batch.
     mode : str
-        The evaluation mode (:data:`acoustiviz.sweep.modes.MODES`).
+        The evaluation mode (:data:`acoustiviz.sweep.modes.MODES`): ``"free"`` or ``"operation"``.
+    operation : acoustiviz.sweep.Operation, optional
+        In operation (required then, refused otherwise): the excitation, the band and the search.
     out : str, optional
         Folder of the journal and the files (None: the run keeps no journal and nothing is written).
     executor : str
@@ -112,7 +127,8 @@ class OptimizeJob(Settings):
     """
 
     TABLE = OPTIMIZE[3:7] + EXECUTION
-    BUILT_FROM = VARIABLES + OPTIMIZE + SWEEP_DAMPER + SWEEP_SOUND  # the sweep's records this job shares
+    # the sweep's records this job shares, and those of a sweep in operation
+    BUILT_FROM = VARIABLES + OPTIMIZE + SWEEP_DAMPER + SWEEP_SOUND + OPERATION_OPTIONS
     ALIASES = {"angle": "angle_deg", "radius_mode": "radius", "objectives": "minimize", "variables": "gap"}
     variables: tuple
     fixed: object
@@ -123,6 +139,7 @@ class OptimizeJob(Settings):
     seed: int = OPTIMIZE[4].default
     batch: int = OPTIMIZE[5].default
     mode: str = OPTIMIZE[6].default
+    operation: object = None
     out: str | None = None
     executor: str = dataclasses.field(default="process", compare=False)
     workers: int | None = dataclasses.field(default=None, compare=False)
@@ -133,7 +150,25 @@ class OptimizeJob(Settings):
         """The evaluation mode's callable, made from the fixed settings."""
         from ...sweep.modes import MODES
 
+        if self.operation is not None:
+            return MODES[self.mode](self.fixed, self.operation)
         return MODES[self.mode](self.fixed)
+
+    @property
+    def files(self) -> tuple:
+        """The names of the folder's files (in operation with the confirmation)."""
+        return FILES + ((CONFIRMATION,) if self.mode == "operation" else ())
+
+    def _check_mode(self) -> None:
+        from ...sweep import Operation
+
+        if self.mode == "operation" and self.operation is None:
+            raise ParameterError("mode", "operation needs an excitation: --force F0 or --base B, and --freq")
+        if self.operation is not None:
+            if self.mode != "operation":
+                raise ParameterError("mode", f"an excitation is given: the mode is 'operation', not {self.mode!r}")
+            if not isinstance(self.operation, Operation):
+                raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
 
     def validate(self) -> None:
         """The objectives and constraints against the mode's columns, the executor and the folder."""
@@ -141,6 +176,7 @@ class OptimizeJob(Settings):
 
         for key in REPEATED:
             object.__setattr__(self, key, tuple(getattr(self, key) or ()))
+        self._check_mode()
         evaluate = self.evaluator()
         objectives = tuple(Objective(c, "min") for c in self.minimize) + \
             tuple(Objective(c, "max") for c in self.maximize)
@@ -170,8 +206,13 @@ class OptimizeJob(Settings):
         fixed = asdict(self.fixed)
         if fixed.get("room") is None:
             fixed.pop("room", None)
-        return {"format": "acoustiviz-optimize", "format_version": 1, "written_by": f"acoustiviz {__version__}",
-                "optimizer": "optuna TPE", "mode": self.mode, **self.problem.to_dict(), "fixed": fixed}
+        doc = {"format": "acoustiviz-optimize", "format_version": 1, "written_by": f"acoustiviz {__version__}",
+               "optimizer": "optuna TPE", "mode": self.mode, **self.problem.to_dict(), "fixed": fixed}
+        if self.operation is not None:
+            from ...sweep.in_operation import operation_document
+
+            doc["operation"] = {k: v for k, v in operation_document(self.operation).items() if k != "chain"}
+        return doc
 
     def _check_folder(self) -> None:
         import json
@@ -193,6 +234,6 @@ class OptimizeJob(Settings):
                     {k: v for k, v in mine.items() if k not in free}:
                 raise ParameterError("out", f"{out} holds an optimisation with other settings; use another folder")
             return
-        for name in FILES:
+        for name in self.files:
             if (out / name).exists() or (out / name).is_symlink():
                 check_output_file("out", out / name, name.rsplit(".", 1)[1])
