@@ -234,7 +234,7 @@ def test_every_command_has_the_flag(capsys):
     for leaf in leaves:
         flags = [a for a in leaf._actions if a.dest == "replace"]
         assert len(flags) == 1 and flags[0].option_strings in (["--force", "--replace"], ["--replace"]), leaf.prog
-        amplitude = leaf.prog in ("acoustiviz forced", "acoustiviz sweep")  # their --force is the force amplitude
+        amplitude = leaf.prog in ("acoustiviz forced", "acoustiviz sweep", "acoustiviz optimize")  # --force: F0
         assert (flags[0].option_strings == ["--replace"]) == amplitude, leaf.prog
 
 

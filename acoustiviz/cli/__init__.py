@@ -61,7 +61,8 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=f"Every command estimates its memory and output size before starting and refuses work over "
                f"{MAX_MEMORY_MB:g} MB (change the cap with --max-memory MB). Bad input: one line naming the "
                "option, exit status 2. An existing output file, or one written beside it, is replaced only with "
-               "--force or --replace (only --replace on forced and sweep, whose --force is the force amplitude).",
+               "--force or --replace (only --replace on forced, sweep and optimize, whose --force is the force "
+               "amplitude).",
     )
     from .. import __version__
 
