@@ -11,7 +11,7 @@ import pytest
 from acoustiviz.app.maps import MAP_SETTINGS
 from acoustiviz.app.settings.auralize import ALL as AURALIZE_ALL
 from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings, DamperSettings
-from acoustiviz.app.settings.damper import DAMPER, MODEL
+from acoustiviz.app.settings.damper import BALLS, DAMPER, MODEL
 from acoustiviz.app.settings.design import DESIGN, DesignSettings
 from acoustiviz.app.settings.forced import FORCED, ForcedSettings
 from acoustiviz.app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM, DirectivitySettings, WaveformSettings
@@ -42,6 +42,7 @@ TABLES = [
     (("sweep",), SWEEP, SweepSettings),
     (("map",), MAP_SETTINGS, None),
     (("damper",), DAMPER, DamperSettings),
+    (("damper",), BALLS, None),
     (("waveform",), tuple(s for s in IMPACT if s.choices or math.isfinite(s.low) or math.isfinite(s.high)), None),
     (("auralize",), DAMPER, DamperSettings),
     (("forced",), MODEL, None),

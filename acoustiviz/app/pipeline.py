@@ -221,6 +221,7 @@ def damper_settings(scene, out=None):
     folder ``out`` (None: no files, the checks of the scene's settings alone, made before the run folder
     exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
+    from .settings.damper import BALLS
     from .settings.damper_job import DamperJob
 
     d = scene.section("damper")
@@ -228,8 +229,21 @@ def damper_settings(scene, out=None):
                                     if scene.wants(kind) for key, name in names.items()}
     names = {**SCENE_DAMPER_KEYS, "impacts_csv": "outputs.impact_table", "history_csv": "outputs.damper_history",
              "png": "outputs.damper_history", "max_memory_mb": "grids.memory_limit_mb"}
+    balls = {s.name: d[s.key] for s in BALLS}
+    names.update({s.name: s.path for s in BALLS})
     return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
-                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
+                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files, **balls)
+
+
+def _one_ball_heard(scene) -> None:
+    """Refuse a sound of the damper (WAV, levels, spectrum) with several balls: their sound is one ball's alone."""
+    from ..errors import ParameterError
+
+    n = scene.section("damper")["balls"]
+    if n > 1:
+        raise ParameterError("damper.balls", f"the sound of the damper is synthesised for one ball, got {n}: set "
+                                             "damper.balls = 1 or ask only for [outputs.impact_table] and "
+                                             "[outputs.damper_history]")
 
 
 def _write_damper(ctx: RunContext, kind: str) -> list:
@@ -444,9 +458,9 @@ _SETTINGS = {
     "level_map": map_settings,
     "sweep": scene_sweep_spec,
     "design_table": scene_sweep_spec,
-    "wav": lambda scene: (scene.auralize_settings(), check_sound_listeners(scene)),
-    "levels": levels_settings,
-    "spectrum": levels_settings,
+    "wav": lambda scene: (_one_ball_heard(scene), scene.auralize_settings(), check_sound_listeners(scene)),
+    "levels": lambda scene: (_one_ball_heard(scene), levels_settings(scene)),
+    "spectrum": lambda scene: (_one_ball_heard(scene), levels_settings(scene)),
     **{view: (lambda scene, view=view: scene.view_settings(view)) for view in ("snapshot", "balloon", "animation")},
     **{kind: (lambda scene: scene.forced_settings()) for kind in ("frequency_response", "bifurcation")},
     "operating_noise": lambda scene: (scene.forced_settings(), _operating_listener(scene)),

@@ -24,7 +24,7 @@ is cut there, on the far side of the change. Each contact's impulse and dissipat
 output times inside a step, and the peak force, come from the quintic Hermite interpolant of the
 step (positions, velocities, accelerations at both ends; error of order h^6).
 
-Impact rows (``BALL_IMPACT_COLUMNS``): start s, end s, cavity, pair (0: wall- and ball 1, j: ball j
+Impact rows (``IMPACT_ROW_COLUMNS``): start s, end s, cavity, pair (0: wall- and ball 1, j: ball j
 and ball j+1, N: ball N and wall+), approach speed m/s, separation speed m/s, peak force N,
 impulse N s, dissipated work J.
 State ``y``: positions (B+1), velocities (B+1), impulse of each pair, work of each pair, energy
@@ -46,10 +46,10 @@ from ._dop853 import A as _A
 from ._dop853 import B as _B
 from ._flight import _osc, flight_coeffs, scan_unforced
 
-__all__ = ["BALL_IMPACT_COLUMNS", "STATUS_REACHED", "STATUS_MAX_IMPACTS", "STATUS_STEP_UNDERFLOW", "run_balls"]
+__all__ = ["IMPACT_ROW_COLUMNS", "STATUS_REACHED", "STATUS_MAX_IMPACTS", "STATUS_STEP_UNDERFLOW", "run_balls"]
 
 #: Columns of an impact row.
-BALL_IMPACT_COLUMNS = ("start", "end", "cavity", "pair", "approach", "separation", "peak", "impulse", "work")
+IMPACT_ROW_COLUMNS = ("start", "end", "cavity", "pair", "approach", "separation", "peak", "impulse", "work")
 #: The batch reached its stop time.
 STATUS_REACHED = 0
 #: The impact table is full.

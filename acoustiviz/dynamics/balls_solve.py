@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 
@@ -41,7 +42,7 @@ class BallImpactTable:
     Attributes
     ----------
     time, end : ndarray
-        First touch and parting in s (``end`` NaN for a contact still under way at the end of the run).
+        First touch and parting in s (for a contact still under way, the end of the run).
     first, second : ndarray of str
         The two bodies in axis order among ``wall-``, ``ball1`` ... ``ballN``, ``wall+`` (with several
         cavities prefixed by the cavity's number, ``c2:ball1``).
@@ -106,6 +107,10 @@ class MultiBallResult:
     message : str
     solver_time, compile_time : float
         Wall time in s of the compiled solver alone, and of its compilation or cache load.
+    solver : str
+        ``"event"``: contacts located as events, flights in closed form.
+    settings : Mapping
+        The numerical settings used (``rtol``, the number of ``balls``).
     """
 
     model: MultiBallModel
@@ -123,14 +128,18 @@ class MultiBallResult:
     message: str
     solver_time: float
     compile_time: float = 0.0
+    solver: str = "event"
+    settings: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
 
-def _table(rows: np.ndarray, model: MultiBallModel, y: np.ndarray, open_row: np.ndarray, peaks, nb: int):
-    """The impact table of the filled ``rows``; contacts under way get their impulse and work so far."""
+def _table(rows: np.ndarray, model: MultiBallModel, y: np.ndarray, open_row: np.ndarray, peaks, nb: int,
+           t_end: float):
+    """The impact table of the filled ``rows``; contacts under way get their end, impulse and work so far."""
     rows = rows.copy()
     npair = open_row.size
     for p in np.flatnonzero(open_row >= 0):
         r = open_row[p]
+        rows[r, 1] = t_end
         rows[r, 6] = peaks[p]
         rows[r, 7] = y[2 * nb + p]
         rows[r, 8] = y[2 * nb + npair + p]
@@ -230,17 +239,17 @@ def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: Ba
             progress(float(clock[0]))
     elapsed = time.perf_counter() - t0
     return _result(model, initial, duration, status, clock, y, open_row, peaks, rows[:n_rows[0]], t_eval, ie,
-                   dense, e0, elapsed, compiled)
+                   dense, e0, elapsed, compiled, rtol)
 
 
 def _result(model, initial, duration, status, clock, y, open_row, peaks, rows, t_eval, ie, dense, e0, elapsed,
-            compiled) -> MultiBallResult:
+            compiled, rtol) -> MultiBallResult:
     nb = model.n_balls + 1
     q, u = y[:nb], y[nb:2 * nb]
     mass = model.masses()
     pr = model.pairs()
     d = np.maximum(q[pr["pa"]] - q[pr["pb"]] - pr["hg"], 0.0)
-    impacts = _table(rows, model, y, open_row, peaks, nb)
+    impacts = _table(rows, model, y, open_row, peaks, nb, float(clock[0]))
     energy = EnergyBalance(initial=e0, kinetic=float(0.5 * np.sum(mass * u**2)), spring=0.5 * model.K * q[0] ** 2,
                            hertz=float(np.sum(0.4 * pr["kh"] * d**2.5)), dissipated_main=float(y[-1]),
                            dissipated_contact=float(np.sum(impacts.energy_lost)))
@@ -254,4 +263,5 @@ def _result(model, initial, duration, status, clock, y, open_row, peaks, rows, t
         t=_frozen(t_eval[:n_out]), x=_frozen(dense[:n_out, 0]), v=_frozen(dense[:n_out, nb]),
         y=_frozen(dense[:n_out, 1:nb] + off), w=_frozen(dense[:n_out, nb + 1:2 * nb]), energy=energy,
         success=status == kern.STATUS_REACHED, message=messages[status] + f" at t = {clock[0]:.6g} s",
-        solver_time=elapsed, compile_time=compiled)
+        solver_time=elapsed, compile_time=compiled,
+        settings=MappingProxyType({"rtol": rtol, "balls": model.n_balls}))

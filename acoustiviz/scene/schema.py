@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 
 from ..app.settings.base import SIZE_RANGE
-from ..app.settings.damper import DAMPER
+from ..app.settings.damper import BALLS, DAMPER
 from ..app.settings.design import DESIGN
 from ..app.settings.forced import AMPLITUDE, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
@@ -126,6 +126,7 @@ _DAMPER_RECORDS = _from_table(DAMPER, "damper")
 _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
     "main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m", "contact_damping_n_s_m",
     "clip_tensile", "initial_velocity_m_s", "initial_displacement_m", "duration_s", "solver", "tolerance")}
+_DAMPER.update(_from_table(BALLS, "damper"))  # several balls in the cavity (acoustiviz damper --balls)
 
 _EXCITATION = {
     "kind": Key("str", "a harmonic force F0 cos(wt) on the main mass, or a base displacement B cos(wt) acting "
