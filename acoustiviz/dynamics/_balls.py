@@ -216,8 +216,11 @@ def _flips(ynew, nb, pa, pb, hgp, active, skip):
 
 
 @helper
-def _locate(p, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active):
-    """Step length in (0, h] just past the change of pair ``p`` (Illinois on full steps); fills ``ynew``."""
+def _locate(p, t, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active):
+    """Step length in (0, h] just past the change of pair ``p`` (Illinois on full steps); fills ``ynew``.
+
+    Located to a few units of the rounding of the time ``t + h`` s (finer cannot be represented).
+    """
     flag = active[p]
     glo = y[pa[p]] - y[pb[p]] - hgp[p]
     _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew)
@@ -225,7 +228,7 @@ def _locate(p, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew,
     lo, hi = 0.0, h
     side = 0
     for _ in range(200):
-        if hi - lo <= 4.0 * _EPS * hi:
+        if hi - lo <= 4.0 * _EPS * (t + hi):
             break
         hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
         if not (lo < hm < hi):
@@ -374,10 +377,10 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
                   t_eval, ie, dense):
     """One accepted or rejected step while some pair touches: ``(accepted, t, h, changed pair or -1, ie)``.
 
+    ``kst[0]`` holds the derivative at ``y`` on entry, and at the new ``y`` on return.
     An accepted step is cut at the earliest change of a contact flag (located on full steps); the
     state moves to its end.
     """
-    _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
     _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew)
     err = _error(y, ynew, h, kst, rtol, atol)
     if not (err <= 1.0):
@@ -386,13 +389,14 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
     p = _flips(ynew, nb, pa, pb, hgp, active, np.int64(-1))
     changed = -1
     while p >= 0:  # cut the step at the earliest change of a contact
-        hstep = _locate(p, y, hstep, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active)
+        hstep = _locate(p, t, y, hstep, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active)
         changed = p
         p = _flips(ynew, nb, pa, pb, hgp, active, changed)
     _update_peaks(y, ynew, kst, hstep, nb, pa, pb, hgp, kh, cc, clip, active, peaks)
     ie = _dense(y, ynew, kst, hstep, t, nb, t_eval, ie, dense)
-    for i in range(y.shape[0]):
+    for i in range(y.shape[0]):  # the step's end, and its derivative (the last stage), start the next
         y[i] = ynew[i]
+        kst[0, i] = kst[_NS, i]
     return True, t + hstep, (h if changed >= 0 else _next_step(err, h, False)), changed, ie
 
 
@@ -417,6 +421,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     t, h, ie = clock[0], clock[1], ie_arr[0]
     status = STATUS_REACHED
     steps = 0
+    _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
     while t < t_stop and steps <= max_steps:
         steps += 1
         changed = -1
@@ -437,6 +442,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                 status = STATUS_MAX_IMPACTS
                 break
             _toggle(changed, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
+            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))  # the accumulators were reset
             if active[changed]:
                 h = min(h, _first_step(changed, y, nb, mass, pa, pb, kh)) if np.sum(active) > 1 else \
                     _first_step(changed, y, nb, mass, pa, pb, kh)
