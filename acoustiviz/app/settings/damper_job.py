@@ -25,9 +25,11 @@ DAMPER_OUTPUTS = (
     Setting("impacts_csv", "--impacts-csv", None, "str", None,
             "write the impact table (one row per contact) as CSV; a contact still under way when the run ends "
             "(the last row) has nan separation_velocity_m_s and restitution, and its duration_s is the time it "
-            "lasted until then", metavar="PATH"),
+            "lasted until then; with --balls above 1 the columns first and second name the two bodies of each "
+            "collision (wall-, ball1 ... ballN, wall+)", metavar="PATH"),
     Setting("history_csv", "--history-csv", None, "str", None,
-            "write the time history as CSV (columns time_s,x_m,v_m_s,y_m,w_m_s)", metavar="PATH"),
+            "write the time history as CSV (columns time_s,x_m,v_m_s,y_m,w_m_s; with several balls "
+            "y1_m ... yN_m, w1_m_s ... wN_m_s)", metavar="PATH"),
     Setting("png", "--png", None, "str", None, "plot x(t) with and without the damper (Figure 5) as PNG",
             metavar="PATH"),
 )
