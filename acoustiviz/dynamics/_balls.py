@@ -57,6 +57,9 @@ STATUS_MAX_IMPACTS = 1
 #: The step size vanished (a contact the tolerance cannot follow).
 STATUS_STEP_UNDERFLOW = 2
 _EPS = 2.220446049250313e-16
+#: Cuts of one step at most: changes of several pairs at one instant (to rounding) could otherwise cut in turn
+#: forever; every pair whose flag then disagrees with its penetration changes at the step's end.
+_MAX_CUTS = 4
 
 
 @helper
@@ -388,9 +391,11 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
     hstep = h
     p = _flips(ynew, nb, pa, pb, hgp, active, np.int64(-1))
     changed = -1
-    while p >= 0:  # cut the step at the earliest change of a contact
+    cuts = 0
+    while p >= 0 and cuts < _MAX_CUTS:  # cut the step at the earliest change of a contact
         hstep = _locate(p, t, y, hstep, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active)
         changed = p
+        cuts += 1
         p = _flips(ynew, nb, pa, pb, hgp, active, changed)
     _update_peaks(y, ynew, kst, hstep, nb, pa, pb, hgp, kh, cc, clip, active, peaks)
     ie = _dense(y, ynew, kst, hstep, t, nb, t_eval, ie, dense)
@@ -438,14 +443,23 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                 status = STATUS_STEP_UNDERFLOW
                 break
         if changed >= 0:
-            if not active[changed] and n_rows[0] >= rows.shape[0]:
+            opening = 0
+            for q in range(npair):
+                if not active[q] and (q == changed or y[pa[q]] - y[pb[q]] - hgp[q] > 0.0):
+                    opening += 1
+            if n_rows[0] + opening > rows.shape[0]:
                 status = STATUS_MAX_IMPACTS
                 break
-            _toggle(changed, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
-            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))  # the accumulators were reset
-            if active[changed]:
-                h = min(h, _first_step(changed, y, nb, mass, pa, pb, kh)) if np.sum(active) > 1 else \
-                    _first_step(changed, y, nb, mass, pa, pb, kh)
+            before = np.sum(active)
+            # the pair located, and any other whose change fell on the same instant (to the time's rounding)
+            for q in range(npair):
+                if q == changed or (y[pa[q]] - y[pb[q]] - hgp[q] > 0.0) != active[q]:
+                    _toggle(q, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
+                    if active[q]:
+                        h = min(h, _first_step(q, y, nb, mass, pa, pb, kh)) if before > 0 else \
+                            _first_step(q, y, nb, mass, pa, pb, kh)
+                        before = 1
+            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
     clock[0] = t
     clock[1] = h
     ie_arr[0] = ie
