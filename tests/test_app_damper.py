@@ -148,3 +148,74 @@ def test_a_scene_runs_its_damper_once_for_every_output(tmp_path, monkeypatch):
     table = next(p for p in products if p.path.name == "impacts.csv")
     history = next(p for p in products if p.path.name == "damper_history.png")
     assert table.figures["impacts"] == history.figures["impacts"] != "0"
+
+
+#: The same short run with three balls in the cavity, as the scene and the command line give it.
+BALLS_SCENE = SCENE.replace('solver = "event"\n', 'solver = "event"\nballs = 3\nk_hertz_ball_n_m1_5 = 2e9\n'
+                            'contact_damping_ball_n_s_m = 10.0\n')
+BALLS_ARGV = (*ARGV, "--balls", "3", "--k-hertz-ball", "2e9", "--c1-ball", "10")
+
+
+def test_several_balls_write_the_same_files_from_every_front_end(tmp_path, monkeypatch, capsys):
+    cli = tmp_path / "cli"
+    cli.mkdir()
+    monkeypatch.chdir(cli)
+    assert main([*BALLS_ARGV, *_options()]) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    toml = tmp_path / "scene.toml"
+    toml.write_text(BALLS_SCENE)
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    api = tmp_path / "api"
+    api.mkdir()
+    job = DamperJob(damper_model(), duration=1.0, balls=3, k_hertz_ball=2e9, c1_ball=10.0, **FILES)
+    assert [p.name for p in run(job).write(api)] == list(FILES.values())
+    for name in FILES.values():
+        mine = (cli / name).read_bytes()
+        assert (tmp_path / "scene" / name).read_bytes() == mine, f"the scene's {name} differs from the CLI's"
+        assert (api / name).read_bytes() == mine, f"the API's {name} differs from the CLI's"
+    rows = (cli / FILES["impacts_csv"]).read_text().splitlines()
+    assert rows[0].split(",")[:3] == ["time_s", "first", "second"]
+    bodies = {tuple(r.split(",")[1:3]) for r in rows[1:]}
+    assert bodies <= {("wall-", "ball1"), ("ball1", "ball2"), ("ball2", "ball3"), ("ball3", "wall+")}
+    assert ("ball1", "ball2") in bodies and ("wall-", "ball1") in bodies
+    history = (cli / FILES["history_csv"]).read_text().splitlines()[0]
+    assert history == "time_s,x_m,v_m_s,y1_m,y2_m,y3_m,w1_m_s,w2_m_s,w3_m_s"
+
+
+def test_several_balls_from_the_command_line_and_a_scene_are_equal_settings(tmp_path):
+    argv = ["damper", "--duration", "1", "--solver", "event", "--balls", "3", "--k-hertz-ball", "2e9", "--c1-ball",
+            "10", "--max-memory", "256", *_options(tmp_path)]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    from_scene = damper_settings(scene_from_dict(tomllib.loads(BALLS_SCENE)), tmp_path)
+    assert from_cli == from_scene
+    assert (from_cli.balls, from_cli.k_hertz_ball, from_cli.c1_ball) == (3, 2e9, 10.0)
+
+
+def test_one_ball_is_the_default_and_the_single_ball_run(tmp_path):
+    from_cli = settings_from_args(build_parser().parse_args(list(ARGV)))
+    assert (from_cli.balls, from_cli.k_hertz_ball, from_cli.c1_ball) == (1, None, None)
+    assert from_cli == DamperJob(damper_model(), duration=1.0, solver="event")
+
+
+@pytest.mark.parametrize("extra, option", [(("--balls", "0"), "--balls"), (("--balls", "2.5"), "--balls"),
+                                           (("--balls", "2", "--solver", "newmark"), "--solver"),
+                                           (("--balls", "2", "--k-hertz-ball", "-1"), "--k-hertz-ball"),
+                                           (("--balls", "2", "--c1-ball", "-1"), "--c1-ball")])
+def test_bad_balls_are_refused_naming_the_option(extra, option, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    try:
+        status = main([*ARGV, *extra, "--impacts-csv", "i.csv"])
+    except SystemExit as stop:  # argparse refuses a value that is not a number itself
+        status = stop.code
+    err = capsys.readouterr().err.strip()
+    assert status == 2
+    assert err.startswith(f"acoustiviz damper: error: {option}") or f"argument {option}" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_scene_refuses_the_sound_of_several_balls_before_any_work(tmp_path, capsys, no_simulation):
+    toml = tmp_path / "scene.toml"
+    toml.write_text("[damper]\nballs = 2\n[outputs.wav]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
+    assert "damper.balls: " in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()

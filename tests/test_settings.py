@@ -11,7 +11,7 @@ import pytest
 from acoustiviz.app.maps import MAP_SETTINGS
 from acoustiviz.app.settings.auralize import ALL as AURALIZE_ALL
 from acoustiviz.app.settings.auralize import AURALIZE, AuralizeSettings, DamperSettings
-from acoustiviz.app.settings.damper import DAMPER, MODEL
+from acoustiviz.app.settings.damper import BALLS, DAMPER, MODEL
 from acoustiviz.app.settings.design import DESIGN, DESIGN_RUN, DesignJob, DesignSettings
 from acoustiviz.app.settings.forced import EXCITATION_KIND, FORCED, FORCED_EXECUTION, NOISE
 from acoustiviz.app.settings.forced_job import ForcedJob
@@ -49,6 +49,7 @@ TABLES = [
      None),
     (("map",), MAP_SETTINGS, None),
     (("damper",), DAMPER, DamperSettings),
+    (("damper",), BALLS, None),
     (("waveform",), tuple(s for s in IMPACT if s.choices or math.isfinite(s.low) or math.isfinite(s.high)), None),
     (("auralize",), DAMPER, DamperSettings),
     (("forced",), MODEL, None),

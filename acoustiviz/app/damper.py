@@ -26,14 +26,13 @@ from dataclasses import dataclass
 
 from .. import dynamics
 from .._validate import check_choice, check_finite
-from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, TABLE1_PARAMETERS
+from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, SOLVER_RTOL_RANGE, TABLE1_PARAMETERS
 from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
 from .settings.damper_job import DamperJob
 
-__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "check_damper_run", "choose_solver", "run_damper",
-           "damper_description",
-           "damping_figures", "check_click_fits"]
+__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "balls_model", "check_damper_run", "choose_solver",
+           "run_damper", "damper_description", "damping_figures", "check_click_fits"]
 
 
 def damper_model(*, M: float = TABLE1_PARAMETERS["M"], K: float = TABLE1_PARAMETERS["K"],
@@ -120,6 +119,8 @@ class DamperResult:
 
         files = {k: Path(v) if folder is None else Path(folder) / v for k, v in self.settings.files().items()
                  if only is None or k in only}
+        if self.settings.balls > 1:
+            return _write_balls(self, files)
         res, written = self.result, []
         if "impacts_csv" in files:
             from ..output.tables import write_impact_table
@@ -153,6 +154,8 @@ def run(settings: DamperJob) -> DamperResult:
     from .names import user_terms
 
     s = settings
+    if s.balls > 1:
+        return _run_balls(s)
     with user_terms(s.names):  # an error of the physics in the front end's words
         method = solver_method(s.solver)
         name, reason = choose_solver(s.solver, s.model, s.initial, s.rtol)
@@ -165,6 +168,60 @@ def run(settings: DamperJob) -> DamperResult:
         seconds = time.perf_counter() - start
         metrics = damping_metrics(result)
     return DamperResult(s, result, metrics, tuple(str(w.message) for w in caught), seconds, reason)
+
+
+def balls_model(settings: DamperJob):
+    """The :class:`~acoustiviz.dynamics.MultiBallModel` of a job: ``balls`` steel spheres of the impact mass."""
+    from ..dynamics import MultiBallModel
+
+    s = settings
+    return MultiBallModel.from_damper(s.model, s.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball)
+
+
+def _run_balls(s: DamperJob) -> DamperResult:
+    """Several balls: the multi-ball solver, the damping measured on the sampled motion of the main mass."""
+    from ..dynamics import BallState, simulate_balls
+    from .names import user_terms
+
+    with user_terms(s.names):
+        model = balls_model(s)
+        start = time.perf_counter()
+        result = simulate_balls(model, s.duration, initial=BallState(x=s.initial.x, v=s.initial.v),
+                                rtol=min(s.rtol, SOLVER_RTOL_RANGE[1]), t_eval=sample_times(s.duration, s.model))
+        seconds = time.perf_counter() - start
+        metrics = damping_metrics(result.t, result.x)
+    reason = "several balls: the event method of the multi-ball solver" if s.solver == "auto" else ""
+    return DamperResult(s, result, metrics, (), seconds, reason)
+
+
+def _write_balls(damper: DamperResult, files: dict) -> list:
+    """The files of a multi-ball run: impacts with the two bodies of each, every ball's history, Figure 5."""
+    from pathlib import Path
+
+    from ..files import write_csv_atomic
+
+    res, written = damper.result, []
+    if "impacts_csv" in files:
+        from ..output.tables import write_ball_impact_table
+
+        written.append(write_ball_impact_table(files["impacts_csv"], res.impacts))
+    if "history_csv" in files:
+        n = res.y.shape[1]
+        header = ["time_s", "x_m", "v_m_s", *(f"y{i}_m" for i in range(1, n + 1)),
+                  *(f"w{i}_m_s" for i in range(1, n + 1))]
+        written.append(write_csv_atomic(files["history_csv"], header,
+                                        [res.t, res.x, res.v, *res.y.T, *res.w.T]))
+    if "png" in files:
+        from types import SimpleNamespace
+
+        from ..output.plot.dynamics import plot_free_vibration
+        from ..output.plot.style import save_figure
+
+        # the plot reads the main mass's motion and the damper's figures: those of the one-ball model
+        view = SimpleNamespace(t=res.t, x=res.x, impacts=res.impacts, model=damper.settings.model,
+                               initial=damper.settings.initial, solver=f"{damper.settings.balls} balls")
+        written.append(save_figure(plot_free_vibration(view).figure, files["png"]))
+    return [Path(p) for p in written]
 
 
 def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0: float = PAPER_V0,

@@ -250,14 +250,27 @@ def damper_settings(scene, out=None):
     folder ``out`` (None: no files, the checks of the scene's settings alone, made before the run folder
     exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
+    from .settings.damper import BALLS
     from .settings.damper_job import DamperJob
 
     d = scene.section("damper")
     files = {} if out is None else {key: str(Path(out) / name) for kind, names in DAMPER_FILES.items()
                                     if scene.wants(kind) for key, name in names.items()}
+    balls = {s.name: d[s.key] for s in BALLS}
     return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=DamperJob.names_for("scene"),
-                     **files)
+                     **files, **balls)
+
+
+def _one_ball_heard(scene) -> None:
+    """Refuse a sound of the damper (WAV, levels, spectrum) with several balls: their sound is one ball's alone."""
+    from ..errors import ParameterError
+
+    n = scene.section("damper")["balls"]
+    if n > 1:
+        raise ParameterError("damper.balls", f"the sound of the damper is synthesised for one ball, got {n}: set "
+                                             "damper.balls = 1 or ask only for [outputs.impact_table] and "
+                                             "[outputs.damper_history]")
 
 
 def _write_damper(ctx: RunContext, kind: str) -> list:
@@ -354,10 +367,10 @@ _SETTINGS = {
     "level_map": map_settings,
     "sweep": sweep_settings,
     "design_table": lambda scene: (sweep_settings(scene), design_settings(scene)),
-    "wav": lambda scene: wav_settings(scene, None, damper_settings(scene)),
+    "wav": lambda scene: (_one_ball_heard(scene), wav_settings(scene, None, damper_settings(scene))),
     "optimize": optimize_settings,
-    "levels": levels_settings,
-    "spectrum": levels_settings,
+    "levels": lambda scene: (_one_ball_heard(scene), levels_settings(scene)),
+    "spectrum": lambda scene: (_one_ball_heard(scene), levels_settings(scene)),
     "snapshot": snapshot_settings,
     "balloon": balloon_settings,
     "animation": animation_settings,

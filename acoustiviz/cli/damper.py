@@ -11,6 +11,7 @@ Example::
 
 from __future__ import annotations
 
+from ..app.settings.damper import BALLS
 from ..app.settings.damper_job import DAMPER_OUTPUTS
 from ..app.settings.table import add_option
 from ._damper import add_damper_options
@@ -29,6 +30,9 @@ def add_parser(subparsers):
         ),
     )
     add_damper_options(p)
+    b = p.add_argument_group("several balls (a column of equal spheres of mass --m; --gap is their free travel)")
+    for s in BALLS:
+        add_option(b, s)
     o = p.add_argument_group("outputs")
     for s in DAMPER_OUTPUTS:
         add_option(o, s)
@@ -49,7 +53,8 @@ def settings_from_args(args):
                          names=names)
     start = InitialState(x=d.get("x0", RUN[0].default), v=d["v0"])
     return DamperJob(model, start, d["duration"], d["solver"], d["rtol"], d["dt"], getattr(args, "max_memory", None),
-                     impacts_csv=args.impacts_csv, history_csv=args.history_csv, png=args.png, names=names)
+                     impacts_csv=args.impacts_csv, history_csv=args.history_csv, png=args.png, balls=args.balls,
+                     k_hertz_ball=args.k_hertz_ball, c1_ball=args.c1_ball, names=names)
 
 
 def run(args) -> int:

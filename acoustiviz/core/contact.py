@@ -33,6 +33,7 @@ __all__ = [
     "HertzPulse",
     "DampedContact",
     "hertz_stiffness",
+    "sphere_pair_stiffness",
     "effective_mass",
     "max_approach",
     "contact_duration",
@@ -72,6 +73,39 @@ def hertz_stiffness(radius: float, sphere: Material, surface: Material) -> float
     """
     a = check_positive("radius", radius, "m")
     return 4.0 / 3.0 * math.sqrt(a) * reduced_modulus(sphere, surface)
+
+
+def sphere_pair_stiffness(radius_a: float, radius_b: float, material_a: Material, material_b: Material) -> float:
+    """Hertz contact stiffness of two spheres touching (paper eq 2 with both radii).
+
+    Parameters
+    ----------
+    radius_a, radius_b : float
+        The two radii in m.
+    material_a, material_b : Material
+        Elastic constants of the two spheres.
+
+    Returns
+    -------
+    float
+        ``K_HZ = (4/3) sqrt(R) E*`` in N/m^1.5 with the relative radius ``R = a b / (a + b)``
+        (a sphere on a plane, ``b`` -> infinity, gives :func:`hertz_stiffness`).
+
+    Notes
+    -----
+    Johnson, *Contact Mechanics* (1985), eqs 4.22-4.23: two spheres make the contact of one sphere
+    of radius R on a plane.
+
+    Examples
+    --------
+    >>> from acoustiviz.core.materials import material
+    >>> steel = material("steel")
+    >>> f"{sphere_pair_stiffness(0.01, 0.01, steel, steel) / hertz_stiffness(0.01, steel, steel):.4f}"
+    '0.7071'
+    """
+    a = check_positive("radius_a", radius_a, "m")
+    b = check_positive("radius_b", radius_b, "m")
+    return hertz_stiffness(a * b / (a + b), material_a, material_b)
 
 
 def effective_mass(mass, partner_mass=math.inf):

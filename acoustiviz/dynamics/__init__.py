@@ -7,7 +7,9 @@ solvers), ``forced`` (harmonic excitation, steady states, frequency response), `
 decay and forced operation alike: ``_flight`` (closed-form flight, contact detection),
 ``_contact`` (DOP853 contact, tableau vendored in ``_dop853``), ``_newmark``, ``_status``,
 ``_records`` (the named records the kernels take and return), and the drivers ``_kernels``
-(free decay) and ``_forced_driver`` (forced operation).
+(free decay) and ``_forced_driver`` (forced operation). ``balls`` (cavities of balls in columns on
+the main mass) and ``balls_solve`` (:func:`simulate_balls`, compiled kernel ``_balls``) extend the
+damper to multi-unit and particle-column dampers.
 Files are written by :mod:`acoustiviz.output.tables`, never here.
 
 Wall convention: ``wall = +1`` is struck when ``z = y - x`` reaches ``+d/2`` (the impact mass
@@ -16,6 +18,8 @@ moving in ``+x`` relative to the main mass), ``wall = -1`` when ``z`` reaches ``
 The physics here imports nothing from plotting or the command line.
 """
 
+from .balls import BallState, Cavity, MultiBallModel, equal_balls
+from .balls_solve import BallImpactTable, MultiBallResult, simulate_balls
 from .maxima import Maxima, exact_maxima
 from .model import TABLE1, DamperModel, InitialState
 from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
@@ -34,6 +38,13 @@ from .solve import (
 )
 
 __all__ = [
+    "BallState",
+    "Cavity",
+    "MultiBallModel",
+    "equal_balls",
+    "BallImpactTable",
+    "MultiBallResult",
+    "simulate_balls",
     "TABLE1",
     "DamperModel",
     "InitialState",

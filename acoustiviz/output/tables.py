@@ -21,7 +21,8 @@ from pathlib import Path
 
 from ..files import write_csv_atomic
 
-__all__ = ["IMPACT_COLUMNS", "EXTRA_IMPACT_COLUMNS", "write_impact_table", "csv_number"]
+__all__ = ["IMPACT_COLUMNS", "EXTRA_IMPACT_COLUMNS", "BALL_IMPACT_COLUMNS", "write_impact_table",
+           "write_ball_impact_table", "csv_number"]
 
 #: Columns of an impact table file, in order (``acoustiviz damper --impacts-csv`` promises these):
 #: contact start time (s), wall struck (+1 or -1), approach and separation speeds (m/s),
@@ -92,6 +93,42 @@ def write_impact_table(path, impacts, *, extra: bool = False) -> Path:
     cols = [getattr(impacts, _FIELDS[name]) for name in header]
     fmt = ["%.17g", "%d"] + ["%.17g"] * (len(header) - 2)
     return write_csv_atomic(path, header, cols, fmt=fmt)
+
+
+#: Columns of a multi-ball impact table file (``acoustiviz damper --balls N --impacts-csv``): the start time
+#: (s), the two bodies in axis order (``wall-``, ``ball1`` ... ``ballN``, ``wall+``; ``c2:ball1`` with several
+#: cavities), the pair's approach and separation speeds (m/s), restitution, duration (s), peak force (N),
+#: impulse (N s) and the work of the dissipative force (J).
+BALL_IMPACT_COLUMNS = ("time_s", "first", "second", "approach_velocity_m_s", "separation_velocity_m_s",
+                       "restitution", "duration_s", "peak_force_n", "impulse_n_s", "energy_lost_j")
+
+
+def write_ball_impact_table(path, impacts) -> Path:
+    """Write a multi-ball impact table (one row per collision) as CSV atomically; return the path.
+
+    Parameters
+    ----------
+    path : path-like
+        Output file.
+    impacts : acoustiviz.dynamics.BallImpactTable
+        The collisions of a multi-ball run.
+
+    Returns
+    -------
+    pathlib.Path
+        Columns :data:`BALL_IMPACT_COLUMNS`, numbers to 17 significant digits (``nan`` for a contact
+        still under way at the end of the run, as in :func:`write_impact_table`).
+    """
+    from ..files import write_text_atomic
+
+    nums = ("approach_velocity", "separation_velocity", "restitution", "duration", "peak_force", "impulse",
+            "energy_lost")
+    lines = [",".join(BALL_IMPACT_COLUMNS)]
+    cols = [getattr(impacts, n) for n in nums]
+    for i in range(len(impacts)):
+        cells = [f"{impacts.time[i]:.17g}", str(impacts.first[i]), str(impacts.second[i])]
+        lines.append(",".join(cells + [f"{c[i]:.17g}" for c in cols]))
+    return write_text_atomic(path, "\n".join(lines) + "\n")
 
 
 def csv_number(value, spec: str) -> str:

@@ -23,7 +23,7 @@ from ...constants import (
 )
 from .table import Setting, check_values
 
-__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "check_values"]
+__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "check_values"]
 
 _D = "damper"
 
@@ -80,5 +80,21 @@ SOLVER = (
             "s", low=0.0, high=1e4, low_open=True, metavar="S"),
 )
 
-#: Every damper record.
+#: Every damper record (of ``acoustiviz damper`` and ``auralize``, a scene's [damper]).
 DAMPER = MODEL + CONTACT_LAW + RUN + SOLVER
+
+#: Several balls in the cavity (``acoustiviz damper`` and a scene's [damper]): N equal spheres of the impact
+#: mass m in a column; the gap stays the free travel, the cavity's length less the sum of their diameters.
+BALLS = (
+    Setting("balls", "--balls", "balls", "int", 1,
+            "number of equal spheres of mass m in the cavity, in a column (the gap is the cavity's length less "
+            "their diameters; they start at rest, the gap split into N+1 equal spaces)", low=1, high=1000,
+            table=_D, metavar="N"),
+    Setting("k_hertz_ball", "--k-hertz-ball", "k_hertz_ball_n_m1_5", "float", None,
+            "Hertz stiffness between two balls (default: paper eq 2 for two steel spheres of mass m; --k-hertz "
+            "stays the ball-wall stiffness)", "N/m^1.5", low=0.0, high=1e14, low_open=True, table=_D,
+            metavar="N/M^1.5"),
+    Setting("c1_ball", "--c1-ball", "contact_damping_ball_n_s_m", "float", None,
+            "contact damping between two balls (default: --c1)", "N s/m", low=0.0, high=1e9, table=_D,
+            metavar="N*S/M"),
+)

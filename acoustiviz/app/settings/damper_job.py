@@ -14,7 +14,7 @@ import dataclasses
 
 from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_V0
 from .base import Settings
-from .damper import CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
+from .damper import BALLS, CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
 from .table import Setting, check_values
 from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
@@ -26,9 +26,11 @@ DAMPER_OUTPUTS = (
     Setting("impacts_csv", "--impacts-csv", None, "str", None,
             "write the impact table (one row per contact) as CSV; a contact still under way when the run ends "
             "(the last row) has nan separation_velocity_m_s and restitution, and its duration_s is the time it "
-            "lasted until then", metavar="PATH"),
+            "lasted until then; with --balls above 1 the columns first and second name the two bodies of each "
+            "collision (wall-, ball1 ... ballN, wall+)", metavar="PATH"),
     Setting("history_csv", "--history-csv", None, "str", None,
-            "write the time history as CSV (columns time_s,x_m,v_m_s,y_m,w_m_s)", metavar="PATH"),
+            "write the time history as CSV (columns time_s,x_m,v_m_s,y_m,w_m_s; with several balls "
+            "y1_m ... yN_m, w1_m_s ... wN_m_s)", metavar="PATH"),
     Setting("png", "--png", None, "str", None, "plot x(t) with and without the damper (Figure 5) as PNG",
             metavar="PATH"),
 )
@@ -61,12 +63,21 @@ class DamperJob(Settings):
     impacts_csv, history_csv, png : str, optional
         The impact table, the time history and the Figure 5 plot; relative to the folder
         :meth:`acoustiviz.app.damper.DamperResult.write` is given.
+    balls : int
+        Equal spheres of the impact mass ``model.m`` in the cavity (a column; ``model.gap`` is their free
+        travel). One is the single-ball damper; more run the multi-ball solver
+        (:func:`acoustiviz.dynamics.simulate_balls`, the event solver's method for a column).
+    k_hertz_ball : float, optional
+        Hertz stiffness between two balls in N/m^1.5 (default: paper eq 2 for two steel spheres of the
+        impact mass); ``model.k_hertz`` stays the ball-wall stiffness.
+    c1_ball : float, optional
+        Contact damping between two balls in N s/m (default ``model.c1``).
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name
         (not compared; default: the API names).
     """
 
-    TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS)  # duration, solver, dt, rtol and the files
+    TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS, *BALLS)  # duration, solver, dt, rtol, the files, the balls
     BUILT_FROM = (*DAMPER, *MEMORY)  # the model and the start; the memory cap
     ALIASES = ALIASES["damper"]
     DERIVED_NAMES = {"scene": OUTPUT_TABLES["damper"]}
@@ -80,6 +91,9 @@ class DamperJob(Settings):
     impacts_csv: str | None = None
     history_csv: str | None = None
     png: str | None = None
+    balls: int = 1
+    k_hertz_ball: float | None = None
+    c1_ball: float | None = None
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def files(self) -> dict:
@@ -97,17 +111,41 @@ class DamperJob(Settings):
         check_values({s.name: getattr(model, s.name) for s in MODEL + CONTACT_LAW}, MODEL + CONTACT_LAW)
         check_values({"x0": start.x, "v0": start.v}, RUN)
         solver_method(self.solver).check_rtol(self.rtol)
+        if self.balls > 1:
+            self._check_balls()
         check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=start.v,
                      duration=self.duration, c1=model.c1)
         self._check_budget()
         self._check_files()
 
+    def _check_balls(self) -> None:
+        """Several balls: the multi-ball solver, in its tolerance range, on an underdamped main oscillator."""
+        from ..._validate import ParameterError
+        from ...constants import SOLVER_RTOL_RANGE
+        from ...dynamics import solver_method
+
+        name = self.names.get("solver", "solver")
+        if self.solver not in ("event", "auto"):
+            raise ParameterError(name, f"{self.solver!r} takes one ball; with {self.names.get('balls', 'balls')} "
+                                       f"{self.balls} the balls run by the event method (solver 'event' or 'auto')")
+        lo, hi = SOLVER_RTOL_RANGE
+        if not lo <= self.rtol <= hi:
+            raise ParameterError(self.names.get("rtol", "rtol"), f"must lie in [{lo:g}, {hi:g}] with several balls, "
+                                                                f"got {self.rtol!r}")
+        solver_method("event").settings(self.model, self.initial, self.duration, self.rtol, None)  # C underdamped
+
     def _check_budget(self) -> None:
+        import dataclasses
+
         from ..budget import check_budget, damper_estimate
 
         option = self.names.get("duration", "duration")
-        check_budget(damper_estimate(self.model, self.duration, solver=self.solver, dt=self.dt, options=(option,)),
-                     self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
+        estimate = damper_estimate(self.model, self.duration, solver=self.solver, dt=self.dt, options=(option,))
+        if self.balls > 1:  # the position and velocity of every body at every sample, not 6 columns
+            estimate = dataclasses.replace(estimate, memory=estimate.memory * (2 * self.balls + 2) / 16.0,
+                                           what=f"{estimate.what} x {self.balls} balls",
+                                           options=(option, self.names.get("balls", "balls")))
+        check_budget(estimate, self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
 
     def _check_files(self) -> None:
         from ..outputs import check_distinct, check_output_file

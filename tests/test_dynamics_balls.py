@@ -1,0 +1,189 @@
+"""Multi-ball impact dampers: the model, the compiled solver and an independent SciPy reference."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from acoustiviz.core.contact import hertz_stiffness, sphere_pair_stiffness
+from acoustiviz.core.materials import material, sphere_radius
+from acoustiviz.dynamics import DamperModel, simulate
+from acoustiviz.dynamics.balls import BallState, Cavity, MultiBallModel, cavity_body_names, equal_balls
+from acoustiviz.dynamics.balls_solve import simulate_balls
+from acoustiviz.errors import ParameterError
+
+#: Agreement wanted of collision times with the SciPy reference and with the single-ball solver, in s.
+TIME_TOL = 1e-8
+#: Restitution of an undamped contact: 1 within this.
+UNDAMPED_E_TOL = 1e-6
+
+
+def _reference_collisions(model: MultiBallModel, n_collisions: int, t_max: float = 2.0):
+    """First touches (time s, pair index) by ``solve_ivp(method="DOP853")`` with an event on every pair.
+
+    The same equations written out here: state = reduced positions then velocities of the main mass and
+    the balls; every pair in contact pushes its bodies apart with K d^1.5 + c dd/dt. The run restarts at
+    each event (the force law changes form there); between events the right-hand side is smooth (a pair in
+    contact keeps its law, continued oddly past d = 0, until the event switches it off).
+    """
+    pr, mass = model.pairs(), model.masses()
+    pa, pb, hg, kh, cc = pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"]
+    nb = mass.size
+    q0, u0 = BallState().reduced(model)
+    state = np.concatenate([q0, u0])
+    active = np.zeros(pa.size, bool)
+
+    def rhs(t, s):
+        q, u = s[:nb], s[nb:]
+        acc = np.zeros(nb)
+        acc[0] = -model.K * q[0] - model.C * u[0]
+        d = q[pa] - q[pb] - hg
+        f = np.where(active, kh * d * np.sqrt(np.abs(d)) + cc * (u[pa] - u[pb]), 0.0)
+        np.add.at(acc, pa, -f)
+        np.add.at(acc, pb, f)
+        return np.concatenate([u, acc / mass])
+
+    def make_event(p):
+        def ev(t, s):
+            return s[pa[p]] - s[pb[p]] - hg[p]
+        ev.terminal = True
+        return ev
+
+    events = [make_event(p) for p in range(pa.size)]
+    t, found = 0.0, []
+    while len(found) < n_collisions and t < t_max:
+        sol = solve_ivp(rhs, (t, t_max), state, method="DOP853", rtol=1e-13, atol=1e-16, events=events)
+        hits = [(te[0], p) for p, te in enumerate(sol.t_events) if te.size]
+        if not hits:
+            break
+        te, p = min(hits)
+        state = sol.y_events[p][0].copy()
+        rate = state[nb + pa[p]] - state[nb + pb[p]]
+        if not active[p] and rate > 0:
+            found.append((te, p))
+        active[p] = rate > 0
+        # carry on past the crossing without events for 1 ns (far shorter than any contact or flight here),
+        # so that the next run does not stop again at the event just handled
+        t = te + 1e-9
+        state = solve_ivp(rhs, (te, t), state, method="DOP853", rtol=1e-13, atol=1e-16).y[:, -1]
+    return found
+
+
+def test_sphere_pair_stiffness_is_paper_eq2_with_the_relative_radius():
+    steel = material("steel")
+    a, b = 0.01, 0.03
+    assert sphere_pair_stiffness(a, b, steel, steel) == pytest.approx(hertz_stiffness(a * b / (a + b), steel, steel),
+                                                                      rel=1e-15)
+    # a huge partner approaches the sphere on a plane
+    assert sphere_pair_stiffness(a, 1e9, steel, steel) == pytest.approx(hertz_stiffness(a, steel, steel), rel=1e-9)
+
+
+def test_cavity_geometry_and_names():
+    cav = equal_balls(3, 0.0405, 0.04, 5.6e8, 20.0)
+    r = sphere_radius(0.0405, material("steel").density)
+    assert cav.radii == pytest.approx((r, r, r))
+    assert cav.length == pytest.approx(0.04 + 6 * r)
+    assert cav.offsets == pytest.approx([-2 * r, 0.0, 2 * r])
+    assert cav.c_ball == 20.0 and len(cav.k_ball) == 2
+    model = MultiBallModel((cav, equal_balls(1, 0.01, 0.02, 1e8, 5.0)))
+    names = cavity_body_names(model)
+    assert names[0] == ("c1:wall-", "c1:ball1") and names[3] == ("c1:ball3", "c1:wall+")
+    assert names[4] == ("c2:wall-", "c2:ball1") and len(names) == 6
+    # equal spaces: N + 1 of them over the free travel
+    q, u = BallState().reduced(MultiBallModel((cav,)))
+    assert np.diff(np.concatenate([[-0.02], q[1:], [0.02]])) == pytest.approx([0.01] * 4)
+    assert np.all(u[1:] == 0) and u[0] == 2.0
+
+
+def test_bad_cavities_are_refused_naming_the_field():
+    with pytest.raises(ParameterError, match="radii"):
+        Cavity(0.04, (0.01, 0.01), (0.01,), 1e8, 1.0, (1e8,))
+    with pytest.raises(ParameterError, match="k_ball"):
+        Cavity(0.04, (0.01, 0.01), (0.01, 0.01), 1e8, 1.0)
+    with pytest.raises(ParameterError, match="balls"):
+        equal_balls(0, 0.01, 0.04, 1e8, 1.0)
+    with pytest.raises(ParameterError, match="initial.y"):
+        BallState(y=(0.0, 0.0)).reduced(MultiBallModel((equal_balls(2, 0.01, 0.04, 1e8, 1.0),)))
+
+
+def test_one_ball_reproduces_the_single_ball_event_solver():
+    """Same law, another integration (physical time instead of the single-ball solver's sqrt(δ) time).
+
+    Not the same arithmetic, so not bit for bit: both are converged to far below TIME_TOL.
+    """
+    model = DamperModel()
+    ref = simulate(model, 1.0)
+    got = simulate_balls(MultiBallModel.from_damper(model, 1), 1.0)
+    n = 20
+    assert len(ref.impacts) >= n and len(got.impacts) >= n
+    assert np.max(np.abs(got.impacts.time[:n] - ref.impacts.time[:n])) < TIME_TOL
+    assert np.max(np.abs(got.impacts.duration[:n] - ref.impacts.duration[:n])) < TIME_TOL
+    assert got.impacts.restitution[:n] == pytest.approx(ref.impacts.restitution[:n], rel=1e-7)
+    assert got.impacts.approach_velocity[:n] == pytest.approx(ref.impacts.approach_velocity[:n], rel=1e-7)
+    assert got.impacts.peak_force[:n] == pytest.approx(ref.impacts.peak_force[:n], rel=1e-6)
+    assert got.impacts.energy_lost[:n] == pytest.approx(ref.impacts.energy_lost[:n], rel=1e-6)
+    walls = np.where(ref.impacts.wall[:n] > 0, "wall+", "wall-")
+    touched = np.where(got.impacts.first[:n] == "ball1", got.impacts.second[:n], got.impacts.first[:n])
+    assert list(touched) == list(walls)
+
+
+def _two_free_balls(c_ball: float):
+    """Two equal balls, the first moving at 1 m/s, the second at rest; the main mass at rest (no wall reached)."""
+    cav = equal_balls(2, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=c_ball)
+    model = MultiBallModel((cav,), C=0.0)
+    q, _ = BallState(v=0.0).reduced(model)
+    start = BallState(v=0.0, y=tuple(q[1:] + cav.offsets), w=(1.0, 0.0))
+    return model, start
+
+
+def test_undamped_ball_contact_conserves_momentum_and_energy_and_swaps_velocities():
+    model, start = _two_free_balls(0.0)
+    r = simulate_balls(model, 0.05, initial=start, t_eval=[0.0, 0.05])
+    assert len(r.impacts) == 1
+    imp = r.impacts
+    assert (imp.first[0], imp.second[0]) == ("ball1", "ball2")
+    assert abs(imp.restitution[0] - 1.0) < UNDAMPED_E_TOL
+    w_end = r.w[-1]
+    assert w_end[0] == pytest.approx(0.0, abs=1e-6) and w_end[1] == pytest.approx(1.0, rel=1e-6)
+    m = 0.02
+    assert m * w_end.sum() == pytest.approx(m * 1.0, rel=1e-12)  # momentum
+    assert 0.5 * m * np.sum(w_end**2) == pytest.approx(0.5 * m, rel=1e-6)  # energy
+    assert imp.impulse[0] == pytest.approx(m * 1.0, rel=1e-6)
+    assert r.x[-1] == 0.0 and r.energy.relative_closure_error == pytest.approx(0.0, abs=1e-10)
+
+
+def test_damped_ball_contact_loses_the_work_of_its_dissipative_force():
+    model, start = _two_free_balls(5.0)
+    r = simulate_balls(model, 0.05, initial=start)
+    assert len(r.impacts) == 1
+    u_a, u_s = r.impacts.approach_velocity[0], r.impacts.separation_velocity[0]
+    mu = 0.5 * 0.02  # reduced mass of two equal balls
+    lost_kinetic = 0.5 * mu * (u_a**2 - u_s**2)
+    assert 0.0 < r.impacts.restitution[0] < 1.0
+    assert r.impacts.energy_lost[0] == pytest.approx(lost_kinetic, rel=1e-7)
+
+
+@pytest.mark.parametrize("n_balls", [2, 3, 5])
+def test_first_collisions_agree_with_an_independent_scipy_reference(n_balls):
+    model = MultiBallModel.from_damper(DamperModel(), n_balls)
+    ref = _reference_collisions(model, 20)
+    got = simulate_balls(model, ref[-1][0] + 1e-3)
+    assert len(ref) == 20
+    pr = model.pairs()
+    first_pair = {("wall-" if a == 0 else f"ball{a}", "wall+" if b == 0 else f"ball{b}"): p
+                  for p, (a, b) in enumerate(zip(pr["pa"], pr["pb"], strict=True))}
+    pairs = [first_pair[(f, s)] for f, s in zip(got.impacts.first[:20], got.impacts.second[:20], strict=True)]
+    assert pairs == [p for _, p in ref]
+    assert np.max(np.abs(got.impacts.time[:20] - np.array([t for t, _ in ref]))) < TIME_TOL
+
+
+def test_energy_account_closes_for_a_column():
+    model = MultiBallModel.from_damper(DamperModel(), 4)
+    r = simulate_balls(model, 2.0)
+    assert r.success
+    assert abs(r.energy.relative_closure_error) < 1e-8
+    assert set(r.impacts.first) >= {"wall-", "ball1"}
+    assert math.isfinite(r.impacts.restitution[0])
