@@ -279,8 +279,8 @@ def produce_hearing_wav_5s() -> dict:
 
 
 @functools.cache
-def levels_gallery() -> dict:
-    """``gallery/plot_14_levels.py`` (full mode): its printed design table and its results."""
+def _gallery(script: str) -> dict:
+    """``gallery/SCRIPT`` run in full mode: its printed text (without ``wrote`` lines) and its namespace."""
     import runpy
 
     tmp = _workdir("gallery")
@@ -292,7 +292,7 @@ def levels_gallery() -> dict:
     buf = io.StringIO()
     try:
         with contextlib.redirect_stdout(buf):
-            ns = runpy.run_path(str(ROOT / "gallery" / "plot_14_levels.py"), run_name="__main__")
+            ns = runpy.run_path(str(ROOT / "gallery" / script), run_name="__main__")
     finally:
         sys.path.remove(gallery)
         for k, v in env.items():
@@ -300,7 +300,13 @@ def levels_gallery() -> dict:
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
-    return {"table": _without_writes(buf.getvalue()), "results": ns["results"]}
+    return {"text": _without_writes(buf.getvalue()), "namespace": ns}
+
+
+def levels_gallery() -> dict:
+    """``gallery/plot_14_levels.py`` (full mode): its printed design table and its results."""
+    run = _gallery("plot_14_levels.py")
+    return {"table": run["text"], "results": run["namespace"]["results"]}
 
 
 def produce_hearing_designs() -> dict:
@@ -612,6 +618,66 @@ def produce_bench_startup() -> dict:
     return {"cold": about(cold), "warm": about(warm)}
 
 
+# --------------------------------------------------------------------------- several balls (docs/guide/balls.md)
+def _md_rows(text: str, head: str) -> list:
+    """Cells of the rows of the Markdown table whose header line starts with ``head``."""
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith(head))
+    rows = []
+    for line in lines[start + 2:]:
+        if not line.startswith("|"):
+            break
+        rows.append([c.strip() for c in line.strip("|").split("|")])
+    return rows
+
+
+def produce_bench_balls() -> dict:
+    """Figures of ``benchmarks/results/balls.md`` (``python benchmarks/bench_balls.py``)."""
+    text = (ROOT / "benchmarks" / "results" / "balls.md").read_text(encoding="utf-8")
+    big = _md_rows(text, "| balls | simulated s | collisions | CPU s | CPU ms")[0]
+    ref = _md_rows(text, "| balls | collisions | simulated s | SciPy")
+    cost = _md_rows(text, "| balls | simulated s | collisions | CPU s | CPU us")
+    diffs = {r[0]: float(r[6]) for r in ref}
+    return {"ratio": _range([float(r[5]) for r in ref], ".0f"),
+            "dt2": _bound(diffs["2"]), "dt35": _bound(max(v for k, v in diffs.items() if k != "2")),
+            "per_body": _range([float(r[5]) for r in cost], ".0f"),
+            "n_big": big[0], "collisions_big": big[2], "cpu_big": big[3]}
+
+
+@functools.cache
+def produce_one_ball() -> dict:
+    """One ball in ``simulate_balls`` against the single-ball event solver: 1 s of Table 1, first 20 impacts."""
+    import numpy as np
+
+    from acoustiviz.dynamics import DamperModel, MultiBallModel, simulate, simulate_balls
+
+    model, n = DamperModel(), 20
+    ref = simulate(model, 1.0)
+    got = simulate_balls(MultiBallModel.from_damper(model, 1), 1.0)
+    a, b = ref.impacts, got.impacts
+    return {"dt": _bound(float(np.max(np.abs(b.time[:n] - a.time[:n])))),
+            "dd": _bound(float(np.max(np.abs(b.duration[:n] - a.duration[:n])))),
+            "df": _bound(float(np.max(np.abs(b.peak_force[:n] / a.peak_force[:n] - 1.0))))}
+
+
+def produce_balls_gallery() -> dict:
+    """``gallery/plot_17_balls.py``: its printed table, and the prose of the guide drawn from its results."""
+    run = _gallery("plot_17_balls.py")
+    res = run["namespace"]["results"]
+    best = max(res, key=lambda n: res[n]["reduction"])
+    return {"table": run["text"],
+            "red1": f"{100 * res[1]['reduction']:.0f}", "red_best": f"{100 * res[best]['reduction']:.0f}",
+            "best": str(best), "red10": f"{100 * res[10]['reduction']:.0f}",
+            "settle1": f"{res[1]['settling']:.1f}", "settle_best": f"{res[best]['settling']:.1f}",
+            "settle10": f"{res[10]['settling']:.1f}",
+            "f1": f"{res[1]['peak_force']:.0f}", "f2": f"{res[2]['peak_force']:.0f}",
+            "f10": f"{res[10]['peak_force']:.0f}", "med1": f"{res[1]['median_force']:.0f}",
+            "med10": f"{res[10]['median_force']:.0f}",
+            "c1": str(res[1]["collisions"]), "c10": str(res[10]["collisions"])}
+
+
+BALLS_CMD = "python gallery/plot_17_balls.py"
+
 REGISTRY = (
     Figure("rooms-wav-images", "docs/guide/rooms.md",
            r"A reverberant room needs many images for -60 dB\s+\(order (?P<order>\d+), (?P<mimages>[\d.]+) million "
@@ -758,6 +824,27 @@ REGISTRY = (
            r"20 s of a Table 1 run at 48 kHz in (?P<hs>[\d.]+) s \(half-sine, mono; (?P<hertz>[\d.]+) s with the exact "
            r"Hertz pulse\), (?P<xrt>[\d-]+)× real time", produce_bench_audio,
            "python benchmarks/bench_audio.py --write"),
+    # docs/guide/balls.md
+    Figure("balls-bench", "docs/guide/balls.md",
+           r"the compiled solver is (?P<ratio>[\d-]+) times faster on the first 20 collisions,\s+and the collision "
+           r"times of the two agree within (?P<dt2>[\de.-]+) s \(2 balls\) and (?P<dt35>[\de.-]+) s \(3 and 5 balls\)"
+           r".*?(?P<per_body>[\d-]+) us of CPU per collision and body\. (?P<n_big>\d+) balls\s+over 20 s of the Table 1"
+           r" damper make (?P<collisions_big>\d+) collisions in (?P<cpu_big>[\d.]+) s of CPU", produce_bench_balls,
+           "python benchmarks/bench_balls.py"),
+    Figure("balls-one-ball", "docs/guide/balls.md",
+           r"the impact times agree to (?P<dt>[\de.-]+) s, the\s+contact durations to (?P<dd>[\de.-]+) s and the peak "
+           r"forces to (?P<df>[\de.-]+) of their value", produce_one_ball,
+           "simulate_balls (1 ball) against simulate, 1 s of Table 1"),
+    Figure("balls-table", "docs/guide/balls.md",
+           r"```text\n(?P<table>\d+ s of the Table 1 structure, 40\.5 g.*?)```", produce_balls_gallery, BALLS_CMD),
+    Figure("balls-vibration", "docs/guide/balls.md",
+           r"the RMS reduction rises from (?P<red1>\d+) % with one\s+ball to (?P<red_best>\d+) % with (?P<best>\d+) "
+           r"\(settling in (?P<settle_best>[\d.]+) s instead of (?P<settle1>[\d.]+) s\), then falls back to "
+           r"(?P<red10>\d+) %\s+with 10 \(settling in (?P<settle10>[\d.]+) s\)", produce_balls_gallery, BALLS_CMD),
+    Figure("balls-forces", "docs/guide/balls.md",
+           r"force rises from (?P<f1>\d+) N with one ball to (?P<f2>\d+) N with two,.*?many balls \((?P<f10>\d+) N "
+           r"with 10\); the median peak force falls from (?P<med1>\d+) N to (?P<med10>\d+) N, but\s+the collisions "
+           r"multiply, from (?P<c1>\d+) to (?P<c10>\d+)\.", produce_balls_gallery, BALLS_CMD),
 )
 
 
