@@ -319,7 +319,7 @@ def _files(job: AuralizeJob, rendering) -> tuple:
 
 def _impacts(job: AuralizeJob, damper) -> tuple:
     """``(sequence, sidecar record, damper run)``: the impacts given, or those of the damper run (simulated once)."""
-    from .damper import damper_description
+    from .damper import damper_description, heard_sequence
     from .damper import run as run_damper
 
     if job.impacts is not None:
@@ -327,22 +327,25 @@ def _impacts(job: AuralizeJob, damper) -> tuple:
         return job.impacts, {"impacts_csv": job.impacts_csv, "m_kg": m.m, "M_kg": m.M, "gap_m": m.gap,
                              "k_hertz_n_m1_5": m.k_hertz}, None
     damper = run_damper(job.damper) if damper is None else damper
-    return damper.result.impacts.sequence(), damper_description(job.model, damper, job.duration), damper
+    record = damper_description(job.model, damper, job.duration)
+    if job.damper.balls > 1:
+        record["balls"] = job.damper.balls
+    return heard_sequence(damper.result), record, damper
 
 
-def _levels(job: AuralizeJob, seq, rendering, files):
+def _levels(job: AuralizeJob, seq, rendering, files, damper=None):
     """The levels job's result on the sound computed at 96 kHz (None when no levels are asked for)."""
     if not job.wants_levels:
         return None
-    from ..sound import render
+    from .damper import render_run
     from .levels import ANALYSIS_RATE
     from .levels import run as run_levels
     from .settings.levels import LevelsJob
 
     if rendering.sample_rate != ANALYSIS_RATE:
         points = np.array([lst.position for lst in job.listeners], dtype=float)
-        rendering = render(seq, job.cavity, job.click, points, sample_rate=ANALYSIS_RATE, duration=job.duration,
-                           room_sound=job.room_sound)
+        rendering = render_run(damper.result if damper is not None else None, seq, job.cavity, job.click, points,
+                               sample_rate=ANALYSIS_RATE, duration=job.duration, room_sound=job.room_sound)
     channels = [n for f in files for n in (f.channel_names if job.stereo else f.names)]
     names = {"csv": job.name("levels_csv"), "loudness": job.name("loudness"), "signal": "damper", "input": "damper"}
     return run_levels(LevelsJob(rendering.signal, tuple(channels), loudness=job.loudness, csv=job.levels_csv,
@@ -365,16 +368,15 @@ def run(job: AuralizeJob, *, damper=None) -> AuralizeResult:
     -------
     AuralizeResult
     """
-    from ..sound import render
-    from .damper import check_click_fits
+    from .damper import check_click_fits, render_run
 
     seq, record, damper = _impacts(job, damper)
     check_click_fits(seq, job.model.k_hertz, job.model.m, job.duration,
                      names={k: job.name(k) for k in ("m", "k_hertz", "duration", "velocities")})
     points = np.array([lst.position for lst in job.listeners], dtype=float)
-    rendering = render(seq, job.cavity, job.click, points, sample_rate=job.rate, duration=job.duration,
-                       room_sound=job.room_sound)
+    rendering = render_run(damper.result if damper is not None else None, seq, job.cavity, job.click, points,
+                           sample_rate=job.rate, duration=job.duration, room_sound=job.room_sound)
     files = _files(job, rendering)
     with user_terms({"scale": job.name("scale")}):  # refused before the levels and the files, not after
         check_scale_fits(files, job.subtype, job.scale)
-    return AuralizeResult(job, seq, rendering, files, record, damper, _levels(job, seq, rendering, files))
+    return AuralizeResult(job, seq, rendering, files, record, damper, _levels(job, seq, rendering, files, damper))

@@ -26,8 +26,15 @@ from ..core.images import ImageSet, ImageSource
 from ..core.signal import Signal
 from ..field.sources import image_geometry
 from .sources import CavityScene, ImpactSequence, check_listeners, wall_sources
-from .synthesis import (_TAIL_DECADES, ClickModel, Rendering, _add_exact_clicks, _check_render_args, _oversampling,
-                        decimation_filter)
+from .synthesis import (
+    _TAIL_DECADES,
+    ClickModel,
+    Rendering,
+    _add_exact_clicks,
+    _check_render_args,
+    _oversampling,
+    decimation_filter,
+)
 
 __all__ = ["LEFT_OUT", "BallClicks", "ball_clicks", "render_clicks", "render_balls"]
 
