@@ -172,3 +172,35 @@ def test_a_five_ball_scene_writes_a_calibrated_wav(tmp_path, capsys):
     assert np.max(np.abs(pascal)) == pytest.approx(side["peak_pa"][0], rel=1e-4)
     assert side["balls"]["ball_ball_contacts"] > 0 and side["balls"]["left_out"] == list(LEFT_OUT)
     assert side["damper"]["balls"] == 5
+
+
+def test_auralize_balls_from_the_command_line_and_a_scene_are_equal_jobs(tmp_path):
+    import tomllib
+
+    from acoustiviz.app.pipeline import damper_settings
+    from acoustiviz.app.scene_wav import wav_settings
+    from acoustiviz.cli import build_parser
+    from acoustiviz.cli.auralize import settings_from_args
+    from acoustiviz.scene import scene_from_dict
+
+    argv = ["auralize", "--balls", "3", "--m", "0.0135", "--duration", "1", "--wav", str(tmp_path / "wav_paper.wav")]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    scene = scene_from_dict(tomllib.loads("[damper]\nballs = 3\nimpact_mass_kg = 0.0135\nduration_s = 1.0\n"
+                                          "[outputs.wav]\n"))
+    from_scene = wav_settings(scene, tmp_path, damper_settings(scene))
+    # the two front ends' default solver and memory cap differ (as for one ball): the balls and the model agree
+    for job in (from_cli.damper, from_scene.damper):
+        assert (job.balls, job.k_hertz_ball, job.c1_ball) == (3, None, None)
+    assert from_cli.damper.model == from_scene.damper.model
+    assert from_cli.click == from_scene.click
+
+
+def test_auralize_refuses_several_balls_with_given_impacts(tmp_path, capsys):
+    from acoustiviz.cli import main
+
+    (tmp_path / "i.csv").write_text("time_s,wall,approach_velocity_m_s\n0.1,-1,1.0\n")
+    status = main(["auralize", "--balls", "2", "--impacts", str(tmp_path / "i.csv"), "--wav",
+                   str(tmp_path / "o.wav")])
+    assert status == 2
+    assert "--balls" in capsys.readouterr().err
+    assert not (tmp_path / "o.wav").exists()

@@ -179,17 +179,20 @@ def _run_of(s: AuralizeSettings) -> tuple:
     from .damper import DamperJob, damper_model
     from .names import DAMPER_OPTIONS, MEMORY, vocabulary
     from .outputs import check_input_file
+    from .settings.damper import BALLS
 
     d = s.damper
-    names = {**DAMPER_OPTIONS, **vocabulary("cli", MEMORY)}
+    names = {**DAMPER_OPTIONS, **vocabulary("cli", MEMORY + BALLS)}
     with user_terms(names):
         model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
                              clip_tensile=bool(d.clip_tensile))
         if s.impacts:
+            if d.balls > 1:
+                raise ParameterError("--balls", f"several balls ({d.balls}) need a simulated run, not --impacts")
             check_input_file("--impacts", s.impacts, "CSV file")
             return model, None, read_impacts_csv(s.impacts)
         job = DamperJob(model, InitialState(x=d.x0, v=check_finite("v", d.v0)), d.duration, d.solver, d.rtol, d.dt,
-                        s.max_memory, names=names)
+                        s.max_memory, names=names, balls=d.balls, k_hertz_ball=d.k_hertz_ball, c1_ball=d.c1_ball)
     return model, job, None
 
 
@@ -210,6 +213,9 @@ def job_from_settings(s: AuralizeSettings) -> AuralizeJob:
     if Path(s.wav).suffix.lower() != ".wav":  # before the impacts are read and the damper is checked
         raise ParameterError("--wav", f"must end in .wav, got {s.wav!r}")
     model, damper, impacts = _run_of(s)
+    if s.damper.balls > 1 and (rs is not None or scene.geometry.enclosed):
+        raise ParameterError("--balls", f"several balls ({s.damper.balls}) are heard in free field, on a plane or "
+                                        "in a corner, not in a room: set --balls 1 or another --config")
     files = output_paths(s.wav, 1 if s.stereo else len(listeners))
     return AuralizeJob(model, scene, click, listeners, tuple(str(p) for p in files), s.damper.duration, damper,
                        impacts, s.impacts, rs, stereo=s.stereo, rate=s.rate, subtype=s.subtype, scale=s.scale,
