@@ -157,6 +157,8 @@ def ball_clicks(result, scene: CavityScene, click: ClickModel) -> BallClicks:
     times, speeds, sources, pulses, rows, walls = [], [], [], [], [], []
     for k in range(len(imp)):
         t, v = float(imp.time[k]), abs(float(imp.approach_velocity[k]))
+        if not v > 0.0:  # a contact made at rest (a column settling) accelerates nothing audibly: silent
+            continue
         i, j = _ball_index(str(imp.first[k]), n), _ball_index(str(imp.second[k]), n)
         if i == -1 or j == n:  # a ball on a wall: as the one ball of render(), of this ball's mass
             ball, wall = (j, -1) if i == -1 else (i, 1)
