@@ -204,3 +204,35 @@ def test_auralize_refuses_several_balls_with_given_impacts(tmp_path, capsys):
     assert status == 2
     assert "--balls" in capsys.readouterr().err
     assert not (tmp_path / "o.wav").exists()
+
+
+def test_several_balls_sound_the_same_from_the_command_line_and_a_scene(tmp_path, monkeypatch, capsys):
+    from acoustiviz.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["auralize", "--balls", "3", "--m", "0.0135", "--duration", "1", "--listener", "0.495,0,0.514",
+                 "--wav", "cli.wav"]) == 0
+    capsys.readouterr()
+    toml = tmp_path / "scene.toml"
+    toml.write_text('[damper]\nballs = 3\nimpact_mass_kg = 0.0135\nduration_s = 1.0\nsolver = "event"\n'
+                    '[[listeners]]\nname = "listener1"\nposition_m = [0.495, 0.0, 0.514]\n'
+                    "[outputs.wav]\n[outputs.levels]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    (wav,) = (tmp_path / "scene").glob("*.wav")
+    assert wav.read_bytes() == (tmp_path / "cli.wav").read_bytes()
+    # the API: the same job built from the library's objects
+    from acoustiviz.app.auralize import run
+    from acoustiviz.app.damper import DamperJob, damper_model
+    from acoustiviz.app.settings.auralize import AuralizeJob
+    from acoustiviz.constants import PAPER_RADIUS
+    from acoustiviz.core.listener import Listener
+    from acoustiviz.dynamics import InitialState
+    from acoustiviz.sound.sources import cavity
+
+    model = damper_model(m=0.0135)
+    job = AuralizeJob(model, cavity("plane", PAPER_RADIUS, model.gap), ClickModel(mass=0.0135),
+                      (Listener("listener1", (0.495, 0.0, 0.514)),), ("api.wav",), 1.0,
+                      DamperJob(model, InitialState(), 1.0, "event", balls=3))
+    run(job).write(tmp_path)
+    assert (tmp_path / "api.wav").read_bytes() == wav.read_bytes()
+    assert (tmp_path / "scene" / "levels.csv").read_text().count("\n") == 2  # header and the one listener
