@@ -213,9 +213,10 @@ def test_bad_balls_are_refused_naming_the_option(extra, option, tmp_path, monkey
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_scene_refuses_the_sound_of_several_balls_before_any_work(tmp_path, capsys, no_simulation):
+def test_a_scene_refuses_the_sound_of_several_balls_in_a_room_before_any_work(tmp_path, capsys, no_simulation):
     toml = tmp_path / "scene.toml"
-    toml.write_text("[damper]\nballs = 2\n[outputs.wav]\n")
+    toml.write_text('[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = [0.3]\n'
+                    "[damper]\nballs = 2\n[outputs.wav]\n")
     assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
     assert "damper.balls: " in capsys.readouterr().err
     assert not (tmp_path / "out").exists()

@@ -179,17 +179,20 @@ def _run_of(s: AuralizeSettings) -> tuple:
     from .damper import DamperJob, damper_model
     from .names import DAMPER_OPTIONS, MEMORY, vocabulary
     from .outputs import check_input_file
+    from .settings.damper import BALLS
 
     d = s.damper
-    names = {**DAMPER_OPTIONS, **vocabulary("cli", MEMORY)}
+    names = {**DAMPER_OPTIONS, **vocabulary("cli", MEMORY + BALLS)}
     with user_terms(names):
         model = damper_model(M=d.M, K=d.K, C=d.C, m=d.m, gap=d.gap, k_hertz=d.k_hertz, c1=d.c1,
                              clip_tensile=bool(d.clip_tensile))
         if s.impacts:
+            if d.balls > 1:
+                raise ParameterError("--balls", f"several balls ({d.balls}) need a simulated run, not --impacts")
             check_input_file("--impacts", s.impacts, "CSV file")
             return model, None, read_impacts_csv(s.impacts)
         job = DamperJob(model, InitialState(x=d.x0, v=check_finite("v", d.v0)), d.duration, d.solver, d.rtol, d.dt,
-                        s.max_memory, names=names)
+                        s.max_memory, names=names, balls=d.balls, k_hertz_ball=d.k_hertz_ball, c1_ball=d.c1_ball)
     return model, job, None
 
 
@@ -210,6 +213,9 @@ def job_from_settings(s: AuralizeSettings) -> AuralizeJob:
     if Path(s.wav).suffix.lower() != ".wav":  # before the impacts are read and the damper is checked
         raise ParameterError("--wav", f"must end in .wav, got {s.wav!r}")
     model, damper, impacts = _run_of(s)
+    if s.damper.balls > 1 and (rs is not None or scene.geometry.enclosed):
+        raise ParameterError("--balls", f"several balls ({s.damper.balls}) are heard in free field, on a plane or "
+                                        "in a corner, not in a room: set --balls 1 or another --config")
     files = output_paths(s.wav, 1 if s.stereo else len(listeners))
     return AuralizeJob(model, scene, click, listeners, tuple(str(p) for p in files), s.damper.duration, damper,
                        impacts, s.impacts, rs, stereo=s.stereo, rate=s.rate, subtype=s.subtype, scale=s.scale,
@@ -319,7 +325,7 @@ def _files(job: AuralizeJob, rendering) -> tuple:
 
 def _impacts(job: AuralizeJob, damper) -> tuple:
     """``(sequence, sidecar record, damper run)``: the impacts given, or those of the damper run (simulated once)."""
-    from .damper import damper_description
+    from .damper import damper_description, heard_sequence
     from .damper import run as run_damper
 
     if job.impacts is not None:
@@ -327,22 +333,25 @@ def _impacts(job: AuralizeJob, damper) -> tuple:
         return job.impacts, {"impacts_csv": job.impacts_csv, "m_kg": m.m, "M_kg": m.M, "gap_m": m.gap,
                              "k_hertz_n_m1_5": m.k_hertz}, None
     damper = run_damper(job.damper) if damper is None else damper
-    return damper.result.impacts.sequence(), damper_description(job.model, damper, job.duration), damper
+    record = damper_description(job.model, damper, job.duration)
+    if job.damper.balls > 1:
+        record["balls"] = job.damper.balls
+    return heard_sequence(damper.result), record, damper
 
 
-def _levels(job: AuralizeJob, seq, rendering, files):
+def _levels(job: AuralizeJob, seq, rendering, files, damper=None):
     """The levels job's result on the sound computed at 96 kHz (None when no levels are asked for)."""
     if not job.wants_levels:
         return None
-    from ..sound import render
+    from .damper import render_run
     from .levels import ANALYSIS_RATE
     from .levels import run as run_levels
     from .settings.levels import LevelsJob
 
     if rendering.sample_rate != ANALYSIS_RATE:
         points = np.array([lst.position for lst in job.listeners], dtype=float)
-        rendering = render(seq, job.cavity, job.click, points, sample_rate=ANALYSIS_RATE, duration=job.duration,
-                           room_sound=job.room_sound)
+        rendering = render_run(damper.result if damper is not None else None, seq, job.cavity, job.click, points,
+                               sample_rate=ANALYSIS_RATE, duration=job.duration, room_sound=job.room_sound)
     channels = [n for f in files for n in (f.channel_names if job.stereo else f.names)]
     names = {"csv": job.name("levels_csv"), "loudness": job.name("loudness"), "signal": "damper", "input": "damper"}
     return run_levels(LevelsJob(rendering.signal, tuple(channels), loudness=job.loudness, csv=job.levels_csv,
@@ -365,16 +374,15 @@ def run(job: AuralizeJob, *, damper=None) -> AuralizeResult:
     -------
     AuralizeResult
     """
-    from ..sound import render
-    from .damper import check_click_fits
+    from .damper import check_click_fits, render_run
 
     seq, record, damper = _impacts(job, damper)
     check_click_fits(seq, job.model.k_hertz, job.model.m, job.duration,
                      names={k: job.name(k) for k in ("m", "k_hertz", "duration", "velocities")})
     points = np.array([lst.position for lst in job.listeners], dtype=float)
-    rendering = render(seq, job.cavity, job.click, points, sample_rate=job.rate, duration=job.duration,
-                       room_sound=job.room_sound)
+    rendering = render_run(damper.result if damper is not None else None, seq, job.cavity, job.click, points,
+                           sample_rate=job.rate, duration=job.duration, room_sound=job.room_sound)
     files = _files(job, rendering)
     with user_terms({"scale": job.name("scale")}):  # refused before the levels and the files, not after
         check_scale_fits(files, job.subtype, job.scale)
-    return AuralizeResult(job, seq, rendering, files, record, damper, _levels(job, seq, rendering, files))
+    return AuralizeResult(job, seq, rendering, files, record, damper, _levels(job, seq, rendering, files, damper))

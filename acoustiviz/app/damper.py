@@ -25,7 +25,7 @@ import warnings
 from dataclasses import dataclass
 
 from .. import dynamics
-from .._validate import check_choice, check_finite
+from .._validate import ParameterError, check_choice, check_finite
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, SOLVER_RTOL_RANGE, TABLE1_PARAMETERS
 from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
@@ -350,3 +350,41 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
                                      f"click of the slowest impact ({slowest:.3g} m/s) last {tau:.3g} s, longer "
                                      f"than the {duration:g} s sound; use a lighter mass, a stiffer contact or a "
                                      f"longer {n['duration']}")
+
+
+def heard_sequence(result):
+    """The impacts on the cavity's walls of a run (:class:`~acoustiviz.sound.ImpactSequence`).
+
+    One ball: every impact. Several balls (a :class:`~acoustiviz.dynamics.MultiBallResult`): the contacts
+    of a ball with a wall, times in s, walls -1/+1, approach speeds in m/s; the ball-ball contacts stay in
+    the impact table (:func:`render_run` hears them too).
+    """
+    import numpy as np
+
+    from ..sound import ImpactSequence
+
+    imp = result.impacts
+    if hasattr(imp, "sequence"):
+        return imp.sequence()
+    on_wall = (imp.first == "wall-") | (imp.second == "wall+")
+    walls = np.where(imp.first[on_wall] == "wall-", -1, 1)
+    return ImpactSequence(imp.time[on_wall], walls, np.abs(imp.approach_velocity[on_wall]))
+
+
+def render_run(result, sequence, cavity, click, points, *, sample_rate: int, duration: float, room_sound=None):
+    """The sound in Pa of a damper run at the listeners ``points`` (m): the one home of that choice.
+
+    One ball: :func:`acoustiviz.sound.render` of ``sequence`` (the run's impacts). Several balls: every
+    collision of the run, ball-wall and ball-ball (:func:`acoustiviz.sound.render_balls`); ``click`` is
+    the ball-wall contact and a room's sound is refused (``balls``).
+    """
+    from ..dynamics import MultiBallResult
+    from ..sound import render, render_balls
+
+    if isinstance(result, MultiBallResult) and result.model.n_balls > 1:
+        if room_sound is not None:
+            raise ParameterError("balls", "several balls are heard in free field, on a plane or in a corner, "
+                                          "not in a room: set balls = 1 or another configuration")
+        return render_balls(result, cavity, click, points, sample_rate=sample_rate, duration=duration)
+    return render(sequence, cavity, click, points, sample_rate=sample_rate, duration=duration,
+                  room_sound=room_sound)

@@ -262,15 +262,17 @@ def damper_settings(scene, out=None):
                      **files, **balls)
 
 
-def _one_ball_heard(scene) -> None:
-    """Refuse a sound of the damper (WAV, levels, spectrum) with several balls: their sound is one ball's alone."""
+def _balls_heard(scene) -> None:
+    """Refuse the sound of several balls (WAV, levels, spectrum) in a room: it is rendered with exact images only."""
     from ..errors import ParameterError
+    from .scene_levels import damper_cavity
 
     n = scene.section("damper")["balls"]
-    if n > 1:
-        raise ParameterError("damper.balls", f"the sound of the damper is synthesised for one ball, got {n}: set "
-                                             "damper.balls = 1 or ask only for [outputs.impact_table] and "
-                                             "[outputs.damper_history]")
+    if n > 1 and (scene.room_sound() is not None
+                  or damper_cavity(scene, scene_damper_model(scene), scene.medium()).geometry.enclosed):
+        raise ParameterError("damper.balls", f"several balls ({n}) are heard in free field, on a plane or in a "
+                                             "corner, not in a room: set damper.balls = 1 or another "
+                                             "configuration.kind")
 
 
 def _write_damper(ctx: RunContext, kind: str) -> list:
@@ -367,10 +369,10 @@ _SETTINGS = {
     "level_map": map_settings,
     "sweep": sweep_settings,
     "design_table": lambda scene: (sweep_settings(scene), design_settings(scene)),
-    "wav": lambda scene: (_one_ball_heard(scene), wav_settings(scene, None, damper_settings(scene))),
+    "wav": lambda scene: (_balls_heard(scene), wav_settings(scene, None, damper_settings(scene))),
     "optimize": optimize_settings,
-    "levels": lambda scene: (_one_ball_heard(scene), levels_settings(scene)),
-    "spectrum": lambda scene: (_one_ball_heard(scene), levels_settings(scene)),
+    "levels": lambda scene: (_balls_heard(scene), levels_settings(scene)),
+    "spectrum": lambda scene: (_balls_heard(scene), levels_settings(scene)),
     "snapshot": snapshot_settings,
     "balloon": balloon_settings,
     "animation": animation_settings,

@@ -57,7 +57,7 @@ def damper_sound_setup(ctx):
     than the run is refused as on the command line (:func:`acoustiviz.app.damper.check_click_fits`).
     """
     from ..sound import ClickModel
-    from .damper import check_click_fits
+    from .damper import check_click_fits, heard_sequence
 
     radius = ctx.scene.damper_sphere_radius()
     room = damper_cavity(ctx.scene, ctx.damper_model, ctx.medium)
@@ -65,7 +65,7 @@ def damper_sound_setup(ctx):
     model = ClickModel(k_hertz=ctx.damper_model.k_hertz, mass=ctx.damper_model.m, main_mass=ctx.damper_model.M,
                        mass_model=contact["pulse_mass"], pulse=contact["pulse"])
     named = [Listener(name, position) for name, position in ctx.scene.listeners(radius)]
-    seq = ctx.damper_run.impacts.sequence()
+    seq = heard_sequence(ctx.damper_run)
     d = ctx.damper_model
     check_click_fits(seq, d.k_hertz, d.m, ctx.damper_run.duration,
                      names={"m": "damper.impact_mass_kg", "k_hertz": "contact.k_hertz_n_m1_5",
@@ -106,16 +106,16 @@ def levels_settings(scene, out=None, signal=None, channels=()):
 
 def _result(ctx) -> LevelsResult:
     """The run's levels, computed and their files written once per run; kept on the context."""
-    from ..sound import render
+    from .damper import render_run
     from .levels import run
 
     if _CACHE not in ctx.__dict__:
         check_levels_settings(ctx.scene)
         seq, room, model, names, points = damper_sound_setup(ctx)
-        ctx.progress(f"levels of {len(seq)} impacts at {len(names)} listener(s), rendered at "
+        ctx.progress(f"levels of {len(ctx.damper_run.impacts)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")
-        rendering = render(seq, room, model, points, sample_rate=ANALYSIS_RATE, duration=ctx.damper_run.duration,
-                           room_sound=ctx.scene.room_sound())
+        rendering = render_run(ctx.damper_run, seq, room, model, points, sample_rate=ANALYSIS_RATE,
+                               duration=ctx.damper_run.duration, room_sound=ctx.scene.room_sound())
         result = run(levels_settings(ctx.scene, ctx.out, rendering.signal, names))
         ctx.__dict__[_CACHE] = result, result.write()
     return ctx.__dict__[_CACHE]
@@ -138,6 +138,9 @@ def produce_levels(ctx):
     if room.geometry.enclosed:  # a room returns the sound: no radiated energy, no sound power
         ctx.progress("sound power and radiation efficiency: not defined in a room (its walls close the fluid, so "
                      "no surface around the sphere encloses the energy radiated away)")
+        return [Product("levels", main, figures), Product("levels", bands, {})]
+    if ctx.damper.settings.balls > 1:  # the energy account is per ball-wall impact of one ball
+        ctx.progress("sound power and radiation efficiency: computed for one ball only")
         return [Product("levels", main, figures), Product("levels", bands, {})]
     energy = run_energy(ctx.damper_run.impacts, room, model, ctx.damper_run.duration)
     if energy.loudest >= 0:

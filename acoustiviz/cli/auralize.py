@@ -13,6 +13,7 @@ Positions are in m in the frame where the struck surface is ``z = 0`` and the sp
 from __future__ import annotations
 
 from ..app.settings.auralize import AURALIZE_GROUPS
+from ..app.settings.damper import BALLS
 from ..app.settings.table import add_option
 from ._damper import add_damper_options
 from ._impact import add_room_options
@@ -33,6 +34,9 @@ def add_parser(subparsers) -> None:
         "scale (float32 in pascals with --subtype FLOAT). Lengths in m, times in s.",
     )
     add_damper_options(p, duration_help="simulated time; the WAV lasts this long, or to the end of the last click")
+    balls = p.add_argument_group("several balls (every collision heard: ball-wall and ball-ball)")
+    for s in BALLS:
+        add_option(balls, s)
     for title, records in AURALIZE_GROUPS:
         group = p.add_argument_group(title)
         for s in records:
@@ -92,6 +96,10 @@ def sound_lines(result) -> list:
              f"sound: sphere radius {job.cavity.radius * 1e3:.2f} mm ({job.radius_source}), pulse {model.pulse}, "
              f"mass model {model.mass_model}, configuration {scene.geometry.name}, walls {scene.walls}; "
              f"{job.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)"]
+    if out.balls is not None:  # several balls: the ball-ball contacts are heard too
+        b = out.balls
+        lines.insert(1, f"balls: {job.damper.balls}, {b['ball_ball_contacts']} ball-ball contacts heard as pairs of "
+                        f"spheres pushed apart; left out: {', '.join(b['left_out'])}")
     geometry = scene.geometry
     if not getattr(geometry, "enclosed", False):
         return lines

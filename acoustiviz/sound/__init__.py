@@ -43,6 +43,13 @@ Wall ``-1`` is struck when the impact mass reaches ``y - x = -gap/2``, so with `
 the damper's ``+x`` is ``+n``; with ``struck_wall=+1`` it is ``-n``. The cavity is at rest in
 this frame: the main mass's displacement (a few cm) is neglected, as in the paper.
 
+Several balls (:mod:`.balls_sound`, :func:`render_balls`): every collision accelerates both of its
+bodies. A ball-wall contact radiates as above (the ball touching the far wall sits the other balls'
+diameters further along ``n``); a ball-ball contact radiates as two rigid spheres at the balls' centres
+with equal and opposite impulses (the colliding-sphere dipole pair), each with the Hertz pulse of the
+pair's effective mass and stiffness, with the same images. Left out: the acoustic interaction of the
+touching spheres, their own modes, the ringing of the cavity walls.
+
 A room's sound (:mod:`.room_sound`) adds the exact early images, per-band absorption and a
 statistical late tail. The signals are in pascals; this package writes no files (the WAV files
 and their sidecars are written by :mod:`acoustiviz.output.audio`).
@@ -52,6 +59,7 @@ All quantities are SI (s, m, kg, m/s, Pa, Hz) unless a name says otherwise (``_d
 
 from __future__ import annotations
 
+from .balls_sound import BallClicks, ball_clicks, render_balls, render_clicks
 from .room_sound import RoomSound, parse_absorption_bands
 from .sources import (
     MASS_MODELS,
@@ -93,6 +101,10 @@ __all__ = [
     "check_listeners",
     "ear_positions",
     "render",
+    "BallClicks",
+    "ball_clicks",
+    "render_clicks",
+    "render_balls",
     "RoomSound",
     "parse_absorption_bands",
 ]

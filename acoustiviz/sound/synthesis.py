@@ -230,6 +230,9 @@ class Rendering:
     room : dict, optional
         In a room rendered with a :class:`~acoustiviz.sound.room_sound.RoomSound`: the
         exact image order, the transition time, the tail and the bands (JSON-ready).
+    balls : dict, optional
+        Several balls (:mod:`acoustiviz.sound.balls_sound`): the contacts rendered and what the model
+        leaves out (JSON-ready).
     """
 
     signal: Signal
@@ -239,6 +242,7 @@ class Rendering:
     scene: CavityScene
     model: ClickModel
     room: dict | None = None
+    balls: dict | None = None
 
     @property
     def pressure(self) -> np.ndarray:
@@ -289,6 +293,8 @@ class Rendering:
             out["scene"].update({k: self.room[k] for k in ("image_order", "images", "neglected_energy_db",
                                                              "late_tail", "transition_s")})
             out["room_sound"] = self.room
+        if self.balls is not None:  # several balls: the ball-ball contacts and what their sound leaves out
+            out["balls"] = self.balls
         return out
 
 

@@ -30,7 +30,7 @@ from ...constants import (
     WAV_RATE,
 )
 from .base import Settings, vocabulary
-from .damper import DAMPER
+from .damper import BALLS, DAMPER
 from .impact import IMPACT
 from .room import ROOM, RoomOptions
 from .table import Setting, by_name
@@ -170,7 +170,7 @@ class DamperSettings(Settings):
     the physics' limits (:func:`acoustiviz.core.limits.check_damper`) when the run is set up.
     """
 
-    TABLE = DAMPER
+    TABLE = DAMPER + BALLS
 
     M: float = TABLE1_PARAMETERS["M"]
     K: float = TABLE1_PARAMETERS["K"]
@@ -186,6 +186,9 @@ class DamperSettings(Settings):
     solver: str = "event"
     dt: float | None = None
     rtol: float = DEFAULT_RTOL
+    balls: int = 1
+    k_hertz_ball: float | None = None
+    c1_ball: float | None = None
     names: dict | None = dataclasses.field(default=None, compare=False, repr=False)
 
     def validate(self) -> None:
@@ -205,7 +208,7 @@ class AuralizeSettings(Settings):
     """
 
     TABLE = AURALIZE
-    BUILT_FROM = DAMPER
+    BUILT_FROM = DAMPER + BALLS
     wav: str = "out.wav"
     damper: DamperSettings = dataclasses.field(default_factory=DamperSettings)
     room: RoomOptions = dataclasses.field(default_factory=RoomOptions)
@@ -317,7 +320,7 @@ class AuralizeJob(Settings):
 
     TABLE = AURALIZE_JOB
     # every option of the command (the room's sound, the damper), the memory cap and the files
-    BUILT_FROM = (*ALL, *DAMPER, *MEMORY)
+    BUILT_FROM = (*ALL, *DAMPER, *BALLS, *MEMORY)
     ALIASES = {**ALIASES["damper"], **ALIASES["room_sound"], "wav_files": "wav", "order": "image_order",
                "velocities": "impacts"}
     LOOKUP = ROOM  # the room's image order

@@ -1,0 +1,238 @@
+"""The sound of several balls: every collision radiating from both its bodies (acoustiviz.sound.balls_sound)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from acoustiviz.core.images import ImageSource
+from acoustiviz.dynamics import BallState, DamperModel, MultiBallModel, simulate_balls
+from acoustiviz.sound import BallClicks, CavityScene, ClickModel, ImpactSequence, ball_clicks, render, render_balls
+from acoustiviz.sound.balls_sound import LEFT_OUT, render_clicks
+
+#: Relative tolerance of two renderings of the same spheres by different routes (rounding of the distances only).
+SAME = 1e-9
+RADIUS = 0.01  # m, every sphere's radius in the free-field pair
+GAP = 0.04  # m
+PAIR = dict(k_hertz=2e9, mass=0.02, main_mass=0.02, mass_model="effective")  # two equal 20 g balls
+SPEED = 1.3  # m/s, their approach speed
+T0 = 1e-3  # s, the moment of contact
+
+
+def _run(n_balls: int, duration: float, m: float = 0.0405):
+    """A multi-ball run of the Table 1 damper with ``n_balls`` balls of ``m`` kg each, motion sampled at 10 kHz."""
+    model = MultiBallModel.from_damper(DamperModel(m=m), n_balls)
+    return simulate_balls(model, duration, initial=BallState(), t_eval=np.linspace(0.0, duration,
+                                                                                   int(duration * 1e4) + 1))
+
+
+def _free_pair():
+    """Two equal spheres touching at the middle of a free-field cavity, pushed apart along the axis."""
+    scene = CavityScene("free", radius=RADIUS, gap=GAP)
+    n, mid = scene.axis, scene.geometry.centre + 0.5 * GAP * scene.axis
+    lower, upper = mid - RADIUS * n, mid + RADIUS * n
+    pulse = ClickModel(**PAIR).pulse_for(SPEED)
+    clicks = BallClicks(np.array([T0, T0]), np.array([SPEED, SPEED]),
+                        (scene.geometry.image_sources(ImageSource(lower, -n, 0, "ball1")),
+                         scene.geometry.image_sources(ImageSource(upper, n, 0, "ball2"))),
+                        (pulse, pulse), np.array([0, 0]), np.array([0, 0]))
+    return scene, clicks, lower, upper
+
+
+def _one_sphere(scene, listener, centre, axis_sign):
+    """The one-ball rendering of a sphere at ``centre`` accelerated along ``axis_sign * n``, heard at ``listener``.
+
+    The struck-wall sphere of ``render`` sits at the geometry's centre accelerating along +n: the listener is
+    moved into its frame (and mirrored along n for a sphere accelerated along -n).
+    """
+    n = scene.axis
+    d = np.asarray(listener) - centre
+    if axis_sign < 0:
+        d = d - 2.0 * (d @ n) * n
+    seq = ImpactSequence([T0], [-1], [SPEED])
+    return render(seq, scene, ClickModel(**PAIR), scene.geometry.centre + d, sample_rate=96000).pressure[0]
+
+
+def _common(*rows):
+    n = min(r.size for r in rows)
+    for r in rows:
+        assert np.all(r[n:] == 0.0) or np.max(np.abs(r[n:])) < SAME * np.max(np.abs(r))
+    return [r[:n] for r in rows]
+
+
+def test_one_ball_gives_exactly_the_single_ball_rendering():
+    run = _run(1, 2.0)
+    imp = run.impacts
+    assert len(imp) > 10
+    seq = ImpactSequence(imp.time, np.where(imp.first == "wall-", -1, 1), np.abs(imp.approach_velocity))
+    scene, click, listener = CavityScene("plane", gap=0.04), ClickModel(), [0.495, 0.0, 0.514]
+    today = render(seq, scene, click, listener)
+    mine = render_balls(run, scene, click, listener)
+    assert np.array_equal(mine.pressure, today.pressure)
+    assert mine.internal_rate == today.internal_rate
+
+
+def test_head_on_pair_each_sphere_radiates_as_a_rigid_sphere():
+    scene, clicks, lower, upper = _free_pair()
+    n = scene.axis
+    mid = 0.5 * (lower + upper)
+    for listener in (mid + 0.3 * np.array([1.0, 0.0, 0.0]), mid + 0.3 * n):
+        p_lo = render_clicks(clicks.take([0]), scene, ClickModel(**PAIR), listener, sample_rate=96000).pressure[0]
+        p_hi = render_clicks(clicks.take([1]), scene, ClickModel(**PAIR), listener, sample_rate=96000).pressure[0]
+        ref_lo, ref_hi = _one_sphere(scene, listener, lower, -1), _one_sphere(scene, listener, upper, +1)
+        p_lo, p_hi, ref_lo, ref_hi = _common(p_lo, p_hi, ref_lo, ref_hi)
+        scale = np.max(np.abs(ref_hi))
+        np.testing.assert_allclose(p_lo, ref_lo, rtol=0, atol=SAME * scale)
+        np.testing.assert_allclose(p_hi, ref_hi, rtol=0, atol=SAME * scale)
+
+
+def test_head_on_pair_on_the_bisector_and_on_the_axis():
+    """Mirror symmetry about the bisector: there the two spheres (pushed apart) sound alike and add; on the axis
+    the near one pushes towards the listener and the far one away: opposite signs, the pair's dipoles cancel in
+    the main (a longitudinal quadrupole: no net force)."""
+    scene, clicks, lower, upper = _free_pair()
+    n, mid = scene.axis, 0.5 * (lower + upper)
+    click = ClickModel(**PAIR)
+    bisector = mid + 0.3 * np.array([1.0, 0.0, 0.0])
+    p_lo, p_hi, both = _common(*(render_clicks(c, scene, click, bisector, sample_rate=96000).pressure[0]
+                                 for c in (clicks.take([0]), clicks.take([1]), clicks)))
+    np.testing.assert_allclose(p_lo, p_hi, rtol=0, atol=SAME * np.max(np.abs(p_hi)))
+    np.testing.assert_allclose(both, p_lo + p_hi, rtol=0, atol=SAME * np.max(np.abs(p_hi)))
+    axis = mid + 0.3 * n
+    p_lo, p_hi, both = _common(*(render_clicks(c, scene, click, axis, sample_rate=96000).pressure[0]
+                                 for c in (clicks.take([0]), clicks.take([1]), clicks)))
+    assert np.max(p_hi) > 0 > np.min(p_lo)  # first arrivals: compression ahead of the upper, rarefaction behind
+    assert np.argmax(np.abs(p_hi)) < np.argmax(np.abs(p_lo))  # the near sphere is heard first
+    assert p_hi[np.argmax(np.abs(p_hi))] > 0 > p_lo[np.argmax(np.abs(p_lo))]
+    np.testing.assert_allclose(both, p_lo + p_hi, rtol=0, atol=SAME * np.max(np.abs(p_hi)))
+    # the sum's net low-frequency content (∫p dt) cancels to the pair's 1/r² difference, far below each sphere's
+    assert abs(both.sum()) < 0.5 * abs(p_hi.sum())
+
+
+def test_ball_ball_contacts_are_two_touching_spheres_pushed_apart():
+    run = _run(2, 2.0, m=0.02)
+    scene = CavityScene("plane", gap=0.04, radius=0.0085)
+    clicks = ball_clicks(run, scene, ClickModel(mass=0.02))
+    pairs = np.flatnonzero(clicks.walls == 0)
+    assert pairs.size >= 2 and pairs.size % 2 == 0
+    r_ball = run.model.cavities[0].radii[0]
+    for i in pairs[::2]:
+        lo, hi = clicks.sources[i][0], clicks.sources[i + 1][0]
+        assert clicks.collision[i] == clicks.collision[i + 1]
+        np.testing.assert_allclose(hi.position - lo.position, 2 * r_ball * scene.axis, atol=1e-12)
+        np.testing.assert_allclose(lo.axis, -scene.axis)
+        np.testing.assert_allclose(hi.axis, scene.axis)
+        assert clicks.pulses[i] == clicks.pulses[i + 1]  # equal balls: equal and opposite
+        assert len(clicks.sources[i]) == 2  # the sphere and its image in the plane
+    walls = clicks.walls[clicks.walls != 0]
+    assert set(walls.tolist()) <= {-1, 1}
+    assert clicks.describe()["left_out"] == list(LEFT_OUT)
+
+
+def test_a_multi_ball_run_is_the_sum_of_its_collisions():
+    run = _run(3, 1.0, m=0.0135)
+    scene, click, listener = CavityScene("plane", gap=0.04), ClickModel(mass=0.0135), [0.495, 0.0, 0.514]
+    clicks = ball_clicks(run, scene, click)
+    whole = render_clicks(clicks, scene, click, listener)
+    L = int(round(whole.internal_rate / whole.sample_rate))
+    total = np.zeros(whole.n_samples)
+    rows = np.unique(clicks.collision)
+    assert rows.size == len(run.impacts) > 20
+    for k in rows:
+        part = render_clicks(clicks.take(clicks.collision == k), scene, click, listener, oversampling=L).pressure[0]
+        assert part.size <= total.size
+        total[:part.size] += part
+    np.testing.assert_allclose(whole.pressure[0], total, rtol=0, atol=1e-12 * np.max(np.abs(total)))
+
+
+def test_several_balls_in_a_room_are_refused_naming_balls():
+    from acoustiviz.errors import ParameterError
+    from acoustiviz.sound.sources import cavity
+
+    run = _run(2, 0.3, m=0.02)
+    room = cavity("room", 0.0085, 0.04, room={"dimensions": "3,2.5,2", "absorption": "0.3",
+                                              "source": "1.5,1.2,0.0085", "duration": 0.02})
+    with pytest.raises(ParameterError, match="^balls"):
+        ball_clicks(run, room, ClickModel(mass=0.02))
+
+
+def test_a_five_ball_scene_writes_a_calibrated_wav(tmp_path, capsys):
+    soundfile = pytest.importorskip("soundfile")
+    from acoustiviz.cli import main
+
+    toml = tmp_path / "scene.toml"
+    toml.write_text("[damper]\nballs = 5\nimpact_mass_kg = 0.0081\nduration_s = 1.0\n[outputs.wav]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    (wav,) = (tmp_path / "out").glob("*.wav")
+    data, rate = soundfile.read(wav, always_2d=True)
+    side = json.loads(wav.with_suffix(".json").read_text())
+    assert rate == side["sample_rate_hz"] == 48000
+    assert np.all(np.isfinite(data)) and np.max(np.abs(data)) > 0.01
+    pascal = data * side["scale_pa_per_full_scale"]
+    assert np.max(np.abs(pascal)) == pytest.approx(side["peak_pa"][0], rel=1e-4)
+    assert side["balls"]["ball_ball_contacts"] > 0 and side["balls"]["left_out"] == list(LEFT_OUT)
+    assert side["damper"]["balls"] == 5
+
+
+def test_auralize_balls_from_the_command_line_and_a_scene_are_equal_jobs(tmp_path):
+    import tomllib
+
+    from acoustiviz.app.pipeline import damper_settings
+    from acoustiviz.app.scene_wav import wav_settings
+    from acoustiviz.cli import build_parser
+    from acoustiviz.cli.auralize import settings_from_args
+    from acoustiviz.scene import scene_from_dict
+
+    argv = ["auralize", "--balls", "3", "--m", "0.0135", "--duration", "1", "--wav", str(tmp_path / "wav_paper.wav")]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    scene = scene_from_dict(tomllib.loads("[damper]\nballs = 3\nimpact_mass_kg = 0.0135\nduration_s = 1.0\n"
+                                          "[outputs.wav]\n"))
+    from_scene = wav_settings(scene, tmp_path, damper_settings(scene))
+    # the two front ends' default solver and memory cap differ (as for one ball): the balls and the model agree
+    for job in (from_cli.damper, from_scene.damper):
+        assert (job.balls, job.k_hertz_ball, job.c1_ball) == (3, None, None)
+    assert from_cli.damper.model == from_scene.damper.model
+    assert from_cli.click == from_scene.click
+
+
+def test_auralize_refuses_several_balls_with_given_impacts(tmp_path, capsys):
+    from acoustiviz.cli import main
+
+    (tmp_path / "i.csv").write_text("time_s,wall,approach_velocity_m_s\n0.1,-1,1.0\n")
+    status = main(["auralize", "--balls", "2", "--impacts", str(tmp_path / "i.csv"), "--wav",
+                   str(tmp_path / "o.wav")])
+    assert status == 2
+    assert "--balls" in capsys.readouterr().err
+    assert not (tmp_path / "o.wav").exists()
+
+
+def test_several_balls_sound_the_same_from_the_command_line_and_a_scene(tmp_path, monkeypatch, capsys):
+    from acoustiviz.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["auralize", "--balls", "3", "--m", "0.0135", "--duration", "1", "--listener", "0.495,0,0.514",
+                 "--wav", "cli.wav"]) == 0
+    capsys.readouterr()
+    toml = tmp_path / "scene.toml"
+    toml.write_text('[damper]\nballs = 3\nimpact_mass_kg = 0.0135\nduration_s = 1.0\nsolver = "event"\n'
+                    '[[listeners]]\nname = "listener1"\nposition_m = [0.495, 0.0, 0.514]\n'
+                    "[outputs.wav]\n[outputs.levels]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    (wav,) = (tmp_path / "scene").glob("*.wav")
+    assert wav.read_bytes() == (tmp_path / "cli.wav").read_bytes()
+    # the API: the same job built from the library's objects
+    from acoustiviz.app.auralize import run
+    from acoustiviz.app.damper import DamperJob, damper_model
+    from acoustiviz.app.settings.auralize import AuralizeJob
+    from acoustiviz.constants import PAPER_RADIUS
+    from acoustiviz.core.listener import Listener
+    from acoustiviz.dynamics import InitialState
+    from acoustiviz.sound.sources import cavity
+
+    model = damper_model(m=0.0135)
+    job = AuralizeJob(model, cavity("plane", PAPER_RADIUS, model.gap), ClickModel(mass=0.0135),
+                      (Listener("listener1", (0.495, 0.0, 0.514)),), ("api.wav",), 1.0,
+                      DamperJob(model, InitialState(), 1.0, "event", balls=3))
+    run(job).write(tmp_path)
+    assert (tmp_path / "api.wav").read_bytes() == wav.read_bytes()
+    assert (tmp_path / "scene" / "levels.csv").read_text().count("\n") == 2  # header and the one listener
