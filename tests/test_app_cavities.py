@@ -13,9 +13,8 @@ import tomllib
 import pytest
 
 import acoustiviz.dynamics
-from acoustiviz.app.damper import DamperJob, balls_model, damper_model, run
+from acoustiviz.app.damper import DamperCavity, DamperJob, balls_model, damper_model, run
 from acoustiviz.app.pipeline import damper_settings
-from acoustiviz.app.settings.damper_job import DamperCavity
 from acoustiviz.cli import main
 from acoustiviz.errors import ParameterError
 from acoustiviz.scene import scene_from_dict

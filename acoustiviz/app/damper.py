@@ -29,10 +29,10 @@ from .._validate import ParameterError, check_choice, check_finite
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, SOLVER_RTOL_RANGE, TABLE1_PARAMETERS
 from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
-from .settings.damper_job import DamperJob
+from .settings.damper_job import DamperCavity, DamperJob
 
-__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "balls_model", "check_damper_run", "choose_solver",
-           "run_damper", "damper_description", "damping_figures", "check_click_fits"]
+__all__ = ["DamperJob", "DamperCavity", "DamperResult", "run", "damper_model", "balls_model", "check_damper_run",
+           "choose_solver", "run_damper", "damper_description", "damping_figures", "check_click_fits"]
 
 
 def damper_model(*, M: float = TABLE1_PARAMETERS["M"], K: float = TABLE1_PARAMETERS["K"],
