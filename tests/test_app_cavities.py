@@ -111,12 +111,22 @@ def test_a_malformed_cavity_is_refused_naming_its_key(text, key, tmp_path, capsy
 
 @pytest.mark.parametrize("kwargs, name", [({"cavities": (DamperCavity(gap=-1.0),)}, "cavities[0].gap"),
                                           ({"cavities": (DamperCavity(), DamperCavity(m=0.0))}, "cavities[1].m"),
+                                          ({"cavities": (DamperCavity(m=1e-9),)}, "cavities[0].m"),
                                           ({"cavities": CAVITIES, "balls": 2}, "balls"),
                                           ({"cavities": CAVITIES, "solver": "newmark"}, "solver")])
 def test_the_api_refuses_a_bad_cavity_naming_its_parameter(kwargs, name, no_simulation):
     with pytest.raises(ParameterError) as info:
         DamperJob(damper_model(), duration=0.5, **kwargs)
     assert info.value.name == name
+
+
+def test_a_cavity_whose_contacts_cannot_be_followed_is_refused_naming_its_key(tmp_path, capsys, no_simulation):
+    # a ball far lighter than the main mass: in its record's range, below what the solver can follow
+    toml = tmp_path / "scene.toml"
+    toml.write_text(SCENE.replace("gap_m = 0.05", "gap_m = 0.05\nimpact_mass_kg = 1e-9"))
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
+    assert "damper.cavities[1].impact_mass_kg: " in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
 
 
 @pytest.mark.parametrize("output", ["wav", "levels", "spectrum"])

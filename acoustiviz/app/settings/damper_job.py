@@ -146,6 +146,7 @@ class DamperJob(Settings):
             self._check_balls()
         check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=start.v,
                      duration=self.duration, c1=model.c1)
+        self._check_cavity_physics()
         self._check_budget()
         self._check_files()
 
@@ -180,6 +181,25 @@ class DamperJob(Settings):
                 raise ParameterError(f"{where}[{i}]", f"must be a DamperCavity, got {cav!r}")
             names = {s.name: f"{where}[{i}].{s.key if where != 'cavities' else s.name}" for s in CAVITY}
             check_values(dataclasses.asdict(cav), CAVITY, names)
+
+    def _check_cavity_physics(self) -> None:
+        """Each cavity's contacts within what the solver can follow (:func:`acoustiviz.core.limits.check_damper`).
+
+        An error about the ball mass or the travel names the cavity's key, any other the cavity.
+        """
+        from ..._validate import ParameterError
+        from ...core.limits import check_damper
+
+        model, where = self.model, self.names.get("cavities", "cavities")
+        for i, cav in enumerate(self.cavities):
+            m, gap = model.m if cav.m is None else cav.m, model.gap if cav.gap is None else cav.gap
+            try:
+                check_damper(M=model.M, K=model.K, m=m, gap=gap, k_hertz=model.k_hertz, v=self.initial.v,
+                             duration=self.duration, c1=model.c1)
+            except ParameterError as exc:
+                field = {"m": "impact_mass_kg", "gap": "gap_m"} if where != "cavities" else {"m": "m", "gap": "gap"}
+                name = f"{where}[{i}].{field[exc.name]}" if exc.name in field else f"{where}[{i}]"
+                raise exc.renamed(name) from None
 
     def total_balls(self) -> int:
         """Number of balls on the main mass, in every cavity."""
