@@ -29,10 +29,10 @@ from .._validate import ParameterError, check_choice, check_finite
 from ..constants import DEFAULT_RTOL, PAPER_GAP, PAPER_V0, SCENE_SOLVERS, SOLVER_RTOL_RANGE, TABLE1_PARAMETERS
 from ..dynamics import DamperModel, InitialState, cheapest_solver, solver_method
 from ..dynamics.metrics import DampingMetrics, damping_metrics, sample_times
-from .settings.damper_job import DamperJob
+from .settings.damper_job import DamperCavity, DamperJob
 
-__all__ = ["DamperJob", "DamperResult", "run", "damper_model", "balls_model", "check_damper_run", "choose_solver",
-           "run_damper", "damper_description", "damping_figures", "check_click_fits"]
+__all__ = ["DamperJob", "DamperCavity", "DamperResult", "run", "damper_model", "balls_model", "check_damper_run",
+           "choose_solver", "run_damper", "damper_description", "damping_figures", "check_click_fits"]
 
 
 def damper_model(*, M: float = TABLE1_PARAMETERS["M"], K: float = TABLE1_PARAMETERS["K"],
@@ -119,7 +119,7 @@ class DamperResult:
 
         files = {k: Path(v) if folder is None else Path(folder) / v for k, v in self.settings.files().items()
                  if only is None or k in only}
-        if self.settings.balls > 1:
+        if self.settings.balls > 1 or self.settings.cavities:
             return _write_balls(self, files)
         res, written = self.result, []
         if "impacts_csv" in files:
@@ -154,7 +154,7 @@ def run(settings: DamperJob) -> DamperResult:
     from .names import user_terms
 
     s = settings
-    if s.balls > 1:
+    if s.balls > 1 or s.cavities:
         return _run_balls(s)
     with user_terms(s.names):  # an error of the physics in the front end's words
         method = solver_method(s.solver)
@@ -171,11 +171,20 @@ def run(settings: DamperJob) -> DamperResult:
 
 
 def balls_model(settings: DamperJob):
-    """The :class:`~acoustiviz.dynamics.MultiBallModel` of a job: ``balls`` steel spheres of the impact mass."""
-    from ..dynamics import MultiBallModel
+    """The :class:`~acoustiviz.dynamics.MultiBallModel` of a job: ``balls`` steel spheres of the impact mass.
 
-    s = settings
-    return MultiBallModel.from_damper(s.model, s.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball)
+    With ``cavities``, one :class:`~acoustiviz.dynamics.Cavity` of equal steel spheres per cavity, in order,
+    each value it leaves out the model's; the ball-wall contact is the model's in every cavity.
+    """
+    from ..dynamics import MultiBallModel, equal_balls
+
+    s, model = settings, settings.model
+    if not s.cavities:
+        return MultiBallModel.from_damper(model, s.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball)
+    cavities = tuple(equal_balls(c.balls, model.m if c.m is None else c.m, model.gap if c.gap is None else c.gap,
+                                 model.k_hertz, model.c1, k_ball=c.k_hertz_ball, c_ball=c.c1_ball)
+                     for c in s.cavities)
+    return MultiBallModel(cavities, model.M, model.K, model.C, model.clip_tensile)
 
 
 def _run_balls(s: DamperJob) -> DamperResult:
@@ -206,9 +215,8 @@ def _write_balls(damper: DamperResult, files: dict) -> list:
 
         written.append(write_ball_impact_table(files["impacts_csv"], res.impacts))
     if "history_csv" in files:
-        n = res.y.shape[1]
-        header = ["time_s", "x_m", "v_m_s", *(f"y{i}_m" for i in range(1, n + 1)),
-                  *(f"w{i}_m_s" for i in range(1, n + 1))]
+        header = ["time_s", "x_m", "v_m_s", *(f"{b}_m" for b in _ball_columns(res.model, "y")),
+                  *(f"{b}_m_s" for b in _ball_columns(res.model, "w"))]
         written.append(write_csv_atomic(files["history_csv"], header,
                                         [res.t, res.x, res.v, *res.y.T, *res.w.T]))
     if "png" in files:
@@ -219,9 +227,16 @@ def _write_balls(damper: DamperResult, files: dict) -> list:
 
         # the plot reads the main mass's motion and the damper's figures: those of the one-ball model
         view = SimpleNamespace(t=res.t, x=res.x, impacts=res.impacts, model=damper.settings.model,
-                               initial=damper.settings.initial, solver=f"{damper.settings.balls} balls")
+                               initial=damper.settings.initial, solver=f"{damper.settings.total_balls()} balls")
         written.append(save_figure(plot_free_vibration(view).figure, files["png"]))
     return [Path(p) for p in written]
+
+
+def _ball_columns(model, letter: str) -> list:
+    """``y1 ... yN`` of the balls in axis order; with several cavities ``c1_y1 ...``, numbered per cavity."""
+    several = len(model.cavities) > 1
+    return [f"c{ic}_{letter}{i}" if several else f"{letter}{i}"
+            for ic, cav in enumerate(model.cavities, start=1) for i in range(1, cav.n_balls + 1)]
 
 
 def run_damper(model: DamperModel, duration: float, *, solver: str = "event", v0: float = PAPER_V0,

@@ -250,23 +250,32 @@ def damper_settings(scene, out=None):
     folder ``out`` (None: no files, the checks of the scene's settings alone, made before the run folder
     exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
-    from .settings.damper import BALLS
-    from .settings.damper_job import DamperJob
+    from .settings.damper import BALLS, CAVITY
+    from .settings.damper_job import DamperCavity, DamperJob
 
     d = scene.section("damper")
     files = {} if out is None else {key: str(Path(out) / name) for kind, names in DAMPER_FILES.items()
                                     if scene.wants(kind) for key, name in names.items()}
     balls = {s.name: d[s.key] for s in BALLS}
+    cavities = tuple(DamperCavity(**{s.name: c[s.key] for s in CAVITY}) for c in d.get("cavities", ()))
     return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=DamperJob.names_for("scene"),
-                     **files, **balls)
+                     **files, **balls, cavities=cavities)
 
 
 def _balls_heard(scene) -> None:
-    """Refuse the sound of several balls (WAV, levels, spectrum) in a room: it is rendered with exact images only."""
+    """Refuse the sound (WAV, levels, spectrum) of ``[[damper.cavities]]``, and of several balls in a room.
+
+    The sound of several balls is rendered for the one cavity of ``damper.balls``, with exact images only.
+    """
     from ..errors import ParameterError
     from .scene_levels import damper_cavity
 
+    cavities = scene.section("damper").get("cavities", ())
+    if cavities:  # the sound module renders the balls of damper.balls, one cavity
+        raise ParameterError("damper.cavities", f"the sound (WAV, levels, spectrum) is rendered for the one cavity of "
+                                                f"damper.balls, not for {len(cavities)} [[damper.cavities]]: give "
+                                                "one cavity's balls as damper.balls")
     n = scene.section("damper")["balls"]
     if n > 1 and (scene.room_sound() is not None
                   or damper_cavity(scene, scene_damper_model(scene), scene.medium()).geometry.enclosed):

@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass
 
 from ..app.settings.auralize import ALL as _AURALIZE
-from ..app.settings.damper import BALLS, DAMPER
+from ..app.settings.damper import BALLS, CAVITY, DAMPER
 from ..app.settings.design import DESIGN, RANK_BY
 from ..app.settings.forced import AMPLITUDE, EXCITATION_KIND, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
@@ -114,6 +114,10 @@ _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
     "main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m", "contact_damping_n_s_m",
     "clip_tensile", "initial_velocity_m_s", "initial_displacement_m", "duration_s", "solver", "tolerance")}
 _DAMPER.update(_from_table(BALLS, "damper"))  # several balls in the cavity (acoustiviz damper --balls)
+# several cavities on the main mass, each with its balls ([[damper.cavities]]; a scene's only)
+_DAMPER["cavities"] = Table(_from_table(CAVITY, "damper.cavities"),
+                            "several cavities on the main mass, each a column of equal balls (numbered c1, c2 ... "
+                            "in the impact table); damper.balls stays 1", array=True)
 
 _EXCITATION = _from_table((EXCITATION_KIND, AMPLITUDE, FREQUENCIES, *FORCED), "excitation")
 # the frequencies are written as text (a range or a list), each value in the record's range

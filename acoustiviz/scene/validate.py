@@ -182,7 +182,11 @@ def _validate_table(data, table: Table, src: str, path: str, fill_defaults: bool
             _unknown(src, path, key, table.keys)
         spec = table.keys[key]
         sub = f"{path}.{key}" if path else key
-        if isinstance(spec, Table):
+        if isinstance(spec, Table) and spec.array and path:  # [[table.key]]: a list of tables, each checked
+            if not isinstance(value, list) or not value:
+                raise SceneError(src, sub, f"expected one or more [[{sub}]] tables, got {value!r}")
+            out[key] = [_validate_table(item, spec, src, f"{sub}[{i}]") for i, item in enumerate(value)]
+        elif isinstance(spec, Table):
             out[key] = _validate_table(value, spec, src, sub)
         else:
             out[key] = _check_key(value, spec, src, sub)

@@ -11,6 +11,8 @@ speeds in m/s, times in s.
 
 from __future__ import annotations
 
+import dataclasses
+
 from ...constants import (
     AUTO_TOLERANCE_RANGE,
     DEFAULT_DURATION,
@@ -23,7 +25,7 @@ from ...constants import (
 )
 from .table import Setting, check_values
 
-__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "check_values"]
+__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "CAVITY", "check_values"]
 
 _D = "damper"
 
@@ -97,4 +99,29 @@ BALLS = (
     Setting("c1_ball", "--c1-ball", "contact_damping_ball_n_s_m", "float", None,
             "contact damping between two balls (default: --c1)", "N s/m", low=0.0, high=1e9, table=_D,
             metavar="N*S/M"),
+)
+
+
+def _cavity_record(record: Setting, doc: str) -> Setting:
+    """``record`` as a key of a scene's ``[[damper.cavities]]``: its range and unit, no option.
+
+    Its default is None, the ``[damper]`` value, except the number of balls (one).
+    """
+    return dataclasses.replace(record, option=None, doc=doc, table="damper.cavities",
+                               default=record.default if record.name == "balls" else None)
+
+
+#: One cavity of several on the main mass (a scene's ``[[damper.cavities]]``; the Python API's
+#: :class:`acoustiviz.app.settings.damper_job.DamperCavity`): its free travel, its column of equal balls,
+#: their mass and the ball-ball contact. The ranges are those of the one-cavity records; a value left out
+#: is the ``[damper]`` one (the ball-ball contact: as for ``balls``).
+CAVITY = (
+    _cavity_record(MODEL[4], "free travel of the cavity: its length less its balls' diameters (default: "
+                             "damper.gap_m)"),
+    _cavity_record(BALLS[0], "number of equal spheres in the cavity, in a column"),
+    _cavity_record(MODEL[3], "mass of each ball of the cavity (default: damper.impact_mass_kg)"),
+    _cavity_record(BALLS[1], "Hertz stiffness between two balls of the cavity (default: paper eq 2 for two "
+                             "steel spheres of its ball mass)"),
+    _cavity_record(BALLS[2], "contact damping between two balls of the cavity (default: "
+                             "damper.contact_damping_n_s_m)"),
 )

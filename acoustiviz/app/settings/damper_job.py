@@ -14,11 +14,11 @@ import dataclasses
 
 from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_V0
 from .base import Settings
-from .damper import BALLS, CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
+from .damper import BALLS, CAVITY, CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
 from .table import Setting, check_values
 from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
-__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperJob"]
+__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperCavity", "DamperJob"]
 
 #: The files of ``acoustiviz damper`` (a scene names them itself: ``impacts.csv`` for ``[outputs.impact_table]``,
 #: ``damper_history.csv`` and ``.png`` for ``[outputs.damper_history]``).
@@ -37,6 +37,31 @@ DAMPER_OUTPUTS = (
 
 #: Each file of the job -> the kind of file :func:`acoustiviz.app.outputs.check_output_file` expects.
 FILE_KINDS = {"impacts_csv": "csv", "history_csv": "csv", "png": "figure"}
+
+
+@dataclasses.dataclass(frozen=True)
+class DamperCavity:
+    """One cavity of several on the main mass: a column of ``balls`` equal steel spheres of mass ``m``.
+
+    Attributes
+    ----------
+    gap : float, optional
+        Free travel in m, the cavity's length less its balls' diameters (default: the job's ``model.gap``).
+    balls : int
+        Number of balls in the cavity.
+    m : float, optional
+        Mass of each ball in kg (default: the job's ``model.m``).
+    k_hertz_ball : float, optional
+        Hertz stiffness between two balls in N/m^1.5 (default: paper eq 2 for two steel spheres of mass ``m``).
+    c1_ball : float, optional
+        Contact damping between two balls in N s/m (default: the job's ``model.c1``).
+    """
+
+    gap: float | None = None
+    balls: int = 1
+    m: float | None = None
+    k_hertz_ball: float | None = None
+    c1_ball: float | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -72,6 +97,9 @@ class DamperJob(Settings):
         impact mass); ``model.k_hertz`` stays the ball-wall stiffness.
     c1_ball : float, optional
         Contact damping between two balls in N s/m (default ``model.c1``).
+    cavities : tuple of DamperCavity
+        Several cavities on the main mass, numbered from 1 (``c2:ball1`` in the impact table); each
+        value it leaves out is the model's. Empty (default): the one cavity of ``model`` and ``balls``.
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name
         (not compared; default: the API names).
@@ -80,7 +108,7 @@ class DamperJob(Settings):
     TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS, *BALLS)  # duration, solver, dt, rtol, the files, the balls
     BUILT_FROM = (*DAMPER, *MEMORY)  # the model and the start; the memory cap
     ALIASES = ALIASES["damper"]
-    DERIVED_NAMES = {"scene": OUTPUT_TABLES["damper"]}
+    DERIVED_NAMES = {"scene": {**OUTPUT_TABLES["damper"], "cavities": "damper.cavities"}}
     model: object
     initial: object = None
     duration: float = DEFAULT_DURATION
@@ -94,6 +122,7 @@ class DamperJob(Settings):
     balls: int = 1
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
+    cavities: tuple = ()
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def files(self) -> dict:
@@ -111,10 +140,13 @@ class DamperJob(Settings):
         check_values({s.name: getattr(model, s.name) for s in MODEL + CONTACT_LAW}, MODEL + CONTACT_LAW)
         check_values({"x0": start.x, "v0": start.v}, RUN)
         solver_method(self.solver).check_rtol(self.rtol)
-        if self.balls > 1:
+        if self.cavities:
+            self._check_cavities()
+        if self.balls > 1 or self.cavities:
             self._check_balls()
         check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=start.v,
                      duration=self.duration, c1=model.c1)
+        self._check_cavity_physics()
         self._check_budget()
         self._check_files()
 
@@ -126,13 +158,52 @@ class DamperJob(Settings):
 
         name = self.names.get("solver", "solver")
         if self.solver not in ("event", "auto"):
-            raise ParameterError(name, f"{self.solver!r} takes one ball; with {self.names.get('balls', 'balls')} "
-                                       f"{self.balls} the balls run by the event method (solver 'event' or 'auto')")
+            what = (f"{self.names.get('cavities', 'cavities')} ({len(self.cavities)})" if self.cavities
+                    else f"{self.names.get('balls', 'balls')} {self.balls}")
+            raise ParameterError(name, f"{self.solver!r} takes one ball; with {what} the balls run by the event "
+                                       "method (solver 'event' or 'auto')")
         lo, hi = SOLVER_RTOL_RANGE
         if not lo <= self.rtol <= hi:
             raise ParameterError(self.names.get("rtol", "rtol"), f"must lie in [{lo:g}, {hi:g}] with several balls, "
                                                                 f"got {self.rtol!r}")
         solver_method("event").settings(self.model, self.initial, self.duration, self.rtol, None)  # C underdamped
+
+    def _check_cavities(self) -> None:
+        """Each cavity's values in its records' ranges, named ``cavities[i].gap`` (or the scene's key)."""
+        from ..._validate import ParameterError
+
+        if self.balls != 1:
+            raise ParameterError(self.names.get("balls", "balls"), "the balls of several cavities are given per "
+                                 f"cavity ({self.names.get('cavities', 'cavities')}): leave balls at 1")
+        where = self.names.get("cavities", "cavities")
+        for i, cav in enumerate(self.cavities):
+            if not isinstance(cav, DamperCavity):
+                raise ParameterError(f"{where}[{i}]", f"must be a DamperCavity, got {cav!r}")
+            names = {s.name: f"{where}[{i}].{s.key if where != 'cavities' else s.name}" for s in CAVITY}
+            check_values(dataclasses.asdict(cav), CAVITY, names)
+
+    def _check_cavity_physics(self) -> None:
+        """Each cavity's contacts within what the solver can follow (:func:`acoustiviz.core.limits.check_damper`).
+
+        An error about the ball mass or the travel names the cavity's key, any other the cavity.
+        """
+        from ..._validate import ParameterError
+        from ...core.limits import check_damper
+
+        model, where = self.model, self.names.get("cavities", "cavities")
+        for i, cav in enumerate(self.cavities):
+            m, gap = model.m if cav.m is None else cav.m, model.gap if cav.gap is None else cav.gap
+            try:
+                check_damper(M=model.M, K=model.K, m=m, gap=gap, k_hertz=model.k_hertz, v=self.initial.v,
+                             duration=self.duration, c1=model.c1)
+            except ParameterError as exc:
+                field = {"m": "impact_mass_kg", "gap": "gap_m"} if where != "cavities" else {"m": "m", "gap": "gap"}
+                name = f"{where}[{i}].{field[exc.name]}" if exc.name in field else f"{where}[{i}]"
+                raise exc.renamed(name) from None
+
+    def total_balls(self) -> int:
+        """Number of balls on the main mass, in every cavity."""
+        return sum(c.balls for c in self.cavities) if self.cavities else self.balls
 
     def _check_budget(self) -> None:
         import dataclasses
@@ -141,10 +212,12 @@ class DamperJob(Settings):
 
         option = self.names.get("duration", "duration")
         estimate = damper_estimate(self.model, self.duration, solver=self.solver, dt=self.dt, options=(option,))
-        if self.balls > 1:  # the position and velocity of every body at every sample, not 6 columns
-            estimate = dataclasses.replace(estimate, memory=estimate.memory * (2 * self.balls + 2) / 16.0,
-                                           what=f"{estimate.what} x {self.balls} balls",
-                                           options=(option, self.names.get("balls", "balls")))
+        n = self.total_balls()
+        if self.balls > 1 or self.cavities:  # the position and velocity of every body at every sample, not 6 columns
+            estimate = dataclasses.replace(estimate, memory=estimate.memory * (2 * n + 2) / 16.0,
+                                           what=f"{estimate.what} x {n} balls",
+                                           options=(option, self.names.get("cavities" if self.cavities else "balls",
+                                                                           "balls")))
         check_budget(estimate, self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
 
     def _check_files(self) -> None:
