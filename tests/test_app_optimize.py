@@ -227,3 +227,19 @@ def test_a_bad_room_option_is_one_line_naming_it(argv, message, tmp_path, capsys
     assert len(err.splitlines()) == 1
     assert re.search(message, err), err
     assert not (tmp_path / "o").exists()
+
+
+def test_in_operation_the_room_reaches_the_designs_as_in_free_vibration(tmp_path):
+    # a sweep in operation takes a room, so an optimisation in operation does: the same room from both front ends
+    argv = ["optimize", "--gap", "0.04", "--m", "0.03:0.06", "--force", "5", "--freq", "6.5,7", "--starts", "2",
+            "--minimize", "worst_laeq_db", "--evaluations", "3", "--workers", "1", *ROOM_ARGV,
+            "--out", str(tmp_path / "optimize")]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    scene = ROOM_SCENE + ('[damper]\nsolver = "event"\n[excitation]\nkind = "force"\namplitude = 5.0\n'
+                          'frequencies_hz = "6.5,7"\nstarts = 2\n[outputs.optimize]\ngap_m = "0.04"\n'
+                          'mass_kg = "0.03:0.06"\nminimize = ["worst_laeq_db"]\nevaluations = 3\nworkers = 1\n'
+                          'in_operation = true\n')
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(scene)), tmp_path)
+    assert from_cli.mode == from_scene.mode == "operation"
+    assert dict(from_cli.fixed.room)["dimensions"] == (3.0, 2.5, 2.0)
+    assert from_cli == from_scene
