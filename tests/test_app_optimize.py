@@ -20,9 +20,11 @@ import pytest
 
 pytest.importorskip("optuna")
 
+from acoustiviz.app.impacts import room_settings  # noqa: E402
 from acoustiviz.app.optimize import optimize_variables, run  # noqa: E402
 from acoustiviz.app.scene_optimize import optimize_settings  # noqa: E402
 from acoustiviz.app.settings.optimize import OptimizeJob  # noqa: E402
+from acoustiviz.app.sweep import with_room  # noqa: E402
 from acoustiviz.cli import build_parser, main  # noqa: E402
 from acoustiviz.cli.optimize import settings_from_args  # noqa: E402
 from acoustiviz.errors import ParameterError  # noqa: E402
@@ -174,3 +176,70 @@ def test_bad_input_is_one_line_naming_the_option_before_any_work(argv, message, 
     assert len(err.splitlines()) == 1
     assert re.search(message, err), err
     assert not (tmp_path / "o").exists()
+
+
+#: The sweep's room (absorbing walls, a 5 ms window) on the command line and as a scene's configuration.
+ROOM_ARGV = ("--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--room-window", "0.005")
+ROOM_SCENE = ('[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = [0.3]\n'
+              'source_m = [1.0, 1.0, 0.01905]\nwindow_s = 0.005\n')
+#: Two designs in the room: enough to compare the front ends.
+ROOM_BUDGET = ("--evaluations", "2", "--batch", "2")
+
+
+def test_an_optimisation_in_a_room_is_the_same_from_every_front_end(tmp_path, capsys):
+    argv = ["optimize", *ARGV, *ROOM_BUDGET, *ROOM_ARGV, "--out"]
+    from_cli = settings_from_args(build_parser().parse_args([*argv, str(tmp_path / "scene" / "optimize")]))
+    scene_text = ROOM_SCENE + SCENE.replace("evaluations = 6\nbatch = 4", "evaluations = 2\nbatch = 2")
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(scene_text)), tmp_path / "scene")
+    assert from_cli.fixed.room is not None
+    assert from_cli == from_scene
+    assert main([*argv, str(tmp_path / "cli")]) == 0, capsys.readouterr().err
+    toml = tmp_path / "scene.toml"
+    toml.write_text(scene_text)
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    room = room_settings("3,2.5,2", absorption="0.3", source="1,1,0.01905", duration=0.005)
+    variables, fixed = optimize_variables(with_room({"gap": "0.01:0.06", "m": "0.01:0.08", "duration": 0.3}, room))
+    api = tmp_path / "api"
+    run(OptimizeJob(variables, fixed, minimize=("max_spl_db",), constraints=BAND, evaluations=2, batch=2, seed=3,
+                    out=str(api), workers=1)).write()
+    for name in FILES:
+        mine = (tmp_path / "cli" / name).read_bytes()
+        assert (tmp_path / "scene" / "optimize" / name).read_bytes() == mine, f"the scene's {name} differs"
+        assert (api / name).read_bytes() == mine, f"the API's {name} differs"
+    room = dict(json.loads((api / "optimize.json").read_text())["fixed"]["room"])  # the numbers, typed or listed
+    assert room["dimensions"] == [3.0, 2.5, 2.0] and room["absorption"] == [0.3] and room["duration"] == 0.005
+    rows = _rows(api / "evaluations.csv")
+    assert len(rows) == 2 and all(r["config"] == "room" and not r["error"] for r in rows)
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (("--room", "3,2.5"), r"error: --room: "),
+    (("--room", "3,2.5,2", "--absorption", "1.5", "--room-window", "0.005"), r"error: --absorption: "),
+    (("--room", "3,2.5,2", "--source", "9,1,0.01905", "--room-window", "0.005"), r"error: --source: "),
+    (("--room-window", "0.005",), r"error: --room-window: only applies with --room"),
+    (("--absorption", "0.3",), r"error: --absorption: only applies with --room"),
+    (("--room", "3,2.5,2", "--config", "plane", "--room-window", "0.005"), r"error: --config: "),
+])
+def test_a_bad_room_option_is_one_line_naming_it(argv, message, tmp_path, capsys):
+    assert main(["optimize", "--gap", "0.01:0.06", "--minimize", "max_spl_db", *argv,
+                 "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert re.search(message, err), err
+    assert not (tmp_path / "o").exists()
+
+
+def test_in_operation_the_room_reaches_the_designs_as_in_free_vibration(tmp_path):
+    # a sweep in operation takes a room, so an optimisation in operation does: the same room from both front ends
+    argv = ["optimize", "--gap", "0.04", "--m", "0.03:0.06", "--force", "5", "--freq", "6.5,7", "--starts", "2",
+            "--minimize", "worst_laeq_db", "--evaluations", "3", "--workers", "1", *ROOM_ARGV,
+            "--out", str(tmp_path / "optimize")]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    scene = ROOM_SCENE + ('[damper]\nsolver = "event"\n[excitation]\nkind = "force"\namplitude = 5.0\n'
+                          'frequencies_hz = "6.5,7"\nstarts = 2\n[outputs.optimize]\ngap_m = "0.04"\n'
+                          'mass_kg = "0.03:0.06"\nminimize = ["worst_laeq_db"]\nevaluations = 3\nworkers = 1\n'
+                          'in_operation = true\n')
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(scene)), tmp_path)
+    assert from_cli.mode == from_scene.mode == "operation"
+    assert dict(from_cli.fixed.room)["dimensions"] == (3.0, 2.5, 2.0)
+    assert from_cli == from_scene

@@ -86,3 +86,20 @@ def test_outputs_and_report(tmp_path):
     assert np.isfinite(run.table["max_spl_db"]).all()
     with pytest.raises(ParameterError, match="^sweep"):
         DesignJob(sweep=str(tmp_path / "none"), inclination=0.008)
+
+
+def test_a_room_typed_or_listed_is_the_same_setting(tmp_path):
+    # the command line types the room as text, a scene lists numbers: both are the room's numbers in the spec
+    from acoustiviz.cli import build_parser
+    from acoustiviz.cli.sweep import settings_from_args
+
+    args = build_parser().parse_args(["sweep", "--gap", "0.02", "--room", "3,2.5,2", "--absorption", "0.3",
+                                      "--source", "1,1,0.01905", "--room-window", "0.005",
+                                      "--out", str(tmp_path / "sw")])
+    typed = dict(settings_from_args(args).spec.settings.room)
+    scene = scene_from_dict({"configuration": {"kind": "room", "room_m": [3.0, 2.5, 2.0], "absorption": [0.3],
+                                               "source_m": [1.0, 1.0, 0.01905], "window_s": 0.005},
+                             "outputs": {"sweep": {"gap_m": "0.02"}}})
+    listed = dict(scene_sweep_spec(scene).settings.room)
+    assert typed == listed
+    assert typed["dimensions"] == (3.0, 2.5, 2.0) and typed["source"] == (1.0, 1.0, 0.01905)

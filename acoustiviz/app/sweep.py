@@ -320,6 +320,8 @@ def with_room(given: dict, room: dict | None, *, names=None) -> dict:
         is built once around the sweep's sphere (the paper's radius when it follows the mass), so
         a source too close to a wall or a window without images fails here; errors name the room's
         parameters as ``names`` says (API parameter -> option or scene key; default: the API names).
+        Its dimensions, absorption and source are kept as the numbers the room read (text such as
+        ``"6,4,3"`` becomes ``(6.0, 4.0, 3.0)``), so the same room typed or listed is the same setting.
     """
     if room is None:
         return given
@@ -328,5 +330,6 @@ def with_room(given: dict, room: dict | None, *, names=None) -> dict:
     from ..errors import user_terms
 
     with user_terms(names or {}):
-        geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
-    return {**given, "config": given.get("config") or Room.name, "room": room}
+        built = geometry(Room.name, sweep_radius(given.get("radius", PAPER_RADIUS))[1], **room)
+    read = {k: getattr(built, k) for k in ("dimensions", "absorption", "source") if k in room}
+    return {**given, "config": given.get("config") or Room.name, "room": {**room, **read}}

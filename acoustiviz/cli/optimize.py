@@ -23,6 +23,7 @@ from ..app.settings.optimize import EXECUTION, OPTIMIZE, REPEATED, VARIABLES
 from ..app.settings.sweep import SWEEP_DAMPER, SWEEP_SOUND
 from ..app.settings.sweep_operation import OPERATION_OPTIONS, SEARCH
 from ..app.settings.table import add_option
+from .sweep import add_room, given_with_room
 
 
 def add_parser(subparsers):
@@ -53,6 +54,7 @@ def add_parser(subparsers):
                               f"default {SEARCH['solver'].default} and {SEARCH['rtol'].default:g})")
     for s in OPERATION_OPTIONS:
         add_option(op, s, dest=s.name)
+    add_room(p)  # the sweep's room, with its --room-window
     e = p.add_argument_group("execution and outputs")
     for s in EXECUTION:
         add_option(e, s, dest=s.name, **({"required": True} if s.name == "out" else {}))
@@ -68,6 +70,7 @@ def settings_from_args(args):
     names = OptimizeJob.names_for("cli")
     given = {s.name: getattr(args, s.name) for s in (*VARIABLES, *SWEEP_DAMPER, *SWEEP_SOUND, *OPERATION_OPTIONS)
              if getattr(args, s.name) is not None}
+    given = given_with_room(args, given)
     for s in OPTIMIZE[3:6]:
         s.check(getattr(args, s.name), s.option)
     operation, given = operation_of(given, names)

@@ -52,8 +52,7 @@ def add_parser(subparsers):
         g = p.add_argument_group(title)
         for s in records:
             add_option(g, s, dest=s.name, **({"metavar": "DURATION"} if s.option == "--duration" else {}))
-    add_room_options(p)  # --config room with --room; the window its images reach is --room-window
-    add_option(p, _RUN["room_window"], dest="room_window")
+    add_room(p)
     o = p.add_argument_group("execution and outputs")
     for s in SWEEP_RUN:
         if s.name != "room_window":
@@ -62,8 +61,21 @@ def add_parser(subparsers):
     return p
 
 
-def _given(args) -> dict:
-    """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values the options give, ``--room``'s checked now."""
+def add_room(parser) -> None:
+    """Add the room options of a sweep's designs (``acoustiviz sweep`` and ``acoustiviz optimize``).
+
+    ``--room`` and the shoebox's other options (``--config room`` with ``--room``); the window its images
+    reach is ``--room-window``.
+    """
+    add_room_options(parser)
+    add_option(parser, _RUN["room_window"], dest="room_window")
+
+
+def given_with_room(args, given: dict) -> dict:
+    """``given`` with the room of the options (:func:`acoustiviz.app.sweep.with_room`), ``--room``'s checked now.
+
+    Errors name the options; ``--room-window`` without ``--room`` is refused.
+    """
     from .._validate import ParameterError
     from ..app.names import SWEEP_ROOM_OPTIONS
     from ..app.sweep import with_room
@@ -71,9 +83,14 @@ def _given(args) -> dict:
 
     if args.room is None and args.room_window is not None:
         raise ParameterError("--room-window", "only applies with --room LX,LY,LZ")
+    return with_room(given, room_settings_from_args(args, duration=args.room_window), names=SWEEP_ROOM_OPTIONS)
+
+
+def _given(args) -> dict:
+    """The :func:`~acoustiviz.app.settings.sweep_job.sweep_job` values the options give, ``--room``'s checked now."""
     given = {s.name: getattr(args, s.name) for _, records in _GROUPS for s in records
              if getattr(args, s.name) is not None}
-    return with_room(given, room_settings_from_args(args, duration=args.room_window), names=SWEEP_ROOM_OPTIONS)
+    return given_with_room(args, given)
 
 
 def settings_from_args(args):

@@ -12,9 +12,11 @@ import dataclasses
 
 from ...errors import ParameterError
 from .base import Settings
-from .sweep import SCENE_SWEEP, SWEEP, SWEEP_DAMPER, SWEEP_SOUND, SWEPT
+from .room import ROOM
+from .sweep import SCENE_SWEEP, SWEEP, SWEEP_DAMPER, SWEEP_RUN, SWEEP_SOUND, SWEPT
 from .sweep_operation import OPERATION_OPTIONS
-from .table import Setting
+from .table import Setting, by_name
+from .vocabulary import ALIASES as GROUP_ALIASES
 
 __all__ = ["OPTIMIZE", "VARIABLES", "EXECUTION", "REPEATED", "SCENE_VARIABLES", "SCENE_LEVELS", "SCENE_OPERATION",
            "OptimizeJob", "FILES", "CONFIRMATION"]
@@ -127,9 +129,12 @@ class OptimizeJob(Settings):
     """
 
     TABLE = OPTIMIZE[3:7] + EXECUTION
-    # the sweep's records this job shares, and those of a sweep in operation
-    BUILT_FROM = VARIABLES + OPTIMIZE + SWEEP_DAMPER + SWEEP_SOUND + OPERATION_OPTIONS
-    ALIASES = {"angle": "angle_deg", "radius_mode": "radius", "objectives": "minimize", "variables": "gap"}
+    # the sweep's records this job shares, those of a sweep in operation and the sweep's room with its window
+    BUILT_FROM = VARIABLES + OPTIMIZE + SWEEP_DAMPER + SWEEP_SOUND + OPERATION_OPTIONS + ROOM + \
+        (by_name(SWEEP_RUN)["room_window"],)
+    # the duration is the damper run's, not the room's window (--room-window); the sound speed is --c
+    ALIASES = {"angle": "angle_deg", "radius_mode": "radius", "objectives": "minimize", "variables": "gap",
+               **{k: v for k, v in GROUP_ALIASES["room"].items() if k not in ("duration", "sound_speed")}}
     variables: tuple
     fixed: object
     minimize: tuple = ()
