@@ -129,6 +129,30 @@ def test_ball_ball_contacts_are_two_touching_spheres_pushed_apart():
     assert clicks.describe()["left_out"] == list(LEFT_OUT)
 
 
+def test_several_balls_radiate_each_with_its_own_radius():
+    from acoustiviz.core.materials import material, sphere_radius
+
+    m = 0.0081
+    run = _run(5, 0.5, m=m)
+    r_ball = sphere_radius(m, material("steel").density)  # a 8.1 g steel ball: about 6.3 mm
+    assert 0.006 < r_ball < 0.0065
+    scene, listener = CavityScene("plane", gap=0.04), [0.495, 0.0, 0.514]  # the scene's sphere: 19.05 mm
+    clicks = ball_clicks(run, scene, ClickModel(mass=m))
+    np.testing.assert_allclose(clicks.sources[int(np.flatnonzero(clicks.walls == -1)[0])][0].position,
+                               [0.0, 0.0, r_ball], rtol=1e-12)  # ball 1 rests on the floor
+    np.testing.assert_allclose(clicks.radii, r_ball, rtol=1e-12)
+    assert clicks.describe()["sphere_radii_m"] == pytest.approx([r_ball])
+    k = int(np.flatnonzero(clicks.walls == -1)[0])  # a ball on the struck wall: as one ball of that radius
+    one = render_clicks(clicks.take([k]), scene, ClickModel(mass=m), listener).pressure[0]
+    seq = ImpactSequence([clicks.times[k]], [-1], [clicks.velocities[k]])
+    small = CavityScene("plane", gap=0.04, radius=r_ball)
+    alone = render(seq, small, ClickModel(mass=m), listener, oversampling=None).pressure[0]
+    a, b = _common(one, alone)
+    np.testing.assert_allclose(a, b, rtol=0, atol=SAME * np.max(np.abs(b)))
+    big = render(seq, scene, ClickModel(mass=m), listener).pressure[0]
+    assert np.max(np.abs(big)) > 2 * np.max(np.abs(alone))  # the 19 mm sphere would be far louder
+
+
 def test_a_multi_ball_run_is_the_sum_of_its_collisions():
     run = _run(3, 1.0, m=0.0135)
     scene, click, listener = CavityScene("plane", gap=0.04), ClickModel(mass=0.0135), [0.495, 0.0, 0.514]
