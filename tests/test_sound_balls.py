@@ -260,3 +260,45 @@ def test_several_balls_sound_the_same_from_the_command_line_and_a_scene(tmp_path
     run(job).write(tmp_path)
     assert (tmp_path / "api.wav").read_bytes() == wav.read_bytes()
     assert (tmp_path / "scene" / "levels.csv").read_text().count("\n") == 2  # header and the one listener
+
+
+#: Inside the column of five 8.1 g balls on a plane (about z = 6 mm to 97 mm on the axis), beyond the one
+#: 19.05 mm sphere's cavity (z up to 78 mm): a listener the single-ball check lets through.
+IN_COLUMN = (0.0, 0.0, 0.09)
+
+
+def test_a_listener_inside_the_column_of_balls_is_refused():
+    from acoustiviz.errors import ParameterError
+    from acoustiviz.sound import check_listeners
+    from acoustiviz.sound.balls_sound import column_scene
+
+    run = _run(5, 0.05, m=0.0081)
+    cav = run.model.cavities[0]
+    scene = CavityScene("plane", gap=0.04)
+    check_listeners(IN_COLUMN, scene)  # the one sphere's cavity ends below it
+    r = cav.radii[0]
+    assert cav.span == pytest.approx(0.04 + 8 * r)  # first to last centre: the travel and 4 diameters
+    with pytest.raises(ParameterError, match="^listeners.*inside the column of 5 balls"):
+        render_balls(run, scene, ClickModel(mass=0.0081), IN_COLUMN)
+    with pytest.raises(ParameterError, match="^--listener"):
+        check_listeners(IN_COLUMN, column_scene(scene, cav), name="--listener", column=cav)
+    top = r + cav.span + r  # just above the last ball's top: in the fluid
+    check_listeners((0.0, 0.0, top * 1.001), column_scene(scene, cav), column=cav)
+
+
+def test_auralize_and_a_scene_refuse_a_listener_inside_the_column(tmp_path, capsys):
+    from acoustiviz.cli import main
+
+    listener = ",".join(str(v) for v in IN_COLUMN)
+    status = main(["auralize", "--balls", "5", "--m", "0.0081", "--duration", "0.1", "--listener", listener,
+                   "--wav", str(tmp_path / "o.wav")])
+    err = capsys.readouterr().err
+    assert status == 2 and "--listener" in err and "column of 5 balls" in err
+    assert not (tmp_path / "o.wav").exists()
+    toml = tmp_path / "scene.toml"
+    toml.write_text("[damper]\nballs = 5\nimpact_mass_kg = 0.0081\nduration_s = 0.1\n"
+                    f"[[listeners]]\nname = \"in\"\nposition_m = {list(IN_COLUMN)}\n[outputs.wav]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "listeners" in err and "column of 5 balls" in err
+    assert not list((tmp_path / "out").glob("*.wav"))

@@ -301,7 +301,8 @@ def render_balls(result, scene: CavityScene, click: ClickModel, listeners, **opt
 
     ``options``: ``sample_rate``, ``duration``, ``oversampling`` of :func:`render_clicks`.
     """
-    if len(result.model.cavities) == 1:
-        scene = column_scene(scene, result.model.cavities[0])
-    check_listeners(listeners, scene)
+    column = result.model.cavities[0] if len(result.model.cavities) == 1 else None
+    if column is not None:
+        scene = column_scene(scene, column)
+    check_listeners(listeners, scene, column=column)
     return render_clicks(ball_clicks(result, scene, click), scene, click, listeners, **options)
