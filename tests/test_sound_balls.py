@@ -302,3 +302,30 @@ def test_auralize_and_a_scene_refuse_a_listener_inside_the_column(tmp_path, caps
     err = capsys.readouterr().err
     assert "listeners" in err and "column of 5 balls" in err
     assert not list((tmp_path / "out").glob("*.wav"))
+
+
+def test_the_summaries_count_every_collision_of_several_balls(tmp_path, capsys):
+    import csv
+    import re
+
+    from acoustiviz.cli import main
+
+    toml = tmp_path / "scene.toml"
+    toml.write_text("[damper]\nballs = 3\nimpact_mass_kg = 0.0135\nduration_s = 0.5\n[outputs.wav]\n"
+                    "[outputs.impact_table]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    (table,) = (tmp_path / "out").glob("*.csv")
+    with table.open() as f:
+        rows = list(csv.DictReader(f))
+    on_wall = sum(r["first"] == "wall-" or r["second"] == "wall+" for r in rows)
+    assert 0 < on_wall < len(rows)
+    line = next(ln for ln in out.splitlines() if ".wav" in ln)
+    assert f"impacts={len(rows)}," in line
+    assert f"ball_wall={on_wall}, ball_ball={len(rows) - on_wall}," in line
+    assert main(["auralize", "--balls", "3", "--m", "0.0135", "--duration", "0.5", "--wav",
+                 str(tmp_path / "a.wav")]) == 0
+    out = capsys.readouterr().out
+    assert re.search(rf"^impacts: {len(rows)} \({on_wall} ball-wall: \d+ on wall -1, \d+ on wall \+1; "
+                     rf"{len(rows) - on_wall} ball-ball\)", out, re.M)
+    assert "sphere radius 7.43 mm (each ball its own" in out  # 13.5 g of steel
