@@ -302,6 +302,11 @@ def test_auralize_and_a_scene_refuse_a_listener_inside_the_column(tmp_path, caps
     err = capsys.readouterr().err
     assert "listeners" in err and "column of 5 balls" in err
     assert not list((tmp_path / "out").glob("*.wav"))
+    toml.write_text(toml.read_text().replace("[outputs.wav]", "[outputs.levels]"))  # the levels alone: refused too
+    assert main(["run", str(toml), "--out", str(tmp_path / "levels")]) == 2
+    err = capsys.readouterr().err
+    assert "column of 5 balls" in err and "simulating" not in err  # refused before the run starts
+    assert not list((tmp_path / "levels").glob("*.csv"))
 
 
 def test_the_summaries_count_every_collision_of_several_balls(tmp_path, capsys):
