@@ -129,6 +129,30 @@ def test_ball_ball_contacts_are_two_touching_spheres_pushed_apart():
     assert clicks.describe()["left_out"] == list(LEFT_OUT)
 
 
+def test_several_balls_radiate_each_with_its_own_radius():
+    from acoustiviz.core.materials import material, sphere_radius
+
+    m = 0.0081
+    run = _run(5, 0.5, m=m)
+    r_ball = sphere_radius(m, material("steel").density)  # a 8.1 g steel ball: about 6.3 mm
+    assert 0.006 < r_ball < 0.0065
+    scene, listener = CavityScene("plane", gap=0.04), [0.495, 0.0, 0.514]  # the scene's sphere: 19.05 mm
+    clicks = ball_clicks(run, scene, ClickModel(mass=m))
+    np.testing.assert_allclose(clicks.sources[int(np.flatnonzero(clicks.walls == -1)[0])][0].position,
+                               [0.0, 0.0, r_ball], rtol=1e-12)  # ball 1 rests on the floor
+    np.testing.assert_allclose(clicks.radii, r_ball, rtol=1e-12)
+    assert clicks.describe()["sphere_radii_m"] == pytest.approx([r_ball])
+    k = int(np.flatnonzero(clicks.walls == -1)[0])  # a ball on the struck wall: as one ball of that radius
+    one = render_clicks(clicks.take([k]), scene, ClickModel(mass=m), listener).pressure[0]
+    seq = ImpactSequence([clicks.times[k]], [-1], [clicks.velocities[k]])
+    small = CavityScene("plane", gap=0.04, radius=r_ball)
+    alone = render(seq, small, ClickModel(mass=m), listener, oversampling=None).pressure[0]
+    a, b = _common(one, alone)
+    np.testing.assert_allclose(a, b, rtol=0, atol=SAME * np.max(np.abs(b)))
+    big = render(seq, scene, ClickModel(mass=m), listener).pressure[0]
+    assert np.max(np.abs(big)) > 2 * np.max(np.abs(alone))  # the 19 mm sphere would be far louder
+
+
 def test_a_multi_ball_run_is_the_sum_of_its_collisions():
     run = _run(3, 1.0, m=0.0135)
     scene, click, listener = CavityScene("plane", gap=0.04), ClickModel(mass=0.0135), [0.495, 0.0, 0.514]
@@ -236,3 +260,77 @@ def test_several_balls_sound_the_same_from_the_command_line_and_a_scene(tmp_path
     run(job).write(tmp_path)
     assert (tmp_path / "api.wav").read_bytes() == wav.read_bytes()
     assert (tmp_path / "scene" / "levels.csv").read_text().count("\n") == 2  # header and the one listener
+
+
+#: Inside the column of five 8.1 g balls on a plane (about z = 6 mm to 97 mm on the axis), beyond the one
+#: 19.05 mm sphere's cavity (z up to 78 mm): a listener the single-ball check lets through.
+IN_COLUMN = (0.0, 0.0, 0.09)
+
+
+def test_a_listener_inside_the_column_of_balls_is_refused():
+    from acoustiviz.errors import ParameterError
+    from acoustiviz.sound import check_listeners
+    from acoustiviz.sound.balls_sound import column_scene
+
+    run = _run(5, 0.05, m=0.0081)
+    cav = run.model.cavities[0]
+    scene = CavityScene("plane", gap=0.04)
+    check_listeners(IN_COLUMN, scene)  # the one sphere's cavity ends below it
+    r = cav.radii[0]
+    assert cav.span == pytest.approx(0.04 + 8 * r)  # first to last centre: the travel and 4 diameters
+    with pytest.raises(ParameterError, match="^listeners.*inside the column of 5 balls"):
+        render_balls(run, scene, ClickModel(mass=0.0081), IN_COLUMN)
+    with pytest.raises(ParameterError, match="^--listener"):
+        check_listeners(IN_COLUMN, column_scene(scene, cav), name="--listener", column=cav)
+    top = r + cav.span + r  # just above the last ball's top: in the fluid
+    check_listeners((0.0, 0.0, top * 1.001), column_scene(scene, cav), column=cav)
+
+
+def test_auralize_and_a_scene_refuse_a_listener_inside_the_column(tmp_path, capsys):
+    from acoustiviz.cli import main
+
+    listener = ",".join(str(v) for v in IN_COLUMN)
+    status = main(["auralize", "--balls", "5", "--m", "0.0081", "--duration", "0.1", "--listener", listener,
+                   "--wav", str(tmp_path / "o.wav")])
+    err = capsys.readouterr().err
+    assert status == 2 and "--listener" in err and "column of 5 balls" in err
+    assert not (tmp_path / "o.wav").exists()
+    toml = tmp_path / "scene.toml"
+    toml.write_text("[damper]\nballs = 5\nimpact_mass_kg = 0.0081\nduration_s = 0.1\n"
+                    f"[[listeners]]\nname = \"in\"\nposition_m = {list(IN_COLUMN)}\n[outputs.wav]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "listeners" in err and "column of 5 balls" in err
+    assert not list((tmp_path / "out").glob("*.wav"))
+    toml.write_text(toml.read_text().replace("[outputs.wav]", "[outputs.levels]"))  # the levels alone: refused too
+    assert main(["run", str(toml), "--out", str(tmp_path / "levels")]) == 2
+    err = capsys.readouterr().err
+    assert "column of 5 balls" in err and "simulating" not in err  # refused before the run starts
+    assert not list((tmp_path / "levels").glob("*.csv"))
+
+
+def test_the_summaries_count_every_collision_of_several_balls(tmp_path, capsys):
+    import csv
+    import re
+
+    from acoustiviz.cli import main
+
+    toml = tmp_path / "scene.toml"
+    toml.write_text("[damper]\nballs = 3\nimpact_mass_kg = 0.0135\nduration_s = 0.5\n[outputs.wav]\n"
+                    "[outputs.impact_table]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    (table,) = (tmp_path / "out").glob("*.csv")
+    with table.open() as f:
+        rows = list(csv.DictReader(f))
+    on_wall = sum(r["first"] == "wall-" or r["second"] == "wall+" for r in rows)
+    assert 0 < on_wall < len(rows)
+    line = next(ln for ln in out.splitlines() if ".wav" in ln)
+    assert f"impacts={len(rows)}," in line
+    assert f"ball_wall={on_wall}, ball_ball={len(rows) - on_wall}," in line
+    assert main(["auralize", "--balls", "3", "--m", "0.0135", "--duration", "0.5", "--wav",
+                 str(tmp_path / "a.wav")]) == 0
+    out = capsys.readouterr().out
+    assert re.search(rf"^impacts: {len(rows)} \({on_wall} ball-wall: \d+ on wall -1, \d+ on wall \+1; "
+                     rf"{len(rows) - on_wall} ball-ball\)", out, re.M)
+    assert "sphere radius 7.43 mm (each ball its own" in out  # 13.5 g of steel

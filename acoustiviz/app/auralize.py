@@ -257,6 +257,19 @@ class AuralizeResult:
     written: list = dataclasses.field(default_factory=list)
 
     @property
+    def collisions(self) -> dict:
+        """The collisions of the run heard: ``impacts`` every one; with several balls ``ball_wall`` and ``ball_ball``.
+
+        One ball (or impacts given): the impacts heard. Several balls: every row of the run's impact
+        table, those of a ball on a wall (the sequence) and those of two balls.
+        """
+        heard = len(self.sequence)
+        if self.damper is None or self.settings.damper.balls == 1:
+            return {"impacts": heard}
+        total = len(self.damper.result.impacts)
+        return {"impacts": total, "ball_wall": heard, "ball_ball": total - heard}
+
+    @property
     def file_levels(self) -> list | None:
         """Per file, the levels of its channels as its sidecar records them (None: no levels asked for)."""
         if self.levels is None:

@@ -44,8 +44,16 @@ def check_sound_listeners(scene) -> None:
     from ..sound import check_listeners
     from .products import scene_damper_model
 
-    room = damper_cavity(scene, scene_damper_model(scene), scene.medium())
-    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
+    model = scene_damper_model(scene)
+    room, column, n = damper_cavity(scene, model, scene.medium()), None, scene.section("damper")["balls"]
+    if n > 1 and not room.geometry.enclosed:  # a column of balls reaches further (a room is refused elsewhere)
+        from ..dynamics import MultiBallModel
+        from ..sound.balls_sound import column_scene
+
+        column = MultiBallModel.from_damper(model, n).cavities[0]
+        room = column_scene(room, column)
+    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners",
+                    column=column)
 
 
 def damper_sound_setup(ctx):

@@ -54,7 +54,8 @@ def wav_products(result) -> list:
         rec = w["record"]
         lvl = max((v for v in rec["peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
         phys = max((v for v in rec["physical_peak_spl_db_re_20upa"] if v is not None), default=float("nan"))
-        products += [Product("wav", Path(wav), {"impacts": str(len(result.sequence)), "peak_spl_db": f"{lvl:.1f}",
+        counts = {k: str(v) for k, v in result.collisions.items()}  # several balls: ball-wall and ball-ball too
+        products += [Product("wav", Path(wav), {**counts, "peak_spl_db": f"{lvl:.1f}",
                                                 "physical_peak_spl_db": f"{phys:.1f}", "subtype": rec["subtype"],
                                                 "rate_hz": str(job.rate)}),
                      Product("wav", Path(w["sidecar"]), {})]

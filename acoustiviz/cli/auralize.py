@@ -86,14 +86,28 @@ def run(args) -> int:
     return 0
 
 
+def _radius_text(job, out) -> str:
+    """The radius the sound uses: the one sphere's, or with several balls each ball's own."""
+    radii = (out.balls or {}).get("sphere_radii_m")
+    if radii:
+        return (f"sphere radius {', '.join(f'{r * 1e3:.2f}' for r in radii)} mm (each ball its own, from its mass "
+                f"and the density of steel)")
+    return f"sphere radius {job.cavity.radius * 1e3:.2f} mm ({job.radius_source})"
+
+
 def sound_lines(result) -> list:
     """The impacts, the sound model and (in a room) its images, one line each."""
     job, seq, out = result.settings, result.sequence, result.rendering
     scene, model = out.scene, job.click
-    lines = [f"impacts: {len(seq)} ({seq.count(-1)} on wall -1, {seq.count(1)} on wall +1), "
-             f"approach speeds {seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
+    counts = result.collisions
+    walls = f"{seq.count(-1)} on wall -1, {seq.count(1)} on wall +1"
+    if "ball_ball" in counts:  # several balls: every collision, of a ball on a wall and of two balls
+        walls = f"{counts['ball_wall']} ball-wall: {walls}; {counts['ball_ball']} ball-ball"
+    lines = [f"impacts: {counts['impacts']} ({walls}), "
+             f"{'ball-wall ' if 'ball_ball' in counts else ''}approach speeds "
+             f"{seq.velocities.min():.3g}-{seq.velocities.max():.3g} m/s" if len(seq)
              else "impacts: 0 (silence)",
-             f"sound: sphere radius {job.cavity.radius * 1e3:.2f} mm ({job.radius_source}), pulse {model.pulse}, "
+             f"sound: {_radius_text(job, out)}, pulse {model.pulse}, "
              f"mass model {model.mass_model}, configuration {scene.geometry.name}, walls {scene.walls}; "
              f"{job.rate} Hz (computed at {out.internal_rate / 1e3:g} kHz, band-limited)"]
     if out.balls is not None:  # several balls: the ball-ball contacts are heard too

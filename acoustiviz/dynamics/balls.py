@@ -110,6 +110,15 @@ class Cavity:
         return self.gap + 2.0 * sum(self.radii)
 
     @property
+    def span(self) -> float:
+        """Distance in m from ball 1's centre against ``wall-`` to ball N's against ``wall+``.
+
+        The segment the balls' centres sweep: the free travel plus the diameters between the first
+        ball's centre and the last's (one ball: the free travel).
+        """
+        return float(self.gap + 2.0 * sum(self.radii) - self.radii[0] - self.radii[-1])
+
+    @property
     def offsets(self) -> np.ndarray:
         """Offset ``o_i`` in m of each ball's centre from its reduced coordinate (module docstring)."""
         r = np.asarray(self.radii)

@@ -205,12 +205,14 @@ def wall_sources(scene: CavityScene, wall: int) -> tuple:
                  for s in imgs)
 
 
-def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> np.ndarray:
+def check_listeners(points, scene: CavityScene, *, name: str = "listeners", column=None) -> np.ndarray:
     """Validate listener positions; return them as an ``(n, 3)`` array in m.
 
     A listener must be in the fluid of the geometry (not below the floor, not behind a
     wall, not inside the sphere) and, with ``walls="both"``, not inside the cavity (within a
-    radius of the segment the sphere's centre travels between the two walls).
+    radius of the segment the sphere's centre travels between the two walls). With a column of
+    several balls, whatever ``walls``, not inside the column (within the largest ball's radius of the
+    segment its balls' centres sweep, :attr:`acoustiviz.dynamics.Cavity.span`).
 
     Parameters
     ----------
@@ -220,6 +222,8 @@ def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> n
         The scene.
     name : str
         Parameter name used in error messages (e.g. ``"--listener"``).
+    column : acoustiviz.dynamics.Cavity, optional
+        The cavity's balls; with several, the column's extent replaces the one sphere's path.
 
     Raises
     ------
@@ -231,6 +235,8 @@ def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> n
     a = scene.radius
     tol = 1e-12 * a
     c0 = np.asarray(geometry.centre, dtype=float)
+    if column is not None and column.n_balls > 1:
+        _outside_column(pts, scene, column, name)
     for p in pts:
         where = f"({p[0]:g}, {p[1]:g}, {p[2]:g}) m"
         if np.linalg.norm(p - c0) < a - tol:
@@ -247,6 +253,18 @@ def check_listeners(points, scene: CavityScene, *, name: str = "listeners") -> n
                 raise ParameterError(name, f"listener {where} is inside the cavity (within {a:g} m of the "
                                            f"sphere's path between the walls)")
     return pts
+
+
+def _outside_column(pts: np.ndarray, scene: CavityScene, column, name: str) -> None:
+    """Refuse a listener within the largest ball's radius of the segment a column's centres sweep."""
+    a = float(max(column.radii))
+    c0, n = np.asarray(scene.geometry.centre, dtype=float), scene.axis
+    for p in pts:
+        s = float(np.clip((p - c0) @ n, 0.0, column.span))
+        if np.linalg.norm(p - (c0 + s * n)) < a * (1.0 - 1e-12):
+            raise ParameterError(name, f"listener ({p[0]:g}, {p[1]:g}, {p[2]:g}) m is inside the column of "
+                                       f"{column.n_balls} balls (within {a:g} m of the path of their centres, "
+                                       f"{column.span:g} m long from the struck wall's ball)")
 
 
 def ear_positions(centre, scene: CavityScene, *, spacing: float = 0.18) -> np.ndarray:

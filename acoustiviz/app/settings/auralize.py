@@ -404,7 +404,15 @@ class AuralizeJob(Settings):
         geometry = self.cavity.geometry
         if getattr(geometry, "enclosed", False):
             geometry.in_room(self.name("listeners"), points)
-        check_listeners(points, self.cavity, name=self.name("listeners"))
+        scene, column = self.cavity, None
+        several = self.damper is not None and getattr(self.damper, "balls", 1) > 1
+        if several and not getattr(geometry, "enclosed", False):  # a column's extent (a room is refused later)
+            from ...sound.balls_sound import column_scene
+            from ..damper import balls_model
+
+            column = balls_model(self.damper).cavities[0]
+            scene = column_scene(scene, column)
+        check_listeners(points, scene, name=self.name("listeners"), column=column)
 
     def _check_files(self) -> None:
         """WAV files (and sidecars), figure and levels CSVs writable and distinct; one WAV per file the run makes."""
