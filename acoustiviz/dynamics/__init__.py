@@ -18,8 +18,6 @@ moving in ``+x`` relative to the main mass), ``wall = -1`` when ``z`` reaches ``
 The physics here imports nothing from plotting or the command line.
 """
 
-from .balls import BallState, Cavity, MultiBallModel, equal_balls
-from .balls_solve import BallImpactTable, MultiBallResult, simulate_balls
 from .maxima import Maxima, exact_maxima
 from .model import TABLE1, DamperModel, InitialState
 from .result import EnergyBalance, Extrema, ImpactTable, SimulationResult
@@ -66,3 +64,16 @@ __all__ = [
     "METHODS",
     "solver_method",
 ]
+
+
+#: The several-balls damper, imported when first asked for (its compiled kernels are not needed by one ball).
+_BALLS = {"BallState": "balls", "Cavity": "balls", "MultiBallModel": "balls", "equal_balls": "balls",
+          "BallImpactTable": "balls_solve", "MultiBallResult": "balls_solve", "simulate_balls": "balls_solve"}
+
+
+def __getattr__(name: str):
+    if name in _BALLS:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_BALLS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

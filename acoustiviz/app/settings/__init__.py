@@ -36,20 +36,27 @@ settings objects check their values with them; ``acoustiviz --help``, ``acoustiv
 """
 
 from .base import Settings, check_size
-from .damper_job import DamperJob
-from .design import DesignJob, DesignSettings
-from .directivity import DirectivityJob
-from .forced_job import ForcedJob
+from .design import DesignSettings
 from .impact import DirectivitySettings, WaveformSettings
 from .levels import LevelsSettings
-from .optimize import OptimizeJob
 from .parse import parse_point, parse_size
 from .render import AnimationSettings, BalloonSettings, SnapshotSettings
-from .render_job import AnimationJob, BalloonJob, SnapshotJob
 from .sweep import SweepSettings
-from .sweep_job import SweepJob
 from .table import SAME, Setting, add_option
-from .waveform import WaveformJob
+
+#: The jobs, each imported when first asked for (``acoustiviz --help`` needs the records alone).
+_JOBS = {"DamperJob": "damper_job", "DesignJob": "design", "DirectivityJob": "directivity", "ForcedJob": "forced_job",
+         "OptimizeJob": "optimize", "SnapshotJob": "render_job", "BalloonJob": "render_job",
+         "AnimationJob": "render_job", "SweepJob": "sweep_job", "WaveformJob": "waveform"}
+
+
+def __getattr__(name: str):
+    if name in _JOBS:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_JOBS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = ["Setting", "SAME", "Settings", "add_option", "check_size", "parse_point", "parse_size",
            "WaveformSettings", "DirectivitySettings", "BalloonSettings", "SnapshotSettings", "AnimationSettings",
