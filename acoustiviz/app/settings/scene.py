@@ -1,7 +1,8 @@
 """Settings only a scene file has: its title, listeners, the damper's sphere and pulse, the grids' cap, outputs.
 
-The scene's other keys come from the records of the settings they set (:mod:`.impact`, :mod:`.room`,
-:mod:`.damper`, ...), shared with the command line; these have no option: a scene names several
+The scene's other keys come from the records of the settings they set
+(:mod:`acoustiviz.app.settings.impact`, :mod:`acoustiviz.app.settings.room`,
+:mod:`acoustiviz.app.settings.damper`, ...), shared with the command line; these have no option: a scene names several
 listeners, lets a damper's pulse carry the effective mass, and asks for outputs by key.
 """
 
