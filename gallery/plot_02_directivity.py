@@ -21,7 +21,7 @@ from acoustiviz import Impact, acceleration_pulse
 from acoustiviz.core.geometry import images_plane
 from acoustiviz.field import directivity
 from acoustiviz.files import write_csv_atomic
-from acoustiviz.output.plot.directivity import plot_directivity
+from acoustiviz.output.plot.directivity import half_space_axes, plot_directivity
 from acoustiviz.output.plot.style import save_figure, style
 
 RADIUS, U0, K_HZ, DENSITY, DISTANCE = 0.01905, 1.4, 5.6e8, 7800.0, 0.7
@@ -52,12 +52,11 @@ with style():
         plot_directivity(results[kind], "spl", ax=ax1, label=f"{kind} pulse", color=colour)
         plot_directivity(results[kind], "rms", ax=ax2, label=f"{kind} pulse", color=colour)
     for ax, title in ((ax1, "(A) peak SPL, dB re 20 µPa"), (ax2, "(B) RMS pressure, Pa")):
-        ax.set_thetamin(0)
-        ax.set_thetamax(90)
         ax.set_title(title + "\nangle from the surface normal (deg)", fontsize=10)
     fig.suptitle(
         f"Figure 3: sphere on a reflecting plane, r = {DISTANCE} m from its centre, "
         f"a = {RADIUS * 1e3:g} mm, U0 = {U0} m/s"
     )
+    half_space_axes(fig)  # 0-90°, the half space above the plane, with room for the radial labels
     save_figure(fig, out / "plot_02_directivity.png")
 print(f"wrote {out / 'plot_02_directivity.png'}")

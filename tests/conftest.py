@@ -94,3 +94,40 @@ def table1_model():
     from acoustiviz.dynamics import TABLE1
 
     return TABLE1
+
+
+# --------------------------------------------------------------------------- children interrupted with Ctrl-C
+import os as _os  # noqa: E402
+import signal  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+#: The tree under test, first on a child's path.
+ROOT = Path(__file__).resolve().parents[1]
+#: Inherited settings a child drops: numba's switches, matplotlib's backend, Python's own (PYTHONPATH is set anew).
+_INHERITED = ("NUMBA_", "PYTHON", "MPL")
+
+
+def interruptible_child(*, sigint=signal.SIG_DFL, pythonpath=()) -> dict:
+    """Keyword arguments of :class:`subprocess.Popen` (or :func:`subprocess.run`) for a child to be sent Ctrl-C.
+
+    The child starts as a terminal starts a command: in a session (and process group) of its own, so
+    ``os.killpg(proc.pid, SIGINT)`` reaches it and its workers alike; with SIGINT at ``sigint`` before it
+    execs (default: the default action, which a shell's background job would otherwise inherit ignored);
+    in a clean environment, without inherited ``NUMBA_*``, ``MPL*`` or ``PYTHON*`` settings: this tree
+    first on its path, then the folders of ``pythonpath``, matplotlib drawing off screen, and Python's
+    fault handler on (a crash shows where).
+    """
+    env = {k: v for k, v in _os.environ.items() if not k.startswith(_INHERITED)}
+    env.update(PYTHONPATH=_os.pathsep.join([str(ROOT), *map(str, pythonpath)]), MPLBACKEND="Agg",
+               PYTHONFAULTHANDLER="1")
+
+    def disposition():  # in the child, before it execs Python
+        signal.signal(signal.SIGINT, sigint)
+
+    return {"env": env, "start_new_session": True, "preexec_fn": disposition}
+
+
+@pytest.fixture(scope="session")
+def interruptible():
+    """:func:`interruptible_child`: ``subprocess.Popen(argv, **interruptible(), ...)`` starts a child to interrupt."""
+    return interruptible_child

@@ -21,7 +21,6 @@ import subprocess
 import sys
 import time
 import tomllib
-from pathlib import Path
 
 import pytest
 
@@ -41,8 +40,6 @@ from acoustiviz.scene import scene_from_dict  # noqa: E402
 from acoustiviz.sweep import Operation  # noqa: E402
 from acoustiviz.sweep.modes import InOperation  # noqa: E402
 from acoustiviz.sweep.optimise import JOURNAL, read_journal, run_optimisation  # noqa: E402
-
-ROOT = Path(__file__).resolve().parents[1]
 
 FILES = ("evaluations.csv", "pareto.csv", "optimize.json", "pareto.png", "confirmation.csv")
 FREQS = (6.5, 7.0)
@@ -190,15 +187,12 @@ def test_two_workers_give_the_result_of_one(tmp_path):
     assert json.dumps(one) == json.dumps(two)  # the same designs and rows, in evaluation order (NaN included)
 
 
-def test_ctrl_c_keeps_every_finished_evaluation(tmp_path):
+def test_ctrl_c_keeps_every_finished_evaluation(tmp_path, interruptible):
     out = tmp_path / "o"
     argv = [sys.executable, "-m", "acoustiviz", *ARGV[:-8], "--evaluations", "5000", "--batch", "2", "--workers", "1",
             "--out", str(out)]
-    # this tree first on the path, no inherited numba or plotting switch; SIGINT at its default action
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "PYTHON", "MPL"))}
-    env.update(PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    # as a terminal starts the command, in a clean environment, in a process group of its own
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **interruptible())
     journal = out / JOURNAL
     deadline = time.monotonic() + 300  # a hang detector only: the trigger is the journal's second line
     while time.monotonic() < deadline and proc.poll() is None:

@@ -250,7 +250,7 @@ NINE = ["sweep", "--m", "0.03:0.07:9", "--force", "5", "--freq", "6.5,7", "--sta
 
 
 @pytest.mark.slow
-def test_ctrl_c_keeps_the_finished_chains_and_the_same_command_resumes(tmp_path, capsys):
+def test_ctrl_c_keeps_the_finished_chains_and_the_same_command_resumes(tmp_path, capsys, interruptible):
     import os
     import signal
     import subprocess
@@ -262,9 +262,8 @@ def test_ctrl_c_keeps_the_finished_chains_and_the_same_command_resumes(tmp_path,
 
     assert OPERATION_CHAIN == 8
     out, gate = tmp_path / "c", tmp_path / "gate"
-    env = dict(os.environ, MPLBACKEND="Agg")
-    proc = subprocess.Popen([sys.executable, "-c", _CHILD, str(gate), "8", *NINE, "--out", str(out)], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    proc = subprocess.Popen([sys.executable, "-c", _CHILD, str(gate), "8", *NINE, "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **interruptible())
     watchdog = threading.Timer(300.0, gate.touch)  # a hang detector: never leave the child waiting
     watchdog.start()
     try:

@@ -33,30 +33,14 @@ READY_WITHIN_S = 300.0
 INTERRUPTED = re.compile(r"^acoustiviz [a-z ]+: interrupted; finished outputs were kept$")
 
 
-def _env() -> dict:
-    """The environment of the subprocess: this tree first on the path, no inherited numba or plotting switch."""
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "PYTHON", "MPL"))}
-    env.update(PYTHONPATH=str(ROOT), MPLBACKEND="Agg", PYTHONFAULTHANDLER="1")
-    return env
-
-
-def _default_sigint() -> None:
-    """In the child before it starts Python: SIGINT back to its default action.
-
-    A shell starts a background job with SIGINT ignored, and Python then leaves Ctrl-C ignored; the
-    commands must be tested as a terminal starts them, whatever the shell that runs the tests.
-    """
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 class Run:
-    """A command line started in ``folder``; its stderr read line by line as it comes."""
+    """A command line started in ``folder`` as ``child`` says (the ``interruptible`` fixture's keyword arguments);
+    its stderr read line by line as it comes."""
 
-    def __init__(self, argv, folder: Path, python_options=()):
+    def __init__(self, argv, folder: Path, child: dict, python_options=()):
         self.proc = subprocess.Popen([sys.executable, *python_options, "-m", "acoustiviz", *argv], cwd=folder,
-                                     env=_env(),
                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                     text=True, start_new_session=True, preexec_fn=_default_sigint)
+                                     text=True, **child)
         self.lines: list[str] = []
         self._cond = threading.Condition()
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -128,9 +112,9 @@ def assert_interrupted(run: Run, elapsed: float) -> None:
     assert elapsed < EXIT_WITHIN_S, f"exited {elapsed:.1f} s after SIGINT"
 
 
-def interrupt_after(argv, folder: Path, marker: str) -> Run:
-    """Run ``argv`` in ``folder``, send SIGINT once stderr matches ``marker``; check the exit."""
-    run = Run(argv, folder)
+def interrupt_after(argv, folder: Path, marker: str, child: dict) -> Run:
+    """Run ``argv`` in ``folder`` as ``child`` says, send SIGINT once stderr matches ``marker``; check the exit."""
+    run = Run(argv, folder, child)
     run.wait_for(marker)
     elapsed = run.interrupt()
     assert_interrupted(run, elapsed)
@@ -160,15 +144,14 @@ sys.exit(main())
 """
 
 
-def test_ctrl_c_in_code_run_from_c_still_exits_130(tmp_path):
+def test_ctrl_c_in_code_run_from_c_still_exits_130(tmp_path, interruptible):
     """``python -m`` kills its own process by SIGINT at exit once CPython has recorded an unhandled
     Ctrl-C, whatever status the command returns: the status must still be 130, not death by signal."""
     (tmp_path / "ctrl_c_from_c.py").write_text(_FROM_C_SHIM)
-    env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
     proc = subprocess.run([sys.executable, "-m", "ctrl_c_from_c", "levels", "in.wav",
-                           "--csv", "l.csv"], cwd=tmp_path, env=env,
+                           "--csv", "l.csv"], cwd=tmp_path,
                           stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
-                          preexec_fn=_default_sigint)
+                          **interruptible(pythonpath=[tmp_path]))
     assert "working" in proc.stderr, proc.stderr
     assert proc.returncode == 130, proc.stderr
     assert INTERRUPTED.match(proc.stderr.strip().splitlines()[-1]), proc.stderr
@@ -206,14 +189,13 @@ sys.exit(main())
 """
 
 
-def test_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path):
+def test_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path, interruptible):
     """A Ctrl-C raised inside a ``__del__`` cannot propagate (Python prints "Exception ignored in ..."
     and carries on): the command still ends with the one line and status 130, not 0."""
     (tmp_path / "ctrl_c_in_del.py").write_text(_IN_FINALISER_SHIM)
-    env = {**_env(), "PYTHONPATH": os.pathsep.join([str(ROOT), str(tmp_path)])}
     proc = subprocess.run([sys.executable, "-m", "ctrl_c_in_del", "levels", "in.wav", "--csv", "l.csv"],
-                          cwd=tmp_path, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=120, preexec_fn=_default_sigint)
+                          cwd=tmp_path, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                          timeout=120, **interruptible(pythonpath=[tmp_path]))
     assert "working" in proc.stderr, proc.stderr
     assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
     assert proc.returncode == 130, proc.stderr
@@ -266,9 +248,9 @@ def test_no_kernel_called_from_python_returns_a_namedtuple():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(3))
-def test_forced_interrupted_exits_130_and_never_segfaults(tmp_path, attempt):
+def test_forced_interrupted_exits_130_and_never_segfaults(tmp_path, attempt, interruptible):
     """The hostile-user reproduction: Ctrl-C while the frequencies are computed, three times."""
-    interrupt_after([*FORCED, "--csv", "o.csv"], tmp_path, r"^forced: .*\(\d+/40\)")
+    interrupt_after([*FORCED, "--csv", "o.csv"], tmp_path, r"^forced: .*\(\d+/40\)", interruptible())
     assert not (tmp_path / "o.csv").exists()  # the table is written at the end: nothing half-written
 
 
@@ -291,12 +273,12 @@ def test_keyboard_interrupt_is_one_line_and_130(capsys, monkeypatch):
                                           ("5.3:5.9:8", r"^forced: 8 frequencies"),
                                           ("5.3:5.9:8", r"^forced: continuation round 1")],
                          ids=["first frequencies", "last frequencies", "first round done", "continuation"])
-def test_forced_with_workers_cancels_them_and_exits(tmp_path, freq, marker):
+def test_forced_with_workers_cancels_them_and_exits(tmp_path, freq, marker, interruptible):
     """The workers ignore the Ctrl-C the terminal sends them too (a worker waiting for a task would
     die of it and break the pool under cancelled tasks: InvalidStateError and a hang); the parent
     cancels what is pending, stops them and exits, at any stage of the continuation."""
     argv = ["forced", "--force", "5", "--freq", freq, "--workers", "2", "--csv", "o.csv", "--png", "o.png"]
-    run = interrupt_after(argv, tmp_path, marker)
+    run = interrupt_after(argv, tmp_path, marker, interruptible())
     assert not (tmp_path / "o.csv").exists() and not (tmp_path / "o.png").exists()
     with pytest.raises(ProcessLookupError):  # the whole group is gone: the workers were stopped
         os.killpg(run.proc.pid, 0)
@@ -304,10 +286,11 @@ def test_forced_with_workers_cancels_them_and_exits(tmp_path, freq, marker):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(3))
-def test_a_second_ctrl_c_changes_nothing(tmp_path, attempt):
+def test_a_second_ctrl_c_changes_nothing(tmp_path, attempt, interruptible):
     """Ctrl-C pressed twice: the second lands in the cleanup or the message, or after the exit;
     whichever, one line, status 130, the workers stopped."""
-    run = Run(["forced", "--force", "5", "--freq", "3:7:40", "--workers", "2", "--csv", "o.csv"], tmp_path)
+    run = Run(["forced", "--force", "5", "--freq", "3:7:40", "--workers", "2", "--csv", "o.csv"], tmp_path,
+              interruptible())
     run.wait_for(r"^forced: .*\(\d+/40\)")
     t0 = time.monotonic()
     os.killpg(run.proc.pid, signal.SIGINT)
@@ -327,10 +310,10 @@ def _rows(path: Path) -> list[dict]:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(2))
-def test_sweep_with_workers_keeps_finished_rows(tmp_path, attempt):
+def test_sweep_with_workers_keeps_finished_rows(tmp_path, attempt, interruptible):
     """Ctrl-C once a design is journalled: exit 130, the rows written stay, each one whole."""
     table = tmp_path / "s" / "sweep.csv"
-    run = Run(["sweep", "--out", "s", "--gap", "0.01:0.05:60", "--workers", "2"], tmp_path)
+    run = Run(["sweep", "--out", "s", "--gap", "0.01:0.05:60", "--workers", "2"], tmp_path, interruptible())
     run.wait_until(lambda: len(_rows(table)) >= 1, "wrote a row")
     assert_interrupted(run, run.interrupt())
     rows = _rows(table)
@@ -418,9 +401,9 @@ def test_newmark_in_batches_is_one_run_bit_for_bit(monkeypatch, moving_start):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(2))
-def test_long_newmark_run_says_so_and_stops_at_ctrl_c(tmp_path, attempt):
+def test_long_newmark_run_says_so_and_stops_at_ctrl_c(tmp_path, attempt, interruptible):
     interrupt_after(["damper", "--solver", "newmark", "--duration", "10000", "--impacts-csv", "i.csv"],
-                    tmp_path, r"^newmark: .* steps .* a long run")
+                    tmp_path, r"^newmark: .* steps .* a long run", interruptible())
     assert not (tmp_path / "i.csv").exists()
 
 
@@ -437,9 +420,9 @@ LONG_COMMANDS = {
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(2))
 @pytest.mark.parametrize("command", list(LONG_COMMANDS))
-def test_long_command_stops_at_ctrl_c(tmp_path, command, attempt):
+def test_long_command_stops_at_ctrl_c(tmp_path, command, attempt, interruptible):
     argv, marker = LONG_COMMANDS[command]
-    interrupt_after(argv, tmp_path, marker)
+    interrupt_after(argv, tmp_path, marker, interruptible())
     for name in ("b.png", "m.csv", "m.png", "a.wav"):
         assert not (tmp_path / name).exists(), name  # nothing half-written
     if command == "run":  # the steps finished before the interrupt keep their files
@@ -469,13 +452,13 @@ def test_long_shell_convolution_is_the_direct_one(monkeypatch):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("absorption", [[], ["--absorption", "0.3"]], ids=["rigid", "absorbing"])
-def test_long_waveform_in_a_room_answers_at_once(tmp_path, absorption):
+def test_long_waveform_in_a_room_answers_at_once(tmp_path, absorption, interruptible):
     """10000 s in a room asked image orders in the millions, convolved directly (hours, deaf to Ctrl-C):
     the command now answers (here: refused by the memory budget, naming an option) well within the
     hang detector, leaving no file."""
     proc = subprocess.run([sys.executable, "-m", "acoustiviz", "waveform", "--room", "6,4,3", *absorption,
-                           "--duration", "10000", "--listener", "3,2,1.5", "--csv", "o.csv"], cwd=tmp_path, env=_env(),
-                          capture_output=True, text=True, timeout=240)
+                           "--duration", "10000", "--listener", "3,2,1.5", "--csv", "o.csv"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=240, **interruptible())
     lines = proc.stderr.strip().splitlines()
     assert proc.returncode == 2 and len(lines) == 1 and ": error: --" in lines[0], proc.stderr
     assert list(tmp_path.iterdir()) == []
@@ -539,8 +522,8 @@ def command_argv(request, tmp_path):
     return _inputs(tmp_path, argv, sweep), marker
 
 
-def _interrupt_at_import(argv, folder: Path, module: str) -> Run:
-    run = Run(argv, folder, python_options=("-X", "importtime"))
+def _interrupt_at_import(argv, folder: Path, module: str, child: dict) -> Run:
+    run = Run(argv, folder, child, python_options=("-X", "importtime"))
     run.wait_for(_imported(module))
     assert_interrupted(run, run.interrupt())
     return run
@@ -549,23 +532,23 @@ def _interrupt_at_import(argv, folder: Path, module: str) -> Run:
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(2))
 @pytest.mark.parametrize("command_argv", list(EVERY_COMMAND), indirect=True)
-def test_ctrl_c_while_the_command_line_imports_exits_130(tmp_path, command_argv, attempt):
+def test_ctrl_c_while_the_command_line_imports_exits_130(tmp_path, command_argv, attempt, interruptible):
     """Ctrl-C very early, while the parser's modules are imported: one line, status 130 (not a
     traceback, not death by SIGINT), nothing written."""
     argv, _ = command_argv
     before = sorted(p.name for p in tmp_path.iterdir())
-    _interrupt_at_import(argv, tmp_path, PARSER_MODULE)
+    _interrupt_at_import(argv, tmp_path, PARSER_MODULE, interruptible())
     assert sorted(p.name for p in tmp_path.iterdir()) == before
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("attempt", range(2))
 @pytest.mark.parametrize("command_argv", list(EVERY_COMMAND), indirect=True)
-def test_ctrl_c_while_the_command_works_exits_130(tmp_path, command_argv, attempt):
+def test_ctrl_c_while_the_command_works_exits_130(tmp_path, command_argv, attempt, interruptible):
     """Ctrl-C later, once the command has started its work (its compiled kernels or its signal
     reader being loaded): one line, status 130, and no output half-written."""
     argv, marker = command_argv
-    _interrupt_at_import(argv, tmp_path, marker)
+    _interrupt_at_import(argv, tmp_path, marker, interruptible())
     for name in ("w.csv", "d.csv", "m.csv", "i.csv", "f.csv", "b.png", "s.png", "a.gif", "a.wav", "l.csv"):
         assert not (tmp_path / name).exists(), name
 

@@ -131,20 +131,11 @@ SLOW = ["sweep", "--gap", "0.02:0.06:6", "--m", "0.02:0.08:5", "--duration", "20
         "--workers", "1"]
 
 
-def _start(out, gate_after, *, sigint=None):
-    """Start the sweep in a new session; ``sigint``: the SIGINT disposition the child inherits."""
-    # no inherited numba or plotting switch
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "MPL"))}
-    env["MPLBACKEND"] = "Agg"
+def _start(out, gate_after, child: dict):
+    """Start the sweep as ``child`` says (the ``interruptible`` fixture's keyword arguments: a new session)."""
     gate = out.parent / f"{out.name}.gate"
-
-    def disposition():  # e.g. SIG_IGN: what a background job of a non-interactive shell inherits
-        if sigint is not None:
-            signal.signal(signal.SIGINT, sigint)
-
     cmd = [sys.executable, "-c", _CHILD, str(gate), str(gate_after), *SLOW, "--out", str(out)]
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, preexec_fn=disposition)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **child)
     return proc, gate
 
 
@@ -160,9 +151,9 @@ def _wait_rows(path, n, proc, timeout=120.0):
 
 
 @pytest.mark.slow
-def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
+def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys, interruptible):
     out = tmp_path / "k"
-    proc, gate = _start(out, gate_after=3)
+    proc, gate = _start(out, 3, interruptible())
     _wait_rows(out / "sweep.csv", 3, proc)  # designs 0-2 are written, design 3 waits at the gate
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait(timeout=30)
@@ -186,13 +177,14 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path, capsys):
 
 @pytest.mark.parametrize("inherited", [signal.SIG_DFL, signal.SIG_IGN], ids=["sigint-default", "sigint-ignored"])
 @pytest.mark.slow
-def test_ctrl_c_keeps_finished_rows(tmp_path, inherited):
+def test_ctrl_c_keeps_finished_rows(tmp_path, inherited, interruptible):
     """Ctrl-C stops the sweep with status 130 and keeps the finished rows -- also when the process
     inherited SIGINT ignored (a background job), because the sweep sets the disposition itself."""
     import threading
 
     out = tmp_path / "c"
-    proc, gate = _start(out, gate_after=2, sigint=inherited)
+    # e.g. SIG_IGN: what a background job of a non-interactive shell inherits
+    proc, gate = _start(out, 2, interruptible(sigint=inherited))
     try:
         _wait_rows(out / "sweep.csv", 2, proc)  # designs 0-1 written, design 2 waits at the gate
     except BaseException:

@@ -10,7 +10,6 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,7 +29,6 @@ from acoustiviz.sweep.problem import (  # noqa: E402
 )
 from acoustiviz.sweep.spec import FixedSettings  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 #: The paper's question in free vibration: the quietest design with the damping inclination in a band.
 GAP, MASS, BAND = (0.01, 0.06), (0.01, 0.08), (0.004, 0.006)
 
@@ -65,17 +63,13 @@ def test_dask_with_worker_processes_gives_the_result_of_the_process_pool(tmp_pat
     assert json.dumps(remote) == json.dumps(local)
 
 
-def test_ctrl_c_keeps_every_finished_evaluation(tmp_path):
+def test_ctrl_c_keeps_every_finished_evaluation(tmp_path, interruptible):
     out = tmp_path / "o"
     argv = [sys.executable, "-m", "acoustiviz", "optimize", "--gap", "0.01:0.06", "--m", "0.01:0.08",
             "--minimize", "max_spl_db", "--evaluations", "5000", "--duration", "1", "--workers", "1",
             "--out", str(out)]
-    # this tree first on the path, no inherited numba or plotting switch; SIGINT at its default action
-    # (a shell starts a background job with it ignored), as a terminal starts the command
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "PYTHON", "MPL"))}
-    env.update(PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    # as a terminal starts the command, in a clean environment, in a process group of its own
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **interruptible())
     journal = out / JOURNAL
     deadline = time.monotonic() + 300  # a hang detector only: the trigger is the journal's third line
     while time.monotonic() < deadline and proc.poll() is None:

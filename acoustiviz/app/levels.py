@@ -226,28 +226,31 @@ def analyse(signal: Signal, *, start=None, stop=None, channels=None, with_loudne
     return LevelReport(lv, bl, ld, names)
 
 
-def _check_inputs(s) -> None:
-    """The file to read, the CSV to write, the memory the analysis needs and the loudness library."""
+def _check_inputs(s, names: dict) -> None:
+    """The file to read, the CSV to write, the memory the analysis needs and the loudness library.
+
+    ``names``: API name -> the option (or the file's argument) its errors name.
+    """
     from ..levels import loudness_available
     from .budget import Estimate, check_budget
     from .outputs import check_output_file
 
     if not Path(s.signal).is_file():
-        raise ParameterError("SIGNAL.wav", f"no such file: {s.signal}")
-    check_output_file("--csv", s.csv, "csv")
-    check_output_file("--csv", bands_path(s.csv), "csv")  # OUT_bands.csv, written beside it
+        raise ParameterError(names["signal"], f"no such file: {s.signal}")
+    check_output_file(names["csv"], s.csv, "csv")
+    check_output_file(names["csv"], bands_path(s.csv), "csv")  # OUT_bands.csv, written beside it
     import soundfile as sf
 
     try:
         info = sf.info(s.signal)
     except RuntimeError as exc:
-        raise ParameterError("SIGNAL.wav", f"cannot read {s.signal} as a sound file: {exc}") from None
+        raise ParameterError(names["signal"], f"cannot read {s.signal} as a sound file: {exc}") from None
     # the signal in float64 and about ten filtered copies of one channel (weightings, bands, envelopes)
     samples = float(info.frames) * max(1, info.channels)
     check_budget(Estimate(8.0 * (samples + 10.0 * info.frames), 2e4, f"{samples:.3g} samples of {s.signal}",
-                          ("SIGNAL.wav", "--start", "--stop")), s.max_memory)
+                          (names["signal"], names["start"], names["stop"])), s.max_memory)
     if s.loudness and not loudness_available():
-        raise ParameterError("--loudness", "needs mosqito: pip install 'acoustiviz[hearing]'")
+        raise ParameterError(names["loudness"], "needs mosqito: pip install 'acoustiviz[hearing]'")
 
 
 def job_from_wav(s, echo=print):
@@ -258,10 +261,10 @@ def job_from_wav(s, echo=print):
     as ignored. Errors name the command-line options.
     """
     from .names import user_terms
-    from .settings.levels import LevelsJob
+    from .settings.levels import LevelsJob, LevelsSettings
 
-    _check_inputs(s)
-    terms = {"pa_per_fs": "--pa-per-fs", "start": "--start", "stop": "--stop", "signal": "SIGNAL.wav"}
+    terms = LevelsSettings.names_for("cli")
+    _check_inputs(s, terms)
     with user_terms(terms):
         sig = read_calibrated_wav(s.signal, pa_per_fs=s.pa_per_fs)
     if sig.source != "given" and s.pa_per_fs is not None and s.pa_per_fs != sig.pa_per_full_scale:
@@ -269,7 +272,7 @@ def job_from_wav(s, echo=print):
              f"{sig.pa_per_full_scale:g} Pa per full scale")
     return LevelsJob(sig.signal, tuple(sig.channels), sig.pa_per_full_scale, sig.source, start=s.start,
                      stop=s.stop, loudness=s.loudness, csv=s.csv,
-                     names={**terms, "input": "--pa-per-fs" if sig.source == "given" else "SIGNAL.wav",
+                     names={**terms, "input": terms["pa_per_fs" if sig.source == "given" else "signal"],
                             "input_name": str(s.signal)})
 
 

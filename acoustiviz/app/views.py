@@ -215,11 +215,11 @@ def directivity_metric_figure(directivity, values, metric: str, *, title: str = 
 
     from matplotlib.figure import Figure
 
-    from ..output.plot.directivity import plot_directivity
+    from ..output.plot.directivity import half_space_axes, plot_directivity
     from ..output.plot.style import style
 
     with style():
-        fig = Figure(figsize=(13.5, 4.8), layout="constrained")
+        fig = Figure(figsize=(13.5, 5.2), layout="constrained")
         axes = [fig.add_subplot(1, 3, k, projection="polar") for k in (1, 2, 3)]
         plot_directivity(directivity, "spl", ax=axes[0])
         plot_directivity(directivity, "rms", ax=axes[1])
@@ -228,10 +228,8 @@ def directivity_metric_figure(directivity, values, metric: str, *, title: str = 
         label = metric_label(metric)
         axes[2].set_title(f"{label} vs angle from the acceleration axis (deg)", fontsize=9)
         axes[2].set_xlabel(f"radial axis: {label}", fontsize=8)
-        if half_space:
-            for ax in axes:
-                ax.set_thetamin(0)
-                ax.set_thetamax(90)
         if title:
             fig.suptitle(title, fontsize=10)
+        if half_space:
+            half_space_axes(fig)
     return fig

@@ -78,13 +78,34 @@ class ImpactSequence:
         return int(np.count_nonzero(self.walls == wall))
 
     @classmethod
-    def from_steady_state(cls, state) -> ImpactSequence:
+    def from_steady_state(cls, state, *, origin: float = 0.0) -> ImpactSequence:
         """The impacts measured on a forced damper's steady motion (:class:`acoustiviz.dynamics.SteadyState`).
 
-        Its ``impact_times`` (s from the start of the run), ``impact_walls`` and ``impact_speeds``
-        (m/s, taken as magnitudes); the phases, peak forces and contact durations stay on the state.
+        Its ``impact_times``, ``impact_walls`` and ``impact_speeds`` (relative approach speeds in m/s),
+        of the impacts with a positive approach speed: a contact the solver records at zero (or, by
+        round-off, negative) approach speed is a graze, with no approach to make a click of. The phases,
+        peak forces and contact durations stay on the state.
+
+        Parameters
+        ----------
+        state : SteadyState
+            The measured steady motion (any object with the three arrays).
+        origin : float, optional
+            The time in s the sequence's times count from (default 0: the start of the run; the start
+            of the measured cycles is ``state.cycles * state.excitation.period``).
+
+        Examples
+        --------
+        >>> from types import SimpleNamespace
+        >>> state = SimpleNamespace(impact_times=[1.25, 1.5, 1.75], impact_walls=[1, -1, 1],
+        ...                         impact_speeds=[0.4, 0.0, 0.5])
+        >>> ImpactSequence.from_steady_state(state, origin=1.0).times.tolist()
+        [0.25, 0.75]
         """
-        return cls(state.impact_times, state.impact_walls, np.abs(np.asarray(state.impact_speeds, dtype=float)))
+        speeds = np.asarray(state.impact_speeds, dtype=float)
+        keep = speeds > 0
+        return cls(np.asarray(state.impact_times, dtype=float)[keep] - origin, np.asarray(state.impact_walls)[keep],
+                   speeds[keep])
 
     @classmethod
     def from_table(cls, table) -> ImpactSequence:

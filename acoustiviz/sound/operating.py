@@ -194,9 +194,8 @@ def operating_noise(steady, *, listener=None, kind: str = "plane", radius: float
     scene = cavity(kind, radius, model.gap, **(settings or {}))
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
-    keep = steady.impact_speeds > 0
-    base = steady.impact_times[keep] - steady.cycles * period  # s from the start of the measured cycles
-    walls, speeds = steady.impact_walls[keep].astype(int), steady.impact_speeds[keep]
+    measured = ImpactSequence.from_steady_state(steady, origin=steady.cycles * period)  # from the measured cycles
+    base, walls, speeds = measured.times, measured.walls, measured.velocities
     if steady.period > 0:
         window = steady.measured_cycles * period
         lead = math.ceil(F_SETTLE / window - 1e-9)
@@ -212,7 +211,7 @@ def operating_noise(steady, *, listener=None, kind: str = "plane", radius: float
         lead = min(math.ceil(F_SETTLE / period - 1e-9), n // 2)
         start, stop, end = lead * period, n * period, n * period
         cycles, settled = n - lead, lead * period >= F_SETTLE * (1 - 1e-9)
-        seq = ImpactSequence(base, walls, speeds)
+        seq = measured
     out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
     sig = Signal(out.pressure[0], out.sample_rate)
     lv = signal_levels(sig, start=start, stop=stop)  # sound_levels, from the clicks alone

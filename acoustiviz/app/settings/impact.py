@@ -138,7 +138,7 @@ class DirectivitySettings(Settings):
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class ImpactJob(Settings):
-    """The base of the jobs of one impact (waveform, directivity, map): the impact, its fluid and surroundings.
+    """The base of the jobs of one impact (waveform, directivity, map, render): the impact, its fluid and surroundings.
 
     Its fields are keyword-only, and so are its subclasses' (``WaveformJob(impact=..., pulses=..., ...)``);
     each subclass adds its pulse or pulses, its sampling and its files.

@@ -16,7 +16,8 @@ from .table import Setting, by_name
 
 __all__ = ["ALL", "LEVELS_JOB", "LEVELS", "LevelsSettings", "LevelsJob"]
 
-SIGNAL = Setting("signal", None, None, "str", None, "the WAV file", metavar="SIGNAL.wav", positional=True,
+#: The file to read, a positional argument: its errors name it ``SIGNAL.wav``, as ``--help`` shows it.
+SIGNAL = Setting("signal", "SIGNAL.wav", None, "str", None, "the WAV file", metavar="SIGNAL.wav", positional=True,
                  required=True)
 
 ALL = (
@@ -48,6 +49,8 @@ class LevelsSettings(Settings):
     """
 
     TABLE = LEVELS
+    #: The file and every option: the vocabulary of the errors (the file's and the CSV's checks need the file).
+    BUILT_FROM = (SIGNAL, *ALL)
     signal: str | None = None
     csv: str | None = None
     pa_per_fs: float | None = None

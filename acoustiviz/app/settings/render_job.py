@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 
 from ...errors import ParameterError
-from .base import Settings
+from .impact import ImpactJob
 from .render import (
     ANIMATION,
     BALLOON,
@@ -28,7 +28,6 @@ from .render import (
     BalloonSettings,
     SnapshotSettings,
 )
-from .vocabulary import ALIASES, MEMORY
 
 __all__ = ["ViewJob", "SnapshotJob", "BalloonJob", "AnimationJob", "JOB_OF_VIEW"]
 
@@ -37,35 +36,22 @@ _FORMATS = {"png": "png", "gif": "gif", "mp4": "mp4", "vtk": "vtk", "html": "htm
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
-class ViewJob(Settings):
-    """What every render job holds besides its view: the impact, the caption, the VTK file and the memory cap.
+class ViewJob(ImpactJob):
+    """What every render job holds besides its view: an impact job's values, the pulse, the caption and the VTK file.
+
+    The impact, the fluid, the surroundings, the memory cap and the vocabulary are those of
+    :class:`~acoustiviz.app.settings.impact.ImpactJob` (here the cap covers the output too).
 
     Attributes
     ----------
-    impact : acoustiviz.core.contact.Impact
-        Speed (m/s), K_HZ (N/m^1.5) and masses (kg) of the impact.
     pulse : pulse
         The acceleration pulse (m/s² against s).
-    medium : acoustiviz.core.medium.Medium
-        The fluid.
-    geometry : acoustiviz.core.geometry.Geometry
-        The sphere and its image sources.
     title : str, optional
         Replaces the default caption of the picture (None: :meth:`caption`).
     vtk : str, optional
         The data behind the picture as a ``.vtu`` (or ``.vtkhdf``) file, with ``<stem>_geometry.vtu``
         beside it; relative to the folder the result's ``write`` is given.
-    max_memory_mb : float, optional
-        Cap in MB on the estimated memory and output (default :data:`acoustiviz.constants.MAX_MEMORY_MB`).
-    k_hertz_source : str
-        Where K_HZ came from (reported; not compared).
-    names : dict
-        The front end's vocabulary: API parameter -> the option or scene key its errors name
-        (not compared; default: the API names).
     """
-
-    BUILT_FROM = MEMORY
-    ALIASES = ALIASES["memory"]
 
     @classmethod
     def names_for(cls, front: str) -> dict:
@@ -76,23 +62,13 @@ class ViewJob(Settings):
     VIEW = ""
     #: The files of the view, in the order they are written.
     FILES = ()
-    impact: object
     pulse: object
-    medium: object
-    geometry: object
     title: str | None = None
     vtk: str | None = None
-    max_memory_mb: float | None = None
-    k_hertz_source: str = dataclasses.field(default="given", compare=False)
-    names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def files(self) -> dict:
         """``{kind: path}`` of the files asked for (strings), in :attr:`FILES` order."""
         return {k: getattr(self, k) for k in self.FILES if getattr(self, k) is not None}
-
-    def name(self, api: str) -> str:
-        """The option or scene key of API parameter ``api`` (itself without one)."""
-        return self.names.get(api, api)
 
     def caption(self) -> str:
         """The default caption of a field view: the configuration, the sphere and the impact."""
@@ -113,13 +89,13 @@ class ViewJob(Settings):
         from ..outputs import check_distinct, check_output_file
         from ..render import check_view_outputs
 
-        check_view_outputs({k: getattr(self, k) for k in self.FILES}, {k: self.name(k) for k in self.FILES},
+        check_view_outputs({k: getattr(self, k) for k in self.FILES}, {k: self._name(k) for k in self.FILES},
                            require=False)
         paths = {}
         for key, path in self.files().items():
-            paths[self.name(key)] = check_output_file(self.name(key), path, _FORMATS[key])
+            paths[self._name(key)] = check_output_file(self._name(key), path, _FORMATS[key])
         if self.vtk is not None:
-            name = self.name("vtk")
+            name = self._name("vtk")
             paths[f"{name} (geometry)"] = check_output_file(name, geometry_path(self.vtk), "vtk")
         check_distinct(paths)
 
@@ -136,7 +112,7 @@ class ViewJob(Settings):
         # its files, and a scene always writes its animation's GIF
         n_files = sum(getattr(self, k, None) is not None for k in ("gif", "mp4")) if self.files() else 1
         est = render_estimate(self.VIEW, self, len(self.geometry.sources), n_files=n_files, options=self.names)
-        check_budget(est, self.max_memory_mb, cap_name=self.name("max_memory_mb"))
+        check_budget(est, self.max_memory_mb, cap_name=self._name("max_memory_mb"))
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -193,7 +169,7 @@ class AnimationJob(ViewJob, AnimationSettings):
             from ...output.render import mp4_available
 
             if not mp4_available():
-                raise ParameterError(self.name("mp4"), "writing MP4 needs imageio and imageio-ffmpeg ('pip install "
+                raise ParameterError(self._name("mp4"), "writing MP4 needs imageio and imageio-ffmpeg ('pip install "
                                                        "imageio-ffmpeg'); use a GIF instead")
 
 

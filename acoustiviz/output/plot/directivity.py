@@ -6,7 +6,7 @@ import numpy as np
 
 from .style import new_axes, style
 
-__all__ = ["plot_directivity", "directivity_figure"]
+__all__ = ["plot_directivity", "directivity_figure", "half_space_axes"]
 
 _QUANTITIES = {
     "spl": ("spl_db", "peak SPL (dB re 20 µPa)"),
@@ -64,6 +64,28 @@ def plot_directivity(directivity, quantity: str = "spl", ax=None, *, label=None,
     return ax
 
 
+def half_space_axes(fig, axes=None) -> None:
+    """Cut the polar axes of ``fig`` (or ``axes``) to 0-90°, the half space, with room made for their labels.
+
+    A polar axes cut to a quarter moves its radial tick labels to its 0° edge only when it is drawn;
+    a constrained layout run before that takes them where a full circle has them, inside the disc,
+    and leaves them no room at the figure's edge or beside the next panel (they were clipped or
+    overlapped). One draw without rendering puts them in place, so the layout that follows, when
+    the figure is saved, makes room for them.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (with a layout engine, typically constrained).
+    axes : sequence of PolarAxes, optional
+        The axes to cut (default: every axes of ``fig``).
+    """
+    for ax in fig.axes if axes is None else axes:
+        ax.set_thetamin(0)
+        ax.set_thetamax(90)
+    fig.draw_without_rendering()
+
+
 def directivity_figure(directivity, *, title: str = "", half_space: bool = True):
     """Paper Figure 3 as one figure: peak SPL (A) and RMS pressure (B) against angle, polar.
 
@@ -88,10 +110,8 @@ def directivity_figure(directivity, *, title: str = "", half_space: bool = True)
         axes = [fig.add_subplot(1, 2, k, projection="polar") for k in (1, 2)]
         plot_directivity(directivity, "spl", ax=axes[0])
         plot_directivity(directivity, "rms", ax=axes[1])
-        if half_space:
-            for ax in axes:
-                ax.set_thetamin(0)
-                ax.set_thetamax(90)
         if title:
             fig.suptitle(title, fontsize=10)
+        if half_space:
+            half_space_axes(fig)
     return fig
