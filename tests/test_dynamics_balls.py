@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from _balls_reference import scipy_collisions
 
 from acoustiviz.core.contact import hertz_stiffness, sphere_pair_stiffness
 from acoustiviz.core.materials import material, sphere_radius
@@ -19,57 +19,6 @@ from acoustiviz.errors import ParameterError
 TIME_TOL = 1e-8
 #: Restitution of an undamped contact: 1 within this.
 UNDAMPED_E_TOL = 1e-6
-
-
-def _reference_collisions(model: MultiBallModel, n_collisions: int, t_max: float = 2.0):
-    """First touches (time s, pair index) by ``solve_ivp(method="DOP853")`` with an event on every pair.
-
-    The same equations written out here: state = reduced positions then velocities of the main mass and
-    the balls; every pair in contact pushes its bodies apart with K d^1.5 + c dd/dt. The run restarts at
-    each event (the force law changes form there); between events the right-hand side is smooth (a pair in
-    contact keeps its law, continued oddly past d = 0, until the event switches it off).
-    """
-    pr, mass = model.pairs(), model.masses()
-    pa, pb, hg, kh, cc = pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"]
-    nb = mass.size
-    q0, u0 = BallState().reduced(model)
-    state = np.concatenate([q0, u0])
-    active = np.zeros(pa.size, bool)
-
-    def rhs(t, s):
-        q, u = s[:nb], s[nb:]
-        acc = np.zeros(nb)
-        acc[0] = -model.K * q[0] - model.C * u[0]
-        d = q[pa] - q[pb] - hg
-        f = np.where(active, kh * d * np.sqrt(np.abs(d)) + cc * (u[pa] - u[pb]), 0.0)
-        np.add.at(acc, pa, -f)
-        np.add.at(acc, pb, f)
-        return np.concatenate([u, acc / mass])
-
-    def make_event(p):
-        def ev(t, s):
-            return s[pa[p]] - s[pb[p]] - hg[p]
-        ev.terminal = True
-        return ev
-
-    events = [make_event(p) for p in range(pa.size)]
-    t, found = 0.0, []
-    while len(found) < n_collisions and t < t_max:
-        sol = solve_ivp(rhs, (t, t_max), state, method="DOP853", rtol=1e-13, atol=1e-16, events=events)
-        hits = [(te[0], p) for p, te in enumerate(sol.t_events) if te.size]
-        if not hits:
-            break
-        te, p = min(hits)
-        state = sol.y_events[p][0].copy()
-        rate = state[nb + pa[p]] - state[nb + pb[p]]
-        if not active[p] and rate > 0:
-            found.append((te, p))
-        active[p] = rate > 0
-        # carry on past the crossing without events for 1 ns (far shorter than any contact or flight here),
-        # so that the next run does not stop again at the event just handled
-        t = te + 1e-9
-        state = solve_ivp(rhs, (te, t), state, method="DOP853", rtol=1e-13, atol=1e-16).y[:, -1]
-    return found
 
 
 def test_sphere_pair_stiffness_is_paper_eq2_with_the_relative_radius():
@@ -169,7 +118,7 @@ def test_damped_ball_contact_loses_the_work_of_its_dissipative_force():
 @pytest.mark.parametrize("n_balls", [2, 3, 5])
 def test_first_collisions_agree_with_an_independent_scipy_reference(n_balls):
     model = MultiBallModel.from_damper(DamperModel(), n_balls)
-    ref = _reference_collisions(model, 20)
+    ref = scipy_collisions(model, 20)
     got = simulate_balls(model, ref[-1][0] + 1e-3)
     assert len(ref) == 20
     pr = model.pairs()
