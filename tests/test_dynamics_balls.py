@@ -59,10 +59,7 @@ def test_bad_cavities_are_refused_naming_the_field():
 
 
 def test_one_ball_reproduces_the_single_ball_event_solver():
-    """Same law, another integration (physical time instead of the single-ball solver's sqrt(δ) time).
-
-    Not the same arithmetic, so not bit for bit: both are converged to far below TIME_TOL.
-    """
+    """Same law, same contact kernel (the single-ball solver's sqrt(δ) time): see also the bit-for-bit test."""
     model = DamperModel()
     ref = simulate(model, 1.0)
     got = simulate_balls(MultiBallModel.from_damper(model, 1), 1.0)
@@ -77,6 +74,56 @@ def test_one_ball_reproduces_the_single_ball_event_solver():
     walls = np.where(ref.impacts.wall[:n] > 0, "wall+", "wall-")
     touched = np.where(got.impacts.first[:n] == "ball1", got.impacts.second[:n], got.impacts.first[:n])
     assert list(touched) == list(walls)
+
+
+@pytest.mark.parametrize("clip", [False, True])
+def test_one_ball_bit_for_bit(clip):
+    """One ball in one cavity: the multi-ball driver runs the single-ball solver's arithmetic.
+
+    Free decay of the Table 1 damper over 20 s (the whole settling, a couple of hundred impacts): the
+    impact tables and the motion at the output times are identical, not merely close.
+    """
+    model = DamperModel(clip_tensile=clip)
+    t_eval = np.linspace(0.0, 20.0, 4001)
+    ref = simulate(model, 20.0, t_eval=t_eval)
+    got = simulate_balls(MultiBallModel.from_damper(model, 1), 20.0, t_eval=t_eval)
+    assert ref.success and got.success
+    a, b = ref.impacts, got.impacts
+    assert len(a) > 100 and len(b) == len(a)
+    for name in ("time", "approach_velocity", "separation_velocity", "restitution", "peak_force", "impulse",
+                 "energy_lost"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert np.array_equal(b.end, a.time + a.duration)
+    walls = np.where(a.wall > 0, "wall+", "wall-")
+    touched = np.where(b.first == "ball1", b.second, b.first)
+    assert list(touched) == list(walls)
+    assert np.array_equal(got.x, ref.x) and np.array_equal(got.v, ref.v)
+    assert np.array_equal(got.y[:, 0], ref.y) and np.array_equal(got.w[:, 0], ref.w)
+    # the main mass's largest excursions (maxima of the sampled motion) therefore agree too
+    assert np.max(got.x) == np.max(ref.x) and np.min(got.x) == np.min(ref.x)
+
+
+def test_overlapping_contacts_leave_the_lone_path_and_agree_with_scipy():
+    """A ball strikes a column whose next gap (0.1 um) closes while the first contact lasts.
+
+    The contact begins alone, but the struck ball reaches its neighbour before it parts: the solver
+    must take it again from its onset with every body integrated together. The two contacts then
+    overlap in the table (a lone contact could not), and the touches agree with the SciPy reference.
+    """
+    cav = equal_balls(3, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=0.0)
+    model = MultiBallModel((cav,), C=0.0)
+    q = np.array([-0.005, 0.0, 1e-7])  # reduced coordinates: neighbours touch when theirs coincide
+    start = BallState(v=0.0, y=tuple(q + cav.offsets), w=(1.0, 0.0, 0.0))
+    ref = scipy_collisions(model, 2, t_max=0.02, initial=start)
+    r = simulate_balls(model, 0.02, initial=start, t_eval=[0.02])
+    imp = r.impacts
+    assert len(ref) == 2 and len(imp) == 2
+    assert [(imp.first[k], imp.second[k]) for k in range(2)] == [("ball1", "ball2"), ("ball2", "ball3")]
+    assert [p for _, p in ref] == [1, 2]
+    assert np.max(np.abs(imp.time - np.array([t for t, _ in ref]))) < TIME_TOL
+    assert imp.time[1] < imp.end[0]  # overlapping contacts
+    assert 0.02 * r.w[-1].sum() == pytest.approx(0.02 * 1.0, rel=1e-12)  # momentum
+    assert abs(r.energy.relative_closure_error) < 1e-8
 
 
 def _two_free_balls(c_ball: float):
