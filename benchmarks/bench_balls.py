@@ -26,10 +26,13 @@ from pathlib import Path
 
 import numpy as np
 from _balls_reference import scipy_collisions
+from _timing import results_header
 
 from acoustiviz.dynamics import DamperModel, MultiBallModel, simulate_balls
 
 RESULTS = Path(__file__).resolve().parent / "results" / "balls.md"
+#: Heading of the hand-written reading of the tables, kept when the tables are written again.
+READING = "## Reading"
 
 
 def cpu(fn, *args, **kw):
@@ -97,9 +100,11 @@ def main(argv=None) -> None:
     text = "\n".join(parts)
     print(text)
     if not args.quick:
-        head = ("# Multi-ball damper solver\n\n`python benchmarks/bench_balls.py`: CPU seconds of this process "
-                "(numba kernel warm). Figures from one run on the shared 2-core development machine.\n\n")
-        RESULTS.write_text(head + text)
+        old = RESULTS.read_text(encoding="utf-8") if RESULTS.exists() else ""
+        reading = old[old.index(READING):] if READING in old else ""  # the hand-written reading is kept
+        head = (f"# Multi-ball damper solver\n\n{results_header('python benchmarks/bench_balls.py')}\n\n"
+                "CPU seconds of this process (numba kernel warm), from one run.\n\n")
+        RESULTS.write_text(head + text + ("\n" + reading if reading else ""), encoding="utf-8")
         print(f"wrote {RESULTS}")
 
 
