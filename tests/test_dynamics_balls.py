@@ -84,7 +84,8 @@ def test_one_ball_bit_for_bit(clip):
     impact tables and the motion at the output times are identical, not merely close.
     """
     model = DamperModel(clip_tensile=clip)
-    t_eval = np.linspace(0.0, 20.0, 4001)
+    first = simulate(model, 1.0).impacts  # output times inside the first contacts too
+    t_eval = np.union1d(np.linspace(0.0, 20.0, 4001), first.time + 0.5 * first.duration)
     ref = simulate(model, 20.0, t_eval=t_eval)
     got = simulate_balls(MultiBallModel.from_damper(model, 1), 20.0, t_eval=t_eval)
     assert ref.success and got.success
@@ -149,6 +150,28 @@ def test_undamped_ball_contact_conserves_momentum_and_energy_and_swaps_velocitie
     assert 0.5 * m * np.sum(w_end**2) == pytest.approx(0.5 * m, rel=1e-6)  # energy
     assert imp.impulse[0] == pytest.approx(m * 1.0, rel=1e-6)
     assert r.x[-1] == 0.0 and r.energy.relative_closure_error == pytest.approx(0.0, abs=1e-10)
+
+
+def test_motion_inside_a_contact_of_two_balls_conserves_momentum_and_energy():
+    """Output times inside a lone contact of two balls: the pair's motion comes from the contact's own integration."""
+    model, start = _two_free_balls(0.0)
+    r = simulate_balls(model, 0.05, initial=start)
+    t0, dur = r.impacts.time[0], r.impacts.duration[0]
+    times = t0 + dur * np.array([0.25, 0.5, 0.75])
+    r = simulate_balls(model, 0.05, initial=start, t_eval=times)
+    m, k = 0.02, 5e8
+    off = model.offsets()
+    y0 = np.array(start.y)
+    s = r.y - off  # reduced coordinates: the pair overlaps by s1 - s2
+    pen = s[:, 0] - s[:, 1]
+    assert np.all(pen > 0.0)
+    assert np.all(r.x == 0.0) and np.all(r.v == 0.0)  # the main mass, at rest, flies in closed form
+    assert m * r.w.sum(axis=1) == pytest.approx(np.full(3, m * 1.0), rel=1e-12)  # momentum
+    # the centre of mass moves uniformly at 0.5 m/s
+    assert 0.5 * r.y.sum(axis=1) == pytest.approx(0.5 * y0.sum() + 0.5 * times, abs=1e-12)
+    energy = 0.5 * m * np.sum(r.w**2, axis=1) + 0.4 * k * pen**2.5
+    assert energy == pytest.approx(np.full(3, 0.5 * m), rel=1e-9)
+    assert pen[1] > pen[0] and pen[1] > pen[2]  # deepest half-way through the symmetric contact
 
 
 def test_damped_ball_contact_loses_the_work_of_its_dissipative_force():
