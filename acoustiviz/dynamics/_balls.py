@@ -436,9 +436,9 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
     while t < t_stop and steps <= max_steps:
         steps += 1
+        flight = not np.any(active)  # a contact found by this flight may be integrated alone (below)
         changed = -1
-        flight = not np.any(active)
-        if flight:  # flight in closed form up to the next contact
+        if not np.any(active):  # flight in closed form up to the next contact
             tau, changed = _first_flight_event(t, y, nb, pa, pb, hgp, a, wd, t_stop - t)
             ie = _flight_dense(t, tau, y, nb, a, wd, t_eval, ie, dense)
             _fly(t, tau, y, nb, a, wd, mass[0], K)
