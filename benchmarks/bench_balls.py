@@ -7,8 +7,8 @@ that compiles the kernel or loads it from numba's cache:
 1. the column the brief asks for: 50 equal steel balls of the Table 1 impact mass in the Table 1
    damper (gap 4 cm, Figure 5 start), 20 s of motion;
 2. side by side with an independent SciPy reference (``solve_ivp(method="DOP853")`` with an event on
-   every pair, the equations written out here, tolerance 1e-13) over the first 20 collisions of 2, 3
-   and 5 balls, with the largest difference of their collision times;
+   every pair, the equations written out again in ``_balls_reference.py``, tolerance 1e-13) over the
+   first 20 collisions of 2, 3 and 5 balls, with the largest difference of their collision times;
 3. cost against the number of collisions: 10 balls over longer and longer runs, and 2 to 50 balls over
    20 s (the cost per collision, and per collision and body).
 
@@ -25,11 +25,14 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from _balls_reference import scipy_collisions
+from _timing import results_header
 
-from acoustiviz.dynamics import BallState, DamperModel, MultiBallModel, simulate_balls
+from acoustiviz.dynamics import DamperModel, MultiBallModel, simulate_balls
 
 RESULTS = Path(__file__).resolve().parent / "results" / "balls.md"
+#: Heading of the hand-written reading of the tables, kept when the tables are written again.
+READING = "## Reading"
 
 
 def cpu(fn, *args, **kw):
@@ -37,49 +40,6 @@ def cpu(fn, *args, **kw):
     t0 = time.process_time()
     out = fn(*args, **kw)
     return out, time.process_time() - t0
-
-
-def scipy_collisions(model: MultiBallModel, n_collisions: int, t_max: float = 2.0) -> list:
-    """First touches ``(time s, pair)`` by SciPy's DOP853 with events; restarted at every event."""
-    pr, mass = model.pairs(), model.masses()
-    pa, pb, hg, kh, cc = pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"]
-    nb = mass.size
-    q0, u0 = BallState().reduced(model)
-    state = np.concatenate([q0, u0])
-    active = np.zeros(pa.size, bool)
-
-    def rhs(t, s):
-        q, u = s[:nb], s[nb:]
-        acc = np.zeros(nb)
-        acc[0] = -model.K * q[0] - model.C * u[0]
-        d = q[pa] - q[pb] - hg
-        f = np.where(active, kh * d * np.sqrt(np.abs(d)) + cc * (u[pa] - u[pb]), 0.0)
-        np.add.at(acc, pa, -f)
-        np.add.at(acc, pb, f)
-        return np.concatenate([u, acc / mass])
-
-    def event(p):
-        def ev(t, s):
-            return s[pa[p]] - s[pb[p]] - hg[p]
-        ev.terminal = True
-        return ev
-
-    events = [event(p) for p in range(pa.size)]
-    t, found = 0.0, []
-    while len(found) < n_collisions and t < t_max:
-        sol = solve_ivp(rhs, (t, t_max), state, method="DOP853", rtol=1e-13, atol=1e-16, events=events)
-        hits = [(te[0], p) for p, te in enumerate(sol.t_events) if te.size]
-        if not hits:
-            break
-        te, p = min(hits)
-        state = sol.y_events[p][0].copy()
-        rate = state[nb + pa[p]] - state[nb + pb[p]]
-        if not active[p] and rate > 0:
-            found.append((te, p))
-        active[p] = rate > 0
-        t = te + 1e-9  # past the event just handled
-        state = solve_ivp(rhs, (te, t), state, method="DOP853", rtol=1e-13, atol=1e-16).y[:, -1]
-    return found
 
 
 def column(n: int) -> MultiBallModel:
@@ -140,9 +100,11 @@ def main(argv=None) -> None:
     text = "\n".join(parts)
     print(text)
     if not args.quick:
-        head = ("# Multi-ball damper solver\n\n`python benchmarks/bench_balls.py`: CPU seconds of this process "
-                "(numba kernel warm). Figures from one run on the shared 2-core development machine.\n\n")
-        RESULTS.write_text(head + text)
+        old = RESULTS.read_text(encoding="utf-8") if RESULTS.exists() else ""
+        reading = old[old.index(READING):] if READING in old else ""  # the hand-written reading is kept
+        head = (f"# Multi-ball damper solver\n\n{results_header('python benchmarks/bench_balls.py')}\n\n"
+                "CPU seconds of this process (numba kernel warm), from one run.\n\n")
+        RESULTS.write_text(head + text + ("\n" + reading if reading else ""), encoding="utf-8")
         print(f"wrote {RESULTS}")
 
 

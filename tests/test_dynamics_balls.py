@@ -6,11 +6,11 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from _balls_reference import scipy_collisions
 
 from acoustiviz.core.contact import hertz_stiffness, sphere_pair_stiffness
 from acoustiviz.core.materials import material, sphere_radius
-from acoustiviz.dynamics import DamperModel, simulate
+from acoustiviz.dynamics import DamperModel, InitialState, simulate
 from acoustiviz.dynamics.balls import BallState, Cavity, MultiBallModel, cavity_body_names, equal_balls
 from acoustiviz.dynamics.balls_solve import simulate_balls
 from acoustiviz.errors import ParameterError
@@ -19,57 +19,6 @@ from acoustiviz.errors import ParameterError
 TIME_TOL = 1e-8
 #: Restitution of an undamped contact: 1 within this.
 UNDAMPED_E_TOL = 1e-6
-
-
-def _reference_collisions(model: MultiBallModel, n_collisions: int, t_max: float = 2.0):
-    """First touches (time s, pair index) by ``solve_ivp(method="DOP853")`` with an event on every pair.
-
-    The same equations written out here: state = reduced positions then velocities of the main mass and
-    the balls; every pair in contact pushes its bodies apart with K d^1.5 + c dd/dt. The run restarts at
-    each event (the force law changes form there); between events the right-hand side is smooth (a pair in
-    contact keeps its law, continued oddly past d = 0, until the event switches it off).
-    """
-    pr, mass = model.pairs(), model.masses()
-    pa, pb, hg, kh, cc = pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"]
-    nb = mass.size
-    q0, u0 = BallState().reduced(model)
-    state = np.concatenate([q0, u0])
-    active = np.zeros(pa.size, bool)
-
-    def rhs(t, s):
-        q, u = s[:nb], s[nb:]
-        acc = np.zeros(nb)
-        acc[0] = -model.K * q[0] - model.C * u[0]
-        d = q[pa] - q[pb] - hg
-        f = np.where(active, kh * d * np.sqrt(np.abs(d)) + cc * (u[pa] - u[pb]), 0.0)
-        np.add.at(acc, pa, -f)
-        np.add.at(acc, pb, f)
-        return np.concatenate([u, acc / mass])
-
-    def make_event(p):
-        def ev(t, s):
-            return s[pa[p]] - s[pb[p]] - hg[p]
-        ev.terminal = True
-        return ev
-
-    events = [make_event(p) for p in range(pa.size)]
-    t, found = 0.0, []
-    while len(found) < n_collisions and t < t_max:
-        sol = solve_ivp(rhs, (t, t_max), state, method="DOP853", rtol=1e-13, atol=1e-16, events=events)
-        hits = [(te[0], p) for p, te in enumerate(sol.t_events) if te.size]
-        if not hits:
-            break
-        te, p = min(hits)
-        state = sol.y_events[p][0].copy()
-        rate = state[nb + pa[p]] - state[nb + pb[p]]
-        if not active[p] and rate > 0:
-            found.append((te, p))
-        active[p] = rate > 0
-        # carry on past the crossing without events for 1 ns (far shorter than any contact or flight here),
-        # so that the next run does not stop again at the event just handled
-        t = te + 1e-9
-        state = solve_ivp(rhs, (te, t), state, method="DOP853", rtol=1e-13, atol=1e-16).y[:, -1]
-    return found
 
 
 def test_sphere_pair_stiffness_is_paper_eq2_with_the_relative_radius():
@@ -110,10 +59,7 @@ def test_bad_cavities_are_refused_naming_the_field():
 
 
 def test_one_ball_reproduces_the_single_ball_event_solver():
-    """Same law, another integration (physical time instead of the single-ball solver's sqrt(δ) time).
-
-    Not the same arithmetic, so not bit for bit: both are converged to far below TIME_TOL.
-    """
+    """Same law, same contact kernel (the single-ball solver's sqrt(δ) time): see also the bit-for-bit test."""
     model = DamperModel()
     ref = simulate(model, 1.0)
     got = simulate_balls(MultiBallModel.from_damper(model, 1), 1.0)
@@ -128,6 +74,62 @@ def test_one_ball_reproduces_the_single_ball_event_solver():
     walls = np.where(ref.impacts.wall[:n] > 0, "wall+", "wall-")
     touched = np.where(got.impacts.first[:n] == "ball1", got.impacts.second[:n], got.impacts.first[:n])
     assert list(touched) == list(walls)
+
+
+@pytest.mark.parametrize("clip, start", [(False, (0.0, 2.0, None, 0.0)), (True, (0.0, 2.0, None, 0.0)),
+                                         (False, (0.003, -1.5, 0.012, 0.8))])
+def test_one_ball_bit_for_bit(clip, start):
+    """One ball in one cavity: the multi-ball driver runs the single-ball solver's arithmetic.
+
+    Free decay of the Table 1 damper over 20 s (the whole settling, a couple of hundred impacts), from
+    the paper's start and from an off-centre moving ball: the impact tables and the motion at the
+    output times are identical, not merely close.
+    """
+    model = DamperModel(clip_tensile=clip)
+    x, v, y, w = start
+    single = InitialState(x=x, v=v, y=y, w=w)
+    several = BallState(x=x, v=v, y=None if y is None else (y,), w=(w,))
+    first = simulate(model, 1.0, initial=single).impacts  # output times inside the first contacts too
+    t_eval = np.union1d(np.linspace(0.0, 20.0, 4001), first.time + 0.5 * first.duration)
+    ref = simulate(model, 20.0, initial=single, t_eval=t_eval)
+    got = simulate_balls(MultiBallModel.from_damper(model, 1), 20.0, initial=several, t_eval=t_eval)
+    assert ref.success and got.success
+    a, b = ref.impacts, got.impacts
+    assert len(a) > 100 and len(b) == len(a)
+    for name in ("time", "approach_velocity", "separation_velocity", "restitution", "peak_force", "impulse",
+                 "energy_lost"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert np.array_equal(b.end, a.time + a.duration)
+    walls = np.where(a.wall > 0, "wall+", "wall-")
+    touched = np.where(b.first == "ball1", b.second, b.first)
+    assert list(touched) == list(walls)
+    assert np.array_equal(got.x, ref.x) and np.array_equal(got.v, ref.v)
+    assert np.array_equal(got.y[:, 0], ref.y) and np.array_equal(got.w[:, 0], ref.w)
+    # the main mass's largest excursions (maxima of the sampled motion) therefore agree too
+    assert np.max(got.x) == np.max(ref.x) and np.min(got.x) == np.min(ref.x)
+
+
+def test_overlapping_contacts_leave_the_lone_path_and_agree_with_scipy():
+    """A ball strikes a column whose next gap (0.1 um) closes while the first contact lasts.
+
+    The contact begins alone, but the struck ball reaches its neighbour before it parts: the solver
+    must take it again from its onset with every body integrated together. The two contacts then
+    overlap in the table (a lone contact could not), and the touches agree with the SciPy reference.
+    """
+    cav = equal_balls(3, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=0.0)
+    model = MultiBallModel((cav,), C=0.0)
+    q = np.array([-0.005, 0.0, 1e-7])  # reduced coordinates: neighbours touch when theirs coincide
+    start = BallState(v=0.0, y=tuple(q + cav.offsets), w=(1.0, 0.0, 0.0))
+    ref = scipy_collisions(model, 2, t_max=0.02, initial=start)
+    r = simulate_balls(model, 0.02, initial=start, t_eval=[0.02])
+    imp = r.impacts
+    assert len(ref) == 2 and len(imp) == 2
+    assert [(imp.first[k], imp.second[k]) for k in range(2)] == [("ball1", "ball2"), ("ball2", "ball3")]
+    assert [p for _, p in ref] == [1, 2]
+    assert np.max(np.abs(imp.time - np.array([t for t, _ in ref]))) < TIME_TOL
+    assert imp.time[1] < imp.end[0]  # overlapping contacts
+    assert 0.02 * r.w[-1].sum() == pytest.approx(0.02 * 1.0, rel=1e-12)  # momentum
+    assert abs(r.energy.relative_closure_error) < 1e-8
 
 
 def _two_free_balls(c_ball: float):
@@ -155,6 +157,28 @@ def test_undamped_ball_contact_conserves_momentum_and_energy_and_swaps_velocitie
     assert r.x[-1] == 0.0 and r.energy.relative_closure_error == pytest.approx(0.0, abs=1e-10)
 
 
+def test_motion_inside_a_contact_of_two_balls_conserves_momentum_and_energy():
+    """Output times inside a lone contact of two balls: the pair's motion comes from the contact's own integration."""
+    model, start = _two_free_balls(0.0)
+    r = simulate_balls(model, 0.05, initial=start)
+    t0, dur = r.impacts.time[0], r.impacts.duration[0]
+    times = t0 + dur * np.array([0.25, 0.5, 0.75])
+    r = simulate_balls(model, 0.05, initial=start, t_eval=times)
+    m, k = 0.02, 5e8
+    off = model.offsets()
+    y0 = np.array(start.y)
+    s = r.y - off  # reduced coordinates: the pair overlaps by s1 - s2
+    pen = s[:, 0] - s[:, 1]
+    assert np.all(pen > 0.0)
+    assert np.all(r.x == 0.0) and np.all(r.v == 0.0)  # the main mass, at rest, flies in closed form
+    assert m * r.w.sum(axis=1) == pytest.approx(np.full(3, m * 1.0), rel=1e-12)  # momentum
+    # the centre of mass moves uniformly at 0.5 m/s
+    assert 0.5 * r.y.sum(axis=1) == pytest.approx(0.5 * y0.sum() + 0.5 * times, abs=1e-12)
+    energy = 0.5 * m * np.sum(r.w**2, axis=1) + 0.4 * k * pen**2.5
+    assert energy == pytest.approx(np.full(3, 0.5 * m), rel=1e-9)
+    assert pen[1] > pen[0] and pen[1] > pen[2]  # deepest half-way through the symmetric contact
+
+
 def test_damped_ball_contact_loses_the_work_of_its_dissipative_force():
     model, start = _two_free_balls(5.0)
     r = simulate_balls(model, 0.05, initial=start)
@@ -169,7 +193,7 @@ def test_damped_ball_contact_loses_the_work_of_its_dissipative_force():
 @pytest.mark.parametrize("n_balls", [2, 3, 5])
 def test_first_collisions_agree_with_an_independent_scipy_reference(n_balls):
     model = MultiBallModel.from_damper(DamperModel(), n_balls)
-    ref = _reference_collisions(model, 20)
+    ref = scipy_collisions(model, 20)
     got = simulate_balls(model, ref[-1][0] + 1e-3)
     assert len(ref) == 20
     pr = model.pairs()

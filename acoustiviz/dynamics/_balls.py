@@ -24,6 +24,11 @@ is cut there, on the far side of the change. Each contact's impulse and dissipat
 output times inside a step, and the peak force, come from the quintic Hermite interpolant of the
 step (positions, velocities, accelerations at both ends; error of order h^6).
 
+Lone contact (a flight ends with exactly one pair touching): a two-body problem, integrated by the
+single-ball solver's contact kernel in its sqrt(δ) time (:mod:`._balls_lone`), so one ball in one
+cavity reproduces the single-ball solver bit for bit. Should another pair have touched meanwhile,
+the contact is taken again from its onset by the general path above.
+
 Impact rows (``IMPACT_ROW_COLUMNS``): start s, end s, cavity, pair (0: wall- and ball 1, j: ball j
 and ball j+1, N: ball N and wall+), approach speed m/s, separation speed m/s, peak force N,
 impulse N s, dissipated work J.
@@ -39,6 +44,7 @@ import numpy as np
 
 from .._jit import helper, kernel
 from ..constants import HERTZ_DURATION_CONSTANT as _HERTZ_T
+from ._balls_lone import lone_buffers, lone_contact
 from ._dop853 import E3 as _E3
 from ._dop853 import E5 as _E5
 from ._dop853 import N_STAGES as _NS
@@ -423,12 +429,14 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     kst = np.zeros((_NS + 1, n))
     ytmp = np.zeros(n)
     ynew = np.zeros(n)
+    lone = lone_buffers(n, t_eval.shape[0])
     t, h, ie = clock[0], clock[1], ie_arr[0]
     status = STATUS_REACHED
     steps = 0
     _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
     while t < t_stop and steps <= max_steps:
         steps += 1
+        flight = not np.any(active)  # a contact found by this flight may be integrated alone (below)
         changed = -1
         if not np.any(active):  # flight in closed form up to the next contact
             tau, changed = _first_flight_event(t, y, nb, pa, pb, hgp, a, wd, t_stop - t)
@@ -460,6 +468,9 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                             _first_step(q, y, nb, mass, pa, pb, kh)
                         before = 1
             _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
+            if flight and np.sum(active) == 1:  # one pair alone: the single-ball contact (module _balls_lone)
+                _, t, ie = lone_contact(np.argmax(active), t, y, nb, mass, pa, pb, hgp, kh, cc, loc, K, C, clip, a,
+                                        wd, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, lone)
     clock[0] = t
     clock[1] = h
     ie_arr[0] = ie

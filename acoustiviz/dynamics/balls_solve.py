@@ -1,8 +1,9 @@
 """Simulating a multi-ball damper (:mod:`acoustiviz.dynamics.balls`): :func:`simulate_balls` and its results.
 
 The compiled solver is :mod:`acoustiviz.dynamics._balls` (closed-form flights, contacts located as
-events, every body integrated by DOP853 while any pair touches). The run goes in batches of steps,
-so a caller can show progress and Ctrl-C stops it between two batches.
+events; a contact alone by the single-ball contact kernel, overlapping contacts by DOP853 on every
+body). The run goes in batches of steps, so a caller can show progress and Ctrl-C stops it between
+two batches.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from .result import EnergyBalance
 __all__ = ["BallImpactTable", "MultiBallResult", "simulate_balls", "BALLS_COMPILE_S"]
 
 #: CPU time in s of the multi-ball kernel's first compilation (quoted to the user when it happens).
-BALLS_COMPILE_S = 4.0
+BALLS_COMPILE_S = 7.0
 #: Steps of one batch of the compiled solver (between two, progress is reported and Ctrl-C is seen).
 BATCH_STEPS = 200_000
 
