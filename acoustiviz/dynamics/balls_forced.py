@@ -1,0 +1,399 @@
+r"""Several balls in operation: the attractors of the forced multi-ball damper at each frequency.
+
+The multi-ball damper (:mod:`acoustiviz.dynamics.balls`) driven as the single-ball damper in
+operation (:mod:`acoustiviz.dynamics.forced`): the main mass carries ``F(t) = P cos ωt + Q sin ωt``
+(a base motion mapped to it by :meth:`~acoustiviz.dynamics.forced.Excitation.force_coefficients`),
+advanced by the compiled multi-ball solver with forcing (:func:`~acoustiviz.dynamics._balls.run_balls`).
+
+At each frequency several starts (:func:`ball_start_states`, the rules of the single-ball
+:func:`~acoustiviz.dynamics.forced.start_states`) are each run cycle by cycle on the Poincaré section
+at forcing phase 0, where the state has ``2 + 2B`` components (main mass ``x, v``; each ball's
+``s_i - x`` and ``w_i - v``, with ``s_i`` its reduced coordinate). A start has settled on a periodic
+orbit of period ``n <= MAX_PERIOD`` when each of its last ``n`` section points returns after ``n``
+cycles within ``tolerance`` (m and m/s); the orbit is measured over those ``n`` cycles. A start with
+no such return within ``max_cycles`` is measured over a window of
+:data:`~acoustiviz.dynamics.forced.NONPERIODIC_CYCLES` cycles in batches (the batch means and their
+standard error of the single-ball code).
+
+What is left out for several balls: no shooting and no Floquet multipliers (every attractor is
+reached by direct simulation from a start, so it is stable: ``stable`` is True by simulation and the
+multipliers are empty, the ``max_floquet_modulus`` NaN), no Lyapunov exponent (a non-periodic motion
+is ``unresolved``, its amplitude the batch mean with its error), and continuation is one pass
+along the sweep (each frequency also starts from the final states of its neighbour's attractors).
+
+All SI; frequencies in Hz.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._jit import compile_for
+from .._validate import ParameterError
+from ._attractors import FrequencyAttractors
+from ._forced_response import AttractorResponse, _frequencies
+from ._forced_steady import (
+    BATCH_CYCLES,
+    MAX_PERIOD,
+    WINDOW_BATCHES,
+    Excitation,
+    SteadyState,
+    SteadyStateOptions,
+    check_settings,
+)
+from ._measure import _stats_agree
+from .balls import BallState, MultiBallModel
+from .balls_solve import BALLS_COMPILE_S, BATCH_STEPS
+from .model import DamperModel
+
+__all__ = ["BallCycles", "ball_start_states", "ball_attractors_at", "ball_attractor_response", "same_ball_motion",
+           "check_ball_settings", "BALL_SAME_ORBIT"]
+
+#: Scaled distance under which two periodic motions of the balls are one attractor (the single-ball rule).
+BALL_SAME_ORBIT = 1e-4
+
+
+def _stand_in(model: MultiBallModel) -> DamperModel:
+    """The single-ball damper of the first cavity's first ball (for the checks shared with ``forced``)."""
+    c = model.cavities[0]
+    return DamperModel(M=model.M, K=model.K, C=model.C, m=c.masses[0], gap=c.gap, k_hertz=c.k_wall, c1=c.c_wall,
+                       clip_tensile=model.clip_tensile)
+
+
+def check_ball_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOptions:
+    """The forced settings (:func:`~acoustiviz.dynamics.forced.check_settings`) checked for several balls.
+
+    Only the ``event`` solver (the multi-ball kernel) and no ``restitution``.
+    """
+    if not isinstance(model, MultiBallModel):
+        raise ParameterError("model", f"expected a MultiBallModel, got {type(model).__name__}")
+    settings = check_settings(_stand_in(model), excitation, settings, **kwargs)
+    if settings.solver != "event":
+        raise ParameterError("solver", f"several balls are solved by the event solver only, got {settings.solver!r}")
+    return settings
+
+
+def section_scales(model: MultiBallModel, excitation: Excitation) -> np.ndarray:
+    """Scale of the section variables ``(x, v, s_i - x..., w_i - v...)`` in m and m/s.
+
+    ``X_s = max(|X|, d/2)`` and ``ω X_s`` for the main mass (the single-ball rule), each ball's
+    cavity's ``d/2`` and ``ω d/2``.
+    """
+    hg = np.concatenate([[0.5 * c.gap] * c.n_balls for c in model.cavities])
+    xs = max(abs(excitation.linear_response(model)), float(hg.max()))
+    om = excitation.omega
+    return np.concatenate([[xs, om * xs], hg, om * hg])
+
+
+def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int) -> list:
+    """``count`` starts at forcing phase 0 (:class:`BallState`), deterministic.
+
+    The rules of :func:`~acoustiviz.dynamics.forced.start_states` with each cavity's column of balls
+    packed (touching, without force) where the one impact mass would be: the linear start (the
+    main mass on its linear steady state, the column at rest at the cavity's centre at rest), rest,
+    then the column spread evenly across each cavity's free travel, moving alternately towards
+    ``wall+`` and ``wall-`` at ``ω d/2`` relative to the main mass. One ball: the single-ball starts.
+    """
+    xc = excitation.linear_response(model)
+    x0, v0 = xc.real, -excitation.omega * xc.imag
+    off = model.offsets()
+    out = []
+    k = max(count - 2, 0)
+    for j in range(count):
+        if j < 2:
+            x, v = (x0, v0) if j == 0 else (0.0, 0.0)
+            z = [min(max(0.0, x - 0.5 * c.gap), x + 0.5 * c.gap) - x for c in model.cavities]
+            u = [-v for _ in model.cavities]
+        else:
+            i = j - 2
+            x, v = x0, v0
+            z = [0.95 * 0.5 * c.gap * ((2 * i + 1) / k - 1.0) for c in model.cavities]
+            u = [(1.0 if i % 2 == 0 else -1.0) * excitation.omega * 0.5 * c.gap for c in model.cavities]
+        s = np.concatenate([[x + z[ic]] * c.n_balls for ic, c in enumerate(model.cavities)])
+        w = np.concatenate([[v + u[ic]] * c.n_balls for ic, c in enumerate(model.cavities)])
+        out.append(BallState(x, v, tuple(s + off), tuple(w)))
+    return out[:count]
+
+
+class BallCycles:
+    """The forced multi-ball damper advanced forcing cycle by cycle from ``initial`` at t = 0.
+
+    Parameters
+    ----------
+    model : MultiBallModel
+    excitation : Excitation
+    initial : BallState
+    rtol : float
+        Relative tolerance of the contact integration.
+    max_impacts_per_cycle : int
+        More collisions in one cycle stop the run (chattering).
+    """
+
+    def __init__(self, model, excitation, initial, rtol, max_impacts_per_cycle=200):
+        from . import _balls as kern
+
+        self.kern, self.model, self.excitation = kern, model, excitation
+        q0, u0 = initial.reduced(model)
+        pr, mass = model.pairs(), model.masses()
+        self.nb, self.npair = mass.size, pr["pa"].size
+        self.y = np.concatenate([q0, u0, np.zeros(2 * self.npair + 2)])
+        self.fc = excitation.vector(model)
+        scale = section_scales(model, excitation)
+        gap = max(c.gap for c in model.cavities)
+        uref = max(float(scale[1]), float(np.abs(u0).max()), excitation.omega * 0.5 * gap)
+        atol = np.concatenate([np.full(self.nb, rtol * gap), np.full(self.nb, rtol * uref)])
+        self.active = np.zeros(self.npair, dtype=np.bool_)
+        self.open_row = np.full(self.npair, -1, dtype=np.int64)
+        self.peaks = np.zeros(self.npair)
+        self.clock = np.array([0.0, 1e-6])
+        self.ie = np.zeros(1, dtype=np.int64)
+        self.rows = np.empty((int(max_impacts_per_cycle) + self.npair, 9))
+        self.n_rows = np.zeros(1, dtype=np.int64)
+        self.ext = np.zeros(5)
+        self.k = 0
+        self.contact_closed = 0.0
+        self.args = [mass, pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"], pr["cav"], pr["loc"], float(model.K),
+                     float(model.C), bool(model.clip_tensile), self.y, self.active, self.open_row, self.peaks,
+                     self.clock, 0.0, float(rtol), atol, np.zeros(0), self.ie, np.empty((0, 2 * self.nb)),
+                     self.rows, self.n_rows, BATCH_STEPS, self.fc, self.ext]
+        self.compile_time = compile_for(kern.run_balls, self.args, "multi-ball solver", BALLS_COMPILE_S)
+
+    def section(self) -> np.ndarray:
+        """The section point ``(x, v, s_i - x..., w_i - v...)`` in m and m/s."""
+        nb, y = self.nb, self.y
+        return np.concatenate([[y[0], y[nb]], y[1:nb] - y[0], y[nb + 1:2 * nb] - y[nb]])
+
+    def energy(self) -> float:
+        """Mechanical energy in J (kinetic + main spring + Hertz)."""
+        return self.model.energy(self.y[:self.nb], self.y[self.nb:2 * self.nb])
+
+    def totals(self) -> tuple:
+        """Work of F, energy dissipated by C and in the contacts so far, in J."""
+        nb, npair = self.nb, self.npair
+        open_work = float(np.sum(self.y[2 * nb + npair:2 * nb + 2 * npair][self.active]))
+        closed = np.ones(self.n_rows[0], dtype=bool)
+        closed[self.open_row[self.open_row >= 0]] = False
+        closed_work = self.contact_closed + float(np.sum(self.rows[:self.n_rows[0], 8][closed]))
+        return float(self.y[-1]), float(self.y[2 * nb + 2 * npair]), closed_work + open_work
+
+    def cycle(self) -> tuple:
+        """Advance one forcing period: ``(status, x max m, x min m, impact rows of the cycle)``.
+
+        The rows (:data:`~acoustiviz.dynamics._balls.IMPACT_ROW_COLUMNS`) of the collisions that began
+        in the cycle, as they stand at its end.
+        """
+        kern = self.kern
+        keep = self.open_row[self.open_row >= 0]  # contacts under way: their rows move to the front
+        closed = np.ones(self.n_rows[0], dtype=bool)
+        closed[keep] = False
+        self.contact_closed += float(np.sum(self.rows[:self.n_rows[0], 8][closed]))
+        order = np.argsort(keep)
+        self.rows[:keep.size] = self.rows[keep[order]]
+        for new, p in enumerate(np.flatnonzero(self.open_row >= 0)[order]):
+            self.open_row[p] = new
+        self.n_rows[0] = n0 = keep.size
+        self.ext[3] = self.ext[4] = self.y[0]
+        self.k += 1
+        t_stop = self.k * self.excitation.period
+        self.args[16] = t_stop
+        status = kern.STATUS_REACHED
+        while self.clock[0] < t_stop and status == kern.STATUS_REACHED:
+            status = kern.run_balls(*self.args)
+        return status, float(self.ext[3]), float(self.ext[4]), self.rows[n0:self.n_rows[0]].copy()
+
+
+@dataclass
+class _Record:
+    """Per cycle of one start: section points, extrema, collisions, energy totals."""
+
+    pts: list
+    xhi: list
+    xlo: list
+    rows: list
+    totals: list
+    energy: list
+
+
+def _steady(model, excitation, settings, rec, first, last, cycles, *, period, message, err=0.0, amp=None):
+    """A :class:`SteadyState` measured over the cycles ``first..last`` (1-based, inclusive) of ``rec``."""
+    sl = slice(first, last + 1)
+    rows = np.concatenate(rec.rows[sl]) if last >= first else np.empty((0, 9))
+    m = last - first + 1
+    work, diss, cont = (np.array(rec.totals[last]) - np.array(rec.totals[first - 1])).tolist()
+    T, om = excitation.period, excitation.omega
+    xhi, xlo = max(rec.xhi[sl]), min(rec.xlo[sl])
+    wall = (rows[:, 3] == 0) | (rows[:, 3] == _balls_in(model, rows[:, 2]))
+    walls = np.where(rows[:, 3] == 0, -1.0, 1.0) * wall
+    return SteadyState(
+        excitation=excitation, model=model, solver="event", regime=f"periodic-{period}" if period else "unresolved",
+        converged=bool(period), period=period, cycles=int(cycles), amplitude=0.5 * (xhi - xlo) if amp is None else amp,
+        x_max=float(xhi), x_min=float(xlo), impacts_per_cycle=len(rows) / m, impact_times=rows[:, 0].copy(),
+        impact_phases=np.mod(om * rows[:, 0], 2.0 * math.pi), impact_speeds=rows[:, 4].copy(), impact_walls=walls,
+        impact_peak_forces=rows[:, 6].copy(), impact_durations=rows[:, 1] - rows[:, 0], work_input=work,
+        dissipated_main=diss, dissipated_contact=cont, energy_change=rec.energy[last] - rec.energy[first - 1],
+        poincare=np.array(rec.pts[sl]), final_state=(rec.pts[last], last * T), message=message, success=True,
+        settings={"tolerance": settings.tolerance, "rtol": settings.rtol, "max_cycles": settings.max_cycles,
+                  "starts": settings.starts, "solver": "event", "restitution": None},
+        measured_cycles=m, amplitude_std_err=err, stable=True, cycles_integrated=int(len(rec.pts) - 1))
+
+
+def _balls_in(model, cavity_numbers):
+    """The number of balls of each 1-based cavity number (the pair index of its ``wall+``)."""
+    n = np.array([c.n_balls for c in model.cavities], dtype=float)
+    return n[cavity_numbers.astype(int) - 1] if cavity_numbers.size else np.zeros(0)
+
+
+def _failed(model, excitation, settings, k, why):
+    nan = math.nan
+    return SteadyState(
+        excitation=excitation, model=model, solver="event", regime="unresolved", converged=False, period=0,
+        cycles=int(k), amplitude=nan, x_max=nan, x_min=nan, impacts_per_cycle=nan, impact_times=np.empty(0),
+        impact_phases=np.empty(0), impact_speeds=np.empty(0), impact_walls=np.empty(0),
+        impact_peak_forces=np.empty(0), impact_durations=np.empty(0), work_input=nan, dissipated_main=nan,
+        dissipated_contact=nan, energy_change=nan, poincare=np.empty((0, 2 + 2 * model.n_balls)), final_state=(),
+        message=f"the solver stopped: {why} after {k} cycles", success=False,
+        settings={"tolerance": settings.tolerance, "rtol": settings.rtol, "max_cycles": settings.max_cycles,
+                  "starts": settings.starts, "solver": "event", "restitution": None}, measured_cycles=0,
+        stable=False, cycles_integrated=int(k))
+
+
+def _returned(rec, k, tol) -> int:
+    """The smallest period n <= MAX_PERIOD whose last n section points all return within ``tol``, else 0."""
+    pts = rec.pts
+    for n in range(1, MAX_PERIOD + 1):
+        if k < 2 * n:
+            break
+        if all(np.max(np.abs(pts[j] - pts[j - n])) < tol for j in range(k - n + 1, k + 1)):
+            return n
+    return 0
+
+
+def settle_balls(model, excitation, settings, start: BallState) -> SteadyState:
+    """Run one start to its attractor (module docstring) and measure it."""
+    from ._balls import STATUS_MAX_IMPACTS
+
+    run = BallCycles(model, excitation, start, settings.rtol, settings.max_impacts_per_cycle)
+    rec = _Record([run.section()], [run.y[0]], [run.y[0]], [np.empty((0, 9))], [run.totals()], [run.energy()])
+    window = WINDOW_BATCHES * BATCH_CYCLES
+    limit = settings.max_cycles + window
+    for k in range(1, limit + 1):
+        status, hi, lo, rows = run.cycle()
+        if status != run.kern.STATUS_REACHED:
+            why = ("too many impacts in one cycle (chattering?)" if status == STATUS_MAX_IMPACTS
+                   else "contact step size underflow")
+            return _failed(model, excitation, settings, k, why)
+        rec.pts.append(run.section())
+        rec.xhi.append(hi)
+        rec.xlo.append(lo)
+        rec.rows.append(rows)
+        rec.totals.append(run.totals())
+        rec.energy.append(run.energy())
+        n = _returned(rec, k, settings.tolerance)
+        if n:
+            return _steady(model, excitation, settings, rec, k - n + 1, k, k - n, period=n,
+                           message=f"periodic-{n}: the section points return within {settings.tolerance:g} "
+                                   f"(m, m/s) after {k} direct cycles; stable by simulation")
+    first = settings.max_cycles + 1
+    amps = [0.5 * (max(rec.xhi[b:b + BATCH_CYCLES]) - min(rec.xlo[b:b + BATCH_CYCLES]))
+            for b in range(first, first + window, BATCH_CYCLES)]
+    amp, err = float(np.mean(amps)), float(np.std(amps, ddof=1) / math.sqrt(len(amps)))
+    return _steady(model, excitation, settings, rec, first, limit, settings.max_cycles, period=0, amp=amp, err=err,
+                   message=f"unresolved: no period up to {MAX_PERIOD} within {settings.max_cycles} direct cycles; "
+                           f"amplitude {amp:.6g} ± {err:.2g} m over {WINDOW_BATCHES} batches of {BATCH_CYCLES} "
+                           f"cycles (no Lyapunov exponent for several balls)")
+
+
+def same_ball_motion(a: SteadyState, b: SteadyState) -> bool:
+    """True when two motions of the balls are one attractor (the rule of ``same_motion``, in 2 + 2B variables)."""
+    if not (a.success and b.success):
+        return False
+    if a.period or b.period:
+        if a.period != b.period:
+            return False
+        scale = section_scales(a.model, a.excitation)
+        d = np.abs(a.poincare[:, None, :] - b.poincare[None, :, :]) / scale
+        return bool(np.min(np.max(d, axis=2)) < BALL_SAME_ORBIT)
+    return _stats_agree(a, b.amplitude, b.amplitude_std_err, b.impacts_per_cycle)
+
+
+def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:
+    """The start (at t = 0) that continues ``a`` at another frequency: its last section point."""
+    p = np.asarray(a.final_state[0])
+    nb = model.n_balls
+    x, v = float(p[0]), float(p[1])
+    return BallState(x, v, tuple(x + p[2:2 + nb] + model.offsets()), tuple(v + p[2 + nb:]))
+
+
+def ball_attractors_at(model, excitation, settings, *, seeds=()) -> FrequencyAttractors:
+    """The starts of :func:`ball_start_states` and ``seeds`` (:class:`BallState`) run to their attractors."""
+    c0 = time.process_time()
+    found, counts, seeded, cycles = [], [], [], 0
+    starts = ball_start_states(model, excitation, settings.starts)
+    for k, start in enumerate([*starts, *seeds]):
+        seed = k >= len(starts)
+        steady = settle_balls(model, excitation, settings, start)
+        cycles += steady.cycles_integrated
+        for i, a in enumerate(found):
+            if same_ball_motion(a, steady):
+                (seeded if seed else counts)[i] += 1
+                break
+        else:
+            found.append(steady)
+            counts.append(0 if seed else 1)
+            seeded.append(1 if seed else 0)
+    return FrequencyAttractors(excitation, tuple(found), tuple(counts), settings.starts, tuple(seeded), (),
+                               time.process_time() - c0, cycles, 0)
+
+
+def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float, *, kind: str = "force",
+                            sweep: str = "up", settings: SteadyStateOptions | None = None, progress=None,
+                            **kwargs) -> AttractorResponse:
+    """Every attractor of the forced multi-ball damper at each of ``frequencies`` (module docstring).
+
+    Parameters as :func:`~acoustiviz.dynamics.forced.attractor_response` (no executor); ``sweep``
+    "up" / "down" also starts each frequency from the attractors of the one before it in that
+    direction (one pass), "both" does both passes, "independent" none.
+    """
+    from .._validate import check_choice
+    from ._forced_response import SWEEPS
+
+    check_choice("sweep", sweep, SWEEPS)
+    f = _frequencies(frequencies)
+    excitations = [Excitation(float(fi), amplitude, kind) for fi in f]
+    settings = check_ball_settings(model, excitations[0], settings, **kwargs)
+    for ex in excitations[1:]:
+        ex.linear_response(model)  # refuses an undamped resonance before any run
+    results = [None] * f.size
+    orders = {"up": [range(f.size)], "down": [range(f.size - 1, -1, -1)], "independent": [range(f.size)],
+              "both": [range(f.size), range(f.size - 1, -1, -1)]}[sweep]
+    for order in orders:
+        prev = None
+        for i in order:
+            seeds = () if prev is None or sweep == "independent" else tuple(
+                _state_of(a, model) for a in prev.attractors if a.success)
+            r = ball_attractors_at(model, excitations[i], settings, seeds=seeds)
+            results[i] = r if results[i] is None else _merge(results[i], r)
+            prev = results[i]
+            if progress:
+                progress(f"{f[i]:g} Hz: {len(results[i].attractors)} attractor(s) from {settings.starts} starts")
+    return AttractorResponse(f, tuple(results), sweep, settings, len(orders) - 1)
+
+
+def _merge(a: FrequencyAttractors, b: FrequencyAttractors) -> FrequencyAttractors:
+    """The attractors of two passes at one frequency (the second's starts counted as seeds)."""
+    found, counts, seeded = list(a.attractors), list(a.counts), list(a.seeded)
+    for s, c, d in zip(b.attractors, b.counts, b.seeded, strict=True):
+        for i, known in enumerate(found):
+            if same_ball_motion(known, s):
+                seeded[i] += c + d
+                break
+        else:
+            found.append(s)
+            counts.append(0)
+            seeded.append(c + d)
+    return FrequencyAttractors(a.excitation, tuple(found), tuple(counts), a.starts, tuple(seeded), (),
+                               a.cpu_s + b.cpu_s, a.cycles_integrated + b.cycles_integrated, 0)
