@@ -53,6 +53,8 @@ from .model import DamperModel
 __all__ = ["BallCycles", "ball_start_states", "ball_attractors_at", "ball_attractor_response", "same_ball_motion",
            "check_ball_settings", "BALL_SAME_ORBIT"]
 
+#: Clearance between the neighbours of a packed column at a start, as a fraction of the cavity's free travel.
+PACKED_CLEARANCE = 1e-9
 #: Scaled distance under which two periodic motions of the balls are one attractor (the single-ball rule).
 BALL_SAME_ORBIT = 1e-4
 
@@ -93,7 +95,7 @@ def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int)
     """``count`` starts at forcing phase 0 (:class:`BallState`), deterministic.
 
     The rules of :func:`~acoustiviz.dynamics.forced.start_states` with each cavity's column of balls
-    packed (touching, without force) where the one impact mass would be: the linear start (the
+    packed (:data:`PACKED_CLEARANCE` apart) where the one impact mass would be: the linear start (the
     main mass on its linear steady state, the column at rest at the cavity's centre at rest), rest,
     then the column spread evenly across each cavity's free travel, moving alternately towards
     ``wall+`` and ``wall-`` at ``ω d/2`` relative to the main mass. One ball: the single-ball starts.
@@ -113,10 +115,24 @@ def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int)
             x, v = x0, v0
             z = [0.95 * 0.5 * c.gap * ((2 * i + 1) / k - 1.0) for c in model.cavities]
             u = [(1.0 if i % 2 == 0 else -1.0) * excitation.omega * 0.5 * c.gap for c in model.cavities]
-        s = np.concatenate([[x + z[ic]] * c.n_balls for ic, c in enumerate(model.cavities)])
+        s = np.concatenate([x + _column(z[ic], c) for ic, c in enumerate(model.cavities)])
         w = np.concatenate([[v + u[ic]] * c.n_balls for ic, c in enumerate(model.cavities)])
         out.append(BallState(x, v, tuple(s + off), tuple(w)))
     return out[:count]
+
+
+def _column(z: float, cavity) -> np.ndarray:
+    """Reduced coordinates less x (m) of a column packed about ``z``: :data:`PACKED_CLEARANCE` of the gap apart.
+
+    The clearance keeps neighbours from overlapping by a rounding of their offsets; one ball sits at ``z``.
+    """
+    n = cavity.n_balls
+    if n == 1:
+        return np.array([z])
+    clr = PACKED_CLEARANCE * cavity.gap
+    h = 0.5 * (n - 1) * clr
+    zc = min(max(z, -0.5 * cavity.gap + h), 0.5 * cavity.gap - h)
+    return zc + clr * (np.arange(n) - 0.5 * (n - 1))
 
 
 class BallCycles:
