@@ -229,6 +229,8 @@ def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: Ba
     # speed the initial energy allows
     gap = max(c.gap for c in model.cavities)
     uref = max(math.sqrt(2.0 * e0 / float(mass.min())), float(np.abs(u0).max()), 1e-9)
+    if excitation is not None:  # the forcing brings energy: the main mass's linear speed, or the cavity's
+        uref = max(uref, excitation.omega * max(abs(excitation.linear_response(model)), 0.5 * gap))
     atol = np.concatenate([np.full(nb, rtol * gap), np.full(nb, rtol * uref)])
     active = np.zeros(npair, dtype=np.bool_)
     open_row = np.full(npair, -1, dtype=np.int64)
