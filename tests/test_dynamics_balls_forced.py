@@ -71,6 +71,8 @@ def test_one_ball_through_the_multi_ball_path_agrees_with_forced():
     assert a.period == ref.period and a.impacts_per_cycle == ref.impacts_per_cycle
     assert a.amplitude == pytest.approx(ref.amplitude, rel=AMPLITUDE_RTOL)
     assert a.stable and a.floquet.size == 0  # stable by simulation, no multipliers
+    # the final state in the single-ball form (x, v, y, w), on the same orbit's section point
+    np.testing.assert_allclose(a.final_state, ref.final_state, rtol=0, atol=1e-7)
 
 
 def test_two_cavities_of_half_balls_act_as_one_ball_of_doubled_contact():

@@ -15,6 +15,9 @@ no such return within ``max_cycles`` is measured over a window of
 :data:`~acoustiviz.dynamics.forced.NONPERIODIC_CYCLES` cycles in batches (the batch means and their
 standard error of the single-ball code).
 
+A measured motion's ``final_state`` is ``(x, v, y_1..y_B, w_1..w_B)`` (m, m/s; ball centres) at its
+last section point, the single-ball ``(x, v, y, w)`` for one ball.
+
 What is left out for several balls: no shooting and no Floquet multipliers (every attractor is
 reached by direct simulation from a start, so it is stable: ``stable`` is True by simulation and the
 multipliers are empty, the ``max_floquet_modulus`` NaN), no Lyapunov exponent (a non-periodic motion
@@ -240,7 +243,7 @@ def _steady(model, excitation, settings, rec, first, last, cycles, *, period, me
     rows = np.concatenate(rec.rows[sl]) if last >= first else np.empty((0, 9))
     m = last - first + 1
     work, diss, cont = (np.array(rec.totals[last]) - np.array(rec.totals[first - 1])).tolist()
-    T, om = excitation.period, excitation.omega
+    om = excitation.omega
     xhi, xlo = max(rec.xhi[sl]), min(rec.xlo[sl])
     wall = (rows[:, 3] == 0) | (rows[:, 3] == _balls_in(model, rows[:, 2]))
     walls = np.where(rows[:, 3] == 0, -1.0, 1.0) * wall
@@ -251,7 +254,7 @@ def _steady(model, excitation, settings, rec, first, last, cycles, *, period, me
         impact_phases=np.mod(om * rows[:, 0], 2.0 * math.pi), impact_speeds=rows[:, 4].copy(), impact_walls=walls,
         impact_peak_forces=rows[:, 6].copy(), impact_durations=rows[:, 1] - rows[:, 0], work_input=work,
         dissipated_main=diss, dissipated_contact=cont, energy_change=rec.energy[last] - rec.energy[first - 1],
-        poincare=np.array(rec.pts[sl]), final_state=(rec.pts[last], last * T), message=message, success=True,
+        poincare=np.array(rec.pts[sl]), final_state=_absolute(rec.pts[last], model), message=message, success=True,
         settings={"tolerance": settings.tolerance, "rtol": settings.rtol, "max_cycles": settings.max_cycles,
                   "starts": settings.starts, "solver": "event", "restitution": None},
         measured_cycles=m, amplitude_std_err=err, stable=True, cycles_integrated=int(len(rec.pts) - 1))
@@ -306,6 +309,8 @@ def settle_balls(model, excitation, settings, start: BallState) -> SteadyState:
         rec.xhi.append(hi)
         rec.xlo.append(lo)
         rec.rows.append(rows)
+        if MAX_PERIOD < k <= settings.max_cycles + MAX_PERIOD:  # rows no orbit or window will measure
+            rec.rows[k - MAX_PERIOD] = None
         rec.totals.append(run.totals())
         rec.energy.append(run.energy())
         n = _returned(rec, k, settings.tolerance)
@@ -336,12 +341,18 @@ def same_ball_motion(a: SteadyState, b: SteadyState) -> bool:
     return _stats_agree(a, b.amplitude, b.amplitude_std_err, b.impacts_per_cycle)
 
 
-def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:
-    """The start (at t = 0) that continues ``a`` at another frequency: its last section point."""
-    p = np.asarray(a.final_state[0])
+def _absolute(point, model: MultiBallModel) -> tuple:
+    """``(x, v, y_1..y_B, w_1..w_B)`` in m and m/s (ball centres) of a section point."""
     nb = model.n_balls
-    x, v = float(p[0]), float(p[1])
-    return BallState(x, v, tuple(x + p[2:2 + nb] + model.offsets()), tuple(v + p[2 + nb:]))
+    x, v = float(point[0]), float(point[1])
+    return (x, v, *(x + point[2:2 + nb] + model.offsets()).tolist(), *(v + point[2 + nb:]).tolist())
+
+
+def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:
+    """The start (at t = 0) that continues ``a`` at another frequency: its final state."""
+    nb = model.n_balls
+    s = a.final_state
+    return BallState(s[0], s[1], tuple(s[2:2 + nb]), tuple(s[2 + nb:]))
 
 
 def ball_attractors_at(model, excitation, settings, *, seeds=()) -> FrequencyAttractors:
