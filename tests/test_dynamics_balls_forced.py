@@ -70,7 +70,9 @@ def test_one_ball_through_the_multi_ball_path_agrees_with_forced():
     a = _multi(MultiBallModel.from_damper(PERIODIC, 1), PERIODIC_FORCING)
     assert a.period == ref.period and a.impacts_per_cycle == ref.impacts_per_cycle
     assert a.amplitude == pytest.approx(ref.amplitude, rel=AMPLITUDE_RTOL)
-    assert a.stable and a.floquet.size == 0  # stable by simulation, no multipliers
+    # the multipliers of differences of the direct map: those of the single-ball shooting
+    assert a.stable and a.floquet.size == 4
+    np.testing.assert_allclose(np.abs(a.floquet), np.abs(ref.floquet), rtol=0, atol=1e-4)
     # the final state in the single-ball form (x, v, y, w), on the same orbit's section point
     np.testing.assert_allclose(a.final_state, ref.final_state, rtol=0, atol=1e-7)
 
@@ -91,6 +93,27 @@ def test_two_cavities_of_half_balls_act_as_one_ball_of_doubled_contact():
     assert a.impacts_per_cycle == 2 * ref.impacts_per_cycle  # each cavity's collisions counted
     p = a.poincare
     np.testing.assert_allclose(p[:, 2], p[:, 3], rtol=0, atol=1e-12)  # the two balls move alike
+    # ... on an orbit unstable to their moving apart, which only a start on the symmetric set reaches
+    assert not a.stable and np.max(np.abs(a.floquet)) > 2.0
+
+
+def test_identical_cavities_find_the_two_mirror_orbits_of_their_balls_apart():
+    """The spread starts differ between cavities: the balls leave the unstable symmetric orbit.
+
+    Swapping the two identical cavities maps a motion onto another: the stable orbits come as a
+    mirror pair, with the same amplitude and the balls' section points exchanged.
+    """
+    m = PERIODIC
+    half = Cavity(m.gap, (0.5 * m.m,), (0.01,), 0.5 * m.k_hertz, 0.5 * m.c1)
+    twin = MultiBallModel((half, half), m.M, m.K, m.C)
+    fa = ball_attractors_at(twin, PERIODIC_FORCING, check_ball_settings(twin, PERIODIC_FORCING, starts=6,
+                                                                        max_cycles=600))
+    stable = [a for a in fa.attractors if a.stable]
+    assert [a.stable for a in fa.attractors].count(False) <= 1 and len(stable) == 2
+    a, b = stable
+    assert a.period == b.period == 1 and a.amplitude == pytest.approx(b.amplitude, rel=AMPLITUDE_RTOL)
+    np.testing.assert_allclose(a.poincare[:, [2, 3, 4, 5]], b.poincare[:, [3, 2, 5, 4]], rtol=0, atol=1e-6)
+    assert abs(a.poincare[0, 2] - a.poincare[0, 3]) > 1e-3  # apart by millimetres
 
 
 def test_energy_balance_closes_with_forcing():

@@ -374,8 +374,8 @@ def report(result: ForcedResult) -> list:
     if s.several_balls:
         model = result.response.per_frequency[0].attractors[0].model
         cavities = f"{len(model.cavities)} {'cavity' if len(model.cavities) == 1 else 'cavities'}"
-        lines.append(f"{model.n_balls} balls in {cavities}: attractors reached by simulation "
-                     "(stable; no shooting, no Floquet multipliers, no Lyapunov exponent)")
+        lines.append(f"{model.n_balls} balls in {cavities}: attractors reached by simulation, "
+                     "Floquet multipliers by differences of the direct map (no shooting, no Lyapunov exponent)")
     if not s.noise:
         lines.append(forced_table(result, None))
     lines += [f"warning: {r.excitation.frequency:g} Hz: {r.message}" for r in result.failed]

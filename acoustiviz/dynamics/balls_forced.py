@@ -18,11 +18,18 @@ standard error of the single-ball code).
 A measured motion's ``final_state`` is ``(x, v, y_1..y_B, w_1..w_B)`` (m, m/s; ball centres) at its
 last section point, the single-ball ``(x, v, y, w)`` for one ball.
 
-What is left out for several balls: no shooting and no Floquet multipliers (every attractor is
-reached by direct simulation from a start, so it is stable: ``stable`` is True by simulation and the
-multipliers are empty, the ``max_floquet_modulus`` NaN), no Lyapunov exponent (a non-periodic motion
-is ``unresolved``, its amplitude the batch mean with its error), and continuation is one pass
-along the sweep (each frequency also starts from the final states of its neighbour's attractors).
+The Floquet multipliers of a periodic motion come from central differences of the direct map at its
+last section point (:func:`ball_multipliers`); ``stable`` says whether they lie within the unit
+circle. A motion reached by simulation is stable unless its start lay on an invariant set: two
+identical cavities started alike stay alike, on an orbit that may be unstable to their moving
+apart (the spread starts are therefore placed differently in each cavity). A section point that
+leaves a pair no room for the difference step (inside a contact, a packed column) has no
+multipliers and is stable by simulation.
+
+What is left out for several balls: no shooting (no Newton refinement of the orbit, no unstable
+orbits looked for), no Lyapunov exponent (a non-periodic motion is ``unresolved``, its amplitude the
+batch mean with its error), and continuation is one pass along the sweep (each frequency also
+starts from the final states of its neighbour's attractors).
 
 All SI; frequencies in Hz.
 """
@@ -31,7 +38,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -49,6 +56,7 @@ from ._forced_steady import (
     check_settings,
 )
 from ._measure import _stats_agree
+from ._shooting import STABILITY_MARGIN
 from .balls import BallState, MultiBallModel
 from .balls_solve import BALLS_COMPILE_S, BATCH_STEPS
 from .model import DamperModel
@@ -56,6 +64,8 @@ from .model import DamperModel
 __all__ = ["BallCycles", "ball_start_states", "ball_attractors_at", "ball_attractor_response", "same_ball_motion",
            "check_ball_settings", "BALL_SAME_ORBIT"]
 
+#: Smallest central-difference step (scaled) of the multipliers; a point whose pairs leave less room has none.
+MIN_FD_STEP = 1e-8
 #: Clearance between the neighbours of a packed column at a start, as a fraction of the cavity's free travel.
 PACKED_CLEARANCE = 1e-9
 #: Scaled distance under which two periodic motions of the balls are one attractor (the single-ball rule).
@@ -101,7 +111,9 @@ def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int)
     packed (:data:`PACKED_CLEARANCE` apart) where the one impact mass would be: the linear start (the
     main mass on its linear steady state, the column at rest at the cavity's centre at rest), rest,
     then the column spread evenly across each cavity's free travel, moving alternately towards
-    ``wall+`` and ``wall-`` at ``ω d/2`` relative to the main mass. One ball: the single-ball starts.
+    ``wall+`` and ``wall-`` at ``ω d/2`` relative to the main mass; with several cavities, cavity c
+    (from 0) of spread start j takes the place of spread start ``(j + c) mod k``, so that identical
+    cavities do not all start alike. One ball: the single-ball starts.
     """
     xc = excitation.linear_response(model)
     x0, v0 = xc.real, -excitation.omega * xc.imag
@@ -114,10 +126,11 @@ def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int)
             z = [min(max(0.0, x - 0.5 * c.gap), x + 0.5 * c.gap) - x for c in model.cavities]
             u = [-v for _ in model.cavities]
         else:
-            i = j - 2
             x, v = x0, v0
-            z = [0.95 * 0.5 * c.gap * ((2 * i + 1) / k - 1.0) for c in model.cavities]
-            u = [(1.0 if i % 2 == 0 else -1.0) * excitation.omega * 0.5 * c.gap for c in model.cavities]
+            spread = [(j - 2 + ic) % k for ic in range(len(model.cavities))]  # cavity ic: the next start's place
+            z = [0.95 * 0.5 * c.gap * ((2 * i + 1) / k - 1.0) for i, c in zip(spread, model.cavities, strict=True)]
+            u = [(1.0 if i % 2 == 0 else -1.0) * excitation.omega * 0.5 * c.gap
+                 for i, c in zip(spread, model.cavities, strict=True)]
         s = np.concatenate([x + _column(z[ic], c) for ic, c in enumerate(model.cavities)])
         w = np.concatenate([[v + u[ic]] * c.n_balls for ic, c in enumerate(model.cavities)])
         out.append(BallState(x, v, tuple(s + off), tuple(w)))
@@ -291,6 +304,53 @@ def _returned(rec, k, tol) -> int:
     return 0
 
 
+def _clearance(model: MultiBallModel, point) -> float:
+    """Smallest distance in m between the two bodies of any pair at section point ``point`` (<= 0: in contact)."""
+    nb = model.n_balls
+    q = np.concatenate([[0.0], np.asarray(point[2:2 + nb])])  # reduced coordinates less x
+    pr = model.pairs()
+    return float(np.min(pr["hg"] - (q[pr["pa"]] - q[pr["pb"]])))
+
+
+def ball_multipliers(model, excitation, settings, point, n) -> tuple:
+    """Floquet multipliers of the period-``n`` orbit through section point ``point``, and the cycles they cost.
+
+    The monodromy matrix ``dP^n/ds`` by central differences of the direct map in the scaled section
+    variables (:func:`section_scales`), the step of the single-ball shooting
+    (:func:`~acoustiviz.dynamics._shooting.fd_step`) kept below a quarter of the smallest clearance of
+    a pair, so that no perturbed start overlaps. Empty (no multipliers) when the point lies inside a
+    contact or a perturbed run stops; sorted by decreasing modulus.
+    """
+    from ._shooting import fd_step
+
+    scale = section_scales(model, excitation)
+    room = _clearance(model, point)
+    dim = scale.size
+    h = min(fd_step(settings.rtol), 0.25 * room / float(np.max(scale[2:2 + model.n_balls])))
+    if h < MIN_FD_STEP:  # inside a contact, or a packed column: no perturbation keeps every pair apart
+        return np.empty(0, dtype=complex), 0
+    q = np.asarray(point, dtype=float) / scale
+
+    def fmap(qq):
+        run = BallCycles(model, excitation, _ball_state(qq * scale, model), settings.rtol,
+                         settings.max_impacts_per_cycle)
+        for _ in range(n):
+            if run.cycle()[0] != run.kern.STATUS_REACHED:
+                return None
+        return run.section() / scale
+
+    jac = np.empty((dim, dim))
+    for j in range(dim):
+        e = np.zeros(dim)
+        e[j] = h
+        fp, fm = fmap(q + e), fmap(q - e)
+        if fp is None or fm is None:
+            return np.empty(0, dtype=complex), 2 * n * (j + 1)
+        jac[:, j] = (fp - fm) / (2.0 * h)
+    mult = np.linalg.eigvals(jac).astype(complex)
+    return mult[np.argsort(-np.abs(mult), kind="stable")], 2 * n * dim
+
+
 def settle_balls(model, excitation, settings, start: BallState) -> SteadyState:
     """Run one start to its attractor (module docstring) and measure it."""
     from ._balls import STATUS_MAX_IMPACTS
@@ -315,9 +375,17 @@ def settle_balls(model, excitation, settings, start: BallState) -> SteadyState:
         rec.energy.append(run.energy())
         n = _returned(rec, k, settings.tolerance)
         if n:
-            return _steady(model, excitation, settings, rec, k - n + 1, k, k - n, period=n,
-                           message=f"periodic-{n}: the section points return within {settings.tolerance:g} "
-                                   f"(m, m/s) after {k} direct cycles; stable by simulation")
+            mult, cost = ball_multipliers(model, excitation, settings, rec.pts[k], n)
+            top = float(np.max(np.abs(mult))) if mult.size else math.nan
+            stable = not top > 1.0 + STABILITY_MARGIN
+            why = ("stable by simulation (no multipliers: the section point leaves a pair no room)" if not mult.size
+                   else "stable" if stable else
+                   f"unstable (largest multiplier modulus {top:.4g}): a start on an invariant set, such as "
+                   "identical cavities started alike, stays on it")
+            steady = _steady(model, excitation, settings, rec, k - n + 1, k, k - n, period=n,
+                             message=f"periodic-{n}: the section points return within {settings.tolerance:g} "
+                                     f"(m, m/s) after {k} direct cycles; {why}")
+            return replace(steady, floquet=mult, stable=stable, cycles_integrated=steady.cycles_integrated + cost)
     first = settings.max_cycles + 1
     amps = [0.5 * (max(rec.xhi[b:b + BATCH_CYCLES]) - min(rec.xlo[b:b + BATCH_CYCLES]))
             for b in range(first, first + window, BATCH_CYCLES)]
@@ -346,6 +414,13 @@ def _absolute(point, model: MultiBallModel) -> tuple:
     nb = model.n_balls
     x, v = float(point[0]), float(point[1])
     return (x, v, *(x + point[2:2 + nb] + model.offsets()).tolist(), *(v + point[2 + nb:]).tolist())
+
+
+def _ball_state(point, model: MultiBallModel) -> BallState:
+    """The :class:`BallState` of a section point ``(x, v, s_i - x..., w_i - v...)``."""
+    s = _absolute(point, model)
+    nb = model.n_balls
+    return BallState(s[0], s[1], tuple(s[2:2 + nb]), tuple(s[2 + nb:]))
 
 
 def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:
