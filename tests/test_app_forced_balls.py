@@ -133,6 +133,8 @@ def test_one_ball_keeps_the_single_ball_job(tmp_path, monkeypatch, capsys):
     (["--balls", "2", "--no-noise", "--k-hertz-ball", "-1"], "--k-hertz-ball"),
     (["--balls", "2", "--no-noise", "--c1-ball", "-1"], "--c1-ball"),
     (["--balls", "2", "--no-noise", "--C", "100"], "--C"),  # overdamped: no closed-form flight
+    # the section points of 1000 balls over a million cycles exceed the memory cap
+    (["--balls", "1000", "--no-noise", "--max-cycles", "1000000", "--max-memory", "2048"], "--max-cycles"),
 ])
 def test_bad_options_are_refused_before_any_work_naming_the_option(extra, option, tmp_path, monkeypatch, capsys):
     _no_work(monkeypatch)

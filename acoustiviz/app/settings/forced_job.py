@@ -278,7 +278,13 @@ class ForcedJob(Settings):
         from ..budget import check_budget, forced_estimate
 
         names = {k: self.names.get(k, k) for k in ("max_cycles", "frequencies", "noise_seconds")}
-        check_budget(forced_estimate(len(self.frequencies) * self.starts, self.max_cycles,
-                                     noise_seconds=self.noise_seconds if self.noise else 0.0,
-                                     wav=self.wav is not None, names=names),
-                     self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
+        estimate = forced_estimate(len(self.frequencies) * self.starts, self.max_cycles,
+                                   noise_seconds=self.noise_seconds if self.noise else 0.0,
+                                   wav=self.wav is not None, names=names)
+        if self.several_balls:  # a section point of 2 + 2B values and 6 more per cycle, not 16 values
+            n = sum(c.balls for c in self.cavities) if self.cavities else self.balls
+            which = "cavities" if self.cavities else "balls"
+            estimate = dataclasses.replace(estimate, memory=estimate.memory * max(1.0, (8.0 + 2.0 * n) / 16.0),
+                                           what=f"{estimate.what}, {n} balls",
+                                           options=(*estimate.options, self.names.get(which, which)))
+        check_budget(estimate, self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
