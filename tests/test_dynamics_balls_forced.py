@@ -173,11 +173,15 @@ def test_bad_settings_are_refused_by_name(kwargs, name):
     assert err.value.name == name
 
 
-def test_the_response_has_the_shape_of_forced():
-    model = MultiBallModel.from_damper(DamperModel(C=0.5, gap=10.0), 2)
-    resp = ball_attractor_response(model, [3.0, 4.0], 4.0, sweep="up", starts=1, max_cycles=20)
-    assert resp.frequencies.tolist() == [3.0, 4.0]
+@pytest.mark.parametrize(("sweep", "seeded"), [("up", [(0,), (1,), (1,)]), ("down", [(1,), (1,), (0,)]),
+                                               ("both", [(1,), (2,), (1,)]), ("independent", [(0,), (0,), (0,)])])
+def test_the_response_has_the_shape_of_forced(sweep, seeded):
+    # damped enough (C = 2 N s/m) for a continued state's transient to die out within the cycles run
+    model = MultiBallModel.from_damper(DamperModel(C=2.0, gap=10.0), 2)
+    resp = ball_attractor_response(model, [2.5, 2.0, 3.0], 4.0, sweep=sweep, starts=1, max_cycles=20)
+    assert resp.frequencies.tolist() == [2.0, 2.5, 3.0] and resp.sweep == sweep
     for i, fa in enumerate(resp.per_frequency):
-        (a,) = fa.attractors
+        (a,) = fa.attractors  # one linear steady state, met again by the seeds
         assert a.amplitude == pytest.approx(abs(_linear(model, resp.frequencies[i], 4.0)), rel=1e-9)
-    assert resp.per_frequency[1].seeded == (1,)  # the first frequency's attractor continued upwards
+    # the attractors of each frequency continued to its neighbour(s) in the sweep's direction(s)
+    assert [fa.seeded for fa in resp.per_frequency] == seeded

@@ -183,7 +183,7 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
     rows = _rows(resp)
     if s.several_balls:
-        _ball_columns(rows, resp)
+        _ball_columns(rows, resp, s.ball_model())
     noises, noise_elapsed = None, 0.0
     if s.noise:  # the level columns of every attractor
         t0 = time.perf_counter()
@@ -194,9 +194,8 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
     return ForcedResult(s, resp, tuple(rows), noises, elapsed, cpu, noise_elapsed)
 
 
-def _ball_columns(rows: list, resp: AttractorResponse) -> None:
+def _ball_columns(rows: list, resp: AttractorResponse, model) -> None:
     """Fill :data:`BALL_CSV_COLUMNS` of each row from its steady state's collisions (``impact_walls`` 0: two balls)."""
-    model = resp.per_frequency[0].attractors[0].model
     for row, (_, _, a, _) in zip(rows, resp.entries(), strict=True):
         m = max(a.measured_cycles, 1)
         ball = int(np.sum(a.impact_walls == 0))
@@ -372,7 +371,7 @@ def report(result: ForcedResult) -> list:
              f"tolerance {s.tolerance:g} m, m/s; rtol {s.rtol:g}; max cycles {s.max_cycles}; "
              f"{len(s.frequencies)} frequencies, {len(result.rows)} attractors in {result.elapsed:.2f} s"]
     if s.several_balls:
-        model = result.response.per_frequency[0].attractors[0].model
+        model = s.ball_model()
         cavities = f"{len(model.cavities)} {'cavity' if len(model.cavities) == 1 else 'cavities'}"
         lines.append(f"{model.n_balls} balls in {cavities}: attractors reached by simulation, "
                      "Floquet multipliers by differences of the direct map (no shooting, no Lyapunov exponent)")

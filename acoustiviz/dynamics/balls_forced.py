@@ -430,11 +430,19 @@ def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:
     return BallState(s[0], s[1], tuple(s[2:2 + nb]), tuple(s[2 + nb:]))
 
 
-def ball_attractors_at(model, excitation, settings, *, seeds=()) -> FrequencyAttractors:
-    """The starts of :func:`ball_start_states` and ``seeds`` (:class:`BallState`) run to their attractors."""
+def ball_attractors_at(model, excitation, settings, *, seeds=(), previous=None) -> FrequencyAttractors:
+    """The starts of :func:`ball_start_states` and ``seeds`` (:class:`BallState`) run to their attractors.
+
+    ``previous`` (a :class:`FrequencyAttractors` of the same frequency) keeps what was found before:
+    only the seeds are run then.
+    """
     c0 = time.process_time()
-    found, counts, seeded, cycles = [], [], [], 0
-    starts = ball_start_states(model, excitation, settings.starts)
+    if previous is None:
+        found, counts, seeded, cycles, cpu = [], [], [], 0, 0.0
+        starts = ball_start_states(model, excitation, settings.starts)
+    else:
+        found, counts, seeded = list(previous.attractors), list(previous.counts), list(previous.seeded)
+        cycles, cpu, starts = previous.cycles_integrated, previous.cpu_s, []
     for k, start in enumerate([*starts, *seeds]):
         seed = k >= len(starts)
         steady = settle_balls(model, excitation, settings, start)
@@ -448,7 +456,7 @@ def ball_attractors_at(model, excitation, settings, *, seeds=()) -> FrequencyAtt
             counts.append(0 if seed else 1)
             seeded.append(1 if seed else 0)
     return FrequencyAttractors(excitation, tuple(found), tuple(counts), settings.starts, tuple(seeded), (),
-                               time.process_time() - c0, cycles, 0)
+                               cpu + time.process_time() - c0, cycles, 0)
 
 
 def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float, *, kind: str = "force",
@@ -458,7 +466,8 @@ def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float
 
     Parameters as :func:`~acoustiviz.dynamics.forced.attractor_response` (no executor); ``sweep``
     "up" / "down" also starts each frequency from the attractors of the one before it in that
-    direction (one pass), "both" does both passes, "independent" none.
+    direction (one pass), "both" makes both passes (the second runs the seeds alone),
+    "independent" none.
     """
     from .._validate import check_choice
     from ._forced_response import SWEEPS
@@ -477,25 +486,9 @@ def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float
         for i in order:
             seeds = () if prev is None or sweep == "independent" else tuple(
                 _state_of(a, model) for a in prev.attractors if a.success)
-            r = ball_attractors_at(model, excitations[i], settings, seeds=seeds)
-            results[i] = r if results[i] is None else _merge(results[i], r)
+            results[i] = ball_attractors_at(model, excitations[i], settings, seeds=seeds, previous=results[i])
             prev = results[i]
             if progress:
                 progress(f"{f[i]:g} Hz: {len(results[i].attractors)} attractor(s) from {settings.starts} starts")
     return AttractorResponse(f, tuple(results), sweep, settings, len(orders) - 1)
 
-
-def _merge(a: FrequencyAttractors, b: FrequencyAttractors) -> FrequencyAttractors:
-    """The attractors of two passes at one frequency (the second's starts counted as seeds)."""
-    found, counts, seeded = list(a.attractors), list(a.counts), list(a.seeded)
-    for s, c, d in zip(b.attractors, b.counts, b.seeded, strict=True):
-        for i, known in enumerate(found):
-            if same_ball_motion(known, s):
-                seeded[i] += c + d
-                break
-        else:
-            found.append(s)
-            counts.append(0)
-            seeded.append(c + d)
-    return FrequencyAttractors(a.excitation, tuple(found), tuple(counts), a.starts, tuple(seeded), (),
-                               a.cpu_s + b.cpu_s, a.cycles_integrated + b.cycles_integrated, 0)
