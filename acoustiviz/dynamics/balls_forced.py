@@ -62,7 +62,8 @@ from .balls_solve import BALLS_COMPILE_S, BATCH_STEPS
 from .model import DamperModel
 
 __all__ = ["BallCycles", "ball_start_states", "ball_attractors_at", "ball_attractor_response", "same_ball_motion",
-           "check_ball_settings", "BALL_SAME_ORBIT"]
+           "check_ball_settings", "section_scales", "settle_balls", "ball_multipliers", "BALL_SAME_ORBIT",
+           "MIN_FD_STEP", "PACKED_CLEARANCE"]
 
 #: Smallest central-difference step (scaled) of the multipliers; a point whose pairs leave less room has none.
 MIN_FD_STEP = 1e-8
