@@ -163,7 +163,7 @@ class BallCycles:
     rtol : float
         Relative tolerance of the contact integration.
     max_impacts_per_cycle : int
-        More collisions in one cycle stop the run (chattering).
+        More collisions in one cycle than this times the number of balls stop the run (chattering).
     """
 
     def __init__(self, model, excitation, initial, rtol, max_impacts_per_cycle=200):
@@ -184,7 +184,7 @@ class BallCycles:
         self.peaks = np.zeros(self.npair)
         self.clock = np.array([0.0, 1e-6])
         self.ie = np.zeros(1, dtype=np.int64)
-        self.rows = np.empty((int(max_impacts_per_cycle) + self.npair, 9))
+        self.rows = np.empty((int(max_impacts_per_cycle) * model.n_balls + self.npair, 9))
         self.n_rows = np.zeros(1, dtype=np.int64)
         self.ext = np.zeros(5)
         self.k = 0
@@ -363,8 +363,8 @@ def settle_balls(model, excitation, settings, start: BallState) -> SteadyState:
     for k in range(1, limit + 1):
         status, hi, lo, rows = run.cycle()
         if status != run.kern.STATUS_REACHED:
-            why = ("too many impacts in one cycle (chattering?)" if status == STATUS_MAX_IMPACTS
-                   else "contact step size underflow")
+            why = (f"more than {settings.max_impacts_per_cycle} collisions per ball in one cycle (chattering?)"
+                   if status == STATUS_MAX_IMPACTS else "contact step size underflow")
             return _failed(model, excitation, settings, k, why)
         rec.pts.append(run.section())
         rec.xhi.append(hi)
