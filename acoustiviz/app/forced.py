@@ -207,13 +207,17 @@ def _ball_columns(rows: list, resp: AttractorResponse, model) -> None:
 
 
 def _attractors(s: ForcedJob, progress) -> AttractorResponse:
-    """The attractors of every frequency, run here, on a local pool or on a Dask cluster."""
-    if s.several_balls:  # the multi-ball attractors, in this process (checked by the settings)
+    """The attractors of every frequency, run here, on a local pool or on a Dask cluster.
+
+    One ball: :func:`~acoustiviz.dynamics.forced.attractor_response`; several balls or cavities:
+    :func:`~acoustiviz.dynamics.balls_forced.ball_attractor_response`, with the same settings.
+    """
+    if s.several_balls:
         from ..dynamics.balls_forced import ball_attractor_response
 
-        return ball_attractor_response(s.ball_model(), s.frequencies, s.amplitude, kind=s.kind, sweep=s.sweep,
-                                       progress=progress, tolerance=s.tolerance, rtol=s.rtol, starts=s.starts,
-                                       max_cycles=s.max_cycles)
+        model, respond = s.ball_model(), ball_attractor_response
+    else:
+        model, respond = s.model, attractor_response
     kwargs = {"kind": s.kind, "sweep": s.sweep, "progress": progress, "solver": s.solver,
               "restitution": s.restitution, "tolerance": s.tolerance, "rtol": s.rtol, "starts": s.starts,
               "max_cycles": s.max_cycles}
@@ -222,7 +226,7 @@ def _attractors(s: ForcedJob, progress) -> AttractorResponse:
 
         ex, close = dask_executor(s.executor)
         try:
-            return attractor_response(s.model, s.frequencies, s.amplitude, executor=ex, **kwargs)
+            return respond(model, s.frequencies, s.amplitude, executor=ex, **kwargs)
         finally:
             close()
     if s.workers > 1:
@@ -233,7 +237,7 @@ def _attractors(s: ForcedJob, progress) -> AttractorResponse:
         ex = local_pool(min(s.workers, len(s.frequencies)))
         finished = False
         try:
-            resp = attractor_response(s.model, s.frequencies, s.amplitude, executor=ex, **kwargs)
+            resp = respond(model, s.frequencies, s.amplitude, executor=ex, **kwargs)
             finished = True
         finally:
             if finished:
@@ -241,7 +245,7 @@ def _attractors(s: ForcedJob, progress) -> AttractorResponse:
             else:
                 shutdown_now(ex)
         return resp
-    return attractor_response(s.model, s.frequencies, s.amplitude, **kwargs)
+    return respond(model, s.frequencies, s.amplitude, **kwargs)
 
 
 def _rows(resp: AttractorResponse) -> list:

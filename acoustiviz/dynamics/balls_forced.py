@@ -460,15 +460,21 @@ def ball_attractors_at(model, excitation, settings, *, seeds=(), previous=None) 
                                cpu + time.process_time() - c0, cycles, 0)
 
 
+def _run_starts(args):
+    """The starts of one frequency (picklable for process pools)."""
+    model, excitation, settings = args
+    return ball_attractors_at(model, excitation, settings)
+
+
 def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float, *, kind: str = "force",
-                            sweep: str = "up", settings: SteadyStateOptions | None = None, progress=None,
-                            **kwargs) -> AttractorResponse:
+                            sweep: str = "up", executor=None, settings: SteadyStateOptions | None = None,
+                            progress=None, **kwargs) -> AttractorResponse:
     """Every attractor of the forced multi-ball damper at each of ``frequencies`` (module docstring).
 
-    Parameters as :func:`~acoustiviz.dynamics.forced.attractor_response` (no executor); ``sweep``
-    "up" / "down" also starts each frequency from the attractors of the one before it in that
-    direction (one pass), "both" makes both passes (the second runs the seeds alone),
-    "independent" none.
+    Parameters as :func:`~acoustiviz.dynamics.forced.attractor_response`. The starts of every frequency
+    run first (on ``executor`` when given, any :class:`concurrent.futures.Executor`); then ``sweep``
+    "up" / "down" runs, frequency after frequency in that direction, the final states of the
+    attractors of the one before as seeds (one pass), "both" makes both passes, "independent" none.
     """
     from .._validate import check_choice
     from ._forced_response import SWEEPS
@@ -479,17 +485,22 @@ def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float
     settings = check_ball_settings(model, excitations[0], settings, **kwargs)
     for ex in excitations[1:]:
         ex.linear_response(model)  # refuses an undamped resonance before any run
-    results = [None] * f.size
-    orders = {"up": [range(f.size)], "down": [range(f.size - 1, -1, -1)], "independent": [range(f.size)],
+    run = executor.map if executor is not None else map
+    results = []
+    for i, r in enumerate(run(_run_starts, [(model, ex, settings) for ex in excitations])):
+        results.append(r)
+        if progress:
+            progress(f"{f[i]:g} Hz ({i + 1}/{f.size}): {len(r.attractors)} attractor(s) from {settings.starts} starts")
+    orders = {"up": [range(f.size)], "down": [range(f.size - 1, -1, -1)], "independent": [],
               "both": [range(f.size), range(f.size - 1, -1, -1)]}[sweep]
-    for order in orders:
+    for order in orders:  # continuation: the seeds of each frequency depend on its neighbour's
         prev = None
         for i in order:
-            seeds = () if prev is None or sweep == "independent" else tuple(
-                _state_of(a, model) for a in prev.attractors if a.success)
-            results[i] = ball_attractors_at(model, excitations[i], settings, seeds=seeds, previous=results[i])
+            if prev is not None:
+                seeds = tuple(_state_of(a, model) for a in prev.attractors if a.success)
+                results[i] = ball_attractors_at(model, excitations[i], settings, seeds=seeds, previous=results[i])
             prev = results[i]
-            if progress:
-                progress(f"{f[i]:g} Hz: {len(results[i].attractors)} attractor(s) from {settings.starts} starts")
-    return AttractorResponse(f, tuple(results), sweep, settings, len(orders) - 1)
-
+        if progress:
+            progress(f"continuation {'up' if order.step > 0 else 'down'}: "
+                     f"{sum(len(r.attractors) for r in results)} attractors")
+    return AttractorResponse(f, tuple(results), sweep, settings, len(orders))

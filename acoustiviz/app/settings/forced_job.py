@@ -85,7 +85,7 @@ class ForcedJob(Settings):
     balls, k_hertz_ball, c1_ball, cavities
         Several balls, as :class:`~acoustiviz.app.settings.damper_job.DamperJob`'s (the same records): more
         than one ball or any cavity runs the multi-ball attractors (:mod:`acoustiviz.dynamics.balls_forced`:
-        the event solver, no shooting, no noise in operation, one process).
+        the event solver, no shooting, no noise in operation).
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name (not compared).
     """
@@ -265,9 +265,7 @@ class ForcedJob(Settings):
         refused = {"solver": (self.solver != "event", "the balls run by the event solver: drop it or give 'event'"),
                    "restitution": (self.restitution is not None, "applies to one ball (solver impact-map)"),
                    "noise": (self.noise, "the noise in operation is rendered for one ball: "
-                                         + (f"add --no-{noise[2:]}" if noise.startswith("--") else "drop it")),
-                   "workers": (self.workers > 1, "several balls run their frequencies in one process: leave it at 1"),
-                   "executor": (self.executor != "process", "several balls run their frequencies in this process")}
+                                         + (f"add --no-{noise[2:]}" if noise.startswith("--") else "drop it"))}
         for name, (bad, why) in refused.items():
             if bad:
                 raise ParameterError(self.names.get(name, name), f"not with {what}: {why}")
