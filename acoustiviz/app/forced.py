@@ -66,6 +66,9 @@ FORCED_CSV_COLUMNS = (
     "attractors", "hysteresis", "worst_case", "lyapunov_1_s", "lyapunov_std_err_1_s", "newton_iterations",
     "cycles_integrated", "solver", "tolerance", "rtol", "starts", "max_cycles", "message",
 )
+#: Columns added with several balls (after :data:`FORCED_CSV_COLUMNS`): the balls on the main mass, the
+#: collisions of a ball with a wall and of two balls per cycle, and the two balls' share of all collisions.
+BALL_CSV_COLUMNS = ("balls", "cavities", "wall_impacts_per_cycle", "ball_collisions_per_cycle", "ball_ball_share")
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,8 +104,8 @@ class ForcedResult:
 
     @property
     def columns(self) -> tuple:
-        """The CSV columns of this run."""
-        return FORCED_CSV_COLUMNS
+        """The CSV columns of this run (with several balls, :data:`BALL_CSV_COLUMNS` added)."""
+        return FORCED_CSV_COLUMNS + (BALL_CSV_COLUMNS if self.settings.several_balls else ())
 
     @property
     def steady_states(self) -> list:
@@ -179,6 +182,8 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
         resp = _attractors(s, progress)
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
     rows = _rows(resp)
+    if s.several_balls:
+        _ball_columns(rows, resp, s.ball_model())
     noises, noise_elapsed = None, 0.0
     if s.noise:  # the level columns of every attractor
         t0 = time.perf_counter()
@@ -189,8 +194,30 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
     return ForcedResult(s, resp, tuple(rows), noises, elapsed, cpu, noise_elapsed)
 
 
+def _ball_columns(rows: list, resp: AttractorResponse, model) -> None:
+    """Fill :data:`BALL_CSV_COLUMNS` of each row from its steady state's collisions (``impact_walls`` 0: two balls)."""
+    for row, (_, _, a, _) in zip(rows, resp.entries(), strict=True):
+        m = max(a.measured_cycles, 1)
+        ball = int(np.sum(a.impact_walls == 0))
+        total = a.impact_walls.size
+        row.update({"balls": model.n_balls, "cavities": len(model.cavities),
+                    "wall_impacts_per_cycle": (total - ball) / m if a.success else math.nan,
+                    "ball_collisions_per_cycle": ball / m if a.success else math.nan,
+                    "ball_ball_share": ball / total if total else math.nan})
+
+
 def _attractors(s: ForcedJob, progress) -> AttractorResponse:
-    """The attractors of every frequency, run here, on a local pool or on a Dask cluster."""
+    """The attractors of every frequency, run here, on a local pool or on a Dask cluster.
+
+    One ball: :func:`~acoustiviz.dynamics.forced.attractor_response`; several balls or cavities:
+    :func:`~acoustiviz.dynamics.balls_forced.ball_attractor_response`, with the same settings.
+    """
+    if s.several_balls:
+        from ..dynamics.balls_forced import ball_attractor_response
+
+        model, respond = s.ball_model(), ball_attractor_response
+    else:
+        model, respond = s.model, attractor_response
     kwargs = {"kind": s.kind, "sweep": s.sweep, "progress": progress, "solver": s.solver,
               "restitution": s.restitution, "tolerance": s.tolerance, "rtol": s.rtol, "starts": s.starts,
               "max_cycles": s.max_cycles}
@@ -199,7 +226,7 @@ def _attractors(s: ForcedJob, progress) -> AttractorResponse:
 
         ex, close = dask_executor(s.executor)
         try:
-            return attractor_response(s.model, s.frequencies, s.amplitude, executor=ex, **kwargs)
+            return respond(model, s.frequencies, s.amplitude, executor=ex, **kwargs)
         finally:
             close()
     if s.workers > 1:
@@ -210,7 +237,7 @@ def _attractors(s: ForcedJob, progress) -> AttractorResponse:
         ex = local_pool(min(s.workers, len(s.frequencies)))
         finished = False
         try:
-            resp = attractor_response(s.model, s.frequencies, s.amplitude, executor=ex, **kwargs)
+            resp = respond(model, s.frequencies, s.amplitude, executor=ex, **kwargs)
             finished = True
         finally:
             if finished:
@@ -218,7 +245,7 @@ def _attractors(s: ForcedJob, progress) -> AttractorResponse:
             else:
                 shutdown_now(ex)
         return resp
-    return attractor_response(s.model, s.frequencies, s.amplitude, **kwargs)
+    return respond(model, s.frequencies, s.amplitude, **kwargs)
 
 
 def _rows(resp: AttractorResponse) -> list:
@@ -347,6 +374,11 @@ def report(result: ForcedResult) -> list:
     lines = [f"{s.kind} amplitude {s.amplitude:g} {unit}; sweep {s.sweep}; solver {s.solver}; {s.starts} starts; "
              f"tolerance {s.tolerance:g} m, m/s; rtol {s.rtol:g}; max cycles {s.max_cycles}; "
              f"{len(s.frequencies)} frequencies, {len(result.rows)} attractors in {result.elapsed:.2f} s"]
+    if s.several_balls:
+        model = s.ball_model()
+        cavities = f"{len(model.cavities)} {'cavity' if len(model.cavities) == 1 else 'cavities'}"
+        lines.append(f"{model.n_balls} balls in {cavities}: attractors reached by simulation, "
+                     "Floquet multipliers by differences of the direct map (no shooting, no Lyapunov exponent)")
     if not s.noise:
         lines.append(forced_table(result, None))
     lines += [f"warning: {r.excitation.frequency:g} Hz: {r.message}" for r in result.failed]
@@ -374,6 +406,7 @@ def forced_settings(scene, out=None) -> ForcedJob:
     before the run folder exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
     from .products import scene_damper_model
+    from .settings.damper_job import scene_balls
     from .settings.forced import FORCED, FREQUENCIES
 
     ex = scene.section("excitation")
@@ -390,7 +423,8 @@ def forced_settings(scene, out=None) -> ForcedJob:
                      noise_seconds=scene.output_or_defaults("operating_noise")["seconds"], noise=noise,
                      listener=tuple(position) if noise else None, config=scene.section("configuration")["kind"],
                      radius=scene.damper_sphere_radius(), surroundings=scene.geometry_settings(),
-                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files)
+                     max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files,
+                     **scene_balls(scene.section("damper")))
 
 
 def _write(ctx, kind: str) -> list:

@@ -250,17 +250,14 @@ def damper_settings(scene, out=None):
     folder ``out`` (None: no files, the checks of the scene's settings alone, made before the run folder
     exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
-    from .settings.damper import BALLS, CAVITY
-    from .settings.damper_job import DamperCavity, DamperJob
+    from .settings.damper_job import DamperJob, scene_balls
 
     d = scene.section("damper")
     files = {} if out is None else {key: str(Path(out) / name) for kind, names in DAMPER_FILES.items()
                                     if scene.wants(kind) for key, name in names.items()}
-    balls = {s.name: d[s.key] for s in BALLS}
-    cavities = tuple(DamperCavity(**{s.name: c[s.key] for s in CAVITY}) for c in d.get("cavities", ()))
     return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=DamperJob.names_for("scene"),
-                     **files, **balls, cavities=cavities)
+                     **files, **scene_balls(d))
 
 
 def _balls_heard(scene) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..app.settings.damper import BALLS
 from ..app.settings.forced import (
     AMPLITUDES,
     FORCED,
@@ -64,6 +65,10 @@ def add_parser(subparsers):
     add_option(n, FORCED[-1])
     add_option(n, FORCED_OUTPUTS[0])
     add_room_options(p, duration=True)  # --duration: how long each click's reflections are heard
+    b = p.add_argument_group("several balls (a column of equal spheres of mass --m; --gap is their free travel; "
+                             "attractors by simulation, without the noise: add --no-noise)")
+    for record in BALLS:
+        add_option(b, record)
     o = p.add_argument_group("outputs")
     for record in FORCED_OUTPUTS[1:]:
         add_option(o, record)
@@ -90,7 +95,8 @@ def settings_from_args(args):
                      **{s.name: getattr(args, s.name) for s in (*FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)},
                      listener=None if listener is None else tuple(listener), config="plane" if room is None else "room",
                      surroundings={} if room is None else {"room": room},
-                     max_memory_mb=getattr(args, "max_memory", None), names=names)
+                     max_memory_mb=getattr(args, "max_memory", None), names=names,
+                     **{s.name: getattr(args, s.name) for s in BALLS})
 
 
 def run(args) -> int:

@@ -33,7 +33,13 @@ Impact rows (``IMPACT_ROW_COLUMNS``): start s, end s, cavity, pair (0: wall- and
 and ball j+1, N: ball N and wall+), approach speed m/s, separation speed m/s, peak force N,
 impulse N s, dissipated work J.
 State ``y``: positions (B+1), velocities (B+1), impulse of each pair, work of each pair, energy
-dissipated by C.
+dissipated by C and, with forcing, the work of the external force.
+
+Forcing ``fc``: None (free vibration; numba compiles that case without the forcing terms, as
+:mod:`._flight` does) or the single-ball kernels' vector ``[ω rad/s, P N, Q N, A_c m, A_s m]``: the
+main mass carries ``F(t) = P cos ωt + Q sin ωt``. Its flights then use the particular solution and
+:func:`~._flight.scan_forced`, the contact right-hand side adds ``F(t)``, and ``∫ F dx`` is integrated
+with the motion (by quadrature in the flights) so that the energy balance closes.
 """
 
 from __future__ import annotations
@@ -50,7 +56,8 @@ from ._dop853 import E5 as _E5
 from ._dop853 import N_STAGES as _NS
 from ._dop853 import A as _A
 from ._dop853 import B as _B
-from ._flight import _osc, flight_coeffs, scan_unforced
+from ._dop853 import C as _CN
+from ._flight import _osc, flight_coeffs, flight_energy, flight_minmax, flight_state, scan_forced, scan_unforced
 
 __all__ = ["IMPACT_ROW_COLUMNS", "STATUS_REACHED", "STATUS_MAX_IMPACTS", "STATUS_STEP_UNDERFLOW", "run_balls"]
 
@@ -69,13 +76,17 @@ _MAX_CUTS = 4
 
 
 @helper
-def _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, out, row):
-    """Derivatives of the state ``y`` (module docstring) into ``out[row]``."""
+def _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, out, row, fc, t):
+    """Derivatives of the state ``y`` (module docstring) at ``t`` s into ``out[row]``."""
     npair = pa.shape[0]
     for k in range(nb):
         out[row, k] = y[nb + k]
         out[row, nb + k] = 0.0
     out[row, nb] = -K * y[0] - C * y[nb]
+    if fc is not None:
+        force = fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t)
+        out[row, nb] += force
+        out[row, 2 * nb + 2 * npair + 1] = force * y[nb]
     for p in range(npair):
         i, j = pa[p], pb[p]
         d = y[i] - y[j] - hgp[p]
@@ -98,8 +109,11 @@ def _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, out, row):
 
 
 @helper
-def _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew):
-    """One Dormand-Prince 8 step of ``h`` s from ``y`` (``kst[0]`` its derivative); fills ``ynew``, ``kst``."""
+def _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, t):
+    """One Dormand-Prince 8 step of ``h`` s from ``y`` at ``t`` s (``kst[0]`` its derivative).
+
+    Fills ``ynew`` and ``kst``.
+    """
     n = y.shape[0]
     for st in range(1, _NS):
         for i in range(n):
@@ -107,13 +121,13 @@ def _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew):
             for j in range(st):
                 acc += _A[st, j] * kst[j, i]
             ytmp[i] = y[i] + h * acc
-        _rhs(ytmp, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(st))
+        _rhs(ytmp, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(st), fc, t + _CN[st] * h)
     for i in range(n):
         acc = 0.0
         for j in range(_NS):
             acc += _B[j] * kst[j, i]
         ynew[i] = y[i] + h * acc
-    _rhs(ynew, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(_NS))
+    _rhs(ynew, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(_NS), fc, t + h)
 
 
 @helper
@@ -225,14 +239,14 @@ def _flips(ynew, nb, pa, pb, hgp, active, skip):
 
 
 @helper
-def _locate(p, t, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active):
+def _locate(p, t, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active, fc):
     """Step length in (0, h] just past the change of pair ``p`` (Illinois on full steps); fills ``ynew``.
 
     Located to a few units of the rounding of the time ``t + h`` s (finer cannot be represented).
     """
     flag = active[p]
     glo = y[pa[p]] - y[pb[p]] - hgp[p]
-    _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew)
+    _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, t)
     ghi = ynew[pa[p]] - ynew[pb[p]] - hgp[p]
     lo, hi = 0.0, h
     side = 0
@@ -242,7 +256,7 @@ def _locate(p, t, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, yn
         hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
         if not (lo < hm < hi):
             hm = 0.5 * (lo + hi)
-        _step(y, hm, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew)
+        _step(y, hm, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, t)
         gm = ynew[pa[p]] - ynew[pb[p]] - hgp[p]
         if (gm > 0.0) == flag:
             lo, glo = hm, gm
@@ -252,7 +266,7 @@ def _locate(p, t, y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, yn
             hi, ghi = hm, gm
             glo *= 0.5 if side == 1 else 1.0
             side = 1
-    _step(y, hi, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew)
+    _step(y, hi, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, t)
     return hi
 
 
@@ -292,7 +306,7 @@ def close_row(p, t, y, nb, npair, r, open_row, rows, peaks):
 
 
 @helper
-def _first_flight_event(t0, y, nb, pa, pb, hgp, a, wd, horizon):
+def _first_flight_event(t0, y, nb, pa, pb, hgp, a, wd, horizon, fc):
     """Earliest contact of a flight from ``t0``: (tau s, pair, or -1 for a re-scan only, or -2 for none).
 
     The pairs of two balls first (linear roots); the walls are then scanned up to the earliest of
@@ -315,8 +329,11 @@ def _first_flight_event(t0, y, nb, pa, pb, hgp, a, wd, horizon):
         if i == 0 or j == 0:  # a wall: the single-ball solver's exact bracketing
             b = j if i == 0 else i
             want = -1.0 if i == 0 else 1.0
-            c = flight_coeffs(t0, y[0], y[nb], y[b], y[nb + b], a, wd, None, hgp[p])
-            found, tau, sw = scan_unforced(c, lin)
+            c = flight_coeffs(t0, y[0], y[nb], y[b], y[nb + b], a, wd, fc, hgp[p])
+            if fc is None:
+                found, tau, sw = scan_unforced(c, lin)
+            else:
+                found, tau, sw = scan_forced(c, lin)
             if found and sw == want and tau < best:
                 best, which = tau, p
             elif found and sw != want and tau > 0.0:
@@ -336,6 +353,54 @@ def _fly(t0, tau, y, nb, a, wd, M, K):
     for k in range(1, nb):
         y[k] += y[nb + k] * tau
     y[y.shape[0] - 1] += e0 - (0.5 * M * v * v + 0.5 * K * x * x)
+
+
+@helper
+def _fly_forced(t0, tau, y, nb, npair, a, wd, C, fc, ext):
+    """Advance every body ``tau`` s in a forced flight; adds C's dissipation and F's work to ``y``.
+
+    With ``ext`` (an array of 5), ``ext[3]``/``ext[4]`` gather the largest/smallest main-mass
+    displacement (m) of the flight (:func:`~._flight.flight_minmax`).
+    """
+    c = flight_coeffs(t0, y[0], y[nb], 0.0, 0.0, a, wd, fc, 0.0)
+    if ext is not None:
+        flight_minmax(c, tau, ext)
+    if tau > 0.0:
+        work, diss = flight_energy(c, tau, fc, C)
+        y[2 * nb + 2 * npair] += diss
+        y[2 * nb + 2 * npair + 1] += work
+    x, v, _ = flight_state(tau, c)
+    y[0] = x
+    y[nb] = v
+    for k in range(1, nb):
+        y[k] += y[nb + k] * tau
+
+
+@helper
+def _flight_dense_forced(t0, tau, y, nb, a, wd, fc, t_eval, ie, dense):
+    c = flight_coeffs(t0, y[0], y[nb], 0.0, 0.0, a, wd, fc, 0.0)
+    while ie < t_eval.shape[0] and t_eval[ie] <= t0 + tau:
+        dt = t_eval[ie] - t0
+        x, v, _ = flight_state(dt, c)
+        dense[ie, 0] = x
+        dense[ie, nb] = v
+        for k in range(1, nb):
+            dense[ie, k] = y[k] + y[nb + k] * dt
+            dense[ie, nb + k] = y[nb + k]
+        ie += 1
+    return ie
+
+
+@helper
+def _flight(t0, tau, y, nb, npair, a, wd, M, K, C, fc, ext, t_eval, ie, dense):
+    """A flight of ``tau`` s from ``t0`` s: the output times inside it, then every body moved to its end."""
+    if fc is None:
+        ie = _flight_dense(t0, tau, y, nb, a, wd, t_eval, ie, dense)
+        _fly(t0, tau, y, nb, a, wd, M, K)
+    else:
+        ie = _flight_dense_forced(t0, tau, y, nb, a, wd, fc, t_eval, ie, dense)
+        _fly_forced(t0, tau, y, nb, npair, a, wd, C, fc, ext)
+    return ie
 
 
 @helper
@@ -383,14 +448,14 @@ def _update_peaks(y, ynew, kst, h, nb, pa, pb, hgp, kh, cc, clip, active, peaks)
 
 @helper
 def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, rtol, atol, active, peaks,
-                  t_eval, ie, dense):
+                  t_eval, ie, dense, fc):
     """One accepted or rejected step while some pair touches: ``(accepted, t, h, changed pair or -1, ie)``.
 
     ``kst[0]`` holds the derivative at ``y`` on entry, and at the new ``y`` on return.
     An accepted step is cut at the earliest change of a contact flag (located on full steps); the
     state moves to its end.
     """
-    _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew)
+    _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, t)
     err = _error(y, ynew, h, kst, rtol, atol)
     if not (err <= 1.0):
         return False, t, _next_step(err, h, False), -1, ie
@@ -399,7 +464,7 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
     changed = -1
     cuts = 0
     while p >= 0 and cuts < _MAX_CUTS:  # cut the step at the earliest change of a contact
-        hstep = _locate(p, t, y, hstep, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active)
+        hstep = _locate(p, t, y, hstep, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, active, fc)
         changed = p
         cuts += 1
         p = _flips(ynew, nb, pa, pb, hgp, active, changed)
@@ -413,13 +478,15 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
 
 @kernel
 def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_row, peaks, clock, t_stop, rtol,
-              atol, t_eval, ie_arr, dense, rows, n_rows, max_steps):
+              atol, t_eval, ie_arr, dense, rows, n_rows, max_steps, fc, ext):
     """Advance the run from ``clock[0]`` s to ``t_stop`` s (module docstring); resumable batch by batch.
 
     ``y``, ``active``, ``open_row``, ``peaks`` (largest force of each open contact, N), ``clock``
     (time s, next step s), ``ie_arr`` (next output time due) and ``n_rows`` carry the run from one
     batch to the next. A batch also ends after ``max_steps`` steps (``clock[0] < t_stop``), so a
     caller can report progress and be interrupted. Returns a status (``STATUS_*``).
+    ``fc``: the forcing (module docstring; None: free vibration). ``ext`` (None, or an array of 5
+    with the forcing): ``ext[3]``/``ext[4]`` gather the largest/smallest main-mass displacement in m.
     """
     nb = mass.shape[0]
     npair = pa.shape[0]
@@ -433,20 +500,19 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     t, h, ie = clock[0], clock[1], ie_arr[0]
     status = STATUS_REACHED
     steps = 0
-    _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
+    _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, t)
     while t < t_stop and steps <= max_steps:
         steps += 1
         flight = not np.any(active)  # a contact found by this flight may be integrated alone (below)
         changed = -1
         if not np.any(active):  # flight in closed form up to the next contact
-            tau, changed = _first_flight_event(t, y, nb, pa, pb, hgp, a, wd, t_stop - t)
-            ie = _flight_dense(t, tau, y, nb, a, wd, t_eval, ie, dense)
-            _fly(t, tau, y, nb, a, wd, mass[0], K)
+            tau, changed = _first_flight_event(t, y, nb, pa, pb, hgp, a, wd, t_stop - t, fc)
+            ie = _flight(t, tau, y, nb, npair, a, wd, mass[0], K, C, fc, ext, t_eval, ie, dense)
             t = t_stop if changed == -2 else t + tau
         else:
             accepted, t, h, changed, ie = _contact_step(t, min(h, t_stop - t), y, nb, mass, pa, pb, hgp, kh, cc, K,
                                                         C, clip, kst, ytmp, ynew, rtol, atol, active, peaks, t_eval,
-                                                        ie, dense)
+                                                        ie, dense, fc)
             if not accepted and h < 1e-6 * _EPS * max(t, 1e-3):
                 status = STATUS_STEP_UNDERFLOW
                 break
@@ -467,10 +533,13 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                         h = min(h, _first_step(q, y, nb, mass, pa, pb, kh)) if before > 0 else \
                             _first_step(q, y, nb, mass, pa, pb, kh)
                         before = 1
-            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0))
-            if flight and np.sum(active) == 1:  # one pair alone: the single-ball contact (module _balls_lone)
+            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, t)
+            if fc is None and flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
                 _, t, ie = lone_contact(np.argmax(active), t, y, nb, mass, pa, pb, hgp, kh, cc, loc, K, C, clip, a,
                                         wd, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, lone)
+        if ext is not None and fc is not None:
+            ext[3] = max(ext[3], y[0])
+            ext[4] = min(ext[4], y[0])
     clock[0] = t
     clock[1] = h
     ie_arr[0] = ie

@@ -112,6 +112,11 @@ class MultiBallResult:
         ``"event"``: contacts located as events, flights in closed form.
     settings : Mapping
         The numerical settings used (``rtol``, the number of ``balls``).
+    excitation : Excitation or None
+        The harmonic excitation of the main mass (None: free vibration).
+    work_input : float
+        Work in J of the excitation on the main mass over the run; the balance then reads
+        ``initial + work_input = kinetic + spring + hertz + dissipated``.
     """
 
     model: MultiBallModel
@@ -131,6 +136,8 @@ class MultiBallResult:
     compile_time: float = 0.0
     solver: str = "event"
     settings: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    excitation: object = None
+    work_input: float = 0.0
 
 
 def _table(rows: np.ndarray, model: MultiBallModel, y: np.ndarray, open_row: np.ndarray, peaks, nb: int,
@@ -172,7 +179,7 @@ def _check(model, initial, duration, rtol, max_impacts):
 
 def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: BallState | None = None,
                    rtol: float = DEFAULT_RTOL, t_eval=None, max_impacts: int = 1_000_000,
-                   progress=None) -> MultiBallResult:
+                   progress=None, excitation=None) -> MultiBallResult:
     """Simulate a multi-ball damper from ``initial`` for ``duration`` s.
 
     Parameters
@@ -192,6 +199,9 @@ def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: Ba
         Stop (``success=False``) after this many collisions.
     progress : callable, optional
         Called with the time reached (s) after each batch of steps.
+    excitation : Excitation, optional
+        A harmonic force ``P cos ωt + Q sin ωt`` on the main mass, or a base motion mapped to it
+        (:meth:`~acoustiviz.dynamics.forced.Excitation.force_coefficients`); None: free vibration.
 
     Returns
     -------
@@ -213,12 +223,15 @@ def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: Ba
         raise ParameterError("t_eval", f"must be non-decreasing finite times in [0, {duration:g}] s")
     pr, mass = model.pairs(), model.masses()
     nb, npair = mass.size, pr["pa"].size
-    y = np.concatenate([q0, u0, np.zeros(2 * npair + 1)])
+    fc = None if excitation is None else excitation.vector(model)
+    y = np.concatenate([q0, u0, np.zeros(2 * npair + (1 if fc is None else 2))])
     e0 = model.energy(q0, u0)
     # absolute tolerances: positions on the scale of the largest free travel, velocities of the fastest
     # speed the initial energy allows
     gap = max(c.gap for c in model.cavities)
     uref = max(math.sqrt(2.0 * e0 / float(mass.min())), float(np.abs(u0).max()), 1e-9)
+    if excitation is not None:  # the forcing brings energy: the main mass's linear speed, or the cavity's
+        uref = max(uref, excitation.omega * max(abs(excitation.linear_response(model)), 0.5 * gap))
     atol = np.concatenate([np.full(nb, rtol * gap), np.full(nb, rtol * uref)])
     active = np.zeros(npair, dtype=np.bool_)
     open_row = np.full(npair, -1, dtype=np.int64)
@@ -230,7 +243,7 @@ def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: Ba
     n_rows = np.zeros(1, dtype=np.int64)
     args = (mass, pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"], pr["cav"], pr["loc"], float(model.K),
             float(model.C), bool(model.clip_tensile), y, active, open_row, peaks, clock, float(duration), float(rtol),
-            atol, t_eval, ie, dense, rows, n_rows, BATCH_STEPS)
+            atol, t_eval, ie, dense, rows, n_rows, BATCH_STEPS, fc, None)
     compiled = compile_for(kern.run_balls, args, "multi-ball solver", BALLS_COMPILE_S)
     t0 = time.perf_counter()
     status = kern.STATUS_REACHED
@@ -240,11 +253,11 @@ def simulate_balls(model: MultiBallModel, duration: float = 20.0, *, initial: Ba
             progress(float(clock[0]))
     elapsed = time.perf_counter() - t0
     return _result(model, initial, duration, status, clock, y, open_row, peaks, rows[:n_rows[0]], t_eval, ie,
-                   dense, e0, elapsed, compiled, rtol)
+                   dense, e0, elapsed, compiled, rtol, excitation)
 
 
 def _result(model, initial, duration, status, clock, y, open_row, peaks, rows, t_eval, ie, dense, e0, elapsed,
-            compiled, rtol) -> MultiBallResult:
+            compiled, rtol, excitation=None) -> MultiBallResult:
     nb = model.n_balls + 1
     q, u = y[:nb], y[nb:2 * nb]
     mass = model.masses()
@@ -252,7 +265,8 @@ def _result(model, initial, duration, status, clock, y, open_row, peaks, rows, t
     d = np.maximum(q[pr["pa"]] - q[pr["pb"]] - pr["hg"], 0.0)
     impacts = _table(rows, model, y, open_row, peaks, nb, float(clock[0]))
     energy = EnergyBalance(initial=e0, kinetic=float(0.5 * np.sum(mass * u**2)), spring=0.5 * model.K * q[0] ** 2,
-                           hertz=float(np.sum(0.4 * pr["kh"] * d**2.5)), dissipated_main=float(y[-1]),
+                           hertz=float(np.sum(0.4 * pr["kh"] * d**2.5)),
+                           dissipated_main=float(y[2 * nb + 2 * pr["pa"].size]),
                            dissipated_contact=float(np.sum(impacts.energy_lost)))
     n_out = int(ie[0])
     off = model.offsets()
@@ -265,4 +279,5 @@ def _result(model, initial, duration, status, clock, y, open_row, peaks, rows, t
         y=_frozen(dense[:n_out, 1:nb] + off), w=_frozen(dense[:n_out, nb + 1:2 * nb]), energy=energy,
         success=status == kern.STATUS_REACHED, message=messages[status] + f" at t = {clock[0]:.6g} s",
         solver_time=elapsed, compile_time=compiled,
-        settings=MappingProxyType({"rtol": rtol, "balls": model.n_balls}))
+        settings=MappingProxyType({"rtol": rtol, "balls": model.n_balls}), excitation=excitation,
+        work_input=0.0 if excitation is None else float(y[-1]))

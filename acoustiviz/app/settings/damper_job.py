@@ -18,7 +18,7 @@ from .damper import BALLS, CAVITY, CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
 from .table import Setting, check_values
 from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
-__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperCavity", "DamperJob"]
+__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperCavity", "DamperJob", "check_cavities", "scene_balls"]
 
 #: The files of ``acoustiviz damper`` (a scene names them itself: ``impacts.csv`` for ``[outputs.impact_table]``,
 #: ``damper_history.csv`` and ``.png`` for ``[outputs.damper_history]``).
@@ -62,6 +62,31 @@ class DamperCavity:
     m: float | None = None
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
+
+
+def check_cavities(job) -> None:
+    """Each of ``job.cavities``' values in its records' ranges, named ``cavities[i].gap`` (or the scene's key).
+
+    ``job`` is a settings object with the fields ``balls``, ``cavities`` and ``names`` (a damper or a forced job).
+    """
+    from ..._validate import ParameterError
+
+    if job.balls != 1:
+        raise ParameterError(job.names.get("balls", "balls"), "the balls of several cavities are given per "
+                             f"cavity ({job.names.get('cavities', 'cavities')}): leave balls at 1")
+    where = job.names.get("cavities", "cavities")
+    for i, cav in enumerate(job.cavities):
+        if not isinstance(cav, DamperCavity):
+            raise ParameterError(f"{where}[{i}]", f"must be a DamperCavity, got {cav!r}")
+        names = {s.name: f"{where}[{i}].{s.key if where != 'cavities' else s.name}" for s in CAVITY}
+        check_values(dataclasses.asdict(cav), CAVITY, names)
+
+
+def scene_balls(damper: dict) -> dict:
+    """A scene's ``[damper]`` section -> a job's ball fields ``balls``, ``k_hertz_ball``, ``c1_ball``, ``cavities``."""
+    balls = {s.name: damper[s.key] for s in BALLS}
+    cavities = tuple(DamperCavity(**{s.name: c[s.key] for s in CAVITY}) for c in damper.get("cavities", ()))
+    return {**balls, "cavities": cavities}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -169,18 +194,8 @@ class DamperJob(Settings):
         solver_method("event").settings(self.model, self.initial, self.duration, self.rtol, None)  # C underdamped
 
     def _check_cavities(self) -> None:
-        """Each cavity's values in its records' ranges, named ``cavities[i].gap`` (or the scene's key)."""
-        from ..._validate import ParameterError
-
-        if self.balls != 1:
-            raise ParameterError(self.names.get("balls", "balls"), "the balls of several cavities are given per "
-                                 f"cavity ({self.names.get('cavities', 'cavities')}): leave balls at 1")
-        where = self.names.get("cavities", "cavities")
-        for i, cav in enumerate(self.cavities):
-            if not isinstance(cav, DamperCavity):
-                raise ParameterError(f"{where}[{i}]", f"must be a DamperCavity, got {cav!r}")
-            names = {s.name: f"{where}[{i}].{s.key if where != 'cavities' else s.name}" for s in CAVITY}
-            check_values(dataclasses.asdict(cav), CAVITY, names)
+        """Each cavity's values in its records' ranges (:func:`check_cavities`)."""
+        check_cavities(self)
 
     def _check_cavity_physics(self) -> None:
         """Each cavity's contacts within what the solver can follow (:func:`acoustiviz.core.limits.check_damper`).

@@ -15,7 +15,7 @@ import dataclasses
 from ...constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE, PAPER_RADIUS
 from ...errors import ParameterError
 from .base import Settings, vocabulary
-from .damper import CONTACT_LAW, DAMPER, MODEL
+from .damper import BALLS, CONTACT_LAW, DAMPER, MODEL
 from .forced import (
     AMPLITUDE,
     AMPLITUDES,
@@ -82,18 +82,24 @@ class ForcedJob(Settings):
         The WAV of the frequencies in turn (with its JSON sidecar), the table and the three-panel figure.
     noise_csv, response_png, bifurcation_png : str, optional
         A scene's level table, frequency-response figure and bifurcation diagram.
+    balls, k_hertz_ball, c1_ball, cavities
+        Several balls, as :class:`~acoustiviz.app.settings.damper_job.DamperJob`'s (the same records): more
+        than one ball or any cavity runs the multi-ball attractors (:mod:`acoustiviz.dynamics.balls_forced`:
+        the event solver, no shooting, no noise in operation).
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name (not compared).
     """
 
-    TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS)
+    TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS, *BALLS)
     # the model, the room (a scene's configuration), the frequencies, the amplitude, the listener, the memory cap
     BUILT_FROM = (*DAMPER, *ROOM, FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
     # the duration is the damper run's, not a room's window; the sound speed is not a setting of the job
     ALIASES = {**ALIASES["damper"], "frequency": FREQUENCIES.name,
                **{k: v for k, v in ALIASES["room"].items() if k not in ("duration", "sound_speed")}}
     LOOKUP = WAVEFORM + IMPACT
-    DERIVED_NAMES = {"scene": {"listener": DERIVED["scene"]["listeners"]}}  # the first of the scene's listeners
+    # the first of the scene's listeners; the cavities are a scene's table; the noise its output table
+    DERIVED_NAMES = {"scene": {"listener": DERIVED["scene"]["listeners"], "cavities": "damper.cavities",
+                               "noise": "outputs.operating_noise"}}
     model: object = None
     frequencies: tuple | None = None
     kind: str = EXCITATION_KIND.default
@@ -120,6 +126,10 @@ class ForcedJob(Settings):
     noise_csv: str | None = None
     response_png: str | None = None
     bifurcation_png: str | None = None
+    balls: int = 1
+    k_hertz_ball: float | None = None
+    c1_ball: float | None = None
+    cavities: tuple = ()
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     @classmethod
@@ -136,6 +146,17 @@ class ForcedJob(Settings):
     def files(self) -> dict:
         """``{field: path}`` of the files asked for (strings), in the order they are written."""
         return {key: getattr(self, key) for key in FORCED_FILE_KINDS if getattr(self, key) is not None}
+
+    @property
+    def several_balls(self) -> bool:
+        """Whether the damper has more than one ball or several cavities (the multi-ball attractors)."""
+        return self.balls > 1 or bool(self.cavities)
+
+    def ball_model(self):
+        """The :class:`~acoustiviz.dynamics.MultiBallModel` of the balls (:func:`acoustiviz.app.damper.balls_model`)."""
+        from ..damper import balls_model
+
+        return balls_model(self)
 
     @property
     def in_room(self) -> bool:
@@ -160,6 +181,7 @@ class ForcedJob(Settings):
         self._check_files()
         self._check_listener()
         self._check_damper()
+        self._check_balls()
         self._check_budget()
         if self.noise or self.listener is not None:
             from ..forced_noise import check_listener
@@ -227,11 +249,40 @@ class ForcedJob(Settings):
             ex.linear_response(model)  # refuses an undamped resonance
         check_executor_form(self.executor)
 
+    def _check_balls(self) -> None:
+        """Several balls: their cavities, then what the multi-ball attractors do not offer, then their model."""
+        from ...dynamics.balls_forced import check_ball_settings
+        from ...dynamics.forced import Excitation
+        from .damper_job import check_cavities
+
+        if self.cavities:
+            check_cavities(self)
+        if not self.several_balls:
+            return
+        what = (f"{len(self.cavities)} cavities ({self.names.get('cavities', 'cavities')})" if self.cavities
+                else f"{self.balls} balls ({self.names.get('balls', 'balls')})")
+        noise = self.names.get("noise", "noise")
+        refused = {"solver": (self.solver != "event", "the balls run by the event solver: drop it or give 'event'"),
+                   "restitution": (self.restitution is not None, "applies to one ball (solver impact-map)"),
+                   "noise": (self.noise, "the noise in operation is rendered for one ball: "
+                                         + (f"add --no-{noise[2:]}" if noise.startswith("--") else "drop it"))}
+        for name, (bad, why) in refused.items():
+            if bad:
+                raise ParameterError(self.names.get(name, name), f"not with {what}: {why}")
+        check_ball_settings(self.ball_model(), Excitation(self.frequencies[0], self.amplitude, self.kind),
+                            tolerance=self.tolerance, rtol=self.rtol, starts=self.starts, max_cycles=self.max_cycles)
+
     def _check_budget(self) -> None:
         from ..budget import check_budget, forced_estimate
 
         names = {k: self.names.get(k, k) for k in ("max_cycles", "frequencies", "noise_seconds")}
-        check_budget(forced_estimate(len(self.frequencies) * self.starts, self.max_cycles,
-                                     noise_seconds=self.noise_seconds if self.noise else 0.0,
-                                     wav=self.wav is not None, names=names),
-                     self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
+        estimate = forced_estimate(len(self.frequencies) * self.starts, self.max_cycles,
+                                   noise_seconds=self.noise_seconds if self.noise else 0.0,
+                                   wav=self.wav is not None, names=names)
+        if self.several_balls:  # a section point of 2 + 2B values and 6 more per cycle, not 16 values
+            n = sum(c.balls for c in self.cavities) if self.cavities else self.balls
+            which = "cavities" if self.cavities else "balls"
+            estimate = dataclasses.replace(estimate, memory=estimate.memory * max(1.0, (8.0 + 2.0 * n) / 16.0),
+                                           what=f"{estimate.what}, {n} balls",
+                                           options=(*estimate.options, self.names.get(which, which)))
+        check_budget(estimate, self.max_memory_mb, cap_name=self.names.get("max_memory_mb", "max_memory_mb"))
