@@ -677,6 +677,29 @@ def produce_balls_gallery() -> dict:
 
 BALLS_CMD = "python gallery/plot_17_balls.py"
 
+
+def produce_choose_damper() -> dict:
+    """``gallery/plot_18_choose_damper.py``: its printed text, and the guide's comparison drawn from its results."""
+    run = _gallery("plot_18_choose_damper.py")
+    ns = run["namespace"]
+    chosen, t1, other = ns["chosen"], ns["paper"][ns["REFERENCE"]], list(ns["paper"].values())[1]
+    x, y = ns["X"], ns["Y"]
+    return {"text": run["text"], "m": f"{1e3 * chosen['mass_kg']:.1f}", "gap": f"{100 * chosen['gap_m']:.2f}",
+            "red": f"{chosen[y]:.2f}", "t1_red": f"{t1[y]:.2f}", "dlcpeak": f"{t1[x] - chosen[x]:.1f}",
+            "dlaeq": f"{t1['worst_laeq_db'] - chosen['worst_laeq_db']:.1f}", "other_red": f"{other[y]:.2f}"}
+
+
+CHOOSE_CMD = "python gallery/plot_18_choose_damper.py"
+#: The gallery's optimisation in operation on the command line (the job ``plot_18_choose_damper.py`` builds).
+CHOOSE_ARGS = ["optimize", "--gap", "0.02:0.06", "--m", "0.02:0.08", "--force", "5", "--freq", "4.5:5.5:5", "--starts",
+               "2", "--max-cycles", "200", "--noise-seconds", "0.2", "--maximize", "min_reduction_db", "--minimize",
+               "worst_lcpeak_db", "--evaluations", "20", "--batch", "10", "--workers", "2", "--out", "opt"]
+
+
+def produce_choose_damper_cli() -> dict:
+    """The console block of the gallery's optimisation in operation, run on the command line."""
+    return {"output": _cli(CHOOSE_ARGS, cwd=_workdir("optimize"))}
+
 REGISTRY = (
     Figure("rooms-wav-images", "docs/guide/rooms.md",
            r"A reverberant room needs many images for -60 dB\s+\(order (?P<order>\d+), (?P<mimages>[\d.]+) million "
@@ -843,6 +866,16 @@ REGISTRY = (
            r"force rises from (?P<f1>\d+) N with one ball to (?P<f2>\d+) N with two,.*?many balls \((?P<f10>\d+) N "
            r"with 10\); the median peak force falls from (?P<med1>\d+) N to (?P<med10>\d+) N, but\s+the collisions "
            r"multiply, from (?P<c1>\d+) to (?P<c10>\d+)\.", produce_balls_gallery, BALLS_CMD),
+    Figure("choose-damper-cli", "docs/guide/optimize.md",
+           r"```console\n\$ " + r"(?: \\\n\s*| )".join(re.escape(a) for a in ["acoustiviz", *CHOOSE_ARGS])
+           + r"\n(?P<output>.*?)```", produce_choose_damper_cli, "acoustiviz " + " ".join(CHOOSE_ARGS)),
+    Figure("choose-damper-text", "docs/guide/optimize.md",
+           r"```text\n(?P<text>\d+ designs evaluated in operation at .*?)```", produce_choose_damper, CHOOSE_CMD),
+    Figure("choose-damper-prose", "docs/guide/optimize.md",
+           (r"The chosen design \(m = (?P<m>[\d.]+) g, d = (?P<gap>[\d.]+) cm\) keeps Table 1's worst-case reduction "
+            r"\((?P<red>[\d.-]+) dB against (?P<t1_red>[\d.-]+) dB\) with a worst LCpeak (?P<dlcpeak>[\d.-]+) dB and "
+            r"a worst LAeq (?P<dlaeq>[\d.-]+) dB lower;.*?is the worst of the three in operation "
+            r"\((?P<other_red>[\d.-]+) dB\)").replace(" ", r"\s+"), produce_choose_damper, CHOOSE_CMD),
 )
 
 

@@ -238,3 +238,38 @@ def test_a_scene_naming_a_free_vibration_column_in_operation_is_refused(tmp_path
     text = SCENE.replace('minimize = ["worst_laeq_db"]', 'minimize = ["max_spl_db"]')
     with pytest.raises(ParameterError, match=r"outputs\.optimize\.minimize: unknown column 'max_spl_db'"):
         optimize_settings(scene_from_dict(tomllib.loads(text)), tmp_path)
+
+
+#: A room with absorbing walls around the designs' sphere (the images within a 5 ms window).
+ROOM_ARGV = ("--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--room-window", "0.005")
+
+
+@pytest.mark.slow
+def test_in_a_room_every_design_is_heard_with_its_reflections(cli_folder, tmp_path, capsys):
+    # two designs asked in one batch, before any result is told: the designs of the plane run's first batch
+    budget = ("--evaluations", "2", "--batch", "2")
+    argv = [*ARGV[:ARGV.index("--evaluations")], *budget, *ARGV[ARGV.index("--seed"):], *ROOM_ARGV]
+    assert main([*argv, "--out", str(tmp_path / "cli")]) == 0, capsys.readouterr().err
+    from acoustiviz.app.impacts import room_settings
+    from acoustiviz.app.sweep import with_room
+
+    room = room_settings("3,2.5,2", absorption="0.3", source="1,1,0.01905", duration=0.005)
+    variables, fixed = optimize_variables(with_room({"gap": "0.04", "m": "0.03:0.06"}, room))
+    api = tmp_path / "api"
+    written = run(OptimizeJob(variables, fixed, minimize=("worst_laeq_db",), evaluations=2, batch=2, seed=3,
+                              workers=1, mode="operation", operation=_operation(), out=str(api))).write()
+    assert sorted(p.name for p in written) == sorted(FILES)
+    for name in FILES:
+        assert (api / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), f"the API's {name} differs"
+    in_room = _rows(api / "evaluations.csv")
+    on_plane = _rows(cli_folder / "evaluations.csv")[:2]
+    assert len(in_room) == 2
+    for r, p in zip(in_room, on_plane, strict=True):
+        assert (r["config"], p["config"]) == ("room", "plane")
+        assert r["success"] == "1" and not r["error"] and r["mass_kg"] == p["mass_kg"]
+        levels = [float(r[c]) for c in ("worst_lcpeak_db", "worst_laeq_db", "worst_lafmax_db")]
+        assert all(math.isfinite(v) and v > 0 for v in levels), r
+        # the walls send sound back, never motion: the same attractors, a louder average level
+        for c in ("worst_amplitude_m", "min_reduction_db", "worst_frequency_hz", "worst_regime"):
+            assert r[c] == p[c], c
+        assert float(r["worst_laeq_db"]) > float(p["worst_laeq_db"])
