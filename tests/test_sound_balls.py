@@ -169,17 +169,6 @@ def test_a_multi_ball_run_is_the_sum_of_its_collisions():
     np.testing.assert_allclose(whole.pressure[0], total, rtol=0, atol=1e-12 * np.max(np.abs(total)))
 
 
-def test_several_balls_in_a_room_are_refused_naming_balls():
-    from acoustiviz.errors import ParameterError
-    from acoustiviz.sound.sources import cavity
-
-    run = _run(2, 0.3, m=0.02)
-    room = cavity("room", 0.0085, 0.04, room={"dimensions": "3,2.5,2", "absorption": "0.3",
-                                              "source": "1.5,1.2,0.0085", "duration": 0.02})
-    with pytest.raises(ParameterError, match="^balls"):
-        ball_clicks(run, room, ClickModel(mass=0.02))
-
-
 def test_a_five_ball_scene_writes_a_calibrated_wav(tmp_path, capsys):
     soundfile = pytest.importorskip("soundfile")
     from acoustiviz.cli import main
