@@ -99,3 +99,33 @@ def test_a_reverberant_room_is_louder_than_free_field(run):
 
     la_wet, la_dry = (float(sound_levels(Signal(p, 48000)).laeq_db[0]) for p in pad)
     assert np.isfinite(la_wet) and la_wet > la_dry + 1.0
+
+
+def test_two_balls_in_a_room_sound_the_same_from_the_command_line_and_a_scene(tmp_path, monkeypatch, capsys):
+    import json
+
+    from acoustiviz.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["auralize", "--balls", "2", "--m", "0.02", "--duration", "0.3", "--room", DIMS, "--absorption", "0.3",
+                 "--listener", "2.2,1.5,0.8", "--wav", "cli.wav"]) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    toml = tmp_path / "scene.toml"
+    toml.write_text('[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = [0.3]\n'
+                    '[damper]\nballs = 2\nimpact_mass_kg = 0.02\nduration_s = 0.3\nsolver = "event"\n'
+                    '[[listeners]]\nname = "listener1"\nposition_m = [2.2, 1.5, 0.8]\n[outputs.wav]\n')
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    (wav,) = (tmp_path / "scene").glob("*.wav")
+    assert wav.read_bytes() == (tmp_path / "cli.wav").read_bytes()
+    side = json.loads(wav.with_suffix(".json").read_text())
+    assert side["balls"]["room"]["sphere_groups"] > 2 and side["balls"]["ball_ball_contacts"] > 0
+
+
+def test_auralize_refuses_a_late_tail_for_several_balls_in_a_room(tmp_path, capsys):
+    from acoustiviz.cli import main
+
+    assert main(["auralize", "--balls", "2", "--m", "0.02", "--duration", "0.3", "--room", DIMS, "--absorption", "0.3",
+                 "--late-tail", "--listener", "2.2,1.5,0.8", "--wav", str(tmp_path / "x.wav")]) == 2
+    err = capsys.readouterr().err
+    assert "--late-tail: " in err and len(err.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []

@@ -40,20 +40,20 @@ def damper_cavity(scene, model, medium):
 
 
 def check_sound_listeners(scene) -> None:
-    """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
+    """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity.
+
+    Several balls (``damper.balls`` or ``[[damper.cavities]]``): checked with every cavity placed, outside
+    every column, by the pipeline's check of their sound.
+    """
     from ..sound import check_listeners
     from .products import scene_damper_model
 
-    model = scene_damper_model(scene)
-    room, column, n = damper_cavity(scene, model, scene.medium()), None, scene.section("damper")["balls"]
-    if n > 1 and not room.geometry.enclosed:  # a column of balls reaches further (a room is refused elsewhere)
-        from ..dynamics import MultiBallModel
-        from ..sound.balls_sound import column_scene
-
-        column = MultiBallModel.from_damper(model, n).cavities[0]
-        room = column_scene(room, column)
-    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners",
-                    column=column)
+    d = scene.section("damper")
+    cavities = d.get("cavities", ())
+    if (sum(c["balls"] for c in cavities) if cavities else d["balls"]) > 1:
+        return
+    room = damper_cavity(scene, scene_damper_model(scene), scene.medium())
+    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
 def damper_sound_setup(ctx):
@@ -147,7 +147,7 @@ def produce_levels(ctx):
         ctx.progress("sound power and radiation efficiency: not defined in a room (its walls close the fluid, so "
                      "no surface around the sphere encloses the energy radiated away)")
         return [Product("levels", main, figures), Product("levels", bands, {})]
-    if ctx.damper.settings.balls > 1:  # the energy account is per ball-wall impact of one ball
+    if ctx.damper.settings.total_balls() > 1:  # the energy account is per ball-wall impact of one ball
         ctx.progress("sound power and radiation efficiency: computed for one ball only")
         return [Product("levels", main, figures), Product("levels", bands, {})]
     energy = run_energy(ctx.damper_run.impacts, room, model, ctx.damper_run.duration)

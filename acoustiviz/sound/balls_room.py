@@ -89,8 +89,12 @@ class RoomGroups:
             a = float(radii[k0])
             trains = _trains(pts, self._images(self.clicks, g), a, self.medium, grid_of(a)[0])
             sel = np.flatnonzero(self.group == g)
-            order = SimpleNamespace(times=self.clicks.times[sel], walls=np.zeros(sel.size, dtype=np.int64))
-            _add_trains(out, order, [self.clicks.pulses[k] for k in sel], {0: trains}, grid_of(a), a, self.medium)
+            pulses = [self.clicks.pulses[k] for k in sel]
+            if sel.size * trains[1].shape[-1] < out.shape[1]:  # a few clicks: each over its own span
+                _add_click_trains(out, self.clicks.times[sel], pulses, trains, grid_of(a), a, self.medium)
+            else:  # many: the group's clicks through the trains at once, over the whole signal
+                order = SimpleNamespace(times=self.clicks.times[sel], walls=np.zeros(sel.size, dtype=np.int64))
+                _add_trains(out, order, pulses, {0: trains}, grid_of(a), a, self.medium)
 
     def describe(self) -> dict:
         """JSON-ready: how the room was applied to the spheres."""
@@ -99,6 +103,34 @@ class RoomGroups:
                          "direct sound), summed as one ball's (the first images exactly, the rest through "
                          "fractional-delay trains)",
                 "sphere_groups": len(self.firsts), "position_step_m": POSITION_STEP}
+
+
+def _add_click_trains(out, times, pulses, trains, grid, a: float, medium) -> None:
+    """Add each click through the trains ``(q0, trains, last)``, convolved over the click's own span.
+
+    The sum of :func:`acoustiviz.sound.synthesis._add_trains` (``Re W Re Y - Im W Im Y`` of every image),
+    each click's band-limited ``Y`` convolved with the trains alone rather than the whole signal's.
+    """
+    from scipy.signal import fftconvolve
+
+    from ..core.radiation import pulse_response
+    from .synthesis import _filter_decimate
+
+    q0, tr, _ = trains
+    fs, L, f_int, _, half, tail = grid
+    n_out = out.shape[1]
+    for tk, pulse in zip(times, pulses, strict=True):
+        tk = float(tk)
+        n0 = math.floor(tk * fs)
+        idx = np.arange(n0 * L, math.ceil((tk + pulse.duration + tail) * f_int) + 1)
+        y = pulse_response(pulse, (idx - tk * f_int) / f_int, radius=a, medium=medium)
+        z_re, z_im = _filter_decimate(y.real, L), _filter_decimate(y.imag, L)
+        lo = n0 - half + q0
+        for i in range(out.shape[0]):
+            wet = fftconvolve(z_re, tr[i, 0]) - fftconvolve(z_im, tr[i, 1])
+            s0, s1 = max(lo, 0), min(lo + wet.size, n_out)
+            if s1 > s0:
+                out[i, s0:s1] += wet[s0 - lo:s1 - lo]
 
 
 def _last_arrival(pts: np.ndarray, imgs: ImageSet, radius: float, c: float) -> float:

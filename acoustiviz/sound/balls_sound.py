@@ -45,7 +45,8 @@ from .synthesis import (
 )
 
 __all__ = ["LEFT_OUT", "CAVITY_PLACEMENT", "POSITION_STEP", "BallClicks", "column_scene", "radiating_radius",
-           "cavity_places", "ball_clicks", "render_clicks", "render_balls", "check_ball_listeners"]
+           "cavity_places", "ball_clicks", "render_clicks", "render_balls", "check_ball_scene",
+           "check_ball_listeners"]
 
 #: What the multi-ball sound leaves out (said in every rendering's description and the WAV sidecar).
 LEFT_OUT = ("the acoustic interaction of touching spheres (each radiates as if alone; Morfey, Sharpe and Smith "
@@ -472,11 +473,22 @@ def render_balls(result, scene: CavityScene, click: ClickModel, listeners, *, po
     the default (:func:`cavity_places`). ``options``: ``sample_rate``, ``duration``, ``oversampling`` of
     :func:`render_clicks`. A listener inside any cavity's column of balls is refused (``listeners``).
     """
-    model = result.model
-    scene = column_scene(scene, model.cavities[0])
-    places = cavity_places(model, scene, positions)
-    check_ball_listeners(listeners, scene, model, places)
+    scene, places, _ = check_ball_scene(result.model, scene, listeners, positions)
     return render_clicks(ball_clicks(result, scene, click, positions=places), scene, click, listeners, **options)
+
+
+def check_ball_scene(model, scene: CavityScene, listeners, positions=None, *, name: str = "listeners",
+                     positions_name: str = "positions[{k}]") -> tuple:
+    """Place the cavities of a multi-ball model and check the listeners: ``(scene, places, listeners)``.
+
+    The scene rebuilt around the first cavity's column (:func:`column_scene`), the offset in m of every
+    cavity (:func:`cavity_places`, errors naming ``positions_name``) and the listeners as an ``(n, 3)``
+    array in m, none inside any column (:func:`check_ball_listeners`, errors naming ``name``): what
+    :func:`render_balls` checks, for a front end to check before any work.
+    """
+    scene = column_scene(scene, model.cavities[0])
+    places = cavity_places(model, scene, positions, name=positions_name)
+    return scene, places, check_ball_listeners(listeners, scene, model, places, name=name)
 
 
 def check_ball_listeners(listeners, scene: CavityScene, model, places, *, name: str = "listeners") -> np.ndarray:
