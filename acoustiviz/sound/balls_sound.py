@@ -15,8 +15,9 @@ exactly, the rest through fractional-delay trains); the spheres within ``POSITIO
 share their images (the direct sound stays at each sphere's own place; :mod:`.balls_room`).
 
 Left out: the acoustic interaction of the two touching spheres (each radiates as if alone; Morfey,
-Sharpe and Smith, 1998), the spheres' own elastic modes, and the ringing of the cavity walls (the main
-mass radiates nothing).
+Sharpe and Smith, 1998), the spheres' own elastic modes, the ringing of the cavity walls (the main
+mass radiates nothing), and the screening and scattering of the sound by the main mass and the other
+cavities (each sphere radiates into the configuration, or the room, alone).
 """
 
 from __future__ import annotations
@@ -50,7 +51,8 @@ __all__ = ["LEFT_OUT", "CAVITY_PLACEMENT", "POSITION_STEP", "BallClicks", "colum
 
 #: What the multi-ball sound leaves out (said in every rendering's description and the WAV sidecar).
 LEFT_OUT = ("the acoustic interaction of touching spheres (each radiates as if alone; Morfey, Sharpe and Smith "
-            "1998)", "the spheres' own elastic modes", "the ringing of the cavity walls")
+            "1998)", "the spheres' own elastic modes", "the ringing of the cavity walls",
+            "the screening and scattering of the sound by the main mass and the other cavities")
 
 #: How several cavities are placed (said in the WAV sidecar; :func:`cavity_places`).
 CAVITY_PLACEMENT = ("each cavity moved rigidly by its offset from the scene's, its struck-wall ball touching the "
