@@ -178,3 +178,20 @@ def test_the_sound_of_several_cavities_from_a_scene_and_the_api_is_the_same(tmp_
     written = [Path(p) for p in run_auralize(job).write()]
     api = [p for p in written if p.suffix == ".wav"]
     assert len(api) == 1 and api[0].read_bytes() == wav.read_bytes()
+
+
+def test_the_levels_of_several_cavities_hear_each_from_its_place(tmp_path, capsys):
+    """A scene's levels: the second cavity moved from under the listener to 3 m away makes them quieter."""
+    import csv
+
+    laeq = {}
+    for y in (0.3, 3.0):
+        toml = tmp_path / f"scene_{y:g}.toml"
+        toml.write_text(SCENE.replace("gap_m = 0.05\n", f"gap_m = 0.05\nposition_m = [0.0, {-y}, 0.0]\n")
+                        + '[[listeners]]\nname = "above"\nposition_m = [0.0, -0.3, 0.15]\n[outputs.levels]\n')
+        out = tmp_path / f"out_{y:g}"
+        assert main(["run", str(toml), "--out", str(out)]) == 0, capsys.readouterr().err
+        with open(out / "levels.csv", newline="") as f:
+            (row,) = list(csv.DictReader(f))
+        laeq[y] = float(row["laeq_db"])
+    assert laeq[3.0] < laeq[0.3] - 1.0

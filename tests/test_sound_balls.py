@@ -351,9 +351,12 @@ def test_two_identical_cavities_heard_from_equidistant_listener_are_twice_one():
     clicks = ball_clicks(run, scene, click)
     (c1, c2) = (np.asarray(s[0].position) for s in (_of_cavity(run, clicks, 1).sources[0],
                                                     _of_cavity(run, clicks, 2).sources[0]))
-    # by default a cavity's length (gap + 2a) plus a diameter apart, along the floor
-    np.testing.assert_allclose(c2 - c1, [DamperModel().gap + 4 * scene.radius, 0.0, 0.0], rtol=1e-12)
-    assert c1[2] == c2[2] == scene.radius
+    # two balls in all: each radiates with its own radius, on the floor; by default a cavity's length (gap + 2r)
+    # plus a diameter apart, along the floor
+    r = run.model.cavities[0].radii[0]
+    assert r < scene.radius and set(clicks.radii) == {r}
+    np.testing.assert_allclose(c2 - c1, [DamperModel().gap + 4 * r, 0.0, 0.0], rtol=1e-12)
+    assert c1[2] == pytest.approx(r, rel=1e-12) and c2[2] == pytest.approx(r, rel=1e-12)
     listener = 0.5 * (c1 + c2) + np.array([0.0, 0.6, 0.5])  # equidistant from both
     both = render_clicks(clicks, scene, click, listener).pressure[0]
     one = render_clicks(_of_cavity(run, clicks, 1), scene, click, listener).pressure[0]

@@ -114,7 +114,7 @@ def levels_settings(scene, out=None, signal=None, channels=()):
 
 def _result(ctx) -> LevelsResult:
     """The run's levels, computed and their files written once per run; kept on the context."""
-    from .damper import render_run
+    from .damper import cavity_positions, render_run
     from .levels import run
 
     if _CACHE not in ctx.__dict__:
@@ -123,7 +123,8 @@ def _result(ctx) -> LevelsResult:
         ctx.progress(f"levels of {len(ctx.damper_run.impacts)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")
         rendering = render_run(ctx.damper_run, seq, room, model, points, sample_rate=ANALYSIS_RATE,
-                               duration=ctx.damper_run.duration, room_sound=ctx.scene.room_sound())
+                               duration=ctx.damper_run.duration, room_sound=ctx.scene.room_sound(),
+                               positions=cavity_positions(ctx.damper.settings))
         result = run(levels_settings(ctx.scene, ctx.out, rendering.signal, names))
         ctx.__dict__[_CACHE] = result, result.write()
     return ctx.__dict__[_CACHE]

@@ -151,20 +151,22 @@ def column_scene(scene: CavityScene, cavity) -> CavityScene:
     return replace(scene, geometry=replace(g, radius=r, **moved), radius=None)
 
 
-def radiating_radius(cavity, ball: int, scene_radius: float) -> float:
+def radiating_radius(cavity, ball: int, scene_radius: float, *, several: bool | None = None) -> float:
     """Radius in m of the sphere ball ``ball`` (0-based) of ``cavity`` radiates as: the one home of that rule.
 
-    Several balls: the ball's own radius, the one the dynamics uses (``cavity.radii``, from its mass and
-    the steel density), so the balls of a column radiate as the spheres that fill it. One ball: the
-    scene's radius ``scene_radius`` (the sound's ``radius``, default the paper's 19.05 mm sphere), as
+    Several balls (in the cavity, or in all the cavities of the run: ``several``, default whether this
+    cavity has more than one): the ball's own radius, the one the dynamics uses (``cavity.radii``, from its
+    mass and the steel density), so the balls of a column radiate as the spheres that fill it. One ball:
+    the scene's radius ``scene_radius`` (the sound's ``radius``, default the paper's 19.05 mm sphere), as
     :func:`acoustiviz.sound.render` does.
     """
-    return float(scene_radius) if cavity.n_balls == 1 else float(cavity.radii[ball])
+    several = cavity.n_balls > 1 if several is None else several
+    return float(cavity.radii[ball]) if several else float(scene_radius)
 
 
-def _column(cav, radius: float) -> tuple:
-    """``(struck-wall ball's radius, largest radius, span)`` in m of a cavity's radiating spheres."""
-    r = [radiating_radius(cav, i, radius) for i in range(cav.n_balls)]
+def _column(cav, radius: float, several: bool) -> tuple:
+    """``(radius of each ball, largest radius, span)`` in m of a cavity's radiating spheres."""
+    r = [radiating_radius(cav, i, radius, several=several) for i in range(cav.n_balls)]
     return r, max(r), float(cav.gap + 2.0 * sum(r) - r[0] - r[-1])
 
 
@@ -199,7 +201,7 @@ def cavity_places(model, scene: CavityScene, positions=None, *, name: str = "pos
     if len(given) != len(cavs):
         raise ParameterError(name.format(k=len(given)), f"one position per cavity: {len(cavs)} cavities, got "
                                                         f"{len(given)}")
-    cols = [_column(c, scene.radius) for c in cavs]
+    cols = [_column(c, scene.radius, model.n_balls > 1) for c in cavs]
     n, c0 = scene.axis, np.asarray(scene.geometry.centre, dtype=float)
     h = _roomiest(scene, n, c0)
     step = max(span + r[0] + r[-1] for r, _, span in cols) + 2.0 * max(rm for _, rm, _ in cols)
@@ -295,7 +297,8 @@ def ball_clicks(result, scene: CavityScene, click: ClickModel, *, positions=None
     scene : CavityScene
         The damper's surroundings; its struck wall holds ball 1 (``struck_wall=-1``) or ball N (``+1``)
         at the geometry's centre (several balls: :func:`column_scene`), the others further along its axis.
-        One ball radiates as a sphere of the scene's radius, several each as a sphere of its own radius
+        One ball radiates as a sphere of the scene's radius, several (in one cavity or in all) each as a
+        sphere of its own radius
         (:func:`radiating_radius`). In a room each click holds its real sphere alone (:class:`BallClicks`).
     click : ClickModel
         The contact and pulse of a ball on a wall (its ``mass`` is replaced by each ball's mass).
@@ -346,10 +349,16 @@ class _Placement:
 
     def __init__(self, result, scene: CavityScene, cav, offset: np.ndarray, first: int):
         self.result, self.scene, self.cav, self.first = result, scene, cav, first
-        self.same = not scene.geometry.enclosed and not np.any(offset)  # the scene's own sources serve
-        r_struck = radiating_radius(cav, 0 if scene.struck_wall == -1 else cav.n_balls - 1, scene.radius)
+        self.several = result.model.n_balls > 1
+        r_struck = self.radius(0 if scene.struck_wall == -1 else cav.n_balls - 1)
+        # the scene's own sources serve a cavity in the scene's place with the scene's sphere on its struck wall
+        self.same = not scene.geometry.enclosed and not np.any(offset) and r_struck == scene.radius
         self.base = np.asarray(scene.geometry.centre, dtype=float) + (r_struck - scene.radius) * scene.axis + offset
         self.top = cav.gap + cav.offsets[-1] - cav.offsets[0]  # ball N's distance at the wall+ contact
+
+    def radius(self, ball: int) -> float:
+        """Radius in m of the sphere ball ``ball`` (0-based) radiates as (:func:`radiating_radius`)."""
+        return radiating_radius(self.cav, ball, self.scene.radius, several=self.several)
 
     def where(self, u):
         """Centre in m of a ball ``u`` m along the axis from ball 1's centre at the wall- contact."""
@@ -363,7 +372,7 @@ class _Placement:
         up = -scene.struck_wall * axis  # direction from wall- to wall+ in the scene
         if i == -1 or j == n:  # a ball on a wall: as the one ball of render(), of this ball's mass
             ball, wall = (j, -1) if i == -1 else (i, 1)
-            radius = radiating_radius(cav, ball, scene.radius)
+            radius = self.radius(ball)
             pulse = replace(click, mass=cav.masses[ball]).pulse_for
             if self.same and (wall == scene.struck_wall or scene.walls == "one" or n == 1):
                 return [(wall_sources(scene, wall), pulse, radius, wall)]
@@ -387,10 +396,10 @@ class _Placement:
                     hertz_samples=click.hertz_samples)
         return [(_sphere_sources(scene, self.where(lower), -up, f"ball{i + 1}"),
                  ClickModel(mass=cav.masses[i], main_mass=cav.masses[j], **pair).pulse_for,
-                 radiating_radius(cav, i, scene.radius), 0),
+                 self.radius(i), 0),
                 (_sphere_sources(scene, self.where(upper), up, f"ball{j + 1}"),
                  ClickModel(mass=cav.masses[j], main_mass=cav.masses[i], **pair).pulse_for,
-                 radiating_radius(cav, j, scene.radius), 0)]
+                 self.radius(j), 0)]
 
     def _centre(self, t: float, ball: int) -> float:
         """Distance in m of ball ``ball``'s centre from ball 1's centre at the wall- contact, at ``t``."""
@@ -499,7 +508,7 @@ def check_ball_listeners(listeners, scene: CavityScene, model, places, *, name: 
     pts = check_listeners(listeners, scene, name=name, column=cavs[0] if len(cavs) == 1 else None)
     if len(cavs) > 1:
         for cav, offset in zip(cavs, places, strict=True):
-            r, rm, span = _column(cav, scene.radius)
+            r, rm, span = _column(cav, scene.radius, True)
             base = np.asarray(scene.geometry.centre, dtype=float) + (r[0 if scene.struck_wall == -1 else -1]
                                                                      - scene.radius) * scene.axis + offset
             for p in pts:
