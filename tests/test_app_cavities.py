@@ -164,7 +164,7 @@ def test_the_sound_of_several_cavities_from_a_scene_and_the_api_is_the_same(tmp_
 
     toml = tmp_path / "scene.toml"
     toml.write_text(SCENE.replace("gap_m = 0.05\n", "gap_m = 0.05\nposition_m = [0.0, 0.3, 0.0]\n")
-                    + "[outputs.wav]\nsubtype = \"FLOAT\"\n")
+                    + "[outputs.wav]\n")
     assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 0, capsys.readouterr().err
     (wav,) = (tmp_path / "out").glob("*.wav")
     side = json.loads(wav.with_suffix(".json").read_text())
