@@ -101,7 +101,7 @@ def test_a_reverberant_room_is_louder_than_free_field(run):
     assert np.isfinite(la_wet) and la_wet > la_dry + 1.0
 
 
-def test_two_balls_in_a_room_sound_the_same_from_the_command_line_and_a_scene(tmp_path, monkeypatch, capsys):
+def test_two_balls_in_a_room_sound_the_same_from_the_command_line_a_scene_and_the_api(tmp_path, monkeypatch, capsys):
     import json
 
     from acoustiviz.cli import main
@@ -119,6 +119,20 @@ def test_two_balls_in_a_room_sound_the_same_from_the_command_line_and_a_scene(tm
     assert wav.read_bytes() == (tmp_path / "cli.wav").read_bytes()
     side = json.loads(wav.with_suffix(".json").read_text())
     assert side["balls"]["room"]["sphere_groups"] > 2 and side["balls"]["ball_ball_contacts"] > 0
+    # the API: the same job built from the library's objects
+    from acoustiviz.app.auralize import run
+    from acoustiviz.app.damper import DamperJob, damper_model
+    from acoustiviz.app.settings.auralize import AuralizeJob
+    from acoustiviz.constants import PAPER_RADIUS
+    from acoustiviz.core.listener import Listener
+    from acoustiviz.dynamics import InitialState
+
+    model = damper_model(m=M)
+    room = cavity("room", PAPER_RADIUS, model.gap, room={"dimensions": DIMS, "absorption": "0.3"})
+    job = AuralizeJob(model, room, ClickModel(mass=M), (Listener("listener1", (2.2, 1.5, 0.8)),), ("api.wav",), 0.3,
+                      DamperJob(model, InitialState(), 0.3, "event", balls=2))
+    run(job).write(tmp_path)
+    assert (tmp_path / "api.wav").read_bytes() == wav.read_bytes()
 
 
 def test_auralize_refuses_a_late_tail_for_several_balls_in_a_room(tmp_path, capsys):
