@@ -413,14 +413,16 @@ def render_clicks(clicks: BallClicks, scene: CavityScene, click: ClickModel, lis
 
     The same synthesis as :func:`acoustiviz.sound.render` (each click in closed form on the internal
     grid, filtered and decimated, added in time order), with each click's own spheres and radius
-    (``clicks.radii``; the clicks of one radius are added together, in time order).
+    (``clicks.radii``; the clicks of one radius are added together, in time order). In a room
+    (``scene.geometry.enclosed``) each click's real sphere gets the room's images of its position,
+    shared by the spheres within ``POSITION_STEP`` of each other (:class:`~.balls_room.RoomGroups`).
 
     Parameters
     ----------
     clicks : BallClicks
-        The spheres (:func:`ball_clicks`).
+        The spheres (:func:`ball_clicks` of the same scene).
     scene : CavityScene
-        The scene (medium, listener checks).
+        The scene (medium, listener checks, a room's images).
     click : ClickModel
         The ball-wall contact model, recorded in the rendering.
     listeners : (n, 3) or (3,) array_like
@@ -435,8 +437,8 @@ def render_clicks(clicks: BallClicks, scene: CavityScene, click: ClickModel, lis
     Returns
     -------
     Rendering
-        Its ``sequence`` holds the ball-wall contacts; :meth:`Rendering.describe` adds the ball-ball ones
-        and what the model leaves out.
+        Its ``sequence`` holds the ball-wall contacts; :meth:`Rendering.describe` adds the ball-ball ones,
+        what the model leaves out, the cavities' places and, in a room, how the room was applied.
     """
     if not isinstance(clicks, BallClicks):
         raise ParameterError("clicks", f"expected BallClicks, got {type(clicks).__name__}")
