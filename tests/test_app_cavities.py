@@ -2,13 +2,16 @@
 
 A two-cavity scene and the same :class:`~acoustiviz.app.damper.DamperJob` built in Python make equal
 settings and write the same files byte for byte; the impact table names each cavity's bodies with its
-number and the history has every cavity's balls; bad cavities and the sound of several cavities are
-refused before any work, naming the scene key or the API parameter.
+number and the history has every cavity's balls; bad cavities, badly placed cavities and listeners inside
+one are refused before any work, naming the scene key or the API parameter; the sound of several
+cavities is the same from a scene and the API.
 """
 
 from __future__ import annotations
 
+import json
 import tomllib
+from pathlib import Path
 
 import pytest
 
@@ -129,11 +132,66 @@ def test_a_cavity_whose_contacts_cannot_be_followed_is_refused_naming_its_key(tm
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("where, message", [("[0.0, 0.0, 0.0]", "cavity 2 overlaps cavity 1"),
+                                            ("[0.0, 0.0, -0.5]", "cavity 2's balls would leave the fluid"),
+                                            ("[0.1, 0.2]", "3 numbers")])
 @pytest.mark.parametrize("output", ["wav", "levels", "spectrum"])
-def test_the_sound_of_several_cavities_is_refused_before_any_work(output, tmp_path, capsys, no_simulation):
+def test_a_cavity_placed_badly_is_refused_before_any_work(output, where, message, tmp_path, capsys, no_simulation):
     toml = tmp_path / "scene.toml"
-    toml.write_text(SCENE + f"[outputs.{output}]\n")
+    toml.write_text(SCENE.replace("gap_m = 0.05\n", f"gap_m = 0.05\nposition_m = {where}\n")
+                    + f"[outputs.{output}]\n")
     assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert "damper.cavities: " in err
+    assert "damper.cavities[1].position_m: " in err
+    assert message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "out").exists()
+
+
+def test_a_listener_inside_a_cavity_placed_away_is_refused(tmp_path, capsys, no_simulation):
+    toml = tmp_path / "scene.toml"
+    toml.write_text(SCENE.replace("gap_m = 0.05\n", "gap_m = 0.05\nposition_m = [0.5, 0.0, 0.0]\n")
+                    + "[[listeners]]\nname = \"in\"\nposition_m = [0.5, 0.0, 0.04]\n[outputs.levels]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "listeners: " in err and "inside cavity 2" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_sound_of_several_cavities_from_a_scene_and_the_api_is_the_same(tmp_path, capsys):
+    """The scene's WAV of two cavities (the second placed by hand) and the API's job write the same file."""
+    from acoustiviz.app.auralize import run as run_auralize
+    from acoustiviz.app.pipeline import wav_settings
+
+    toml = tmp_path / "scene.toml"
+    toml.write_text(SCENE.replace("gap_m = 0.05\n", "gap_m = 0.05\nposition_m = [0.0, 0.3, 0.0]\n")
+                    + "[outputs.wav]\n")
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    (wav,) = (tmp_path / "out").glob("*.wav")
+    side = json.loads(wav.with_suffix(".json").read_text())
+    assert side["balls"]["cavity_offsets_m"] == [[0.0, 0.0, 0.0], [0.0, 0.3, 0.0]]
+    assert side["damper"]["cavities"] == 2 and side["damper"]["balls"] == 3
+    assert side["balls"]["ball_ball_contacts"] > 0 and "cavity_placement" in side["balls"]
+    scene = scene_from_dict(tomllib.loads(toml.read_text()))
+    (tmp_path / "api").mkdir()
+    job = wav_settings(scene, tmp_path / "api", damper_settings(scene))
+    assert job.damper.cavities[1].position == (0.0, 0.3, 0.0)
+    written = [Path(p) for p in run_auralize(job).write()]
+    api = [p for p in written if p.suffix == ".wav"]
+    assert len(api) == 1 and api[0].read_bytes() == wav.read_bytes()
+
+
+def test_the_levels_of_several_cavities_hear_each_from_its_place(tmp_path, capsys):
+    """A scene's levels: the second cavity moved from under the listener to 3 m away makes them quieter."""
+    import csv
+
+    laeq = {}
+    for y in (0.3, 3.0):
+        toml = tmp_path / f"scene_{y:g}.toml"
+        toml.write_text(SCENE.replace("gap_m = 0.05\n", f"gap_m = 0.05\nposition_m = [0.0, {-y}, 0.0]\n")
+                        + '[[listeners]]\nname = "above"\nposition_m = [0.0, -0.3, 0.15]\n[outputs.levels]\n')
+        out = tmp_path / f"out_{y:g}"
+        assert main(["run", str(toml), "--out", str(out)]) == 0, capsys.readouterr().err
+        with open(out / "levels.csv", newline="") as f:
+            (row,) = list(csv.DictReader(f))
+        laeq[y] = float(row["laeq_db"])
+    assert laeq[3.0] < laeq[0.3] - 1.0

@@ -213,10 +213,11 @@ def test_bad_balls_are_refused_naming_the_option(extra, option, tmp_path, monkey
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_scene_refuses_the_sound_of_several_balls_in_a_room_before_any_work(tmp_path, capsys, no_simulation):
+def test_a_scene_refuses_a_late_tail_for_several_balls_in_a_room_before_any_work(tmp_path, capsys, no_simulation):
     toml = tmp_path / "scene.toml"
     toml.write_text('[configuration]\nkind = "room"\nroom_m = [3.0, 2.5, 2.0]\nabsorption = [0.3]\n'
-                    "[damper]\nballs = 2\n[outputs.wav]\n")
+                    "[damper]\nballs = 2\n[outputs.wav]\nlate_tail = true\n")
     assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
-    assert "damper.balls: " in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "outputs.wav.late_tail: " in err and "several balls (2) in a room" in err
     assert not (tmp_path / "out").exists()

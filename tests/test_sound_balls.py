@@ -169,17 +169,6 @@ def test_a_multi_ball_run_is_the_sum_of_its_collisions():
     np.testing.assert_allclose(whole.pressure[0], total, rtol=0, atol=1e-12 * np.max(np.abs(total)))
 
 
-def test_several_balls_in_a_room_are_refused_naming_balls():
-    from acoustiviz.errors import ParameterError
-    from acoustiviz.sound.sources import cavity
-
-    run = _run(2, 0.3, m=0.02)
-    room = cavity("room", 0.0085, 0.04, room={"dimensions": "3,2.5,2", "absorption": "0.3",
-                                              "source": "1.5,1.2,0.0085", "duration": 0.02})
-    with pytest.raises(ParameterError, match="^balls"):
-        ball_clicks(run, room, ClickModel(mass=0.02))
-
-
 def test_a_five_ball_scene_writes_a_calibrated_wav(tmp_path, capsys):
     soundfile = pytest.importorskip("soundfile")
     from acoustiviz.cli import main
@@ -334,3 +323,75 @@ def test_the_summaries_count_every_collision_of_several_balls(tmp_path, capsys):
     assert re.search(rf"^impacts: {len(rows)} \({on_wall} ball-wall: \d+ on wall -1, \d+ on wall \+1; "
                      rf"{len(rows) - on_wall} ball-ball\)", out, re.M)
     assert "sphere radius 7.43 mm (each ball its own" in out  # 13.5 g of steel
+
+
+def _twin_run(duration: float = 0.5):
+    """Two identical cavities of one ball each on the Table 1 main mass, started identically."""
+    from acoustiviz.dynamics import equal_balls
+
+    d = DamperModel()
+    cav = equal_balls(1, d.m, d.gap, d.k_hertz, d.c1)
+    model = MultiBallModel((cav, cav), d.M, d.K, d.C)
+    return simulate_balls(model, duration, initial=BallState(), t_eval=np.linspace(0.0, duration,
+                                                                                   int(duration * 1e4) + 1))
+
+
+def _of_cavity(run, clicks, ic: int):
+    """The clicks of cavity ``ic`` (1-based) alone."""
+    mine = np.array([str(run.impacts.first[k]).startswith(f"c{ic}:") for k in clicks.collision])
+    return clicks.take(mine)
+
+
+def test_two_identical_cavities_heard_from_equidistant_listener_are_twice_one():
+    run = _twin_run()
+    t1 = run.impacts.time[np.char.startswith(run.impacts.first.astype(str), "c1:")]
+    t2 = run.impacts.time[np.char.startswith(run.impacts.first.astype(str), "c2:")]
+    np.testing.assert_allclose(t1, t2, rtol=0, atol=1e-12)  # the clicks coincide in time
+    scene, click = CavityScene("plane", gap=DamperModel().gap), ClickModel()
+    clicks = ball_clicks(run, scene, click)
+    (c1, c2) = (np.asarray(s[0].position) for s in (_of_cavity(run, clicks, 1).sources[0],
+                                                    _of_cavity(run, clicks, 2).sources[0]))
+    # two balls in all: each radiates with its own radius, on the floor; by default a cavity's length (gap + 2r)
+    # plus a diameter apart, along the floor
+    r = run.model.cavities[0].radii[0]
+    assert r < scene.radius and set(clicks.radii) == {r}
+    np.testing.assert_allclose(c2 - c1, [DamperModel().gap + 4 * r, 0.0, 0.0], rtol=1e-12)
+    assert c1[2] == pytest.approx(r, rel=1e-12) and c2[2] == pytest.approx(r, rel=1e-12)
+    listener = 0.5 * (c1 + c2) + np.array([0.0, 0.6, 0.5])  # equidistant from both
+    both = render_clicks(clicks, scene, click, listener).pressure[0]
+    one = render_clicks(_of_cavity(run, clicks, 1), scene, click, listener).pressure[0]
+    n = min(both.size, one.size)
+    np.testing.assert_allclose(both[:n], 2.0 * one[:n], rtol=0, atol=1e-9 * np.max(np.abs(both)))
+    gain = 20 * np.log10(np.max(np.abs(both)) / np.max(np.abs(one)))
+    assert gain == pytest.approx(20 * np.log10(2.0), abs=1e-6)  # +6.02 dB
+    side = render_balls(run, scene, click, listener).describe()["balls"]
+    assert np.allclose(side["cavity_offsets_m"][1], c2 - c1) and "cavity_placement" in side
+
+
+def test_a_listener_on_the_line_of_two_cavities_hears_two_arrivals():
+    run = _twin_run(0.05)
+    scene, click, lift = CavityScene("free", gap=DamperModel().gap), ClickModel(), 0.5
+    clicks = ball_clicks(run, scene, click, positions=[None, [0.0, 0.0, lift]])  # the second above the first
+    listener = np.asarray(scene.geometry.centre) + np.array([0.0, 0.0, 1.5])  # on their common axis
+    fs = 96000
+    onsets = []
+    for ic in (1, 2):
+        p = render_clicks(_of_cavity(run, clicks, ic), scene, click, listener, sample_rate=fs).pressure[0]
+        onsets.append(np.flatnonzero(np.abs(p) > 1e-3 * np.max(np.abs(p)))[0])
+    assert (onsets[0] - onsets[1]) / fs == pytest.approx(lift / scene.medium.c, abs=1.5 / fs)
+    whole = render_balls(run, scene, click, listener, positions=[None, [0.0, 0.0, lift]], sample_rate=fs)
+    assert np.all(np.isfinite(whole.pressure))
+
+
+@pytest.mark.parametrize("positions, match", [([None, [0.0, 0.0, 0.0]], r"^positions\[1\]: cavity 2 overlaps"),
+                                              ([None, [0.0, 0.0, -0.1]], r"^positions\[1\]: cavity 2's balls would "
+                                                                          "leave the fluid"),
+                                              ([None, [0.1, "a", 0.0]], r"^positions\[1\]: expected three"),
+                                              ([None], r"^positions\[1\]: one position per cavity")])
+def test_cavities_out_of_the_fluid_or_overlapping_are_refused(positions, match):
+    from acoustiviz.errors import ParameterError
+    from acoustiviz.sound.balls_sound import cavity_places
+
+    model = _twin_run(0.01).model
+    with pytest.raises(ParameterError, match=match):
+        cavity_places(model, CavityScene("plane", gap=DamperModel().gap), positions)

@@ -213,9 +213,6 @@ def job_from_settings(s: AuralizeSettings) -> AuralizeJob:
     if Path(s.wav).suffix.lower() != ".wav":  # before the impacts are read and the damper is checked
         raise ParameterError("--wav", f"must end in .wav, got {s.wav!r}")
     model, damper, impacts = _run_of(s)
-    if s.damper.balls > 1 and (rs is not None or scene.geometry.enclosed):
-        raise ParameterError("--balls", f"several balls ({s.damper.balls}) are heard in free field, on a plane or "
-                                        "in a corner, not in a room: set --balls 1 or another --config")
     files = output_paths(s.wav, 1 if s.stereo else len(listeners))
     return AuralizeJob(model, scene, click, listeners, tuple(str(p) for p in files), s.damper.duration, damper,
                        impacts, s.impacts, rs, stereo=s.stereo, rate=s.rate, subtype=s.subtype, scale=s.scale,
@@ -264,7 +261,7 @@ class AuralizeResult:
         table, those of a ball on a wall (the sequence) and those of two balls.
         """
         heard = len(self.sequence)
-        if self.damper is None or self.settings.damper.balls == 1:
+        if self.damper is None or self.settings.damper.total_balls() == 1:
             return {"impacts": heard}
         total = len(self.damper.result.impacts)
         return {"impacts": total, "ball_wall": heard, "ball_ball": total - heard}
@@ -347,8 +344,10 @@ def _impacts(job: AuralizeJob, damper) -> tuple:
                              "k_hertz_n_m1_5": m.k_hertz}, None
     damper = run_damper(job.damper) if damper is None else damper
     record = damper_description(job.model, damper, job.duration)
-    if job.damper.balls > 1:
-        record["balls"] = job.damper.balls
+    if job.damper.total_balls() > 1:
+        record["balls"] = job.damper.total_balls()
+    if job.damper.cavities:
+        record["cavities"] = len(job.damper.cavities)
     return heard_sequence(damper.result), record, damper
 
 
@@ -356,7 +355,7 @@ def _levels(job: AuralizeJob, seq, rendering, files, damper=None):
     """The levels job's result on the sound computed at 96 kHz (None when no levels are asked for)."""
     if not job.wants_levels:
         return None
-    from .damper import render_run
+    from .damper import cavity_positions, render_run
     from .levels import ANALYSIS_RATE
     from .levels import run as run_levels
     from .settings.levels import LevelsJob
@@ -364,7 +363,8 @@ def _levels(job: AuralizeJob, seq, rendering, files, damper=None):
     if rendering.sample_rate != ANALYSIS_RATE:
         points = np.array([lst.position for lst in job.listeners], dtype=float)
         rendering = render_run(damper.result if damper is not None else None, seq, job.cavity, job.click, points,
-                               sample_rate=ANALYSIS_RATE, duration=job.duration, room_sound=job.room_sound)
+                               sample_rate=ANALYSIS_RATE, duration=job.duration, room_sound=job.room_sound,
+                               positions=cavity_positions(job.damper))
     channels = [n for f in files for n in (f.channel_names if job.stereo else f.names)]
     names = {"csv": job.name("levels_csv"), "loudness": job.name("loudness"), "signal": "damper", "input": "damper"}
     return run_levels(LevelsJob(rendering.signal, tuple(channels), loudness=job.loudness, csv=job.levels_csv,
@@ -387,14 +387,15 @@ def run(job: AuralizeJob, *, damper=None) -> AuralizeResult:
     -------
     AuralizeResult
     """
-    from .damper import check_click_fits, render_run
+    from .damper import cavity_positions, check_click_fits, render_run
 
     seq, record, damper = _impacts(job, damper)
     check_click_fits(seq, job.model.k_hertz, job.model.m, job.duration,
                      names={k: job.name(k) for k in ("m", "k_hertz", "duration", "velocities")})
     points = np.array([lst.position for lst in job.listeners], dtype=float)
     rendering = render_run(damper.result if damper is not None else None, seq, job.cavity, job.click, points,
-                           sample_rate=job.rate, duration=job.duration, room_sound=job.room_sound)
+                           sample_rate=job.rate, duration=job.duration, room_sound=job.room_sound,
+                           positions=cavity_positions(job.damper))
     files = _files(job, rendering)
     with user_terms({"scale": job.name("scale")}):  # refused before the levels and the files, not after
         check_scale_fits(files, job.subtype, job.scale)

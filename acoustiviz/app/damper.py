@@ -370,9 +370,9 @@ def check_click_fits(seq, k_hertz: float, mass: float, duration: float, *, names
 def heard_sequence(result):
     """The impacts on the cavity's walls of a run (:class:`~acoustiviz.sound.ImpactSequence`).
 
-    One ball: every impact. Several balls (a :class:`~acoustiviz.dynamics.MultiBallResult`): the contacts
-    of a ball with a wall, times in s, walls -1/+1, approach speeds in m/s; the ball-ball contacts stay in
-    the impact table (:func:`render_run` hears them too).
+    One ball: every impact. Several balls (a :class:`~acoustiviz.dynamics.MultiBallResult`, in one cavity or
+    several): the contacts of a ball with a wall, times in s, walls -1/+1, approach speeds in m/s; the
+    ball-ball contacts stay in the impact table (:func:`render_run` hears them too).
     """
     import numpy as np
 
@@ -381,25 +381,40 @@ def heard_sequence(result):
     imp = result.impacts
     if hasattr(imp, "sequence"):
         return imp.sequence()
-    on_wall = (imp.first == "wall-") | (imp.second == "wall+")
-    walls = np.where(imp.first[on_wall] == "wall-", -1, 1)
+    first = np.array([str(b).rpartition(":")[2] for b in imp.first])  # several cavities: c2:wall- is a wall
+    second = np.array([str(b).rpartition(":")[2] for b in imp.second])
+    on_wall = (first == "wall-") | (second == "wall+")
+    walls = np.where(first[on_wall] == "wall-", -1, 1)
     return ImpactSequence(imp.time[on_wall], walls, np.abs(imp.approach_velocity[on_wall]))
 
 
-def render_run(result, sequence, cavity, click, points, *, sample_rate: int, duration: float, room_sound=None):
+def cavity_positions(settings) -> tuple | None:
+    """Per cavity of a :class:`DamperJob` (or None) the offset in m its sound comes from, None for the default.
+
+    None without ``cavities`` (one cavity, in the scene's place).
+    """
+    cavities = getattr(settings, "cavities", ())
+    return tuple(c.position for c in cavities) if cavities else None
+
+
+def render_run(result, sequence, cavity, click, points, *, sample_rate: int, duration: float, room_sound=None,
+               positions=None):
     """The sound in Pa of a damper run at the listeners ``points`` (m): the one home of that choice.
 
-    One ball: :func:`acoustiviz.sound.render` of ``sequence`` (the run's impacts). Several balls: every
-    collision of the run, ball-wall and ball-ball (:func:`acoustiviz.sound.render_balls`); ``click`` is
-    the ball-wall contact and a room's sound is refused (``balls``).
+    One ball: :func:`acoustiviz.sound.render` of ``sequence`` (the run's impacts). Several balls, in one
+    cavity or several: every collision of the run, ball-wall and ball-ball, each cavity from its place
+    ``positions`` (:func:`acoustiviz.sound.render_balls`, :func:`cavity_positions`); ``click`` is the
+    ball-wall contact. In a room every sphere has the room's images to its order and tolerance; a room's
+    late tail or absorption bands (``room_sound``) are refused with several balls.
     """
     from ..dynamics import MultiBallResult
     from ..sound import render, render_balls
 
     if isinstance(result, MultiBallResult) and result.model.n_balls > 1:
         if room_sound is not None:
-            raise ParameterError("balls", "several balls are heard in free field, on a plane or in a corner, "
-                                          "not in a room: set balls = 1 or another configuration")
-        return render_balls(result, cavity, click, points, sample_rate=sample_rate, duration=duration)
+            raise ParameterError("room_sound", "several balls in a room are heard with every image to the room's "
+                                               "tolerance: no late tail and no absorption bands")
+        return render_balls(result, cavity, click, points, positions=positions, sample_rate=sample_rate,
+                            duration=duration)
     return render(sequence, cavity, click, points, sample_rate=sample_rate, duration=duration,
                   room_sound=room_sound)

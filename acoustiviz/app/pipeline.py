@@ -261,24 +261,32 @@ def damper_settings(scene, out=None):
 
 
 def _balls_heard(scene) -> None:
-    """Refuse the sound (WAV, levels, spectrum) of ``[[damper.cavities]]``, and of several balls in a room.
+    """Check the sound (WAV, levels, spectrum) of several balls before any work, naming scene keys.
 
-    The sound of several balls is rendered for the one cavity of ``damper.balls``, with exact images only.
+    Every cavity of ``[[damper.cavities]]`` placed (``position_m``: in the fluid, no two overlapping) and
+    every listener outside every column of balls; in a room every image is summed to the room's
+    tolerance, so a late tail or absorption bands of ``[outputs.wav]`` are refused.
     """
     from ..errors import ParameterError
+    from ..sound.balls_sound import check_ball_scene
+    from .damper import balls_model, cavity_positions
     from .scene_levels import damper_cavity
+    from .settings.auralize import ROOM_SOUND_SCENE_KEYS
 
-    cavities = scene.section("damper").get("cavities", ())
-    if cavities:  # the sound module renders the balls of damper.balls, one cavity
-        raise ParameterError("damper.cavities", f"the sound (WAV, levels, spectrum) is rendered for the one cavity of "
-                                                f"damper.balls, not for {len(cavities)} [[damper.cavities]]: give "
-                                                "one cavity's balls as damper.balls")
-    n = scene.section("damper")["balls"]
-    if n > 1 and (scene.room_sound() is not None
-                  or damper_cavity(scene, scene_damper_model(scene), scene.medium()).geometry.enclosed):
-        raise ParameterError("damper.balls", f"several balls ({n}) are heard in free field, on a plane or in a "
-                                             "corner, not in a room: set damper.balls = 1 or another "
-                                             "configuration.kind")
+    d = scene.section("damper")
+    if d["balls"] == 1 and not d.get("cavities", ()):
+        return
+    job = damper_settings(scene)
+    if job.total_balls() == 1:
+        return
+    rs = scene.room_sound()
+    if rs is not None:
+        key = ROOM_SOUND_SCENE_KEYS["late_tail" if rs.late_tail else "band_centres"]
+        raise ParameterError(key, f"several balls ({job.total_balls()}) in a room are heard with every image to the "
+                                  "room's tolerance: no late tail and no absorption bands")
+    points = np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())])
+    check_ball_scene(balls_model(job), damper_cavity(scene, job.model, scene.medium()), points, cavity_positions(job),
+                     name="listeners", positions_name="damper.cavities[{k}].position_m")
 
 
 def _write_damper(ctx: RunContext, kind: str) -> list:

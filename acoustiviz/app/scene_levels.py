@@ -40,20 +40,20 @@ def damper_cavity(scene, model, medium):
 
 
 def check_sound_listeners(scene) -> None:
-    """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity."""
+    """Refuse, before any output is made, a listener of the damper's sound (wav, levels, spectrum) in its cavity.
+
+    Several balls (``damper.balls`` or ``[[damper.cavities]]``): checked with every cavity placed, outside
+    every column, by the pipeline's check of their sound.
+    """
     from ..sound import check_listeners
     from .products import scene_damper_model
 
-    model = scene_damper_model(scene)
-    room, column, n = damper_cavity(scene, model, scene.medium()), None, scene.section("damper")["balls"]
-    if n > 1 and not room.geometry.enclosed:  # a column of balls reaches further (a room is refused elsewhere)
-        from ..dynamics import MultiBallModel
-        from ..sound.balls_sound import column_scene
-
-        column = MultiBallModel.from_damper(model, n).cavities[0]
-        room = column_scene(room, column)
-    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners",
-                    column=column)
+    d = scene.section("damper")
+    cavities = d.get("cavities", ())
+    if (sum(c["balls"] for c in cavities) if cavities else d["balls"]) > 1:
+        return
+    room = damper_cavity(scene, scene_damper_model(scene), scene.medium())
+    check_listeners(np.array([p for _, p in scene.listeners(scene.damper_sphere_radius())]), room, name="listeners")
 
 
 def damper_sound_setup(ctx):
@@ -114,7 +114,7 @@ def levels_settings(scene, out=None, signal=None, channels=()):
 
 def _result(ctx) -> LevelsResult:
     """The run's levels, computed and their files written once per run; kept on the context."""
-    from .damper import render_run
+    from .damper import cavity_positions, render_run
     from .levels import run
 
     if _CACHE not in ctx.__dict__:
@@ -123,7 +123,8 @@ def _result(ctx) -> LevelsResult:
         ctx.progress(f"levels of {len(ctx.damper_run.impacts)} impacts at {len(names)} listener(s), rendered at "
                      f"{ANALYSIS_RATE / 1e3:g} kHz")
         rendering = render_run(ctx.damper_run, seq, room, model, points, sample_rate=ANALYSIS_RATE,
-                               duration=ctx.damper_run.duration, room_sound=ctx.scene.room_sound())
+                               duration=ctx.damper_run.duration, room_sound=ctx.scene.room_sound(),
+                               positions=cavity_positions(ctx.damper.settings))
         result = run(levels_settings(ctx.scene, ctx.out, rendering.signal, names))
         ctx.__dict__[_CACHE] = result, result.write()
     return ctx.__dict__[_CACHE]
@@ -147,7 +148,7 @@ def produce_levels(ctx):
         ctx.progress("sound power and radiation efficiency: not defined in a room (its walls close the fluid, so "
                      "no surface around the sphere encloses the energy radiated away)")
         return [Product("levels", main, figures), Product("levels", bands, {})]
-    if ctx.damper.settings.balls > 1:  # the energy account is per ball-wall impact of one ball
+    if ctx.damper.settings.total_balls() > 1:  # the energy account is per ball-wall impact of one ball
         ctx.progress("sound power and radiation efficiency: computed for one ball only")
         return [Product("levels", main, figures), Product("levels", bands, {})]
     energy = run_energy(ctx.damper_run.impacts, room, model, ctx.damper_run.duration)

@@ -47,8 +47,10 @@ Several balls (:mod:`.balls_sound`, :func:`render_balls`): every collision accel
 bodies. A ball-wall contact radiates as above (the ball touching the far wall sits the other balls'
 diameters further along ``n``); a ball-ball contact radiates as two rigid spheres at the balls' centres
 with equal and opposite impulses (the colliding-sphere dipole pair), each with the Hertz pulse of the
-pair's effective mass and stiffness, with the same images. Left out: the acoustic interaction of the
-touching spheres, their own modes, the ringing of the cavity walls.
+pair's effective mass and stiffness, with the same images. Several cavities radiate each from its own
+place; in a room every sphere has the room's images of its own position (:mod:`.balls_room`). Left out:
+the acoustic interaction of the touching spheres, their own modes, the ringing of the cavity walls, the
+screening and scattering by the main mass and the other cavities.
 
 A room's sound (:mod:`.room_sound`) adds the exact early images, per-band absorption and a
 statistical late tail. The signals are in pascals; this package writes no files (the WAV files

@@ -399,20 +399,32 @@ class AuralizeJob(Settings):
         self._check_levels()
 
     def _check_listeners(self, points) -> None:
+        """Listeners in the fluid, outside the cavity; several balls: every cavity placed, outside every column.
+
+        Several balls in a room are heard with every image to the room's tolerance: a late tail or
+        absorption bands are refused, naming their option or key.
+        """
         from ...sound import check_listeners
 
         geometry = self.cavity.geometry
         if getattr(geometry, "enclosed", False):
             geometry.in_room(self.name("listeners"), points)
-        scene, column = self.cavity, None
-        several = self.damper is not None and getattr(self.damper, "balls", 1) > 1
-        if several and not getattr(geometry, "enclosed", False):  # a column's extent (a room is refused later)
-            from ...sound.balls_sound import column_scene
-            from ..damper import balls_model
+        if self.damper is None or self.damper.total_balls() == 1:
+            check_listeners(points, self.cavity, name=self.name("listeners"))
+            return
+        from ...errors import ParameterError
+        from ...sound.balls_sound import check_ball_scene
+        from ..damper import balls_model, cavity_positions
 
-            column = balls_model(self.damper).cavities[0]
-            scene = column_scene(scene, column)
-        check_listeners(points, scene, name=self.name("listeners"), column=column)
+        if self.room_sound is not None:
+            key = "late_tail" if self.room_sound.late_tail else "absorption_bands"
+            raise ParameterError(self.name(key), f"several balls ({self.damper.total_balls()}) in a room are heard "
+                                                 "with every image to the room's tolerance: no late tail and no "
+                                                 "absorption bands")
+        where = self.damper.names.get("cavities", "cavities")
+        field = "position" if where == "cavities" else "position_m"
+        check_ball_scene(balls_model(self.damper), self.cavity, points, cavity_positions(self.damper),
+                         name=self.name("listeners"), positions_name=f"{where}[{{k}}].{field}")
 
     def _check_files(self) -> None:
         """WAV files (and sidecars), figure and levels CSVs writable and distinct; one WAV per file the run makes."""

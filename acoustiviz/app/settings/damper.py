@@ -124,4 +124,11 @@ CAVITY = (
                              "steel spheres of its ball mass)"),
     _cavity_record(BALLS[2], "contact damping between two balls of the cavity (default: "
                              "damper.contact_damping_n_s_m)"),
+    Setting("position", None, "position_m", "point", None,
+            "where the cavity's sound comes from: the offset [x, y, z] of the cavity from the scene's sphere, the "
+            "cavity moved rigidly (at [0, 0, 0] its struck-wall ball touches the struck surface where the scene's "
+            "sphere does, the column along its axis); default: cavity k (from 0) k times the longest cavity's "
+            "length plus the largest ball's diameter along the horizontal, perpendicular to the axis, with the "
+            "most room (acoustiviz.sound.balls_sound.cavity_places). Every ball stays in the fluid, no two "
+            "cavities overlap", "m", table="damper.cavities"),
 )

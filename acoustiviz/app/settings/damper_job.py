@@ -55,6 +55,9 @@ class DamperCavity:
         Hertz stiffness between two balls in N/m^1.5 (default: paper eq 2 for two steel spheres of mass ``m``).
     c1_ball : float, optional
         Contact damping between two balls in N s/m (default: the job's ``model.c1``).
+    position : (3,) tuple of float, optional
+        Where the cavity's sound comes from: its offset in m from the scene's sphere, the cavity moved
+        rigidly (default: spaced apart, :func:`acoustiviz.sound.balls_sound.cavity_places`).
     """
 
     gap: float | None = None
@@ -62,6 +65,15 @@ class DamperCavity:
     m: float | None = None
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
+    position: tuple | None = None
+
+    def __post_init__(self):
+        # a scene's list and the API's tuple make equal cavities; a bad value is left for the job's checks
+        if self.position is not None and not isinstance(self.position, str):
+            try:
+                object.__setattr__(self, "position", tuple(float(x) for x in self.position))
+            except (TypeError, ValueError):
+                pass
 
 
 def check_cavities(job) -> None:

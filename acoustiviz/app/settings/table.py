@@ -136,6 +136,8 @@ class Setting:
             return self._check_sequence(value, name)
         if self.kind == "size":
             return parse_size(value, name) if isinstance(value, str) else check_size(value, name)
+        if self.kind == "point":
+            return self._check_point(value, name)
         if self.kind == "str":
             return check_choice(name, value, self.choices) if self.choices else str(value)
         if self.kind == "range":
@@ -151,6 +153,17 @@ class Setting:
             return int(value)
         return check_range(name, value, self.low, self.high, unit=self.unit, low_open=self.low_open,
                            high_open=self.high_open)
+
+    def _check_point(self, value, name: str) -> tuple:
+        """``value`` as three finite numbers ``(x, y, z)``, or a :class:`ParameterError` naming ``name``."""
+        try:
+            v = tuple(float(x) for x in value) if not isinstance(value, str) else ()
+        except (TypeError, ValueError):
+            v = ()
+        if len(v) != 3 or not all(math.isfinite(x) for x in v):
+            unit = f" in {self.unit}" if self.unit else ""
+            raise ParameterError(name, f"expected three finite numbers [x, y, z]{unit}, got {value!r}")
+        return v
 
     def _check_range(self, value, name: str) -> tuple:
         """The values of ``value`` (one value, ``START:STOP:COUNT``, ``A,B,C`` or a sequence), each in range."""
