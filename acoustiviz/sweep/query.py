@@ -18,7 +18,7 @@ from .._validate import check_positive, check_range
 from ..constants import MAX_INCLINATION
 from ..errors import ParameterError
 from .levels import SWEEP_LEVEL_COLUMNS
-from .store import ALL_COLUMNS, NUMERIC_COLUMNS, SweepTable, format_value
+from .store import NUMERIC_COLUMNS, SweepTable, format_value, sweep_columns
 
 __all__ = ["PAPER_TABLE2", "DESIGN_TABLE_COLUMNS", "RANK_COLUMNS", "Band", "DesignChoice", "design_table",
            "write_design_table", "design"]
@@ -285,7 +285,7 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
     span = (float(np.min(e[ok])), float(np.max(e[ok])))
 
     def row(i):
-        d = {c: table[c][i].item() for c in ALL_COLUMNS if c in table.columns}
+        d = {c: table[c][i].item() for c in sweep_columns(table.spec) if c in table.columns}
         d["inclination"] = float(e[i])
         return d
 
