@@ -302,7 +302,8 @@ def collision_spl_db(result, scene, click, point, *, sample_rate: int = ANALYSIS
     rows : (k,) ndarray of int
         The impact-table rows of the collisions heard (a contact made at rest is silent).
     spl : (k,) ndarray
-        The peak of each one's clicks rendered alone (:func:`acoustiviz.sound.balls_sound.render_clicks`).
+        The peak of each one's clicks rendered alone (:func:`acoustiviz.sound.balls_sound.render_clicks`),
+        on the sample grid of the whole run (its start moved by a whole number of samples).
     """
     from dataclasses import replace
 
@@ -313,7 +314,8 @@ def collision_spl_db(result, scene, click, point, *, sample_rate: int = ANALYSIS
     spl = np.empty(rows.size)
     for i, k in enumerate(rows):
         one = clicks.take(clicks.collision == k)
-        one = replace(one, times=one.times - one.times[0])  # rendered from its own start: a short signal
+        # rendered from its own start, moved by whole samples so that its peak is the one of the whole run's grid
+        one = replace(one, times=one.times - math.floor(one.times[0] * sample_rate) / sample_rate)
         p = render_clicks(one, scene, click, point, sample_rate=sample_rate).pressure[0]
         spl[i] = 20.0 * math.log10(max(float(np.max(np.abs(p))), 1e-300) / P_REF)
     return rows, spl

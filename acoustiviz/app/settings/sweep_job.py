@@ -81,7 +81,7 @@ class SweepJob(Settings):
     """
 
     TABLE = _JOB_RECORDS
-    gap: tuple = (PAPER_GAP,)
+    gap: tuple | None = None
     m: tuple | None = None
     mass_ratio: tuple | None = None
     c1: tuple = (TABLE1_PARAMETERS["c1"],)
@@ -116,6 +116,8 @@ class SweepJob(Settings):
             object.__setattr__(self, "m", (TABLE1_PARAMETERS["m"],))
         if self.k_hertz is None and self.material is None:
             object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
+        if self.gap is None and self.fill is None:
+            object.__setattr__(self, "gap", (PAPER_GAP,))
         if self.operation is not None and not isinstance(self.operation, Operation):
             raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
         if self.operation is not None:
