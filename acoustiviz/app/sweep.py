@@ -235,8 +235,8 @@ def _scene_given(scene, solver: str) -> dict:
                  radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
                  surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
                  wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
-                 room=scene.geometry_settings().get("room"), balls=opts["balls"], fill=opts["fill"],
-                 equal_total_mass=opts["equal_total_mass"], **stiffness)
+                 room=scene.geometry_settings().get("room"), balls=opts.get("balls"), fill=opts.get("fill"),
+                 equal_total_mass=opts.get("equal_total_mass", False), **stiffness)
     operation = _scene_operation(scene)
     if operation:  # the search's solver and rtol; the free run's own settings left at their defaults
         from .settings.sweep_operation import FREE_VIBRATION_ONLY

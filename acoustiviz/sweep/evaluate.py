@@ -160,7 +160,7 @@ class DesignResult:
             "max_spl_db": self.max_spl_db, "design_id": d.design_id, "mass_ratio": self.mass_ratio,
             "c1_n_s_m": d.c1, "k_hertz_n_m1_5": d.k_hertz, "material": d.material, "v0_m_s": d.v0,
             "distance_m": d.distance, "angle_deg": math.degrees(d.angle), "config": d.config,
-            "radius_m": d.radius, "balls": d.balls, "fill": math.nan if d.fill is None else d.fill,
+            "radius_m": d.radius, **({} if d.fill is None else {"balls": d.balls, "fill": d.fill}),
             "energy_dissipated_contact_j": self.energy_dissipated_contact,
             "energy_dissipated_main_j": self.energy_dissipated_main,
             "max_approach_velocity_m_s": self.max_approach_velocity,

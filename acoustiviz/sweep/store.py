@@ -46,6 +46,7 @@ __all__ = [
     "EXTRA_COLUMNS",
     "ALL_COLUMNS",
     "sweep_columns",
+    "row_columns",
     "NUMERIC_COLUMNS",
     "SWEEP_CSV",
     "SWEEP_JSON",
@@ -116,7 +117,12 @@ def sweep_columns(spec: SweepSpec) -> tuple:
     The two columns of :data:`acoustiviz.sweep.balls.BALL_COLUMNS` are there when the spec names its balls
     (:attr:`acoustiviz.sweep.SweepSpec.with_balls`); a sweep of one ball writes the columns it always wrote.
     """
-    if not spec.with_balls:
+    return row_columns(spec.with_balls)
+
+
+def row_columns(with_balls: bool) -> tuple:
+    """:data:`ALL_COLUMNS`, with ``balls`` and ``fill`` after ``radius_m`` when ``with_balls`` (the one rule)."""
+    if not with_balls:
         return ALL_COLUMNS
     at = ALL_COLUMNS.index("radius_m") + 1
     return ALL_COLUMNS[:at] + BALL_COLUMNS + ALL_COLUMNS[at:]

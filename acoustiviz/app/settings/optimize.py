@@ -157,7 +157,8 @@ class OptimizeJob(Settings):
 
         if self.operation is not None:
             return MODES[self.mode](self.fixed, self.operation)
-        return MODES[self.mode](self.fixed)
+        named = {v.name for v in self.variables}
+        return MODES[self.mode](self.fixed, bool({"balls", "fill"} & named) or self.fixed.equal_total_mass)
 
     @property
     def files(self) -> tuple:
@@ -174,6 +175,10 @@ class OptimizeJob(Settings):
                 raise ParameterError("mode", f"an excitation is given: the mode is 'operation', not {self.mode!r}")
             if not isinstance(self.operation, Operation):
                 raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
+            from .sweep_job import free_vibration_only
+
+            values = {v.name: (v.low, v.high) if v.kind == "int" else v.choices for v in self.variables}
+            free_vibration_only(values.get("balls"), values.get("fill"), self.fixed.equal_total_mass)
 
     def validate(self) -> None:
         """The objectives and constraints against the mode's columns, the executor and the folder."""
@@ -211,6 +216,8 @@ class OptimizeJob(Settings):
         fixed = asdict(self.fixed)
         if fixed.get("room") is None:
             fixed.pop("room", None)
+        if not fixed.get("equal_total_mass"):  # a problem of one ball reads as before balls were searched
+            fixed.pop("equal_total_mass", None)
         doc = {"format": "acoustiviz-optimize", "format_version": 1, "written_by": f"acoustiviz {__version__}",
                "optimizer": "optuna TPE", "mode": self.mode, **self.problem.to_dict(), "fixed": fixed}
         if self.operation is not None:

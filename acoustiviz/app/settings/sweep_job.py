@@ -32,7 +32,7 @@ from .damper import MODEL, RUN
 from .sweep import SWEEP_RUN, SWEPT, sweep_radius
 from .table import by_name
 
-__all__ = ["SweepJob", "sweep_job", "INCLINATION_MAP", "SPL_MAP", "REPORTS"]
+__all__ = ["SweepJob", "sweep_job", "free_vibration_only", "INCLINATION_MAP", "SPL_MAP", "REPORTS"]
 
 #: File names of the Figure 6 maps inside a sweep folder.
 INCLINATION_MAP = "inclination_map.png"
@@ -121,7 +121,7 @@ class SweepJob(Settings):
         if self.operation is not None and not isinstance(self.operation, Operation):
             raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
         if self.operation is not None:
-            _free_vibration_only(self.balls, self.fill, self.settings.equal_total_mass)
+            free_vibration_only(self.balls, self.fill, self.settings.equal_total_mass)
         self._check_ranges()
         self._check_budget()
         object.__setattr__(self, "spec", self._build_spec())
@@ -222,7 +222,7 @@ class SweepJob(Settings):
         return self.names.get(api, api)
 
 
-def _free_vibration_only(balls, fill, equal_total_mass: bool) -> None:
+def free_vibration_only(balls, fill, equal_total_mass: bool) -> None:
     """Refuse several balls, fills and the equal total mass in operation (swept in free vibration only)."""
     if any(n > 1 for n in balls or ()):
         raise ParameterError("balls", "several balls are swept in free vibration only (without --force, --base); "
