@@ -187,3 +187,15 @@ def test_the_command_line_a_scene_and_the_api_agree(tmp_path, capsys):
     table = load_sweep(tmp_path / "cli" / "sweep")
     chosen = choose(table, float(np.nanmean(table.inclination())), 1.0)  # the design command's ranking
     assert chosen.quietest["balls"] in (1, 2) and chosen.quietest["fill"] == 0.4
+
+
+def test_a_sweep_of_fills_skips_the_gap_by_mass_maps(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    argv = ["sweep", "--fill", "0.3", "--m", "0.03,0.05", "--duration", str(DURATION), "--workers", "1", "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    assert "maps skipped: they need only --gap and --m swept (also swept: fill)" in capsys.readouterr().out
+    assert not (out / "inclination_map.png").exists() and (out / "design_table.csv").is_file()
+    gaps = [float(r["gap_m"]) for r in _rows(out / "sweep.csv")]
+    assert gaps[0] != gaps[1]  # the same fill of balls of other masses: other gaps
+    with pytest.raises(ParameterError, match="fill"):
+        load_sweep(out).grid("max_spl_db")

@@ -71,8 +71,10 @@ class SweepResult:
 
     @property
     def others(self) -> list:
-        """Swept axes besides gap and mass (the maps are drawn only for gap x mass sweeps)."""
-        return [a for a in self.table.spec.swept() if a not in ("gap", "m")]
+        """Swept axes besides gap and mass (the maps are drawn only for gap x mass sweeps; a fill sets the gaps)."""
+        spec = self.table.spec
+        return [a for a in spec.swept() if a not in ("gap", "m")] + (["fill"] if spec.fill is not None and
+                                                                      "fill" not in spec.swept() else [])
 
     def write(self, folder=None) -> list:
         """Write ``design_table.csv`` and, for gap x mass sweeps, the two Figure 6 maps; return their paths.

@@ -40,32 +40,10 @@ from ..errors import ParameterError
 from .balls import BALL_COLUMNS
 from .spec import SweepSpec
 
-__all__ = [
-    "put_in_design_order",
-    "CSV_COLUMNS",
-    "EXTRA_COLUMNS",
-    "ALL_COLUMNS",
-    "sweep_columns",
-    "row_columns",
-    "NUMERIC_COLUMNS",
-    "SWEEP_CSV",
-    "SWEEP_JSON",
-    "DESIGN_TABLE_CSV",
-    "DEFINITIONS",
-    "SweepMismatch",
-    "SweepTable",
-    "Journal",
-    "spec_document",
-    "read_spec",
-    "read_document",
-    "prepare_dir",
-    "check_dir",
-    "previous_sweeps",
-    "read_rows",
-    "load_sweep",
-    "table_from_rows",
-    "format_value",
-]
+__all__ = ["put_in_design_order", "CSV_COLUMNS", "EXTRA_COLUMNS", "ALL_COLUMNS", "sweep_columns", "row_columns",
+           "NUMERIC_COLUMNS", "SWEEP_CSV", "SWEEP_JSON", "DESIGN_TABLE_CSV", "DEFINITIONS", "SweepMismatch",
+           "SweepTable", "Journal", "spec_document", "read_spec", "read_document", "prepare_dir", "check_dir",
+           "previous_sweeps", "read_rows", "load_sweep", "table_from_rows", "format_value"]
 
 #: The columns every ``sweep.csv`` starts with (the command-line interface promises these).
 CSV_COLUMNS = (
@@ -209,6 +187,8 @@ class SweepTable:
         others = [a for a in spec.swept() if a not in ("gap", "m")]
         if others:
             raise ParameterError("table", f"a gap x mass map needs the other axes fixed; swept also: {others}")
+        if spec.fill is not None:  # each design's gap follows from its fill and mass: no grid of gaps
+            raise ParameterError("table", "a gap x mass map needs the gaps swept, not the fill")
         ng, nm = len(spec.gap), len(spec.masses)
         out = np.full(ng * nm, np.nan)
         out[self.columns["design_id"]] = self.columns[name]
