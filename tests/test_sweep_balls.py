@@ -199,3 +199,13 @@ def test_a_sweep_of_fills_skips_the_gap_by_mass_maps(tmp_path, capsys):
     assert gaps[0] != gaps[1]  # the same fill of balls of other masses: other gaps
     with pytest.raises(ParameterError, match="fill"):
         load_sweep(out).grid("max_spl_db")
+
+
+def test_several_balls_in_a_room_are_refused_before_any_work_naming_balls(tmp_path, capsys):
+    room = ["--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--room-window", "0.005",
+            "--config", "room"]
+    out = tmp_path / "sweep"
+    assert main(["sweep", "--balls", "1,2", *room, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("acoustiviz sweep: error: --balls:") and "room" in err
+    assert not out.exists()

@@ -427,7 +427,11 @@ class SweepSpec:
                 raise ParameterError("distance", f"must exceed the sphere radius {radius:g} m, got {dist:g} m")
             design = Design(i, float(gap), float(m), float(c1), float(kh), mat, float(v0), float(dist),
                             float(ang), cfg, radius, n, fill)
-            limit = design.geometry(s).polar_limit_deg  # a wall closer than the radius fails here
+            geom = design.geometry(s)  # a wall closer than the radius fails here
+            if n > 1 and geom.enclosed:  # the multi-ball sound has no room (acoustiviz.sound.balls_sound)
+                raise ParameterError("balls", f"several balls are heard in free field, on a plane or in a corner, "
+                                              f"not in a room: sweep balls = 1 with the {cfg} configuration")
+            limit = geom.polar_limit_deg
             if ang > math.radians(limit) + 1e-12:
                 raise ParameterError("angle", f"must be <= {math.radians(limit):.6g} rad ({limit:g} deg) with the "
                                               f"{cfg} configuration, got {ang:g} rad")
