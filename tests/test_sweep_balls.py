@@ -187,6 +187,8 @@ def test_the_command_line_a_scene_and_the_api_agree(tmp_path, capsys):
     table = load_sweep(tmp_path / "cli" / "sweep")
     chosen = choose(table, float(np.nanmean(table.inclination())), 1.0)  # the design command's ranking
     assert chosen.quietest["balls"] in (1, 2) and chosen.quietest["fill"] == 0.4
+    n = chosen.quietest["balls"]
+    assert f"{n} ball{'s' if n > 1 else ''} of m = {chosen.quietest['mass_kg']:.6g} kg" in chosen.summary()
 
 
 def test_a_sweep_of_fills_skips_the_gap_by_mass_maps(tmp_path, capsys):
