@@ -51,7 +51,7 @@ def ball_radius(mass: float, material: str = "") -> float:
     Examples
     --------
     >>> round(ball_radius(0.0405), 5)
-    0.01074
+    0.01072
     """
     from ..core.materials import material as find_material
     from ..core.materials import sphere_radius
