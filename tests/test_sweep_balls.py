@@ -211,3 +211,20 @@ def test_several_balls_in_a_room_are_refused_before_any_work_naming_balls(tmp_pa
     err = capsys.readouterr().err
     assert err.startswith("acoustiviz sweep: error: --balls:") and "room" in err
     assert not out.exists()
+
+
+def test_a_two_ball_design_damps_as_the_damper_job_of_two_balls_measures():
+    from acoustiviz.app.damper import run as run_damper
+    from acoustiviz.app.settings.damper_job import DamperJob
+    from acoustiviz.dynamics import InitialState
+
+    settings = FixedSettings(duration=DURATION)
+    (design,) = SweepSpec(balls=(2,), settings=settings).designs()
+    row = evaluate_design(design, settings)
+    model = DamperModel(M=settings.M, K=settings.K, C=settings.C, m=design.m, gap=design.gap,
+                        k_hertz=design.k_hertz, c1=design.c1)
+    damper = run_damper(DamperJob(model, InitialState(v=design.v0), duration=DURATION, balls=2))
+    assert len(damper.result.impacts) == row.n_impacts
+    m = damper.metrics
+    ours = [row.inclination_two_maxima, row.inclination_fit, row.fit_n_maxima, row.settling_time]
+    assert np.array_equal(ours, [m.two_maxima.value, m.fit.value, m.fit.n_maxima, m.settling_time], equal_nan=True)
