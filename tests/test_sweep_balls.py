@@ -228,3 +228,26 @@ def test_a_two_ball_design_damps_as_the_damper_job_of_two_balls_measures():
     m = damper.metrics
     ours = [row.inclination_two_maxima, row.inclination_fit, row.fit_n_maxima, row.settling_time]
     assert np.array_equal(ours, [m.two_maxima.value, m.fit.value, m.fit.n_maxima, m.settling_time], equal_nan=True)
+
+
+def test_the_contact_between_two_balls_is_that_of_the_damper_options(tmp_path, capsys):
+    import tomllib
+
+    from acoustiviz.sweep.balls import design_balls_model
+
+    argv = ["sweep", "--balls", "2", "--k-hertz-ball", "1e9", "--c1-ball", "5", "--solver", "event", "--duration",
+            "5", "--max-memory", str(CAP), "--out", str(tmp_path / "sweep")]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    scene = scene_from_dict(tomllib.loads('[damper]\nsolver = "event"\nk_hertz_ball_n_m1_5 = 1e9\n'
+                                          'contact_damping_ball_n_s_m = 5.0\n[outputs.sweep]\nballs = "2"\n'))
+    from_scene = sweep_settings(scene, tmp_path)
+    assert from_cli.settings == from_scene.settings
+    assert from_scene.names["k_hertz_ball"] == "damper.k_hertz_ball_n_m1_5"
+    settings = from_cli.settings
+    (design,) = from_cli.spec.designs()
+    cavity = design_balls_model(design, settings)[1].cavities[0]
+    assert cavity.k_ball == (1e9,) and cavity.c_ball == 5.0 and cavity.c_wall == design.c1
+    assert main(["sweep", "--balls", "2", "--k-hertz-ball", "-1", "--out", str(tmp_path / "bad")]) == 2
+    assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --k-hertz-ball:")
+    assert from_cli.spec.to_dict()["settings"]["k_hertz_ball"] == 1e9
+    assert "k_hertz_ball" not in SweepSpec().to_dict()["settings"]  # one ball: sweep.json as before

@@ -238,7 +238,8 @@ def _scene_given(scene, solver: str) -> dict:
                  surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
                  wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
                  room=scene.geometry_settings().get("room"), balls=opts.get("balls"), fill=opts.get("fill"),
-                 equal_total_mass=opts.get("equal_total_mass", False), **stiffness)
+                 equal_total_mass=opts.get("equal_total_mass", False), k_hertz_ball=d["k_hertz_ball_n_m1_5"],
+                 c1_ball=d["contact_damping_ball_n_s_m"], **stiffness)
     operation = _scene_operation(scene)
     if operation:  # the search's solver and rtol; the free run's own settings left at their defaults
         from .settings.sweep_operation import FREE_VIBRATION_ONLY

@@ -95,4 +95,5 @@ def design_balls_model(design, settings):
     s = settings
     damper = DamperModel(M=s.M, K=s.K, C=s.C, m=design.m, gap=design.gap, k_hertz=design.k_hertz, c1=design.c1,
                          clip_tensile=s.clip_tensile)
-    return damper, MultiBallModel.from_damper(damper, design.balls, material=design.material or BALL_MATERIAL)
+    return damper, MultiBallModel.from_damper(damper, design.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball,
+                                              material=design.material or BALL_MATERIAL)

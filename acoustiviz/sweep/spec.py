@@ -143,6 +143,10 @@ class FixedSettings:
         With several balls, divide each swept mass ``m`` among the ``balls`` of a design (each ball
         ``m / balls``), so that designs of different ball counts carry the same total mass; False
         (default): ``m`` is the mass of each ball, as ``acoustiviz damper --balls``.
+    k_hertz_ball, c1_ball : float or None
+        With several balls, the Hertz stiffness in N/m^1.5 and the contact damping in N·s/m between
+        two balls (None: paper eq 2 for the two balls' radii and material, and ``c1``; as
+        :func:`acoustiviz.dynamics.equal_balls`).
     """
 
     M: float = TABLE1_PARAMETERS["M"]
@@ -167,6 +171,8 @@ class FixedSettings:
     levels: bool = False
     room: tuple | None = None
     equal_total_mass: bool = False
+    k_hertz_ball: float | None = None
+    c1_ball: float | None = None
 
     def __post_init__(self):
         check_positive("M", self.M, "kg")
@@ -193,6 +199,10 @@ class FixedSettings:
             raise ParameterError("n_fastest", f"must be an integer >= 0 (0: every impact), got {self.n_fastest!r}")
         check_range("fit_window_fraction", self.fit_window_fraction, 0.0, 1.0, low_open=True, high_open=True)
         check_range("settling_fraction", self.settling_fraction, 0.0, 1.0, low_open=True, high_open=True)
+        if self.k_hertz_ball is not None:
+            check_positive("k_hertz_ball", self.k_hertz_ball, "N/m^1.5")
+        if self.c1_ball is not None:
+            check_nonnegative("c1_ball", self.c1_ball, "N s/m")
         for flag in ("levels", "equal_total_mass"):
             if not isinstance(getattr(self, flag), bool):
                 raise ParameterError(flag, f"must be True or False, got {getattr(self, flag)!r}")
@@ -457,8 +467,9 @@ class SweepSpec:
         d["settings"] = asdict(self.settings)
         if d["settings"]["room"] is None:  # a sweep without a room reads as before rooms were swept
             del d["settings"]["room"]
-        if not d["settings"]["equal_total_mass"]:
-            del d["settings"]["equal_total_mass"]
+        for name, unset in (("equal_total_mass", False), ("k_hertz_ball", None), ("c1_ball", None)):
+            if d["settings"][name] is unset:  # a sweep of one ball reads as before balls were swept
+                del d["settings"][name]
         return d
 
     @classmethod

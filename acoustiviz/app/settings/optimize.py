@@ -216,8 +216,9 @@ class OptimizeJob(Settings):
         fixed = asdict(self.fixed)
         if fixed.get("room") is None:
             fixed.pop("room", None)
-        if not fixed.get("equal_total_mass"):  # a problem of one ball reads as before balls were searched
-            fixed.pop("equal_total_mass", None)
+        for name, unset in (("equal_total_mass", False), ("k_hertz_ball", None), ("c1_ball", None)):
+            if fixed.get(name, unset) is unset:  # a problem of one ball reads as before balls were searched
+                fixed.pop(name, None)
         doc = {"format": "acoustiviz-optimize", "format_version": 1, "written_by": f"acoustiviz {__version__}",
                "optimizer": "optuna TPE", "mode": self.mode, **self.problem.to_dict(), "fixed": fixed}
         if self.operation is not None:

@@ -110,6 +110,7 @@ SWEEP_DAMPER = (
             "divide each --m among the --balls of a design (each ball m / N): designs of every ball count carry "
             "the same total mass (default: --m is each ball's mass, as acoustiviz damper --balls)",
             scene_default=False, table="outputs.sweep"),
+    *BALLS[1:],  # between two balls, as acoustiviz damper --balls (a scene's [damper] keys)
 )
 
 #: The sound of every impact at the listener.

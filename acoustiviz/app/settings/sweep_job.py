@@ -28,7 +28,7 @@ from ...constants import (
 )
 from ...errors import ParameterError, user_terms
 from .base import Settings
-from .damper import MODEL, RUN
+from .damper import BALLS, MODEL, RUN
 from .sweep import SWEEP_RUN, SWEPT, sweep_radius
 from .table import by_name
 
@@ -139,9 +139,10 @@ class SweepJob(Settings):
         """M, K, C and the masses of mass ratios in the damper records' ranges; the configurations; the angles."""
         from ...core.geometry import geometry_class
 
-        records = by_name(MODEL + RUN)
-        for name in ("M", "K", "C"):
-            records[name].check(getattr(self.settings, name), name)
+        records = by_name(MODEL + RUN + BALLS)
+        for name in ("M", "K", "C", "k_hertz_ball", "c1_ball"):
+            if getattr(self.settings, name) is not None:
+                records[name].check(getattr(self.settings, name), name)
         for ratio in self.mass_ratio or ():
             mass = ratio * self.settings.M
             try:
@@ -256,7 +257,8 @@ def _fixed_settings(given: dict):
         pulse_mass=given.get("pulse_mass", "impact"), c=given.get("c", DEFAULT_SOUND_SPEED),
         rho=given.get("rho", DEFAULT_AIR_DENSITY), wall_distance=given.get("wall_distance", DEFAULT_WALL_DISTANCE),
         n_fastest=given.get("n_fastest", 4), levels=bool(given.get("levels", False)), room=given.get("room"),
-        equal_total_mass=bool(given.get("equal_total_mass", False)))
+        equal_total_mass=bool(given.get("equal_total_mass", False)), k_hertz_ball=given.get("k_hertz_ball"),
+        c1_ball=given.get("c1_ball"))
 
 
 def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
