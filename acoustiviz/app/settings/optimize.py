@@ -72,6 +72,9 @@ def _variable(record: Setting) -> Setting:
     doc = record.doc.split(" (default")[0].split(";")[0]
     if record.metavar == "NAMES":  # names: one of several, or held
         return dataclasses.replace(record, doc=f"{doc}: A,B,C (one of them) or one name (held)")
+    if record.name == "balls":  # whole numbers: every integer between the bounds, no log scale
+        return dataclasses.replace(record, doc=f"{doc}: LO:HI (every whole number between), A,B,C or one value",
+                                   metavar="LO:HI")
     return dataclasses.replace(record, doc=f"{doc}: {_FORM}", metavar="LO:HI")
 
 
