@@ -243,3 +243,45 @@ def test_in_operation_the_room_reaches_the_designs_as_in_free_vibration(tmp_path
     assert from_cli.mode == from_scene.mode == "operation"
     assert dict(from_cli.fixed.room)["dimensions"] == (3.0, 2.5, 2.0)
     assert from_cli == from_scene
+
+
+def _balls_job(out, evaluations=4, **given) -> OptimizeJob:
+    """A tiny search over the number of balls 1 to 3 and the fill (0.2 s of motion per design)."""
+    variables, fixed = optimize_variables({"balls": "1:3", "fill": "0.2:0.6", "duration": 0.2, **given})
+    return OptimizeJob(variables, fixed, minimize=("max_spl_db",), evaluations=evaluations, batch=2, seed=1,
+                       out=str(out), workers=1)
+
+
+def test_an_optimisation_over_the_balls_evaluates_whole_numbers_and_resumes(tmp_path):
+    job = _balls_job(tmp_path / "whole")
+    (balls,) = [v for v in job.variables if v.name == "balls"]
+    assert (balls.kind, balls.low, balls.high) == ("int", 1, 3)
+    assert json.loads(json.dumps(job.document()))["variables"][-2:] == [
+        {"name": "balls", "kind": "int", "low": 1, "high": 3}, {"name": "fill", "kind": "float", "low": 0.2,
+                                                               "high": 0.6}]
+    assert "gap" not in {v.name for v in job.variables}  # the fill sets the gap
+    whole = run(job)
+    whole.write()
+    asked = [r["params"]["balls"] for r in whole.records]
+    assert all(type(n) is int and 1 <= n <= 3 for n in asked)
+    rows = _rows(tmp_path / "whole" / FILES[0])
+    assert [int(r["balls"]) for r in rows] == asked
+    assert all(0.2 <= float(r["fill"]) <= 0.6 and r["error"] == "" for r in rows)
+    part = tmp_path / "part"
+    run(_balls_job(part, evaluations=3))  # stopped inside the second batch
+    resumed = run(_balls_job(part), progress=None)
+    resumed.write()
+    assert [r["params"] for r in resumed.records] == [r["params"] for r in whole.records]
+    assert (part / FILES[0]).read_bytes() == (tmp_path / "whole" / FILES[0]).read_bytes()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--balls", "1.5:3"], "--balls: must be whole numbers"),
+    (["--balls", "log:1:3"], "--balls: a whole number takes"),
+    (["--balls", "1:3", "--force", "5", "--freq", "6.5,7"], "--balls: several balls are swept in free vibration"),
+])
+def test_bad_balls_are_one_line_naming_the_option(argv, message, tmp_path, capsys):
+    status = main(["optimize", *argv, "--minimize", "max_spl_db", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "o").exists()

@@ -81,7 +81,7 @@ def parser():
 
 def _range(s) -> str:
     """``(0, 90]``: the interval as the help and the scene reference print it."""
-    return f"{'(' if s.low_open else '['}{s.low:g}, {s.high:g}]"
+    return f"{'(' if s.low_open else '['}{s.low:g}, {s.high:g}{')' if s.high_open else ']'}"
 
 
 _WITH_OPTION = [c for c in RECORDS if c[1].option is not None]

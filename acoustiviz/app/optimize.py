@@ -55,13 +55,18 @@ def optimize_variables(given: dict, names: dict | None = None) -> tuple:
     from .sweep import sweep_spec
 
     with user_terms(names or {}):
-        variables = {k: parse_variable(k, v, str if k in ("material", "config") else float)
+        kinds = {"material": str, "config": str, "balls": int}
+        variables = {k: parse_variable(k, v, kinds.get(k, float))
                      for k, v in given.items() if k in SWEPT_VARIABLES and v is not None}
-        ends = {k: (v.low, v.high) if v.kind in ("float", "log") else v.choices for k, v in variables.items()}
+        ends = {k: (v.low, v.high) if v.kind in ("float", "log", "int") else v.choices
+                for k, v in variables.items()}
         spec = sweep_spec(**{k: v for k, v in given.items() if k not in variables and v is not None},
                           **{k: list(v) for k, v in ends.items()})
-    held = {"gap": spec.gap, "c1": spec.c1, "v0": spec.v0, "distance": spec.distance, "config": spec.config,
+    held = {"c1": spec.c1, "v0": spec.v0, "distance": spec.distance, "config": spec.config,
             "angle_deg": tuple(math.degrees(a) for a in spec.angle)}
+    # the gap or the fill; the balls only when named (a problem of one ball reads as before balls were searched)
+    held.update({"gap": spec.gap} if spec.fill is None else {"fill": spec.fill})
+    held.update({} if spec.balls is None else {"balls": spec.balls})
     held.update({"m": spec.m} if spec.mass_ratio is None else {"mass_ratio": spec.mass_ratio})
     held.update({"k_hertz": spec.k_hertz} if spec.material is None else {"material": spec.material})
     out = [variables[k] if k in variables else parse_variable(k, held[k][0], type(held[k][0]))

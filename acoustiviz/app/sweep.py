@@ -71,8 +71,10 @@ class SweepResult:
 
     @property
     def others(self) -> list:
-        """Swept axes besides gap and mass (the maps are drawn only for gap x mass sweeps)."""
-        return [a for a in self.table.spec.swept() if a not in ("gap", "m")]
+        """Swept axes besides gap and mass (the maps are drawn only for gap x mass sweeps; a fill sets the gaps)."""
+        spec = self.table.spec
+        return [a for a in spec.swept() if a not in ("gap", "m")] + (["fill"] if spec.fill is not None and
+                                                                      "fill" not in spec.swept() else [])
 
     def write(self, folder=None) -> list:
         """Write ``design_table.csv`` and, for gap x mass sweeps, the two Figure 6 maps; return their paths.
@@ -235,7 +237,9 @@ def _scene_given(scene, solver: str) -> dict:
                  radius="mass" if from_mass else s["radius_m"], density=s["density_kg_m3"] if from_mass else None,
                  surface=c["surface"], pulse=c["pulse"], pulse_mass=c["pulse_mass"], c=medium.c, rho=medium.rho,
                  wall_distance=scene.section("configuration")["wall_distance_m"], levels=opts["levels"],
-                 room=scene.geometry_settings().get("room"), **stiffness)
+                 room=scene.geometry_settings().get("room"), balls=opts.get("balls"), fill=opts.get("fill"),
+                 equal_total_mass=opts.get("equal_total_mass", False), k_hertz_ball=d["k_hertz_ball_n_m1_5"],
+                 c1_ball=d["contact_damping_ball_n_s_m"], **stiffness)
     operation = _scene_operation(scene)
     if operation:  # the search's solver and rtol; the free run's own settings left at their defaults
         from .settings.sweep_operation import FREE_VIBRATION_ONLY

@@ -19,7 +19,7 @@ from ..app.settings.optimize import OPTIMIZE, SCENE_LEVELS, SCENE_OPERATION, SCE
 from ..app.settings.render import ANIMATION, BALLOON, SCENE_FILES, SECTION_LIST, SIZES, SNAPSHOT, TIMES
 from ..app.settings.room import ROOM
 from ..app.settings.scene import CONFIGURATION_KEYS, CONTACT_KEYS, GRIDS, LISTENER_KEYS, OUTPUT_KEYS, SCENE, SPHERE_KEYS
-from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_SOUND, SWEPT
+from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_DAMPER, SWEEP_SOUND, SWEPT
 from ..constants import (
     PAPER_ANGLE_DEG,
     PAPER_DISTANCE,
@@ -159,7 +159,7 @@ _OUT = {
     "impact_table": Table({}, "one row per contact of the damper run (CSV)"),
     "restitution": Table(_from_table(OUTPUT_KEYS, "outputs.restitution"),
                          "coefficient of restitution against impact mass (paper Figure 7)"),
-    "sweep": Table(_from_table(SWEPT + SWEEP + SCENE_SWEEP + SWEEP_SOUND, "outputs.sweep"),
+    "sweep": Table(_from_table(SWEPT + SWEEP + SCENE_SWEEP + SWEEP_DAMPER + SWEEP_SOUND, "outputs.sweep"),
                    "sweep over gap and impact mass (paper Figure 6)"),
     "design_table": Table(_from_table(DESIGN + (RANK_BY,), "outputs.design_table"),
         "quietest design per damping-inclination band (paper Table 2); needs [outputs.sweep]"),

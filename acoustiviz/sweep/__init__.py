@@ -54,9 +54,14 @@ listeners and configurations.
 The package
 -----------
 :mod:`~acoustiviz.sweep.spec`
-    the sweep specification: swept values, value ranges, fixed settings, the grid of designs;
+    the sweep specification: swept values, fixed settings, the grid of designs;
+:mod:`~acoustiviz.sweep.values`
+    the values of an axis as typed: one value, ``start:stop:count`` or ``a,b,c``;
+:mod:`~acoustiviz.sweep.balls`
+    several balls in a design: the fill of the cavity and its gap, the multi-ball model;
 :mod:`~acoustiviz.sweep.evaluate`
-    one design: the damper run, the level of its impacts, one row;
+    one design: the damper run (several balls: every collision, through the multi-ball sound),
+    the level of its impacts, one row;
 :mod:`~acoustiviz.sweep.store`
     the sweep directory: ``sweep.json``, the ``sweep.csv`` journal, resuming, the table of rows;
 :mod:`~acoustiviz.sweep.execute`

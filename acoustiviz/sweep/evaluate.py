@@ -12,13 +12,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..constants import ANALYSIS_RATE, P_REF, SOLVER_RTOL_RANGE
 from ..core.geometry import observer_points
 from ..errors import ParameterError
 from .levels import NO_LEVELS, SWEEP_LEVEL_COLUMNS, design_levels
 from .spec import PAPER_RADIUS, Design, FixedSettings
 
 __all__ = ["DesignResult", "listener_point", "sound_setup", "impact_spl_db", "max_spl_db", "evaluate_design",
-           "evaluate_or_fail", "failed_result", "warm_up"]
+           "evaluate_or_fail", "failed_result", "warm_up", "evaluate_balls", "collision_spl_db"]
 
 
 def listener_point(geometry, distance: float, angle: float) -> np.ndarray:
@@ -159,7 +160,7 @@ class DesignResult:
             "max_spl_db": self.max_spl_db, "design_id": d.design_id, "mass_ratio": self.mass_ratio,
             "c1_n_s_m": d.c1, "k_hertz_n_m1_5": d.k_hertz, "material": d.material, "v0_m_s": d.v0,
             "distance_m": d.distance, "angle_deg": math.degrees(d.angle), "config": d.config,
-            "radius_m": d.radius,
+            "radius_m": d.radius, **({} if d.fill is None else {"balls": d.balls, "fill": d.fill}),
             "energy_dissipated_contact_j": self.energy_dissipated_contact,
             "energy_dissipated_main_j": self.energy_dissipated_main,
             "max_approach_velocity_m_s": self.max_approach_velocity,
@@ -191,7 +192,10 @@ def evaluate_design(design: Design, settings: FixedSettings) -> DesignResult:
     time use the exact maxima of x(t) (:func:`acoustiviz.dynamics.maxima.exact_maxima`), not samples.
     With ``settings.levels`` the run's click train is rendered at the listener and its LAFmax,
     LCpeak and LAeq over ``[0, duration]`` are reported (:func:`acoustiviz.sweep.levels.design_levels`).
+    A design of several balls is evaluated by :func:`acoustiviz.sweep.balls.evaluate_balls`.
     """
+    if design.balls > 1:
+        return evaluate_balls(design, settings)
     from ..core.medium import Medium
     from ..dynamics import DamperModel, InitialState, simulate
     from ..dynamics import metrics as dm
@@ -256,7 +260,7 @@ def failed_result(design: Design, settings: FixedSettings, reason: str) -> Desig
     nan = math.nan
     one_line = " ".join(str(reason).split()) or "unknown error"
     return DesignResult(design, nan, nan, nan, nan, 0, nan, 0, nan, nan, nan, nan, 0, False,
-                        design.m / settings.M, one_line)
+                        design.balls * design.m / settings.M, one_line)
 
 
 def evaluate_or_fail(design: Design, settings: FixedSettings) -> DesignResult:
@@ -275,3 +279,110 @@ def warm_up(settings: FixedSettings) -> None:
     """Run a tiny design so that numba kernels are compiled or loaded from cache before timing."""
     tiny = replace(settings, duration=0.05)
     evaluate_or_fail(Design(-1, 0.04, 0.0405, 20.0, 5.6e8, "", 2.0, 0.7, math.pi / 4, "plane", PAPER_RADIUS), tiny)
+
+
+def collision_spl_db(result, scene, click, point, *, sample_rate: int = ANALYSIS_RATE) -> tuple:
+    """Peak SPL in dB re 20 µPa of each collision of a multi-ball run at one listener.
+
+    Parameters
+    ----------
+    result : acoustiviz.dynamics.MultiBallResult
+        The run (one cavity), sampled.
+    scene : acoustiviz.sound.CavityScene
+        The column's scene (:func:`acoustiviz.sound.balls_sound.column_scene`).
+    click : acoustiviz.sound.ClickModel
+        The ball-wall contact.
+    point : (1, 3) array_like
+        Listener in m.
+    sample_rate : int
+        Rate in Hz of each collision's rendering.
+
+    Returns
+    -------
+    rows : (k,) ndarray of int
+        The impact-table rows of the collisions heard (a contact made at rest is silent).
+    spl : (k,) ndarray
+        The peak of each one's clicks rendered alone (:func:`acoustiviz.sound.balls_sound.render_clicks`),
+        on the sample grid of the whole run (its start moved by a whole number of samples).
+    """
+    from dataclasses import replace
+
+    from ..sound.balls_sound import ball_clicks, render_clicks
+
+    clicks = ball_clicks(result, scene, click)
+    rows = np.unique(clicks.collision)
+    spl = np.empty(rows.size)
+    for i, k in enumerate(rows):
+        one = clicks.take(clicks.collision == k)
+        # rendered from its own start, moved by whole samples so that its peak is the one of the whole run's grid
+        one = replace(one, times=one.times - math.floor(one.times[0] * sample_rate) / sample_rate)
+        p = render_clicks(one, scene, click, point, sample_rate=sample_rate).pressure[0]
+        spl[i] = 20.0 * math.log10(max(float(np.max(np.abs(p))), 1e-300) / P_REF)
+    return rows, spl
+
+
+def evaluate_balls(design, settings):
+    """Simulate a design of several balls and hear its collisions (the work of one sweep row).
+
+    Parameters
+    ----------
+    design : acoustiviz.sweep.Design
+        The design (``balls > 1``).
+    settings : acoustiviz.sweep.FixedSettings
+        The sweep's fixed settings (the solver is the multi-ball event method whatever ``solver``).
+
+    Returns
+    -------
+    acoustiviz.sweep.evaluate.DesignResult
+    """
+    from ..core.medium import Medium
+    from ..dynamics import BallState, simulate_balls
+    from ..dynamics.metrics import damping_metrics, sample_times
+    from ..sound.balls_sound import column_scene
+    from ..sound.sources import check_listeners
+    from .balls import design_balls_model
+
+    s = settings
+    damper, model = design_balls_model(design, s)
+    res = simulate_balls(model, s.duration, initial=BallState(v=design.v0), rtol=min(s.rtol, SOLVER_RTOL_RANGE[1]),
+                         t_eval=sample_times(s.duration, damper))
+    metrics = damping_metrics(res.t, res.x, window_fraction=s.fit_window_fraction,
+                              settling_fraction=s.settling_fraction)
+    two, fit = metrics.two_maxima, metrics.fit
+    medium = Medium(c=s.c, rho=s.rho)
+    scene, click = sound_setup(design, s, medium)
+    cavity = model.cavities[0]
+    if scene.geometry.enclosed:
+        raise ParameterError("balls", "several balls are heard in free field, on a plane or in a corner, not in "
+                                      "a room: set balls = 1 or another configuration")
+    scene = column_scene(scene, cavity)
+    point = listener_point(scene.geometry, design.distance, design.angle)
+    check_listeners(point, scene, name="distance", column=cavity)
+    _, spl = collision_spl_db(res, scene, click, point)
+    levels = dict(NO_LEVELS)
+    if s.levels:
+        levels = _levels(res, scene, click, point, s.duration)
+    u = np.abs(res.impacts.approach_velocity)
+    return DesignResult(
+        design=design, inclination_two_maxima=float(two.value), inclination_fit=float(fit.value),
+        fit_window_start=float(fit.t_start), fit_window_stop=float(fit.t_stop), fit_n_maxima=int(fit.n_maxima),
+        settling_time=float(metrics.settling_time), n_impacts=len(res.impacts),
+        max_spl_db=float(spl.max()) if spl.size else -math.inf,
+        energy_dissipated_contact=float(res.energy.dissipated_contact),
+        energy_dissipated_main=float(res.energy.dissipated_main),
+        max_approach_velocity=float(u.max()) if u.size else 0.0, spl_impacts_evaluated=int(spl.size),
+        success=bool(res.success), mass_ratio=design.balls * design.m / s.M, levels=levels)
+
+
+def _levels(result, scene, click, point, duration: float) -> dict:
+    """LAFmax, LCpeak and LAeq over ``[0, duration]`` of the run's click train at the listener."""
+    from ..core.signal import Signal
+    from ..levels import sound_levels
+    from ..sound.balls_sound import render_balls
+
+    if len(result.impacts) == 0:
+        return dict.fromkeys(SWEEP_LEVEL_COLUMNS, -math.inf)
+    out = render_balls(result, scene, click, point, sample_rate=ANALYSIS_RATE, duration=duration)
+    n = int(round(duration * ANALYSIS_RATE))
+    lv = sound_levels(Signal(out.pressure[0], ANALYSIS_RATE), start=0.0, stop=n / ANALYSIS_RATE)
+    return {c: float(getattr(lv, c)[0]) for c in SWEEP_LEVEL_COLUMNS}

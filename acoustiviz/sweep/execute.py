@@ -25,7 +25,16 @@ from ..errors import ParameterError
 from .evaluate import evaluate_or_fail, failed_result, warm_up
 from .progress import Progress
 from .spec import FixedSettings, SweepSpec
-from .store import SWEEP_CSV, Journal, SweepTable, prepare_dir, put_in_design_order, read_rows, table_from_rows
+from .store import (
+    SWEEP_CSV,
+    Journal,
+    SweepTable,
+    prepare_dir,
+    put_in_design_order,
+    read_rows,
+    sweep_columns,
+    table_from_rows,
+)
 
 __all__ = ["run_sweep", "make_executor", "check_executor_form", "dask_address", "dask_executor", "local_pool",
            "shutdown_now", "DASK_FORM"]
@@ -394,7 +403,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
         runner = _Runner(executor, workers, spec.settings, len(pending))
         interrupted = True
         try:
-            with Journal(path) as journal:
+            with Journal(path, sweep_columns(spec)) as journal:
                 for res in runner.results(pending):
                     rows[res.design.design_id] = journal.append(res.row())
                     report.update()
@@ -407,5 +416,6 @@ def run_sweep(spec: SweepSpec, out_dir, *, executor=None, workers: int | None = 
             if interrupted:  # count what the journal holds: the interrupt may fall between a row and its count
                 kept = len(read_rows(path, spec, "out"))
                 report.say(f"sweep: stopped; {kept} of {len(designs)} designs kept in {path}")
-    put_in_design_order(path, rows, designs)  # finished: the same bytes whatever order the workers took
+    # finished: the same bytes whatever order the workers took
+    put_in_design_order(path, rows, designs, sweep_columns(spec))
     return table_from_rows(spec, rows, "out")

@@ -17,14 +17,15 @@ from dataclasses import dataclass
 from .levels import SWEEP_LEVEL_COLUMNS
 from .operation import OPERATION_COLUMNS, Operation
 from .spec import FixedSettings, SweepSpec
-from .store import ALL_COLUMNS, NUMERIC_COLUMNS
+from .store import NUMERIC_COLUMNS, row_columns
 
 __all__ = ["FreeVibration", "InOperation", "MODES", "FREE_VIBRATION_COLUMNS", "IN_OPERATION_COLUMNS", "SWEPT_VARIABLES",
            "failed_row"]
 
 #: The variables of a free-vibration design (the parameters of :func:`acoustiviz.app.sweep.sweep_spec`
 #: that ``acoustiviz sweep`` sweeps); ``material`` and ``config`` are names, the others numbers.
-SWEPT_VARIABLES = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config")
+SWEPT_VARIABLES = ("gap", "m", "mass_ratio", "c1", "k_hertz", "material", "v0", "distance", "angle_deg", "config",
+                   "balls", "fill")
 #: The columns objectives and constraints may name: the numbers of a ``sweep.csv`` row.
 FREE_VIBRATION_COLUMNS = tuple(c for c in NUMERIC_COLUMNS if c not in ("design_id", "success"))
 #: The columns objectives and constraints may name in operation: the numbers of a sweep in operation's row.
@@ -36,7 +37,7 @@ IN_OPERATION_COLUMNS = tuple(c for c in OPERATION_COLUMNS if c not in ("design_i
 #: Variable -> the row's column holding its value.
 _COLUMN_OF = {"gap": "gap_m", "m": "mass_kg", "mass_ratio": "mass_ratio", "c1": "c1_n_s_m", "k_hertz": "k_hertz_n_m1_5",
               "material": "material", "v0": "v0_m_s", "distance": "distance_m", "angle_deg": "angle_deg",
-              "config": "config"}
+              "config": "config", "balls": "balls", "fill": "fill"}
 
 
 def failed_row(index: int, columns, reason: str) -> dict:
@@ -55,12 +56,19 @@ class FreeVibration:
     ----------
     settings : FixedSettings
         Everything held fixed (the damper, the solver, the sound, ``levels``).
+    with_balls : bool
+        The designs name their balls and fill (a variable ``balls`` or ``fill``, or the equal total
+        mass): the rows then hold the columns ``balls`` and ``fill``.
     """
 
     settings: FixedSettings
+    with_balls: bool = False
 
-    #: The columns of a row (those of ``sweep.csv``).
-    columns = ALL_COLUMNS
+    @property
+    def columns(self) -> tuple:
+        """The columns of a row: those of ``sweep.csv``, with ``balls`` and ``fill`` when the designs name them."""
+        return row_columns(self.with_balls)
+
     #: The numeric columns objectives and constraints may name.
     objective_columns = FREE_VIBRATION_COLUMNS
     #: The columns that need ``settings.levels``.

@@ -60,6 +60,8 @@ def _distributions(optuna, problem: Problem) -> dict:
     for v in problem.searched:
         if v.kind == "categorical":
             out[v.name] = optuna.distributions.CategoricalDistribution(list(v.choices))
+        elif v.kind == "int":  # every whole number from low to high: Optuna's suggest_int
+            out[v.name] = optuna.distributions.IntDistribution(int(v.low), int(v.high))
         else:
             out[v.name] = optuna.distributions.FloatDistribution(v.low, v.high, log=v.kind == "log")
     return out

@@ -1,8 +1,9 @@
 """What an optimisation searches: its variables, objectives and constraints, and the Pareto filter.
 
 A :class:`Problem` names the design variables (each continuous ``LO:HI``, log-scaled ``log:LO:HI``,
-categorical ``A,B,C`` or fixed), the objective columns to minimise or maximise and the constraints
-``COLUMN<=VALUE`` / ``COLUMN>=VALUE`` on the columns of one evaluated design. What a design is and
+categorical ``A,B,C`` or fixed; a whole number, the number of balls, ``LO:HI`` over the integers), the
+objective columns to minimise or maximise and the constraints ``COLUMN<=VALUE`` / ``COLUMN>=VALUE`` on
+the columns of one evaluated design. What a design is and
 which columns it reports is the business of an evaluation mode (:mod:`acoustiviz.sweep.modes`): a
 function design -> row of columns. Everything is checked when the problem is made, before any work.
 """
@@ -33,10 +34,11 @@ class Variable:
     ----------
     name : str
         The API parameter it sets (``"gap"``, ``"m"``, ``"material"``...).
-    kind : {"float", "log", "categorical", "fixed"}
-        Continuous on ``[low, high]``, continuous on a log scale, one of ``choices``, or ``choices[0]``.
+    kind : {"float", "log", "int", "categorical", "fixed"}
+        Continuous on ``[low, high]``, continuous on a log scale, a whole number in ``[low, high]`` (every
+        integer between, both ends included), one of ``choices``, or ``choices[0]``.
     low, high : float
-        Bounds of a continuous variable (in the parameter's unit); NaN otherwise.
+        Bounds of a continuous or whole-number variable (in the parameter's unit); NaN otherwise.
     choices : tuple
         The values of a categorical variable, or the one value of a fixed one.
     """
@@ -54,7 +56,7 @@ class Variable:
 
     def to_dict(self) -> dict:
         """The variable as plain JSON values."""
-        if self.kind in ("float", "log"):
+        if self.kind in ("float", "log", "int"):
             return {"name": self.name, "kind": self.kind, "low": self.low, "high": self.high}
         return {"name": self.name, "kind": self.kind, "choices": list(self.choices)}
 
@@ -79,7 +81,8 @@ def parse_variable(name: str, text, kind=float) -> Variable:
     text : str or number
         The specification.
     kind : type
-        ``float`` for numbers, ``str`` for names (which are categorical or fixed only).
+        ``float`` for numbers, ``int`` for whole numbers (``LO:HI`` then samples the integers from LO to HI;
+        no log scale), ``str`` for names (which are categorical or fixed only).
 
     Returns
     -------
@@ -91,7 +94,11 @@ def parse_variable(name: str, text, kind=float) -> Variable:
     Variable(name='gap', kind='float', low=0.01, high=0.06, choices=())
     >>> parse_variable("m", "log:0.005:0.1").kind, parse_variable("material", "steel,brass", str).choices
     ('log', ('steel', 'brass'))
+    >>> parse_variable("balls", "1:5", int)
+    Variable(name='balls', kind='int', low=1, high=5, choices=())
     """
+    if kind is int:
+        return _whole(parse_variable(name, text))
     if isinstance(text, (int, float)) and not isinstance(text, bool) and kind is float:
         return Variable(name, "fixed", choices=(_number(name, repr(float(text))),))
     s = str(text).strip()
@@ -119,6 +126,18 @@ def parse_variable(name: str, text, kind=float) -> Variable:
     if len(set(values)) != len(values):
         raise ParameterError(name, f"values must not repeat, got {s!r}")
     return Variable(name, "categorical" if len(values) > 1 else "fixed", choices=values)
+
+
+def _whole(var: Variable) -> Variable:
+    """``var`` over the integers: its bounds or values whole numbers, a range ``"int"`` (no log scale)."""
+    if var.kind == "log":
+        raise ParameterError(var.name, "a whole number takes LO:HI, A,B,C or one value, not a log scale")
+    values = (var.low, var.high) if var.kind == "float" else var.choices
+    if any(v != math.floor(v) for v in values):
+        raise ParameterError(var.name, f"must be whole numbers, got {', '.join(f'{v:g}' for v in values)}")
+    if var.kind == "float":
+        return Variable(var.name, "int", int(var.low), int(var.high))
+    return Variable(var.name, var.kind, choices=tuple(int(v) for v in var.choices))
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from .._validate import check_positive, check_range
 from ..constants import MAX_INCLINATION
 from ..errors import ParameterError
 from .levels import SWEEP_LEVEL_COLUMNS
-from .store import ALL_COLUMNS, NUMERIC_COLUMNS, SweepTable, format_value
+from .store import NUMERIC_COLUMNS, SweepTable, format_value, sweep_columns
 
 __all__ = ["PAPER_TABLE2", "DESIGN_TABLE_COLUMNS", "RANK_COLUMNS", "Band", "DesignChoice", "design_table",
            "write_design_table", "design"]
@@ -198,7 +198,7 @@ class DesignChoice:
             lines = [f"no design has a {self.definition} damping inclination within {self.tolerance:g} m/s of "
                      f"{self.inclination:g} m/s; the sweep spans [{self.span[0]:.4g}, {self.span[1]:.4g}] m/s",
                      "nearest designs (widen --tolerance or the sweep to include them):"]
-            lines += [f"  m = {r['mass_kg']:.6g} kg, d = {r['gap_m']:.6g} m, inclination {r['inclination']:.6g} m/s, "
+            lines += [f"  {_which(r)}, inclination {r['inclination']:.6g} m/s, "
                       f"max SPL {r['max_spl_db']:.2f} dB{self._extra(r)}" for r in self.nearest]
             return "\n".join(lines)
         k = self.rank_by
@@ -208,9 +208,9 @@ class DesignChoice:
         return "\n".join([
             f"designs with {self.definition} damping inclination {self.inclination:g} +/- {self.tolerance:g} m/s: "
             f"{self.n_candidates}; ranked by {k}",
-            f"{head}: m = {q['mass_kg']:.6g} kg, d = {q['gap_m']:.6g} m, max SPL {q['max_spl_db']:.2f} dB"
+            f"{head}: {_which(q)}, max SPL {q['max_spl_db']:.2f} dB"
             f"{self._extra(q)}, inclination {q['inclination']:.6g} m/s",
-            f"{tail}:{pad}m = {lo['mass_kg']:.6g} kg, d = {lo['gap_m']:.6g} m, max SPL {lo['max_spl_db']:.2f} dB"
+            f"{tail}:{pad}{_which(lo)}, max SPL {lo['max_spl_db']:.2f} dB"
             f"{self._extra(lo)}, inclination {lo['inclination']:.6g} m/s",
             (f"the quietest is {self.saving_db:.2f} dB quieter than the loudest by {k}" if k.endswith("_db")
              else f"{k} spans {self.saving_db:.6g} among them"),
@@ -225,6 +225,14 @@ class DesignChoice:
         return "".join(f", {p}" for p in parts)
 
 
+
+
+def _which(row) -> str:
+    """``m = ... kg, d = ... m`` of a row; with its balls named, ``N balls of m = ... kg, d = ... m, fill ...``."""
+    text = f"m = {row['mass_kg']:.6g} kg, d = {row['gap_m']:.6g} m"
+    if "balls" not in row:
+        return text
+    return f"{row['balls']} ball{'s' if row['balls'] != 1 else ''} of {text}, fill {row['fill']:.4g}"
 
 
 def check_target(inclination: float, tolerance: float) -> tuple[float, float]:
@@ -285,7 +293,7 @@ def design(table: SweepTable, inclination: float, tolerance: float, *,
     span = (float(np.min(e[ok])), float(np.max(e[ok])))
 
     def row(i):
-        d = {c: table[c][i].item() for c in ALL_COLUMNS if c in table.columns}
+        d = {c: table[c][i].item() for c in sweep_columns(table.spec) if c in table.columns}
         d["inclination"] = float(e[i])
         return d
 

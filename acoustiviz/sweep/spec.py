@@ -29,6 +29,8 @@ from ..constants import (
 )
 from ..core.geometry import GEOMETRIES, Geometry, geometry
 from ..errors import ParameterError
+from .balls import ball_radius, fill_of, gap_of_fill
+from .values import MAX_RANGE_COUNT, parse_start_stop_count, parse_values, value_range
 
 __all__ = [
     "RADIUS_MODES",
@@ -50,145 +52,6 @@ RADIUS_MODES = ("fixed", "from-mass")
 PULSE_MASSES = ("impact", "effective")
 
 
-# --------------------------------------------------------------------------- values and ranges
-#: Most values a ``start:stop:count`` range may hold.
-MAX_RANGE_COUNT = 10000
-
-
-def value_range(start: float, stop: float, count: int) -> tuple[float, ...]:
-    """``count`` evenly spaced values from ``start`` to ``stop``, both included: the one range rule.
-
-    Value i is ``start + i (stop - start) / (count - 1)`` rounded to 15 significant digits of
-    the larger end, so that decimal steps give decimal values (0.03, not 0.030000000000000002)
-    and a residue of cancellation gives 0; the ends are ``start`` and ``stop`` exactly. Every
-    front-end (``acoustiviz sweep`` options and scene keys) builds its grids with this rule, so
-    the same range is the same grid -- and one run can resume another's folder.
-
-    Parameters
-    ----------
-    start, stop : float
-        First and last value (any unit).
-    count : int
-        Number of values (1 to :data:`MAX_RANGE_COUNT`; 1 gives ``(start,)`` and requires
-        ``start == stop``; more require ``stop > start``: a range is given in increasing order,
-        by every front-end).
-
-    Returns
-    -------
-    tuple of float
-
-    Examples
-    --------
-    >>> value_range(0.02, 0.06, 5)
-    (0.02, 0.03, 0.04, 0.05, 0.06)
-    >>> value_range(-0.1, 0.2, 4)
-    (-0.1, 0.0, 0.1, 0.2)
-    """
-    n = int(count)
-    if n != count or not 1 <= n <= MAX_RANGE_COUNT:
-        raise ParameterError("count", f"must be an integer in [1, {MAX_RANGE_COUNT}], got {count!r}")
-    start, stop = float(start), float(stop)
-    if not (math.isfinite(start) and math.isfinite(stop)):
-        raise ParameterError("count", f"a range needs finite ends, got {start!r}:{stop!r}")
-    if n == 1:
-        if start != stop:
-            raise ParameterError("count", f"a range of 1 value needs start == stop, got {start:g}:{stop:g}")
-        return (start,)
-    if not stop > start:
-        raise ParameterError("count", f"a range of {n} values needs stop > start (give it in increasing order), "
-                                      f"got {start:g}:{stop:g}")
-    scale = max(abs(start), abs(stop))
-    digits = 14 - math.floor(math.log10(scale)) if scale > 0 else 0
-    inner = (round(start + i * (stop - start) / (n - 1), digits) + 0.0 for i in range(1, n - 1))
-    return (start, *inner, stop)
-
-
-def parse_start_stop_count(name: str, text: str) -> tuple[float, ...]:
-    """Parse ``start:stop:count`` (both ends included) with :func:`value_range`.
-
-    Parameters
-    ----------
-    name : str
-        The option or key, named by errors (e.g. ``"--gap"`` or ``"outputs.sweep.gap_m"``).
-    text : str
-        The range.
-
-    Returns
-    -------
-    tuple of float
-
-    Examples
-    --------
-    >>> parse_start_stop_count("--m", "0.02:0.08:4")
-    (0.02, 0.04, 0.06, 0.08)
-    """
-    s = str(text).strip()
-    parts = s.split(":")
-    if len(parts) != 3:
-        raise ParameterError(name, f"a range is 'start:stop:count' (both ends included), got {s!r}")
-    try:
-        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-    except ValueError:
-        raise ParameterError(name, f"a range is 'start:stop:count' with an integer count, got {s!r}") from None
-    try:
-        return value_range(start, stop, count)
-    except ParameterError as exc:
-        raise ParameterError(name, f"{exc.detail} (in {s!r})") from None
-
-
-def parse_values(name: str, text, kind=float) -> tuple:
-    """Parse ``start:stop:count`` (inclusive, :func:`parse_start_stop_count`), ``a,b,c`` or a single value.
-
-    Parameters
-    ----------
-    name : str
-        Name used in error messages (e.g. ``"--gap"``).
-    text : str or number or sequence
-        The specification.
-    kind : type
-        ``float`` for numbers, ``str`` for names (ranges are then refused).
-
-    Returns
-    -------
-    tuple
-        The values, in the given order.
-
-    Examples
-    --------
-    >>> parse_values("--m", "0.02:0.08:4")
-    (0.02, 0.04, 0.06, 0.08)
-    >>> parse_values("--config", "plane,wall-floor", str)
-    ('plane', 'wall-floor')
-    """
-    if isinstance(text, (list, tuple)):
-        items = list(text)
-    elif isinstance(text, (int, float)) and kind is float:
-        items = [text]
-    else:
-        s = str(text).strip()
-        if not s:
-            raise ParameterError(name, "expected a value, start:stop:count or a comma-separated list")
-        if ":" in s:
-            if kind is not float:
-                raise ParameterError(name, f"expected names separated by commas, got {s!r}")
-            return parse_start_stop_count(name, s)
-        items = [p.strip() for p in s.split(",")]
-    if not items:
-        raise ParameterError(name, "expected at least one value")
-    if kind is float:
-        out = []
-        for it in items:
-            try:
-                v = float(it)
-            except (TypeError, ValueError):
-                raise ParameterError(name, f"expected a number, got {it!r}") from None
-            if not math.isfinite(v):
-                raise ParameterError(name, f"must be finite, got {it!r}")
-            out.append(v)
-        return tuple(out)
-    return tuple(str(it) for it in items)
-
-
 def _check_all(name, values, check, *args, **kwargs):
     if not isinstance(values, tuple) or not values:
         raise ParameterError(name, f"expected a non-empty tuple of values, got {values!r}")
@@ -196,6 +59,11 @@ def _check_all(name, values, check, *args, **kwargs):
         check(name, v, *args, **kwargs)
     if len(set(values)) != len(values):
         raise ParameterError(name, f"values must not repeat, got {values!r}")
+
+
+def _check_count(name, v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or int(v) != v or v < 1:
+        raise ParameterError(name, f"must be a whole number of balls >= 1, got {v!r}")
 
 
 def _check_nonzero(name, v):
@@ -271,6 +139,14 @@ class FixedSettings:
         :class:`acoustiviz.core.room_geometry.Room`: ``dimensions``, ``absorption``, ``source``,
         ``order``, ``tolerance_db``, ``duration``, ...); kept as sorted ``(key, value)`` pairs with
         tuples for sequences. Designs whose configuration is such a geometry are built with them.
+    equal_total_mass : bool
+        With several balls, divide each swept mass ``m`` among the ``balls`` of a design (each ball
+        ``m / balls``), so that designs of different ball counts carry the same total mass; False
+        (default): ``m`` is the mass of each ball, as ``acoustiviz damper --balls``.
+    k_hertz_ball, c1_ball : float or None
+        With several balls, the Hertz stiffness in N/m^1.5 and the contact damping in N·s/m between
+        two balls (None: paper eq 2 for the two balls' radii and material, and ``c1``; as
+        :func:`acoustiviz.dynamics.equal_balls`).
     """
 
     M: float = TABLE1_PARAMETERS["M"]
@@ -294,6 +170,9 @@ class FixedSettings:
     settling_fraction: float = 0.05
     levels: bool = False
     room: tuple | None = None
+    equal_total_mass: bool = False
+    k_hertz_ball: float | None = None
+    c1_ball: float | None = None
 
     def __post_init__(self):
         check_positive("M", self.M, "kg")
@@ -320,8 +199,13 @@ class FixedSettings:
             raise ParameterError("n_fastest", f"must be an integer >= 0 (0: every impact), got {self.n_fastest!r}")
         check_range("fit_window_fraction", self.fit_window_fraction, 0.0, 1.0, low_open=True, high_open=True)
         check_range("settling_fraction", self.settling_fraction, 0.0, 1.0, low_open=True, high_open=True)
-        if not isinstance(self.levels, bool):
-            raise ParameterError("levels", f"must be True or False, got {self.levels!r}")
+        if self.k_hertz_ball is not None:
+            check_positive("k_hertz_ball", self.k_hertz_ball, "N/m^1.5")
+        if self.c1_ball is not None:
+            check_nonnegative("c1_ball", self.c1_ball, "N s/m")
+        for flag in ("levels", "equal_total_mass"):
+            if not isinstance(getattr(self, flag), bool):
+                raise ParameterError(flag, f"must be True or False, got {getattr(self, flag)!r}")
         if self.room is not None:
             items = self.room.items() if isinstance(self.room, dict) else self.room
             object.__setattr__(self, "room", tuple(sorted((str(k), _frozen(v)) for k, v in items)))
@@ -350,9 +234,9 @@ class Design:
     design_id : int
         Position in the sweep's grid (row-major over :data:`SweepSpec.AXES`).
     gap : float
-        Total free travel d in m.
+        Total free travel d in m (with several balls: the cavity's length less their diameters).
     m : float
-        Impact mass in kg.
+        Impact mass in kg (with several balls: the mass of each).
     c1 : float
         Contact damping in N·s/m.
     k_hertz : float
@@ -368,7 +252,13 @@ class Design:
     config : str
         Geometry name (:data:`acoustiviz.core.geometry.GEOMETRIES`, e.g. ``"plane"``).
     radius : float
-        Radius of the radiating sphere in m.
+        Radius of the radiating sphere in m (several balls: each ball's own,
+        :func:`acoustiviz.sweep.balls.ball_radius`).
+    balls : int
+        Number of equal balls in the cavity (1: the paper's damper).
+    fill : float or None
+        Fraction of the cavity's length the balls take (:mod:`acoustiviz.sweep.balls`); None when the sweep
+        names neither balls nor fills (its ``sweep.csv`` then has no ``balls`` and ``fill`` columns).
     """
 
     design_id: int
@@ -382,6 +272,8 @@ class Design:
     angle: float
     config: str
     radius: float
+    balls: int = 1
+    fill: float | None = None
 
     def geometry(self, settings: FixedSettings) -> Geometry:
         """The design's geometry: its configuration around its sphere, with the sweep's wall distance."""
@@ -393,13 +285,14 @@ class SweepSpec:
     """A grid of designs: the Cartesian product of the swept values, and the fixed settings.
 
     Every swept parameter is a tuple of values (one value: held fixed). At most one of ``m``
-    and ``mass_ratio``, and at most one of ``k_hertz`` and ``material``, is given (neither:
-    Table 1's m = 40.5 g and K_HZ = 5.6e8 N/m^1.5).
+    and ``mass_ratio``, at most one of ``k_hertz`` and ``material``, and at most one of ``gap`` and
+    ``fill`` is given (neither: Table 1's m = 40.5 g and K_HZ = 5.6e8 N/m^1.5, the Figure 5 gap).
 
     Parameters
     ----------
     gap : tuple of float
-        Gaps d in m (default the Figure 5 gap, 0.04 m).
+        Gaps d in m (default the Figure 5 gap, 0.04 m): with several balls, the cavity's length less
+        their diameters.
     m : tuple of float, optional
         Impact masses in kg (default Table 1, 0.0405 kg).
     mass_ratio : tuple of float or None
@@ -419,6 +312,12 @@ class SweepSpec:
         Listener angles in rad from the acceleration axis (π/4).
     config : tuple of str
         Configurations (``"plane"``: the paper's reflecting plane).
+    balls : tuple of int, optional
+        Numbers of equal balls in the cavity (None: one ball, and no ``balls``/``fill`` columns);
+        several balls are evaluated by :func:`acoustiviz.sweep.balls.evaluate_balls`.
+    fill : tuple of float, optional
+        Fractions in (0, 1) of the cavity's length the balls take, instead of ``gap``: each design's gap
+        is ``N D (1 - fill) / fill`` (:func:`acoustiviz.sweep.balls.gap_of_fill`).
     settings : FixedSettings
         Everything else.
 
@@ -429,7 +328,7 @@ class SweepSpec:
     20
     """
 
-    gap: tuple = (PAPER_GAP,)
+    gap: tuple | None = None
     m: tuple | None = None
     mass_ratio: tuple | None = None
     c1: tuple = (TABLE1_PARAMETERS["c1"],)
@@ -439,12 +338,18 @@ class SweepSpec:
     distance: tuple = (0.7,)
     angle: tuple = (math.pi / 4,)
     config: tuple = ("plane",)
+    balls: tuple | None = None
+    fill: tuple | None = None
     settings: FixedSettings = field(default_factory=FixedSettings)
 
-    #: Order of the grid's axes; the last varies fastest.
-    AXES = ("config", "material", "k_hertz", "c1", "v0", "distance", "angle", "gap", "m")
+    #: Order of the grid's axes; the last varies fastest (the ``gap`` axis holds the fills when given).
+    AXES = ("balls", "config", "material", "k_hertz", "c1", "v0", "distance", "angle", "gap", "m")
 
     def __post_init__(self):
+        if self.gap is not None and self.fill is not None:
+            raise ParameterError("fill", "give either gap (m) or fill (the balls' fraction of the cavity), not both")
+        if self.gap is None and self.fill is None:
+            object.__setattr__(self, "gap", (PAPER_GAP,))
         if self.m is not None and self.mass_ratio is not None:
             raise ParameterError("m", "give either m (kg) or mass_ratio (m/M), not both")
         if self.k_hertz is not None and self.material is not None:
@@ -455,7 +360,13 @@ class SweepSpec:
             object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
         if not isinstance(self.settings, FixedSettings):
             raise ParameterError("settings", f"expected a FixedSettings, got {type(self.settings).__name__}")
-        _check_all("gap", self.gap, check_positive, "m")
+        if self.fill is None:
+            _check_all("gap", self.gap, check_positive, "m")
+        else:
+            _check_all("fill", self.fill, check_range, 0.0, 1.0, low_open=True, high_open=True)
+        if self.balls is not None:
+            _check_all("balls", self.balls, _check_count)
+            object.__setattr__(self, "balls", tuple(int(n) for n in self.balls))
         if self.m is not None:
             _check_all("m", self.m, check_positive, "kg")
         else:
@@ -484,7 +395,16 @@ class SweepSpec:
         """Number of values along each of :attr:`AXES`."""
         return tuple(len(self._axis(a)) for a in self.AXES)
 
+    @property
+    def with_balls(self) -> bool:
+        """True when the designs name their balls and fill (``balls``, ``fill`` or ``equal_total_mass`` set)."""
+        return self.balls is not None or self.fill is not None or self.settings.equal_total_mass
+
     def _axis(self, name):
+        if name == "balls":
+            return self.balls or (1,)
+        if name == "gap" and self.fill is not None:
+            return self.fill
         if name == "m":
             return self.masses
         if name == "material":
@@ -495,15 +415,18 @@ class SweepSpec:
 
     def swept(self) -> tuple[str, ...]:
         """Names of the axes with more than one value."""
-        return tuple(a for a, n in zip(self.AXES, self.shape, strict=True) if n > 1)
+        names = tuple(a for a, n in zip(self.AXES, self.shape, strict=True) if n > 1)
+        return tuple("fill" if a == "gap" and self.fill is not None else a for a in names)
 
     def designs(self) -> tuple[Design, ...]:
         """Every design of the grid, in grid order (``design_id`` = position)."""
         s = self.settings
         out = []
         for i, vals in enumerate(itertools.product(*(self._axis(a) for a in self.AXES))):
-            cfg, mat, kh, c1, v0, dist, ang, gap, m = vals
-            radius = sweep_sphere_radius(m, s, mat or None)
+            n, cfg, mat, kh, c1, v0, dist, ang, gap, m = vals
+            n, m = int(n), m / n if s.equal_total_mass else m
+            gap, fill = self._gap_fill(n, m, mat, gap)
+            radius = sweep_sphere_radius(m, s, mat or None) if n == 1 else ball_radius(m, mat)
             if mat:
                 from ..core.contact import hertz_stiffness
 
@@ -513,21 +436,40 @@ class SweepSpec:
             if dist <= radius:
                 raise ParameterError("distance", f"must exceed the sphere radius {radius:g} m, got {dist:g} m")
             design = Design(i, float(gap), float(m), float(c1), float(kh), mat, float(v0), float(dist),
-                            float(ang), cfg, radius)
-            limit = design.geometry(s).polar_limit_deg  # a wall closer than the radius fails here
+                            float(ang), cfg, radius, n, fill)
+            geom = design.geometry(s)  # a wall closer than the radius fails here
+            if n > 1 and geom.enclosed:  # the multi-ball sound has no room (acoustiviz.sound.balls_sound)
+                raise ParameterError("balls", f"several balls are heard in free field, on a plane or in a corner, "
+                                              f"not in a room: sweep balls = 1 with the {cfg} configuration")
+            limit = geom.polar_limit_deg
             if ang > math.radians(limit) + 1e-12:
                 raise ParameterError("angle", f"must be <= {math.radians(limit):.6g} rad ({limit:g} deg) with the "
                                               f"{cfg} configuration, got {ang:g} rad")
             out.append(design)
         return tuple(out)
 
+    def _gap_fill(self, n: int, m: float, material: str, value: float) -> tuple:
+        """``(gap, fill)`` of ``n`` balls of ``m`` kg from the gap axis' ``value`` (a gap, or a fill when given)."""
+        if not self.with_balls:
+            return value, None
+        diameter = 2.0 * ball_radius(m, material)
+        if self.fill is None:
+            return value, fill_of(n, diameter, value)
+        return gap_of_fill(n, diameter, value), float(value)
+
     def to_dict(self) -> dict:
         """All settings as plain JSON-able values."""
         d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "settings"}
         d = {k: (list(v) if v is not None else None) for k, v in d.items()}
+        for name in ("balls", "fill"):  # a sweep of one ball reads as before balls were swept
+            if d[name] is None:
+                del d[name]
         d["settings"] = asdict(self.settings)
         if d["settings"]["room"] is None:  # a sweep without a room reads as before rooms were swept
             del d["settings"]["room"]
+        for name, unset in (("equal_total_mass", False), ("k_hertz_ball", None), ("c1_ball", None)):
+            if d["settings"][name] is unset:  # a sweep of one ball reads as before balls were swept
+                del d["settings"][name]
         return d
 
     @classmethod

@@ -37,32 +37,13 @@ import numpy as np
 
 from .._validate import check_choice
 from ..errors import ParameterError
+from .balls import BALL_COLUMNS
 from .spec import SweepSpec
 
-__all__ = [
-    "put_in_design_order",
-    "CSV_COLUMNS",
-    "EXTRA_COLUMNS",
-    "ALL_COLUMNS",
-    "NUMERIC_COLUMNS",
-    "SWEEP_CSV",
-    "SWEEP_JSON",
-    "DESIGN_TABLE_CSV",
-    "DEFINITIONS",
-    "SweepMismatch",
-    "SweepTable",
-    "Journal",
-    "spec_document",
-    "read_spec",
-    "read_document",
-    "prepare_dir",
-    "check_dir",
-    "previous_sweeps",
-    "read_rows",
-    "load_sweep",
-    "table_from_rows",
-    "format_value",
-]
+__all__ = ["put_in_design_order", "CSV_COLUMNS", "EXTRA_COLUMNS", "ALL_COLUMNS", "sweep_columns", "row_columns",
+           "NUMERIC_COLUMNS", "SWEEP_CSV", "SWEEP_JSON", "DESIGN_TABLE_CSV", "DEFINITIONS", "SweepMismatch",
+           "SweepTable", "Journal", "spec_document", "read_spec", "read_document", "prepare_dir", "check_dir",
+           "previous_sweeps", "read_rows", "load_sweep", "table_from_rows", "format_value"]
 
 #: The columns every ``sweep.csv`` starts with (the command-line interface promises these).
 CSV_COLUMNS = (
@@ -102,10 +83,27 @@ EXTRA_COLUMNS = (
 ALL_COLUMNS = CSV_COLUMNS + EXTRA_COLUMNS
 # text and integer columns of both kinds of sweep (those in operation: acoustiviz.sweep.operation)
 _TEXT_COLUMNS = ("material", "config", "error", "worst_regime")
-_INT_COLUMNS = ("design_id", "n_impacts", "fit_n_maxima", "spl_impacts_evaluated", "success", "attractors",
+_INT_COLUMNS = ("design_id", "balls", "n_impacts", "fit_n_maxima", "spl_impacts_evaluated", "success", "attractors",
                 "failed_runs", "cycles_integrated", "warm_from")
 #: The numeric columns of ``sweep.csv``.
 NUMERIC_COLUMNS = tuple(c for c in ALL_COLUMNS if c not in _TEXT_COLUMNS)
+
+
+def sweep_columns(spec: SweepSpec) -> tuple:
+    """The columns of ``spec``'s ``sweep.csv``: :data:`ALL_COLUMNS`, with ``balls`` and ``fill`` after ``radius_m``.
+
+    The two columns of :data:`acoustiviz.sweep.balls.BALL_COLUMNS` are there when the spec names its balls
+    (:attr:`acoustiviz.sweep.SweepSpec.with_balls`); a sweep of one ball writes the columns it always wrote.
+    """
+    return row_columns(spec.with_balls)
+
+
+def row_columns(with_balls: bool) -> tuple:
+    """:data:`ALL_COLUMNS`, with ``balls`` and ``fill`` after ``radius_m`` when ``with_balls`` (the one rule)."""
+    if not with_balls:
+        return ALL_COLUMNS
+    at = ALL_COLUMNS.index("radius_m") + 1
+    return ALL_COLUMNS[:at] + BALL_COLUMNS + ALL_COLUMNS[at:]
 
 #: File names inside a sweep directory.
 SWEEP_CSV = "sweep.csv"
@@ -189,6 +187,8 @@ class SweepTable:
         others = [a for a in spec.swept() if a not in ("gap", "m")]
         if others:
             raise ParameterError("table", f"a gap x mass map needs the other axes fixed; swept also: {others}")
+        if spec.fill is not None:  # each design's gap follows from its fill and mass: no grid of gaps
+            raise ParameterError("table", "a gap x mass map needs the gaps swept, not the fill")
         ng, nm = len(spec.gap), len(spec.masses)
         out = np.full(ng * nm, np.nan)
         out[self.columns["design_id"]] = self.columns[name]
@@ -206,15 +206,16 @@ def _number(kind, text: str, column: str, where, name: str):
                                    "(the sweep's files are damaged)") from None
 
 
-def table_from_rows(spec: SweepSpec, rows: dict[int, dict], name: str = "sweep", *, columns=ALL_COLUMNS,
+def table_from_rows(spec: SweepSpec, rows: dict[int, dict], name: str = "sweep", *, columns=None,
                     operation=None) -> SweepTable:
     """A :class:`SweepTable` from rows of text values keyed by design id (``columns``: those of the rows).
 
+    ``columns`` defaults to :func:`sweep_columns`.
     A cell that is not a number where one belongs raises :class:`ParameterError` named ``name``.
     """
     ids = sorted(rows)
     cols = {}
-    for c in columns:
+    for c in sweep_columns(spec) if columns is None else columns:
         vals = [rows[i][c] for i in ids]
         if c in _TEXT_COLUMNS:
             cols[c] = np.array(vals, dtype=str)
@@ -342,7 +343,7 @@ def _dir_plan(spec: SweepSpec, out: Path, overwrite: bool, operation: dict | Non
 
 
 def check_dir(spec: SweepSpec, out, overwrite: bool = False, operation: dict | None = None,
-              columns=ALL_COLUMNS) -> None:
+              columns=None) -> None:
     """Refuse, writing nothing, a folder :func:`prepare_dir` would refuse or a journal :func:`read_rows` would."""
     out = Path(out)
     if out.is_dir() and _dir_plan(spec, out, overwrite, operation) == "resume":
@@ -427,15 +428,17 @@ def _matches_design(row: dict, designs) -> bool:
         return False
 
 
-def read_rows(path: Path, spec: SweepSpec, name: str = "out", *, columns=ALL_COLUMNS) -> dict[int, dict]:
+def read_rows(path: Path, spec: SweepSpec, name: str = "out", *, columns=None) -> dict[int, dict]:
     """Finished rows of ``sweep.csv`` (``columns``: its header) keyed by design id; a torn last line left out.
 
+    ``columns`` defaults to :func:`sweep_columns`.
     A damaged file (not UTF-8 text, other columns, a row with another number of fields or that
     matches no design) raises :class:`ParameterError` named ``name``.
     """
     path = Path(path)
     if not path.exists():
         return {}
+    columns = sweep_columns(spec) if columns is None else columns
     lines = _journal_lines(path, name, columns)
     if not lines:
         return {}

@@ -72,6 +72,9 @@ def _variable(record: Setting) -> Setting:
     doc = record.doc.split(" (default")[0].split(";")[0]
     if record.metavar == "NAMES":  # names: one of several, or held
         return dataclasses.replace(record, doc=f"{doc}: A,B,C (one of them) or one name (held)")
+    if record.name == "balls":  # whole numbers: every integer between the bounds, no log scale
+        return dataclasses.replace(record, doc=f"{doc}: LO:HI (every whole number between), A,B,C or one value",
+                                   metavar="LO:HI")
     return dataclasses.replace(record, doc=f"{doc}: {_FORM}", metavar="LO:HI")
 
 
@@ -157,7 +160,8 @@ class OptimizeJob(Settings):
 
         if self.operation is not None:
             return MODES[self.mode](self.fixed, self.operation)
-        return MODES[self.mode](self.fixed)
+        named = {v.name for v in self.variables}
+        return MODES[self.mode](self.fixed, bool({"balls", "fill"} & named) or self.fixed.equal_total_mass)
 
     @property
     def files(self) -> tuple:
@@ -174,6 +178,10 @@ class OptimizeJob(Settings):
                 raise ParameterError("mode", f"an excitation is given: the mode is 'operation', not {self.mode!r}")
             if not isinstance(self.operation, Operation):
                 raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
+            from .sweep_job import free_vibration_only
+
+            values = {v.name: (v.low, v.high) if v.kind == "int" else v.choices for v in self.variables}
+            free_vibration_only(values.get("balls"), values.get("fill"), self.fixed.equal_total_mass)
 
     def validate(self) -> None:
         """The objectives and constraints against the mode's columns, the executor and the folder."""
@@ -211,6 +219,9 @@ class OptimizeJob(Settings):
         fixed = asdict(self.fixed)
         if fixed.get("room") is None:
             fixed.pop("room", None)
+        for name, unset in (("equal_total_mass", False), ("k_hertz_ball", None), ("c1_ball", None)):
+            if fixed.get(name, unset) is unset:  # a problem of one ball reads as before balls were searched
+                fixed.pop(name, None)
         doc = {"format": "acoustiviz-optimize", "format_version": 1, "written_by": f"acoustiviz {__version__}",
                "optimizer": "optuna TPE", "mode": self.mode, **self.problem.to_dict(), "fixed": fixed}
         if self.operation is not None:

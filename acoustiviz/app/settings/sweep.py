@@ -30,7 +30,7 @@ from ...constants import (
 )
 from ...errors import ParameterError
 from .base import Settings
-from .damper import MODEL, RUN
+from .damper import BALLS, MODEL, RUN
 from .design import BAND_WIDTH, DEFINITION
 from .forced import FORCED
 from .table import Setting, by_name
@@ -85,6 +85,13 @@ SWEPT = (
     _swept("distance", "--distance", f"listener distance in m from the sphere's centre (default {PAPER_DISTANCE:g})"),
     _swept("angle_deg", "--angle", f"listener angle in degrees from the surface normal (default {PAPER_ANGLE_DEG:g})"),
     _swept("config", "--config", "free, plane (reflecting plane, default) or wall-floor; a comma list sweeps them"),
+    # several balls (free vibration): N equal spheres in a column, as acoustiviz damper --balls N
+    Setting("balls", "--balls", "balls", "range", None, "numbers of equal balls in the cavity, whole numbers, each of "
+            "mass --m (with --equal-total-mass: --m / N); default 1, and no balls and fill columns",
+            low=BALLS[0].low, high=BALLS[0].high, metavar="RANGE", table="outputs.sweep"),
+    Setting("fill", "--fill", "fill", "range", None, "fraction of the cavity's length the balls take, "
+            "instead of --gap: gap = N D (1 - fill) / fill, D each ball's diameter (steel or --material)",
+            low=0.0, high=1.0, low_open=True, high_open=True, metavar="RANGE", table="outputs.sweep"),
 )
 
 #: The damper of every design (before the duration, :data:`SWEEP`) and its solver (after it).
@@ -99,6 +106,11 @@ SWEEP_DAMPER = (
     Setting("rtol", "--rtol", None, "float", None,
             f"relative tolerance of the event and impact-map solvers' contacts (default {DEFAULT_RTOL:g})",
             low=SOLVER_RTOL_RANGE[0], high=SOLVER_RTOL_RANGE[1], metavar="RTOL"),
+    Setting("equal_total_mass", "--equal-total-mass", "equal_total_mass", "bool", None,
+            "divide each --m among the --balls of a design (each ball m / N): designs of every ball count carry "
+            "the same total mass (default: --m is each ball's mass, as acoustiviz damper --balls)",
+            scene_default=False, table="outputs.sweep"),
+    *BALLS[1:],  # between two balls, as acoustiviz damper --balls (a scene's [damper] keys)
 )
 
 #: The sound of every impact at the listener.

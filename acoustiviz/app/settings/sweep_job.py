@@ -28,11 +28,11 @@ from ...constants import (
 )
 from ...errors import ParameterError, user_terms
 from .base import Settings
-from .damper import MODEL, RUN
+from .damper import BALLS, MODEL, RUN
 from .sweep import SWEEP_RUN, SWEPT, sweep_radius
 from .table import by_name
 
-__all__ = ["SweepJob", "sweep_job", "INCLINATION_MAP", "SPL_MAP", "REPORTS"]
+__all__ = ["SweepJob", "sweep_job", "free_vibration_only", "INCLINATION_MAP", "SPL_MAP", "REPORTS"]
 
 #: File names of the Figure 6 maps inside a sweep folder.
 INCLINATION_MAP = "inclination_map.png"
@@ -51,9 +51,10 @@ class SweepJob(Settings):
 
     Attributes
     ----------
-    gap, m, mass_ratio, c1, k_hertz, material, v0, distance, angle, config : tuple
+    gap, m, mass_ratio, c1, k_hertz, material, v0, distance, angle, config, balls, fill : tuple
         The values of each axis (:class:`acoustiviz.sweep.SweepSpec`, SI units, the angle in rad); ``m`` or
-        ``mass_ratio``, ``k_hertz`` or ``material`` (None: the other; both None: Table 1's m and K_HZ).
+        ``mass_ratio``, ``k_hertz`` or ``material``, ``gap`` or ``fill`` (None: the other; both None: Table
+        1's m and K_HZ, the Figure 5 gap); ``balls`` None: one ball (free vibration only above one).
     settings : acoustiviz.sweep.FixedSettings
         The damper, solver, sphere and sound of every design (duration in s, the levels on or off).
     out : str, optional
@@ -80,7 +81,7 @@ class SweepJob(Settings):
     """
 
     TABLE = _JOB_RECORDS
-    gap: tuple = (PAPER_GAP,)
+    gap: tuple | None = None
     m: tuple | None = None
     mass_ratio: tuple | None = None
     c1: tuple = (TABLE1_PARAMETERS["c1"],)
@@ -90,6 +91,8 @@ class SweepJob(Settings):
     distance: tuple = (PAPER_DISTANCE,)
     angle: tuple = (math.radians(PAPER_ANGLE_DEG),)
     config: tuple = ("plane",)
+    balls: tuple | None = None
+    fill: tuple | None = None
     settings: object = None
     out: str | None = None
     executor: str = "process"
@@ -113,8 +116,12 @@ class SweepJob(Settings):
             object.__setattr__(self, "m", (TABLE1_PARAMETERS["m"],))
         if self.k_hertz is None and self.material is None:
             object.__setattr__(self, "k_hertz", (TABLE1_PARAMETERS["k_hertz"],))
+        if self.gap is None and self.fill is None:
+            object.__setattr__(self, "gap", (PAPER_GAP,))
         if self.operation is not None and not isinstance(self.operation, Operation):
             raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
+        if self.operation is not None:
+            free_vibration_only(self.balls, self.fill, self.settings.equal_total_mass)
         self._check_ranges()
         self._check_budget()
         object.__setattr__(self, "spec", self._build_spec())
@@ -132,9 +139,10 @@ class SweepJob(Settings):
         """M, K, C and the masses of mass ratios in the damper records' ranges; the configurations; the angles."""
         from ...core.geometry import geometry_class
 
-        records = by_name(MODEL + RUN)
-        for name in ("M", "K", "C"):
-            records[name].check(getattr(self.settings, name), name)
+        records = by_name(MODEL + RUN + BALLS)
+        for name in ("M", "K", "C", "k_hertz_ball", "c1_ball"):
+            if getattr(self.settings, name) is not None:
+                records[name].check(getattr(self.settings, name), name)
         for ratio in self.mass_ratio or ():
             mass = ratio * self.settings.M
             try:
@@ -170,7 +178,7 @@ class SweepJob(Settings):
             check_budget(est, self.max_memory_mb, cap_name=self._name("max_memory_mb"))
             return
         swept = {self._name(a): getattr(self, a) for a in ("gap", "m", "mass_ratio", "c1", "k_hertz", "material",
-                                                           "v0", "distance", "angle", "config")}
+                                                           "v0", "distance", "angle", "config", "balls", "fill")}
         option = self._name("duration")
         check_budget(sweep_estimate(swept, DamperModel(M=s.M, K=s.K, C=s.C), s.duration, self.workers or 2,
                                     options=(option,)),
@@ -181,7 +189,7 @@ class SweepJob(Settings):
 
         return SweepSpec(gap=self.gap, m=self.m, mass_ratio=self.mass_ratio, c1=self.c1, k_hertz=self.k_hertz,
                          material=self.material, v0=self.v0, distance=self.distance, angle=self.angle,
-                         config=self.config, settings=self.settings)
+                         config=self.config, balls=self.balls, fill=self.fill, settings=self.settings)
 
     def _check_folder(self) -> None:
         """A folder that takes files; a new sweep's reports replace no file unasked; a resumed one is this sweep."""
@@ -215,6 +223,16 @@ class SweepJob(Settings):
         return self.names.get(api, api)
 
 
+def free_vibration_only(balls, fill, equal_total_mass: bool) -> None:
+    """Refuse several balls, fills and the equal total mass in operation (swept in free vibration only)."""
+    if any(n > 1 for n in balls or ()):
+        raise ParameterError("balls", "several balls are swept in free vibration only (without --force, --base); "
+                                      f"got {', '.join(f'{n:g}' for n in balls)}")
+    for name, given in (("fill", fill is not None), ("equal_total_mass", equal_total_mass)):
+        if given:
+            raise ParameterError(name, "applies to sweeps in free vibration only (without --force, --base)")
+
+
 def _axis(given: dict, name: str, default, kind=float):
     from ...sweep import parse_values
 
@@ -238,7 +256,9 @@ def _fixed_settings(given: dict):
         surface=given.get("surface"), pulse=given.get("pulse", "half-sine"),
         pulse_mass=given.get("pulse_mass", "impact"), c=given.get("c", DEFAULT_SOUND_SPEED),
         rho=given.get("rho", DEFAULT_AIR_DENSITY), wall_distance=given.get("wall_distance", DEFAULT_WALL_DISTANCE),
-        n_fastest=given.get("n_fastest", 4), levels=bool(given.get("levels", False)), room=given.get("room"))
+        n_fastest=given.get("n_fastest", 4), levels=bool(given.get("levels", False)), room=given.get("room"),
+        equal_total_mass=bool(given.get("equal_total_mass", False)), k_hertz_ball=given.get("k_hertz_ball"),
+        c1_ball=given.get("c1_ball"))
 
 
 def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
@@ -273,10 +293,14 @@ def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
             raise ParameterError("m", "give either the impact mass or the mass ratio, not both")
         if given.get("k_hertz") is not None and given.get("material") is not None:
             raise ParameterError("k_hertz", "give either K_HZ or the sphere material, not both")
+        fill = given.get("fill")
+        if given.get("gap") is not None and fill is not None:
+            raise ParameterError("fill", f"give either {names.get('gap', 'gap')} (the free travel) or "
+                                         f"{names.get('fill', 'fill')} (the balls' fraction of the cavity), not both")
         settings = _fixed_settings(given)
         ratio, material = given.get("mass_ratio"), given.get("material")
         axes = dict(
-            gap=_axis(given, "gap", PAPER_GAP),
+            gap=None if fill is not None else _axis(given, "gap", PAPER_GAP),
             m=None if ratio is not None else _axis(given, "m", TABLE1_PARAMETERS["m"]),
             mass_ratio=_axis(given, "mass_ratio", None),
             c1=_axis(given, "c1", TABLE1_PARAMETERS["c1"]),
@@ -286,5 +310,7 @@ def sweep_job(given: dict, *, names=None, **job) -> SweepJob:
             distance=_axis(given, "distance", PAPER_DISTANCE),
             angle=tuple(math.radians(a) for a in _axis(given, "angle_deg", PAPER_ANGLE_DEG)),
             config=_axis(given, "config", "plane", str),
+            balls=_axis(given, "balls", None),
+            fill=_axis(given, "fill", None),
         )
     return SweepJob(**axes, settings=settings, names=names, operation=operation, **job)

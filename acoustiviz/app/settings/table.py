@@ -171,7 +171,8 @@ class Setting:
 
         values = parse_values(name, value)
         for v in values:
-            check_range(name, v, self.low, self.high, unit=self.unit, low_open=self.low_open)
+            check_range(name, v, self.low, self.high, unit=self.unit, low_open=self.low_open,
+                        high_open=self.high_open)
         return values
 
     def _check_sequence(self, value, name: str) -> tuple:

@@ -1,0 +1,253 @@
+"""Several balls in a sweep: the balls and fill axes, the multi-ball evaluation, and every front end agreeing.
+
+A sweep of one ball writes what it wrote before balls were swept; the one-ball rows of a sweep over balls are
+those rows; a two-ball design counts every collision of its multi-ball run and hears each through the
+multi-ball sound; the fill and the gap convert into each other as the cavity's geometry says; the command
+line, a scene and the API build equal sweeps and write the same files. Runs are a few tenths of a second.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+import pytest
+
+from acoustiviz.app import sweep as sweep_app
+from acoustiviz.app.settings.sweep_job import SweepJob
+from acoustiviz.app.sweep import sweep_settings
+from acoustiviz.cli import build_parser, main
+from acoustiviz.cli.sweep import settings_from_args
+from acoustiviz.constants import ANALYSIS_RATE, P_REF
+from acoustiviz.core.medium import Medium
+from acoustiviz.dynamics import BallState, DamperModel, MultiBallModel, equal_balls, simulate_balls
+from acoustiviz.dynamics.metrics import sample_times
+from acoustiviz.errors import ParameterError, SceneError
+from acoustiviz.scene import scene_from_dict
+from acoustiviz.sound import CavityScene, ClickModel
+from acoustiviz.sound.balls_sound import ball_clicks, column_scene, render_clicks
+from acoustiviz.sweep import FixedSettings, SweepSpec, load_sweep
+from acoustiviz.sweep.balls import BALL_COLUMNS, fill_of, gap_of_fill
+from acoustiviz.sweep.evaluate import evaluate_design, listener_point
+from acoustiviz.sweep.query import design as choose
+from acoustiviz.sweep.store import ALL_COLUMNS
+
+#: Seconds of motion per design: a handful of collisions, enough to tell the bodies apart.
+DURATION = 0.5
+#: Tolerance in dB between two computations of the same peak on the same sample grid.
+SPL_TOL_DB = 1e-6
+
+
+def _rows(path) -> list[dict]:
+    return list(csv.DictReader(io.StringIO(path.read_text())))
+
+
+def _line(row: dict, columns) -> str:
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow([row[c] for c in columns])
+    return buf.getvalue()
+
+
+def test_one_ball_rows_are_those_of_a_sweep_without_balls(tmp_path, capsys):
+    common = ["--m", "0.03,0.05", "--duration", str(DURATION), "--workers", "1", "--quiet"]
+    assert main(["sweep", *common, "--out", str(tmp_path / "plain")]) == 0, capsys.readouterr().err
+    assert main(["sweep", *common, "--balls", "1,2", "--out", str(tmp_path / "balls")]) == 0, capsys.readouterr().err
+    plain = (tmp_path / "plain" / "sweep.csv").read_text().splitlines(keepends=True)
+    assert plain[0].rstrip("\n").split(",") == list(ALL_COLUMNS)  # no balls, fill columns without --balls
+    assert "balls" not in (tmp_path / "plain" / "sweep.json").read_text()
+    rows = _rows(tmp_path / "balls" / "sweep.csv")
+    assert [r["balls"] for r in rows] == ["1", "1", "2", "2"]
+    one = [_line(r, ALL_COLUMNS) for r in rows if r["balls"] == "1"]
+    assert one == plain[1:]  # the one-ball rows, byte for byte, without the two new columns
+    two = [r for r in rows if r["balls"] == "2"]
+    assert all(r["success"] == "1" and int(r["n_impacts"]) > 0 for r in two)
+
+
+def _independent_spl(res, design, settings) -> tuple[int, float]:
+    """The collisions heard and their loudest peak, each collision rendered alone at its own time."""
+    medium = Medium(c=settings.c, rho=settings.rho)
+    scene = CavityScene(design.geometry(settings), gap=design.gap, walls="one", medium=medium)
+    click = ClickModel(k_hertz=design.k_hertz, mass=design.m, main_mass=settings.M, mass_model=settings.pulse_mass,
+                       pulse=settings.pulse)
+    scene = column_scene(scene, res.model.cavities[0])
+    point = listener_point(scene.geometry, design.distance, design.angle)
+    clicks = ball_clicks(res, scene, click)
+    peaks = []
+    for k in np.unique(clicks.collision):
+        p = render_clicks(clicks.take(clicks.collision == k), scene, click, point, sample_rate=ANALYSIS_RATE)
+        peaks.append(20 * math.log10(np.max(np.abs(p.pressure[0])) / P_REF))
+    return len(peaks), max(peaks)
+
+
+def test_a_two_ball_design_counts_every_collision_and_hears_the_loudest():
+    settings = FixedSettings(duration=DURATION)
+    (design,) = SweepSpec(balls=(2,), settings=settings).designs()
+    row = evaluate_design(design, settings)
+    damper = DamperModel(M=settings.M, K=settings.K, C=settings.C, m=design.m, gap=design.gap,
+                         k_hertz=design.k_hertz, c1=design.c1)
+    res = simulate_balls(MultiBallModel.from_damper(damper, 2), DURATION, initial=BallState(v=design.v0),
+                         rtol=settings.rtol, t_eval=sample_times(DURATION, damper))
+    walls = np.isin(res.impacts.first, ["wall-"]) | np.isin(res.impacts.second, ["wall+"])
+    assert walls.any() and not walls.all()  # both kinds of collision happen in the run
+    assert row.success and row.n_impacts == len(res.impacts)
+    heard, loudest = _independent_spl(res, design, settings)
+    assert row.spl_impacts_evaluated == heard
+    assert abs(row.max_spl_db - loudest) < SPL_TOL_DB
+    assert row.mass_ratio == pytest.approx(2 * design.m / settings.M, rel=1e-15)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5])
+@pytest.mark.parametrize("fill", [0.1, 0.45, 0.9])
+def test_the_fill_and_the_gap_convert_as_the_cavity_says(n, fill):
+    m = 0.02
+    (design,) = SweepSpec(balls=(n,), fill=(fill,), m=(m,)).designs()
+    cavity = equal_balls(n, m, design.gap, 5.6e8, 20.0)  # the cavity the dynamics builds, steel balls of m
+    diameter = 2 * cavity.radii[0]
+    assert design.fill == fill
+    assert n * diameter / cavity.length == pytest.approx(fill, rel=1e-12)
+    assert fill_of(n, diameter, gap_of_fill(n, diameter, fill)) == pytest.approx(fill, rel=1e-12)
+    (by_gap,) = SweepSpec(balls=(n,), gap=(design.gap,), m=(m,)).designs()
+    assert by_gap.fill == pytest.approx(fill, rel=1e-12) and by_gap.gap == design.gap
+
+
+def test_a_gap_with_a_fill_is_refused_naming_both(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    assert main(["sweep", "--gap", "0.03", "--fill", "0.4", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "--gap" in err and "--fill" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+    with pytest.raises(SceneError, match="gap_m") as exc:
+        scene_from_dict({"outputs": {"sweep": {"gap_m": "0.03", "fill": "0.4"}}})
+    assert "outputs.sweep.fill" in str(exc.value)
+    with pytest.raises(ParameterError, match="fill"):
+        SweepSpec(gap=(0.03,), fill=(0.4,))
+
+
+@pytest.mark.parametrize("argv, option", [(["--balls", "1.5"], "--balls"), (["--balls", "0"], "--balls"),
+                                          (["--fill", "1"], "--fill"), (["--fill", "0:0.5:3"], "--fill")])
+def test_bad_balls_and_fills_are_refused_naming_the_option(tmp_path, capsys, argv, option):
+    assert main(["sweep", *argv, "--out", str(tmp_path / "sweep")]) == 2
+    assert capsys.readouterr().err.startswith(f"acoustiviz sweep: error: {option}:")
+    assert not (tmp_path / "sweep").exists()
+
+
+def test_several_balls_are_refused_in_operation_naming_balls(tmp_path, capsys):
+    argv = ["sweep", "--balls", "1,2", "--force", "5", "--freq", "6.5,7", "--out", str(tmp_path / "sweep")]
+    assert main(argv) == 2
+    assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --balls:")
+
+
+def test_the_equal_total_mass_divides_the_mass_among_the_balls():
+    total = 0.06
+    shared = SweepSpec(balls=(1, 2, 4), m=(total,), settings=FixedSettings(equal_total_mass=True)).designs()
+    assert [d.balls for d in shared] == [1, 2, 4]
+    assert [d.m for d in shared] == [total / n for n in (1, 2, 4)]
+    each = SweepSpec(balls=(1, 2, 4), m=(total,)).designs()
+    assert [d.m for d in each] == [total] * 3
+
+
+#: The same small sweep over balls and fills at equal total mass, three ways.
+ARGV = ("sweep", "--balls", "1,2", "--fill", "0.4", "--m", "0.04", "--equal-total-mass", "--duration",
+        str(DURATION), "--solver", "event", "--workers", "1", "--quiet")
+SCENE = ('[damper]\nsolver = "event"\n[outputs.sweep]\nballs = "1,2"\nfill = "0.4"\nmass_kg = "0.04"\n'
+         f'equal_total_mass = true\nduration_s = {DURATION}\nworkers = 1\n')
+CAP = 256.0  # the scene's memory cap by default, stated on the command line
+
+
+def _api(out) -> SweepJob:
+    return SweepJob(balls=(1, 2), fill=(0.4,), m=(0.04,), out=str(out), workers=1, max_memory_mb=CAP,
+                    settings=FixedSettings(duration=DURATION, equal_total_mass=True))
+
+
+def test_the_command_line_a_scene_and_the_api_agree(tmp_path, capsys):
+    import tomllib
+
+    args = build_parser().parse_args([*ARGV, "--out", str(tmp_path / "cli" / "sweep"), "--max-memory", str(CAP)])
+    from_cli = settings_from_args(args)
+    scene = scene_from_dict(tomllib.loads(SCENE))
+    from_scene = sweep_settings(scene, tmp_path / "cli")
+    assert from_cli == from_scene == _api(tmp_path / "cli" / "sweep")
+    assert from_cli.spec == from_scene.spec
+    assert from_cli.names["fill"] == "--fill" and from_scene.names["fill"] == "outputs.sweep.fill"
+    assert from_cli.names["balls"] == "--balls" and from_scene.names["balls"] == "outputs.sweep.balls"
+    assert main([*ARGV, "--out", str(tmp_path / "cli" / "sweep")]) == 0, capsys.readouterr().err
+    toml = tmp_path / "scene.toml"
+    toml.write_text(SCENE)
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene")]) == 0, capsys.readouterr().err
+    sweep_app.run(_api(tmp_path / "api" / "sweep")).write()
+    for name in ("sweep.json", "sweep.csv", "design_table.csv"):
+        mine = (tmp_path / "cli" / "sweep" / name).read_bytes()
+        assert (tmp_path / "scene" / "sweep" / name).read_bytes() == mine, name
+        assert (tmp_path / "api" / "sweep" / name).read_bytes() == mine, name
+    rows = _rows(tmp_path / "cli" / "sweep" / "sweep.csv")
+    assert list(rows[0])[list(rows[0]).index("radius_m") + 1:][:2] == list(BALL_COLUMNS)
+    assert [(r["balls"], float(r["fill"]), float(r["mass_kg"])) for r in rows] == [("1", 0.4, 0.04), ("2", 0.4, 0.02)]
+    table = load_sweep(tmp_path / "cli" / "sweep")
+    chosen = choose(table, float(np.nanmean(table.inclination())), 1.0)  # the design command's ranking
+    assert chosen.quietest["balls"] in (1, 2) and chosen.quietest["fill"] == 0.4
+    n = chosen.quietest["balls"]
+    assert f"{n} ball{'s' if n > 1 else ''} of m = {chosen.quietest['mass_kg']:.6g} kg" in chosen.summary()
+
+
+def test_a_sweep_of_fills_skips_the_gap_by_mass_maps(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    argv = ["sweep", "--fill", "0.3", "--m", "0.03,0.05", "--duration", str(DURATION), "--workers", "1", "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    assert "maps skipped: they need only --gap and --m swept (also swept: fill)" in capsys.readouterr().out
+    assert not (out / "inclination_map.png").exists() and (out / "design_table.csv").is_file()
+    gaps = [float(r["gap_m"]) for r in _rows(out / "sweep.csv")]
+    assert gaps[0] != gaps[1]  # the same fill of balls of other masses: other gaps
+    with pytest.raises(ParameterError, match="fill"):
+        load_sweep(out).grid("max_spl_db")
+
+
+def test_several_balls_in_a_room_are_refused_before_any_work_naming_balls(tmp_path, capsys):
+    room = ["--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--room-window", "0.005",
+            "--config", "room"]
+    out = tmp_path / "sweep"
+    assert main(["sweep", "--balls", "1,2", *room, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("acoustiviz sweep: error: --balls:") and "room" in err
+    assert not out.exists()
+
+
+def test_a_two_ball_design_damps_as_the_damper_job_of_two_balls_measures():
+    from acoustiviz.app.damper import run as run_damper
+    from acoustiviz.app.settings.damper_job import DamperJob
+    from acoustiviz.dynamics import InitialState
+
+    settings = FixedSettings(duration=DURATION)
+    (design,) = SweepSpec(balls=(2,), settings=settings).designs()
+    row = evaluate_design(design, settings)
+    model = DamperModel(M=settings.M, K=settings.K, C=settings.C, m=design.m, gap=design.gap,
+                        k_hertz=design.k_hertz, c1=design.c1)
+    damper = run_damper(DamperJob(model, InitialState(v=design.v0), duration=DURATION, balls=2))
+    assert len(damper.result.impacts) == row.n_impacts
+    m = damper.metrics
+    ours = [row.inclination_two_maxima, row.inclination_fit, row.fit_n_maxima, row.settling_time]
+    assert np.array_equal(ours, [m.two_maxima.value, m.fit.value, m.fit.n_maxima, m.settling_time], equal_nan=True)
+
+
+def test_the_contact_between_two_balls_is_that_of_the_damper_options(tmp_path, capsys):
+    import tomllib
+
+    from acoustiviz.sweep.balls import design_balls_model
+
+    argv = ["sweep", "--balls", "2", "--k-hertz-ball", "1e9", "--c1-ball", "5", "--solver", "event", "--duration",
+            "5", "--max-memory", str(CAP), "--out", str(tmp_path / "sweep")]
+    from_cli = settings_from_args(build_parser().parse_args(argv))
+    scene = scene_from_dict(tomllib.loads('[damper]\nsolver = "event"\nk_hertz_ball_n_m1_5 = 1e9\n'
+                                          'contact_damping_ball_n_s_m = 5.0\n[outputs.sweep]\nballs = "2"\n'))
+    from_scene = sweep_settings(scene, tmp_path)
+    assert from_cli.settings == from_scene.settings
+    assert from_scene.names["k_hertz_ball"] == "damper.k_hertz_ball_n_m1_5"
+    settings = from_cli.settings
+    (design,) = from_cli.spec.designs()
+    cavity = design_balls_model(design, settings)[1].cavities[0]
+    assert cavity.k_ball == (1e9,) and cavity.c_ball == 5.0 and cavity.c_wall == design.c1
+    assert main(["sweep", "--balls", "2", "--k-hertz-ball", "-1", "--out", str(tmp_path / "bad")]) == 2
+    assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --k-hertz-ball:")
+    assert from_cli.spec.to_dict()["settings"]["k_hertz_ball"] == 1e9
+    assert "k_hertz_ball" not in SweepSpec().to_dict()["settings"]  # one ball: sweep.json as before
