@@ -476,6 +476,14 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
     return True, t + hstep, (h if changed >= 0 else _next_step(err, h, False)), changed, ie
 
 
+@helper
+def _track_extremes(ext, fc, y):
+    """With forcing, gather the largest/smallest main-mass displacement in m into ``ext[3]``/``ext[4]``."""
+    if ext is not None and fc is not None:
+        ext[3] = max(ext[3], y[0])
+        ext[4] = min(ext[4], y[0])
+
+
 @kernel
 def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_row, peaks, clock, t_stop, rtol,
               atol, t_eval, ie_arr, dense, rows, n_rows, max_steps, fc, ext):
@@ -537,9 +545,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
             if fc is None and flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
                 _, t, ie = lone_contact(np.argmax(active), t, y, nb, mass, pa, pb, hgp, kh, cc, loc, K, C, clip, a,
                                         wd, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, lone)
-        if ext is not None and fc is not None:
-            ext[3] = max(ext[3], y[0])
-            ext[4] = min(ext[4], y[0])
+        _track_extremes(ext, fc, y)
     clock[0] = t
     clock[1] = h
     ie_arr[0] = ie
