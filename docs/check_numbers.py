@@ -678,6 +678,38 @@ def produce_balls_gallery() -> dict:
 
 BALLS_CMD = "python gallery/plot_17_balls.py"
 
+
+# --------------------------------------------------------------------------- optimisers (docs/guide/optimize.md)
+def _optimisers() -> tuple[str, str]:
+    """``benchmarks/results/optimisers.md`` cut into its free-vibration part and its part in operation."""
+    text = (ROOT / "benchmarks" / "results" / "optimisers.md").read_text(encoding="utf-8")
+    free, _, operation = text.partition("## In operation")
+    return free, operation
+
+
+def _by_library(rows) -> dict:
+    """``{library: [row, ...]}`` of a table whose first cell names the library."""
+    out = {}
+    for row in rows:
+        out.setdefault(row[0], []).append(row)
+    return out
+
+
+def produce_optimisers_free() -> dict:
+    """The guide's table of the libraries in free vibration (``python benchmarks/bench_optimisers.py``)."""
+    free, _ = _optimisers()
+    ref = float(re.search(r"grid = ([\d.]+) dB", free).group(1))
+    by = _by_library(_md_rows(free, "| library | seed | best value found (dB)"))
+
+    def passed(name):
+        return f"{sum(r[4] == 'yes' for r in by[name])} of {len(by[name])}"
+
+    acv, scipy = "acoustiviz optimize (optuna TPE, penalty)", "scipy differential_evolution"
+    above = _range([float(r[2]) - ref for r in by[acv]], ".3f", "–")
+    return {"ref": f"{ref:.3f}", "acv": passed(acv), "acv_above": above,
+            "optuna": passed("optuna TPE"), "pymoo": passed("pymoo NSGA-II"), "scipy": passed(scipy),
+            "scipy_n": _range([int(r[3]) for r in by[scipy]], "d", "–")}
+
 REGISTRY = (
     Figure("rooms-wav-images", "docs/guide/rooms.md",
            r"A reverberant room needs many images for -60 dB\s+\(order (?P<order>\d+), (?P<mimages>[\d.]+) million "
@@ -845,6 +877,13 @@ REGISTRY = (
            r"force rises from (?P<f1>\d+) N with one ball to (?P<f2>\d+) N with two,.*?many balls \((?P<f10>\d+) N "
            r"with 10\); the median peak force falls from (?P<med1>\d+) N to (?P<med10>\d+) N, but\s+the collisions "
            r"multiply, from (?P<c1>\d+) to (?P<c10>\d+)\.", produce_balls_gallery, BALLS_CMD),
+    Figure("optimisers-free", "docs/guide/optimize.md",
+           r"900 designs, (?P<ref>[\d.]+) dB;.*?\| Optuna TPE, constraints as a graded penalty "
+           r"\(what `optimize` runs\) \| (?P<acv>\d+ of \d+) \((?P<acv_above>[\d.–]+) dB above\) \|\n"
+           r"\| Optuna TPE, its own constraint handling \| (?P<optuna>\d+ of \d+) \|\n"
+           r"\| pymoo NSGA-II, constraints as `G <= 0` \| (?P<pymoo>\d+ of \d+) \|\n"
+           r"\| scipy `differential_evolution` with a `NonlinearConstraint` \| (?P<scipy>\d+ of \d+), with "
+           r"(?P<scipy_n>[\d–]+) evaluations \|", produce_optimisers_free, "python benchmarks/bench_optimisers.py"),
 )
 
 
