@@ -209,9 +209,8 @@ def main(argv=None) -> int:
     if args.mode == "operation":
         from bench_optimisers_operation import main_operation
 
-        text = main_operation(budget=args.budget, seeds=args.seeds, grid=args.grid)
-        if args.write:
-            write_section(text, operation=True)
+        keep = (lambda text: write_section(text, operation=True)) if args.write else None
+        main_operation(budget=args.budget, seeds=args.seeds, grid=args.grid, keep=keep)
         return 0
     reference = grid_best()
     lines = [f"Reference: best feasible max_spl_db of the {GRID} x {GRID} grid = {reference:.3f} dB "
