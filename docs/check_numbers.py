@@ -618,6 +618,34 @@ def produce_bench_startup() -> dict:
     return {"cold": about(cold), "warm": about(warm)}
 
 
+#: The libraries of the comparison in operation: the guide's group suffix -> the results file's name.
+OPERATION_LIBRARIES = {"acv": "acoustiviz optimize (optuna TPE, penalty)", "plain": "optuna TPE (constraint not told)",
+                       "cf": "optuna TPE (constraints_func)", "pymoo": "pymoo NSGA-II",
+                       "scipy": "scipy differential_evolution"}
+
+
+def produce_optimisers_operation() -> dict:
+    """The guide's table of the libraries in operation (``python benchmarks/bench_optimisers.py --mode operation``).
+
+    Per library: the mean over the seeds of each run's best ``min_reduction_db`` in (a), the runs
+    within the tolerance of the reference, and the mean hypervolume in (b) as a share of the reference's.
+    """
+    _, text = _optimisers()
+    runs = _by_library(_md_rows(text, "| library | seed | best min_reduction_db"))
+    two = {r[0]: r for r in _md_rows(text, "| library | mean hypervolume")}
+    out = {"distinct": re.search(r"(\d+) distinct designs evaluated in all", text).group(1),
+           "ref_a": re.search(r"best feasible value of every evaluation = (-?[\d.]+) dB", text).group(1),
+           "ref_b": re.search(r"front of every evaluation = ([\d.]+) dB²", text).group(1),
+           "grid_a": re.search(r"grid alone = (-?[\d.]+) dB;", text).group(1),
+           "grid_b": re.search(r"grid alone = ([\d.]+) dB²", text).group(1)}
+    for key, name in OPERATION_LIBRARIES.items():
+        rows = runs[name]
+        out[f"a_{key}"] = f"{sum(float(r[2]) for r in rows) / len(rows):.2f}"
+        out[f"n_{key}"] = f"{sum(r[6] == 'yes' for r in rows)} of {len(rows)}"
+        if key != "scipy":
+            out[f"b_{key}"] = two[name][2]
+    return out
+
 # --------------------------------------------------------------------------- several balls (docs/guide/balls.md)
 def _md_rows(text: str, head: str) -> list:
     """Cells of the rows of the Markdown table whose header line starts with ``head``."""
@@ -884,6 +912,21 @@ REGISTRY = (
            r"\| pymoo NSGA-II, constraints as `G <= 0` \| (?P<pymoo>\d+ of \d+) \|\n"
            r"\| scipy `differential_evolution` with a `NonlinearConstraint` \| (?P<scipy>\d+ of \d+), with "
            r"(?P<scipy_n>[\d–]+) evaluations \|", produce_optimisers_free, "python benchmarks/bench_optimisers.py"),
+    Figure("optimisers-operation", "docs/guide/optimize.md",
+           r"\((?P<distinct>\d+) designs in all, a 6 × 6 grid included;\s+best `min_reduction_db` "
+           r"(?P<ref_a>-?[\d.]+) dB,\s+front hypervolume (?P<ref_b>[\d.]+) dB²; the grid alone:\s+"
+           r"(?P<grid_a>-?[\d.]+) dB and (?P<grid_b>[\d.]+) dB²\).*?"
+           r"\| Optuna TPE, graded penalty \(what `optimize` runs\) \| (?P<a_acv>-?[\d.]+) dB \| (?P<n_acv>\d+ of \d+) "
+           r"\| (?P<b_acv>\d+ %) \|\n"
+           r"\| Optuna TPE, constraint not told \| (?P<a_plain>-?[\d.]+) dB \| (?P<n_plain>\d+ of \d+) "
+           r"\| (?P<b_plain>\d+ %) \|\n"
+           r"\| Optuna TPE, its `constraints_func` \| (?P<a_cf>-?[\d.]+) dB \| (?P<n_cf>\d+ of \d+) "
+           r"\| (?P<b_cf>\d+ %) \|\n"
+           r"\| pymoo NSGA-II, constraint as `G <= 0` \| (?P<a_pymoo>-?[\d.]+) dB \| (?P<n_pymoo>\d+ of \d+) "
+           r"\| (?P<b_pymoo>\d+ %) \|\n"
+           r"\| scipy `differential_evolution`, `NonlinearConstraint` \| (?P<a_scipy>-?[\d.]+) dB "
+           r"\| (?P<n_scipy>\d+ of \d+) \|",
+           produce_optimisers_operation, "python benchmarks/bench_optimisers.py --mode operation"),
 )
 
 
