@@ -30,7 +30,7 @@ Each library gets the same budget of evaluations per run and the same seeds. How
 The objectives are deterministic for a given design and settings, so every design is evaluated once
 per benchmark run (:class:`Evaluations`, keyed by ``(gap, mass)``): a library that proposes a design
 already evaluated (Optuna's plain and constrained samplers share their random start for a seed, and
-``acoustiviz optimize`` seeds its first batch as Optuna does; the runs of (b) start as those of (a);
+``acoustiviz optimize`` with seed 0 draws the first batch of Optuna's seed 0; the runs of (b) start as those of (a);
 scipy asks for the constraint and the objective of the same design) does not pay again. Each row
 gives the designs the run asked for, how many of them were new to the benchmark run, and the run's
 wall time (a design already evaluated costs nothing, so the times do not compare the libraries). The best
