@@ -16,6 +16,9 @@ constraint handling (``constraints_func``, batches of 8), pymoo's NSGA-II (const
 for 9 generations) and scipy's ``differential_evolution`` (``NonlinearConstraint``, population 10,
 8 generations plus the initial one, no polishing). Each prints one row per seed.
 
+``--mode operation`` asks the same libraries the question in operation (:func:`main_operation`,
+:mod:`bench_optimisers_operation`), whose table is kept below this one in the same file.
+
 Run ``python benchmarks/bench_optimisers.py`` (``--write`` keeps the table in
 ``benchmarks/results/optimisers.md``).
 """
@@ -38,6 +41,8 @@ BUDGET = 90
 SEEDS = (0, 1, 2, 3, 4)
 TOLERANCE_DB = 0.3
 GRID_CSV = RESULTS / "optimisers_grid.csv"
+#: The first line of the section in operation in ``benchmarks/results/optimisers.md``.
+OPERATION_MARKER = "## In operation"
 
 
 def evaluate(gap: float, mass: float) -> tuple[float, float]:
@@ -176,10 +181,37 @@ LIBRARIES = (("acoustiviz optimize (optuna TPE, penalty)", run_acoustiviz), ("op
              ("pymoo NSGA-II", run_pymoo), ("scipy differential_evolution", run_scipy))
 
 
+def write_section(text: str, operation: bool) -> None:
+    """Keep ``text`` in ``benchmarks/results/optimisers.md``: free vibration first, the section in operation after.
+
+    Writing one mode's section keeps the other's.
+    """
+    path = RESULTS / "optimisers.md"
+    old = path.read_text(encoding="utf-8") if path.exists() else ""
+    cut = old.find(OPERATION_MARKER)
+    free, op = (old, "") if cut < 0 else (old[:cut], old[cut:])
+    free, op = (free, text) if operation else (text, op)
+    new = free.rstrip("\n") + "\n" + ("\n" + op.rstrip("\n") + "\n" if op else "")
+    tmp = path.with_suffix(".md.tmp")
+    tmp.write_text(new, encoding="utf-8")
+    tmp.replace(path)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--write", action="store_true", help="also keep the table in benchmarks/results/optimisers.md")
+    parser.add_argument("--mode", choices=("free", "operation"), default="free",
+                        help="free vibration (default) or in operation (bench_optimisers_operation.py)")
+    parser.add_argument("--budget", type=int, default=None, help="in operation: evaluations per run (default 24)")
+    parser.add_argument("--seeds", type=int, default=None, help="in operation: seeds per library (default 3)")
+    parser.add_argument("--grid", type=int, default=None, help="in operation: points per side of the grid (0: none)")
     args = parser.parse_args(argv)
+    if args.mode == "operation":
+        from bench_optimisers_operation import main_operation
+
+        keep = (lambda text: write_section(text, operation=True)) if args.write else None
+        main_operation(budget=args.budget, seeds=args.seeds, grid=args.grid, keep=keep)
+        return 0
     reference = grid_best()
     lines = [f"Reference: best feasible max_spl_db of the {GRID} x {GRID} grid = {reference:.3f} dB "
              f"(band {BAND[0]:g}..{BAND[1]:g} m/s, gap {GAP[0]:g}..{GAP[1]:g} m, mass {MASS[0]:g}..{MASS[1]:g} kg, "
@@ -197,8 +229,8 @@ def main(argv=None) -> int:
             print(line, flush=True)
             lines.append(line)
     if args.write:
-        (RESULTS / "optimisers.md").write_text(
-            results_header("python benchmarks/bench_optimisers.py --write") + "\n\n" + "\n".join(lines) + "\n")
+        write_section(results_header("python benchmarks/bench_optimisers.py --write") + "\n\n" + "\n".join(lines),
+                      operation=False)
     return 0
 
 

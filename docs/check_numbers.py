@@ -618,6 +618,34 @@ def produce_bench_startup() -> dict:
     return {"cold": about(cold), "warm": about(warm)}
 
 
+#: The libraries of the comparison in operation: the guide's group suffix -> the results file's name.
+OPERATION_LIBRARIES = {"acv": "acoustiviz optimize (optuna TPE, penalty)", "plain": "optuna TPE (constraint not told)",
+                       "cf": "optuna TPE (constraints_func)", "pymoo": "pymoo NSGA-II",
+                       "scipy": "scipy differential_evolution"}
+
+
+def produce_optimisers_operation() -> dict:
+    """The guide's table of the libraries in operation (``python benchmarks/bench_optimisers.py --mode operation``).
+
+    Per library: the mean over the seeds of each run's best ``min_reduction_db`` in (a), the runs
+    within the tolerance of the reference, and the mean hypervolume in (b) as a share of the reference's.
+    """
+    _, text = _optimisers()
+    runs = _by_library(_md_rows(text, "| library | seed | best min_reduction_db"))
+    two = {r[0]: r for r in _md_rows(text, "| library | mean hypervolume")}
+    out = {"distinct": re.search(r"(\d+) distinct designs evaluated in all", text).group(1),
+           "ref_a": re.search(r"best feasible value of every evaluation = (-?[\d.]+) dB", text).group(1),
+           "ref_b": re.search(r"front of every evaluation = ([\d.]+) dB²", text).group(1),
+           "grid_a": re.search(r"grid alone = (-?[\d.]+) dB;", text).group(1),
+           "grid_b": re.search(r"grid alone = ([\d.]+) dB²", text).group(1)}
+    for key, name in OPERATION_LIBRARIES.items():
+        rows = runs[name]
+        out[f"a_{key}"] = f"{sum(float(r[2]) for r in rows) / len(rows):.2f}"
+        out[f"n_{key}"] = f"{sum(r[6] == 'yes' for r in rows)} of {len(rows)}"
+        if key != "scipy":
+            out[f"b_{key}"] = two[name][2]
+    return out
+
 # --------------------------------------------------------------------------- several balls (docs/guide/balls.md)
 def _md_rows(text: str, head: str) -> list:
     """Cells of the rows of the Markdown table whose header line starts with ``head``."""
@@ -699,6 +727,38 @@ CHOOSE_ARGS = ["optimize", "--gap", "0.02:0.06", "--m", "0.02:0.08", "--force", 
 def produce_choose_damper_cli() -> dict:
     """The console block of the gallery's optimisation in operation, run on the command line."""
     return {"output": _cli(CHOOSE_ARGS, cwd=_workdir("optimize"))}
+
+
+# --------------------------------------------------------------------------- optimisers (docs/guide/optimize.md)
+def _optimisers() -> tuple[str, str]:
+    """``benchmarks/results/optimisers.md`` cut into its free-vibration part and its part in operation."""
+    text = (ROOT / "benchmarks" / "results" / "optimisers.md").read_text(encoding="utf-8")
+    free, _, operation = text.partition("## In operation")
+    return free, operation
+
+
+def _by_library(rows) -> dict:
+    """``{library: [row, ...]}`` of a table whose first cell names the library."""
+    out = {}
+    for row in rows:
+        out.setdefault(row[0], []).append(row)
+    return out
+
+
+def produce_optimisers_free() -> dict:
+    """The guide's table of the libraries in free vibration (``python benchmarks/bench_optimisers.py``)."""
+    free, _ = _optimisers()
+    ref = float(re.search(r"grid = ([\d.]+) dB", free).group(1))
+    by = _by_library(_md_rows(free, "| library | seed | best value found (dB)"))
+
+    def passed(name):
+        return f"{sum(r[4] == 'yes' for r in by[name])} of {len(by[name])}"
+
+    acv, scipy = "acoustiviz optimize (optuna TPE, penalty)", "scipy differential_evolution"
+    above = _range([float(r[2]) - ref for r in by[acv]], ".3f", "–")
+    return {"ref": f"{ref:.3f}", "acv": passed(acv), "acv_above": above,
+            "optuna": passed("optuna TPE"), "pymoo": passed("pymoo NSGA-II"), "scipy": passed(scipy),
+            "scipy_n": _range([int(r[3]) for r in by[scipy]], "d", "–")}
 
 REGISTRY = (
     Figure("rooms-wav-images", "docs/guide/rooms.md",
@@ -876,6 +936,28 @@ REGISTRY = (
             r"\((?P<red>[\d.-]+) dB against (?P<t1_red>[\d.-]+) dB\) with a worst LCpeak (?P<dlcpeak>[\d.-]+) dB and "
             r"a worst LAeq (?P<dlaeq>[\d.-]+) dB lower;.*?is the worst of the three in operation "
             r"\((?P<other_red>[\d.-]+) dB\)").replace(" ", r"\s+"), produce_choose_damper, CHOOSE_CMD),
+    Figure("optimisers-free", "docs/guide/optimize.md",
+           r"900 designs, (?P<ref>[\d.]+) dB;.*?\| Optuna TPE, constraints as a graded penalty "
+           r"\(what `optimize` runs\) \| (?P<acv>\d+ of \d+) \((?P<acv_above>[\d.–]+) dB above\) \|\n"
+           r"\| Optuna TPE, its own constraint handling \| (?P<optuna>\d+ of \d+) \|\n"
+           r"\| pymoo NSGA-II, constraints as `G <= 0` \| (?P<pymoo>\d+ of \d+) \|\n"
+           r"\| scipy `differential_evolution` with a `NonlinearConstraint` \| (?P<scipy>\d+ of \d+), with "
+           r"(?P<scipy_n>[\d–]+) evaluations \|", produce_optimisers_free, "python benchmarks/bench_optimisers.py"),
+    Figure("optimisers-operation", "docs/guide/optimize.md",
+           r"\((?P<distinct>\d+) designs in all, a 6 × 6 grid included;\s+best `min_reduction_db` "
+           r"(?P<ref_a>-?[\d.]+) dB,\s+front hypervolume (?P<ref_b>[\d.]+) dB²; the grid alone:\s+"
+           r"(?P<grid_a>-?[\d.]+) dB and (?P<grid_b>[\d.]+) dB²\).*?"
+           r"\| Optuna TPE, graded penalty \(what `optimize` runs\) \| (?P<a_acv>-?[\d.]+) dB \| (?P<n_acv>\d+ of \d+) "
+           r"\| (?P<b_acv>\d+ %) \|\n"
+           r"\| Optuna TPE, constraint not told \| (?P<a_plain>-?[\d.]+) dB \| (?P<n_plain>\d+ of \d+) "
+           r"\| (?P<b_plain>\d+ %) \|\n"
+           r"\| Optuna TPE, its `constraints_func` \| (?P<a_cf>-?[\d.]+) dB \| (?P<n_cf>\d+ of \d+) "
+           r"\| (?P<b_cf>\d+ %) \|\n"
+           r"\| pymoo NSGA-II, constraint as `G <= 0` \| (?P<a_pymoo>-?[\d.]+) dB \| (?P<n_pymoo>\d+ of \d+) "
+           r"\| (?P<b_pymoo>\d+ %) \|\n"
+           r"\| scipy `differential_evolution`, `NonlinearConstraint` \| (?P<a_scipy>-?[\d.]+) dB "
+           r"\| (?P<n_scipy>\d+ of \d+) \|",
+           produce_optimisers_operation, "python benchmarks/bench_optimisers.py --mode operation"),
 )
 
 
