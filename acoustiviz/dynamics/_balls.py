@@ -476,6 +476,34 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
     return True, t + hstep, (h if changed >= 0 else _next_step(err, h, False)), changed, ie
 
 
+@helper
+def _rows_left(changed, y, pa, pb, hgp, active, n_rows, rows):
+    """True when the impact table has a row for every contact opening now (``changed`` and any other touching)."""
+    opening = 0
+    for q in range(pa.shape[0]):
+        if not active[q] and (q == changed or y[pa[q]] - y[pb[q]] - hgp[q] > 0.0):
+            opening += 1
+    return n_rows[0] + opening <= rows.shape[0]
+
+
+@helper
+def _toggle_changed(changed, t, h, y, nb, mass, pa, pb, hgp, kh, cav, loc, active, open_row, rows, n_rows, peaks):
+    """Toggle the pair located, and any other whose change fell on the same instant (to the time's rounding).
+
+    Returns the next step in s: no longer than the first step of a contact begun now.
+    """
+    npair = pa.shape[0]
+    before = np.sum(active)
+    for q in range(npair):
+        if q == changed or (y[pa[q]] - y[pb[q]] - hgp[q] > 0.0) != active[q]:
+            _toggle(q, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
+            if active[q]:
+                h = min(h, _first_step(q, y, nb, mass, pa, pb, kh)) if before > 0 else \
+                    _first_step(q, y, nb, mass, pa, pb, kh)
+                before = 1
+    return h
+
+
 @kernel
 def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_row, peaks, clock, t_stop, rtol,
               atol, t_eval, ie_arr, dense, rows, n_rows, max_steps, fc, ext):
@@ -496,7 +524,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     kst = np.zeros((_NS + 1, n))
     ytmp = np.zeros(n)
     ynew = np.zeros(n)
-    lone = lone_buffers(n, t_eval.shape[0])
+    lone = lone_buffers(n, t_eval.shape[0], fc)
     t, h, ie = clock[0], clock[1], ie_arr[0]
     status = STATUS_REACHED
     steps = 0
@@ -517,26 +545,16 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                 status = STATUS_STEP_UNDERFLOW
                 break
         if changed >= 0:
-            opening = 0
-            for q in range(npair):
-                if not active[q] and (q == changed or y[pa[q]] - y[pb[q]] - hgp[q] > 0.0):
-                    opening += 1
-            if n_rows[0] + opening > rows.shape[0]:
+            if not _rows_left(changed, y, pa, pb, hgp, active, n_rows, rows):
                 status = STATUS_MAX_IMPACTS
                 break
-            before = np.sum(active)
-            # the pair located, and any other whose change fell on the same instant (to the time's rounding)
-            for q in range(npair):
-                if q == changed or (y[pa[q]] - y[pb[q]] - hgp[q] > 0.0) != active[q]:
-                    _toggle(q, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
-                    if active[q]:
-                        h = min(h, _first_step(q, y, nb, mass, pa, pb, kh)) if before > 0 else \
-                            _first_step(q, y, nb, mass, pa, pb, kh)
-                        before = 1
+            h = _toggle_changed(changed, t, h, y, nb, mass, pa, pb, hgp, kh, cav, loc, active, open_row, rows, n_rows,
+                                peaks)
             _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, t)
-            if fc is None and flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
+            if flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
                 _, t, ie = lone_contact(np.argmax(active), t, y, nb, mass, pa, pb, hgp, kh, cc, loc, K, C, clip, a,
-                                        wd, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, lone)
+                                        wd, fc, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, ext,
+                                        lone)
         if ext is not None and fc is not None:
             ext[3] = max(ext[3], y[0])
             ext[4] = min(ext[4], y[0])
