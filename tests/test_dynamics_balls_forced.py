@@ -8,7 +8,7 @@ from _balls_reference import scipy_collisions
 
 from acoustiviz._validate import ParameterError
 from acoustiviz.dynamics import DamperModel
-from acoustiviz.dynamics.balls import BallState, Cavity, MultiBallModel
+from acoustiviz.dynamics.balls import BallState, Cavity, MultiBallModel, equal_balls
 from acoustiviz.dynamics.balls_forced import (
     ball_attractor_response,
     ball_attractors_at,
@@ -274,3 +274,58 @@ def test_first_forced_collisions_agree_with_an_independent_scipy_reference(n_bal
     assert pairs == [p for _, p in ref]
     assert len(set(pairs)) == n_balls + 1  # every wall and every neighbour pair collides
     assert np.max(np.abs(got.impacts.time[:20] - np.array([t for t, _ in ref]))) < TIME_TOL
+
+
+def test_forced_main_mass_flies_in_closed_form_beside_a_lone_contact_of_two_balls():
+    """Two balls collide alone while the forced main mass flies: inside and after the contact it follows
+    ``M x'' + C x' + K x = F(t)`` (an independent SciPy integration), and the balls keep their momentum."""
+    from scipy.integrate import solve_ivp
+
+    cav = equal_balls(2, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=0.0)
+    model = MultiBallModel((cav,), C=0.5)
+    ex = Excitation(3.0, 4.0)
+    q, _ = BallState(v=0.0).reduced(model)
+    start = BallState(v=0.0, y=tuple(q[1:] + cav.offsets), w=(1.0, 0.0))
+    r = simulate_balls(model, 0.05, initial=start, excitation=ex)
+    assert len(r.impacts) == 1 and (r.impacts.first[0], r.impacts.second[0]) == ("ball1", "ball2")
+    t0, dur = r.impacts.time[0], r.impacts.duration[0]
+    times = np.append(t0 + dur * np.array([0.25, 0.5, 0.75]), 0.05)
+    r = simulate_balls(model, 0.05, initial=start, excitation=ex, t_eval=times)
+    w = ex.omega
+
+    def main(t, s):
+        return [s[1], (ex.amplitude * math.cos(w * t) - model.K * s[0] - model.C * s[1]) / model.M]
+
+    ref = solve_ivp(main, (0.0, 0.05), [0.0, 0.0], t_eval=times, rtol=1e-12, atol=1e-15)
+    scale = np.max(np.abs(ref.y[0]))
+    assert scale > 0.0
+    assert np.max(np.abs(r.x - ref.y[0])) < 1e-9 * scale
+    assert np.max(np.abs(r.v - ref.y[1])) < 1e-9 * w * scale
+    assert 0.02 * r.w.sum(axis=1) == pytest.approx(np.full(4, 0.02 * 1.0), rel=1e-12)  # momentum of the balls
+    s = r.y - model.offsets()
+    assert np.all(s[:3, 0] - s[:3, 1] > 0.0)  # the three inner times lie inside the contact
+    e = r.energy
+    closure = e.initial + r.work_input - (e.kinetic + e.spring + e.hertz + e.dissipated_main + e.dissipated_contact)
+    assert abs(closure) < CLOSURE_RTOL * (e.initial + abs(r.work_input))
+
+
+def test_forced_overlapping_contacts_leave_the_lone_path_and_agree_with_scipy():
+    """A ball strikes a column whose next gap (0.1 um) closes while the first contact lasts, the main mass forced.
+
+    The contact begins alone, but the struck ball reaches its neighbour before it parts: it is taken again
+    from its onset with every body integrated together, and the touches agree with the SciPy reference.
+    """
+    cav = equal_balls(3, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=0.0)
+    model = MultiBallModel((cav,), C=0.5)
+    ex = Excitation(3.0, 4.0)
+    q = np.array([-0.005, 0.0, 1e-7])  # reduced coordinates: neighbours touch when theirs coincide
+    start = BallState(v=0.0, y=tuple(q + cav.offsets), w=(1.0, 0.0, 0.0))
+    ref = scipy_collisions(model, 2, t_max=0.02, initial=start, excitation=ex)
+    r = simulate_balls(model, 0.02, initial=start, t_eval=[0.02], excitation=ex)
+    imp = r.impacts
+    assert len(ref) == 2 and len(imp) == 2
+    assert [(imp.first[k], imp.second[k]) for k in range(2)] == [("ball1", "ball2"), ("ball2", "ball3")]
+    assert [p for _, p in ref] == [1, 2]
+    assert np.max(np.abs(imp.time - np.array([t for t, _ in ref]))) < TIME_TOL
+    assert imp.time[1] < imp.end[0]  # overlapping contacts
+    assert 0.02 * r.w[-1].sum() == pytest.approx(0.02 * 1.0, rel=1e-12)  # momentum of the balls
