@@ -25,8 +25,9 @@ output times inside a step, and the peak force, come from the quintic Hermite in
 step (positions, velocities, accelerations at both ends; error of order h^6).
 
 Lone contact (a flight ends with exactly one pair touching): a two-body problem, integrated by the
-single-ball solver's contact kernel in its sqrt(δ) time (:mod:`._balls_lone`), so one ball in one
-cavity reproduces the single-ball solver bit for bit. Should another pair have touched meanwhile,
+single-ball solver's contact kernel in its sqrt(δ) time (:mod:`._balls_lone`), with forcing too, so
+one ball in one cavity reproduces the single-ball solver (free) and the single-ball forced driver bit
+for bit. Should another pair have touched meanwhile, or the contact outlast the batch's stop time,
 the contact is taken again from its onset by the general path above.
 
 Impact rows (``IMPACT_ROW_COLUMNS``): start s, end s, cavity, pair (0: wall- and ball 1, j: ball j

@@ -62,7 +62,8 @@ def _contact_forcing(fc, fz, mb):
     """The forcing vector the contact kernel gets: ``fc`` on a wall (``mb`` 0: the main mass in contact).
 
     Between two balls none acts, but the kernel runs with the forcing's state (``fz``, zero forcing:
-    F = 0 and its work stays 0), so that one compiled contact serves both kinds.
+    F = 0 and its work stays 0), so that one compiled contact serves both kinds. (Its error norm then
+    averages over one more component, always zero: the steps grow by (9/8)^(1/16), under 1 %.)
     """
     if fc is None:
         return fc
