@@ -5,11 +5,14 @@ in the pytest settings) import it as ``_balls_reference``.
 
 The equations of :mod:`acoustiviz.dynamics.balls` are written out here again, in NumPy: state =
 reduced positions then velocities of the main mass and the balls; every pair in contact pushes its
-bodies apart with ``K d^1.5 + c dd/dt``. ``solve_ivp(method="DOP853")`` integrates them with a
-terminal event on every pair, restarted at each event (the force law changes form there).
+bodies apart with ``K d^1.5 + c dd/dt``; with an excitation the main mass also carries
+``F(t) = P cos ωt + Q sin ωt``. ``solve_ivp(method="DOP853")`` integrates them with a terminal event on
+every pair, restarted at each event (the force law changes form there).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -23,12 +26,16 @@ REFERENCE_RTOL = 1e-13
 
 
 def scipy_collisions(model: MultiBallModel, n_collisions: int, t_max: float = 2.0,
-                     initial: BallState | None = None) -> list:
+                     initial: BallState | None = None, excitation=None) -> list:
     """First touches ``(time s, pair index)`` of the first ``n_collisions`` collisions, up to ``t_max`` s.
 
     Between events the right-hand side is smooth: a pair in contact keeps its law, continued oddly
     past d = 0, until the event switches it off. ``initial`` defaults to :class:`BallState` ().
+    ``excitation`` (an :class:`~acoustiviz.dynamics.forced.Excitation`, None for free vibration): the
+    force on the main mass, from its angular frequency and ``(P, Q)`` alone (``force_coefficients``).
     """
+    om = 0.0 if excitation is None else excitation.omega
+    fp, fq = (0.0, 0.0) if excitation is None else excitation.force_coefficients(model)
     pr, mass = model.pairs(), model.masses()
     pa, pb, hg, kh, cc = pr["pa"], pr["pb"], pr["hg"], pr["kh"], pr["cc"]
     nb = mass.size
@@ -39,7 +46,7 @@ def scipy_collisions(model: MultiBallModel, n_collisions: int, t_max: float = 2.
     def rhs(t, s):
         q, u = s[:nb], s[nb:]
         acc = np.zeros(nb)
-        acc[0] = -model.K * q[0] - model.C * u[0]
+        acc[0] = -model.K * q[0] - model.C * u[0] + fp * math.cos(om * t) + fq * math.sin(om * t)
         d = q[pa] - q[pb] - hg
         f = np.where(active, kh * d * np.sqrt(np.abs(d)) + cc * (u[pa] - u[pb]), 0.0)
         np.add.at(acc, pa, -f)

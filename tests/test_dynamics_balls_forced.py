@@ -4,10 +4,11 @@ import math
 
 import numpy as np
 import pytest
+from _balls_reference import scipy_collisions
 
 from acoustiviz._validate import ParameterError
 from acoustiviz.dynamics import DamperModel
-from acoustiviz.dynamics.balls import BallState, Cavity, MultiBallModel
+from acoustiviz.dynamics.balls import BallState, Cavity, MultiBallModel, equal_balls
 from acoustiviz.dynamics.balls_forced import (
     ball_attractor_response,
     ball_attractors_at,
@@ -21,6 +22,10 @@ from acoustiviz.dynamics.forced import Excitation, attractors_at, check_settings
 PERIODIC = DamperModel(C=5.0)
 PERIODIC_FORCING = Excitation(4.0, 10.0)
 AMPLITUDE_RTOL = 1e-6
+#: Agreement wanted of collision times with the SciPy reference, in s.
+TIME_TOL = 1e-8
+#: The energy account with forcing: closure relative to the work of F.
+CLOSURE_RTOL = 1e-9
 
 
 def _linear(model, frequency, force):
@@ -185,3 +190,142 @@ def test_the_response_has_the_shape_of_forced(sweep, seeded):
         assert a.amplitude == pytest.approx(abs(_linear(model, resp.frequencies[i], 4.0)), rel=1e-9)
     # the attractors of each frequency continued to its neighbour(s) in the sweep's direction(s)
     assert [fa.seeded for fa in resp.per_frequency] == seeded
+
+
+def _single_ball_driver(model, ex, start, duration, rtol):
+    """The single-ball forced driver (event solver, compliant contacts) from ``start`` over ``duration`` s in one call.
+
+    Returns the impact rows (``IMPACT_COLUMNS``), the final ``(x, v, y, w)`` and the work of F and the
+    energy dissipated by C in J.
+    """
+    from acoustiviz.dynamics import _forced_driver as fd
+    from acoustiviz.dynamics._records import params_record
+    from acoustiviz.dynamics.forced import _params, _together
+
+    st = np.zeros(8)
+    st[:4] = start
+    imp = np.zeros((20000, 8))
+    acc = np.zeros(5)
+    n, status = fd.advance(params_record(_params(model)), ex.vector(model), _together(model, ex, "event"), st, 0.0,
+                           duration, None, rtol, imp, 0, imp.shape[0], acc, False)
+    assert status == 0
+    return imp[:n], st[:4], acc[0], acc[1]
+
+
+@pytest.mark.parametrize(("model", "ex", "cycles"), [(PERIODIC, PERIODIC_FORCING, 20),
+                                                     (DamperModel(C=2.0), Excitation(5.0, 5.0), 100),
+                                                     (DamperModel(C=2.0, clip_tensile=True), Excitation(5.0, 5.0),
+                                                      50)])
+def test_one_ball_in_operation_bit_for_bit(model, ex, cycles):
+    """One ball in one cavity under forcing: the multi-ball path runs the single-ball forced driver's arithmetic.
+
+    Each contact alone is the single-ball forced contact (the same compiled kernel, with the forcing and the
+    contact's start time) and each flight the same closed form, so over ``cycles`` forcing cycles (hundreds of
+    impacts for the second case) the impact tables, the final state, the work of F and the energy dissipated by
+    C are identical, not merely close. (Both are advanced over the whole run in one call: the multi-ball cycle
+    runner ends its cycles at ``k T`` s, the single-ball one at ``(k - 1) T + T`` s, one rounding apart.)
+    """
+    from acoustiviz.dynamics.forced import linear_start
+
+    x, v, y, w = start = linear_start(model, ex)
+    duration = cycles * ex.period
+    rows, final, work, diss = _single_ball_driver(model, ex, start, duration, 1e-10)
+    got = simulate_balls(MultiBallModel.from_damper(model, 1), duration, initial=BallState(x=x, v=v, y=(y,), w=(w,)),
+                         excitation=ex, rtol=1e-10, t_eval=[duration])
+    assert got.success
+    b = got.impacts
+    assert len(rows) >= 4 * cycles and len(b) == len(rows)
+    for name, col in (("time", 0), ("approach_velocity", 2), ("separation_velocity", 3), ("peak_force", 5),
+                      ("impulse", 6), ("energy_lost", 7)):
+        assert np.array_equal(getattr(b, name), rows[:, col]), name
+    assert np.array_equal(b.end, rows[:, 0] + rows[:, 4])
+    walls = np.where(rows[:, 1] > 0, "wall+", "wall-")
+    assert list(np.where(b.first == "ball1", b.second, b.first)) == list(walls)
+    assert (got.x[-1], got.v[-1], got.y[-1, 0], got.w[-1, 0]) == tuple(final)
+    assert got.work_input == work and got.energy.dissipated_main == diss
+
+
+@pytest.mark.parametrize("n_balls", [1, 2, 3])
+def test_energy_balance_closes_with_forcing_from_the_linear_start(n_balls):
+    """Work of F = energy dissipated (dashpot and contacts) + change of mechanical energy, over hundreds of
+    collisions of balls on walls and on one another."""
+    model = MultiBallModel.from_damper(DamperModel(C=2.0), n_balls)
+    ex = Excitation(5.0, 5.0)
+    r = simulate_balls(model, 3.0, initial=ball_start_states(model, ex, 1)[0], excitation=ex)
+    e = r.energy
+    assert r.success and len(r.impacts) > 50 * n_balls and r.work_input > 0
+    closure = e.initial + r.work_input - (e.kinetic + e.spring + e.hertz + e.dissipated_main + e.dissipated_contact)
+    assert abs(closure) < CLOSURE_RTOL * r.work_input
+
+
+@pytest.mark.parametrize("n_balls", [2, 3])
+def test_first_forced_collisions_agree_with_an_independent_scipy_reference(n_balls):
+    """A column in operation: lone contacts of balls with walls and with one another, the main mass forced."""
+    model = MultiBallModel.from_damper(DamperModel(C=2.0), n_balls)
+    ex = Excitation(5.0, 5.0)
+    start = ball_start_states(model, ex, 1)[0]
+    ref = scipy_collisions(model, 20, initial=start, excitation=ex)
+    got = simulate_balls(model, ref[-1][0] + 1e-3, initial=start, excitation=ex)
+    assert len(ref) == 20
+    pr = model.pairs()
+    first_pair = {("wall-" if a == 0 else f"ball{a}", "wall+" if b == 0 else f"ball{b}"): p
+                  for p, (a, b) in enumerate(zip(pr["pa"], pr["pb"], strict=True))}
+    pairs = [first_pair[(f, s)] for f, s in zip(got.impacts.first[:20], got.impacts.second[:20], strict=True)]
+    assert pairs == [p for _, p in ref]
+    assert len(set(pairs)) == n_balls + 1  # every wall and every neighbour pair collides
+    assert np.max(np.abs(got.impacts.time[:20] - np.array([t for t, _ in ref]))) < TIME_TOL
+
+
+def test_forced_main_mass_flies_in_closed_form_beside_a_lone_contact_of_two_balls():
+    """Two balls collide alone while the forced main mass flies: inside and after the contact it follows
+    ``M x'' + C x' + K x = F(t)`` (an independent SciPy integration), and the balls keep their momentum."""
+    from scipy.integrate import solve_ivp
+
+    cav = equal_balls(2, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=0.0)
+    model = MultiBallModel((cav,), C=0.5)
+    ex = Excitation(3.0, 4.0)
+    q, _ = BallState(v=0.0).reduced(model)
+    start = BallState(v=0.0, y=tuple(q[1:] + cav.offsets), w=(1.0, 0.0))
+    r = simulate_balls(model, 0.05, initial=start, excitation=ex)
+    assert len(r.impacts) == 1 and (r.impacts.first[0], r.impacts.second[0]) == ("ball1", "ball2")
+    t0, dur = r.impacts.time[0], r.impacts.duration[0]
+    times = np.append(t0 + dur * np.array([0.25, 0.5, 0.75]), 0.05)
+    r = simulate_balls(model, 0.05, initial=start, excitation=ex, t_eval=times)
+    w = ex.omega
+
+    def main(t, s):
+        return [s[1], (ex.amplitude * math.cos(w * t) - model.K * s[0] - model.C * s[1]) / model.M]
+
+    ref = solve_ivp(main, (0.0, 0.05), [0.0, 0.0], t_eval=times, rtol=1e-12, atol=1e-15)
+    scale = np.max(np.abs(ref.y[0]))
+    assert scale > 0.0
+    assert np.max(np.abs(r.x - ref.y[0])) < 1e-9 * scale
+    assert np.max(np.abs(r.v - ref.y[1])) < 1e-9 * w * scale
+    assert 0.02 * r.w.sum(axis=1) == pytest.approx(np.full(4, 0.02 * 1.0), rel=1e-12)  # momentum of the balls
+    s = r.y - model.offsets()
+    assert np.all(s[:3, 0] - s[:3, 1] > 0.0)  # the three inner times lie inside the contact
+    e = r.energy
+    closure = e.initial + r.work_input - (e.kinetic + e.spring + e.hertz + e.dissipated_main + e.dissipated_contact)
+    assert abs(closure) < CLOSURE_RTOL * (e.initial + abs(r.work_input))
+
+
+def test_forced_overlapping_contacts_leave_the_lone_path_and_agree_with_scipy():
+    """A ball strikes a column whose next gap (0.1 um) closes while the first contact lasts, the main mass forced.
+
+    The contact begins alone, but the struck ball reaches its neighbour before it parts: it is taken again
+    from its onset with every body integrated together, and the touches agree with the SciPy reference.
+    """
+    cav = equal_balls(3, 0.02, 0.1, 1e9, 0.0, k_ball=5e8, c_ball=0.0)
+    model = MultiBallModel((cav,), C=0.5)
+    ex = Excitation(3.0, 4.0)
+    q = np.array([-0.005, 0.0, 1e-7])  # reduced coordinates: neighbours touch when theirs coincide
+    start = BallState(v=0.0, y=tuple(q + cav.offsets), w=(1.0, 0.0, 0.0))
+    ref = scipy_collisions(model, 2, t_max=0.02, initial=start, excitation=ex)
+    r = simulate_balls(model, 0.02, initial=start, t_eval=[0.02], excitation=ex)
+    imp = r.impacts
+    assert len(ref) == 2 and len(imp) == 2
+    assert [(imp.first[k], imp.second[k]) for k in range(2)] == [("ball1", "ball2"), ("ball2", "ball3")]
+    assert [p for _, p in ref] == [1, 2]
+    assert np.max(np.abs(imp.time - np.array([t for t, _ in ref]))) < TIME_TOL
+    assert imp.time[1] < imp.end[0]  # overlapping contacts
+    assert 0.02 * r.w[-1].sum() == pytest.approx(0.02 * 1.0, rel=1e-12)  # momentum of the balls

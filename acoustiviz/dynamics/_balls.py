@@ -25,8 +25,9 @@ output times inside a step, and the peak force, come from the quintic Hermite in
 step (positions, velocities, accelerations at both ends; error of order h^6).
 
 Lone contact (a flight ends with exactly one pair touching): a two-body problem, integrated by the
-single-ball solver's contact kernel in its sqrt(δ) time (:mod:`._balls_lone`), so one ball in one
-cavity reproduces the single-ball solver bit for bit. Should another pair have touched meanwhile,
+single-ball solver's contact kernel in its sqrt(δ) time (:mod:`._balls_lone`), with forcing too, so
+one ball in one cavity reproduces the single-ball solver (free) and the single-ball forced driver bit
+for bit. Should another pair have touched meanwhile, or the contact outlast the batch's stop time,
 the contact is taken again from its onset by the general path above.
 
 Impact rows (``IMPACT_ROW_COLUMNS``): start s, end s, cavity, pair (0: wall- and ball 1, j: ball j
@@ -477,11 +478,31 @@ def _contact_step(t, h, y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp,
 
 
 @helper
-def _track_extremes(ext, fc, y):
-    """With forcing, gather the largest/smallest main-mass displacement in m into ``ext[3]``/``ext[4]``."""
-    if ext is not None and fc is not None:
-        ext[3] = max(ext[3], y[0])
-        ext[4] = min(ext[4], y[0])
+def _rows_left(changed, y, pa, pb, hgp, active, n_rows, rows):
+    """True when the impact table has a row for every contact opening now (``changed`` and any other touching)."""
+    opening = 0
+    for q in range(pa.shape[0]):
+        if not active[q] and (q == changed or y[pa[q]] - y[pb[q]] - hgp[q] > 0.0):
+            opening += 1
+    return n_rows[0] + opening <= rows.shape[0]
+
+
+@helper
+def _toggle_changed(changed, t, h, y, nb, mass, pa, pb, hgp, kh, cav, loc, active, open_row, rows, n_rows, peaks):
+    """Toggle the pair located, and any other whose change fell on the same instant (to the time's rounding).
+
+    Returns the next step in s: no longer than the first step of a contact begun now.
+    """
+    npair = pa.shape[0]
+    before = np.sum(active)
+    for q in range(npair):
+        if q == changed or (y[pa[q]] - y[pb[q]] - hgp[q] > 0.0) != active[q]:
+            _toggle(q, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
+            if active[q]:
+                h = min(h, _first_step(q, y, nb, mass, pa, pb, kh)) if before > 0 else \
+                    _first_step(q, y, nb, mass, pa, pb, kh)
+                before = 1
+    return h
 
 
 @kernel
@@ -504,7 +525,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     kst = np.zeros((_NS + 1, n))
     ytmp = np.zeros(n)
     ynew = np.zeros(n)
-    lone = lone_buffers(n, t_eval.shape[0])
+    lone = lone_buffers(n, t_eval.shape[0], fc)
     t, h, ie = clock[0], clock[1], ie_arr[0]
     status = STATUS_REACHED
     steps = 0
@@ -525,27 +546,19 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                 status = STATUS_STEP_UNDERFLOW
                 break
         if changed >= 0:
-            opening = 0
-            for q in range(npair):
-                if not active[q] and (q == changed or y[pa[q]] - y[pb[q]] - hgp[q] > 0.0):
-                    opening += 1
-            if n_rows[0] + opening > rows.shape[0]:
+            if not _rows_left(changed, y, pa, pb, hgp, active, n_rows, rows):
                 status = STATUS_MAX_IMPACTS
                 break
-            before = np.sum(active)
-            # the pair located, and any other whose change fell on the same instant (to the time's rounding)
-            for q in range(npair):
-                if q == changed or (y[pa[q]] - y[pb[q]] - hgp[q] > 0.0) != active[q]:
-                    _toggle(q, t, y, nb, npair, pa, pb, cav, loc, active, open_row, rows, n_rows, peaks)
-                    if active[q]:
-                        h = min(h, _first_step(q, y, nb, mass, pa, pb, kh)) if before > 0 else \
-                            _first_step(q, y, nb, mass, pa, pb, kh)
-                        before = 1
+            h = _toggle_changed(changed, t, h, y, nb, mass, pa, pb, hgp, kh, cav, loc, active, open_row, rows, n_rows,
+                                peaks)
             _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, t)
-            if fc is None and flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
+            if flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
                 _, t, ie = lone_contact(np.argmax(active), t, y, nb, mass, pa, pb, hgp, kh, cc, loc, K, C, clip, a,
-                                        wd, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, lone)
-        _track_extremes(ext, fc, y)
+                                        wd, fc, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, ext,
+                                        lone)
+        if ext is not None and fc is not None:
+            ext[3] = max(ext[3], y[0])
+            ext[4] = min(ext[4], y[0])
     clock[0] = t
     clock[1] = h
     ie_arr[0] = ie

@@ -71,6 +71,9 @@ MIN_FD_STEP = 1e-8
 PACKED_CLEARANCE = 1e-9
 #: Scaled distance under which two periodic motions of the balls are one attractor (the single-ball rule).
 BALL_SAME_ORBIT = 1e-4
+#: A period whose section points also return within this many tolerances at a shorter period (a divisor)
+#: is an orbit of the shorter period still settling (:func:`_returned`).
+SHORTER_PERIOD_MARGIN = 10.0
 
 
 def _stand_in(model: MultiBallModel) -> DamperModel:
@@ -294,13 +297,25 @@ def _failed(model, excitation, settings, k, why):
         stable=False, cycles_integrated=int(k))
 
 
+def _return_gap(pts, k, n) -> float:
+    """Largest distance (m, m/s) of the last ``n`` section points up to ``k`` from those ``n`` cycles before."""
+    return max(float(np.max(np.abs(pts[j] - pts[j - n]))) for j in range(k - n + 1, k + 1))
+
+
 def _returned(rec, k, tol) -> int:
-    """The smallest period n <= MAX_PERIOD whose last n section points all return within ``tol``, else 0."""
+    """The smallest period n <= MAX_PERIOD whose last n section points all return within ``tol``, else 0.
+
+    A period n whose points also return within ``SHORTER_PERIOD_MARGIN`` tol at a divisor d of n is not
+    decided yet (0): that is an orbit of period d approached by deviations that alternate (multipliers of
+    negative real part), which returns at n before it does at d; the run goes on until it returns at d.
+    """
     pts = rec.pts
     for n in range(1, MAX_PERIOD + 1):
         if k < 2 * n:
             break
-        if all(np.max(np.abs(pts[j] - pts[j - n])) < tol for j in range(k - n + 1, k + 1)):
+        if _return_gap(pts, k, n) < tol:
+            if any(n % d == 0 and _return_gap(pts, k, d) < SHORTER_PERIOD_MARGIN * tol for d in range(1, n)):
+                return 0
             return n
     return 0
 
