@@ -113,6 +113,10 @@ class SteadyStateOptions:
         Scaled return distance below which a start's best period guess is tried by shooting at the
         checkpoints of :mod:`._attractors` (> 0; inf, the default: at every checkpoint;
         :data:`._attractors.SCREENED_CHECKPOINT_RETURN` screens out the points far from any orbit).
+    reuse_known : bool
+        A start whose shooting converges onto a stable periodic orbit already found at its frequency ends
+        on it without measuring the orbit and its Floquet multipliers again (False, the default: it is
+        measured again, then recognised; see :mod:`._attractors`).
     """
 
     solver: str = "event"
@@ -124,6 +128,7 @@ class SteadyStateOptions:
     steps_per_cycle: int | None = None
     max_impacts_per_cycle: int = 200
     checkpoint_return: float = math.inf
+    reuse_known: bool = False
 
     def describe(self) -> dict:
         """The settings as a flat dict (for CSV and summaries)."""
@@ -476,8 +481,11 @@ def check_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOpt
     ret = settings.checkpoint_return
     if not (isinstance(ret, float) and ret == math.inf):  # inf: every checkpoint tried
         ret = check_range("checkpoint_return", ret, 0.0, math.inf, low_open=True)
+    if not isinstance(settings.reuse_known, bool):
+        raise ParameterError("reuse_known", f"must be True or False, got {settings.reuse_known!r}")
     return SteadyStateOptions(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
-                              steps_per_cycle=None if spc is None else int(spc), checkpoint_return=ret, **ints)
+                              steps_per_cycle=None if spc is None else int(spc), checkpoint_return=ret,
+                              reuse_known=settings.reuse_known, **ints)
 
 
 def _start(model, excitation, initial) -> tuple:
