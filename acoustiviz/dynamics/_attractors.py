@@ -43,8 +43,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._jit import compile_for
+from ._forced_direct import run_cycles
 from ._forced_steady import (
     BATCH_CYCLES,
+    FORCED_COMPILE_S,
     MAX_PERIOD,
     WINDOW_BATCHES,
     Excitation,
@@ -85,6 +88,8 @@ CAPTURE_DISTANCE = 1e-4
 PROBE_CYCLES = 64
 #: Cycles of a probe's statistics.
 PROBE_WINDOW = 32
+_CHECKPOINTS = np.array(CHECKPOINTS, dtype=np.int64)
+_COMPILED = {}  # solver -> the direct-run kernel is compiled in this process
 
 
 def start_states(model: DamperModel, excitation: Excitation, count: int) -> list:
@@ -141,6 +146,11 @@ class _Settler:
         self.periodic_known = [(i, a) for i, a in enumerate(known) if a.period and a.stable]
         self.chaotic_known = [(i, a) for i, a in enumerate(known) if not a.period and a.success]
         self.landed = None  # the known stable orbit a shooting converged to
+        orbits = [a.poincare / self.scale for _, a in self.periodic_known]
+        self.orbits = np.concatenate(orbits) if orbits else np.empty((0, 4))
+        self.orbit_cols = np.concatenate([np.full(len(a.poincare), 2 if a.impacts_per_cycle == 0 else 4)
+                                          for _, a in self.periodic_known]).astype(np.int64) if orbits else \
+            np.empty(0, dtype=np.int64)
 
     def refine(self, point, n, k):
         """Shoot a period-``n`` orbit from ``point`` (cycle ``k``); its measured steady state, or None.
@@ -231,6 +241,31 @@ class _Settler:
             self.out.unstable.append(steady)
         return False
 
+    def advance(self, k0, next_try):
+        """Run cycles ``k0``, ... until one may need the search (:func:`._forced_direct.run_cycles`).
+
+        Returns ``(k, failed)``: the cycle reached and a failed outcome when the solver stopped there.
+        Newmark runs one cycle at a time.
+        """
+        run, s = self.run, self.settings
+        if run.solver == "newmark":
+            return k0, self.step(k0)
+        args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp,
+                min(run.cap, run.imp.shape[0] - 1), k0, s.max_cycles, self.scale, self.pts, self.xhi, self.xlo,
+                self.ipc, self.orbits, self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS,
+                s.checkpoint_return, next_try, PROBE_CYCLES if self.chaotic_known else 0)
+        if not _COMPILED.get(run.solver):  # say so once if the kernels are compiled now
+            compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[run.solver])
+            _COMPILED[run.solver] = True
+        k, status = run_cycles(*args)
+        run.k += k - k0 + 1
+        run.total += k - k0 + 1
+        if status != STATUS_OK:
+            self.out.steady = _failed(self.model, self.excitation, s, k, status, run.state(), self.total + run.total)
+            return k, self.out
+        self.section = run.section()
+        return k, None
+
     def step(self, k):
         """Integrate cycle ``k``; a failed outcome when the solver stopped, else None."""
         acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
@@ -276,17 +311,16 @@ def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _O
     if seed_period and st.seed(seed_period):
         return st.out
     next_try, wait = 0, 8
-    prev = np.full(MAX_PERIOD + 1, np.inf)
-    for k in range(1, settings.max_cycles + 1):
-        failed = st.step(k)
+    k = 0
+    while k < settings.max_cycles:  # from one cycle that may need the search to the next
+        k, failed = st.advance(k + 1, next_try)
         if failed is not None:
             return failed
         i = st.periodic_capture(k)
         if i is not None:
             return st.captured(i)
         d = _period_guess(st.pts, k)
-        close = np.flatnonzero((d < TRIGGER) & (prev < TRIGGER))
-        prev = d
+        close = np.flatnonzero((d < TRIGGER) & (_period_guess(st.pts, k - 1) < TRIGGER))
         checkpoint = k in CHECKPOINTS and float(np.min(d)) < settings.checkpoint_return
         n = int(close[0]) if close.size else (int(np.argmin(d)) if checkpoint else 0)
         if n and k >= next_try:
