@@ -233,7 +233,9 @@ def breakdown(specs, before: str | None) -> None:
         sides[name] = json.loads(proc.stdout.splitlines()[-1])
     n = sum(len(spec.designs()) for _, spec in specs)
     print(f"where the forcing cycles go, per design from scratch (mean of {n}); starts include the seeds "
-          "continued from the neighbouring frequency")
+          "continued from the neighbouring frequency. Direct runs: each start's cycles less those of its shootings "
+          "and measurements (a measurement that finds a smaller period is left out of a start's cycles, so it shows "
+          "here as fewer direct cycles).")
     print(f"{'phase':>40} |" + "".join(f" {name:>8}" for name in sides))
     for p in PHASES:
         print(f"{p:>40} |" + "".join(f" {s['cycles'].get(p, 0) / n:8.0f}" for s in sides.values()))
