@@ -146,6 +146,7 @@ class _Settler:
         self.periodic_known = [(i, a) for i, a in enumerate(known) if a.period and a.stable]
         self.chaotic_known = [(i, a) for i, a in enumerate(known) if not a.period and a.success]
         self.landed = None  # the known stable orbit a shooting converged to
+        self.acc = np.empty(5)  # the direct run's accumulators of one cycle
         orbits = [a.poincare / self.scale for _, a in self.periodic_known]
         self.orbits = np.concatenate(orbits) if orbits else np.empty((0, 4))
         self.orbit_cols = np.concatenate([np.full(len(a.poincare), 2 if a.impacts_per_cycle == 0 else 4)
@@ -250,14 +251,14 @@ class _Settler:
         run, s = self.run, self.settings
         if run.solver == "newmark":
             return k0, self.step(k0)
-        args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp,
-                min(run.cap, run.imp.shape[0] - 1), k0, s.max_cycles, self.scale, self.pts, self.xhi, self.xlo,
-                self.ipc, self.orbits, self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS,
-                s.checkpoint_return, next_try, PROBE_CYCLES if self.chaotic_known else 0)
+        args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp, 0,
+                min(run.cap, run.imp.shape[0] - 1), self.acc, True, True, k0, s.max_cycles, self.scale, self.pts,
+                self.xhi, self.xlo, self.ipc, self.orbits, self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS,
+                float(s.checkpoint_return), next_try, PROBE_CYCLES if self.chaotic_known else 0)
         if not _COMPILED.get(run.solver):  # say so once if the kernels are compiled now
             compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[run.solver])
             _COMPILED[run.solver] = True
-        k, status = run_cycles(*args)
+        k, status, _ = run_cycles(*args)
         run.k += k - k0 + 1
         run.total += k - k0 + 1
         if status != STATUS_OK:

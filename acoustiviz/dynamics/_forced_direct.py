@@ -23,7 +23,8 @@ from ._status import STATUS_OK
 @helper
 def _returns(pts, k, max_period, d):
     """Scaled distances ``d[n]`` of section point ``k`` to point ``k - n``, n = 1..max_period (inf where k < n)."""
-    d[:] = np.inf
+    for n in range(max_period + 1):  # elementwise: a slice assignment compiles a shape check and its message
+        d[n] = np.inf
     for n in range(1, min(max_period, k) + 1):
         m = 0.0
         for c in range(4):
@@ -65,15 +66,25 @@ def _period_due(d, prev, trigger, k, checkpoints, checkpoint_return):
 
 
 @kernel
-def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, cap, k0, k1, scale, pts, xhi, xlo, ipc,
-               orbits, orbit_cols, capture, trigger, checkpoints, checkpoint_return, next_try, probe):
+def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc, extrema, record, k0, k1, scale,
+               pts, xhi, xlo, ipc, orbits, orbit_cols, capture, trigger, checkpoints, checkpoint_return, next_try,
+               probe):
     """Run cycles ``k0``..``k1`` of a start (``j0`` cycles run before ``k0``) until one may need the search.
+
+    The one compiled entry of the forced driver for the event solver and the impact map: with
+    ``record`` False it runs the single cycle ``k0 = k1`` from impact row ``n0`` adding to ``acc``
+    (extrema when ``extrema``), as :meth:`._forced_steady._Runner.cycle` asks; the search's
+    arguments after ``record`` are then not used.
 
     Parameters
     ----------
-    prm, fc, fcs, st, restitution, rtol, impacts
-        As :func:`._forced_driver.advance` (``st`` updated in place; each cycle writes its impact rows
-        from row 0, up to ``cap``).
+    prm, fc, fcs, st, restitution, rtol, impacts, n0, acc, extrema
+        As :func:`._forced_driver.advance` (``st`` updated in place; with ``record`` each cycle writes
+        its impact rows from row 0 up to ``cap`` and its accumulators into ``acc``, reset each cycle).
+    cap : int
+        The impact row limit.
+    record : bool
+        Run the search's cycles (True) or one plain cycle (False).
     j0 : int
         Cycles the run has done since its start: cycle ``k`` spans ``[(j0 + k - k0) T, (j0 + k - k0 + 1) T]``.
     T : float
@@ -102,24 +113,28 @@ def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, cap, k0, k1,
     Returns
     -------
     tuple of int
-        ``(k, status)``: the last cycle run, at which the search looks (``k1`` when none stopped the
-        run earlier), and the driver's status of that cycle.
+        ``(k, status, n)``: the last cycle run, at which the search looks (``k1`` when none stopped the
+        run earlier), the driver's status of that cycle and its next free impact row.
     """
     max_period = 8
     d = np.empty(max_period + 1)
     prev = np.empty(max_period + 1)
-    _returns(pts, k0 - 1, max_period, prev)
-    acc = np.empty(5)
+    if record:
+        _returns(pts, k0 - 1, max_period, prev)
+    row0 = 0 if record else n0
     for k in range(k0, k1 + 1):
         t0 = (j0 + k - k0) * T
-        acc[0] = 0.0
-        acc[1] = 0.0
-        acc[2] = 0.0
-        acc[3] = -np.inf
-        acc[4] = np.inf
-        n, status = fd.advance(prm, fc, fcs, st, t0, t0 + T, restitution, rtol, impacts, 0, cap, acc, True)
-        if status != STATUS_OK:
-            return k, status
+        if record:
+            acc[0] = 0.0
+            acc[1] = 0.0
+            acc[2] = 0.0
+            acc[3] = -np.inf
+            acc[4] = np.inf
+        # the driver's one call site here: each call site inlines a copy of it
+        n, status = fd.advance_inline(prm, fc, fcs, st, t0, t0 + T, restitution, rtol, impacts, row0, cap, acc,
+                                      extrema)
+        if status != STATUS_OK or not record:
+            return k, status, n
         xhi[k] = acc[3]
         xlo[k] = acc[4]
         ipc[k] = n
@@ -128,13 +143,14 @@ def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, cap, k0, k1,
         pts[k, 2] = (st[2] - st[0]) / scale[2]
         pts[k, 3] = (st[3] - st[1]) / scale[3]
         if k == k1:
-            break
+            return k, status, n
         if _on_orbit(orbits, orbit_cols, pts, k, capture):  # on a known stable orbit
-            return k, status
+            return k, status, n
         if probe > 0 and k >= probe and k % probe == 0:  # a comparison with the known non-periodic motions
-            return k, status
+            return k, status, n
         _returns(pts, k, max_period, d)
         if k >= next_try and _period_due(d, prev, trigger, k, checkpoints, checkpoint_return):
-            return k, status
-        prev[:] = d
-    return k1, STATUS_OK
+            return k, status, n
+        for n in range(max_period + 1):
+            prev[n] = d[n]
+    return k1, STATUS_OK, 0

@@ -47,7 +47,7 @@ from ..constants import (
     FORCED_TOLERANCE,
     FORCED_TOLERANCE_RANGE,
 )
-from . import _forced_driver as fd
+from ._forced_direct import run_cycles
 from ._newmark import newmark_advance
 from ._records import NmBooks, params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
@@ -58,7 +58,7 @@ from .model import DamperModel
 #: map's compiles more: instantaneous impacts, sticking, and the compliant contact for a run resumed
 #: inside one), quoted to the user when it happens; measured by ``benchmarks/bench_startup.py``
 #: (figures: ``benchmarks/results/design_timings.md``).
-FORCED_COMPILE_S = {"event": 5.0, "impact-map": 8.0}
+FORCED_COMPILE_S = {"event": 7.0, "impact-map": 10.0}
 
 __all__ = [
     "EXCITATIONS",
@@ -84,6 +84,11 @@ BATCH_CYCLES = 16
 NONPERIODIC_CYCLES = WINDOW_BATCHES * BATCH_CYCLES
 #: Regimes reported.
 REGIMES = ("periodic-N", "quasi-periodic", "chaotic", "unresolved")
+# the search's arguments of the driver's kernel when it runs one plain cycle (:meth:`_Runner.cycle`)
+_UNUSED_SCALE = np.ones(4)
+_UNUSED_POINTS = np.zeros((1, 4))
+_UNUSED_ROW = np.zeros(1)
+_UNUSED_COLS = np.zeros(0, dtype=np.int64)
 
 
 @dataclass(frozen=True)
@@ -424,12 +429,15 @@ class _Runner:
                                               NmBooks(self.imp, cap, acc, extrema), None, None)
             out = (n, status)
         else:
-            args = (self.prm, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
-                    extrema)
+            # one cycle through the driver's one compiled entry (its search arguments unused)
+            args = (self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp, n0, cap, acc,
+                    bool(extrema), False, 1, 1, _UNUSED_SCALE, _UNUSED_POINTS, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
+                    _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
             if not self._compiled:  # say so once if the forced solver's kernels are compiled now
-                compile_for(fd.advance, args, "forced-response", FORCED_COMPILE_S[self.solver])
+                compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[self.solver])
                 self._compiled = True
-            out = fd.advance(*args)
+            _, status, n = run_cycles(*args)
+            out = (n, status)
         self.k += 1
         self.total += 1
         return out
