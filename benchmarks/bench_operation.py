@@ -254,8 +254,8 @@ def levels_cost(spec) -> None:
 
 
 #: Where a search from scratch spends its time: label -> (module file, function) of pstats.
-PROFILED = {"forced driver kernel, one call per cycle": ("_forced_driver.py", "advance"),
-            "direct runs, compiled stretches of cycles": ("_forced_direct.py", "run_cycles"),
+PROFILED = {"forced driver (run_cycles: stretches and single cycles)": ("_forced_direct.py", "run_cycles"),
+            "direct runs of the starts": ("_attractors.py", "advance"),
             "shooting (Newton, Jacobians, Floquet)": ("_shooting.py", "shoot"),
             "  of which finite-difference Jacobians": ("_shooting.py", "_jacobian"),
             "non-periodic windows (batch means, Lyapunov)": ("_measure.py", "measure_window")}
@@ -275,7 +275,7 @@ def profile(spec) -> None:
     for label, (fname, func) in PROFILED.items():
         hits = [(v[1], v[3]) for (f, _, name), v in st.items() if f.endswith(fname) and name == func]
         calls, cum = sum(h[0] for h in hits), sum(h[1] for h in hits)
-        print(f"  {label:<46} {cum:6.2f} s {100 * cum / total:5.1f} %  ({calls} calls)")
+        print(f"  {label:<54} {cum:6.2f} s {100 * cum / total:5.1f} %  ({calls} calls)")
 
 
 def _write_markdown(header: str, body: str) -> None:

@@ -23,7 +23,8 @@ average-acceleration Newmark-beta at a fixed step, an independent second method)
 This module holds the nouns and the integration; the periodic orbits (shooting, Floquet
 multipliers) are in :mod:`._shooting`, the attractors of one frequency in :mod:`._attractors`
 and the frequency response in :mod:`._forced_response`; :mod:`.forced` gathers the public names.
-Imports point one way: ``forced -> _forced_response -> _attractors -> _shooting -> _forced_steady``.
+Imports point one way: ``forced -> _forced_response -> _attractors -> _shooting -> _forced_steady``, and
+``_forced_steady -> _forced_direct`` (the driver's compiled entry) ``-> _forced_driver``.
 """
 
 from __future__ import annotations
