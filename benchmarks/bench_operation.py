@@ -8,6 +8,10 @@ Usage::
     python benchmarks/bench_operation.py --before /work/main  # also each design from scratch before/after,
                                                               # the "before" imported from that checkout
 
+Where the forcing cycles go (each tree in its own process): by phase (direct runs, shootings that
+converged or failed, periodic measurements, non-periodic windows) and by how each start ends (a new
+attractor, a known one measured again, or captured by a known one).
+
 The Table 1 damper under F0 = 5 N over 3-7 Hz (9 frequencies, every attractor, the default
 starts and sweep up): what ``acoustiviz forced --freq 3:7:9`` runs, with the checkpoint shootings
 far from any return screened out (``Operation.options``). A small set of neighbouring
@@ -31,6 +35,7 @@ import subprocess
 import sys
 import time
 from dataclasses import replace
+from pathlib import Path
 
 from _timing import RESULTS, Tee, results_header
 
@@ -127,6 +132,119 @@ def before_after(specs, before: str) -> None:
           f"{tot[3] / n:.0f} cycles")
 
 
+#: Where the forcing cycles of a search go: phases (what integrates a cycle) and start outcomes.
+PHASES = ("direct runs", "shooting, converged", "shooting, failed", "periodic measurements",
+          "non-periodic windows")
+OUTCOMES = ("new periodic orbit", "new non-periodic motion", "known orbit, measured again",
+            "known non-periodic, measured again", "captured by a known orbit", "captured by a known non-periodic",
+            "solver stopped")
+
+
+def _instrumented():
+    """Patch the search's internals to count cycles by phase and by start outcome; return the counters.
+
+    Only names both trees have (``settle``, ``shoot``, ``measure_periodic``, ``measure_window``,
+    ``_Runner.cycle``), so that the "before" process counts the same way: the cycles of shootings and
+    measurements by their calls of ``_Runner.cycle``, the direct runs as the rest of each start's cycles.
+    """
+    from acoustiviz.dynamics import _attractors as att
+    from acoustiviz.dynamics import _forced_steady as fs
+    from acoustiviz.dynamics._measure import same_motion
+
+    phase = ["direct runs"]
+    cycles = dict.fromkeys(PHASES, 0)
+    starts = {k: [0, 0] for k in OUTCOMES}
+    run_cycle = fs._Runner.cycle
+
+    def cycle(self, *args):
+        cycles[phase[-1]] += 1
+        return run_cycle(self, *args)
+
+    def within(label, f):
+        def g(*args, **kwargs):
+            phase.append(label)
+            try:
+                return f(*args, **kwargs)
+            finally:
+                phase.pop()
+        return g
+
+    shoot = att.shoot
+
+    def counted_shoot(pmap, *args, **kwargs):
+        before = dict(cycles)
+        phase.append("shooting, failed")
+        try:
+            out = shoot(pmap, *args, **kwargs)
+        finally:
+            phase.pop()
+        if out.converged:
+            moved = cycles["shooting, failed"] - before["shooting, failed"]
+            cycles["shooting, failed"] -= moved
+            cycles["shooting, converged"] += moved
+        return out
+
+    settle = att.settle
+
+    def counted_settle(*args, **kwargs):
+        counted = sum(cycles.values())
+        o = settle(*args, **kwargs)
+        counted = sum(cycles.values()) - counted
+        used = o.steady.cycles_integrated if o.steady is not None else o.cycles
+        cycles["direct runs"] += used - counted  # cycles run by the compiled direct run (none cycle by cycle)
+        known = kwargs.get("known", ())
+        if o.steady is None:
+            key = "captured by a known orbit" if known[o.known].period else "captured by a known non-periodic"
+        elif not o.steady.success:
+            key = "solver stopped"
+        else:
+            again = any(same_motion(a, o.steady) for a in known)
+            key = ("known orbit, measured again" if o.steady.period else "known non-periodic, measured again") \
+                if again else ("new periodic orbit" if o.steady.period else "new non-periodic motion")
+        starts[key][0] += 1
+        starts[key][1] += used
+        return o
+
+    fs._Runner.cycle = cycle
+    att.shoot = counted_shoot
+    att.settle = counted_settle
+    att.measure_periodic = within("periodic measurements", att.measure_periodic)
+    att.measure_window = within("non-periodic windows", att.measure_window)
+    return cycles, starts
+
+
+def breakdown_rows(specs) -> None:
+    """One JSON line: the cycles of every design from scratch by phase and by start outcome (``--breakdown``)."""
+    cycles, starts = _instrumented()
+    for _, d, spec in _designs(specs):
+        evaluate_in_operation(d, spec.settings, OPERATION)
+    print(json.dumps({"cycles": cycles, "starts": starts}), flush=True)
+
+
+def breakdown(specs, before: str | None) -> None:
+    """The cycles of the designs from scratch by phase and by start outcome, before and after, in their processes."""
+    sides = {}
+    for name, root in (("before", before), ("after", None)):
+        if name == "before" and root is None:
+            continue
+        env = {**os.environ, "PYTHONPATH": root or str(Path(__file__).resolve().parents[1])}
+        proc = subprocess.run([sys.executable, __file__, "--breakdown"], env=env, capture_output=True, text=True,
+                              check=True)
+        sides[name] = json.loads(proc.stdout.splitlines()[-1])
+    n = sum(len(spec.designs()) for _, spec in specs)
+    print(f"where the forcing cycles go, per design from scratch (mean of {n}); starts include the seeds "
+          "continued from the neighbouring frequency. Direct runs: each start's cycles less those of its shootings "
+          "and measurements (a measurement that finds a smaller period is left out of a start's cycles, so it shows "
+          "here as fewer direct cycles).")
+    print(f"{'phase':>40} |" + "".join(f" {name:>8}" for name in sides))
+    for p in PHASES:
+        print(f"{p:>40} |" + "".join(f" {s['cycles'].get(p, 0) / n:8.0f}" for s in sides.values()))
+    print(f"{'start ends as':>40} |" + "".join(f" {name + ': starts, cycles':>24}" for name in sides))
+    for k in OUTCOMES:
+        print(f"{k:>40} |" + "".join(f" {s['starts'][k][0] / n:11.1f} {s['starts'][k][1] / n:12.0f}"
+                                     for s in sides.values()))
+
+
 def levels_cost(spec) -> None:
     d = spec.designs()[0]
     t, r = _cpu(lambda: evaluate_in_operation(d, spec.settings, Operation(5.0, OPERATION.frequencies)))
@@ -136,10 +254,10 @@ def levels_cost(spec) -> None:
 
 
 #: Where a search from scratch spends its time: label -> (module file, function) of pstats.
-PROFILED = {"forced driver kernel (advance)": ("_forced_driver.py", "advance"),
+PROFILED = {"forced driver (run_cycles: stretches and single cycles)": ("_forced_direct.py", "run_cycles"),
+            "direct runs of the starts": ("_attractors.py", "advance"),
             "shooting (Newton, Jacobians, Floquet)": ("_shooting.py", "shoot"),
             "  of which finite-difference Jacobians": ("_shooting.py", "_jacobian"),
-            "direct runs cycle by cycle": ("_attractors.py", "step"),
             "non-periodic windows (batch means, Lyapunov)": ("_measure.py", "measure_window")}
 
 
@@ -157,7 +275,7 @@ def profile(spec) -> None:
     for label, (fname, func) in PROFILED.items():
         hits = [(v[1], v[3]) for (f, _, name), v in st.items() if f.endswith(fname) and name == func]
         calls, cum = sum(h[0] for h in hits), sum(h[1] for h in hits)
-        print(f"  {label:<46} {cum:6.2f} s {100 * cum / total:5.1f} %  ({calls} calls)")
+        print(f"  {label:<54} {cum:6.2f} s {100 * cum / total:5.1f} %  ({calls} calls)")
 
 
 def _write_markdown(header: str, body: str) -> None:
@@ -178,6 +296,7 @@ def main() -> None:
     ap.add_argument("--before", metavar="CHECKOUT", help="also each design from scratch with the package of "
                     "another checkout (its folder, run in a process of its own) beside this one")
     ap.add_argument("--rows", action="store_true", help=argparse.SUPPRESS)  # the "before" side of --before
+    ap.add_argument("--breakdown", action="store_true", help=argparse.SUPPRESS)  # one side of the cycles' breakdown
     args = ap.parse_args()
     masses = SweepSpec(m=value_range(0.0385, 0.0425, 5))
     gaps = SweepSpec(gap=value_range(0.038, 0.042, 3))
@@ -186,10 +305,14 @@ def main() -> None:
     if args.rows:
         scratch_rows([("m", masses), ("gap", gaps)])
         return
+    if args.breakdown:
+        breakdown_rows([("m", masses), ("gap", gaps)])
+        return
     tee = Tee(sys.stdout)
     with contextlib.redirect_stdout(tee):
         if args.before:
             before_after([("m", masses), ("gap", gaps)], args.before)
+        breakdown([("m", masses), ("gap", gaps)], args.before)
         profile(masses)
         if not args.profile:
             table([("m", masses), ("gap", gaps)])

@@ -83,3 +83,43 @@ def test_every_checkpoint_is_tried_unless_asked_and_the_screen_is_checked():
     for bad in (0.0, -1.0, float("nan")):
         with pytest.raises(ParameterError, match="checkpoint_return"):
             check_settings(model, ex, SteadyStateOptions(checkpoint_return=bad))
+
+
+@pytest.mark.parametrize("mass,frequency", [(0.0385, 4.5), (0.0385, 3.5), (0.0385, 7.0), (None, 5.0)])
+def test_reusing_known_orbits_keeps_every_attractor_and_count(mass, frequency):
+    """A start whose shooting lands on a known stable orbit ends there: the same attractors, counts, fewer cycles.
+
+    At 38.5 g several starts reach the periodic orbits of 3.5, 4.5 and 7 Hz after one was measured;
+    at 5 Hz (40.5 g) every start ends on one chaotic motion, which reusing orbits leaves alone.
+    """
+    from dataclasses import replace
+
+    from acoustiviz.dynamics.forced import SCREENED_CHECKPOINT_RETURN, SteadyStateOptions, attractors_at
+
+    model, ex = DamperModel(), Excitation(frequency, 5.0)
+    model = model if mass is None else replace(model, m=mass)
+    options = SteadyStateOptions(checkpoint_return=SCREENED_CHECKPOINT_RETURN)
+    full = attractors_at(model, ex, options)
+    reused = attractors_at(model, ex, replace(options, reuse_known=True))
+    assert len(reused.attractors) == len(full.attractors)
+    for a, b in zip(reused.attractors, full.attractors, strict=True):
+        assert (a.regime, a.period, a.stable) == (b.regime, b.period, b.stable)
+        assert a.amplitude == b.amplitude and a.amplitude_std_err == b.amplitude_std_err
+        np.testing.assert_array_equal(a.poincare, b.poincare)
+        np.testing.assert_allclose(a.floquet, b.floquet, rtol=1e-9, atol=1e-12)  # the same orbit point, rescaled
+    assert reused.counts == full.counts and reused.seeded == full.seeded
+    assert reused.cycles_integrated <= full.cycles_integrated
+    if any(a.period for a in full.attractors) and sum(full.counts) > len(full.attractors):
+        assert reused.cycles_integrated < full.cycles_integrated  # a known orbit was not measured again
+
+
+def test_known_orbits_are_measured_again_unless_asked_and_the_switch_is_checked():
+    from acoustiviz._validate import ParameterError
+    from acoustiviz.dynamics.forced import SteadyStateOptions, check_settings
+
+    model, ex = DamperModel(), Excitation(5.0, 5.0)
+    assert check_settings(model, ex).reuse_known is False
+    assert check_settings(model, ex, reuse_known=True).reuse_known is True
+    for bad in (1, "yes", None):
+        with pytest.raises(ParameterError, match="reuse_known"):
+            check_settings(model, ex, SteadyStateOptions(reuse_known=bad))

@@ -182,3 +182,28 @@ def test_a_given_executor_is_used_and_left_open():
         rows = run_operation(spec, op, executor=ex, chain=1)
         assert ex.submit(int).result() == 0  # not shut down by the run
     _same_rows(rows, serial)
+
+
+@pytest.mark.parametrize("m,gap,freqs", [
+    (0.0385, 0.040, (4.5, 5.0)),  # the worst case chaotic at 5 Hz; periodic orbits reached by several starts at 4.5
+    (0.0405, 0.042, (5.0,)),  # the worst case a periodic orbit
+])
+def test_the_search_in_operation_keeps_the_worst_case_of_the_search_cycle_by_cycle(monkeypatch, m, gap, freqs):
+    """Known orbits reused and direct runs compiled in stretches: the row of the plain search, in fewer cycles."""
+    from dataclasses import replace
+
+    from acoustiviz.dynamics import _attractors
+
+    op = Operation(5.0, freqs, levels=False)
+    spec = SweepSpec(m=(m,), gap=(gap,))
+    design = spec.designs()[0]
+    quick = evaluate_in_operation(design, spec.settings, op)
+    options = Operation.options
+    monkeypatch.setattr(Operation, "options", lambda self: replace(options(self), reuse_known=False))
+    monkeypatch.setattr(_attractors._Settler, "advance", lambda self, k0, next_try: (k0, self.step(k0)))
+    plain = evaluate_in_operation(design, spec.settings, op)
+    assert quick["worst_regime"] == plain["worst_regime"] == ("chaotic" if gap == 0.040 else "periodic-1")
+    for col in ("worst_amplitude_m", "worst_amplitude_std_err_m", "worst_frequency_hz", "min_reduction_db",
+                "mean_reduction_db", "chaotic_fraction", "attractors", "failed_runs"):
+        assert quick[col] == plain[col], col
+    assert quick["cycles_integrated"] < plain["cycles_integrated"]

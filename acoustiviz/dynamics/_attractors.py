@@ -27,7 +27,10 @@ aligns with the most expanding direction). The regime is
 
 Starts after the first that meet a known attractor are counted in its basin without being
 measured again: a stable periodic orbit when the section point comes within
-:data:`CAPTURE_DISTANCE` (scaled) of one of its points; a non-periodic attractor when the
+:data:`CAPTURE_DISTANCE` (scaled) of one of its points, or (``settings.reuse_known``) when a shooting
+converges onto it (a point of the orbit within the :func:`same_motion` distance, at a multiple of its
+period: what the measurement of the shot orbit, its reduction to the smallest period and the
+comparison with the known ones would conclude, without their cycles); a non-periodic attractor when the
 amplitude and impact rate of the last 32 cycles agree with its batch statistics within
 :data:`._measure.LYAPUNOV_SIGMAS` batch standard deviations.
 """
@@ -40,8 +43,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._jit import compile_for
+from ._forced_direct import run_cycles
 from ._forced_steady import (
     BATCH_CYCLES,
+    FORCED_COMPILE_S,
     MAX_PERIOD,
     WINDOW_BATCHES,
     Excitation,
@@ -53,13 +59,14 @@ from ._forced_steady import (
     linear_start,
 )
 from ._measure import (
+    SAME_ORBIT,
     _failed,
     _stats_agree,
     measure_periodic,
     measure_window,
     same_motion,
 )
-from ._shooting import PoincareMap, section_scale, shoot
+from ._shooting import PoincareMap, section_scale, shoot, with_multipliers
 from ._status import STATUS_OK
 from .model import DamperModel
 
@@ -81,6 +88,8 @@ CAPTURE_DISTANCE = 1e-4
 PROBE_CYCLES = 64
 #: Cycles of a probe's statistics.
 PROBE_WINDOW = 32
+_CHECKPOINTS = np.array(CHECKPOINTS, dtype=np.int64)
+_COMPILED = {}  # solver -> the direct-run kernel is compiled in this process
 
 
 def start_states(model: DamperModel, excitation: Excitation, count: int) -> list:
@@ -136,26 +145,60 @@ class _Settler:
         self.xhi, self.xlo, self.ipc = np.empty(n), np.empty(n), np.empty(n)
         self.periodic_known = [(i, a) for i, a in enumerate(known) if a.period and a.stable]
         self.chaotic_known = [(i, a) for i, a in enumerate(known) if not a.period and a.success]
+        self.landed = None  # the known stable orbit a shooting converged to
+        self.acc = np.empty(5)  # the direct run's accumulators of one cycle
+        orbits = [a.poincare / self.scale for _, a in self.periodic_known]
+        self.orbits = np.concatenate(orbits) if orbits else np.empty((0, 4))
+        self.orbit_cols = np.concatenate([np.full(len(a.poincare), 2 if a.impacts_per_cycle == 0 else 4)
+                                          for _, a in self.periodic_known]).astype(np.int64) if orbits else \
+            np.empty(0, dtype=np.int64)
 
     def refine(self, point, n, k):
-        """Shoot a period-``n`` orbit from ``point`` (cycle ``k``); its measured steady state, or None."""
+        """Shoot a period-``n`` orbit from ``point`` (cycle ``k``); its measured steady state, or None.
+
+        With ``settings.reuse_known``, None also when the orbit is a known stable one (``landed`` then
+        holds its index): it is neither measured nor its multipliers taken again.
+        """
         s = self.settings
         while True:
             before = self.pmap.cycles
-            shot = shoot(self.pmap, point, n, s.tolerance, self.scale, rtol=s.rtol)
+            shot = shoot(self.pmap, point, n, s.tolerance, self.scale, rtol=s.rtol, multipliers=not s.reuse_known)
             self.total += self.pmap.cycles - before
             if not shot.converged:
                 return None
+            if s.reuse_known:  # a known orbit ends the start; a new one gets its multipliers
+                self.landed = self.on_known(shot.point, n)
+                if self.landed is not None:
+                    return None
+                before = self.pmap.cycles
+                shot = with_multipliers(self.pmap, shot, n, self.scale, rtol=s.rtol)
+                self.total += self.pmap.cycles - before
             steady, smaller = measure_periodic(self.model, self.excitation, s, shot.point, n, shot, k, self.total)
             if steady is not None:
                 self.total = steady.cycles_integrated
                 return steady
             n = smaller
 
-    def captured(self, i) -> _Outcome:
+    def captured(self, i, *, add_run=True) -> _Outcome:
         """The outcome of a start captured by known attractor ``i``."""
-        self.out.known, self.out.cycles = i, self.total + self.run.total
+        self.out.known, self.out.cycles = i, self.total + (self.run.total if add_run else 0)
         return self.out
+
+    def on_known(self, point, n):
+        """Index of the known stable periodic orbit, of a period dividing ``n``, through ``point`` (m, m/s), or None.
+
+        The criterion of :func:`._measure.same_motion`: a point of the orbit within
+        :data:`._measure.SAME_ORBIT` times 100 (scaled). A converged shooting landing there has found
+        that orbit again (its multiples of the period included, which the measurement would reduce).
+        """
+        for i, a in self.periodic_known:
+            if n % a.period:
+                continue
+            cols = slice(0, 2) if a.impacts_per_cycle == 0 else slice(0, 4)
+            d = np.abs(a.poincare[:, cols] - point[cols]) / self.scale[cols]
+            if np.min(np.max(d, axis=1)) < SAME_ORBIT * 100:
+                return i
+        return None
 
     def stable(self, steady, *, add_run=True) -> _Outcome:
         """The outcome of a start that reached the stable orbit ``steady``."""
@@ -186,6 +229,44 @@ class _Settler:
                 return i
         return None
 
+    def seed(self, period) -> bool:
+        """Shoot a period-``period`` orbit from the start (a continued seed); True when that ends the start."""
+        steady = self.refine(self.run.section(), period, 0)
+        if self.landed is not None:
+            self.captured(self.landed)
+            return True
+        if steady is not None and steady.stable:
+            self.stable(steady, add_run=False)
+            return True
+        if steady is not None:
+            self.out.unstable.append(steady)
+        return False
+
+    def advance(self, k0, next_try):
+        """Run cycles ``k0``, ... until one may need the search (:func:`._forced_direct.run_cycles`).
+
+        Returns ``(k, failed)``: the cycle reached and a failed outcome when the solver stopped there.
+        Newmark runs one cycle at a time.
+        """
+        run, s = self.run, self.settings
+        if run.solver == "newmark":
+            return k0, self.step(k0)
+        args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp, 0,
+                min(run.cap, run.imp.shape[0] - 1), self.acc, True, True, k0, s.max_cycles, self.scale, self.pts,
+                self.xhi, self.xlo, self.ipc, self.orbits, self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS,
+                float(s.checkpoint_return), next_try, PROBE_CYCLES if self.chaotic_known else 0)
+        if not _COMPILED.get(run.solver):  # say so once if the kernels are compiled now
+            compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[run.solver])
+            _COMPILED[run.solver] = True
+        k, status, _ = run_cycles(*args)
+        run.k += k - k0 + 1
+        run.total += k - k0 + 1
+        if status != STATUS_OK:
+            self.out.steady = _failed(self.model, self.excitation, s, k, status, run.state(), self.total + run.total)
+            return k, self.out
+        self.section = run.section()
+        return k, None
+
     def step(self, k):
         """Integrate cycle ``k``; a failed outcome when the solver stopped, else None."""
         acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
@@ -206,6 +287,8 @@ class _Settler:
         d = _period_guess(self.pts, k)
         for n in dict.fromkeys((int(np.argmin(d)), 1)):  # a last try at the best guess and at period 1
             steady = self.refine(self.run.section(), n, k)
+            if self.landed is not None:
+                return self.captured(self.landed)
             if steady is not None and steady.stable:
                 return self.stable(steady)
         steady = measure_window(self.model, self.excitation, s, self.run.state(), k, self.total + self.run.total)
@@ -215,6 +298,8 @@ class _Settler:
             last = _period_guess(steady.poincare / self.scale, len(steady.poincare) - 1)
             for n in dict.fromkeys((1, int(np.argmin(last)))):
                 orbit = self.refine(np.array([x, v, y - x, w - v]), n, steady.cycles + steady.measured_cycles)
+                if self.landed is not None:
+                    return self.captured(self.landed, add_run=False)
                 if orbit is not None and orbit.stable:
                     return self.stable(orbit, add_run=False)
         self.out.steady = steady
@@ -224,28 +309,25 @@ class _Settler:
 def settle(model, excitation, settings, start, *, known=(), seed_period=0) -> _Outcome:
     """Run one start to its attractor (module docstring); ``known`` attractors may capture it."""
     st = _Settler(model, excitation, settings, start, known)
-    if seed_period:
-        steady = st.refine(st.run.section(), seed_period, 0)
-        if steady is not None and steady.stable:
-            return st.stable(steady, add_run=False)
-        if steady is not None:
-            st.out.unstable.append(steady)
+    if seed_period and st.seed(seed_period):
+        return st.out
     next_try, wait = 0, 8
-    prev = np.full(MAX_PERIOD + 1, np.inf)
-    for k in range(1, settings.max_cycles + 1):
-        failed = st.step(k)
+    k = 0
+    while k < settings.max_cycles:  # from one cycle that may need the search to the next
+        k, failed = st.advance(k + 1, next_try)
         if failed is not None:
             return failed
         i = st.periodic_capture(k)
         if i is not None:
             return st.captured(i)
         d = _period_guess(st.pts, k)
-        close = np.flatnonzero((d < TRIGGER) & (prev < TRIGGER))
-        prev = d
+        close = np.flatnonzero((d < TRIGGER) & (_period_guess(st.pts, k - 1) < TRIGGER))
         checkpoint = k in CHECKPOINTS and float(np.min(d)) < settings.checkpoint_return
         n = int(close[0]) if close.size else (int(np.argmin(d)) if checkpoint else 0)
         if n and k >= next_try:
             steady = st.refine(st.section, n, k)
+            if st.landed is not None:
+                return st.captured(st.landed)
             if steady is not None and steady.stable:
                 return st.stable(steady)
             if steady is not None:

@@ -294,9 +294,12 @@ def _open_contact(prm, st, sw, u0, impacts, n):
     return n + 1
 
 
-@kernel
-def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
+@njit(inline="always")
+def advance_inline(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
     """Advance the forced damper from ``t0`` to ``t1`` s (state ``st`` updated in place).
+
+    The body of :func:`advance`, inlined into the kernels that run it (:mod:`._forced_direct`), so that
+    its code is compiled once per kernel and not again when a kernel links another.
 
     ``restitution = None`` integrates compliant contacts (event solver); ``restitution >= 0``
     applies instantaneous impacts with that coefficient (impact map; ``restitution`` > 1 is
@@ -371,3 +374,12 @@ def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts
         else:  # instantaneous impact
             n = _instant(prm, fl, fc, st, t, sw, u0, restitution, rtol, impacts, n, acc)
     return (n, status)
+
+
+@kernel
+def advance(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema):
+    """:func:`advance_inline` called from Python (one forcing period or any span; same parameters and returns).
+
+    The search runs the driver through :func:`._forced_direct.run_cycles` instead, one compiled kernel.
+    """
+    return advance_inline(prm, fc, fcs, st, t0, t1, restitution, rtol, impacts, n, max_impacts, acc, extrema)

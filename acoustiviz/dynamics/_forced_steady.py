@@ -23,7 +23,8 @@ average-acceleration Newmark-beta at a fixed step, an independent second method)
 This module holds the nouns and the integration; the periodic orbits (shooting, Floquet
 multipliers) are in :mod:`._shooting`, the attractors of one frequency in :mod:`._attractors`
 and the frequency response in :mod:`._forced_response`; :mod:`.forced` gathers the public names.
-Imports point one way: ``forced -> _forced_response -> _attractors -> _shooting -> _forced_steady``.
+Imports point one way: ``forced -> _forced_response -> _attractors -> _shooting -> _forced_steady``, and
+``_forced_steady -> _forced_direct`` (the driver's compiled entry) ``-> _forced_driver``.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from ..constants import (
     FORCED_TOLERANCE,
     FORCED_TOLERANCE_RANGE,
 )
-from . import _forced_driver as fd
+from ._forced_direct import run_cycles
 from ._newmark import newmark_advance
 from ._records import NmBooks, params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
@@ -58,7 +59,7 @@ from .model import DamperModel
 #: map's compiles more: instantaneous impacts, sticking, and the compliant contact for a run resumed
 #: inside one), quoted to the user when it happens; measured by ``benchmarks/bench_startup.py``
 #: (figures: ``benchmarks/results/design_timings.md``).
-FORCED_COMPILE_S = {"event": 5.0, "impact-map": 8.0}
+FORCED_COMPILE_S = {"event": 7.0, "impact-map": 10.0}
 
 __all__ = [
     "EXCITATIONS",
@@ -84,6 +85,11 @@ BATCH_CYCLES = 16
 NONPERIODIC_CYCLES = WINDOW_BATCHES * BATCH_CYCLES
 #: Regimes reported.
 REGIMES = ("periodic-N", "quasi-periodic", "chaotic", "unresolved")
+# the search's arguments of the driver's kernel when it runs one plain cycle (:meth:`_Runner.cycle`)
+_UNUSED_SCALE = np.ones(4)
+_UNUSED_POINTS = np.zeros((1, 4))
+_UNUSED_ROW = np.zeros(1)
+_UNUSED_COLS = np.zeros(0, dtype=np.int64)
 
 
 @dataclass(frozen=True)
@@ -113,6 +119,10 @@ class SteadyStateOptions:
         Scaled return distance below which a start's best period guess is tried by shooting at the
         checkpoints of :mod:`._attractors` (> 0; inf, the default: at every checkpoint;
         :data:`._attractors.SCREENED_CHECKPOINT_RETURN` screens out the points far from any orbit).
+    reuse_known : bool
+        A start whose shooting converges onto a stable periodic orbit already found at its frequency ends
+        on it without measuring the orbit and its Floquet multipliers again (False, the default: it is
+        measured again, then recognised; see :mod:`._attractors`).
     """
 
     solver: str = "event"
@@ -124,6 +134,7 @@ class SteadyStateOptions:
     steps_per_cycle: int | None = None
     max_impacts_per_cycle: int = 200
     checkpoint_return: float = math.inf
+    reuse_known: bool = False
 
     def describe(self) -> dict:
         """The settings as a flat dict (for CSV and summaries)."""
@@ -419,12 +430,15 @@ class _Runner:
                                               NmBooks(self.imp, cap, acc, extrema), None, None)
             out = (n, status)
         else:
-            args = (self.prm, self.fc, self.fcs, self.st, t0, t0 + self.T, self.e, self.rtol, self.imp, n0, cap, acc,
-                    extrema)
+            # one cycle through the driver's one compiled entry (its search arguments unused)
+            args = (self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp, n0, cap, acc,
+                    bool(extrema), False, 1, 1, _UNUSED_SCALE, _UNUSED_POINTS, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
+                    _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
             if not self._compiled:  # say so once if the forced solver's kernels are compiled now
-                compile_for(fd.advance, args, "forced-response", FORCED_COMPILE_S[self.solver])
+                compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[self.solver])
                 self._compiled = True
-            out = fd.advance(*args)
+            _, status, n = run_cycles(*args)
+            out = (n, status)
         self.k += 1
         self.total += 1
         return out
@@ -476,8 +490,11 @@ def check_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOpt
     ret = settings.checkpoint_return
     if not (isinstance(ret, float) and ret == math.inf):  # inf: every checkpoint tried
         ret = check_range("checkpoint_return", ret, 0.0, math.inf, low_open=True)
+    if not isinstance(settings.reuse_known, bool):
+        raise ParameterError("reuse_known", f"must be True or False, got {settings.reuse_known!r}")
     return SteadyStateOptions(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
-                              steps_per_cycle=None if spc is None else int(spc), checkpoint_return=ret, **ints)
+                              steps_per_cycle=None if spc is None else int(spc), checkpoint_return=ret,
+                              reuse_known=settings.reuse_known, **ints)
 
 
 def _start(model, excitation, initial) -> tuple:

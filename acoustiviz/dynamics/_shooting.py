@@ -34,14 +34,14 @@ impact mass, and the minimum-norm step lands on the nearest member.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ._forced_steady import MAX_PERIOD, _Runner, linear_start
 from ._status import STATUS_OK
 
-__all__ = ["PoincareMap", "ShootResult", "shoot", "section_scale", "STABILITY_MARGIN"]
+__all__ = ["PoincareMap", "ShootResult", "shoot", "with_multipliers", "section_scale", "STABILITY_MARGIN"]
 
 #: Newton steps tried before giving up.
 SHOOT_MAX_ITERATIONS = 10
@@ -233,7 +233,6 @@ def shoot(pmap: PoincareMap, s0, n: int, tolerance: float, scale, *, rtol: float
     (``multipliers=False`` skips it).
     """
     scale = np.asarray(scale, dtype=float)
-    h = fd_step(rtol)
     hn = newton_step(rtol)
 
     def fmap(q):
@@ -269,11 +268,26 @@ def shoot(pmap: PoincareMap, s0, n: int, tolerance: float, scale, *, rtol: float
         if not accepted:
             break
         q, p, res = qn, pn, rn
-    converged = res < tolerance
-    mult, jac = np.empty(0, dtype=complex), None
-    if converged and multipliers:
-        jac = _jacobian(fmap, q, h)
-        if jac is not None:
-            mult = np.linalg.eigvals(jac).astype(complex)
-            mult = mult[np.argsort(-np.abs(mult), kind="stable")]
-    return ShootResult(bool(converged), q * scale, res, it, mult, jac)
+    out = ShootResult(bool(res < tolerance), q * scale, res, it, np.empty(0, dtype=complex), None)
+    return with_multipliers(pmap, out, n, scale, rtol=rtol) if multipliers else out
+
+
+def with_multipliers(pmap: PoincareMap, shot: ShootResult, n: int, scale, *, rtol: float = 1e-10) -> ShootResult:
+    """``shot`` with its Floquet multipliers and Jacobian (central differences at its point) when converged.
+
+    What :func:`shoot` does at convergence; apart, so that a caller may first tell a known orbit.
+    """
+    if not shot.converged:
+        return shot
+    scale = np.asarray(scale, dtype=float)
+
+    def fmap(q):
+        p = pmap(q * scale, n)
+        return None if p is None else p / scale
+
+    mult = np.empty(0, dtype=complex)
+    jac = _jacobian(fmap, shot.point / scale, fd_step(rtol))
+    if jac is not None:
+        mult = np.linalg.eigvals(jac).astype(complex)
+        mult = mult[np.argsort(-np.abs(mult), kind="stable")]
+    return replace(shot, multipliers=mult, jacobian=jac)

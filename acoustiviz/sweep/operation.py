@@ -182,12 +182,15 @@ class Operation:
         Screened checkpoints (:data:`acoustiviz.dynamics.forced.SCREENED_CHECKPOINT_RETURN`): a design's
         worst case is that of its large attractors; a shooting from a point far from any return, which
         rarely converges, is left out (it may skip an orbit with a small basin that one start reached so).
+        A start whose shooting lands on a stable orbit already found at its frequency ends there without
+        measuring it again (``reuse_known``: the same attractors, fewer cycles).
         """
         from ..dynamics.forced import SCREENED_CHECKPOINT_RETURN, SteadyStateOptions
 
         return SteadyStateOptions(solver=self.solver, restitution=self.restitution, tolerance=self.tolerance,
                                   rtol=self.rtol, max_cycles=self.max_cycles, starts=self.starts,
-                                  checkpoint_return=SCREENED_CHECKPOINT_RETURN)
+                                  checkpoint_return=SCREENED_CHECKPOINT_RETURN,
+                                  reuse_known=True)
 
     def excitation(self, frequency: float):
         """The :class:`~acoustiviz.dynamics.forced.Excitation` at ``frequency`` Hz."""

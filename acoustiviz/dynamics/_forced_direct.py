@@ -1,0 +1,156 @@
+"""A start's direct run (numba): many forcing cycles per call, stopping where the search has work to do.
+
+The search of :mod:`._attractors` runs each start cycle by cycle on the Poincaré section and, after
+each cycle, looks at its section point: is it on a known stable orbit, does it return close to
+itself (a period to refine by shooting), is it a checkpoint, is a non-periodic start due for a
+comparison with the known non-periodic motions. Most cycles call for none of this. :func:`run_cycles`
+advances the forced driver (:func:`._forced_driver.advance`) cycle after cycle exactly as one call per
+cycle does (the same times ``kT``, impact rows, accumulators and section points, so the same bits),
+records what the search keeps of each cycle, and returns at the first cycle where one of those
+conditions may hold; the search then decides there as before. The tests are the search's own, so
+they can only stop the run early (a superset), never skip a cycle the search would act on.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import helper, kernel
+from . import _forced_driver as fd
+from ._status import STATUS_OK
+
+
+@helper
+def _returns(pts, k, max_period, d):
+    """Scaled distances ``d[n]`` of section point ``k`` to point ``k - n``, n = 1..max_period (inf where k < n)."""
+    for n in range(max_period + 1):  # elementwise: a slice assignment compiles a shape check and its message
+        d[n] = np.inf
+    for n in range(1, min(max_period, k) + 1):
+        m = 0.0
+        for c in range(4):
+            v = abs(pts[k, c] - pts[k - n, c])
+            if v > m or v != v:
+                m = v
+        d[n] = m
+
+
+@helper
+def _on_orbit(orbits, orbit_cols, pts, k, capture):
+    """True when section point ``k`` lies within ``capture`` (scaled, largest component) of a row of ``orbits``."""
+    for r in range(orbits.shape[0]):
+        m = 0.0
+        for c in range(orbit_cols[r]):
+            v = abs(orbits[r, c] - pts[k, c])
+            if v > m or v != v:
+                m = v
+        if m < capture:
+            return True
+    return False
+
+
+@helper
+def _period_due(d, prev, trigger, k, checkpoints, checkpoint_return):
+    """True when a return is close twice in a row, or ``k`` is a checkpoint with a return under ``checkpoint_return``.
+
+    ``d``, ``prev``: the scaled returns of this cycle and the one before (index = period, 0 unused).
+    """
+    best = np.inf
+    for n in range(1, d.size):
+        if d[n] < trigger and prev[n] < trigger:
+            return True
+        best = min(best, d[n])
+    for c in checkpoints:
+        if k == c and best < checkpoint_return:
+            return True
+    return False
+
+
+@kernel
+def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc, extrema, record, k0, k1, scale,
+               pts, xhi, xlo, ipc, orbits, orbit_cols, capture, trigger, checkpoints, checkpoint_return, next_try,
+               probe):
+    """Run cycles ``k0``..``k1`` of a start (``j0`` cycles run before ``k0``) until one may need the search.
+
+    The one compiled entry of the forced driver for the event solver and the impact map: with
+    ``record`` False it runs the single cycle ``k0 = k1`` from impact row ``n0`` adding to ``acc``
+    (extrema when ``extrema``), as :meth:`._forced_steady._Runner.cycle` asks; the search's
+    arguments after ``record`` are then not used.
+
+    Parameters
+    ----------
+    prm, fc, fcs, st, restitution, rtol, impacts, n0, acc, extrema
+        As :func:`._forced_driver.advance` (``st`` updated in place; with ``record`` each cycle writes
+        its impact rows from row 0 up to ``cap`` and its accumulators into ``acc``, reset each cycle).
+    cap : int
+        The impact row limit.
+    record : bool
+        Run the search's cycles (True) or one plain cycle (False).
+    j0 : int
+        Cycles the run has done since its start: cycle ``k`` spans ``[(j0 + k - k0) T, (j0 + k - k0 + 1) T]``.
+    T : float
+        Forcing period in s.
+    k0, k1 : int
+        First and last cycle numbers to run.
+    scale : (4,) ndarray
+        Scale of the section variables (m, m/s).
+    pts : (n, 4) ndarray
+        Scaled section points by cycle number; row ``k`` written after cycle ``k`` (rows before ``k0`` read).
+    xhi, xlo, ipc : (n,) ndarray
+        Largest and smallest main-mass displacement (m) and impact count of each cycle, written.
+    orbits : (r, 4) ndarray
+        Scaled points of the known stable periodic orbits; ``orbit_cols`` (r,) the columns compared (2 or 4).
+    capture : float
+        Scaled distance to a known orbit point that stops the run.
+    trigger : float
+        Return distance under which (twice in a row) a period is tried.
+    checkpoints : ndarray of int
+        Cycles at which the best return below ``checkpoint_return`` is tried.
+    next_try : int
+        No period is tried before this cycle.
+    probe : int
+        Stop at the multiples of ``probe`` cycles (0: never), the comparisons with known non-periodic motions.
+
+    Returns
+    -------
+    tuple of int
+        ``(k, status, n)``: the last cycle run, at which the search looks (``k1`` when none stopped the
+        run earlier), the driver's status of that cycle and its next free impact row.
+    """
+    max_period = 8
+    d = np.empty(max_period + 1)
+    prev = np.empty(max_period + 1)
+    if record:
+        _returns(pts, k0 - 1, max_period, prev)
+    row0 = 0 if record else n0
+    for k in range(k0, k1 + 1):
+        t0 = (j0 + k - k0) * T
+        if record:
+            acc[0] = 0.0
+            acc[1] = 0.0
+            acc[2] = 0.0
+            acc[3] = -np.inf
+            acc[4] = np.inf
+        # the driver's one call site here: each call site inlines a copy of it
+        n, status = fd.advance_inline(prm, fc, fcs, st, t0, t0 + T, restitution, rtol, impacts, row0, cap, acc,
+                                      extrema)
+        if status != STATUS_OK or not record:
+            return k, status, n
+        xhi[k] = acc[3]
+        xlo[k] = acc[4]
+        ipc[k] = n
+        pts[k, 0] = st[0] / scale[0]
+        pts[k, 1] = st[1] / scale[1]
+        pts[k, 2] = (st[2] - st[0]) / scale[2]
+        pts[k, 3] = (st[3] - st[1]) / scale[3]
+        if k == k1:
+            return k, status, n
+        if _on_orbit(orbits, orbit_cols, pts, k, capture):  # on a known stable orbit
+            return k, status, n
+        if probe > 0 and k >= probe and k % probe == 0:  # a comparison with the known non-periodic motions
+            return k, status, n
+        _returns(pts, k, max_period, d)
+        if k >= next_try and _period_due(d, prev, trigger, k, checkpoints, checkpoint_return):
+            return k, status, n
+        for n in range(max_period + 1):
+            prev[n] = d[n]
+    return k1, STATUS_OK, 0
