@@ -203,14 +203,23 @@ def test_a_sweep_of_fills_skips_the_gap_by_mass_maps(tmp_path, capsys):
         load_sweep(out).grid("max_spl_db")
 
 
-def test_several_balls_in_a_room_are_refused_before_any_work_naming_balls(tmp_path, capsys):
-    room = ["--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--room-window", "0.005",
-            "--config", "room"]
+def test_several_balls_in_a_room_are_heard_with_its_images_louder_than_on_the_plane(tmp_path, capsys):
+    # a rigid room (absorption 0) holds the plane's floor and five more reflecting surfaces
+    room = ["--room", "3,2.5,2", "--absorption", "0", "--source", "1,1,0.01905", "--room-window", "0.005"]
     out = tmp_path / "sweep"
-    assert main(["sweep", "--balls", "1,2", *room, "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith("acoustiviz sweep: error: --balls:") and "room" in err
-    assert not out.exists()
+    argv = ["sweep", "--balls", "1,2", *room, "--duration", "0.3", "--levels", "--workers", "1", "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    rows = _rows(out / "sweep.csv")
+    assert [(r["config"], r["balls"], r["success"]) for r in rows] == [("room", "1", "1"), ("room", "2", "1")]
+    two = rows[1]
+    cols = ("max_spl_db", "lafmax_db", "lcpeak_db", "laeq_db")
+    assert all(math.isfinite(float(two[c])) for c in cols) and int(two["n_impacts"]) > 0
+    settings = FixedSettings(duration=0.3, levels=True)
+    (plane,) = SweepSpec(balls=(2,), settings=settings).designs()
+    on_plane = evaluate_design(plane, settings)
+    assert on_plane.n_impacts == int(two["n_impacts"])  # the same motion, heard in other surroundings
+    assert float(two["max_spl_db"]) > on_plane.max_spl_db
+    assert float(two["laeq_db"]) > on_plane.levels["laeq_db"] + 1.0  # the room's reverberation adds energy
 
 
 def test_a_two_ball_design_damps_as_the_damper_job_of_two_balls_measures():
