@@ -273,3 +273,27 @@ def test_in_a_room_every_design_is_heard_with_its_reflections(cli_folder, tmp_pa
         for c in ("worst_amplitude_m", "min_reduction_db", "worst_frequency_hz", "worst_regime"):
             assert r[c] == p[c], c
         assert float(r["worst_laeq_db"]) > float(p["worst_laeq_db"])
+
+
+#: An optimisation in operation over the number of balls, 1 to 3, under F0 = 5 N at two frequencies.
+BALLS_ARGV = ("optimize", "--gap", "0.04", "--balls", "1:3", "--force", "5", "--freq", "6.5,7", "--starts", "2",
+              "--max-cycles", "18", "--noise-seconds", "0.02", "--minimize", "worst_amplitude_m", "--evaluations", "3",
+              "--batch", "3", "--seed", "1", "--workers", "1")
+
+
+def test_an_optimisation_over_the_balls_in_operation_evaluates_whole_numbers(tmp_path, capsys):
+    out = tmp_path / "balls"
+    assert main([*BALLS_ARGV, "--out", str(out)]) == 0, capsys.readouterr().err
+    rows = _rows(out / "evaluations.csv")
+    assert len(rows) == 3 and any(r["balls"] != "1" for r in rows)
+    for r in rows:
+        assert r["balls"] in ("1", "2", "3") and r["success"] == "1", r
+        assert 0.0 < float(r["fill"]) < 1.0
+        for c in ("worst_amplitude_m", "min_reduction_db", "mean_reduction_db", "chaotic_fraction"):
+            assert math.isfinite(float(r[c])), (c, r)
+        several = int(r["balls"]) > 1  # the noise of several balls in operation is not rendered: empty levels
+        assert math.isnan(float(r["worst_laeq_db"])) == several
+    (best,) = _rows(out / "pareto.csv")
+    (row,) = _rows(out / "confirmation.csv")
+    assert row["evaluation"] == best["evaluation"] and row["balls"] == best["balls"]
+    assert math.isfinite(float(row["confirmed_worst_amplitude_m"])) and int(row["confirmation_starts"]) == 4

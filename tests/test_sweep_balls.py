@@ -133,10 +133,37 @@ def test_bad_balls_and_fills_are_refused_naming_the_option(tmp_path, capsys, arg
     assert not (tmp_path / "sweep").exists()
 
 
-def test_several_balls_are_refused_in_operation_naming_balls(tmp_path, capsys):
-    argv = ["sweep", "--balls", "1,2", "--force", "5", "--freq", "6.5,7", "--out", str(tmp_path / "sweep")]
-    assert main(argv) == 2
-    assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --balls:")
+#: A sweep in operation under F0 = 5 N at two frequencies, with a short search.
+OPERATION = ["--force", "5", "--freq", "6.5,7", "--starts", "2", "--max-cycles", "18", "--noise-seconds", "0.02",
+             "--workers", "1", "--quiet"]
+
+
+def test_several_balls_in_operation_find_the_attractors_of_forced_balls(tmp_path, capsys):
+    from acoustiviz.app.forced import run as run_forced
+    from acoustiviz.app.settings.forced_job import ForcedJob
+    from acoustiviz.sweep.operation import OPERATION_COLUMNS
+
+    assert main(["sweep", *OPERATION, "--out", str(tmp_path / "plain")]) == 0, capsys.readouterr().err
+    assert main(["sweep", "--balls", "1,2", *OPERATION, "--out", str(tmp_path / "balls")]) == 0, \
+        capsys.readouterr().err
+    plain = (tmp_path / "plain" / "sweep.csv").read_text().splitlines(keepends=True)
+    assert plain[0].rstrip("\n").split(",") == list(OPERATION_COLUMNS)
+    rows = _rows(tmp_path / "balls" / "sweep.csv")
+    assert [r["balls"] for r in rows] == ["1", "2"] and all(r["success"] == "1" for r in rows)
+    assert _line(rows[0], OPERATION_COLUMNS) == plain[1]  # one ball: the row of a sweep without --balls
+    two = rows[1]
+    for c in ("worst_amplitude_m", "min_reduction_db", "mean_reduction_db", "chaotic_fraction"):
+        assert math.isfinite(float(two[c])), c
+    for c in ("worst_lcpeak_db", "worst_laeq_db", "worst_lafmax_db"):  # several balls' noise: not rendered
+        assert math.isnan(float(two[c])), c
+    # the forced job of the same two balls finds the same worst case
+    forced = run_forced(ForcedJob(model=DamperModel(m=float(two["mass_kg"]), gap=float(two["gap_m"])),
+                                  frequencies=(6.5, 7.0), amplitude=5.0, starts=2, max_cycles=18, balls=2,
+                                  noise=False, workers=1))
+    worst = max((r for r in forced.rows if math.isfinite(r["amplitude_m"])), key=lambda r: r["amplitude_m"])
+    assert float(two["worst_amplitude_m"]) == pytest.approx(worst["amplitude_m"], rel=1e-12)
+    assert float(two["worst_frequency_hz"]) == worst["frequency_hz"]
+    assert int(two["attractors"]) == len(forced.rows)
 
 
 def test_the_equal_total_mass_divides_the_mass_among_the_balls():
