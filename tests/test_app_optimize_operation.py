@@ -297,3 +297,19 @@ def test_an_optimisation_over_the_balls_in_operation_evaluates_whole_numbers(tmp
     (row,) = _rows(out / "confirmation.csv")
     assert row["evaluation"] == best["evaluation"] and row["balls"] == best["balls"]
     assert math.isfinite(float(row["confirmed_worst_amplitude_m"])) and int(row["confirmation_starts"]) == 4
+
+
+def test_a_scene_in_operation_searches_the_balls_as_the_command_line(tmp_path):
+    scene = SCENE.replace('mass_kg = "0.03:0.06"\n', 'mass_kg = "0.0405"\nballs = "1:3"\n') \
+        .replace('minimize = ["worst_laeq_db"]\nevaluations = 3\nbatch = 2\nseed = 3\n',
+                 'minimize = ["worst_amplitude_m"]\nevaluations = 3\nbatch = 3\nseed = 1\n')
+    from_cli = settings_from_args(build_parser().parse_args([*BALLS_ARGV, "--out", str(tmp_path / "optimize")]))
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(scene)), tmp_path)
+    assert from_cli == from_scene and from_cli.operation == from_scene.operation
+    assert [v.name for v in from_scene.problem.searched] == ["balls"]
+    assert from_scene.evaluator().columns == from_cli.evaluator().columns
+    assert "balls" in from_scene.evaluator().columns
+    # a level objective with several balls is refused naming the scene's key
+    with pytest.raises(ParameterError, match=r"outputs\.optimize\.minimize: column worst_laeq_db is empty"):
+        optimize_settings(scene_from_dict(tomllib.loads(scene.replace("worst_amplitude_m", "worst_laeq_db"))),
+                          tmp_path)

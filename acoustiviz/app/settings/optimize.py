@@ -80,10 +80,20 @@ def _variable(record: Setting) -> Setting:
 
 #: The variables: the swept parameters of ``acoustiviz sweep`` (each in its damper record's range).
 VARIABLES = tuple(_variable(s) for s in SWEPT)
-#: A scene's variables: gap and impact mass (the scene's other settings are held fixed).
+
+
+def _scene_variable(name: str) -> Setting:
+    """The command line's variable ``name`` as a key of ``[outputs.optimize]`` (the same form, as text)."""
+    return dataclasses.replace(by_name(VARIABLES)[name], option=None, scene_kind="str", table=_T)
+
+
+#: A scene's variables: gap and impact mass, and the balls and their fill as the command line's (the scene's
+#: other settings are held fixed); with the balls, the sweep's equal total mass.
 SCENE_VARIABLES = (Setting("gap", None, "gap_m", "str", "0.01:0.06", f"total free travel d in m: {_FORM}",
                            table=_T),
-                   Setting("m", None, "mass_kg", "str", "0.01:0.08", f"impact mass in kg: {_FORM}", table=_T))
+                   Setting("m", None, "mass_kg", "str", "0.01:0.08", f"impact mass in kg: {_FORM}", table=_T),
+                   _scene_variable("balls"), _scene_variable("fill"),
+                   dataclasses.replace(by_name(SWEEP_DAMPER)["equal_total_mass"], option=None, table=_T))
 
 #: Where the evaluations run, and the folder.
 EXECUTION = (
