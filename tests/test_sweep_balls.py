@@ -287,3 +287,51 @@ def test_the_contact_between_two_balls_is_that_of_the_damper_options(tmp_path, c
     assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --k-hertz-ball:")
     assert from_cli.spec.to_dict()["settings"]["k_hertz_ball"] == 1e9
     assert "k_hertz_ball" not in SweepSpec().to_dict()["settings"]  # one ball: sweep.json as before
+
+
+def test_fills_and_the_equal_total_mass_apply_in_operation_and_a_sweep_resumes(tmp_path, capsys):
+    from acoustiviz.core.materials import material
+    from acoustiviz.sweep.in_operation import load_any_sweep, rank_in_operation
+
+    argv = ["sweep", "--balls", "1,2", "--fill", "0.3,0.5", "--m", "0.04", "--equal-total-mass", *OPERATION]
+    out = tmp_path / "sweep"
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    first = (out / "sweep.csv").read_bytes()
+    rows = _rows(out / "sweep.csv")
+    assert [(r["balls"], float(r["fill"]), float(r["mass_kg"])) for r in rows] == \
+        [("1", 0.3, 0.04), ("1", 0.5, 0.04), ("2", 0.3, 0.02), ("2", 0.5, 0.02)]
+    rho = material("steel").density
+    for r in rows:  # each design's gap from its fill, its balls and their diameter (steel)
+        n, fill = int(r["balls"]), float(r["fill"])
+        diameter = 2 * (3 * float(r["mass_kg"]) / (4 * math.pi * rho)) ** (1 / 3)
+        assert float(r["gap_m"]) == pytest.approx(gap_of_fill(n, diameter, fill), rel=1e-12)
+        assert r["success"] == "1" and math.isfinite(float(r["worst_amplitude_m"]))
+    assert main([*argv, "--out", str(out)]) == 0  # a finished sweep resumes with nothing to compute
+    assert (out / "sweep.csv").read_bytes() == first
+    table = load_any_sweep(out)
+    best = rank_in_operation(table, "worst_amplitude_m")
+    assert sorted(table["design_id"][best].tolist()) == [0, 1, 2, 3]
+    # a ranking by a level leaves out the designs of several balls, whose noise in operation is not rendered
+    assert sorted(rank_in_operation(table, "worst_laeq_db").tolist()) == [0, 1]
+
+
+def test_only_designs_of_the_same_balls_seed_each_other_in_operation():
+    from dataclasses import replace
+
+    from acoustiviz.sweep import Operation
+    from acoustiviz.sweep.operation import evaluate_chain, evaluate_in_operation
+
+    operation = Operation(5.0, (6.5, 7.0), starts=2, max_cycles=18, levels=False, warm_radius=1.0)
+    settings = FixedSettings()
+    one, two = SweepSpec(balls=(1, 2), settings=settings).designs()
+    again = replace(two, design_id=2, distance=1.0)  # the same dynamics, another listener
+    rows = evaluate_chain((one, two, again), settings, operation)
+    assert [r["warm_from"] for r in rows] == [-1, -1, 1]  # one ball never seeds two; two seeds its twin
+    alone = evaluate_in_operation(two, settings, operation)
+    assert rows[1] == alone  # from scratch, as if evaluated alone
+    cols = ("worst_amplitude_m", "worst_frequency_hz", "min_reduction_db", "chaotic_fraction", "attractors")
+    assert [rows[2][c] for c in cols] == [alone[c] for c in cols]  # the twin's attractors taken as they are
+    # a neighbour of other balls (their final states need not fit its cavity) is searched from scratch
+    near = SweepSpec(balls=(2,), m=(0.04, 0.041), settings=settings).designs()
+    rows = evaluate_chain(near, settings, operation)
+    assert [r["warm_from"] for r in rows] == [-1, -1] and all(r["success"] == 1 for r in rows)

@@ -14,6 +14,8 @@ over the band and every attractor, which is what an optimiser ranks designs by.
 A design of several balls (``Design.balls > 1``) has its attractors found as ``acoustiviz forced --balls``
 finds them (:func:`acoustiviz.dynamics.balls_forced.ball_attractor_response`, the event solver only); its
 level columns (:data:`BALL_LEVEL_COLUMNS`) stay empty, its click trains in operation not being rendered.
+Only a design of the same balls and dynamics gives it its attractors (``warm_radius`` applies to one ball:
+the final states of balls of another size or gap need not fit its cavity).
 
 Warm starts
 -----------
@@ -148,7 +150,7 @@ class Operation:
         Largest relative difference of gap, impact mass, contact damping and Hertz stiffness to a design
         already evaluated for its attractors to start this one's search with ``warm_starts`` own starts
         (module docstring: it may miss an attractor). 0 (default): only a design of the same dynamics,
-        whose attractors are then taken as they are.
+        whose attractors are then taken as they are (always so for several balls).
     """
 
     amplitude: float
@@ -295,6 +297,7 @@ class WarmStart:
     def nearest(self, design: Design, radius: float) -> tuple[_Cached | None, float]:
         """The cached design nearest to ``design`` within ``radius`` (earliest on a tie) and its distance."""
         key, kind = _key(design), _kind(design)
+        radius = radius if design.balls == 1 else 0.0  # other balls' final states may not fit this cavity
         best, dist = None, math.inf
         for c in (c for c in self._cached if c.kind == kind):  # a section point has 2 + 2 N values
             d = _distance(key, c.key)
@@ -316,8 +319,8 @@ def _search(model, operation: Operation, source: _Cached | None, distance: float
     from ..dynamics import MultiBallModel, forced
     from ..dynamics import balls_forced as balls
 
-    several = isinstance(model, MultiBallModel)
     if source is None:
+        several = isinstance(model, MultiBallModel)
         respond = balls.ball_attractor_response if several else forced.attractor_response
         resp = respond(model, operation.frequencies, operation.amplitude, kind=operation.kind,
                        sweep=operation.sweep, settings=operation.options())
@@ -326,13 +329,9 @@ def _search(model, operation: Operation, source: _Cached | None, distance: float
         return source.per_frequency
     warm = replace(operation.options(), starts=operation.warm_starts)
     out = []
-    for f, fa in zip(operation.frequencies, source.per_frequency, strict=True):
-        if several:  # each attractor's final state continued, as the multi-ball continuation does
-            seeds = tuple(balls._state_of(a, model) for a in fa.attractors if a.success)
-            out.append(balls.ball_attractors_at(model, operation.excitation(f), warm, seeds=seeds))
-        else:
-            seeds = tuple(forced.continuation_seed(a) for a in fa.attractors if a.success)
-            out.append(forced.attractors_at(model, operation.excitation(f), warm, seeds=seeds))
+    for f, fa in zip(operation.frequencies, source.per_frequency, strict=True):  # one ball (WarmStart.nearest)
+        seeds = tuple(forced.continuation_seed(a) for a in fa.attractors if a.success)
+        out.append(forced.attractors_at(model, operation.excitation(f), warm, seeds=seeds))
     return tuple(out)
 
 
