@@ -6,7 +6,9 @@ build equal settings; objectives, constraints and options of free vibration are 
 what the user typed, before any work; a run resumes from its journal; a design that fails is a row
 with its reason; a design's row does not depend on what its worker evaluated before, so two workers
 give the rows of one; Ctrl-C keeps every finished evaluation (exit 130); and the chosen
-design's confirmation holds the worst case of an independent ``forced`` run with twice the starts.
+design's confirmation holds the worst case of an independent ``forced`` run with twice the starts. An
+optimisation over the number of balls evaluates whole numbers with finite dynamics columns, and a scene
+searches the balls as the command line does.
 """
 
 from __future__ import annotations
