@@ -147,8 +147,10 @@ def test_several_balls_in_operation_find_the_attractors_of_forced_balls(tmp_path
     from acoustiviz.sweep.operation import OPERATION_COLUMNS
 
     assert main(["sweep", *OPERATION, "--out", str(tmp_path / "plain")]) == 0, capsys.readouterr().err
+    capsys.readouterr()
     assert main(["sweep", "--balls", "1,2", *OPERATION, "--out", str(tmp_path / "balls")]) == 0, \
         capsys.readouterr().err
+    assert "smallest worst amplitude: design" in capsys.readouterr().out  # the designs without levels too
     plain = (tmp_path / "plain" / "sweep.csv").read_text().splitlines(keepends=True)
     assert plain[0].rstrip("\n").split(",") == list(OPERATION_COLUMNS)
     rows = _rows(tmp_path / "balls" / "sweep.csv")
