@@ -27,7 +27,7 @@ from acoustiviz.app.settings.optimize import OptimizeJob  # noqa: E402
 from acoustiviz.app.sweep import with_room  # noqa: E402
 from acoustiviz.cli import build_parser, main  # noqa: E402
 from acoustiviz.cli.optimize import settings_from_args  # noqa: E402
-from acoustiviz.errors import ParameterError  # noqa: E402
+from acoustiviz.errors import ParameterError, SceneError  # noqa: E402
 from acoustiviz.scene import scene_from_dict  # noqa: E402
 
 FILES = ("evaluations.csv", "pareto.csv", "optimize.json", "pareto.png")
@@ -278,10 +278,50 @@ def test_an_optimisation_over_the_balls_evaluates_whole_numbers_and_resumes(tmp_
 @pytest.mark.parametrize("argv, message", [
     (["--balls", "1.5:3"], "--balls: must be whole numbers"),
     (["--balls", "log:1:3"], "--balls: a whole number takes"),
-    (["--balls", "1:3", "--force", "5", "--freq", "6.5,7"], "--balls: several balls are swept in free vibration"),
+    (["--balls", "1:3", "--force", "5", "--freq", "6.5,7", "--minimize", "worst_laeq_db"],
+     "--minimize: column worst_laeq_db is empty for a design of several balls in operation"),
 ])
 def test_bad_balls_are_one_line_naming_the_option(argv, message, tmp_path, capsys):
-    status = main(["optimize", *argv, "--minimize", "max_spl_db", "--out", str(tmp_path / "o")])
+    objective = [] if "--minimize" in argv else ["--minimize", "max_spl_db"]
+    status = main(["optimize", *argv, *objective, "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "o").exists()
+
+
+#: An optimisation over the balls and their fill at equal total mass, on the command line and in a scene.
+BALLS_ARGV = ("--balls", "1:3", "--fill", "0.2:0.8", "--m", "0.0405", "--equal-total-mass", "--k-hertz-ball", "1e9",
+              "--minimize", "max_spl_db", "--evaluations", "6", "--batch", "4", "--duration", "0.3", "--workers", "1")
+BALLS_SCENE = ('[damper]\nk_hertz_ball_n_m1_5 = 1e9\n[outputs.optimize]\nballs = "1:3"\nfill = "0.2:0.8"\n'
+               'mass_kg = "0.0405"\nequal_total_mass = true\nminimize = ["max_spl_db"]\nevaluations = 6\nbatch = 4\n'
+               'duration_s = 0.3\nworkers = 1\n')
+
+
+def test_a_scene_searches_the_balls_and_the_fill_as_the_command_line(tmp_path):
+    args = build_parser().parse_args(["optimize", *BALLS_ARGV, "--out", str(tmp_path / "optimize")])
+    from_cli = settings_from_args(args)
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(BALLS_SCENE)), tmp_path)
+    assert from_cli == from_scene
+    assert from_cli.fixed == from_scene.fixed and from_scene.fixed.equal_total_mass
+    assert from_scene.fixed.k_hertz_ball == 1e9
+    searched = {v.name: v for v in from_scene.problem.searched}
+    assert sorted(searched) == ["balls", "fill"]
+    assert (searched["balls"].kind, searched["balls"].low, searched["balls"].high) == ("int", 1, 3)
+    assert from_scene.names["balls"] == "outputs.optimize.balls" and from_cli.names["balls"] == "--balls"
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("balls", '"1.5:3"', "outputs.optimize.balls: must be whole numbers"),
+    ("balls", '"log:1:3"', "outputs.optimize.balls: a whole number takes"),
+    ("fill", '"0.2:1.5"', "outputs.optimize.fill:"),
+])
+def test_a_scene_s_bad_balls_or_fill_are_refused_naming_the_key(key, value, message, tmp_path):
+    text = BALLS_SCENE.replace(f'{key} = "{"1:3" if key == "balls" else "0.2:0.8"}"', f"{key} = {value}")
+    with pytest.raises((ParameterError, SceneError), match=re.escape(message)):
+        optimize_settings(scene_from_dict(tomllib.loads(text)), tmp_path)
+
+
+def test_a_scene_with_both_gap_and_fill_is_refused_naming_both(tmp_path):
+    text = BALLS_SCENE.replace('fill = "0.2:0.8"\n', 'fill = "0.2:0.8"\ngap_m = "0.04"\n')
+    with pytest.raises(SceneError, match=r"outputs\.optimize\.fill: give either outputs\.optimize\.gap_m"):
+        scene_from_dict(tomllib.loads(text))

@@ -6,7 +6,9 @@ build equal settings; objectives, constraints and options of free vibration are 
 what the user typed, before any work; a run resumes from its journal; a design that fails is a row
 with its reason; a design's row does not depend on what its worker evaluated before, so two workers
 give the rows of one; Ctrl-C keeps every finished evaluation (exit 130); and the chosen
-design's confirmation holds the worst case of an independent ``forced`` run with twice the starts.
+design's confirmation holds the worst case of an independent ``forced`` run with twice the starts. An
+optimisation over the number of balls evaluates whole numbers with finite dynamics columns, and a scene
+searches the balls as the command line does.
 """
 
 from __future__ import annotations
@@ -273,3 +275,43 @@ def test_in_a_room_every_design_is_heard_with_its_reflections(cli_folder, tmp_pa
         for c in ("worst_amplitude_m", "min_reduction_db", "worst_frequency_hz", "worst_regime"):
             assert r[c] == p[c], c
         assert float(r["worst_laeq_db"]) > float(p["worst_laeq_db"])
+
+
+#: An optimisation in operation over the number of balls, 1 to 3, under F0 = 5 N at two frequencies.
+BALLS_ARGV = ("optimize", "--gap", "0.04", "--balls", "1:3", "--force", "5", "--freq", "6.5,7", "--starts", "2",
+              "--max-cycles", "18", "--noise-seconds", "0.02", "--minimize", "worst_amplitude_m", "--evaluations", "3",
+              "--batch", "3", "--seed", "1", "--workers", "1")
+
+
+def test_an_optimisation_over_the_balls_in_operation_evaluates_whole_numbers(tmp_path, capsys):
+    out = tmp_path / "balls"
+    assert main([*BALLS_ARGV, "--out", str(out)]) == 0, capsys.readouterr().err
+    rows = _rows(out / "evaluations.csv")
+    assert len(rows) == 3 and any(r["balls"] != "1" for r in rows)
+    for r in rows:
+        assert r["balls"] in ("1", "2", "3") and r["success"] == "1", r
+        assert 0.0 < float(r["fill"]) < 1.0
+        for c in ("worst_amplitude_m", "min_reduction_db", "mean_reduction_db", "chaotic_fraction"):
+            assert math.isfinite(float(r[c])), (c, r)
+        several = int(r["balls"]) > 1  # the noise of several balls in operation is not rendered: empty levels
+        assert math.isnan(float(r["worst_laeq_db"])) == several
+    (best,) = _rows(out / "pareto.csv")
+    (row,) = _rows(out / "confirmation.csv")
+    assert row["evaluation"] == best["evaluation"] and row["balls"] == best["balls"]
+    assert math.isfinite(float(row["confirmed_worst_amplitude_m"])) and int(row["confirmation_starts"]) == 4
+
+
+def test_a_scene_in_operation_searches_the_balls_as_the_command_line(tmp_path):
+    scene = SCENE.replace('mass_kg = "0.03:0.06"\n', 'mass_kg = "0.0405"\nballs = "1:3"\n') \
+        .replace('minimize = ["worst_laeq_db"]\nevaluations = 3\nbatch = 2\nseed = 3\n',
+                 'minimize = ["worst_amplitude_m"]\nevaluations = 3\nbatch = 3\nseed = 1\n')
+    from_cli = settings_from_args(build_parser().parse_args([*BALLS_ARGV, "--out", str(tmp_path / "optimize")]))
+    from_scene = optimize_settings(scene_from_dict(tomllib.loads(scene)), tmp_path)
+    assert from_cli == from_scene and from_cli.operation == from_scene.operation
+    assert [v.name for v in from_scene.problem.searched] == ["balls"]
+    assert from_scene.evaluator().columns == from_cli.evaluator().columns
+    assert "balls" in from_scene.evaluator().columns
+    # a level objective with several balls is refused naming the scene's key
+    with pytest.raises(ParameterError, match=r"outputs\.optimize\.minimize: column worst_laeq_db is empty"):
+        optimize_settings(scene_from_dict(tomllib.loads(scene.replace("worst_amplitude_m", "worst_laeq_db"))),
+                          tmp_path)

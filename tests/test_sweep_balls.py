@@ -3,7 +3,10 @@
 A sweep of one ball writes what it wrote before balls were swept; the one-ball rows of a sweep over balls are
 those rows; a two-ball design counts every collision of its multi-ball run and hears each through the
 multi-ball sound; the fill and the gap convert into each other as the cavity's geometry says; the command
-line, a scene and the API build equal sweeps and write the same files. Runs are a few tenths of a second.
+line, a scene and the API build equal sweeps and write the same files; several balls are heard in a room,
+louder than on the plane; in operation a design of several balls finds the attractors of ``forced --balls``,
+its level columns empty, and the one-ball rows are those of a sweep without balls. Runs are a few tenths of
+a second, those in operation a few seconds.
 """
 
 from __future__ import annotations
@@ -133,10 +136,39 @@ def test_bad_balls_and_fills_are_refused_naming_the_option(tmp_path, capsys, arg
     assert not (tmp_path / "sweep").exists()
 
 
-def test_several_balls_are_refused_in_operation_naming_balls(tmp_path, capsys):
-    argv = ["sweep", "--balls", "1,2", "--force", "5", "--freq", "6.5,7", "--out", str(tmp_path / "sweep")]
-    assert main(argv) == 2
-    assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --balls:")
+#: A sweep in operation under F0 = 5 N at two frequencies, with a short search.
+OPERATION = ["--force", "5", "--freq", "6.5,7", "--starts", "2", "--max-cycles", "18", "--noise-seconds", "0.02",
+             "--workers", "1", "--quiet"]
+
+
+def test_several_balls_in_operation_find_the_attractors_of_forced_balls(tmp_path, capsys):
+    from acoustiviz.app.forced import run as run_forced
+    from acoustiviz.app.settings.forced_job import ForcedJob
+    from acoustiviz.sweep.operation import OPERATION_COLUMNS
+
+    assert main(["sweep", *OPERATION, "--out", str(tmp_path / "plain")]) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    assert main(["sweep", "--balls", "1,2", *OPERATION, "--out", str(tmp_path / "balls")]) == 0, \
+        capsys.readouterr().err
+    assert "smallest worst amplitude: design" in capsys.readouterr().out  # the designs without levels too
+    plain = (tmp_path / "plain" / "sweep.csv").read_text().splitlines(keepends=True)
+    assert plain[0].rstrip("\n").split(",") == list(OPERATION_COLUMNS)
+    rows = _rows(tmp_path / "balls" / "sweep.csv")
+    assert [r["balls"] for r in rows] == ["1", "2"] and all(r["success"] == "1" for r in rows)
+    assert _line(rows[0], OPERATION_COLUMNS) == plain[1]  # one ball: the row of a sweep without --balls
+    two = rows[1]
+    for c in ("worst_amplitude_m", "min_reduction_db", "mean_reduction_db", "chaotic_fraction"):
+        assert math.isfinite(float(two[c])), c
+    for c in ("worst_lcpeak_db", "worst_laeq_db", "worst_lafmax_db"):  # several balls' noise: not rendered
+        assert math.isnan(float(two[c])), c
+    # the forced job of the same two balls finds the same worst case
+    forced = run_forced(ForcedJob(model=DamperModel(m=float(two["mass_kg"]), gap=float(two["gap_m"])),
+                                  frequencies=(6.5, 7.0), amplitude=5.0, starts=2, max_cycles=18, balls=2,
+                                  noise=False, workers=1))
+    worst = max((r for r in forced.rows if math.isfinite(r["amplitude_m"])), key=lambda r: r["amplitude_m"])
+    assert float(two["worst_amplitude_m"]) == pytest.approx(worst["amplitude_m"], rel=1e-12)
+    assert float(two["worst_frequency_hz"]) == worst["frequency_hz"]
+    assert int(two["attractors"]) == len(forced.rows)
 
 
 def test_the_equal_total_mass_divides_the_mass_among_the_balls():
@@ -203,14 +235,23 @@ def test_a_sweep_of_fills_skips_the_gap_by_mass_maps(tmp_path, capsys):
         load_sweep(out).grid("max_spl_db")
 
 
-def test_several_balls_in_a_room_are_refused_before_any_work_naming_balls(tmp_path, capsys):
-    room = ["--room", "3,2.5,2", "--absorption", "0.3", "--source", "1,1,0.01905", "--room-window", "0.005",
-            "--config", "room"]
+def test_several_balls_in_a_room_are_heard_with_its_images_louder_than_on_the_plane(tmp_path, capsys):
+    # a rigid room (absorption 0) holds the plane's floor and five more reflecting surfaces
+    room = ["--room", "3,2.5,2", "--absorption", "0", "--source", "1,1,0.01905", "--room-window", "0.005"]
     out = tmp_path / "sweep"
-    assert main(["sweep", "--balls", "1,2", *room, "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith("acoustiviz sweep: error: --balls:") and "room" in err
-    assert not out.exists()
+    argv = ["sweep", "--balls", "1,2", *room, "--duration", "0.3", "--levels", "--workers", "1", "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    rows = _rows(out / "sweep.csv")
+    assert [(r["config"], r["balls"], r["success"]) for r in rows] == [("room", "1", "1"), ("room", "2", "1")]
+    two = rows[1]
+    cols = ("max_spl_db", "lafmax_db", "lcpeak_db", "laeq_db")
+    assert all(math.isfinite(float(two[c])) for c in cols) and int(two["n_impacts"]) > 0
+    settings = FixedSettings(duration=0.3, levels=True)
+    (plane,) = SweepSpec(balls=(2,), settings=settings).designs()
+    on_plane = evaluate_design(plane, settings)
+    assert on_plane.n_impacts == int(two["n_impacts"])  # the same motion, heard in other surroundings
+    assert float(two["max_spl_db"]) > on_plane.max_spl_db
+    assert float(two["laeq_db"]) > on_plane.levels["laeq_db"] + 1.0  # the room's reverberation adds energy
 
 
 def test_a_two_ball_design_damps_as_the_damper_job_of_two_balls_measures():
@@ -251,3 +292,51 @@ def test_the_contact_between_two_balls_is_that_of_the_damper_options(tmp_path, c
     assert capsys.readouterr().err.startswith("acoustiviz sweep: error: --k-hertz-ball:")
     assert from_cli.spec.to_dict()["settings"]["k_hertz_ball"] == 1e9
     assert "k_hertz_ball" not in SweepSpec().to_dict()["settings"]  # one ball: sweep.json as before
+
+
+def test_fills_and_the_equal_total_mass_apply_in_operation_and_a_sweep_resumes(tmp_path, capsys):
+    from acoustiviz.core.materials import material
+    from acoustiviz.sweep.in_operation import load_any_sweep, rank_in_operation
+
+    argv = ["sweep", "--balls", "1,2", "--fill", "0.3,0.5", "--m", "0.04", "--equal-total-mass", *OPERATION]
+    out = tmp_path / "sweep"
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    first = (out / "sweep.csv").read_bytes()
+    rows = _rows(out / "sweep.csv")
+    assert [(r["balls"], float(r["fill"]), float(r["mass_kg"])) for r in rows] == \
+        [("1", 0.3, 0.04), ("1", 0.5, 0.04), ("2", 0.3, 0.02), ("2", 0.5, 0.02)]
+    rho = material("steel").density
+    for r in rows:  # each design's gap from its fill, its balls and their diameter (steel)
+        n, fill = int(r["balls"]), float(r["fill"])
+        diameter = 2 * (3 * float(r["mass_kg"]) / (4 * math.pi * rho)) ** (1 / 3)
+        assert float(r["gap_m"]) == pytest.approx(gap_of_fill(n, diameter, fill), rel=1e-12)
+        assert r["success"] == "1" and math.isfinite(float(r["worst_amplitude_m"]))
+    assert main([*argv, "--out", str(out)]) == 0  # a finished sweep resumes with nothing to compute
+    assert (out / "sweep.csv").read_bytes() == first
+    table = load_any_sweep(out)
+    best = rank_in_operation(table, "worst_amplitude_m")
+    assert sorted(table["design_id"][best].tolist()) == [0, 1, 2, 3]
+    # a ranking by a level leaves out the designs of several balls, whose noise in operation is not rendered
+    assert sorted(rank_in_operation(table, "worst_laeq_db").tolist()) == [0, 1]
+
+
+def test_only_designs_of_the_same_balls_seed_each_other_in_operation():
+    from dataclasses import replace
+
+    from acoustiviz.sweep import Operation
+    from acoustiviz.sweep.operation import evaluate_chain, evaluate_in_operation
+
+    operation = Operation(5.0, (6.5, 7.0), starts=2, max_cycles=18, levels=False, warm_radius=1.0)
+    settings = FixedSettings()
+    one, two = SweepSpec(balls=(1, 2), settings=settings).designs()
+    again = replace(two, design_id=2, distance=1.0)  # the same dynamics, another listener
+    rows = evaluate_chain((one, two, again), settings, operation)
+    assert [r["warm_from"] for r in rows] == [-1, -1, 1]  # one ball never seeds two; two seeds its twin
+    alone = evaluate_in_operation(two, settings, operation)
+    assert rows[1] == alone  # from scratch, as if evaluated alone
+    cols = ("worst_amplitude_m", "worst_frequency_hz", "min_reduction_db", "chaotic_fraction", "attractors")
+    assert [rows[2][c] for c in cols] == [alone[c] for c in cols]  # the twin's attractors taken as they are
+    # a neighbour of other balls (their final states need not fit its cavity) is searched from scratch
+    near = SweepSpec(balls=(2,), m=(0.04, 0.041), settings=settings).designs()
+    rows = evaluate_chain(near, settings, operation)
+    assert [r["warm_from"] for r in rows] == [-1, -1] and all(r["success"] == 1 for r in rows)

@@ -3,8 +3,9 @@
 An optimisation in operation ranks designs by a worst case over the band found with a few starts per
 frequency; a start that misses an attractor with a small basin makes a design look better than it is,
 and the optimiser is drawn to exactly such designs. :func:`confirm` reruns the ``forced`` job
-(:func:`acoustiviz.app.forced.run` on a :class:`~acoustiviz.app.settings.forced_job.ForcedJob`) on the
-chosen design with twice the starts and condenses its attractors as the optimisation did
+(:func:`acoustiviz.app.forced.run` on a :class:`~acoustiviz.app.settings.forced_job.ForcedJob`; a design of
+several balls: the same multi-ball search on its own balls) on the chosen design with twice the starts and
+condenses its attractors as the optimisation did
 (:func:`acoustiviz.sweep.operation.summarise`). The two worst amplitudes agree when both are periodic
 and equal within the orbits' tolerance, or when they differ by at most :data:`AGREEMENT_ERRORS`
 combined standard errors of their batch means.
@@ -46,8 +47,10 @@ def confirm(result, progress=None) -> dict | None:
     dict or None
         ``evaluation``, the design's variables (API names) and :data:`CONFIRMATION_COLUMNS` (m, Hz).
     """
+    from dataclasses import replace
+
     from ..constants import FORCED_MAX_STARTS
-    from ..sweep.operation import _model, summarise
+    from ..sweep.operation import _model, _search, summarise
     from .forced import run
     from .settings.forced_job import ForcedJob
 
@@ -58,11 +61,14 @@ def confirm(result, progress=None) -> dict | None:
     op = job.operation
     design = job.evaluator().design(record["evaluation"], record["params"])
     starts = min(2 * op.starts, FORCED_MAX_STARTS)
-    forced = ForcedJob(model=_model(design, job.fixed), frequencies=op.frequencies, kind=op.kind,
-                       amplitude=op.amplitude, sweep=op.sweep, solver=op.solver, starts=starts,
-                       tolerance=op.tolerance, rtol=op.rtol, max_cycles=op.max_cycles, restitution=op.restitution,
-                       noise=False, workers=1)
-    again = summarise(run(forced, progress=progress).response.per_frequency)
+    if design.balls > 1:  # the multi-ball search of ``forced --balls``, on the design's own balls (their material)
+        again = summarise(_search(_model(design, job.fixed), replace(op, starts=starts), None, math.inf))
+    else:
+        forced = ForcedJob(model=_model(design, job.fixed), frequencies=op.frequencies, kind=op.kind,
+                           amplitude=op.amplitude, sweep=op.sweep, solver=op.solver, starts=starts,
+                           tolerance=op.tolerance, rtol=op.rtol, max_cycles=op.max_cycles,
+                           restitution=op.restitution, noise=False, workers=1)
+        again = summarise(run(forced, progress=progress).response.per_frequency)
     row = record["row"]
     out = {"evaluation": record["evaluation"], **record["params"], "starts": op.starts,
            **{c: row[c] for c in _WORST}, "confirmation_starts": starts,

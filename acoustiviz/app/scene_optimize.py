@@ -1,7 +1,9 @@
 """A scene's ``[outputs.optimize]``: the same :class:`~acoustiviz.app.settings.optimize.OptimizeJob` as the command.
 
-The variables are the table's ``gap_m`` and ``mass_kg``; everything else (the damper, its solver,
-the sphere, the contact, the first listener and the configuration) is the scene's, read through
+The variables are the table's ``gap_m`` (or ``fill``), ``mass_kg`` and ``balls``, read as the command
+line's ``--gap``, ``--fill``, ``--m`` and ``--balls`` (``equal_total_mass`` as ``--equal-total-mass``);
+everything else (the damper, its solver, the sphere, the contact, the first listener and the
+configuration) is the scene's, read through
 :func:`acoustiviz.app.sweep.sweep_settings`, the reading of a scene's sweep; with ``in_operation`` (or
 ``mode = "operation"``) the designs are evaluated in operation under the scene's ``[excitation]``, as a
 scene's sweep in operation is.
@@ -21,7 +23,7 @@ __all__ = ["optimize_settings", "produce_optimize", "OPTIMIZE_FOLDER"]
 OPTIMIZE_FOLDER = "optimize"
 #: FixedSettings fields given to :func:`acoustiviz.app.sweep.sweep_spec` under their own names.
 _SAME = ("M", "K", "C", "clip_tensile", "duration", "solver", "rtol", "surface", "pulse", "pulse_mass", "c", "rho",
-         "wall_distance", "n_fastest", "levels", "room")
+         "wall_distance", "n_fastest", "levels", "room", "equal_total_mass", "k_hertz_ball", "c1_ball")
 
 
 class _AsSweep:
@@ -31,7 +33,7 @@ class _AsSweep:
         self._scene = scene
         # a sweep in free vibration on every core, with the optimisation's duration and levels
         self._sweep = {"gap_m": PAPER_GAP, "mass_kg": TABLE1_PARAMETERS["m"], "duration_s": opts["duration_s"],
-                       "levels": opts["levels"], "workers": 0,
+                       "levels": opts["levels"], "workers": 0, "equal_total_mass": opts["equal_total_mass"],
                        "in_operation": opts["in_operation"] or opts["mode"] == "operation",
                        "noise_seconds": opts["noise_seconds"]}
 
@@ -68,7 +70,8 @@ def optimize_settings(scene, out=None) -> OptimizeJob:
         "scene", (), {"duration": "duration", "levels": "levels", "noise_seconds": "noise_seconds"},
         lookup=(*records, SCENE_LEVELS))})
     spec, operation = sweep.spec, sweep.operation
-    given = {**_given(spec), "gap": opts["gap_m"], "m": opts["mass_kg"]}
+    given = {**_given(spec), "gap": opts["gap_m"], "m": opts["mass_kg"], "balls": opts["balls"],
+             "fill": opts["fill"]}
     variables, fixed = optimize_variables(given, names)
     return OptimizeJob(variables, fixed, minimize=tuple(opts["minimize"]), maximize=tuple(opts["maximize"]),
                        constraints=tuple(opts["constraints"]), evaluations=opts["evaluations"], seed=opts["seed"],

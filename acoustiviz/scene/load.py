@@ -341,12 +341,13 @@ def _validate_outputs(outs_raw, data: dict, source: str) -> dict:
         if value is True:
             value = {}
         outputs[kind] = _validate_table(value, _OUT[kind], source, f"outputs.{kind}")
-    if outputs.get("sweep", {}).get("fill") is not None:  # the fill sets the gap: the gap's default is not taken
-        if "gap_m" in outs_raw["sweep"]:
-            raise SceneError(source, "outputs.sweep.fill", "give either outputs.sweep.gap_m (the free travel) or "
-                                                           "outputs.sweep.fill (the balls' fraction of the cavity), "
-                                                           "not both")
-        outputs["sweep"]["gap_m"] = None
+    for kind in ("sweep", "optimize"):
+        if outputs.get(kind, {}).get("fill") is not None:  # the fill sets the gap: the gap's default is not taken
+            if "gap_m" in outs_raw[kind]:
+                raise SceneError(source, f"outputs.{kind}.fill", f"give either outputs.{kind}.gap_m (the free "
+                                                                 f"travel) or outputs.{kind}.fill (the balls' "
+                                                                 "fraction of the cavity), not both")
+            outputs[kind]["gap_m"] = None
     _check_output_needs(outputs, data, source)
     return outputs
 

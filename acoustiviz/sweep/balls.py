@@ -27,8 +27,9 @@ each with its radius and mass; :func:`acoustiviz.sound.balls_sound.ball_clicks`)
 listener at :data:`~acoustiviz.constants.ANALYSIS_RATE` (:func:`acoustiviz.sound.balls_sound.render_clicks`):
 a band-limited peak, where one ball's is the exact peak of its pulse. With ``levels`` the run's whole
 click train is rendered (:func:`acoustiviz.sound.balls_sound.render_balls`) and its LAFmax, LCpeak and
-LAeq over the run are reported. Several balls are heard in free field, on a plane or in a corner; a room
-is refused (``balls``). SI units.
+LAeq over the run are reported. Several balls are heard in free field, on a plane, in a corner or in a
+room (each sphere with the room's images of its own position, :mod:`acoustiviz.sound.balls_room`; a sweep
+renders no late tail and no absorption bands). SI units.
 """
 
 from __future__ import annotations

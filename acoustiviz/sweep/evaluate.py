@@ -352,9 +352,6 @@ def evaluate_balls(design, settings):
     medium = Medium(c=s.c, rho=s.rho)
     scene, click = sound_setup(design, s, medium)
     cavity = model.cavities[0]
-    if scene.geometry.enclosed:
-        raise ParameterError("balls", "several balls are heard in free field, on a plane or in a corner, not in "
-                                      "a room: set balls = 1 or another configuration")
     scene = column_scene(scene, cavity)
     point = listener_point(scene.geometry, design.distance, design.angle)
     check_listeners(point, scene, name="distance", column=cavity)

@@ -3,7 +3,8 @@
 A sweep in operation keeps the files of a sweep of free vibration (:mod:`acoustiviz.sweep.store`):
 ``sweep.json`` holds the grid and, under its ``operation`` key, the excitation and search settings
 (:func:`operation_document`) and the chain length; ``sweep.csv`` holds one row of
-:data:`~acoustiviz.sweep.operation.OPERATION_COLUMNS` per design, appended, flushed and synced as each
+:data:`~acoustiviz.sweep.operation.OPERATION_COLUMNS` (with ``balls`` and ``fill`` when the designs name them,
+:func:`~acoustiviz.sweep.operation.operation_columns`) per design, appended, flushed and synced as each
 chain of designs finishes. A folder resumes only with the same grid and the same operation (a folder of
 free vibration, or one made under another excitation, is refused as made with different settings); the
 chains are cut from the whole design list, so a resumed sweep runs only the chains it lacks, each whole,
@@ -19,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from .operation import OPERATION_COLUMNS, Operation, check_operation, operation_chains, run_chains
+from .operation import Operation, check_operation, operation_chains, operation_columns, run_chains
 from .progress import Progress
 from .spec import SweepSpec
 from .store import (
@@ -89,7 +90,7 @@ def run_sweep_in_operation(spec: SweepSpec, operation: Operation, out_dir, *, ex
     Returns
     -------
     SweepTable
-        Every row of the folder (:data:`~acoustiviz.sweep.OPERATION_COLUMNS`), with ``operation`` set.
+        Every row of the folder (:func:`~acoustiviz.sweep.operation.operation_columns`), with ``operation`` set.
 
     Notes
     -----
@@ -107,7 +108,8 @@ def run_sweep_in_operation(spec: SweepSpec, operation: Operation, out_dir, *, ex
     out = Path(out_dir)
     prepare_dir(spec, out, overwrite, operation_document(operation, chain))
     path = out / SWEEP_CSV
-    rows = read_rows(path, spec, "out", columns=OPERATION_COLUMNS)
+    columns = operation_columns(spec.with_balls)
+    rows = read_rows(path, spec, "out", columns=columns)
     pending = [c for c in chains if any(d.design_id not in rows for d in c)]
     n_pending = sum(len(c) for c in pending)
     report = Progress(len(designs), len(designs) - n_pending, progress, bar=bar if pending else False)
@@ -118,15 +120,16 @@ def run_sweep_in_operation(spec: SweepSpec, operation: Operation, out_dir, *, ex
                    f"{n_pending} to compute")
     if pending:
         _run(pending, spec, operation, path, rows, report, executor=executor, workers=workers)
-    put_in_design_order(path, rows, designs, OPERATION_COLUMNS)
-    return table_from_rows(spec, rows, "out", columns=OPERATION_COLUMNS, operation=operation)
+    put_in_design_order(path, rows, designs, columns)
+    return table_from_rows(spec, rows, "out", columns=columns, operation=operation)
 
 
 def _run(pending, spec, operation, path, rows, report, *, executor, workers) -> None:
     """Run the chains ``pending``, journaling each one's rows into ``rows`` and ``path`` as it finishes."""
     interrupted = True
+    columns = operation_columns(spec.with_balls)
     try:
-        with Journal(path, OPERATION_COLUMNS) as journal:
+        with Journal(path, columns) as journal:
             def keep(chain_rows):
                 for r in chain_rows:
                     if r["design_id"] not in rows:  # a chain torn by a kill: its rows written are kept
@@ -140,7 +143,7 @@ def _run(pending, spec, operation, path, rows, report, *, executor, workers) -> 
     finally:
         report.close()
         if interrupted:
-            kept = len(read_rows(path, spec, "out", columns=OPERATION_COLUMNS))
+            kept = len(read_rows(path, spec, "out", columns=columns))
             report.say(f"sweep: stopped; {kept} of {len(spec.designs())} designs kept in {path}")
 
 
@@ -154,8 +157,9 @@ def load_any_sweep(out_dir, name: str = "sweep") -> SweepTable:
     path = Path(out_dir) / SWEEP_CSV
     if not path.is_file():
         raise ParameterError(name, f"{out_dir} holds no {SWEEP_CSV}")
-    rows = read_rows(path, spec, name, columns=OPERATION_COLUMNS)
-    return table_from_rows(spec, rows, name, columns=OPERATION_COLUMNS, operation=operation)
+    columns = operation_columns(spec.with_balls)
+    rows = read_rows(path, spec, name, columns=columns)
+    return table_from_rows(spec, rows, name, columns=columns, operation=operation)
 
 
 def rank_in_operation(table: SweepTable, rank_by: str) -> np.ndarray:

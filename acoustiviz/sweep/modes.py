@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 
 from .levels import SWEEP_LEVEL_COLUMNS
-from .operation import OPERATION_COLUMNS, Operation
+from .operation import OPERATION_COLUMNS, Operation, operation_columns
 from .spec import FixedSettings, SweepSpec
 from .store import NUMERIC_COLUMNS, row_columns
 
@@ -108,13 +108,18 @@ class InOperation:
         Everything held fixed (the main system, the air, the listener's surroundings).
     operation : Operation
         The excitation (force F0 in N or base amplitude B in m), the frequencies in Hz and the search.
+    with_balls : bool
+        The designs name their balls and fill: the rows then hold the columns ``balls`` and ``fill``.
     """
 
     settings: FixedSettings
     operation: Operation
+    with_balls: bool = False
 
-    #: The columns of a row (those of a sweep in operation's ``sweep.csv``).
-    columns = OPERATION_COLUMNS
+    @property
+    def columns(self) -> tuple:
+        """The columns of a row: those of a sweep in operation's ``sweep.csv``."""
+        return operation_columns(self.with_balls)
     #: The numeric columns objectives and constraints may name.
     objective_columns = IN_OPERATION_COLUMNS
     #: The level columns are always computed in operation (:attr:`Operation.levels`).

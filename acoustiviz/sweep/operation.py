@@ -11,6 +11,12 @@ LAFmax over whole periods after a settled lead-in). :func:`evaluate_in_operation
 into one row (:data:`OPERATION_COLUMNS`, defined in :data:`OPERATION_DEFINITIONS`): the worst case
 over the band and every attractor, which is what an optimiser ranks designs by.
 
+A design of several balls (``Design.balls > 1``) has its attractors found as ``acoustiviz forced --balls``
+finds them (:func:`acoustiviz.dynamics.balls_forced.ball_attractor_response`, the event solver only); its
+level columns (:data:`BALL_LEVEL_COLUMNS`) stay empty, its click trains in operation not being rendered.
+Only a design of the same balls and dynamics gives it its attractors (``warm_radius`` applies to one ball:
+the final states of balls of another size or gap need not fit its cavity).
+
 Warm starts
 -----------
 Neighbouring designs of a sweep have neighbouring attractors. A :class:`WarmStart` holds the
@@ -59,9 +65,9 @@ from ..constants import (
 from ..errors import ParameterError
 from .spec import Design, FixedSettings
 
-__all__ = ["OPERATION_COLUMNS", "OPERATION_DEFINITIONS", "Operation", "WarmStart", "evaluate_in_operation",
-           "evaluate_in_operation_or_fail", "failed_operation_row", "evaluate_chain", "operation_chains",
-           "run_operation", "run_chains", "check_operation"]
+__all__ = ["OPERATION_COLUMNS", "OPERATION_DEFINITIONS", "BALL_LEVEL_COLUMNS", "operation_columns", "Operation",
+           "WarmStart", "evaluate_in_operation", "evaluate_in_operation_or_fail", "failed_operation_row",
+           "evaluate_chain", "operation_chains", "run_operation", "run_chains", "check_operation"]
 
 #: Column -> its unit and definition (one row per design; "attractor" means every attractor of every
 #: frequency of the band whose run the solver completed).
@@ -87,10 +93,12 @@ OPERATION_DEFINITIONS = {
                         "attractor (the linear amplitude without the damper exact), dB",
     "mean_reduction_db": "mean over the band's frequencies of each frequency's smallest reduction, dB",
     "worst_lcpeak_db": "largest LCpeak of the steady click train at the listener over the band and every "
-                       "attractor, dB re 20 uPa (-inf: no impact; empty without levels)",
-    "worst_laeq_db": "largest LAeq over whole periods, same attractors, dB re 20 uPa",
-    "worst_lafmax_db": "largest LAFmax, same attractors, dB re 20 uPa",
-    "chaotic_fraction": "fraction of the band's frequencies at which an attractor is chaotic",
+                       "attractor, dB re 20 uPa (-inf: no impact; empty without levels, and for a design of "
+                       "several balls, whose click trains in operation are not rendered)",
+    "worst_laeq_db": "largest LAeq over whole periods, same attractors, dB re 20 uPa (empty as worst_lcpeak_db)",
+    "worst_lafmax_db": "largest LAFmax, same attractors, dB re 20 uPa (empty as worst_lcpeak_db)",
+    "chaotic_fraction": "fraction of the band's frequencies at which an attractor is chaotic (several balls: "
+                        "non-periodic, their motions having no Lyapunov exponent)",
     "attractors": "attractors found over the band (summed over the frequencies)",
     "failed_runs": "attractor runs the solver stopped (left out of every other column)",
     "cycles_integrated": "forcing cycles integrated for the design (every start, seed, shooting, window)",
@@ -98,10 +106,12 @@ OPERATION_DEFINITIONS = {
     "success": "1 when every run completed, else 0 with the reason in error",
     "error": "why the design failed, one line",
 }
-#: The columns of a design's row, in order.
+#: The columns of a design's row, in order (:func:`operation_columns`: with ``balls`` and ``fill``).
 OPERATION_COLUMNS = tuple(OPERATION_DEFINITIONS)
 #: The level columns and the :class:`~acoustiviz.sound.operating.OperatingNoise` attribute of each.
 _LEVELS = {"worst_lcpeak_db": "lcpeak_db", "worst_laeq_db": "laeq_db", "worst_lafmax_db": "lafmax_db"}
+#: The columns left empty (NaN) for a design of several balls, whose click trains in operation are not rendered.
+BALL_LEVEL_COLUMNS = tuple(_LEVELS)
 
 
 @dataclass(frozen=True)
@@ -140,7 +150,7 @@ class Operation:
         Largest relative difference of gap, impact mass, contact damping and Hertz stiffness to a design
         already evaluated for its attractors to start this one's search with ``warm_starts`` own starts
         (module docstring: it may miss an attractor). 0 (default): only a design of the same dynamics,
-        whose attractors are then taken as they are.
+        whose attractors are then taken as they are (always so for several balls).
     """
 
     amplitude: float
@@ -199,12 +209,29 @@ class Operation:
         return Excitation(float(frequency), self.amplitude, self.kind)
 
 
+def operation_columns(with_balls: bool) -> tuple:
+    """:data:`OPERATION_COLUMNS`, with ``balls`` and ``fill`` after ``radius_m`` when the designs name their balls.
+
+    The rule of ``sweep.csv`` in free vibration (:func:`acoustiviz.sweep.store.row_columns`): a sweep that names
+    neither balls nor fills writes the columns it always wrote.
+    """
+    from .store import row_columns
+
+    return row_columns(with_balls, OPERATION_COLUMNS)
+
+
 def _is_int(v) -> bool:
     return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
 
 
 def _model(design: Design, fixed: FixedSettings):
+    """The damper of ``design``: a DamperModel, or with several balls their MultiBallModel."""
     from ..dynamics import DamperModel
+
+    if design.balls > 1:
+        from .balls import design_balls_model
+
+        return design_balls_model(design, fixed)[1]
 
     return DamperModel(M=fixed.M, K=fixed.K, C=fixed.C, m=design.m, gap=design.gap, k_hertz=design.k_hertz,
                        c1=design.c1, clip_tensile=fixed.clip_tensile)
@@ -219,6 +246,7 @@ def check_operation(designs, fixed: FixedSettings, operation: Operation) -> None
         Named after the :class:`Operation` field (``starts``, ``tolerance``, ``frequencies``...).
     """
     from ..core.limits import check_forcing_frequencies
+    from ..dynamics.balls_forced import check_ball_settings
     from ..dynamics.forced import check_settings
 
     if not isinstance(operation, Operation):
@@ -226,7 +254,8 @@ def check_operation(designs, fixed: FixedSettings, operation: Operation) -> None
     check_forcing_frequencies(operation.frequencies, M=fixed.M, K=fixed.K)
     for d in designs:
         model = _model(d, fixed)
-        check_settings(model, operation.excitation(operation.frequencies[0]), operation.options())
+        check = check_ball_settings if d.balls > 1 else check_settings  # several balls: the event solver only
+        check(model, operation.excitation(operation.frequencies[0]), operation.options())
         for f in operation.frequencies[1:]:
             operation.excitation(f).linear_response(model)  # an undamped resonance is refused
 
@@ -242,11 +271,17 @@ def _distance(a: tuple, b: tuple) -> float:
     return max((abs(x - y) / max(abs(x), abs(y)) if x != y else 0.0) for x, y in zip(a, b, strict=True))
 
 
+def _kind(design: Design) -> tuple:
+    """What must match for attractors to seed each other: the balls (and their material, which sizes them)."""
+    return (design.balls, design.material) if design.balls > 1 else (1, "")
+
+
 @dataclass(frozen=True)
 class _Cached:
     design_id: int
     key: tuple
     per_frequency: tuple
+    kind: tuple = (1, "")
 
 
 class WarmStart:
@@ -264,9 +299,10 @@ class WarmStart:
 
     def nearest(self, design: Design, radius: float) -> tuple[_Cached | None, float]:
         """The cached design nearest to ``design`` within ``radius`` (earliest on a tie) and its distance."""
-        key = _key(design)
+        key, kind = _key(design), _kind(design)
+        radius = radius if design.balls == 1 else 0.0  # other balls' final states may not fit this cavity
         best, dist = None, math.inf
-        for c in self._cached:
+        for c in (c for c in self._cached if c.kind == kind):  # a section point has 2 + 2 N values
             d = _distance(key, c.key)
             if d < dist:
                 best, dist = c, d
@@ -274,24 +310,31 @@ class WarmStart:
 
     def add(self, design: Design, per_frequency: tuple) -> None:
         """Keep ``design``'s attractors (a tuple of FrequencyAttractors, one per frequency)."""
-        self._cached.append(_Cached(design.design_id, _key(design), tuple(per_frequency)))
+        self._cached.append(_Cached(design.design_id, _key(design), tuple(per_frequency), _kind(design)))
 
 
 def _search(model, operation: Operation, source: _Cached | None, distance: float) -> tuple:
-    """The attractors per frequency: from scratch, from ``source``'s, or ``source``'s when ``distance`` is 0."""
-    from ..dynamics.forced import attractor_response, attractors_at, continuation_seed
+    """The attractors per frequency: from scratch, from ``source``'s, or ``source``'s when ``distance`` is 0.
+
+    One ball: :func:`acoustiviz.dynamics.forced.attractor_response`; several balls (a ``MultiBallModel``):
+    :func:`acoustiviz.dynamics.balls_forced.ball_attractor_response`, as ``acoustiviz forced --balls`` runs them.
+    """
+    from ..dynamics import MultiBallModel, forced
+    from ..dynamics import balls_forced as balls
 
     if source is None:
-        resp = attractor_response(model, operation.frequencies, operation.amplitude, kind=operation.kind,
-                                  sweep=operation.sweep, settings=operation.options())
+        several = isinstance(model, MultiBallModel)
+        respond = balls.ball_attractor_response if several else forced.attractor_response
+        resp = respond(model, operation.frequencies, operation.amplitude, kind=operation.kind,
+                       sweep=operation.sweep, settings=operation.options())
         return resp.per_frequency
     if distance == 0.0:
         return source.per_frequency
     warm = replace(operation.options(), starts=operation.warm_starts)
     out = []
-    for f, fa in zip(operation.frequencies, source.per_frequency, strict=True):
-        seeds = tuple(continuation_seed(a) for a in fa.attractors if a.success)
-        out.append(attractors_at(model, operation.excitation(f), warm, seeds=seeds))
+    for f, fa in zip(operation.frequencies, source.per_frequency, strict=True):  # one ball (WarmStart.nearest)
+        seeds = tuple(forced.continuation_seed(a) for a in fa.attractors if a.success)
+        out.append(forced.attractors_at(model, operation.excitation(f), warm, seeds=seeds))
     return tuple(out)
 
 
@@ -299,7 +342,13 @@ def _search(model, operation: Operation, source: _Cached | None, distance: float
 def _design_cells(design: Design, fixed: FixedSettings) -> dict:
     return {"design_id": design.design_id, "gap_m": design.gap, "mass_kg": design.m, "c1_n_s_m": design.c1,
             "k_hertz_n_m1_5": design.k_hertz, "material": design.material, "distance_m": design.distance,
-            "angle_deg": math.degrees(design.angle), "config": design.config, "radius_m": design.radius}
+            "angle_deg": math.degrees(design.angle), "config": design.config, "radius_m": design.radius,
+            **({} if design.fill is None else {"balls": design.balls, "fill": design.fill})}
+
+
+def _chaotic(a) -> bool:
+    """Whether a steady motion counts as chaotic: several balls' non-periodic motions have no Lyapunov exponent."""
+    return a.regime == "chaotic" or (a.regime == "unresolved" and getattr(a.model, "n_balls", 1) > 1)
 
 
 def _noise(steady, design: Design, fixed: FixedSettings, operation: Operation):
@@ -354,7 +403,7 @@ def summarise(per_frequency, levels=None) -> dict:
     for i, _, a in ok:
         per_f[i] = min(per_f.get(i, math.inf), a.reduction_db)
     row["mean_reduction_db"] = float(np.mean(list(per_f.values())))
-    chaotic = {i for i, _, a in ok if a.regime == "chaotic"}
+    chaotic = {i for i, _, a in ok if _chaotic(a)}
     row["chaotic_fraction"] = len(chaotic) / len(per_frequency)
     if levels is not None:
         for col, name in _LEVELS.items():
@@ -386,23 +435,23 @@ def evaluate_in_operation(design: Design, fixed: FixedSettings, operation: Opera
     if warm is not None:
         warm.add(design, per_frequency)
     levels = None
-    if operation.levels:
+    if operation.levels and design.balls == 1:  # several balls' click trains in operation: not rendered
         levels = [[{k: getattr(nz, k) for k in _LEVELS.values()} if nz is not None else None
                    for nz in (_noise(a, design, fixed, operation) if a.success else None for a in fa.attractors)]
                   for fa in per_frequency]
     row = {**_design_cells(design, fixed), **summarise(per_frequency, levels)}
-    if not operation.levels:
+    if levels is None:
         row.update(dict.fromkeys(_LEVELS, math.nan))
     failed = [a for fa in per_frequency for a in fa.attractors if not a.success]
     why = f"{failed[0].excitation.frequency:g} Hz: {failed[0].message}" if failed else ""
     row.update(warm_from=-1 if source is None else source.design_id, success=int(not failed),
                error=" ".join(why.split()))
-    return {c: row[c] for c in OPERATION_COLUMNS}
+    return {c: row[c] for c in operation_columns(design.fill is not None)}
 
 
 def failed_operation_row(design: Design, fixed: FixedSettings, reason: str) -> dict:
     """The row of a design that could not be evaluated: NaN values, ``success`` 0, ``reason`` on one line."""
-    row = dict.fromkeys(OPERATION_COLUMNS, math.nan)
+    row = dict.fromkeys(operation_columns(design.fill is not None), math.nan)
     row.update(_design_cells(design, fixed), worst_regime="", attractors=0, failed_runs=0, cycles_integrated=0,
                warm_from=-1, success=0, error=" ".join(str(reason).split()) or "unknown error")
     return row

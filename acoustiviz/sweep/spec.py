@@ -438,9 +438,6 @@ class SweepSpec:
             design = Design(i, float(gap), float(m), float(c1), float(kh), mat, float(v0), float(dist),
                             float(ang), cfg, radius, n, fill)
             geom = design.geometry(s)  # a wall closer than the radius fails here
-            if n > 1 and geom.enclosed:  # the multi-ball sound has no room (acoustiviz.sound.balls_sound)
-                raise ParameterError("balls", f"several balls are heard in free field, on a plane or in a corner, "
-                                              f"not in a room: sweep balls = 1 with the {cfg} configuration")
             limit = geom.polar_limit_deg
             if ang > math.radians(limit) + 1e-12:
                 raise ParameterError("angle", f"must be <= {math.radians(limit):.6g} rad ({limit:g} deg) with the "

@@ -98,12 +98,16 @@ def sweep_columns(spec: SweepSpec) -> tuple:
     return row_columns(spec.with_balls)
 
 
-def row_columns(with_balls: bool) -> tuple:
-    """:data:`ALL_COLUMNS`, with ``balls`` and ``fill`` after ``radius_m`` when ``with_balls`` (the one rule)."""
+def row_columns(with_balls: bool, columns: tuple = ALL_COLUMNS) -> tuple:
+    """``columns`` (default :data:`ALL_COLUMNS`), with ``balls`` and ``fill`` after ``radius_m`` when ``with_balls``.
+
+    The one rule of both kinds of sweep (in operation ``columns`` is
+    :data:`~acoustiviz.sweep.operation.OPERATION_COLUMNS`).
+    """
     if not with_balls:
-        return ALL_COLUMNS
-    at = ALL_COLUMNS.index("radius_m") + 1
-    return ALL_COLUMNS[:at] + BALL_COLUMNS + ALL_COLUMNS[at:]
+        return columns
+    at = columns.index("radius_m") + 1
+    return columns[:at] + BALL_COLUMNS + columns[at:]
 
 #: File names inside a sweep directory.
 SWEEP_CSV = "sweep.csv"

@@ -80,10 +80,20 @@ def _variable(record: Setting) -> Setting:
 
 #: The variables: the swept parameters of ``acoustiviz sweep`` (each in its damper record's range).
 VARIABLES = tuple(_variable(s) for s in SWEPT)
-#: A scene's variables: gap and impact mass (the scene's other settings are held fixed).
+
+
+def _scene_variable(name: str) -> Setting:
+    """The command line's variable ``name`` as a key of ``[outputs.optimize]`` (the same form, as text)."""
+    return dataclasses.replace(by_name(VARIABLES)[name], option=None, scene_kind="str", table=_T)
+
+
+#: A scene's variables: gap and impact mass, and the balls and their fill as the command line's (the scene's
+#: other settings are held fixed); with the balls, the sweep's equal total mass.
 SCENE_VARIABLES = (Setting("gap", None, "gap_m", "str", "0.01:0.06", f"total free travel d in m: {_FORM}",
                            table=_T),
-                   Setting("m", None, "mass_kg", "str", "0.01:0.08", f"impact mass in kg: {_FORM}", table=_T))
+                   Setting("m", None, "mass_kg", "str", "0.01:0.08", f"impact mass in kg: {_FORM}", table=_T),
+                   _scene_variable("balls"), _scene_variable("fill"),
+                   dataclasses.replace(by_name(SWEEP_DAMPER)["equal_total_mass"], option=None, table=_T))
 
 #: Where the evaluations run, and the folder.
 EXECUTION = (
@@ -158,10 +168,11 @@ class OptimizeJob(Settings):
         """The evaluation mode's callable, made from the fixed settings."""
         from ...sweep.modes import MODES
 
-        if self.operation is not None:
-            return MODES[self.mode](self.fixed, self.operation)
         named = {v.name for v in self.variables}
-        return MODES[self.mode](self.fixed, bool({"balls", "fill"} & named) or self.fixed.equal_total_mass)
+        with_balls = bool({"balls", "fill"} & named) or self.fixed.equal_total_mass
+        if self.operation is not None:
+            return MODES[self.mode](self.fixed, self.operation, with_balls)
+        return MODES[self.mode](self.fixed, with_balls)
 
     @property
     def files(self) -> tuple:
@@ -178,10 +189,6 @@ class OptimizeJob(Settings):
                 raise ParameterError("mode", f"an excitation is given: the mode is 'operation', not {self.mode!r}")
             if not isinstance(self.operation, Operation):
                 raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
-            from .sweep_job import free_vibration_only
-
-            values = {v.name: (v.low, v.high) if v.kind == "int" else v.choices for v in self.variables}
-            free_vibration_only(values.get("balls"), values.get("fill"), self.fixed.equal_total_mass)
 
     def validate(self) -> None:
         """The objectives and constraints against the mode's columns, the executor and the folder."""
@@ -196,6 +203,7 @@ class OptimizeJob(Settings):
         constraints = tuple(parse_constraint("constraints", t) for t in self.constraints)
         problem = Problem(tuple(self.variables), objectives, constraints, self.evaluations, self.seed, self.batch,
                           columns=evaluate.objective_columns)
+        self._check_ball_levels(objectives + constraints, constraints)
         if not self.fixed.levels:
             for item in objectives + constraints:
                 if item.column in evaluate.level_columns:
@@ -209,6 +217,22 @@ class OptimizeJob(Settings):
         check_executor_form(self.executor)
         if self.out is not None:
             self._check_folder()
+
+    def _check_ball_levels(self, items, constraints) -> None:
+        """In operation, a level column refused when a design may hold several balls (their noise is not rendered)."""
+        from ...sweep.operation import BALL_LEVEL_COLUMNS
+
+        balls = next((v for v in self.variables if v.name == "balls"), None)
+        most = 1 if balls is None else max((balls.low, balls.high) if balls.kind == "int" else balls.choices)
+        if self.operation is None or most <= 1:
+            return
+        for item in items:
+            if item.column in BALL_LEVEL_COLUMNS:
+                name = "constraints" if item in constraints else ("minimize" if item.sense == "min" else "maximize")
+                option = self.names.get("balls", "balls")
+                raise ParameterError(name, f"column {item.column} is empty for a design of several balls in "
+                                           f"operation (their noise is not rendered): {option} allows up to "
+                                           f"{most}; rank by worst_amplitude_m or min_reduction_db")
 
     def document(self) -> dict:
         """``optimize.json``: the specification (problem, mode and fixed settings; not where it ran)."""

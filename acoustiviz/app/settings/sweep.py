@@ -85,7 +85,7 @@ SWEPT = (
     _swept("distance", "--distance", f"listener distance in m from the sphere's centre (default {PAPER_DISTANCE:g})"),
     _swept("angle_deg", "--angle", f"listener angle in degrees from the surface normal (default {PAPER_ANGLE_DEG:g})"),
     _swept("config", "--config", "free, plane (reflecting plane, default) or wall-floor; a comma list sweeps them"),
-    # several balls (free vibration): N equal spheres in a column, as acoustiviz damper --balls N
+    # several balls (free vibration and in operation): N equal spheres in a column, as acoustiviz damper --balls N
     Setting("balls", "--balls", "balls", "range", None, "numbers of equal balls in the cavity, whole numbers, each of "
             "mass --m (with --equal-total-mass: --m / N); default 1, and no balls and fill columns",
             low=BALLS[0].low, high=BALLS[0].high, metavar="RANGE", table="outputs.sweep"),

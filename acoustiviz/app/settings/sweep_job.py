@@ -32,7 +32,7 @@ from .damper import BALLS, MODEL, RUN
 from .sweep import SWEEP_RUN, SWEPT, sweep_radius
 from .table import by_name
 
-__all__ = ["SweepJob", "sweep_job", "free_vibration_only", "INCLINATION_MAP", "SPL_MAP", "REPORTS"]
+__all__ = ["SweepJob", "sweep_job", "INCLINATION_MAP", "SPL_MAP", "REPORTS"]
 
 #: File names of the Figure 6 maps inside a sweep folder.
 INCLINATION_MAP = "inclination_map.png"
@@ -54,7 +54,7 @@ class SweepJob(Settings):
     gap, m, mass_ratio, c1, k_hertz, material, v0, distance, angle, config, balls, fill : tuple
         The values of each axis (:class:`acoustiviz.sweep.SweepSpec`, SI units, the angle in rad); ``m`` or
         ``mass_ratio``, ``k_hertz`` or ``material``, ``gap`` or ``fill`` (None: the other; both None: Table
-        1's m and K_HZ, the Figure 5 gap); ``balls`` None: one ball (free vibration only above one).
+        1's m and K_HZ, the Figure 5 gap); ``balls`` None: one ball.
     settings : acoustiviz.sweep.FixedSettings
         The damper, solver, sphere and sound of every design (duration in s, the levels on or off).
     out : str, optional
@@ -120,8 +120,6 @@ class SweepJob(Settings):
             object.__setattr__(self, "gap", (PAPER_GAP,))
         if self.operation is not None and not isinstance(self.operation, Operation):
             raise ParameterError("operation", f"expected an Operation, got {type(self.operation).__name__}")
-        if self.operation is not None:
-            free_vibration_only(self.balls, self.fill, self.settings.equal_total_mass)
         self._check_ranges()
         self._check_budget()
         object.__setattr__(self, "spec", self._build_spec())
@@ -208,9 +206,10 @@ class SweepJob(Settings):
                 check_dir(self.spec, out, self.overwrite)
             else:
                 from ...sweep.in_operation import operation_document
-                from ...sweep.operation import OPERATION_COLUMNS
+                from ...sweep.operation import operation_columns
 
-                check_dir(self.spec, out, self.overwrite, operation_document(self.operation), OPERATION_COLUMNS)
+                check_dir(self.spec, out, self.overwrite, operation_document(self.operation),
+                          operation_columns(self.spec.with_balls))
 
     def folder(self) -> Path:
         """The sweep folder, or a :class:`ParameterError` naming ``out`` when there is none."""
@@ -221,16 +220,6 @@ class SweepJob(Settings):
     def _name(self, api: str) -> str:
         """The option or scene key of API parameter ``api`` (itself without one)."""
         return self.names.get(api, api)
-
-
-def free_vibration_only(balls, fill, equal_total_mass: bool) -> None:
-    """Refuse several balls, fills and the equal total mass in operation (swept in free vibration only)."""
-    if any(n > 1 for n in balls or ()):
-        raise ParameterError("balls", "several balls are swept in free vibration only (without --force, --base); "
-                                      f"got {', '.join(f'{n:g}' for n in balls)}")
-    for name, given in (("fill", fill is not None), ("equal_total_mass", equal_total_mass)):
-        if given:
-            raise ParameterError(name, "applies to sweeps in free vibration only (without --force, --base)")
 
 
 def _axis(given: dict, name: str, default, kind=float):
