@@ -276,6 +276,34 @@ def test_float_wav_is_in_pascals(tmp_path):
     assert info["over_full_scale_db"] == pytest.approx(20 * math.log10(out.peak[0]))
 
 
+def _chunks(path) -> dict:
+    """The chunks of a RIFF/WAVE file: id -> its bytes (after the 8-byte header)."""
+    data = path.read_bytes()
+    assert data[:4] == b"RIFF" and data[8:12] == b"WAVE"
+    out, at = {}, 12
+    while at + 8 <= len(data):
+        size = int.from_bytes(data[at + 4:at + 8], "little")
+        out[data[at:at + 4]] = data[at + 8:at + 8 + size]
+        at += 8 + size + (size & 1)
+    return out
+
+
+def test_a_float_wav_holds_its_peaks_but_not_the_time_it_was_written(tmp_path):
+    """libsndfile stamps a float WAV's PEAK chunk with the time of writing: the file keeps the peaks, stamped 0."""
+    out = _two_clicks()
+    audio.write_wav(tmp_path / "a.wav", Signal(out.pressure, 48000))
+    peak = _chunks(tmp_path / "a.wav")[b"PEAK"]
+    version, stamp = np.frombuffer(peak[:8], dtype="<u4")
+    assert version == 1 and stamp == 0
+    data, _ = sf.read(tmp_path / "a.wav", dtype="float32")  # frames x channels
+    for ch in range(2):
+        value = np.frombuffer(peak[8 + 8 * ch:12 + 8 * ch], dtype="<f4")[0]
+        frame = int(np.frombuffer(peak[12 + 8 * ch:16 + 8 * ch], dtype="<u4")[0])
+        assert value == np.max(np.abs(data[:, ch])) and abs(data[frame, ch]) == value
+    audio.write_wav(tmp_path / "b.wav", Signal(out.pressure, 48000), subtype="PCM_24", scale=10.0)
+    assert b"PEAK" not in _chunks(tmp_path / "b.wav") and b"data" in _chunks(tmp_path / "b.wav")
+
+
 def test_pcm24_shares_one_scale_and_never_clips_silently(tmp_path):
     out = _two_clicks()
     scale = audio.shared_scale(out.pressure, headroom_db=1.0)

@@ -183,3 +183,26 @@ def test_console_script_runs(tmp_path):
                           "0.05", "--wav", str(tmp_path / "c.wav")], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     assert "impacts: 1" in res.stdout and (tmp_path / "c.json").exists()
+
+
+def test_two_processes_write_the_same_float_wav_of_two_balls(tmp_path):
+    """The float WAV of a two-ball run is the same file from two processes of different hash seeds.
+
+    The processes run one after the other (the second starts when the first has written its file), so
+    nothing that changes from one moment, or one process, to the next may reach the file's bytes.
+    """
+    import os
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    argv = ["auralize", "--balls", "2", "--duration", "0.3", "--listener", LISTENER, "--subtype", "FLOAT"]
+    files = []
+    for seed in ("1", "2"):
+        env = {**os.environ, "PYTHONPATH": str(root), "PYTHONHASHSEED": seed, "MPLBACKEND": "Agg"}
+        wav = tmp_path / f"seed{seed}.wav"
+        res = subprocess.run([sys.executable, "-m", "acoustiviz", *argv, "--wav", str(wav)], env=env, cwd=tmp_path,
+                             capture_output=True, text=True, timeout=600)
+        assert res.returncode == 0, res.stderr
+        files.append(wav.read_bytes())
+    assert sf.info(str(tmp_path / "seed1.wav")).subtype == "FLOAT"
+    assert files[0] == files[1]

@@ -68,8 +68,9 @@ def write_wav(path, signal: Signal, *, subtype: str = "FLOAT", scale: float = 1.
         as an integer and no start time).
     subtype : {"FLOAT", "PCM_24"}
         ``"FLOAT"``: 32-bit float, sample value = pressure / scale (default scale 1: values in Pa;
-        nothing is clipped, values beyond ±1 are stored as they are). ``"PCM_24"``: 24-bit integers of
-        pressure / scale; samples beyond full scale are clipped with a :class:`ClippingWarning`.
+        nothing is clipped, values beyond ±1 are stored as they are; a ``PEAK`` chunk holds each channel's
+        peak, without the time of writing, so the bytes depend on the signal alone). ``"PCM_24"``: 24-bit
+        integers of pressure / scale; samples beyond full scale are clipped with a :class:`ClippingWarning`.
     scale : float
         Pa per full scale (see :func:`shared_scale`).
 
@@ -116,10 +117,29 @@ def write_wav(path, signal: Signal, *, subtype: str = "FLOAT", scale: float = 1.
     # encoded in memory, written by Python: a full disk is an OSError naming the file, not a libsndfile error
     buf = io.BytesIO()
     sf.write(buf, out, int(fs), subtype=subtype, format="WAV")
-    write_bytes_atomic(path, buf.getvalue())
+    write_bytes_atomic(path, _without_clock(buf.getvalue()))
     return {"path": str(path), "subtype": subtype, "channels": int(p.shape[0]), "frames": int(p.shape[1]),
             "sample_rate_hz": int(fs), "pa_per_full_scale": sc, "peak_full_scale": peak,
             "over_full_scale_db": over_db, "clipped_samples": clipped}
+
+
+def _without_clock(data: bytes) -> bytes:
+    """The WAV file ``data`` with the time of writing in its ``PEAK`` chunk set to 0 (not given).
+
+    libsndfile gives every float WAV a ``PEAK`` chunk: a version (4 bytes), the seconds since 1970 at which
+    the file was written (4 bytes), then each channel's peak and its frame. That stamp made two writes of the
+    same sound differ whenever they fell in different seconds; zeroed, the file depends on the sound alone
+    (the peaks stay). A file without the chunk (24-bit PCM) is returned as it is.
+    """
+    out = bytearray(data)
+    at = 12  # the chunks follow "RIFF", the file's size and "WAVE"
+    while at + 8 <= len(out):
+        size = int.from_bytes(out[at + 4:at + 8], "little")
+        if out[at:at + 4] == b"PEAK" and size >= 8:
+            out[at + 12:at + 16] = bytes(4)
+            break
+        at += 8 + size + (size & 1)  # chunks are padded to an even length
+    return bytes(out)
 
 
 def write_sidecar(wav_path, record: dict) -> Path:
