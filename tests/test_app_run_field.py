@@ -1,0 +1,170 @@
+"""The field of a damper run: its levels on a grid of listeners and its waveform, from every front end.
+
+The same short run is evaluated three ways (``acoustiviz auralize --grid ...``, a scene's
+``[outputs.run_field]`` and a :class:`~acoustiviz.app.run_field.RunFieldJob` built in Python) and the files
+are compared byte for byte; the command line and the scene build equal jobs. The grid's levels are those of
+its points heard as listeners by the levels job, mirror-symmetric where the geometry is, and the waveform's
+energy is the unweighted level of the run; a grid beyond the memory cap is refused naming the cap.
+"""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+from test_app_auralize import LISTENER, SHORT, _api_job, _argv, _scene
+
+from acoustiviz.app.auralize import run as run_sound
+from acoustiviz.app.pipeline import damper_settings, run_scene
+from acoustiviz.app.run_field import RunFieldJob, run
+from acoustiviz.app.scene_run_field import run_field_settings
+from acoustiviz.cli import build_parser, main
+from acoustiviz.cli.auralize import field_settings_from_args, settings_from_args
+from acoustiviz.errors import ParameterError
+from acoustiviz.levels import LEVEL_COLUMNS
+from acoustiviz.scene import scene_from_dict
+
+#: The grid's and the waveform's files, as a scene names them.
+FILES = {"grid_csv": "run_directivity.csv", "grid_png": "run_directivity.png",
+         "waveform_csv": "run_waveform.csv", "waveform_png": "run_waveform.png"}
+#: A short arc of directions: five points from -80 to +80 degrees at 0.5 m.
+ARC = {"grid": "directivity", "grid_points": 5, "grid_arc": 80.0, "grid_distance": 0.5}
+#: The same, as options and as scene keys.
+ARC_ARGV = ["--grid", "directivity", "--grid-points", "5", "--grid-arc", "80", "--grid-distance", "0.5"]
+ARC_KEYS = {"grid": "directivity", "points": 5, "arc_deg": 80.0, "distance_m": 0.5}
+
+
+def _rows(path) -> list:
+    with open(path, newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def test_every_front_end_writes_the_same_files(tmp_path, monkeypatch, capsys):
+    cli, scene_out, api = tmp_path / "cli", tmp_path / "scene", tmp_path / "api"
+    for folder in (cli, api):
+        folder.mkdir()
+    monkeypatch.chdir(cli)
+    files = [x for k, v in FILES.items() for x in (f"--{k.replace('_', '-')}", v)]
+    assert main(_argv(SHORT, "wav_listener1.wav", [LISTENER], [*ARC_ARGV, *files])) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "directivity: 5 of 5 grid point(s) heard" in out and "wrote run_waveform.png" in out
+    scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER],
+                                   {"wav": {}, "run_field": {**ARC_KEYS, "waveform": True}}))
+    run_scene(scene, scene_out)
+    job = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **ARC, **FILES)
+    written = run(job).write(api)
+    assert [p.name for p in written] == list(FILES.values())
+    for name in FILES.values():
+        mine = (cli / name).read_bytes()
+        assert len(mine) > 200
+        assert (scene_out / name).read_bytes() == mine, f"the scene's {name} differs from the command line's"
+        assert (api / name).read_bytes() == mine, f"the API's {name} differs from the command line's"
+    rows = _rows(cli / FILES["grid_csv"])
+    assert [float(r["angle_deg"]) for r in rows] == [-80.0, -40.0, 0.0, 40.0, 80.0]
+    assert all(float(r["laeq_db"]) > 40.0 for r in rows)
+
+
+def test_the_command_line_and_a_scene_build_equal_jobs(tmp_path):
+    argv = _argv(SHORT, str(tmp_path / "wav_listener1.wav"), [LISTENER],
+                 ["--grid", "map", "--grid-points", "7", "--grid-extent", "0.3", "--grid-section", "xy",
+                  "--grid-csv", str(tmp_path / "run_map.csv"), "--grid-png", str(tmp_path / "run_map.png")])
+    args = build_parser().parse_args(argv)
+    from_cli = field_settings_from_args(args, settings_from_args(args))
+    scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER],
+                                   {"wav": {}, "run_field": {"grid": "map", "points": 7, "extent_m": 0.3,
+                                                             "section": "xy"}}))
+    from_scene = run_field_settings(scene, tmp_path, damper_settings(scene))
+    assert from_cli == from_scene
+    assert from_cli.names["grid_points"] == "--grid-points"
+    assert from_scene.names["grid_points"] == "outputs.run_field.points"
+    other = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER],
+                                   {"wav": {}, "run_field": {"grid": "map", "points": 8, "extent_m": 0.3,
+                                                             "section": "xy"}}))
+    assert run_field_settings(other, tmp_path, damper_settings(other)) != from_cli
+    without = build_parser().parse_args(_argv(SHORT, str(tmp_path / "a.wav"), [LISTENER]))
+    assert field_settings_from_args(without, settings_from_args(without)) is None
+
+
+def test_a_grid_equals_its_points_given_as_listeners():
+    """The grid's levels are the levels job's at the same points heard as listeners, to 1e-9 dB."""
+    result = run(RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **ARC))
+    names = [f"p{i}" for i in range(len(result.points))]
+    listeners = _api_job(SHORT, names, [tuple(p) for p in result.points], (), levels=True)
+    heard = run_sound(listeners, damper=result.sound.damper).levels.report.levels
+    for c in LEVEL_COLUMNS:
+        np.testing.assert_allclose(result.levels[c], getattr(heard, c), rtol=0, atol=1e-9, err_msg=c)
+    assert result.sample_rate == heard.sample_rate == 96000.0
+
+
+@pytest.mark.parametrize("config", ["plane", "free"])
+def test_one_balls_directivity_is_symmetric_about_its_axis(config):
+    """One ball's run on a plane (and in free field): the levels at +theta and -theta from the axis agree."""
+    data = _scene(SHORT, ["listener1"], [LISTENER], {"run_field": {**ARC_KEYS, "points": 7, "arc_deg": 90.0}})
+    data["configuration"] = {"kind": config}
+    scene = scene_from_dict(data)
+    result = run(run_field_settings(scene, None, damper_settings(scene)))
+    assert result.heard.all() and len(result.sound.sequence) > 2
+    for c in LEVEL_COLUMNS:
+        v = result.levels[c]
+        np.testing.assert_allclose(v, v[::-1], rtol=0, atol=1e-6, err_msg=c)
+        assert np.ptp(v) > 0.5, c  # the levels do change with the angle: the check above is not vacuous
+
+
+def test_two_identical_cavities_map_is_symmetric_about_their_mid_plane():
+    """Two equal cavities at x = -0.1 m and +0.1 m on one main mass: the map at (x, z) equals that at (-x, z)."""
+    data = _scene(SHORT, ["listener1"], [(0.0, 0.3, 0.3)],
+                  {"run_field": {"grid": "map", "points": 13, "extent_m": 0.3, "section": "xz"}})
+    data["damper"]["cavities"] = [{"gap_m": 0.04, "position_m": [x, 0.0, 0.0]} for x in (-0.1, 0.1)]
+    scene = scene_from_dict(data)
+    result = run(run_field_settings(scene, None, damper_settings(scene)))
+    grid = result.grid
+    assert grid.n_u == 13 and np.allclose(grid.points[:, 0] + grid.image(grid.points[:, 0])[:, ::-1].ravel(), 0.0)
+    assert 0 < result.heard.sum() < len(result.points)  # the two columns of balls are not listeners
+    for c in LEVEL_COLUMNS:
+        img = grid.image(result.levels[c])
+        np.testing.assert_allclose(img, img[:, ::-1], rtol=0, atol=1e-6, err_msg=c)
+        assert np.nanmax(img) - np.nanmin(img) > 1.0, c
+
+
+def test_the_waveforms_energy_is_the_runs_unweighted_level(tmp_path, monkeypatch, capsys):
+    """The RMS of the waveform CSV, in dB re 20 uPa, is the LZeq the levels job writes for the same run."""
+    monkeypatch.chdir(tmp_path)
+    argv = _argv({**SHORT, "rate": 96000}, "a.wav", [LISTENER],
+                 ["--levels-csv", "levels.csv", "--waveform-csv", "w.csv"])
+    assert main(argv) == 0, capsys.readouterr().err
+    data = np.loadtxt(tmp_path / "w.csv", delimiter=",", skiprows=1)
+    with open(tmp_path / "w.csv", encoding="utf-8") as f:
+        assert f.readline().strip() == "time_s,p_listener1_pa"
+    t, p = data[:, 0], data[:, 1]
+    assert np.allclose(np.diff(t), 1 / 96000)
+    rms_db = 10 * np.log10(np.mean(p ** 2) / 20e-6 ** 2)
+    (row,) = _rows(tmp_path / "levels.csv")
+    assert rms_db == pytest.approx(float(row["lzeq_db"]), abs=1e-3)
+    assert np.max(np.abs(p)) > 0.1
+
+
+def test_a_grid_beyond_the_memory_cap_is_refused_naming_it(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    argv = ["auralize", "--duration", "2", "--wav", "a.wav", "--grid", "map", "--grid-points", "60",
+            "--grid-csv", "m.csv", "--max-memory", "64"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "--max-memory" in err and "--grid-points" in err and len(err.strip().splitlines()) == 1
+    assert not list(tmp_path.iterdir())
+    data = _scene({**SHORT, "duration": 2.0}, ["listener1"], [LISTENER],
+                  {"run_field": {"grid": "map", "points": 60}})
+    data["grids"] = {"memory_limit_mb": 64}
+    scene = scene_from_dict(data)
+    with pytest.raises(ParameterError, match=r"^outputs\.run_field\.points: .*grids\.memory_limit_mb"):
+        run_field_settings(scene, None, damper_settings(scene))
+
+
+def test_grid_files_without_a_grid_are_refused(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["auralize", "--duration", "0.1", "--wav", "a.wav", "--grid-csv", "g.csv"]) == 2
+    err = capsys.readouterr().err
+    assert "--grid-csv" in err and "--grid" in err
+    scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER], {"run_field": {}}))
+    with pytest.raises(ParameterError, match="^outputs.run_field"):
+        run_field_settings(scene, None, damper_settings(scene))
