@@ -27,7 +27,11 @@ from acoustiviz.scene import scene_from_dict
 
 #: The grid's and the waveform's files, as a scene names them.
 FILES = {"grid_csv": "run_directivity.csv", "grid_png": "run_directivity.png",
-         "waveform_csv": "run_waveform.csv", "waveform_png": "run_waveform.png"}
+         "waveform_csv": "run_waveform.csv", "waveform_png": "run_waveform.png", "snapshot_png": "run_snapshot.png"}
+#: The snapshot's instant in s (a click sounding) and plane, as options and as scene keys.
+SNAP = {"snapshot_time": 0.0108, "grid_extent": 0.3}
+SNAP_ARGV = ["--snapshot-time", "0.0108", "--grid-extent", "0.3"]
+SNAP_KEYS = {"snapshot_time_s": 0.0108, "extent_m": 0.3}
 #: A short arc of directions: five points from -80 to +80 degrees at 0.5 m.
 ARC = {"grid": "directivity", "grid_points": 5, "grid_arc": 80.0, "grid_distance": 0.5}
 #: The same, as options and as scene keys.
@@ -46,14 +50,16 @@ def test_every_front_end_writes_the_same_files(tmp_path, monkeypatch, capsys):
         folder.mkdir()
     monkeypatch.chdir(cli)
     files = [x for k, v in FILES.items() for x in (f"--{k.replace('_', '-')}", v)]
-    assert main(_argv(SHORT, "wav_listener1.wav", [LISTENER], [*ARC_ARGV, *files])) == 0, capsys.readouterr().err
+    assert main(_argv(SHORT, "wav_listener1.wav", [LISTENER], [*ARC_ARGV, *SNAP_ARGV, *files])) == 0, \
+        capsys.readouterr().err
     out = capsys.readouterr().out
     assert "directivity: 5 of 5 grid point(s) heard" in out and "wrote run_waveform.png" in out
     scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER],
-                                   {"wav": {}, "run_field": {**ARC_KEYS, "waveform": True}}))
+                                   {"wav": {}, "run_field": {**ARC_KEYS, **SNAP_KEYS, "waveform": True}}))
     run_scene(scene, scene_out)
-    job = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **ARC, **FILES)
-    written = run(job).write(api)
+    job = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **ARC, **SNAP, **FILES)
+    result = run(job)
+    written = result.write(api)
     assert [p.name for p in written] == list(FILES.values())
     for name in FILES.values():
         mine = (cli / name).read_bytes()
@@ -63,6 +69,23 @@ def test_every_front_end_writes_the_same_files(tmp_path, monkeypatch, capsys):
     rows = _rows(cli / FILES["grid_csv"])
     assert [float(r["angle_deg"]) for r in rows] == [-80.0, -40.0, 0.0, 40.0, 80.0]
     assert all(float(r["laeq_db"]) > 40.0 for r in rows)
+    assert np.nanmax(np.abs(result.snapshot)) > 0.01
+
+
+def test_a_snapshot_is_symmetric_about_the_axis_and_refused_outside_the_run(tmp_path, monkeypatch, capsys):
+    """One ball on a plane: the snapshot at (x, z) equals that at (-x, z); an instant after the run is refused."""
+    result = run(RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), snapshot_time=0.0108,
+                             grid_points=21, grid_extent=0.3, snapshot_png="s.png"))
+    img = result.snapshot_grid.image(result.snapshot)
+    np.testing.assert_allclose(img, img[:, ::-1], rtol=0, atol=1e-9 * np.nanmax(np.abs(img)))
+    assert np.nanmax(np.abs(img)) > 0.01 and np.isnan(img).any()  # the points in the cavity are blank
+    monkeypatch.chdir(tmp_path)
+    argv = ["auralize", "--duration", "0.1", "--wav", "a.wav", "--snapshot-time", "0.2", "--snapshot-png", "s.png"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "--snapshot-time" in err and "outside the run" in err and "[0, 0.1] s" in err
+    assert main(["auralize", "--duration", "0.1", "--wav", "a.wav", "--snapshot-png", "s.png"]) == 2
+    assert "--snapshot-png" in capsys.readouterr().err and not list(tmp_path.iterdir())
 
 
 def test_the_command_line_and_a_scene_build_equal_jobs(tmp_path):
@@ -125,6 +148,14 @@ def test_two_identical_cavities_map_is_symmetric_about_their_mid_plane():
         img = grid.image(result.levels[c])
         np.testing.assert_allclose(img, img[:, ::-1], rtol=0, atol=1e-6, err_msg=c)
         assert np.nanmax(img) - np.nanmin(img) > 1.0, c
+    # the snapshot of every collision, 0.4 ms after the first contact, too
+    first = float(result.sound.sequence.times[0])
+    job = result.settings
+    snap = run(RunFieldJob(job.sound, grid_points=13, grid_extent=0.3, snapshot_time=first + 4e-4),
+               sound=result.sound)
+    img = snap.snapshot_grid.image(snap.snapshot)
+    np.testing.assert_allclose(img, img[:, ::-1], rtol=0, atol=1e-9 * np.nanmax(np.abs(img)))
+    assert np.nanmax(np.abs(img)) > 0.01
 
 
 def test_the_waveforms_energy_is_the_runs_unweighted_level(tmp_path, monkeypatch, capsys):

@@ -64,6 +64,11 @@ class RunFieldResult:
         Map: the planar grid.
     sample_rate : float
         Rate in Hz the grid's levels were evaluated at.
+    snapshot : (m,) ndarray or None
+        The pressure in Pa at instant ``settings.snapshot_time`` at the points of ``snapshot_grid`` (NaN where
+        not heard); None: no snapshot.
+    snapshot_grid : acoustiviz.field.grids.PlanarGrid or None
+        The snapshot's plane.
     """
 
     settings: RunFieldJob
@@ -74,6 +79,8 @@ class RunFieldResult:
     angle: np.ndarray | None = None
     grid: object = None
     sample_rate: float = 0.0
+    snapshot: np.ndarray | None = None
+    snapshot_grid: object = None
 
     @property
     def waveform(self) -> tuple:
@@ -99,7 +106,20 @@ class RunFieldResult:
             paths.append(self._waveform_csv(where(s.waveform_csv)))
         if s.waveform_png is not None:
             paths.append(self._waveform_figure(where(s.waveform_png)))
+        if s.snapshot_png is not None:
+            paths.append(self._snapshot_figure(where(s.snapshot_png)))
         return paths
+
+    def _snapshot_figure(self, path) -> Path:
+        """The pressure over the plane at the snapshot's instant, with the sphere and the planes."""
+        from ..output.plot.maps import pressure_map_figure
+        from ..output.plot.style import save_figure
+
+        section = self.settings.grid_section
+        fig = pressure_map_figure(self.snapshot_grid, self.snapshot, self.settings.sound.cavity.geometry,
+                                  axes_names=(section[0], section[1]),
+                                  title=f"the damper run at t = {self.settings.snapshot_time:g} s")
+        return save_figure(fig, path)
 
     def _grid_csv(self, path) -> Path:
         """One row per point: (angle_deg,) x_m, y_m, z_m, then the levels in dB (blank where not heard)."""
@@ -195,4 +215,21 @@ def run(job: RunFieldJob, *, damper=None, sound=None) -> RunFieldResult:
     heard = heard_points(job, points)
     levels, rate = ({c: np.zeros(0) for c in LEVEL_COLUMNS}, 0.0) if job.grid == "none" else \
         _grid_levels(job, sound, points, heard)
-    return RunFieldResult(job, sound, points, heard, levels, angle, grid, rate)
+    plane, snapshot = None, None
+    if job.snapshot_time is not None:
+        plane, snapshot = _snapshot(job, sound)
+    return RunFieldResult(job, sound, points, heard, levels, angle, grid, rate, snapshot, plane)
+
+
+def _snapshot(job: RunFieldJob, sound) -> tuple:
+    """``(plane, pressure)``: the run's pressure in Pa over the plane at the snapshot's instant (NaN: not heard)."""
+    from .damper import cavity_positions, snapshot_run
+    from .settings.run_field import plane_grid
+
+    s, plane = sound.settings, plane_grid(job)
+    heard = heard_points(job, plane.points)
+    pressure = np.full(len(plane.points), np.nan)
+    pressure[heard] = snapshot_run(sound.damper.result if sound.damper is not None else None, sound.sequence,
+                                   s.cavity, s.click, plane.points[heard], job.snapshot_time,
+                                   positions=cavity_positions(s.damper))
+    return plane, pressure

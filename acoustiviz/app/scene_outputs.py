@@ -44,7 +44,7 @@ def _run_field(scene, names) -> list:
 
     opts = scene.output("run_field")
     return [(name, "csv" if name.endswith(".csv") else "figure")
-            for name in scene_files(opts["grid"], opts["waveform"]).values()]
+            for name in scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None).values()]
 
 
 def _view(kind: str, ending: str):

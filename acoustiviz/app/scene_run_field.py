@@ -21,7 +21,7 @@ __all__ = ["run_field_settings", "run_field_products"]
 
 #: ``[outputs.run_field]`` key -> the job's API name.
 _KEYS = {"grid": "grid", "distance_m": "grid_distance", "arc_deg": "grid_arc", "points": "grid_points",
-         "section": "grid_section", "extent_m": "grid_extent"}
+         "section": "grid_section", "extent_m": "grid_extent", "snapshot_time_s": "snapshot_time"}
 
 
 def run_field_settings(scene, out=None, damper=None) -> RunFieldJob:
@@ -32,9 +32,10 @@ def run_field_settings(scene, out=None, damper=None) -> RunFieldJob:
     checks of the scene's settings alone, made before the run folder exists); errors name scene keys.
     """
     opts = scene.output("run_field")
-    files = scene_files(opts["grid"], opts["waveform"])
+    files = scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None)
     if not files:
-        raise ParameterError("outputs.run_field", "asks for nothing: set grid (directivity or map) or waveform = true")
+        raise ParameterError("outputs.run_field", "asks for nothing: set grid (directivity or map), waveform = true "
+                                                  "or snapshot_time_s")
     names = RunFieldJob.names_for("scene")
     paths = {} if out is None else {k: str(Path(out) / v) for k, v in files.items()}
     return RunFieldJob(wav_settings(scene, None, damper), **{api: opts[key] for key, api in _KEYS.items()},
@@ -46,7 +47,7 @@ def run_field_products(ctx, job: RunFieldJob) -> list:
     from .products import Product
     from .run_field import run
 
-    for path in (job.grid_csv, job.grid_png, job.waveform_csv, job.waveform_png):
+    for path in (getattr(job, k) for k in job.FILES):
         if path is not None:  # only the files checked before the run
             ctx.path(Path(path).name)
     if job.grid != "none":

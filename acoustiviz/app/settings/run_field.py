@@ -37,11 +37,14 @@ RUN_FIELD = (
             "directivity: the arc, in the xz-plane, spans this angle either side of the acceleration axis +z",
             "deg", low=0.0, high=180.0, low_open=True, metavar="DEG", table=_T),
     Setting("grid_points", "--grid-points", "points", "int", 19,
-            "directivity: points on the arc; map: points along the map's longer side", low=2, high=401, table=_T),
+            "directivity: points on the arc; map and snapshot: points along the plane's longer side", low=2,
+            high=401, table=_T),
     Setting("grid_section", "--grid-section", "section", "str", "xz",
-            "map: the two axes the plane through the sphere's centre spans", choices=("xz", "xy"), table=_T),
+            "map and snapshot: the two axes the plane through the sphere's centre spans", choices=("xz", "xy"),
+            table=_T),
     Setting("grid_extent", "--grid-extent", "extent_m", "float", 0.5,
-            "map: distance from the sphere's centre to the map's edges (cut at the reflecting planes)", "m",
+            "map and snapshot: distance from the sphere's centre to the plane's edges (cut at the reflecting planes)",
+            "m",
             low=0.0, high=1e3, low_open=True, table=_T),
     Setting("grid_csv", "--grid-csv", None, "str", None,
             "the grid's levels: one row per point, its coordinates in m and its levels in dB", metavar="OUT.csv"),
@@ -54,17 +57,27 @@ RUN_FIELD = (
             metavar="OUT.csv"),
     Setting("waveform_png", "--waveform-png", None, "str", None,
             "the run's pressure p(t) at each listener drawn", metavar="PATH"),
+    Setting("snapshot_time", "--snapshot-time", "snapshot_time_s", "float", None,
+            "the instant of the snapshot: the pressure over the map's plane (--grid-section, --grid-extent, "
+            "--grid-points) from every click sounding then, with its images (within the run's duration)", "s",
+            low=0.0, high=1e4, metavar="S", table=_T,
+            scene_doc="also the snapshot at this instant: the pressure over the plane of section, extent_m and points "
+                      "from every click sounding then (run_snapshot.png; within the run's duration)"),
+    Setting("snapshot_png", "--snapshot-png", None, "str", None,
+            "the snapshot drawn (needs --snapshot-time)", metavar="PATH"),
 )
 
 #: The records :class:`RunFieldJob` checks when it is made.
 _CHECKED = tuple(s for s in RUN_FIELD if s.name not in ("waveform",))
 
 
-def scene_files(grid: str, waveform: bool) -> dict:
-    """A scene's files of ``[outputs.run_field]`` by API name: ``run_<grid>.csv`` and ``.png``, ``run_waveform.*``."""
+def scene_files(grid: str, waveform: bool, snapshot: bool = False) -> dict:
+    """The files of a scene's ``[outputs.run_field]`` by API name: ``run_<grid>.*``, ``run_waveform.*``, ..."""
     files = {} if grid == "none" else {"grid_csv": f"run_{grid}.csv", "grid_png": f"run_{grid}.png"}
     if waveform:
         files.update(waveform_csv="run_waveform.csv", waveform_png="run_waveform.png")
+    if snapshot:
+        files["snapshot_png"] = "run_snapshot.png"
     return files
 
 
@@ -85,17 +98,26 @@ def grid_points(job: RunFieldJob) -> tuple:
     through the sphere's centre reaching ``grid_extent`` from it, cut at the reflecting planes
     (:func:`acoustiviz.field.grids.section_grid`). ``grid = "none"``: no point.
     """
-    from ...errors import user_terms
-    from ...field.grids import section_grid
-
     if job.grid == "directivity":
         points, angle = _arc(job)
         return points, angle, None
     if job.grid == "map":
-        with user_terms({k: job.name(f"grid_{k}") for k in ("section", "extent")}):
-            grid = section_grid(job.sound.cavity.geometry, job.grid_section, job.grid_extent, job.grid_points)
+        grid = plane_grid(job)
         return grid.points, None, grid
     return np.zeros((0, 3)), None, None
+
+
+def plane_grid(job: RunFieldJob):
+    """The plane of the map and the snapshot: ``grid_section`` through the sphere's centre, to ``grid_extent``.
+
+    :func:`acoustiviz.field.grids.section_grid`, cut at the reflecting planes, ``grid_points`` along its longer
+    side.
+    """
+    from ...errors import user_terms
+    from ...field.grids import section_grid
+
+    with user_terms({k: job.name(f"grid_{k}") for k in ("section", "extent")}):
+        return section_grid(job.sound.cavity.geometry, job.grid_section, job.grid_extent, job.grid_points)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -122,7 +144,9 @@ class RunFieldJob(Settings):
         Map: the plane through the sphere's centre.
     grid_extent : float
         Map: distance in m from the sphere's centre to the map's edges.
-    grid_csv, grid_png, waveform_csv, waveform_png : str or None
+    snapshot_time : float or None
+        The instant in s of the snapshot over the plane (None: none).
+    grid_csv, grid_png, waveform_csv, waveform_png, snapshot_png : str or None
         The files to write (None: not written).
     names : dict
         API parameter -> the option or scene key named in errors.
@@ -134,7 +158,10 @@ class RunFieldJob(Settings):
 
     TABLE = _CHECKED
     BUILT_FROM = (*RUN_FIELD, *MEMORY)
-    DERIVED_NAMES = {"scene": {k: _T for k in ("grid_csv", "grid_png", "waveform_csv", "waveform_png")}}
+    DERIVED_NAMES = {"scene": {k: _T for k in ("grid_csv", "grid_png", "waveform_csv", "waveform_png", "snapshot_png")}}
+    #: The files a job may write, with their formats.
+    FILES = {"grid_csv": "csv", "grid_png": "figure", "waveform_csv": "csv", "waveform_png": "figure",
+             "snapshot_png": "figure"}
 
     sound: object
     grid: str = "none"
@@ -147,6 +174,8 @@ class RunFieldJob(Settings):
     grid_png: str | None = None
     waveform_csv: str | None = None
     waveform_png: str | None = None
+    snapshot_time: float | None = None
+    snapshot_png: str | None = None
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def __eq__(self, other):
@@ -160,8 +189,13 @@ class RunFieldJob(Settings):
     @classmethod
     def from_namespace(cls, ns: dict, sound):
         """The job of ``acoustiviz auralize``'s options (``vars(args)``) around its ``sound``, naming the options."""
+        from ...errors import ParameterError
+
         values = {s.name: ns[s.name] for s in RUN_FIELD if s.option is not None and s.name in ns}
-        return cls(sound, names=cls.names_for("cli"), **values)
+        names = cls.names_for("cli")
+        if values.get("snapshot_time") is not None and values.get("snapshot_png") is None:
+            raise ParameterError(names["snapshot_time"], f"needs {names['snapshot_png']}: the file to draw it in")
+        return cls(sound, names=names, **values)
 
     def name(self, key: str) -> str:
         """The user's name of setting ``key`` (the API name when the front end gave none)."""
@@ -170,7 +204,7 @@ class RunFieldJob(Settings):
     @property
     def wanted(self) -> bool:
         """Whether any file is asked for."""
-        return any(getattr(self, k) is not None for k in ("grid_csv", "grid_png", "waveform_csv", "waveform_png"))
+        return any(getattr(self, k) is not None for k in self.FILES)
 
     def validate(self) -> None:
         """The grid's files only with a grid, every file writable and distinct, the grid within the memory cap."""
@@ -181,14 +215,42 @@ class RunFieldJob(Settings):
             for key in ("grid_csv", "grid_png"):
                 if getattr(self, key) is not None:
                     raise ParameterError(self.name(key), f"needs a grid: {self.name('grid')} directivity or map")
+        self._check_snapshot()
         outputs = {}
-        for key, kind in (("grid_csv", "csv"), ("grid_png", "figure"), ("waveform_csv", "csv"),
-                          ("waveform_png", "figure")):
+        for key, kind in self.FILES.items():
             if getattr(self, key) is not None:
                 outputs[self.name(key)] = check_output_file(self.name(key), getattr(self, key), kind)
         check_distinct({**outputs, **{f"{self.sound.name('wav_files')} {p}": p for p in self.sound.wav_files}})
         if self.grid != "none":
             self._check_budget()
+        if self.snapshot_time is not None:
+            self._check_snapshot_budget()
+
+    def _check_snapshot(self) -> None:
+        """A snapshot's figure with its instant, the instant within the run."""
+        from ...errors import ParameterError
+
+        if self.snapshot_png is not None and self.snapshot_time is None:
+            raise ParameterError(self.name("snapshot_png"), f"needs {self.name('snapshot_time')}")
+        if self.snapshot_time is None:
+            return
+        sound = self.sound
+        several = sound.damper is not None and sound.damper.total_balls() > 1
+        if sound.room_sound is not None or (several and sound.cavity.geometry.enclosed):
+            raise ParameterError(self.name("snapshot_time"), "the snapshot of a room with a late tail or absorption "
+                                                             "bands, or of several balls in a room, is not offered")
+        if self.snapshot_time > self.sound.duration:
+            raise ParameterError(self.name("snapshot_time"), f"{self.snapshot_time:g} s is outside the run: give an "
+                                                             f"instant in [0, {self.sound.duration:g}] s")
+
+    def _check_snapshot_budget(self) -> None:
+        """The snapshot's plane times each click's sources (the sphere and its images) within the memory cap."""
+        from ..budget import Estimate, check_budget
+
+        n, k = len(plane_grid(self).points), 2 * len(self.sound.cavity.geometry.images())
+        # per point and source: the delay, amplitude and shape, the pulse's response and the product (complex)
+        check_budget(Estimate(8.0 * 8 * n * k, 0.0, f"{n} points x {k} sources", (self.name("grid_points"),)),
+                     self.sound.max_memory_mb, cap_name=self.sound.name("max_memory_mb"))
 
     def _check_budget(self) -> None:
         """The run's sound at every grid point, at the levels' rate, within the memory cap."""
