@@ -19,6 +19,7 @@ from acoustiviz.app.auralize import run as run_sound
 from acoustiviz.app.pipeline import damper_settings, run_scene
 from acoustiviz.app.run_field import RunFieldJob, run
 from acoustiviz.app.scene_run_field import run_field_settings
+from acoustiviz.app.settings.run_field import RUN_FIELD, scene_files
 from acoustiviz.cli import build_parser, main
 from acoustiviz.cli.auralize import field_settings_from_args, settings_from_args
 from acoustiviz.errors import ParameterError
@@ -199,3 +200,33 @@ def test_grid_files_without_a_grid_are_refused(tmp_path, monkeypatch, capsys):
     scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER], {"run_field": {}}))
     with pytest.raises(ParameterError, match="^outputs.run_field"):
         run_field_settings(scene, None, damper_settings(scene))
+
+
+def _draw(rng) -> dict:
+    """Random valid run-field settings from the records: API name -> value."""
+    records = {s.name: s for s in RUN_FIELD}
+    values = {"grid": str(rng.choice(["directivity", "map"])),
+              "grid_section": str(rng.choice(records["grid_section"].choices)),
+              "grid_points": int(rng.integers(2, 12)),
+              "grid_distance": float(rng.uniform(0.2, 3.0)), "grid_arc": float(rng.uniform(1.0, 90.0)),
+              "grid_extent": float(rng.uniform(0.1, 1.0))}
+    if rng.integers(2):
+        values["snapshot_time"] = float(rng.uniform(0.0, SHORT["duration"]))
+    return values
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_settings_build_equal_jobs(seed, tmp_path):
+    values = _draw(np.random.default_rng(seed))
+    records = {s.name: s for s in RUN_FIELD}
+    argv = [x for k, v in values.items() for x in (records[k].option, f"{v!r}" if isinstance(v, float) else str(v))]
+    files = scene_files(values["grid"], False, "snapshot_time" in values)
+    argv += [x for k, name in files.items() for x in (records[k].option, str(tmp_path / name))]
+    args = build_parser().parse_args(_argv(SHORT, str(tmp_path / "wav_listener1.wav"), [LISTENER], argv))
+    from_cli = field_settings_from_args(args, settings_from_args(args))
+    keys = {records[k].key: v for k, v in values.items()}
+    scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER], {"wav": {}, "run_field": keys}))
+    from_scene = run_field_settings(scene, tmp_path, damper_settings(scene))
+    from_api = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **values,
+                           **{k: str(tmp_path / name) for k, name in files.items()})
+    assert from_cli == from_scene == from_api, values

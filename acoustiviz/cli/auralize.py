@@ -110,6 +110,9 @@ def _run_field(job, sound) -> None:
     """The run's field around its ``sound`` already rendered: evaluated, summarised and written."""
     from ..app.run_field import run as run_field
 
+    if job.grid != "none":  # the longest part: every grid point heard as a listener
+        print(f"the run's levels on the {job.grid} grid: {len(sound.sequence)} impacts rendered at each point at "
+              "96 kHz")
     out = run_field(job, sound=sound)
     for line in field_lines(out):
         print(line)
