@@ -10,6 +10,7 @@ energy is the unweighted level of the run; a grid beyond the memory cap is refus
 from __future__ import annotations
 
 import csv
+import dataclasses
 
 import numpy as np
 import pytest
@@ -22,6 +23,7 @@ from acoustiviz.app.scene_run_field import run_field_settings
 from acoustiviz.app.settings.run_field import RUN_FIELD, scene_files
 from acoustiviz.cli import build_parser, main
 from acoustiviz.cli.auralize import field_settings_from_args, settings_from_args
+from acoustiviz.core.listener import Listener
 from acoustiviz.errors import ParameterError
 from acoustiviz.levels import LEVEL_COLUMNS
 from acoustiviz.scene import scene_from_dict
@@ -230,3 +232,21 @@ def test_random_settings_build_equal_jobs(seed, tmp_path):
     from_api = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **values,
                            **{k: str(tmp_path / name) for k, name in files.items()})
     assert from_cli == from_scene == from_api, values
+
+
+def test_one_balls_free_field_directivity_is_the_same_at_every_azimuth():
+    """Free field: the arc's levels (in the xz-plane) are those of the same arc turned 60 degrees about the axis."""
+    data = _scene(SHORT, ["listener1"], [LISTENER], {"run_field": {**ARC_KEYS, "points": 7, "arc_deg": 150.0}})
+    data["configuration"] = {"kind": "free"}
+    scene = scene_from_dict(data)
+    result = run(run_field_settings(scene, None, damper_settings(scene)))
+    centre = np.asarray(result.settings.sound.cavity.geometry.centre)
+    d = result.points - centre
+    phi = np.radians(60.0)
+    turned = centre + np.stack([d[:, 0] * np.cos(phi), d[:, 0] * np.sin(phi), d[:, 2]], axis=1)
+    listeners = tuple(Listener(f"p{i}", tuple(p)) for i, p in enumerate(turned))
+    job = dataclasses.replace(result.settings.sound, listeners=listeners, levels=True)
+    heard = run_sound(job, damper=result.sound.damper).levels.report.levels
+    for c in LEVEL_COLUMNS:
+        np.testing.assert_allclose(getattr(heard, c), result.levels[c], rtol=0, atol=1e-6, err_msg=c)
+        assert np.ptp(result.levels[c]) > 0.5, c
