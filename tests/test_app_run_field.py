@@ -30,11 +30,12 @@ from acoustiviz.scene import scene_from_dict
 
 #: The grid's and the waveform's files, as a scene names them.
 FILES = {"grid_csv": "run_directivity.csv", "grid_png": "run_directivity.png",
-         "waveform_csv": "run_waveform.csv", "waveform_png": "run_waveform.png", "snapshot_png": "run_snapshot.png"}
+         "waveform_csv": "run_waveform.csv", "waveform_png": "run_waveform.png", "snapshot_png": "run_snapshot.png",
+         "snapshot_vtk": "run_snapshot.vtu"}
 #: The snapshot's instant in s (a click sounding) and plane, as options and as scene keys.
 SNAP = {"snapshot_time": 0.0108, "grid_extent": 0.3}
 SNAP_ARGV = ["--snapshot-time", "0.0108", "--grid-extent", "0.3"]
-SNAP_KEYS = {"snapshot_time_s": 0.0108, "extent_m": 0.3}
+SNAP_KEYS = {"snapshot_time_s": 0.0108, "extent_m": 0.3, "vtk": True}
 #: A short arc of directions: five points from -80 to +80 degrees at 0.5 m.
 ARC = {"grid": "directivity", "grid_points": 5, "grid_arc": 80.0, "grid_distance": 0.5}
 #: The same, as options and as scene keys.
@@ -63,8 +64,8 @@ def test_every_front_end_writes_the_same_files(tmp_path, monkeypatch, capsys):
     job = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **ARC, **SNAP, **FILES)
     result = run(job)
     written = result.write(api)
-    assert [p.name for p in written] == list(FILES.values())
-    for name in FILES.values():
+    assert [p.name for p in written] == [*FILES.values(), "run_snapshot_geometry.vtu"]
+    for name in (*FILES.values(), "run_snapshot_geometry.vtu"):
         mine = (cli / name).read_bytes()
         assert len(mine) > 200
         assert (scene_out / name).read_bytes() == mine, f"the scene's {name} differs from the command line's"
@@ -222,11 +223,11 @@ def test_random_settings_build_equal_jobs(seed, tmp_path):
     values = _draw(np.random.default_rng(seed))
     records = {s.name: s for s in RUN_FIELD}
     argv = [x for k, v in values.items() for x in (records[k].option, f"{v!r}" if isinstance(v, float) else str(v))]
-    files = scene_files(values["grid"], False, "snapshot_time" in values)
+    files = scene_files(values["grid"], False, "snapshot_time" in values, "snapshot_time" in values)
     argv += [x for k, name in files.items() for x in (records[k].option, str(tmp_path / name))]
     args = build_parser().parse_args(_argv(SHORT, str(tmp_path / "wav_listener1.wav"), [LISTENER], argv))
     from_cli = field_settings_from_args(args, settings_from_args(args))
-    keys = {records[k].key: v for k, v in values.items()}
+    keys = {records[k].key: v for k, v in values.items()} | {"vtk": "snapshot_time" in values}
     scene = scene_from_dict(_scene(SHORT, ["listener1"], [LISTENER], {"wav": {}, "run_field": keys}))
     from_scene = run_field_settings(scene, tmp_path, damper_settings(scene))
     from_api = RunFieldJob(_api_job(SHORT, ["listener1"], [LISTENER], ()), **values,

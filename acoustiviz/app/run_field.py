@@ -108,6 +108,11 @@ class RunFieldResult:
             paths.append(self._waveform_figure(where(s.waveform_png)))
         if s.snapshot_png is not None:
             paths.append(self._snapshot_figure(where(s.snapshot_png)))
+        if s.snapshot_vtk is not None:
+            from ..output.vtk import write_map_vtk
+
+            paths += [p for p in write_map_vtk(self.snapshot_grid, {"pressure_pa": self.snapshot},
+                                               s.sound.cavity.geometry, where(s.snapshot_vtk)) if p is not None]
         return paths
 
     def _snapshot_figure(self, path) -> Path:

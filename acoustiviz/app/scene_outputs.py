@@ -43,8 +43,10 @@ def _run_field(scene, names) -> list:
     from .settings.run_field import scene_files
 
     opts = scene.output("run_field")
-    return [(name, "csv" if name.endswith(".csv") else "figure")
-            for name in scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None).values()]
+    kinds = {"csv": "csv", "png": "figure", "vtu": "vtk"}
+    files = [(name, kinds[name.rpartition(".")[2]]) for name in
+             scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None, opts["vtk"]).values()]
+    return files + (_vtk("run_snapshot")[1:] if any(n.endswith(".vtu") for n, _ in files) else [])
 
 
 def _view(kind: str, ending: str):

@@ -32,7 +32,7 @@ def run_field_settings(scene, out=None, damper=None) -> RunFieldJob:
     checks of the scene's settings alone, made before the run folder exists); errors name scene keys.
     """
     opts = scene.output("run_field")
-    files = scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None)
+    files = scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None, opts["vtk"])
     if not files:
         raise ParameterError("outputs.run_field", "asks for nothing: set grid (directivity or map), waveform = true "
                                                   "or snapshot_time_s")
@@ -50,6 +50,10 @@ def run_field_products(ctx, job: RunFieldJob) -> list:
     for path in (getattr(job, k) for k in job.FILES):
         if path is not None:  # only the files checked before the run
             ctx.path(Path(path).name)
+    if job.snapshot_vtk is not None:
+        from ..output.vtk import geometry_path
+
+        ctx.path(geometry_path(job.snapshot_vtk).name)
     if job.grid != "none":
         ctx.progress(f"the damper run's levels on the {job.grid} grid, rendered at each point at 96 kHz")
     result = run(job, damper=ctx.damper)

@@ -65,19 +65,27 @@ RUN_FIELD = (
                       "from every click sounding then (run_snapshot.png; within the run's duration)"),
     Setting("snapshot_png", "--snapshot-png", None, "str", None,
             "the snapshot drawn (needs --snapshot-time)", metavar="PATH"),
+    Setting("snapshot_vtk", "--snapshot-vtk", None, "str", None,
+            "the snapshot for ParaView, pyvista or meshio: a .vtu (or .vtkhdf) file with the point array "
+            "pressure_pa, the sphere and planes beside it in <stem>_geometry.vtu (needs --snapshot-time)",
+            metavar="OUT.vtu"),
+    Setting("vtk", None, "vtk", "bool", False,
+            "with snapshot_time_s, also the snapshot as run_snapshot.vtu (and run_snapshot_geometry.vtu)", table=_T),
 )
 
 #: The records :class:`RunFieldJob` checks when it is made.
-_CHECKED = tuple(s for s in RUN_FIELD if s.name not in ("waveform",))
+_CHECKED = tuple(s for s in RUN_FIELD if s.name not in ("waveform", "vtk"))
 
 
-def scene_files(grid: str, waveform: bool, snapshot: bool = False) -> dict:
+def scene_files(grid: str, waveform: bool, snapshot: bool = False, vtk: bool = False) -> dict:
     """The files of a scene's ``[outputs.run_field]`` by API name: ``run_<grid>.*``, ``run_waveform.*``, ..."""
     files = {} if grid == "none" else {"grid_csv": f"run_{grid}.csv", "grid_png": f"run_{grid}.png"}
     if waveform:
         files.update(waveform_csv="run_waveform.csv", waveform_png="run_waveform.png")
     if snapshot:
         files["snapshot_png"] = "run_snapshot.png"
+        if vtk:
+            files["snapshot_vtk"] = "run_snapshot.vtu"
     return files
 
 
@@ -146,7 +154,7 @@ class RunFieldJob(Settings):
         Map: distance in m from the sphere's centre to the map's edges.
     snapshot_time : float or None
         The instant in s of the snapshot over the plane (None: none).
-    grid_csv, grid_png, waveform_csv, waveform_png, snapshot_png : str or None
+    grid_csv, grid_png, waveform_csv, waveform_png, snapshot_png, snapshot_vtk : str or None
         The files to write (None: not written).
     names : dict
         API parameter -> the option or scene key named in errors.
@@ -158,10 +166,10 @@ class RunFieldJob(Settings):
 
     TABLE = _CHECKED
     BUILT_FROM = (*RUN_FIELD, *MEMORY)
-    DERIVED_NAMES = {"scene": {k: _T for k in ("grid_csv", "grid_png", "waveform_csv", "waveform_png", "snapshot_png")}}
     #: The files a job may write, with their formats.
     FILES = {"grid_csv": "csv", "grid_png": "figure", "waveform_csv": "csv", "waveform_png": "figure",
-             "snapshot_png": "figure"}
+             "snapshot_png": "figure", "snapshot_vtk": "vtk"}
+    DERIVED_NAMES = {"scene": {k: _T for k in FILES}}
 
     sound: object
     grid: str = "none"
@@ -176,6 +184,7 @@ class RunFieldJob(Settings):
     waveform_png: str | None = None
     snapshot_time: float | None = None
     snapshot_png: str | None = None
+    snapshot_vtk: str | None = None
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def __eq__(self, other):
@@ -193,8 +202,8 @@ class RunFieldJob(Settings):
 
         values = {s.name: ns[s.name] for s in RUN_FIELD if s.option is not None and s.name in ns}
         names = cls.names_for("cli")
-        if values.get("snapshot_time") is not None and values.get("snapshot_png") is None:
-            raise ParameterError(names["snapshot_time"], f"needs {names['snapshot_png']}: the file to draw it in")
+        if values.get("snapshot_time") is not None and values.get("snapshot_png") is values.get("snapshot_vtk") is None:
+            raise ParameterError(names["snapshot_time"], f"needs {names['snapshot_png']} or {names['snapshot_vtk']}")
         return cls(sound, names=names, **values)
 
     def name(self, key: str) -> str:
@@ -220,6 +229,11 @@ class RunFieldJob(Settings):
         for key, kind in self.FILES.items():
             if getattr(self, key) is not None:
                 outputs[self.name(key)] = check_output_file(self.name(key), getattr(self, key), kind)
+        if self.snapshot_vtk is not None:
+            from ...output.vtk import geometry_path
+
+            name = self.name("snapshot_vtk")
+            outputs[f"{name} (geometry)"] = check_output_file(name, geometry_path(self.snapshot_vtk), "vtk")
         check_distinct({**outputs, **{f"{self.sound.name('wav_files')} {p}": p for p in self.sound.wav_files}})
         if self.grid != "none":
             self._check_budget()
@@ -230,8 +244,9 @@ class RunFieldJob(Settings):
         """A snapshot's figure with its instant, the instant within the run."""
         from ...errors import ParameterError
 
-        if self.snapshot_png is not None and self.snapshot_time is None:
-            raise ParameterError(self.name("snapshot_png"), f"needs {self.name('snapshot_time')}")
+        for key in ("snapshot_png", "snapshot_vtk"):
+            if getattr(self, key) is not None and self.snapshot_time is None:
+                raise ParameterError(self.name(key), f"needs {self.name('snapshot_time')}")
         if self.snapshot_time is None:
             return
         sound = self.sound
