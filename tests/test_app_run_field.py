@@ -251,3 +251,15 @@ def test_one_balls_free_field_directivity_is_the_same_at_every_azimuth():
     for c in LEVEL_COLUMNS:
         np.testing.assert_allclose(getattr(heard, c), result.levels[c], rtol=0, atol=1e-6, err_msg=c)
         assert np.ptp(result.levels[c]) > 0.5, c
+
+
+@pytest.mark.slow
+def test_ctrl_c_during_the_grid_keeps_the_wav(tmp_path, interruptible):
+    """Interrupted while the grid is evaluated: exit 130, the WAV already written is kept, no grid file."""
+    from test_cli_interrupt import interrupt_after
+
+    argv = ["auralize", "--duration", "20", "--wav", "a.wav", "--grid", "directivity", "--grid-points", "19",
+            "--max-memory", "2048", "--grid-csv", "m.csv"]
+    interrupt_after(argv, tmp_path, r"^directivity: the run's .* rendered at each grid point", interruptible())
+    assert (tmp_path / "a.wav").exists() and (tmp_path / "a.json").exists()
+    assert not (tmp_path / "m.csv").exists()

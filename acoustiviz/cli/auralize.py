@@ -111,8 +111,10 @@ def _run_field(job, sound) -> None:
     from ..app.run_field import run as run_field
 
     if job.grid != "none":  # the longest part: every grid point heard as a listener
-        print(f"the run's levels on the {job.grid} grid: {len(sound.sequence)} impacts rendered at each point at "
-              "96 kHz")
+        from .._jit import announce_long_work
+
+        announce_long_work(f"{job.grid}: the run's {len(sound.sequence)} impacts rendered at each grid point at 96 kHz "
+                           "(Ctrl-C stops it; the files written so far are kept)")
     out = run_field(job, sound=sound)
     for line in field_lines(out):
         print(line)
