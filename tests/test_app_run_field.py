@@ -263,3 +263,21 @@ def test_ctrl_c_during_the_grid_keeps_the_wav(tmp_path, interruptible):
     interrupt_after(argv, tmp_path, r"^directivity: the run's .* rendered at each grid point", interruptible())
     assert (tmp_path / "a.wav").exists() and (tmp_path / "a.json").exists()
     assert not (tmp_path / "m.csv").exists()
+
+
+def test_the_arc_turns_about_the_acceleration_axis_of_a_wall_strike():
+    """A wall strike accelerates along +x: the arc's 0 degree point lies on +x, at the distance asked for."""
+    from acoustiviz.app.settings.run_field import grid_points
+
+    data = _scene(SHORT, ["listener1"], [(0.5, 0.0, 0.3)], {"run_field": {**ARC_KEYS, "points": 3, "arc_deg": 90.0}})
+    data["configuration"] = {"kind": "wall-floor", "strike": "wall"}
+    scene = scene_from_dict(data)
+    job = run_field_settings(scene, None, damper_settings(scene))
+    points, angle, _ = grid_points(job)
+    d = points - np.asarray(job.sound.cavity.geometry.centre)
+    np.testing.assert_allclose(d, [[0.0, 0.0, -0.5], [0.5, 0.0, 0.0], [0.0, 0.0, 0.5]], atol=1e-15)
+    np.testing.assert_allclose(np.degrees(angle), [-90.0, 0.0, 90.0])
+    data["outputs"]["run_field"]["vtk"] = True
+    with pytest.raises(ParameterError, match="^outputs.run_field.vtk: needs outputs.run_field.snapshot_time_s"):
+        scene = scene_from_dict(data)
+        run_field_settings(scene, None, damper_settings(scene))

@@ -32,6 +32,8 @@ def run_field_settings(scene, out=None, damper=None) -> RunFieldJob:
     checks of the scene's settings alone, made before the run folder exists); errors name scene keys.
     """
     opts = scene.output("run_field")
+    if opts["vtk"] and opts["snapshot_time_s"] is None:
+        raise ParameterError("outputs.run_field.vtk", "needs outputs.run_field.snapshot_time_s: the instant to store")
     files = scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None, opts["vtk"])
     if not files:
         raise ParameterError("outputs.run_field", "asks for nothing: set grid (directivity or map), waveform = true "

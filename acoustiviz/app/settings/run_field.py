@@ -34,7 +34,8 @@ RUN_FIELD = (
             "directivity: distance from the sphere's centre to the arc", "m", low=0.0, high=1e4, low_open=True,
             table=_T),
     Setting("grid_arc", "--grid-arc", "arc_deg", "float", 90.0,
-            "directivity: the arc, in the xz-plane, spans this angle either side of the acceleration axis +z",
+            "directivity: the arc, in the xz-plane, spans this angle either side of the acceleration axis (+z on a "
+            "floor, +x for a wall strike)",
             "deg", low=0.0, high=180.0, low_open=True, metavar="DEG", table=_T),
     Setting("grid_points", "--grid-points", "points", "int", 19,
             "directivity: points on the arc; map and snapshot: points along the plane's longer side", low=2,
@@ -90,11 +91,18 @@ def scene_files(grid: str, waveform: bool, snapshot: bool = False, vtk: bool = F
 
 
 def _arc(job: RunFieldJob) -> tuple:
-    """``(points, angles)``: the arc of directions in the xz-plane around the sphere's centre (m, rad)."""
-    centre = np.asarray(job.sound.cavity.geometry.centre, dtype=float)
+    """``(points, angles)``: the arc of directions in the xz-plane around the sphere's centre (m, rad).
+
+    The angle is measured from the acceleration axis (the struck surface's normal: +z on a floor, +x for a
+    wall strike) towards +x (towards +z for a wall strike).
+    """
+    geometry = job.sound.cavity.geometry
+    centre, axis = np.asarray(geometry.centre, dtype=float), np.asarray(geometry.axis, dtype=float)
+    side = np.array([0.0, 0.0, 1.0]) if abs(axis[0]) > abs(axis[2]) else np.array([1.0, 0.0, 0.0])
     half = np.radians(job.grid_arc)
     angle = np.linspace(-half, half, job.grid_points)
-    d = np.stack([np.sin(angle), np.zeros_like(angle), np.cos(angle)], axis=1)
+    d = np.outer(np.cos(angle), axis) + np.outer(np.sin(angle), side)
+    d[np.abs(d) < 1e-15] = 0.0  # cos(90 deg) is 6e-17, not 0: the points on a plane's axis lie on it
     return centre + job.grid_distance * d, angle
 
 
@@ -102,7 +110,7 @@ def grid_points(job: RunFieldJob) -> tuple:
     """``(points, angles or None, planar grid or None)`` of the job's grid of listeners (m, rad).
 
     Directivity: ``grid_points`` directions from ``-grid_arc`` to ``+grid_arc`` degrees from the acceleration
-    axis +z in the xz-plane, at ``grid_distance`` from the sphere's centre. Map: the plane ``grid_section``
+    axis in the xz-plane (:func:`_arc`), at ``grid_distance`` from the sphere's centre. Map: the plane ``grid_section``
     through the sphere's centre reaching ``grid_extent`` from it, cut at the reflecting planes
     (:func:`acoustiviz.field.grids.section_grid`). ``grid = "none"``: no point.
     """
