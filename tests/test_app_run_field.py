@@ -179,20 +179,36 @@ def test_the_waveforms_energy_is_the_runs_unweighted_level(tmp_path, monkeypatch
     assert np.max(np.abs(p)) > 0.1
 
 
-def test_a_grid_beyond_the_memory_cap_is_refused_naming_it(tmp_path, monkeypatch, capsys):
+def test_a_grid_point_beyond_the_memory_cap_is_refused_naming_it(tmp_path, monkeypatch, capsys):
+    """One point's signal at 96 kHz over the run must fit the cap (the points are evaluated in groups that fit)."""
     monkeypatch.chdir(tmp_path)
     argv = ["auralize", "--duration", "2", "--wav", "a.wav", "--grid", "map", "--grid-points", "60",
-            "--grid-csv", "m.csv", "--max-memory", "64"]
+            "--grid-csv", "m.csv", "--max-memory", "5"]
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert "--max-memory" in err and "--grid-points" in err and len(err.strip().splitlines()) == 1
+    assert "--duration" in err and "--max-memory" in err and "1 point(s)" in err and len(err.strip().splitlines()) == 1
     assert not list(tmp_path.iterdir())
     data = _scene({**SHORT, "duration": 2.0}, ["listener1"], [LISTENER],
                   {"run_field": {"grid": "map", "points": 60}})
-    data["grids"] = {"memory_limit_mb": 64}
+    data["grids"] = {"memory_limit_mb": 5}
     scene = scene_from_dict(data)
-    with pytest.raises(ParameterError, match=r"^outputs\.run_field\.points: .*grids\.memory_limit_mb"):
+    with pytest.raises(ParameterError, match=r"^damper\.duration_s: .*grids\.memory_limit_mb"):
         run_field_settings(scene, None, damper_settings(scene))
+
+
+def test_the_levels_do_not_depend_on_the_grouping_of_the_points():
+    """A cap that takes one point at a time gives the levels of one rendering of every point, bit for bit.
+
+    The run ends 0.5 ms after its first click ends, so the sound of the far points outlasts it: each point
+    rendered alone is shorter than the whole grid's rendering until it is rendered again to that length.
+    """
+    sound = _api_job({**SHORT, "duration": 0.0107}, ["listener1"], [LISTENER], ())
+    whole = run(RunFieldJob(sound, grid="map", grid_points=6, grid_extent=0.4))
+    small = dataclasses.replace(sound, max_memory_mb=0.05)  # one point of the 10.7 ms run at 96 kHz: 0.04 MB
+    one_by_one = run(RunFieldJob(small, grid="map", grid_points=6, grid_extent=0.4), sound=whole.sound)
+    assert whole.heard.sum() > 10
+    for c in LEVEL_COLUMNS:
+        np.testing.assert_array_equal(one_by_one.levels[c], whole.levels[c], err_msg=c)
 
 
 def test_grid_files_without_a_grid_are_refused(tmp_path, monkeypatch, capsys):

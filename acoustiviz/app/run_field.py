@@ -175,23 +175,50 @@ class RunFieldResult:
 
 
 def _grid_levels(job: RunFieldJob, sound, points, heard) -> tuple:
-    """``(levels, rate)``: the run rendered at each heard point as a listener and its levels (dB; NaN: not heard)."""
+    """``(levels, rate)``: the run rendered at each heard point as a listener and its levels (dB; NaN: not heard).
+
+    The points are rendered in groups as large as the memory cap allows (:func:`~.budget.grid_levels_estimate`
+    per point). Every point's signal is as long as the whole grid's would be in one rendering (a rendering
+    lasts the run, or to the last click's tail at its farthest point if later): a group rendered shorter is
+    rendered again to that length, so the levels do not depend on the grouping.
+    """
     from ..levels import sound_levels
-    from .damper import cavity_positions, render_run
+    from .budget import grid_levels_estimate, memory_cap
     from .levels import ANALYSIS_RATE
 
-    s = sound.settings
     levels = {c: np.full(len(points), np.nan) for c in LEVEL_COLUMNS}
     if not heard.any():
         raise ParameterError(job.name("grid"), "no point of the grid lies in the fluid outside the cavity: move or "
                                                "enlarge it")
-    rendering = render_run(sound.damper.result if sound.damper is not None else None, sound.sequence, s.cavity,
-                           s.click, points[heard], sample_rate=ANALYSIS_RATE, duration=s.duration,
-                           room_sound=s.room_sound, positions=cavity_positions(s.damper))
-    lv = sound_levels(rendering.signal)
-    for c in LEVEL_COLUMNS:
-        levels[c][heard] = getattr(lv, c)
-    return levels, float(lv.sample_rate)
+    s = job.sound
+    index = np.flatnonzero(heard)
+    size = max(1, int(memory_cap(s.max_memory_mb) // grid_levels_estimate(s.duration, ANALYSIS_RATE, 1).memory))
+    groups = [index[lo:lo + size] for lo in range(0, index.size, size)]
+
+    def evaluate(group, duration) -> int:
+        """Render ``group`` lasting at least ``duration`` s, keep its levels; return its length in samples."""
+        signal = _render_points(sound, points[group], ANALYSIS_RATE, duration).signal
+        lv = sound_levels(signal)
+        for c in LEVEL_COLUMNS:
+            levels[c][group] = getattr(lv, c)
+        return signal.n_samples
+
+    lengths = [evaluate(group, s.duration) for group in groups]
+    longest = max(lengths)
+    for group, n in zip(groups, lengths, strict=True):
+        if n < longest:  # half a sample short of the longest: rendered to exactly its length
+            evaluate(group, (longest - 0.5) / ANALYSIS_RATE)
+    return levels, float(ANALYSIS_RATE)
+
+
+def _render_points(sound, points, rate: int, duration: float):
+    """The run's sound at ``points`` (m) at ``rate`` Hz lasting at least ``duration`` s: :func:`.damper.render_run`."""
+    from .damper import cavity_positions, render_run
+
+    s = sound.settings
+    return render_run(sound.damper.result if sound.damper is not None else None, sound.sequence, s.cavity, s.click,
+                      points, sample_rate=rate, duration=duration, room_sound=s.room_sound,
+                      positions=cavity_positions(s.damper))
 
 
 def run(job: RunFieldJob, *, damper=None, sound=None) -> RunFieldResult:

@@ -276,10 +276,13 @@ class RunFieldJob(Settings):
                      self.sound.max_memory_mb, cap_name=self.sound.name("max_memory_mb"))
 
     def _check_budget(self) -> None:
-        """The run's sound at every grid point, at the levels' rate, within the memory cap."""
-        from ..budget import check_budget, wav_estimate
+        """The run's sound at one grid point, at the levels' rate, within the memory cap.
+
+        The points are evaluated in groups as large as the cap allows (:func:`acoustiviz.app.run_field.run`).
+        """
+        from ..budget import check_budget, grid_levels_estimate
         from ..levels import ANALYSIS_RATE
-        n = len(grid_points(self)[0])
-        check_budget(wav_estimate(self.sound.duration, ANALYSIS_RATE, n,
-                                  options=(self.name("grid_points"), self.sound.name("duration"))),
+
+        check_budget(grid_levels_estimate(self.sound.duration, ANALYSIS_RATE, 1,
+                                          options=(self.sound.name("duration"), self.name("grid"))),
                      self.sound.max_memory_mb, cap_name=self.sound.name("max_memory_mb"))
