@@ -174,8 +174,8 @@ _OUT = {
                     "evaluated at 96 kHz (CSV)"),
     "run_field": Table(_from_table(RUN_FIELD, "outputs.run_field"),
                        "the damper run's levels on a grid of listeners (an arc of directions or a plane: "
-                       "run_directivity.csv/.png or run_map.csv/.png, evaluated at 96 kHz) and its pressure at each "
-                       "listener (run_waveform.csv/.png)"),
+                       "run_directivity.csv/.png or run_map.csv/.png, evaluated at 96 kHz), its pressure at each "
+                       "listener (run_waveform.csv/.png) and at one instant over a plane (run_snapshot.png/.vtu)"),
     "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),
     "frequency_response": Table({}, "steady-state amplitude with and without the damper, regimes and "
                                 "hysteresis over the [excitation] frequencies (CSV, PNG)"),

@@ -29,7 +29,9 @@ RUN_FIELD = (
     Setting("grid", "--grid", "grid", "str", "none",
             "levels of the run (LAeq, LCpeak, LAFmax, SEL(A), ...) on a grid of listeners: an arc of directions "
             "at --grid-distance (directivity) or a plane through the sphere's centre (map)", choices=GRID_KINDS,
-            table=_T),
+            table=_T, scene_doc="levels of the run (LAeq, LCpeak, LAFmax, SEL(A), ...) on a grid of listeners: an "
+                                "arc of directions at distance_m (directivity) or a plane through the sphere's "
+                                "centre (map)"),
     Setting("grid_distance", "--grid-distance", "distance_m", "float", 0.7,
             "directivity: distance from the sphere's centre to the arc", "m", low=0.0, high=1e4, low_open=True,
             table=_T),
