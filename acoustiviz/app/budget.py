@@ -409,6 +409,17 @@ def wav_estimate(duration: float, sample_rate: float, channels: int, options=("-
                     f"{n:.3g} samples x {channels} channel(s) at {sample_rate:g} Hz", options)
 
 
+def grid_levels_estimate(duration: float, sample_rate: float, points: int, options=("--grid-points",)) -> Estimate:
+    """The levels of a rendered sound at many points at once: five float64 per sample of each point.
+
+    The signal, its A- and C-weighted copies and two temporaries of the level evaluators.
+    """
+    with np.errstate(all="ignore"):
+        n = _count(duration * sample_rate)
+    return Estimate(_F8 * 5.0 * n * points, 0.0, f"{n:.3g} samples x {points} point(s) at {sample_rate:g} Hz",
+                    options)
+
+
 def forced_estimate(n_frequencies: int, max_cycles: int, *, noise_seconds: float = 0.0,
                     analysis_rate: float = 96000.0, wav_rate: float = float(WAV_RATE), wav: bool = False,
                     names=None) -> Estimate:

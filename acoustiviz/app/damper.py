@@ -418,3 +418,22 @@ def render_run(result, sequence, cavity, click, points, *, sample_rate: int, dur
                             duration=duration)
     return render(sequence, cavity, click, points, sample_rate=sample_rate, duration=duration,
                   room_sound=room_sound)
+
+
+def snapshot_run(result, sequence, cavity, click, points, t: float, *, positions=None):
+    """The pressure in Pa of a damper run at ``points`` (m) at instant ``t`` (s): every click sounding then.
+
+    The same choice as :func:`render_run`: one ball, :func:`acoustiviz.sound.snapshot.snapshot_pressure` of
+    ``sequence``; several balls (in one cavity or several, each from its place ``positions``), every
+    collision's spheres (:func:`acoustiviz.sound.snapshot.snapshot_balls` of the run's
+    :func:`~acoustiviz.sound.balls_sound.ball_clicks`).
+    """
+    from ..dynamics import MultiBallResult
+    from ..sound.balls_sound import ball_clicks, cavity_places, column_scene
+    from ..sound.snapshot import snapshot_balls, snapshot_pressure
+
+    if isinstance(result, MultiBallResult) and result.model.n_balls > 1:
+        scene = column_scene(cavity, result.model.cavities[0])
+        places = cavity_places(result.model, scene, positions)
+        return snapshot_balls(t, ball_clicks(result, scene, click, positions=places), scene, points)
+    return snapshot_pressure(t, sequence, cavity, click, points)

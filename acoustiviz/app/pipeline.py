@@ -42,6 +42,7 @@ from .render_job import (
 from .scene_levels import levels_settings, produce_levels, produce_spectrum
 from .scene_optimize import optimize_settings, produce_optimize
 from .scene_outputs import SUMMARY, preflight
+from .scene_run_field import run_field_settings
 from .scene_wav import wav_settings
 from .sweep import produce_sweep, sweep_settings
 
@@ -352,6 +353,13 @@ def produce_wav(ctx: RunContext):
     return wav_products(result)
 
 
+def produce_run_field(ctx: RunContext):
+    """The damper run's levels on a grid and its waveform: :func:`.scene_run_field.run_field_settings`."""
+    from .scene_run_field import run_field_products
+
+    return run_field_products(ctx, run_field_settings(ctx.scene, ctx.out, damper_settings(ctx.scene)))
+
+
 PRODUCERS = {
     "waveform": produce_waveform,
     "directivity": produce_directivity,
@@ -368,6 +376,7 @@ PRODUCERS = {
     "wav": produce_wav,
     "levels": produce_levels,
     "spectrum": produce_spectrum,
+    "run_field": produce_run_field,
     "frequency_response": _forced.produce_frequency_response,
     "bifurcation": _forced.produce_bifurcation,
     "operating_noise": _forced.produce_operating_noise,
@@ -387,6 +396,7 @@ _SETTINGS = {
     "optimize": optimize_settings,
     "levels": lambda scene: (_balls_heard(scene), levels_settings(scene)),
     "spectrum": lambda scene: (_balls_heard(scene), levels_settings(scene)),
+    "run_field": lambda scene: (_balls_heard(scene), run_field_settings(scene, None, damper_settings(scene))),
     "snapshot": snapshot_settings,
     "balloon": balloon_settings,
     "animation": animation_settings,

@@ -39,6 +39,16 @@ def _levels(scene, names) -> list:
     return [("levels.csv", "csv"), (bands_path("levels.csv").name, "csv")]
 
 
+def _run_field(scene, names) -> list:
+    from .settings.run_field import scene_files
+
+    opts = scene.output("run_field")
+    kinds = {"csv": "csv", "png": "figure", "vtu": "vtk"}
+    files = [(name, kinds[name.rpartition(".")[2]]) for name in
+             scene_files(opts["grid"], opts["waveform"], opts["snapshot_time_s"] is not None, opts["vtk"]).values()]
+    return files + (_vtk("run_snapshot")[1:] if any(n.endswith(".vtu") for n, _ in files) else [])
+
+
 def _view(kind: str, ending: str):
     def files(scene, names):
         opts = scene.output(kind)
@@ -84,6 +94,7 @@ _FILES = {
                                  else [f for n in names for f in _wav(f"wav_{n}")]),
     "levels": _levels,
     "spectrum": _pair("spectrum"),
+    "run_field": _run_field,
     "frequency_response": _pair("frequency_response"),
     "bifurcation": lambda scene, names: [("bifurcation.png", "figure")],
     "operating_noise": lambda scene, names: [("operating_noise.csv", "csv"), *_wav(f"operating_noise_{names[0]}")],

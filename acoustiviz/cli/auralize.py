@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from ..app.settings.auralize import AURALIZE_GROUPS
 from ..app.settings.damper import BALLS
+from ..app.settings.run_field import RUN_FIELD
 from ..app.settings.table import add_option
 from ._damper import add_damper_options
 from ._impact import add_room_options
@@ -43,6 +44,10 @@ def add_parser(subparsers) -> None:
             add_option(group, s, **_EXTRA.get(s.option, {}))
         if title == "sound model":  # the room follows; its setup lets "--listener -0.2,0,0.3" read as a value
             add_room_options(p)
+    field = p.add_argument_group("the run's field: its levels on a grid of listeners, its waveform at the listeners")
+    for s in RUN_FIELD:
+        if s.option is not None:
+            add_option(field, s)
     p.set_defaults(func=run)
 
 
@@ -58,11 +63,24 @@ def settings_from_args(args):
     return job_from_settings(AuralizeSettings.from_namespace(vars(args)))
 
 
+def field_settings_from_args(args, sound):
+    """The :class:`~acoustiviz.app.settings.run_field.RunFieldJob` of the options around the run's ``sound``.
+
+    None when no grid or waveform file is asked for.
+    """
+    from ..app.settings.run_field import RunFieldJob
+
+    job = RunFieldJob.from_namespace(vars(args), sound)
+    return job if job.wanted else None
+
+
 def run(args) -> int:
     """Run the ``auralize`` subcommand: argv -> job -> run -> summary -> files; return the exit status."""
     from ..app.auralize import run as run_job
 
-    result = run_job(settings_from_args(args))
+    job = settings_from_args(args)
+    field = field_settings_from_args(args, job)  # checked, with its files and memory, before the run
+    result = run_job(job)
     if result.damper is not None:
         for msg in result.damper.warnings:
             print(f"warning: {msg}")
@@ -83,7 +101,41 @@ def run(args) -> int:
         print(line)
     if result.settings.png is not None:
         print(f"wrote {paths[-1]}")
+    if field is not None:
+        _run_field(field, result)
     return 0
+
+
+def _run_field(job, sound) -> None:
+    """The run's field around its ``sound`` already rendered: evaluated, summarised and written."""
+    from ..app.run_field import run as run_field
+
+    if job.grid != "none":  # the longest part: every grid point heard as a listener
+        from .._jit import announce_long_work
+
+        announce_long_work(f"{job.grid}: the run's {len(sound.sequence)} impacts rendered at each grid point at 96 kHz "
+                           "(Ctrl-C stops it; the files written so far are kept)")
+    out = run_field(job, sound=sound)
+    for line in field_lines(out):
+        print(line)
+    for path in out.write():
+        print(f"wrote {path}")
+
+
+def field_lines(result) -> list:
+    """The grid's evaluation and its loudest point, one line each (nothing without a grid)."""
+    import numpy as np
+
+    job = result.settings
+    if job.grid == "none":
+        return []
+    lv, n = result.levels, int(result.heard.sum())
+    k = int(np.nanargmax(lv["laeq_db"]))
+    where = ", ".join(f"{v:.3g}" for v in result.points[k])
+    return [f"{job.grid}: {n} of {len(result.points)} grid point(s) heard (the others inside the cavity or a wall), "
+            f"evaluated at {result.sample_rate / 1e3:g} kHz",
+            f"loudest point ({where}) m: LAeq {lv['laeq_db'][k]:.1f} dB, LCpeak {lv['lcpeak_db'][k]:.1f} dB, "
+            f"LAFmax {lv['lafmax_db'][k]:.1f} dB, SEL(A) {lv['sel_a_db'][k]:.1f} dB"]
 
 
 def _radius_text(job, out) -> str:

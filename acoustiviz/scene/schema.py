@@ -18,6 +18,7 @@ from ..app.settings.optimize import EXECUTION as _OPT_EXECUTION
 from ..app.settings.optimize import OPTIMIZE, SCENE_LEVELS, SCENE_OPERATION, SCENE_VARIABLES
 from ..app.settings.render import ANIMATION, BALLOON, SCENE_FILES, SECTION_LIST, SIZES, SNAPSHOT, TIMES
 from ..app.settings.room import ROOM
+from ..app.settings.run_field import RUN_FIELD
 from ..app.settings.scene import CONFIGURATION_KEYS, CONTACT_KEYS, GRIDS, LISTENER_KEYS, OUTPUT_KEYS, SCENE, SPHERE_KEYS
 from ..app.settings.sweep import SCENE_SWEEP, SWEEP, SWEEP_DAMPER, SWEEP_SOUND, SWEPT
 from ..constants import (
@@ -171,6 +172,10 @@ _OUT = {
     "levels": Table(_from_table(LEVELS_OPTIONS, "outputs.levels"),
                     "LZpeak, LCpeak, LAFmax, LASmax, LAeq, LZeq, SEL, SEL(A) of the damper run at each listener, "
                     "evaluated at 96 kHz (CSV)"),
+    "run_field": Table(_from_table(RUN_FIELD, "outputs.run_field"),
+                       "the damper run's levels on a grid of listeners (an arc of directions or a plane: "
+                       "run_directivity.csv/.png or run_map.csv/.png, evaluated at 96 kHz), its pressure at each "
+                       "listener (run_waveform.csv/.png) and at one instant over a plane (run_snapshot.png/.vtu)"),
     "spectrum": Table({}, "1/3-octave band Leq and LFmax of the damper run at each listener (CSV and PNG)"),
     "frequency_response": Table({}, "steady-state amplitude with and without the damper, regimes and "
                                 "hysteresis over the [excitation] frequencies (CSV, PNG)"),

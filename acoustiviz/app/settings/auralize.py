@@ -363,6 +363,15 @@ class AuralizeJob(Settings):
 
     __hash__ = None
 
+    #: The fields that make the sound itself (not its files, format or levels), compared by :meth:`same_sound`.
+    _SOUND = ("model", "cavity", "click", "listeners", "duration", "damper", "impacts", "impacts_csv", "stereo",
+              "rate", "max_memory_mb")
+
+    def same_sound(self, other) -> bool:
+        """Whether ``other`` renders the same sound at the same listeners and rate, whatever files it writes."""
+        return (isinstance(other, AuralizeJob) and all(getattr(self, k) == getattr(other, k) for k in self._SOUND)
+                and _room_sound_key(self.room_sound) == _room_sound_key(other.room_sound))
+
     @property
     def wants_levels(self) -> bool:
         """Whether the levels are computed (printed, recorded in the sidecars, written as ``levels_csv``)."""
@@ -393,13 +402,13 @@ class AuralizeJob(Settings):
         points = np.array([lst.position for lst in self.listeners], dtype=float).reshape(-1, 3)
         if self.stereo and len(points) != 2:
             raise ParameterError(self.name("stereo"), f"needs two listeners (left, right), got {len(points)}")
-        self._check_listeners(points)
+        self.check_listeners(points)
         self._check_files()
         self._check_budget()
         self._check_levels()
 
-    def _check_listeners(self, points) -> None:
-        """Listeners in the fluid, outside the cavity; several balls: every cavity placed, outside every column.
+    def check_listeners(self, points) -> None:
+        """Listeners ``(n, 3)`` in m in the fluid, outside the cavity; several balls: outside every column placed.
 
         Several balls in a room are heard with every image to the room's tolerance: a late tail or
         absorption bands are refused, naming their option or key.

@@ -6,7 +6,7 @@ import numpy as np
 
 from .style import new_axes, style
 
-__all__ = ["plot_directivity", "directivity_figure", "half_space_axes"]
+__all__ = ["plot_directivity", "directivity_figure", "half_space_axes", "levels_polar_figure"]
 
 _QUANTITIES = {
     "spl": ("spl_db", "peak SPL (dB re 20 µPa)"),
@@ -114,4 +114,45 @@ def directivity_figure(directivity, *, title: str = "", half_space: bool = True)
             fig.suptitle(title, fontsize=10)
         if half_space:
             half_space_axes(fig)
+    return fig
+
+
+def levels_polar_figure(angle, levels: dict, *, title: str = ""):
+    """Levels in dB against the signed angle from the acceleration axis, one line each, on polar axes.
+
+    Parameters
+    ----------
+    angle : (n,) array_like
+        Angles in rad from the acceleration axis (0 up, positive clockwise).
+    levels : dict
+        Legend label -> (n,) levels in dB (NaN: not drawn).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A figure with one polar axes (not attached to pyplot).
+    """
+    from matplotlib.figure import Figure
+
+    th = np.asarray(angle, dtype=float)
+    with style():
+        fig = Figure(figsize=(5.6, 5.0), layout="constrained")
+        ax = fig.add_subplot(projection="polar")
+        for label, values in levels.items():
+            ax.plot(th, np.asarray(values, dtype=float), marker="o", ms=3, label=label)
+        ax.set_theta_zero_location("N")
+        ax.set_theta_direction(-1)
+        every = np.concatenate([np.asarray(v, dtype=float) for v in levels.values()])
+        every = every[np.isfinite(every)]
+        if every.size:
+            ax.set_rlim(max(float(every.min()) - 10.0, 0.0), float(every.max()) + 3.0)
+        ax.set_thetamin(float(np.degrees(th.min())))
+        ax.set_thetamax(float(np.degrees(th.max())))
+        ax.set_title("level (dB) vs angle from the acceleration axis (deg)", fontsize=9)
+        ax.legend(loc="upper right", bbox_to_anchor=(1.12, 1.05), fontsize=8)
+        if title:
+            fig.suptitle(title, fontsize=10)
+        fig.draw_without_rendering()
     return fig

@@ -9,7 +9,7 @@ import numpy as np
 from ..._validate import ParameterError
 from .style import style
 
-__all__ = ["plot_level_map", "level_map_figure", "DB_RANGE"]
+__all__ = ["plot_level_map", "level_map_figure", "pressure_map_figure", "DB_RANGE"]
 
 #: Widest range in dB of a colour scale: from the 0.5th to the 99.5th percentile of the map (the
 #: few points next to the sphere saturate instead of washing out the rest), at most this wide.
@@ -161,4 +161,53 @@ def level_map_figure(grid, peak_spl_db, sel_db, geometry, *, axes_names=("x", "z
         a2.set_title("sound exposure level")
         if title:
             fig.suptitle(title)
+    return fig
+
+
+def pressure_map_figure(grid, pressure, geometry, *, axes_names=("x", "z"), title: str = ""):
+    """The sound pressure over a planar grid at one instant, a diverging colour scale symmetric about 0 Pa.
+
+    Parameters
+    ----------
+    grid : acoustiviz.field.grids.PlanarGrid
+        Points in m; ``u`` along the first of ``axes_names``, ``v`` along the second.
+    pressure : (n,) array_like
+        Pressure in Pa at the points (NaN: left blank).
+    geometry : acoustiviz.core.geometry.Geometry
+        The sphere and its planes, drawn in grey.
+    axes_names : (str, str)
+        ``("x", "z")`` for a vertical map, ``("x", "y")`` for a horizontal one.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    if tuple(axes_names) not in (("x", "z"), ("x", "y")):
+        raise ParameterError("axes_names", f"must be ('x', 'z') or ('x', 'y'), got {axes_names!r}")
+    p = np.asarray(pressure, dtype=float)
+    finite = np.abs(p[np.isfinite(p)])
+    top = float(np.percentile(finite, 99.5)) if finite.size else 0.0
+    top = top if top > 0 else 1.0
+    with style():
+        u, v = float(np.linalg.norm(grid.u)), float(np.linalg.norm(grid.v))
+        fig = Figure(figsize=(6.4, min(9.0, max(3.2, 5.4 * v / u + 1.0))), layout="constrained")
+        ax = fig.add_subplot()
+        i, j = (_AXIS[a] for a in axes_names)
+        x0, y0 = float(grid.origin[i]), float(grid.origin[j])
+        box = (x0, x0 + float(grid.u[i]), y0, y0 + float(grid.v[j]))
+        im = ax.imshow(grid.image(p), origin="lower", extent=box, cmap="RdBu_r", vmin=-top, vmax=top,
+                       interpolation="nearest")
+        _draw_geometry(ax, geometry, axes_names, float(grid.points[0, 3 - i - j]), box)
+        ax.set_aspect("equal")
+        ax.grid(False)
+        ax.set_xlabel(f"{axes_names[0]} (m)")
+        ax.set_ylabel(f"{axes_names[1]} (m)")
+        cb = fig.colorbar(im, ax=ax, shrink=0.85, extend="both")
+        cb.set_label("sound pressure (Pa)")
+        if title:
+            ax.set_title(title, fontsize=10)
     return fig
