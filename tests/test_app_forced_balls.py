@@ -134,7 +134,7 @@ def test_one_ball_keeps_the_single_ball_job(tmp_path, monkeypatch, capsys):
 
 
 @pytest.mark.parametrize("extra, option", [
-    (["--balls", "2"], "--noise"),  # the noise in operation is one ball's
+    (["--balls", "2", "--listener", "0,0,0.03"], "--listener"),  # the listener inside the column of balls
     (["--balls", "2", "--no-noise", "--solver", "impact-map"], "--solver"),
     (["--balls", "0"], "--balls"),
     (["--balls", "2", "--no-noise", "--k-hertz-ball", "-1"], "--k-hertz-ball"),
@@ -156,7 +156,7 @@ def test_bad_scene_settings_are_refused_naming_the_scene_key(monkeypatch):
     _no_work(monkeypatch)
     names = forced_settings(scene_from_dict(tomllib.loads(SCENE))).names
     job = dict(model=damper_model(C=5.0), **API, names=names)
-    cases = [(dict(noise=True, listener=(0.7, 0.0, 0.7)), r"^outputs\.operating_noise: not with 2 balls"),
+    cases = [(dict(noise=True, listener=(0.0, 0.0, 0.03)), r"^listeners: .*inside"),
              (dict(balls=0), r"^damper\.balls: "),
              (dict(balls=2, cavities=(DamperCavity(),)), r"^damper\.balls: .*leave balls at 1"),
              (dict(balls=1, cavities=(DamperCavity(gap=-0.01),)), r"^damper\.cavities\[0\]\.gap_m: "),
@@ -169,9 +169,10 @@ def test_bad_scene_settings_are_refused_naming_the_scene_key(monkeypatch):
 def test_a_bad_scene_is_refused_before_the_run_folder_is_made(tmp_path, monkeypatch, capsys):
     _no_work(monkeypatch)
     toml = tmp_path / "scene.toml"
-    toml.write_text(SCENE + "[outputs.operating_noise]\n[[listeners]]\nname = \"ear\"\nposition_m = [0.5, 0, 0.5]\n")
+    toml.write_text(SCENE + "[outputs.operating_noise]\n[[listeners]]\nname = \"ear\"\nposition_m = [0, 0, 0.05]\n")
     assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
-    assert "outputs.operating_noise: not with 2 balls (damper.balls)" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "listeners: listener (0, 0, 0.05) m is inside" in err, err
     assert not (tmp_path / "out").exists()
 
 
