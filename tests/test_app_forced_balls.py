@@ -1,14 +1,15 @@
 """Several balls in operation through the forced job: ``forced --balls N``, a scene's ``[[damper.cavities]]``, the API.
 
 The same multi-ball damper in operation is asked for three ways and the files compared byte for byte; the
-command line and the scene build equal settings objects; ``--balls 1`` is today's single-ball job; bad input
-is refused before any work, naming the option or scene key.
+command line and the scene build equal settings objects, with and without the noise in operation; ``--balls 1``
+is today's single-ball job; bad input is refused before any work, naming the option or scene key.
 """
 
 from __future__ import annotations
 
 import csv
 import dataclasses
+import json
 import tomllib
 
 import pytest
@@ -100,6 +101,53 @@ def test_the_command_line_and_a_scene_build_equal_settings(tmp_path):
     assert from_cli == from_scene == ForcedJob(damper_model(C=5.0), **API, max_memory_mb=256.0)
     assert from_cli.several_balls and from_cli.ball_model().n_balls == 2
     assert from_cli.names["balls"] == "--balls" and from_scene.names["balls"] == "damper.balls"
+
+
+#: The same job with its noise in operation at an ear: the command line, the scene, the API.
+NOISE_ARGV = (*ARGV[:-1], "--noise-seconds", "0.2", "--listener", "0.495,0,0.514")
+NOISE_SCENE = SCENE + """[outputs.operating_noise]
+seconds = 0.2
+[[listeners]]
+name = "ear"
+position_m = [0.495, 0.0, 0.514]
+"""
+NOISE_API = {**API, "noise": True, "noise_seconds": 0.2, "listener": (0.495, 0.0, 0.514)}
+
+
+def test_the_noise_of_two_balls_is_the_same_from_every_front_end(tmp_path, monkeypatch, capsys):
+    cli = tmp_path / "cli"
+    cli.mkdir()
+    monkeypatch.chdir(cli)
+    assert main(["forced", *NOISE_ARGV, "--wav", "f.wav", "--csv", "f.csv"]) == 0, capsys.readouterr().err
+    printed = capsys.readouterr().out
+    assert "noise in operation at (0.495,0,0.514) m" in printed and "LCpeak" in printed
+    toml = tmp_path / "scene.toml"
+    toml.write_text(NOISE_SCENE)
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene"), "--quiet"]) == 0, capsys.readouterr().err
+    api = tmp_path / "api"
+    api.mkdir()
+    job = ForcedJob(damper_model(C=5.0), **NOISE_API, wav="f.wav", csv="f.csv", noise_csv="operating_noise.csv")
+    run(job).write(api)
+    scene = tmp_path / "scene"
+    for name, theirs in (("f.wav", "operating_noise_ear.wav"), ("f.csv", "frequency_response.csv")):
+        mine = (cli / name).read_bytes()
+        assert len(mine) > 1000
+        assert (api / name).read_bytes() == mine, f"the API's {name} differs from the CLI's"
+        assert (scene / theirs).read_bytes() == mine, f"the scene's {theirs} differs from the CLI's {name}"
+    assert (scene / "operating_noise.csv").read_bytes() == (api / "operating_noise.csv").read_bytes()
+    sidecars = [json.loads(path.read_text()) for path in (cli / "f.json", scene / "operating_noise_ear.json")]
+    assert sidecars[0].pop("file") == "f.wav" and sidecars[1].pop("file") == "operating_noise_ear.wav"
+    assert sidecars[0] == sidecars[1]
+    (row,) = _rows(cli / "f.csv")
+    assert row["balls"] == "2" and float(row["lcpeak_db"]) > float(row["laeq_db"]) > 0
+    assert "lcpeak" in row["worst_case"]
+
+
+def test_the_command_line_and_a_scene_build_equal_settings_with_the_noise():
+    from_cli = settings_from_args(build_parser().parse_args(["forced", *NOISE_ARGV, "--max-memory", "256"]))
+    from_scene = forced_settings(scene_from_dict(tomllib.loads(NOISE_SCENE)))
+    assert from_cli == from_scene == ForcedJob(damper_model(C=5.0), **NOISE_API, max_memory_mb=256.0)
+    assert from_cli.noise and from_cli.several_balls
 
 
 def test_a_scene_with_several_cavities_runs_them(tmp_path):
