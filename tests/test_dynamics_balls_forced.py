@@ -164,6 +164,18 @@ def test_columns_start_packed_inside_their_cavities():
         start.reduced(model)  # raises when a ball starts outside its cavity or overlapping
 
 
+@pytest.mark.parametrize("balls", [2, 3, 5])
+def test_a_column_pushed_against_a_wall_starts_inside_its_cavity(balls):
+    # Table 1 near its resonance: the linear amplitude exceeds half the gap, the column starts on a wall
+    table1 = DamperModel()
+    model = MultiBallModel.from_damper(DamperModel(m=table1.m / balls), balls)
+    for frequency in (4.6, 4.85, 5.1):
+        excitation = Excitation(frequency, 5.0)
+        assert abs(excitation.linear_response(model)) > table1.gap / 2
+        for start in ball_start_states(model, excitation, 3):
+            start.reduced(model)  # raises when a ball starts outside its cavity or overlapping
+
+
 @pytest.mark.parametrize(("kwargs", "name"), [({"solver": "impact-map"}, "solver"), ({"starts": 0}, "starts"),
                                               ({"tolerance": 1.0}, "tolerance")])
 def test_bad_settings_are_refused_by_name(kwargs, name):

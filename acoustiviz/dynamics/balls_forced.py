@@ -141,14 +141,15 @@ def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int)
 def _column(z: float, cavity) -> np.ndarray:
     """Reduced coordinates less x (m) of a column packed about ``z``: :data:`PACKED_CLEARANCE` of the gap apart.
 
-    The clearance keeps neighbours from overlapping by a rounding of their offsets; one ball sits at ``z``.
+    The clearance keeps neighbours, and the end balls of a column pushed against a wall, from overlapping
+    by a rounding of their offsets; one ball sits at ``z``.
     """
     n = cavity.n_balls
     if n == 1:
         return np.array([z])
     clr = PACKED_CLEARANCE * cavity.gap
     h = 0.5 * (n - 1) * clr
-    zc = min(max(z, -0.5 * cavity.gap + h), 0.5 * cavity.gap - h)
+    zc = min(max(z, -0.5 * cavity.gap + h + clr), 0.5 * cavity.gap - h - clr)
     return zc + clr * (np.arange(n) - 0.5 * (n - 1))
 
 
