@@ -197,3 +197,17 @@ def test_the_response_has_the_shape_of_forced(sweep, seeded):
         assert a.amplitude == pytest.approx(abs(_linear(model, resp.frequencies[i], 4.0)), rel=1e-9)
     # the attractors of each frequency continued to its neighbour(s) in the sweep's direction(s)
     assert [fa.seeded for fa in resp.per_frequency] == seeded
+
+
+def test_a_run_restarts_from_the_latest_section_point_outside_every_contact():
+    from types import SimpleNamespace
+
+    from acoustiviz.dynamics.balls_forced import restart_state
+
+    model = MultiBallModel.from_damper(DamperModel(), 1)
+    half = model.cavities[0].gap / 2
+    free, pressed = [0.001, 0.2, 0.5 * half, -0.1], [0.002, 0.1, 1.01 * half, 0.3]  # the ball into wall+
+    back, start = restart_state(SimpleNamespace(model=model, poincare=np.array([free, pressed])))
+    assert back == 1 and (start.x, start.v, start.w[0]) == pytest.approx((0.001, 0.2, 0.1))
+    assert restart_state(SimpleNamespace(model=model, poincare=np.array([pressed]))) is None
+    assert restart_state(SimpleNamespace(model=model, poincare=np.array([pressed, free])))[0] == 0

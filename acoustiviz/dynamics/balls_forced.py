@@ -63,7 +63,7 @@ from .model import DamperModel
 
 __all__ = ["BallCycles", "ball_start_states", "ball_attractors_at", "ball_attractor_response", "same_ball_motion",
            "check_ball_settings", "section_scales", "settle_balls", "ball_multipliers", "BALL_SAME_ORBIT",
-           "MIN_FD_STEP", "PACKED_CLEARANCE"]
+           "MIN_FD_STEP", "PACKED_CLEARANCE", "restart_state"]
 
 #: Smallest central-difference step (scaled) of the multipliers; a point whose pairs leave less room has none.
 MIN_FD_STEP = 1e-8
@@ -423,6 +423,24 @@ def _ball_state(point, model: MultiBallModel) -> BallState:
     s = _absolute(point, model)
     nb = model.n_balls
     return BallState(s[0], s[1], tuple(s[2:2 + nb]), tuple(s[2 + nb:]))
+
+
+def restart_state(steady: SteadyState) -> tuple | None:
+    """``(cycles, start)``: the latest section point of a measured motion that can start a run, or None.
+
+    A section point inside a contact (two bodies pressed into each other) cannot start the solver, which
+    begins with every contact open; the point ``cycles`` forcing cycles before the last is taken instead
+    (0: the final state), as a :class:`BallState` at forcing phase 0.
+    """
+    model = steady.model
+    for back, point in enumerate(np.asarray(steady.poincare)[::-1]):
+        start = _ball_state(point, model)
+        try:
+            start.reduced(model)
+        except ParameterError:
+            continue
+        return back, start
+    return None
 
 
 def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:

@@ -3,13 +3,15 @@
 A multi-ball attractor (:mod:`acoustiviz.dynamics.balls_forced`) keeps its collisions (times, kinds,
 approach speeds) but not the motion that places two balls when they meet, so its motion is run again:
 :func:`~acoustiviz.dynamics.simulate_balls` with the excitation, from its final state (a section point,
-forcing phase 0), sampled :data:`SAMPLES_PER_CYCLE` times per forcing cycle, for one forcing cycle and
-then its measured cycles. The collisions that begin within the measured cycles (after the first one, so
-a contact under way at the section point is met from its start) are the train of one window: every
-collision, ball-wall and ball-ball, each cavity from its place, with the geometry's images (a room's to
-its order and tolerance), as :func:`acoustiviz.sound.render_balls` hears a free run. The train is
-repeated and its levels taken as for one ball (:func:`acoustiviz.sound.operating.train_window`,
-:func:`~acoustiviz.sound.operating.train_noise`): the same interval, lead-in and level columns.
+forcing phase 0; inside a contact, the latest section point before it outside every contact,
+:func:`~acoustiviz.dynamics.balls_forced.restart_state`), sampled :data:`SAMPLES_PER_CYCLE` times per
+forcing cycle, for one forcing cycle and then its measured cycles. The collisions that begin within the
+measured cycles (after the first one, so a contact under way at the section point is met from its start)
+are the train of one window: every collision, ball-wall and ball-ball, each cavity from its place, with
+the geometry's images (a room's to its order and tolerance), as :func:`acoustiviz.sound.render_balls`
+hears a free run. The train is repeated and its levels taken as for one ball
+(:func:`acoustiviz.sound.operating.train_window`, :func:`~acoustiviz.sound.operating.train_noise`): the
+same interval, lead-in and level columns.
 
 A non-periodic motion is not the measured stretch: its final state run for as many cycles is another
 stretch of the same motion (its rendering says so). One ball in one cavity radiates as the one ball of
@@ -58,17 +60,21 @@ def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
         The clicks of the collisions that begin in the ``measured_cycles`` forcing cycles after the first
         cycle of the re-run (:func:`~.balls_sound.ball_clicks`), shifted to start at 0.
     """
-    from ..dynamics import BallState, simulate_balls
+    from ..dynamics import simulate_balls
+    from ..dynamics.balls_forced import restart_state
 
     model, period = steady.model, steady.excitation.period
     if not steady.success or len(steady.final_state) != 2 + 2 * model.n_balls:
         raise ParameterError("steady", "the noise of several balls needs a measured multi-ball motion")
-    nb, s = model.n_balls, steady.final_state
+    restart = restart_state(steady)
+    if restart is None:
+        raise ParameterError("steady", f"at {steady.excitation.frequency:g} Hz every section point of the motion "
+                                       "lies inside a contact: its collisions cannot be run again")
     window = steady.measured_cycles * period
     duration = period + window
     t_eval = np.linspace(0.0, duration, int(math.ceil((1 + steady.measured_cycles) * SAMPLES_PER_CYCLE)) + 1)
-    run = simulate_balls(model, duration, initial=BallState(s[0], s[1], tuple(s[2:2 + nb]), tuple(s[2 + nb:])),
-                         rtol=steady.settings["rtol"], t_eval=t_eval, excitation=steady.excitation)
+    run = simulate_balls(model, duration, initial=restart[1], rtol=steady.settings["rtol"], t_eval=t_eval,
+                         excitation=steady.excitation)
     if not run.success:
         raise ParameterError("steady", f"re-running the attractor at {steady.excitation.frequency:g} Hz failed: "
                                        f"{run.message}")
@@ -126,11 +132,12 @@ def balls_operating_noise(steady, *, listener=None, kind: str = "plane", radius:
     levels = noise.rendering["levels"]
     levels["collisions_measured"] = int(np.count_nonzero(np.asarray(steady.impact_speeds) > 0))
     levels["collisions_rendered_per_window"] = int(np.unique(one.collision).size)
-    levels["motion"] = (f"the attractor's final state run again with the excitation for 1 + {steady.measured_cycles} "
+    levels["motion"] = ("the attractor's latest section point outside every contact (its final state where it "
+                        f"can) run again with the excitation for 1 + {steady.measured_cycles} "
                         f"cycles ({SAMPLES_PER_CYCLE} samples per cycle place the balls); the collisions of the last "
                         f"{steady.measured_cycles} are the train")
     if not w.total:
-        levels["method"] = (f"non-periodic motion: {steady.measured_cycles} cycles from its final state rendered "
+        levels["method"] = (f"non-periodic motion: {steady.measured_cycles} cycles from a section point rendered "
                             f"once (another stretch of the motion than the measured one), levels over the last "
                             f"{noise.cycles} after a {noise.start:.3g} s lead-in")
     return noise
