@@ -207,7 +207,27 @@ def test_a_run_restarts_from_the_latest_section_point_outside_every_contact():
     model = MultiBallModel.from_damper(DamperModel(), 1)
     half = model.cavities[0].gap / 2
     free, pressed = [0.001, 0.2, 0.5 * half, -0.1], [0.002, 0.1, 1.01 * half, 0.3]  # the ball into wall+
-    back, start = restart_state(SimpleNamespace(model=model, poincare=np.array([free, pressed])))
-    assert back == 1 and (start.x, start.v, start.w[0]) == pytest.approx((0.001, 0.2, 0.1))
-    assert restart_state(SimpleNamespace(model=model, poincare=np.array([pressed]))) is None
+    back, start, overlap = restart_state(SimpleNamespace(model=model, poincare=np.array([free, pressed])))
+    assert back == 1 and overlap == 0 and (start.x, start.v, start.w[0]) == pytest.approx((0.001, 0.2, 0.1))
     assert restart_state(SimpleNamespace(model=model, poincare=np.array([pressed, free])))[0] == 0
+    # every point pressed: the last one with its ball moved back to touch the wall, velocities kept
+    back, start, overlap = restart_state(SimpleNamespace(model=model, poincare=np.array([pressed])))
+    assert back == 0 and overlap == pytest.approx(0.01 * half)
+    assert start.y[0] - model.offsets()[0] - start.x == pytest.approx(half, rel=1e-8)
+    assert (start.x, start.v, start.w[0]) == pytest.approx((0.002, 0.1, 0.4))
+    start.reduced(model)
+
+
+def test_a_pressed_column_is_moved_apart_to_touch():
+    from types import SimpleNamespace
+
+    from acoustiviz.dynamics.balls_forced import restart_state
+
+    model = MultiBallModel.from_damper(DamperModel(m=0.0081), 5)
+    half = model.cavities[0].gap / 2
+    # the five balls pressed into each other and into wall- by 1 micrometre each
+    s = -half - 1e-6 - 1e-6 * np.arange(5)
+    point = np.concatenate([[0.0, 0.0], s, np.zeros(5)])
+    _, start, overlap = restart_state(SimpleNamespace(model=model, poincare=point[None, :]))
+    assert 0 < overlap < 1e-5
+    start.reduced(model)

@@ -3,7 +3,8 @@
 A multi-ball attractor (:mod:`acoustiviz.dynamics.balls_forced`) keeps its collisions (times, kinds,
 approach speeds) but not the motion that places two balls when they meet, so its motion is run again:
 :func:`~acoustiviz.dynamics.simulate_balls` with the excitation, from its final state (a section point,
-forcing phase 0; inside a contact, the latest section point before it outside every contact,
+forcing phase 0; inside a contact, the latest section point before it outside every contact, or with
+none such its pressed balls moved apart to touch,
 :func:`~acoustiviz.dynamics.balls_forced.restart_state`), sampled :data:`SAMPLES_PER_CYCLE` times per
 forcing cycle, for one forcing cycle and then its measured cycles. The collisions that begin within the
 measured cycles (after the first one, so a contact under way at the section point is met from its start)
@@ -56,9 +57,12 @@ def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
 
     Returns
     -------
-    BallClicks
+    clicks : BallClicks
         The clicks of the collisions that begin in the ``measured_cycles`` forcing cycles after the first
         cycle of the re-run (:func:`~.balls_sound.ball_clicks`), shifted to start at 0.
+    restart : dict
+        Where the re-run started: ``cycles_before_last`` (its section point, counted back from the final
+        state) and ``overlap_removed_m`` (the compression of pressed balls moved apart, 0 if none).
     """
     from ..dynamics import simulate_balls
     from ..dynamics.balls_forced import restart_state
@@ -68,8 +72,8 @@ def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
         raise ParameterError("steady", "the noise of several balls needs a measured multi-ball motion")
     restart = restart_state(steady)
     if restart is None:
-        raise ParameterError("steady", f"at {steady.excitation.frequency:g} Hz every section point of the motion "
-                                       "lies inside a contact: its collisions cannot be run again")
+        raise ParameterError("steady", f"at {steady.excitation.frequency:g} Hz no section point of the motion "
+                                       "can start a run: its collisions cannot be run again")
     window = steady.measured_cycles * period
     duration = period + window
     t_eval = np.linspace(0.0, duration, int(math.ceil((1 + steady.measured_cycles) * SAMPLES_PER_CYCLE)) + 1)
@@ -80,7 +84,7 @@ def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
                                        f"{run.message}")
     clicks = ball_clicks(run, scene, click, positions=positions)
     keep = (clicks.times >= period) & (clicks.times < duration)
-    return clicks.take(keep).shifted(-period)
+    return clicks.take(keep).shifted(-period), {"cycles_before_last": restart[0], "overlap_removed_m": restart[2]}
 
 
 def balls_operating_noise(steady, *, listener=None, kind: str = "plane", radius: float = PAPER_RADIUS,
@@ -121,7 +125,7 @@ def balls_operating_noise(steady, *, listener=None, kind: str = "plane", radius:
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     scene, places, pts = check_ball_scene(model, scene, pts, positions, name="listener")
     click = ClickModel(k_hertz=first.k_wall, mass=first.masses[0], main_mass=model.M)
-    one = steady_ball_clicks(steady, scene, click, positions=places)
+    one, restart = steady_ball_clicks(steady, scene, click, positions=places)
     c = scene.medium.c
     arrivals = one.times + np.array([np.linalg.norm(pts[0] - srcs[0].position) / c for srcs in one.sources])
     w = train_window(steady, arrivals, seconds)
@@ -132,6 +136,7 @@ def balls_operating_noise(steady, *, listener=None, kind: str = "plane", radius:
     levels = noise.rendering["levels"]
     levels["collisions_measured"] = int(np.count_nonzero(np.asarray(steady.impact_speeds) > 0))
     levels["collisions_rendered_per_window"] = int(np.unique(one.collision).size)
+    levels["restart"] = restart
     levels["motion"] = ("the attractor's latest section point outside every contact (its final state where it "
                         f"can) run again with the excitation for 1 + {steady.measured_cycles} "
                         f"cycles ({SAMPLES_PER_CYCLE} samples per cycle place the balls); the collisions of the last "
