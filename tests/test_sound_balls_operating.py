@@ -102,3 +102,16 @@ def test_every_collision_of_the_attractor_is_heard_once_per_period(two_balls):
 def test_the_listener_in_a_column_is_refused(two_balls):
     with pytest.raises(ParameterError, match="^listener: "):
         balls_operating_noise(two_balls, listener=(0.0, 0.0, 0.03))
+
+
+def test_a_non_periodic_motion_is_run_again_for_the_lead_in_and_the_interval():
+    from types import SimpleNamespace
+
+    from acoustiviz.dynamics.forced import Excitation
+    from acoustiviz.sound.operating import F_SETTLE, rerun_cycles
+
+    chaotic = SimpleNamespace(excitation=Excitation(4.0, 10.0), period=0, measured_cycles=128)
+    lead = round(F_SETTLE * 4.0)
+    assert rerun_cycles(chaotic, 0.5) == lead + 2
+    assert rerun_cycles(chaotic, 60.0) == 128  # at most the measured cycles
+    assert rerun_cycles(SimpleNamespace(excitation=Excitation(4.0, 10.0), period=2, measured_cycles=2), 60.0) == 2

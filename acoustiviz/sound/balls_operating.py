@@ -14,7 +14,8 @@ hears a free run. The train is repeated and its levels taken as for one ball
 (:func:`acoustiviz.sound.operating.train_window`, :func:`~acoustiviz.sound.operating.train_noise`): the
 same interval, lead-in and level columns.
 
-A non-periodic motion is not the measured stretch: its final state run for as many cycles is another
+A non-periodic motion is not the measured stretch: run again for a lead-in and at least ``seconds`` s
+(:func:`~acoustiviz.sound.operating.rerun_cycles`, at most its measured cycles), it is another, shorter
 stretch of the same motion (its rendering says so). One ball in one cavity radiates as the one ball of
 :func:`acoustiviz.sound.operating.operating_noise` (the scene's sphere), so the two paths agree to the
 difference of their solvers' runs.
@@ -29,7 +30,15 @@ import numpy as np
 from ..constants import PAPER_RADIUS
 from ..errors import ParameterError
 from .balls_sound import ball_clicks, check_ball_scene, render_clicks
-from .operating import NOISE_RATE, OperatingNoise, check_seconds, default_listener, train_noise, train_window
+from .operating import (
+    NOISE_RATE,
+    OperatingNoise,
+    check_seconds,
+    default_listener,
+    rerun_cycles,
+    train_noise,
+    train_window,
+)
 from .sources import cavity
 from .synthesis import ClickModel
 
@@ -40,7 +49,7 @@ __all__ = ["SAMPLES_PER_CYCLE", "balls_operating_noise", "steady_ball_clicks"]
 SAMPLES_PER_CYCLE = 400
 
 
-def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
+def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None, cycles: int | None = None):
     """The radiating spheres of one window of a multi-ball attractor, times in s from the window's start.
 
     Parameters
@@ -58,8 +67,8 @@ def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
     Returns
     -------
     clicks : BallClicks
-        The clicks of the collisions that begin in the ``measured_cycles`` forcing cycles after the first
-        cycle of the re-run (:func:`~.balls_sound.ball_clicks`), shifted to start at 0.
+        The clicks of the collisions that begin in the ``cycles`` forcing cycles (default its measured
+        cycles) after the first cycle of the re-run (:func:`~.balls_sound.ball_clicks`), shifted to start at 0.
     restart : dict
         Where the re-run started: ``cycles_before_last`` (its section point, counted back from the final
         state) and ``overlap_removed_m`` (the compression of pressed balls moved apart, 0 if none).
@@ -74,9 +83,9 @@ def steady_ball_clicks(steady, scene, click: ClickModel, *, positions=None):
     if restart is None:
         raise ParameterError("steady", f"at {steady.excitation.frequency:g} Hz no section point of the motion "
                                        "can start a run: its collisions cannot be run again")
-    window = steady.measured_cycles * period
-    duration = period + window
-    t_eval = np.linspace(0.0, duration, int(math.ceil((1 + steady.measured_cycles) * SAMPLES_PER_CYCLE)) + 1)
+    cycles = steady.measured_cycles if cycles is None else int(cycles)
+    duration = period * (1 + cycles)
+    t_eval = np.linspace(0.0, duration, int(math.ceil((1 + cycles) * SAMPLES_PER_CYCLE)) + 1)
     run = simulate_balls(model, duration, initial=restart[1], rtol=steady.settings["rtol"], t_eval=t_eval,
                          excitation=steady.excitation)
     if not run.success:
@@ -125,10 +134,11 @@ def balls_operating_noise(steady, *, listener=None, kind: str = "plane", radius:
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
     scene, places, pts = check_ball_scene(model, scene, pts, positions, name="listener")
     click = ClickModel(k_hertz=first.k_wall, mass=first.masses[0], main_mass=model.M)
-    one, restart = steady_ball_clicks(steady, scene, click, positions=places)
+    cycles = rerun_cycles(steady, seconds)
+    one, restart = steady_ball_clicks(steady, scene, click, positions=places, cycles=cycles)
     c = scene.medium.c
     arrivals = one.times + np.array([np.linalg.norm(pts[0] - srcs[0].position) / c for srcs in one.sources])
-    w = train_window(steady, arrivals, seconds)
+    w = train_window(steady, arrivals, seconds, cycles=cycles)
     train = one.repeat(w.window, w.total) if w.total else one
     out = render_clicks(train, scene, click, pts, sample_rate=sample_rate, duration=w.end)
     noise = train_noise(steady, out, w, seconds, sequence=out.sequence, scene=scene, clicks=click,
@@ -138,11 +148,12 @@ def balls_operating_noise(steady, *, listener=None, kind: str = "plane", radius:
     levels["collisions_rendered_per_window"] = int(np.unique(one.collision).size)
     levels["restart"] = restart
     levels["motion"] = ("the attractor's latest section point outside every contact (its final state where it "
-                        f"can) run again with the excitation for 1 + {steady.measured_cycles} "
+                        f"can) run again with the excitation for 1 + {cycles} "
                         f"cycles ({SAMPLES_PER_CYCLE} samples per cycle place the balls); the collisions of the last "
-                        f"{steady.measured_cycles} are the train")
+                        f"{cycles} are the train")
     if not w.total:
-        levels["method"] = (f"non-periodic motion: {steady.measured_cycles} cycles from a section point rendered "
+        levels["method"] = (f"non-periodic motion: {cycles} cycles (a lead-in and at least {seconds:g} s, at most "
+                            f"its {steady.measured_cycles} measured) from a section point rendered "
                             f"once (another stretch of the motion than the measured one), levels over the last "
                             f"{noise.cycles} after a {noise.start:.3g} s lead-in")
     return noise

@@ -31,7 +31,7 @@ from ..core.signal import Signal
 from ..errors import ParameterError
 
 __all__ = ["NOISE_RATE", "F_SETTLE", "NOISE_COLUMNS", "OperatingNoise", "operating_noise", "default_listener",
-           "noise_statement", "check_seconds", "TrainWindow", "train_window", "train_noise"]
+           "noise_statement", "check_seconds", "rerun_cycles", "TrainWindow", "train_window", "train_noise"]
 
 #: Rate in Hz at which the click train is rendered for its levels.
 NOISE_RATE = ANALYSIS_RATE
@@ -210,6 +210,18 @@ def operating_noise(steady, *, listener=None, kind: str = "plane", radius: float
     return train_noise(steady, out, w, seconds, sequence=seq, scene=scene, clicks=clicks, listener=pts)
 
 
+def rerun_cycles(steady, seconds: float) -> int:
+    """Cycles of a non-periodic motion to run again for its levels: the lead-in and ``seconds`` s, at most its measured.
+
+    A periodic motion: its measured cycles (one window).
+    """
+    period = steady.excitation.period
+    if steady.period > 0:
+        return steady.measured_cycles
+    wanted = math.ceil(F_SETTLE / period - 1e-9) + max(1, math.ceil(seconds / period - 1e-9))
+    return min(steady.measured_cycles, wanted)
+
+
 def check_seconds(seconds) -> float:
     """The least length in s of the level interval, checked to lie in (0, 60]."""
     seconds = float(seconds)
@@ -237,11 +249,12 @@ class TrainWindow:
     settled: bool
 
 
-def train_window(steady, arrivals, seconds: float) -> TrainWindow:
+def train_window(steady, arrivals, seconds: float, *, cycles: int | None = None) -> TrainWindow:
     """The interval of the levels of ``steady``'s click train (the rules of :func:`operating_noise`'s Notes).
 
     ``arrivals`` are the times in s at the listener of the impacts of one window (from the start of the
-    measured cycles): a periodic train's interval has its ends in their longest silence.
+    measured cycles): a periodic train's interval has its ends in their longest silence. ``cycles``: a
+    non-periodic motion's cycles rendered once (default its measured cycles).
     """
     period = steady.excitation.period
     if steady.period > 0:
@@ -252,7 +265,7 @@ def train_window(steady, arrivals, seconds: float) -> TrainWindow:
         offset = _quiet_offset(np.asarray(arrivals, dtype=float), window)
         return TrainWindow(window, total, lead * window + offset, (lead + reps) * window + offset, total * window,
                            reps * steady.measured_cycles, True)
-    n = steady.measured_cycles
+    n = steady.measured_cycles if cycles is None else int(cycles)
     lead = min(math.ceil(F_SETTLE / period - 1e-9), n // 2)
     return TrainWindow(n * period, 0, lead * period, n * period, n * period, n - lead,
                        lead * period >= F_SETTLE * (1 - 1e-9))
