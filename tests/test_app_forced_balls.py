@@ -227,3 +227,17 @@ def test_a_bad_scene_is_refused_before_the_run_folder_is_made(tmp_path, monkeypa
 def test_the_settings_keep_their_types_when_replaced():
     job = ForcedJob(damper_model(C=5.0), **API)
     assert dataclasses.replace(job, balls=3).ball_model().n_balls == 3
+
+
+def test_the_noise_of_several_cavities_is_heard_from_each_place():
+    placed = CAVITIES.replace("gap_m = 0.05\n", "gap_m = 0.05\nposition_m = [0.2, 0, 0]\n")
+    noise = '[outputs.operating_noise]\nseconds = 0.2\n[[listeners]]\nname = "ear"\nposition_m = [0.495, 0.0, 0.514]\n'
+    scene = scene_from_dict(tomllib.loads(SCENE.replace("balls = 2\n", "") + placed + noise))
+    job = forced_settings(scene)
+    assert job.noise and job.cavities[1].position == (0.2, 0.0, 0.0)
+    result = run(job)
+    (noise,) = result.noises
+    balls = noise.rendering["balls"]
+    assert balls["cavity_offsets_m"][1] == [0.2, 0.0, 0.0] and balls["ball_wall_contacts"] > 0
+    (row,) = result.rows
+    assert row["laeq_db"] == noise.laeq_db and row["lcpeak_db"] > row["laeq_db"] > 0

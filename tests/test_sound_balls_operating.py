@@ -115,3 +115,21 @@ def test_a_non_periodic_motion_is_run_again_for_the_lead_in_and_the_interval():
     assert rerun_cycles(chaotic, 0.5) == lead + 2
     assert rerun_cycles(chaotic, 60.0) == 128  # at most the measured cycles
     assert rerun_cycles(SimpleNamespace(excitation=Excitation(4.0, 10.0), period=2, measured_cycles=2), 60.0) == 2
+
+
+def test_a_room_of_image_order_zero_hears_the_balls_as_free_field(two_balls):
+    from acoustiviz.sound.sources import cavity
+
+    first = two_balls.model.cavities[0]
+    radius = float(first.radii[0])  # the balls' own: the scene's geometry is already the column's
+    room = {"room": {"dimensions": "3,2.5,2", "source": f"1.5,1.2,{radius}", "absorption": "0.3", "order": 0}}
+    places = [(0.0, 0.0, 0.0), (0.05, 0.0, 0.0)]
+    heard = {}
+    for kind, settings in (("room", room), ("free", {})):
+        scene = cavity(kind, radius, first.gap, **settings)
+        at = np.asarray(scene.geometry.contact_point, dtype=float) + [0.7, 0.3, 0.8]
+        heard[kind] = balls_operating_noise(two_balls, listener=at, kind=kind, radius=radius, seconds=0.3,
+                                            settings=settings, positions=places)
+    assert heard["room"].rendering["balls"]["room"]
+    for c in LEVELS:
+        assert getattr(heard["room"], c) == pytest.approx(getattr(heard["free"], c), abs=1e-6), c
