@@ -1,14 +1,15 @@
 """Several balls in operation through the forced job: ``forced --balls N``, a scene's ``[[damper.cavities]]``, the API.
 
 The same multi-ball damper in operation is asked for three ways and the files compared byte for byte; the
-command line and the scene build equal settings objects; ``--balls 1`` is today's single-ball job; bad input
-is refused before any work, naming the option or scene key.
+command line and the scene build equal settings objects, with and without the noise in operation; ``--balls 1``
+is today's single-ball job; bad input is refused before any work, naming the option or scene key.
 """
 
 from __future__ import annotations
 
 import csv
 import dataclasses
+import json
 import tomllib
 
 import pytest
@@ -102,6 +103,53 @@ def test_the_command_line_and_a_scene_build_equal_settings(tmp_path):
     assert from_cli.names["balls"] == "--balls" and from_scene.names["balls"] == "damper.balls"
 
 
+#: The same job with its noise in operation at an ear: the command line, the scene, the API.
+NOISE_ARGV = (*ARGV[:-1], "--noise-seconds", "0.2", "--listener", "0.495,0,0.514")
+NOISE_SCENE = SCENE + """[outputs.operating_noise]
+seconds = 0.2
+[[listeners]]
+name = "ear"
+position_m = [0.495, 0.0, 0.514]
+"""
+NOISE_API = {**API, "noise": True, "noise_seconds": 0.2, "listener": (0.495, 0.0, 0.514)}
+
+
+def test_the_noise_of_two_balls_is_the_same_from_every_front_end(tmp_path, monkeypatch, capsys):
+    cli = tmp_path / "cli"
+    cli.mkdir()
+    monkeypatch.chdir(cli)
+    assert main(["forced", *NOISE_ARGV, "--wav", "f.wav", "--csv", "f.csv"]) == 0, capsys.readouterr().err
+    printed = capsys.readouterr().out
+    assert "noise in operation at (0.495,0,0.514) m" in printed and "LCpeak" in printed
+    toml = tmp_path / "scene.toml"
+    toml.write_text(NOISE_SCENE)
+    assert main(["run", str(toml), "--out", str(tmp_path / "scene"), "--quiet"]) == 0, capsys.readouterr().err
+    api = tmp_path / "api"
+    api.mkdir()
+    job = ForcedJob(damper_model(C=5.0), **NOISE_API, wav="f.wav", csv="f.csv", noise_csv="operating_noise.csv")
+    run(job).write(api)
+    scene = tmp_path / "scene"
+    for name, theirs in (("f.wav", "operating_noise_ear.wav"), ("f.csv", "frequency_response.csv")):
+        mine = (cli / name).read_bytes()
+        assert len(mine) > 1000
+        assert (api / name).read_bytes() == mine, f"the API's {name} differs from the CLI's"
+        assert (scene / theirs).read_bytes() == mine, f"the scene's {theirs} differs from the CLI's {name}"
+    assert (scene / "operating_noise.csv").read_bytes() == (api / "operating_noise.csv").read_bytes()
+    sidecars = [json.loads(path.read_text()) for path in (cli / "f.json", scene / "operating_noise_ear.json")]
+    assert sidecars[0].pop("file") == "f.wav" and sidecars[1].pop("file") == "operating_noise_ear.wav"
+    assert sidecars[0] == sidecars[1]
+    (row,) = _rows(cli / "f.csv")
+    assert row["balls"] == "2" and float(row["lcpeak_db"]) > float(row["laeq_db"]) > 0
+    assert "lcpeak" in row["worst_case"]
+
+
+def test_the_command_line_and_a_scene_build_equal_settings_with_the_noise():
+    from_cli = settings_from_args(build_parser().parse_args(["forced", *NOISE_ARGV, "--max-memory", "256"]))
+    from_scene = forced_settings(scene_from_dict(tomllib.loads(NOISE_SCENE)))
+    assert from_cli == from_scene == ForcedJob(damper_model(C=5.0), **NOISE_API, max_memory_mb=256.0)
+    assert from_cli.noise and from_cli.several_balls
+
+
 def test_a_scene_with_several_cavities_runs_them(tmp_path):
     scene = scene_from_dict(tomllib.loads(SCENE.replace("balls = 2\n", "") + CAVITIES))
     job = forced_settings(scene)
@@ -134,7 +182,7 @@ def test_one_ball_keeps_the_single_ball_job(tmp_path, monkeypatch, capsys):
 
 
 @pytest.mark.parametrize("extra, option", [
-    (["--balls", "2"], "--noise"),  # the noise in operation is one ball's
+    (["--balls", "2", "--listener", "0,0,0.03"], "--listener"),  # the listener inside the column of balls
     (["--balls", "2", "--no-noise", "--solver", "impact-map"], "--solver"),
     (["--balls", "0"], "--balls"),
     (["--balls", "2", "--no-noise", "--k-hertz-ball", "-1"], "--k-hertz-ball"),
@@ -156,7 +204,7 @@ def test_bad_scene_settings_are_refused_naming_the_scene_key(monkeypatch):
     _no_work(monkeypatch)
     names = forced_settings(scene_from_dict(tomllib.loads(SCENE))).names
     job = dict(model=damper_model(C=5.0), **API, names=names)
-    cases = [(dict(noise=True, listener=(0.7, 0.0, 0.7)), r"^outputs\.operating_noise: not with 2 balls"),
+    cases = [(dict(noise=True, listener=(0.0, 0.0, 0.03)), r"^listeners: .*inside"),
              (dict(balls=0), r"^damper\.balls: "),
              (dict(balls=2, cavities=(DamperCavity(),)), r"^damper\.balls: .*leave balls at 1"),
              (dict(balls=1, cavities=(DamperCavity(gap=-0.01),)), r"^damper\.cavities\[0\]\.gap_m: "),
@@ -169,12 +217,27 @@ def test_bad_scene_settings_are_refused_naming_the_scene_key(monkeypatch):
 def test_a_bad_scene_is_refused_before_the_run_folder_is_made(tmp_path, monkeypatch, capsys):
     _no_work(monkeypatch)
     toml = tmp_path / "scene.toml"
-    toml.write_text(SCENE + "[outputs.operating_noise]\n[[listeners]]\nname = \"ear\"\nposition_m = [0.5, 0, 0.5]\n")
+    toml.write_text(SCENE + "[outputs.operating_noise]\n[[listeners]]\nname = \"ear\"\nposition_m = [0, 0, 0.05]\n")
     assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
-    assert "outputs.operating_noise: not with 2 balls (damper.balls)" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "listeners: listener (0, 0, 0.05) m is inside" in err, err
     assert not (tmp_path / "out").exists()
 
 
 def test_the_settings_keep_their_types_when_replaced():
     job = ForcedJob(damper_model(C=5.0), **API)
     assert dataclasses.replace(job, balls=3).ball_model().n_balls == 3
+
+
+def test_the_noise_of_several_cavities_is_heard_from_each_place():
+    placed = CAVITIES.replace("gap_m = 0.05\n", "gap_m = 0.05\nposition_m = [0.2, 0, 0]\n")
+    noise = '[outputs.operating_noise]\nseconds = 0.2\n[[listeners]]\nname = "ear"\nposition_m = [0.495, 0.0, 0.514]\n'
+    scene = scene_from_dict(tomllib.loads(SCENE.replace("balls = 2\n", "") + placed + noise))
+    job = forced_settings(scene)
+    assert job.noise and job.cavities[1].position == (0.2, 0.0, 0.0)
+    result = run(job)
+    (noise,) = result.noises
+    balls = noise.rendering["balls"]
+    assert balls["cavity_offsets_m"][1] == [0.2, 0.0, 0.0] and balls["ball_wall_contacts"] > 0
+    (row,) = result.rows
+    assert row["laeq_db"] == noise.laeq_db and row["lcpeak_db"] > row["laeq_db"] > 0

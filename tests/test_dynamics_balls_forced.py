@@ -169,6 +169,18 @@ def test_columns_start_packed_inside_their_cavities():
         start.reduced(model)  # raises when a ball starts outside its cavity or overlapping
 
 
+@pytest.mark.parametrize("balls", [2, 3, 5])
+def test_a_column_pushed_against_a_wall_starts_inside_its_cavity(balls):
+    # Table 1 near its resonance: the linear amplitude exceeds half the gap, the column starts on a wall
+    table1 = DamperModel()
+    model = MultiBallModel.from_damper(DamperModel(m=table1.m / balls), balls)
+    for frequency in (4.6, 4.85, 5.1):
+        excitation = Excitation(frequency, 5.0)
+        assert abs(excitation.linear_response(model)) > table1.gap / 2
+        for start in ball_start_states(model, excitation, 3):
+            start.reduced(model)  # raises when a ball starts outside its cavity or overlapping
+
+
 @pytest.mark.parametrize(("kwargs", "name"), [({"solver": "impact-map"}, "solver"), ({"starts": 0}, "starts"),
                                               ({"tolerance": 1.0}, "tolerance")])
 def test_bad_settings_are_refused_by_name(kwargs, name):
@@ -329,3 +341,37 @@ def test_forced_overlapping_contacts_leave_the_lone_path_and_agree_with_scipy():
     assert np.max(np.abs(imp.time - np.array([t for t, _ in ref]))) < TIME_TOL
     assert imp.time[1] < imp.end[0]  # overlapping contacts
     assert 0.02 * r.w[-1].sum() == pytest.approx(0.02 * 1.0, rel=1e-12)  # momentum of the balls
+
+
+def test_a_run_restarts_from_the_latest_section_point_outside_every_contact():
+    from types import SimpleNamespace
+
+    from acoustiviz.dynamics.balls_forced import restart_state
+
+    model = MultiBallModel.from_damper(DamperModel(), 1)
+    half = model.cavities[0].gap / 2
+    free, pressed = [0.001, 0.2, 0.5 * half, -0.1], [0.002, 0.1, 1.01 * half, 0.3]  # the ball into wall+
+    back, start, overlap = restart_state(SimpleNamespace(model=model, poincare=np.array([free, pressed])))
+    assert back == 1 and overlap == 0 and (start.x, start.v, start.w[0]) == pytest.approx((0.001, 0.2, 0.1))
+    assert restart_state(SimpleNamespace(model=model, poincare=np.array([pressed, free])))[0] == 0
+    # every point pressed: the last one with its ball moved back to touch the wall, velocities kept
+    back, start, overlap = restart_state(SimpleNamespace(model=model, poincare=np.array([pressed])))
+    assert back == 0 and overlap == pytest.approx(0.01 * half)
+    assert start.y[0] - model.offsets()[0] - start.x == pytest.approx(half, rel=1e-8)
+    assert (start.x, start.v, start.w[0]) == pytest.approx((0.002, 0.1, 0.4))
+    start.reduced(model)
+
+
+def test_a_pressed_column_is_moved_apart_to_touch():
+    from types import SimpleNamespace
+
+    from acoustiviz.dynamics.balls_forced import restart_state
+
+    model = MultiBallModel.from_damper(DamperModel(m=0.0081), 5)
+    half = model.cavities[0].gap / 2
+    # the five balls pressed into each other and into wall- by 1 micrometre each
+    s = -half - 1e-6 - 1e-6 * np.arange(5)
+    point = np.concatenate([[0.0, 0.0], s, np.zeros(5)])
+    _, start, overlap = restart_state(SimpleNamespace(model=model, poincare=point[None, :]))
+    assert 0 < overlap < 1e-5
+    start.reduced(model)

@@ -186,10 +186,12 @@ def run(settings: ForcedJob, *, progress=None) -> ForcedResult:
         _ball_columns(rows, resp, s.ball_model())
     noises, noise_elapsed = None, 0.0
     if s.noise:  # the level columns of every attractor
+        from .damper import cavity_positions
+
         t0 = time.perf_counter()
         noises = tuple(add_operating_noise(rows, [a for _, _, a, _ in resp.entries()], listener=s.listener_position,
                                            kind=s.config, radius=s.radius, seconds=s.noise_seconds,
-                                           settings=s.surroundings))
+                                           settings=s.surroundings, positions=cavity_positions(s)))
         noise_elapsed = time.perf_counter() - t0
     return ForcedResult(s, resp, tuple(rows), noises, elapsed, cpu, noise_elapsed)
 

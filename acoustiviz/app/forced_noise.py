@@ -47,26 +47,46 @@ def mark_worst_case(rows: list) -> None:
             r["worst_case"] = "+".join(marks[id(r)])
 
 
-def check_listener(model: DamperModel, listener=None, *, config: str = "plane", radius: float = PAPER_RADIUS,
-                   name: str = "--listener", settings=None) -> np.ndarray:
-    """Check (before any run) that ``listener`` (m) lies outside the cavity's sphere and above its surfaces."""
+def check_listener(model, listener=None, *, config: str = "plane", radius: float = PAPER_RADIUS,
+                   name: str = "--listener", settings=None, positions=None,
+                   positions_name: str = "positions[{k}]") -> np.ndarray:
+    """Check (before any run) that ``listener`` (m) lies outside the cavity's sphere and above its surfaces.
+
+    ``model`` a :class:`~acoustiviz.dynamics.DamperModel`, or a :class:`~acoustiviz.dynamics.MultiBallModel`
+    whose cavities are placed at ``positions`` (errors naming ``positions_name``) and the listener kept out
+    of every column of balls (:func:`acoustiviz.sound.balls_sound.check_ball_scene`).
+    """
+    from ..dynamics import MultiBallModel
     from ..sound import check_listeners
     from .wav import cavity
 
     pts = default_listener(radius) if listener is None else np.asarray(listener, dtype=float)
+    if isinstance(model, MultiBallModel):
+        from ..sound.balls_sound import check_ball_scene
+
+        room = cavity(config, radius, model.cavities[0].gap, **(settings or {}))
+        return check_ball_scene(model, room, pts, positions, name=name, positions_name=positions_name)[2][0]
     return check_listeners(pts, cavity(config, radius, model.gap, **(settings or {})), name=name)[0]
 
 
-def add_operating_noise(rows: list, steady_states, **kwargs) -> list:
+def add_operating_noise(rows: list, steady_states, *, positions=None, **kwargs) -> list:
     """Fill the level columns of ``rows`` (one per attractor, :data:`acoustiviz.app.forced.FORCED_CSV_COLUMNS`).
 
     ``steady_states`` holds the :class:`~acoustiviz.dynamics.forced.SteadyState` of each row. Rows of
     failed runs keep empty levels; the worst case per frequency is marked again with the levels.
-    Returns the :class:`OperatingNoise` list (None where failed); ``**kwargs`` go to :func:`operating_noise`.
+    Returns the :class:`OperatingNoise` list (None where failed); ``**kwargs`` go to :func:`operating_noise`,
+    or for several balls (a :class:`~acoustiviz.dynamics.MultiBallModel`), with the cavities' offsets
+    ``positions`` in m, to :func:`acoustiviz.sound.balls_operating.balls_operating_noise`.
     """
+    from ..dynamics import MultiBallModel
+    from ..sound.balls_operating import balls_operating_noise
+
     noises = []
     for row, r in zip(rows, steady_states, strict=True):
-        nz = operating_noise(r, **kwargs) if r.success else None
+        nz = None
+        if r.success:
+            several = isinstance(r.model, MultiBallModel)
+            nz = balls_operating_noise(r, positions=positions, **kwargs) if several else operating_noise(r, **kwargs)
         if nz is not None:
             row.update(nz.levels())
         noises.append(nz)

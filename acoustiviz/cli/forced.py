@@ -66,7 +66,7 @@ def add_parser(subparsers):
     add_option(n, FORCED_OUTPUTS[0])
     add_room_options(p, duration=True)  # --duration: how long each click's reflections are heard
     b = p.add_argument_group("several balls (a column of equal spheres of mass --m; --gap is their free travel; "
-                             "attractors by simulation, without the noise: add --no-noise)")
+                             "attractors by simulation; the noise hears every collision)")
     for record in BALLS:
         add_option(b, record)
     o = p.add_argument_group("outputs")

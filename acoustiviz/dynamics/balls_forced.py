@@ -63,7 +63,7 @@ from .model import DamperModel
 
 __all__ = ["BallCycles", "ball_start_states", "ball_attractors_at", "ball_attractor_response", "same_ball_motion",
            "check_ball_settings", "section_scales", "settle_balls", "ball_multipliers", "BALL_SAME_ORBIT",
-           "MIN_FD_STEP", "PACKED_CLEARANCE"]
+           "MIN_FD_STEP", "PACKED_CLEARANCE", "restart_state"]
 
 #: Smallest central-difference step (scaled) of the multipliers; a point whose pairs leave less room has none.
 MIN_FD_STEP = 1e-8
@@ -144,14 +144,15 @@ def ball_start_states(model: MultiBallModel, excitation: Excitation, count: int)
 def _column(z: float, cavity) -> np.ndarray:
     """Reduced coordinates less x (m) of a column packed about ``z``: :data:`PACKED_CLEARANCE` of the gap apart.
 
-    The clearance keeps neighbours from overlapping by a rounding of their offsets; one ball sits at ``z``.
+    The clearance keeps neighbours, and the end balls of a column pushed against a wall, from overlapping
+    by a rounding of their offsets; one ball sits at ``z``.
     """
     n = cavity.n_balls
     if n == 1:
         return np.array([z])
     clr = PACKED_CLEARANCE * cavity.gap
     h = 0.5 * (n - 1) * clr
-    zc = min(max(z, -0.5 * cavity.gap + h), 0.5 * cavity.gap - h)
+    zc = min(max(z, -0.5 * cavity.gap + h + clr), 0.5 * cavity.gap - h - clr)
     return zc + clr * (np.arange(n) - 0.5 * (n - 1))
 
 
@@ -437,6 +438,66 @@ def _ball_state(point, model: MultiBallModel) -> BallState:
     s = _absolute(point, model)
     nb = model.n_balls
     return BallState(s[0], s[1], tuple(s[2:2 + nb]), tuple(s[2 + nb:]))
+
+
+def restart_state(steady: SteadyState) -> tuple | None:
+    """``(cycles, start, overlap)``: a section point of a measured motion that can start a run, or None.
+
+    The solver begins with every contact open, so a section point inside a contact (two bodies pressed
+    into each other) cannot start it: the latest point outside every contact is taken, ``cycles`` forcing
+    cycles before the last (0: the final state), ``overlap`` 0. When every point lies inside a contact (a
+    column that never separates), the last one is taken with its pressed bodies moved apart to touch
+    (:func:`_separate`), ``overlap`` the largest compression removed in m; None if they cannot be.
+    ``start`` is a :class:`BallState` at forcing phase 0.
+    """
+    model = steady.model
+    points = np.asarray(steady.poincare, dtype=float)
+    for back, point in enumerate(points[::-1]):
+        start = _ball_state(point, model)
+        try:
+            start.reduced(model)
+        except ParameterError:
+            continue
+        return back, start, 0.0
+    if not len(points):
+        return None
+    point, overlap = _separate(points[-1], model)
+    start = _ball_state(point, model)
+    try:
+        start.reduced(model)
+    except ParameterError:
+        return None
+    return 0, start, overlap
+
+
+def _separate(point, model: MultiBallModel, sweeps: int = 1000) -> tuple:
+    """``(point, overlap)``: a section point with every pressed pair moved apart to touch, the largest overlap in m.
+
+    Sweeps over the pairs: a ball pressed into a wall moves off it, two pressed balls each move half the
+    overlap, each by :data:`PACKED_CLEARANCE` of its cavity's gap more (the main mass and the velocities stay).
+    """
+    nb = model.n_balls
+    pr = model.pairs()
+    gap = np.array([c.gap for c in model.cavities])[pr["cav"].astype(int) - 1]
+    q = np.concatenate([[point[0]], point[0] + point[2:2 + nb]])
+    largest = 0.0
+    for _ in range(sweeps):
+        over = q[pr["pa"]] - q[pr["pb"]] - pr["hg"]
+        if not np.any(over > 0.0):
+            break
+        largest = max(largest, float(over.max()))
+        for k in np.flatnonzero(over > 0.0):
+            a, b, move = pr["pa"][k], pr["pb"][k], float(over[k]) + PACKED_CLEARANCE * gap[k]
+            if a == 0:
+                q[b] += move
+            elif b == 0:
+                q[a] -= move
+            else:
+                q[a] -= 0.5 * move
+                q[b] += 0.5 * move
+    out = np.array(point, dtype=float)
+    out[2:2 + nb] = q[1:] - q[0]
+    return out, largest
 
 
 def _state_of(a: SteadyState, model: MultiBallModel) -> BallState:

@@ -50,7 +50,9 @@ with equal and opposite impulses (the colliding-sphere dipole pair), each with t
 pair's effective mass and stiffness, with the same images. Several cavities radiate each from its own
 place; in a room every sphere has the room's images of its own position (:mod:`.balls_room`). Left out:
 the acoustic interaction of the touching spheres, their own modes, the ringing of the cavity walls, the
-screening and scattering by the main mass and the other cavities.
+screening and scattering by the main mass and the other cavities. In operation (:mod:`.balls_operating`)
+a multi-ball attractor's motion is run again to place its balls, and its collisions levelled as one
+ball's steady click train (:mod:`.operating`).
 
 A room's sound (:mod:`.room_sound`) adds the exact early images, per-band absorption and a
 statistical late tail. The signals are in pascals; this package writes no files (the WAV files

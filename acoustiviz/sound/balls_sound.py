@@ -111,6 +111,25 @@ class BallClicks:
                           tuple(self.pulses[i] for i in idx), self.collision[idx], self.walls[idx],
                           None if self.radii is None else self.radii[idx], self.places)
 
+    def shifted(self, seconds: float) -> BallClicks:
+        """The same clicks ``seconds`` s later (earlier when negative)."""
+        return replace(self, times=self.times + float(seconds))
+
+    def repeat(self, period: float, copies: int) -> BallClicks:
+        """The clicks repeated ``copies`` times, each copy ``period`` s after the last (a periodic train).
+
+        The collision rows of copy ``j`` are offset by ``j`` times one more than the largest row, so each
+        copy's ball-ball contacts count apart (:meth:`describe`).
+        """
+        copies = int(copies)
+        n = len(self)
+        step = int(self.collision.max()) + 1 if n else 0
+        return BallClicks(np.concatenate([self.times + j * period for j in range(copies)]) if n else self.times,
+                          np.tile(self.velocities, copies), self.sources * copies, self.pulses * copies,
+                          np.concatenate([self.collision + j * step for j in range(copies)]) if n else self.collision,
+                          np.tile(self.walls, copies), None if self.radii is None else np.tile(self.radii, copies),
+                          self.places)
+
     def describe(self) -> dict:
         """A JSON-ready summary: the counts of both kinds of contact and what the model leaves out."""
         wall = self.walls != 0

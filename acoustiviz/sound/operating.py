@@ -31,7 +31,7 @@ from ..core.signal import Signal
 from ..errors import ParameterError
 
 __all__ = ["NOISE_RATE", "F_SETTLE", "NOISE_COLUMNS", "OperatingNoise", "operating_noise", "default_listener",
-           "noise_statement"]
+           "noise_statement", "check_seconds", "rerun_cycles", "TrainWindow", "train_window", "train_noise"]
 
 #: Rate in Hz at which the click train is rendered for its levels.
 NOISE_RATE = ANALYSIS_RATE
@@ -89,6 +89,11 @@ class OperatingNoise:
         The impacts rendered (times in s from the start of ``pressure``).
     rendering : dict
         How the sound and the levels were computed (JSON-ready).
+    balls : acoustiviz.sound.BallClicks, optional
+        Several balls: the radiating spheres of the train
+        (:func:`acoustiviz.sound.balls_operating.balls_operating_noise`), rendered by
+        :func:`acoustiviz.sound.render_clicks`; None for one ball (``sequence`` rendered by
+        :func:`acoustiviz.sound.render`).
     """
 
     frequency_hz: float
@@ -109,6 +114,7 @@ class OperatingNoise:
     clicks: object
     listener: np.ndarray
     rendering: dict
+    balls: object = None
 
     @property
     def pressure(self) -> np.ndarray:
@@ -134,10 +140,14 @@ class OperatingNoise:
         fs = self.sample_rate if sample_rate is None else int(sample_rate)
         p = self.pressure
         if fs != self.sample_rate:
+            from .balls_sound import render_clicks
             from .synthesis import render
 
-            p = render(self.sequence, self.scene, self.clicks, self.listener, sample_rate=fs,
-                       duration=self.pressure.size / self.sample_rate).pressure[0]
+            length = self.pressure.size / self.sample_rate
+            p = (render(self.sequence, self.scene, self.clicks, self.listener, sample_rate=fs, duration=length)
+                 if self.balls is None else
+                 render_clicks(self.balls, self.scene, self.clicks, self.listener, sample_rate=fs, duration=length)
+                 ).pressure[0]
         return p[int(round(self.start * fs)): int(round(self.stop * fs))]
 
 
@@ -182,13 +192,10 @@ def operating_noise(steady, *, listener=None, kind: str = "plane", radius: float
     LAeq is exactly the energy average of the periodic train (eq: LAeq = 10 lg(Σ_k E_A,k / (W p_ref²))
     over the impacts k of one window) and LAFmax its periodic maximum.
     """
-    from ..levels.train import signal_levels
     from .sources import ImpactSequence, cavity, periodic_train
     from .synthesis import ClickModel, render
 
-    seconds = float(seconds)
-    if not 0.0 < seconds <= 60.0:
-        raise ParameterError("seconds", f"must lie in (0, 60] s, got {seconds:g}")
+    seconds = check_seconds(seconds)
     model = steady.model
     period = steady.excitation.period
     scene = cavity(kind, radius, model.gap, **(settings or {}))
@@ -196,40 +203,100 @@ def operating_noise(steady, *, listener=None, kind: str = "plane", radius: float
     clicks = ClickModel(k_hertz=model.k_hertz, mass=model.m, main_mass=model.M)
     measured = ImpactSequence.from_steady_state(steady, origin=steady.cycles * period)  # from the measured cycles
     base, walls, speeds = measured.times, measured.walls, measured.velocities
+    delay = float(np.linalg.norm(pts - np.asarray(scene.geometry.centre))) / scene.medium.c
+    w = train_window(steady, base + delay, seconds)
+    seq = periodic_train(base, walls, speeds, w.window, w.total) if w.total else measured
+    out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=w.end)
+    return train_noise(steady, out, w, seconds, sequence=seq, scene=scene, clicks=clicks, listener=pts)
+
+
+def rerun_cycles(steady, seconds: float) -> int:
+    """Cycles of a non-periodic motion to run again for its levels: the lead-in and ``seconds`` s, at most its measured.
+
+    A periodic motion: its measured cycles (one window).
+    """
+    period = steady.excitation.period
+    if steady.period > 0:
+        return steady.measured_cycles
+    wanted = math.ceil(F_SETTLE / period - 1e-9) + max(1, math.ceil(seconds / period - 1e-9))
+    return min(steady.measured_cycles, wanted)
+
+
+def check_seconds(seconds) -> float:
+    """The least length in s of the level interval, checked to lie in (0, 60]."""
+    seconds = float(seconds)
+    if not 0.0 < seconds <= 60.0:
+        raise ParameterError("seconds", f"must lie in (0, 60] s, got {seconds:g}")
+    return seconds
+
+
+@dataclass(frozen=True)
+class TrainWindow:
+    """Where the levels of a steady click train are taken (:func:`train_window`), times in s.
+
+    ``window`` is the repeated part (the measured cycles), ``total`` the copies of it rendered (0: a
+    non-periodic motion, its measured cycles rendered once), ``[start, stop]`` the interval, ``end`` the
+    least length of the signal, ``cycles`` the forcing cycles in the interval and ``settled`` whether
+    the lead-in lasted at least :data:`F_SETTLE`.
+    """
+
+    window: float
+    total: int
+    start: float
+    stop: float
+    end: float
+    cycles: int
+    settled: bool
+
+
+def train_window(steady, arrivals, seconds: float, *, cycles: int | None = None) -> TrainWindow:
+    """The interval of the levels of ``steady``'s click train (the rules of :func:`operating_noise`'s Notes).
+
+    ``arrivals`` are the times in s at the listener of the impacts of one window (from the start of the
+    measured cycles): a periodic train's interval has its ends in their longest silence. ``cycles``: a
+    non-periodic motion's cycles rendered once (default its measured cycles).
+    """
+    period = steady.excitation.period
     if steady.period > 0:
         window = steady.measured_cycles * period
         lead = math.ceil(F_SETTLE / window - 1e-9)
         reps = max(1, math.ceil(seconds / window - 1e-9))
         total = lead + reps + 1
-        seq = periodic_train(base, walls, speeds, window, total)
-        delay = float(np.linalg.norm(pts - np.asarray(scene.geometry.centre))) / scene.medium.c
-        offset = _quiet_offset(base + delay, window)
-        start, stop = lead * window + offset, (lead + reps) * window + offset
-        cycles, end, settled = reps * steady.measured_cycles, total * window, True
-    else:
-        n = steady.measured_cycles
-        lead = min(math.ceil(F_SETTLE / period - 1e-9), n // 2)
-        start, stop, end = lead * period, n * period, n * period
-        cycles, settled = n - lead, lead * period >= F_SETTLE * (1 - 1e-9)
-        seq = measured
-    out = render(seq, scene, clicks, pts, sample_rate=sample_rate, duration=end)
+        offset = _quiet_offset(np.asarray(arrivals, dtype=float), window)
+        return TrainWindow(window, total, lead * window + offset, (lead + reps) * window + offset, total * window,
+                           reps * steady.measured_cycles, True)
+    n = steady.measured_cycles if cycles is None else int(cycles)
+    lead = min(math.ceil(F_SETTLE / period - 1e-9), n // 2)
+    return TrainWindow(n * period, 0, lead * period, n * period, n * period, n - lead,
+                       lead * period >= F_SETTLE * (1 - 1e-9))
+
+
+def train_noise(steady, out, w: TrainWindow, seconds: float, **parts) -> OperatingNoise:
+    """The :class:`OperatingNoise` of a rendering ``out`` of ``steady``'s train over the interval of ``w``.
+
+    ``parts``: the :class:`OperatingNoise` fields ``sequence``, ``scene``, ``clicks``, ``listener`` (and
+    ``balls`` for several balls) that rendered it.
+    """
+    from ..levels.train import signal_levels
+
     sig = Signal(out.pressure[0], out.sample_rate)
-    lv = signal_levels(sig, start=start, stop=stop)  # sound_levels, from the clicks alone
+    lv = signal_levels(sig, start=w.start, stop=w.stop)  # sound_levels, from the clicks alone
     start, stop = lv.start, lv.stop  # on the sample grid
+    cycles = w.cycles
 
     def one(x):
         return float(x[0])
 
     per_cycle = 10.0 * math.log10(cycles)
     rendering = {**out.describe(), "levels": {
-        **lv.describe(), "interval_cycles": cycles, "lead_in_s": start, "f_time_weighting_settled": settled,
+        **lv.describe(), "interval_cycles": cycles, "lead_in_s": start, "f_time_weighting_settled": w.settled,
         "steady_state": steady.regime,
         "method": noise_statement(seconds) if steady.period > 0 else
         f"non-periodic motion: its {steady.measured_cycles} measured cycles rendered once, levels over "
         f"the last {cycles} after a {start:.3g} s lead-in"}}
     return OperatingNoise(
         frequency_hz=steady.excitation.frequency, signal=sig, start=start, stop=stop,
-        cycles=cycles, settled=settled, laeq_db=one(lv.laeq_db), lzeq_db=one(lv.lzeq_db),
+        cycles=cycles, settled=w.settled, laeq_db=one(lv.laeq_db), lzeq_db=one(lv.lzeq_db),
         lcpeak_db=one(lv.lcpeak_db), lzpeak_db=one(lv.lzpeak_db), lafmax_db=one(lv.lafmax_db),
         sel_per_cycle_db=one(lv.sel_db) - per_cycle, sel_a_per_cycle_db=one(lv.sel_a_db) - per_cycle,
-        sequence=seq, scene=scene, clicks=clicks, listener=pts, rendering=rendering)
+        rendering=rendering, **parts)

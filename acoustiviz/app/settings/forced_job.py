@@ -85,7 +85,8 @@ class ForcedJob(Settings):
     balls, k_hertz_ball, c1_ball, cavities
         Several balls, as :class:`~acoustiviz.app.settings.damper_job.DamperJob`'s (the same records): more
         than one ball or any cavity runs the multi-ball attractors (:mod:`acoustiviz.dynamics.balls_forced`:
-        the event solver, no shooting, no noise in operation).
+        the event solver, no shooting), their noise in operation from every collision
+        (:func:`acoustiviz.sound.balls_operating.balls_operating_noise`).
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name (not compared).
     """
@@ -184,10 +185,14 @@ class ForcedJob(Settings):
         self._check_balls()
         self._check_budget()
         if self.noise or self.listener is not None:
+            from ..damper import cavity_positions
             from ..forced_noise import check_listener
 
-            check_listener(self.model, self.listener_position, config=self.config, radius=self.radius,
-                           name=self.names.get("listener", "listener"), settings=self.surroundings)
+            cavities = self.names.get("cavities", "cavities")
+            check_listener(self.ball_model() if self.several_balls else self.model, self.listener_position,
+                           config=self.config, radius=self.radius, name=self.names.get("listener", "listener"),
+                           settings=self.surroundings, positions=cavity_positions(self),
+                           positions_name=f"{cavities}[{{k}}].position_m")
 
     @property
     def listener_position(self):
@@ -261,11 +266,8 @@ class ForcedJob(Settings):
             return
         what = (f"{len(self.cavities)} cavities ({self.names.get('cavities', 'cavities')})" if self.cavities
                 else f"{self.balls} balls ({self.names.get('balls', 'balls')})")
-        noise = self.names.get("noise", "noise")
         refused = {"solver": (self.solver != "event", "the balls run by the event solver: drop it or give 'event'"),
-                   "restitution": (self.restitution is not None, "applies to one ball (solver impact-map)"),
-                   "noise": (self.noise, "the noise in operation is rendered for one ball: "
-                                         + (f"add --no-{noise[2:]}" if noise.startswith("--") else "drop it"))}
+                   "restitution": (self.restitution is not None, "applies to one ball (solver impact-map)")}
         for name, (bad, why) in refused.items():
             if bad:
                 raise ParameterError(self.names.get(name, name), f"not with {what}: {why}")
