@@ -278,14 +278,22 @@ def test_an_optimisation_over_the_balls_evaluates_whole_numbers_and_resumes(tmp_
 @pytest.mark.parametrize("argv, message", [
     (["--balls", "1.5:3"], "--balls: must be whole numbers"),
     (["--balls", "log:1:3"], "--balls: a whole number takes"),
-    (["--balls", "1:3", "--force", "5", "--freq", "6.5,7", "--minimize", "worst_laeq_db"],
-     "--minimize: column worst_laeq_db is empty for a design of several balls in operation"),
 ])
 def test_bad_balls_are_one_line_naming_the_option(argv, message, tmp_path, capsys):
-    objective = [] if "--minimize" in argv else ["--minimize", "max_spl_db"]
-    status = main(["optimize", *argv, *objective, "--out", str(tmp_path / "o")])
+    status = main(["optimize", *argv, "--minimize", "max_spl_db", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("objective", [["--minimize", "worst_laeq_db"], ["--maximize", "worst_lcpeak_db"],
+                                       ["--minimize", "worst_amplitude_m", "--constraint", "worst_lafmax_db<=90"]])
+def test_a_level_objective_in_operation_is_accepted_with_several_balls(objective, tmp_path):
+    argv = ["optimize", "--balls", "1:3", "--force", "5", "--freq", "6.5,7", *objective, "--out", str(tmp_path / "o")]
+    job = settings_from_args(build_parser().parse_args(argv))  # validated: several balls are heard in operation
+    assert [v.name for v in job.problem.searched] == ["balls"] and job.operation is not None
+    columns = [item.column for item in (*job.problem.objectives, *job.problem.constraints)]
+    assert set(columns) & {"worst_laeq_db", "worst_lcpeak_db", "worst_lafmax_db"}
     assert not (tmp_path / "o").exists()
 
 

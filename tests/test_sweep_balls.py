@@ -5,8 +5,8 @@ those rows; a two-ball design counts every collision of its multi-ball run and h
 multi-ball sound; the fill and the gap convert into each other as the cavity's geometry says; the command
 line, a scene and the API build equal sweeps and write the same files; several balls are heard in a room,
 louder than on the plane; in operation a design of several balls finds the attractors of ``forced --balls``,
-its level columns empty, and the one-ball rows are those of a sweep without balls. Runs are a few tenths of
-a second, those in operation a few seconds.
+its level columns the worst of their noise in operation, and the one-ball rows are those of a sweep without
+balls. Runs are a few tenths of a second, those in operation a few seconds.
 """
 
 from __future__ import annotations
@@ -144,23 +144,24 @@ OPERATION = ["--force", "5", "--freq", "6.5,7", "--starts", "2", "--max-cycles",
 def test_several_balls_in_operation_find_the_attractors_of_forced_balls(tmp_path, capsys):
     from acoustiviz.app.forced import run as run_forced
     from acoustiviz.app.settings.forced_job import ForcedJob
+    from acoustiviz.core.geometry import geometry
+    from acoustiviz.sound.balls_operating import balls_operating_noise
     from acoustiviz.sweep.operation import OPERATION_COLUMNS
 
     assert main(["sweep", *OPERATION, "--out", str(tmp_path / "plain")]) == 0, capsys.readouterr().err
     capsys.readouterr()
     assert main(["sweep", "--balls", "1,2", *OPERATION, "--out", str(tmp_path / "balls")]) == 0, \
         capsys.readouterr().err
-    assert "smallest worst amplitude: design" in capsys.readouterr().out  # the designs without levels too
+    assert "quietest by worst_laeq_db: design" in capsys.readouterr().out
     plain = (tmp_path / "plain" / "sweep.csv").read_text().splitlines(keepends=True)
     assert plain[0].rstrip("\n").split(",") == list(OPERATION_COLUMNS)
     rows = _rows(tmp_path / "balls" / "sweep.csv")
     assert [r["balls"] for r in rows] == ["1", "2"] and all(r["success"] == "1" for r in rows)
     assert _line(rows[0], OPERATION_COLUMNS) == plain[1]  # one ball: the row of a sweep without --balls
     two = rows[1]
-    for c in ("worst_amplitude_m", "min_reduction_db", "mean_reduction_db", "chaotic_fraction"):
+    for c in ("worst_amplitude_m", "min_reduction_db", "mean_reduction_db", "chaotic_fraction",
+              "worst_lcpeak_db", "worst_laeq_db", "worst_lafmax_db"):  # several balls heard in operation too
         assert math.isfinite(float(two[c])), c
-    for c in ("worst_lcpeak_db", "worst_laeq_db", "worst_lafmax_db"):  # several balls' noise: not rendered
-        assert math.isnan(float(two[c])), c
     # the forced job of the same two balls finds the same worst case
     forced = run_forced(ForcedJob(model=DamperModel(m=float(two["mass_kg"]), gap=float(two["gap_m"])),
                                   frequencies=(6.5, 7.0), amplitude=5.0, starts=2, max_cycles=18, balls=2,
@@ -168,6 +169,15 @@ def test_several_balls_in_operation_find_the_attractors_of_forced_balls(tmp_path
     worst = max((r for r in forced.rows if math.isfinite(r["amplitude_m"])), key=lambda r: r["amplitude_m"])
     assert float(two["worst_amplitude_m"]) == pytest.approx(worst["amplitude_m"], rel=1e-12)
     assert float(two["worst_frequency_hz"]) == worst["frequency_hz"]
+    # its worst LCpeak: the loudest of those attractors heard directly at the design's listener
+    radius = float(two["radius_m"])
+    assert two["config"] == "plane"
+    listener = geometry("plane", radius).observer_points(float(two["distance_m"]),
+                                                         math.radians(float(two["angle_deg"])))[0]
+    heard = [balls_operating_noise(a, listener=listener, kind="plane", radius=radius, seconds=0.02).lcpeak_db
+             for _, _, a, _ in forced.response.entries() if a.success]
+    assert len(heard) == int(two["attractors"])
+    assert float(two["worst_lcpeak_db"]) == pytest.approx(max(heard), rel=0, abs=1e-9)
     assert int(two["attractors"]) == len(forced.rows)
 
 
@@ -316,8 +326,13 @@ def test_fills_and_the_equal_total_mass_apply_in_operation_and_a_sweep_resumes(t
     table = load_any_sweep(out)
     best = rank_in_operation(table, "worst_amplitude_m")
     assert sorted(table["design_id"][best].tolist()) == [0, 1, 2, 3]
-    # a ranking by a level leaves out the designs of several balls, whose noise in operation is not rendered
-    assert sorted(rank_in_operation(table, "worst_laeq_db").tolist()) == [0, 1]
+    # a ranking by a level ranks the designs of several balls too, heard in operation (a design whose
+    # attractors strike nothing in their measured cycles has levels of -inf, none to rank by)
+    laeq = np.asarray(table["worst_laeq_db"], dtype=float)
+    assert not np.isnan(laeq).any() and np.isfinite(laeq[np.asarray(table["balls"]) == 2]).any()
+    ranked = rank_in_operation(table, "worst_laeq_db")
+    assert sorted(ranked.tolist()) == np.flatnonzero(np.isfinite(laeq)).tolist()
+    assert np.all(np.diff(laeq[ranked]) >= 0)
 
 
 def test_only_designs_of_the_same_balls_seed_each_other_in_operation():

@@ -184,14 +184,6 @@ def _operation_lines(result: SweepResult) -> list[str]:
         lines.append(f"quietest by worst_laeq_db: design {table['design_id'][i]} (m {1000 * table['mass_kg'][i]:.1f} "
                      f"g, d {100 * table['gap_m'][i]:.2f} cm): {table['worst_laeq_db'][i]:.1f} dB, smallest "
                      f"reduction {table['min_reduction_db'][i]:.1f} dB")
-    if "balls" in table.columns and (table["balls"] > 1).any():  # their noise in operation is not rendered
-        least = rank_in_operation(table, "worst_amplitude_m")
-        if least.size:
-            i = least[0]
-            lines.append(f"smallest worst amplitude: design {table['design_id'][i]} ({table['balls'][i]} ball(s) of "
-                         f"{1000 * table['mass_kg'][i]:.1f} g, d {100 * table['gap_m'][i]:.2f} cm): "
-                         f"{1000 * table['worst_amplitude_m'][i]:.3f} mm (designs of several balls have no levels "
-                         "in operation)")
     return lines
 
 

@@ -12,8 +12,9 @@ into one row (:data:`OPERATION_COLUMNS`, defined in :data:`OPERATION_DEFINITIONS
 over the band and every attractor, which is what an optimiser ranks designs by.
 
 A design of several balls (``Design.balls > 1``) has its attractors found as ``acoustiviz forced --balls``
-finds them (:func:`acoustiviz.dynamics.balls_forced.ball_attractor_response`, the event solver only); its
-level columns (:data:`BALL_LEVEL_COLUMNS`) stay empty, its click trains in operation not being rendered.
+finds them (:func:`acoustiviz.dynamics.balls_forced.ball_attractor_response`, the event solver only) and
+its steady collisions heard as ``forced --balls`` hears them
+(:func:`acoustiviz.sound.balls_operating.balls_operating_noise`, each ball a sphere of its own radius).
 Only a design of the same balls and dynamics gives it its attractors (``warm_radius`` applies to one ball:
 the final states of balls of another size or gap need not fit its cavity).
 
@@ -65,7 +66,7 @@ from ..constants import (
 from ..errors import ParameterError
 from .spec import Design, FixedSettings
 
-__all__ = ["OPERATION_COLUMNS", "OPERATION_DEFINITIONS", "BALL_LEVEL_COLUMNS", "operation_columns", "Operation",
+__all__ = ["OPERATION_COLUMNS", "OPERATION_DEFINITIONS", "operation_columns", "Operation",
            "WarmStart", "evaluate_in_operation", "evaluate_in_operation_or_fail", "failed_operation_row",
            "evaluate_chain", "operation_chains", "run_operation", "run_chains", "check_operation"]
 
@@ -93,8 +94,7 @@ OPERATION_DEFINITIONS = {
                         "attractor (the linear amplitude without the damper exact), dB",
     "mean_reduction_db": "mean over the band's frequencies of each frequency's smallest reduction, dB",
     "worst_lcpeak_db": "largest LCpeak of the steady click train at the listener over the band and every "
-                       "attractor, dB re 20 uPa (-inf: no impact; empty without levels, and for a design of "
-                       "several balls, whose click trains in operation are not rendered)",
+                       "attractor, dB re 20 uPa (-inf: no impact; empty without levels)",
     "worst_laeq_db": "largest LAeq over whole periods, same attractors, dB re 20 uPa (empty as worst_lcpeak_db)",
     "worst_lafmax_db": "largest LAFmax, same attractors, dB re 20 uPa (empty as worst_lcpeak_db)",
     "chaotic_fraction": "fraction of the band's frequencies at which an attractor is chaotic (several balls: "
@@ -110,9 +110,6 @@ OPERATION_DEFINITIONS = {
 OPERATION_COLUMNS = tuple(OPERATION_DEFINITIONS)
 #: The level columns and the :class:`~acoustiviz.sound.operating.OperatingNoise` attribute of each.
 _LEVELS = {"worst_lcpeak_db": "lcpeak_db", "worst_laeq_db": "laeq_db", "worst_lafmax_db": "lafmax_db"}
-#: The columns left empty (NaN) for a design of several balls, whose click trains in operation are not rendered.
-BALL_LEVEL_COLUMNS = tuple(_LEVELS)
-
 
 @dataclass(frozen=True)
 class Operation:
@@ -352,9 +349,16 @@ def _chaotic(a) -> bool:
 
 
 def _noise(steady, design: Design, fixed: FixedSettings, operation: Operation):
-    """The :class:`~acoustiviz.sound.operating.OperatingNoise` of one attractor at the design's listener."""
+    """The :class:`~acoustiviz.sound.operating.OperatingNoise` of one attractor at the design's listener.
+
+    One ball: :func:`acoustiviz.sound.operating.operating_noise`; several balls (a ``MultiBallModel``):
+    :func:`acoustiviz.sound.balls_operating.balls_operating_noise`, with the same listener, surroundings
+    and length, as ``acoustiviz forced --balls`` hears them.
+    """
     from ..core.geometry import geometry_class
     from ..core.medium import Medium
+    from ..dynamics import MultiBallModel
+    from ..sound.balls_operating import balls_operating_noise
     from ..sound.operating import operating_noise
     from .evaluate import listener_point
 
@@ -364,8 +368,9 @@ def _noise(steady, design: Design, fixed: FixedSettings, operation: Operation):
     own = geometry_class(design.config).relevant(fixed.geometry_settings)  # the design's geometry's settings
     where = {"room": own} if geometry.enclosed else own
     seconds = {} if operation.noise_seconds is None else {"seconds": operation.noise_seconds}
-    return operating_noise(steady, listener=point, kind=design.config, radius=design.radius,
-                           settings={**where, "medium": medium}, **seconds)
+    hear = balls_operating_noise if isinstance(steady.model, MultiBallModel) else operating_noise
+    return hear(steady, listener=point, kind=design.config, radius=design.radius,
+                settings={**where, "medium": medium}, **seconds)
 
 
 def summarise(per_frequency, levels=None) -> dict:
@@ -435,7 +440,7 @@ def evaluate_in_operation(design: Design, fixed: FixedSettings, operation: Opera
     if warm is not None:
         warm.add(design, per_frequency)
     levels = None
-    if operation.levels and design.balls == 1:  # several balls' click trains in operation: not rendered
+    if operation.levels:
         levels = [[{k: getattr(nz, k) for k in _LEVELS.values()} if nz is not None else None
                    for nz in (_noise(a, design, fixed, operation) if a.success else None for a in fa.attractors)]
                   for fa in per_frequency]

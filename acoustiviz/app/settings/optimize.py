@@ -203,7 +203,6 @@ class OptimizeJob(Settings):
         constraints = tuple(parse_constraint("constraints", t) for t in self.constraints)
         problem = Problem(tuple(self.variables), objectives, constraints, self.evaluations, self.seed, self.batch,
                           columns=evaluate.objective_columns)
-        self._check_ball_levels(objectives + constraints, constraints)
         if not self.fixed.levels:
             for item in objectives + constraints:
                 if item.column in evaluate.level_columns:
@@ -217,22 +216,6 @@ class OptimizeJob(Settings):
         check_executor_form(self.executor)
         if self.out is not None:
             self._check_folder()
-
-    def _check_ball_levels(self, items, constraints) -> None:
-        """In operation, a level column refused when a design may hold several balls (their noise is not rendered)."""
-        from ...sweep.operation import BALL_LEVEL_COLUMNS
-
-        balls = next((v for v in self.variables if v.name == "balls"), None)
-        most = 1 if balls is None else max((balls.low, balls.high) if balls.kind == "int" else balls.choices)
-        if self.operation is None or most <= 1:
-            return
-        for item in items:
-            if item.column in BALL_LEVEL_COLUMNS:
-                name = "constraints" if item in constraints else ("minimize" if item.sense == "min" else "maximize")
-                option = self.names.get("balls", "balls")
-                raise ParameterError(name, f"column {item.column} is empty for a design of several balls in "
-                                           f"operation (their noise is not rendered): {option} allows up to "
-                                           f"{most}; rank by worst_amplitude_m or min_reduction_db")
 
     def document(self) -> dict:
         """``optimize.json``: the specification (problem, mode and fixed settings; not where it ran)."""
