@@ -7,6 +7,8 @@ Usage::
     python benchmarks/bench_operation.py --profile # only where a search from scratch spends its time
     python benchmarks/bench_operation.py --before /work/main  # also each design from scratch before/after,
                                                               # the "before" imported from that checkout
+    python benchmarks/bench_operation.py --transient 1e-6,1e-7,1e-8  # the starts' transients at each rtol
+                                                              # against the tight search, also on WIDE designs
 
 Where the forcing cycles go (each tree in its own process): by phase (direct runs, shootings that
 converged or failed, periodic measurements, non-periodic windows) and by how each start ends (a new
@@ -100,7 +102,8 @@ def table(specs) -> None:
 def _designs(specs):
     for label, spec in specs:
         for d in spec.designs():
-            yield f"{label} " + (f"{1e3 * d.m:.1f} g" if label == "m" else f"{1e3 * d.gap:.0f} mm"), d, spec
+            yield {"m": f"m {1e3 * d.m:.1f} g", "gap": f"gap {1e3 * d.gap:.0f} mm"}.get(
+                label, f"m {1e3 * d.m:.0f} g, gap {1e3 * d.gap:.0f} mm"), d, spec
 
 
 def scratch_rows(specs) -> None:
@@ -110,6 +113,45 @@ def scratch_rows(specs) -> None:
         keep = ("cycles_integrated", "worst_amplitude_m", "worst_amplitude_std_err_m", "worst_regime",
                 "worst_frequency_hz", "attractors")
         print(json.dumps({"design": name, "cpu_s": t, **{k: r[k] for k in keep}}), flush=True)
+
+
+#: Designs across the bounds the optimiser and the gallery use (gap 0.02-0.06 m, impact mass 0.02-0.08 kg).
+WIDE = SweepSpec(gap=value_range(0.02, 0.06, 3), m=value_range(0.02, 0.08, 3))
+
+
+def _rtol_rows(transient: str, wide: bool) -> list:
+    """The rows of :func:`scratch_rows` with the transients at ``transient`` ("none": at the search's rtol)."""
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
+    cmd = [sys.executable, __file__, "--rows", "--transient-rtol", transient] + (["--wide"] if wide else [])
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+    return [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
+
+
+def transient_table(rtols: list, wide: bool) -> None:
+    """Each design from scratch with the starts' transients at each of ``rtols`` against the tight search."""
+    tight = _rtol_rows("none", wide)
+    sides = {r: _rtol_rows(r, wide) for r in rtols}
+    print("from scratch, the starts' transients at the search's rtol (tight) and at each transient rtol, each run "
+          "in its own process: CPU s, cycles; worst amplitude mm, its standard error mm, regime; difference of the "
+          "worst case to the tight search in se or um")
+    print(f"{'design':>22} | {'tight s':>7} {'cycles, worst':>36} |" + "".join(
+        f" {r + ' s':>9} {'cycles':>6} {'diff':>10} |" for r in rtols))
+    for i, o in enumerate(tight):
+        print(f"{o['design']:>22} | {o['cpu_s']:7.2f} {_worst(o):>36} |" + "".join(
+            f" {sides[r][i]['cpu_s']:9.2f} {sides[r][i]['cycles_integrated']:6d} {_difference(o, sides[r][i]):>10} |"
+            for r in rtols))
+    n = len(tight)
+
+    def worst(rows, unit):
+        diffs = [_difference(o, r) for o, r in zip(tight, rows, strict=True)]
+        return max((abs(float(d.split()[0])) for d in diffs if d.endswith(unit)), default=0.0)
+
+    print(f"{'mean CPU s, cycles':>22} | {sum(o['cpu_s'] for o in tight) / n:7.2f} "
+          f"{sum(o['cycles_integrated'] for o in tight) / n:6.0f} {'':>29} |" + "".join(
+              f" {sum(r['cpu_s'] for r in sides[t]) / n:9.2f} {sum(r['cycles_integrated'] for r in sides[t]) / n:6.0f}"
+              f" {'':>10} |" for t in rtols))
+    print(f"{'largest |diff|':>22} | {'':>44} |" + "".join(
+        f" {worst(sides[t], 'se'):7.2f} se {worst(sides[t], 'um'):7.2f} um {'':>4} |" for t in rtols))
 
 
 def before_after(specs, before: str) -> None:
@@ -295,21 +337,32 @@ def main() -> None:
     ap.add_argument("--profile", action="store_true", help="only the profile of one design from scratch")
     ap.add_argument("--before", metavar="CHECKOUT", help="also each design from scratch with the package of "
                     "another checkout (its folder, run in a process of its own) beside this one")
+    ap.add_argument("--transient", metavar="RTOLS", help="also each design from scratch with the starts' "
+                    "transients at each of these comma-separated rtols beside the tight search (each in its own "
+                    "process)")
+    ap.add_argument("--wide", action="store_true", help="with --transient: also the designs across the bounds")
     ap.add_argument("--rows", action="store_true", help=argparse.SUPPRESS)  # the "before" side of --before
+    ap.add_argument("--transient-rtol", help=argparse.SUPPRESS)  # the rows' transient rtol ("none": tight)
     ap.add_argument("--breakdown", action="store_true", help=argparse.SUPPRESS)  # one side of the cycles' breakdown
     args = ap.parse_args()
     masses = SweepSpec(m=value_range(0.0385, 0.0425, 5))
     gaps = SweepSpec(gap=value_range(0.038, 0.042, 3))
     evaluate_in_operation(masses.designs()[0], masses.settings, Operation(5.0, (3.0,), starts=1, max_cycles=18,
                                                                           levels=False))  # kernels loaded
+    if args.transient_rtol is not None:  # this process's search with its transients at that rtol
+        options = Operation.options
+        rtol = None if args.transient_rtol == "none" else float(args.transient_rtol)
+        Operation.options = lambda self: replace(options(self), transient_rtol=rtol)
     if args.rows:
-        scratch_rows([("m", masses), ("gap", gaps)])
+        scratch_rows([("m", masses), ("gap", gaps)] + ([("wide", WIDE)] if args.wide else []))
         return
     if args.breakdown:
         breakdown_rows([("m", masses), ("gap", gaps)])
         return
     tee = Tee(sys.stdout)
     with contextlib.redirect_stdout(tee):
+        if args.transient:
+            transient_table(args.transient.split(","), args.wide)
         if args.before:
             before_after([("m", masses), ("gap", gaps)], args.before)
         breakdown([("m", masses), ("gap", gaps)], args.before)

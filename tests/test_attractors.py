@@ -123,3 +123,70 @@ def test_known_orbits_are_measured_again_unless_asked_and_the_switch_is_checked(
     for bad in (1, "yes", None):
         with pytest.raises(ParameterError, match="reuse_known"):
             check_settings(model, ex, SteadyStateOptions(reuse_known=bad))
+
+
+def test_transients_run_at_the_search_rtol_unless_asked_and_their_rtol_is_checked():
+    from acoustiviz._validate import ParameterError
+    from acoustiviz.constants import FORCED_RTOL_RANGE
+    from acoustiviz.dynamics.forced import SteadyStateOptions, check_settings
+
+    model, ex = DamperModel(), Excitation(5.0, 5.0)
+    assert check_settings(model, ex).transient_rtol is None
+    assert check_settings(model, ex, transient_rtol=1e-7).transient_rtol == 1e-7
+    assert check_settings(model, ex, rtol=1e-8, transient_rtol=1e-8).transient_rtol == 1e-8
+    top = FORCED_RTOL_RANGE[1]
+    for bad in (1e-12, 2 * top, 0.0, -1e-6, float("nan")):  # tighter than rtol 1e-10, or beyond the range
+        with pytest.raises(ParameterError, match=r"transient_rtol.*(\[1e-10, 0\.0001\]|finite)"):
+            check_settings(model, ex, SteadyStateOptions(transient_rtol=bad))
+
+
+def test_the_direct_run_alone_takes_the_transient_rtol():
+    from dataclasses import replace
+
+    from acoustiviz.dynamics._attractors import _Settler
+    from acoustiviz.dynamics.forced import SteadyStateOptions
+
+    model, ex = DamperModel(), Excitation(5.0, 5.0)
+    options = SteadyStateOptions()
+    tight = _Settler(model, ex, options, start_states(model, ex, 1)[0], ())
+    loose = _Settler(model, ex, replace(options, transient_rtol=1e-7), start_states(model, ex, 1)[0], ())
+    assert tight.run.rtol == options.rtol and loose.run.rtol == 1e-7
+    assert loose.pmap.run.rtol == loose.settings.rtol == options.rtol  # shooting at the search's rtol
+
+
+#: Standard errors within which a chaotic worst case agrees with another run's (the batch means' spread).
+SIGMAS = 3.0
+
+
+@pytest.mark.parametrize("mass,frequency", [(0.0385, 4.5), (None, 5.0)])
+def test_loose_transients_reach_the_attractors_measured_at_the_search_rtol(mass, frequency):
+    """Transients at rtol 1e-7: a periodic orbit both searches reach is the same to the Newton tolerance,
+    and the chaotic worst case agrees within the standard errors of its batch means.
+
+    At 38.5 g and 4.5 Hz starts end on periodic orbits; at 5 Hz (40.5 g) every start on one chaotic motion.
+    """
+    from dataclasses import replace
+
+    from acoustiviz.dynamics.forced import SCREENED_CHECKPOINT_RETURN, SteadyStateOptions, attractors_at
+
+    model, ex = DamperModel(), Excitation(frequency, 5.0)
+    model = model if mass is None else replace(model, m=mass)
+    options = SteadyStateOptions(checkpoint_return=SCREENED_CHECKPOINT_RETURN, reuse_known=True)
+    tight = attractors_at(model, ex, options)
+    loose = attractors_at(model, ex, replace(options, transient_rtol=1e-7))
+    assert loose.attractors and all(a.success for a in loose.attractors)
+    orbits = 0
+    for a in loose.attractors:
+        for b in tight.attractors:
+            if a.period and same_motion(a, b):
+                orbits += 1
+                assert a.period == b.period
+                assert abs(a.amplitude - b.amplitude) <= 10 * options.tolerance
+                assert a.max_floquet_modulus == pytest.approx(b.max_floquet_modulus, abs=1e-5)
+    worst, worst_tight = (max(r.attractors, key=lambda a: a.amplitude) for r in (loose, tight))
+    if mass is None:
+        assert worst.regime == worst_tight.regime == "chaotic"
+        se = np.hypot(worst.amplitude_std_err, worst_tight.amplitude_std_err)
+        assert abs(worst.amplitude - worst_tight.amplitude) <= SIGMAS * se
+    else:
+        assert orbits >= 1

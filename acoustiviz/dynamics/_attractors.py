@@ -138,7 +138,9 @@ class _Settler:
         self.pmap = PoincareMap(model, excitation, settings)
         self.out = _Outcome()
         self.total = 0
-        self.run = _Runner(model, excitation, settings, start, rows=settings.max_impacts_per_cycle)
+        # the direct run: the transient at ``transient_rtol``, when set (shooting and measurements keep ``rtol``)
+        loose = settings if settings.transient_rtol is None else replace(settings, rtol=settings.transient_rtol)
+        self.run = _Runner(model, excitation, loose, start, rows=settings.max_impacts_per_cycle)
         n = settings.max_cycles + 1
         self.pts = np.empty((n, 4))
         self.pts[0] = self.run.section() / self.scale

@@ -123,6 +123,11 @@ class SteadyStateOptions:
         A start whose shooting converges onto a stable periodic orbit already found at its frequency ends
         on it without measuring the orbit and its Floquet multipliers again (False, the default: it is
         measured again, then recognised; see :mod:`._attractors`).
+    transient_rtol : float or None
+        Relative tolerance of the direct runs of the starts (their transients), in [rtol, 1e-4]; the
+        shooting and every measurement stay at ``rtol``. None, the default: ``rtol`` throughout. A looser
+        transient changes which attractors a few starts reach (``benchmarks/results/operation.md``), so no
+        search turns it on by default.
     """
 
     solver: str = "event"
@@ -135,6 +140,7 @@ class SteadyStateOptions:
     max_impacts_per_cycle: int = 200
     checkpoint_return: float = math.inf
     reuse_known: bool = False
+    transient_rtol: float | None = None
 
     def describe(self) -> dict:
         """The settings as a flat dict (for CSV and summaries)."""
@@ -492,9 +498,12 @@ def check_settings(model, excitation, settings=None, **kwargs) -> SteadyStateOpt
         ret = check_range("checkpoint_return", ret, 0.0, math.inf, low_open=True)
     if not isinstance(settings.reuse_known, bool):
         raise ParameterError("reuse_known", f"must be True or False, got {settings.reuse_known!r}")
+    transient = settings.transient_rtol
+    if transient is not None:  # no tighter than the search's rtol
+        transient = check_range("transient_rtol", transient, rtol, FORCED_RTOL_RANGE[1])
     return SteadyStateOptions(solver=solver, restitution=restitution, tolerance=tol, rtol=rtol,
                               steps_per_cycle=None if spc is None else int(spc), checkpoint_return=ret,
-                              reuse_known=settings.reuse_known, **ints)
+                              reuse_known=settings.reuse_known, transient_rtol=transient, **ints)
 
 
 def _start(model, excitation, initial) -> tuple:
