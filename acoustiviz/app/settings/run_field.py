@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
 from .base import Settings
 from .table import Setting
 from .vocabulary import MEMORY
@@ -98,6 +96,8 @@ def _arc(job: RunFieldJob) -> tuple:
     The angle is measured from the acceleration axis (the struck surface's normal: +z on a floor, +x for a
     wall strike) towards +x (towards +z for a wall strike).
     """
+    import numpy as np
+
     geometry = job.sound.cavity.geometry
     centre, axis = np.asarray(geometry.centre, dtype=float), np.asarray(geometry.axis, dtype=float)
     side = np.array([0.0, 0.0, 1.0]) if abs(axis[0]) > abs(axis[2]) else np.array([1.0, 0.0, 0.0])
@@ -116,6 +116,8 @@ def grid_points(job: RunFieldJob) -> tuple:
     through the sphere's centre reaching ``grid_extent`` from it, cut at the reflecting planes
     (:func:`acoustiviz.field.grids.section_grid`). ``grid = "none"``: no point.
     """
+    import numpy as np
+
     if job.grid == "directivity":
         points, angle = _arc(job)
         return points, angle, None
