@@ -15,6 +15,7 @@ import dataclasses
 
 from ...constants import (
     AUTO_TOLERANCE_RANGE,
+    BALL_STARTS,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
     PAPER_GAP,
@@ -25,7 +26,7 @@ from ...constants import (
 )
 from .table import Setting, check_values
 
-__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "CAVITY", "check_values"]
+__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "BALL_START", "CAVITY", "check_values"]
 
 _D = "damper"
 
@@ -101,6 +102,23 @@ BALLS = (
             metavar="N*S/M"),
 )
 
+#: How the balls start and what they are made of (``acoustiviz damper`` and a scene's [damper]; with
+#: several cavities the material is given per cavity).
+BALL_START = (
+    Setting("ball_start", "--ball-start", "ball_start", "str", "spaced",
+            "where the balls start, at rest: spaced (the free travel split into N+1 equal spaces), low (packed "
+            "touching on wall-, the free travel all above), high (packed on wall+) or random (the free travel "
+            "split at N uniform random points, see --ball-seed); with several balls", choices=BALL_STARTS,
+            table=_D),
+    Setting("ball_seed", "--ball-seed", "ball_seed", "int", None,
+            "seed of the random start: the same seed, the same run (default: a fresh one each run)", low=0,
+            high=2**63 - 1, table=_D, metavar="S"),
+    Setting("ball_material", "--ball-material", "ball_material", "str", "steel",
+            "material of the balls from the catalogue (acoustiviz/assets/materials.toml): their radius from the "
+            "mass m and its density, the ball-ball stiffness from paper eq 2; with several balls",
+            table=_D, metavar="NAME"),
+)
+
 
 def _cavity_record(record: Setting, doc: str) -> Setting:
     """``record`` as a key of a scene's ``[[damper.cavities]]``: its range and unit, no option.
@@ -124,6 +142,9 @@ CAVITY = (
                              "steel spheres of its ball mass)"),
     _cavity_record(BALLS[2], "contact damping between two balls of the cavity (default: "
                              "damper.contact_damping_n_s_m)"),
+    dataclasses.replace(BALL_START[2], name="material", option=None, key="material", default=None,
+                        table="damper.cavities",
+                        doc="material of the cavity's balls from the catalogue (default: damper.ball_material)"),
     Setting("position", None, "position_m", "point", None,
             "where the cavity's sound comes from: the offset [x, y, z] of the cavity from the scene's sphere, the "
             "cavity moved rigidly (at [0, 0, 0] its struck-wall ball touches the struck surface where the scene's "
