@@ -91,10 +91,11 @@ DAMPER = MODEL + CONTACT_LAW + RUN + SOLVER
 BALLS = (
     Setting("balls", "--balls", "balls", "int", 1,
             "number of equal spheres of mass m in the cavity, in a column (the gap is the cavity's length less "
-            "their diameters; they start at rest, the gap split into N+1 equal spaces)", low=1, high=1000,
+            "their diameters; they start at rest, by default the gap split into N+1 equal spaces)", low=1, high=1000,
             table=_D, metavar="N"),
     Setting("k_hertz_ball", "--k-hertz-ball", "k_hertz_ball_n_m1_5", "float", None,
-            "Hertz stiffness between two balls (default: paper eq 2 for two steel spheres of mass m; --k-hertz "
+            "Hertz stiffness between two balls (default: paper eq 2 for two spheres of mass m of the balls' "
+            "material, steel unless set; --k-hertz "
             "stays the ball-wall stiffness)", "N/m^1.5", low=0.0, high=1e14, low_open=True, table=_D,
             metavar="N/M^1.5"),
     Setting("c1_ball", "--c1-ball", "contact_damping_ball_n_s_m", "float", None,
@@ -139,7 +140,7 @@ CAVITY = (
     _cavity_record(BALLS[0], "number of equal spheres in the cavity, in a column"),
     _cavity_record(MODEL[3], "mass of each ball of the cavity (default: damper.impact_mass_kg)"),
     _cavity_record(BALLS[1], "Hertz stiffness between two balls of the cavity (default: paper eq 2 for two "
-                             "steel spheres of its ball mass)"),
+                             "spheres of its ball mass and material)"),
     _cavity_record(BALLS[2], "contact damping between two balls of the cavity (default: "
                              "damper.contact_damping_n_s_m)"),
     dataclasses.replace(BALL_START[2], name="material", option=None, key="material", default=None,
