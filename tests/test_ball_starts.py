@@ -223,3 +223,33 @@ def test_the_api_refuses_an_unknown_start_and_material_naming_the_field(no_simul
         DamperJob(damper_model(), cavities=(DamperCavity(balls=2, material="cheese"),))
     with pytest.raises(ParameterError, match="start"):
         BallState(start="middle")
+
+
+#: Two brass balls under a forced run, as the command line, a scene and the API give them.
+FORCED_ARGV = ("forced", "--C", "5", "--force", "10", "--freq", "4", "--balls", "2", "--ball-material", "brass",
+               "--starts", "1", "--no-noise", "--max-memory", "256")
+FORCED_SCENE = ('[damper]\ndamping_n_s_m = 5.0\nballs = 2\nball_material = "brass"\n[excitation]\namplitude = 10.0\n'
+                'frequencies_hz = "4"\nstarts = 1\n[outputs.frequency_response]\n')
+
+
+def test_forced_balls_take_their_material_from_every_front_end():
+    from acoustiviz.app.forced import ForcedJob, forced_settings
+    from acoustiviz.cli.forced import settings_from_args as forced_from_args
+
+    from_cli = forced_from_args(build_parser().parse_args(list(FORCED_ARGV)))
+    from_scene = forced_settings(scene_from_dict(tomllib.loads(FORCED_SCENE)))
+    api = ForcedJob(damper_model(C=5.0), frequencies=(4.0,), kind="force", amplitude=10.0, starts=1, noise=False,
+                    balls=2, ball_material="brass", max_memory_mb=256.0)
+    assert from_cli == from_scene == api
+    radius = (3.0 * damper_model().m / (4.0 * math.pi * CATALOGUE["brass"]["density"])) ** (1.0 / 3.0)
+    assert api.ball_model().cavities[0].radii == pytest.approx((radius, radius), rel=1e-12)
+
+
+def test_forced_refuses_an_unknown_material_naming_the_option(tmp_path, monkeypatch, capsys, no_simulation):
+    monkeypatch.chdir(tmp_path)
+    argv = [*FORCED_ARGV[:-2], "--csv", "f.csv"]
+    argv[argv.index("brass")] = "cheese"
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "--ball-material" in err and "steel" in err
+    assert list(tmp_path.iterdir()) == []

@@ -174,17 +174,18 @@ def balls_model(settings: DamperJob):
     """The :class:`~acoustiviz.dynamics.MultiBallModel` of a job: ``balls`` spheres of the impact mass.
 
     With ``cavities``, one :class:`~acoustiviz.dynamics.Cavity` of equal spheres per cavity, in order,
-    each value it leaves out the model's; the ball-wall contact is the model's in every cavity.
+    each value it leaves out the model's; the ball-wall contact is the model's in every cavity. The balls'
+    material: a cavity's own, else the job's ``ball_material``.
     """
     from ..dynamics import MultiBallModel, equal_balls
 
-    s, model = settings, settings.model
+    s, model, material = settings, settings.model, settings.ball_material
     if not s.cavities:
         return MultiBallModel.from_damper(model, s.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball,
-                                          material=s.ball_material)
+                                          material=material)
     cavities = tuple(equal_balls(c.balls, model.m if c.m is None else c.m, model.gap if c.gap is None else c.gap,
                                  model.k_hertz, model.c1, k_ball=c.k_hertz_ball, c_ball=c.c1_ball,
-                                 material=s.ball_material if c.material is None else c.material)
+                                 material=material if c.material is None else c.material)
                      for c in s.cavities)
     return MultiBallModel(cavities, model.M, model.K, model.C, model.clip_tensile)
 

@@ -103,8 +103,8 @@ BALLS = (
             metavar="N*S/M"),
 )
 
-#: How the balls start and what they are made of (``acoustiviz damper`` and a scene's [damper]; with
-#: several cavities the material is given per cavity).
+#: How the balls start and what they are made of (``acoustiviz damper`` and a scene's [damper]; the material
+#: also of ``acoustiviz forced``, whose attractors come from its own starts; a cavity may give its own material).
 BALL_START = (
     Setting("ball_start", "--ball-start", "ball_start", "str", "spaced",
             "where the balls start, at rest: spaced (the free travel split into N+1 equal spaces), low (packed "

@@ -112,9 +112,12 @@ def check_material(name: str, where: str) -> None:
         raise exc.renamed(where) from None
 
 
-def scene_balls(damper: dict) -> dict:
-    """A scene's ``[damper]`` section -> a job's ball fields (``balls``, ``k_hertz_ball`` ... ``cavities``)."""
-    balls = {s.name: damper[s.key] for s in BALLS + BALL_START}
+def scene_balls(damper: dict, records=BALLS) -> dict:
+    """A scene's ``[damper]`` section -> a job's ball fields: those of ``records`` and ``cavities``.
+
+    A damper job takes ``BALLS + BALL_START`` (the start and material of the balls too), a forced job ``BALLS``.
+    """
+    balls = {s.name: damper[s.key] for s in records}
     cavities = tuple(DamperCavity(**{s.name: c[s.key] for s in CAVITY}) for c in damper.get("cavities", ()))
     return {**balls, "cavities": cavities}
 
