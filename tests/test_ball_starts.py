@@ -30,6 +30,8 @@ CATALOGUE = tomllib.loads((Path(acoustiviz.__file__).parent / "assets" / "materi
 
 #: Absolute tolerance in m on a ball's centre (sums of a few lengths of centimetres).
 POSITION_TOL = 1e-15
+#: Absolute tolerance in m on a position read back from a CSV (written with 10 significant digits).
+CSV_TOL = 1e-11
 
 FILES = {"impacts_csv": "impacts.csv", "history_csv": "damper_history.csv", "png": "damper_history.png"}
 
@@ -253,3 +255,29 @@ def test_forced_refuses_an_unknown_material_naming_the_option(tmp_path, monkeypa
     err = capsys.readouterr().err
     assert "--ball-material" in err and "steel" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_each_cavity_of_a_scene_takes_its_own_start(tmp_path):
+    scene = ('[damper]\nduration_s = 0.05\nsolver = "event"\nball_start = "high"\n'
+             '[[damper.cavities]]\nballs = 2\ngap_m = 0.03\nstart = "low"\n[[damper.cavities]]\ngap_m = 0.05\n'
+             '[outputs.damper_history]\n')
+    job = damper_settings(scene_from_dict(tomllib.loads(scene)), tmp_path)
+    assert job.cavities == (DamperCavity(balls=2, gap=0.03, start="low"), DamperCavity(gap=0.05))
+    written = run(job).write()
+    history = next(p for p in written if p.suffix == ".csv").read_text().splitlines()
+    header, first = history[0].split(","), [float(v) for v in history[1].split(",")]
+    row = dict(zip(header, first, strict=True))
+    assert row["time_s"] == 0.0 and row["x_m"] == 0.0
+    r = (3.0 * damper_model().m / (4.0 * math.pi * CATALOGUE["steel"]["density"])) ** (1.0 / 3.0)
+    low = -0.5 * (0.03 + 4.0 * r) + r  # the first cavity's balls packed on its wall-
+    assert row["c1_y1_m"] == pytest.approx(low, abs=CSV_TOL)
+    assert row["c1_y2_m"] == pytest.approx(low + 2.0 * r, abs=CSV_TOL)
+    assert row["c2_y1_m"] == pytest.approx(0.5 * 0.05, abs=CSV_TOL)  # the second's on its wall+ (the job's)
+
+
+def test_a_bad_cavity_start_is_refused_naming_its_key(tmp_path, capsys, no_simulation):
+    toml = tmp_path / "scene.toml"
+    toml.write_text('[[damper.cavities]]\nballs = 2\nstart = "middle"\n[outputs.impact_table]\n')
+    assert main(["run", str(toml), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "damper.cavities[0].start" in err and "random" in err

@@ -198,7 +198,8 @@ def _run_balls(s: DamperJob) -> DamperResult:
     with user_terms(s.names):
         model = balls_model(s)
         start = time.perf_counter()
-        initial = BallState(x=s.initial.x, v=s.initial.v, start=s.ball_start, seed=s.ball_seed)
+        starts = tuple(c.start or s.ball_start for c in s.cavities) if s.cavities else s.ball_start
+        initial = BallState(x=s.initial.x, v=s.initial.v, start=starts, seed=s.ball_seed)
         result = simulate_balls(model, s.duration, initial=initial,
                                 rtol=min(s.rtol, SOLVER_RTOL_RANGE[1]), t_eval=sample_times(s.duration, s.model))
         seconds = time.perf_counter() - start

@@ -143,6 +143,10 @@ CAVITY = (
                              "spheres of its ball mass and material)"),
     _cavity_record(BALLS[2], "contact damping between two balls of the cavity (default: "
                              "damper.contact_damping_n_s_m)"),
+    dataclasses.replace(BALL_START[0], name="start", option=None, key="start", default=None,
+                        table="damper.cavities",
+                        doc="where the cavity's balls start, at rest: spaced, low, high or random (default: "
+                            "damper.ball_start; random draws from damper.ball_seed, the cavities in order)"),
     dataclasses.replace(BALL_START[2], name="material", option=None, key="material", default=None,
                         table="damper.cavities",
                         doc="material of the cavity's balls from the catalogue (default: damper.ball_material)"),

@@ -56,6 +56,8 @@ class DamperCavity:
         Hertz stiffness between two balls in N/m^1.5 (default: paper eq 2 for two steel spheres of mass ``m``).
     c1_ball : float, optional
         Contact damping between two balls in N s/m (default: the job's ``model.c1``).
+    start : {"spaced", "low", "high", "random"}, optional
+        Where the cavity's balls start, at rest (default: the job's ``ball_start``).
     material : str, optional
         The balls' material from the catalogue (default: the job's ``ball_material``): their radius
         from ``m`` and its density, their stiffness from paper eq 2.
@@ -69,6 +71,7 @@ class DamperCavity:
     m: float | None = None
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
+    start: str | None = None
     material: str | None = None
     position: tuple | None = None
 
