@@ -29,6 +29,7 @@ __all__ = [
     "PULSES",
     "SOLVERS",
     "SCENE_SOLVERS",
+    "BALL_STARTS",
     "STRIKES",
     "CONFIGURATIONS",
     "ROOM_SURFACES",
@@ -89,6 +90,11 @@ PULSES = ("half-sine", "impulse-matched", "hertz")
 SOLVERS = ("event", "newmark", "impact-map")
 #: Solvers a scene may name: ``"auto"`` takes the cheapest one whose error suits the tolerance.
 SCENE_SOLVERS = ("auto", *SOLVERS)
+
+#: How the balls of a cavity start (at rest): ``spaced`` splits the free travel into N + 1 equal spaces,
+#: ``low`` packs them against ``wall-`` (the free travel all above), ``high`` against ``wall+``, ``random``
+#: splits it at N uniform random points (:class:`acoustiviz.dynamics.BallState`).
+BALL_STARTS = ("spaced", "low", "high", "random")
 #: Which surface of a wall-floor corner the sphere strikes.
 STRIKES = ("floor", "wall")
 #: Geometries built from a sphere radius alone, with default settings: the ``--config`` choices

@@ -171,18 +171,21 @@ def run(settings: DamperJob) -> DamperResult:
 
 
 def balls_model(settings: DamperJob):
-    """The :class:`~acoustiviz.dynamics.MultiBallModel` of a job: ``balls`` steel spheres of the impact mass.
+    """The :class:`~acoustiviz.dynamics.MultiBallModel` of a job: ``balls`` spheres of the impact mass.
 
-    With ``cavities``, one :class:`~acoustiviz.dynamics.Cavity` of equal steel spheres per cavity, in order,
-    each value it leaves out the model's; the ball-wall contact is the model's in every cavity.
+    With ``cavities``, one :class:`~acoustiviz.dynamics.Cavity` of equal spheres per cavity, in order,
+    each value it leaves out the model's; the ball-wall contact is the model's in every cavity. The balls'
+    material: a cavity's own, else the job's ``ball_material``.
     """
     from ..dynamics import MultiBallModel, equal_balls
 
-    s, model = settings, settings.model
+    s, model, material = settings, settings.model, settings.ball_material
     if not s.cavities:
-        return MultiBallModel.from_damper(model, s.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball)
+        return MultiBallModel.from_damper(model, s.balls, k_ball=s.k_hertz_ball, c_ball=s.c1_ball,
+                                          material=material)
     cavities = tuple(equal_balls(c.balls, model.m if c.m is None else c.m, model.gap if c.gap is None else c.gap,
-                                 model.k_hertz, model.c1, k_ball=c.k_hertz_ball, c_ball=c.c1_ball)
+                                 model.k_hertz, model.c1, k_ball=c.k_hertz_ball, c_ball=c.c1_ball,
+                                 material=material if c.material is None else c.material)
                      for c in s.cavities)
     return MultiBallModel(cavities, model.M, model.K, model.C, model.clip_tensile)
 
@@ -195,7 +198,9 @@ def _run_balls(s: DamperJob) -> DamperResult:
     with user_terms(s.names):
         model = balls_model(s)
         start = time.perf_counter()
-        result = simulate_balls(model, s.duration, initial=BallState(x=s.initial.x, v=s.initial.v),
+        starts = tuple(c.start or s.ball_start for c in s.cavities) if s.cavities else s.ball_start
+        initial = BallState(x=s.initial.x, v=s.initial.v, start=starts, seed=s.ball_seed)
+        result = simulate_balls(model, s.duration, initial=initial,
                                 rtol=min(s.rtol, SOLVER_RTOL_RANGE[1]), t_eval=sample_times(s.duration, s.model))
         seconds = time.perf_counter() - start
         metrics = damping_metrics(result.t, result.x)

@@ -408,6 +408,7 @@ def forced_settings(scene, out=None) -> ForcedJob:
     before the run folder exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
     from .products import scene_damper_model
+    from .settings.damper import BALL_START, BALLS
     from .settings.damper_job import scene_balls
     from .settings.forced import FORCED, FREQUENCIES
 
@@ -426,7 +427,7 @@ def forced_settings(scene, out=None) -> ForcedJob:
                      listener=tuple(position) if noise else None, config=scene.section("configuration")["kind"],
                      radius=scene.damper_sphere_radius(), surroundings=scene.geometry_settings(),
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=names, **files,
-                     **scene_balls(scene.section("damper")))
+                     **scene_balls(scene.section("damper"), (*BALLS, BALL_START[2])))
 
 
 def _write(ctx, kind: str) -> list:

@@ -251,6 +251,7 @@ def damper_settings(scene, out=None):
     folder ``out`` (None: no files, the checks of the scene's settings alone, made before the run folder
     exists); the working memory within ``grids.memory_limit_mb``; errors name scene keys.
     """
+    from .settings.damper import BALL_START, BALLS
     from .settings.damper_job import DamperJob, scene_balls
 
     d = scene.section("damper")
@@ -258,7 +259,7 @@ def damper_settings(scene, out=None):
                                     if scene.wants(kind) for key, name in names.items()}
     return DamperJob(scene_damper_model(scene), damper_initial(scene), d["duration_s"], d["solver"], d["tolerance"],
                      max_memory_mb=scene.section("grids")["memory_limit_mb"], names=DamperJob.names_for("scene"),
-                     **files, **scene_balls(d))
+                     **files, **scene_balls(d, BALLS + BALL_START))
 
 
 def _balls_heard(scene) -> None:

@@ -11,7 +11,7 @@ Example::
 
 from __future__ import annotations
 
-from ..app.settings.damper import BALLS
+from ..app.settings.damper import BALL_START, BALLS
 from ..app.settings.damper_job import DAMPER_OUTPUTS
 from ..app.settings.table import add_option
 from ._damper import add_damper_options
@@ -31,7 +31,7 @@ def add_parser(subparsers):
     )
     add_damper_options(p)
     b = p.add_argument_group("several balls (a column of equal spheres of mass --m; --gap is their free travel)")
-    for s in BALLS:
+    for s in BALLS + BALL_START:
         add_option(b, s)
     o = p.add_argument_group("outputs")
     for s in DAMPER_OUTPUTS:
@@ -54,7 +54,8 @@ def settings_from_args(args):
     start = InitialState(x=d.get("x0", RUN[0].default), v=d["v0"])
     return DamperJob(model, start, d["duration"], d["solver"], d["rtol"], d["dt"], getattr(args, "max_memory", None),
                      impacts_csv=args.impacts_csv, history_csv=args.history_csv, png=args.png, balls=args.balls,
-                     k_hertz_ball=args.k_hertz_ball, c1_ball=args.c1_ball, names=names)
+                     k_hertz_ball=args.k_hertz_ball, c1_ball=args.c1_ball,
+                     **{s.name: getattr(args, s.name) for s in BALL_START}, names=names)
 
 
 def run(args) -> int:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..app.settings.damper import BALLS
+from ..app.settings.damper import BALL_START, BALLS
 from ..app.settings.forced import (
     AMPLITUDES,
     FORCED,
@@ -67,7 +67,7 @@ def add_parser(subparsers):
     add_room_options(p, duration=True)  # --duration: how long each click's reflections are heard
     b = p.add_argument_group("several balls (a column of equal spheres of mass --m; --gap is their free travel; "
                              "attractors by simulation; the noise hears every collision)")
-    for record in BALLS:
+    for record in (*BALLS, BALL_START[2]):
         add_option(b, record)
     o = p.add_argument_group("outputs")
     for record in FORCED_OUTPUTS[1:]:
@@ -96,7 +96,7 @@ def settings_from_args(args):
                      listener=None if listener is None else tuple(listener), config="plane" if room is None else "room",
                      surroundings={} if room is None else {"room": room},
                      max_memory_mb=getattr(args, "max_memory", None), names=names,
-                     **{s.name: getattr(args, s.name) for s in BALLS})
+                     **{s.name: getattr(args, s.name) for s in (*BALLS, BALL_START[2])})
 
 
 def run(args) -> int:

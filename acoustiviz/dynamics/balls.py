@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import ParameterError, check_finite, check_nonnegative, check_positive
-from ..constants import TABLE1_PARAMETERS
+from ..constants import BALL_STARTS, TABLE1_PARAMETERS
 
 __all__ = ["Cavity", "MultiBallModel", "BallState", "equal_balls", "cavity_body_names"]
 
@@ -266,14 +266,23 @@ class BallState:
     x, v : float
         Main mass (the paper's Figure 5 start: 0 m, 2 m/s).
     y, w : sequence of float or None
-        Ball centres in m and velocities in m/s, cavity and axis order. ``y`` None: in each cavity the
-        free travel is split into N + 1 equal spaces (one ball: centred); ``w`` None: at rest.
+        Ball centres in m and velocities in m/s, cavity and axis order. ``y`` None: the balls placed by
+        ``start``; ``w`` None: at rest.
+    start : str or sequence of str
+        Where the balls start when ``y`` is None, one of :data:`acoustiviz.constants.BALL_STARTS` for
+        every cavity or one per cavity: ``spaced`` (the free travel split into N + 1 equal spaces; one
+        ball: centred), ``low`` (packed touching on ``wall-``, the free travel all above), ``high``
+        (packed on ``wall+``), ``random`` (the free travel split at N uniform random points).
+    seed : int, optional
+        Seed of the ``random`` start (:func:`numpy.random.default_rng`); None: fresh entropy.
     """
 
     x: float = 0.0
     v: float = 2.0
     y: tuple | None = None
     w: tuple | None = None
+    start: str | tuple = "spaced"
+    seed: int | None = None
 
     def __post_init__(self):
         check_finite("x", self.x)
@@ -282,13 +291,47 @@ class BallState:
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, _floats(name, getattr(self, name), "",
                                                        lambda n, v, _u: check_finite(n, v)))
+        starts = (self.start,) if isinstance(self.start, str) else tuple(self.start)
+        for i, name in enumerate(starts):
+            if name not in BALL_STARTS:
+                where = "start" if isinstance(self.start, str) else f"start[{i}]"
+                raise ParameterError(where, f"must be one of {', '.join(BALL_STARTS)}, got {name!r}")
+
+    def cuts(self, model: MultiBallModel) -> list:
+        """Per cavity, how far in m each ball has travelled from ``wall-`` when ``y`` is None, as ``start`` says.
+
+        Ball i's clearance to its lower neighbour (``wall-`` for ball 1) is ``cuts[i] - cuts[i-1]``.
+        """
+        starts = (self.start,) * len(model.cavities) if isinstance(self.start, str) else tuple(self.start)
+        if len(starts) != len(model.cavities):
+            raise ParameterError("start", f"one start per cavity: {len(model.cavities)} cavities, "
+                                          f"got {len(starts)}")
+        rng = np.random.default_rng(self.seed) if "random" in starts else None
+        out = []
+        for c, start in zip(model.cavities, starts, strict=True):
+            n = c.n_balls
+            if start == "spaced":
+                out.append(c.gap * np.arange(1, n + 1) / (n + 1))
+            elif start == "random":
+                out.append(np.sort(rng.uniform(0.0, c.gap, n)))
+            else:
+                out.append(np.full(n, 0.0 if start == "low" else c.gap))
+        return out
+
+    def clearances(self, model: MultiBallModel) -> list:
+        """Per cavity the N + 1 spaces in m of its column when ``y`` is None, summing to its free travel.
+
+        From ``wall-`` to ball 1, between neighbours, from ball N to ``wall+``, as ``start`` places them.
+        """
+        return [np.diff(np.concatenate([[0.0], cut, [c.gap]]))
+                for c, cut in zip(model.cavities, self.cuts(model), strict=True)]
 
     def reduced(self, model: MultiBallModel) -> tuple[np.ndarray, np.ndarray]:
         """Reduced positions (m) and velocities (m/s) of every body, checked to lie in their cavities."""
         nb = model.n_balls
         if self.y is None:
-            s = np.concatenate([self.x - 0.5 * c.gap + c.gap * np.arange(1, c.n_balls + 1) / (c.n_balls + 1)
-                                for c in model.cavities])
+            cuts = zip(model.cavities, self.cuts(model), strict=True)
+            s = np.concatenate([self.x - 0.5 * c.gap + cut for c, cut in cuts])
         else:
             if len(self.y) != nb:
                 raise ParameterError("initial.y", f"one position per ball: {nb} balls, got {len(self.y)}")
@@ -298,7 +341,9 @@ class BallState:
             raise ParameterError("initial.w", f"one velocity per ball: {nb} balls, got {w.size}")
         q = np.concatenate([[float(self.x)], s])
         pr = model.pairs()
-        if np.any(q[pr["pa"]] - q[pr["pb"]] - pr["hg"] > 0.0):
+        # packed balls touch: a rounding of the last bit is no overlap
+        slack = 8.0 * np.finfo(float).eps * (abs(q[0]) + max(c.length for c in model.cavities))
+        if np.any(q[pr["pa"]] - q[pr["pb"]] - pr["hg"] > slack):
             raise ParameterError("initial.y", "the balls must start in their cavities without overlap")
         return q, np.concatenate([[float(self.v)], w])
 

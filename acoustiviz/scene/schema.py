@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass
 
 from ..app.settings.auralize import ALL as _AURALIZE
-from ..app.settings.damper import BALLS, CAVITY, DAMPER
+from ..app.settings.damper import BALL_START, BALLS, CAVITY, DAMPER
 from ..app.settings.design import DESIGN, RANK_BY
 from ..app.settings.forced import AMPLITUDE, EXCITATION_KIND, FORCED, FREQUENCIES
 from ..app.settings.impact import DIRECTIVITY, IMPACT, WAVEFORM
@@ -114,7 +114,7 @@ _DAMPER_RECORDS = _from_table(DAMPER, "damper")
 _DAMPER = {k: _DAMPER_RECORDS[k] for k in (
     "main_mass_kg", "stiffness_n_m", "damping_n_s_m", "impact_mass_kg", "gap_m", "contact_damping_n_s_m",
     "clip_tensile", "initial_velocity_m_s", "initial_displacement_m", "duration_s", "solver", "tolerance")}
-_DAMPER.update(_from_table(BALLS, "damper"))  # several balls in the cavity (acoustiviz damper --balls)
+_DAMPER.update(_from_table(BALLS + BALL_START, "damper"))  # several balls in the cavity (acoustiviz damper --balls)
 # several cavities on the main mass, each with its balls ([[damper.cavities]]; a scene's only)
 _DAMPER["cavities"] = Table(_from_table(CAVITY, "damper.cavities"),
                             "several cavities on the main mass, each a column of equal balls (numbered c1, c2 ... "

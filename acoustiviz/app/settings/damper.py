@@ -15,6 +15,7 @@ import dataclasses
 
 from ...constants import (
     AUTO_TOLERANCE_RANGE,
+    BALL_STARTS,
     DEFAULT_DURATION,
     DEFAULT_RTOL,
     PAPER_GAP,
@@ -25,7 +26,7 @@ from ...constants import (
 )
 from .table import Setting, check_values
 
-__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "CAVITY", "check_values"]
+__all__ = ["MODEL", "CONTACT_LAW", "RUN", "SOLVER", "DAMPER", "BALLS", "BALL_START", "CAVITY", "check_values"]
 
 _D = "damper"
 
@@ -90,15 +91,33 @@ DAMPER = MODEL + CONTACT_LAW + RUN + SOLVER
 BALLS = (
     Setting("balls", "--balls", "balls", "int", 1,
             "number of equal spheres of mass m in the cavity, in a column (the gap is the cavity's length less "
-            "their diameters; they start at rest, the gap split into N+1 equal spaces)", low=1, high=1000,
+            "their diameters; they start at rest, by default the gap split into N+1 equal spaces)", low=1, high=1000,
             table=_D, metavar="N"),
     Setting("k_hertz_ball", "--k-hertz-ball", "k_hertz_ball_n_m1_5", "float", None,
-            "Hertz stiffness between two balls (default: paper eq 2 for two steel spheres of mass m; --k-hertz "
+            "Hertz stiffness between two balls (default: paper eq 2 for two spheres of mass m of the balls' "
+            "material, steel unless set; --k-hertz "
             "stays the ball-wall stiffness)", "N/m^1.5", low=0.0, high=1e14, low_open=True, table=_D,
             metavar="N/M^1.5"),
     Setting("c1_ball", "--c1-ball", "contact_damping_ball_n_s_m", "float", None,
             "contact damping between two balls (default: --c1)", "N s/m", low=0.0, high=1e9, table=_D,
             metavar="N*S/M"),
+)
+
+#: How the balls start and what they are made of (``acoustiviz damper`` and a scene's [damper]; the material
+#: also of ``acoustiviz forced``, whose attractors come from its own starts; a cavity may give its own material).
+BALL_START = (
+    Setting("ball_start", "--ball-start", "ball_start", "str", "spaced",
+            "where the balls start, at rest: spaced (the free travel split into N+1 equal spaces), low (packed "
+            "touching on wall-, the free travel all above), high (packed on wall+) or random (the free travel "
+            "split at N uniform random points, see --ball-seed); with several balls", choices=BALL_STARTS,
+            table=_D),
+    Setting("ball_seed", "--ball-seed", "ball_seed", "int", None,
+            "seed of the random start: the same seed, the same run (default: a fresh one each run)", low=0,
+            high=2**63 - 1, table=_D, metavar="S"),
+    Setting("ball_material", "--ball-material", "ball_material", "str", "steel",
+            "material of the balls from the catalogue (acoustiviz/assets/materials.toml): their radius from the "
+            "mass m and its density, the ball-ball stiffness from paper eq 2; with several balls",
+            table=_D, metavar="NAME"),
 )
 
 
@@ -121,9 +140,16 @@ CAVITY = (
     _cavity_record(BALLS[0], "number of equal spheres in the cavity, in a column"),
     _cavity_record(MODEL[3], "mass of each ball of the cavity (default: damper.impact_mass_kg)"),
     _cavity_record(BALLS[1], "Hertz stiffness between two balls of the cavity (default: paper eq 2 for two "
-                             "steel spheres of its ball mass)"),
+                             "spheres of its ball mass and material)"),
     _cavity_record(BALLS[2], "contact damping between two balls of the cavity (default: "
                              "damper.contact_damping_n_s_m)"),
+    dataclasses.replace(BALL_START[0], name="start", option=None, key="start", default=None,
+                        table="damper.cavities",
+                        doc="where the cavity's balls start, at rest: spaced, low, high or random (default: "
+                            "damper.ball_start; random draws from damper.ball_seed, the cavities in order)"),
+    dataclasses.replace(BALL_START[2], name="material", option=None, key="material", default=None,
+                        table="damper.cavities",
+                        doc="material of the cavity's balls from the catalogue (default: damper.ball_material)"),
     Setting("position", None, "position_m", "point", None,
             "where the cavity's sound comes from: the offset [x, y, z] of the cavity from the scene's sphere, the "
             "cavity moved rigidly (at [0, 0, 0] its struck-wall ball touches the struck surface where the scene's "

@@ -14,11 +14,12 @@ import dataclasses
 
 from ...constants import DEFAULT_DURATION, DEFAULT_RTOL, PAPER_V0
 from .base import Settings
-from .damper import BALLS, CAVITY, CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
+from .damper import BALL_START, BALLS, CAVITY, CONTACT_LAW, DAMPER, MODEL, RUN, SOLVER
 from .table import Setting, check_values
 from .vocabulary import ALIASES, MEMORY, OUTPUT_TABLES
 
-__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperCavity", "DamperJob", "check_cavities", "scene_balls"]
+__all__ = ["DAMPER_OUTPUTS", "FILE_KINDS", "DamperCavity", "DamperJob", "check_cavities", "check_material",
+           "scene_balls"]
 
 #: The files of ``acoustiviz damper`` (a scene names them itself: ``impacts.csv`` for ``[outputs.impact_table]``,
 #: ``damper_history.csv`` and ``.png`` for ``[outputs.damper_history]``).
@@ -41,7 +42,7 @@ FILE_KINDS = {"impacts_csv": "csv", "history_csv": "csv", "png": "figure"}
 
 @dataclasses.dataclass(frozen=True)
 class DamperCavity:
-    """One cavity of several on the main mass: a column of ``balls`` equal steel spheres of mass ``m``.
+    """One cavity of several on the main mass: a column of ``balls`` equal spheres of mass ``m``.
 
     Attributes
     ----------
@@ -55,6 +56,11 @@ class DamperCavity:
         Hertz stiffness between two balls in N/m^1.5 (default: paper eq 2 for two steel spheres of mass ``m``).
     c1_ball : float, optional
         Contact damping between two balls in N s/m (default: the job's ``model.c1``).
+    start : {"spaced", "low", "high", "random"}, optional
+        Where the cavity's balls start, at rest (default: the job's ``ball_start``).
+    material : str, optional
+        The balls' material from the catalogue (default: the job's ``ball_material``): their radius
+        from ``m`` and its density, their stiffness from paper eq 2.
     position : (3,) tuple of float, optional
         Where the cavity's sound comes from: its offset in m from the scene's sphere, the cavity moved
         rigidly (default: spaced apart, :func:`acoustiviz.sound.balls_sound.cavity_places`).
@@ -65,6 +71,8 @@ class DamperCavity:
     m: float | None = None
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
+    start: str | None = None
+    material: str | None = None
     position: tuple | None = None
 
     def __post_init__(self):
@@ -92,11 +100,27 @@ def check_cavities(job) -> None:
             raise ParameterError(f"{where}[{i}]", f"must be a DamperCavity, got {cav!r}")
         names = {s.name: f"{where}[{i}].{s.key if where != 'cavities' else s.name}" for s in CAVITY}
         check_values(dataclasses.asdict(cav), CAVITY, names)
+        if cav.material is not None:
+            check_material(cav.material, names["material"])
 
 
-def scene_balls(damper: dict) -> dict:
-    """A scene's ``[damper]`` section -> a job's ball fields ``balls``, ``k_hertz_ball``, ``c1_ball``, ``cavities``."""
-    balls = {s.name: damper[s.key] for s in BALLS}
+def check_material(name: str, where: str) -> None:
+    """``name`` a material of the catalogue (:func:`acoustiviz.core.materials.material`); the error names ``where``."""
+    from ..._validate import ParameterError
+    from ...core.materials import material
+
+    try:
+        material(name)
+    except ParameterError as exc:
+        raise exc.renamed(where) from None
+
+
+def scene_balls(damper: dict, records=BALLS) -> dict:
+    """A scene's ``[damper]`` section -> a job's ball fields: those of ``records`` and ``cavities``.
+
+    A damper job takes ``BALLS + BALL_START`` (the start and material of the balls too), a forced job ``BALLS``.
+    """
+    balls = {s.name: damper[s.key] for s in records}
     cavities = tuple(DamperCavity(**{s.name: c[s.key] for s in CAVITY}) for c in damper.get("cavities", ()))
     return {**balls, "cavities": cavities}
 
@@ -137,12 +161,18 @@ class DamperJob(Settings):
     cavities : tuple of DamperCavity
         Several cavities on the main mass, numbered from 1 (``c2:ball1`` in the impact table); each
         value it leaves out is the model's. Empty (default): the one cavity of ``model`` and ``balls``.
+    ball_start : {"spaced", "low", "high", "random"}
+        Where the balls start, at rest (:class:`acoustiviz.dynamics.BallState`); with several balls.
+    ball_seed : int, optional
+        Seed of the ``random`` start (None: a fresh one each run).
+    ball_material : str
+        The balls' material from the catalogue (a cavity's own ``material`` first); with several balls.
     names : dict
         The front end's vocabulary: API parameter -> the option or scene key its errors name
         (not compared; default: the API names).
     """
 
-    TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS, *BALLS)  # duration, solver, dt, rtol, the files, the balls
+    TABLE = (RUN[2], *SOLVER, RUN[3], *DAMPER_OUTPUTS, *BALLS, *BALL_START)  # duration ... the files, the balls
     BUILT_FROM = (*DAMPER, *MEMORY)  # the model and the start; the memory cap
     ALIASES = ALIASES["damper"]
     DERIVED_NAMES = {"scene": {**OUTPUT_TABLES["damper"], "cavities": "damper.cavities"}}
@@ -160,6 +190,9 @@ class DamperJob(Settings):
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
     cavities: tuple = ()
+    ball_start: str = "spaced"
+    ball_seed: int | None = None
+    ball_material: str = "steel"
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     def files(self) -> dict:
@@ -181,6 +214,8 @@ class DamperJob(Settings):
             self._check_cavities()
         if self.balls > 1 or self.cavities:
             self._check_balls()
+        else:
+            self._check_one_ball()
         check_damper(M=model.M, K=model.K, m=model.m, gap=model.gap, k_hertz=model.k_hertz, v=start.v,
                      duration=self.duration, c1=model.c1)
         self._check_cavity_physics()
@@ -204,6 +239,18 @@ class DamperJob(Settings):
             raise ParameterError(self.names.get("rtol", "rtol"), f"must lie in [{lo:g}, {hi:g}] with several balls, "
                                                                 f"got {self.rtol!r}")
         solver_method("event").settings(self.model, self.initial, self.duration, self.rtol, None)  # C underdamped
+        check_material(self.ball_material, self.names.get("ball_material", "ball_material"))
+
+    def _check_one_ball(self) -> None:
+        """The start and material of several balls left at their defaults for the one-ball damper."""
+        from ..._validate import ParameterError
+
+        several = f"set {self.names.get('balls', 'balls')} above 1"
+        if "cavities" in self.names or not self.names:
+            several += f" or give {self.names.get('cavities', 'cavities')}"
+        for s in BALL_START:
+            if getattr(self, s.name) != s.default:
+                raise ParameterError(self.names.get(s.name, s.name), f"applies to several balls: {several}")
 
     def _check_cavities(self) -> None:
         """Each cavity's values in its records' ranges (:func:`check_cavities`)."""

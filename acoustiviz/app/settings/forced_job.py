@@ -15,7 +15,7 @@ import dataclasses
 from ...constants import FORCED_MAX_CYCLES, FORCED_RTOL, FORCED_STARTS, FORCED_TOLERANCE, PAPER_RADIUS
 from ...errors import ParameterError
 from .base import Settings, vocabulary
-from .damper import BALLS, CONTACT_LAW, DAMPER, MODEL
+from .damper import BALL_START, BALLS, CONTACT_LAW, DAMPER, MODEL
 from .forced import (
     AMPLITUDE,
     AMPLITUDES,
@@ -82,7 +82,7 @@ class ForcedJob(Settings):
         The WAV of the frequencies in turn (with its JSON sidecar), the table and the three-panel figure.
     noise_csv, response_png, bifurcation_png : str, optional
         A scene's level table, frequency-response figure and bifurcation diagram.
-    balls, k_hertz_ball, c1_ball, cavities
+    balls, k_hertz_ball, c1_ball, cavities, ball_material
         Several balls, as :class:`~acoustiviz.app.settings.damper_job.DamperJob`'s (the same records): more
         than one ball or any cavity runs the multi-ball attractors (:mod:`acoustiviz.dynamics.balls_forced`:
         the event solver, no shooting), their noise in operation from every collision
@@ -91,7 +91,8 @@ class ForcedJob(Settings):
         The front end's vocabulary: API parameter -> the option or scene key its errors name (not compared).
     """
 
-    TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS, *BALLS)
+    # the balls' material as the damper job's; their start is not the forced run's (it has its own starts)
+    TABLE = (EXCITATION_KIND, *FORCED, *FORCED_EXECUTION, NOISE, *FORCED_OUTPUTS, *BALLS, BALL_START[2])
     # the model, the room (a scene's configuration), the frequencies, the amplitude, the listener, the memory cap
     BUILT_FROM = (*DAMPER, *ROOM, FREQUENCIES, AMPLITUDE, NOISE_LISTENER, *MEMORY)
     # the duration is the damper run's, not a room's window; the sound speed is not a setting of the job
@@ -131,6 +132,7 @@ class ForcedJob(Settings):
     k_hertz_ball: float | None = None
     c1_ball: float | None = None
     cavities: tuple = ()
+    ball_material: str = BALL_START[2].default
     names: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     @classmethod
@@ -258,12 +260,17 @@ class ForcedJob(Settings):
         """Several balls: their cavities, then what the multi-ball attractors do not offer, then their model."""
         from ...dynamics.balls_forced import check_ball_settings
         from ...dynamics.forced import Excitation
-        from .damper_job import check_cavities
+        from .damper_job import check_cavities, check_material
 
         if self.cavities:
             check_cavities(self)
+        material = self.names.get("ball_material", "ball_material")
         if not self.several_balls:
+            if self.ball_material != BALL_START[2].default:
+                raise ParameterError(material, f"applies to several balls: set {self.names.get('balls', 'balls')} "
+                                               "above 1")
             return
+        check_material(self.ball_material, material)
         what = (f"{len(self.cavities)} cavities ({self.names.get('cavities', 'cavities')})" if self.cavities
                 else f"{self.balls} balls ({self.names.get('balls', 'balls')})")
         refused = {"solver": (self.solver != "event", "the balls run by the event solver: drop it or give 'event'"),
