@@ -114,6 +114,8 @@ def directivity_figure(directivity, *, title: str = "", half_space: bool = True)
             fig.suptitle(title, fontsize=10)
         if half_space:
             half_space_axes(fig)
+        else:  # a first draw places the polar labels, so the layout at saving makes room for them (matplotlib 3.10)
+            fig.draw_without_rendering()
     return fig
 
 
