@@ -66,6 +66,31 @@ def _draw_geometry(ax, geometry, axes_names, offset: float, box) -> None:
     ax.set_ylim(y0 - ext[(j, 1)], y1 + ext[(j, -1)])
 
 
+def _check_axes_names(axes_names) -> None:
+    """Refuse map directions other than ``("x", "z")`` (vertical) and ``("x", "y")`` (horizontal)."""
+    if tuple(axes_names) not in (("x", "z"), ("x", "y")):
+        raise ParameterError("axes_names", f"must be ('x', 'z') or ('x', 'y'), got {axes_names!r}")
+
+
+def _extent(grid, axes_names) -> tuple:
+    """``(left, right, bottom, top)`` in m of a planar grid seen along ``axes_names``."""
+    i, j = (_AXIS[a] for a in axes_names)
+    x0, y0 = float(grid.origin[i]), float(grid.origin[j])
+    return x0, x0 + float(grid.u[i]), y0, y0 + float(grid.v[j])
+
+
+def _dress_map(ax, im, grid, geometry, axes_names, box, label: str) -> None:
+    """Around a map's image ``im``: the sphere and planes in the grid's plane, equal axes in m, a colour bar."""
+    i, j = (_AXIS[a] for a in axes_names)
+    _draw_geometry(ax, geometry, axes_names, float(grid.points[0, 3 - i - j]), box)
+    ax.set_aspect("equal")
+    ax.grid(False)
+    ax.set_xlabel(f"{axes_names[0]} (m)")
+    ax.set_ylabel(f"{axes_names[1]} (m)")
+    cb = ax.figure.colorbar(im, ax=ax, shrink=0.85, extend="both")
+    cb.set_label(label)
+
+
 def plot_level_map(grid, values, geometry, *, axes_names=("x", "z"), label: str = "level (dB)", cmap: str = "magma",
                    ax=None, contours: float = 10.0):
     """Draw a level in dB over a planar grid, with the sphere and the reflecting planes.
@@ -95,17 +120,13 @@ def plot_level_map(grid, values, geometry, *, axes_names=("x", "z"), label: str 
     """
     from .style import new_axes
 
-    if tuple(axes_names) not in (("x", "z"), ("x", "y")):
-        raise ParameterError("axes_names", f"must be ('x', 'z') or ('x', 'y'), got {axes_names!r}")
+    _check_axes_names(axes_names)
     v = np.asarray(values, dtype=float)
     if v.shape != (grid.points.shape[0],):
         raise ParameterError("values", f"expected {grid.points.shape[0]} values, got shape {v.shape}")
     ax = new_axes(ax, figsize=(6.4, 5.0))
-    i, j = (_AXIS[a] for a in axes_names)
-    k = 3 - i - j
     img = grid.image(v)
-    x0, y0 = float(grid.origin[i]), float(grid.origin[j])
-    box = (x0, x0 + float(grid.u[i]), y0, y0 + float(grid.v[j]))
+    box = _extent(grid, axes_names)
     lo, hi = _limits(v)
     im = ax.imshow(img, origin="lower", extent=box, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
     if contours > 0 and np.isfinite(img).sum() > 4:
@@ -115,13 +136,7 @@ def plot_level_map(grid, values, geometry, *, axes_names=("x", "z"), label: str 
             ys = np.linspace(box[2], box[3], grid.n_v)
             cs = ax.contour(xs, ys, img, levels=levels, colors="white", linewidths=0.6, alpha=0.8)
             ax.clabel(cs, fmt="%g", fontsize=7)
-    _draw_geometry(ax, geometry, axes_names, float(grid.points[0, k]), box)
-    ax.set_aspect("equal")
-    ax.grid(False)
-    ax.set_xlabel(f"{axes_names[0]} (m)")
-    ax.set_ylabel(f"{axes_names[1]} (m)")
-    cb = ax.figure.colorbar(im, ax=ax, shrink=0.85, extend="both")
-    cb.set_label(label)
+    _dress_map(ax, im, grid, geometry, axes_names, box, label)
     return ax
 
 
@@ -186,8 +201,7 @@ def pressure_map_figure(grid, pressure, geometry, *, axes_names=("x", "z"), titl
     """
     from matplotlib.figure import Figure
 
-    if tuple(axes_names) not in (("x", "z"), ("x", "y")):
-        raise ParameterError("axes_names", f"must be ('x', 'z') or ('x', 'y'), got {axes_names!r}")
+    _check_axes_names(axes_names)
     p = np.asarray(pressure, dtype=float)
     finite = np.abs(p[np.isfinite(p)])
     top = float(np.percentile(finite, 99.5)) if finite.size else 0.0
@@ -196,18 +210,10 @@ def pressure_map_figure(grid, pressure, geometry, *, axes_names=("x", "z"), titl
         u, v = float(np.linalg.norm(grid.u)), float(np.linalg.norm(grid.v))
         fig = Figure(figsize=(6.4, min(9.0, max(3.2, 5.4 * v / u + 1.0))), layout="constrained")
         ax = fig.add_subplot()
-        i, j = (_AXIS[a] for a in axes_names)
-        x0, y0 = float(grid.origin[i]), float(grid.origin[j])
-        box = (x0, x0 + float(grid.u[i]), y0, y0 + float(grid.v[j]))
+        box = _extent(grid, axes_names)
         im = ax.imshow(grid.image(p), origin="lower", extent=box, cmap="RdBu_r", vmin=-top, vmax=top,
                        interpolation="nearest")
-        _draw_geometry(ax, geometry, axes_names, float(grid.points[0, 3 - i - j]), box)
-        ax.set_aspect("equal")
-        ax.grid(False)
-        ax.set_xlabel(f"{axes_names[0]} (m)")
-        ax.set_ylabel(f"{axes_names[1]} (m)")
-        cb = fig.colorbar(im, ax=ax, shrink=0.85, extend="both")
-        cb.set_label("sound pressure (Pa)")
+        _dress_map(ax, im, grid, geometry, axes_names, box, "sound pressure (Pa)")
         if title:
             ax.set_title(title, fontsize=10)
     return fig
