@@ -378,37 +378,30 @@ def _fly_forced(t0, tau, y, nb, npair, a, wd, C, fc, ext):
 
 
 @helper
-def _flight_dense_forced(t0, tau, y, nb, a, wd, fc, t_eval, ie, dense):
-    c = flight_coeffs(t0, y[0], y[nb], 0.0, 0.0, a, wd, fc, 0.0)
-    while ie < t_eval.shape[0] and t_eval[ie] <= t0 + tau:
-        dt = t_eval[ie] - t0
-        x, v, _ = flight_state(dt, c)
-        dense[ie, 0] = x
-        dense[ie, nb] = v
-        for k in range(1, nb):
-            dense[ie, k] = y[k] + y[nb + k] * dt
-            dense[ie, nb + k] = y[nb + k]
-        ie += 1
-    return ie
-
-
-@helper
 def _flight(t0, tau, y, nb, npair, a, wd, M, K, C, fc, ext, t_eval, ie, dense):
     """A flight of ``tau`` s from ``t0`` s: the output times inside it, then every body moved to its end."""
+    ie = _flight_dense(t0, tau, y, nb, a, wd, fc, t_eval, ie, dense)
     if fc is None:
-        ie = _flight_dense(t0, tau, y, nb, a, wd, t_eval, ie, dense)
         _fly(t0, tau, y, nb, a, wd, M, K)
     else:
-        ie = _flight_dense_forced(t0, tau, y, nb, a, wd, fc, t_eval, ie, dense)
         _fly_forced(t0, tau, y, nb, npair, a, wd, C, fc, ext)
     return ie
 
 
 @helper
-def _flight_dense(t0, tau, y, nb, a, wd, t_eval, ie, dense):
+def _flight_dense(t0, tau, y, nb, a, wd, fc, t_eval, ie, dense):
+    """Fill the output times of a flight of ``tau`` s from ``t0`` s; returns the next one due.
+
+    The main mass in closed form (with the particular solution of the forcing ``fc``; None: free, the
+    damped oscillation alone), the balls at constant velocity.
+    """
+    c = flight_coeffs(t0, y[0], y[nb], 0.0, 0.0, a, wd, fc, 0.0)
     while ie < t_eval.shape[0] and t_eval[ie] <= t0 + tau:
         dt = t_eval[ie] - t0
-        x, v = _osc(y[0], y[nb], dt, a, wd)
+        if fc is None:
+            x, v = _osc(y[0], y[nb], dt, a, wd)
+        else:
+            x, v, _ = flight_state(dt, c)
         dense[ie, 0] = x
         dense[ie, nb] = v
         for k in range(1, nb):
