@@ -276,6 +276,32 @@ def _neighbour_seeds(new, sweep) -> list:
     return seeds
 
 
+def band(model, frequencies, amplitude: float, kind: str, sweep: str, settings, kwargs: dict, check):
+    """``(frequencies Hz, excitations, settings)`` of a frequency response, every refusal before any run.
+
+    ``check(model, excitation, settings, **kwargs)`` validates the settings of the model's solver (one
+    ball or several); an undamped resonance at any frequency is refused too.
+    """
+    check_choice("sweep", sweep, SWEEPS)
+    f = _frequencies(frequencies)
+    excitations = [Excitation(float(fi), amplitude, kind) for fi in f]
+    settings = check(model, excitations[0], settings, **kwargs)
+    for ex in excitations[1:]:
+        ex.linear_response(model)  # refuses an undamped resonance before any run
+    return f, excitations, settings
+
+
+def first_round(work, tasks: list, f, settings, executor, progress) -> list:
+    """The starts of every frequency: ``work(task)`` for each, on ``executor`` if given, reported in order."""
+    run = executor.map if executor is not None else map
+    results = []
+    for k, r in enumerate(run(work, tasks)):
+        results.append(r)
+        if progress:
+            progress(f"{f[k]:g} Hz ({k + 1}/{f.size}): {len(r.attractors)} attractor(s) from {settings.starts} starts")
+    return results
+
+
 def attractor_response(
     model: DamperModel,
     frequencies,
@@ -312,18 +338,10 @@ def attractor_response(
     -------
     AttractorResponse
     """
-    check_choice("sweep", sweep, SWEEPS)
-    f = _frequencies(frequencies)
-    excitations = [Excitation(float(fi), amplitude, kind) for fi in f]
-    settings = check_settings(model, excitations[0], settings, **kwargs)
-    for ex in excitations[1:]:
-        ex.linear_response(model)  # refuses an undamped resonance before any run
-    run = executor.map if executor is not None else map
-    results = []
-    for k, r in enumerate(run(_run_attractors, [(model, ex, settings, (), None) for ex in excitations])):
-        results.append(r)
-        if progress:
-            progress(f"{f[k]:g} Hz ({k + 1}/{f.size}): {len(r.attractors)} attractor(s) from {settings.starts} starts")
+    f, excitations, settings = band(model, frequencies, amplitude, kind, sweep, settings, kwargs, check_settings)
+    results = first_round(_run_attractors, [(model, ex, settings, (), None) for ex in excitations], f, settings,
+                          executor, progress)
+    run = executor.map if executor is not None else map  # the continuation rounds
     new = [list(r.attractors) for r in results]
     rounds = 0
     if progress:

@@ -45,7 +45,7 @@ import numpy as np
 from .._jit import compile_for
 from .._validate import ParameterError
 from ._attractors import FrequencyAttractors
-from ._forced_response import AttractorResponse, _frequencies
+from ._forced_response import AttractorResponse, band, first_round
 from ._forced_steady import (
     BATCH_CYCLES,
     MAX_PERIOD,
@@ -552,21 +552,8 @@ def ball_attractor_response(model: MultiBallModel, frequencies, amplitude: float
     "up" / "down" runs, frequency after frequency in that direction, the final states of the
     attractors of the one before as seeds (one pass), "both" makes both passes, "independent" none.
     """
-    from .._validate import check_choice
-    from ._forced_response import SWEEPS
-
-    check_choice("sweep", sweep, SWEEPS)
-    f = _frequencies(frequencies)
-    excitations = [Excitation(float(fi), amplitude, kind) for fi in f]
-    settings = check_ball_settings(model, excitations[0], settings, **kwargs)
-    for ex in excitations[1:]:
-        ex.linear_response(model)  # refuses an undamped resonance before any run
-    run = executor.map if executor is not None else map
-    results = []
-    for i, r in enumerate(run(_run_starts, [(model, ex, settings) for ex in excitations])):
-        results.append(r)
-        if progress:
-            progress(f"{f[i]:g} Hz ({i + 1}/{f.size}): {len(r.attractors)} attractor(s) from {settings.starts} starts")
+    f, excitations, settings = band(model, frequencies, amplitude, kind, sweep, settings, kwargs, check_ball_settings)
+    results = first_round(_run_starts, [(model, ex, settings) for ex in excitations], f, settings, executor, progress)
     orders = {"up": [range(f.size)], "down": [range(f.size - 1, -1, -1)], "independent": [],
               "both": [range(f.size), range(f.size - 1, -1, -1)]}[sweep]
     for order in orders:  # continuation: the seeds of each frequency depend on its neighbour's
