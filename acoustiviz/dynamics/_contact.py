@@ -42,6 +42,9 @@ _B = _dop.B
 #: Contact state components without forcing (t, x, v, sqrt(delta), u, impulse, dissipated in
 #: contact, dissipated by C); forcing adds the work of F.
 NY = 8
+#: Leading contact state components a derivative reads (t, x, v, ξ, u; t only with forcing): the others are
+#: quadratures that feed no derivative, so a stage's intermediate state needs only these.
+NY_READ = 5
 #: Rows of the stage array ``kst`` a caller allocates: the stages and the derivative at the new point.
 N_STAGE_ROWS = _NS + 1
 #: Rows of the work array ``work`` a caller allocates.
@@ -70,7 +73,8 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
     ``dt/dσ = ξ``, ``dx/dσ = ξ v``, ``dv/dσ = ξ (s F_c - K x - C v + F) / M``, ``dξ/dσ = u / 2``,
     ``du/dσ = ξ (-F_c/m - F_c/M + s (K x + C v - F) / M)``, then the integrands ξ F_c, ξ (F_c -
     K_HZ δ^{3/2}) u, ξ C v² and (forced) ξ F v. ``F`` is evaluated at the physical time
-    ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time).
+    ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time). Reads only
+    ``y[:NY_READ]``.
     """
     M, K, C, m, kh, c1, clip = prm.M, prm.K, prm.C, prm.m, prm.k_hertz, prm.c1, prm.clip
     x, v, xi, u = y[1], y[2], y[3], y[4]
@@ -96,12 +100,16 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
 
 @helper
 def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
+    """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages.
+
+    The intermediate states ``ytmp`` of the stages hold only the ``NY_READ`` components a derivative
+    reads (the quadratures' sums would be computed for nothing); ``ynew`` has them all.
+    """
     ny = NY if fc is None else NY + 1  # a compile-time constant
     for i in range(ny):
         kst[0, i] = f0[i]
     for st in range(1, _NS):
-        for i in range(ny):
+        for i in range(NY_READ):
             acc = 0.0
             for j in range(st):
                 acc += _A[st, j] * kst[j, i]
