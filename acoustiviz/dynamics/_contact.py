@@ -37,8 +37,6 @@ from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 
 # Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner, Solving ODEs I, II.10), vendored.
 _NS = _dop.N_STAGES
-_A = _dop.A
-_B = _dop.B
 #: Contact state components without forcing (t, x, v, sqrt(delta), u, impulse, dissipated in
 #: contact, dissipated by C); forcing adds the work of F.
 NY = 8
@@ -109,17 +107,9 @@ def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     for i in range(ny):
         kst[0, i] = f0[i]
     for st in range(1, _NS):
-        for i in range(NY_READ):
-            acc = 0.0
-            for j in range(st):
-                acc += _A[st, j] * kst[j, i]
-            ytmp[i] = y[i] + h * acc
+        _dop.stage_state(st, y, h, kst, ytmp, NY_READ)
         _rhs_into(ytmp, prm, fc, tc, sw, kst, st)
-    for i in range(ny):
-        acc = 0.0
-        for j in range(_NS):
-            acc += _B[j] * kst[j, i]
-        ynew[i] = y[i] + h * acc
+    _dop.solution(y, h, kst, ynew, ny)
     _rhs_into(ynew, prm, fc, tc, sw, kst, np.int64(_NS))
     for i in range(ny):
         fnew[i] = kst[_NS, i]
