@@ -48,9 +48,11 @@ N_STAGE_ROWS = _NS + 1
 #: Rows of the work array ``work`` a caller allocates.
 N_WORK_ROWS = 8
 _EPS = 2.220446049250313e-16
-#: Relative shortfall of the peak force allowed to its search (an output only: it feeds no motion), at
-#: or below the integration's own relative error (tolerances 1e-10 forced, 1e-13 free decay).
-_PEAK_RTOL = 1e-13
+#: The peak force's search stops at a trial where the force falls short of the top of its local parabola
+#: (value, σ-rate and second σ-derivative there) by at most this much relative, and reports that top: its
+#: error is then of the order of the cubic term, this shortfall to the power 3/2 (~3e-11), far below the
+#: integration's own (the peak is an output only, it feeds no motion).
+_PEAK_RTOL = 1e-7
 
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
@@ -185,8 +187,9 @@ def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, yt
     ``dg1``). Kind 3, the peak force, between ``glo`` (> 0) at the step start and ``g1`` (<= 0) at
     its end: Newton on dF/dσ with its derivative :func:`_d2fds2`, kept inside the bracket, from the
     first trial ``target`` (:func:`_peak_guess`; ``dg1`` unused), until the force at the trial is
-    within ``_PEAK_RTOL`` of the maximum of its local parabola (or the bracket within 1e-6 h): the
-    maximum is flat, so the step length needs only about half the digits of the force. Every trial is a full
+    within ``_PEAK_RTOL`` of the top of its local parabola (or the bracket within 1e-6 h); the
+    caller takes that top. The maximum is flat: the step length needs only about half the digits
+    of the force, and the first trial usually suffices. Every trial is a full
     Dormand-Prince step from the step start, so the root is as accurate as the integration;
     ``ynew``/``fnew`` receive the state at the root (the step end's own buffers, or others that
     keep it). One compiled function for both searches: each compiled function that calls
@@ -296,13 +299,17 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
 
     dF/dσ is ``g0`` at the step start and ``g1`` at its end; when it turns from > 0 to <= 0 the
     maximum is located by :func:`_root_in_step` into ``work[5:7]``, the buffers taken only then (no
-    reference counting in the other steps); the step end stays in ``work[3:5]``.
+    reference counting in the other steps), and taken as the top of the force's parabola there
+    (its value, σ-rate and second σ-derivative); the step end stays in ``work[3:5]``.
     """
     if g0 > 0.0 and g1 <= 0.0:
         y, f0, ytmp, yd, fd = work[0], work[1], work[2], work[5], work[6]
         first = _peak_guess(y, work[3], hstep, g0, g1, prm)
         _root_in_step(np.int64(3), first, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
         fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
+        gm, dgm = _dfds(yd, fd, prm), _d2fds2(yd, fd, prm, fc, start.tc, start.sw)
+        if dgm < 0.0:  # the top of the force's parabola there
+            fpk += gm * gm / (-2.0 * dgm)
         peak = max(peak, fpk)
     return peak
 
