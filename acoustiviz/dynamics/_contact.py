@@ -308,8 +308,9 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
         _root_in_step(np.int64(3), first, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
         fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
         gm, dgm = _dfds(yd, fd, prm), _d2fds2(yd, fd, prm, fc, start.tc, start.sw)
-        if dgm < 0.0:  # the top of the force's parabola there
-            fpk += gm * gm / (-2.0 * dgm)
+        rise = gm * gm / (-2.0 * dgm) if dgm < 0.0 else math.inf
+        if rise <= _PEAK_RTOL * fpk:  # the top of the force's parabola there, where the search trusts it
+            fpk += rise
         peak = max(peak, fpk)
     return peak
 
