@@ -86,3 +86,82 @@ def test_matches_the_published_digits():
     assert dop.A[11, 10] == 6.43392746015763530355970484046e-1
     assert dop.B[0] == 5.42937341165687622380535766363e-2
     assert dop.E5[0] == 0.1312004499419488073250102996e-1
+
+
+def test_sparse_coefficients_are_the_nonzero_entries_of_the_arrays():
+    rows = (*dop.A, dop.B)
+    assert len(dop.A_COLS) == len(dop.A_VALS) == 13
+    for i, row in enumerate(rows):
+        cols = np.flatnonzero(row)
+        assert dop.A_COLS[i] == tuple(cols), i
+        assert dop.A_VALS[i] == tuple(row[cols]), i
+    assert sum(len(c) for c in dop.A_COLS[:12]) == 50 and len(dop.A_COLS[12]) == 8
+    for cols, vals, dense in ((dop.E5_COLS, dop.E5_VALS, dop.E5), (dop.E3_COLS, dop.E3_VALS, dop.E3)):
+        nz = np.flatnonzero(dense)
+        assert cols == tuple(nz) and vals == tuple(dense[nz])
+
+
+def _stages(seed, n):
+    """Stage rows spanning many magnitudes and both signs, as a solver's ``kst`` (13 rows)."""
+    rng = np.random.default_rng(seed)
+    return rng.standard_normal((13, n)) * 10.0 ** rng.integers(-12, 12, size=(13, n))
+
+
+def _dense(weights, kst, i):
+    acc = 0.0  # the dense sum over every stage, zeros included, in stage order
+    for j, w in enumerate(weights):
+        acc += float(w) * float(kst[j, i])
+    return acc
+
+
+def test_compiled_sparse_sums_equal_the_dense_sums_bit_for_bit():
+    numba = pytest.importorskip("numba")
+
+    @numba.njit
+    def compiled(y, h, kst, n):
+        out = np.zeros((13, y.shape[0]))
+        for st in range(1, 12):
+            dop.stage_state(st, y, h, kst, out[st], n)
+        dop.solution(y, h, kst, out[12], n)
+        est = np.zeros((2, y.shape[0]))
+        for i in range(y.shape[0]):
+            est[0, i] = dop.stage_sum(dop.E5_VALS, dop.E5_COLS, kst, i)
+            est[1, i] = dop.stage_sum(dop.E3_VALS, dop.E3_COLS, kst, i)
+        return out, est
+
+    for seed, n in ((1, 5), (2, 9), (3, 14)):
+        kst = _stages(seed, n)
+        y = np.random.default_rng(seed + 10).standard_normal(n)
+        h = 0.37
+        out, est = compiled(y, h, kst, n - 1)  # the last component left alone
+        rows = (*dop.A, dop.B)
+        for st in range(1, 13):
+            want = [y[i] + h * _dense(rows[st], kst, i) for i in range(n - 1)]
+            assert np.array_equal(out[st, : n - 1], want), st
+            assert out[st, n - 1] == 0.0
+        assert np.array_equal(est[0], [_dense(dop.E5, kst, i) for i in range(n)])
+        assert np.array_equal(est[1], [_dense(dop.E3, kst, i) for i in range(n)])
+
+
+def test_error_norm_is_hairers_dense_formula_and_rejects_an_overflowed_end():
+    numba = pytest.importorskip("numba")
+
+    @numba.njit
+    def error_norm(y, ynew, h, kst, rtol, atol):  # the compiled helper has no entry point from Python
+        return dop.error_norm(y, ynew, h, kst, rtol, atol)
+
+    n = 9
+    kst = _stages(4, n) * 1e-6
+    rng = np.random.default_rng(5)
+    y, ynew, atol = rng.standard_normal(n), rng.standard_normal(n), 10.0 ** rng.uniform(-14, -8, n)
+    h, rtol = 0.25, 1e-10
+    e5 = e3 = 0.0
+    for i in range(n):
+        sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
+        q5, q3 = _dense(dop.E5, kst, i) / sc, _dense(dop.E3, kst, i) / sc
+        e5 += q5 * q5
+        e3 += q3 * q3
+    want = h * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+    assert error_norm(y, ynew, h, kst, rtol, atol) == want
+    ynew[3] = math.inf
+    assert error_norm(y, ynew, h, kst, rtol, atol) == math.inf

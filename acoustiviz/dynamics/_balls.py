@@ -51,12 +51,9 @@ import numpy as np
 
 from .._jit import helper, kernel
 from ..constants import HERTZ_DURATION_CONSTANT as _HERTZ_T
+from . import _dop853 as _dop
 from ._balls_lone import lone_buffers, lone_contact
-from ._dop853 import E3 as _E3
-from ._dop853 import E5 as _E5
 from ._dop853 import N_STAGES as _NS
-from ._dop853 import A as _A
-from ._dop853 import B as _B
 from ._dop853 import C as _CN
 from ._flight import _osc, flight_coeffs, flight_energy, flight_minmax, flight_state, scan_forced, scan_unforced
 
@@ -113,37 +110,32 @@ def _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, out, row, fc, t):
 def _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, t):
     """One Dormand-Prince 8 step of ``h`` s from ``y`` at ``t`` s (``kst[0]`` its derivative).
 
-    Fills ``ynew`` and ``kst``.
+    Fills ``ynew`` and ``kst``. The stages' intermediate states ``ytmp`` hold only the positions and
+    velocities, the ``2 nb`` components :func:`_rhs` reads (the others are quadratures).
     """
-    n = y.shape[0]
+    nread = 2 * nb
     for st in range(1, _NS):
-        for i in range(n):
-            acc = 0.0
-            for j in range(st):
-                acc += _A[st, j] * kst[j, i]
-            ytmp[i] = y[i] + h * acc
+        _dop.stage_state(st, y, h, kst, ytmp, nread)
         _rhs(ytmp, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(st), fc, t + _CN[st] * h)
-    for i in range(n):
-        acc = 0.0
-        for j in range(_NS):
-            acc += _B[j] * kst[j, i]
-        ynew[i] = y[i] + h * acc
+    _dop.solution(y, h, kst, ynew, y.shape[0])
     _rhs(ynew, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(_NS), fc, t + h)
 
 
 @helper
 def _error(y, ynew, h, kst, rtol, atol):
-    """Hairer's DOP853 error norm over the positions and velocities (``atol`` rows), 1 = at tolerance."""
+    """Hairer's DOP853 error norm over the positions and velocities (``atol`` rows), 1 = at tolerance.
+
+    Infinite (the step rejected) when a scale is not finite, as :func:`~._dop853.error_norm`.
+    """
     n = atol.shape[0]
     e5 = 0.0
     e3 = 0.0
     for i in range(n):
         sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(_NS + 1):
-            a5 += _E5[j] * kst[j, i]
-            a3 += _E3[j] * kst[j, i]
+        if not sc < math.inf:
+            return math.inf
+        a5 = _dop.stage_sum(_dop.E5_VALS, _dop.E5_COLS, kst, i)
+        a3 = _dop.stage_sum(_dop.E3_VALS, _dop.E3_COLS, kst, i)
         e5 += (a5 / sc) ** 2
         e3 += (a3 / sc) ** 2
     if e5 == 0.0 and e3 == 0.0:

@@ -37,16 +37,22 @@ from ._status import STATUS_OK, STATUS_STEP_UNDERFLOW
 
 # Dormand-Prince 8(5,3) coefficients (Hairer, Norsett, Wanner, Solving ODEs I, II.10), vendored.
 _NS = _dop.N_STAGES
-_A = _dop.A
-_B = _dop.B
 #: Contact state components without forcing (t, x, v, sqrt(delta), u, impulse, dissipated in
 #: contact, dissipated by C); forcing adds the work of F.
 NY = 8
+#: Leading contact state components a derivative reads (t, x, v, ξ, u; t only with forcing): the others are
+#: quadratures that feed no derivative, so a stage's intermediate state needs only these.
+NY_READ = 5
 #: Rows of the stage array ``kst`` a caller allocates: the stages and the derivative at the new point.
 N_STAGE_ROWS = _NS + 1
 #: Rows of the work array ``work`` a caller allocates.
 N_WORK_ROWS = 8
 _EPS = 2.220446049250313e-16
+#: The peak force's search stops at a trial where the force falls short of the top of its local parabola
+#: (value, σ-rate and second σ-derivative there) by at most this much relative, and reports that top: its
+#: error is then of the order of the cubic term, this shortfall to the power 3/2 (~3e-11), far below the
+#: integration's own (the peak is an output only, it feeds no motion).
+_PEAK_RTOL = 1e-7
 
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
@@ -70,7 +76,8 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
     ``dt/dσ = ξ``, ``dx/dσ = ξ v``, ``dv/dσ = ξ (s F_c - K x - C v + F) / M``, ``dξ/dσ = u / 2``,
     ``du/dσ = ξ (-F_c/m - F_c/M + s (K x + C v - F) / M)``, then the integrands ξ F_c, ξ (F_c -
     K_HZ δ^{3/2}) u, ξ C v² and (forced) ξ F v. ``F`` is evaluated at the physical time
-    ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time).
+    ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time). Reads only
+    ``y[:NY_READ]``.
     """
     M, K, C, m, kh, c1, clip = prm.M, prm.K, prm.C, prm.m, prm.k_hertz, prm.c1, prm.clip
     x, v, xi, u = y[1], y[2], y[3], y[4]
@@ -96,22 +103,18 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
 
 @helper
 def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
-    """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages."""
+    """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages.
+
+    The intermediate states ``ytmp`` of the stages hold only the ``NY_READ`` components a derivative
+    reads (the quadratures' sums would be computed for nothing); ``ynew`` has them all.
+    """
     ny = NY if fc is None else NY + 1  # a compile-time constant
     for i in range(ny):
         kst[0, i] = f0[i]
     for st in range(1, _NS):
-        for i in range(ny):
-            acc = 0.0
-            for j in range(st):
-                acc += _A[st, j] * kst[j, i]
-            ytmp[i] = y[i] + h * acc
+        _dop.stage_state(st, y, h, kst, ytmp, NY_READ)
         _rhs_into(ytmp, prm, fc, tc, sw, kst, st)
-    for i in range(ny):
-        acc = 0.0
-        for j in range(_NS):
-            acc += _B[j] * kst[j, i]
-        ynew[i] = y[i] + h * acc
+    _dop.solution(y, h, kst, ynew, ny)
     _rhs_into(ynew, prm, fc, tc, sw, kst, np.int64(_NS))
     for i in range(ny):
         fnew[i] = kst[_NS, i]
@@ -125,42 +128,93 @@ def _dfds(y, f, prm):
 
 
 @helper
+def _d2fds2(y, f, prm, fc, tc, sw):
+    """Second derivative of the (unclipped) contact force with σ, in N (s m^-0.5)^-2, from the state and its rates.
+
+    With ``F = K_HZ ξ³ + c1 u``, ``ξ' = u/2`` and ``u' = ξ a``, ``a = -F/m - F/M + s S/M``, ``S = K x + C v -
+    F_ext(t)`` (module docstring): ``F'' = 6 K_HZ ξ ξ'² + 3 K_HZ ξ² u'/2 + c1 (ξ' a + ξ (-F'/m - F'/M + s S'/M))``
+    with ``F' = dF/dσ`` (:func:`_dfds`) and ``S' = K x' + C v' - t' dF_ext/dt``.
+    """
+    M, K, C, m, kh, c1 = prm.M, prm.K, prm.C, prm.m, prm.k_hertz, prm.c1
+    xi, u, dxi, du = y[3], y[4], f[3], f[4]
+    force = kh * xi * xi * xi + c1 * u
+    dforce = 3.0 * kh * xi * xi * dxi + c1 * du
+    spring = K * y[1] + C * y[2]
+    dspring = K * f[1] + C * f[2]
+    if fc is not None:
+        w, t = fc[0], tc + y[0]
+        spring = spring - (fc[1] * math.cos(w * t) + fc[2] * math.sin(w * t))
+        dspring = dspring - f[0] * w * (fc[2] * math.cos(w * t) - fc[1] * math.sin(w * t))
+    a = -force / m - force / M + sw * spring / M
+    ddu = dxi * a + xi * (-dforce / m - dforce / M + sw * dspring / M)
+    return 6.0 * kh * xi * dxi * dxi + 1.5 * kh * xi * xi * du + c1 * ddu
+
+
+@helper
+def _peak_guess(y, ynew, h, g0, g1, prm):
+    """First estimate in (0, h) of the σ step to the force maximum: the cubic Hermite interpolant's.
+
+    The force's values ``F = K_HZ ξ³ + c1 u`` and σ-rates ``g0 > 0``, ``g1 <= 0`` at both ends of the
+    step of ``h`` define a cubic whose derivative, a quadratic, has one root in (0, h]; the secant
+    of the rates when that root is not found.
+    """
+    kh, c1 = prm.k_hertz, prm.c1
+    fa = kh * y[3] * y[3] * y[3] + c1 * y[4]
+    fb = kh * ynew[3] * ynew[3] * ynew[3] + c1 * ynew[4]
+    # p'(s) = a s² + b s + c on s = σ/h in [0, 1], c = h g0 > 0 >= a + b + c = h g1
+    a = 6.0 * (fa - fb) + 3.0 * h * (g0 + g1)
+    b = 6.0 * (fb - fa) - h * (4.0 * g0 + 2.0 * g1)
+    c = h * g0
+    s = -1.0
+    disc = b * b - 4.0 * a * c
+    if a == 0.0:
+        s = -c / b if b != 0.0 else -1.0
+    elif disc >= 0.0:
+        q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+        s = q / a if 0.0 < q / a < 1.0 else (c / q if q != 0.0 else -1.0)
+    if not (0.0 < s < 1.0):
+        s = g0 / (g0 - g1)
+    return s * h
+
+
+@helper
 def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
     """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
 
     ``glo`` is the sign-carrying value at the step start, ``g1`` the value at the full step's end.
     Kinds 0-2: Newton's method on the step length (the derivative, u/2 or ξ, is part of the
     state) kept inside the bracket, the first trial from the step end (value ``g1``, σ-derivative
-    ``dg1``). Kind 3, the peak force: Illinois from ``glo`` (> 0) at the step start to ``g1``
-    (<= 0) at its end, loose (the peak value is flat; ``dg1`` unused). Every trial is a full
+    ``dg1``). Kind 3, the peak force, between ``glo`` (> 0) at the step start and ``g1`` (<= 0) at
+    its end: Newton on dF/dσ with its derivative :func:`_d2fds2`, kept inside the bracket, from the
+    first trial ``target`` (:func:`_peak_guess`; ``dg1`` unused), until the force at the trial is
+    within ``_PEAK_RTOL`` of the top of its local parabola (or the bracket within 1e-6 h); the
+    caller takes that top. The maximum is flat: the step length needs only about half the digits
+    of the force, and the first trial usually suffices. Every trial is a full
     Dormand-Prince step from the step start, so the root is as accurate as the integration;
     ``ynew``/``fnew`` receive the state at the root (the step end's own buffers, or others that
     keep it). One compiled function for both searches: each compiled function that calls
     :func:`_dop_step` carries its own copy of the step's code.
     """
     lo, hi = 0.0, h
-    if kind == 3:  # Illinois on dF/dσ
-        ghi = g1
-        side = 0
-        hm = hi
+    if kind == 3:  # Newton on dF/dσ from the first trial ``target``
+        hm = target
         for _ in range(60):
-            hm = (lo * ghi - hi * glo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
             if not (lo < hm < hi):
                 hm = 0.5 * (lo + hi)
             _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
             gm = _dfds(ynew, fnew, prm)
             if gm == 0.0:
                 break
-            if (gm > 0.0) == (glo > 0.0):  # Illinois: halve the end kept twice in a row (x 1.0 is exact)
-                lo, glo = hm, gm
-                ghi *= 0.5 if side == -1 else 1.0
-                side = -1
+            if gm > 0.0:
+                lo = hm
             else:
-                hi, ghi = hm, gm
-                glo *= 0.5 if side == 1 else 1.0
-                side = 1
-            if hi - lo <= 1e-6 * h:  # relative force error ~ (time error / contact time)^2 < 1e-12
+                hi = hm
+            dgm = _d2fds2(ynew, fnew, prm, fc, tc, sw)
+            fm = prm.k_hertz * ynew[3] * ynew[3] * ynew[3] + prm.c1 * ynew[4]
+            # F here falls short of the maximum of its parabola by gm² / (2 |F''|)
+            if gm * gm <= 2.0 * _PEAK_RTOL * fm * abs(dgm) or hi - lo <= 1e-6 * h:
                 break
+            hm = hm - gm / dgm if dgm < 0.0 else 0.5 * (lo + hi)
         return hm
     # Newton on state component ci less target: ξ (kind 0), v (kind 1) or t (kind 2, the only
     # one with a target; x - 0.0 is x exactly)
@@ -245,12 +299,18 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
 
     dF/dσ is ``g0`` at the step start and ``g1`` at its end; when it turns from > 0 to <= 0 the
     maximum is located by :func:`_root_in_step` into ``work[5:7]``, the buffers taken only then (no
-    reference counting in the other steps); the step end stays in ``work[3:5]``.
+    reference counting in the other steps), and taken as the top of the force's parabola there
+    (its value, σ-rate and second σ-derivative); the step end stays in ``work[3:5]``.
     """
     if g0 > 0.0 and g1 <= 0.0:
         y, f0, ytmp, yd, fd = work[0], work[1], work[2], work[5], work[6]
-        _root_in_step(np.int64(3), 0.0, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
+        first = _peak_guess(y, work[3], hstep, g0, g1, prm)
+        _root_in_step(np.int64(3), first, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
         fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
+        gm, dgm = _dfds(yd, fd, prm), _d2fds2(yd, fd, prm, fc, start.tc, start.sw)
+        rise = gm * gm / (-2.0 * dgm) if dgm < 0.0 else math.inf
+        if rise <= _PEAK_RTOL * fpk:  # the top of the force's parabola there, where the search trusts it
+            fpk += rise
         peak = max(peak, fpk)
     return peak
 
