@@ -319,6 +319,59 @@ def _gaps(tau, c):
     return c[10] - z, z + c[10], c[4] - v, e
 
 
+#: Slots (a power of two) of the table of rejected trial points of a forced scan (:func:`scan_forced`); a slot
+#: holds a time and the four values of :func:`_gaps` there, in a flat array with one scratch word at the end.
+_MEMO_SLOTS = 64
+# the slot: the two halves of the time's bit pattern folded into 32 bits, then Fibonacci hashing on 32 bits
+# (a product below 2^64, so that no unsigned product wraps) whose top 6 bits (64 slots) are kept
+_MEMO_LOW = np.uint64(0xFFFFFFFF)
+_MEMO_HALF = np.uint64(32)
+_MEMO_HASH = np.uint64(0x9E3779B1)
+_MEMO_SHIFT = np.uint64(26)  # 32 - log2(_MEMO_SLOTS)
+
+
+@helper
+def _memo_new():
+    """An empty table (:data:`_MEMO_SLOTS`): every time NaN, which equals no time."""
+    memo = np.empty(5 * _MEMO_SLOTS + 1)
+    for k in range(_MEMO_SLOTS):
+        memo[5 * k] = math.nan
+    return memo
+
+
+@helper
+def _memo_slot(memo, bits, tau):
+    """First word of the slot of ``tau`` s in ``memo`` (``bits`` its uint64 view)."""
+    memo[5 * _MEMO_SLOTS] = tau
+    b = bits[5 * _MEMO_SLOTS]
+    f = (b >> _MEMO_HALF) ^ (b & _MEMO_LOW)
+    return 5 * np.int64(((f * _MEMO_HASH) & _MEMO_LOW) >> _MEMO_SHIFT)
+
+
+@helper
+def _trial(tau, c, memo, bits):
+    """:func:`_gaps` at ``tau`` s, from ``memo`` when ``tau`` was tried before; and the slot of ``tau``.
+
+    A time comes back only as the same bit pattern, whose values are then bit for bit those that
+    evaluating it again gives.
+    """
+    k = _memo_slot(memo, bits, tau)
+    if memo[k] == tau:
+        return memo[k + 1], memo[k + 2], memo[k + 3], memo[k + 4], k
+    gp, gm, dz, e = _gaps(tau, c)
+    return gp, gm, dz, e, k
+
+
+@helper
+def _remember(memo, k, tau, gp, gm, dz, e):
+    """Keep the values of the rejected trial point ``tau`` s in its slot ``k`` of ``memo``."""
+    memo[k] = tau
+    memo[k + 1] = gp
+    memo[k + 2] = gm
+    memo[k + 3] = dz
+    memo[k + 4] = e
+
+
 @helper
 def scan_forced(c, tau_end):
     """First contact of a forced flight ``c`` within ``[0, tau_end]``: (found, tau in s, wall ±1).
@@ -331,6 +384,10 @@ def scan_forced(c, tau_end):
     halved. Only a grazing shorter than ``1e-10`` of the step cap (a penetration below
     ``L h²/2``, ~1e-20 m) can go unnoticed. The bound takes the ``e^{-a t_a}`` that the state at
     ``t_a`` was evaluated with.
+
+    Each step starts again from the cap, so its halvings often fall on times that an earlier step
+    tried and rejected (``t_a + h/2^k`` is the last rejected time of the step before): the values
+    of rejected times are kept in a small hash table and taken again when the same time comes back.
     """
     a, wd, om, hg = c[5], c[6], c[7], c[10]
     x0, v0 = c[1], c[2]
@@ -350,12 +407,14 @@ def scan_forced(c, tau_end):
         return True, 0.0, 1.0
     if gma <= 0.0 and dza < 0.0:
         return True, 0.0, -1.0
+    memo = _memo_new()
+    bits = memo.view(np.uint64)
     while ta < tau_end:
         h = min(hmax, tau_end - ta)
         lb = r * ea * wn2 + lp
         while True:
             tb = ta + h
-            gpb, gmb, dzb, eb = _gaps(tb, c)
+            gpb, gmb, dzb, eb, slot = _trial(tb, c, memo, bits)
             if abs(dza) > lb * h:  # monotone z
                 if dza > 0.0 and gpb <= 0.0:
                     return True, brent(np.int64(1), ta, tb, gpa, gpb, c), 1.0
@@ -373,6 +432,7 @@ def scan_forced(c, tau_end):
                 if gmb <= 0.0:
                     return True, brent(np.int64(2), ta, tb, gma, gmb, c) if gma > 0.0 else ta, -1.0
                 break
+            _remember(memo, slot, tb, gpb, gmb, dzb, eb)
             h *= 0.5
         ta = tb
         gpa, gma, dza, ea = gpb, gmb, dzb, eb
