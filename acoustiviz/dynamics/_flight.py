@@ -386,8 +386,9 @@ def scan_forced(c, tau_end):
     ``t_a`` was evaluated with.
 
     Each step starts again from the cap, so its halvings often fall on times that an earlier step
-    tried and rejected (``t_a + h/2^k`` is the last rejected time of the step before): the values
-    of rejected times are kept in a small hash table and taken again when the same time comes back.
+    tried and rejected (a step ``s`` accepted from ``t_p`` last rejected ``t_p + 2s``, which the step
+    from ``t_a = t_p + s`` tries again as ``t_a + s``): the values of rejected times are kept in a
+    small hash table and taken again when the same time comes back.
     """
     a, wd, om, hg = c[5], c[6], c[7], c[10]
     x0, v0 = c[1], c[2]
