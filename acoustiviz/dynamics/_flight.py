@@ -39,10 +39,12 @@ _GX, _GW = (np.ascontiguousarray(q) for q in np.polynomial.legendre.leggauss(12)
 
 
 @helper
-def _osc(x0, v0, tau, a, wd):
-    """Free damped oscillator after ``tau`` s: displacement (m) and velocity (m/s).
+def _osc_decay(x0, v0, tau, a, wd):
+    """Free damped oscillator after ``tau`` s: displacement (m), velocity (m/s) and ``e^{-aτ}``.
 
-    ``x(τ) = e^{-aτ} (x0 cos ωd τ + b sin ωd τ)`` with ``b = (v0 + a x0) / ωd`` (m).
+    ``x(τ) = e^{-aτ} (x0 cos ωd τ + b sin ωd τ)`` with ``b = (v0 + a x0) / ωd`` (m). The decay
+    factor is returned for the callers that need it at the same ``τ`` (the bound of
+    :func:`scan_forced`), so that it is not computed twice.
     """
     e = math.exp(-a * tau)
     c = math.cos(wd * tau)
@@ -50,6 +52,13 @@ def _osc(x0, v0, tau, a, wd):
     b = (v0 + a * x0) / wd
     x = e * (x0 * c + b * s)
     v = e * ((b * wd - a * x0) * c - (x0 * wd + a * b) * s)
+    return x, v, e
+
+
+@helper
+def _osc(x0, v0, tau, a, wd):
+    """Free damped oscillator after ``tau`` s: displacement (m) and velocity (m/s) (:func:`_osc_decay`)."""
+    x, v, _ = _osc_decay(x0, v0, tau, a, wd)
     return x, v
 
 
@@ -71,25 +80,37 @@ def flight_coeffs(t0, x, v, y, w, a, wd, fc, hg):
 
 
 @helper
-def flight_state(tau, c):
-    """Main-mass displacement (m), velocity (m/s) and acceleration (m/s²) at ``t0 + tau``.
+def _state_parts(tau, c):
+    """:func:`flight_state` at ``tau`` s with the values it shares with other terms at ``t0 + tau``.
 
-    ``x = x_h + x_p`` (module docstring); ``x_h'' = -2a x_h' - (a² + ωd²) x_h`` and
-    ``x_p'' = -ω² x_p``. Without forcing (``A_c = A_s = 0``) only the free part is evaluated.
+    Returns ``x, v, acc, e, cs, sn``: the state (m, m/s, m/s²), the decay factor ``e^{-aτ}`` of
+    the free part, and ``cos ωt``, ``sin ωt`` of the forcing (1 and 0 without forcing, not
+    evaluated then).
     """
     a, wd = c[5], c[6]
-    xh, vh = _osc(c[1], c[2], tau, a, wd)
+    xh, vh, e = _osc_decay(c[1], c[2], tau, a, wd)
     ah = -2.0 * a * vh - (a * a + wd * wd) * xh
     ac, as_ = c[8], c[9]
     if ac == 0.0 and as_ == 0.0:
-        return xh, vh, ah
+        return xh, vh, ah, e, 1.0, 0.0
     om = c[7]
     t = c[0] + tau
     cs = math.cos(om * t)
     sn = math.sin(om * t)
     xp = ac * cs + as_ * sn
     vp = om * (as_ * cs - ac * sn)
-    return xh + xp, vh + vp, ah - om * om * xp
+    return xh + xp, vh + vp, ah - om * om * xp, e, cs, sn
+
+
+@helper
+def flight_state(tau, c):
+    """Main-mass displacement (m), velocity (m/s) and acceleration (m/s²) at ``t0 + tau``.
+
+    ``x = x_h + x_p`` (module docstring); ``x_h'' = -2a x_h' - (a² + ωd²) x_h`` and
+    ``x_p'' = -ω² x_p``. Without forcing (``A_c = A_s = 0``) only the free part is evaluated.
+    """
+    x, v, acc, _, _, _ = _state_parts(tau, c)
+    return x, v, acc
 
 
 @helper
@@ -291,6 +312,67 @@ def scan_unforced(c, tau_end):
 
 # ------------------------------------------------------------------ forced flight
 @helper
+def _gaps(tau, c):
+    """Gap functions ``d/2 - z``, ``z + d/2`` (m), relative velocity ``z'`` (m/s) and ``e^{-aτ}`` at ``tau`` s."""
+    x, v, _, e, _, _ = _state_parts(tau, c)
+    z = c[3] + c[4] * tau - x
+    return c[10] - z, z + c[10], c[4] - v, e
+
+
+#: Slots (a power of two) of the table of rejected trial points of a forced scan (:func:`scan_forced`); a slot
+#: holds a time and the four values of :func:`_gaps` there, in a flat array with one scratch word at the end.
+_MEMO_SLOTS = 64
+# the slot: the two halves of the time's bit pattern folded into 32 bits, then Fibonacci hashing on 32 bits
+# (a product below 2^64, so that no unsigned product wraps) whose top 6 bits (64 slots) are kept
+_MEMO_LOW = np.uint64(0xFFFFFFFF)
+_MEMO_HALF = np.uint64(32)
+_MEMO_HASH = np.uint64(0x9E3779B1)
+_MEMO_SHIFT = np.uint64(26)  # 32 - log2(_MEMO_SLOTS)
+
+
+@helper
+def _memo_new():
+    """An empty table (:data:`_MEMO_SLOTS`): every time NaN, which equals no time."""
+    memo = np.empty(5 * _MEMO_SLOTS + 1)
+    for k in range(_MEMO_SLOTS):
+        memo[5 * k] = math.nan
+    return memo
+
+
+@helper
+def _memo_slot(memo, bits, tau):
+    """First word of the slot of ``tau`` s in ``memo`` (``bits`` its uint64 view)."""
+    memo[5 * _MEMO_SLOTS] = tau
+    b = bits[5 * _MEMO_SLOTS]
+    f = (b >> _MEMO_HALF) ^ (b & _MEMO_LOW)
+    return 5 * np.int64(((f * _MEMO_HASH) & _MEMO_LOW) >> _MEMO_SHIFT)
+
+
+@helper
+def _trial(tau, c, memo, bits):
+    """:func:`_gaps` at ``tau`` s, from ``memo`` when ``tau`` was tried before; and the slot of ``tau``.
+
+    A time comes back only as the same bit pattern, whose values are then bit for bit those that
+    evaluating it again gives.
+    """
+    k = _memo_slot(memo, bits, tau)
+    if memo[k] == tau:
+        return memo[k + 1], memo[k + 2], memo[k + 3], memo[k + 4], k
+    gp, gm, dz, e = _gaps(tau, c)
+    return gp, gm, dz, e, k
+
+
+@helper
+def _remember(memo, k, tau, gp, gm, dz, e):
+    """Keep the values of the rejected trial point ``tau`` s in its slot ``k`` of ``memo``."""
+    memo[k] = tau
+    memo[k + 1] = gp
+    memo[k + 2] = gm
+    memo[k + 3] = dz
+    memo[k + 4] = e
+
+
+@helper
 def scan_forced(c, tau_end):
     """First contact of a forced flight ``c`` within ``[0, tau_end]``: (found, tau in s, wall ±1).
 
@@ -300,7 +382,13 @@ def scan_forced(c, tau_end):
     signs at both ends and found by Brent's method) or the Taylor bound
     ``g(t_a) + g'(t_a) s - L s²/2`` keeps both gap functions ``g`` positive; otherwise the step is
     halved. Only a grazing shorter than ``1e-10`` of the step cap (a penetration below
-    ``L h²/2``, ~1e-20 m) can go unnoticed.
+    ``L h²/2``, ~1e-20 m) can go unnoticed. The bound takes the ``e^{-a t_a}`` that the state at
+    ``t_a`` was evaluated with.
+
+    Each step starts again from the cap, so its halvings often fall on times that an earlier step
+    tried and rejected (a step ``s`` accepted from ``t_p`` last rejected ``t_p + 2s``, which the step
+    from ``t_a = t_p + s`` tries again as ``t_a + s``): the values of rejected times are kept in a
+    small hash table and taken again when the same time comes back.
     """
     a, wd, om, hg = c[5], c[6], c[7], c[10]
     x0, v0 = c[1], c[2]
@@ -311,7 +399,7 @@ def scan_forced(c, tau_end):
     hmax = 0.25 * 2.0 * math.pi / max(wd, om)
     hmin = 1e-10 * hmax
     ta = 0.0
-    x, v, _ = flight_state(0.0, c)
+    x, v, _, ea, _, _ = _state_parts(0.0, c)  # ea = e^{-a ta}, reused by the bound
     z = c[3] - x
     gpa = hg - z
     gma = z + hg
@@ -320,16 +408,14 @@ def scan_forced(c, tau_end):
         return True, 0.0, 1.0
     if gma <= 0.0 and dza < 0.0:
         return True, 0.0, -1.0
+    memo = _memo_new()
+    bits = memo.view(np.uint64)
     while ta < tau_end:
         h = min(hmax, tau_end - ta)
-        lb = r * math.exp(-a * ta) * wn2 + lp
+        lb = r * ea * wn2 + lp
         while True:
             tb = ta + h
-            x, v, _ = flight_state(tb, c)
-            z = c[3] + c[4] * tb - x
-            gpb = hg - z
-            gmb = z + hg
-            dzb = c[4] - v
+            gpb, gmb, dzb, eb, slot = _trial(tb, c, memo, bits)
             if abs(dza) > lb * h:  # monotone z
                 if dza > 0.0 and gpb <= 0.0:
                     return True, brent(np.int64(1), ta, tb, gpa, gpb, c), 1.0
@@ -347,9 +433,10 @@ def scan_forced(c, tau_end):
                 if gmb <= 0.0:
                     return True, brent(np.int64(2), ta, tb, gma, gmb, c) if gma > 0.0 else ta, -1.0
                 break
+            _remember(memo, slot, tb, gpb, gmb, dzb, eb)
             h *= 0.5
         ta = tb
-        gpa, gma, dza = gpb, gmb, dzb
+        gpa, gma, dza, ea = gpb, gmb, dzb, eb
     return False, tau_end, 0.0
 
 
@@ -359,9 +446,12 @@ def flight_energy(c, tau, fc, cdamp):
 
     ``∫ F x' dt`` and ``∫ C x'² dt`` by Gauss-Legendre quadrature (12 nodes) on pieces no longer
     than a quarter period: the integrands are smooth sums of exponentials and sinusoids,
-    integrated to round-off. ``cdamp`` is C in N s/m.
+    integrated to round-off. ``cdamp`` is C in N s/m; ``c`` is made by :func:`flight_coeffs` with
+    this ``fc`` (so ``c[7]`` is ``fc[0]``): the force takes the cosine and sine of ``ωt`` that the
+    particular solution evaluates at each node.
     """
     om, pc, ps = fc[0], fc[1], fc[2]
+    free = c[8] == 0.0 and c[9] == 0.0  # no particular part: ωt's cosine and sine are not evaluated
     hq = 0.25 * 2.0 * math.pi / max(c[6], om)
     npc = max(int(math.ceil(tau / hq)), 1)
     h = tau / npc
@@ -371,9 +461,12 @@ def flight_energy(c, tau, fc, cdamp):
         mid = (k + 0.5) * h
         for j in range(_GX.shape[0]):
             s = mid + 0.5 * h * _GX[j]
-            _, v, _ = flight_state(s, c)
-            t = c[0] + s
-            f = pc * math.cos(om * t) + ps * math.sin(om * t)
+            _, v, _, _, cs, sn = _state_parts(s, c)
+            if free:
+                t = c[0] + s
+                cs = math.cos(om * t)
+                sn = math.sin(om * t)
+            f = pc * cs + ps * sn
             work += 0.5 * h * _GW[j] * f * v
             diss += 0.5 * h * _GW[j] * cdamp * v * v
     return work, diss
