@@ -48,7 +48,7 @@ from ..constants import (
     FORCED_TOLERANCE,
     FORCED_TOLERANCE_RANGE,
 )
-from ._forced_direct import run_cycles
+from ._forced_direct import CARRY, PLAIN, run_cycles
 from ._newmark import newmark_advance
 from ._records import NmBooks, params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
@@ -90,6 +90,17 @@ _UNUSED_SCALE = np.ones(4)
 _UNUSED_POINTS = np.zeros((1, 4))
 _UNUSED_ROW = np.zeros(1)
 _UNUSED_COLS = np.zeros(0, dtype=np.int64)
+_COMPILED = set()  # solvers whose driver kernel is compiled (or loaded) in this process
+
+
+def compile_once(solver, args):
+    """Compile the driver's kernel for ``solver`` with the types of ``args`` once per process, saying so if long.
+
+    Every call of :func:`._forced_direct.run_cycles` has the same argument types for one solver.
+    """
+    if solver not in _COMPILED:
+        compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[solver])
+        _COMPILED.add(solver)
 
 
 @dataclass(frozen=True)
@@ -408,7 +419,6 @@ class _Runner:
         self.hg = 0.5 * model.gap
         self.st = np.zeros(8)
         self.cap = int(settings.max_impacts_per_cycle)
-        self._compiled = False
         rows = self.cap * (MAX_PERIOD + 1) if rows is None else int(rows)
         self.imp = np.zeros((rows + 1, 8))
         self.model = model
@@ -437,17 +447,52 @@ class _Runner:
             out = (n, status)
         else:
             # one cycle through the driver's one compiled entry (its search arguments unused)
-            args = (self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp, n0, cap, acc,
-                    bool(extrema), False, 1, 1, _UNUSED_SCALE, _UNUSED_POINTS, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
-                    _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
-            if not self._compiled:  # say so once if the forced solver's kernels are compiled now
-                compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[self.solver])
-                self._compiled = True
-            _, status, n = run_cycles(*args)
+            _, status, n = self.kernel(n0, acc, extrema, PLAIN, 1, _UNUSED_POINTS)
             out = (n, status)
         self.k += 1
         self.total += 1
         return out
+
+    def cycles(self, count, n0, acc, extrema, states=None):
+        """Advance ``count`` forcing periods, as ``count`` calls of :meth:`cycle` do, bit for bit.
+
+        With ``states`` None each cycle writes its impacts from row ``n0`` (a Poincaré map); else each
+        from the row the cycle before ended on (from ``n0``), and row ``j`` of ``states`` (count, 4)
+        receives ``(x, v, y, w)`` (m, m/s) after cycle ``j``. The event solver and the impact map run
+        them in one compiled call. Stops after the first cycle the solver stops.
+
+        Returns
+        -------
+        tuple of int
+            ``(n, status, done)``: the next free impact row, the status of the last cycle run and the
+            cycles run (that one included).
+        """
+        count = int(count)
+        if self.solver == "newmark":
+            n, status = n0, STATUS_OK
+            for j in range(count):
+                n, status = self.cycle(n0 if states is None else n, acc, extrema)
+                if states is not None:
+                    states[j] = self.st[:4]
+                if status != STATUS_OK:
+                    return n, status, j + 1
+            return n, status, count
+        mode, pts = (PLAIN, _UNUSED_POINTS) if states is None else (CARRY, states)
+        k, status, n = self.kernel(n0, acc, extrema, mode, count, pts)
+        self.k += k
+        self.total += k
+        return n, status, k
+
+    def kernel(self, n0, acc, extrema, mode, count, pts):
+        """Cycles ``1..count`` of :func:`._forced_direct.run_cycles` in ``mode`` (PLAIN or CARRY) from here.
+
+        Returns its ``(k, status, n)``; ``self.k`` and ``self.total`` are left to the caller.
+        """
+        args = (self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp, n0, self.cap, acc,
+                bool(extrema), mode, 1, count, _UNUSED_SCALE, pts, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
+                _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
+        compile_once(self.solver, args)
+        return run_cycles(*args)
 
     def state(self):
         """``(x, v, y, w)`` now (m, m/s)."""
