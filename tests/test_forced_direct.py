@@ -95,3 +95,22 @@ def test_cycles_in_one_call_stop_where_one_call_per_cycle_stops():
     _, status_many, done = many.cycles(50, 0, np.zeros(5), False)
     assert (status_many, done, many.k, many.total) == (status, one.k, one.k, one.total)
     np.testing.assert_array_equal(many.st, one.st)
+
+
+def test_a_window_the_solver_stops_reports_the_cycle_and_state_of_the_stop():
+    """The window's run in stretches stops where one call per cycle stops, its twin's cycles counted up to there."""
+    from acoustiviz.dynamics._forced_steady import linear_start
+    from acoustiviz.dynamics._measure import measure_window
+
+    one = _runner("event", max_impacts=4)
+    acc = np.zeros(5)
+    status = 0
+    while not status and one.k < 50:
+        _, status = one.cycle(0, acc, False)
+    assert status != 0 and one.k > 1
+    steady = measure_window(one.model, Excitation(5.5, 5.0), SteadyStateOptions(max_impacts_per_cycle=4),
+                            linear_start(one.model, Excitation(5.5, 5.0)), 100, 1000)
+    assert not steady.success
+    assert steady.cycles == 100 + one.k
+    assert steady.final_state == tuple(one.state())
+    assert steady.cycles_integrated == 1000 + one.k + (one.k - 1)  # the twin does not run the cycle that stopped
