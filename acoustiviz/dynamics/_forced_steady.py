@@ -395,7 +395,7 @@ def _together(model, excitation, solver) -> np.ndarray:
 
 
 class _Runner:
-    """Advances one solver cycle by cycle (holds the kernel buffers).
+    """Advances one solver a forcing cycle at a time, or a stretch of cycles in one call (holds the kernel buffers).
 
     ``rows`` impact rows are kept (the caller passes a start row to :meth:`cycle`); one spare row
     at the end receives the remainder of a contact already open at the start.
