@@ -43,7 +43,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ._forced_direct import SEARCH, run_cycles
+from ._forced_direct import MODE_SEARCH, compile_once, run_cycles
 from ._forced_steady import (
     BATCH_CYCLES,
     MAX_PERIOD,
@@ -54,7 +54,6 @@ from ._forced_steady import (
     _Runner,
     _start,
     check_settings,
-    compile_once,
     linear_start,
 )
 from ._measure import (
@@ -252,7 +251,7 @@ class _Settler:
         if run.solver == "newmark":
             return k0, self.step(k0)
         args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp, 0, run.cap, self.acc, True,
-                SEARCH, k0, s.max_cycles, self.scale, self.pts, self.xhi, self.xlo, self.ipc, self.orbits,
+                MODE_SEARCH, k0, s.max_cycles, self.scale, self.pts, self.xhi, self.xlo, self.ipc, self.orbits,
                 self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS, float(s.checkpoint_return), next_try,
                 PROBE_CYCLES if self.chaotic_known else 0)
         compile_once(run.solver, args)

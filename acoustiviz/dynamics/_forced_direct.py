@@ -11,17 +11,55 @@ conditions may hold; the search then decides there as before. The tests are the 
 they can only stop the run early (a superset), never skip a cycle the search would act on.
 
 The same kernel runs the plain stretches of cycles of :meth:`._forced_steady._Runner.cycles`: the
-``n`` cycles of one Poincaré map ``P^n`` (:data:`PLAIN`) and the cycles of a measurement, the state of
-each kept (:data:`CARRY`), in one call instead of one per cycle, with the same bits.
+``n`` cycles of one Poincaré map ``P^n`` (:data:`MODE_PLAIN`) and the cycles of a measurement, the state of
+each kept (:data:`MODE_CARRY`), in one call instead of one per cycle, with the same bits.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._jit import helper, kernel
+from .._jit import compile_for, helper, kernel
 from . import _forced_driver as fd
 from ._status import STATUS_OK
+
+__all__ = ["MODE_PLAIN", "MODE_CARRY", "MODE_SEARCH", "FORCED_COMPILE_S", "run_cycles", "run_plain", "compile_once"]
+
+#: CPU time in s of the forced driver's first compilation with its callees, by solver (the impact
+#: map's compiles more: instantaneous impacts, sticking, and the compliant contact for a run resumed
+#: inside one), quoted to the user when it happens; measured by ``benchmarks/bench_startup.py``
+#: (figures: ``benchmarks/results/design_timings.md``).
+FORCED_COMPILE_S = {"event": 7.0, "impact-map": 10.0}
+
+# the search's arguments of the kernel when it runs plain cycles (:func:`run_plain`)
+_UNUSED_SCALE = np.ones(4)
+_UNUSED_POINTS = np.zeros((1, 4))
+_UNUSED_ROW = np.zeros(1)
+_UNUSED_COLS = np.zeros(0, dtype=np.int64)
+_COMPILED = set()  # solvers whose kernel is compiled (or loaded) in this process
+
+
+def compile_once(solver, args):
+    """Compile :func:`run_cycles` for ``solver`` with the types of ``args`` once per process, saying so if long.
+
+    Every call of the kernel has the same argument types for one solver.
+    """
+    if solver not in _COMPILED:
+        compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[solver])
+        _COMPILED.add(solver)
+
+
+def run_plain(solver, prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc, extrema, mode, count,
+              states):
+    """Cycles ``1..count`` of :func:`run_cycles` in mode :data:`MODE_PLAIN` or :data:`MODE_CARRY` (with ``states``).
+
+    Returns its ``(k, status, n)``.
+    """
+    args = (prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc, bool(extrema), mode, 1, count,
+            _UNUSED_SCALE, _UNUSED_POINTS if states is None else states, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
+            _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
+    compile_once(solver, args)
+    return run_cycles(*args)
 
 
 @helper
@@ -87,11 +125,11 @@ def _search_stops(pts, k, orbits, orbit_cols, capture, probe, d, prev, trigger, 
 
 
 #: :func:`run_cycles` modes: plain cycles each writing its impact rows from row ``n0`` (a Poincaré map),
-PLAIN = 0
+MODE_PLAIN = 0
 #: plain cycles carrying the impact rows on and recording the state after each cycle (a measurement),
-CARRY = 1
+MODE_CARRY = 1
 #: the search's cycles (a start's direct run).
-SEARCH = 2
+MODE_SEARCH = 2
 
 
 @kernel
@@ -101,24 +139,24 @@ def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc
     """Run cycles ``k0``..``k1`` of a start (``j0`` cycles run before ``k0``) until one may need the search.
 
     The one compiled entry of the forced driver for the event solver and the impact map, in three modes.
-    :data:`PLAIN` runs the cycles ``k0``..``k1``, each writing its impact rows from row ``n0`` and adding
+    :data:`MODE_PLAIN` runs the cycles ``k0``..``k1``, each writing its impact rows from row ``n0`` and adding
     to ``acc`` (extrema when ``extrema``), as as many calls of :meth:`._forced_steady._Runner.cycle` with
-    that start row do (a Poincaré map). :data:`CARRY` runs them with each cycle's rows following those
+    that start row do (a Poincaré map). :data:`MODE_CARRY` runs them with each cycle's rows following those
     of the cycle before, from ``n0``, and writes the state ``(x, v, y, w)`` after cycle ``k`` into row
     ``k - k0`` of ``pts`` (a measurement). Both stop at the first cycle the driver stops, and use none
-    of the arguments after ``k1`` but ``pts``. :data:`SEARCH` runs the search's cycles described below.
+    of the arguments after ``k1`` but ``pts``. :data:`MODE_SEARCH` runs the search's cycles described below.
 
     Parameters
     ----------
     prm, fc, fcs, st, restitution, rtol, impacts, acc, extrema
-        As :func:`._forced_driver.advance` (``st`` updated in place; in :data:`SEARCH` mode each cycle
+        As :func:`._forced_driver.advance` (``st`` updated in place; in :data:`MODE_SEARCH` mode each cycle
         writes its impact rows from row 0 and its accumulators into ``acc``, reset each cycle).
     n0 : int
-        First impact row (:data:`PLAIN`, :data:`CARRY`; 0 in :data:`SEARCH` mode).
+        First impact row (:data:`MODE_PLAIN`, :data:`MODE_CARRY`; 0 in :data:`MODE_SEARCH` mode).
     cap : int
         Impact rows a cycle may write: its row limit is ``min(first row + cap, impacts.shape[0] - 1)``.
     mode : int
-        :data:`PLAIN`, :data:`CARRY` or :data:`SEARCH`.
+        :data:`MODE_PLAIN`, :data:`MODE_CARRY` or :data:`MODE_SEARCH`.
     j0 : int
         Cycles the run has done since its start: cycle ``k`` spans ``[(j0 + k - k0) T, (j0 + k - k0 + 1) T]``.
     T : float
@@ -128,8 +166,8 @@ def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc
     scale : (4,) ndarray
         Scale of the section variables (m, m/s).
     pts : (n, 4) ndarray
-        :data:`SEARCH`: scaled section points by cycle number; row ``k`` written after cycle ``k`` (rows
-        before ``k0`` read). :data:`CARRY`: ``(k1 - k0 + 1, 4)`` states written.
+        :data:`MODE_SEARCH`: scaled section points by cycle number; row ``k`` written after cycle ``k`` (rows
+        before ``k0`` read). :data:`MODE_CARRY`: ``(k1 - k0 + 1, 4)`` states written.
     xhi, xlo, ipc : (n,) ndarray
         Largest and smallest main-mass displacement (m) and impact count of each cycle, written.
     orbits : (r, 4) ndarray
@@ -152,7 +190,7 @@ def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc
         run earlier), the driver's status of that cycle and its next free impact row.
     """
     max_period = 8
-    record = mode == SEARCH
+    record = mode == MODE_SEARCH
     d = np.empty(max_period + 1)
     prev = np.empty(max_period + 1)
     if record:
@@ -171,7 +209,7 @@ def run_cycles(prm, fc, fcs, st, j0, T, restitution, rtol, impacts, n0, cap, acc
         n, status = fd.advance_inline(prm, fc, fcs, st, t0, t0 + T, restitution, rtol, impacts, row0,
                                       min(row0 + cap, last), acc, extrema)
         if not record:
-            if mode == CARRY:
+            if mode == MODE_CARRY:
                 row0 = n
                 for c in range(4):
                     pts[k - k0, c] = st[c]

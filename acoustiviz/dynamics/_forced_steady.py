@@ -34,7 +34,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._jit import compile_for
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import (
     EXCITATIONS,
@@ -48,18 +47,12 @@ from ..constants import (
     FORCED_TOLERANCE,
     FORCED_TOLERANCE_RANGE,
 )
-from ._forced_direct import CARRY, PLAIN, run_cycles
+from ._forced_direct import MODE_CARRY, MODE_PLAIN, run_plain
 from ._newmark import newmark_advance
 from ._records import NmBooks, params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
-
-#: CPU time in s of the forced driver's first compilation with its callees, by solver (the impact
-#: map's compiles more: instantaneous impacts, sticking, and the compliant contact for a run resumed
-#: inside one), quoted to the user when it happens; measured by ``benchmarks/bench_startup.py``
-#: (figures: ``benchmarks/results/design_timings.md``).
-FORCED_COMPILE_S = {"event": 7.0, "impact-map": 10.0}
 
 __all__ = [
     "EXCITATIONS",
@@ -85,22 +78,6 @@ BATCH_CYCLES = 16
 NONPERIODIC_CYCLES = WINDOW_BATCHES * BATCH_CYCLES
 #: Regimes reported.
 REGIMES = ("periodic-N", "quasi-periodic", "chaotic", "unresolved")
-# the search's arguments of the driver's kernel when it runs one plain cycle (:meth:`_Runner.cycle`)
-_UNUSED_SCALE = np.ones(4)
-_UNUSED_POINTS = np.zeros((1, 4))
-_UNUSED_ROW = np.zeros(1)
-_UNUSED_COLS = np.zeros(0, dtype=np.int64)
-_COMPILED = set()  # solvers whose driver kernel is compiled (or loaded) in this process
-
-
-def compile_once(solver, args):
-    """Compile the driver's kernel for ``solver`` with the types of ``args`` once per process, saying so if long.
-
-    Every call of :func:`._forced_direct.run_cycles` has the same argument types for one solver.
-    """
-    if solver not in _COMPILED:
-        compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[solver])
-        _COMPILED.add(solver)
 
 
 @dataclass(frozen=True)
@@ -447,7 +424,7 @@ class _Runner:
             out = (n, status)
         else:
             # one cycle through the driver's one compiled entry (its search arguments unused)
-            _, status, n = self.kernel(n0, acc, extrema, PLAIN, 1, _UNUSED_POINTS)
+            _, status, n = self.kernel(n0, acc, extrema, MODE_PLAIN, 1, None)
             out = (n, status)
         self.k += 1
         self.total += 1
@@ -477,22 +454,16 @@ class _Runner:
                 if status != STATUS_OK:
                     return n, status, j + 1
             return n, status, count
-        mode, pts = (PLAIN, _UNUSED_POINTS) if states is None else (CARRY, states)
-        k, status, n = self.kernel(n0, acc, extrema, mode, count, pts)
+        mode = MODE_PLAIN if states is None else MODE_CARRY
+        k, status, n = self.kernel(n0, acc, extrema, mode, count, states)
         self.k += k
         self.total += k
         return n, status, k
 
     def kernel(self, n0, acc, extrema, mode, count, pts):
-        """Cycles ``1..count`` of :func:`._forced_direct.run_cycles` in ``mode`` (PLAIN or CARRY) from here.
-
-        Returns its ``(k, status, n)``; ``self.k`` and ``self.total`` are left to the caller.
-        """
-        args = (self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp, n0, self.cap, acc,
-                bool(extrema), mode, 1, count, _UNUSED_SCALE, pts, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
-                _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
-        compile_once(self.solver, args)
-        return run_cycles(*args)
+        """Cycles ``1..count`` from here (:func:`._forced_direct.run_plain`); ``self.k``, ``self.total`` left alone."""
+        return run_plain(self.solver, self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp,
+                         n0, self.cap, acc, extrema, mode, count, pts)
 
     def state(self):
         """``(x, v, y, w)`` now (m, m/s)."""
