@@ -59,7 +59,7 @@ def _runner(solver, state=None, max_impacts=200, rows=None):
     return _Runner(model, ex, options, linear_start(model, ex) if state is None else state, rows=rows)
 
 
-@pytest.mark.parametrize("solver", ["event", "impact-map"])
+@pytest.mark.parametrize("solver", ["event", "impact-map", "newmark"])
 @pytest.mark.parametrize("carry", [False, True])
 def test_cycles_in_one_call_give_the_bits_of_one_call_per_cycle(solver, carry):
     """Several cycles in one kernel call: the same states, impact rows, accumulators, cycle counts and times."""
