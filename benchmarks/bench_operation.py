@@ -186,8 +186,9 @@ def _instrumented():
     """Patch the search's internals to count cycles by phase and by start outcome; return the counters.
 
     Only names both trees have (``settle``, ``shoot``, ``measure_periodic``, ``measure_window``,
-    ``_Runner.cycle``), so that the "before" process counts the same way: the cycles of shootings and
-    measurements by their calls of ``_Runner.cycle``, the direct runs as the rest of each start's cycles.
+    ``_Runner.cycle``, and ``_Runner.cycles`` where the tree has it), so that the "before" process counts the
+    same way: the cycles of shootings and measurements by the cycles their runners integrate, the direct runs
+    as the rest of each start's cycles.
     """
     from acoustiviz.dynamics import _attractors as att
     from acoustiviz.dynamics import _forced_steady as fs
@@ -201,6 +202,14 @@ def _instrumented():
     def cycle(self, *args):
         cycles[phase[-1]] += 1
         return run_cycle(self, *args)
+
+    run_stretch = getattr(fs._Runner, "cycles", None)  # a stretch of cycles in one call, where the tree has it
+
+    def stretch(self, *args, **kwargs):
+        total, counted = self.total, cycles[phase[-1]]
+        out = run_stretch(self, *args, **kwargs)
+        cycles[phase[-1]] += self.total - total - (cycles[phase[-1]] - counted)  # less those counted by cycle
+        return out
 
     def within(label, f):
         def g(*args, **kwargs):
@@ -248,6 +257,8 @@ def _instrumented():
         return o
 
     fs._Runner.cycle = cycle
+    if run_stretch is not None:
+        fs._Runner.cycles = stretch
     att.shoot = counted_shoot
     att.settle = counted_settle
     att.measure_periodic = within("periodic measurements", att.measure_periodic)

@@ -43,11 +43,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .._jit import compile_for
-from ._forced_direct import run_cycles
+from ._forced_direct import MODE_SEARCH, compile_once, run_cycles
 from ._forced_steady import (
     BATCH_CYCLES,
-    FORCED_COMPILE_S,
     MAX_PERIOD,
     WINDOW_BATCHES,
     Excitation,
@@ -89,7 +87,6 @@ PROBE_CYCLES = 64
 #: Cycles of a probe's statistics.
 PROBE_WINDOW = 32
 _CHECKPOINTS = np.array(CHECKPOINTS, dtype=np.int64)
-_COMPILED = {}  # solver -> the direct-run kernel is compiled in this process
 
 
 def start_states(model: DamperModel, excitation: Excitation, count: int) -> list:
@@ -253,13 +250,11 @@ class _Settler:
         run, s = self.run, self.settings
         if run.solver == "newmark":
             return k0, self.step(k0)
-        args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp, 0,
-                min(run.cap, run.imp.shape[0] - 1), self.acc, True, True, k0, s.max_cycles, self.scale, self.pts,
-                self.xhi, self.xlo, self.ipc, self.orbits, self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS,
-                float(s.checkpoint_return), next_try, PROBE_CYCLES if self.chaotic_known else 0)
-        if not _COMPILED.get(run.solver):  # say so once if the kernels are compiled now
-            compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[run.solver])
-            _COMPILED[run.solver] = True
+        args = (run.prm, run.fc, run.fcs, run.st, run.k, run.T, run.e, run.rtol, run.imp, 0, run.cap, self.acc, True,
+                MODE_SEARCH, k0, s.max_cycles, self.scale, self.pts, self.xhi, self.xlo, self.ipc, self.orbits,
+                self.orbit_cols, CAPTURE_DISTANCE, TRIGGER, _CHECKPOINTS, float(s.checkpoint_return), next_try,
+                PROBE_CYCLES if self.chaotic_known else 0)
+        compile_once(run.solver, args)
         k, status, _ = run_cycles(*args)
         run.k += k - k0 + 1
         run.total += k - k0 + 1

@@ -34,7 +34,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._jit import compile_for
 from .._validate import ParameterError, check_choice, check_positive, check_range
 from ..constants import (
     EXCITATIONS,
@@ -48,18 +47,12 @@ from ..constants import (
     FORCED_TOLERANCE,
     FORCED_TOLERANCE_RANGE,
 )
-from ._forced_direct import run_cycles
+from ._forced_direct import MODE_CARRY, MODE_PLAIN, run_plain
 from ._newmark import newmark_advance
 from ._records import NmBooks, params_record
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
 from ._status import kernel_params as _params
 from .model import DamperModel
-
-#: CPU time in s of the forced driver's first compilation with its callees, by solver (the impact
-#: map's compiles more: instantaneous impacts, sticking, and the compliant contact for a run resumed
-#: inside one), quoted to the user when it happens; measured by ``benchmarks/bench_startup.py``
-#: (figures: ``benchmarks/results/design_timings.md``).
-FORCED_COMPILE_S = {"event": 7.0, "impact-map": 10.0}
 
 __all__ = [
     "EXCITATIONS",
@@ -85,11 +78,6 @@ BATCH_CYCLES = 16
 NONPERIODIC_CYCLES = WINDOW_BATCHES * BATCH_CYCLES
 #: Regimes reported.
 REGIMES = ("periodic-N", "quasi-periodic", "chaotic", "unresolved")
-# the search's arguments of the driver's kernel when it runs one plain cycle (:meth:`_Runner.cycle`)
-_UNUSED_SCALE = np.ones(4)
-_UNUSED_POINTS = np.zeros((1, 4))
-_UNUSED_ROW = np.zeros(1)
-_UNUSED_COLS = np.zeros(0, dtype=np.int64)
 
 
 @dataclass(frozen=True)
@@ -384,7 +372,7 @@ def _together(model, excitation, solver) -> np.ndarray:
 
 
 class _Runner:
-    """Advances one solver cycle by cycle (holds the kernel buffers).
+    """Advances one solver a forcing cycle at a time, or a stretch of cycles in one call (holds the kernel buffers).
 
     ``rows`` impact rows are kept (the caller passes a start row to :meth:`cycle`); one spare row
     at the end receives the remainder of a contact already open at the start.
@@ -408,7 +396,6 @@ class _Runner:
         self.hg = 0.5 * model.gap
         self.st = np.zeros(8)
         self.cap = int(settings.max_impacts_per_cycle)
-        self._compiled = False
         rows = self.cap * (MAX_PERIOD + 1) if rows is None else int(rows)
         self.imp = np.zeros((rows + 1, 8))
         self.model = model
@@ -437,17 +424,46 @@ class _Runner:
             out = (n, status)
         else:
             # one cycle through the driver's one compiled entry (its search arguments unused)
-            args = (self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp, n0, cap, acc,
-                    bool(extrema), False, 1, 1, _UNUSED_SCALE, _UNUSED_POINTS, _UNUSED_ROW, _UNUSED_ROW, _UNUSED_ROW,
-                    _UNUSED_POINTS, _UNUSED_COLS, 0.0, 0.0, _UNUSED_COLS, 0.0, 0, 0)
-            if not self._compiled:  # say so once if the forced solver's kernels are compiled now
-                compile_for(run_cycles, args, "forced-response", FORCED_COMPILE_S[self.solver])
-                self._compiled = True
-            _, status, n = run_cycles(*args)
+            _, status, n = self.kernel(n0, acc, extrema, MODE_PLAIN, 1, None)
             out = (n, status)
         self.k += 1
         self.total += 1
         return out
+
+    def cycles(self, count, n0, acc, extrema, states=None):
+        """Advance ``count`` forcing periods, as ``count`` calls of :meth:`cycle` do, bit for bit.
+
+        With ``states`` None each cycle writes its impacts from row ``n0`` (a Poincaré map); else each
+        from the row the cycle before ended on (from ``n0``), and row ``j`` of ``states`` (count, 4)
+        receives ``(x, v, y, w)`` (m, m/s) after cycle ``j``. The event solver and the impact map run
+        them in one compiled call. Stops after the first cycle the solver stops.
+
+        Returns
+        -------
+        tuple of int
+            ``(n, status, done)``: the next free impact row, the status of the last cycle run and the
+            cycles run (that one included).
+        """
+        count = int(count)
+        if self.solver == "newmark":
+            n, status = n0, STATUS_OK
+            for j in range(count):
+                n, status = self.cycle(n0 if states is None else n, acc, extrema)
+                if states is not None:
+                    states[j] = self.st[:4]
+                if status != STATUS_OK:
+                    return n, status, j + 1
+            return n, status, count
+        mode = MODE_PLAIN if states is None else MODE_CARRY
+        k, status, n = self.kernel(n0, acc, extrema, mode, count, states)
+        self.k += k
+        self.total += k
+        return n, status, k
+
+    def kernel(self, n0, acc, extrema, mode, count, pts):
+        """Cycles ``1..count`` from here (:func:`._forced_direct.run_plain`); ``self.k``, ``self.total`` left alone."""
+        return run_plain(self.solver, self.prm, self.fc, self.fcs, self.st, self.k, self.T, self.e, self.rtol, self.imp,
+                         n0, self.cap, acc, extrema, mode, count, pts)
 
     def state(self):
         """``(x, v, y, w)`` now (m, m/s)."""

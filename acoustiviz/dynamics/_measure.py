@@ -52,6 +52,12 @@ def _state(s):
     return x, v, x + z, v + u
 
 
+def _section(q):
+    """Section point ``(x, v, z, u)`` of a state ``(x, v, y, w)``, as :meth:`._forced_steady._Runner.section`."""
+    x, v, y, w = q
+    return np.array([x, v, y - x, w - v])
+
+
 def _settings_dict(settings):
     return {"tolerance": settings.tolerance, "rtol": settings.rtol, "max_cycles": settings.max_cycles,
             "starts": settings.starts, "solver": settings.solver, "restitution": settings.restitution}
@@ -88,15 +94,12 @@ def measure_periodic(model, excitation, settings, point, period, shot, cycles, t
     run.cap = run.imp.shape[0] - 1
     acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
     e0 = run.energy()
-    pts = [run.section()]
-    n = 0
-    status = STATUS_OK
-    for _ in range(period):
-        n, status = run.cycle(n, acc, True)
-        pts.append(run.section())
-        if status != STATUS_OK:
-            return _failed(model, excitation, settings, cycles, status, run.state(), total + run.total), 0
-    pts = np.array(pts)
+    start = run.section()
+    states = np.empty((period, 4))
+    n, status, _ = run.cycles(period, 0, acc, True, states)  # the period in one compiled call
+    if status != STATUS_OK:
+        return _failed(model, excitation, settings, cycles, status, run.state(), total + run.total), 0
+    pts = np.array([start] + [_section(q) for q in states])
     scale = section_scale(model, excitation)
     for j in range(1, period):
         if period % j == 0 and np.max(np.abs(pts[j] - pts[0]) / scale) < SAME_ORBIT:
@@ -188,26 +191,18 @@ def _window(model, excitation, settings, state, cycles, total):
     tot = np.zeros(3)
     amps, xmax, xmin, lams, pts = [], -math.inf, math.inf, [], []
     n = 0
-    dummy = np.zeros(5)
     T = excitation.period
+    states = np.empty((bc, 4))
     for b in range(nb):
         acc = np.array([0.0, 0.0, 0.0, -np.inf, np.inf])
-        logsum = 0.0
-        for _ in range(bc):
-            ref = run.section()
-            pert.set_state(_state(ref + LYAPUNOV_D0 * direction * scale), k=run.k)
-            n, status = run.cycle(n, acc, True)
-            if status == STATUS_OK:
-                _, status = pert.cycle(0, dummy, False)
-            if status != STATUS_OK:
-                return _failed(model, excitation, settings, cycles + run.k, status, run.state(),
-                               total + run.total + pert.total), None
-            pts.append(run.section())
-            diff = (pert.section() - pts[-1]) / scale
-            d = math.hypot(*diff)  # not BLAS: its sum's order depends on the processor
-            if d > 0.0:
-                logsum += math.log(d / LYAPUNOV_D0)
-                direction = diff / d
+        k0, total0, ref = run.k, run.total, run.section()
+        n, status, done = run.cycles(bc, n, acc, True, states)  # the batch in one compiled call
+        ok = done if status == STATUS_OK else done - 1  # the run's cycles the twin follows
+        logsum, direction, j, twin = _twin(pert, ref, states[:ok], direction, scale, k0)
+        if j < done:  # the twin stopped at cycle j, or the run at cycle done - 1 (then j == ok)
+            return _failed(model, excitation, settings, cycles + k0 + j + 1, twin if j < ok else status,
+                           states[j], total + total0 + j + 1 + pert.total), None
+        pts.extend(_section(q) for q in states)
         amps.append(0.5 * (acc[3] - acc[4]))
         xmax, xmin = max(xmax, acc[3]), min(xmin, acc[4])
         tot += acc[:3]
@@ -232,6 +227,30 @@ def _window(model, excitation, settings, state, cycles, total):
         message=msg, success=True, settings=_settings_dict(settings), measured_cycles=m,
         amplitude_std_err=amp_err, residual=math.nan, stable=True,
         cycles_integrated=int(total + run.total + pert.total), lyapunov=lam, lyapunov_std_err=lam_err), amps
+
+
+def _twin(pert, ref, states, direction, scale, k0):
+    """The Lyapunov twin of :func:`_window` along the states ``(x, v, y, w)`` a run reached after its cycles.
+
+    Before each cycle ``j`` (cycle ``k0 + j`` of the run) the twin starts from the run's section point
+    (``ref``, then the one reached), displaced by :data:`LYAPUNOV_D0` along ``direction`` (scaled), and
+    runs that cycle. Returns ``(sum of log(d / d0), direction, j, status)``: ``j`` the cycles the twin
+    completed (``len(states)`` unless its solver stopped at cycle ``j``, with that ``status``).
+    """
+    logsum = 0.0
+    dummy = np.zeros(5)
+    for j, q in enumerate(states):
+        pert.set_state(_state(ref + LYAPUNOV_D0 * direction * scale), k=k0 + j)
+        _, status = pert.cycle(0, dummy, False)
+        if status != STATUS_OK:
+            return logsum, direction, j, status
+        ref = _section(q)
+        diff = (pert.section() - ref) / scale
+        d = math.hypot(*diff)  # not BLAS: its sum's order depends on the processor
+        if d > 0.0:
+            logsum += math.log(d / LYAPUNOV_D0)
+            direction = diff / d
+    return logsum, direction, len(states), STATUS_OK
 
 
 def same_motion(a: SteadyState, b: SteadyState) -> bool:
