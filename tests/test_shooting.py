@@ -158,3 +158,29 @@ def test_newton_steps_are_the_least_norm_solution_without_blas():
         # independent: the normal equations of the least-norm solution, a^T a x = a^T b with x in range(a^T)
         np.testing.assert_allclose(a.T @ (a @ x), a.T @ b, rtol=0, atol=1e-10 * np.abs(a.T @ b).max())
         np.testing.assert_allclose(x, np.linalg.pinv(a, rcond=PINV_RCOND) @ b, rtol=1e-9, atol=1e-12)
+
+
+def test_a_solve_is_the_same_bit_for_bit_whatever_its_map_did_before():
+    """The search depends on the last bits of the orbit points (``_shooting`` module docstring): a
+    solve from one start must give the same point, residual, steps, multipliers and cost, from a
+    fresh map or from one that has evaluated other points and periods."""
+    model, ex = DamperModel(), Excitation(4.5, 5.0)
+    settings = check_settings(model, ex)
+    scale = section_scale(model, ex)
+    orbit = steady_state(model, ex).poincare[0]
+    start = orbit + 0.02 * scale * np.array([1.0, -1.0, 0.5, 1.0])
+
+    def solve(pmap):
+        before = pmap.cycles
+        shot = shoot(pmap, start, 1, 1e-9, scale)
+        return shot, pmap.cycles - before
+
+    used = PoincareMap(model, ex, settings)
+    first, cost = solve(used)
+    assert first.converged and first.iterations >= 2  # Newton steps, not a start already on the orbit
+    shoot(used, orbit - 0.05 * scale, 2, 1e-9, scale)  # the map's state moved elsewhere in between
+    used(start + 0.1 * scale, 3)
+    for shot, c in (solve(used), solve(PoincareMap(model, ex, settings))):
+        assert np.array_equal(shot.point, first.point) and shot.residual == first.residual
+        assert shot.iterations == first.iterations and c == cost
+        assert np.array_equal(shot.multipliers, first.multipliers)

@@ -7,28 +7,50 @@ with ``|z| > d/2`` lies inside a contact and is resumed there, see :class:`._for
 :func:`shoot` solves it by Newton's method from a candidate point, in the scaled variables
 ``s / (X_s, ω X_s, d/2, ω d/2)``, ``X_s = max(|X_lin|, d/2)``.
 
-Jacobian: central finite differences of the solver's own map
---------------------------------------------------------------
-The monodromy matrix ``dP^n/ds`` is taken by central differences of the event solver (or the
-impact map, or Newmark) with a step ``h = rtol^{1/3}`` in the scaled variables (clipped to
-[1e-6, 1e-3]). Why not variational equations with saltation matrices: the contact is compliant
-(a Hertz spring with damping c1 integrated by adaptive DOP853), so the event solver has no
-impact instants at which a saltation matrix applies; the variational equations would have to be
+Jacobian: finite differences of the solver's own map
+----------------------------------------------------
+The monodromy matrix ``dP^n/ds`` of the Floquet multipliers is taken by central differences of the
+event solver (or the impact map, or Newmark) with a step ``h = rtol^{1/3}`` in the scaled variables
+(clipped to [1e-6, 1e-3]); the Newton steps take forward differences (:func:`newton_step`). Why
+not variational equations with saltation matrices: the contact is compliant (a Hertz spring with
+damping c1 integrated by adaptive DOP853), so the event solver has no impact instants at which a
+saltation matrix applies; the variational equations would have to be
 integrated through every contact inside the compiled kernels, and the Jacobian would be that of
 another discretisation than the map whose fixed point is sought. Finite differences of the map
-itself cost 8 n cycles per Jacobian (a handful of Newton steps, tens of cycles against the
-thousands of a direct run), need no change to the kernels, and apply unchanged to the three
+itself cost 4 n cycles (forward) or 8 n (central) per Jacobian (a handful of Newton steps, tens
+of cycles against the thousands of a direct run), need no change to the kernels, and apply unchanged to the three
 solvers. Their accuracy: truncation ``O(h²)`` plus the map's integration noise ``ε ≈ rtol``
 divided by ``h``; ``h = ε^{1/3}`` balances both at ``ε^{2/3}`` (2e-7 at rtol 1e-10, 1e-8 at
 1e-12), which is the accuracy of the Floquet multipliers. The Newton residual, which decides
 ``converged``, is evaluated with the map itself, so the Jacobian's error slows Newton down (a
-linear rate of about 1e-7 per step) but does not enter the orbit found. A step that crosses a
+linear rate of about that error per step, ``rtol^{1/2}`` for the forward differences) but does not
+enter the orbit found. A step that crosses a
 grazing (an impact appearing or vanishing) makes the difference meaningless; Newton then fails
 to reduce the residual and the caller goes on with the direct run.
 
 ``J - I`` is solved by a pseudo-inverse: a motion without impacts is a family of orbits (the
 impact mass floats anywhere in the cavity), ``J`` has the double multiplier 1 of the free
 impact mass, and the minimum-norm step lands on the nearest member.
+
+Why every Newton step takes a fresh Jacobian
+--------------------------------------------
+In a search in operation the shootings integrate about a fifth of the forcing cycles, and a solve
+that converges spends about three quarters of its cycles in its forward-difference Jacobians
+(``benchmarks/bench_shooting.py`` counts them by phase). A quasi-Newton method would save part of
+those: Broyden's rank-one update of ``J`` after each step, a fresh Jacobian only when a step with
+the updated one fails to reduce the residual, costs n cycles a step where Newton costs 5 n. It
+converges to the same fixed point within the tolerance, but not to the same bits, and the search
+depends on those bits: the point of a periodic orbit seeds the neighbouring frequencies
+(:mod:`._forced_response`), and a seeded start that turns chaotic amplifies a change in its last
+bit into another transient, other shootings and at times another attractor (``bench_shooting.py
+--ulp`` moves every converged point by one unit in the last place: the search's path changes in
+every design of the benchmark, and one design's worst case with it). So the iterates of a
+converging solve stay those of Newton's method with a fresh Jacobian at every step, computed in a
+fixed order of operations (:func:`pinv_solve`), and so do the orbit points. Nor is a failing solve
+cut short: no test on its first steps tells it from a converging one (on the benchmark, solves
+that converged took up to ten steps, some after a first step that reduced the residual by a few
+per cent or a line search down to a sixteenth of the step), and a solve stopped that would have
+converged changes the search's path the same way.
 """
 
 from __future__ import annotations
@@ -222,7 +244,9 @@ def shoot(pmap: PoincareMap, s0, n: int, tolerance: float, scale, *, rtol: float
     """Newton's method on ``P^n(s) = s`` from ``s0`` (m, m/s); see the module docstring.
 
     Each step solves ``(J - I) Δ = -(P^n(q) - q)`` in the scaled variables, ``J`` by forward
-    differences (4 n cycles; step ``rtol^{1/2}``: its error only slows the convergence), and
+    differences afresh at every step (4 n cycles; step ``rtol^{1/2}``: its error only slows the
+    convergence; no quasi-Newton update, whose orbit points would differ in their last bits, which
+    the search depends on: module docstring), and
     halves the step (four times at most) until the residual falls by ``1 - λ/10`` (λ the step
     fraction); a step that cannot ends the solve (``converged=False``): far from an orbit, or
     across a grazing, shooting gives up early and the direct run goes on. At convergence the
