@@ -6,6 +6,7 @@ Usage::
     python benchmarks/bench_contact_steps.py --write              # also results/bench_contact_steps.txt
     python benchmarks/bench_contact_steps.py --png                # also results/bench_contact_steps.png
     python benchmarks/bench_contact_steps.py --before /work/main  # also the step control of that checkout
+    python benchmarks/bench_contact_steps.py --before DIR --label pi  # its rows named "pi"
 
 One contact (``acoustiviz.dynamics._contact.contact``, DOP853 in the regularised time σ) is run to
 its end at rtol 1e-6 ... 1e-13 for each case: free contacts of the two masses alone (the contact of
@@ -185,6 +186,7 @@ def draw(lines: dict, path: Path) -> None:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--before", help="a checkout whose step control is compared (its acoustiviz imported)")
+    ap.add_argument("--label", default="before", help="the name of the --before checkout's rows")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     ap.add_argument("--png", action="store_true", help="also draw results/bench_contact_steps.png")
     args = ap.parse_args(argv)
@@ -201,7 +203,7 @@ def main(argv=None) -> int:
           "all steps; largest errors over the cases.")
     print(f"{'tree':>8} {'rtol':>7} | {'tried':>6} {'rej':>5} {'roots':>6} {'all':>6} | {'restitution':>11} "
           f"{'duration':>9} {'impulse':>9} {'end state':>9} {'energies':>9}")
-    trees = {"before": args.before, "this": None} if args.before else {"this": None}
+    trees = {args.label[:8]: args.before, "this": None} if args.before else {"this": None}
     lines = {}
     for name, tree in trees.items():
         res = in_tree(tree, RTOLS)
