@@ -104,7 +104,7 @@ def test_phase_polynomials_are_within_an_ulp_of_the_library_cosine_and_sine():
     def cos_sin(theta):
         c, s = np.empty_like(theta), np.empty_like(theta)
         for i in range(theta.shape[0]):
-            c[i], s[i] = cm._cos_sin(theta[i])
+            c[i], s[i] = cm.phase_cos_sin(theta[i])
         return c, s
 
     tmax = cm.THETA_MAX

@@ -20,7 +20,7 @@ Model: :class:`~acoustiviz.dynamics._records.Params` (``free_restitution``, call
 takes the parameter vector ``p``).
 Forcing vector ``fc``: None, or ``[ω rad/s, P N, Q N, ...]``. Inside a contact begun at ``tc`` the force is
 ``A cos θ + B sin θ`` with ``θ = ω (t - tc)`` (:func:`forcing_at`, one cosine and sine per contact), and
-cos θ, sin θ are short polynomials while θ is small (:func:`_cos_sin`), rather than a cosine and a sine
+cos θ, sin θ are short polynomials while θ is small (:func:`phase_cos_sin`), rather than a cosine and a sine
 at each of the thirteen stages of every step.
 """
 
@@ -60,7 +60,7 @@ _PEAK_RTOL = 1e-7
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
 #: Largest forcing phase θ = ω t (rad) since a contact's onset at which cos θ and sin θ come from
-#: their Taylor polynomials (:func:`_cos_sin`); beyond, from ``math.cos`` and ``math.sin``. A contact
+#: their Taylor polynomials (:func:`phase_cos_sin`); beyond, from ``math.cos`` and ``math.sin``. A contact
 #: of the paper's damper spans θ of about 0.01-0.03 rad at 5 Hz.
 THETA_MAX = 0.1
 #: Taylor coefficients of cos θ in z = θ² (1, -1/2!, ..., -1/10!); for |θ| <= ``THETA_MAX`` the first
@@ -84,7 +84,7 @@ def _force(d, u, kh, c1, clip):
 
 
 @helper
-def _cos_sin(theta):
+def phase_cos_sin(theta):
     """``(cos θ, sin θ)`` of a phase ``θ`` (rad): Horner sums of the Taylor polynomials within ``THETA_MAX``.
 
     Within ``|θ| <= THETA_MAX`` the truncation is below 3e-18 relative (``COS_TAYLOR``, ``SIN_TAYLOR``),
@@ -106,7 +106,7 @@ def forcing_at(fc, tc):
 
     With ``F(t) = P cos ωt + Q sin ωt`` (``fc = [ω, P, Q, ...]``), angle addition gives ``A = P cos ωtc +
     Q sin ωtc`` and ``B = Q cos ωtc - P sin ωtc``: one cosine and sine per contact, the phase ``ωt``
-    since the onset then stays small (:func:`_cos_sin`). ``fc`` None (free decay): zeros, unused.
+    since the onset then stays small (:func:`phase_cos_sin`). ``fc`` None (free decay): zeros, unused.
     """
     if fc is None:
         return 0.0, 0.0, 0.0
@@ -133,7 +133,7 @@ def _rhs_into(y, prm, fc, fab, sw, out, row):
         f = 0.0
     spring = K * x + C * v
     if fc is not None:
-        c, s = _cos_sin(fab[0] * y[0])
+        c, s = phase_cos_sin(fab[0] * y[0])
         fx = fab[1] * c + fab[2] * s
         spring = spring - fx
         out[row, 8] = xi * fx * v
@@ -190,7 +190,7 @@ def _d2fds2(y, f, prm, fc, fab, sw):
     dspring = K * f[1] + C * f[2]
     if fc is not None:
         w, fa, fb = fab
-        c, s = _cos_sin(w * y[0])
+        c, s = phase_cos_sin(w * y[0])
         spring = spring - (fa * c + fb * s)
         dspring = dspring - f[0] * w * (fb * c - fa * s)
     a = -force / m - force / M + sw * spring / M
