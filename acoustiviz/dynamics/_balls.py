@@ -53,6 +53,7 @@ from .._jit import helper, kernel
 from ..constants import HERTZ_DURATION_CONSTANT as _HERTZ_T
 from . import _dop853 as _dop
 from ._balls_lone import lone_buffers, lone_contact
+from ._contact import forcing_at, phase_cos_sin
 from ._dop853 import N_STAGES as _NS
 from ._dop853 import C as _CN
 from ._flight import _osc, flight_coeffs, flight_energy, flight_minmax, flight_state, scan_forced, scan_unforced
@@ -74,15 +75,19 @@ _MAX_CUTS = 4
 
 
 @helper
-def _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, out, row, fc, t):
-    """Derivatives of the state ``y`` (module docstring) at ``t`` s into ``out[row]``."""
+def _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, out, row, fc, fab, dt):
+    """Derivatives of the state ``y`` (module docstring) ``dt`` s after a time ``t`` into ``out[row]``.
+
+    ``fab = (ω, A, B)``, the forcing at ``t`` (:func:`~._contact.forcing_at`): ``F(t + dt) = A cos ωdt + B sin ωdt``.
+    """
     npair = pa.shape[0]
     for k in range(nb):
         out[row, k] = y[nb + k]
         out[row, nb + k] = 0.0
     out[row, nb] = -K * y[0] - C * y[nb]
     if fc is not None:
-        force = fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t)
+        c, s = phase_cos_sin(fab[0] * dt)
+        force = fab[1] * c + fab[2] * s
         out[row, nb] += force
         out[row, 2 * nb + 2 * npair + 1] = force * y[nb]
     for p in range(npair):
@@ -111,14 +116,16 @@ def _step(y, h, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, ytmp, ynew, fc, 
     """One Dormand-Prince 8 step of ``h`` s from ``y`` at ``t`` s (``kst[0]`` its derivative).
 
     Fills ``ynew`` and ``kst``. The stages' intermediate states ``ytmp`` hold only the positions and
-    velocities, the ``2 nb`` components :func:`_rhs` reads (the others are quadratures).
+    velocities, the ``2 nb`` components :func:`_rhs` reads (the others are quadratures). The forcing
+    at ``t`` is evaluated once, the stages' by angle addition (:func:`~._contact.forcing_at`).
     """
     nread = 2 * nb
+    fab = forcing_at(fc, t)
     for st in range(1, _NS):
         _dop.stage_state(st, y, h, kst, ytmp, nread)
-        _rhs(ytmp, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(st), fc, t + _CN[st] * h)
+        _rhs(ytmp, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(st), fc, fab, _CN[st] * h)
     _dop.solution(y, h, kst, ynew, y.shape[0])
-    _rhs(ynew, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(_NS), fc, t + h)
+    _rhs(ynew, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(_NS), fc, fab, h)
 
 
 @helper
@@ -514,7 +521,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
     t, h, ie = clock[0], clock[1], ie_arr[0]
     status = STATUS_REACHED
     steps = 0
-    _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, t)
+    _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, forcing_at(fc, t), 0.0)
     while t < t_stop and steps <= max_steps:
         steps += 1
         flight = not np.any(active)  # a contact found by this flight may be integrated alone (below)
@@ -536,7 +543,7 @@ def run_balls(mass, pa, pb, hgp, kh, cc, cav, loc, K, C, clip, y, active, open_r
                 break
             h = _toggle_changed(changed, t, h, y, nb, mass, pa, pb, hgp, kh, cav, loc, active, open_row, rows, n_rows,
                                 peaks)
-            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, t)
+            _rhs(y, nb, mass, pa, pb, hgp, kh, cc, K, C, clip, kst, np.int64(0), fc, forcing_at(fc, t), 0.0)
             if flight and np.sum(active) == 1:  # one pair alone: the single-ball contact
                 _, t, ie = lone_contact(np.argmax(active), t, y, nb, mass, pa, pb, hgp, kh, cc, loc, K, C, clip, a,
                                         wd, fc, t_stop, rtol, t_eval, ie, dense, open_row, rows, active, peaks, ext,

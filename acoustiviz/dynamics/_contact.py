@@ -18,7 +18,10 @@ the ninth component and the evaluation of F do not exist: zero forcing costs not
 
 Model: :class:`~acoustiviz.dynamics._records.Params` (``free_restitution``, called from Python,
 takes the parameter vector ``p``).
-Forcing vector ``fc``: None, or ``[ω rad/s, P N, Q N, ...]``.
+Forcing vector ``fc``: None, or ``[ω rad/s, P N, Q N, ...]``. Inside a contact begun at ``tc`` the force is
+``A cos θ + B sin θ`` with ``θ = ω (t - tc)`` (:func:`forcing_at`, one cosine and sine per contact), and
+cos θ, sin θ are short polynomials while θ is small (:func:`phase_cos_sin`), rather than a cosine and a sine
+at each of the thirteen stages of every step.
 """
 
 from __future__ import annotations
@@ -56,6 +59,17 @@ _PEAK_RTOL = 1e-7
 
 _HERTZ_T = HERTZ_DURATION_CONSTANT  # contact duration in units of alpha_max / U0
 
+#: Largest forcing phase θ = ω t (rad) since a contact's onset at which cos θ and sin θ come from
+#: their Taylor polynomials (:func:`phase_cos_sin`); beyond, from ``math.cos`` and ``math.sin``. A contact
+#: of the paper's damper spans θ of about 0.01-0.03 rad at 5 Hz.
+THETA_MAX = 0.1
+#: Taylor coefficients of cos θ in z = θ² (1, -1/2!, ..., -1/10!); for |θ| <= ``THETA_MAX`` the first
+#: omitted term, θ^12/12!, is below 2.1e-21.
+COS_TAYLOR = (1.0, -1.0 / 2.0, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0, -1.0 / 3628800.0)
+#: Taylor coefficients of sin θ / θ in z = θ² (1, -1/3!, ..., 1/9!); for |θ| <= ``THETA_MAX`` the first
+#: omitted term relative to sin θ, θ^10/11!, is below 2.6e-18.
+SIN_TAYLOR = (1.0, -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0)
+
 
 @helper
 def _force(d, u, kh, c1, clip):
@@ -70,14 +84,46 @@ def _force(d, u, kh, c1, clip):
 
 
 @helper
-def _rhs_into(y, prm, fc, tc, sw, out, row):
+def phase_cos_sin(theta):
+    """``(cos θ, sin θ)`` of a phase ``θ`` (rad): Horner sums of the Taylor polynomials within ``THETA_MAX``.
+
+    Within ``|θ| <= THETA_MAX`` the truncation is below 3e-18 relative (``COS_TAYLOR``, ``SIN_TAYLOR``),
+    so both agree with ``math.cos`` and ``math.sin`` to about an ulp, without a call to either;
+    beyond, they are ``math.cos(θ)`` and ``math.sin(θ)``.
+    """
+    if abs(theta) <= THETA_MAX:
+        c, s = COS_TAYLOR, SIN_TAYLOR
+        z = theta * theta
+        cz = c[0] + z * (c[1] + z * (c[2] + z * (c[3] + z * (c[4] + z * c[5]))))
+        sz = theta + theta * (z * (s[1] + z * (s[2] + z * (s[3] + z * s[4]))))
+        return cz, sz
+    return math.cos(theta), math.sin(theta)
+
+
+@helper
+def forcing_at(fc, tc):
+    """The forcing of a contact begun at ``tc`` s, ``(ω rad/s, A N, B N)``: ``F(tc + t) = A cos ωt + B sin ωt``.
+
+    With ``F(t) = P cos ωt + Q sin ωt`` (``fc = [ω, P, Q, ...]``), angle addition gives ``A = P cos ωtc +
+    Q sin ωtc`` and ``B = Q cos ωtc - P sin ωtc``: one cosine and sine per contact, the phase ``ωt``
+    since the onset then stays small (:func:`phase_cos_sin`). ``fc`` None (free decay): zeros, unused.
+    """
+    if fc is None:
+        return 0.0, 0.0, 0.0
+    w, p, q = fc[0], fc[1], fc[2]
+    c, s = math.cos(w * tc), math.sin(w * tc)
+    return w, p * c + q * s, q * c - p * s
+
+
+@helper
+def _rhs_into(y, prm, fc, fab, sw, out, row):
     """Derivatives with respect to σ of the contact state into ``out[row]`` (module docstring).
 
     ``dt/dσ = ξ``, ``dx/dσ = ξ v``, ``dv/dσ = ξ (s F_c - K x - C v + F) / M``, ``dξ/dσ = u / 2``,
     ``du/dσ = ξ (-F_c/m - F_c/M + s (K x + C v - F) / M)``, then the integrands ξ F_c, ξ (F_c -
-    K_HZ δ^{3/2}) u, ξ C v² and (forced) ξ F v. ``F`` is evaluated at the physical time
-    ``tc + t`` only when ``fc`` is not None (a branch numba removes at compile time). Reads only
-    ``y[:NY_READ]``.
+    K_HZ δ^{3/2}) u, ξ C v² and (forced) ξ F v. ``F = A cos ωt + B sin ωt`` at the time ``t`` since
+    the onset, ``fab = (ω, A, B)`` (:func:`forcing_at`), is evaluated only when ``fc`` is not None (a
+    branch numba removes at compile time). Reads only ``y[:NY_READ]``.
     """
     M, K, C, m, kh, c1, clip = prm.M, prm.K, prm.C, prm.m, prm.k_hertz, prm.c1, prm.clip
     x, v, xi, u = y[1], y[2], y[3], y[4]
@@ -87,8 +133,8 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
         f = 0.0
     spring = K * x + C * v
     if fc is not None:
-        t = tc + y[0]
-        fx = fc[1] * math.cos(fc[0] * t) + fc[2] * math.sin(fc[0] * t)
+        c, s = phase_cos_sin(fab[0] * y[0])
+        fx = fab[1] * c + fab[2] * s
         spring = spring - fx
         out[row, 8] = xi * fx * v
     out[row, 0] = xi
@@ -102,7 +148,7 @@ def _rhs_into(y, prm, fc, tc, sw, out, row):
 
 
 @helper
-def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
+def _dop_step(y, f0, h, prm, fc, fab, sw, kst, ytmp, ynew, fnew):
     """One Dormand-Prince 8 step of size ``h``; fills ``ynew``, ``fnew`` and the stages.
 
     The intermediate states ``ytmp`` of the stages hold only the ``NY_READ`` components a derivative
@@ -113,9 +159,9 @@ def _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
         kst[0, i] = f0[i]
     for st in range(1, _NS):
         _dop.stage_state(st, y, h, kst, ytmp, NY_READ)
-        _rhs_into(ytmp, prm, fc, tc, sw, kst, st)
+        _rhs_into(ytmp, prm, fc, fab, sw, kst, st)
     _dop.solution(y, h, kst, ynew, ny)
-    _rhs_into(ynew, prm, fc, tc, sw, kst, np.int64(_NS))
+    _rhs_into(ynew, prm, fc, fab, sw, kst, np.int64(_NS))
     for i in range(ny):
         fnew[i] = kst[_NS, i]
 
@@ -128,12 +174,13 @@ def _dfds(y, f, prm):
 
 
 @helper
-def _d2fds2(y, f, prm, fc, tc, sw):
+def _d2fds2(y, f, prm, fc, fab, sw):
     """Second derivative of the (unclipped) contact force with σ, in N (s m^-0.5)^-2, from the state and its rates.
 
     With ``F = K_HZ ξ³ + c1 u``, ``ξ' = u/2`` and ``u' = ξ a``, ``a = -F/m - F/M + s S/M``, ``S = K x + C v -
-    F_ext(t)`` (module docstring): ``F'' = 6 K_HZ ξ ξ'² + 3 K_HZ ξ² u'/2 + c1 (ξ' a + ξ (-F'/m - F'/M + s S'/M))``
-    with ``F' = dF/dσ`` (:func:`_dfds`) and ``S' = K x' + C v' - t' dF_ext/dt``.
+    F_ext`` (module docstring; ``fab`` as in :func:`_rhs_into`):
+    ``F'' = 6 K_HZ ξ ξ'² + 3 K_HZ ξ² u'/2 + c1 (ξ' a + ξ (-F'/m - F'/M + s S'/M))`` with
+    ``F' = dF/dσ`` (:func:`_dfds`) and ``S' = K x' + C v' - t' dF_ext/dt``.
     """
     M, K, C, m, kh, c1 = prm.M, prm.K, prm.C, prm.m, prm.k_hertz, prm.c1
     xi, u, dxi, du = y[3], y[4], f[3], f[4]
@@ -142,9 +189,10 @@ def _d2fds2(y, f, prm, fc, tc, sw):
     spring = K * y[1] + C * y[2]
     dspring = K * f[1] + C * f[2]
     if fc is not None:
-        w, t = fc[0], tc + y[0]
-        spring = spring - (fc[1] * math.cos(w * t) + fc[2] * math.sin(w * t))
-        dspring = dspring - f[0] * w * (fc[2] * math.cos(w * t) - fc[1] * math.sin(w * t))
+        w, fa, fb = fab
+        c, s = phase_cos_sin(w * y[0])
+        spring = spring - (fa * c + fb * s)
+        dspring = dspring - f[0] * w * (fb * c - fa * s)
     a = -force / m - force / M + sw * spring / M
     ddu = dxi * a + xi * (-dforce / m - dforce / M + sw * dspring / M)
     return 6.0 * kh * xi * dxi * dxi + 1.5 * kh * xi * xi * du + c1 * ddu
@@ -178,7 +226,7 @@ def _peak_guess(y, ynew, h, g0, g1, prm):
 
 
 @helper
-def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, ytmp, ynew, fnew):
+def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, fab, sw, kst, ytmp, ynew, fnew):
     """Step length in [0, h] where ξ (kind 0), v (kind 1), t - target (kind 2) or dF/dσ (kind 3) vanishes.
 
     ``glo`` is the sign-carrying value at the step start, ``g1`` the value at the full step's end.
@@ -201,7 +249,7 @@ def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, yt
         for _ in range(60):
             if not (lo < hm < hi):
                 hm = 0.5 * (lo + hi)
-            _dop_step(y, f0, hm, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+            _dop_step(y, f0, hm, prm, fc, fab, sw, kst, ytmp, ynew, fnew)
             gm = _dfds(ynew, fnew, prm)
             if gm == 0.0:
                 break
@@ -209,7 +257,7 @@ def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, yt
                 lo = hm
             else:
                 hi = hm
-            dgm = _d2fds2(ynew, fnew, prm, fc, tc, sw)
+            dgm = _d2fds2(ynew, fnew, prm, fc, fab, sw)
             fm = prm.k_hertz * ynew[3] * ynew[3] * ynew[3] + prm.c1 * ynew[4]
             # F here falls short of the maximum of its parabola by gm² / (2 |F''|)
             if gm * gm <= 2.0 * _PEAK_RTOL * fm * abs(dgm) or hi - lo <= 1e-6 * h:
@@ -225,7 +273,7 @@ def _root_in_step(kind, target, y, f0, h, glo, g1, dg1, prm, fc, tc, sw, kst, yt
         hn = hm - g / dg if dg != 0.0 else 0.5 * (lo + hi)
         if not (lo < hn < hi):
             hn = 0.5 * (lo + hi)
-        _dop_step(y, f0, hn, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        _dop_step(y, f0, hn, prm, fc, fab, sw, kst, ytmp, ynew, fnew)
         g, dg = ynew[ci] - target, fnew[ci]
         if (g > 0.0) == (glo > 0.0):
             lo = hn
@@ -294,7 +342,7 @@ def _step_size(err, h, rejected):
 
 
 @njit(inline="always")
-def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
+def _peak_of_step(prm, fc, fab, start, work, kst, hstep, g0, g1, peak):
     """The largest contact force (N) so far, with a maximum inside the step of ``hstep`` from ``work[0]``.
 
     dF/dσ is ``g0`` at the step start and ``g1`` at its end; when it turns from > 0 to <= 0 the
@@ -305,9 +353,9 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
     if g0 > 0.0 and g1 <= 0.0:
         y, f0, ytmp, yd, fd = work[0], work[1], work[2], work[5], work[6]
         first = _peak_guess(y, work[3], hstep, g0, g1, prm)
-        _root_in_step(np.int64(3), first, y, f0, hstep, g0, g1, 0.0, prm, fc, start.tc, start.sw, kst, ytmp, yd, fd)
+        _root_in_step(np.int64(3), first, y, f0, hstep, g0, g1, 0.0, prm, fc, fab, start.sw, kst, ytmp, yd, fd)
         fpk, _ = _force(yd[3] * yd[3], yd[4], prm.k_hertz, prm.c1, prm.clip)
-        gm, dgm = _dfds(yd, fd, prm), _d2fds2(yd, fd, prm, fc, start.tc, start.sw)
+        gm, dgm = _dfds(yd, fd, prm), _d2fds2(yd, fd, prm, fc, fab, start.sw)
         rise = gm * gm / (-2.0 * dgm) if dgm < 0.0 else math.inf
         if rise <= _PEAK_RTOL * fpk:  # the top of the force's parabola there, where the search trusts it
             fpk += rise
@@ -316,7 +364,7 @@ def _peak_of_step(prm, fc, start, work, kst, hstep, g0, g1, peak):
 
 
 @njit(inline="always")
-def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
+def _turn_in_step(prm, fc, fab, start, work, kst, hstep, ext, n_ext):
     """Record a zero of the main-mass velocity inside the step (Newton, full steps) in ``ext``.
 
     Rows: time (s), x (m), +1 for a maximum or -1 for a minimum; the caller has seen the velocity
@@ -324,13 +372,12 @@ def _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext):
     stays in ``work[3:5]``.
     """
     y, f0, ytmp, ynew, fnew, yd, fd = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    _root_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], ynew[2], fnew[2], prm, fc, start.tc, start.sw, kst, ytmp,
-                  yd, fd)
+    _root_in_step(np.int64(1), 0.0, y, f0, hstep, y[2], ynew[2], fnew[2], prm, fc, fab, start.sw, kst, ytmp, yd, fd)
     record_extremum(ext, n_ext, start.tc + yd[0], yd[1], 1.0 if y[2] > 0.0 else -1.0)
 
 
 @njit(inline="always")
-def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0):
+def _dense_in_step(prm, fc, fab, start, work, kst, hstep, t_eval, ie, dense, ec0, en0):
     """Dense rows (``DENSE_COLUMNS``) at the output times ``t_eval`` (s) inside the step; return the next due.
 
     Newton on t(σ) with full steps from the step start; ``ec0``, ``en0`` (J) are the energies
@@ -343,7 +390,7 @@ def _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0
         target = t_eval[ie] - tc
         yt = y
         if target > y[0]:
-            _root_in_step(np.int64(2), target, y, f0, hstep, -1.0, ynew[0] - target, fnew[0], prm, fc, tc, sw, kst,
+            _root_in_step(np.int64(2), target, y, f0, hstep, -1.0, ynew[0] - target, fnew[0], prm, fc, fab, sw, kst,
                           ytmp, yd, fd)
             yt = yd
         xi = max(yt[3], 0.0)
@@ -408,7 +455,8 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
     tc, sw = start.tc, start.sw
     y, f0, ytmp, ynew, fnew = work[0], work[1], work[2], work[3], work[4]
     h = _contact_begin(prm, start, rtol, y, work[7])
-    _rhs_into(y, prm, fc, tc, sw, work, np.int64(1))  # f0 is work[1]
+    fab = forcing_at(fc, tc)
+    _rhs_into(y, prm, fc, fab, sw, work, np.int64(1))  # f0 is work[1]
     peak, _ = _force(start.xi * start.xi, start.u, prm.k_hertz, prm.c1, prm.clip)
     status = STATUS_OK
     ended = False
@@ -418,7 +466,7 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
     if t_stop <= 0.0:
         return ContactEnd(False, status, ie, 0.0, peak, y)
     while True:
-        _dop_step(y, f0, h, prm, fc, tc, sw, kst, ytmp, ynew, fnew)
+        _dop_step(y, f0, h, prm, fc, fab, sw, kst, ytmp, ynew, fnew)
         err = _dop_error(y, ynew, h, kst, rtol, work[7])
         if not (err <= 1.0):
             h = _step_size(err, h, rejected)
@@ -431,23 +479,23 @@ def contact(prm, fc, start, t_end, rtol, t_eval, ie, dense, ec0, en0, work, kst,
         hstep = h
         exiting = ynew[3] <= 0.0
         if exiting:
-            hstep = _root_in_step(np.int64(0), 0.0, y, f0, h, y[3], ynew[3], fnew[3], prm, fc, tc, sw, kst, ytmp,
+            hstep = _root_in_step(np.int64(0), 0.0, y, f0, h, y[3], ynew[3], fnew[3], prm, fc, fab, sw, kst, ytmp,
                                   ynew, fnew)
         stopping = ynew[0] >= t_stop
         if stopping:
             exiting = False
-            hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, ynew[0] - t_stop, fnew[0], prm, fc, tc, sw,
+            hstep = _root_in_step(np.int64(2), t_stop, y, f0, hstep, -1.0, ynew[0] - t_stop, fnew[0], prm, fc, fab, sw,
                                   kst, ytmp, ynew, fnew)
         # the pieces take the other buffers only in the steps that need them (no reference counting
         # in the others); ext=None, t_eval=None: compiled out
-        peak = _peak_of_step(prm, fc, start, work, kst, hstep, _dfds(y, f0, prm), _dfds(ynew, fnew, prm), peak)
+        peak = _peak_of_step(prm, fc, fab, start, work, kst, hstep, _dfds(y, f0, prm), _dfds(ynew, fnew, prm), peak)
         xi1 = max(ynew[3], 0.0)
         fend, _ = _force(xi1 * xi1, ynew[4], prm.k_hertz, prm.c1, prm.clip)
         peak = max(peak, fend)
         if ext is not None and ext.shape[0] > 0 and (y[2] > 0.0) != (ynew[2] > 0.0):  # the main mass turns
-            _turn_in_step(prm, fc, start, work, kst, hstep, ext, n_ext)
+            _turn_in_step(prm, fc, fab, start, work, kst, hstep, ext, n_ext)
         if t_eval is not None and ie < t_eval.shape[0] and t_eval[ie] - tc <= ynew[0]:
-            ie = _dense_in_step(prm, fc, start, work, kst, hstep, t_eval, ie, dense, ec0, en0)
+            ie = _dense_in_step(prm, fc, fab, start, work, kst, hstep, t_eval, ie, dense, ec0, en0)
         for i in range(y.shape[0]):  # the step end becomes the step start
             y[i] = ynew[i]
             f0[i] = fnew[i]
