@@ -618,6 +618,80 @@ def produce_bench_startup() -> dict:
     return {"cold": about(cold), "warm": about(warm)}
 
 
+_WORDS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine")
+
+
+def _operation_sections() -> tuple[list, list, list]:
+    """``benchmarks/results/operation.md``: the transient table's rows, its rtols, and the before/after rows.
+
+    Transient rows: (design, tight CPU s, cycles, [(CPU s, diff, unit) per rtol], tight regime); before/after rows:
+    (design, before CPU s, before worst mm, its se mm, before regime, after CPU s, after worst mm, after regime).
+    """
+    text = (ROOT / "benchmarks" / "results" / "operation.md").read_text(encoding="utf-8")
+    head = re.search(r"^\s+design \| tight s .*$", text, re.M)
+    rtols = re.findall(r"\|\s+([\d.e-]+) s cycles\s+diff", head.group(0))
+    transient = []
+    for line in text[head.end():].splitlines()[1:]:
+        if line.strip().startswith("mean CPU s"):
+            break
+        cells = [c.strip() for c in line.split("|")]
+        tight = cells[1].split()
+        sides = [(float(c.split()[0]), float(c.split()[2]), c.split()[3]) for c in cells[2:2 + len(rtols)]]
+        transient.append((cells[0], float(tight[0]), int(tight[1]), sides, tight[4]))
+    before_after = re.findall(
+        r"^\s+(.+?) \|\s+([\d.]+)\s+\d+\s+([\d.]+) ([\d.]+)\s+(\w+)\s+[\d.]+\s+\d+ \|\s+([\d.]+)\s+\d+\s+([\d.]+) "
+        r"[\d.]+\s+(\w+)\s+[\d.]+\s+\d+\s+[-+\d.]+ (?:se|um)$", text, re.M)
+    return transient, rtols, before_after
+
+
+#: The command that writes ``benchmarks/results/operation.md``.
+OPERATION_BENCH_CMD = ("python benchmarks/bench_operation.py --before CHECKOUT --transient 1.1e-10,1e-9,1e-8,1e-7,1e-6 "
+                       "--wide --write")
+
+
+def produce_operation_cost() -> dict:
+    """The guide's cost of a design's search in operation, from ``benchmarks/results/operation.md``.
+
+    ``python benchmarks/bench_operation.py --before CHECKOUT --transient 1.1e-10,1e-9,1e-8,1e-7,1e-6 --wide
+    --write``: the small grid's mean CPU s (the "after" side), the Table 1 design's (m 40.5 g), the range over
+    every design of the transient table and their mean cycles; per transient rtol the CPU saved against the
+    tight search and the largest worst-case move in standard errors; the 42.5 g design before and after.
+    """
+    transient, rtols, rows = _operation_sections()
+    after = {r[0]: r for r in rows}
+    tight = [t[1] for t in transient]
+    mean = sum(tight) / len(tight)
+
+    def saved(rtol):
+        k = rtols.index(rtol)
+        return f"{100 * (1 - sum(t[3][k][0] for t in transient) / sum(tight)):.0f}"
+
+    def largest(rtol):
+        k = rtols.index(rtol)
+        return max(abs(t[3][k][1]) for t in transient if t[3][k][2] == "se")
+
+    loose = ("1e-8", "1e-7", "1e-6")
+    k11 = rtols.index("1.1e-10")
+    turned = sum(1 for t in transient if t[4] == "periodic" and t[3][k11][2] == "se")  # the other side chaotic
+    m425 = after["m 42.5 g"]
+    return {"design": f"{sum(float(r[5]) for r in rows) / len(rows):.1f}",
+            "table1": f"{float(after['m 40.5 g'][5]):.1f}",
+            "lo": f"{min(tight):.1f}", "hi": f"{max(tight):.1f}",
+            "cycles": f"{1000 * round(sum(t[2] for t in transient) / len(transient) / 1000):,}".replace(",", " "),
+            "s8": saved("1e-8"), "s7": saved("1e-7"), "s6": saved("1e-6"), "tight": f"{mean:.2f}",
+            "mlo": f"{min(largest(r) for r in loose):.0f}", "mhi": f"{max(largest(r) for r in loose):.0f}",
+            "d11": f"{largest('1.1e-10'):.1f}", "turned": _WORDS[turned],
+            "before": f"{float(m425[2]):.1f}", "before_se": f"{float(m425[3]):.1f}", "after": f"{float(m425[6]):.1f}"}
+
+
+def produce_contact_steps() -> dict:
+    """Steps per contact at rtol 1e-10 (``python benchmarks/bench_contact_steps.py --write``), to whole steps."""
+    row = re.search(r"^\s+this\s+1e-10 \|\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)",
+                    _benchmark("bench_contact_steps"), re.M)
+    tried, rej, peak, end = (round(float(x)) for x in row.groups())
+    return {"tried": str(tried), "rej": str(rej), "end": str(end), "peak": _WORDS[peak]}
+
+
 #: The libraries of the comparison in operation: the guide's group suffix -> the results file's name.
 OPERATION_LIBRARIES = {"acv": "acoustiviz optimize (optuna TPE, penalty)", "plain": "optuna TPE (constraint not told)",
                        "cf": "optuna TPE (constraints_func)", "pymoo": "pymoo NSGA-II",
@@ -810,6 +884,24 @@ REGISTRY = (
            r"dB, LAFmax (?P<lafmax>[\d.]+) dB, LAeq (?P<laeq>[\d.]+) dB, SEL\(A\) (?P<sela>[\d.]+) dB,\s+sound power\s+"
            r"(?P<lw>[\d.]+) dB re 1 pW, its loudest impact turning (?P<eff>[\d.]+) % of the energy",
            produce_headline_damper, "acoustiviz run --out DIR (default scene, its levels output)"),
+    Figure("operation-cost", "docs/guide/operation.md",
+           r"a search from scratch takes about (?P<design>[\d.]+) CPU s a design, (?P<table1>[\d.]+) s for Table 1\s+"
+           r"itself, and (?P<lo>[\d.]+) to (?P<hi>[\d.]+) s across gaps of 20-60 mm and impact masses of 20-80 g; "
+           r"some (?P<cycles>[\d ]+) forcing\s+cycles a design", produce_operation_cost, OPERATION_BENCH_CMD),
+    Figure("operation-transients", "docs/guide/operation.md",
+           r"1e-8, 1e-7 and 1e-6 save about (?P<s8>\d+) %, (?P<s7>\d+) % and (?P<s6>\d+) % of the CPU time "
+           r"\((?P<tight>[\d.]+) CPU s a design at 1e-10\).*?by up to (?P<mlo>\d+) to (?P<mhi>\d+) standard errors\. "
+           r"Transients at\s+1\.1e-10, a tenth looser, move worst cases as much: by up to (?P<d11>[\d.]+) standard "
+           r"errors, turning (?P<turned>\w+)\s+periodic worst cases chaotic", produce_operation_cost,
+           OPERATION_BENCH_CMD),
+    Figure("operation-rounding", "docs/guide/operation.md",
+           r"a chaotic worst case of\s+(?P<before>[\d.]+) ± (?P<before_se>[\d.]+) mm with the forcing evaluated by a "
+           r"sine and cosine at every stage,\s+and a periodic orbit of (?P<after>[\d.]+) mm", produce_operation_cost,
+           OPERATION_BENCH_CMD),
+    Figure("operation-contact-steps", "docs/guide/operation.md",
+           r"each is some (?P<tried>\d+) DOP853 steps in the regularised time with about (?P<rej>\d+)\s+rejected, "
+           r"plus about (?P<end>\d+) full steps locating its end and (?P<peak>\w+) locating its peak force",
+           produce_contact_steps, "python benchmarks/bench_contact_steps.py --write"),
     Figure("bench-forced-quote", "docs/guide/operation.md",
            r"took (?P<new_cpu>[\d.]+) s of CPU against (?P<old_cpu>[\d.]+) s for the single start of before "
            r"\((?P<date>[^)]*)\)", produce_bench_forced_quote,
