@@ -141,8 +141,7 @@ def _error(y, ynew, h, kst, rtol, atol):
         sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
         if not sc < math.inf:
             return math.inf
-        a5 = _dop.stage_sum(_dop.E5_VALS, _dop.E5_COLS, kst, i)
-        a3 = _dop.stage_sum(_dop.E3_VALS, _dop.E3_COLS, kst, i)
+        a5, a3 = _dop.estimates(kst, i)
         e5 += (a5 / sc) ** 2
         e3 += (a3 / sc) ** 2
     if e5 == 0.0 and e3 == 0.0:

@@ -27,25 +27,19 @@ Arrays (all read-only float64):
     Error-estimator weights (the 5th- and 3rd-order differences) applied to stages 0..12,
     stage 12 being the derivative at the new point.
 
-The same coefficients, sparse, for the compiled steps: ``A_COLS[i]`` and ``A_VALS[i]`` are the
-columns j and values of the non-zero a_ij of stage i (row 12 holds the weights b_j), ``E5_COLS``,
-``E5_VALS``, ``E3_COLS`` and ``E3_VALS`` those of the estimators, all in ascending j. Of the 66
-a_ij below the diagonal 50 are non-zero, of the 12 b_j 8, and neither estimator weighs stages 1-4
-or the derivative at the new point.
-
 Checks in ``tests/test_dynamics_dop853.py``: the order conditions up to order 8 for quadrature
 (sum_j b_j c_j^k = 1/(k+1)) and the row-sum conditions c_i = sum_j a_ij, that each estimator's
-weights sum to zero, an observed convergence order of 8 on a smooth problem, that the sparse
-coefficients are the non-zero entries of the arrays, and that the compiled sums equal the dense
-sums over the arrays bit for bit.
+weights sum to zero, an observed convergence order of 8 on a smooth problem, and that the compiled
+sums equal the sums over the arrays bit for bit.
 
 Compiled pieces shared by every DOP853 solver of the package (the single-ball contact, free and
 forced, and the multi-ball contact): :func:`stage_state` and :func:`solution` (a stage's state and
-the step's end), :func:`stage_sum` (one component of a weighted sum of stages) and
-:func:`error_norm`, Hairer's error norm of one step. Each sums only the non-zero terms, in
-ascending j: the same floating-point operations, in the same order, as the sum over all 12 or 13
-terms less its exact ``+ 0 k_j`` terms, so bit for bit the same results for finite stages (the
-sign of a zero sum aside, which no result depends on).
+the step's end, in the first ``n`` components only: the quadratures, which no derivative reads,
+need no stage states), :func:`estimates` (one component of the two error estimates) and
+:func:`error_norm`, Hairer's error norm of one step. The sums run over every coefficient of a row,
+zeros included, in stage order: loops that compile once for every stage (the 12 rows unrolled over
+their non-zero terms alone make a step about a tenth faster and its compilation a second or more
+longer, paid by every first run).
 """
 
 from __future__ import annotations
@@ -56,8 +50,7 @@ import numpy as np
 
 from .._jit import helper, njit
 
-__all__ = ["N_STAGES", "C", "A", "B", "E3", "E5", "A_COLS", "A_VALS", "E5_COLS", "E5_VALS", "E3_COLS", "E3_VALS",
-           "stage_state", "solution", "stage_sum", "error_norm"]
+__all__ = ["N_STAGES", "C", "A", "B", "E3", "E5", "stage_state", "solution", "estimates", "error_norm"]
 
 #: Stages of one step (the 13th, at the new point, is reused as the next step's first).
 N_STAGES = 12
@@ -210,69 +203,44 @@ def _tableau():
 C, A, B, E3, E5 = _tableau()
 
 
-def _sparse(weights):
-    """Columns and values of the non-zero ``weights``, in ascending column (tuples: compile-time constants)."""
-    cols = tuple(int(j) for j in np.flatnonzero(weights))
-    return cols, tuple(float(weights[j]) for j in cols)
-
-
-#: Non-zero a_ij of each stage i (0..11; row 0 empty) and, as row 12, the weights b_j: columns and values.
-A_COLS, A_VALS = (tuple(t) for t in zip(*(_sparse(row) for row in (*A, B)), strict=True))
-#: Non-zero weights of the estimators: columns (stage rows of ``kst``) and values.
-E5_COLS, E5_VALS = _sparse(E5)
-E3_COLS, E3_VALS = _sparse(E3)
+#: The stage coefficients a_ij (rows 0..11) and, as row 12, the weights b_j.
+_AB = _freeze(np.vstack([A, B]))
 
 
 @njit(inline="always")
-def stage_sum(vals, cols, kst, i):  # pragma: no cover - compiled
-    """``sum_q vals[q] kst[cols[q], i]``, summed in order (non-empty constant tuples: unrolled, no loads)."""
-    acc = vals[0] * kst[cols[0], i]
-    for q in range(1, len(vals)):
-        acc += vals[q] * kst[cols[q], i]
-    return acc
-
-
-@njit(inline="always")
-def _rows(vals, cols, y, h, kst, out, n):  # pragma: no cover - compiled
+def _rows(st, y, h, kst, out, n):  # pragma: no cover - compiled
+    """``out[:n] = y[:n] + h sum_j ab_(st,j) kst[j]`` over the stages j < ``st``, in order."""
     for i in range(n):
-        out[i] = y[i] + h * stage_sum(vals, cols, kst, i)
+        acc = 0.0
+        for j in range(st):
+            acc += _AB[st, j] * kst[j, i]
+        out[i] = y[i] + h * acc
 
 
 @njit(inline="always")
 def stage_state(st, y, h, kst, ytmp, n):  # pragma: no cover - compiled
     """The state of stage ``st`` (1..11) in its first ``n`` components: ``y + h sum_j a_(st,j) k_j``.
 
-    ``kst`` holds the stages 0..st-1 in its rows. One branch per stage, each with the row's own
-    columns and values as constants.
+    ``kst`` holds the stages 0..st-1 in its rows.
     """
-    if st == 1:
-        _rows(A_VALS[1], A_COLS[1], y, h, kst, ytmp, n)
-    elif st == 2:
-        _rows(A_VALS[2], A_COLS[2], y, h, kst, ytmp, n)
-    elif st == 3:
-        _rows(A_VALS[3], A_COLS[3], y, h, kst, ytmp, n)
-    elif st == 4:
-        _rows(A_VALS[4], A_COLS[4], y, h, kst, ytmp, n)
-    elif st == 5:
-        _rows(A_VALS[5], A_COLS[5], y, h, kst, ytmp, n)
-    elif st == 6:
-        _rows(A_VALS[6], A_COLS[6], y, h, kst, ytmp, n)
-    elif st == 7:
-        _rows(A_VALS[7], A_COLS[7], y, h, kst, ytmp, n)
-    elif st == 8:
-        _rows(A_VALS[8], A_COLS[8], y, h, kst, ytmp, n)
-    elif st == 9:
-        _rows(A_VALS[9], A_COLS[9], y, h, kst, ytmp, n)
-    elif st == 10:
-        _rows(A_VALS[10], A_COLS[10], y, h, kst, ytmp, n)
-    else:
-        _rows(A_VALS[11], A_COLS[11], y, h, kst, ytmp, n)
+    _rows(st, y, h, kst, ytmp, n)
 
 
 @njit(inline="always")
 def solution(y, h, kst, ynew, n):  # pragma: no cover - compiled
     """The 8th-order step end in its first ``n`` components: ``ynew = y + h sum_j b_j k_j``."""
-    _rows(A_VALS[N_STAGES], A_COLS[N_STAGES], y, h, kst, ynew, n)
+    _rows(N_STAGES, y, h, kst, ynew, n)
+
+
+@njit(inline="always")
+def estimates(kst, i):  # pragma: no cover - compiled
+    """Component ``i`` of the 5th- and 3rd-order error estimates ``sum_j E5_j k_j`` and ``sum_j E3_j k_j``."""
+    a5 = 0.0
+    a3 = 0.0
+    for j in range(N_STAGES + 1):
+        a5 += E5[j] * kst[j, i]
+        a3 += E3[j] * kst[j, i]
+    return a5, a3
 
 
 @helper
@@ -292,8 +260,7 @@ def error_norm(y, ynew, h, kst, rtol, atol):  # pragma: no cover - compiled
         sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
         if not sc < math.inf:
             return math.inf
-        a5 = stage_sum(E5_VALS, E5_COLS, kst, i)
-        a3 = stage_sum(E3_VALS, E3_COLS, kst, i)
+        a5, a3 = estimates(kst, i)
         q5 = a5 / sc
         q3 = a3 / sc
         e5 += q5 * q5
