@@ -66,6 +66,12 @@ __all__ = [
     "simulate_cycles",
 ]
 
+def section_of(state):
+    """Poincaré section point ``(x, v, z, u)`` = ``(x, v, y - x, w - v)`` of a state ``(x, v, y, w)`` (m, m/s)."""
+    x, v, y, w = state
+    return np.array([x, v, y - x, w - v])
+
+
 #: Longest period (in forcing cycles) looked for.
 MAX_PERIOD = 8
 #: Impact map: a rebound slower than this fraction of ω d/2 on a wall that presses turns into sticking.
@@ -471,8 +477,7 @@ class _Runner:
 
     def section(self):
         """Poincaré point ``x, v, z, w - v`` (m, m/s)."""
-        x, v, y, w = self.st[:4]
-        return np.array([x, v, y - x, w - v])
+        return section_of(self.st[:4])
 
     def energy(self):
         """Mechanical energy in J (kinetic + spring + Hertz)."""

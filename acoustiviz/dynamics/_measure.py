@@ -27,6 +27,7 @@ from ._forced_steady import (
     WINDOW_BATCHES,
     SteadyState,
     _Runner,
+    section_of,
 )
 from ._shooting import section_scale
 from ._status import LIMIT_CYCLE, STATUS_OK, status_message
@@ -50,12 +51,6 @@ def _state(s):
     """``(x, v, y, w)`` from a section point ``(x, v, z, u)``."""
     x, v, z, u = (float(q) for q in s)
     return x, v, x + z, v + u
-
-
-def _section(q):
-    """Section point ``(x, v, z, u)`` of a state ``(x, v, y, w)``, as :meth:`._forced_steady._Runner.section`."""
-    x, v, y, w = q
-    return np.array([x, v, y - x, w - v])
 
 
 def _settings_dict(settings):
@@ -99,7 +94,7 @@ def measure_periodic(model, excitation, settings, point, period, shot, cycles, t
     n, status, _ = run.cycles(period, 0, acc, True, states)  # the period in one compiled call
     if status != STATUS_OK:
         return _failed(model, excitation, settings, cycles, status, run.state(), total + run.total), 0
-    pts = np.array([start] + [_section(q) for q in states])
+    pts = np.array([start] + [section_of(q) for q in states])
     scale = section_scale(model, excitation)
     for j in range(1, period):
         if period % j == 0 and np.max(np.abs(pts[j] - pts[0]) / scale) < SAME_ORBIT:
@@ -202,7 +197,7 @@ def _window(model, excitation, settings, state, cycles, total):
         if j < done:  # the twin stopped at cycle j, or the run at cycle done - 1 (then j == ok)
             return _failed(model, excitation, settings, cycles + k0 + j + 1, twin if j < ok else status,
                            states[j], total + total0 + j + 1 + pert.total), None
-        pts.extend(_section(q) for q in states)
+        pts.extend(section_of(q) for q in states)
         amps.append(0.5 * (acc[3] - acc[4]))
         xmax, xmin = max(xmax, acc[3]), min(xmin, acc[4])
         tot += acc[:3]
@@ -244,7 +239,7 @@ def _twin(pert, ref, states, direction, scale, k0):
         _, status = pert.cycle(0, dummy, False)
         if status != STATUS_OK:
             return logsum, direction, j, status
-        ref = _section(q)
+        ref = section_of(q)
         diff = (pert.section() - ref) / scale
         d = math.hypot(*diff)  # not BLAS: its sum's order depends on the processor
         if d > 0.0:
